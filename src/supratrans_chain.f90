@@ -1,0 +1,162 @@
+!> The chain model of the paper: absorbing-end damping profile, boundary drive, linear theory and the
+!> necessary stability condition.
+!>
+!> Absorber (paper Sec. 3.1, misprint corrected, see README): for N0 < n <= N,
+!> gamma'(n) = kappa [1 + tanh((2n - N0 - N) / (2 sigma))], a smooth ramp from 0 to 2 kappa centred at (N0 + N)/2;
+!> gamma'(n) = 0 otherwise. The damping of site n is alpha_n = gamma + gamma'(n).
+module supratrans_chain
+    use supratrans_kinds, only: wp
+    use supratrans_config, only: chain_params, drive_params
+    implicit none
+    private
+
+    public :: absorber_profile, damping_profile, drive_psi, ramp_factor
+    public :: band_gap_edge, phonon_band_top, decay_rate, threshold_as
+    public :: stability_lhs, stability_rhs, stable_by_paper_condition, critical_dt
+
+contains
+
+    !> Absorber gamma'(n) of the paper at site n (smooth profile).
+    elemental function absorber_profile(chain, n) result(gp)
+        !> Chain parameters (kappa, sigma, N0, N).
+        type(chain_params), intent(in) :: chain
+        !> Site index, 1 <= n <= N.
+        integer, intent(in) :: n
+        real(wp) :: gp
+
+        if (n > chain%n0 .and. n <= chain%n) then
+            gp = chain%kappa*(1.0_wp + tanh(real(2*n - chain%n0 - chain%n, wp)/(2.0_wp*chain%sigma)))
+        else
+            gp = 0.0_wp
+        end if
+    end function absorber_profile
+
+    !> Site damping alpha_n = gamma + gamma'(n) for n = 1..N.
+    pure function damping_profile(chain) result(alpha)
+        !> Chain parameters.
+        type(chain_params), intent(in) :: chain
+        real(wp) :: alpha(chain%n)
+        integer :: n
+
+        do n = 1, chain%n
+            alpha(n) = chain%gamma + absorber_profile(chain, n)
+        end do
+    end function damping_profile
+
+    !> Ramp r(t) = min(t / ramp_time, 1) of the drive amplitude (1 when ramp_time = 0).
+    elemental function ramp_factor(drive, t) result(r)
+        !> Drive parameters.
+        type(drive_params), intent(in) :: drive
+        !> Time t >= 0.
+        real(wp), intent(in) :: t
+        real(wp) :: r
+
+        if (drive%ramp_time > 0.0_wp) then
+            r = min(max(t, 0.0_wp)/drive%ramp_time, 1.0_wp)
+        else
+            r = 1.0_wp
+        end if
+    end function ramp_factor
+
+    !> Boundary value u_0(t) = psi(t) = A r(t) sin(Omega t).
+    elemental function drive_psi(drive, t) result(psi)
+        !> Drive parameters.
+        type(drive_params), intent(in) :: drive
+        !> Time t.
+        real(wp), intent(in) :: t
+        real(wp) :: psi
+
+        psi = drive%amplitude*ramp_factor(drive, t)*sin(drive%omega*t)
+    end function drive_psi
+
+    !> Upper edge of the forbidden band gap, sqrt(1 + m^2): the gap is 0 < Omega < sqrt(1 + m^2).
+    elemental function band_gap_edge(chain) result(w)
+        !> Chain parameters.
+        type(chain_params), intent(in) :: chain
+        real(wp) :: w
+
+        w = sqrt(max(1.0_wp + chain%m2, 0.0_wp))
+    end function band_gap_edge
+
+    !> Top of the phonon band, sqrt(1 + m^2 + 4 c^2).
+    elemental function phonon_band_top(chain) result(w)
+        !> Chain parameters.
+        type(chain_params), intent(in) :: chain
+        real(wp) :: w
+
+        w = sqrt(max(1.0_wp + chain%m2 + 4.0_wp*chain%c**2, 0.0_wp))
+    end function phonon_band_top
+
+    !> Decay rate lambda = arccosh(1 + (m^2 + 1 - Omega^2)/(2 c^2)) of the evanescent wave A sin(Omega t) e^{-lambda n}.
+    elemental function decay_rate(chain, omega) result(lambda)
+        !> Chain parameters (c, m^2).
+        type(chain_params), intent(in) :: chain
+        !> Driving frequency Omega.
+        real(wp), intent(in) :: omega
+        real(wp) :: lambda
+
+        lambda = acosh(1.0_wp + (chain%m2 + 1.0_wp - omega**2)/(2.0_wp*chain%c**2))
+    end function decay_rate
+
+    !> Continuum-limit supratransmission threshold A_s = 4 arctan(lambda c / Omega) (massless, undamped).
+    elemental function threshold_as(chain, omega) result(as)
+        !> Chain parameters (c, m^2).
+        type(chain_params), intent(in) :: chain
+        !> Driving frequency Omega.
+        real(wp), intent(in) :: omega
+        real(wp) :: as
+
+        as = 4.0_wp*atan(decay_rate(chain, omega)*chain%c/omega)
+    end function threshold_as
+
+    !> Left side of the paper's necessary stability condition, (c^2 - m^2/4) dt^2.
+    elemental function stability_lhs(chain, dt) result(lhs)
+        !> Chain parameters.
+        type(chain_params), intent(in) :: chain
+        !> Time step.
+        real(wp), intent(in) :: dt
+        real(wp) :: lhs
+
+        lhs = (chain%c**2 - chain%m2/4.0_wp)*dt**2
+    end function stability_lhs
+
+    !> Right side of the condition, 1 + (alpha/4 + beta) dt, with the smallest damping alpha = gamma (the
+    !> absorber only relaxes it), so that the condition holds at every site.
+    elemental function stability_rhs(chain, dt) result(rhs)
+        !> Chain parameters.
+        type(chain_params), intent(in) :: chain
+        !> Time step.
+        real(wp), intent(in) :: dt
+        real(wp) :: rhs
+
+        rhs = 1.0_wp + (chain%gamma/4.0_wp + chain%beta)*dt
+    end function stability_rhs
+
+    !> True when the paper's necessary condition (c^2 - m^2/4) dt^2 < 1 + (alpha/4 + beta) dt holds.
+    elemental function stable_by_paper_condition(chain, dt) result(ok)
+        !> Chain parameters.
+        type(chain_params), intent(in) :: chain
+        !> Time step.
+        real(wp), intent(in) :: dt
+        logical :: ok
+
+        ok = stability_lhs(chain, dt) < stability_rhs(chain, dt)
+    end function stable_by_paper_condition
+
+    !> Largest dt that satisfies the paper's condition (root of (c^2 - m^2/4) dt^2 = 1 + (gamma/4 + beta) dt);
+    !> huge() when the condition holds for every dt.
+    elemental function critical_dt(chain) result(dt)
+        !> Chain parameters.
+        type(chain_params), intent(in) :: chain
+        real(wp) :: dt, q, p
+
+        q = chain%c**2 - chain%m2/4.0_wp
+        p = chain%gamma/4.0_wp + chain%beta
+        if (q <= 0.0_wp) then
+            dt = huge(1.0_wp)
+        else
+            dt = (p + sqrt(p*p + 4.0_wp*q))/(2.0_wp*q)
+        end if
+    end function critical_dt
+
+end module supratrans_chain

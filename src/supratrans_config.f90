@@ -1,0 +1,123 @@
+!> Plain derived types that hold a validated run description: what the namelist says, after checking.
+!>
+!> Defaults are the paper's (Sec. 4): c = 4, N = 200, N0 = 150, kappa = 0.5, sigma = 3, dt = 0.05, T = 200,
+!> Omega = 0.9. The types carry no behaviour; `supratrans_input` fills and validates them.
+module supratrans_config
+    use supratrans_kinds, only: wp, name_len, path_len
+    use supratrans_potential, only: sine_gordon
+    implicit none
+    private
+
+    !> Energy-conserving implicit scheme solved by Newton's method (paper eq. DiscreteMainDiscr).
+    integer, parameter, public :: method_newton = 1
+    !> Linearized scheme: G replaced by V'(u^k), one tridiagonal solve a step (paper Sec. 3.1).
+    integer, parameter, public :: method_linearized = 2
+    !> Classical fourth-order Runge-Kutta on the method-of-lines system (reference).
+    integer, parameter, public :: method_rk4 = 3
+
+    !> Default length of the linear ramp of the drive amplitude (time units); see README.
+    real(wp), parameter, public :: default_ramp_time = 10.0_wp
+
+    !> The chain of eq. (1) on N sites with the absorbing end: alpha_n = gamma + gamma'(n).
+    type, public :: chain_params
+        !> On-site potential: `sine_gordon` or `klein_gordon`.
+        integer :: potential = sine_gordon
+        !> Coupling coefficient c.
+        real(wp) :: c = 4.0_wp
+        !> Mass term m^2 (negative for an imaginary mass).
+        real(wp) :: m2 = 0.0_wp
+        !> External damping gamma.
+        real(wp) :: gamma = 0.0_wp
+        !> Internal damping beta.
+        real(wp) :: beta = 0.0_wp
+        !> Number of oscillators N.
+        integer :: n = 200
+        !> Last site before the absorber, N0.
+        integer :: n0 = 150
+        !> Absorber strength kappa: gamma'(n) rises smoothly from 0 to 2 kappa.
+        real(wp) :: kappa = 0.5_wp
+        !> Absorber width sigma (sites).
+        real(wp) :: sigma = 3.0_wp
+    end type chain_params
+
+    !> Boundary drive u_0(t) = A r(t) sin(Omega t), r(t) = min(t / ramp_time, 1).
+    type, public :: drive_params
+        !> Driving amplitude A.
+        real(wp) :: amplitude = 1.77_wp
+        !> Driving frequency Omega.
+        real(wp) :: omega = 0.9_wp
+        !> Length of the linear amplitude ramp (0: no ramp).
+        real(wp) :: ramp_time = default_ramp_time
+    end type drive_params
+
+    !> Time discretisation and solver controls.
+    type, public :: numerics_params
+        !> Integrator: `method_newton`, `method_linearized` or `method_rk4`.
+        integer :: method = method_newton
+        !> Time step Delta t.
+        real(wp) :: dt = 0.05_wp
+        !> Final time T.
+        real(wp) :: t_final = 200.0_wp
+        !> Newton stops when the max-norm of its update is at most this (the update is then applied).
+        real(wp) :: newton_tol = 1.0e-10_wp
+        !> Newton iteration cap; reaching it without convergence fails the run.
+        integer :: newton_max_iter = 20
+        !> A run whose |u_n| exceeds this is declared diverged (blown up).
+        real(wp) :: blowup_threshold = 1.0e3_wp
+    end type numerics_params
+
+    !> What one simulation records.
+    type, public :: record_params
+        !> Sites n whose u_n(t) is recorded.
+        integer, allocatable :: probes(:)
+        !> Record probes every this many steps.
+        integer :: probe_every = 1
+        !> Evaluate the stored energy E_k and record the ledger every this many steps.
+        integer :: ledger_every = 20
+    end type record_params
+
+    !> Everything one simulation needs.
+    type, public :: run_config
+        !> The chain.
+        type(chain_params) :: chain
+        !> The drive.
+        type(drive_params) :: drive
+        !> The numerics.
+        type(numerics_params) :: numerics
+        !> What to record.
+        type(record_params) :: record
+    end type run_config
+
+    !> Where and how the results are written.
+    type, public :: output_params
+        !> Output HDF5 file.
+        character(len=path_len) :: file = "supratrans.h5"
+        !> Replace an existing output file instead of refusing.
+        logical :: overwrite = .false.
+        !> Suppress progress messages on stderr.
+        logical :: quiet = .false.
+    end type output_params
+
+    !> The study to run and its controls.
+    type, public :: scene_params
+        !> Scene name: 'timeseries' (more scenes: amplitude_sweep, map, bifurcation).
+        character(len=name_len) :: kind = "timeseries"
+    end type scene_params
+
+    !> A whole validated input file.
+    type, public :: input_config
+        !> Path of the namelist file it came from.
+        character(len=:), allocatable :: source
+        !> The base run (the scene varies some of its parameters).
+        type(run_config) :: run
+        !> The scene.
+        type(scene_params) :: scene
+        !> The output.
+        type(output_params) :: output
+        !> Allow a driving frequency outside the band gap.
+        logical :: allow_outside_gap = .false.
+        !> Allow parameters that violate the paper's necessary stability condition.
+        logical :: allow_unstable = .false.
+    end type input_config
+
+end module supratrans_config

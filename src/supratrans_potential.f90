@@ -1,0 +1,174 @@
+!> On-site potentials V(u) of the paper (Sec. 2.1) and their discrete gradients.
+!>
+!> The energy-conserving scheme (paper eq. DiscreteMainDiscr) uses the difference quotient
+!> G(a, b) = (V(a) - V(b)) / (a - b), with a = u_n^{k+1} and b = u_n^{k-1}. That quotient is 0/0 at rest and
+!> loses all its digits to cancellation near it, so it is never computed by division here:
+!>
+!> * sine-Gordon, V(u) = 1 - cos u:  G(a, b) = sin(s) sinc(h), with s = (a + b)/2 and h = (a - b)/2;
+!> * Klein-Gordon (phi^6 truncation), V(u) = u^2/2 - u^4/24 + u^6/720:
+!>   G(a, b) = (a + b) [1/2 - (a^2 + b^2)/24 + (a^4 + a^2 b^2 + b^4)/720].
+!>
+!> dG/da, the diagonal added to the Newton Jacobian, is equally direct. All procedures are pure.
+module supratrans_potential
+    use supratrans_kinds, only: wp
+    implicit none
+    private
+
+    public :: potential_v, potential_dv, discrete_gradient, discrete_gradient_da
+    public :: gradient_and_slope, potential_name, potential_from_name
+
+    !> Identifier of the sine-Gordon potential V(u) = 1 - cos u.
+    integer, parameter, public :: sine_gordon = 1
+    !> Identifier of the Klein-Gordon potential V(u) = u^2/2 - u^4/24 + u^6/720 (phi^6 truncation of 1 - cos u).
+    integer, parameter, public :: klein_gordon = 2
+
+    !> Below this |h| = |a - b|/2 the Taylor series of sinc and sinc' are used (truncation error < 3e-21).
+    real(wp), parameter :: h_series = 0.25_wp
+
+contains
+
+    !> Potential V(u) of the paper: `sine_gordon` or `klein_gordon`.
+    elemental function potential_v(id, u) result(v)
+        !> Potential identifier.
+        integer, intent(in) :: id
+        !> Displacement u_n.
+        real(wp), intent(in) :: u
+        real(wp) :: v
+
+        select case (id)
+        case (sine_gordon)
+            v = 2.0_wp*sin(0.5_wp*u)**2          ! 1 - cos u without cancellation near u = 0
+        case default
+            v = u*u*(0.5_wp + u*u*(-1.0_wp/24.0_wp + u*u/720.0_wp))
+        end select
+    end function potential_v
+
+    !> Derivative V'(u), the force used by the linearized scheme.
+    elemental function potential_dv(id, u) result(dv)
+        !> Potential identifier.
+        integer, intent(in) :: id
+        !> Displacement u_n.
+        real(wp), intent(in) :: u
+        real(wp) :: dv
+
+        select case (id)
+        case (sine_gordon)
+            dv = sin(u)
+        case default
+            dv = u*(1.0_wp + u*u*(-1.0_wp/6.0_wp + u*u/120.0_wp))
+        end select
+    end function potential_dv
+
+    !> Discrete gradient G(a, b) = (V(a) - V(b))/(a - b) in closed form; equals V'(a) when a = b.
+    elemental function discrete_gradient(id, a, b) result(g)
+        !> Potential identifier.
+        integer, intent(in) :: id
+        !> New value u_n^{k+1}.
+        real(wp), intent(in) :: a
+        !> Old value u_n^{k-1}.
+        real(wp), intent(in) :: b
+        real(wp) :: g, dg
+
+        call gradient_and_slope(id, a, b, g, dg)
+    end function discrete_gradient
+
+    !> Partial derivative dG/da of the discrete gradient, the Newton Jacobian's nonlinear diagonal.
+    elemental function discrete_gradient_da(id, a, b) result(dg)
+        !> Potential identifier.
+        integer, intent(in) :: id
+        !> New value u_n^{k+1}.
+        real(wp), intent(in) :: a
+        !> Old value u_n^{k-1}.
+        real(wp), intent(in) :: b
+        real(wp) :: g, dg
+
+        call gradient_and_slope(id, a, b, g, dg)
+    end function discrete_gradient_da
+
+    !> G(a, b) and dG/da together (they share their transcendental evaluations).
+    elemental subroutine gradient_and_slope(id, a, b, g, dg)
+        !> Potential identifier.
+        integer, intent(in) :: id
+        !> New value u_n^{k+1}.
+        real(wp), intent(in) :: a
+        !> Old value u_n^{k-1}.
+        real(wp), intent(in) :: b
+        !> Discrete gradient G(a, b).
+        real(wp), intent(out) :: g
+        !> Derivative dG/da.
+        real(wp), intent(out) :: dg
+        real(wp) :: s, h, ss, cs, sc, dsc, a2, b2, q
+
+        select case (id)
+        case (sine_gordon)
+            s = 0.5_wp*(a + b)
+            h = 0.5_wp*(a - b)
+            ss = sin(s)
+            cs = cos(s)
+            call sinc_and_slope(h, sc, dsc)
+            g = ss*sc
+            dg = 0.5_wp*(cs*sc + ss*dsc)
+        case default
+            a2 = a*a
+            b2 = b*b
+            q = 0.5_wp - (a2 + b2)/24.0_wp + (a2*a2 + a2*b2 + b2*b2)/720.0_wp
+            g = (a + b)*q
+            dg = q + (a + b)*(-a/12.0_wp + a*(4.0_wp*a2 + 2.0_wp*b2)/720.0_wp)
+        end select
+    end subroutine gradient_and_slope
+
+    !> sinc(h) = sin(h)/h and its derivative, by Taylor series near 0 and directly elsewhere.
+    elemental subroutine sinc_and_slope(h, sc, dsc)
+        !> Argument.
+        real(wp), intent(in) :: h
+        !> sin(h)/h (1 at h = 0).
+        real(wp), intent(out) :: sc
+        !> d/dh of sin(h)/h (0 at h = 0).
+        real(wp), intent(out) :: dsc
+        real(wp) :: h2
+
+        if (abs(h) < h_series) then
+            h2 = h*h
+            sc = 1.0_wp + h2*(-1.0_wp/6.0_wp + h2*(1.0_wp/120.0_wp + h2*(-1.0_wp/5040.0_wp &
+                 + h2*(1.0_wp/362880.0_wp + h2*(-1.0_wp/39916800.0_wp + h2/6227020800.0_wp)))))
+            dsc = h*(-1.0_wp/3.0_wp + h2*(1.0_wp/30.0_wp + h2*(-1.0_wp/840.0_wp + h2*(1.0_wp/45360.0_wp &
+                  + h2*(-1.0_wp/3991680.0_wp + h2/518918400.0_wp)))))
+        else
+            sc = sin(h)/h
+            dsc = (cos(h) - sc)/h
+        end if
+    end subroutine sinc_and_slope
+
+    !> Name of a potential as used in the namelist and in output attributes.
+    pure function potential_name(id) result(name)
+        !> Potential identifier.
+        integer, intent(in) :: id
+        character(len=:), allocatable :: name
+
+        select case (id)
+        case (sine_gordon)
+            name = "sine-gordon"
+        case (klein_gordon)
+            name = "klein-gordon"
+        case default
+            name = "unknown"
+        end select
+    end function potential_name
+
+    !> Identifier of a potential from its name ('sine-gordon' or 'klein-gordon'); 0 if unknown.
+    pure function potential_from_name(name) result(id)
+        !> Name as written in the namelist (case-sensitive, lower case).
+        character(len=*), intent(in) :: name
+        integer :: id
+
+        select case (trim(adjustl(name)))
+        case ("sine-gordon")
+            id = sine_gordon
+        case ("klein-gordon")
+            id = klein_gordon
+        case default
+            id = 0
+        end select
+    end function potential_from_name
+
+end module supratrans_potential
