@@ -15,7 +15,8 @@ module supratrans_potential
     private
 
     public :: potential_v, potential_dv, discrete_gradient, discrete_gradient_da
-    public :: gradient_and_slope, potential_name, potential_from_name
+    public :: gradient_and_slope, gradient_and_slope_array, gradient_and_slope_refine, potential_sum, force_array
+    public :: potential_name, potential_from_name
 
     !> Identifier of the sine-Gordon potential V(u) = 1 - cos u.
     integer, parameter, public :: sine_gordon = 1
@@ -97,25 +98,156 @@ contains
         real(wp), intent(out) :: g
         !> Derivative dG/da.
         real(wp), intent(out) :: dg
-        real(wp) :: s, h, ss, cs, sc, dsc, a2, b2, q
+        real(wp) :: ga(1), dga(1)
 
         select case (id)
         case (sine_gordon)
-            s = 0.5_wp*(a + b)
-            h = 0.5_wp*(a - b)
-            ss = sin(s)
-            cs = cos(s)
-            call sinc_and_slope(h, sc, dsc)
-            g = ss*sc
-            dg = 0.5_wp*(cs*sc + ss*dsc)
+            call sine_gordon_g(sin(0.5_wp*(a + b)), cos(0.5_wp*(a + b)), 0.5_wp*(a - b), g, dg)
         case default
-            a2 = a*a
-            b2 = b*b
-            q = 0.5_wp - (a2 + b2)/24.0_wp + (a2*a2 + a2*b2 + b2*b2)/720.0_wp
-            g = (a + b)*q
-            dg = q + (a + b)*(-a/12.0_wp + a*(4.0_wp*a2 + 2.0_wp*b2)/720.0_wp)
+            call klein_gordon_array([a], [b], ga, dga)
+            g = ga(1)
+            dg = dga(1)
         end select
     end subroutine gradient_and_slope
+
+    !> G(a_n, b_n) and dG/da for whole arrays: the Newton step's kernel (the branch on the potential is hoisted
+    !> out of the loop so that the loop body inlines). For sine-Gordon, sin(s_n) and cos(s_n), s = (a + b)/2, are
+    !> returned in `ss` and `cs` so that later Newton iterations can refine them without new transcendentals.
+    pure subroutine gradient_and_slope_array(id, a, b, g, dg, ss, cs)
+        !> Potential identifier.
+        integer, intent(in) :: id
+        !> New values u^{k+1}.
+        real(wp), intent(in) :: a(:)
+        !> Old values u^{k-1}, same size as `a`.
+        real(wp), intent(in) :: b(:)
+        !> Discrete gradients G(a_n, b_n).
+        real(wp), intent(out) :: g(:)
+        !> Derivatives dG/da(a_n, b_n).
+        real(wp), intent(out) :: dg(:)
+        !> sin(s_n) and cos(s_n) (sine-Gordon only; untouched for Klein-Gordon).
+        real(wp), intent(inout) :: ss(:), cs(:)
+        integer :: n
+
+        select case (id)
+        case (sine_gordon)
+            do n = 1, size(a)
+                ss(n) = sin(0.5_wp*(a(n) + b(n)))
+                cs(n) = cos(0.5_wp*(a(n) + b(n)))
+                call sine_gordon_g(ss(n), cs(n), 0.5_wp*(a(n) - b(n)), g(n), dg(n))
+            end do
+        case default
+            call klein_gordon_array(a, b, g, dg)
+        end select
+    end subroutine gradient_and_slope_array
+
+    !> Same as `gradient_and_slope_array` after a Newton update `delta` of `a` (a = a_previous + delta), with
+    !> sin(s) and cos(s) advanced by the angle-addition formulas: s moves by delta/2, and for
+    !> |delta/2| < 1e-3 the 7-term Taylor polynomials of sin and cos of that small angle are exact to roundoff.
+    pure subroutine gradient_and_slope_refine(id, a, b, delta, g, dg, ss, cs)
+        !> Potential identifier.
+        integer, intent(in) :: id
+        !> New values u^{k+1} (already updated by `delta`).
+        real(wp), intent(in) :: a(:)
+        !> Old values u^{k-1}.
+        real(wp), intent(in) :: b(:)
+        !> The update just applied to `a`.
+        real(wp), intent(in) :: delta(:)
+        !> Discrete gradients G(a_n, b_n).
+        real(wp), intent(out) :: g(:)
+        !> Derivatives dG/da(a_n, b_n).
+        real(wp), intent(out) :: dg(:)
+        !> sin(s_n), cos(s_n) on entry for the previous `a`, on exit for the new one.
+        real(wp), intent(inout) :: ss(:), cs(:)
+        integer :: n
+        real(wp) :: eps, e2, se, ce, s_old
+
+        select case (id)
+        case (sine_gordon)
+            do n = 1, size(a)
+                eps = 0.5_wp*delta(n)
+                if (abs(eps) < 1.0e-3_wp) then
+                    e2 = eps*eps
+                    se = eps*(1.0_wp + e2*(-1.0_wp/6.0_wp + e2*(1.0_wp/120.0_wp - e2/5040.0_wp)))
+                    ce = 1.0_wp + e2*(-0.5_wp + e2*(1.0_wp/24.0_wp + e2*(-1.0_wp/720.0_wp + e2/40320.0_wp)))
+                    s_old = ss(n)
+                    ss(n) = s_old*ce + cs(n)*se
+                    cs(n) = cs(n)*ce - s_old*se
+                else
+                    ss(n) = sin(0.5_wp*(a(n) + b(n)))
+                    cs(n) = cos(0.5_wp*(a(n) + b(n)))
+                end if
+                call sine_gordon_g(ss(n), cs(n), 0.5_wp*(a(n) - b(n)), g(n), dg(n))
+            end do
+        case default
+            call klein_gordon_array(a, b, g, dg)
+        end select
+    end subroutine gradient_and_slope_refine
+
+    !> Sine-Gordon G = sin(s) sinc(h) and dG/da = (cos(s) sinc(h) + sin(s) sinc'(h))/2 from sin(s), cos(s), h.
+    elemental subroutine sine_gordon_g(ss, cs, h, g, dg)
+        !> sin(s), cos(s), s = (a + b)/2.
+        real(wp), intent(in) :: ss, cs
+        !> h = (a - b)/2.
+        real(wp), intent(in) :: h
+        !> G(a, b) and dG/da.
+        real(wp), intent(out) :: g, dg
+        real(wp) :: sc, dsc
+
+        call sinc_and_slope(h, sc, dsc)
+        g = ss*sc
+        dg = 0.5_wp*(cs*sc + ss*dsc)
+    end subroutine sine_gordon_g
+
+    !> Klein-Gordon G(a, b) and dG/da for whole arrays (polynomials: no transcendentals).
+    pure subroutine klein_gordon_array(a, b, g, dg)
+        !> New and old values.
+        real(wp), intent(in) :: a(:), b(:)
+        !> G(a_n, b_n) and dG/da.
+        real(wp), intent(out) :: g(:), dg(:)
+        integer :: n
+        real(wp) :: a2, b2, q
+
+        do n = 1, size(a)
+            a2 = a(n)*a(n)
+            b2 = b(n)*b(n)
+            q = 0.5_wp - (a2 + b2)/24.0_wp + (a2*a2 + a2*b2 + b2*b2)/720.0_wp
+            g(n) = (a(n) + b(n))*q
+            dg(n) = q + (a(n) + b(n))*a(n)*(-1.0_wp/12.0_wp + (4.0_wp*a2 + 2.0_wp*b2)/720.0_wp)
+        end do
+    end subroutine klein_gordon_array
+
+    !> Forces V'(u_n) for a whole array (the linearized scheme's kernel).
+    pure subroutine force_array(id, u, f)
+        !> Potential identifier.
+        integer, intent(in) :: id
+        !> Displacements u_n.
+        real(wp), intent(in) :: u(:)
+        !> Forces V'(u_n).
+        real(wp), intent(out) :: f(:)
+
+        select case (id)
+        case (sine_gordon)
+            f = sin(u)
+        case default
+            f = u*(1.0_wp + u*u*(-1.0_wp/6.0_wp + u*u/120.0_wp))
+        end select
+    end subroutine force_array
+
+    !> Sum of V(u_n) over an array (the potential part of the discrete energy).
+    pure function potential_sum(id, u) result(total)
+        !> Potential identifier.
+        integer, intent(in) :: id
+        !> Displacements u_n.
+        real(wp), intent(in) :: u(:)
+        real(wp) :: total
+
+        select case (id)
+        case (sine_gordon)
+            total = 2.0_wp*sum(sin(0.5_wp*u)**2)
+        case default
+            total = sum(u*u*(0.5_wp + u*u*(-1.0_wp/24.0_wp + u*u/720.0_wp)))
+        end select
+    end function potential_sum
 
     !> sinc(h) = sin(h)/h and its derivative, by Taylor series near 0 and directly elsewhere.
     elemental subroutine sinc_and_slope(h, sc, dsc)

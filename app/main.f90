@@ -1,0 +1,3 @@
+program main
+    implicit none
+end program main

@@ -1,0 +1,110 @@
+!> The matrix form of the paper's finite-difference scheme (Sec. 3.1):
+!>
+!>     A u^{k+1} + G(u^{k+1}, u^{k-1}) = B u^k + C u^{k-1} + v^k,
+!>
+!> with A = tridiag(a, b_n, a), B = tridiag(c^2, d, c^2), C = tridiag(a, e_n, a) and
+!> a = -beta/(2 dt), b_n = (alpha_n + 2 beta)/(2 dt) + m^2/2 + 1/dt^2, d = 2/dt^2 - 2 c^2,
+!> e_n = (alpha_n + 2 beta)/(2 dt) - m^2/2 - 1/dt^2, alpha_n = gamma + gamma'(n) per site.
+!>
+!> Time levels are stored as arrays u(0:N+1) whose end cells hold the boundary values u_0 = psi(t) and
+!> u_{N+1} = 0, so the boundary vector v^k never needs to be formed: the stencils read the end cells.
+module supratrans_scheme
+    use supratrans_kinds, only: wp
+    use supratrans_config, only: chain_params
+    use supratrans_chain, only: damping_profile
+    implicit none
+    private
+
+    public :: scheme_init, scheme_rhs, scheme_apply_a
+
+    !> Coefficients of the scheme and the work arrays of one run (allocated once; the step allocates nothing).
+    type, public :: scheme_type
+        !> Number of oscillators N.
+        integer :: n = 0
+        !> On-site potential identifier.
+        integer :: potential = 0
+        !> Time step Delta t.
+        real(wp) :: dt = 0.0_wp
+        !> Coupling squared, c^2.
+        real(wp) :: c2 = 0.0_wp
+        !> Off-diagonal a = -beta/(2 dt) of A and C.
+        real(wp) :: a = 0.0_wp
+        !> Diagonal d = 2/dt^2 - 2 c^2 of B.
+        real(wp) :: d = 0.0_wp
+        !> Diagonal b_n of A, size N.
+        real(wp), allocatable :: b(:)
+        !> Diagonal e_n of C, size N.
+        real(wp), allocatable :: e(:)
+        !> Site damping alpha_n = gamma + gamma'(n), size N.
+        real(wp), allocatable :: alpha(:)
+        !> Right-hand side B u^k + C u^{k-1} + v^k of the current step, size N.
+        real(wp), allocatable :: rhs(:)
+        !> Work: Newton residual / solution of the tridiagonal solve, size N.
+        real(wp), allocatable :: work(:)
+        !> Work: discrete gradient G and its slope dG/da, size N.
+        real(wp), allocatable :: g(:), dg(:)
+        !> Work: sin(s_n), cos(s_n) of the current Newton iterate (sine-Gordon), size N.
+        real(wp), allocatable :: sin_s(:), cos_s(:)
+        !> Work: copies of the tridiagonal matrix handed to `dgtsv` (it overwrites them).
+        real(wp), allocatable :: dl(:), dd(:), du(:)
+    end type scheme_type
+
+contains
+
+    !> Set up the coefficients of the scheme for a chain and a time step.
+    pure subroutine scheme_init(scheme, chain, dt)
+        !> The scheme to initialise.
+        type(scheme_type), intent(out) :: scheme
+        !> Chain parameters.
+        type(chain_params), intent(in) :: chain
+        !> Time step Delta t.
+        real(wp), intent(in) :: dt
+        integer :: n
+
+        n = chain%n
+        scheme%n = n
+        scheme%potential = chain%potential
+        scheme%dt = dt
+        scheme%c2 = chain%c**2
+        scheme%a = -chain%beta/(2.0_wp*dt)
+        scheme%d = 2.0_wp/dt**2 - 2.0_wp*chain%c**2
+        scheme%alpha = damping_profile(chain)
+        scheme%b = (scheme%alpha + 2.0_wp*chain%beta)/(2.0_wp*dt) + chain%m2/2.0_wp + 1.0_wp/dt**2
+        scheme%e = (scheme%alpha + 2.0_wp*chain%beta)/(2.0_wp*dt) - chain%m2/2.0_wp - 1.0_wp/dt**2
+        allocate (scheme%rhs(n), scheme%work(n), scheme%g(n), scheme%dg(n), scheme%sin_s(n), scheme%cos_s(n))
+        allocate (scheme%dl(max(n - 1, 1)), scheme%dd(n), scheme%du(max(n - 1, 1)))
+    end subroutine scheme_init
+
+    !> Form rhs = B u^k + C u^{k-1} + (the u_0^k, u_0^{k-1} parts of v^k) into `scheme%rhs`.
+    !> The u_0^{k+1} part of v^k is not included: it is applied with A through `u_new(0)`.
+    pure subroutine scheme_rhs(scheme, u_cur, u_old)
+        !> Scheme (rhs is written).
+        type(scheme_type), intent(inout) :: scheme
+        !> Level k, u(0:N+1) with boundary cells.
+        real(wp), intent(in) :: u_cur(0:)
+        !> Level k-1, u(0:N+1) with boundary cells.
+        real(wp), intent(in) :: u_old(0:)
+        integer :: n
+
+        do n = 1, scheme%n
+            scheme%rhs(n) = scheme%d*u_cur(n) + scheme%c2*(u_cur(n - 1) + u_cur(n + 1)) &
+                            + scheme%e(n)*u_old(n) + scheme%a*(u_old(n - 1) + u_old(n + 1))
+        end do
+    end subroutine scheme_rhs
+
+    !> y = A x for x(0:N+1) including its boundary cells (so y_1 contains a x_0).
+    pure subroutine scheme_apply_a(scheme, x, y)
+        !> Scheme coefficients.
+        type(scheme_type), intent(in) :: scheme
+        !> Vector with boundary cells, x(0:N+1).
+        real(wp), intent(in) :: x(0:)
+        !> Result, size N.
+        real(wp), intent(out) :: y(:)
+        integer :: n
+
+        do n = 1, scheme%n
+            y(n) = scheme%b(n)*x(n) + scheme%a*(x(n - 1) + x(n + 1))
+        end do
+    end subroutine scheme_apply_a
+
+end module supratrans_scheme

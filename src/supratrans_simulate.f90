@@ -1,0 +1,202 @@
+!> One run: the time loop of the paper's schemes, the energy ledger and the probes.
+!>
+!> The chain starts at rest, u^0 = u^1 = 0 (phi = varphi = 0), and the driven end follows u_0^k = psi(t_k).
+!> Step k (k = 1 .. M-1, M = nint(T/dt)) computes u^{k+1} from u^k and u^{k-1}. All state lives in local
+!> variables and in the result, so any number of runs can proceed at once in different threads.
+module supratrans_simulate
+    use supratrans_kinds, only: wp, i8
+    use supratrans_config, only: run_config, method_newton, method_linearized
+    use supratrans_chain, only: drive_psi
+    use supratrans_scheme, only: scheme_type, scheme_init
+    use supratrans_newton, only: newton_step, newton_ok, newton_not_converged
+    use supratrans_linearized, only: linearized_step
+    use supratrans_ledger, only: ledger_type, stored_energy, step_powers, ledger_add_step, ledger_close
+    use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed
+    implicit none
+    private
+
+    public :: simulate, number_of_levels
+
+contains
+
+    !> Number of time levels M + 1 of a run (levels t_0 .. t_M, M = nint(T/dt)).
+    pure function number_of_levels(run) result(levels)
+        !> Run configuration.
+        type(run_config), intent(in) :: run
+        integer :: levels
+
+        levels = nint(run%numerics%t_final/run%numerics%dt) + 1
+    end function number_of_levels
+
+    !> Simulate one run of the energy-conserving or the linearized scheme.
+    subroutine simulate(run, result)
+        !> Validated run configuration.
+        type(run_config), intent(in) :: run
+        !> Outcome, statistics, ledger and records.
+        type(run_result), intent(out) :: result
+        type(scheme_type) :: scheme
+        type(ledger_type) :: ledger
+        real(wp), allocatable :: u(:, :)
+        integer :: n, m, k, io2, io, ic, inew, itmp, iters, status, info, nprobe, nsample, nledger
+        integer :: ledger_every, probe_every
+        integer(i8) :: clock_start, clock_end, clock_rate
+        real(wp) :: dt, p_in, d_gamma, d_beta, d_abs, umax
+
+        call system_clock(clock_start, clock_rate)
+        n = run%chain%n
+        dt = run%numerics%dt
+        m = number_of_levels(run) - 1
+        ledger_every = run%record%ledger_every
+        probe_every = run%record%probe_every
+        call scheme_init(scheme, run%chain, dt)
+
+        ! records
+        if (allocated(run%record%probes)) then
+            result%probes = run%record%probes
+        else
+            allocate (result%probes(0))
+        end if
+        nprobe = size(result%probes)
+        nsample = m/probe_every + 1
+        allocate (result%probe_time(nsample), result%probe_u(nsample, nprobe))
+        nledger = (m - 1)/ledger_every + 1
+        allocate (result%ledger_time(nledger), result%ledger_series(nledger, 6))
+
+        ! levels 0 and 1: at rest, boundary from the drive
+        allocate (u(0:n + 1, 4), source=0.0_wp)
+        io2 = 4
+        io = 1
+        ic = 2
+        inew = 3
+        u(0, io) = drive_psi(run%drive, 0.0_wp)
+        u(0, ic) = drive_psi(run%drive, dt)
+        call record_probes(result, 0, u(:, io))
+        if (probe_every == 1) call record_probes(result, 1, u(:, ic))
+        call ledger_close(ledger, stored_energy(scheme, run%chain%m2, u(:, ic), u(:, io)))
+        call record_ledger(result, ledger, 0.5_wp*dt)
+
+        result%status = run_ok
+        result%steps = 0
+        do k = 1, m - 1
+            u(0, inew) = drive_psi(run%drive, real(k + 1, wp)*dt)
+            u(n + 1, inew) = 0.0_wp
+            select case (run%numerics%method)
+            case (method_newton)
+                call newton_step(scheme, u(:, io2), u(:, io), u(:, ic), u(:, inew), run%numerics%newton_tol, &
+                                 run%numerics%newton_max_iter, iters, status)
+                result%newton_iterations = result%newton_iterations + iters
+                result%newton_max_iterations = max(result%newton_max_iterations, iters)
+                if (status /= newton_ok) then
+                    if (status == newton_not_converged) then
+                        result%status = run_newton_failed
+                        result%reason = "Newton did not converge in " // int_str(iters) // " iterations at t = " &
+                                        // real_str(real(k + 1, wp)*dt)
+                    else
+                        result%status = run_diverged
+                        result%reason = "Newton broke down (non-finite or singular) at t = " // real_str(real(k + 1, wp)*dt)
+                    end if
+                    exit
+                end if
+            case (method_linearized)
+                call linearized_step(scheme, u(:, io), u(:, ic), u(:, inew), info)
+                result%newton_iterations = result%newton_iterations + 1
+                result%newton_max_iterations = 1
+                if (info /= 0) then
+                    result%status = run_solver_failed
+                    result%reason = "dgtsv failed (info = " // int_str(info) // ") at t = " // real_str(real(k + 1, wp)*dt)
+                    exit
+                end if
+            end select
+            result%steps = k
+
+            umax = maxval(abs(u(1:n, inew)))
+            result%max_abs_u = max(result%max_abs_u, umax)
+            if (.not. (umax <= run%numerics%blowup_threshold)) then
+                result%status = run_diverged
+                result%reason = "blow-up: max |u_n| = " // real_str(umax) // " exceeds " &
+                                // real_str(run%numerics%blowup_threshold) // " at t = " // real_str(real(k + 1, wp)*dt)
+                exit
+            end if
+
+            call step_powers(scheme, run%chain%gamma, run%chain%beta, u(:, io), u(:, ic), u(:, inew), &
+                             p_in, d_gamma, d_beta, d_abs)
+            call ledger_add_step(ledger, dt, p_in, d_gamma, d_beta, d_abs)
+            if (mod(k, ledger_every) == 0) then
+                call ledger_close(ledger, stored_energy(scheme, run%chain%m2, u(:, inew), u(:, ic)))
+                call record_ledger(result, ledger, (real(k, wp) + 0.5_wp)*dt)
+            end if
+            if (mod(k + 1, probe_every) == 0) call record_probes(result, k + 1, u(:, inew))
+
+            itmp = io2
+            io2 = io
+            io = ic
+            ic = inew
+            inew = itmp
+        end do
+        result%t_end = real(result%steps + 1, wp)*dt
+        if (result%status == run_ok .and. mod(result%steps, ledger_every) /= 0 .and. result%steps > 0) then
+            ! close the ledger on the last step taken (levels `io` = k and `ic` = k+1 after the rotation)
+            call ledger_close(ledger, stored_energy(scheme, run%chain%m2, u(:, ic), u(:, io)))
+        end if
+        result%ledger = ledger
+        if (.not. allocated(result%reason)) result%reason = ""
+        call system_clock(clock_end)
+        result%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+
+    contains
+
+        !> Store u at the probe sites for level `level`.
+        subroutine record_probes(res, level, ul)
+            type(run_result), intent(inout) :: res
+            integer, intent(in) :: level
+            real(wp), intent(in) :: ul(0:)
+            integer :: i
+
+            if (res%n_probe_samples >= size(res%probe_time)) return
+            res%n_probe_samples = res%n_probe_samples + 1
+            i = res%n_probe_samples
+            res%probe_time(i) = real(level, wp)*dt
+            if (nprobe > 0) res%probe_u(i, :) = ul(res%probes)
+        end subroutine record_probes
+
+    end subroutine simulate
+
+    !> Append the current ledger state to the records.
+    pure subroutine record_ledger(result, ledger, t)
+        !> Result whose ledger records grow by one.
+        type(run_result), intent(inout) :: result
+        !> Current ledger.
+        type(ledger_type), intent(in) :: ledger
+        !> Time of the record.
+        real(wp), intent(in) :: t
+        integer :: i
+
+        if (result%n_ledger_samples >= size(result%ledger_time)) return
+        result%n_ledger_samples = result%n_ledger_samples + 1
+        i = result%n_ledger_samples
+        result%ledger_time(i) = t
+        result%ledger_series(i, :) = [ledger%stored, ledger%injected, ledger%dissipated_gamma, ledger%dissipated_beta, &
+                                      ledger%dissipated_absorber, ledger%residual]
+    end subroutine record_ledger
+
+    !> Integer as text.
+    pure function int_str(i) result(s)
+        integer, intent(in) :: i
+        character(len=:), allocatable :: s
+        character(len=24) :: buf
+
+        write (buf, '(i0)') i
+        s = trim(buf)
+    end function int_str
+
+    !> Real as compact text.
+    pure function real_str(x) result(s)
+        real(wp), intent(in) :: x
+        character(len=:), allocatable :: s
+        character(len=32) :: buf
+
+        write (buf, '(g0.6)') x
+        s = trim(adjustl(buf))
+    end function real_str
+
+end module supratrans_simulate
