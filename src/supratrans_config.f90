@@ -16,7 +16,7 @@ module supratrans_config
     integer, parameter, public :: method_rk4 = 3
 
     !> Default length of the linear ramp of the drive amplitude (time units); see README.
-    real(wp), parameter, public :: default_ramp_time = 10.0_wp
+    real(wp), parameter, public :: default_ramp_time = 50.0_wp
 
     !> The chain of eq. (1) on N sites with the absorbing end: alpha_n = gamma + gamma'(n).
     type, public :: chain_params

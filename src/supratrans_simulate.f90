@@ -59,7 +59,7 @@ contains
         nprobe = size(result%probes)
         nsample = m/probe_every + 1
         allocate (result%probe_time(nsample), result%probe_u(nsample, nprobe))
-        nledger = (m - 1)/ledger_every + 1
+        nledger = (m - 1)/ledger_every + 2
         allocate (result%ledger_time(nledger), result%ledger_series(nledger, 6))
 
         ! levels 0 and 1: at rest, boundary from the drive
@@ -137,6 +137,7 @@ contains
         if (result%status == run_ok .and. mod(result%steps, ledger_every) /= 0 .and. result%steps > 0) then
             ! close the ledger on the last step taken (levels `io` = k and `ic` = k+1 after the rotation)
             call ledger_close(ledger, stored_energy(scheme, run%chain%m2, u(:, ic), u(:, io)))
+            call record_ledger(result, ledger, (real(result%steps, wp) + 0.5_wp)*dt)
         end if
         result%ledger = ledger
         if (.not. allocated(result%reason)) result%reason = ""

@@ -1,0 +1,182 @@
+!> Writes results to self-describing HDF5 files: every input parameter as an attribute, units and a description on
+!> every dataset, the code version and the wall time. Files are written under a temporary name and renamed when
+!> complete, so a finished file is never half-written.
+module supratrans_output
+    use supratrans_kinds, only: wp, supratrans_version
+    use supratrans_error, only: error_type
+    use supratrans_config, only: input_config, run_config
+    use supratrans_input, only: method_name
+    use supratrans_potential, only: potential_name
+    use supratrans_chain, only: threshold_as, decay_rate, band_gap_edge, critical_dt
+    use supratrans_result, only: run_result, status_name, ledger_columns
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
+    implicit none
+    private
+
+    public :: write_timeseries, write_run_parameters, timestamp
+
+contains
+
+    !> Current local date and time, ISO 8601.
+    function timestamp() result(stamp)
+        character(len=:), allocatable :: stamp
+        character(len=8) :: date
+        character(len=10) :: time
+        character(len=5) :: zone
+
+        call date_and_time(date, time, zone)
+        stamp = date(1:4)//"-"//date(5:6)//"-"//date(7:8)//"T"//time(1:2)//":"//time(3:4)//":"//time(5:6)//zone
+    end function timestamp
+
+    !> Write the parameters of a run as attributes of group `group` (chain, drive, numerics, derived theory).
+    subroutine write_run_parameters(file, group, run, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> Group that receives the attributes (created if missing).
+        character(len=*), intent(in) :: group
+        !> The run.
+        type(run_config), intent(in) :: run
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+
+        call h5_create_group(file, group, "Input parameters of the run (namelist names), and derived linear theory", &
+                             error)
+        if (allocated(error)) return
+        call h5_write_attr(file, group, "potential", potential_name(run%chain%potential), error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "c", run%chain%c, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "m2", run%chain%m2, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "gamma", run%chain%gamma, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "beta", run%chain%beta, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "n", run%chain%n, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "n0", run%chain%n0, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "kappa", run%chain%kappa, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "sigma", run%chain%sigma, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "amplitude", run%drive%amplitude, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "omega", run%drive%omega, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "ramp_time", run%drive%ramp_time, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "method", method_name(run%numerics%method), error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "dt", run%numerics%dt, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "t_final", run%numerics%t_final, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "newton_tol", run%numerics%newton_tol, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "newton_max_iter", run%numerics%newton_max_iter, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "blowup_threshold", run%numerics%blowup_threshold, &
+                                                       error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "band_gap_edge", band_gap_edge(run%chain), error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "lambda", decay_rate(run%chain, run%drive%omega), &
+                                                       error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "threshold_As", &
+                                                       threshold_as(run%chain, run%drive%omega), error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "critical_dt", critical_dt(run%chain), error)
+    end subroutine write_run_parameters
+
+    !> Write the `timeseries` scene: one run's probes u_n(t), its energy ledger over time and its outcome.
+    subroutine write_timeseries(cfg, result, error)
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The run's result.
+        type(run_result), intent(in) :: result
+        !> Error, allocated on failure (the output file is then not created).
+        type(error_type), allocatable, intent(out) :: error
+        type(h5_file) :: file
+        integer :: ns, nl, j
+
+        call h5_create(file, trim(cfg%output%file), cfg%output%overwrite, error)
+        if (allocated(error)) return
+        call write_root(file, cfg, "timeseries", "One driven chain: u_n(t) at probe sites and the energy ledger", error)
+        if (.not. allocated(error)) call write_run_parameters(file, "/parameters", cfg%run, error)
+        ns = result%n_probe_samples
+        nl = result%n_ledger_samples
+        if (.not. allocated(error)) call h5_write(file, "/probes/sites", result%probes, "1", &
+                                                  "Site index n of each probe (1 = first oscillator)", error)
+        if (.not. allocated(error)) call h5_write(file, "/probes/time", result%probe_time(1:ns), "time", &
+                                                  "Sample times t_k = k dt", error)
+        if (.not. allocated(error)) call h5_write(file, "/probes/u", result%probe_u(1:ns, :), "rad", &
+                                                  "Displacement u_n(t_k) at the probe sites", error, &
+                                                  dims="probe, time")
+        if (.not. allocated(error)) call h5_write(file, "/ledger/time", result%ledger_time(1:nl), "time", &
+            "Record times t_{k+1/2} (E_k is defined on levels k and k+1)", error)
+        do j = 1, size(ledger_columns)
+            if (allocated(error)) exit
+            call h5_write(file, "/ledger/"//trim(ledger_columns(j)), result%ledger_series(1:nl, j), "energy", &
+                          ledger_description(j), error)
+        end do
+        if (.not. allocated(error)) call write_outcome(file, "/run", result, error)
+        if (allocated(error)) then
+            call h5_discard(file)
+            return
+        end if
+        call h5_commit(file, error)
+    end subroutine write_timeseries
+
+    !> Meaning of each ledger column.
+    pure function ledger_description(j) result(text)
+        integer, intent(in) :: j
+        character(len=:), allocatable :: text
+
+        select case (j)
+        case (1)
+            text = "Stored discrete energy E_k (paper Sec. 3.2, sums over n = 1..N)"
+        case (2)
+            text = "Energy injected through the driven end up to t: sum dt [c^2 (u_0 - u_1) + beta (y_0 - y_1)] y_0"
+        case (3)
+            text = "Energy dissipated by the external damping gamma up to t"
+        case (4)
+            text = "Energy dissipated by the internal damping beta up to t"
+        case (5)
+            text = "Energy dissipated by the absorbing end gamma'(n) up to t"
+        case default
+            text = "Balance residual E_k - E_0 - (injected - dissipated): zero to roundoff for the Newton scheme"
+        end select
+    end function ledger_description
+
+    !> Root attributes shared by every scene.
+    subroutine write_root(file, cfg, scene, description, error)
+        type(h5_file), intent(inout) :: file
+        type(input_config), intent(in) :: cfg
+        character(len=*), intent(in) :: scene, description
+        type(error_type), allocatable, intent(out) :: error
+
+        call h5_write_attr(file, "/", "code", "supratrans", error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/", "version", supratrans_version, error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/", "scene", scene, error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/", "description", description, error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/", "input_file", cfg%source, error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/", "created", timestamp(), error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/", "reference", &
+            "J. E. Macias-Diaz and A. Puri, An energy-based computational method in the analysis of the " // &
+            "transmission of energy in a chain of coupled oscillators", error)
+    end subroutine write_root
+
+    !> Outcome and statistics of one run as attributes of `group`.
+    subroutine write_outcome(file, group, result, error)
+        type(h5_file), intent(inout) :: file
+        character(len=*), intent(in) :: group
+        type(run_result), intent(in) :: result
+        type(error_type), allocatable, intent(out) :: error
+
+        call h5_create_group(file, group, "Outcome of the run, solver statistics and final energy totals", error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "status", status_name(result%status), error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "reason", result%reason, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "steps", result%steps, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "t_end", result%t_end, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "newton_iterations", &
+                                                       int(result%newton_iterations), error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "newton_max_iterations", &
+                                                       result%newton_max_iterations, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "wall_time_s", result%wall_time, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "max_abs_u", result%max_abs_u, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "energy_injected", result%ledger%injected, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "energy_stored", result%ledger%stored, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "energy_dissipated_gamma", &
+                                                       result%ledger%dissipated_gamma, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "energy_dissipated_beta", &
+                                                       result%ledger%dissipated_beta, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "energy_dissipated_absorber", &
+                                                       result%ledger%dissipated_absorber, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "ledger_max_step_residual", &
+                                                       result%ledger%max_step_residual, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "ledger_energy_scale", &
+                                                       result%ledger%energy_scale, error)
+    end subroutine write_outcome
+
+end module supratrans_output
