@@ -6,13 +6,13 @@
 !> gamma'(n) = 0 otherwise. The damping of site n is alpha_n = gamma + gamma'(n).
 module supratrans_chain
     use supratrans_kinds, only: wp
-    use supratrans_config, only: chain_params, drive_params
+    use supratrans_config, only: chain_params, drive_params, run_config
     implicit none
     private
 
     public :: absorber_profile, damping_profile, drive_psi, ramp_factor
     public :: band_gap_edge, phonon_band_top, decay_rate, threshold_as
-    public :: stability_lhs, stability_rhs, stable_by_paper_condition, critical_dt
+    public :: stability_lhs, stability_rhs, stable_by_paper_condition, critical_dt, detector_site
 
 contains
 
@@ -158,5 +158,22 @@ contains
             dt = (p + sqrt(p*p + 4.0_wp*q))/(2.0_wp*q)
         end if
     end function critical_dt
+
+    !> Detector site n_d of a run: the configured one, or min(N0 - 10, max(20, ceiling(3/lambda))) from linear
+    !> theory (the evanescent wave A e^{-lambda n} has decayed to 5% of A there), kept inside 1..N-1.
+    pure function detector_site(run) result(nd)
+        !> Run configuration.
+        type(run_config), intent(in) :: run
+        integer :: nd
+        real(wp) :: lambda
+
+        if (run%detect%site > 0) then
+            nd = run%detect%site
+        else
+            lambda = decay_rate(run%chain, min(run%drive%omega, 0.999999_wp*sqrt(1.0_wp + run%chain%m2)))
+            nd = min(run%chain%n0 - 10, max(20, ceiling(min(3.0_wp/max(lambda, 1.0e-6_wp), 1.0e6_wp))))
+        end if
+        nd = max(1, min(nd, run%chain%n - 1))
+    end function detector_site
 
 end module supratrans_chain

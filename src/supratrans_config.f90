@@ -76,6 +76,20 @@ module supratrans_config
         integer :: ledger_every = 20
     end type record_params
 
+    !> How a run is classified as transmitting (README, "Classification"): it transmits once an oscillator beyond
+    !> the detector site n_d swings past `amplitude` (default pi, the top of the sine-Gordon barrier): the
+    !> evanescent wave and the harmonic phonons stay far below it, the breathers and kinks of supratransmission
+    !> go far above it.
+    type, public :: detect_params
+        !> Detector site n_d; 0 chooses it from linear theory: n_d = min(N0 - 10, max(20, ceiling(3/lambda))),
+        !> where the evanescent wave has decayed to e^{-3} of A.
+        integer :: site = 0
+        !> Displacement |u_n|, n > n_d, that makes the verdict "transmitting".
+        real(wp) :: amplitude = 3.141592653589793_wp
+        !> Stop a run as soon as it is found transmitting (its energy totals then end at that time).
+        logical :: stop_when_decided = .false.
+    end type detect_params
+
     !> Everything one simulation needs.
     type, public :: run_config
         !> The chain.
@@ -86,6 +100,8 @@ module supratrans_config
         type(numerics_params) :: numerics
         !> What to record.
         type(record_params) :: record
+        !> How the run is classified.
+        type(detect_params) :: detect
     end type run_config
 
     !> Where and how the results are written.
@@ -98,10 +114,35 @@ module supratrans_config
         logical :: quiet = .false.
     end type output_params
 
+    !> Largest number of curves a scene may vary over (`values`), and of potentials.
+    integer, parameter, public :: max_curve_values = 16
+
     !> The study to run and its controls.
     type, public :: scene_params
-        !> Scene name: 'timeseries' (more scenes: amplitude_sweep, map, bifurcation).
+        !> Scene name: 'timeseries', 'amplitude_sweep', 'map' or 'bifurcation'.
         character(len=name_len) :: kind = "timeseries"
+        !> Amplitude axis of sweeps and maps, and the search range of the bifurcation scene.
+        real(wp) :: amplitude_min = 1.0_wp
+        !> Upper end of the amplitude axis / search range.
+        real(wp) :: amplitude_max = 3.0_wp
+        !> Amplitude step of sweeps and maps.
+        real(wp) :: amplitude_step = 0.01_wp
+        !> Frequency axis of maps and bifurcation diagrams.
+        real(wp) :: omega_min = 0.05_wp
+        !> Upper end of the frequency axis.
+        real(wp) :: omega_max = 1.0_wp
+        !> Frequency step.
+        real(wp) :: omega_step = 0.05_wp
+        !> Parameter that differs between curves: 'none', 'gamma', 'beta' or 'm2'.
+        character(len=name_len) :: vary = "none"
+        !> Its values, one curve each (unallocated with vary = 'none').
+        real(wp), allocatable :: values(:)
+        !> Potentials, one panel each (default: the &chain potential).
+        integer, allocatable :: potentials(:)
+        !> Bifurcation search: coarse amplitude step of the upward scan.
+        real(wp) :: coarse_step = 0.1_wp
+        !> Bifurcation search: resolution of the threshold.
+        real(wp) :: resolution = 0.01_wp
     end type scene_params
 
     !> A whole validated input file.

@@ -32,7 +32,8 @@ module supratrans_input
     use supratrans_kinds, only: wp, name_len, path_len
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_potential, only: sine_gordon, klein_gordon, potential_name, potential_from_name
-    use supratrans_config, only: input_config, method_newton, method_linearized, method_rk4
+    use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, max_curve_values
+    use supratrans_curves, only: curve_count, curve_run
     use supratrans_chain, only: band_gap_edge, stability_lhs, stability_rhs, stable_by_paper_condition, critical_dt
     implicit none
     private
@@ -98,12 +99,30 @@ module supratrans_input
         key_spec("record", "probe_every", kt_integer, 1), &
         key_spec("record", "ledger_every", kt_integer, 1), &
         key_spec("scene", "kind", kt_name, 1), &
+        key_spec("scene", "amplitude_min", kt_real, 1), &
+        key_spec("scene", "amplitude_max", kt_real, 1), &
+        key_spec("scene", "amplitude_step", kt_real, 1), &
+        key_spec("scene", "omega_min", kt_real, 1), &
+        key_spec("scene", "omega_max", kt_real, 1), &
+        key_spec("scene", "omega_step", kt_real, 1), &
+        key_spec("scene", "vary", kt_name, 1), &
+        key_spec("scene", "values", kt_real, max_curve_values), &
+        key_spec("scene", "potentials", kt_name, 2), &
+        key_spec("scene", "coarse_step", kt_real, 1), &
+        key_spec("scene", "resolution", kt_real, 1), &
+        key_spec("detect", "site", kt_integer, 1), &
+        key_spec("detect", "amplitude", kt_real, 1), &
+        key_spec("detect", "stop_when_decided", kt_logical, 1), &
         key_spec("output", "file", kt_path, 1), &
         key_spec("output", "overwrite", kt_logical, 1), &
         key_spec("output", "quiet", kt_logical, 1)]
 
     !> Scene kinds accepted by `&scene kind = ...`.
-    character(len=*), parameter :: scene_kinds(*) = [character(len=name_len) :: "timeseries"]
+    character(len=*), parameter :: scene_kinds(*) = [character(len=name_len) :: "timeseries", "amplitude_sweep", "map", &
+                                                     "bifurcation"]
+
+    !> Parameters a scene may vary between its curves (`&scene vary = ...`).
+    character(len=*), parameter :: vary_names(*) = [character(len=name_len) :: "none", "gamma", "beta", "m2"]
 
     !> Token kinds of the namelist tokenizer.
     integer, parameter :: tk_eof = 0, tk_group = 1, tk_slash = 2, tk_equals = 3, tk_comma = 4, &
@@ -715,7 +734,10 @@ contains
                 case ("record")
                     call read_record(text, path, parsed%n_values(find_key("record", "probes")), cfg, error)
                 case ("scene")
-                    call read_scene(text, path, cfg, error)
+                    call read_scene(text, path, parsed%n_values(find_key("scene", "values")), &
+                                    parsed%n_values(find_key("scene", "potentials")), cfg, error)
+                case ("detect")
+                    call read_detect(text, path, cfg, error)
                 case ("output")
                     call read_output(text, path, cfg, error)
                 case default
@@ -881,8 +903,72 @@ contains
         cfg%run%record%ledger_every = ledger_every
     end subroutine read_record
 
-    !> Convert `&scene`.
-    pure subroutine read_scene(text, path, cfg, error)
+    !> Convert `&scene`; `values` and `potentials` lists replace the defaults.
+    pure subroutine read_scene(text, path, n_values, n_potentials, cfg, error)
+        !> Canonical text of the group.
+        character(len=*), intent(in) :: text
+        !> File name for messages.
+        character(len=*), intent(in) :: path
+        !> Number of `values` given.
+        integer, intent(in) :: n_values
+        !> Number of `potentials` given.
+        integer, intent(in) :: n_potentials
+        !> Configuration to update.
+        type(input_config), intent(inout) :: cfg
+        !> Allocated when the conversion fails or a potential is unknown.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=name_len) :: kind, vary, potentials(2)
+        real(wp) :: amplitude_min, amplitude_max, amplitude_step, omega_min, omega_max, omega_step, coarse_step, &
+                    resolution, values(max_curve_values)
+        integer :: ios, i
+        character(len=512) :: msg
+        namelist /scene/ kind, amplitude_min, amplitude_max, amplitude_step, omega_min, omega_max, omega_step, vary, &
+            values, potentials, coarse_step, resolution
+
+        kind = cfg%scene%kind
+        amplitude_min = cfg%scene%amplitude_min
+        amplitude_max = cfg%scene%amplitude_max
+        amplitude_step = cfg%scene%amplitude_step
+        omega_min = cfg%scene%omega_min
+        omega_max = cfg%scene%omega_max
+        omega_step = cfg%scene%omega_step
+        vary = cfg%scene%vary
+        coarse_step = cfg%scene%coarse_step
+        resolution = cfg%scene%resolution
+        values = 0.0_wp
+        potentials = ""
+        msg = ""
+        read (text, nml=scene, iostat=ios, iomsg=msg)
+        if (ios /= 0) then
+            call fail(error, path, "scene", trim(msg))
+            return
+        end if
+        cfg%scene%kind = kind
+        cfg%scene%amplitude_min = amplitude_min
+        cfg%scene%amplitude_max = amplitude_max
+        cfg%scene%amplitude_step = amplitude_step
+        cfg%scene%omega_min = omega_min
+        cfg%scene%omega_max = omega_max
+        cfg%scene%omega_step = omega_step
+        cfg%scene%vary = vary
+        cfg%scene%coarse_step = coarse_step
+        cfg%scene%resolution = resolution
+        if (n_values > 0) cfg%scene%values = values(1:n_values)
+        if (n_potentials > 0) then
+            allocate (cfg%scene%potentials(n_potentials))
+            do i = 1, n_potentials
+                cfg%scene%potentials(i) = potential_from_name(potentials(i))
+                if (cfg%scene%potentials(i) == 0) then
+                    call fail(error, path, "scene", "potentials(" // int_str(i) // ") = '" // trim(potentials(i)) &
+                              // "': unknown potential (known: sine-gordon, klein-gordon)")
+                    return
+                end if
+            end do
+        end if
+    end subroutine read_scene
+
+    !> Convert `&detect`.
+    pure subroutine read_detect(text, path, cfg, error)
         !> Canonical text of the group.
         character(len=*), intent(in) :: text
         !> File name for messages.
@@ -891,20 +977,25 @@ contains
         type(input_config), intent(inout) :: cfg
         !> Allocated when the conversion fails.
         type(error_type), allocatable, intent(out) :: error
-        character(len=name_len) :: kind
-        integer :: ios
+        integer :: site, ios
+        real(wp) :: amplitude
+        logical :: stop_when_decided
         character(len=512) :: msg
-        namelist /scene/ kind
+        namelist /detect/ site, amplitude, stop_when_decided
 
-        kind = cfg%scene%kind
+        site = cfg%run%detect%site
+        amplitude = cfg%run%detect%amplitude
+        stop_when_decided = cfg%run%detect%stop_when_decided
         msg = ""
-        read (text, nml=scene, iostat=ios, iomsg=msg)
+        read (text, nml=detect, iostat=ios, iomsg=msg)
         if (ios /= 0) then
-            call fail(error, path, "scene", trim(msg))
+            call fail(error, path, "detect", trim(msg))
             return
         end if
-        cfg%scene%kind = kind
-    end subroutine read_scene
+        cfg%run%detect%site = site
+        cfg%run%detect%amplitude = amplitude
+        cfg%run%detect%stop_when_decided = stop_when_decided
+    end subroutine read_detect
 
     !> Convert `&output`.
     pure subroutine read_output(text, path, cfg, error)
@@ -1068,6 +1159,17 @@ contains
                       // joined(scene_kinds, "") // ")")
             return
         end if
+        call check_scene(cfg, where, error)
+        if (allocated(error)) return
+
+        ! &detect
+        if (cfg%run%detect%site < 0 .or. cfg%run%detect%site >= cfg%run%chain%n) then
+            call fail(error, where, "detect", "site = " // int_str(cfg%run%detect%site) &
+                      // ": need 0 (automatic) <= site < N = " // int_str(cfg%run%chain%n))
+            return
+        end if
+        call check_real(where, "detect", "amplitude", cfg%run%detect%amplitude, .true., error)
+        if (allocated(error)) return
 
         ! &output
         if (len_trim(cfg%output%file) == 0) then
@@ -1075,6 +1177,85 @@ contains
             return
         end if
     end subroutine check_parameters
+
+    !> Checks of the scene's axes and curves: each curve (potential, varied value) must be a valid chain, stable by
+    !> the paper's condition, and (for scenes at one frequency) driven inside its band gap.
+    pure subroutine check_scene(cfg, where, error)
+        !> The configuration.
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Allocated on the first failed check.
+        type(error_type), allocatable, intent(out) :: error
+        type(run_config) :: run
+        integer :: ic
+        character(len=:), allocatable :: label
+
+        associate (sc => cfg%scene)
+            if (find_name(vary_names, trim(sc%vary)) == 0) then
+                call fail(error, where, "scene", "vary = '" // trim(sc%vary) // "': unknown parameter (known: " &
+                          // joined(vary_names, "") // ")")
+                return
+            end if
+            if (trim(sc%vary) /= "none" .and. .not. allocated(sc%values)) then
+                call fail(error, where, "scene", "vary = '" // trim(sc%vary) // "' needs a list of values")
+                return
+            end if
+            if (trim(sc%vary) == "none" .and. allocated(sc%values)) then
+                call fail(error, where, "scene", "values are given but vary = 'none' (say which parameter they set)")
+                return
+            end if
+            if (trim(sc%kind) == "timeseries") return
+            call check_real(where, "scene", "amplitude_min", sc%amplitude_min, .false., error)
+            if (allocated(error)) return
+            call check_real(where, "scene", "amplitude_step", sc%amplitude_step, .true., error)
+            if (allocated(error)) return
+            if (.not. (sc%amplitude_max >= sc%amplitude_min)) then
+                call fail(error, where, "scene", "amplitude_max = " // real_str(sc%amplitude_max) &
+                          // ": must be >= amplitude_min = " // real_str(sc%amplitude_min))
+                return
+            end if
+            call check_real(where, "scene", "omega_min", sc%omega_min, .true., error)
+            if (allocated(error)) return
+            call check_real(where, "scene", "omega_step", sc%omega_step, .true., error)
+            if (allocated(error)) return
+            if (.not. (sc%omega_max >= sc%omega_min)) then
+                call fail(error, where, "scene", "omega_max = " // real_str(sc%omega_max) &
+                          // ": must be >= omega_min = " // real_str(sc%omega_min))
+                return
+            end if
+            call check_real(where, "scene", "resolution", sc%resolution, .true., error)
+            if (allocated(error)) return
+            if (.not. (sc%coarse_step >= sc%resolution)) then
+                call fail(error, where, "scene", "coarse_step = " // real_str(sc%coarse_step) &
+                          // ": must be >= resolution = " // real_str(sc%resolution))
+                return
+            end if
+        end associate
+
+        do ic = 1, curve_count(cfg)
+            run = curve_run(cfg, ic)
+            label = "curve " // int_str(ic) // " (" // potential_name(run%chain%potential) // ", " &
+                    // trim(cfg%scene%vary) // ")"
+            if (run%chain%gamma < 0.0_wp .or. run%chain%beta < 0.0_wp .or. .not. (1.0_wp + run%chain%m2 > 0.0_wp)) then
+                call fail(error, where, "scene", label // ": need gamma >= 0, beta >= 0 and 1 + m2 > 0")
+                return
+            end if
+            if (.not. stable_by_paper_condition(run%chain, run%numerics%dt) .and. .not. cfg%allow_unstable) then
+                call fail(error, where, "scene", label // ": dt = " // real_str(run%numerics%dt) &
+                          // " violates the paper's necessary stability condition (it needs dt < " &
+                          // real_str(critical_dt(run%chain), 6) // "; set allow_unstable = .true. to run anyway)")
+                return
+            end if
+            if (trim(cfg%scene%kind) == "amplitude_sweep" .and. run%drive%omega >= band_gap_edge(run%chain) &
+                .and. .not. cfg%allow_outside_gap) then
+                call fail(error, where, "scene", label // ": omega = " // real_str(run%drive%omega) &
+                          // " is outside its band gap 0 < Omega < " // fixed4(band_gap_edge(run%chain)) &
+                          // " (set allow_outside_gap = .true. to run anyway)")
+                return
+            end if
+        end do
+    end subroutine check_scene
 
     !> Check that a real parameter is finite and positive (or non-negative, or of any sign).
     pure subroutine check_real(where, group, key, x, strict, error, any_sign)

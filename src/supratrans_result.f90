@@ -36,6 +36,18 @@ module supratrans_result
         real(wp) :: wall_time = 0.0_wp
         !> Largest |u_n| over the run.
         real(wp) :: max_abs_u = 0.0_wp
+        !> Verdict: the run transmitted energy beyond the detector site.
+        logical :: transmitting = .false.
+        !> Time at which the verdict was decided (crossing time, or the end of the run).
+        real(wp) :: t_decided = 0.0_wp
+        !> Detector site n_d used.
+        integer :: detect_site = 0
+        !> Largest |u_n| beyond the detector site (n > n_d) seen.
+        real(wp) :: u_beyond_max = 0.0_wp
+        !> The run was stopped as soon as its verdict was decided.
+        logical :: stopped_early = .false.
+        !> Why the verdict is what it is.
+        character(len=:), allocatable :: verdict_reason
         !> Probe sites.
         integer, allocatable :: probes(:)
         !> Probe sample times t_k.

@@ -5,8 +5,9 @@
 !> variables and in the result, so any number of runs can proceed at once in different threads.
 module supratrans_simulate
     use supratrans_kinds, only: wp, i8
-    use supratrans_config, only: run_config, method_newton, method_linearized
-    use supratrans_chain, only: drive_psi
+    use supratrans_config, only: run_config, method_newton, method_linearized, method_rk4
+    use supratrans_rk4, only: simulate_rk4
+    use supratrans_chain, only: drive_psi, detector_site
     use supratrans_scheme, only: scheme_type, scheme_init
     use supratrans_newton, only: newton_step, newton_ok, newton_not_converged
     use supratrans_linearized, only: linearized_step
@@ -28,7 +29,7 @@ contains
         levels = nint(run%numerics%t_final/run%numerics%dt) + 1
     end function number_of_levels
 
-    !> Simulate one run of the energy-conserving or the linearized scheme.
+    !> Simulate one run of the energy-conserving or the linearized scheme (RK4 runs are handed to `simulate_rk4`).
     subroutine simulate(run, result)
         !> Validated run configuration.
         type(run_config), intent(in) :: run
@@ -40,8 +41,13 @@ contains
         integer :: n, m, k, io2, io, ic, inew, itmp, iters, status, info, nprobe, nsample, nledger
         integer :: ledger_every, probe_every
         integer(i8) :: clock_start, clock_end, clock_rate
-        real(wp) :: dt, p_in, d_gamma, d_beta, d_abs, umax
+        real(wp) :: dt, p_in, d_gamma, d_beta, d_abs, umax, ufar
+        integer :: nd
 
+        if (run%numerics%method == method_rk4) then
+            call simulate_rk4(run, result)
+            return
+        end if
         call system_clock(clock_start, clock_rate)
         n = run%chain%n
         dt = run%numerics%dt
@@ -77,6 +83,8 @@ contains
 
         result%status = run_ok
         result%steps = 0
+        nd = detector_site(run)
+        result%detect_site = nd
         do k = 1, m - 1
             u(0, inew) = drive_psi(run%drive, real(k + 1, wp)*dt)
             u(n + 1, inew) = 0.0_wp
@@ -127,6 +135,28 @@ contains
             end if
             if (mod(k + 1, probe_every) == 0) call record_probes(result, k + 1, u(:, inew))
 
+            ! verdict: has a nonlinear excitation crossed the detector site?
+            ufar = maxval(abs(u(nd + 1:n, inew)))
+            result%u_beyond_max = max(result%u_beyond_max, ufar)
+            if (.not. result%transmitting) then
+                if (ufar > run%detect%amplitude) then
+                    result%transmitting = .true.
+                    result%t_decided = real(k + 1, wp)*dt
+                    result%verdict_reason = "|u_n| beyond site " // int_str(nd) // " reached " // real_str(ufar) &
+                                            // " > " // real_str(run%detect%amplitude) // " at t = " &
+                                            // real_str(result%t_decided)
+                    if (run%detect%stop_when_decided) then
+                        result%stopped_early = .true.
+                        itmp = io2
+                        io2 = io
+                        io = ic
+                        ic = inew
+                        inew = itmp
+                        exit
+                    end if
+                end if
+            end if
+
             itmp = io2
             io2 = io
             io = ic
@@ -134,6 +164,12 @@ contains
             inew = itmp
         end do
         result%t_end = real(result%steps + 1, wp)*dt
+        if (.not. result%transmitting) then
+            result%t_decided = result%t_end
+            result%verdict_reason = "|u_n| beyond site " // int_str(nd) // " stayed below " &
+                                    // real_str(run%detect%amplitude) // " (max " // real_str(result%u_beyond_max) // ")"
+            if (result%status /= run_ok) result%verdict_reason = "undecided: the run failed"
+        end if
         if (result%status == run_ok .and. mod(result%steps, ledger_every) /= 0 .and. result%steps > 0) then
             ! close the ledger on the last step taken (levels `io` = k and `ic` = k+1 after the rotation)
             call ledger_close(ledger, stored_energy(scheme, run%chain%m2, u(:, ic), u(:, io)))

@@ -1,0 +1,354 @@
+!> Reference integrator: classical fourth-order Runge-Kutta (RK4) on the method-of-lines system of the paper's
+!> chain (eq. 1 on N sites, Sec. 3.1), with the same drive and absorbing end as the finite-difference schemes.
+!>
+!> For n = 1..N, with u_0(t) = psi(t) = A r(t) sin(Omega t) and u_{N+1} = 0,
+!>
+!>     u_n'' = (c^2 + beta d/dt)(u_{n+1} - 2 u_n + u_{n-1}) - alpha_n u_n' - m^2 u_n - V'(u_n),
+!>
+!> alpha_n = gamma + gamma'(n). The state is (u, v) of size 2N, the chain starts at rest at t = 0 and
+!> M = nint(T/dt) steps are taken, as in the other schemes. The boundary velocity is
+!> v_0 = psi'(t) = A [r'(t) sin(Omega t) + r(t) Omega cos(Omega t)], r' = 1/ramp_time for t < ramp_time and
+!> 0 after; at the ramp's kink each stage takes the one-sided value of the step it belongs to, so a ramp that
+!> ends on a time level keeps the method fourth-order.
+!>
+!> Energy (continuous; RK4 does not conserve it, the ledger measures its drift):
+!>
+!>     H = sum_{n=1}^{N} [v_n^2/2 + m^2 u_n^2/2 + V(u_n)] + c^2/2 sum_{n=0}^{N} (u_{n+1} - u_n)^2,
+!>     dH/dt = P - D^gamma - D^beta - D^abs,
+!>     P = c^2 (u_0 - u_1) psi' + beta (psi' - v_1) psi',   D^gamma = gamma sum v_n^2,
+!>     D^abs = sum gamma'(n) v_n^2,   D^beta = beta sum_{n=1}^{N+1} (v_n - v_{n-1})^2,  v_0 = psi', v_{N+1} = 0.
+!>
+!> The four cumulative energies (injected, dissipated by gamma, by beta, by the absorber) are integrated as
+!> four extra ODE components with the same RK4 stages, so they are fourth-order accurate and the ledger
+!> residual H(t) - H(0) - (injected - dissipated) is the method's O(dt^4) energy drift, not a quadrature error.
+!>
+!> The transmission verdict uses the same detector as the other schemes (`detector_site` of `supratrans_chain`);
+!> `simulate` of `supratrans_simulate` hands `method_rk4` runs to `simulate_rk4`.
+module supratrans_rk4
+    use supratrans_kinds, only: wp, i8
+    use supratrans_config, only: run_config, chain_params, drive_params
+    use supratrans_chain, only: damping_profile, drive_psi, ramp_factor, detector_site
+    use supratrans_potential, only: force_array, potential_v
+    use supratrans_ledger, only: ledger_type, ledger_close
+    use supratrans_result, only: run_result, run_ok, run_diverged
+    implicit none
+    private
+
+    public :: simulate_rk4, rk4_rhs
+
+    !> Number of energy components appended to the state (u, v): injected, dissipated by gamma, by beta, by the
+    !> absorber, in this order (the order of `ledger_columns` 2..5).
+    integer, parameter, public :: rk4_energy_components = 4
+
+contains
+
+    !> Simulate one run with classical RK4 (same contract as `simulate`).
+    !>
+    !> Records as `simulate` does: probes at t_k = k dt every `probe_every` steps (sample 1 at t = 0); the ledger
+    !> at t_k = k dt every `ledger_every` steps (record 1 at t = 0; unlike the leapfrog schemes, whose energy lives
+    !> on half levels, H is evaluated on the time level itself), plus a last record at t_end when the run ends
+    !> between records. The transmission verdict uses the same detector (`detector_site`, `run%detect`).
+    !> `steps` counts RK4 steps, `t_end = steps dt`, and `newton_iterations` counts right-hand-side evaluations
+    !> (4 a step; `newton_max_iterations` = 4).
+    subroutine simulate_rk4(run, result)
+        !> Validated run configuration (`run%numerics%method` is not consulted).
+        type(run_config), intent(in) :: run
+        !> Outcome, statistics, ledger and records.
+        type(run_result), intent(out) :: result
+        type(ledger_type) :: ledger
+        real(wp), allocatable :: alpha(:), y(:), ys(:), k1(:), k2(:), k3(:), k4(:)
+        integer :: n, ny, m, k, nprobe, nsample, nledger, ledger_every, probe_every, nd
+        integer(i8) :: clock_start, clock_end, clock_rate
+        real(wp) :: dt, t0, th, t1, umax, vmax, ufar
+
+        call system_clock(clock_start, clock_rate)
+        n = run%chain%n
+        ny = 2*n + rk4_energy_components
+        dt = run%numerics%dt
+        m = nint(run%numerics%t_final/dt)
+        ledger_every = run%record%ledger_every
+        probe_every = run%record%probe_every
+
+        ! records
+        if (allocated(run%record%probes)) then
+            result%probes = run%record%probes
+        else
+            allocate (result%probes(0))
+        end if
+        nprobe = size(result%probes)
+        nsample = m/probe_every + 1
+        allocate (result%probe_time(nsample), result%probe_u(nsample, nprobe))
+        nledger = m/ledger_every + 2
+        allocate (result%ledger_time(nledger), result%ledger_series(nledger, 6))
+
+        ! work arrays, allocated once; the chain starts at rest
+        alpha = damping_profile(run%chain)
+        allocate (y(ny), source=0.0_wp)
+        allocate (ys(ny), k1(ny), k2(ny), k3(ny), k4(ny))
+
+        call record_probes(result, 0.0_wp, drive_psi(run%drive, 0.0_wp), y(1:n))
+        call ledger_close(ledger, chain_energy(run%chain, drive_psi(run%drive, 0.0_wp), y))
+        call record_ledger(result, ledger, 0.0_wp)
+
+        result%status = run_ok
+        result%steps = 0
+        nd = detector_site(run)
+        result%detect_site = nd
+        do k = 1, m
+            t0 = real(k - 1, wp)*dt
+            th = (real(k, wp) - 0.5_wp)*dt
+            t1 = real(k, wp)*dt
+            call rk4_rhs(run%chain, alpha, drive_psi(run%drive, t0), drive_dpsi(run%drive, t0, th), y, k1)
+            ys = y + (0.5_wp*dt)*k1
+            call rk4_rhs(run%chain, alpha, drive_psi(run%drive, th), drive_dpsi(run%drive, th, th), ys, k2)
+            ys = y + (0.5_wp*dt)*k2
+            call rk4_rhs(run%chain, alpha, drive_psi(run%drive, th), drive_dpsi(run%drive, th, th), ys, k3)
+            ys = y + dt*k3
+            call rk4_rhs(run%chain, alpha, drive_psi(run%drive, t1), drive_dpsi(run%drive, t1, th), ys, k4)
+            y = y + (dt/6.0_wp)*(k1 + 2.0_wp*(k2 + k3) + k4)
+            result%steps = k
+
+            umax = maxval(abs(y(1:n)))
+            vmax = maxval(abs(y(n + 1:2*n)))
+            result%max_abs_u = max(result%max_abs_u, umax)
+            if (.not. (umax <= run%numerics%blowup_threshold) .or. .not. (vmax <= huge(1.0_wp))) then
+                result%status = run_diverged
+                result%reason = "blow-up: max |u_n| = " // real_str(umax) // " exceeds " &
+                                // real_str(run%numerics%blowup_threshold) // " at t = " // real_str(t1)
+                exit
+            end if
+
+            call ledger_from_state(ledger, y(2*n + 1:))
+            if (mod(k, ledger_every) == 0) then
+                call ledger_close(ledger, chain_energy(run%chain, drive_psi(run%drive, t1), y))
+                call record_ledger(result, ledger, t1)
+            end if
+            if (mod(k, probe_every) == 0) call record_probes(result, t1, drive_psi(run%drive, t1), y(1:n))
+
+            ! verdict: has a nonlinear excitation crossed the detector site?
+            ufar = maxval(abs(y(nd + 1:n)))
+            result%u_beyond_max = max(result%u_beyond_max, ufar)
+            if (.not. result%transmitting) then
+                if (ufar > run%detect%amplitude) then
+                    result%transmitting = .true.
+                    result%t_decided = t1
+                    result%verdict_reason = "|u_n| beyond site " // int_str(nd) // " reached " // real_str(ufar) &
+                                            // " > " // real_str(run%detect%amplitude) // " at t = " &
+                                            // real_str(result%t_decided)
+                    if (run%detect%stop_when_decided) then
+                        result%stopped_early = .true.
+                        exit
+                    end if
+                end if
+            end if
+        end do
+        result%t_end = real(result%steps, wp)*dt
+        if (.not. result%transmitting) then
+            result%t_decided = result%t_end
+            result%verdict_reason = "|u_n| beyond site " // int_str(nd) // " stayed below " &
+                                    // real_str(run%detect%amplitude) // " (max " // real_str(result%u_beyond_max) // ")"
+            if (result%status /= run_ok) result%verdict_reason = "undecided: the run failed"
+        end if
+        if (result%status == run_ok .and. mod(result%steps, ledger_every) /= 0 .and. result%steps > 0) then
+            ! close the ledger on the last level reached
+            call ledger_close(ledger, chain_energy(run%chain, drive_psi(run%drive, result%t_end), y))
+            call record_ledger(result, ledger, result%t_end)
+        end if
+        result%ledger = ledger
+        result%newton_iterations = 4_i8*int(result%steps, i8)
+        if (result%steps > 0) result%newton_max_iterations = 4
+        if (.not. allocated(result%reason)) result%reason = ""
+        call system_clock(clock_end)
+        result%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+
+    contains
+
+        !> Store u at the probe sites for time t (site 0 is the drive, site N+1 the fixed end).
+        subroutine record_probes(res, t, psi, u)
+            type(run_result), intent(inout) :: res
+            real(wp), intent(in) :: t, psi
+            real(wp), intent(in) :: u(:)
+            integer :: i, j, site
+
+            if (res%n_probe_samples >= size(res%probe_time)) return
+            res%n_probe_samples = res%n_probe_samples + 1
+            i = res%n_probe_samples
+            res%probe_time(i) = t
+            do j = 1, nprobe
+                site = res%probes(j)
+                if (site >= 1 .and. site <= n) then
+                    res%probe_u(i, j) = u(site)
+                else if (site == 0) then
+                    res%probe_u(i, j) = psi
+                else
+                    res%probe_u(i, j) = 0.0_wp
+                end if
+            end do
+        end subroutine record_probes
+
+    end subroutine simulate_rk4
+
+    !> Right-hand side of the method-of-lines system extended by the energy rates.
+    !>
+    !> Layout of `y` and `dydt` (size 2N + 4): u_1..u_N, v_1..v_N, then the cumulative energies injected,
+    !> dissipated by gamma, by beta, by the absorber; their rates P, D^gamma, D^beta, D^abs do not depend on them.
+    pure subroutine rk4_rhs(chain, alpha, psi, dpsi, y, dydt)
+        !> Chain parameters (c, beta, gamma, m^2, potential, N).
+        type(chain_params), intent(in) :: chain
+        !> Site damping alpha_n = gamma + gamma'(n), size N.
+        real(wp), intent(in) :: alpha(:)
+        !> Boundary displacement u_0 = psi(t) at the stage time.
+        real(wp), intent(in) :: psi
+        !> Boundary velocity v_0 = psi'(t) at the stage time.
+        real(wp), intent(in) :: dpsi
+        !> State (u, v, energies), size 2N + 4.
+        real(wp), intent(in) :: y(:)
+        !> Its time derivative, size 2N + 4.
+        real(wp), intent(out) :: dydt(:)
+        integer :: n, i
+        real(wp) :: c2, ui, vi, u_left, v_left, u_right, v_right, sum_v2, sum_abs, sum_dv2
+
+        n = chain%n
+        c2 = chain%c**2
+        call force_array(chain%potential, y(1:n), dydt(n + 1:2*n))
+        sum_v2 = 0.0_wp
+        sum_abs = 0.0_wp
+        sum_dv2 = 0.0_wp
+        u_left = psi
+        v_left = dpsi
+        do i = 1, n
+            ui = y(i)
+            vi = y(n + i)
+            if (i < n) then
+                u_right = y(i + 1)
+                v_right = y(n + i + 1)
+            else
+                u_right = 0.0_wp
+                v_right = 0.0_wp
+            end if
+            dydt(i) = vi
+            dydt(n + i) = c2*(u_right - 2.0_wp*ui + u_left) + chain%beta*(v_right - 2.0_wp*vi + v_left) &
+                          - alpha(i)*vi - chain%m2*ui - dydt(n + i)
+            sum_v2 = sum_v2 + vi*vi
+            sum_abs = sum_abs + (alpha(i) - chain%gamma)*vi*vi
+            sum_dv2 = sum_dv2 + (vi - v_left)**2
+            u_left = ui
+            v_left = vi
+        end do
+        sum_dv2 = sum_dv2 + v_left**2      ! bond to the fixed end, v_{N+1} = 0
+        dydt(2*n + 1) = c2*(psi - y(1))*dpsi + chain%beta*(dpsi - y(n + 1))*dpsi
+        dydt(2*n + 2) = chain%gamma*sum_v2
+        dydt(2*n + 3) = chain%beta*sum_dv2
+        dydt(2*n + 4) = sum_abs
+    end subroutine rk4_rhs
+
+    !> Boundary velocity psi'(t) = A [r'(t) sin(Omega t) + r(t) Omega cos(Omega t)].
+    !> r' = 1/ramp_time on [0, ramp_time), 0 after. At the kink (t = ramp_time to 1e-12 relative, so that a time
+    !> level k dt that is the kink up to rounding counts as the kink) the one-sided value from the side of
+    !> `t_side` (a time inside the current step) is taken.
+    elemental function drive_dpsi(drive, t, t_side) result(dpsi)
+        !> Drive parameters.
+        type(drive_params), intent(in) :: drive
+        !> Stage time t >= 0.
+        real(wp), intent(in) :: t
+        !> A time inside the current step (its midpoint), which chooses the side at the kink.
+        real(wp), intent(in) :: t_side
+        real(wp) :: dpsi
+        real(wp) :: dr
+        logical :: ramping
+
+        dr = 0.0_wp
+        if (drive%ramp_time > 0.0_wp) then
+            if (abs(t - drive%ramp_time) <= 1.0e-12_wp*drive%ramp_time) then
+                ramping = t_side < drive%ramp_time
+            else
+                ramping = t < drive%ramp_time
+            end if
+            if (ramping) dr = 1.0_wp/drive%ramp_time
+        end if
+        dpsi = drive%amplitude*(dr*sin(drive%omega*t) + ramp_factor(drive, t)*drive%omega*cos(drive%omega*t))
+    end function drive_dpsi
+
+    !> Continuous energy H of the chain for state `y` = (u, v, ...) and boundary value u_0 = psi.
+    pure function chain_energy(chain, psi, y) result(h)
+        !> Chain parameters.
+        type(chain_params), intent(in) :: chain
+        !> Boundary displacement u_0.
+        real(wp), intent(in) :: psi
+        !> State (u, v, energies).
+        real(wp), intent(in) :: y(:)
+        real(wp) :: h
+        real(wp) :: kinetic, onsite, bonds, u_left
+        integer :: n, i
+
+        n = chain%n
+        kinetic = 0.0_wp
+        onsite = 0.0_wp
+        bonds = 0.0_wp
+        u_left = psi
+        do i = 1, n
+            kinetic = kinetic + y(n + i)**2
+            onsite = onsite + 0.5_wp*chain%m2*y(i)**2 + potential_v(chain%potential, y(i))
+            bonds = bonds + (y(i) - u_left)**2
+            u_left = y(i)
+        end do
+        bonds = bonds + u_left**2          ! bond to the fixed end, u_{N+1} = 0
+        h = 0.5_wp*kinetic + onsite + 0.5_wp*chain%c**2*bonds
+    end function chain_energy
+
+    !> Copy the integrated cumulative energies (injected, dissipated by gamma, beta, absorber) into the ledger.
+    pure subroutine ledger_from_state(ledger, e)
+        !> The ledger.
+        type(ledger_type), intent(inout) :: ledger
+        !> The energy components of the state, size 4.
+        real(wp), intent(in) :: e(:)
+
+        ledger%injected = e(1)
+        ledger%dissipated_gamma = e(2)
+        ledger%dissipated_beta = e(3)
+        ledger%dissipated_absorber = e(4)
+    end subroutine ledger_from_state
+
+    !> Append the current ledger state to the records.
+    pure subroutine record_ledger(result, ledger, t)
+        !> Result whose ledger records grow by one.
+        type(run_result), intent(inout) :: result
+        !> Current ledger.
+        type(ledger_type), intent(in) :: ledger
+        !> Time of the record.
+        real(wp), intent(in) :: t
+        integer :: i
+
+        if (result%n_ledger_samples >= size(result%ledger_time)) return
+        result%n_ledger_samples = result%n_ledger_samples + 1
+        i = result%n_ledger_samples
+        result%ledger_time(i) = t
+        result%ledger_series(i, 1) = ledger%stored
+        result%ledger_series(i, 2) = ledger%injected
+        result%ledger_series(i, 3) = ledger%dissipated_gamma
+        result%ledger_series(i, 4) = ledger%dissipated_beta
+        result%ledger_series(i, 5) = ledger%dissipated_absorber
+        result%ledger_series(i, 6) = ledger%residual
+    end subroutine record_ledger
+
+    !> Integer as text.
+    pure function int_str(i) result(s)
+        integer, intent(in) :: i
+        character(len=:), allocatable :: s
+        character(len=24) :: buf
+
+        write (buf, '(i0)') i
+        s = trim(buf)
+    end function int_str
+
+    !> Real as compact text.
+    pure function real_str(x) result(s)
+        real(wp), intent(in) :: x
+        character(len=:), allocatable :: s
+        character(len=32) :: buf
+
+        write (buf, '(g0.6)') x
+        s = trim(adjustl(buf))
+    end function real_str
+
+end module supratrans_rk4
