@@ -13,7 +13,7 @@ module supratrans_output
     implicit none
     private
 
-    public :: write_timeseries, write_run_parameters, timestamp
+    public :: write_timeseries, write_run_parameters, write_root, write_outcome, timestamp
 
 contains
 
@@ -129,11 +129,17 @@ contains
         end select
     end function ledger_description
 
-    !> Root attributes shared by every scene.
+    !> Root attributes shared by every scene: code, version, scene, description, input file, creation time.
     subroutine write_root(file, cfg, scene, description, error)
+        !> Open output file.
         type(h5_file), intent(inout) :: file
+        !> The validated input.
         type(input_config), intent(in) :: cfg
-        character(len=*), intent(in) :: scene, description
+        !> Scene name.
+        character(len=*), intent(in) :: scene
+        !> One-line description of the file's contents.
+        character(len=*), intent(in) :: description
+        !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
 
         call h5_write_attr(file, "/", "code", "supratrans", error)
@@ -149,9 +155,13 @@ contains
 
     !> Outcome and statistics of one run as attributes of `group`.
     subroutine write_outcome(file, group, result, error)
+        !> Open output file.
         type(h5_file), intent(inout) :: file
+        !> Group that receives the attributes (created).
         character(len=*), intent(in) :: group
+        !> The run's result.
         type(run_result), intent(in) :: result
+        !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
 
         call h5_create_group(file, group, "Outcome of the run, solver statistics and final energy totals", error)
