@@ -79,6 +79,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
         type(h5_file) :: file
         integer :: ns, nl, j
+        real(wp), allocatable :: probe_u(:, :)
 
         call h5_create(file, trim(cfg%output%file), cfg%output%overwrite, error)
         if (allocated(error)) return
@@ -90,7 +91,8 @@ contains
                                                   "Site index n of each probe (1 = first oscillator)", error)
         if (.not. allocated(error)) call h5_write(file, "/probes/time", result%probe_time(1:ns), "time", &
                                                   "Sample times t_k = k dt", error)
-        if (.not. allocated(error)) call h5_write(file, "/probes/u", result%probe_u(1:ns, :), "rad", &
+        probe_u = result%probe_u(1:ns, :)          ! contiguous copy of the filled samples
+        if (.not. allocated(error)) call h5_write(file, "/probes/u", probe_u, "rad", &
                                                   "Displacement u_n(t_k) at the probe sites", error, &
                                                   dims="probe, time")
         if (.not. allocated(error)) call h5_write(file, "/ledger/time", result%ledger_time(1:nl), "time", &

@@ -1,0 +1,113 @@
+#!/usr/bin/env bash
+# Run the whole test suite of supratrans from any directory:
+#   1. .ci/install (installs only what is missing),
+#   2. test/pf2f90.py: test/X.pf -> test/X.f90 + test/pf_driver.f90 (pFUnit syntax -> Fortran;
+#      they must sit next to test/pf_runtime.f90, the only place fpm lets them use it from),
+#   3. fpm test (debug profile), which prints `fortran: N passed, M failed`,
+#   4. pytest on test/ and postprocess/.
+# Usage: bash test/run_tests.sh [FILTER]
+#   FILTER (optional) runs only the Fortran tests whose `module::test` name contains it.
+# The last line printed is `N passed, M failed`, summed over both suites, where a stage that
+# could not run (install, translation, build, crash) counts as one failure. Exit status 0 iff
+# M == 0.
+set -uo pipefail   # no -e: every stage runs and its failure is counted
+cd "$(dirname "${BASH_SOURCE[0]}")/.." || exit 1
+
+passed=0
+failed=0
+tmp=$(mktemp -d)
+trap 'rm -rf "${tmp}"' EXIT
+
+note() {
+    echo "run_tests: $*"
+}
+
+# ----------------------------------------------------------------------------- 1. install
+if ! bash .ci/install; then
+    note "FAILED: .ci/install"
+    failed=$((failed + 1))
+fi
+
+# ----------------------------------------------------------------------------- 2. translate .pf
+shopt -s nullglob
+pf_files=(test/*.pf)
+shopt -u nullglob
+translated=1
+if ! python3 test/pf2f90.py -o test "${pf_files[@]}"; then
+    note "FAILED: test/pf2f90.py (Fortran tests not run)"
+    failed=$((failed + 1))
+    translated=0
+fi
+
+# ----------------------------------------------------------------------------- 3. fpm test
+if ((translated)); then
+    fpm_args=(test)
+    if (($# > 0)); then
+        fpm_args+=(-- "$@")
+    fi
+    log="${tmp}/fpm.log"
+    fpm "${fpm_args[@]}" 2>&1 | tee "${log}"
+    status=${PIPESTATUS[0]}
+    f_passed=0
+    f_failed=0
+    summaries=0
+    while read -r n_pass n_fail; do
+        f_passed=$((f_passed + n_pass))
+        f_failed=$((f_failed + n_fail))
+        summaries=$((summaries + 1))
+    done < <(sed -n -E 's/^fortran: ([0-9]+) passed, ([0-9]+) failed[[:space:]]*$/\1 \2/p' "${log}")
+    if ((summaries == 0)); then
+        note "FAILED: fpm test printed no 'fortran: N passed, M failed' line (exit status ${status}: build failure or crash)"
+        f_failed=$((f_failed + 1))
+    elif ((status != 0 && f_failed == 0)); then
+        note "FAILED: fpm test exited with status ${status}"
+        f_failed=$((f_failed + 1))
+    fi
+    passed=$((passed + f_passed))
+    failed=$((failed + f_failed))
+fi
+
+# ----------------------------------------------------------------------------- 4. pytest
+py_dirs=()
+for dir in test postprocess; do
+    if [[ -d ${dir} ]]; then
+        py_dirs+=("${dir}")
+    fi
+done
+xml="${tmp}/pytest.xml"
+python3 -m pytest -q -p no:cacheprovider --junitxml="${xml}" "${py_dirs[@]}"
+status=$?
+counts=$(python3 - "${xml}" <<'EOF'
+import sys
+import xml.etree.ElementTree as ET
+
+try:
+    root = ET.parse(sys.argv[1]).getroot()
+except (OSError, ET.ParseError):
+    print("missing")
+    sys.exit()
+suites = [root] if root.tag == "testsuite" else root.iter("testsuite")
+tests = failures = skipped = 0
+for s in suites:
+    tests += int(s.get("tests", 0))
+    failures += int(s.get("failures", 0)) + int(s.get("errors", 0))
+    skipped += int(s.get("skipped", 0))
+print(tests - failures - skipped, failures)
+EOF
+)
+if [[ ${counts} == missing ]]; then
+    note "FAILED: pytest wrote no report (exit status ${status})"
+    failed=$((failed + 1))
+else
+    read -r p_passed p_failed <<<"${counts}"
+    # Exit status 5 means no test was collected, which is not a failure.
+    if ((status != 0 && status != 5 && p_failed == 0)); then
+        note "FAILED: pytest exited with status ${status}"
+        p_failed=1
+    fi
+    passed=$((passed + p_passed))
+    failed=$((failed + p_failed))
+fi
+
+echo "${passed} passed, ${failed} failed"
+((failed == 0))

@@ -1,0 +1,355 @@
+"""Tests of test/pf2f90.py, the translator of pFUnit .pf files, and of test/pf_runtime.f90."""
+
+from __future__ import annotations
+
+import shutil
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import pytest
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+
+import pf2f90  # noqa: E402
+from pf2f90 import PfError, convert, split_args  # noqa: E402
+
+
+def pf(body: str, name: str = "test_x", uses: str = "    use funit\n") -> str:
+    """A .pf module named ``name`` whose contains-part is ``body``."""
+    return f"module {name}\n{uses}    implicit none\ncontains\n{textwrap.dedent(body)}end module {name}\n"
+
+
+def translate(body: str, name: str = "test_x") -> tuple[str, pf2f90.TestModule]:
+    return convert(f"{name}.pf", pf(body, name))
+
+
+def calls(text: str) -> list[str]:
+    """The generated statements that are not plain copies: calls joined over continuation lines."""
+    out, current = [], ""
+    for line in text.splitlines():
+        s = line.strip()
+        if current:
+            current += s[1:] if s.startswith("&") else " " + s
+        elif s.startswith("call assert"):
+            current = s
+        else:
+            continue
+        if current.endswith("&"):
+            current = current[:-1].rstrip()
+            continue
+        out.append(current.replace("( ", "("))
+        current = ""
+    return out
+
+
+# --------------------------------------------------------------------------- argument splitting
+
+
+@pytest.mark.parametrize(
+    "text, expected",
+    [
+        ("a, b", ["a", "b"]),
+        ("f(x, y), g(z)", ["f(x, y)", "g(z)"]),
+        ("a(b(c, d), e), [1, 2, 3]", ["a(b(c, d), e)", "[1, 2, 3]"]),
+        ("x(1:2, :), (/ 1, 2 /)", ["x(1:2, :)", "(/ 1, 2 /)"]),
+        ("'a, b', \"c, (d\"", ["'a, b'", '"c, (d"']),
+        ("'it''s, ok', b", ["'it''s, ok'", "b"]),
+        ('"say ""hi, there""", b', ['"say ""hi, there"""', "b"]),
+        ("1.0_wp, x, message='m=(,)'", ["1.0_wp", "x", "message='m=(,)'"]),
+        ("", []),
+    ],
+)
+def test_split_args(text, expected):
+    assert split_args(text) == expected
+
+
+@pytest.mark.parametrize("text", ["f(a, b", "a), b", "'open, b", "[1, 2"])
+def test_split_args_rejects_unbalanced(text):
+    with pytest.raises(ValueError):
+        split_args(text)
+
+
+# --------------------------------------------------------------------------- each macro
+
+
+@pytest.mark.parametrize(
+    "macro, call",
+    [
+        ("@assertEqual(1.0_wp, x)", "call assertEqual(1.0_wp, x, location=LOC)"),
+        ("@assertEqual(1.0_wp, x, 1e-12_wp)", "call assertEqual(1.0_wp, x, 1e-12_wp, location=LOC)"),
+        ("@assertEqual(e, a, tolerance=t, message='m')", "call assertEqual(e, a, tolerance=t, message='m', location=LOC)"),
+        ("@assertEqual(3, n, 'n')", "call assertEqual(3, n, 'n', location=LOC)"),
+        ("@assertEqual('abc', s)", "call assertEqual('abc', s, location=LOC)"),
+        ("@assertRelativelyEqual(e, a, 1e-8_wp)", "call assertRelativelyEqual(e, a, 1e-8_wp, location=LOC)"),
+        ("@assertTrue(all(x > 0))", "call assertTrue(all(x > 0), location=LOC)"),
+        ("@assertTrue(ok, 'why')", "call assertTrue(ok, 'why', location=LOC)"),
+        ("@assertFalse(any(x < 0), message='m')", "call assertFalse(any(x < 0), message='m', location=LOC)"),
+        ("@assertLessThan(a, b)", "call assertLessThan(a, b, location=LOC)"),
+        ("@assertLessThanOrEqual(a, b, message='m')", "call assertLessThanOrEqual(a, b, message='m', location=LOC)"),
+        ("@assertGreaterThan(a, b)", "call assertGreaterThan(a, b, location=LOC)"),
+        ("@assertGreaterThanOrEqual(a, b, 'm')", "call assertGreaterThanOrEqual(a, b, 'm', location=LOC)"),
+        ("@assertIsFinite(x(3))", "call assertIsFinite(x(3), location=LOC)"),
+        ("@assertIsNaN(x)", "call assertIsNaN(x, location=LOC)"),
+        ("@ASSERTEQUAL(1, n)", "call assertEqual(1, n, location=LOC)"),
+        ("@assertEqual (1, n)", "call assertEqual(1, n, location=LOC)"),
+    ],
+)
+def test_macro_translation(macro, call):
+    text, _ = translate(f"    @test\n    subroutine t()\n        {macro}\n    end subroutine t\n")
+    loc = "pf_source_location('test_x.pf', 7)"
+    assert calls(text) == [call.replace("LOC", loc)]
+    lines = text.splitlines()
+    k = next(i for i, line in enumerate(lines) if "call assert" in line)
+    assert lines[k].startswith("    call ")  # indentation of the macro kept
+    follow = next(line for line in lines[k:] if "pf_any_failed" in line)
+    assert follow == "    if (pf_any_failed()) return"
+
+
+def test_use_funit_rewritten_and_annotations_commented():
+    text, module = translate(
+        """\
+        @before
+        subroutine set_up()
+        end subroutine set_up
+        @after
+        subroutine tear_down()  ! comment allowed here
+        end subroutine tear_down
+        @test
+        subroutine test_a()
+        end subroutine test_a
+        @test()
+        ! a comment between annotation and subroutine
+        subroutine test_b
+        end subroutine test_b
+        subroutine helper()
+        end subroutine helper
+        """
+    )
+    assert "    use pf_runtime" in text.splitlines()
+    assert "use funit" not in text
+    assert "! @test" in text and "! @before" in text and "! @after" in text
+    assert not any(line.lstrip().startswith("@") for line in text.splitlines())
+    assert text.startswith(pf2f90.MARKER)
+    assert (module.name, module.tests, module.before, module.after) == ("test_x", ["test_a", "test_b"], "set_up", "tear_down")
+
+
+def test_continuation_lines_are_joined():
+    text, _ = translate(
+        """\
+        @test
+        subroutine t()
+            @assertEqual(expected=1.0_wp, &
+                         ! a comment line in between
+                         actual=f(x, &   ! a comment after the ampersand
+                                  y), &
+                         tolerance=1.0e-&
+                         &12_wp)
+            @assertTrue(ok, 'a message, with & and ! inside, &
+                &continued in the string')
+        end subroutine t
+        """
+    )
+    assert calls(text) == [
+        "call assertEqual(expected=1.0_wp, actual=f(x, y), tolerance=1.0e-12_wp, "
+        "location=pf_source_location('test_x.pf', 7))",
+        "call assertTrue(ok, 'a message, with & and ! inside, continued in the string', "
+        "location=pf_source_location('test_x.pf', 13))",
+    ]
+
+
+def test_ordinary_continuation_lines_copied_unchanged():
+    body = """\
+    @test
+    subroutine t()
+        character(len=*), parameter :: s = 'not @a directive &
+            &@assertTrue(.false.)'
+        real :: x(2) = [1.0, &
+        @2.0]
+    end subroutine t
+    """
+    text, _ = convert("test_x.pf", pf(body))
+    for line in textwrap.dedent(body).splitlines()[2:6]:
+        assert line in text
+    assert "call assert" not in text
+
+
+def test_long_call_is_wrapped_within_132_columns():
+    long_message = "x" * 300
+    text, _ = translate(f"    @test\n    subroutine t()\n        @assertTrue(ok, '{long_message}')\n    end subroutine t\n")
+    assert max(len(line) for line in text.splitlines()) <= 132
+    assert calls(text) == [f"call assertTrue(ok, '{long_message}', location=pf_source_location('test_x.pf', 7))"]
+
+
+def test_driver_runs_every_test_with_before_and_after():
+    _, m1 = translate("    @before\n    subroutine s()\n    end subroutine s\n"
+                      "    @test\n    subroutine t()\n    end subroutine t\n", name="test_a")
+    _, m2 = translate("    @test\n    subroutine t()\n    end subroutine t\n", name="test_b")
+    driver = pf2f90.driver_source([m1, m2])
+    assert "use test_a, only: b1 => s" in driver
+    assert "use test_a, only: t1 => t" in driver
+    assert "use test_b, only: t2 => t" in driver
+    assert "call pf_run_test('test_a', 't', t1, before=b1)" in driver
+    assert "call pf_run_test('test_b', 't', t2)" in driver
+
+
+# --------------------------------------------------------------------------- errors
+
+
+@pytest.mark.parametrize(
+    "body, line, message",
+    [
+        ("    @test\n    subroutine t()\n        @assertFoo(1)\n    end subroutine t\n", 7, "unknown directive @assertFoo"),
+        ("    @test\n    subroutine t()\n        @assertNotEqual(1, 2)\n    end subroutine t\n", 7, "does not support"),
+        ("    @disable\n", 5, "does not support"),
+        ("    @test\n    subroutine t()\n        @assertEqual(1)\n    end subroutine t\n", 7, "at least 2"),
+        ("    @test\n    subroutine t()\n        @assertTrue(a, b, c)\n    end subroutine t\n", 7, "at most 2"),
+        ("    @test\n    subroutine t()\n        @assertTrue(x, msg='m')\n    end subroutine t\n", 7, "unknown keyword"),
+        ("    @test\n    subroutine t()\n        @assertTrue(message='m', x)\n    end subroutine t\n", 7, "positional"),
+        ("    @test\n    subroutine t()\n        @assertTrue(f(x)\n    end subroutine t\n", 7, "unbalanced"),
+        ("    @test\n    subroutine t()\n        @assertTrue(x) ! why\n    end subroutine t\n", 7, "comment after"),
+        ("    @test\n    subroutine t()\n        @assertTrue(x) y\n    end subroutine t\n", 7, "after the argument list"),
+        ("    @test\n    function f()\n    end function f\n", 6, "expected 'subroutine name()'"),
+        ("    @test\n    subroutine t(this)\n    end subroutine t\n", 6, "no arguments"),
+        ("    @test\n", 6, "expected 'subroutine name()' after @test of line 5"),
+        ("    @test\n    subroutine t()\n    end subroutine t\n    @test\n    subroutine t()\n    end subroutine t\n",
+         9, "defined twice"),
+    ],
+)
+def test_errors_name_file_and_line(body, line, message):
+    with pytest.raises(PfError) as info:
+        convert("test_x.pf", pf(body))
+    assert str(info.value).startswith(f"test_x.pf:{line}: ")
+    assert message in str(info.value)
+
+
+def test_errors_at_end_of_file():
+    with pytest.raises(PfError, match=r"^test_x\.pf:5: continuation '&' at the end of the file"):
+        convert("test_x.pf", "module test_x\n    use funit\ncontains\n    subroutine t()\n        @assertTrue(x, &\n")
+    with pytest.raises(PfError, match=r"^test_x\.pf:3: @test without a following subroutine"):
+        convert("test_x.pf", "module test_x\ncontains\n    @test\n")
+
+
+def test_module_must_match_file_name():
+    with pytest.raises(PfError, match=r"^test_y\.pf:1: module test_x must be named like its file"):
+        convert("test_y.pf", pf(""))
+
+
+def test_use_funit_required_and_plain():
+    with pytest.raises(PfError, match="no 'use funit'"):
+        convert("test_x.pf", pf("    @test\n    subroutine t()\n        @assertTrue(.true.)\n    end subroutine t\n", uses=""))
+    with pytest.raises(PfError, match="no only-list"):
+        convert("test_x.pf", pf("", uses="    use funit, only: assertTrue\n"))
+
+
+def test_command_line_reports_errors_and_writes_nothing(tmp_path, capsys):
+    bad = tmp_path / "test_bad.pf"
+    bad.write_text(pf("    @test\n    subroutine t()\n        @assertWhat(1)\n    end subroutine t\n", name="test_bad"))
+    out = tmp_path / "gen"
+    assert pf2f90.main(["-o", str(out), str(bad)]) == 1
+    assert f"{bad}:7: unknown directive @assertWhat" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_stale_generated_files_are_deleted(tmp_path):
+    out = tmp_path / "gen"
+    out.mkdir()
+    (out / "test_old.f90").write_text(pf2f90.MARKER + " from test_old.pf\n")
+    (out / "handwritten.f90").write_text("module handwritten\nend module handwritten\n")
+    src = tmp_path / "test_new.pf"
+    src.write_text(pf("    @test\n    subroutine t()\n    end subroutine t\n", name="test_new"))
+    assert pf2f90.main(["-o", str(out), str(src)]) == 0
+    assert sorted(p.name for p in out.iterdir()) == ["handwritten.f90", "pf_driver.f90", "test_new.f90"]
+
+
+# --------------------------------------------------------------------------- end to end
+
+END_TO_END = """\
+module test_e2e
+    use funit
+    use, intrinsic :: iso_fortran_env, only: real64
+    implicit none
+    integer, parameter :: wp = real64
+    integer :: calls = 0
+contains
+    @before
+    subroutine set_up()
+        calls = calls + 1
+    end subroutine set_up
+
+    @test
+    subroutine test_passes()
+        real(wp) :: x(3) = [1.0_wp, 2.0_wp, 3.0_wp]
+        @assertEqual(1.0_wp, x(1) + 1.0e-13_wp, &
+                     tolerance=1.0e-12_wp)
+        @assertEqual([1.0_wp, 2.0_wp, 3.0_wp], x)
+        @assertRelativelyEqual(100.0_wp, 100.5_wp, 1.0e-2_wp)
+        @assertEqual(1, calls, 'before ran once')
+        @assertEqual('abc', '  abc ')
+        @assertLessThan(x(1), x(2))
+        @assertIsFinite(x(3))
+        @assertTrue(all(x > 0), message='positive')
+        @assertFalse(.false.)
+    end subroutine test_passes
+
+    @test
+    subroutine test_fails()
+        @assertEqual(1.0_wp, 1.1_wp, 1.0e-3_wp, 'the message')
+        @assertTrue(.false., 'not reached: the test returns after its first failure')
+    end subroutine test_fails
+
+    @test
+    subroutine test_also_passes()
+        @assertGreaterThanOrEqual(2, 2)
+    end subroutine test_also_passes
+end module test_e2e
+"""
+
+
+def build_end_to_end(tmp_path: Path) -> Path:
+    gfortran = shutil.which("gfortran")
+    if gfortran is None:
+        pytest.skip("gfortran not installed")
+    (tmp_path / "test_e2e.pf").write_text(END_TO_END)
+    gen = tmp_path / "generated"
+    assert pf2f90.main(["-o", str(gen), str(tmp_path / "test_e2e.pf")]) == 0
+    exe = tmp_path / "driver"
+    sources = [HERE / "pf_runtime.f90", gen / "test_e2e.f90", gen / "pf_driver.f90"]
+    build = subprocess.run(
+        [gfortran, "-std=f2008", "-Wall", "-Wextra", "-Werror", "-fcheck=all", "-g",
+         "-J", str(tmp_path), *map(str, sources), "-o", str(exe)],
+        capture_output=True, text=True,
+    )
+    assert build.returncode == 0, build.stderr
+    return exe
+
+
+def test_end_to_end(tmp_path):
+    exe = build_end_to_end(tmp_path)
+    run = subprocess.run([str(exe)], capture_output=True, text=True, cwd=tmp_path, timeout=60)
+    lines = run.stdout.strip().splitlines()
+    assert lines[-1] == "fortran: 2 passed, 1 failed"
+    assert run.returncode != 0
+    fails = [line for line in lines if line.startswith("FAIL")]
+    assert fails == [
+        "FAIL test_e2e::test_fails (test_e2e.pf:30): assertEqual: expected 1.0 but found 1.1 "
+        "(difference 0.10000000000000009, tolerance 0.001) -- the message"
+    ]
+
+    selected = subprocess.run([str(exe), "PASSES"], capture_output=True, text=True, cwd=tmp_path, timeout=60)
+    assert selected.stdout.strip().splitlines()[-1] == "fortran: 2 passed, 0 failed"
+    assert selected.returncode == 0
+
+
+def test_no_input_gives_an_empty_driver(tmp_path):
+    assert pf2f90.main(["-o", str(tmp_path)]) == 0
+    driver = (tmp_path / "pf_driver.f90").read_text()
+    assert "call pf_driver_init()\n    call pf_driver_finish()" in driver
+
+
+def test_warns_when_output_cannot_see_the_runtime(tmp_path, capsys):
+    (tmp_path / "pf_runtime.f90").write_text("module pf_runtime\nend module pf_runtime\n")
+    assert pf2f90.main(["-o", str(tmp_path / "generated")]) == 0
+    assert "fpm will not let" in capsys.readouterr().err
