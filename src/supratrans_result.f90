@@ -2,10 +2,12 @@
 module supratrans_result
     use supratrans_kinds, only: wp, i8
     use supratrans_ledger, only: ledger_type
+    use supratrans_config, only: detect_params
+    use supratrans_strings, only: int_str, real_str
     implicit none
     private
 
-    public :: status_name
+    public :: status_name, record_ledger, check_blowup, observe_detector, close_verdict
 
     !> The run reached its final time (or was stopped early with its outcome decided).
     integer, parameter, public :: run_ok = 0
@@ -90,5 +92,94 @@ contains
             name = "unknown"
         end select
     end function status_name
+
+    !> Append the current ledger state to the records (ignored when the records are full).
+    pure subroutine record_ledger(result, ledger, t)
+        !> Result whose ledger records grow by one.
+        type(run_result), intent(inout) :: result
+        !> Current ledger.
+        type(ledger_type), intent(in) :: ledger
+        !> Time of the record.
+        real(wp), intent(in) :: t
+        integer :: i
+
+        if (result%n_ledger_samples >= size(result%ledger_time)) return
+        result%n_ledger_samples = result%n_ledger_samples + 1
+        i = result%n_ledger_samples
+        result%ledger_time(i) = t
+        result%ledger_series(i, :) = [ledger%stored, ledger%injected, ledger%dissipated_gamma, ledger%dissipated_beta, &
+                                      ledger%dissipated_absorber, ledger%residual]
+    end subroutine record_ledger
+
+    !> Blow-up check of a step: `umax` = max |u_n| (NaN counts as blown up). Sets the status and reason.
+    pure subroutine check_blowup(result, umax, threshold, t, diverged)
+        !> The run's result.
+        type(run_result), intent(inout) :: result
+        !> Largest |u_n| of the new level (or NaN/Inf).
+        real(wp), intent(in) :: umax
+        !> Blow-up threshold.
+        real(wp), intent(in) :: threshold
+        !> Time of the new level.
+        real(wp), intent(in) :: t
+        !> True when the run has blown up and must stop.
+        logical, intent(out) :: diverged
+
+        result%max_abs_u = max(result%max_abs_u, umax)
+        diverged = .not. (umax <= threshold)
+        if (diverged) then
+            result%status = run_diverged
+            result%reason = "blow-up: max |u_n| = " // real_str(umax, 6) // " exceeds " // real_str(threshold, 6) &
+                            // " at t = " // real_str(t, 6)
+        end if
+    end subroutine check_blowup
+
+    !> Transmission detector of a step: `ufar` = max |u_n| beyond the detector site `nd` at time `t`.
+    !> The run transmits once `ufar` exceeds `detect%amplitude`; `stop` asks the time loop to end the run there.
+    pure subroutine observe_detector(result, detect, nd, ufar, t, stop)
+        !> The run's result.
+        type(run_result), intent(inout) :: result
+        !> Detector parameters.
+        type(detect_params), intent(in) :: detect
+        !> Detector site n_d.
+        integer, intent(in) :: nd
+        !> max |u_n| over n > n_d.
+        real(wp), intent(in) :: ufar
+        !> Time of the level.
+        real(wp), intent(in) :: t
+        !> True when the verdict was just decided and the run should stop early.
+        logical, intent(out) :: stop
+
+        stop = .false.
+        result%detect_site = nd
+        result%u_beyond_max = max(result%u_beyond_max, ufar)
+        if (result%transmitting .or. .not. (ufar > detect%amplitude)) return
+        result%transmitting = .true.
+        result%t_decided = t
+        result%verdict_reason = "|u_n| beyond site " // int_str(nd) // " reached " // real_str(ufar, 6) // " > " &
+                                // real_str(detect%amplitude, 6) // " at t = " // real_str(t, 6)
+        if (detect%stop_when_decided) then
+            result%stopped_early = .true.
+            stop = .true.
+        end if
+    end subroutine observe_detector
+
+    !> After the time loop: the verdict of a run that never transmitted (decided at its end, or undecided if it
+    !> failed), and empty reasons filled.
+    pure subroutine close_verdict(result, detect)
+        !> The run's result (t_end set).
+        type(run_result), intent(inout) :: result
+        !> Detector parameters.
+        type(detect_params), intent(in) :: detect
+
+        if (.not. allocated(result%reason)) result%reason = ""
+        if (result%transmitting) return
+        result%t_decided = result%t_end
+        if (result%status /= run_ok) then
+            result%verdict_reason = "undecided: the run failed"
+        else
+            result%verdict_reason = "|u_n| beyond site " // int_str(result%detect_site) // " stayed below " &
+                                    // real_str(detect%amplitude, 6) // " (max " // real_str(result%u_beyond_max, 6) // ")"
+        end if
+    end subroutine close_verdict
 
 end module supratrans_result

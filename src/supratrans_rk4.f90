@@ -26,11 +26,12 @@
 !> `simulate` of `supratrans_simulate` hands `method_rk4` runs to `simulate_rk4`.
 module supratrans_rk4
     use supratrans_kinds, only: wp, i8
+    use supratrans_strings, only: int_str, real_str
     use supratrans_config, only: run_config, chain_params, drive_params
     use supratrans_chain, only: damping_profile, drive_psi, ramp_factor, detector_site
     use supratrans_potential, only: force_array, potential_v
     use supratrans_ledger, only: ledger_type, ledger_close
-    use supratrans_result, only: run_result, run_ok, run_diverged
+    use supratrans_result, only: run_result, run_ok, record_ledger, check_blowup, observe_detector, close_verdict
     implicit none
     private
 
@@ -59,7 +60,8 @@ contains
         real(wp), allocatable :: alpha(:), y(:), ys(:), k1(:), k2(:), k3(:), k4(:)
         integer :: n, ny, m, k, nprobe, nsample, nledger, ledger_every, probe_every, nd
         integer(i8) :: clock_start, clock_end, clock_rate
-        real(wp) :: dt, t0, th, t1, umax, vmax, ufar
+        real(wp) :: dt, t0, th, t1, umax
+        logical :: stop
 
         call system_clock(clock_start, clock_rate)
         n = run%chain%n
@@ -109,14 +111,9 @@ contains
             result%steps = k
 
             umax = maxval(abs(y(1:n)))
-            vmax = maxval(abs(y(n + 1:2*n)))
-            result%max_abs_u = max(result%max_abs_u, umax)
-            if (.not. (umax <= run%numerics%blowup_threshold) .or. .not. (vmax <= huge(1.0_wp))) then
-                result%status = run_diverged
-                result%reason = "blow-up: max |u_n| = " // real_str(umax) // " exceeds " &
-                                // real_str(run%numerics%blowup_threshold) // " at t = " // real_str(t1)
-                exit
-            end if
+            if (.not. (maxval(abs(y(n + 1:2*n))) <= huge(1.0_wp))) umax = huge(1.0_wp)   ! non-finite velocity
+            call check_blowup(result, umax, run%numerics%blowup_threshold, t1, stop)
+            if (stop) exit
 
             call ledger_from_state(ledger, y(2*n + 1:))
             if (mod(k, ledger_every) == 0) then
@@ -124,31 +121,11 @@ contains
                 call record_ledger(result, ledger, t1)
             end if
             if (mod(k, probe_every) == 0) call record_probes(result, t1, drive_psi(run%drive, t1), y(1:n))
-
-            ! verdict: has a nonlinear excitation crossed the detector site?
-            ufar = maxval(abs(y(nd + 1:n)))
-            result%u_beyond_max = max(result%u_beyond_max, ufar)
-            if (.not. result%transmitting) then
-                if (ufar > run%detect%amplitude) then
-                    result%transmitting = .true.
-                    result%t_decided = t1
-                    result%verdict_reason = "|u_n| beyond site " // int_str(nd) // " reached " // real_str(ufar) &
-                                            // " > " // real_str(run%detect%amplitude) // " at t = " &
-                                            // real_str(result%t_decided)
-                    if (run%detect%stop_when_decided) then
-                        result%stopped_early = .true.
-                        exit
-                    end if
-                end if
-            end if
+            call observe_detector(result, run%detect, nd, maxval(abs(y(nd + 1:n))), t1, stop)
+            if (stop) exit
         end do
         result%t_end = real(result%steps, wp)*dt
-        if (.not. result%transmitting) then
-            result%t_decided = result%t_end
-            result%verdict_reason = "|u_n| beyond site " // int_str(nd) // " stayed below " &
-                                    // real_str(run%detect%amplitude) // " (max " // real_str(result%u_beyond_max) // ")"
-            if (result%status /= run_ok) result%verdict_reason = "undecided: the run failed"
-        end if
+        call close_verdict(result, run%detect)
         if (result%status == run_ok .and. mod(result%steps, ledger_every) /= 0 .and. result%steps > 0) then
             ! close the ledger on the last level reached
             call ledger_close(ledger, chain_energy(run%chain, drive_psi(run%drive, result%t_end), y))
@@ -157,7 +134,6 @@ contains
         result%ledger = ledger
         result%newton_iterations = 4_i8*int(result%steps, i8)
         if (result%steps > 0) result%newton_max_iterations = 4
-        if (.not. allocated(result%reason)) result%reason = ""
         call system_clock(clock_end)
         result%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
 
@@ -309,46 +285,5 @@ contains
         ledger%dissipated_absorber = e(4)
     end subroutine ledger_from_state
 
-    !> Append the current ledger state to the records.
-    pure subroutine record_ledger(result, ledger, t)
-        !> Result whose ledger records grow by one.
-        type(run_result), intent(inout) :: result
-        !> Current ledger.
-        type(ledger_type), intent(in) :: ledger
-        !> Time of the record.
-        real(wp), intent(in) :: t
-        integer :: i
-
-        if (result%n_ledger_samples >= size(result%ledger_time)) return
-        result%n_ledger_samples = result%n_ledger_samples + 1
-        i = result%n_ledger_samples
-        result%ledger_time(i) = t
-        result%ledger_series(i, 1) = ledger%stored
-        result%ledger_series(i, 2) = ledger%injected
-        result%ledger_series(i, 3) = ledger%dissipated_gamma
-        result%ledger_series(i, 4) = ledger%dissipated_beta
-        result%ledger_series(i, 5) = ledger%dissipated_absorber
-        result%ledger_series(i, 6) = ledger%residual
-    end subroutine record_ledger
-
-    !> Integer as text.
-    pure function int_str(i) result(s)
-        integer, intent(in) :: i
-        character(len=:), allocatable :: s
-        character(len=24) :: buf
-
-        write (buf, '(i0)') i
-        s = trim(buf)
-    end function int_str
-
-    !> Real as compact text.
-    pure function real_str(x) result(s)
-        real(wp), intent(in) :: x
-        character(len=:), allocatable :: s
-        character(len=32) :: buf
-
-        write (buf, '(g0.6)') x
-        s = trim(adjustl(buf))
-    end function real_str
 
 end module supratrans_rk4

@@ -5,6 +5,7 @@
 !> variables and in the result, so any number of runs can proceed at once in different threads.
 module supratrans_simulate
     use supratrans_kinds, only: wp, i8
+    use supratrans_strings, only: int_str, real_str
     use supratrans_config, only: run_config, method_newton, method_linearized, method_rk4
     use supratrans_rk4, only: simulate_rk4
     use supratrans_chain, only: drive_psi, detector_site
@@ -12,7 +13,8 @@ module supratrans_simulate
     use supratrans_newton, only: newton_step, newton_ok, newton_not_converged
     use supratrans_linearized, only: linearized_step
     use supratrans_ledger, only: ledger_type, stored_energy, step_powers, ledger_add_step, ledger_close
-    use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed
+    use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed, record_ledger, &
+                                 check_blowup, observe_detector, close_verdict
     implicit none
     private
 
@@ -41,7 +43,8 @@ contains
         integer :: n, m, k, io2, io, ic, inew, itmp, iters, status, info, nprobe, nsample, nledger
         integer :: ledger_every, probe_every
         integer(i8) :: clock_start, clock_end, clock_rate
-        real(wp) :: dt, p_in, d_gamma, d_beta, d_abs, umax, ufar
+        real(wp) :: dt, p_in, d_gamma, d_beta, d_abs, t_new
+        logical :: stop
         integer :: nd
 
         if (run%numerics%method == method_rk4) then
@@ -85,6 +88,7 @@ contains
         result%steps = 0
         nd = detector_site(run)
         result%detect_site = nd
+        stop = .false.
         do k = 1, m - 1
             u(0, inew) = drive_psi(run%drive, real(k + 1, wp)*dt)
             u(n + 1, inew) = 0.0_wp
@@ -116,15 +120,9 @@ contains
                 end if
             end select
             result%steps = k
-
-            umax = maxval(abs(u(1:n, inew)))
-            result%max_abs_u = max(result%max_abs_u, umax)
-            if (.not. (umax <= run%numerics%blowup_threshold)) then
-                result%status = run_diverged
-                result%reason = "blow-up: max |u_n| = " // real_str(umax) // " exceeds " &
-                                // real_str(run%numerics%blowup_threshold) // " at t = " // real_str(real(k + 1, wp)*dt)
-                exit
-            end if
+            t_new = real(k + 1, wp)*dt
+            call check_blowup(result, maxval(abs(u(1:n, inew))), run%numerics%blowup_threshold, t_new, stop)
+            if (stop) exit
 
             call step_powers(scheme, run%chain%gamma, run%chain%beta, u(:, io), u(:, ic), u(:, inew), &
                              p_in, d_gamma, d_beta, d_abs)
@@ -134,49 +132,24 @@ contains
                 call record_ledger(result, ledger, (real(k, wp) + 0.5_wp)*dt)
             end if
             if (mod(k + 1, probe_every) == 0) call record_probes(result, k + 1, u(:, inew))
+            call observe_detector(result, run%detect, nd, maxval(abs(u(nd + 1:n, inew))), t_new, stop)
 
-            ! verdict: has a nonlinear excitation crossed the detector site?
-            ufar = maxval(abs(u(nd + 1:n, inew)))
-            result%u_beyond_max = max(result%u_beyond_max, ufar)
-            if (.not. result%transmitting) then
-                if (ufar > run%detect%amplitude) then
-                    result%transmitting = .true.
-                    result%t_decided = real(k + 1, wp)*dt
-                    result%verdict_reason = "|u_n| beyond site " // int_str(nd) // " reached " // real_str(ufar) &
-                                            // " > " // real_str(run%detect%amplitude) // " at t = " &
-                                            // real_str(result%t_decided)
-                    if (run%detect%stop_when_decided) then
-                        result%stopped_early = .true.
-                        itmp = io2
-                        io2 = io
-                        io = ic
-                        ic = inew
-                        inew = itmp
-                        exit
-                    end if
-                end if
-            end if
-
+            ! rotate the levels: k-1 -> k-2, k -> k-1, k+1 -> k
             itmp = io2
             io2 = io
             io = ic
             ic = inew
             inew = itmp
+            if (stop) exit
         end do
         result%t_end = real(result%steps + 1, wp)*dt
-        if (.not. result%transmitting) then
-            result%t_decided = result%t_end
-            result%verdict_reason = "|u_n| beyond site " // int_str(nd) // " stayed below " &
-                                    // real_str(run%detect%amplitude) // " (max " // real_str(result%u_beyond_max) // ")"
-            if (result%status /= run_ok) result%verdict_reason = "undecided: the run failed"
-        end if
+        call close_verdict(result, run%detect)
         if (result%status == run_ok .and. mod(result%steps, ledger_every) /= 0 .and. result%steps > 0) then
             ! close the ledger on the last step taken (levels `io` = k and `ic` = k+1 after the rotation)
             call ledger_close(ledger, stored_energy(scheme, run%chain%m2, u(:, ic), u(:, io)))
             call record_ledger(result, ledger, (real(result%steps, wp) + 0.5_wp)*dt)
         end if
         result%ledger = ledger
-        if (.not. allocated(result%reason)) result%reason = ""
         call system_clock(clock_end)
         result%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
 
@@ -198,42 +171,5 @@ contains
 
     end subroutine simulate
 
-    !> Append the current ledger state to the records.
-    pure subroutine record_ledger(result, ledger, t)
-        !> Result whose ledger records grow by one.
-        type(run_result), intent(inout) :: result
-        !> Current ledger.
-        type(ledger_type), intent(in) :: ledger
-        !> Time of the record.
-        real(wp), intent(in) :: t
-        integer :: i
-
-        if (result%n_ledger_samples >= size(result%ledger_time)) return
-        result%n_ledger_samples = result%n_ledger_samples + 1
-        i = result%n_ledger_samples
-        result%ledger_time(i) = t
-        result%ledger_series(i, :) = [ledger%stored, ledger%injected, ledger%dissipated_gamma, ledger%dissipated_beta, &
-                                      ledger%dissipated_absorber, ledger%residual]
-    end subroutine record_ledger
-
-    !> Integer as text.
-    pure function int_str(i) result(s)
-        integer, intent(in) :: i
-        character(len=:), allocatable :: s
-        character(len=24) :: buf
-
-        write (buf, '(i0)') i
-        s = trim(buf)
-    end function int_str
-
-    !> Real as compact text.
-    pure function real_str(x) result(s)
-        real(wp), intent(in) :: x
-        character(len=:), allocatable :: s
-        character(len=32) :: buf
-
-        write (buf, '(g0.6)') x
-        s = trim(adjustl(buf))
-    end function real_str
 
 end module supratrans_simulate

@@ -9,6 +9,7 @@
 module supratrans_tasks
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
     use supratrans_kinds, only: wp
+    use supratrans_strings, only: int_str, fixed1
     use supratrans_error, only: error_type, fatal_error, err_io
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
@@ -268,24 +269,5 @@ contains
         open (newunit=unit, file=path, status="old", iostat=ios)
         if (ios == 0) close (unit, status="delete")
     end subroutine remove_file
-
-    pure function int_str(i) result(s)
-        integer, intent(in) :: i
-        character(len=:), allocatable :: s
-        character(len=24) :: buf
-
-        write (buf, '(i0)') i
-        s = trim(buf)
-    end function int_str
-
-    pure function fixed1(x) result(s)
-        real(wp), intent(in) :: x
-        character(len=:), allocatable :: s
-        character(len=32) :: buf
-
-        write (buf, '(f0.1)') x
-        s = trim(adjustl(buf))
-        if (s(1:1) == ".") s = "0" // s
-    end function fixed1
 
 end module supratrans_tasks
