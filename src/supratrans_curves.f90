@@ -76,6 +76,8 @@ contains
             run%chain%beta = value
         case ("m2")
             run%chain%m2 = value
+        case default
+            continue                            ! 'none': validated by supratrans_input
         end select
     end function curve_run
 

@@ -118,6 +118,10 @@ contains
                     result%reason = "dgtsv failed (info = " // int_str(info) // ") at t = " // real_str(real(k + 1, wp)*dt)
                     exit
                 end if
+            case default
+                result%status = run_solver_failed
+                result%reason = "unknown method " // int_str(run%numerics%method)
+                exit
             end select
             result%steps = k
             t_new = real(k + 1, wp)*dt

@@ -214,29 +214,35 @@ contains
         if (is_iostat_eor(ios)) ios = 0
     end subroutine read_line
 
-    !> A fingerprint of a file's bytes (64-bit FNV-1a, hexadecimal), to tie a journal to its input.
+    !> A fingerprint of a file's bytes (two polynomial hashes modulo the prime 2^31 - 1, in hexadecimal), to tie
+    !> a journal to its input. Integer arithmetic never overflows: every intermediate is below 2^38.
     function file_fingerprint(path) result(hash_text)
         !> File to fingerprint.
         character(len=*), intent(in) :: path
         character(len=:), allocatable :: hash_text
+        integer(int64), parameter :: modulus = 2147483647_int64
         integer :: unit, ios, n, i
-        integer(int64) :: hash
+        integer(int64) :: h1, h2
         character(len=:), allocatable :: bytes
-        character(len=16) :: buf
+        character(len=17) :: buf
 
-        hash = -3750763034362895579_int64          ! FNV offset basis 14695981039346656037 as a signed integer
+        h1 = 1_int64
+        h2 = 7_int64
+        bytes = ""
         open (newunit=unit, file=path, access="stream", form="unformatted", status="old", action="read", iostat=ios)
         if (ios == 0) then
             inquire (unit=unit, size=n)
+            deallocate (bytes)
             allocate (character(len=max(n, 0)) :: bytes)
             if (n > 0) read (unit, iostat=ios) bytes
+            if (ios /= 0) bytes = ""
             close (unit)
-            do i = 1, len(bytes)
-                hash = ieor(hash, int(ichar(bytes(i:i)), int64))
-                hash = hash*1099511628211_int64     ! wraps around: FNV works modulo 2^64
-            end do
         end if
-        write (buf, '(z16.16)') hash
+        do i = 1, len(bytes)
+            h1 = mod(h1*31_int64 + int(ichar(bytes(i:i)), int64), modulus)
+            h2 = mod(h2*131_int64 + int(ichar(bytes(i:i)), int64), modulus)
+        end do
+        write (buf, '(z8.8, "-", z8.8)') h1, h2
         hash_text = buf
     end function file_fingerprint
 
