@@ -9,6 +9,8 @@ module supratrans_cli
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, status_name
     use supratrans_output, only: write_timeseries
+    use supratrans_scene_sweep, only: run_amplitude_sweep
+    use supratrans_scene_map, only: run_map
     implicit none
     private
 
@@ -44,6 +46,12 @@ contains
             call progress(cfg, "  run ended: " // status_name(result%status) // " " // result%reason)
             call ensure_parent_directory(trim(cfg%output%file), error)
             if (.not. allocated(error)) call write_timeseries(cfg, result, error)
+        case ("amplitude_sweep")
+            call ensure_parent_directory(trim(cfg%output%file), error)
+            if (.not. allocated(error)) call run_amplitude_sweep(cfg, error)
+        case ("map")
+            call ensure_parent_directory(trim(cfg%output%file), error)
+            if (.not. allocated(error)) call run_map(cfg, error)
         case default
             call fatal_error(error, path // ": &scene: kind '" // trim(cfg%scene%kind) // "' is not implemented", err_input)
         end select

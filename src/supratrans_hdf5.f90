@@ -92,7 +92,7 @@ module supratrans_hdf5
     !> character of rank 0 or 1. `dims` (arrays only): dimension names in C/h5py order, e.g. "probe, time".
     interface h5_write
         module procedure :: write_real_0d, write_real_1d, write_real_2d, write_real_3d
-        module procedure :: write_int_0d, write_int_1d, write_int_2d, write_i8_0d, write_i8_1d
+        module procedure :: write_int_0d, write_int_1d, write_int_2d, write_int_3d, write_i8_0d, write_i8_1d
         module procedure :: write_char_0d, write_char_1d
     end interface h5_write
 
@@ -605,6 +605,30 @@ contains
         call write_dataset(file, name, int_mem_type(), int_file_type(), shape(data, kind=hsize_t), &
             buf, units, description, error, dims)
     end subroutine write_int_2d
+
+    !> Write a default-integer rank-3 dataset.
+    subroutine write_int_3d(file, name, data, units, description, error, dims)
+        !> The file (writable).
+        type(h5_file), intent(in) :: file
+        !> Path of the dataset.
+        character(len=*), intent(in) :: name
+        !> The values.
+        integer, intent(in), target, contiguous :: data(:, :, :)
+        !> Units ("1" for counts and flags).
+        character(len=*), intent(in) :: units
+        !> What the values are.
+        character(len=*), intent(in) :: description
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        !> Names of the dimensions in C/h5py order; stored as attribute `dimensions`.
+        character(len=*), intent(in), optional :: dims
+        type(c_ptr) :: buf
+
+        buf = c_null_ptr
+        if (size(data) > 0) buf = c_loc(data)
+        call write_dataset(file, name, int_mem_type(), int_file_type(), shape(data, kind=hsize_t), &
+            buf, units, description, error, dims)
+    end subroutine write_int_3d
 
     !> Write an `integer(i8)` scalar dataset.
     subroutine write_i8_0d(file, name, data, units, description, error)

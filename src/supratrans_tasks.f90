@@ -106,6 +106,7 @@ contains
         if (.not. quiet) then
             write (error_unit, '(a)') "  " // int_str(ntask) // " " // label // ", " // int_str(ndone_start) &
                 // " already done (journal " // journal // "), " // int_str(threads) // " thread(s)"
+            flush (error_unit)
         end if
 
         !$omp parallel do schedule(dynamic, 1) default(shared) private(i, values, clock_now, elapsed)
@@ -126,6 +127,7 @@ contains
                 write (error_unit, '(a)') "  " // int_str(ndone) // "/" // int_str(ntask) // " " // label &
                     // ", elapsed " // fixed1(elapsed) // " s, remaining ~" &
                     // fixed1(elapsed/real(ndone - ndone_start, wp)*real(ntask - ndone, wp)) // " s"
+                flush (error_unit)
             end if
             if (elapsed - last_snapshot >= snapshot_interval .and. ndone < ntask) then
                 last_snapshot = elapsed

@@ -1,0 +1,523 @@
+!> Scene `bifurcation` (paper Sec. 4.3, Figs. Bif1-Bif3): the smallest driving amplitude at which supratransmission
+!> begins, as a function of the driving frequency, one curve per potential and value of the varied parameter.
+!>
+!> For each curve and each frequency Omega_i = omega_min + i omega_step <= omega_max (i = 0, 1, ...; integer index),
+!> one task searches the threshold with `find_threshold` (supratrans_threshold): coarse upward scan of
+!> [amplitude_min, amplitude_max] in steps of `coarse_step`, then a scan of the bracket at `resolution`. Its oracle is
+!> one `simulate` of the curve's run at (Omega_i, A) with `detect%stop_when_decided = .true.`: a transmitting run
+!> stops as soon as an oscillator beyond the detector site passes the detection amplitude (pi), a
+!> non-transmitting one runs to T. Frequencies outside the curve's band gap, Omega >= sqrt(1 + m^2), are skipped
+!> (threshold NaN, status `bifurcation_outside_gap`) unless `allow_outside_gap` is set.
+!>
+!> The tasks (curves x frequencies) run on OpenMP threads through `supratrans_tasks` (dynamic scheduling, journal
+!> `<output>.journal` tied to the namelist by `file_fingerprint`, partial output `<output>.partial.h5` with root
+!> attribute `complete = 0` now and then). Each task is one sequential search and results are stored by task index,
+!> so the thresholds are bit-for-bit identical for any number of threads. The final file is written as
+!> `<output>.tmp` and renamed when complete (`complete = 1`); the journal and the partial file are then deleted.
+!>
+!> Where the verdict is not monotone in A on the scale of the resolution (undamped sine-Gordon below Omega ~ 0.45,
+!> the paper's "discrepancy region": e.g. at Omega = 0.05, A = 5.96 and 5.97 transmit, 5.98 .. 6.00 do not, 6.01
+!> does), the threshold found depends on which coarse points the scan asks (see the assumption documented in
+!> `supratrans_threshold`): there it is the smallest transmitting amplitude above the last quiet coarse point.
+module supratrans_scene_bifurcation
+    use, intrinsic :: iso_fortran_env, only: error_unit
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+    use supratrans_kinds, only: wp, i8
+    use supratrans_error, only: error_type, fatal_error, err_input, err_io
+    use supratrans_config, only: input_config, run_config
+    use supratrans_curves, only: curve_count, curve_run
+    use supratrans_chain, only: threshold_as, band_gap_edge, detector_site
+    use supratrans_potential, only: potential_name
+    use supratrans_simulate, only: simulate, number_of_levels
+    use supratrans_result, only: run_result, run_ok, status_name
+    use supratrans_threshold, only: verdict_oracle, find_threshold, effective_coarse_step, search_grid_size, &
+                                    search_status_codes
+    use supratrans_tasks, only: task_list, run_tasks, file_fingerprint, remove_file
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
+    use supratrans_output, only: write_root, write_run_parameters
+    use supratrans_strings, only: int_str, real_str, fixed1
+    implicit none
+    private
+
+    public :: run_bifurcation, bifurcation_omegas
+
+    !> Status of a task whose frequency lies outside the curve's band gap (not searched; threshold NaN); the same
+    !> code as the sweep and map scenes. The codes >= 0 are those of `supratrans_threshold` (0 found, 1 at lower
+    !> bound, 2 none transmits, 3 run failed, 4 bad arguments).
+    integer, parameter, public :: bifurcation_outside_gap = -2
+    !> Status of a task not computed yet (partial files only); the same code as the sweep and map scenes.
+    integer, parameter, public :: bifurcation_pending = -1
+
+    !> Columns of a task's results (the journal's values, in this order).
+    integer, parameter :: v_threshold = 1, v_as = 2, v_runs = 3, v_steps = 4, v_wall = 5, v_status = 6
+    !> Number of values per task.
+    integer, parameter :: nvalues = 6
+
+    !> Oracle of the search: one simulation of `run` at the amplitude asked, stopped as soon as it transmits.
+    type, extends(verdict_oracle) :: simulation_oracle
+        !> The run (drive frequency set; the amplitude is set per question).
+        type(run_config) :: run
+        !> The last run failed before its verdict.
+        logical :: run_failed = .false.
+        !> Why it failed.
+        character(len=:), allocatable :: reason
+    contains
+        !> One simulation: transmitting or not, and the time steps it took.
+        procedure :: transmits => simulation_transmits
+        !> Whether the last run failed before its verdict.
+        procedure :: failed => simulation_failed
+        !> Why it failed.
+        procedure :: failure_reason => simulation_failure_reason
+    end type simulation_oracle
+
+    !> The tasks of a bifurcation scene: task t = (curve - 1) nomega + iomega searches one threshold.
+    type, extends(task_list) :: bifurcation_tasks
+        !> The validated input.
+        type(input_config) :: cfg
+        !> Run of each curve, prepared for the search (early stop, nothing recorded).
+        type(run_config), allocatable :: runs(:)
+        !> The frequencies.
+        real(wp), allocatable :: omegas(:)
+        !> Path of the partial output written by `snapshot`.
+        character(len=:), allocatable :: partial_path
+    contains
+        !> Search the threshold of one task.
+        procedure :: run => run_search
+        !> Write the partial output.
+        procedure :: snapshot => write_snapshot
+    end type bifurcation_tasks
+
+contains
+
+    !> Run the bifurcation scene described by `cfg` and write `cfg%output%file` (see the module documentation).
+    subroutine run_bifurcation(cfg, error, keep_journal)
+        !> The validated input (`&scene kind = 'bifurcation'`).
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure (output exists, journal of another input, unwritable files).
+        type(error_type), allocatable, intent(out) :: error
+        !> Keep the journal after a complete run (tests of the resume); default false.
+        logical, intent(in), optional :: keep_journal
+        type(bifurcation_tasks) :: tasks
+        real(wp), allocatable :: results(:, :)
+        logical, allocatable :: done(:)
+        character(len=:), allocatable :: output, journal
+        integer :: ncurve, nomega, ic
+        integer(i8) :: clock_start, clock_end, clock_rate
+        logical :: exists, keep
+        real(wp) :: elapsed
+        character(len=24) :: steps_text
+
+        call system_clock(clock_start, clock_rate)
+        keep = .false.
+        if (present(keep_journal)) keep = keep_journal
+        output = trim(cfg%output%file)
+        inquire (file=output, exist=exists)
+        if (exists .and. .not. cfg%output%overwrite) then
+            call fatal_error(error, output // ": output file exists (set overwrite = .true. to replace it)", err_input)
+            return
+        end if
+        call ensure_parent_directory(output, error)
+        if (allocated(error)) return
+
+        tasks%cfg = cfg
+        tasks%omegas = bifurcation_omegas(cfg)
+        ncurve = curve_count(cfg)
+        nomega = size(tasks%omegas)
+        if (nomega < 1) then
+            call fatal_error(error, source_name(cfg) // ": &scene: the frequency axis omega_min .. omega_max is empty", &
+                             err_input)
+            return
+        end if
+        allocate (tasks%runs(ncurve))
+        do ic = 1, ncurve
+            tasks%runs(ic) = search_run(curve_run(cfg, ic))
+        end do
+        tasks%partial_path = output // ".partial.h5"
+        journal = output // ".journal"
+        if (.not. cfg%output%quiet) then
+            write (error_unit, '(a)') "supratrans: bifurcation from " // source_name(cfg) // ": " // int_str(ncurve) &
+                // " curve(s) x " // int_str(nomega) // " frequencies, amplitudes " // real_str(cfg%scene%amplitude_min, 6) &
+                // " .. " // real_str(cfg%scene%amplitude_max, 6) // " (coarse step " &
+                // real_str(effective_coarse_step(cfg%scene%coarse_step, cfg%scene%resolution), 6) // ", resolution " &
+                // real_str(cfg%scene%resolution, 6) // ")"
+        end if
+
+        call run_tasks(tasks, ncurve*nomega, nvalues, journal, file_fingerprint(source_name(cfg)), &
+                       "threshold searches", cfg%output%quiet, results, done, error)
+        if (allocated(error)) return
+
+        call system_clock(clock_end)
+        elapsed = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+        call write_bifurcation_file(tasks, output, results, done, .true., elapsed, error)
+        if (allocated(error)) return
+        if (.not. keep) call remove_file(journal)
+        call remove_file(tasks%partial_path)
+        call remove_file(tasks%partial_path // ".tmp")
+        if (.not. cfg%output%quiet) then
+            write (steps_text, '(i0)') nint(sum(results(v_steps, :)), i8)
+            write (error_unit, '(a)') "  " // int_str(nint(sum(results(v_runs, :)))) // " runs, " &
+                // trim(steps_text) // " time steps, " // fixed1(elapsed) // " s"
+        end if
+    end subroutine run_bifurcation
+
+    !> The frequency axis of a scene: Omega_i = omega_min + i omega_step <= omega_max, i = 0, 1, ... (integer index;
+    !> a point within 1e-9 steps of omega_max is kept).
+    pure function bifurcation_omegas(cfg) result(omegas)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        real(wp), allocatable :: omegas(:)
+        integer :: i, n
+
+        n = search_grid_size(cfg%scene%omega_min, cfg%scene%omega_max, cfg%scene%omega_step)
+        allocate (omegas(n))
+        do i = 1, n
+            omegas(i) = cfg%scene%omega_min + real(i - 1, wp)*cfg%scene%omega_step
+        end do
+    end function bifurcation_omegas
+
+    !> A curve's run prepared for the search: stop when decided, no probes, the ledger closed once.
+    pure function search_run(curve) result(run)
+        !> The curve's run.
+        type(run_config), intent(in) :: curve
+        type(run_config) :: run
+        integer :: m
+
+        run = curve
+        run%detect%stop_when_decided = .true.
+        m = max(1, number_of_levels(run) - 1)
+        if (allocated(run%record%probes)) deallocate (run%record%probes)
+        allocate (run%record%probes(0))
+        run%record%probe_every = m
+        run%record%ledger_every = m
+    end function search_run
+
+    !> Search the threshold of task `index` (thread-safe: everything it changes is local).
+    subroutine run_search(self, index, values)
+        !> The tasks.
+        class(bifurcation_tasks), intent(in) :: self
+        !> Task index: (curve - 1) nomega + iomega.
+        integer, intent(in) :: index
+        !> threshold, A_s, runs, steps, wall time, status.
+        real(wp), intent(out) :: values(:)
+        type(simulation_oracle) :: oracle
+        integer :: icurve, iomega, nomega, runs, status
+        integer(i8) :: steps, clock_start, clock_end, clock_rate
+        real(wp) :: omega, threshold, nan
+
+        call system_clock(clock_start, clock_rate)
+        nan = ieee_value(nan, ieee_quiet_nan)
+        nomega = size(self%omegas)
+        icurve = (index - 1)/nomega + 1
+        iomega = mod(index - 1, nomega) + 1
+        omega = self%omegas(iomega)
+        oracle%run = self%runs(icurve)
+        oracle%run%drive%omega = omega
+        values = 0.0_wp
+        values(v_threshold) = nan
+        values(v_as) = nan
+        values(v_status) = real(bifurcation_outside_gap, wp)
+        if (omega < band_gap_edge(oracle%run%chain)) values(v_as) = threshold_as(oracle%run%chain, omega)
+        if (omega >= band_gap_edge(oracle%run%chain) .and. .not. self%cfg%allow_outside_gap) return
+
+        call find_threshold(oracle, self%cfg%scene%amplitude_min, self%cfg%scene%amplitude_max, &
+                            self%cfg%scene%coarse_step, self%cfg%scene%resolution, threshold, runs, steps, status)
+        call system_clock(clock_end)
+        values(v_threshold) = threshold
+        values(v_runs) = real(runs, wp)
+        values(v_steps) = real(steps, wp)
+        values(v_wall) = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+        values(v_status) = real(status, wp)
+        if (oracle%failed() .and. .not. self%cfg%output%quiet) then
+            !$omp critical (supratrans_bifurcation_messages)
+            write (error_unit, '(a)') "  warning: curve " // int_str(icurve) // ", omega = " // real_str(omega, 6) &
+                // ": search abandoned, " // oracle%failure_reason()
+            !$omp end critical (supratrans_bifurcation_messages)
+        end if
+    end subroutine run_search
+
+    !> One simulation at amplitude `amplitude`: its verdict, and the time steps it took.
+    function simulation_transmits(self, amplitude, cost) result(transmitting)
+        !> The oracle.
+        class(simulation_oracle), intent(inout) :: self
+        !> Driving amplitude A.
+        real(wp), intent(in) :: amplitude
+        !> Time steps taken.
+        integer(i8), intent(out) :: cost
+        logical :: transmitting
+        type(run_result) :: result
+
+        self%run%drive%amplitude = amplitude
+        call simulate(self%run, result)
+        cost = int(result%steps, i8)
+        transmitting = result%transmitting
+        self%run_failed = result%status /= run_ok .and. .not. result%transmitting
+        if (self%run_failed) then
+            self%reason = "the run at A = " // real_str(amplitude, 6) // " ended " // status_name(result%status) // ": " &
+                          // result%reason
+        end if
+    end function simulation_transmits
+
+    !> Whether the last run failed before its verdict.
+    function simulation_failed(self) result(failed)
+        !> The oracle.
+        class(simulation_oracle), intent(in) :: self
+        logical :: failed
+
+        failed = self%run_failed
+    end function simulation_failed
+
+    !> Why the last run failed.
+    function simulation_failure_reason(self) result(reason)
+        !> The oracle.
+        class(simulation_oracle), intent(in) :: self
+        character(len=:), allocatable :: reason
+
+        reason = ""
+        if (allocated(self%reason)) reason = self%reason
+    end function simulation_failure_reason
+
+    !> Write the results so far to `<output>.partial.h5` (root attribute `complete = 0`); failures are ignored (the
+    !> journal, not this file, is what a resumed run reads).
+    subroutine write_snapshot(self, results, done)
+        !> The tasks.
+        class(bifurcation_tasks), intent(in) :: self
+        !> Results so far, (values, tasks).
+        real(wp), intent(in) :: results(:, :)
+        !> Which tasks are done.
+        logical, intent(in) :: done(:)
+        type(error_type), allocatable :: error
+
+        call write_bifurcation_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
+        if (allocated(error) .and. .not. self%cfg%output%quiet) then
+            write (error_unit, '(a)') "  warning: partial output not written: " // error%message
+        end if
+    end subroutine write_snapshot
+
+    !> Write the scene's file `path` (as `<path>.tmp`, renamed when complete): tasks not done get NaN and status
+    !> `bifurcation_pending`.
+    subroutine write_bifurcation_file(tasks, path, results, done, complete, elapsed, error)
+        !> The tasks.
+        type(bifurcation_tasks), intent(in) :: tasks
+        !> Final path of the file.
+        character(len=*), intent(in) :: path
+        !> Results, (values, tasks).
+        real(wp), intent(in) :: results(:, :)
+        !> Which tasks are done.
+        logical, intent(in) :: done(:)
+        !> Whether this is the complete result (root attribute `complete`).
+        logical, intent(in) :: complete
+        !> Wall time of the scene (s); negative when unknown (partial files).
+        real(wp), intent(in) :: elapsed
+        !> Error, allocated on failure (the file is then not created).
+        type(error_type), allocatable, intent(out) :: error
+        type(h5_file) :: file
+        real(wp), allocatable :: vals(:, :), grid(:, :)
+        integer, allocatable :: nd(:, :)
+        integer :: ncurve, nomega, ic, io
+        real(wp) :: nan
+        character(len=*), parameter :: dims = "curve, omega"
+
+        nan = ieee_value(nan, ieee_quiet_nan)
+        ncurve = size(tasks%runs)
+        nomega = size(tasks%omegas)
+        allocate (vals, source=results)
+        do ic = 1, size(done)
+            if (.not. done(ic)) then
+                vals(:, ic) = nan
+                vals(v_runs:v_wall, ic) = 0.0_wp
+                vals(v_status, ic) = real(bifurcation_pending, wp)
+            end if
+        end do
+        allocate (nd(nomega, ncurve))
+        do ic = 1, ncurve
+            do io = 1, nomega
+                nd(io, ic) = detector_site(with_omega(tasks%runs(ic), tasks%omegas(io)))
+            end do
+        end do
+
+        call h5_create(file, path, .true., error)
+        if (allocated(error)) return
+        call write_root(file, tasks%cfg, "bifurcation", "Supratransmission threshold (smallest transmitting driving " &
+                        // "amplitude) vs driving frequency, one curve per potential and varied value", error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/", "complete", merge(1, 0, complete), error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/", "tasks_done", count(done), error)
+        if (.not. allocated(error)) call write_scene_parameters(file, tasks%cfg, error)
+        if (.not. allocated(error)) call h5_write(file, "/omega", tasks%omegas, "1/time", &
+            "Driving frequency Omega_i = omega_min + i omega_step", error, dims="omega")
+        if (.not. allocated(error)) call write_curves(file, tasks, error)
+        if (.not. allocated(error)) then
+            grid = reshape(vals(v_threshold, :), [nomega, ncurve])
+            call h5_write(file, "/threshold", grid, "rad", "Smallest driving amplitude A (grid amplitude_min + k " &
+                // "resolution) at which the run transmits: the supratransmission threshold; NaN when not found " &
+                // "(see /status)", error, dims=dims)
+        end if
+        if (.not. allocated(error)) then
+            grid = reshape(vals(v_as, :), [nomega, ncurve])
+            call h5_write(file, "/threshold_As", grid, "rad", "Continuum-limit threshold A_s = 4 arctan(lambda c / " &
+                // "Omega) of the curve's chain (undamped theory); NaN outside the band gap", error, dims=dims)
+        end if
+        if (.not. allocated(error)) call h5_create_group(file, "/cost", "What each threshold search cost", error)
+        if (.not. allocated(error)) call h5_write(file, "/cost/runs", nint(reshape(vals(v_runs, :), [nomega, ncurve])), &
+            "1", "Simulations run by the search (coarse scan + fine scan)", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, "/cost/steps", &
+            nint(min(reshape(vals(v_steps, :), [nomega, ncurve]), real(huge(1), wp))), "1", &
+            "Time steps taken by all the search's simulations (transmitting runs stop when decided)", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, "/cost/wall_time", reshape(vals(v_wall, :), [nomega, ncurve]), &
+            "s", "Wall-clock time of the search (one thread)", error, dims=dims)
+        if (.not. allocated(error) .and. elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", &
+                                                                               elapsed, error)
+        if (.not. allocated(error)) call h5_write(file, "/detector_site", nd, "1", &
+            "Detector site n_d of the verdict (a run transmits once |u_n| > detect amplitude for some n > n_d)", &
+            error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, "/status", nint(reshape(vals(v_status, :), [nomega, ncurve])), &
+            "1", "Outcome of the search (codes in attribute 'codes')", error, dims=dims)
+        if (.not. allocated(error)) call h5_write_attr(file, "/status", "codes", "-2: outside gap (Omega >= " &
+            // "sqrt(1 + m^2): not searched; NaN); -1: pending (not computed yet); " // search_status_codes(), error)
+        if (allocated(error)) then
+            call h5_discard(file)
+            return
+        end if
+        call h5_commit(file, error)
+    end subroutine write_bifurcation_file
+
+    !> `/parameters`: the base run, the scene's axes and search controls, the detection.
+    subroutine write_scene_parameters(file, cfg, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), parameter :: g = "/parameters"
+
+        call write_run_parameters(file, g, cfg%run, error)
+        associate (sc => cfg%scene)
+            if (.not. allocated(error)) call h5_write_attr(file, g, "kind", trim(sc%kind), error)
+            if (.not. allocated(error)) call h5_write_attr(file, g, "vary", trim(sc%vary), error)
+            if (.not. allocated(error) .and. allocated(sc%values)) call h5_write_attr(file, g, "values", sc%values, error)
+            if (.not. allocated(error)) call h5_write_attr(file, g, "potentials", potentials_text(cfg), error)
+            if (.not. allocated(error)) call h5_write_attr(file, g, "amplitude_min", sc%amplitude_min, error)
+            if (.not. allocated(error)) call h5_write_attr(file, g, "amplitude_max", sc%amplitude_max, error)
+            if (.not. allocated(error)) call h5_write_attr(file, g, "coarse_step", sc%coarse_step, error)
+            if (.not. allocated(error)) call h5_write_attr(file, g, "coarse_step_used", &
+                effective_coarse_step(sc%coarse_step, sc%resolution), error)
+            if (.not. allocated(error)) call h5_write_attr(file, g, "resolution", sc%resolution, error)
+            if (.not. allocated(error)) call h5_write_attr(file, g, "omega_min", sc%omega_min, error)
+            if (.not. allocated(error)) call h5_write_attr(file, g, "omega_max", sc%omega_max, error)
+            if (.not. allocated(error)) call h5_write_attr(file, g, "omega_step", sc%omega_step, error)
+        end associate
+        if (.not. allocated(error)) call h5_write_attr(file, g, "allow_outside_gap", cfg%allow_outside_gap, error)
+        if (.not. allocated(error)) call h5_write_attr(file, g, "detect_site", cfg%run%detect%site, error)
+        if (.not. allocated(error)) call h5_write_attr(file, g, "detect_amplitude", cfg%run%detect%amplitude, error)
+        if (.not. allocated(error)) call h5_write_attr(file, g, "stop_when_decided", .true., error)
+    end subroutine write_scene_parameters
+
+    !> `/curves`: what distinguishes the curves.
+    subroutine write_curves(file, tasks, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> The tasks.
+        type(bifurcation_tasks), intent(in) :: tasks
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=16), allocatable :: names(:)
+        real(wp), allocatable :: value(:), gamma(:), beta(:), m2(:), edge(:)
+        integer :: ic, ncurve
+
+        ncurve = size(tasks%runs)
+        allocate (names(ncurve), value(ncurve), gamma(ncurve), beta(ncurve), m2(ncurve), edge(ncurve))
+        do ic = 1, ncurve
+            names(ic) = potential_name(tasks%runs(ic)%chain%potential)
+            gamma(ic) = tasks%runs(ic)%chain%gamma
+            beta(ic) = tasks%runs(ic)%chain%beta
+            m2(ic) = tasks%runs(ic)%chain%m2
+            edge(ic) = band_gap_edge(tasks%runs(ic)%chain)
+            select case (trim(tasks%cfg%scene%vary))
+            case ("gamma")
+                value(ic) = tasks%runs(ic)%chain%gamma
+            case ("beta")
+                value(ic) = tasks%runs(ic)%chain%beta
+            case ("m2")
+                value(ic) = tasks%runs(ic)%chain%m2
+            case default
+                value(ic) = ieee_value(value(ic), ieee_quiet_nan)
+            end select
+        end do
+        call h5_create_group(file, "/curves", "One curve per potential and value of the varied parameter", error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/curves", "vary", trim(tasks%cfg%scene%vary), error)
+        if (.not. allocated(error)) call h5_write(file, "/curves/potential", names, "1", &
+            "On-site potential of each curve", error, dims="curve")
+        if (.not. allocated(error)) call h5_write(file, "/curves/value", value, "1", &
+            "Value of the varied parameter (/curves attribute 'vary') of each curve; NaN when nothing varies", &
+            error, dims="curve")
+        if (.not. allocated(error)) call h5_write(file, "/curves/gamma", gamma, "1/time", &
+            "External damping gamma of each curve", error, dims="curve")
+        if (.not. allocated(error)) call h5_write(file, "/curves/beta", beta, "1/time", &
+            "Internal damping beta of each curve", error, dims="curve")
+        if (.not. allocated(error)) call h5_write(file, "/curves/m2", m2, "1/time^2", &
+            "Mass term m^2 of each curve", error, dims="curve")
+        if (.not. allocated(error)) call h5_write(file, "/curves/band_gap_edge", edge, "1/time", &
+            "Upper edge sqrt(1 + m^2) of each curve's band gap", error, dims="curve")
+    end subroutine write_curves
+
+    !> A run with its drive frequency set.
+    pure function with_omega(run, omega) result(r)
+        !> The run.
+        type(run_config), intent(in) :: run
+        !> Driving frequency.
+        real(wp), intent(in) :: omega
+        type(run_config) :: r
+
+        r = run
+        r%drive%omega = omega
+    end function with_omega
+
+    !> The scene's potentials as text ("sine-gordon, klein-gordon").
+    pure function potentials_text(cfg) result(text)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        character(len=:), allocatable :: text
+        integer :: i
+
+        if (.not. allocated(cfg%scene%potentials)) then
+            text = potential_name(cfg%run%chain%potential)
+            return
+        end if
+        if (size(cfg%scene%potentials) == 0) then
+            text = potential_name(cfg%run%chain%potential)
+            return
+        end if
+        text = potential_name(cfg%scene%potentials(1))
+        do i = 2, size(cfg%scene%potentials)
+            text = text // ", " // potential_name(cfg%scene%potentials(i))
+        end do
+    end function potentials_text
+
+    !> The namelist file of the input ("configuration" when not set).
+    pure function source_name(cfg) result(name)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        character(len=:), allocatable :: name
+
+        name = "configuration"
+        if (allocated(cfg%source)) name = cfg%source
+    end function source_name
+
+    !> Create the directory part of an output path if it does not exist (like `mkdir -p`).
+    subroutine ensure_parent_directory(file, error)
+        !> Output file path.
+        character(len=*), intent(in) :: file
+        !> Error, allocated if the directory cannot be created.
+        type(error_type), allocatable, intent(out) :: error
+        logical :: exists
+        integer :: k, stat
+
+        k = index(file, "/", back=.true.)
+        if (k <= 1) return
+        inquire (file=file(1:k - 1) // "/.", exist=exists)
+        if (exists) return
+        call execute_command_line("mkdir -p '" // file(1:k - 1) // "'", exitstat=stat)
+        if (stat /= 0) call fatal_error(error, file // ": cannot create directory '" // file(1:k - 1) // "'", err_io)
+    end subroutine ensure_parent_directory
+
+end module supratrans_scene_bifurcation

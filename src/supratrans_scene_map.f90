@@ -1,0 +1,90 @@
+!> Scene `map` (paper Fig. 11): the total energy injected into the chain over a grid of driving frequency x
+!> amplitude, for each curve (normally the two potentials, undamped and massless), with the continuum-limit
+!> threshold A_s(Omega) for comparison.
+!>
+!> The map is the amplitude sweep of `supratrans_scene_sweep` over a second axis, the frequency
+!> omega_min..omega_max by omega_step: it uses that module's task list, engine driver, journal, partial file and
+!> per-run datasets, and adds only its axes (`/omega`, `/threshold_As`). A (curve, frequency) outside the curve's
+!> band gap, Omega >= sqrt(1 + m^2), is not run (unless allow_outside_gap): its entries are NaN with status
+!> `status_outside_gap` (-2) and its A_s is NaN.
+!>
+!> The per-run datasets are Fortran arrays (namp, nomega, ncurve), which h5py reads as (ncurve, nomega, namp):
+!> `d[ic-1, iw-1, ia-1]` for curve ic, frequency iw, amplitude ia (attribute `dimensions` = "curve, omega,
+!> amplitude"); `/threshold_As` is (ncurve, nomega) in h5py.
+module supratrans_scene_map
+    use supratrans_kinds, only: wp
+    use supratrans_error, only: error_type
+    use supratrans_config, only: input_config
+    use supratrans_hdf5, only: h5_file, h5_write, h5_write_attr
+    use supratrans_chain, only: band_gap_edge, threshold_as
+    use supratrans_scene_sweep, only: sweep_tasks, init_sweep_tasks, run_grid_scene, write_common_axes, axis_grid
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+    implicit none
+    private
+
+    public :: run_map
+
+    !> The tasks of a map: those of a sweep with a frequency axis; only the axes written differ.
+    type, extends(sweep_tasks), public :: map_tasks
+    contains
+        !> Write `/amplitude`, `/curves/...`, `/omega` and `/threshold_As`.
+        procedure :: write_axes => map_write_axes
+    end type map_tasks
+
+contains
+
+    !> Run the scene `map` described by `cfg` and write `cfg%output%file` (layout in README.md, "Output"): for each
+    !> curve, each frequency of the &scene axis omega_min..omega_max by omega_step inside the curve's band gap, and
+    !> each amplitude of amplitude_min..amplitude_max by amplitude_step, one full run. Resumes from
+    !> `<file>.journal` if a killed map left one.
+    subroutine run_map(cfg, error)
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure (bad configuration, journal of another input, unwritable files). Runs that
+        !> diverge or whose Newton fails are not errors: they are recorded with their status.
+        type(error_type), allocatable, intent(out) :: error
+        type(map_tasks) :: tasks
+
+        call init_sweep_tasks(tasks, cfg, "map", "Total energy injected vs driving frequency and amplitude: one full " &
+                              // "run (0..T) per curve, frequency and amplitude (paper Fig. 11)", &
+                              axis_grid(cfg%scene%omega_min, cfg%scene%omega_max, cfg%scene%omega_step), .true.)
+        call run_grid_scene(tasks, error)
+    end subroutine run_map
+
+    !> The axes of the map: those shared with the sweep, `/omega`, `/threshold_As` (ncurve, nomega in h5py) and the
+    !> frequency axis parameters as attributes of `/parameters`.
+    subroutine map_write_axes(self, file, error)
+        !> The task list.
+        class(map_tasks), intent(in) :: self
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp) :: as(size(self%omegas), size(self%curves))
+        integer :: ic, iw
+
+        call write_common_axes(self, file, error)
+        if (allocated(error)) return
+        do ic = 1, size(self%curves)
+            do iw = 1, size(self%omegas)
+                if (self%omegas(iw) < band_gap_edge(self%curves(ic)%chain)) then
+                    as(iw, ic) = threshold_as(self%curves(ic)%chain, self%omegas(iw))
+                else
+                    as(iw, ic) = ieee_value(as(iw, ic), ieee_quiet_nan)
+                end if
+            end do
+        end do
+        call h5_write(file, "/omega", self%omegas, "1/time", "Driving frequency Omega of each run: omega_min + " &
+                      // "i omega_step, i = 0, 1, ...", error, dims="omega")
+        if (allocated(error)) return
+        call h5_write(file, "/threshold_As", as, "rad", "Continuum-limit supratransmission threshold A_s(Omega) = " &
+                      // "4 arctan(lambda c / Omega) of each curve (massless, undamped theory); NaN outside the " &
+                      // "curve's band gap", error, dims="curve, omega")
+        if (allocated(error)) return
+        call h5_write_attr(file, "/parameters", "omega_min", self%cfg%scene%omega_min, error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "omega_max", self%cfg%scene%omega_max, error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "omega_step", self%cfg%scene%omega_step, &
+                                                       error)
+    end subroutine map_write_axes
+
+end module supratrans_scene_map

@@ -1,0 +1,783 @@
+!> Scene `amplitude_sweep` (paper Figs. 2, 3, 3-and-a-half and 4): the total energy injected into the chain over
+!> a whole run, 0..T, against the driving amplitude A, one curve per (potential, value of the varied parameter).
+!>
+!> Every (curve, amplitude) is one task of the engine `supratrans_tasks`: a full-length run (no early stop, no
+!> probes, the ledger closed once at T) whose outcome is reduced to `n_run_values` numbers (`run_values`). The tasks
+!> run on OpenMP threads; the journal `<output file>.journal` makes a killed sweep resumable, and now and then a
+!> partial file `<output file>.partial.h5` (attribute `complete` = 0, runs not done yet NaN with status -1) is
+!> written so that a figure can be drawn while the sweep runs or after it was killed. The final file is written
+!> under a temporary name and renamed when complete; the journal and the partial file are then deleted.
+!>
+!> The machinery is shared with the scene `map` (`supratrans_scene_map`, paper Fig. 11), which is the same sweep
+!> over a second axis, the driving frequency: `sweep_tasks` holds a grid of curves x frequencies x amplitudes
+!> (one frequency, the &drive omega, for the sweep), `run_grid_scene` runs it and writes the file, and the map
+!> extends `sweep_tasks` only to write its own axes (`write_axes`).
+!>
+!> ## Runs that fail
+!> A run that diverges or whose Newton iteration fails does not stop the sweep: it is recorded with its status
+!> (`/runs/status`, codes in the attribute `status_codes` of `/runs`: those of `supratrans_result` plus
+!> `status_not_run` and `status_outside_gap`), the time it ended and its largest |u_n|; its energies are NaN (the
+!> run did not reach T), and `/runs/failures` lists it in words.
+!>
+!> ## Grids
+!> An axis from `first` to `last` by `step` holds `first + i step`, i = 0, 1, ..., for as long as the value is at
+!> most `last` + 1e-9 (`axis_grid`): computed from the integer index, so it is exact and reproducible.
+!>
+!> ## Order of the data
+!> Task `index` = ia + namp ((iw - 1) + nomega (ic - 1)) for amplitude ia, frequency iw, curve ic (amplitude
+!> fastest). The per-run datasets are stored as Fortran arrays (namp, ncurve) for the sweep and
+!> (namp, nomega, ncurve) for the map, which h5py sees as (ncurve, namp) and (ncurve, nomega, namp): `d[ic-1, ia-1]`
+!> and `d[ic-1, iw-1, ia-1]`. Each dataset's attribute `dimensions` names them in that (h5py) order.
+module supratrans_scene_sweep
+    use, intrinsic :: iso_fortran_env, only: error_unit, int64
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
+    use supratrans_kinds, only: wp, supratrans_version
+    use supratrans_error, only: error_type, fatal_error, err_input, err_io
+    use supratrans_config, only: input_config, run_config
+    use supratrans_curves, only: curve_count, curve_run, curve_indices
+    use supratrans_input, only: validate_config
+    use supratrans_potential, only: potential_name
+    use supratrans_chain, only: band_gap_edge, threshold_as
+    use supratrans_simulate, only: simulate, number_of_levels
+    use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed, status_name
+    use supratrans_tasks, only: task_list, run_tasks, file_fingerprint, remove_file
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
+    use supratrans_output, only: write_root, write_run_parameters
+    use supratrans_strings, only: int_str, real_str
+    implicit none
+    private
+
+    public :: run_amplitude_sweep
+    public :: sweep_tasks, init_sweep_tasks, run_grid_scene, write_common_axes, write_grid_file
+    public :: axis_grid, run_values, not_run_values, journal_path, partial_path, status_codes_text
+
+    !> Position in a task's values: energy injected through the driven end over the run (paper: "total energy").
+    integer, parameter, public :: iv_injected = 1
+    !> Position: stored discrete energy E at the end of the run.
+    integer, parameter, public :: iv_stored = 2
+    !> Position: energy dissipated by the external damping gamma.
+    integer, parameter, public :: iv_dissipated_gamma = 3
+    !> Position: energy dissipated by the internal damping beta.
+    integer, parameter, public :: iv_dissipated_beta = 4
+    !> Position: energy dissipated by the absorbing end gamma'(n).
+    integer, parameter, public :: iv_dissipated_absorber = 5
+    !> Position: balance residual of the ledger at the end of the run.
+    integer, parameter, public :: iv_residual = 6
+    !> Position: run status (`supratrans_result` codes, `status_not_run`, `status_outside_gap`).
+    integer, parameter, public :: iv_status = 7
+    !> Position: verdict, 1 transmitting, 0 not.
+    integer, parameter, public :: iv_transmitting = 8
+    !> Position: time of the verdict (crossing time, or the end of the run).
+    integer, parameter, public :: iv_t_decided = 9
+    !> Position: time steps taken.
+    integer, parameter, public :: iv_steps = 10
+    !> Position: Newton iterations (tridiagonal solves) over the run.
+    integer, parameter, public :: iv_newton_iterations = 11
+    !> Position: wall-clock time of the run (s).
+    integer, parameter, public :: iv_wall_time = 12
+    !> Position: time at which the run ended (T, or when it failed).
+    integer, parameter, public :: iv_t_end = 13
+    !> Position: largest |u_n| over the run.
+    integer, parameter, public :: iv_max_abs_u = 14
+    !> Number of values a task produces (the columns of the journal).
+    integer, parameter, public :: n_run_values = 14
+
+    !> Status of a run not computed (yet): runs missing from a partial file.
+    integer, parameter, public :: status_not_run = -1
+    !> Status of a grid point not run because its driving frequency lies outside the curve's band gap.
+    integer, parameter, public :: status_outside_gap = -2
+
+    !> Slack of the end point of an axis: `first + i step` is on the axis while it is at most `last` + this.
+    real(wp), parameter :: grid_slack = 1.0e-9_wp
+    !> Largest number of tasks of one scene (a guard against a step that is far too small).
+    integer, parameter :: max_tasks = 10000000
+
+    !> One per-run dataset: where its value is in a task's values, its name under the root, units, meaning.
+    type :: field_spec
+        !> Position in the values (`iv_*`).
+        integer :: iv
+        !> Dataset path.
+        character(len=32) :: name
+        !> Units.
+        character(len=8) :: units
+        !> Stored as integer (missing entries -1) rather than real (missing entries NaN).
+        logical :: is_int
+        !> Description.
+        character(len=160) :: description
+    end type field_spec
+
+    !> The per-run datasets, in the order they are written.
+    type(field_spec), parameter :: fields(*) = [ &
+        field_spec(iv_injected, "/energy/injected", "energy", .false., "Energy injected through the driven end " &
+                   // "over the run 0..T (the paper's total energy transmitted); NaN unless status = 0"), &
+        field_spec(iv_stored, "/energy/stored", "energy", .false., "Discrete energy E stored in the chain at T " &
+                   // "(paper Sec. 3.2); NaN unless status = 0"), &
+        field_spec(iv_dissipated_gamma, "/energy/dissipated_gamma", "energy", .false., "Energy dissipated by the " &
+                   // "external damping gamma over the run; NaN unless status = 0"), &
+        field_spec(iv_dissipated_beta, "/energy/dissipated_beta", "energy", .false., "Energy dissipated by the " &
+                   // "internal damping beta over the run; NaN unless status = 0"), &
+        field_spec(iv_dissipated_absorber, "/energy/dissipated_absorber", "energy", .false., "Energy dissipated " &
+                   // "by the absorbing end gamma'(n) over the run; NaN unless status = 0"), &
+        field_spec(iv_residual, "/energy/residual", "energy", .false., "Ledger balance residual E(T) - E(0) - " &
+                   // "(injected - dissipated): roundoff for the Newton scheme; NaN unless status = 0"), &
+        field_spec(iv_status, "/runs/status", "1", .true., "Run status: see the attribute status_codes of /runs " &
+                   // "(0 ok, > 0 failed, < 0 not run)"), &
+        field_spec(iv_transmitting, "/runs/transmitting", "1", .true., "Verdict: 1 if an oscillator beyond the " &
+                   // "detector site swung past the detect amplitude (supratransmission), 0 if not; -1 if not run"), &
+        field_spec(iv_t_decided, "/runs/t_decided", "time", .false., "Time of the verdict: when the detector " &
+                   // "amplitude was passed if transmitting, else the end of the run; NaN if not run"), &
+        field_spec(iv_steps, "/runs/steps", "1", .true., "Time steps taken; -1 if not run"), &
+        field_spec(iv_newton_iterations, "/runs/newton_iterations", "1", .true., "Newton iterations (tridiagonal " &
+                   // "solves) over the run; -1 if not run"), &
+        field_spec(iv_wall_time, "/runs/wall_time", "s", .false., "Wall-clock time of the run; NaN if not run"), &
+        field_spec(iv_t_end, "/runs/t_end", "time", .false., "Time at which the run ended: T, or when it failed; " &
+                   // "NaN if not run"), &
+        field_spec(iv_max_abs_u, "/runs/max_abs_u", "rad", .false., "Largest |u_n| over the run; NaN if not run")]
+
+    !> The tasks of a sweep or map: a grid of curves x driving frequencies x amplitudes, one full run each.
+    !> Read-only while the tasks run.
+    type, extends(task_list), public :: sweep_tasks
+        !> The validated input.
+        type(input_config) :: cfg
+        !> Scene name written to the file: 'amplitude_sweep' or 'map'.
+        character(len=:), allocatable :: scene
+        !> One-line description of the file written.
+        character(len=:), allocatable :: description
+        !> Run configuration of each curve, prepared for the sweep (full length, no probes, no early stop).
+        type(run_config), allocatable :: curves(:)
+        !> Driving frequencies: the &drive omega alone for the sweep, the frequency axis for the map.
+        real(wp), allocatable :: omegas(:)
+        !> Driving amplitudes.
+        real(wp), allocatable :: amplitudes(:)
+        !> The frequency is an axis of the data (map): datasets are (curve, omega, amplitude), not (curve, amplitude).
+        logical :: omega_axis = .false.
+    contains
+        !> Run one task (thread-safe).
+        procedure :: run => sweep_run
+        !> Write the partial file.
+        procedure :: snapshot => sweep_snapshot
+        !> Write the axes of the scene (the sweep: /amplitude, /curves; the map overrides it).
+        procedure :: write_axes => sweep_write_axes
+        !> Number of tasks.
+        procedure :: task_count
+        !> Amplitude, frequency and curve index of a task.
+        procedure :: task_position
+        !> Whether a (frequency, curve) is run: inside the curve's band gap, or allow_outside_gap.
+        procedure :: runnable
+    end type sweep_tasks
+
+contains
+
+    !> Run the scene `amplitude_sweep` described by `cfg` and write `cfg%output%file` (layout in README.md,
+    !> "Output"): for each curve (`curve_run`) and each amplitude of the &scene axis amplitude_min..amplitude_max
+    !> by amplitude_step, one full run at the &drive frequency. Resumes from `<file>.journal` if a killed sweep
+    !> left one.
+    subroutine run_amplitude_sweep(cfg, error)
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure (bad configuration, journal of another input, unwritable files). Runs that
+        !> diverge or whose Newton fails are not errors: they are recorded with their status.
+        type(error_type), allocatable, intent(out) :: error
+        type(sweep_tasks) :: tasks
+
+        call init_sweep_tasks(tasks, cfg, "amplitude_sweep", "Total energy injected vs driving amplitude: one " &
+                              // "full run (0..T) per curve and amplitude (paper Figs. 2, 3, 3-and-a-half, 4)", &
+                              [cfg%run%drive%omega], .false.)
+        call run_grid_scene(tasks, error)
+    end subroutine run_amplitude_sweep
+
+    !> Fill a task list: the input, the scene's name and description, the frequencies, the amplitude axis of the
+    !> &scene group and the run of every curve, prepared for the sweep.
+    subroutine init_sweep_tasks(tasks, cfg, scene, description, omegas, omega_axis)
+        !> The task list (a `sweep_tasks` or an extension of it).
+        class(sweep_tasks), intent(inout) :: tasks
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Scene name.
+        character(len=*), intent(in) :: scene
+        !> One-line description of the output file.
+        character(len=*), intent(in) :: description
+        !> Driving frequencies of the grid.
+        real(wp), intent(in) :: omegas(:)
+        !> Whether the frequency is an axis of the data (map).
+        logical, intent(in) :: omega_axis
+        integer :: ic
+
+        tasks%cfg = cfg
+        tasks%scene = scene
+        tasks%description = description
+        tasks%omegas = omegas
+        tasks%omega_axis = omega_axis
+        tasks%amplitudes = axis_grid(cfg%scene%amplitude_min, cfg%scene%amplitude_max, cfg%scene%amplitude_step)
+        if (allocated(tasks%curves)) deallocate (tasks%curves)
+        allocate (tasks%curves(curve_count(cfg)))
+        do ic = 1, size(tasks%curves)
+            tasks%curves(ic) = curve_run(cfg, ic)
+            ! the figures need the totals at T: no early stop, no probes, the ledger closed once at the end
+            tasks%curves(ic)%detect%stop_when_decided = .false.
+            if (allocated(tasks%curves(ic)%record%probes)) deallocate (tasks%curves(ic)%record%probes)
+            allocate (tasks%curves(ic)%record%probes(0))
+            tasks%curves(ic)%record%probe_every = number_of_levels(tasks%curves(ic))
+            tasks%curves(ic)%record%ledger_every = huge(1)
+        end do
+    end subroutine init_sweep_tasks
+
+    !> Run the tasks of a sweep or map (resuming from the journal), write the output file atomically, then delete
+    !> the journal and the partial file. Prints a first line naming the scene and the number of runs, and the
+    !> engine's progress, unless `quiet`.
+    subroutine run_grid_scene(tasks, error)
+        !> The task list, filled by `init_sweep_tasks`.
+        class(sweep_tasks), intent(in) :: tasks
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp), allocatable :: results(:, :)
+        logical, allocatable :: done(:)
+        character(len=:), allocatable :: line
+        integer(int64) :: ntask, clock_start, clock_end, clock_rate
+        integer :: nskip, nfail, ntrans, i
+
+        call system_clock(clock_start, clock_rate)
+        call validate_config(tasks%cfg, error)
+        if (allocated(error)) return
+        if (.not. allocated(tasks%cfg%source)) then
+            call fatal_error(error, "configuration: cfg%source must name the input file (it fingerprints the " &
+                             // "journal)", err_input)
+            return
+        end if
+        ntask = int(size(tasks%amplitudes), int64)*int(size(tasks%omegas), int64)*int(size(tasks%curves), int64)
+        if (ntask > max_tasks) then
+            call fatal_error(error, tasks%cfg%source // ": &scene: " // int_str(int(min(ntask, 2000000000_int64))) &
+                             // " runs is more than the limit " // int_str(max_tasks) // " (check the steps)", err_input)
+            return
+        end if
+
+        if (.not. tasks%cfg%output%quiet) then
+            line = "supratrans " // supratrans_version // ": " // tasks%scene // " from " // tasks%cfg%source // ": " &
+                   // int_str(size(tasks%curves)) // " curve(s) x "
+            if (tasks%omega_axis) line = line // int_str(size(tasks%omegas)) // " frequencies x "
+            line = line // int_str(size(tasks%amplitudes)) // " amplitudes = " // int_str(tasks%task_count()) &
+                   // " runs -> " // trim(tasks%cfg%output%file)
+            nskip = 0
+            do i = 1, tasks%task_count()
+                if (.not. task_is_runnable(tasks, i)) nskip = nskip + 1
+            end do
+            if (nskip > 0) line = line // " (" // int_str(nskip) // " outside the band gap, not run)"
+            write (error_unit, '(a)') line
+            flush (error_unit)
+        end if
+
+        call run_tasks(tasks, tasks%task_count(), n_run_values, journal_path(tasks%cfg), &
+                       file_fingerprint(tasks%cfg%source), "runs", tasks%cfg%output%quiet, results, done, error)
+        if (allocated(error)) return
+        if (.not. all(done)) then
+            call fatal_error(error, trim(tasks%cfg%output%file) // ": the task engine returned with runs missing", &
+                             err_io)
+            return
+        end if
+
+        call system_clock(clock_end)
+        call write_grid_file(tasks, trim(tasks%cfg%output%file), tasks%cfg%output%overwrite, results, done, error, &
+                             real(clock_end - clock_start, wp)/real(clock_rate, wp))
+        if (allocated(error)) return
+        call remove_file(journal_path(tasks%cfg))
+        call remove_file(partial_path(tasks%cfg))
+        call remove_file(partial_path(tasks%cfg) // ".tmp")
+
+        if (.not. tasks%cfg%output%quiet) then
+            nfail = count(nint(results(iv_status, :)) > 0)
+            ntrans = count(nint(results(iv_status, :)) == run_ok .and. nint(results(iv_transmitting, :)) == 1)
+            write (error_unit, '(a)') "  " // int_str(count(nint(results(iv_status, :)) == run_ok)) // " runs ok (" &
+                // int_str(ntrans) // " transmitting), " // int_str(nfail) // " failed (see /runs/failures)"
+            flush (error_unit)
+        end if
+    end subroutine run_grid_scene
+
+    !> Write the scene's HDF5 file `path` from the results so far (atomically: `<path>.tmp`, then renamed).
+    !> With every task done the file is the final output (root attribute `complete` = 1); otherwise a partial file
+    !> (`complete` = 0) in which the missing runs are NaN with status `status_not_run`.
+    subroutine write_grid_file(tasks, path, overwrite, results, done, error, wall_time)
+        !> The task list.
+        class(sweep_tasks), intent(in) :: tasks
+        !> Path of the file.
+        character(len=*), intent(in) :: path
+        !> Replace an existing file.
+        logical, intent(in) :: overwrite
+        !> Results, (n_run_values, ntask).
+        real(wp), intent(in) :: results(:, :)
+        !> Which tasks are done.
+        logical, intent(in) :: done(:)
+        !> Error, allocated on failure (the file is then not created).
+        type(error_type), allocatable, intent(out) :: error
+        !> Wall-clock time of the scene (this invocation, s), written as the root attribute `wall_time_s`.
+        real(wp), intent(in), optional :: wall_time
+        type(h5_file) :: file
+
+        call h5_create(file, path, overwrite, error)
+        if (allocated(error)) return
+        body: block
+            call write_root(file, tasks%cfg, tasks%scene, tasks%description, error)
+            if (allocated(error)) exit body
+            call h5_write_attr(file, "/", "complete", merge(1, 0, all(done)), error)
+            if (allocated(error)) exit body
+            call h5_write_attr(file, "/", "runs_done", count(done), error)
+            if (allocated(error)) exit body
+            call h5_write_attr(file, "/", "runs_total", size(done), error)
+            if (allocated(error)) exit body
+            if (present(wall_time)) call h5_write_attr(file, "/", "wall_time_s", wall_time, error)
+            if (allocated(error)) exit body
+            call write_scene_parameters(file, tasks, error)
+            if (allocated(error)) exit body
+            call tasks%write_axes(file, error)
+            if (allocated(error)) exit body
+            call write_run_datasets(file, tasks, results, done, error)
+        end block body
+        if (allocated(error)) then
+            call h5_discard(file)
+            return
+        end if
+        call h5_commit(file, error)
+    end subroutine write_grid_file
+
+    !> `/parameters`: the base run (`write_run_parameters`) and the scene's parameters.
+    subroutine write_scene_parameters(file, tasks, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> The task list.
+        class(sweep_tasks), intent(in) :: tasks
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=:), allocatable :: names
+        integer :: i
+
+        associate (cfg => tasks%cfg, sc => tasks%cfg%scene)
+            call write_run_parameters(file, "/parameters", cfg%run, error)
+            if (allocated(error)) return
+            names = potential_name(tasks%curves(1)%chain%potential)
+            if (allocated(sc%potentials)) then
+                names = ""
+                do i = 1, size(sc%potentials)
+                    if (i > 1) names = names // ", "
+                    names = names // potential_name(sc%potentials(i))
+                end do
+            end if
+            call h5_write_attr(file, "/parameters", "potentials", names, error)
+            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "vary", trim(sc%vary), error)
+            if (.not. allocated(error) .and. allocated(sc%values)) then
+                if (size(sc%values) > 0) call h5_write_attr(file, "/parameters", "values", sc%values, error)
+            end if
+            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "amplitude_min", sc%amplitude_min, error)
+            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "amplitude_max", sc%amplitude_max, error)
+            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "amplitude_step", sc%amplitude_step, &
+                                                           error)
+            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "detect_site", cfg%run%detect%site, &
+                                                           error)
+            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "detect_amplitude", &
+                                                           cfg%run%detect%amplitude, error)
+            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "allow_outside_gap", &
+                                                           cfg%allow_outside_gap, error)
+            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "allow_unstable", cfg%allow_unstable, &
+                                                           error)
+        end associate
+    end subroutine write_scene_parameters
+
+    !> The axes of the sweep: `/amplitude`, `/curves/...` (`write_common_axes`) and `/curves/threshold_As`, the
+    !> continuum-limit threshold at the sweep's frequency.
+    subroutine sweep_write_axes(self, file, error)
+        !> The task list.
+        class(sweep_tasks), intent(in) :: self
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp) :: as(size(self%curves))
+        integer :: ic
+
+        call write_common_axes(self, file, error)
+        if (allocated(error)) return
+        do ic = 1, size(self%curves)
+            as(ic) = threshold_as_or_nan(self%curves(ic), self%omegas(1))
+        end do
+        call h5_write(file, "/curves/threshold_As", as, "rad", "Continuum-limit supratransmission threshold A_s = " &
+                      // "4 arctan(lambda c / Omega) of each curve at the sweep's frequency (massless, undamped " &
+                      // "theory); NaN outside the band gap", error, dims="curve")
+    end subroutine sweep_write_axes
+
+    !> The axes shared by sweep and map: `/amplitude` and `/curves/{potential, value, gamma, beta, m2,
+    !> band_gap_edge}` (one entry per curve, values of the varied parameter fastest).
+    subroutine write_common_axes(tasks, file, error)
+        !> The task list.
+        class(sweep_tasks), intent(in) :: tasks
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=16) :: names(size(tasks%curves))
+        real(wp) :: values(size(tasks%curves)), gamma(size(tasks%curves)), beta(size(tasks%curves))
+        real(wp) :: m2(size(tasks%curves)), edge(size(tasks%curves))
+        character(len=:), allocatable :: value_units
+        integer :: ic
+
+        do ic = 1, size(tasks%curves)
+            names(ic) = potential_name(tasks%curves(ic)%chain%potential)
+            gamma(ic) = tasks%curves(ic)%chain%gamma
+            beta(ic) = tasks%curves(ic)%chain%beta
+            m2(ic) = tasks%curves(ic)%chain%m2
+            edge(ic) = band_gap_edge(tasks%curves(ic)%chain)
+        end do
+        select case (trim(tasks%cfg%scene%vary))
+        case ("gamma")
+            values = gamma
+            value_units = "1/time"
+        case ("beta")
+            values = beta
+            value_units = "1/time"
+        case ("m2")
+            values = m2
+            value_units = "1/time^2"
+        case default
+            values = nan()
+            value_units = "1"
+        end select
+        call h5_write(file, "/amplitude", tasks%amplitudes, "rad", "Driving amplitude A of each run: amplitude_min" &
+                      // " + i amplitude_step, i = 0, 1, ...", error, dims="amplitude")
+        if (allocated(error)) return
+        call h5_create_group(file, "/curves", "One entry per curve: a potential and a value of the varied " &
+                             // "parameter (attribute vary), the values fastest", error)
+        if (allocated(error)) return
+        call h5_write_attr(file, "/curves", "vary", trim(tasks%cfg%scene%vary), error)
+        if (allocated(error)) return
+        call h5_write(file, "/curves/potential", names, "1", "On-site potential of each curve", error, dims="curve")
+        if (allocated(error)) return
+        call h5_write(file, "/curves/value", values, value_units, "Value of the varied parameter (attribute vary " &
+                      // "of /curves) of each curve; NaN when vary = 'none'", error, dims="curve")
+        if (allocated(error)) return
+        call h5_write(file, "/curves/gamma", gamma, "1/time", "External damping gamma of each curve", error, &
+                      dims="curve")
+        if (allocated(error)) return
+        call h5_write(file, "/curves/beta", beta, "1/time", "Internal damping beta of each curve", error, &
+                      dims="curve")
+        if (allocated(error)) return
+        call h5_write(file, "/curves/m2", m2, "1/time^2", "Mass term m^2 of each curve (negative: imaginary mass)", &
+                      error, dims="curve")
+        if (allocated(error)) return
+        call h5_write(file, "/curves/band_gap_edge", edge, "1/time", "Upper edge sqrt(1 + m^2) of the band gap of " &
+                      // "each curve", error, dims="curve")
+    end subroutine write_common_axes
+
+    !> The per-run datasets `/energy/...` and `/runs/...` (table `fields`), `/runs/failures` and the attribute
+    !> `status_codes` of `/runs`.
+    subroutine write_run_datasets(file, tasks, results, done, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> The task list.
+        class(sweep_tasks), intent(in) :: tasks
+        !> Results, (n_run_values, ntask).
+        real(wp), intent(in) :: results(:, :)
+        !> Which tasks are done.
+        logical, intent(in) :: done(:)
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp), allocatable :: values(:, :), real2(:, :), real3(:, :, :)
+        integer, allocatable :: iflat(:), int2(:, :), int3(:, :, :)
+        character(len=240), allocatable :: failures(:)
+        character(len=:), allocatable :: dims
+        integer :: i, j, namp, nomega, ncurve
+
+        namp = size(tasks%amplitudes)
+        nomega = size(tasks%omegas)
+        ncurve = size(tasks%curves)
+        allocate (values(n_run_values, size(done)))
+        do i = 1, size(done)
+            if (done(i)) then
+                values(:, i) = results(:, i)
+            else
+                values(:, i) = not_run_values()
+            end if
+        end do
+        dims = "curve, amplitude"
+        if (tasks%omega_axis) dims = "curve, omega, amplitude"
+
+        call h5_create_group(file, "/energy", "Energy totals of each run over 0..T (the ledger at T)", error)
+        if (allocated(error)) return
+        call h5_create_group(file, "/runs", "Outcome and statistics of each run", error)
+        if (allocated(error)) return
+        call h5_write_attr(file, "/runs", "status_codes", status_codes_text(), error)
+        if (allocated(error)) return
+        do j = 1, size(fields)
+            if (fields(j)%is_int) then
+                iflat = to_int(values(fields(j)%iv, :))
+                if (tasks%omega_axis) then
+                    int3 = reshape(iflat, [namp, nomega, ncurve])
+                    call h5_write(file, trim(fields(j)%name), int3, trim(fields(j)%units), &
+                                  trim(fields(j)%description), error, dims=dims)
+                else
+                    int2 = reshape(iflat, [namp, ncurve])
+                    call h5_write(file, trim(fields(j)%name), int2, trim(fields(j)%units), &
+                                  trim(fields(j)%description), error, dims=dims)
+                end if
+            else
+                if (tasks%omega_axis) then
+                    real3 = reshape(values(fields(j)%iv, :), [namp, nomega, ncurve])
+                    call h5_write(file, trim(fields(j)%name), real3, trim(fields(j)%units), &
+                                  trim(fields(j)%description), error, dims=dims)
+                else
+                    real2 = reshape(values(fields(j)%iv, :), [namp, ncurve])
+                    call h5_write(file, trim(fields(j)%name), real2, trim(fields(j)%units), &
+                                  trim(fields(j)%description), error, dims=dims)
+                end if
+            end if
+            if (allocated(error)) return
+        end do
+
+        allocate (failures(0))
+        do i = 1, size(done)
+            if (nint(values(iv_status, i)) > 0) then
+                failures = [character(len=len(failures)) :: failures, failure_text(tasks, i, values(:, i))]
+            end if
+        end do
+        call h5_write(file, "/runs/failures", failures, "1", "One line per run that failed (status > 0): curve, " &
+                      // "amplitude, frequency, status, when it ended and its largest |u_n|", error, dims="failure")
+        if (allocated(error)) return
+        call h5_write_attr(file, "/runs", "failed", size(failures), error)
+    end subroutine write_run_datasets
+
+    !> A run's values as journalled: the ledger totals at T (NaN if the run failed), status, verdict, statistics.
+    pure function run_values(result) result(values)
+        !> The run's result.
+        type(run_result), intent(in) :: result
+        real(wp) :: values(n_run_values)
+
+        values = nan()
+        if (result%status == run_ok) then
+            values(iv_injected) = result%ledger%injected
+            values(iv_stored) = result%ledger%stored
+            values(iv_dissipated_gamma) = result%ledger%dissipated_gamma
+            values(iv_dissipated_beta) = result%ledger%dissipated_beta
+            values(iv_dissipated_absorber) = result%ledger%dissipated_absorber
+            values(iv_residual) = result%ledger%residual
+        end if
+        values(iv_status) = real(result%status, wp)
+        values(iv_transmitting) = merge(1.0_wp, 0.0_wp, result%transmitting)
+        values(iv_t_decided) = result%t_decided
+        values(iv_steps) = real(result%steps, wp)
+        values(iv_newton_iterations) = real(result%newton_iterations, wp)
+        values(iv_wall_time) = result%wall_time
+        values(iv_t_end) = result%t_end
+        values(iv_max_abs_u) = result%max_abs_u
+    end function run_values
+
+    !> The values of a run not computed: NaN, status `status_not_run`.
+    pure function not_run_values() result(values)
+        real(wp) :: values(n_run_values)
+
+        values = nan()
+        values(iv_status) = real(status_not_run, wp)
+    end function not_run_values
+
+    !> Run one task: the curve's run at the task's frequency and amplitude, reduced to `run_values`; a point
+    !> outside the curve's band gap is not run (status `status_outside_gap`).
+    subroutine sweep_run(self, index, values)
+        !> The task list.
+        class(sweep_tasks), intent(in) :: self
+        !> Task index, 1..task_count().
+        integer, intent(in) :: index
+        !> The task's results, `n_run_values` of them.
+        real(wp), intent(out) :: values(:)
+        type(run_config) :: run
+        type(run_result) :: result
+        integer :: ia, iw, ic
+
+        call self%task_position(index, ia, iw, ic)
+        if (.not. self%runnable(iw, ic)) then
+            values = nan()
+            values(iv_status) = real(status_outside_gap, wp)
+            return
+        end if
+        run = self%curves(ic)
+        run%drive%amplitude = self%amplitudes(ia)
+        run%drive%omega = self%omegas(iw)
+        call simulate(run, result)
+        values = run_values(result)
+    end subroutine sweep_run
+
+    !> Write the partial file `<output file>.partial.h5` (called serially by the task engine). A failure to write it
+    !> is reported on stderr (unless quiet) and does not stop the scene.
+    subroutine sweep_snapshot(self, results, done)
+        !> The task list.
+        class(sweep_tasks), intent(in) :: self
+        !> Results so far, (n_run_values, ntask).
+        real(wp), intent(in) :: results(:, :)
+        !> Which tasks are done.
+        logical, intent(in) :: done(:)
+        type(error_type), allocatable :: error
+
+        call write_grid_file(self, partial_path(self%cfg), .true., results, done, error)
+        if (allocated(error) .and. .not. self%cfg%output%quiet) then
+            write (error_unit, '(a)') "  warning: partial file not written: " // error%message
+        end if
+    end subroutine sweep_snapshot
+
+    !> Number of tasks: amplitudes x frequencies x curves.
+    pure function task_count(self) result(n)
+        !> The task list.
+        class(sweep_tasks), intent(in) :: self
+        integer :: n
+
+        n = size(self%amplitudes)*size(self%omegas)*size(self%curves)
+    end function task_count
+
+    !> Amplitude index `ia`, frequency index `iw` and curve index `ic` of task `index` (amplitude fastest).
+    pure subroutine task_position(self, index, ia, iw, ic)
+        !> The task list.
+        class(sweep_tasks), intent(in) :: self
+        !> Task index, 1..task_count().
+        integer, intent(in) :: index
+        !> Amplitude, frequency and curve index.
+        integer, intent(out) :: ia, iw, ic
+        integer :: namp, nomega
+
+        namp = size(self%amplitudes)
+        nomega = size(self%omegas)
+        ia = mod(index - 1, namp) + 1
+        iw = mod((index - 1)/namp, nomega) + 1
+        ic = (index - 1)/(namp*nomega) + 1
+    end subroutine task_position
+
+    !> Whether frequency `iw` is run for curve `ic`: inside the curve's band gap, Omega < sqrt(1 + m^2), or the
+    !> input allows frequencies outside it.
+    pure function runnable(self, iw, ic) result(ok)
+        !> The task list.
+        class(sweep_tasks), intent(in) :: self
+        !> Frequency index.
+        integer, intent(in) :: iw
+        !> Curve index.
+        integer, intent(in) :: ic
+        logical :: ok
+
+        ok = self%omegas(iw) < band_gap_edge(self%curves(ic)%chain) .or. self%cfg%allow_outside_gap
+    end function runnable
+
+    !> Whether task `index` is run (not outside the gap).
+    pure function task_is_runnable(tasks, index) result(ok)
+        !> The task list.
+        class(sweep_tasks), intent(in) :: tasks
+        !> Task index.
+        integer, intent(in) :: index
+        logical :: ok
+        integer :: ia, iw, ic
+
+        call tasks%task_position(index, ia, iw, ic)
+        ok = tasks%runnable(iw, ic)
+    end function task_is_runnable
+
+    !> Points of an axis: `first + i step`, i = 0, 1, ..., while at most `last` + 1e-9 (at least `first`).
+    pure function axis_grid(first, last, step) result(axis)
+        !> First point.
+        real(wp), intent(in) :: first
+        !> Last point (included up to the slack).
+        real(wp), intent(in) :: last
+        !> Step, > 0.
+        real(wp), intent(in) :: step
+        real(wp), allocatable :: axis(:)
+        integer :: n, i
+
+        n = 1
+        if (step > 0.0_wp .and. last >= first) n = floor(min((last - first + grid_slack)/step, real(max_tasks, wp))) + 1
+        axis = [(first + real(i, wp)*step, i=0, n - 1)]
+    end function axis_grid
+
+    !> Journal of a scene: `<output file>.journal`.
+    pure function journal_path(cfg) result(path)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        character(len=:), allocatable :: path
+
+        path = trim(cfg%output%file) // ".journal"
+    end function journal_path
+
+    !> Partial file of a scene: `<output file>.partial.h5`.
+    pure function partial_path(cfg) result(path)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        character(len=:), allocatable :: path
+
+        path = trim(cfg%output%file) // ".partial.h5"
+    end function partial_path
+
+    !> Meaning of the status codes of `/runs/status` (the attribute `status_codes` of `/runs`).
+    pure function status_codes_text() result(text)
+        character(len=:), allocatable :: text
+
+        text = int_str(status_outside_gap) // " outside_gap: not run, the driving frequency lies outside the band " &
+               // "gap of the curve (Omega >= sqrt(1 + m^2)); " &
+               // int_str(status_not_run) // " not_run: not computed yet (partial file); " &
+               // int_str(run_ok) // " " // status_name(run_ok) // ": the run reached T; " &
+               // int_str(run_diverged) // " " // status_name(run_diverged) // ": blow-up, |u_n| above " &
+               // "blowup_threshold or non-finite values; " &
+               // int_str(run_newton_failed) // " " // status_name(run_newton_failed) // ": Newton did not " &
+               // "converge within newton_max_iter; " &
+               // int_str(run_solver_failed) // " " // status_name(run_solver_failed) // ": the tridiagonal " &
+               // "solver failed"
+    end function status_codes_text
+
+    !> One line describing a failed run (its reason, re-derived from the journalled values).
+    function failure_text(tasks, index, values) result(text)
+        !> The task list.
+        class(sweep_tasks), intent(in) :: tasks
+        !> Task index.
+        integer, intent(in) :: index
+        !> The task's values.
+        real(wp), intent(in) :: values(:)
+        character(len=:), allocatable :: text
+        integer :: ia, iw, ic, ipot, ival
+
+        call tasks%task_position(index, ia, iw, ic)
+        call curve_indices(tasks%cfg, ic, ipot, ival)
+        text = "curve " // int_str(ic) // " (" // potential_name(tasks%curves(ic)%chain%potential)
+        if (trim(tasks%cfg%scene%vary) /= "none") text = text // ", " // trim(tasks%cfg%scene%vary) // " = " &
+            // real_str(tasks%cfg%scene%values(ival), 6)
+        text = text // "), A = " // real_str(tasks%amplitudes(ia), 6) // ", Omega = " // real_str(tasks%omegas(iw), 6) &
+               // ": " // status_name(nint(values(iv_status))) // ", the run ended at t = " &
+               // real_str(values(iv_t_end), 6) // " (max |u_n| = " // real_str(values(iv_max_abs_u), 6) // ")"
+    end function failure_text
+
+    !> Continuum-limit threshold A_s of a curve at frequency omega; NaN outside the band gap.
+    elemental function threshold_as_or_nan(run, omega) result(as)
+        !> The curve's run.
+        type(run_config), intent(in) :: run
+        !> Driving frequency.
+        real(wp), intent(in) :: omega
+        real(wp) :: as
+
+        if (omega < band_gap_edge(run%chain)) then
+            as = threshold_as(run%chain, omega)
+        else
+            as = nan()
+        end if
+    end function threshold_as_or_nan
+
+
+    !> Journalled reals to integers: nearest integer, -1 for NaN.
+    pure function to_int(x) result(i)
+        !> Journalled values.
+        real(wp), intent(in) :: x(:)
+        integer :: i(size(x))
+        integer :: k
+
+        do k = 1, size(x)
+            if (ieee_is_nan(x(k))) then
+                i(k) = -1
+            else
+                i(k) = nint(x(k))
+            end if
+        end do
+    end function to_int
+
+    !> Quiet NaN.
+    pure function nan() result(x)
+        real(wp) :: x
+
+        x = ieee_value(x, ieee_quiet_nan)
+    end function nan
+
+end module supratrans_scene_sweep
