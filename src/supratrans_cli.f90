@@ -11,6 +11,8 @@ module supratrans_cli
     use supratrans_output, only: write_timeseries
     use supratrans_scene_sweep, only: run_amplitude_sweep
     use supratrans_scene_map, only: run_map
+    use supratrans_scene_workprec, only: run_work_precision
+    use supratrans_scene_stability, only: run_stability
     implicit none
     private
 
@@ -52,6 +54,12 @@ contains
         case ("map")
             call ensure_parent_directory(trim(cfg%output%file), error)
             if (.not. allocated(error)) call run_map(cfg, error)
+        case ("work_precision")
+            call ensure_parent_directory(trim(cfg%output%file), error)
+            if (.not. allocated(error)) call run_work_precision(cfg, error)
+        case ("stability")
+            call ensure_parent_directory(trim(cfg%output%file), error)
+            if (.not. allocated(error)) call run_stability(cfg, error)
         case default
             call fatal_error(error, path // ": &scene: kind '" // trim(cfg%scene%kind) // "' is not implemented", err_input)
         end select

@@ -14,6 +14,8 @@ module supratrans_config
     integer, parameter, public :: method_linearized = 2
     !> Classical fourth-order Runge-Kutta on the method-of-lines system (reference).
     integer, parameter, public :: method_rk4 = 3
+    !> Eighth-order, 11-stage explicit Runge-Kutta method of Cooper and Verner on the same system (reference).
+    integer, parameter, public :: method_rk8 = 4
 
     !> Default length of the linear ramp of the drive amplitude (time units); see README.
     real(wp), parameter, public :: default_ramp_time = 50.0_wp
@@ -141,8 +143,22 @@ module supratrans_config
         integer, allocatable :: potentials(:)
         !> Bifurcation search: coarse amplitude step of the upward scan.
         real(wp) :: coarse_step = 0.1_wp
-        !> Bifurcation search: resolution of the threshold.
+        !> Bifurcation search: resolution of the threshold; stability scene: resolution of the boundary in dt.
         real(wp) :: resolution = 0.01_wp
+        !> Work-precision and stability scenes: the integrators compared (`method_*`; default: all).
+        integer, allocatable :: methods(:)
+        !> Work-precision: the time steps (each method runs those >= its `dt_smallest`); stability: the dt axis.
+        real(wp), allocatable :: dts(:)
+        !> Work-precision: smallest dt run for each method, one per entry of `methods` (0: every dt of `dts`).
+        real(wp), allocatable :: dt_smallest(:)
+        !> Work-precision: the drive amplitudes (one set of runs each; default: the &drive amplitude).
+        real(wp), allocatable :: amplitudes(:)
+        !> Stability: the values of the coupling c (the c axis; default: the &chain c).
+        real(wp), allocatable :: c_values(:)
+        !> Work-precision: timed repetitions of each run (the median wall time is recorded).
+        integer :: repeats = 3
+        !> Work-precision: step of the reference solution (rk8 at reference_dt/2, checked against reference_dt).
+        real(wp) :: reference_dt = 0.025_wp
     end type scene_params
 
     !> A whole validated input file.

@@ -32,7 +32,8 @@ module supratrans_input
     use supratrans_kinds, only: wp, name_len, path_len
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_potential, only: sine_gordon, klein_gordon, potential_name, potential_from_name
-    use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, max_curve_values
+    use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
+        max_curve_values
     use supratrans_curves, only: curve_count, curve_run
     use supratrans_chain, only: band_gap_edge, stability_lhs, stability_rhs, stable_by_paper_condition, critical_dt
     use supratrans_strings, only: int_str, real_str, fixed4
@@ -45,6 +46,11 @@ module supratrans_input
     integer, parameter, public :: default_probe = 60
     !> Largest number of entries in the `probes` list.
     integer, parameter, public :: max_probes = 64
+
+    !> Largest number of entries of the `methods` and `dt_smallest` lists of &scene.
+    integer, parameter :: max_scene_methods = 8
+    !> Largest number of entries of the `dts` list of &scene.
+    integer, parameter :: max_scene_dts = 64
 
     !> Value type of a key: an integer.
     integer, parameter :: kt_integer = 1
@@ -111,6 +117,13 @@ module supratrans_input
         key_spec("scene", "potentials", kt_name, 2), &
         key_spec("scene", "coarse_step", kt_real, 1), &
         key_spec("scene", "resolution", kt_real, 1), &
+        key_spec("scene", "methods", kt_name, max_scene_methods), &
+        key_spec("scene", "dts", kt_real, max_scene_dts), &
+        key_spec("scene", "dt_smallest", kt_real, max_scene_methods), &
+        key_spec("scene", "amplitudes", kt_real, max_curve_values), &
+        key_spec("scene", "c_values", kt_real, max_curve_values), &
+        key_spec("scene", "repeats", kt_integer, 1), &
+        key_spec("scene", "reference_dt", kt_real, 1), &
         key_spec("detect", "site", kt_integer, 1), &
         key_spec("detect", "amplitude", kt_real, 1), &
         key_spec("detect", "stop_when_decided", kt_logical, 1), &
@@ -120,7 +133,7 @@ module supratrans_input
 
     !> Scene kinds accepted by `&scene kind = ...`.
     character(len=*), parameter :: scene_kinds(*) = [character(len=name_len) :: "timeseries", "amplitude_sweep", "map", &
-                                                     "bifurcation"]
+                                                     "bifurcation", "work_precision", "stability"]
 
     !> Parameters a scene may vary between its curves (`&scene vary = ...`).
     character(len=*), parameter :: vary_names(*) = [character(len=name_len) :: "none", "gamma", "beta", "m2"]
@@ -223,6 +236,8 @@ contains
             name = "linearized"
         case (method_rk4)
             name = "rk4"
+        case (method_rk8)
+            name = "rk8"
         case default
             name = "unknown"
         end select
@@ -241,6 +256,8 @@ contains
             id = method_linearized
         case ("rk4")
             id = method_rk4
+        case ("rk8")
+            id = method_rk8
         case default
             id = 0
         end select
@@ -738,7 +755,12 @@ contains
                     call read_record(text, path, parsed%n_values(find_key("record", "probes")), cfg, error)
                 case ("scene")
                     call read_scene(text, path, parsed%n_values(find_key("scene", "values")), &
-                                    parsed%n_values(find_key("scene", "potentials")), cfg, error)
+                                    parsed%n_values(find_key("scene", "potentials")), cfg, error, &
+                                    [parsed%n_values(find_key("scene", "methods")), &
+                                     parsed%n_values(find_key("scene", "dts")), &
+                                     parsed%n_values(find_key("scene", "dt_smallest")), &
+                                     parsed%n_values(find_key("scene", "amplitudes")), &
+                                     parsed%n_values(find_key("scene", "c_values"))])
                 case ("detect")
                     call read_detect(text, path, cfg, error)
                 case ("output")
@@ -864,7 +886,7 @@ contains
         id = method_from_name(method)
         if (id == 0) then
             call fail(error, path, "numerics", "method = '" // trim(method) &
-                      // "': unknown method (known: newton, linearized, rk4)")
+                      // "': unknown method (known: newton, linearized, rk4, rk8)")
             return
         end if
         cfg%run%numerics%method = id
@@ -907,7 +929,7 @@ contains
     end subroutine read_record
 
     !> Convert `&scene`; `values` and `potentials` lists replace the defaults.
-    pure subroutine read_scene(text, path, n_values, n_potentials, cfg, error)
+    pure subroutine read_scene(text, path, n_values, n_potentials, cfg, error, n_lists)
         !> Canonical text of the group.
         character(len=*), intent(in) :: text
         !> File name for messages.
@@ -920,13 +942,17 @@ contains
         type(input_config), intent(inout) :: cfg
         !> Allocated when the conversion fails or a potential is unknown.
         type(error_type), allocatable, intent(out) :: error
-        character(len=name_len) :: kind, vary, potentials(2)
+        !> Number of values given for `methods`, `dts`, `dt_smallest`, `amplitudes`, `c_values`.
+        integer, intent(in) :: n_lists(5)
+        character(len=name_len) :: kind, vary, potentials(2), methods(max_scene_methods)
         real(wp) :: amplitude_min, amplitude_max, amplitude_step, omega_min, omega_max, omega_step, coarse_step, &
-                    resolution, values(max_curve_values)
-        integer :: ios, i
+                    resolution, values(max_curve_values), dts(max_scene_dts), dt_smallest(max_scene_methods), &
+                    amplitudes(max_curve_values), c_values(max_curve_values), reference_dt
+        integer :: ios, i, repeats
         character(len=512) :: msg
         namelist /scene/ kind, amplitude_min, amplitude_max, amplitude_step, omega_min, omega_max, omega_step, vary, &
-            values, potentials, coarse_step, resolution
+            values, potentials, coarse_step, resolution, methods, dts, dt_smallest, amplitudes, c_values, repeats, &
+            reference_dt
 
         kind = cfg%scene%kind
         amplitude_min = cfg%scene%amplitude_min
@@ -940,6 +966,13 @@ contains
         resolution = cfg%scene%resolution
         values = 0.0_wp
         potentials = ""
+        methods = ""
+        dts = 0.0_wp
+        dt_smallest = 0.0_wp
+        amplitudes = 0.0_wp
+        c_values = 0.0_wp
+        repeats = cfg%scene%repeats
+        reference_dt = cfg%scene%reference_dt
         msg = ""
         read (text, nml=scene, iostat=ios, iomsg=msg)
         if (ios /= 0) then
@@ -956,7 +989,24 @@ contains
         cfg%scene%vary = vary
         cfg%scene%coarse_step = coarse_step
         cfg%scene%resolution = resolution
+        cfg%scene%repeats = repeats
+        cfg%scene%reference_dt = reference_dt
         if (n_values > 0) cfg%scene%values = values(1:n_values)
+        if (n_lists(2) > 0) cfg%scene%dts = dts(1:n_lists(2))
+        if (n_lists(3) > 0) cfg%scene%dt_smallest = dt_smallest(1:n_lists(3))
+        if (n_lists(4) > 0) cfg%scene%amplitudes = amplitudes(1:n_lists(4))
+        if (n_lists(5) > 0) cfg%scene%c_values = c_values(1:n_lists(5))
+        if (n_lists(1) > 0) then
+            allocate (cfg%scene%methods(n_lists(1)))
+            do i = 1, n_lists(1)
+                cfg%scene%methods(i) = method_from_name(methods(i))
+                if (cfg%scene%methods(i) == 0) then
+                    call fail(error, path, "scene", "methods(" // int_str(i) // ") = '" // trim(methods(i)) &
+                              // "': unknown method (known: newton, linearized, rk4, rk8)")
+                    return
+                end if
+            end do
+        end if
         if (n_potentials > 0) then
             allocate (cfg%scene%potentials(n_potentials))
             do i = 1, n_potentials
@@ -1096,7 +1146,7 @@ contains
             ! &numerics
             if (method_from_name(method_name(nu%method)) == 0) then
                 call fail(error, where, "numerics", "method = " // int_str(nu%method) &
-                          // ": unknown method (known: newton, linearized, rk4)")
+                          // ": unknown method (known: newton, linearized, rk4, rk8)")
                 return
             end if
             call check_real(where, "numerics", "dt", nu%dt, .true., error)

@@ -3,7 +3,7 @@ module supratrans_result
     use supratrans_kinds, only: wp, i8
     use supratrans_ledger, only: ledger_type
     use supratrans_config, only: detect_params
-    use supratrans_strings, only: int_str, real_str
+    use supratrans_strings, only: int_fixed, real_fixed
     implicit none
     private
 
@@ -128,8 +128,9 @@ contains
         diverged = .not. (umax <= threshold)
         if (diverged) then
             result%status = run_diverged
-            result%reason = "blow-up: max |u_n| = " // real_str(umax, 6) // " exceeds " // real_str(threshold, 6) &
-                            // " at t = " // real_str(t, 6)
+            result%reason = "blow-up: max |u_n| = " // trim(real_fixed(umax, 6)) // " exceeds " &
+                // trim(real_fixed(threshold, 6)) &
+                            // " at t = " // trim(real_fixed(t, 6))
         end if
     end subroutine check_blowup
 
@@ -155,8 +156,9 @@ contains
         if (result%transmitting .or. .not. (ufar > detect%amplitude)) return
         result%transmitting = .true.
         result%t_decided = t
-        result%verdict_reason = "|u_n| beyond site " // int_str(nd) // " reached " // real_str(ufar, 6) // " > " &
-                                // real_str(detect%amplitude, 6) // " at t = " // real_str(t, 6)
+        result%verdict_reason = "|u_n| beyond site " // trim(int_fixed(nd)) // " reached " &
+            // trim(real_fixed(ufar, 6)) // " > " &
+                                // trim(real_fixed(detect%amplitude, 6)) // " at t = " // trim(real_fixed(t, 6))
         if (detect%stop_when_decided) then
             result%stopped_early = .true.
             stop = .true.
@@ -177,8 +179,9 @@ contains
         if (result%status /= run_ok) then
             result%verdict_reason = "undecided: the run failed"
         else
-            result%verdict_reason = "|u_n| beyond site " // int_str(result%detect_site) // " stayed below " &
-                                    // real_str(detect%amplitude, 6) // " (max " // real_str(result%u_beyond_max, 6) // ")"
+            result%verdict_reason = "|u_n| beyond site " // trim(int_fixed(result%detect_site)) // " stayed below " &
+                                    // trim(real_fixed(detect%amplitude, 6)) // " (max " &
+                                        // trim(real_fixed(result%u_beyond_max, 6)) // ")"
         end if
     end subroutine close_verdict
 

@@ -35,7 +35,7 @@ module supratrans_rk4
     implicit none
     private
 
-    public :: simulate_rk4, rk4_rhs
+    public :: simulate_rk4, rk4_rhs, drive_dpsi, chain_energy, ledger_from_state
 
     !> Number of energy components appended to the state (u, v): injected, dissipated by gamma, by beta, by the
     !> absorber, in this order (the order of `ledger_columns` 2..5).

@@ -5,8 +5,9 @@
 !> variables and in the result, so any number of runs can proceed at once in different threads.
 module supratrans_simulate
     use supratrans_kinds, only: wp, i8
-    use supratrans_strings, only: int_str, real_str
-    use supratrans_config, only: run_config, method_newton, method_linearized, method_rk4
+    use supratrans_strings, only: int_fixed, real_fixed
+    use supratrans_config, only: run_config, method_newton, method_linearized, method_rk4, method_rk8
+    use supratrans_rk_high, only: simulate_rk8
     use supratrans_rk4, only: simulate_rk4
     use supratrans_chain, only: drive_psi, detector_site
     use supratrans_scheme, only: scheme_type, scheme_init
@@ -49,6 +50,10 @@ contains
 
         if (run%numerics%method == method_rk4) then
             call simulate_rk4(run, result)
+            return
+        end if
+        if (run%numerics%method == method_rk8) then
+            call simulate_rk8(run, result)
             return
         end if
         call system_clock(clock_start, clock_rate)
@@ -101,11 +106,13 @@ contains
                 if (status /= newton_ok) then
                     if (status == newton_not_converged) then
                         result%status = run_newton_failed
-                        result%reason = "Newton did not converge in " // int_str(iters) // " iterations at t = " &
-                                        // real_str(real(k + 1, wp)*dt)
+                        result%reason = "Newton did not converge in " // trim(int_fixed(iters)) &
+                            // " iterations at t = " &
+                                        // trim(real_fixed(real(k + 1, wp)*dt))
                     else
                         result%status = run_diverged
-                        result%reason = "Newton broke down (non-finite or singular) at t = " // real_str(real(k + 1, wp)*dt)
+                        result%reason = "Newton broke down (non-finite or singular) at t = " &
+                            // trim(real_fixed(real(k + 1, wp)*dt))
                     end if
                     exit
                 end if
@@ -115,12 +122,13 @@ contains
                 result%newton_max_iterations = 1
                 if (info /= 0) then
                     result%status = run_solver_failed
-                    result%reason = "dgtsv failed (info = " // int_str(info) // ") at t = " // real_str(real(k + 1, wp)*dt)
+                    result%reason = "dgtsv failed (info = " // trim(int_fixed(info)) // ") at t = " &
+                        // trim(real_fixed(real(k + 1, wp)*dt))
                     exit
                 end if
             case default
                 result%status = run_solver_failed
-                result%reason = "unknown method " // int_str(run%numerics%method)
+                result%reason = "unknown method " // trim(int_fixed(run%numerics%method))
                 exit
             end select
             result%steps = k

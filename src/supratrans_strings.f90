@@ -1,11 +1,15 @@
 !> Text formatting of numbers for messages and progress lines (shortest exact decimal forms).
+!>
+!> gfortran 12 keeps the length of a deferred-length function result in a static variable of the caller, so two
+!> OpenMP threads calling `int_str` / `real_str` at once can corrupt each other's strings. Code that runs inside
+!> threads (the observers of a run) uses the fixed-length forms `int_fixed` / `real_fixed` with `trim`.
 module supratrans_strings
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp
     implicit none
     private
 
-    public :: int_str, real_str, fixed4, fixed1
+    public :: int_str, real_str, fixed4, fixed1, int_fixed, real_fixed
 
 contains
 
@@ -38,13 +42,26 @@ contains
     end function fixed4
 
 
-    !> Shortest decimal form of a real that reads back to the same value ("0.3", "1.0", "200.0", "1.0e-10"),
-    !> or rounded to at most `digits` significant digits.
+    !> Shortest decimal form of a real that reads back to the same value, or rounded to at most `digits`
+    !> significant digits (deferred length: for code outside OpenMP threads; see `real_fixed`).
     pure function real_str(x, digits) result(s)
         !> Value.
         real(wp), intent(in) :: x
         !> Largest number of significant digits (default: as many as needed, at most 17).
         integer, intent(in), optional :: digits
+        character(len=:), allocatable :: s
+
+        s = trim(real_fixed(x, digits))
+    end function real_str
+
+    !> Shortest decimal form of a real that reads back to the same value ("0.3", "1.0", "200.0", "1.0e-10"),
+    !> or rounded to at most `digits` significant digits, in a fixed-length result (thread-safe; `trim` it).
+    pure function real_fixed(x, digits) result(res)
+        !> Value.
+        real(wp), intent(in) :: x
+        !> Largest number of significant digits (default: as many as needed, at most 17).
+        integer, intent(in), optional :: digits
+        character(len=48) :: res
         character(len=:), allocatable :: s
         character(len=64) :: buf
         character(len=:), allocatable :: mant, sig
@@ -52,20 +69,20 @@ contains
         integer :: d, dmax, e, k, ios
 
         if (ieee_is_nan(x)) then
-            s = "NaN"
+            res = "NaN"
             return
         else if (abs(x) > huge(x)) then
             s = merge("Infinity ", "-Infinity", x > 0.0_wp)
-            s = trim(s)
+            res = trim(s)
             return
         else if (.not. (abs(x) > 0.0_wp)) then
-            s = "0.0"
+            res = "0.0"
             return
         end if
         dmax = 17
         if (present(digits)) dmax = max(1, min(digits, 17))
         do d = 1, dmax
-            write (buf, "(es40." // int_str(d - 1) // "e3)") x
+            write (buf, "(es40." // trim(int_fixed(d - 1)) // "e3)") x
             read (buf, *, iostat=ios) y
             if (ios == 0 .and. .not. (abs(y - x) > 0.0_wp)) exit
         end do
@@ -92,9 +109,20 @@ contains
             end if
         else
             if (len(sig) == 1) sig = sig // "0"
-            s = s // sig(1:1) // "." // sig(2:) // "e" // int_str(e)
+            s = s // sig(1:1) // "." // sig(2:) // "e" // trim(int_fixed(e))
         end if
-    end function real_str
+        res = s
+    end function real_fixed
+
+    !> Integer in decimal, left-adjusted in a fixed-length result (thread-safe; `trim` it).
+    pure function int_fixed(i) result(s)
+        !> Integer.
+        integer, intent(in) :: i
+        character(len=24) :: s
+
+        write (s, "(i0)") i
+    end function int_fixed
+
 
 
     !> A real with one decimal (progress lines: seconds).

@@ -1,0 +1,575 @@
+!> Scene `stability`: where each integrator blows up, over a grid of (dt, c), for each curve of the scene
+!> (`vary` = gamma, beta or m2), next to the paper's necessary condition and linear stability theory.
+!>
+!> A run is *stable* when it reaches T with every |u_n| below `blowup_threshold` (status ok); otherwise its status
+!> says how it failed (diverged: blow-up or non-finite; newton_failed; solver_failed). For every curve, method and
+!> c the scene stores:
+!>
+!> * the verdict of every (c, dt) of the grid;
+!> * the observed boundary, by bisection in dt from a bracket around the linear-theory prediction: the largest dt
+!>   found stable and the smallest found unstable, closer than `resolution` (the grid is the check: where it holds
+!>   a stable dt above the boundary or an unstable one below it, `grid_consistent` is 0). A run slightly beyond
+!>   the boundary grows slowly, so the observed boundary is the boundary *for this T*, at or above the linear one;
+!> * the paper's necessary condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt as its critical dt
+!>   (`critical_dt` of `supratrans_chain`);
+!> * linear stability theory of each method for the chain linearised at rest (V''(0) = 1 for both potentials),
+!>   Dirichlet modes with sin^2(theta/2), theta = k pi/(N+1), k = 1..N, the largest s^2 = sin^2(N pi/(2(N+1)))):
+!>   - newton (energy-conserving): the discrete energy is positive definite, hence the scheme stable, iff
+!>     4 c^2 s^2 dt^2 < 4 + (1 + m^2) dt^2; damping (gamma, beta, absorber) only dissipates and does not move this
+!>     bound (per mode, the characteristic roots of a z^2 - b z + c' = 0 stay inside the unit circle iff
+!>     |b| <= a + c', independent of the damping). So where the paper's condition allows a larger dt
+!>     (gamma > 0 or beta > 0), it is necessary but not sufficient;
+!>   - linearized (V'(u^k) explicit): (4 c^2 s^2 + 1 - m^2) dt^2 < 4, again independent of the damping;
+!>   - rk4, rk8: the largest dt with |R(dt lambda)| <= 1 for every eigenvalue lambda of the linearised system
+!>     u' = v, v' = -(c^2 L + (1 + m^2)) u - (diag(alpha_n) + beta L) v (L the Dirichlet Laplacian, absorber
+!>     included), computed with LAPACK `dgeev`; R is the method's stability polynomial. Undamped: 2 sqrt(2) /
+!>     omega_max for RK4, 3.0018 / omega_max for rk8, omega_max^2 = 1 + m^2 + 4 c^2 s^2.
+!>
+!> Tasks (task engine: OpenMP threads, resumable journal `<output>.journal`): first one bisection per (curve,
+!> method, c), then one run per grid point.
+!>
+!> HDF5 layout (h5py shapes): `/methods` (method), `/c` (c), `/dt` (dt), `/curves/value` (curve),
+!> `/curves/potential` (curve), `/verdict/<method>` (curve, c, dt: 0 stable, 1 diverged, 2 newton_failed,
+!> 3 solver_failed), `/max_abs_u/<method>` (curve, c, dt), `/boundary/observed` and `/boundary/observed_unstable`
+!> (curve, method, c), `/boundary/linear` (curve, method, c), `/boundary/paper` (curve, c), `/boundary/rk4`
+!> (curve, c: RK4's linear limit), `/boundary/rk4_undamped` (curve, c: 2 sqrt(2) / sqrt(1 + m^2 + 4 c^2)),
+!> `/boundary/grid_consistent` (curve, method, c), `/boundary/bisection_runs` (curve, method, c).
+module supratrans_scene_stability
+    use, intrinsic :: iso_fortran_env, only: error_unit
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
+    use supratrans_kinds, only: wp
+    use supratrans_error, only: error_type, fatal_error, err_input
+    use supratrans_strings, only: int_str, real_str
+    use supratrans_config, only: input_config, run_config, chain_params, method_newton, method_linearized, &
+                                 method_rk4, method_rk8
+    use supratrans_input, only: method_name
+    use supratrans_potential, only: potential_name
+    use supratrans_chain, only: critical_dt, damping_profile
+    use supratrans_curves, only: curve_count, curve_run, curve_indices
+    use supratrans_simulate, only: simulate
+    use supratrans_result, only: run_result, run_ok
+    use supratrans_tasks, only: task_list, run_tasks, file_fingerprint, remove_file
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
+    use supratrans_output, only: write_root, write_run_parameters
+    use supratrans_rk_high, only: rk8_stability_coefficients, rk8_stages
+    implicit none
+    private
+
+    public :: run_stability, linear_stability_dt, rk_spectrum_dt, chain_spectrum, stability_polynomial
+    public :: default_stability_dts, run_is_stable
+
+    !> Values a task returns: grid task (status, max |u|, t_end, 0); bisection task (largest stable dt, smallest
+    !> unstable dt, runs made, status of the smallest unstable run).
+    integer, parameter :: nvalues = 4
+
+    !> Bisection gives up widening its bracket after this many factors of 1.5.
+    integer, parameter :: max_widen = 12
+
+    interface
+        !> LAPACK: eigenvalues (and optionally vectors) of a general real matrix.
+        pure subroutine dgeev(jobvl, jobvr, n, a, lda, wr, wi, vl, ldvl, vr, ldvr, work, lwork, info)
+            import :: wp
+            character(len=1), intent(in) :: jobvl, jobvr
+            integer, intent(in) :: n, lda, ldvl, ldvr, lwork
+            real(wp), intent(inout) :: a(lda, *)
+            real(wp), intent(out) :: wr(*), wi(*), vl(ldvl, *), vr(ldvr, *), work(*)
+            integer, intent(out) :: info
+        end subroutine dgeev
+    end interface
+
+    !> The scene's runs: bisections first (they take longest), then the grid.
+    type, extends(task_list) :: stability_tasks
+        !> One run configuration per curve (amplitude, T, N, ... of the base run).
+        type(run_config), allocatable :: curves(:)
+        !> Methods, c axis, dt axis.
+        integer, allocatable :: methods(:)
+        real(wp), allocatable :: c(:), dts(:)
+        !> Linear-theory prediction of each (curve, method, c): the bisection's starting point. (nc, nmethod, ncurve)
+        real(wp), allocatable :: predicted(:, :, :)
+        !> Bisection resolution in dt.
+        real(wp) :: resolution = 1.0e-3_wp
+    contains
+        procedure :: run => run_stability_task
+    end type stability_tasks
+
+contains
+
+    !> Default dt axis of the grid: 24 steps spaced geometrically from 0.05 to 1.5.
+    pure function default_stability_dts() result(dts)
+        real(wp), allocatable :: dts(:)
+        integer :: i
+
+        dts = [(0.05_wp*30.0_wp**(real(i, wp)/23.0_wp), i = 0, 23)]
+    end function default_stability_dts
+
+    !> Run the scene `stability` described by `cfg` and write `cfg%output%file`.
+    subroutine run_stability(cfg, error)
+        !> Validated input (scene kind 'stability').
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure (bad scene keys, journal or output not writable).
+        type(error_type), allocatable, intent(out) :: error
+        type(stability_tasks) :: tasks
+        real(wp), allocatable :: results(:, :), linear(:, :, :), paper(:, :), rk4_limit(:, :), rk4_undamped(:, :)
+        real(wp), allocatable :: re(:), im_part(:)
+        logical, allocatable :: done(:)
+        character(len=:), allocatable :: journal, where, fingerprint
+        type(chain_params) :: chain
+        integer :: ncurve, nm, nc, ndt, icurve, im, ic, ntask, nbis
+
+        where = "configuration"
+        if (allocated(cfg%source)) where = cfg%source
+        tasks%methods = [method_newton, method_linearized, method_rk4, method_rk8]
+        if (allocated(cfg%scene%methods)) then
+            if (size(cfg%scene%methods) > 0) tasks%methods = cfg%scene%methods
+        end if
+        tasks%dts = default_stability_dts()
+        if (allocated(cfg%scene%dts)) then
+            if (size(cfg%scene%dts) > 0) tasks%dts = cfg%scene%dts
+        end if
+        tasks%c = [cfg%run%chain%c]
+        if (allocated(cfg%scene%c_values)) then
+            if (size(cfg%scene%c_values) > 0) tasks%c = cfg%scene%c_values
+        end if
+        if (any(.not. (tasks%dts > 0.0_wp))) then
+            call fatal_error(error, where // ": &scene: dts must be > 0", err_input)
+            return
+        end if
+        if (any(.not. (tasks%c > 0.0_wp))) then
+            call fatal_error(error, where // ": &scene: c_values must be > 0", err_input)
+            return
+        end if
+        tasks%resolution = cfg%scene%resolution
+        ncurve = curve_count(cfg)
+        nm = size(tasks%methods)
+        nc = size(tasks%c)
+        ndt = size(tasks%dts)
+        allocate (tasks%curves(ncurve))
+        do icurve = 1, ncurve
+            tasks%curves(icurve) = curve_run(cfg, icurve)
+            tasks%curves(icurve)%record%probes = [integer ::]
+            tasks%curves(icurve)%record%ledger_every = huge(1) - 1
+            tasks%curves(icurve)%detect%stop_when_decided = .false.
+        end do
+
+        ! linear theory: the paper's condition, each method's linear limit
+        if (.not. cfg%output%quiet) write (error_unit, '(a)') "stability: linear theory (spectra of " &
+            // int_str(ncurve*nc) // " linearised chains)"
+        allocate (linear(nc, nm, ncurve), paper(nc, ncurve), rk4_limit(nc, ncurve), rk4_undamped(nc, ncurve))
+        do icurve = 1, ncurve
+            do ic = 1, nc
+                chain = tasks%curves(icurve)%chain
+                chain%c = tasks%c(ic)
+                paper(ic, icurve) = critical_dt(chain)
+                call chain_spectrum(chain, re, im_part)
+                rk4_limit(ic, icurve) = rk_spectrum_dt(stability_polynomial(method_rk4), re, im_part)
+                rk4_undamped(ic, icurve) = 2.0_wp*sqrt(2.0_wp)/sqrt(max(1.0_wp + chain%m2 + 4.0_wp*chain%c**2, &
+                                                                        tiny(1.0_wp)))
+                do im = 1, nm
+                    select case (tasks%methods(im))
+                    case (method_rk4, method_rk8)
+                        linear(ic, im, icurve) = rk_spectrum_dt(stability_polynomial(tasks%methods(im)), re, im_part)
+                    case default
+                        linear(ic, im, icurve) = linear_stability_dt(chain, tasks%methods(im))
+                    end select
+                end do
+            end do
+        end do
+        tasks%predicted = linear
+
+        nbis = ncurve*nm*nc
+        ntask = nbis + ncurve*nm*nc*ndt
+        journal = trim(cfg%output%file) // ".journal"
+        fingerprint = "none"
+        if (allocated(cfg%source)) fingerprint = file_fingerprint(cfg%source)
+        call run_tasks(tasks, ntask, nvalues, journal, fingerprint, "stability runs and bisections", cfg%output%quiet, &
+                       results, done, error)
+        if (allocated(error)) return
+        call write_stability(cfg, tasks, results, linear, paper, rk4_limit, rk4_undamped, error)
+        if (allocated(error)) return
+        call remove_file(journal)
+    end subroutine run_stability
+
+    !> Task `index`: 1..nbis bisections (c fastest, then method, then curve), then grid runs (dt fastest, then c,
+    !> method, curve).
+    subroutine run_stability_task(self, index, values)
+        !> The scene's tasks.
+        class(stability_tasks), intent(in) :: self
+        !> Task index.
+        integer, intent(in) :: index
+        !> Grid: status, max |u|, t_end, 0. Bisection: stable dt, unstable dt, runs, status at the unstable dt.
+        real(wp), intent(out) :: values(:)
+        type(run_config) :: run
+        type(run_result) :: res
+        integer :: ncurve, nm, nc, ndt, nbis, i, idt, ic, im, icurve, runs, status_hi, status
+        real(wp) :: lo, hi, mid, nan
+        logical :: stable, found_stable
+
+        ncurve = size(self%curves)
+        nm = size(self%methods)
+        nc = size(self%c)
+        ndt = size(self%dts)
+        nbis = ncurve*nm*nc
+        nan = ieee_value(1.0_wp, ieee_quiet_nan)
+        values = 0.0_wp
+        if (index <= nbis) then
+            i = index - 1
+            ic = mod(i, nc) + 1
+            im = mod(i/nc, nm) + 1
+            icurve = i/(nc*nm) + 1
+            run = self%curves(icurve)
+            run%chain%c = self%c(ic)
+            run%numerics%method = self%methods(im)
+            runs = 0
+            hi = self%predicted(ic, im, icurve)
+            if (.not. (hi < 1.0e3_wp)) hi = 1.0_wp
+            hi = 1.05_wp*hi
+            lo = 0.0_wp
+            found_stable = .false.
+            status_hi = run_ok
+            ! widen upwards until unstable, then downwards until stable
+            do i = 1, max_widen
+                call try(hi, stable, status)
+                if (.not. stable) then
+                    status_hi = status
+                    exit
+                end if
+                lo = hi
+                found_stable = .true.
+                hi = 1.5_wp*hi
+            end do
+            if (stable) then
+                values = [lo, nan, real(runs, wp), real(run_ok, wp)]
+                return
+            end if
+            if (.not. found_stable) then
+                lo = hi/1.5_wp
+                do i = 1, max_widen
+                    call try(lo, stable, status)
+                    if (stable) exit
+                    hi = lo
+                    status_hi = status
+                    lo = lo/1.5_wp
+                end do
+                if (.not. stable) then
+                    values = [nan, hi, real(runs, wp), real(status_hi, wp)]
+                    return
+                end if
+            end if
+            do while (hi - lo > self%resolution)
+                mid = 0.5_wp*(lo + hi)
+                call try(mid, stable, status)
+                if (stable) then
+                    lo = mid
+                else
+                    hi = mid
+                    status_hi = status
+                end if
+            end do
+            values = [lo, hi, real(runs, wp), real(status_hi, wp)]
+        else
+            i = index - nbis - 1
+            idt = mod(i, ndt) + 1
+            ic = mod(i/ndt, nc) + 1
+            im = mod(i/(ndt*nc), nm) + 1
+            icurve = i/(ndt*nc*nm) + 1
+            run = self%curves(icurve)
+            run%chain%c = self%c(ic)
+            run%numerics%method = self%methods(im)
+            run%numerics%dt = self%dts(idt)
+            call simulate(run, res)
+            values = [real(res%status, wp), res%max_abs_u, res%t_end, 0.0_wp]
+        end if
+
+    contains
+
+        !> One run at step dt: is it stable?
+        subroutine try(dt, stable, status)
+            real(wp), intent(in) :: dt
+            logical, intent(out) :: stable
+            integer, intent(out) :: status
+
+            run%numerics%dt = dt
+            call simulate(run, res)
+            runs = runs + 1
+            status = res%status
+            stable = run_is_stable(res)
+        end subroutine try
+
+    end subroutine run_stability_task
+
+    !> A run is stable when it reached its final time without blowing up or failing.
+    pure function run_is_stable(res) result(stable)
+        !> The run's result.
+        type(run_result), intent(in) :: res
+        logical :: stable
+
+        stable = res%status == run_ok
+    end function run_is_stable
+
+    !> Linear-stability limit of `method` for `chain` linearised at rest (see the module documentation):
+    !> closed forms for the leapfrog schemes, the spectrum and the stability polynomial for the Runge-Kutta
+    !> methods. huge() when no dt is too large.
+    function linear_stability_dt(chain, method) result(dt)
+        !> Chain parameters (c, m^2, gamma, beta, absorber, N).
+        type(chain_params), intent(in) :: chain
+        !> Method identifier.
+        integer, intent(in) :: method
+        real(wp) :: dt
+        real(wp) :: s2, q
+        real(wp), allocatable :: re(:), im(:)
+
+        s2 = sin(0.5_wp*acos(-1.0_wp)*real(chain%n, wp)/real(chain%n + 1, wp))**2
+        select case (method)
+        case (method_newton)
+            q = 4.0_wp*chain%c**2*s2 - (1.0_wp + chain%m2)
+            dt = huge(1.0_wp)
+            if (q > 0.0_wp) dt = 2.0_wp/sqrt(q)
+        case (method_linearized)
+            q = 4.0_wp*chain%c**2*s2 + 1.0_wp - chain%m2
+            dt = huge(1.0_wp)
+            if (q > 0.0_wp) dt = 2.0_wp/sqrt(q)
+        case default
+            call chain_spectrum(chain, re, im)
+            dt = rk_spectrum_dt(stability_polynomial(method), re, im)
+        end select
+    end function linear_stability_dt
+
+    !> Coefficients g_0.. of the stability polynomial R(z) = sum g_j z^j of an explicit Runge-Kutta method.
+    pure function stability_polynomial(method) result(g)
+        !> `method_rk4` or `method_rk8`.
+        integer, intent(in) :: method
+        real(wp), allocatable :: g(:)
+
+        select case (method)
+        case (method_rk8)
+            g = rk8_stability_coefficients()
+        case default
+            g = [1.0_wp, 1.0_wp, 0.5_wp, 1.0_wp/6.0_wp, 1.0_wp/24.0_wp]
+        end select
+    end function stability_polynomial
+
+    !> Eigenvalues of the chain linearised at rest, as a first-order system of size 2N:
+    !> u' = v, v' = -(c^2 L + (1 + m^2) I) u - (diag(alpha_n) + beta L) v, L = tridiag(-1, 2, -1) (Dirichlet ends).
+    subroutine chain_spectrum(chain, re, im)
+        !> Chain parameters.
+        type(chain_params), intent(in) :: chain
+        !> Real and imaginary parts of the 2N eigenvalues.
+        real(wp), allocatable, intent(out) :: re(:), im(:)
+        real(wp), allocatable :: a(:, :), alpha(:), work(:)
+        real(wp) :: vl(1, 1), vr(1, 1), query(1)
+        integer :: n, i, info, lwork
+
+        n = chain%n
+        allocate (alpha(n))
+        alpha = damping_profile(chain)
+        allocate (a(2*n, 2*n), source=0.0_wp)
+        allocate (re(2*n), im(2*n))
+        do i = 1, n
+            a(i, n + i) = 1.0_wp
+            a(n + i, i) = -(2.0_wp*chain%c**2 + 1.0_wp + chain%m2)
+            a(n + i, n + i) = -(alpha(i) + 2.0_wp*chain%beta)
+            if (i > 1) then
+                a(n + i, i - 1) = chain%c**2
+                a(n + i, n + i - 1) = chain%beta
+            end if
+            if (i < n) then
+                a(n + i, i + 1) = chain%c**2
+                a(n + i, n + i + 1) = chain%beta
+            end if
+        end do
+        call dgeev("N", "N", 2*n, a, 2*n, re, im, vl, 1, vr, 1, query, -1, info)
+        lwork = max(1, int(query(1)))
+        allocate (work(lwork))
+        call dgeev("N", "N", 2*n, a, 2*n, re, im, vl, 1, vr, 1, work, lwork, info)
+        if (info /= 0) then
+            re = ieee_value(1.0_wp, ieee_quiet_nan)
+            im = re
+        end if
+    end subroutine chain_spectrum
+
+    !> Largest dt with |R(dt lambda)| <= 1 (to 1e-9) for every eigenvalue lambda = re + i im: along each
+    !> eigenvalue's ray the first exit from the stability region, found by a scan of |z| in steps of 1/512 up to 8
+    !> and bisection; the smallest over the eigenvalues. huge() if none exits.
+    pure function rk_spectrum_dt(g, re, im) result(dt)
+        !> Stability polynomial coefficients g_0, g_1, ...
+        real(wp), intent(in) :: g(:)
+        !> Eigenvalues.
+        real(wp), intent(in) :: re(:), im(:)
+        real(wp) :: dt
+        real(wp) :: r, tau, tau_lo, tau_hi, radius_max, step
+        integer :: i, j, k
+
+        dt = huge(1.0_wp)
+        radius_max = 8.0_wp
+        step = 1.0_wp/512.0_wp
+        do i = 1, size(re)
+            if (ieee_is_nan(re(i)) .or. ieee_is_nan(im(i))) then
+                dt = ieee_value(1.0_wp, ieee_quiet_nan)
+                return
+            end if
+            r = hypot(re(i), im(i))
+            if (.not. (r > 0.0_wp)) cycle
+            ! scan tau |lambda| = j step up to min(radius_max, dt |lambda|)
+            tau_hi = -1.0_wp
+            do j = 1, nint(radius_max/step)
+                tau = real(j, wp)*step/r
+                if (tau >= dt) exit
+                if (outside(tau)) then
+                    tau_hi = tau
+                    exit
+                end if
+            end do
+            if (tau_hi < 0.0_wp) cycle
+            tau_lo = tau_hi - step/r
+            do k = 1, 60
+                tau = 0.5_wp*(tau_lo + tau_hi)
+                if (outside(tau)) then
+                    tau_hi = tau
+                else
+                    tau_lo = tau
+                end if
+            end do
+            dt = min(dt, tau_lo)
+        end do
+
+    contains
+
+        !> |R(tau lambda_i)| > 1 + 1e-9?
+        pure logical function outside(tau)
+            real(wp), intent(in) :: tau
+            complex(wp) :: z, p
+            integer :: jj
+
+            z = cmplx(tau*re(i), tau*im(i), kind=wp)
+            p = cmplx(g(size(g)), 0.0_wp, kind=wp)
+            do jj = size(g) - 1, 1, -1
+                p = p*z + g(jj)
+            end do
+            outside = abs(p) > 1.0_wp + 1.0e-9_wp
+        end function outside
+
+    end function rk_spectrum_dt
+
+    !> Write the scene's HDF5 file.
+    subroutine write_stability(cfg, tasks, results, linear, paper, rk4_limit, rk4_undamped, error)
+        type(input_config), intent(in) :: cfg
+        type(stability_tasks), intent(in) :: tasks
+        real(wp), intent(in), contiguous :: results(:, :), linear(:, :, :), paper(:, :), rk4_limit(:, :), &
+                                            rk4_undamped(:, :)
+        type(error_type), allocatable, intent(out) :: error
+        type(h5_file) :: file
+        integer :: ncurve, nm, nc, ndt, nbis, icurve, im, ic, idt, itask, ipot, ival
+        integer, allocatable :: verdict(:, :, :)
+        real(wp), allocatable :: umax(:, :, :), observed(:, :, :), observed_hi(:, :, :)
+        real(wp), allocatable :: consistent(:, :, :), runs(:, :, :), values(:)
+        character(len=16), allocatable :: names(:), potentials(:)
+        real(wp) :: status
+        logical :: ok
+
+        ncurve = size(tasks%curves)
+        nm = size(tasks%methods)
+        nc = size(tasks%c)
+        ndt = size(tasks%dts)
+        nbis = ncurve*nm*nc
+        allocate (observed(nc, nm, ncurve), observed_hi(nc, nm, ncurve), consistent(nc, nm, ncurve), &
+                  runs(nc, nm, ncurve), names(nm), potentials(ncurve), values(ncurve))
+        do icurve = 1, ncurve
+            call curve_indices(cfg, icurve, ipot, ival)
+            potentials(icurve) = potential_name(tasks%curves(icurve)%chain%potential)
+            select case (trim(cfg%scene%vary))
+            case ("gamma")
+                values(icurve) = tasks%curves(icurve)%chain%gamma
+            case ("beta")
+                values(icurve) = tasks%curves(icurve)%chain%beta
+            case ("m2")
+                values(icurve) = tasks%curves(icurve)%chain%m2
+            case default
+                values(icurve) = ieee_value(1.0_wp, ieee_quiet_nan)
+            end select
+            do im = 1, nm
+                do ic = 1, nc
+                    itask = ic + nc*((im - 1) + nm*(icurve - 1))
+                    observed(ic, im, icurve) = results(1, itask)
+                    observed_hi(ic, im, icurve) = results(2, itask)
+                    runs(ic, im, icurve) = results(3, itask)
+                end do
+            end do
+        end do
+        call h5_create(file, trim(cfg%output%file), cfg%output%overwrite, error)
+        if (allocated(error)) return
+        call write_root(file, cfg, "stability", "Where each integrator blows up over a grid of (dt, c), observed " &
+                        // "boundaries next to the paper's necessary condition and linear stability theory", error)
+        if (.not. allocated(error)) call write_run_parameters(file, "/parameters", cfg%run, error)
+        if (.not. allocated(error)) call h5_create_group(file, "/scene", "Controls of the stability scene", error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "vary", trim(cfg%scene%vary), error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "resolution", tasks%resolution, error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "stable_means", "the run reaches T with " &
+            // "every |u_n| <= blowup_threshold (status ok)", error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "status_codes", &
+            "0 stable (ok), 1 diverged, 2 newton_failed, 3 solver_failed", error)
+        do im = 1, nm
+            names(im) = method_name(tasks%methods(im))
+        end do
+        if (.not. allocated(error)) call h5_write(file, "/methods", names, "1", "Integrators", error, dims="method")
+        if (.not. allocated(error)) call h5_write(file, "/c", tasks%c, "1", "Coupling values c (grid axis)", error, &
+                                                  dims="c")
+        if (.not. allocated(error)) call h5_write(file, "/dt", tasks%dts, "time", "Time steps (grid axis)", error, &
+                                                  dims="dt")
+        if (.not. allocated(error)) call h5_write(file, "/curves/value", values, "1", &
+            "Value of the varied parameter (/scene vary) of each curve (NaN: nothing varied)", error, dims="curve")
+        if (.not. allocated(error)) call h5_write(file, "/curves/potential", potentials, "1", &
+            "Potential of each curve", error, dims="curve")
+
+        allocate (verdict(ndt, nc, ncurve), umax(ndt, nc, ncurve))
+        do im = 1, nm
+            do icurve = 1, ncurve
+                do ic = 1, nc
+                    ok = .true.
+                    do idt = 1, ndt
+                        itask = nbis + idt + ndt*((ic - 1) + nc*((im - 1) + nm*(icurve - 1)))
+                        status = results(1, itask)
+                        verdict(idt, ic, icurve) = nint(status)
+                        umax(idt, ic, icurve) = results(2, itask)
+                        ! the grid agrees with the bisection: stable at or below the stable dt, unstable at or above
+                        ! the unstable one
+                        if (tasks%dts(idt) <= observed(ic, im, icurve) .and. nint(status) /= run_ok) ok = .false.
+                        if (tasks%dts(idt) >= observed_hi(ic, im, icurve) .and. nint(status) == run_ok) ok = .false.
+                    end do
+                    consistent(ic, im, icurve) = merge(1.0_wp, 0.0_wp, ok)
+                end do
+            end do
+            if (.not. allocated(error)) call h5_write(file, "/verdict/" // trim(names(im)), verdict, "1", &
+                "Outcome of the run at (c, dt): 0 stable, 1 diverged, 2 newton_failed, 3 solver_failed", error, &
+                dims="curve, c, dt")
+            if (.not. allocated(error)) call h5_write(file, "/max_abs_u/" // trim(names(im)), umax, "rad", &
+                "Largest |u_n| of the run at (c, dt)", error, dims="curve, c, dt")
+        end do
+        if (.not. allocated(error)) call h5_write(file, "/boundary/observed", observed, "time", &
+            "Largest dt found stable by bisection (NaN: none found)", error, dims="curve, method, c")
+        if (.not. allocated(error)) call h5_write(file, "/boundary/observed_unstable", observed_hi, "time", &
+            "Smallest dt found unstable by bisection (NaN: none found); the boundary lies between", error, &
+            dims="curve, method, c")
+        if (.not. allocated(error)) call h5_write(file, "/boundary/linear", linear, "time", &
+            "Linear-stability limit of each method (chain linearised at rest; see the module documentation)", error, &
+            dims="curve, method, c")
+        if (.not. allocated(error)) call h5_write(file, "/boundary/paper", paper, "time", &
+            "Critical dt of the paper's necessary condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt", error, &
+            dims="curve, c")
+        if (.not. allocated(error)) call h5_write(file, "/boundary/rk4", rk4_limit, "time", &
+            "RK4's linear limit: largest dt with |R(dt lambda)| <= 1 over the spectrum of the linearised chain", &
+            error, dims="curve, c")
+        if (.not. allocated(error)) call h5_write(file, "/boundary/rk4_undamped", rk4_undamped, "time", &
+            "2 sqrt(2) / sqrt(1 + m^2 + 4 c^2): RK4's limit for the undamped chain's band top", error, dims="curve, c")
+        if (.not. allocated(error)) call h5_write(file, "/boundary/grid_consistent", consistent, "1", &
+            "1 when every grid verdict agrees with the bisection (stable below, unstable above), else 0", error, &
+            dims="curve, method, c")
+        if (.not. allocated(error)) call h5_write(file, "/boundary/bisection_runs", runs, "1", &
+            "Runs made by the bisection", error, dims="curve, method, c")
+        if (allocated(error)) then
+            call h5_discard(file)
+            return
+        end if
+        call h5_commit(file, error)
+    end subroutine write_stability
+
+end module supratrans_scene_stability
