@@ -11,6 +11,7 @@ module supratrans_cli
     use supratrans_output, only: write_timeseries
     use supratrans_scene_sweep, only: run_amplitude_sweep
     use supratrans_scene_map, only: run_map
+    use supratrans_scene_bifurcation, only: run_bifurcation
     use supratrans_scene_workprec, only: run_work_precision
     use supratrans_scene_stability, only: run_stability
     implicit none
@@ -41,25 +42,27 @@ contains
             status = error%stat
             return
         end if
+        call ensure_parent_directory(trim(cfg%output%file), error)
+        if (allocated(error)) then
+            status = error%stat
+            return
+        end if
         select case (trim(cfg%scene%kind))
         case ("timeseries")
             call progress(cfg, "supratrans " // supratrans_version // ": timeseries from " // path)
             call simulate(cfg%run, result)
             call progress(cfg, "  run ended: " // status_name(result%status) // " " // result%reason)
-            call ensure_parent_directory(trim(cfg%output%file), error)
-            if (.not. allocated(error)) call write_timeseries(cfg, result, error)
+            call write_timeseries(cfg, result, error)
         case ("amplitude_sweep")
-            call ensure_parent_directory(trim(cfg%output%file), error)
-            if (.not. allocated(error)) call run_amplitude_sweep(cfg, error)
+            call run_amplitude_sweep(cfg, error)
         case ("map")
-            call ensure_parent_directory(trim(cfg%output%file), error)
-            if (.not. allocated(error)) call run_map(cfg, error)
+            call run_map(cfg, error)
+        case ("bifurcation")
+            call run_bifurcation(cfg, error)
         case ("work_precision")
-            call ensure_parent_directory(trim(cfg%output%file), error)
-            if (.not. allocated(error)) call run_work_precision(cfg, error)
+            call run_work_precision(cfg, error)
         case ("stability")
-            call ensure_parent_directory(trim(cfg%output%file), error)
-            if (.not. allocated(error)) call run_stability(cfg, error)
+            call run_stability(cfg, error)
         case default
             call fatal_error(error, path // ": &scene: kind '" // trim(cfg%scene%kind) // "' is not implemented", err_input)
         end select

@@ -15,10 +15,12 @@
 !> so the thresholds are bit-for-bit identical for any number of threads. The final file is written as
 !> `<output>.tmp` and renamed when complete (`complete = 1`); the journal and the partial file are then deleted.
 !>
-!> Where the verdict is not monotone in A on the scale of the resolution (undamped sine-Gordon below Omega ~ 0.45,
+!> Where the verdict is not monotone in A on the scale of the resolution (undamped sine-Gordon below Omega ~ 0.5,
 !> the paper's "discrepancy region": e.g. at Omega = 0.05, A = 5.96 and 5.97 transmit, 5.98 .. 6.00 do not, 6.01
 !> does), the threshold found depends on which coarse points the scan asks (see the assumption documented in
 !> `supratrans_threshold`): there it is the smallest transmitting amplitude above the last quiet coarse point.
+!> Measured on the undamped sine-Gordon diagram (Omega = 0.05 .. 0.99 by 0.01) with coarse steps 0.1 .. 0.3: 11 of
+!> 95 thresholds differ between coarse steps, all at Omega <= 0.47, by up to 0.51 (Omega = 0.43).
 module supratrans_scene_bifurcation
     use, intrinsic :: iso_fortran_env, only: error_unit
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
@@ -54,12 +56,19 @@ module supratrans_scene_bifurcation
     integer, parameter :: nvalues = 6
 
     !> Oracle of the search: one simulation of `run` at the amplitude asked, stopped as soon as it transmits.
+    !> `transmits` runs inside OpenMP threads and builds no text (gfortran 12 keeps the lengths of deferred-length
+    !> function results in statics, see `supratrans_strings`): a failure is kept as numbers and the run's own
+    !> reason, and `failure_reason` formats it (call it from one thread at a time).
     type, extends(verdict_oracle) :: simulation_oracle
         !> The run (drive frequency set; the amplitude is set per question).
         type(run_config) :: run
         !> The last run failed before its verdict.
         logical :: run_failed = .false.
-        !> Why it failed.
+        !> Amplitude of the failed run.
+        real(wp) :: failed_amplitude = 0.0_wp
+        !> Status of the failed run (`supratrans_result` codes).
+        integer :: failed_status = run_ok
+        !> The failed run's own reason.
         character(len=:), allocatable :: reason
     contains
         !> One simulation: transmitting or not, and the time steps it took.
@@ -116,8 +125,6 @@ contains
             call fatal_error(error, output // ": output file exists (set overwrite = .true. to replace it)", err_input)
             return
         end if
-        call ensure_parent_directory(output, error)
-        if (allocated(error)) return
 
         tasks%cfg = cfg
         tasks%omegas = bifurcation_omegas(cfg)
@@ -228,6 +235,7 @@ contains
         values(v_wall) = real(clock_end - clock_start, wp)/real(clock_rate, wp)
         values(v_status) = real(status, wp)
         if (oracle%failed() .and. .not. self%cfg%output%quiet) then
+            ! text only inside the critical section: deferred-length results are not thread-safe in gfortran 12
             !$omp critical (supratrans_bifurcation_messages)
             write (error_unit, '(a)') "  warning: curve " // int_str(icurve) // ", omega = " // real_str(omega, 6) &
                 // ": search abandoned, " // oracle%failure_reason()
@@ -252,8 +260,9 @@ contains
         transmitting = result%transmitting
         self%run_failed = result%status /= run_ok .and. .not. result%transmitting
         if (self%run_failed) then
-            self%reason = "the run at A = " // real_str(amplitude, 6) // " ended " // status_name(result%status) // ": " &
-                          // result%reason
+            self%failed_amplitude = amplitude
+            self%failed_status = result%status
+            self%reason = result%reason
         end if
     end function simulation_transmits
 
@@ -266,14 +275,16 @@ contains
         failed = self%run_failed
     end function simulation_failed
 
-    !> Why the last run failed.
+    !> Why the last run failed (empty if it did not); not for concurrent use (deferred-length text).
     function simulation_failure_reason(self) result(reason)
         !> The oracle.
         class(simulation_oracle), intent(in) :: self
         character(len=:), allocatable :: reason
 
         reason = ""
-        if (allocated(self%reason)) reason = self%reason
+        if (.not. self%run_failed) return
+        reason = "the run at A = " // real_str(self%failed_amplitude, 6) // " ended " // status_name(self%failed_status)
+        if (allocated(self%reason)) reason = reason // ": " // self%reason
     end function simulation_failure_reason
 
     !> Write the results so far to `<output>.partial.h5` (root attribute `complete = 0`); failures are ignored (the
@@ -503,21 +514,5 @@ contains
         if (allocated(cfg%source)) name = cfg%source
     end function source_name
 
-    !> Create the directory part of an output path if it does not exist (like `mkdir -p`).
-    subroutine ensure_parent_directory(file, error)
-        !> Output file path.
-        character(len=*), intent(in) :: file
-        !> Error, allocated if the directory cannot be created.
-        type(error_type), allocatable, intent(out) :: error
-        logical :: exists
-        integer :: k, stat
-
-        k = index(file, "/", back=.true.)
-        if (k <= 1) return
-        inquire (file=file(1:k - 1) // "/.", exist=exists)
-        if (exists) return
-        call execute_command_line("mkdir -p '" // file(1:k - 1) // "'", exitstat=stat)
-        if (stat /= 0) call fatal_error(error, file // ": cannot create directory '" // file(1:k - 1) // "'", err_io)
-    end subroutine ensure_parent_directory
 
 end module supratrans_scene_bifurcation
