@@ -19,7 +19,9 @@ starts with ``@`` is an error reported as ``file:line: message``. The translatio
 own preprocessor: an assertion ``@assertX(args)`` becomes ``call assertX(args, location=...)``
 followed by ``if (pf_any_failed()) return``, with the arguments passed through unchanged, so the
 Fortran compiler checks them against the same generic interfaces and dummy argument names as
-pFUnit's. A macro may be continued over several lines with ``&`` (pFUnit accepts that from 4.18).
+pFUnit's. Only what pFUnit 4.14 accepts is accepted: an @-directive on one line (pFUnit reads
+one physical line), of at most 124 characters without its indentation (pFUnit's expansion adds 8 and
+gfortran stops at 132), ``module NAME`` without a trailing comment, and ``use funit``.
 """
 
 from __future__ import annotations
@@ -371,6 +373,10 @@ def convert(path: str, source: str) -> tuple[str, TestModule]:
             continue
 
         if stripped.startswith("@"):
+            if scan_line(raw).continued:
+                raise PfError(path, lineno, "@-directive continued with '&' (pFUnit reads one line): put it on one line")
+            if len(stripped.rstrip()) > 124:
+                raise PfError(path, lineno, "@-directive longer than 124 characters (pFUnit's expansion would pass 132)")
             text, last, comment = join_continued(lines, i, path)
             if comment.strip():
                 raise PfError(
@@ -444,6 +450,8 @@ def convert(path: str, source: str) -> tuple[str, TestModule]:
                 raise PfError(path, lineno, "one module per .pf file")
             if m.group(1).lower() != base.lower():
                 raise PfError(path, lineno, f"module {m.group(1)} must be named like its file ({base})")
+            if "!" in raw:
+                raise PfError(path, lineno, "comment on the module line (pFUnit then does not see the module)")
             module = TestModule(path, m.group(1))
             out.append(raw)
             i += 1
@@ -454,6 +462,8 @@ def convert(path: str, source: str) -> tuple[str, TestModule]:
             rest = scan_line(m.group(3)).code.strip()
             if rest:
                 raise PfError(path, lineno, f"write a plain 'use {m.group(2)}' (no only-list or renames)")
+            if m.group(2).lower() != "funit":
+                raise PfError(path, lineno, f"'use {m.group(2)}': serial pFUnit provides only 'use funit'")
             uses_funit = True
             out.append(f"{m.group(1)}use pf_runtime")
             i += 1

@@ -136,28 +136,22 @@ def test_use_funit_rewritten_and_annotations_commented():
     assert (module.name, module.tests, module.before, module.after) == ("test_x", ["test_a", "test_b"], "set_up", "tear_down")
 
 
-def test_continuation_lines_are_joined():
-    text, _ = translate(
-        """\
-        @test
-        subroutine t()
-            @assertEqual(expected=1.0_wp, &
-                         ! a comment line in between
-                         actual=f(x, &   ! a comment after the ampersand
-                                  y), &
-                         tolerance=1.0e-&
-                         &12_wp)
-            @assertTrue(ok, 'a message, with & and ! inside, &
-                &continued in the string')
-        end subroutine t
-        """
-    )
-    assert calls(text) == [
-        "call assertEqual(expected=1.0_wp, actual=f(x, y), tolerance=1.0e-12_wp, "
-        "location=pf_source_location('test_x.pf', 7))",
-        "call assertTrue(ok, 'a message, with & and ! inside, continued in the string', "
-        "location=pf_source_location('test_x.pf', 13))",
-    ]
+def test_continued_directive_is_rejected_as_pfunit_does():
+    """pFUnit 4.14 reads a directive from one physical line: a continued one is refused, not joined."""
+    with pytest.raises(PfError, match=r"continued with '&'"):
+        translate("    @test\n    subroutine t()\n        @assertEqual(1.0_wp, &\n            x)\n    end subroutine t\n")
+
+
+def test_directive_longer_than_pfunit_allows_is_rejected():
+    with pytest.raises(PfError, match=r"longer than 124"):
+        translate("    @test\n    subroutine t()\n        @assertTrue(ok, '" + "x" * 120 + "')\n    end subroutine t\n")
+
+
+def test_comment_on_module_line_and_use_pfunit_are_rejected():
+    with pytest.raises(PfError, match=r"comment on the module line"):
+        convert("test_x.pf", "module test_x ! tests\n    use funit\ncontains\nend module test_x\n")
+    with pytest.raises(PfError, match=r"only 'use funit'"):
+        convert("test_x.pf", "module test_x\n    use pfunit\ncontains\nend module test_x\n")
 
 
 def test_ordinary_continuation_lines_copied_unchanged():
@@ -177,7 +171,7 @@ def test_ordinary_continuation_lines_copied_unchanged():
 
 
 def test_long_call_is_wrapped_within_132_columns():
-    long_message = "x" * 300
+    long_message = "x" * 90
     text, _ = translate(f"    @test\n    subroutine t()\n        @assertTrue(ok, '{long_message}')\n    end subroutine t\n")
     assert max(len(line) for line in text.splitlines()) <= 132
     assert calls(text) == [f"call assertTrue(ok, '{long_message}', location=pf_source_location('test_x.pf', 7))"]
@@ -226,7 +220,7 @@ def test_errors_name_file_and_line(body, line, message):
 
 
 def test_errors_at_end_of_file():
-    with pytest.raises(PfError, match=r"^test_x\.pf:5: continuation '&' at the end of the file"):
+    with pytest.raises(PfError, match=r"^test_x\.pf:5: @-directive continued"):
         convert("test_x.pf", "module test_x\n    use funit\ncontains\n    subroutine t()\n        @assertTrue(x, &\n")
     with pytest.raises(PfError, match=r"^test_x\.pf:3: @test without a following subroutine"):
         convert("test_x.pf", "module test_x\ncontains\n    @test\n")
@@ -282,8 +276,7 @@ contains
     @test
     subroutine test_passes()
         real(wp) :: x(3) = [1.0_wp, 2.0_wp, 3.0_wp]
-        @assertEqual(1.0_wp, x(1) + 1.0e-13_wp, &
-                     tolerance=1.0e-12_wp)
+        @assertEqual(1.0_wp, x(1) + 1.0e-13_wp, tolerance=1.0e-12_wp)
         @assertEqual([1.0_wp, 2.0_wp, 3.0_wp], x)
         @assertRelativelyEqual(100.0_wp, 100.5_wp, 1.0e-2_wp)
         @assertEqual(1, calls, 'before ran once')
@@ -334,7 +327,7 @@ def test_end_to_end(tmp_path):
     assert run.returncode != 0
     fails = [line for line in lines if line.startswith("FAIL")]
     assert fails == [
-        "FAIL test_e2e::test_fails (test_e2e.pf:30): assertEqual: expected 1.0 but found 1.1 "
+        "FAIL test_e2e::test_fails (test_e2e.pf:29): assertEqual: expected 1.0 but found 1.1 "
         "(difference 0.10000000000000009, tolerance 0.001) -- the message"
     ]
 
