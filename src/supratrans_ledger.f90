@@ -51,9 +51,9 @@ contains
         !> Mass term m^2.
         real(wp), intent(in) :: m2
         !> Level k+1.
-        real(wp), intent(in) :: u_new(0:)
+        real(wp), intent(in), contiguous :: u_new(0:)
         !> Level k.
-        real(wp), intent(in) :: u_cur(0:)
+        real(wp), intent(in), contiguous :: u_cur(0:)
         real(wp) :: e
         integer :: n
 

@@ -220,10 +220,10 @@ contains
     pure subroutine force_array(id, u, f)
         !> Potential identifier.
         integer, intent(in) :: id
-        !> Displacements u_n.
-        real(wp), intent(in) :: u(:)
+        !> Displacements u_n (contiguous, so that the sines vectorise through libmvec).
+        real(wp), intent(in), contiguous :: u(:)
         !> Forces V'(u_n).
-        real(wp), intent(out) :: f(:)
+        real(wp), intent(out), contiguous :: f(:)
 
         select case (id)
         case (sine_gordon)
@@ -237,8 +237,8 @@ contains
     pure function potential_sum(id, u) result(total)
         !> Potential identifier.
         integer, intent(in) :: id
-        !> Displacements u_n.
-        real(wp), intent(in) :: u(:)
+        !> Displacements u_n (contiguous, so that the sines vectorise).
+        real(wp), intent(in), contiguous :: u(:)
         real(wp) :: total
 
         select case (id)

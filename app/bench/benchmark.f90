@@ -11,7 +11,7 @@
 !> a second block repeats the runs with beta = 0.1, where every Newton iteration is one LAPACK dgtsv.
 program benchmark
     use supratrans_kinds, only: wp, i8
-    use supratrans_config, only: run_config, method_newton, method_linearized
+    use supratrans_config, only: run_config, method_newton, method_linearized, method_rk4, method_rk8
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result
     use supratrans_config, only: input_config
@@ -63,6 +63,22 @@ program benchmark
         end do
         write (*, '(a10, 2x, f12.3, 2x, f12.3, 2x, f14.4, 2x, es14.6, 2x, es14.3)') names(1 + mod(im - 1, size(methods))), &
             1000.0_wp*median(times), 1000.0_wp*minval(times), &
+            real(result%newton_iterations, wp)/real(max(result%steps, 1), wp), result%ledger%injected, &
+            abs(result%ledger%residual)/max(result%ledger%energy_scale, tiny(1.0_wp))
+    end do
+
+    ! the Runge-Kutta references, at the step where each reaches its accuracy class on this run (README)
+    write (*, '(a)') "# Runge-Kutta references, beta = 0 (iters/step = right-hand sides per step)"
+    run%chain%beta = 0.0_wp
+    do im = 1, 2
+        run%numerics%method = merge(method_rk4, method_rk8, im == 1)
+        run%numerics%dt = merge(0.1_wp, 0.2_wp, im == 1)
+        do i = 1, repeats
+            call simulate(run, result)
+            times(i) = result%wall_time
+        end do
+        write (*, '(a10, 2x, f12.3, 2x, f12.3, 2x, f14.4, 2x, es14.6, 2x, es14.3)') &
+            merge("rk4 dt=0.1", "rk8 dt=0.2", im == 1), 1000.0_wp*median(times), 1000.0_wp*minval(times), &
             real(result%newton_iterations, wp)/real(max(result%steps, 1), wp), result%ledger%injected, &
             abs(result%ledger%residual)/max(result%ledger%energy_scale, tiny(1.0_wp))
     end do
