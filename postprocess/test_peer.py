@@ -1,0 +1,292 @@
+"""The SciPy peer and the work-precision and stability charts.
+
+- the peer's right-hand side: against a site-by-site transcription of `rk4_rhs` and against the energy
+  balance by finite differences (dH/dt = injected power - dissipated power, which ties together the coupling,
+  beta, the absorber, the drive's velocity and the fixed end);
+- the peer against the real program: tiny `work_precision` files made by supratrans in tmp_path (both
+  potentials, with gamma, beta, m^2 and the absorber all on): DOP853 at a tight tolerance reproduces the
+  reference's injected energy to 1e-9 (skipped when fpm is missing);
+- the charts are drawn into non-empty PNGs from tiny files, the equal-error table is printed;
+- a file of the wrong scene, a truncated or a missing one gives the one line `error: <file>: ...`, exit 2;
+- the equal-error rule (no credit for a lucky cancellation, no extrapolation).
+"""
+import math
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+h5py = pytest.importorskip("h5py")
+pytest.importorskip("scipy")
+pytest.importorskip("matplotlib")
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+sys.path.insert(0, str(HERE))
+
+import peer_scipy as ps  # noqa: E402
+import work_precision as wp  # noqa: E402
+
+ENV = {**os.environ, "MPLBACKEND": "Agg"}
+
+CHAIN = """&chain
+    potential = '{potential}'
+    c = 2.0
+    beta = {beta}
+    gamma = {gamma}
+    m2 = {m2}
+    n = 24
+    n0 = 14
+    kappa = 0.5
+    sigma = 2.0
+/
+&drive
+    amplitude = 1.5
+    omega = 0.9
+    ramp_time = 5.0
+/
+&numerics
+    t_final = 20.0
+/
+&record
+    probes = 6
+/
+"""
+WORKPREC = """&scene
+    kind = 'work_precision'
+    amplitudes = 1.0, 2.0
+    methods = 'linearized', 'rk4', 'rk8'
+    dts = 0.25, 0.125, 0.0625
+    repeats = 1
+    reference_dt = 0.05
+/
+"""
+STABILITY = """&chain
+    potential = 'sine-gordon'
+    n = 20
+    n0 = 14
+    kappa = 0.0
+/
+&drive
+    amplitude = 0.5
+    ramp_time = 5.0
+/
+&numerics
+    t_final = 20.0
+    blowup_threshold = 1.5
+/
+&scene
+    kind = 'stability'
+    methods = 'newton', 'linearized', 'rk4'
+    c_values = 2.0, 4.0
+    dts = 0.1, 0.2, 0.3, 0.4
+    vary = 'beta'
+    values = 0.0, 0.5
+    resolution = 0.01
+/
+"""
+OUTPUT = """&output
+    file = '{out}'
+    overwrite = .true.
+    quiet = .true.
+/
+"""
+
+
+def tiny_chain(potential="sine-gordon", **kw):
+    p = dict(potential=potential, c=2.0, beta=0.3, gamma=0.02, m2=-0.04, n=7, n0=3, kappa=0.5, sigma=1.5,
+             omega=0.9, ramp_time=5.0, t_final=20.0)
+    p.update(kw)
+    return ps.Chain.from_params(p)
+
+
+def loop_rhs(ch, a, t, y, ramping):
+    """rk4_rhs of src/supratrans_rk4.f90, site by site."""
+    n = ch.n
+    r, dr = (t / ch.ramp_time, 1.0 / ch.ramp_time) if ramping else (1.0, 0.0)
+    psi = a * r * math.sin(ch.omega * t)
+    dpsi = a * (dr * math.sin(ch.omega * t) + r * ch.omega * math.cos(ch.omega * t))
+    out = np.zeros_like(y)
+    u_left, v_left = psi, dpsi
+    for i in range(n):
+        ui, vi = y[i], y[n + i]
+        u_right, v_right = (y[i + 1], y[n + i + 1]) if i < n - 1 else (0.0, 0.0)
+        gp = ch.kappa * (1 + math.tanh((2 * (i + 1) - ch.n0 - ch.n) / (2 * ch.sigma))) if i + 1 > ch.n0 else 0.0
+        force = math.sin(ui) if ch.potential == "sine-gordon" else ui - ui ** 3 / 6 + ui ** 5 / 120
+        out[i] = vi
+        out[n + i] = (ch.c ** 2 * (u_right - 2 * ui + u_left) + ch.beta * (v_right - 2 * vi + v_left)
+                      - (ch.gamma + gp) * vi - ch.m2 * ui - force)
+        u_left, v_left = ui, vi
+    out[2 * n] = ch.c ** 2 * (psi - y[0]) * dpsi + ch.beta * (dpsi - y[n]) * dpsi
+    return out
+
+
+def energy(ch, a, t, y, ramping):
+    """H = sum [v^2/2 + m^2 u^2/2 + V(u)] + c^2/2 sum_{n=0}^{N} (u_{n+1} - u_n)^2, u_0 = psi(t), u_{N+1} = 0."""
+    n = ch.n
+    u, v = y[:n], y[n:2 * n]
+    psi = ch.drive(a, ramping)(t)[0]
+    pot = 1 - np.cos(u) if ch.potential == "sine-gordon" else u ** 2 / 2 - u ** 4 / 24 + u ** 6 / 720
+    full = np.concatenate([[psi], u, [0.0]])
+    return float(np.sum(v ** 2 / 2 + ch.m2 * u ** 2 / 2 + pot) + ch.c ** 2 / 2 * np.sum(np.diff(full) ** 2))
+
+
+@pytest.mark.parametrize("potential", ["sine-gordon", "klein-gordon"])
+@pytest.mark.parametrize("ramping, t", [(True, 2.3), (False, 7.9)])
+def test_rhs_matches_the_fortran_formula(potential, ramping, t):
+    ch = tiny_chain(potential)
+    y = np.random.default_rng(1).normal(size=2 * ch.n + 1)
+    got = ch.rhs(1.7, ramping)(t, y)
+    assert np.allclose(got, loop_rhs(ch, 1.7, t, y, ramping), rtol=1e-13, atol=1e-13)
+
+
+@pytest.mark.parametrize("potential", ["sine-gordon", "klein-gordon"])
+@pytest.mark.parametrize("ramping, t", [(True, 2.3), (False, 7.9)])
+def test_rhs_balances_the_energy(potential, ramping, t):
+    """d/dt H along the flow (central differences in t and y together) = W' - (gamma + gamma') v^2 - beta (dv)^2."""
+    ch = tiny_chain(potential)
+    a, n = 1.7, ch.n
+    y = 0.5 * np.random.default_rng(2).normal(size=2 * n + 1)
+    f = ch.rhs(a, ramping)
+    dydt = f(t, y)
+    h = 1e-5
+    dh = (energy(ch, a, t + h, y + h * dydt, ramping) - energy(ch, a, t - h, y - h * dydt, ramping)) / (2 * h)
+    v = y[n:2 * n]
+    dpsi = ch.drive(a, ramping)(t)[1]
+    dv = np.diff(np.concatenate([[dpsi], v, [0.0]]))
+    dissipated = np.sum(ch.alpha * v ** 2) + ch.beta * np.sum(dv ** 2)
+    assert dh == pytest.approx(dydt[2 * n] - dissipated, rel=1e-8, abs=1e-8)
+
+
+def test_absorber_and_segments():
+    ch = tiny_chain(n=200, n0=150, sigma=3.0, kappa=0.5)
+    g = ch.absorber()
+    assert np.all(g[:150] == 0) and g[150] < 1e-6 and g[-1] == pytest.approx(1.0, abs=1e-6)
+    assert g[174] == pytest.approx(0.5)  # n = 175, the centre (N0 + N)/2: kappa
+    assert g[175] == pytest.approx(0.5 * (1 + math.tanh(2 / 6)))  # n = 176
+    assert ch.segments() == [(0.0, 5.0, True), (5.0, 20.0, False)]
+    # the drive is continuous at the kink, its velocity jumps by -A sin(Omega t_r)/t_r
+    p1, d1 = ch.drive(2.0, True)(5.0)
+    p2, d2 = ch.drive(2.0, False)(5.0)
+    assert p1 == pytest.approx(p2) and d1 - d2 == pytest.approx(2.0 * math.sin(4.5) / 5.0)
+
+
+def test_time_at_error_rule():
+    times = [1.0, 2.0, 4.0, 8.0]
+    errors = [1e-1, 1e-6, 1e-3, 1e-5]  # 1e-6 at t = 2 is a lucky cancellation: costlier runs are worse
+    t, how = wp.time_at_error(times, errors, 1e-4)
+    assert how == "interpolated" and 4.0 < t < 8.0
+    assert wp.time_at_error(times, errors, 1e-3) == (2.0, "interpolated")  # credited with t = 4's error
+    assert wp.time_at_error(times, errors, 0.5) == (1.0, "cheapest run")
+    assert math.isnan(wp.time_at_error(times, errors, 1e-7)[0])
+    t, _ = wp.time_at_error([1.0, 10.0], [1e-2, 1e-4], 1e-3)
+    assert t == pytest.approx(math.sqrt(10.0))
+
+
+# ------------------------------------------------------------------------------------------------ with supratrans
+
+
+@pytest.fixture(scope="module")
+def exe():
+    """The supratrans executable (debug profile, built by fpm in the repository)."""
+    if shutil.which("fpm") is None:
+        pytest.skip("fpm not installed")
+    subprocess.run(["fpm", "build"], cwd=ROOT, check=True, capture_output=True)
+    out = subprocess.run(["fpm", "run", "--runner", "echo"], cwd=ROOT, check=True, capture_output=True, text=True)
+    return str(ROOT / out.stdout.strip().splitlines()[-1].split()[0])
+
+
+@pytest.fixture(scope="module")
+def files(exe, tmp_path_factory):
+    d = tmp_path_factory.mktemp("peer")
+    jobs = {"wp_sg": CHAIN.format(potential="sine-gordon", beta=0.1, gamma=0.01, m2=0.05) + WORKPREC,
+            "wp_kg": CHAIN.format(potential="klein-gordon", beta=0.0, gamma=0.02, m2=-0.03) + WORKPREC,
+            "stab": STABILITY}
+    out = {}
+    for name, text in jobs.items():
+        nml = d / f"{name}.nml"
+        nml.write_text(text + OUTPUT.format(out=d / f"{name}.h5"))
+        proc = subprocess.run([exe, str(nml)], cwd=d, capture_output=True, text=True, timeout=120)
+        if proc.returncode != 0 and ("kind" in proc.stderr or "not implemented" in proc.stderr):
+            pytest.skip(f"the program cannot write this scene: {proc.stderr.strip()}")
+        assert proc.returncode == 0, proc.stderr
+        out[name] = d / f"{name}.h5"
+    return out
+
+
+def run(script, *args):
+    return subprocess.run([sys.executable, str(HERE / script)] + [str(a) for a in args], capture_output=True,
+                          text=True, env=ENV, timeout=120)
+
+
+def assert_png(path):
+    assert path.is_file() and path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 5000
+
+
+def assert_one_line_error(proc, *words):
+    assert proc.returncode == 2, (proc.returncode, proc.stdout, proc.stderr)
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: "), proc.stderr
+    for w in words:
+        assert w in lines[0], (w, lines[0])
+
+
+@pytest.mark.parametrize("name", ["wp_sg", "wp_kg"])
+def test_peer_reproduces_the_programs_reference(files, name):
+    w = ps.read_work_precision(files[name])
+    check, refs = ps.check_model(w, log=lambda *a: None)
+    assert len(check) == 2
+    for c in check:
+        assert c["passed"] and c["relative_error"] < ps.CHECK_LIMIT, c
+        assert c["error_u_final"] < 1e-8, c
+
+
+def test_work_precision_charts_and_table(files, tmp_path):
+    peer = tmp_path / "peer.json"
+    proc = run("work_precision.py", "--h5", files["wp_sg"], "--tols", "1e-3", "1e-6", "1e-9", "--repeats", "1",
+               "--peer-out", peer, "--outdir", tmp_path / "figs")
+    assert proc.returncode == 0, proc.stderr
+    for png in ("work_precision.png", "work_precision_dt.png"):
+        assert_png(tmp_path / "figs" / png)
+    assert "fastest of ours" in proc.stdout and "SciPy best" in proc.stdout
+    assert ("goal (5x" in proc.stdout)
+    r = ps.read_points(peer)
+    ok = [p for p in r["points"] if p["status"] == "ok"]
+    assert len(ok) == 2 * 2 * 3 and all(p["wall_time"] > 0 and p["error_energy"] < 1e-1 for p in ok)
+    assert {row["level"] for row in r["equal_error_table"]} == set(wp.LEVELS)
+    # the charts again from the points written, nothing run
+    proc = run("work_precision.py", "--h5", files["wp_sg"], "--peer", peer, "--outdir", tmp_path / "again", "-q")
+    assert proc.returncode == 0, proc.stderr
+    assert_png(tmp_path / "again" / "work_precision.png")
+
+
+def test_stability_chart(files, tmp_path):
+    out = tmp_path / "stability.png"
+    proc = run("chart_stability.py", files["stab"], "-o", out)
+    assert proc.returncode == 0, proc.stderr
+    assert_png(out)
+    assert "beta = 0.5" in proc.stdout and "paper" in proc.stdout
+
+
+def test_wrong_scene_truncated_missing(files, tmp_path):
+    wpf, stab = files["wp_sg"], files["stab"]
+    assert_one_line_error(run("chart_stability.py", wpf, "-o", tmp_path / "x.png"), str(wpf),
+                          "scene is 'work_precision', expected 'stability'")
+    assert_one_line_error(run("work_precision.py", "--h5", stab, "--outdir", tmp_path), str(stab),
+                          "scene is 'stability', expected 'work_precision'")
+    assert_one_line_error(run("peer_scipy.py", stab, "--check"), "expected 'work_precision'")
+    cut = tmp_path / "cut.h5"
+    raw = wpf.read_bytes()
+    cut.write_bytes(raw[: len(raw) // 2])
+    assert_one_line_error(run("peer_scipy.py", cut), str(cut), "truncated")
+    broken = tmp_path / "broken.h5"
+    shutil.copy(wpf, broken)
+    with h5py.File(broken, "r+") as h:
+        del h["reference/injected"]
+    assert_one_line_error(run("work_precision.py", "--h5", broken, "--outdir", tmp_path), "reference/injected")
+    assert_one_line_error(run("chart_stability.py", tmp_path / "nowhere.h5"), "nowhere.h5", "no such file")
+    assert not (tmp_path / "x.png").exists() and not list(tmp_path.glob("work_precision*.png"))
