@@ -2,12 +2,12 @@
 module supratrans_result
     use supratrans_kinds, only: wp, i8
     use supratrans_ledger, only: ledger_type
-    use supratrans_config, only: detect_params
+    use supratrans_config, only: detect_params, record_params
     use supratrans_strings, only: int_fixed, real_fixed
     implicit none
     private
 
-    public :: status_name, record_ledger, check_blowup, observe_detector, close_verdict
+    public :: status_name, init_records, record_ledger, record_probes, check_blowup, observe_detector, close_verdict
 
     !> The run reached its final time (or was stopped early with its outcome decided).
     integer, parameter, public :: run_ok = 0
@@ -110,6 +110,57 @@ contains
         result%ledger_series(i, :) = [ledger%stored, ledger%injected, ledger%dissipated_gamma, ledger%dissipated_beta, &
                                       ledger%dissipated_absorber, ledger%residual]
     end subroutine record_ledger
+
+    !> Allocate the records of a run of `m` steps: probe samples every `record%probe_every` steps (and at t = 0),
+    !> ledger records every `record%ledger_every` steps (and at the start and the end).
+    pure subroutine init_records(result, record, m)
+        !> The run's result.
+        type(run_result), intent(inout) :: result
+        !> What to record.
+        type(record_params), intent(in) :: record
+        !> Number of steps of the run.
+        integer, intent(in) :: m
+        integer :: nsample, nledger
+
+        if (allocated(record%probes)) then
+            result%probes = record%probes
+        else
+            allocate (result%probes(0))
+        end if
+        nsample = m/record%probe_every + 1
+        allocate (result%probe_time(nsample), result%probe_u(nsample, size(result%probes)))
+        nledger = m/record%ledger_every + 2
+        allocate (result%ledger_time(nledger), result%ledger_series(nledger, size(ledger_columns)))
+    end subroutine init_records
+
+    !> Append a probe sample at time `t` (ignored when the records are full): probe site n reads u(n) for
+    !> 1 <= n <= N, the drive `psi` for n = 0, and 0 for the fixed end n = N + 1.
+    pure subroutine record_probes(result, t, psi, u)
+        !> Result whose probe records grow by one.
+        type(run_result), intent(inout) :: result
+        !> Time of the sample.
+        real(wp), intent(in) :: t
+        !> Drive u_0(t).
+        real(wp), intent(in) :: psi
+        !> Displacements u_1 .. u_N.
+        real(wp), intent(in) :: u(:)
+        integer :: i, j, site
+
+        if (result%n_probe_samples >= size(result%probe_time)) return
+        result%n_probe_samples = result%n_probe_samples + 1
+        i = result%n_probe_samples
+        result%probe_time(i) = t
+        do j = 1, size(result%probes)
+            site = result%probes(j)
+            if (site >= 1 .and. site <= size(u)) then
+                result%probe_u(i, j) = u(site)
+            else if (site == 0) then
+                result%probe_u(i, j) = psi
+            else
+                result%probe_u(i, j) = 0.0_wp
+            end if
+        end do
+    end subroutine record_probes
 
     !> Blow-up check of a step: `umax` = max |u_n| (NaN counts as blown up). Sets the status and reason.
     pure subroutine check_blowup(result, umax, threshold, t, diverged)

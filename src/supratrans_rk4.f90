@@ -31,7 +31,8 @@ module supratrans_rk4
     use supratrans_chain, only: damping_profile, drive_psi, ramp_factor, detector_site
     use supratrans_potential, only: force_array, potential_v
     use supratrans_ledger, only: ledger_type, ledger_close
-    use supratrans_result, only: run_result, run_ok, record_ledger, check_blowup, observe_detector, close_verdict
+    use supratrans_result, only: run_result, run_ok, init_records, record_ledger, record_probes, check_blowup, &
+                                 observe_detector, close_verdict
     implicit none
     private
 
@@ -58,7 +59,7 @@ contains
         type(run_result), intent(out) :: result
         type(ledger_type) :: ledger
         real(wp), allocatable :: alpha(:), y(:), ys(:), k1(:), k2(:), k3(:), k4(:)
-        integer :: n, ny, m, k, nprobe, nsample, nledger, ledger_every, probe_every, nd
+        integer :: n, ny, m, k, ledger_every, probe_every, nd
         integer(i8) :: clock_start, clock_end, clock_rate
         real(wp) :: dt, t0, th, t1, umax
         logical :: stop
@@ -71,17 +72,7 @@ contains
         ledger_every = run%record%ledger_every
         probe_every = run%record%probe_every
 
-        ! records
-        if (allocated(run%record%probes)) then
-            result%probes = run%record%probes
-        else
-            allocate (result%probes(0))
-        end if
-        nprobe = size(result%probes)
-        nsample = m/probe_every + 1
-        allocate (result%probe_time(nsample), result%probe_u(nsample, nprobe))
-        nledger = m/ledger_every + 2
-        allocate (result%ledger_time(nledger), result%ledger_series(nledger, 6))
+        call init_records(result, run%record, m)
 
         ! work arrays, allocated once; the chain starts at rest
         alpha = damping_profile(run%chain)
@@ -136,31 +127,6 @@ contains
         if (result%steps > 0) result%newton_max_iterations = 4
         call system_clock(clock_end)
         result%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
-
-    contains
-
-        !> Store u at the probe sites for time t (site 0 is the drive, site N+1 the fixed end).
-        subroutine record_probes(res, t, psi, u)
-            type(run_result), intent(inout) :: res
-            real(wp), intent(in) :: t, psi
-            real(wp), intent(in) :: u(:)
-            integer :: i, j, site
-
-            if (res%n_probe_samples >= size(res%probe_time)) return
-            res%n_probe_samples = res%n_probe_samples + 1
-            i = res%n_probe_samples
-            res%probe_time(i) = t
-            do j = 1, nprobe
-                site = res%probes(j)
-                if (site >= 1 .and. site <= n) then
-                    res%probe_u(i, j) = u(site)
-                else if (site == 0) then
-                    res%probe_u(i, j) = psi
-                else
-                    res%probe_u(i, j) = 0.0_wp
-                end if
-            end do
-        end subroutine record_probes
 
     end subroutine simulate_rk4
 

@@ -56,7 +56,7 @@ module supratrans_scene_workprec
     private
 
     public :: run_work_precision, measure_step_kernels, default_methods, default_workprec_dts, fitted_order
-    public :: method_stages
+    public :: method_stages, median
 
     !> Status of a (method, dt) pair that was not run (dt below the method's `dt_smallest`).
     integer, parameter, public :: status_not_run = -1

@@ -14,8 +14,8 @@ module supratrans_simulate
     use supratrans_newton, only: newton_step, newton_ok, newton_not_converged
     use supratrans_linearized, only: linearized_step
     use supratrans_ledger, only: ledger_type, stored_energy, step_powers, ledger_add_step, ledger_close
-    use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed, record_ledger, &
-                                 check_blowup, observe_detector, close_verdict
+    use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed, init_records, &
+                                 record_ledger, record_probes, check_blowup, observe_detector, close_verdict
     implicit none
     private
 
@@ -41,7 +41,7 @@ contains
         type(scheme_type) :: scheme
         type(ledger_type) :: ledger
         real(wp), allocatable :: u(:, :)
-        integer :: n, m, k, io2, io, ic, inew, itmp, iters, status, info, nprobe, nsample, nledger
+        integer :: n, m, k, io2, io, ic, inew, itmp, iters, status, info
         integer :: ledger_every, probe_every
         integer(i8) :: clock_start, clock_end, clock_rate
         real(wp) :: dt, p_in, d_gamma, d_beta, d_abs, t_new
@@ -64,17 +64,7 @@ contains
         probe_every = run%record%probe_every
         call scheme_init(scheme, run%chain, dt)
 
-        ! records
-        if (allocated(run%record%probes)) then
-            result%probes = run%record%probes
-        else
-            allocate (result%probes(0))
-        end if
-        nprobe = size(result%probes)
-        nsample = m/probe_every + 1
-        allocate (result%probe_time(nsample), result%probe_u(nsample, nprobe))
-        nledger = (m - 1)/ledger_every + 2
-        allocate (result%ledger_time(nledger), result%ledger_series(nledger, 6))
+        call init_records(result, run%record, m)
 
         ! levels 0 and 1: at rest, boundary from the drive
         allocate (u(0:n + 1, 4), source=0.0_wp)
@@ -84,8 +74,8 @@ contains
         inew = 3
         u(0, io) = drive_psi(run%drive, 0.0_wp)
         u(0, ic) = drive_psi(run%drive, dt)
-        call record_probes(result, 0, u(:, io))
-        if (probe_every == 1) call record_probes(result, 1, u(:, ic))
+        call record_probes(result, 0.0_wp, u(0, io), u(1:n, io))
+        if (probe_every == 1) call record_probes(result, dt, u(0, ic), u(1:n, ic))
         call ledger_close(ledger, stored_energy(scheme, run%chain%m2, u(:, ic), u(:, io)))
         call record_ledger(result, ledger, 0.5_wp*dt)
 
@@ -143,7 +133,7 @@ contains
                 call ledger_close(ledger, stored_energy(scheme, run%chain%m2, u(:, inew), u(:, ic)))
                 call record_ledger(result, ledger, (real(k, wp) + 0.5_wp)*dt)
             end if
-            if (mod(k + 1, probe_every) == 0) call record_probes(result, k + 1, u(:, inew))
+            if (mod(k + 1, probe_every) == 0) call record_probes(result, t_new, u(0, inew), u(1:n, inew))
             call observe_detector(result, run%detect, nd, maxval(abs(u(nd + 1:n, inew))), t_new, stop)
 
             ! rotate the levels: k-1 -> k-2, k -> k-1, k+1 -> k
@@ -164,22 +154,6 @@ contains
         result%ledger = ledger
         call system_clock(clock_end)
         result%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
-
-    contains
-
-        !> Store u at the probe sites for level `level`.
-        subroutine record_probes(res, level, ul)
-            type(run_result), intent(inout) :: res
-            integer, intent(in) :: level
-            real(wp), intent(in) :: ul(0:)
-            integer :: i
-
-            if (res%n_probe_samples >= size(res%probe_time)) return
-            res%n_probe_samples = res%n_probe_samples + 1
-            i = res%n_probe_samples
-            res%probe_time(i) = real(level, wp)*dt
-            if (nprobe > 0) res%probe_u(i, :) = ul(res%probes)
-        end subroutine record_probes
 
     end subroutine simulate
 

@@ -21,6 +21,7 @@ program benchmark
     use supratrans_scene_bifurcation, only: run_bifurcation
     use supratrans_hdf5, only: h5_file, h5_open, h5_read, h5_close
     use supratrans_tasks, only: remove_file
+    use supratrans_scene_workprec, only: median
     !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
     implicit none
     type(run_config) :: run
@@ -169,25 +170,5 @@ contains
         t = real(count, wp)/real(rate, wp)
     end function wall_seconds
 
-    !> Median of a small array.
-    pure function median(x) result(med)
-        real(wp), intent(in) :: x(:)
-        real(wp) :: med, y(size(x)), t
-        integer :: i, j
-
-        y = x
-        do i = 2, size(y)
-            t = y(i)
-            j = i - 1
-            do while (j >= 1)
-                if (y(j) <= t) exit
-                y(j + 1) = y(j)
-                j = j - 1
-            end do
-            y(j + 1) = t
-        end do
-        med = y((size(y) + 1)/2)
-        if (mod(size(y), 2) == 0) med = 0.5_wp*(y(size(y)/2) + y(size(y)/2 + 1))
-    end function median
 
 end program benchmark
