@@ -26,7 +26,6 @@
 !> `simulate` of `supratrans_simulate` hands `method_rk4` runs to `simulate_rk4`.
 module supratrans_rk4
     use supratrans_kinds, only: wp, i8
-    use supratrans_strings, only: int_str, real_str
     use supratrans_config, only: run_config, chain_params, drive_params
     use supratrans_chain, only: damping_profile, drive_psi, ramp_factor, detector_site
     use supratrans_potential, only: force_array, potential_v
@@ -36,7 +35,7 @@ module supratrans_rk4
     implicit none
     private
 
-    public :: simulate_rk4, rk4_rhs, drive_dpsi, chain_energy, ledger_from_state
+    public :: simulate_rk4, simulate_explicit_rk, rk_stage, rk4_rhs, drive_dpsi, chain_energy, ledger_from_state
 
     !> Number of energy components appended to the state (u, v): injected, dissipated by gamma, by beta, by the
     !> absorber, in this order (the order of `ledger_columns` 2..5).
@@ -44,40 +43,98 @@ module supratrans_rk4
 
 contains
 
-    !> Simulate one run with classical RK4 (same contract as `simulate`).
-    !>
-    !> Records as `simulate` does: probes at t_k = k dt every `probe_every` steps (sample 1 at t = 0); the ledger
-    !> at t_k = k dt every `ledger_every` steps (record 1 at t = 0; unlike the leapfrog schemes, whose energy lives
-    !> on half levels, H is evaluated on the time level itself), plus a last record at t_end when the run ends
-    !> between records. The transmission verdict uses the same detector (`detector_site`, `run%detect`).
-    !> `steps` counts RK4 steps, `t_end = steps dt`, and `newton_iterations` counts right-hand-side evaluations
-    !> (4 a step; `newton_max_iterations` = 4).
+    !> Simulate one run with classical RK4 (same contract as `simulate`; see `simulate_explicit_rk`).
     subroutine simulate_rk4(run, result)
         !> Validated run configuration (`run%numerics%method` is not consulted).
         type(run_config), intent(in) :: run
         !> Outcome, statistics, ledger and records.
         type(run_result), intent(out) :: result
+
+        call simulate_explicit_rk(run, result, 4, rk4_step)
+    end subroutine simulate_rk4
+
+    !> One classical RK4 step from t0 to t0 + dt: `y` is overwritten by the new state.
+    pure subroutine rk4_step(chain, drive, alpha, t0, dt, y, ys, k)
+        !> Chain parameters.
+        type(chain_params), intent(in) :: chain
+        !> Drive parameters.
+        type(drive_params), intent(in) :: drive
+        !> Site damping alpha_n.
+        real(wp), intent(in) :: alpha(:)
+        !> Start of the step and step size.
+        real(wp), intent(in) :: t0, dt
+        !> State (u, v, energies), advanced in place.
+        real(wp), intent(inout) :: y(:)
+        !> Work: stage state.
+        real(wp), intent(inout) :: ys(:)
+        !> Work: stage derivatives, (size(y), 4).
+        real(wp), intent(inout) :: k(:, :)
+
+        call rk_stage(chain, drive, alpha, t0, dt, 0.0_wp, y, k(:, 1))
+        ys = y + (0.5_wp*dt)*k(:, 1)
+        call rk_stage(chain, drive, alpha, t0, dt, 0.5_wp, ys, k(:, 2))
+        ys = y + (0.5_wp*dt)*k(:, 2)
+        call rk_stage(chain, drive, alpha, t0, dt, 0.5_wp, ys, k(:, 3))
+        ys = y + dt*k(:, 3)
+        call rk_stage(chain, drive, alpha, t0, dt, 1.0_wp, ys, k(:, 4))
+        y = y + (dt/6.0_wp)*(k(:, 1) + 2.0_wp*(k(:, 2) + k(:, 3)) + k(:, 4))
+    end subroutine rk4_step
+
+    !> Stage derivative f(t0 + c dt, state) of a step from t0, with the one-sided psi' of this step at the ramp's
+    !> kink (the side of the step's midpoint).
+    pure subroutine rk_stage(chain, drive, alpha, t0, dt, c, state, derivative)
+        !> Chain parameters.
+        type(chain_params), intent(in) :: chain
+        !> Drive parameters.
+        type(drive_params), intent(in) :: drive
+        !> Site damping alpha_n.
+        real(wp), intent(in) :: alpha(:)
+        !> Start of the step, step size, stage node.
+        real(wp), intent(in) :: t0, dt, c
+        !> Stage state.
+        real(wp), intent(in) :: state(:)
+        !> Its derivative.
+        real(wp), intent(out) :: derivative(:)
+        real(wp) :: t
+
+        t = t0 + c*dt
+        call rk4_rhs(chain, alpha, drive_psi(drive, t), drive_dpsi(drive, t, t0 + 0.5_wp*dt), state, derivative)
+    end subroutine rk_stage
+
+    !> The time loop of an explicit Runge-Kutta method on the method-of-lines system, with `stages` stages taken by
+    !> `step`. Records as `simulate` does: probes at t_k = k dt every `probe_every` steps (sample 1 at t = 0); the
+    !> ledger at t_k = k dt every `ledger_every` steps (record 1 at t = 0; unlike the leapfrog schemes, whose energy
+    !> lives on half levels, H is evaluated on the time level itself), plus a last record at t_end when the run ends
+    !> between records. The transmission verdict uses the same detector (`detector_site`, `run%detect`). `steps`
+    !> counts steps, `t_end = steps dt`, and `newton_iterations` counts right-hand-side evaluations (`stages` a
+    !> step). A blow-up (|u_n| above `blowup_threshold`, or a non-finite value) ends the run with status
+    !> `run_diverged` and a reason.
+    subroutine simulate_explicit_rk(run, result, stages, step)
+        !> Validated run configuration.
+        type(run_config), intent(in) :: run
+        !> Outcome, statistics, ledger and records.
+        type(run_result), intent(out) :: result
+        !> Stages of the method (right-hand sides a step).
+        integer, intent(in) :: stages
+        !> One step of the method.
+        procedure(rk4_step) :: step
         type(ledger_type) :: ledger
-        real(wp), allocatable :: alpha(:), y(:), ys(:), k1(:), k2(:), k3(:), k4(:)
-        integer :: n, ny, m, k, ledger_every, probe_every, nd
+        real(wp), allocatable :: alpha(:), y(:), ys(:), k(:, :)
+        integer :: n, m, istep, nd
         integer(i8) :: clock_start, clock_end, clock_rate
-        real(wp) :: dt, t0, th, t1, umax
+        real(wp) :: dt, t1, umax
         logical :: stop
 
         call system_clock(clock_start, clock_rate)
         n = run%chain%n
-        ny = 2*n + rk4_energy_components
         dt = run%numerics%dt
         m = nint(run%numerics%t_final/dt)
-        ledger_every = run%record%ledger_every
-        probe_every = run%record%probe_every
-
         call init_records(result, run%record, m)
 
         ! work arrays, allocated once; the chain starts at rest
         alpha = damping_profile(run%chain)
-        allocate (y(ny), source=0.0_wp)
-        allocate (ys(ny), k1(ny), k2(ny), k3(ny), k4(ny))
+        allocate (y(2*n + rk4_energy_components), source=0.0_wp)
+        allocate (ys(size(y)), k(size(y), stages))
 
         call record_probes(result, 0.0_wp, drive_psi(run%drive, 0.0_wp), y(1:n))
         call ledger_close(ledger, chain_energy(run%chain, drive_psi(run%drive, 0.0_wp), y))
@@ -87,19 +144,10 @@ contains
         result%steps = 0
         nd = detector_site(run)
         result%detect_site = nd
-        do k = 1, m
-            t0 = real(k - 1, wp)*dt
-            th = (real(k, wp) - 0.5_wp)*dt
-            t1 = real(k, wp)*dt
-            call rk4_rhs(run%chain, alpha, drive_psi(run%drive, t0), drive_dpsi(run%drive, t0, th), y, k1)
-            ys = y + (0.5_wp*dt)*k1
-            call rk4_rhs(run%chain, alpha, drive_psi(run%drive, th), drive_dpsi(run%drive, th, th), ys, k2)
-            ys = y + (0.5_wp*dt)*k2
-            call rk4_rhs(run%chain, alpha, drive_psi(run%drive, th), drive_dpsi(run%drive, th, th), ys, k3)
-            ys = y + dt*k3
-            call rk4_rhs(run%chain, alpha, drive_psi(run%drive, t1), drive_dpsi(run%drive, t1, th), ys, k4)
-            y = y + (dt/6.0_wp)*(k1 + 2.0_wp*(k2 + k3) + k4)
-            result%steps = k
+        do istep = 1, m
+            t1 = real(istep, wp)*dt
+            call step(run%chain, run%drive, alpha, real(istep - 1, wp)*dt, dt, y, ys, k)
+            result%steps = istep
 
             umax = maxval(abs(y(1:n)))
             if (.not. (maxval(abs(y(n + 1:2*n))) <= huge(1.0_wp))) umax = huge(1.0_wp)   ! non-finite velocity
@@ -107,28 +155,27 @@ contains
             if (stop) exit
 
             call ledger_from_state(ledger, y(2*n + 1:))
-            if (mod(k, ledger_every) == 0) then
+            if (mod(istep, run%record%ledger_every) == 0) then
                 call ledger_close(ledger, chain_energy(run%chain, drive_psi(run%drive, t1), y))
                 call record_ledger(result, ledger, t1)
             end if
-            if (mod(k, probe_every) == 0) call record_probes(result, t1, drive_psi(run%drive, t1), y(1:n))
+            if (mod(istep, run%record%probe_every) == 0) call record_probes(result, t1, drive_psi(run%drive, t1), y(1:n))
             call observe_detector(result, run%detect, nd, maxval(abs(y(nd + 1:n))), t1, stop)
             if (stop) exit
         end do
         result%t_end = real(result%steps, wp)*dt
         call close_verdict(result, run%detect)
-        if (result%status == run_ok .and. mod(result%steps, ledger_every) /= 0 .and. result%steps > 0) then
+        if (result%status == run_ok .and. mod(result%steps, run%record%ledger_every) /= 0 .and. result%steps > 0) then
             ! close the ledger on the last level reached
             call ledger_close(ledger, chain_energy(run%chain, drive_psi(run%drive, result%t_end), y))
             call record_ledger(result, ledger, result%t_end)
         end if
         result%ledger = ledger
-        result%newton_iterations = 4_i8*int(result%steps, i8)
-        if (result%steps > 0) result%newton_max_iterations = 4
+        result%newton_iterations = int(stages, i8)*int(result%steps, i8)
+        if (result%steps > 0) result%newton_max_iterations = stages
         call system_clock(clock_end)
         result%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
-
-    end subroutine simulate_rk4
+    end subroutine simulate_explicit_rk
 
     !> Right-hand side of the method-of-lines system extended by the energy rates.
     !>

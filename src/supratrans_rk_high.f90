@@ -24,13 +24,10 @@
 !> the step that contains the kink integrates across a jump of psi' and the observed order collapses to about 1
 !> (measured 0.7 to 0.9; test `test_rk8_order_collapses_at_off_grid_kink`).
 module supratrans_rk_high
-    use supratrans_kinds, only: wp, i8
-    use supratrans_config, only: run_config
-    use supratrans_chain, only: damping_profile, drive_psi, detector_site
-    use supratrans_ledger, only: ledger_type, ledger_close
-    use supratrans_result, only: run_result, run_ok, init_records, record_ledger, record_probes, check_blowup, &
-                                 observe_detector, close_verdict
-    use supratrans_rk4, only: rk4_rhs, drive_dpsi, chain_energy, ledger_from_state, rk4_energy_components
+    use supratrans_kinds, only: wp
+    use supratrans_config, only: run_config, chain_params, drive_params
+    use supratrans_result, only: run_result
+    use supratrans_rk4, only: simulate_explicit_rk, rk_stage
     implicit none
     private
 
@@ -93,123 +90,59 @@ module supratrans_rk_high
 
 contains
 
-    !> Simulate one run with the eighth-order Cooper-Verner method (same contract and records as `simulate_rk4`):
-    !> probes at t_k = k dt every `probe_every` steps (sample 1 at t = 0), the ledger at t_k every `ledger_every`
-    !> steps and at the end, the continuous energy H of `chain_energy`, M = nint(T/dt) steps. `newton_iterations`
-    !> counts right-hand-side evaluations (11 a step; `newton_max_iterations` = 11). A blow-up (|u_n| above
-    !> `blowup_threshold`, or a non-finite value) ends the run with status `run_diverged` and a reason.
+    !> Simulate one run with the eighth-order Cooper-Verner method (same contract and records as `simulate_rk4`;
+    !> see `simulate_explicit_rk`): 11 right-hand sides a step.
     subroutine simulate_rk8(run, result)
         !> Validated run configuration (`run%numerics%method` is not consulted).
         type(run_config), intent(in) :: run
         !> Outcome, statistics, ledger and records.
         type(run_result), intent(out) :: result
-        type(ledger_type) :: ledger
-        real(wp), allocatable :: alpha(:), y(:), ys(:), k(:, :)
-        integer :: n, ny, m, step, ledger_every, probe_every, nd
-        integer(i8) :: clock_start, clock_end, clock_rate
-        real(wp) :: dt, t0, th, t1, umax
-        logical :: stop
 
-        call system_clock(clock_start, clock_rate)
-        n = run%chain%n
-        ny = 2*n + rk4_energy_components
-        dt = run%numerics%dt
-        m = nint(run%numerics%t_final/dt)
-        ledger_every = run%record%ledger_every
-        probe_every = run%record%probe_every
-
-        call init_records(result, run%record, m)
-
-        ! work arrays, allocated once; the chain starts at rest
-        alpha = damping_profile(run%chain)
-        allocate (y(ny), source=0.0_wp)
-        allocate (ys(ny), k(ny, rk8_stages))
-
-        call record_probes(result, 0.0_wp, drive_psi(run%drive, 0.0_wp), y(1:n))
-        call ledger_close(ledger, chain_energy(run%chain, drive_psi(run%drive, 0.0_wp), y))
-        call record_ledger(result, ledger, 0.0_wp)
-
-        result%status = run_ok
-        result%steps = 0
-        nd = detector_site(run)
-        result%detect_site = nd
-        do step = 1, m
-            t0 = real(step - 1, wp)*dt
-            th = (real(step, wp) - 0.5_wp)*dt
-            t1 = real(step, wp)*dt
-            call rk8_step()
-            result%steps = step
-
-            umax = maxval(abs(y(1:n)))
-            if (.not. (maxval(abs(y(n + 1:2*n))) <= huge(1.0_wp))) umax = huge(1.0_wp)   ! non-finite velocity
-            call check_blowup(result, umax, run%numerics%blowup_threshold, t1, stop)
-            if (stop) exit
-
-            call ledger_from_state(ledger, y(2*n + 1:))
-            if (mod(step, ledger_every) == 0) then
-                call ledger_close(ledger, chain_energy(run%chain, drive_psi(run%drive, t1), y))
-                call record_ledger(result, ledger, t1)
-            end if
-            if (mod(step, probe_every) == 0) call record_probes(result, t1, drive_psi(run%drive, t1), y(1:n))
-            call observe_detector(result, run%detect, nd, maxval(abs(y(nd + 1:n))), t1, stop)
-            if (stop) exit
-        end do
-        result%t_end = real(result%steps, wp)*dt
-        call close_verdict(result, run%detect)
-        if (result%status == run_ok .and. mod(result%steps, ledger_every) /= 0 .and. result%steps > 0) then
-            call ledger_close(ledger, chain_energy(run%chain, drive_psi(run%drive, result%t_end), y))
-            call record_ledger(result, ledger, result%t_end)
-        end if
-        result%ledger = ledger
-        result%newton_iterations = int(rk8_stages, i8)*int(result%steps, i8)
-        if (result%steps > 0) result%newton_max_iterations = rk8_stages
-        call system_clock(clock_end)
-        result%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
-
-    contains
-
-        !> One step from t0 to t0 + dt: y is overwritten by the new state.
-        subroutine rk8_step()
-            real(wp) :: h
-
-            h = dt
-            call stage(1, 0.0_wp, y)
-            ys = y + h*a21*k(:, 1)
-            call stage(2, c2, ys)
-            ys = y + h*(a31*k(:, 1) + a32*k(:, 2))
-            call stage(3, c3, ys)
-            ys = y + h*(a41*k(:, 1) + a42*k(:, 2) + a43*k(:, 3))
-            call stage(4, c4, ys)
-            ys = y + h*(a51*k(:, 1) + a53*k(:, 3) + a54*k(:, 4))
-            call stage(5, c5, ys)
-            ys = y + h*(a61*k(:, 1) + a63*k(:, 3) + a64*k(:, 4) + a65*k(:, 5))
-            call stage(6, c6, ys)
-            ys = y + h*(a71*k(:, 1) + a73*k(:, 3) + a74*k(:, 4) + a75*k(:, 5) + a76*k(:, 6))
-            call stage(7, c7, ys)
-            ys = y + h*(a81*k(:, 1) + a85*k(:, 5) + a86*k(:, 6) + a87*k(:, 7))
-            call stage(8, c8, ys)
-            ys = y + h*(a91*k(:, 1) + a95*k(:, 5) + a96*k(:, 6) + a97*k(:, 7) + a98*k(:, 8))
-            call stage(9, c9, ys)
-            ys = y + h*(a101*k(:, 1) + a105*k(:, 5) + a106*k(:, 6) + a107*k(:, 7) + a108*k(:, 8) + a109*k(:, 9))
-            call stage(10, c10, ys)
-            ys = y + h*(a115*k(:, 5) + a116*k(:, 6) + a117*k(:, 7) + a118*k(:, 8) + a119*k(:, 9) + a1110*k(:, 10))
-            call stage(11, c11, ys)
-            y = y + h*(b1*(k(:, 1) + k(:, 11)) + b8*(k(:, 8) + k(:, 10)) + b9*k(:, 9))
-        end subroutine rk8_step
-
-        !> Stage i: k(:, i) = f(t0 + c dt, state), with the one-sided psi' of this step at the ramp's kink.
-        subroutine stage(i, c, state)
-            integer, intent(in) :: i
-            real(wp), intent(in) :: c
-            real(wp), intent(in) :: state(:)
-            real(wp) :: t
-
-            t = t0 + c*dt
-            call rk4_rhs(run%chain, alpha, drive_psi(run%drive, t), drive_dpsi(run%drive, t, th), state, k(:, i))
-        end subroutine stage
-
-
+        call simulate_explicit_rk(run, result, rk8_stages, rk8_step)
     end subroutine simulate_rk8
+
+    !> One Cooper-Verner step from t0 to t0 + dt: `y` is overwritten by the new state.
+    pure subroutine rk8_step(chain, drive, alpha, t0, dt, y, ys, k)
+        !> Chain parameters.
+        type(chain_params), intent(in) :: chain
+        !> Drive parameters.
+        type(drive_params), intent(in) :: drive
+        !> Site damping alpha_n.
+        real(wp), intent(in) :: alpha(:)
+        !> Start of the step and step size.
+        real(wp), intent(in) :: t0, dt
+        !> State (u, v, energies), advanced in place.
+        real(wp), intent(inout) :: y(:)
+        !> Work: stage state.
+        real(wp), intent(inout) :: ys(:)
+        !> Work: stage derivatives, (size(y), 11).
+        real(wp), intent(inout) :: k(:, :)
+        real(wp) :: h
+
+        h = dt
+        call rk_stage(chain, drive, alpha, t0, h, 0.0_wp, y, k(:, 1))
+        ys = y + h*a21*k(:, 1)
+        call rk_stage(chain, drive, alpha, t0, h, c2, ys, k(:, 2))
+        ys = y + h*(a31*k(:, 1) + a32*k(:, 2))
+        call rk_stage(chain, drive, alpha, t0, h, c3, ys, k(:, 3))
+        ys = y + h*(a41*k(:, 1) + a42*k(:, 2) + a43*k(:, 3))
+        call rk_stage(chain, drive, alpha, t0, h, c4, ys, k(:, 4))
+        ys = y + h*(a51*k(:, 1) + a53*k(:, 3) + a54*k(:, 4))
+        call rk_stage(chain, drive, alpha, t0, h, c5, ys, k(:, 5))
+        ys = y + h*(a61*k(:, 1) + a63*k(:, 3) + a64*k(:, 4) + a65*k(:, 5))
+        call rk_stage(chain, drive, alpha, t0, h, c6, ys, k(:, 6))
+        ys = y + h*(a71*k(:, 1) + a73*k(:, 3) + a74*k(:, 4) + a75*k(:, 5) + a76*k(:, 6))
+        call rk_stage(chain, drive, alpha, t0, h, c7, ys, k(:, 7))
+        ys = y + h*(a81*k(:, 1) + a85*k(:, 5) + a86*k(:, 6) + a87*k(:, 7))
+        call rk_stage(chain, drive, alpha, t0, h, c8, ys, k(:, 8))
+        ys = y + h*(a91*k(:, 1) + a95*k(:, 5) + a96*k(:, 6) + a97*k(:, 7) + a98*k(:, 8))
+        call rk_stage(chain, drive, alpha, t0, h, c9, ys, k(:, 9))
+        ys = y + h*(a101*k(:, 1) + a105*k(:, 5) + a106*k(:, 6) + a107*k(:, 7) + a108*k(:, 8) + a109*k(:, 9))
+        call rk_stage(chain, drive, alpha, t0, h, c10, ys, k(:, 10))
+        ys = y + h*(a115*k(:, 5) + a116*k(:, 6) + a117*k(:, 7) + a118*k(:, 8) + a119*k(:, 9) + a1110*k(:, 10))
+        call rk_stage(chain, drive, alpha, t0, h, c11, ys, k(:, 11))
+        y = y + h*(b1*(k(:, 1) + k(:, 11)) + b8*(k(:, 8) + k(:, 10)) + b9*k(:, 9))
+    end subroutine rk8_step
 
     !> Coefficients g_0..g_11 of the method's stability polynomial R(z) = sum_j g_j z^j (R(z) = 1 + z b^T
     !> (I - z A)^{-1} 1, a polynomial because A is strictly lower triangular: g_j = b^T A^{j-1} 1).
