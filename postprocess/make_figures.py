@@ -6,8 +6,8 @@
     python3 postprocess/make_figures.py --no-run         # only draw, from the files already in out/
     python3 postprocess/make_figures.py --only fig2 bif1 # some figures (names: the input files' stems)
 
-Each namelist of a scene drawn here (timeseries, amplitude_sweep, map, bifurcation; others are listed and
-skipped) is run with `fpm run --profile release -- input/X.nml`, in the paper's order (Fig. 1, 2, 3,
+Each namelist of a scene drawn here (timeseries, amplitude_sweep, map, bifurcation, and the speed/accuracy
+scenes stability and work_precision; others are listed and skipped) is run with `fpm run --profile release -- input/X.nml`, in the paper's order (Fig. 1, 2, 3,
 3-and-a-half, 4, 11, Bif1-3, then any other input), one line of progress each:
 
     [5/13] input/fig2.nml ... 45 s
@@ -17,7 +17,9 @@ out/logs/X.log). A scene that fails is reported and the others go on. A sweep in
 from its journal when run again (Ctrl-C or `kill` stops the running scene too); meanwhile `--no-run` draws
 its partial snapshot, marked as such.
 Then every figure is drawn: Fig. 1 from the four fig1_* runs, one figure per other file, named after its
-input file (fig2.png, ..., bif3.png), with the numbers each figure shows printed below it.
+input file (fig2.png, ..., bif3.png), with the numbers each figure shows printed below it. A `stability` file
+is drawn by chart_stability.py; a `work_precision` file by work_precision.py, which first times the SciPy peer
+in the same process (with --no-run it reuses the peer points saved next to the file, if there are any).
 Exit status 0 when every scene ran and every figure was drawn, 1 otherwise.
 """
 import argparse
@@ -38,6 +40,8 @@ import supratrans_plot as sp  # noqa: E402
 ROOT = HERE.parent
 #: Order of the figures (the paper's), by input file stem or its prefix.
 ORDER = ["fig1", "fig2", "fig3", "fig3half", "fig4", "fig11", "bif1", "bif2", "bif3"]
+#: Scenes drawn by the charts of the speed/accuracy study (their own scripts), besides sp.SCENES.
+CHARTS = ("stability", "work_precision")
 #: `--quick`: factor applied to the steps of the scene grids (amplitude, frequency, threshold resolution).
 QUICK = {"amplitude_step": 5.0, "omega_step": 2.0, "resolution": 5.0, "coarse_step": 2.0}
 
@@ -217,9 +221,9 @@ def main(argv=None):
     for j in jobs:
         if j.output is None:
             print(f"note: {j.rel(j.nml)}: no '&output file': skipped")
-        elif j.kind not in sp.SCENES:
-            print(f"note: {j.rel(j.nml)}: scene '{j.kind}' is not one of the paper's figures drawn here: skipped")
-    jobs = [j for j in jobs if j.output is not None and j.kind in sp.SCENES]
+        elif j.kind not in sp.SCENES and j.kind not in CHARTS:
+            print(f"note: {j.rel(j.nml)}: scene '{j.kind}' is not one of the figures drawn here: skipped")
+    jobs = [j for j in jobs if j.output is not None and (j.kind in sp.SCENES or j.kind in CHARTS)]
     if not jobs:
         print(f"error: {args.input}: no namelist of a scene drawn here ({', '.join(sp.SCENES)})", file=sys.stderr)
         return 2
@@ -276,6 +280,9 @@ def main(argv=None):
         figures.setdefault(job.figure, []).append(job)
     for name, group in figures.items():
         target = outdir / f"{name}.png"
+        if group[0].kind in CHARTS:
+            failures += draw_chart(group[0], outdir, args)
+            continue
         try:
             expect = sp.FIGURES[name][1] if name in sp.FIGURES else None
             scenes = [sp.open_scene(j.rel(j.output), expect=expect) for j in group]
@@ -299,6 +306,31 @@ def main(argv=None):
                 print("    " + line.strip())
     print(f"{failures} problem(s); see above" if failures else f"all {len(figures)} figure(s) drawn")
     return 1 if failures else 0
+
+
+def draw_chart(job, outdir, args):
+    """Draw a speed/accuracy chart with its own script; return the number of problems (0 or 1)."""
+    path = job.rel(job.output)
+    try:
+        if job.kind == "stability":
+            import chart_stability as cs
+            s = cs.read_stability(path)
+            target = outdir / f"{job.figure}.png"
+            sp.save(cs.draw_stability(s), target, dpi=args.dpi)
+            print(f"  {job.figure}: {target.relative_to(ROOT) if target.is_relative_to(ROOT) else target}")
+            for line in cs.summary(s):
+                print("    " + line.strip())
+            return 0
+        import work_precision as wpc
+        argv = ["--h5", str(path), "--outdir", str(outdir), "--dpi", str(args.dpi), "--quiet"]
+        peer = sp.output_path(path, "_peer.json")
+        if args.no_run and Path(peer).is_file():
+            argv += ["--peer", str(peer)]
+        print(f"  {job.figure}: timing the SciPy peer and drawing work_precision*.png")
+        return 0 if wpc.main(argv) == 0 else 1
+    except sp.PlotError as exc:
+        print(f"  {job.figure}: not drawn: {exc.line()}")
+        return 1
 
 
 if __name__ == "__main__":
