@@ -361,7 +361,7 @@ def test_make_figures_runs_and_draws(tmp_path):
         (inp / f"fig1_sg_A{a}.nml").write_text(SMALL.format(potential="sine-gordon", amplitude=a / 100, t_final=5.0)
                                                + OUTPUT.format(out=out))
     (inp / "broken.nml").write_text("&chain n = 1 /\n" + OUTPUT.format(out=tmp_path / "out" / "broken.h5"))
-    (inp / "other.nml").write_text("&scene kind = 'stability' /\n" + OUTPUT.format(out=tmp_path / "out" / "o.h5"))
+    (inp / "other.nml").write_text("&scene kind = 'timeseries' /\n")  # no &output file: listed and skipped
     cmd = [sys.executable, str(HERE / "make_figures.py"), "--input", inp, "--outdir", tmp_path / "figs",
            "--logs", tmp_path / "logs"]
     proc = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, env=ENV, timeout=300)
@@ -369,7 +369,7 @@ def test_make_figures_runs_and_draws(tmp_path):
     assert proc.returncode == 1, proc.stdout + proc.stderr  # broken.nml fails, the others go on
     assert any(x.startswith("[1/3] ") and x.endswith(" s") and "fig1_sg_A150.nml" in x for x in lines), lines
     assert any(x.startswith("[3/3] ") and "broken.nml" in x and "FAILED" in x for x in lines), lines
-    assert any("other.nml" in x and "skipped" in x for x in lines), lines  # a scene not drawn here: not run
+    assert any("other.nml" in x and "skipped" in x for x in lines), lines  # nothing to draw: not run
     assert_image(tmp_path / "figs" / "fig1.png")
     assert not (tmp_path / "figs" / "broken.png").exists()
     assert "n = 1" in (tmp_path / "logs" / "broken.log").read_text()  # the program's own message, kept
