@@ -74,15 +74,7 @@ def open_h5(path, scene, required, optional=()):
     import h5py  # noqa: PLC0415
 
     p = sp.resolve(path)
-    try:
-        f = h5py.File(p, "r")
-    except OSError as exc:
-        reason = str(exc).split("\n")[0]
-        if "truncated" in reason:
-            raise PlotError(p, f"truncated HDF5 file ({reason})") from None
-        if "signature" in reason or "not an hdf5" in reason.lower():
-            raise PlotError(p, "not an HDF5 file") from None
-        raise PlotError(p, f"cannot open as HDF5 ({reason})") from None
+    f = sp.open_h5(p)
     try:
         with f:
             attrs = {k: sp._value(v) for k, v in f.attrs.items()}

@@ -207,18 +207,8 @@ def open_scene(path, expect=None):
     `expect`: a scene name or a tuple of them the caller can draw. Raises PlotError (one line) when the file
     is missing, not HDF5 or truncated, not a supratrans file, of another scene, or lacks a dataset.
     """
-    import h5py  # noqa: PLC0415 (imported here so that `--help` stays fast)
-
     p = resolve(path)
-    try:
-        f = h5py.File(p, "r")
-    except OSError as exc:
-        reason = str(exc).split("\n")[0]
-        if "truncated" in reason:
-            raise PlotError(p, f"truncated HDF5 file ({reason})") from None
-        if "signature" in reason or "not an hdf5" in reason.lower():
-            raise PlotError(p, "not an HDF5 file") from None
-        raise PlotError(p, f"cannot open as HDF5 ({reason})") from None
+    f = open_h5(p)
     try:
         with f:
             return _read(f, p, expect)
@@ -317,6 +307,21 @@ def figure_name(scene):
     if re.match(r"fig1_", stem):
         return "fig1"
     return stem
+
+
+def open_h5(path):
+    """Open an HDF5 file for reading; a missing, truncated or non-HDF5 file is a one-line PlotError."""
+    import h5py  # noqa: PLC0415
+
+    try:
+        return h5py.File(path, "r")
+    except OSError as exc:
+        reason = str(exc).split("\n")[0]
+        if "truncated" in reason:
+            raise PlotError(path, f"truncated HDF5 file ({reason})") from None
+        if "signature" in reason or "not an hdf5" in reason.lower():
+            raise PlotError(path, "not an HDF5 file") from None
+        raise PlotError(path, f"cannot open as HDF5 ({reason})") from None
 
 
 def output_path(path, suffix=".png"):
