@@ -186,8 +186,8 @@ contains
     end subroutine check_blowup
 
     !> Transmission detector of a step: `ufar` = max |u_n| beyond the detector site `nd` at time `t`.
-    !> The run transmits once `ufar` exceeds `detect%amplitude`; `stop` asks the time loop to end the run there.
-    pure subroutine observe_detector(result, detect, nd, ufar, t, stop)
+    !> The run transmits once `ufar` exceeds `detect%amplitude`; `halt` asks the time loop to end the run there.
+    pure subroutine observe_detector(result, detect, nd, ufar, t, halt)
         !> The run's result.
         type(run_result), intent(inout) :: result
         !> Detector parameters.
@@ -199,9 +199,9 @@ contains
         !> Time of the level.
         real(wp), intent(in) :: t
         !> True when the verdict was just decided and the run should stop early.
-        logical, intent(out) :: stop
+        logical, intent(out) :: halt
 
-        stop = .false.
+        halt = .false.
         result%detect_site = nd
         result%u_beyond_max = max(result%u_beyond_max, ufar)
         if (result%transmitting .or. .not. (ufar > detect%amplitude)) return
@@ -212,7 +212,7 @@ contains
                                 // trim(real_fixed(detect%amplitude, 6)) // " at t = " // trim(real_fixed(t, 6))
         if (detect%stop_when_decided) then
             result%stopped_early = .true.
-            stop = .true.
+            halt = .true.
         end if
     end subroutine observe_detector
 

@@ -123,7 +123,7 @@ contains
         integer :: n, m, istep, nd
         integer(i8) :: clock_start, clock_end, clock_rate
         real(wp) :: dt, t1, umax
-        logical :: stop
+        logical :: halt
 
         call system_clock(clock_start, clock_rate)
         n = run%chain%n
@@ -151,8 +151,8 @@ contains
 
             umax = maxval(abs(y(1:n)))
             if (.not. (maxval(abs(y(n + 1:2*n))) <= huge(1.0_wp))) umax = huge(1.0_wp)   ! non-finite velocity
-            call check_blowup(result, umax, run%numerics%blowup_threshold, t1, stop)
-            if (stop) exit
+            call check_blowup(result, umax, run%numerics%blowup_threshold, t1, halt)
+            if (halt) exit
 
             call ledger_from_state(ledger, y(2*n + 1:))
             if (mod(istep, run%record%ledger_every) == 0) then
@@ -160,8 +160,8 @@ contains
                 call record_ledger(result, ledger, t1)
             end if
             if (mod(istep, run%record%probe_every) == 0) call record_probes(result, t1, drive_psi(run%drive, t1), y(1:n))
-            call observe_detector(result, run%detect, nd, maxval(abs(y(nd + 1:n))), t1, stop)
-            if (stop) exit
+            call observe_detector(result, run%detect, nd, maxval(abs(y(nd + 1:n))), t1, halt)
+            if (halt) exit
         end do
         result%t_end = real(result%steps, wp)*dt
         call close_verdict(result, run%detect)

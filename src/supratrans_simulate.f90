@@ -45,7 +45,7 @@ contains
         integer :: ledger_every, probe_every
         integer(i8) :: clock_start, clock_end, clock_rate
         real(wp) :: dt, p_in, d_gamma, d_beta, d_abs, t_new
-        logical :: stop
+        logical :: halt
         integer :: nd
 
         if (run%numerics%method == method_rk4) then
@@ -83,7 +83,7 @@ contains
         result%steps = 0
         nd = detector_site(run)
         result%detect_site = nd
-        stop = .false.
+        halt = .false.
         do k = 1, m - 1
             u(0, inew) = drive_psi(run%drive, real(k + 1, wp)*dt)
             u(n + 1, inew) = 0.0_wp
@@ -123,8 +123,8 @@ contains
             end select
             result%steps = k
             t_new = real(k + 1, wp)*dt
-            call check_blowup(result, maxval(abs(u(1:n, inew))), run%numerics%blowup_threshold, t_new, stop)
-            if (stop) exit
+            call check_blowup(result, maxval(abs(u(1:n, inew))), run%numerics%blowup_threshold, t_new, halt)
+            if (halt) exit
 
             call step_powers(scheme, run%chain%gamma, run%chain%beta, u(:, io), u(:, ic), u(:, inew), &
                              p_in, d_gamma, d_beta, d_abs)
@@ -134,7 +134,7 @@ contains
                 call record_ledger(result, ledger, (real(k, wp) + 0.5_wp)*dt)
             end if
             if (mod(k + 1, probe_every) == 0) call record_probes(result, t_new, u(0, inew), u(1:n, inew))
-            call observe_detector(result, run%detect, nd, maxval(abs(u(nd + 1:n, inew))), t_new, stop)
+            call observe_detector(result, run%detect, nd, maxval(abs(u(nd + 1:n, inew))), t_new, halt)
 
             ! rotate the levels: k-1 -> k-2, k -> k-1, k+1 -> k
             itmp = io2
@@ -142,7 +142,7 @@ contains
             io = ic
             ic = inew
             inew = itmp
-            if (stop) exit
+            if (halt) exit
         end do
         result%t_end = real(result%steps + 1, wp)*dt
         call close_verdict(result, run%detect)
