@@ -175,10 +175,11 @@ REQUIRED = {
 OPTIONAL = {
     "timeseries": {"ledger/residual": 1},
     "amplitude_sweep": {"curves/threshold_As": 1, "curves/m2": 1, "curves/band_gap_edge": 1,
-                        **{f"energy/{k}": 2 for k in ("stored", "dissipated_gamma", "dissipated_beta",
-                                                     "dissipated_absorber")}},
+                        **{f"energy/{k}": 2 for k in ("injected_after_ramp", "stored", "dissipated_gamma",
+                                                     "dissipated_beta", "dissipated_absorber")}},
     "map": {"curves/m2": 1, "curves/band_gap_edge": 1,
-            **{f"energy/{k}": 3 for k in ("stored", "dissipated_gamma", "dissipated_beta", "dissipated_absorber")}},
+            **{f"energy/{k}": 3 for k in ("injected_after_ramp", "stored", "dissipated_gamma", "dissipated_beta",
+                                          "dissipated_absorber")}},
     "bifurcation": {"curves/m2": 1, "curves/band_gap_edge": 1, "cost/runs": 2, "cost/wall_time": 2},
 }
 #: Groups whose attributes are read when present.
@@ -610,6 +611,7 @@ def _first_transmitting(amplitudes, transmitting, status):
 #: The energies of a sweep or map (datasets /energy/<name>) and how an axis names them.
 ENERGIES = {
     "injected": "total energy injected $E$",
+    "injected_after_ramp": "energy injected after the ramp",
     "stored": "energy stored at $T$",
     "dissipated_gamma": r"energy dissipated by $\gamma$",
     "dissipated_beta": r"energy dissipated by $\beta$",

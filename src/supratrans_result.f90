@@ -7,7 +7,7 @@ module supratrans_result
     implicit none
     private
 
-    public :: status_name, init_records, record_ledger, record_probes, check_blowup, observe_detector, close_verdict
+    public :: status_name, init_records, record_ledger, record_probes, observe_ramp, check_blowup, observe_detector, close_verdict
 
     !> The run reached its final time (or was stopped early with its outcome decided).
     integer, parameter, public :: run_ok = 0
@@ -34,6 +34,11 @@ module supratrans_result
         integer :: newton_max_iterations = 0
         !> Final energy ledger.
         type(ledger_type) :: ledger
+        !> Energy injected up to the end of the drive's ramp (the paper computes "the total energy" after the
+        !> ramp): injected - injected_at_ramp is the energy injected after it. Valid when `ramp_passed`.
+        real(wp) :: injected_at_ramp = 0.0_wp
+        !> The run went past the end of the ramp.
+        logical :: ramp_passed = .false.
         !> Wall-clock time of the run (s).
         real(wp) :: wall_time = 0.0_wp
         !> Largest |u_n| over the run.
@@ -161,6 +166,23 @@ contains
             end if
         end do
     end subroutine record_probes
+
+    !> Note the energy injected up to the end of the ramp: call after each step with the time `t` up to which the
+    !> ledger's injected energy is summed; the first call with t >= ramp_time records it.
+    pure subroutine observe_ramp(result, injected, t, ramp_time)
+        !> The run's result.
+        type(run_result), intent(inout) :: result
+        !> Energy injected so far.
+        real(wp), intent(in) :: injected
+        !> Time up to which `injected` is summed.
+        real(wp), intent(in) :: t
+        !> End of the drive's ramp.
+        real(wp), intent(in) :: ramp_time
+
+        if (result%ramp_passed .or. t < ramp_time) return
+        result%ramp_passed = .true.
+        result%injected_at_ramp = injected
+    end subroutine observe_ramp
 
     !> Blow-up check of a step: `umax` = max |u_n| (NaN counts as blown up). Sets the status and reason.
     pure subroutine check_blowup(result, umax, threshold, t, diverged)

@@ -30,7 +30,7 @@ module supratrans_rk4
     use supratrans_chain, only: damping_profile, drive_psi, ramp_factor, detector_site
     use supratrans_potential, only: force_array, potential_v
     use supratrans_ledger, only: ledger_type, ledger_close
-    use supratrans_result, only: run_result, run_ok, init_records, record_ledger, record_probes, check_blowup, &
+    use supratrans_result, only: run_result, run_ok, init_records, record_ledger, record_probes, observe_ramp, check_blowup, &
                                  observe_detector, close_verdict
     implicit none
     private
@@ -155,6 +155,7 @@ contains
             if (halt) exit
 
             call ledger_from_state(ledger, y(2*n + 1:))
+            call observe_ramp(result, ledger%injected, t1, run%drive%ramp_time)
             if (mod(istep, run%record%ledger_every) == 0) then
                 call ledger_close(ledger, chain_energy(run%chain, drive_psi(run%drive, t1), y))
                 call record_ledger(result, ledger, t1)

@@ -79,8 +79,10 @@ module supratrans_scene_sweep
     integer, parameter, public :: iv_t_end = 13
     !> Position: largest |u_n| over the run.
     integer, parameter, public :: iv_max_abs_u = 14
+    !> Position: energy injected after the end of the ramp (the paper's "total energy").
+    integer, parameter, public :: iv_injected_after_ramp = 15
     !> Number of values a task produces (the columns of the journal).
-    integer, parameter, public :: n_run_values = 14
+    integer, parameter, public :: n_run_values = 15
 
     !> Status of a run not computed (yet): runs missing from a partial file.
     integer, parameter, public :: status_not_run = -1
@@ -110,6 +112,9 @@ module supratrans_scene_sweep
     type(field_spec), parameter :: fields(*) = [ &
         field_spec(iv_injected, "/energy/injected", "energy", .false., "Energy injected through the driven end " &
                    // "over the run 0..T (the paper's total energy transmitted); NaN unless status = 0"), &
+        field_spec(iv_injected_after_ramp, "/energy/injected_after_ramp", "energy", .false., "Energy injected " &
+                   // "after the drive's ramp, from ramp_time to T (the paper: 'before we start to compute the total " &
+                   // "energy'); NaN unless status = 0"), &
         field_spec(iv_stored, "/energy/stored", "energy", .false., "Discrete energy E stored in the chain at T " &
                    // "(paper Sec. 3.2); NaN unless status = 0"), &
         field_spec(iv_dissipated_gamma, "/energy/dissipated_gamma", "energy", .false., "Energy dissipated by the " &
@@ -550,6 +555,7 @@ contains
         values = nan()
         if (result%status == run_ok) then
             values(iv_injected) = result%ledger%injected
+            if (result%ramp_passed) values(iv_injected_after_ramp) = result%ledger%injected - result%injected_at_ramp
             values(iv_stored) = result%ledger%stored
             values(iv_dissipated_gamma) = result%ledger%dissipated_gamma
             values(iv_dissipated_beta) = result%ledger%dissipated_beta

@@ -15,7 +15,7 @@ module supratrans_simulate
     use supratrans_linearized, only: linearized_step
     use supratrans_ledger, only: ledger_type, stored_energy, step_powers, ledger_add_step, ledger_close
     use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed, init_records, &
-                                 record_ledger, record_probes, check_blowup, observe_detector, close_verdict
+                                 record_ledger, record_probes, observe_ramp, check_blowup, observe_detector, close_verdict
     implicit none
     private
 
@@ -129,6 +129,8 @@ contains
             call step_powers(scheme, run%chain%gamma, run%chain%beta, u(:, io), u(:, ic), u(:, inew), &
                              p_in, d_gamma, d_beta, d_abs)
             call ledger_add_step(ledger, dt, p_in, d_gamma, d_beta, d_abs)
+            ! the ledger now sums the powers P_1 .. P_k, i.e. over [t_{1/2}, t_{k+1/2}]
+            call observe_ramp(result, ledger%injected, (real(k, wp) + 0.5_wp)*dt, run%drive%ramp_time)
             if (mod(k, ledger_every) == 0) then
                 call ledger_close(ledger, stored_energy(scheme, run%chain%m2, u(:, inew), u(:, ic)))
                 call record_ledger(result, ledger, (real(k, wp) + 0.5_wp)*dt)
