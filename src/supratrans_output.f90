@@ -189,6 +189,13 @@ contains
                                                        result%ledger%max_step_residual, error)
         if (.not. allocated(error)) call h5_write_attr(file, group, "ledger_energy_scale", &
                                                        result%ledger%energy_scale, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "transmitting", result%transmitting, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "t_decided", result%t_decided, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "verdict_reason", result%verdict_reason, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "detect_site", result%detect_site, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "u_beyond_max", result%u_beyond_max, error)
+        if (.not. allocated(error) .and. result%ramp_passed) call h5_write_attr(file, group, &
+            "energy_injected_after_ramp", result%ledger%injected - result%injected_at_ramp, error)
     end subroutine write_outcome
 
 end module supratrans_output

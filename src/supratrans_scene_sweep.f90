@@ -81,8 +81,12 @@ module supratrans_scene_sweep
     integer, parameter, public :: iv_max_abs_u = 14
     !> Position: energy injected after the end of the ramp (the paper's "total energy").
     integer, parameter, public :: iv_injected_after_ramp = 15
+    !> Position: largest |u_n| beyond the detector site (what the verdict compares with `detect_amplitude`).
+    integer, parameter, public :: iv_u_beyond_max = 16
+    !> Position: the detector site n_d of the run.
+    integer, parameter, public :: iv_detect_site = 17
     !> Number of values a task produces (the columns of the journal).
-    integer, parameter, public :: n_run_values = 15
+    integer, parameter, public :: n_run_values = 17
 
     !> Status of a run not computed (yet): runs missing from a partial file.
     integer, parameter, public :: status_not_run = -1
@@ -137,7 +141,11 @@ module supratrans_scene_sweep
         field_spec(iv_wall_time, "/runs/wall_time", "s", .false., "Wall-clock time of the run; NaN if not run"), &
         field_spec(iv_t_end, "/runs/t_end", "time", .false., "Time at which the run ended: T, or when it failed; " &
                    // "NaN if not run"), &
-        field_spec(iv_max_abs_u, "/runs/max_abs_u", "rad", .false., "Largest |u_n| over the run; NaN if not run")]
+        field_spec(iv_max_abs_u, "/runs/max_abs_u", "rad", .false., "Largest |u_n| over the run; NaN if not run"), &
+        field_spec(iv_u_beyond_max, "/runs/u_beyond_max", "rad", .false., "Reason of the verdict: largest |u_n| " &
+                   // "beyond the detector site (transmitting once it exceeds detect_amplitude); NaN if not run"), &
+        field_spec(iv_detect_site, "/runs/detect_site", "1", .true., "Detector site n_d of the verdict; -1 if not " &
+                   // "run")]
 
     !> The tasks of a sweep or map: a grid of curves x driving frequencies x amplitudes, one full run each.
     !> Read-only while the tasks run.
@@ -570,6 +578,8 @@ contains
         values(iv_wall_time) = result%wall_time
         values(iv_t_end) = result%t_end
         values(iv_max_abs_u) = result%max_abs_u
+        values(iv_u_beyond_max) = result%u_beyond_max
+        values(iv_detect_site) = real(result%detect_site, wp)
     end function run_values
 
     !> The values of a run not computed: NaN, status `status_not_run`.
