@@ -3,6 +3,7 @@
 module supratrans_cli
     use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
     use supratrans_kinds, only: wp, supratrans_version
+    use supratrans_strings, only: real_str
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config
     use supratrans_input, only: read_input
@@ -52,6 +53,8 @@ contains
             call progress(cfg, "supratrans " // supratrans_version // ": timeseries from " // path)
             call simulate(cfg%run, result)
             call progress(cfg, "  run ended: " // status_name(result%status) // " " // result%reason)
+            call progress(cfg, "  verdict: " // trim(merge("transmitting    ", "not transmitting", result%transmitting)) &
+                          // " (" // result%verdict_reason // "); energy injected " // real_str(result%ledger%injected, 6))
             call write_timeseries(cfg, result, error)
         case ("amplitude_sweep")
             call run_amplitude_sweep(cfg, error)
