@@ -1,12 +1,13 @@
 !> The curves of a scene: one run configuration per (potential, value of the varied parameter), as in the paper's
 !> figures (e.g. Fig. 2: gamma = 0, 0.01, 0.02, 0.03 for each of the two potentials).
 module supratrans_curves
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
     use supratrans_config, only: input_config, run_config
     implicit none
     private
 
-    public :: curve_count, potential_count, value_count, curve_run, curve_indices
+    public :: curve_count, potential_count, value_count, curve_run, curve_indices, curve_value
 
 contains
 
@@ -80,5 +81,22 @@ contains
             continue                            ! 'none': validated by supratrans_input
         end select
     end function curve_run
+
+    !> Value of the varied parameter (`&scene vary`) on curve `icurve`; NaN when nothing varies.
+    function curve_value(cfg, icurve) result(value)
+        !> Validated input.
+        type(input_config), intent(in) :: cfg
+        !> Curve index, 1..curve_count.
+        integer, intent(in) :: icurve
+        real(wp) :: value
+        integer :: ipot, ival
+
+        if (trim(cfg%scene%vary) == "none" .or. .not. allocated(cfg%scene%values)) then
+            value = ieee_value(1.0_wp, ieee_quiet_nan)
+        else
+            call curve_indices(cfg, icurve, ipot, ival)
+            value = cfg%scene%values(ival)
+        end if
+    end function curve_value
 
 end module supratrans_curves

@@ -27,7 +27,7 @@ module supratrans_scene_bifurcation
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config, run_config
-    use supratrans_curves, only: curve_count, curve_run
+    use supratrans_curves, only: curve_count, curve_run, curve_value
     use supratrans_chain, only: threshold_as, band_gap_edge, detector_site
     use supratrans_potential, only: potential_name
     use supratrans_simulate, only: simulate, number_of_levels
@@ -443,16 +443,7 @@ contains
             beta(ic) = tasks%runs(ic)%chain%beta
             m2(ic) = tasks%runs(ic)%chain%m2
             edge(ic) = band_gap_edge(tasks%runs(ic)%chain)
-            select case (trim(tasks%cfg%scene%vary))
-            case ("gamma")
-                value(ic) = tasks%runs(ic)%chain%gamma
-            case ("beta")
-                value(ic) = tasks%runs(ic)%chain%beta
-            case ("m2")
-                value(ic) = tasks%runs(ic)%chain%m2
-            case default
-                value(ic) = ieee_value(value(ic), ieee_quiet_nan)
-            end select
+            value(ic) = curve_value(tasks%cfg, ic)
         end do
         call h5_create_group(file, "/curves", "One curve per potential and value of the varied parameter", error)
         if (.not. allocated(error)) call h5_write_attr(file, "/curves", "vary", trim(tasks%cfg%scene%vary), error)

@@ -45,7 +45,7 @@ module supratrans_scene_stability
     use supratrans_input, only: method_name
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: critical_dt, damping_profile
-    use supratrans_curves, only: curve_count, curve_run, curve_indices
+    use supratrans_curves, only: curve_count, curve_run, curve_value
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok
     use supratrans_tasks, only: task_list, run_tasks, file_fingerprint, remove_file
@@ -458,7 +458,7 @@ contains
                                             rk4_undamped(:, :)
         type(error_type), allocatable, intent(out) :: error
         type(h5_file) :: file
-        integer :: ncurve, nm, nc, ndt, nbis, icurve, im, ic, idt, itask, ipot, ival
+        integer :: ncurve, nm, nc, ndt, nbis, icurve, im, ic, idt, itask
         integer, allocatable :: verdict(:, :, :)
         real(wp), allocatable :: umax(:, :, :), observed(:, :, :), observed_hi(:, :, :)
         real(wp), allocatable :: consistent(:, :, :), runs(:, :, :), values(:)
@@ -474,18 +474,8 @@ contains
         allocate (observed(nc, nm, ncurve), observed_hi(nc, nm, ncurve), consistent(nc, nm, ncurve), &
                   runs(nc, nm, ncurve), names(nm), potentials(ncurve), values(ncurve))
         do icurve = 1, ncurve
-            call curve_indices(cfg, icurve, ipot, ival)
             potentials(icurve) = potential_name(tasks%curves(icurve)%chain%potential)
-            select case (trim(cfg%scene%vary))
-            case ("gamma")
-                values(icurve) = tasks%curves(icurve)%chain%gamma
-            case ("beta")
-                values(icurve) = tasks%curves(icurve)%chain%beta
-            case ("m2")
-                values(icurve) = tasks%curves(icurve)%chain%m2
-            case default
-                values(icurve) = ieee_value(1.0_wp, ieee_quiet_nan)
-            end select
+            values(icurve) = curve_value(cfg, icurve)
             do im = 1, nm
                 do ic = 1, nc
                     itask = ic + nc*((im - 1) + nm*(icurve - 1))
