@@ -6,7 +6,7 @@ scientist would without our code; timed and scored against the reference of a `w
     python3 postprocess/peer_scipy.py out/work_precision.h5 --check         # model check only (tight tolerance)
     python3 postprocess/peer_scipy.py out/work_precision.h5 -o peer.json --methods DOP853 --tols 1e-4 1e-8
 
-The model is the one of `src/supratrans_rk4.f90` (`rk4_rhs`), as a first-order system of size 2N + 1, with
+The model is the one of `src/numerics/supratrans_rk4.f90` (`rk4_rhs`), as a first-order system of size 2N + 1, with
 every parameter read from the file's `/parameters` attributes (nothing re-typed here):
 
     u_n' = v_n,

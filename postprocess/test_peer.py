@@ -105,7 +105,7 @@ def tiny_chain(potential="sine-gordon", **kw):
 
 
 def loop_rhs(ch, a, t, y, ramping):
-    """rk4_rhs of src/supratrans_rk4.f90, site by site."""
+    """rk4_rhs of src/numerics/supratrans_rk4.f90, site by site."""
     n = ch.n
     r, dr = (t / ch.ramp_time, 1.0 / ch.ramp_time) if ramping else (1.0, 0.0)
     psi = a * r * math.sin(ch.omega * t)

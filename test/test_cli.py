@@ -72,3 +72,20 @@ def test_output_exists_is_refused_then_overwritten(exe, tmp_path):
         assert f["probes/u"].attrs["units"] == b"rad"
         assert f["run"].attrs["status"] == b"ok"
     assert not (tmp_path / "result.h5.tmp").exists()
+
+
+def test_output_path_never_reaches_a_shell(exe, tmp_path):
+    """A path with shell syntax is a path: its directories are made literally and no command runs."""
+    small = "&chain n = 40, n0 = 30 /\n&record probes = 5 /\n&numerics t_final = 2.0 /\n"
+    hostile = "out/x'; echo INJECTED > PWNED; echo '/r.h5"
+    proc, _ = run(exe, tmp_path, small + f"&output file = \"{hostile}\", quiet = .true. /\n")
+    assert proc.returncode == 0, proc.stderr
+    assert not (tmp_path / "PWNED").exists()
+    assert (tmp_path / hostile).is_file()
+
+
+def test_nested_output_directories_are_created(exe, tmp_path):
+    small = "&chain n = 40, n0 = 30 /\n&record probes = 5 /\n&numerics t_final = 2.0 /\n"
+    proc, _ = run(exe, tmp_path, small + "&output file = 'a/b//c/r.h5', quiet = .true. /\n")
+    assert proc.returncode == 0, proc.stderr
+    assert (tmp_path / "a" / "b" / "c" / "r.h5").is_file()

@@ -20,7 +20,7 @@ program benchmark
     use supratrans_scene_sweep, only: run_amplitude_sweep
     use supratrans_scene_bifurcation, only: run_bifurcation
     use supratrans_hdf5, only: h5_file, h5_open, h5_read, h5_close
-    use supratrans_tasks, only: remove_file
+    use supratrans_system, only: remove_file
     use supratrans_scene_workprec, only: median
     !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
     implicit none

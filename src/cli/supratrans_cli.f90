@@ -6,6 +6,7 @@ module supratrans_cli
     use supratrans_strings, only: real_str
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config
+    use supratrans_system, only: make_directories
     use supratrans_input, only: read_input
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, status_name
@@ -76,21 +77,19 @@ contains
         call progress(cfg, "  wrote " // trim(cfg%output%file))
     end subroutine run_from_file
 
-    !> Create the directory part of an output path if it does not exist (like `mkdir -p`).
+    !> Create the directory part of an output path if it does not exist (like `mkdir -p`, through mkdir(2): no shell).
     subroutine ensure_parent_directory(file, error)
         !> Output file path.
         character(len=*), intent(in) :: file
         !> Error, allocated if the directory cannot be created.
         type(error_type), allocatable, intent(out) :: error
-        logical :: exists
-        integer :: k, stat
+        type(error_type), allocatable :: cause
+        integer :: k
 
         k = index(file, "/", back=.true.)
         if (k <= 1) return
-        inquire (file=file(1:k - 1) // "/.", exist=exists)
-        if (exists) return
-        call execute_command_line("mkdir -p '" // file(1:k - 1) // "'", exitstat=stat)
-        if (stat /= 0) call fatal_error(error, file // ": cannot create directory '" // file(1:k - 1) // "'", err_io)
+        call make_directories(file(1:k - 1), cause)
+        if (allocated(cause)) call fatal_error(error, file // ": " // cause%message, err_io)
     end subroutine ensure_parent_directory
 
     !> Print a progress line on stderr unless the output asks for quiet.

@@ -48,7 +48,8 @@ module supratrans_scene_stability
     use supratrans_curves, only: curve_count, curve_run, curve_value
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok
-    use supratrans_tasks, only: task_list, run_tasks, file_fingerprint, remove_file
+    use supratrans_tasks, only: task_list, run_tasks, file_fingerprint
+    use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_run_parameters
     use supratrans_rk_high, only: rk8_stability_coefficients, rk8_stages

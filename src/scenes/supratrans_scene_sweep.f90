@@ -40,7 +40,8 @@ module supratrans_scene_sweep
     use supratrans_chain, only: band_gap_edge, threshold_as
     use supratrans_simulate, only: simulate, number_of_levels
     use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed, status_name
-    use supratrans_tasks, only: task_list, run_tasks, file_fingerprint, remove_file
+    use supratrans_tasks, only: task_list, run_tasks, file_fingerprint
+    use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_run_parameters
     use supratrans_strings, only: int_str, real_str

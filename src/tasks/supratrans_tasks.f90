@@ -11,11 +11,12 @@ module supratrans_tasks
     use supratrans_kinds, only: wp
     use supratrans_strings, only: int_str, fixed1
     use supratrans_error, only: error_type, fatal_error, err_io
+    use supratrans_system, only: rename_file, remove_file
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
     private
 
-    public :: run_tasks, file_fingerprint, remove_file
+    public :: run_tasks, file_fingerprint
 
     !> A scene's list of tasks; the scene extends it with what its tasks need (read-only during the run).
     type, abstract, public :: task_list
@@ -247,35 +248,5 @@ contains
         write (buf, '(z8.8, "-", z8.8)') h1, h2
         hash_text = buf
     end function file_fingerprint
-
-    !> Rename a file (libc rename: atomic on one file system).
-    subroutine rename_file(from, to, error)
-        character(len=*), intent(in) :: from, to
-        type(error_type), allocatable, intent(out) :: error
-        interface
-            function c_rename(old, new) bind(c, name="rename") result(stat)
-                use, intrinsic :: iso_c_binding, only: c_char, c_int
-                character(kind=c_char), intent(in) :: old(*), new(*)
-                integer(c_int) :: stat
-            end function c_rename
-        end interface
-
-        if (c_rename(from // achar(0), to // achar(0)) /= 0) then
-            call fatal_error(error, from // ": cannot rename to " // to, err_io)
-        end if
-    end subroutine rename_file
-
-    !> Delete a file if it exists.
-    subroutine remove_file(path)
-        !> File to delete.
-        character(len=*), intent(in) :: path
-        integer :: unit, ios
-        logical :: exists
-
-        inquire (file=path, exist=exists)
-        if (.not. exists) return
-        open (newunit=unit, file=path, status="old", iostat=ios)
-        if (ios == 0) close (unit, status="delete")
-    end subroutine remove_file
 
 end module supratrans_tasks

@@ -47,7 +47,8 @@ module supratrans_scene_workprec
     use supratrans_input, only: method_name
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok, run_diverged, status_name
-    use supratrans_tasks, only: task_list, run_tasks, file_fingerprint, remove_file
+    use supratrans_tasks, only: task_list, run_tasks, file_fingerprint
+    use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_run_parameters
     use supratrans_tridiag, only: solve_tridiag
