@@ -165,6 +165,16 @@ module supratrans_config
     type, public :: input_config
         !> Path of the namelist file it came from.
         character(len=:), allocatable :: source
+        !> The namelist text exactly as read (stored in part files, so that `merge` needs no other copy).
+        character(len=:), allocatable :: text
+        !> Fingerprint of that text (`text_fingerprint`): ties journals and part files to the input.
+        character(len=:), allocatable :: fingerprint
+        !> Run only slice `slice_index` of `slice_count` of the scene's tasks (command line `--slice I/N`; 0: all).
+        integer :: slice_index = 0
+        !> Number of slices the scene's tasks are split into (0: not sliced).
+        integer :: slice_count = 0
+        !> Compute nothing: write the partial snapshot of what the journal holds (`merge --partial`).
+        logical :: snapshot_only = .false.
         !> The base run (the scene varies some of its parameters).
         type(run_config) :: run
         !> The scene.

@@ -10,6 +10,7 @@ module supratrans_error
     integer, parameter, public :: err_input = 2     !< bad input: namelist, file, parameter out of range
     integer, parameter, public :: err_runtime = 3   !< a run failed (divergence, Newton failure) where that is fatal
     integer, parameter, public :: err_io = 4        !< reading or writing an output file failed
+    integer, parameter, public :: err_interrupted = 5  !< stopped by a signal (SIGTERM, SIGINT, SIGUSR1); run again to resume
 
     !> An error: a code (the exit status) and a one-line message that names what is wrong.
     type :: error_type

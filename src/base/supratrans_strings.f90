@@ -5,11 +5,11 @@
 !> threads (the observers of a run) uses the fixed-length forms `int_fixed` / `real_fixed` with `trim`.
 module supratrans_strings
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
-    use supratrans_kinds, only: wp
+    use supratrans_kinds, only: wp, i8
     implicit none
     private
 
-    public :: int_str, real_str, fixed4, fixed1, int_fixed, real_fixed
+    public :: int_str, real_str, fixed4, fixed1, int_fixed, real_fixed, text_fingerprint
 
 contains
 
@@ -137,5 +137,26 @@ contains
         if (s(1:1) == ".") s = "0" // s
         if (s(1:2) == "-.") s = "-0" // s(2:)
     end function fixed1
+
+    !> A fingerprint of a text (two polynomial hashes modulo the prime 2^31 - 1, in hexadecimal), to tie a journal
+    !> or a part file to its input. Integer arithmetic never overflows: every intermediate is below 2^38.
+    pure function text_fingerprint(bytes) result(hash_text)
+        !> The text.
+        character(len=*), intent(in) :: bytes
+        character(len=:), allocatable :: hash_text
+        integer(i8), parameter :: modulus = 2147483647_i8
+        integer(i8) :: h1, h2
+        integer :: i
+        character(len=17) :: buf
+
+        h1 = 1_i8
+        h2 = 7_i8
+        do i = 1, len(bytes)
+            h1 = mod(h1*31_i8 + int(ichar(bytes(i:i)), i8), modulus)
+            h2 = mod(h2*131_i8 + int(ichar(bytes(i:i)), i8), modulus)
+        end do
+        write (buf, '(z8.8, "-", z8.8)') h1, h2
+        hash_text = buf
+    end function text_fingerprint
 
 end module supratrans_strings

@@ -1,16 +1,30 @@
-!> The command line: `supratrans <file.nml>` reads and validates the namelist, runs its scene and writes the
-!> output. Everything is returned as a status and a message, so that tests can drive it like the program does.
+!> The command line: what `app/main.f90` calls. Everything is returned as a status and a message, so that tests can
+!> drive it like the program does.
+!>
+!>     supratrans FILE.nml                  run the study a namelist describes, write its HDF5 output
+!>     supratrans FILE.nml --slice I/N      run slice I of N of the scene's tasks, write a part file
+!>     supratrans merge [--partial] [-o OUT] [--overwrite] PART...   join part files into the scene's output
+!>     supratrans --check FILE.nml          read and validate only
+!>     supratrans --help | --version
+!>
+!> Before any work starts the output location is checked: not a directory, not the input file itself, its directory
+!> made (mkdir(2), never a shell) and writable; an advisory lock `<output>.lock` keeps a second instance off the same
+!> output while the first runs. SIGTERM, SIGINT and SIGUSR1 stop a scene cleanly (exit status 5): the tasks running
+!> finish and are journaled, a snapshot is written, and the same command resumes.
 module supratrans_cli
     use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
     use supratrans_kinds, only: wp, supratrans_version
-    use supratrans_strings, only: real_str
+    use supratrans_strings, only: real_str, int_str
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config
-    use supratrans_system, only: make_directories
-    use supratrans_input, only: read_input
+    use supratrans_system, only: make_directories, path_kind, path_directory, path_missing, same_file, lock_file, &
+                                 unlock_file, remove_file, catch_stop_signals
+    use supratrans_input, only: read_input, read_input_text, validate_config
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, status_name
     use supratrans_output, only: write_timeseries
+    use supratrans_journal, only: write_journal
+    use supratrans_parts, only: part_set, read_parts, part_path, merged_path
     use supratrans_scene_sweep, only: run_amplitude_sweep
     use supratrans_scene_map, only: run_map
     use supratrans_scene_bifurcation, only: run_bifurcation
@@ -19,39 +33,295 @@ module supratrans_cli
     implicit none
     private
 
-    public :: run_from_file, usage
+    public :: run_command, run_from_file, usage, printable
 
     !> Usage text of the program.
-    character(len=*), parameter :: usage = "usage: supratrans <input.nml>   (see README.md; input/ holds examples)"
+    character(len=*), parameter :: usage = "usage: supratrans FILE.nml [--slice I/N] | supratrans merge [--partial] " &
+        // "[-o OUT] [--overwrite] PART... | supratrans --check FILE.nml | supratrans --help | supratrans --version"
+
+    !> The longer help of `--help`.
+    character(len=*), parameter :: help_text = usage // new_line("a") // new_line("a") // &
+        "  FILE.nml              run the study the namelist describes (input/ holds one per paper figure)" &
+        // new_line("a") // &
+        "  --slice I/N           run only slice I of N of the scene's tasks (interleaved) and write" // new_line("a") // &
+        "                        <output stem>.part-I-of-N.h5; for Slurm job arrays (input/slurm/)" // new_line("a") // &
+        "  merge PART...         join the part files of every slice into the scene's ordinary output" // new_line("a") // &
+        "    --partial           accept missing slices: write <output>.partial.h5 from what is there" // new_line("a") // &
+        "    -o OUT              output file (default: the parts' name without .part-I-of-N)" // new_line("a") // &
+        "    --overwrite         replace an existing output file" // new_line("a") // &
+        "  --check FILE.nml      read and validate the namelist only (exit 0 if it would run)" // new_line("a") // &
+        "  --version             print the version" // new_line("a") // new_line("a") // &
+        "Exit status: 0 success, 2 bad input or command line, 3 a run failed fatally, 4 output not written," &
+        // new_line("a") // "5 stopped by a signal (run the same command again to resume)."
 
 contains
 
-    !> Run the study described by namelist file `path`. Returns exit status 0 on success; otherwise the error's
-    !> status (2 for bad input) and `error` holds the one-line message.
-    subroutine run_from_file(path, status, error)
+    !> Run the command line `args` (without the program name): the status is the program's exit status, `error`
+    !> its one-line message; `text` is what goes to standard output (help, version).
+    subroutine run_command(args, status, error, text)
+        !> The arguments.
+        character(len=*), intent(in) :: args(:)
+        !> Exit status.
+        integer, intent(out) :: status
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        !> Text for standard output (empty unless help or version).
+        character(len=:), allocatable, intent(out) :: text
+        character(len=:), allocatable :: file, output, parts(:)
+        integer :: i, slice_index, slice_count, nparts
+        logical :: check_only, partial, overwrite
+
+        status = 0
+        text = ""
+        if (size(args) == 0) then
+            call fail(usage)
+            return
+        end if
+        select case (trim(args(1)))
+        case ("--help", "-h")
+            text = help_text
+            return
+        case ("--version", "-V")
+            text = "supratrans " // supratrans_version
+            return
+        case ("merge")
+            partial = .false.
+            overwrite = .false.
+            output = ""
+            nparts = 0
+            allocate (character(len=len(args)) :: parts(size(args)))
+            i = 2
+            do while (i <= size(args))
+                select case (trim(args(i)))
+                case ("--partial")
+                    partial = .true.
+                case ("--overwrite")
+                    overwrite = .true.
+                case ("-o")
+                    if (i == size(args)) then
+                        call fail("merge: -o needs a file name")
+                        return
+                    end if
+                    i = i + 1
+                    output = trim(args(i))
+                case default
+                    if (args(i)(1:1) == "-") then
+                        call fail("merge: unknown option '" // printable(trim(args(i))) // "' (see supratrans --help)")
+                        return
+                    end if
+                    nparts = nparts + 1
+                    parts(nparts) = args(i)
+                end select
+                i = i + 1
+            end do
+            if (nparts == 0) then
+                call fail("merge: no part files given (supratrans merge out/x.part-*.h5)")
+                return
+            end if
+            call merge_parts(parts(1:nparts), partial, output, overwrite, status, error)
+            return
+        end select
+
+        file = ""
+        check_only = .false.
+        slice_index = 0
+        slice_count = 0
+        i = 1
+        do while (i <= size(args))
+            select case (trim(args(i)))
+            case ("--check")
+                check_only = .true.
+            case ("--slice")
+                if (i == size(args)) then
+                    call fail("--slice needs I/N, e.g. --slice 3/16")
+                    return
+                end if
+                i = i + 1
+                call parse_slice(trim(args(i)), slice_index, slice_count, error)
+                if (allocated(error)) then
+                    status = error%stat
+                    return
+                end if
+            case default
+                if (args(i)(1:1) == "-" .and. len_trim(args(i)) > 1) then
+                    call fail("unknown option '" // printable(trim(args(i))) // "' (see supratrans --help)")
+                    return
+                end if
+                if (len(file) > 0) then
+                    call fail("one namelist file at a time ('" // file // "' and '" // printable(trim(args(i))) &
+                              // "'); see supratrans --help")
+                    return
+                end if
+                file = trim(args(i))
+            end select
+            i = i + 1
+        end do
+        if (len(file) == 0) then
+            call fail(usage)
+            return
+        end if
+        if (check_only) then
+            call check_file(file, status, error)
+        else
+            call run_from_file(file, status, error, slice_index, slice_count)
+        end if
+
+    contains
+
+        subroutine fail(message)
+            character(len=*), intent(in) :: message
+
+            call fatal_error(error, message, err_input)
+            status = err_input
+        end subroutine fail
+
+    end subroutine run_command
+
+    !> Read "I/N" with 1 <= I <= N <= 100000.
+    subroutine parse_slice(text, slice_index, slice_count, error)
+        !> The argument of --slice.
+        character(len=*), intent(in) :: text
+        !> Slice I.
+        integer, intent(out) :: slice_index
+        !> Number of slices N.
+        integer, intent(out) :: slice_count
+        !> Error, allocated when the text is not I/N.
+        type(error_type), allocatable, intent(out) :: error
+        integer :: k, ios1, ios2
+
+        slice_index = 0
+        slice_count = 0
+        k = index(text, "/")
+        ios1 = 1
+        ios2 = 1
+        if (k > 1 .and. k < len(text) .and. verify(text, "0123456789/") == 0 .and. len(text) <= 13) then
+            read (text(1:k - 1), *, iostat=ios1) slice_index
+            read (text(k + 1:), *, iostat=ios2) slice_count
+        end if
+        if (ios1 /= 0 .or. ios2 /= 0 .or. slice_count < 1 .or. slice_count > 100000 .or. slice_index < 1 &
+            .or. slice_index > slice_count) then
+            call fatal_error(error, "--slice " // printable(text) // ": expected I/N with 1 <= I <= N <= 100000, " &
+                             // "e.g. --slice 3/16", err_input)
+        end if
+    end subroutine parse_slice
+
+    !> `--check`: read and validate the namelist (output location included), run nothing, write nothing.
+    subroutine check_file(path, status, error)
+        !> Namelist file.
+        character(len=*), intent(in) :: path
+        !> Exit status.
+        integer, intent(out) :: status
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        type(input_config) :: cfg
+
+        status = 0
+        call read_input(path, cfg, error)
+        if (.not. allocated(error)) call check_output_location(cfg, error, create=.false.)
+        if (allocated(error)) status = error%stat
+    end subroutine check_file
+
+    !> Run the study described by namelist file `path` (or slice `slice_index` of `slice_count` of it). Returns exit
+    !> status 0 on success; otherwise the error's status (2 for bad input) and `error` holds the one-line message.
+    subroutine run_from_file(path, status, error, slice_index, slice_count)
         !> Namelist file.
         character(len=*), intent(in) :: path
         !> Exit status for the program.
         integer, intent(out) :: status
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
+        !> Run only slice `slice_index` of `slice_count` (default: the whole scene).
+        integer, intent(in), optional :: slice_index, slice_count
         type(input_config) :: cfg
-        type(run_result) :: result
+        type(part_set) :: done_part
+        type(error_type), allocatable :: cause
 
         status = 0
-        call read_input(path, cfg, error)
+        call read_input(path, cfg, error, check_output=.false.)
         if (allocated(error)) then
             status = error%stat
             return
         end if
-        call ensure_parent_directory(trim(cfg%output%file), error)
+        if (present(slice_index) .and. present(slice_count)) then
+            if (slice_count > 0) then
+                if (trim(cfg%scene%kind) == "timeseries") then
+                    call fatal_error(error, path // ": &scene kind = 'timeseries' is one run: --slice applies to " &
+                                     // "amplitude_sweep, map, bifurcation, work_precision and stability", err_input)
+                    status = error%stat
+                    return
+                end if
+                cfg%slice_index = slice_index
+                cfg%slice_count = slice_count
+                cfg%output%file = part_path(trim(cfg%output%file), slice_index, slice_count)
+                if (path_kind(trim(cfg%output%file)) /= path_missing) then
+                    call read_parts([character(len=len_trim(cfg%output%file)) :: trim(cfg%output%file)], .true., &
+                                    done_part, cause)
+                    if (.not. allocated(cause)) then
+                        if (done_part%fingerprint == cfg%fingerprint) then
+                            call progress(cfg, "supratrans: " // trim(cfg%output%file) // " is complete already " &
+                                          // "(slice " // int_str(slice_index) // "/" // int_str(slice_count) // ")")
+                            return
+                        end if
+                    end if
+                end if
+            end if
+        end if
+        call validate_config(cfg, error)
+        if (.not. allocated(error)) call check_output_location(cfg, error)
         if (allocated(error)) then
             status = error%stat
             return
         end if
+        call with_lock(cfg, status, error)
+    end subroutine run_from_file
+
+    !> Take the output's lock, run the scene, release the lock.
+    subroutine with_lock(cfg, status, error)
+        !> The validated input.
+        type(input_config), intent(inout) :: cfg
+        !> Exit status.
+        integer, intent(out) :: status
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=:), allocatable :: lock
+        integer :: handle
+
+        status = 0
+        lock = trim(cfg%output%file) // ".lock"
+        call lock_file(lock, handle)
+        if (handle == -1) then
+            call fatal_error(error, trim(cfg%output%file) // ": another supratrans is writing this output (lock " &
+                             // lock // " is held); wait for it to end", err_io)
+        else if (handle < 0) then
+            call fatal_error(error, trim(cfg%output%file) // ": cannot write in its directory (lock file " // lock &
+                             // " cannot be created)", err_io)
+        end if
+        if (allocated(error)) then
+            status = error%stat
+            return
+        end if
+        call catch_stop_signals()
+        call run_scene(cfg, error)
+        call remove_file(lock)
+        call unlock_file(handle)
+        if (allocated(error)) then
+            status = error%stat
+            return
+        end if
+        if (cfg%slice_count == 0 .and. .not. cfg%snapshot_only) call progress(cfg, "  wrote " // trim(cfg%output%file))
+    end subroutine with_lock
+
+    !> Run the scene of a validated input.
+    subroutine run_scene(cfg, error)
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        type(run_result) :: result
+
         select case (trim(cfg%scene%kind))
         case ("timeseries")
-            call progress(cfg, "supratrans " // supratrans_version // ": timeseries from " // path)
+            call progress(cfg, "supratrans " // supratrans_version // ": timeseries from " // cfg%source)
             call simulate(cfg%run, result)
             call progress(cfg, "  run ended: " // status_name(result%status) // " " // result%reason)
             call progress(cfg, "  verdict: " // trim(merge("transmitting    ", "not transmitting", result%transmitting)) &
@@ -68,29 +338,106 @@ contains
         case ("stability")
             call run_stability(cfg, error)
         case default
-            call fatal_error(error, path // ": &scene: kind '" // trim(cfg%scene%kind) // "' is not implemented", err_input)
+            call fatal_error(error, cfg%source // ": &scene: kind '" // trim(cfg%scene%kind) // "' is not implemented", &
+                             err_input)
         end select
+    end subroutine run_scene
+
+    !> Join part files into the scene's output (see `supratrans_parts`).
+    subroutine merge_parts(paths, partial, output, overwrite, status, error)
+        !> The part files.
+        character(len=*), intent(in) :: paths(:)
+        !> Accept missing slices and write a partial snapshot.
+        logical, intent(in) :: partial
+        !> Output file ("" for the parts' own name).
+        character(len=*), intent(in) :: output
+        !> Replace an existing output.
+        logical, intent(in) :: overwrite
+        !> Exit status.
+        integer, intent(out) :: status
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        type(part_set) :: set
+        type(input_config) :: cfg
+        character(len=:), allocatable :: journal
+
+        status = 0
+        call read_parts(paths, partial, set, error)
+        if (.not. allocated(error)) call read_input_text(set%text, set%source, cfg, error, check_output=.false.)
         if (allocated(error)) then
             status = error%stat
             return
         end if
-        call progress(cfg, "  wrote " // trim(cfg%output%file))
-    end subroutine run_from_file
+        cfg%fingerprint = set%fingerprint
+        cfg%output%file = output
+        if (len(output) == 0) cfg%output%file = merged_path(trim(paths(1)))
+        if (overwrite) cfg%output%overwrite = .true.
+        cfg%snapshot_only = partial
+        if (.not. partial) call validate_config(cfg, error)
+        if (.not. allocated(error)) call check_output_location(cfg, error)
+        if (allocated(error)) then
+            status = error%stat
+            return
+        end if
+        journal = trim(cfg%output%file) // ".journal"
+        call write_journal(journal, set%header, set%results, set%done, error)
+        if (allocated(error)) then
+            status = error%stat
+            return
+        end if
+        call progress(cfg, "supratrans merge: " // int_str(count(set%done)) // " of " // int_str(size(set%done)) &
+                      // " tasks from " // int_str(size(paths)) // " part(s) of " // int_str(set%slice_count) &
+                      // " -> " // trim(cfg%output%file) // trim(merge(".partial.h5", "           ", partial)))
+        call with_lock(cfg, status, error)
+        if (partial) call remove_file(journal)
+    end subroutine merge_parts
 
-    !> Create the directory part of an output path if it does not exist (like `mkdir -p`, through mkdir(2): no shell).
-    subroutine ensure_parent_directory(file, error)
-        !> Output file path.
-        character(len=*), intent(in) :: file
-        !> Error, allocated if the directory cannot be created.
+    !> The output location, checked before any work: not a directory, not the input itself, its directory made
+    !> (mkdir(2), no shell).
+    subroutine check_output_location(cfg, error, create)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated when the output cannot be written there.
         type(error_type), allocatable, intent(out) :: error
+        !> Create the missing directories (default true; `--check` writes nothing).
+        logical, intent(in), optional :: create
+        character(len=:), allocatable :: file
         type(error_type), allocatable :: cause
         integer :: k
 
+        file = trim(cfg%output%file)
+        if (path_kind(file) == path_directory) then
+            call fatal_error(error, cfg%source // ": &output: file = '" // file // "' is a directory", err_input)
+            return
+        end if
+        if (allocated(cfg%source)) then
+            if (same_file(file, cfg%source)) then
+                call fatal_error(error, cfg%source // ": &output: file = '" // file // "' is the input file itself", &
+                                 err_input)
+                return
+            end if
+        end if
         k = index(file, "/", back=.true.)
         if (k <= 1) return
+        if (present(create)) then
+            if (.not. create) return
+        end if
         call make_directories(file(1:k - 1), cause)
-        if (allocated(cause)) call fatal_error(error, file // ": " // cause%message, err_io)
-    end subroutine ensure_parent_directory
+        if (allocated(cause)) call fatal_error(error, cfg%source // ": &output: " // cause%message, err_io)
+    end subroutine check_output_location
+
+    !> A text with every character outside printable ASCII shown as '?', for messages.
+    pure function printable(text) result(shown)
+        !> The text.
+        character(len=*), intent(in) :: text
+        character(len=len(text)) :: shown
+        integer :: i
+
+        shown = text
+        do i = 1, len(text)
+            if (iachar(text(i:i)) < 32 .or. iachar(text(i:i)) > 126) shown(i:i) = "?"
+        end do
+    end function printable
 
     !> Print a progress line on stderr unless the output asks for quiet.
     subroutine progress(cfg, line)

@@ -36,14 +36,17 @@ module supratrans_input
         max_curve_values
     use supratrans_curves, only: curve_count, curve_run
     use supratrans_chain, only: band_gap_edge, stability_lhs, stability_rhs, stable_by_paper_condition, critical_dt
-    use supratrans_strings, only: int_str, real_str, fixed4
+    use supratrans_strings, only: int_str, real_str, fixed4, text_fingerprint
+    use supratrans_system, only: path_kind, path_missing, path_directory, path_special, file_size
     implicit none
     private
 
-    public :: read_input, validate_config, method_name, method_from_name
+    public :: read_input, read_input_text, validate_config, method_name, method_from_name
 
     !> Site whose u_n(t) is recorded when `&record` gives no `probes` (the paper's Fig. 1 shows u_60).
     integer, parameter, public :: default_probe = 60
+    !> Largest namelist file read (bytes).
+    integer, parameter :: max_input_bytes = 1048576
     !> Largest number of entries in the `probes` list.
     integer, parameter, public :: max_probes = 64
 
@@ -175,28 +178,69 @@ contains
     !>
     !> On failure `error` is allocated with status `err_input` and a one-line message naming the file, the group and
     !> the key. After a failed range check `cfg` still holds the values read; after a failure to read, the defaults.
-    subroutine read_input(path, cfg, error)
+    subroutine read_input(path, cfg, error, check_output)
         !> Path of the namelist file; recorded in `cfg%source` and used in messages.
         character(len=*), intent(in) :: path
         !> The configuration read.
         type(input_config), intent(out) :: cfg
         !> Allocated on failure.
         type(error_type), allocatable, intent(out) :: error
+        !> Check the output file too (`validate_config`); default true.
+        logical, intent(in), optional :: check_output
         character(len=:), allocatable :: text
+
+        cfg%source = path
+        call read_text_file(path, text, error)
+        if (allocated(error)) return
+        call read_input_text(text, path, cfg, error, check_output)
+    end subroutine read_input
+
+    !> Read a namelist text (as `read_input` reads a file's contents) into `cfg` and validate it; `path` names it
+    !> in messages and in `cfg%source`. The text and its fingerprint are kept in `cfg` (journals, part files).
+    subroutine read_input_text(text, path, cfg, error, check_output)
+        !> The namelist text.
+        character(len=*), intent(in) :: text
+        !> Where it came from (for messages).
+        character(len=*), intent(in) :: path
+        !> The configuration read.
+        type(input_config), intent(out) :: cfg
+        !> Allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        !> Check the output file too (`validate_config`); default true.
+        logical, intent(in), optional :: check_output
         type(parsed_input) :: parsed
 
         cfg%source = path
+        cfg%text = text
+        cfg%fingerprint = text_fingerprint(text)
         cfg%run%record%probes = [default_probe]
-        call read_text_file(path, text, error)
-        if (allocated(error)) return
         call parse_namelist(text, path, parsed, error)
         if (allocated(error)) return
+        if (count_groups_given(parsed) == 0) then
+            call fatal_error(error, path // ": no namelist group in the file (an empty or comments-only input is " &
+                             // "refused: write at least &output file = '...' /)", err_input)
+            return
+        end if
         call convert_groups(parsed, path, cfg, error)
         if (allocated(error)) return
         ! the default probe (the paper's site 60) moves to the last site of a shorter chain
         if (parsed%n_values(find_key("record", "probes")) == 0) cfg%run%record%probes = [min(default_probe, cfg%run%chain%n)]
-        call validate_config(cfg, error)
-    end subroutine read_input
+        call validate_config(cfg, error, check_output)
+    end subroutine read_input_text
+
+    !> Number of namelist groups present in a parsed input.
+    pure function count_groups_given(parsed) result(n)
+        !> The parsed input.
+        type(parsed_input), intent(in) :: parsed
+        integer :: n
+        integer :: i
+
+        n = 0
+        if (.not. allocated(parsed%group_text)) return
+        do i = 1, size(parsed%group_text)
+            if (allocated(parsed%group_text(i)%s)) n = n + 1
+        end do
+    end function count_groups_given
 
     !> Check that a configuration is complete and within range: the checks of `read_input` after conversion.
     !>
@@ -279,9 +323,21 @@ contains
         logical :: exists
         character(len=512) :: msg
 
-        inquire (file=path, exist=exists)
-        if (.not. exists) then
+        select case (path_kind(path))
+        case (path_missing)
             call fatal_error(error, path // ": cannot open file (No such file or directory)", err_input)
+            return
+        case (path_directory)
+            call fatal_error(error, path // ": is a directory, not a namelist file", err_input)
+            return
+        case (path_special)
+            call fatal_error(error, path // ": not a regular file (a FIFO, device or socket): give a namelist file", &
+                             err_input)
+            return
+        end select
+        if (file_size(path) > max_input_bytes) then
+            call fatal_error(error, path // ": " // int_str(int(file_size(path)/1024)) // " KiB is too large for a " &
+                             // "namelist file (limit 1024 KiB)", err_input)
             return
         end if
         msg = ""

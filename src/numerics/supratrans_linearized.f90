@@ -19,9 +19,9 @@ contains
         !> Scheme coefficients and work arrays.
         type(scheme_type), intent(inout) :: scheme
         !> Level k-1, u(0:N+1).
-        real(wp), intent(in) :: u_old(0:)
+        real(wp), intent(in), contiguous :: u_old(0:)
         !> Level k, u(0:N+1).
-        real(wp), intent(in) :: u_cur(0:)
+        real(wp), intent(in), contiguous :: u_cur(0:)
         !> Level k+1, u(0:N+1): boundary cells in, solution out.
         real(wp), intent(inout) :: u_new(0:)
         !> LAPACK status.

@@ -34,7 +34,7 @@ module supratrans_scene_bifurcation
     use supratrans_result, only: run_result, run_ok, status_name
     use supratrans_threshold, only: verdict_oracle, find_threshold, effective_coarse_step, search_grid_size, &
                                     search_status_codes
-    use supratrans_tasks, only: task_list, run_tasks, file_fingerprint
+    use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_run_parameters
@@ -150,9 +150,9 @@ contains
                 // real_str(cfg%scene%resolution, 6) // ")"
         end if
 
-        call run_tasks(tasks, ncurve*nomega, nvalues, journal, file_fingerprint(source_name(cfg)), &
-                       "threshold searches", cfg%output%quiet, results, done, error)
-        if (allocated(error)) return
+        call run_tasks(tasks, ncurve*nomega, nvalues, journal, input_fingerprint(cfg), &
+                       "threshold searches", cfg%output%quiet, results, done, error, cfg)
+        if (allocated(error) .or. engine_only(cfg)) return
 
         call system_clock(clock_end)
         elapsed = real(clock_end - clock_start, wp)/real(clock_rate, wp)

@@ -48,7 +48,7 @@ module supratrans_scene_stability
     use supratrans_curves, only: curve_count, curve_run, curve_value
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok
-    use supratrans_tasks, only: task_list, run_tasks, file_fingerprint
+    use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_run_parameters
@@ -113,7 +113,7 @@ contains
         real(wp), allocatable :: results(:, :), linear(:, :, :), paper(:, :), rk4_limit(:, :), rk4_undamped(:, :)
         real(wp), allocatable :: re(:), im_part(:)
         logical, allocatable :: done(:)
-        character(len=:), allocatable :: journal, where, fingerprint
+        character(len=:), allocatable :: journal, where
         type(chain_params) :: chain
         integer :: ncurve, nm, nc, ndt, icurve, im, ic, ntask, nbis
 
@@ -180,11 +180,9 @@ contains
         nbis = ncurve*nm*nc
         ntask = nbis + ncurve*nm*nc*ndt
         journal = trim(cfg%output%file) // ".journal"
-        fingerprint = "none"
-        if (allocated(cfg%source)) fingerprint = file_fingerprint(cfg%source)
-        call run_tasks(tasks, ntask, nvalues, journal, fingerprint, "stability runs and bisections", cfg%output%quiet, &
-                       results, done, error)
-        if (allocated(error)) return
+        call run_tasks(tasks, ntask, nvalues, journal, input_fingerprint(cfg), "stability runs and bisections", &
+                       cfg%output%quiet, results, done, error, cfg)
+        if (allocated(error) .or. engine_only(cfg)) return
         call write_stability(cfg, tasks, results, linear, paper, rk4_limit, rk4_undamped, error)
         if (allocated(error)) return
         call remove_file(journal)

@@ -40,7 +40,7 @@ module supratrans_scene_sweep
     use supratrans_chain, only: band_gap_edge, threshold_as
     use supratrans_simulate, only: simulate, number_of_levels
     use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed, status_name
-    use supratrans_tasks, only: task_list, run_tasks, file_fingerprint
+    use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_run_parameters
@@ -281,8 +281,8 @@ contains
         end if
 
         call run_tasks(tasks, tasks%task_count(), n_run_values, journal_path(tasks%cfg), &
-                       file_fingerprint(tasks%cfg%source), "runs", tasks%cfg%output%quiet, results, done, error)
-        if (allocated(error)) return
+                       input_fingerprint(tasks%cfg), "runs", tasks%cfg%output%quiet, results, done, error, tasks%cfg)
+        if (allocated(error) .or. engine_only(tasks%cfg)) return
         if (.not. all(done)) then
             call fatal_error(error, trim(tasks%cfg%output%file) // ": the task engine returned with runs missing", &
                              err_io)

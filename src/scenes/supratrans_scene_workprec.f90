@@ -47,7 +47,7 @@ module supratrans_scene_workprec
     use supratrans_input, only: method_name
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok, run_diverged, status_name
-    use supratrans_tasks, only: task_list, run_tasks, file_fingerprint
+    use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_run_parameters
@@ -169,10 +169,10 @@ contains
         threads = 1
         !$ threads = omp_get_max_threads()
         !$ call omp_set_num_threads(1)
-        call run_tasks(tasks, ntask, nvalues, journal, fingerprint(cfg), "timed runs (1 thread)", cfg%output%quiet, &
-                       results, done, error)
+        call run_tasks(tasks, ntask, nvalues, journal, input_fingerprint(cfg), "timed runs (1 thread)", &
+                       cfg%output%quiet, results, done, error, cfg)
         !$ call omp_set_num_threads(threads)
-        if (allocated(error)) return
+        if (allocated(error) .or. engine_only(cfg)) return
 
         call measure_step_kernels(tasks%base%chain%n, maxval(tasks%amplitudes), t_sine, t_division, t_tridiag)
         call write_work_precision(cfg, tasks, results, t_sine, t_division, t_tridiag, error)
@@ -740,15 +740,6 @@ contains
         end function ref_column
 
     end subroutine write_work_precision
-
-    !> Fingerprint of the input file that ties the journal to it ("none" for a configuration built in code).
-    function fingerprint(cfg) result(text)
-        type(input_config), intent(in) :: cfg
-        character(len=:), allocatable :: text
-
-        text = "none"
-        if (allocated(cfg%source)) text = file_fingerprint(cfg%source)
-    end function fingerprint
 
     !> Progress line on stderr unless the output is quiet.
     subroutine progress(cfg, line)

@@ -1,22 +1,26 @@
 !> Runs the independent tasks of a scene (one simulation, or one threshold search, each) on OpenMP threads, with a
 !> journal that makes a killed scene resumable and progress on stderr.
 !>
-!> Every finished task appends one line `index v_1 ... v_m` to the journal (17 significant digits: an exact
-!> round trip of IEEE doubles) and flushes it, so a scene killed at any moment (SIGKILL, a wall-time limit) loses at
-!> most the tasks that were running. Started again, it reads the journal, checks that it belongs to the same input
-!> (a fingerprint of the namelist file), keeps the complete lines, and runs only what is missing. Results are
-!> stored by task index, whatever thread computed them, so they are identical for any thread count.
+!> Every finished task appends one checksummed line to the journal (`supratrans_journal`) and flushes it, so a scene
+!> killed at any moment (SIGKILL, a wall-time limit) loses at most the tasks that were running. Started again, it
+!> reads the journal, checks that it belongs to the same input (a fingerprint of the namelist text), keeps the lines
+!> that prove whole, and runs only what is missing. Results are stored by task index, whatever thread computed them,
+!> so they are identical for any thread count. A scene can be split into interleaved slices (`--slice I/N`, one per
+!> job of a Slurm array), each writing a part file that `merge` joins (`supratrans_parts`).
 module supratrans_tasks
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
     use supratrans_kinds, only: wp
-    use supratrans_strings, only: int_str, fixed1
-    use supratrans_error, only: error_type, fatal_error, err_io
-    use supratrans_system, only: rename_file, remove_file
+    use supratrans_strings, only: int_str, fixed1, text_fingerprint
+    use supratrans_error, only: error_type, fatal_error, err_io, err_interrupted
+    use supratrans_config, only: input_config
+    use supratrans_system, only: remove_file, stop_signal
+    use supratrans_journal, only: journal_header, journal_line, read_journal, write_journal
+    use supratrans_parts, only: write_part
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
     private
 
-    public :: run_tasks, file_fingerprint
+    public :: run_tasks, file_fingerprint, text_fingerprint, input_fingerprint, engine_only
 
     !> A scene's list of tasks; the scene extends it with what its tasks need (read-only during the run).
     type, abstract, public :: task_list
@@ -56,7 +60,15 @@ contains
     end subroutine no_snapshot
 
     !> Run tasks 1..ntask (those not already in the journal), in parallel over OpenMP threads.
-    subroutine run_tasks(tasks, ntask, nvalues, journal, fingerprint, label, quiet, results, done, error)
+    !> Run tasks 1..ntask (those not already in the journal), in parallel over OpenMP threads.
+    !>
+    !> With `cfg` given, its execution options apply: `--slice I/N` (`cfg%slice_count` > 0) runs only the tasks t
+    !> with mod(t - 1, N) + 1 = I and, once they are all done, writes the part file `cfg%output%file` for `merge`
+    !> (then deletes the slice's journal and partial snapshot); `cfg%snapshot_only` computes nothing and writes the
+    !> partial snapshot of what the journal holds. A stop signal (SIGTERM, SIGINT, SIGUSR1: see
+    !> `supratrans_system`) hands out no new task: the tasks running finish and are journaled, a snapshot is
+    !> written, and `error` says so with status `err_interrupted`.
+    subroutine run_tasks(tasks, ntask, nvalues, journal, fingerprint, label, quiet, results, done, error, cfg)
         !> The tasks.
         class(task_list), intent(in) :: tasks
         !> Number of tasks.
@@ -73,22 +85,42 @@ contains
         logical, intent(in) :: quiet
         !> Results, (nvalues, ntask).
         real(wp), allocatable, intent(out) :: results(:, :)
-        !> Which tasks are done (all, unless an error occurred).
+        !> Which tasks are done (all, unless an error occurred or only a slice was asked).
         logical, allocatable, intent(out) :: done(:)
-        !> Error, allocated on failure (journal unreadable or from another input, or unwritable).
+        !> Error, allocated on failure (journal unreadable or from another input, or unwritable; interrupted).
         type(error_type), allocatable, intent(out) :: error
+        !> The input, for its execution options (slice, snapshot only) and the text a part file keeps.
+        type(input_config), intent(in), optional :: cfg
         character(len=:), allocatable :: header
         real(wp), allocatable :: values(:)
-        integer :: unit, i, ndone_start, ndone, ios, threads
+        logical, allocatable :: mine(:)
+        integer :: unit, i, ndone_start, ndone, ntodo, ios, threads, dropped, slice_index, slice_count
         integer(int64) :: clock_start, clock_rate, clock_now
         real(wp) :: last_progress, last_snapshot, elapsed
+        logical :: snapshot_only, write_failed
+        integer :: stop_after
+        character(len=16) :: knob
 
-        allocate (results(nvalues, ntask), done(ntask))
+        slice_index = 0
+        slice_count = 0
+        snapshot_only = .false.
+        if (present(cfg)) then
+            slice_index = cfg%slice_index
+            slice_count = cfg%slice_count
+            snapshot_only = cfg%snapshot_only
+        end if
+        allocate (results(nvalues, ntask), done(ntask), mine(ntask))
         results = 0.0_wp
         done = .false.
-        header = "supratrans-journal 1 " // int_str(ntask) // " " // int_str(nvalues) // " " // fingerprint
-        call read_journal(journal, header, results, done, error)
+        mine = .true.
+        if (slice_count > 0) mine = [(mod(i - 1, slice_count) + 1 == slice_index, i = 1, ntask)]
+        header = journal_header(ntask, nvalues, fingerprint)
+        call read_journal(journal, header, results, done, dropped, error)
         if (allocated(error)) return
+        if (snapshot_only) then
+            call tasks%snapshot(results, done)
+            return
+        end if
         call write_journal(journal, header, results, done, error)
         if (allocated(error)) return
         open (newunit=unit, file=journal, status="old", position="append", action="write", iostat=ios)
@@ -97,40 +129,52 @@ contains
             return
         end if
 
-        ndone_start = count(done)
+        ! fault injection for the tests: SUPRATRANS_STOP_AFTER=k acts as a stop signal once k tasks are journaled
+        stop_after = huge(1)
+        call get_environment_variable("SUPRATRANS_STOP_AFTER", knob, status=ios)
+        if (ios == 0) read (knob, *, iostat=ios) stop_after
+        if (ios /= 0) stop_after = huge(1)
+        ntodo = count(mine)
+        ndone_start = count(done .and. mine)
         ndone = ndone_start
         threads = 1
         !$ threads = omp_get_max_threads()
         call system_clock(clock_start, clock_rate)
         last_progress = 0.0_wp
         last_snapshot = 0.0_wp
+        write_failed = .false.
         if (.not. quiet) then
-            write (error_unit, '(a)') "  " // int_str(ntask) // " " // label // ", " // int_str(ndone_start) &
-                // " already done (journal " // journal // "), " // int_str(threads) // " thread(s)"
+            write (error_unit, '(a)') "  " // int_str(ntodo) // " " // label // slice_text(slice_index, slice_count, &
+                ntask) // ", " // int_str(ndone_start) // " already done (journal " // journal // "), " &
+                // int_str(threads) // " thread(s)"
+            if (dropped > 0) write (error_unit, '(a)') "  " // int_str(dropped) // " journal line(s) failed their " &
+                // "checksum (cut short or altered): those tasks are computed again"
             flush (error_unit)
         end if
 
-        !$omp parallel do schedule(dynamic, 1) default(shared) private(i, values, clock_now, elapsed)
+        !$omp parallel do schedule(dynamic, 1) default(shared) private(i, values, clock_now, elapsed, ios)
         do i = 1, ntask
-            if (done(i)) cycle
+            if (done(i) .or. .not. mine(i)) cycle
+            if (stop_signal() /= 0 .or. ndone - ndone_start >= stop_after) cycle
             allocate (values(nvalues))
             call tasks%run(i, values)
             !$omp critical (supratrans_tasks_journal)
             results(:, i) = values
             done(i) = .true.
             ndone = ndone + 1
-            write (unit, '(i0, *(1x, es25.17e3))') i, values
-            flush (unit)
+            write (unit, '(a)', iostat=ios) journal_line(i, values)
+            if (ios == 0) flush (unit, iostat=ios)
+            if (ios /= 0) write_failed = .true.
             call system_clock(clock_now)
             elapsed = real(clock_now - clock_start, wp)/real(clock_rate, wp)
-            if (.not. quiet .and. (elapsed - last_progress >= progress_interval .or. ndone == ntask)) then
+            if (.not. quiet .and. (elapsed - last_progress >= progress_interval .or. ndone == ntodo)) then
                 last_progress = elapsed
-                write (error_unit, '(a)') "  " // int_str(ndone) // "/" // int_str(ntask) // " " // label &
+                write (error_unit, '(a)') "  " // int_str(ndone) // "/" // int_str(ntodo) // " " // label &
                     // ", elapsed " // fixed1(elapsed) // " s, remaining ~" &
-                    // fixed1(elapsed/real(ndone - ndone_start, wp)*real(ntask - ndone, wp)) // " s"
+                    // fixed1(elapsed/real(ndone - ndone_start, wp)*real(ntodo - ndone, wp)) // " s"
                 flush (error_unit)
             end if
-            if (elapsed - last_snapshot >= snapshot_interval .and. ndone < ntask) then
+            if (elapsed - last_snapshot >= snapshot_interval .and. ndone < ntodo) then
                 last_snapshot = elapsed
                 call tasks%snapshot(results, done)
             end if
@@ -138,99 +182,78 @@ contains
             deallocate (values)
         end do
         !$omp end parallel do
-        close (unit)
+        close (unit, iostat=ios)
+        if (write_failed) then
+            call fatal_error(error, journal // ": cannot write the journal (disk full?); run again to resume from " &
+                             // "the lines it holds", err_io)
+            return
+        end if
+        if (count(done .and. mine) < ntodo) then
+            call tasks%snapshot(results, done)
+            call fatal_error(error, journal // ": stopped by signal " // int_str(max(stop_signal(), 0)) // " after " &
+                             // int_str(count(done .and. mine)) // " of " // int_str(ntodo) // " " // label &
+                             // "; run the same command again to resume", err_interrupted)
+            return
+        end if
+        if (slice_count > 0 .and. present(cfg)) then
+            call write_part(trim(cfg%output%file), cfg, slice_index, slice_count, header, results, done, mine, error)
+            if (allocated(error)) return
+            call remove_file(journal)
+            call remove_file(trim(cfg%output%file) // ".partial.h5")
+            call remove_file(trim(cfg%output%file) // ".partial.h5.tmp")
+            if (.not. quiet) write (error_unit, '(a)') "  wrote part " // trim(cfg%output%file) &
+                // slice_text(slice_index, slice_count, ntask)
+        end if
     end subroutine run_tasks
 
-    !> Read the complete lines of an existing journal into `results`/`done`; nothing if there is no journal.
-    subroutine read_journal(journal, header, results, done, error)
-        character(len=*), intent(in) :: journal, header
-        real(wp), intent(inout) :: results(:, :)
-        logical, intent(inout) :: done(:)
-        type(error_type), allocatable, intent(out) :: error
-        logical :: exists
-        integer :: unit, ios, index
-        character(len=:), allocatable :: line
-        real(wp), allocatable :: values(:)
+    !> Whether this invocation's output is written by the engine alone (a slice's part file, or a snapshot):
+    !> a scene returns right after `run_tasks` when this is true.
+    pure function engine_only(cfg) result(yes)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        logical :: yes
 
-        inquire (file=journal, exist=exists)
-        if (.not. exists) return
-        open (newunit=unit, file=journal, status="old", action="read", iostat=ios)
-        if (ios /= 0) then
-            call fatal_error(error, journal // ": cannot read the journal of an earlier run", err_io)
-            return
+        yes = cfg%slice_count > 0 .or. cfg%snapshot_only
+    end function engine_only
+
+    !> The fingerprint that ties a journal to its input: that of the namelist text read, or of the file `source`,
+    !> or "none" for a configuration built in code.
+    function input_fingerprint(cfg) result(text)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        character(len=:), allocatable :: text
+
+        text = "none"
+        if (allocated(cfg%fingerprint)) then
+            text = cfg%fingerprint
+        else if (allocated(cfg%source)) then
+            text = file_fingerprint(cfg%source)
         end if
-        call read_line(unit, line, ios)
-        if (ios /= 0 .or. line /= header) then
-            close (unit)
-            call fatal_error(error, journal // ": journal of a different input or scene (delete it to start afresh," &
-                             // " or restore the input it was made with)", err_io)
-            return
-        end if
-        allocate (values(size(results, 1)))
-        do
-            call read_line(unit, line, ios)
-            if (ios /= 0) exit
-            read (line, *, iostat=ios) index, values
-            if (ios /= 0) exit                       ! a line cut short by a kill: ignore it and what follows
-            if (index < 1 .or. index > size(done)) exit
-            results(:, index) = values
-            done(index) = .true.
-        end do
-        close (unit)
-    end subroutine read_journal
+    end function input_fingerprint
 
-    !> (Re)write the journal with its header and the complete lines (atomically: temporary file, then rename).
-    subroutine write_journal(journal, header, results, done, error)
-        character(len=*), intent(in) :: journal, header
-        real(wp), intent(in) :: results(:, :)
-        logical, intent(in) :: done(:)
-        type(error_type), allocatable, intent(out) :: error
-        integer :: unit, ios, i
+    !> " (slice I of N: k of ntask tasks)", or "" when not sliced.
+    pure function slice_text(slice_index, slice_count, ntask) result(text)
+        !> Slice index I.
+        integer, intent(in) :: slice_index
+        !> Number of slices N (0: not sliced).
+        integer, intent(in) :: slice_count
+        !> Number of tasks of the scene.
+        integer, intent(in) :: ntask
+        character(len=:), allocatable :: text
 
-        open (newunit=unit, file=journal // ".new", status="replace", action="write", iostat=ios)
-        if (ios /= 0) then
-            call fatal_error(error, journal // ": cannot write the journal", err_io)
-            return
-        end if
-        write (unit, '(a)') header
-        do i = 1, size(done)
-            if (done(i)) write (unit, '(i0, *(1x, es25.17e3))') i, results(:, i)
-        end do
-        close (unit)
-        call rename_file(journal // ".new", journal, error)
-    end subroutine write_journal
+        text = ""
+        if (slice_count > 0) text = " (slice " // int_str(slice_index) // " of " // int_str(slice_count) // ": " &
+            // int_str(max(0, (ntask - slice_index)/slice_count + 1)) // " of " // int_str(ntask) // " tasks)"
+    end function slice_text
 
-    !> Read one whole line of any length.
-    subroutine read_line(unit, line, ios)
-        integer, intent(in) :: unit
-        character(len=:), allocatable, intent(out) :: line
-        integer, intent(out) :: ios
-        character(len=4096) :: buffer
-        integer :: size_read
-
-        line = ""
-        do
-            read (unit, '(a)', advance="no", iostat=ios, size=size_read) buffer
-            line = line // buffer(1:size_read)
-            if (ios /= 0) exit
-        end do
-        if (is_iostat_eor(ios)) ios = 0
-    end subroutine read_line
-
-    !> A fingerprint of a file's bytes (two polynomial hashes modulo the prime 2^31 - 1, in hexadecimal), to tie
-    !> a journal to its input. Integer arithmetic never overflows: every intermediate is below 2^38.
+    !> A fingerprint of a file's bytes (`text_fingerprint` of its contents; of "" if it cannot be read).
     function file_fingerprint(path) result(hash_text)
         !> File to fingerprint.
         character(len=*), intent(in) :: path
         character(len=:), allocatable :: hash_text
-        integer(int64), parameter :: modulus = 2147483647_int64
-        integer :: unit, ios, n, i
-        integer(int64) :: h1, h2
+        integer :: unit, ios, n
         character(len=:), allocatable :: bytes
-        character(len=17) :: buf
 
-        h1 = 1_int64
-        h2 = 7_int64
         bytes = ""
         open (newunit=unit, file=path, access="stream", form="unformatted", status="old", action="read", iostat=ios)
         if (ios == 0) then
@@ -241,12 +264,7 @@ contains
             if (ios /= 0) bytes = ""
             close (unit)
         end if
-        do i = 1, len(bytes)
-            h1 = mod(h1*31_int64 + int(ichar(bytes(i:i)), int64), modulus)
-            h2 = mod(h2*131_int64 + int(ichar(bytes(i:i)), int64), modulus)
-        end do
-        write (buf, '(z8.8, "-", z8.8)') h1, h2
-        hash_text = buf
+        hash_text = text_fingerprint(bytes)
     end function file_fingerprint
 
 end module supratrans_tasks

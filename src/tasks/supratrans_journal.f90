@@ -1,0 +1,229 @@
+!> The journal of a scene: one line per finished task, each proven whole and unaltered.
+!>
+!> The first line is the header `supratrans-journal 2 <tasks> <values per task> <fingerprint of the input>`. Every
+!> other line is `<task> <v_1> ... <v_m> *<crc>`: the task index, its m values with 17 significant digits (an exact
+!> round trip of IEEE doubles) and the CRC-32 (IEEE 802.3 polynomial, as zlib computes it) of everything before the
+!> ` *`, in 8 hexadecimal digits. A line is accepted only if its checksum matches and it holds exactly m + 1
+!> numbers that read without error; any other line (cut short by a kill, altered on disk, garbage) is dropped and
+!> its task computed again. An empty journal is no journal (the run starts afresh); a journal whose header belongs to
+!> another input or scene is refused.
+module supratrans_journal
+    use, intrinsic :: iso_fortran_env, only: int64
+    use supratrans_kinds, only: wp
+    use supratrans_strings, only: int_str
+    use supratrans_error, only: error_type, fatal_error, err_io
+    use supratrans_system, only: rename_file, file_size
+    implicit none
+    private
+
+    public :: journal_header, journal_line, parse_journal_line, read_journal, write_journal, crc32
+
+    !> Longest journal line accepted (a task has at most a few dozen values).
+    integer, parameter :: max_line = 65536
+
+contains
+
+    !> The header line of a journal of `ntask` tasks of `nvalues` values for the input `fingerprint`.
+    pure function journal_header(ntask, nvalues, fingerprint) result(header)
+        !> Number of tasks of the scene.
+        integer, intent(in) :: ntask
+        !> Values per task.
+        integer, intent(in) :: nvalues
+        !> Fingerprint of the input.
+        character(len=*), intent(in) :: fingerprint
+        character(len=:), allocatable :: header
+
+        header = "supratrans-journal 2 " // int_str(ntask) // " " // int_str(nvalues) // " " // fingerprint
+    end function journal_header
+
+    !> The journal line of task `index` with its `values`, checksum included (thread-safe: fixed-length buffers).
+    function journal_line(index, values) result(line)
+        !> Task index.
+        integer, intent(in) :: index
+        !> The task's values.
+        real(wp), intent(in) :: values(:)
+        character(len=:), allocatable :: line
+        character(len=32 + 26*size(values)) :: buffer
+        character(len=8) :: hex
+
+        write (buffer, '(i0, *(1x, es25.17e3))') index, values
+        write (hex, '(z8.8)') crc32(trim(buffer))
+        line = trim(buffer) // " *" // hex
+    end function journal_line
+
+    !> Read one journal line: `ok` only when its checksum matches and it holds exactly `size(values)` + 1 numbers.
+    subroutine parse_journal_line(line, ntask, task, values, ok)
+        !> The line (without its newline).
+        character(len=*), intent(in) :: line
+        !> Number of tasks (valid indices are 1..ntask).
+        integer, intent(in) :: ntask
+        !> Task index read.
+        integer, intent(out) :: task
+        !> Values read.
+        real(wp), intent(out) :: values(:)
+        !> Whether the line is whole and unaltered.
+        logical, intent(out) :: ok
+        integer :: star, ios, ntokens, i
+        integer(int64) :: stored
+        logical :: in_token
+
+        ok = .false.
+        task = 0
+        values = 0.0_wp
+        star = index_of_mark(line)
+        if (star < 3 .or. len(line) - star /= 8) return
+        read (line(star + 1:), '(z8)', iostat=ios) stored
+        if (ios /= 0) return
+        if (stored /= crc32(line(1:star - 2))) return
+        ntokens = 0
+        in_token = .false.
+        do i = 1, star - 2
+            if (line(i:i) /= " " .neqv. in_token) then
+                in_token = .not. in_token
+                if (in_token) ntokens = ntokens + 1
+            end if
+        end do
+        if (ntokens /= size(values) + 1) return
+        read (line(1:star - 2), *, iostat=ios) task, values
+        if (ios /= 0) return
+        ok = task >= 1 .and. task <= ntask
+    end subroutine parse_journal_line
+
+    !> Position of the checksum mark `*` in a line, 0 if none.
+    pure function index_of_mark(line) result(k)
+        character(len=*), intent(in) :: line
+        integer :: k
+
+        k = index(line, " *", back=.true.)
+        if (k > 0) k = k + 1
+    end function index_of_mark
+
+    !> Read the whole lines of an existing journal into `results`/`done`; nothing if there is no journal or it is
+    !> empty. `dropped` counts the lines that failed their check.
+    subroutine read_journal(journal, header, results, done, dropped, error)
+        !> Journal file.
+        character(len=*), intent(in) :: journal
+        !> The header it must have.
+        character(len=*), intent(in) :: header
+        !> Results, (values, tasks): filled for the tasks found.
+        real(wp), intent(inout) :: results(:, :)
+        !> Which tasks were found.
+        logical, intent(inout) :: done(:)
+        !> Lines dropped (cut short or altered).
+        integer, intent(out) :: dropped
+        !> Error: unreadable, or the journal of another input.
+        type(error_type), allocatable, intent(out) :: error
+        logical :: exists, ok
+        integer :: unit, ios, task
+        character(len=:), allocatable :: line
+        real(wp), allocatable :: values(:)
+
+        dropped = 0
+        inquire (file=journal, exist=exists)
+        if (.not. exists) return
+        if (file_size(journal) == 0) return
+        open (newunit=unit, file=journal, status="old", action="read", iostat=ios)
+        if (ios /= 0) then
+            call fatal_error(error, journal // ": cannot read the journal of an earlier run", err_io)
+            return
+        end if
+        call read_line(unit, line, ios)
+        if (ios /= 0 .or. line /= header) then
+            close (unit)
+            if (ios == 0 .and. index(line, "supratrans-journal ") == 1) then
+                call fatal_error(error, journal // ": journal of a different input or scene (delete it to start " &
+                                 // "afresh, or restore the input it was made with)", err_io)
+            else
+                call fatal_error(error, journal // ": not a supratrans journal, or its header is damaged (delete it " &
+                                 // "to start afresh)", err_io)
+            end if
+            return
+        end if
+        allocate (values(size(results, 1)))
+        do
+            call read_line(unit, line, ios)
+            if (ios /= 0) exit
+            call parse_journal_line(line, size(done), task, values, ok)
+            if (.not. ok) then
+                dropped = dropped + 1
+                cycle
+            end if
+            results(:, task) = values
+            done(task) = .true.
+        end do
+        close (unit)
+    end subroutine read_journal
+
+    !> (Re)write a journal with its header and the lines of the tasks done (atomically: temporary file, rename).
+    subroutine write_journal(journal, header, results, done, error)
+        !> Journal file.
+        character(len=*), intent(in) :: journal
+        !> Header line.
+        character(len=*), intent(in) :: header
+        !> Results, (values, tasks).
+        real(wp), intent(in) :: results(:, :)
+        !> Which tasks are done.
+        logical, intent(in) :: done(:)
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        integer :: unit, ios, i
+
+        open (newunit=unit, file=journal // ".new", status="replace", action="write", iostat=ios)
+        if (ios /= 0) then
+            call fatal_error(error, journal // ": cannot write the journal", err_io)
+            return
+        end if
+        write (unit, '(a)', iostat=ios) header
+        do i = 1, size(done)
+            if (ios /= 0) exit
+            if (done(i)) write (unit, '(a)', iostat=ios) journal_line(i, results(:, i))
+        end do
+        if (ios /= 0) then
+            close (unit, status="delete")
+            call fatal_error(error, journal // ": cannot write the journal (disk full?)", err_io)
+            return
+        end if
+        close (unit, iostat=ios)
+        call rename_file(journal // ".new", journal, error)
+    end subroutine write_journal
+
+    !> Read one whole line (up to `max_line` characters; a longer one is cut and will fail its checksum).
+    subroutine read_line(unit, line, ios)
+        integer, intent(in) :: unit
+        character(len=:), allocatable, intent(out) :: line
+        integer, intent(out) :: ios
+        character(len=4096) :: buffer
+        integer :: size_read
+
+        line = ""
+        do
+            read (unit, '(a)', advance="no", iostat=ios, size=size_read) buffer
+            if (len(line) < max_line) line = line // buffer(1:size_read)
+            if (ios /= 0) exit
+        end do
+        if (is_iostat_eor(ios)) ios = 0
+    end subroutine read_line
+
+    !> CRC-32 (polynomial 0xEDB88320, reflected, initial and final XOR 0xFFFFFFFF: zlib's crc32) of a string.
+    pure function crc32(text) result(crc)
+        !> Bytes to check.
+        character(len=*), intent(in) :: text
+        integer(int64) :: crc
+        integer(int64), parameter :: poly = int(z'EDB88320', int64), mask = int(z'FFFFFFFF', int64)
+        integer :: i, bit
+
+        crc = mask
+        do i = 1, len(text)
+            crc = ieor(crc, int(ichar(text(i:i)), int64))
+            do bit = 1, 8
+                if (iand(crc, 1_int64) /= 0) then
+                    crc = ieor(shiftr(crc, 1), poly)
+                else
+                    crc = shiftr(crc, 1)
+                end if
+            end do
+        end do
+        crc = ieor(crc, mask)
+    end function crc32
+
+end module supratrans_journal

@@ -1,0 +1,226 @@
+"""Slices, merge, whole journal records, the output lock and a clean stop on SIGTERM, as a user drives them."""
+import os
+import signal
+import subprocess
+import time
+from pathlib import Path
+
+import h5py
+import pytest
+
+import compare_results
+
+BIF = """&chain n = 60, n0 = 45 /
+&numerics t_final = 40.0 /
+&scene kind = 'bifurcation', amplitude_min = 0.5, amplitude_max = 6.0, omega_min = 0.5, omega_max = 0.9,
+  omega_step = 0.1, coarse_step = 0.5, resolution = 0.1, potentials = 'sine-gordon', 'klein-gordon' /
+&output file = 'out/study.h5', quiet = .true. /
+"""
+SWEEP = """&chain n = 60, n0 = 45 /
+&numerics t_final = 30.0 /
+&scene kind = 'amplitude_sweep', amplitude_min = 1.0, amplitude_max = 2.4, amplitude_step = 0.2,
+  vary = 'gamma', values = 0.0, 0.02 /
+&output file = 'out/study.h5', quiet = .true. /
+"""
+WORKPREC = """&chain n = 40, n0 = 30 /
+&numerics t_final = 20.0 /
+&scene kind = 'work_precision', methods = 'newton', 'rk4', dts = 0.1, 0.05, repeats = 1, reference_dt = 0.05 /
+&output file = 'out/study.h5', quiet = .true. /
+"""
+
+
+def sh(exe, *args, cwd, check=True):
+    proc = subprocess.run([exe, *map(str, args)], cwd=cwd, capture_output=True, text=True, timeout=300)
+    if check:
+        assert proc.returncode == 0, proc.stderr
+    return proc
+
+
+def identical(a, b):
+    diffs, compared, _ = compare_results.compare(a, b)
+    assert compared > 5 and not diffs, diffs
+
+
+@pytest.mark.parametrize("text,n", [(BIF, 3), (SWEEP, 4), (WORKPREC, 2)], ids=["bifurcation", "sweep", "work_precision"])
+def test_slices_merged_equal_the_single_machine_file(exe, tmp_path, text, n):
+    (tmp_path / "study.nml").write_text(text)
+    sh(exe, "study.nml", cwd=tmp_path)
+    (tmp_path / "out" / "study.h5").rename(tmp_path / "whole.h5")
+    for i in range(1, n + 1):
+        sh(exe, "study.nml", "--slice", f"{i}/{n}", cwd=tmp_path)
+    parts = sorted((tmp_path / "out").glob("study.part-*.h5"))
+    assert len(parts) == n
+    assert not list((tmp_path / "out").glob("*.journal"))
+    sh(exe, "merge", *parts, cwd=tmp_path)
+    identical(tmp_path / "whole.h5", tmp_path / "out" / "study.h5")
+    if "work_precision" not in text:
+        return
+    with h5py.File(tmp_path / "out" / "study.h5") as f:
+        assert f.attrs["scene"] == b"work_precision"
+
+
+def test_slices_interleave_the_tasks(exe, tmp_path):
+    (tmp_path / "study.nml").write_text(BIF)
+    sh(exe, "study.nml", "--slice", "2/3", cwd=tmp_path)
+    with h5py.File(tmp_path / "out" / "study.part-2-of-3.h5") as f:
+        assert list(f["part/task"][()]) == [2, 5, 8]
+        assert f["part"].attrs["tasks_total"] == 10
+
+
+def test_a_finished_slice_run_again_does_nothing(exe, tmp_path):
+    (tmp_path / "study.nml").write_text(BIF)
+    sh(exe, "study.nml", "--slice", "1/2", cwd=tmp_path)
+    part = tmp_path / "out" / "study.part-1-of-2.h5"
+    before = part.stat().st_mtime_ns
+    proc = sh(exe, "study.nml", "--slice", "1/2", cwd=tmp_path)
+    assert part.stat().st_mtime_ns == before, proc.stderr
+
+
+@pytest.fixture()
+def parts(exe, tmp_path):
+    (tmp_path / "study.nml").write_text(BIF)
+    for i in (1, 2, 3):
+        sh(exe, "study.nml", "--slice", f"{i}/3", cwd=tmp_path)
+    return tmp_path
+
+
+def refused(exe, cwd, *args, words):
+    proc = sh(exe, "merge", *args, cwd=cwd, check=False)
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1, proc.stderr
+    for w in words:
+        assert w in lines[0], lines[0]
+    assert not (cwd / "out" / "study.h5").exists()
+
+
+def test_merge_refuses_a_missing_slice(exe, parts):
+    refused(exe, parts, "out/study.part-1-of-3.h5", "out/study.part-3-of-3.h5",
+            words=["slice 2 of 3 is missing", "--slice 2/3"])
+
+
+def test_merge_refuses_a_slice_given_twice(exe, parts):
+    (parts / "copy.part-1-of-3.h5").write_bytes((parts / "out" / "study.part-1-of-3.h5").read_bytes())
+    refused(exe, parts, "out/study.part-1-of-3.h5", "copy.part-1-of-3.h5", "out/study.part-2-of-3.h5",
+            "out/study.part-3-of-3.h5", words=["given twice", "copy.part-1-of-3.h5"])
+
+
+def test_merge_refuses_parts_of_another_input(exe, parts):
+    (parts / "other.nml").write_text(BIF.replace("t_final = 40.0", "t_final = 30.0").replace("study", "other"))
+    sh(exe, "other.nml", "--slice", "2/3", cwd=parts)
+    refused(exe, parts, "out/study.part-1-of-3.h5", "out/other.part-2-of-3.h5", "out/study.part-3-of-3.h5",
+            words=["out/other.part-2-of-3.h5", "another input"])
+
+
+def test_merge_refuses_what_is_not_a_part(exe, parts):
+    (parts / "junk.h5").write_text("not hdf5")
+    refused(exe, parts, "junk.h5", words=["junk.h5", "not an HDF5 file"])
+
+
+def test_merge_refuses_an_interrupted_slice(exe, parts):
+    (parts / "out" / "study.part-2-of-3.h5").unlink()
+    proc = subprocess.run([exe, "study.nml", "--slice", "2/3"], cwd=parts, capture_output=True, text=True,
+                          env=dict(os.environ, SUPRATRANS_STOP_AFTER="1"))
+    assert proc.returncode == 5, proc.stderr
+    assert (parts / "out" / "study.part-2-of-3.h5.journal").exists()
+    refused(exe, parts, "out/study.part-1-of-3.h5", "out/study.part-2-of-3.h5.partial.h5", "out/study.part-3-of-3.h5",
+            words=["interrupted", "partial snapshot"])
+
+
+def test_partial_merge_draws_what_is_there(exe, parts):
+    sh(exe, "merge", "--partial", "out/study.part-1-of-3.h5", "out/study.part-3-of-3.h5", cwd=parts)
+    with h5py.File(parts / "out" / "study.h5.partial.h5") as f:
+        assert f.attrs["complete"] == 0
+        status = f["status"][()].ravel()
+    assert sorted(set(status.tolist()) & {-1}) == [-1]
+    assert (status == -1).sum() == 3        # slice 2 of 3 holds tasks 2, 5, 8
+    assert not (parts / "out" / "study.h5").exists()
+
+
+TINY = """&chain n = 20, n0 = 15 /
+&numerics t_final = 5.0 /
+&scene kind = 'amplitude_sweep', amplitude_min = 1.0, amplitude_max = 1.7, amplitude_step = 0.1 /
+&output file = 'out/study.h5', quiet = .true. /
+"""
+
+
+def stopped_journal(exe, tmp_path, text, after):
+    """Run a scene that stops (as on SIGTERM) after `after` tasks; return the reference file and the journal."""
+    (tmp_path / "study.nml").write_text(text)
+    sh(exe, "study.nml", cwd=tmp_path)
+    reference = tmp_path / "reference.h5"
+    (tmp_path / "out" / "study.h5").rename(reference)
+    proc = subprocess.run([exe, "study.nml"], cwd=tmp_path, capture_output=True, text=True,
+                          env=dict(os.environ, SUPRATRANS_STOP_AFTER=str(after), OMP_NUM_THREADS="1"))
+    assert proc.returncode == 5, proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1 and "resume" in proc.stderr, proc.stderr
+    assert (tmp_path / "out" / "study.h5.partial.h5").exists()
+    return reference, tmp_path / "out" / "study.h5.journal"
+
+
+def test_journal_torn_at_every_offset_of_its_last_two_lines(exe, tmp_path):
+    """A journal cut anywhere inside its last two lines (as a kill leaves it) resumes to the same file."""
+    reference, journal = stopped_journal(exe, tmp_path, TINY, 6)
+    full = journal.read_bytes()
+    lines = full.splitlines(keepends=True)
+    assert len(lines) == 7
+    start = len(b"".join(lines[:-2]))
+    for cut in range(start, len(full)):
+        journal.write_bytes(full[:cut])
+        sh(exe, "study.nml", cwd=tmp_path)
+        identical(reference, tmp_path / "out" / "study.h5")
+        (tmp_path / "out" / "study.h5").unlink()
+    assert len(full) - start > 500
+
+
+def test_altered_journal_line_is_recomputed(exe, tmp_path):
+    reference, journal = stopped_journal(exe, tmp_path, TINY, 4)
+    lines = journal.read_text().splitlines(keepends=True)
+    fields = lines[2].split(" ")
+    fields[1] = "1.00000000000000000E+100"
+    lines[2] = " ".join(fields)
+    journal.write_text("".join(lines))
+    proc = subprocess.run([exe, "study.nml"], cwd=tmp_path, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    identical(reference, tmp_path / "out" / "study.h5")
+
+
+def test_sigterm_stops_cleanly_and_the_same_command_resumes(exe, tmp_path):
+    (tmp_path / "study.nml").write_text(BIF.replace("t_final = 40.0", "t_final = 200.0"))
+    proc = subprocess.Popen([exe, "study.nml"], cwd=tmp_path, stderr=subprocess.PIPE, text=True,
+                            env=dict(os.environ, OMP_NUM_THREADS="1"))
+    journal = tmp_path / "out" / "study.h5.journal"
+    while not journal.exists() or journal.read_text().count("\n") < 2:
+        time.sleep(0.01)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 5, err
+    done = journal.read_text().count("\n") - 1
+    assert 1 <= done < 10
+    sh(exe, "study.nml", cwd=tmp_path)
+    assert (tmp_path / "out" / "study.h5").exists() and not journal.exists()
+
+
+def test_empty_journal_is_no_journal(exe, tmp_path):
+    (tmp_path / "study.nml").write_text(SWEEP)
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "study.h5.journal").write_text("")
+    sh(exe, "study.nml", cwd=tmp_path)
+    assert (tmp_path / "out" / "study.h5").exists()
+
+
+def test_second_instance_on_one_output_is_refused(exe, tmp_path):
+    (tmp_path / "study.nml").write_text(BIF.replace("t_final = 40.0", "t_final = 200.0"))
+    first = subprocess.Popen([exe, "study.nml"], cwd=tmp_path, stderr=subprocess.PIPE, text=True)
+    lock = tmp_path / "out" / "study.h5.lock"
+    while not lock.exists():
+        time.sleep(0.01)
+    second = sh(exe, "study.nml", cwd=tmp_path, check=False)
+    first.send_signal(signal.SIGTERM)
+    first.communicate(timeout=120)
+    assert second.returncode == 4, second.stderr
+    lines = second.stderr.strip().splitlines()
+    assert len(lines) == 1 and "another supratrans" in lines[0], second.stderr
+    third = sh(exe, "study.nml", cwd=tmp_path, check=False)     # the first has ended: the lock is free
+    assert third.returncode == 0, third.stderr
+    assert not lock.exists()
