@@ -37,7 +37,8 @@ module supratrans_cli
 
     !> Usage text of the program.
     character(len=*), parameter :: usage = "usage: supratrans FILE.nml [--slice I/N] | supratrans merge [--partial] " &
-        // "[-o OUT] [--overwrite] PART... | supratrans --check FILE.nml | supratrans --help | supratrans --version"
+        // "[-o OUT] [--overwrite] PART... | supratrans merge --slices N FILE.nml | supratrans --check FILE.nml | " &
+        // "supratrans --help | supratrans --version"
 
     !> The longer help of `--help`.
     character(len=*), parameter :: help_text = usage // new_line("a") // new_line("a") // &
@@ -49,6 +50,7 @@ module supratrans_cli
         "    --partial           accept missing slices: write <output>.partial.h5 from what is there" // new_line("a") // &
         "    -o OUT              output file (default: the parts' name without .part-I-of-N)" // new_line("a") // &
         "    --overwrite         replace an existing output file" // new_line("a") // &
+        "    --slices N FILE.nml the parts of slices 1..N of that namelist's output" // new_line("a") // &
         "  --check FILE.nml      read and validate the namelist only (exit 0 if it would run)" // new_line("a") // &
         "  --version             print the version" // new_line("a") // new_line("a") // &
         "Exit status: 0 success, 2 bad input or command line, 3 a run failed fatally, 4 output not written," &
@@ -89,6 +91,7 @@ contains
             overwrite = .false.
             output = ""
             nparts = 0
+            slice_count = 0
             allocate (character(len=len(args)) :: parts(size(args)))
             i = 2
             do while (i <= size(args))
@@ -97,6 +100,18 @@ contains
                     partial = .true.
                 case ("--overwrite")
                     overwrite = .true.
+                case ("--slices")
+                    if (i == size(args)) then
+                        call fail("merge: --slices needs the number of slices N")
+                        return
+                    end if
+                    i = i + 1
+                    call parse_slice("1/" // trim(args(i)), slice_index, slice_count, error)
+                    if (allocated(error)) then
+                        call fail("merge: --slices " // printable(trim(args(i))) // ": expected a number of slices " &
+                                  // "from 1 to 100000")
+                        return
+                    end if
                 case ("-o")
                     if (i == size(args)) then
                         call fail("merge: -o needs a file name")
@@ -117,6 +132,19 @@ contains
             if (nparts == 0) then
                 call fail("merge: no part files given (supratrans merge out/x.part-*.h5)")
                 return
+            end if
+            if (slice_count > 0) then
+                ! merge --slices N FILE.nml: the parts of that namelist's output
+                if (nparts /= 1) then
+                    call fail("merge --slices N takes one namelist file")
+                    return
+                end if
+                call parts_of_namelist(trim(parts(1)), slice_count, parts, error)
+                if (allocated(error)) then
+                    status = error%stat
+                    return
+                end if
+                nparts = size(parts)
             end if
             call merge_parts(parts(1:nparts), partial, output, overwrite, status, error)
             return
@@ -176,6 +204,27 @@ contains
         end subroutine fail
 
     end subroutine run_command
+
+    !> The part files of slices 1..N of the output a namelist names.
+    subroutine parts_of_namelist(path, slice_count, parts, error)
+        !> Namelist file.
+        character(len=*), intent(in) :: path
+        !> Number of slices N.
+        integer, intent(in) :: slice_count
+        !> The part files.
+        character(len=:), allocatable, intent(out) :: parts(:)
+        !> Error, allocated when the namelist cannot be read.
+        type(error_type), allocatable, intent(out) :: error
+        type(input_config) :: cfg
+        integer :: i
+
+        call read_input(path, cfg, error, check_output=.false.)
+        if (allocated(error)) return
+        allocate (character(len=len_trim(cfg%output%file) + 32) :: parts(slice_count))
+        do i = 1, slice_count
+            parts(i) = part_path(trim(cfg%output%file), i, slice_count)
+        end do
+    end subroutine parts_of_namelist
 
     !> Read "I/N" with 1 <= I <= N <= 100000.
     subroutine parse_slice(text, slice_index, slice_count, error)

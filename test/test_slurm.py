@@ -1,0 +1,233 @@
+"""The batch scripts of input/slurm/ on a real Slurm: a one-node cluster on localhost (munged, slurmctld, slurmd
+started by hand with their own configuration, no systemd), a study submitted as a job array with a dependent merge,
+compared with the single-machine file; one array task cancelled mid-way and resubmitted, resuming from its journal.
+Where Slurm cannot start (not root, packages missing) the tests are skipped with one line saying why."""
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import time
+from pathlib import Path
+
+import pytest
+
+import compare_results
+
+ROOT = Path(__file__).resolve().parents[1]
+SCRIPTS = ROOT / "input" / "slurm"
+
+STUDY = """&chain n = 60, n0 = 45 /
+&numerics t_final = {t_final} /
+&scene kind = 'bifurcation', amplitude_min = 0.5, amplitude_max = 6.0, omega_min = 0.5, omega_max = 0.9,
+  omega_step = 0.1, coarse_step = 0.5, resolution = 0.1, potentials = 'sine-gordon', 'klein-gordon' /
+&output file = 'out/study.h5' /
+"""
+
+CONF = """ClusterName=supratrans-test
+SlurmctldHost=localhost
+SlurmUser=root
+SlurmdUser=root
+SlurmctldPort={ctld_port}
+SlurmdPort={d_port}
+AuthType=auth/munge
+CredType=cred/munge
+AuthInfo=socket={dir}/munge.socket
+StateSaveLocation={dir}/state
+SlurmdSpoolDir={dir}/spool
+SlurmctldPidFile={dir}/slurmctld.pid
+SlurmdPidFile={dir}/slurmd.pid
+SlurmctldLogFile={dir}/slurmctld.log
+SlurmdLogFile={dir}/slurmd.log
+ProctrackType=proctrack/linuxproc
+TaskPlugin=task/none
+SelectType=select/cons_tres
+SelectTypeParameters=CR_Core
+MpiDefault=none
+ReturnToService=2
+SchedulerType=sched/builtin
+JobCompType=jobcomp/none
+AccountingStorageType=accounting_storage/none
+KillWait=10
+MinJobAge=600
+InactiveLimit=0
+SlurmdTimeout=60
+NodeName=localhost CPUs=2 State=UNKNOWN
+PartitionName=debug Nodes=localhost Default=YES MaxTime=INFINITE State=UP
+"""
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def why_no_slurm():
+    if os.geteuid() != 0:
+        return "not root: a one-node Slurm needs root to run slurmd"
+    for tool in ("munged", "slurmctld", "slurmd", "sbatch", "squeue", "scontrol", "scancel"):
+        if shutil.which(tool) is None:
+            return f"{tool} not installed (apt-get install slurm-wlm munge)"
+    return None
+
+
+class Cluster:
+    """A one-node Slurm on localhost; every daemon it starts is stopped by PID in `stop`."""
+
+    def __init__(self, folder: Path):
+        self.dir = folder
+        self.pids = []
+        self.env = dict(os.environ, SLURM_CONF=str(folder / "slurm.conf"))
+
+    def start(self):
+        d = self.dir
+        for sub in ("state", "spool"):
+            (d / sub).mkdir()
+        key = d / "munge.key"
+        key.write_bytes(os.urandom(1024))
+        key.chmod(0o400)
+        (d / "slurm.conf").write_text(CONF.format(dir=d, ctld_port=free_port(), d_port=free_port()))
+        subprocess.run(["munged", f"--key-file={key}", f"--socket={d}/munge.socket", f"--pid-file={d}/munged.pid",
+                        f"--log-file={d}/munged.log", f"--seed-file={d}/munged.seed", "--force"],
+                       check=True, capture_output=True, timeout=30)
+        self.pids.append(self.pidfile("munged.pid"))
+        subprocess.run(["slurmctld", "-f", str(d / "slurm.conf")], check=True, capture_output=True, env=self.env,
+                       timeout=30)
+        self.pids.append(self.pidfile("slurmctld.pid"))
+        subprocess.run(["slurmd", "-f", str(d / "slurm.conf"), "-N", "localhost"], check=True, capture_output=True,
+                       env=self.env, timeout=30)
+        self.pids.append(self.pidfile("slurmd.pid"))
+        deadline = time.time() + 60
+        while time.time() < deadline:
+            out = self.run("sinfo", "-h", "-o", "%t", check=False).stdout.strip()
+            if out in ("idle", "mix", "alloc"):
+                return
+            time.sleep(0.5)
+        raise RuntimeError(f"the node did not come up (sinfo: {out!r}); see {d}/slurmctld.log")
+
+    def pidfile(self, name):
+        path = self.dir / name
+        deadline = time.time() + 20
+        while time.time() < deadline:
+            if path.exists() and path.read_text().strip():
+                return int(path.read_text().split()[0])
+            time.sleep(0.1)
+        raise RuntimeError(f"{name} not written")
+
+    def stop(self):
+        for pid in reversed(self.pids):
+            try:
+                os.kill(pid, signal.SIGTERM)
+            except ProcessLookupError:
+                continue
+        deadline = time.time() + 20
+        for pid in self.pids:
+            while time.time() < deadline:
+                try:
+                    os.kill(pid, 0)
+                except ProcessLookupError:
+                    break
+                time.sleep(0.1)
+            else:
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+
+    def run(self, *cmd, cwd=None, check=True, env=None):
+        proc = subprocess.run(list(cmd), cwd=cwd, env=env or self.env, capture_output=True, text=True, timeout=60)
+        if check:
+            assert proc.returncode == 0, f"{cmd}: {proc.stderr}"
+        return proc
+
+    def state(self, job):
+        out = self.run("scontrol", "-o", "show", "job", str(job), check=False).stdout
+        states = [w.split("=", 1)[1] for w in out.split() if w.startswith("JobState=")]
+        return states
+
+    def wait(self, job, timeout=240):
+        """Wait until every task of `job` has ended; return their states."""
+        deadline = time.time() + timeout
+        while time.time() < deadline:
+            states = self.state(job)
+            if states and all(s in ("COMPLETED", "FAILED", "CANCELLED", "TIMEOUT", "NODE_FAIL", "OUT_OF_MEMORY")
+                              for s in states):
+                return states
+            time.sleep(0.5)
+        raise AssertionError(f"job {job} did not end in {timeout} s: {self.state(job)}")
+
+
+@pytest.fixture(scope="module")
+def cluster(tmp_path_factory):
+    reason = why_no_slurm()
+    if reason:
+        pytest.skip(f"Slurm cannot start here: {reason}")
+    c = Cluster(tmp_path_factory.mktemp("slurm"))
+    try:
+        c.start()
+    except (subprocess.SubprocessError, RuntimeError, OSError) as exc:
+        c.stop()
+        pytest.skip(f"Slurm cannot start here: {exc}")
+    yield c
+    c.stop()
+
+
+@pytest.fixture(scope="module")
+def release_exe():
+    subprocess.run(["fpm", "build", "--profile", "release"], cwd=ROOT, check=True, capture_output=True)
+    out = subprocess.run(["fpm", "run", "--profile", "release", "--runner", "echo"], cwd=ROOT, check=True,
+                         capture_output=True, text=True)
+    return str(ROOT / out.stdout.strip().splitlines()[-1].split()[0])
+
+
+def single_machine(exe, folder, text):
+    (folder / "study.nml").write_text(text)
+    subprocess.run([exe, "study.nml"], cwd=folder, check=True, capture_output=True, timeout=300)
+    (folder / "out" / "study.h5").rename(folder / "whole.h5")
+
+
+def test_array_and_merge_equal_the_single_machine_file(cluster, release_exe, tmp_path):
+    single_machine(release_exe, tmp_path, STUDY.format(t_final="40.0"))
+    env = dict(cluster.env, SUPRATRANS=release_exe)
+    proc = subprocess.run(["bash", str(SCRIPTS / "submit.sh"), "study.nml", "3"], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 0, proc.stderr
+    words = proc.stdout.split()
+    array, merge = words[2], words[-1]
+    assert all(s == "COMPLETED" for s in cluster.wait(array)), list(tmp_path.glob("supratrans-*.out"))
+    assert cluster.wait(merge) == ["COMPLETED"]
+    diffs, compared, _ = compare_results.compare(tmp_path / "whole.h5", tmp_path / "out" / "study.h5")
+    assert compared > 5 and not diffs, diffs
+    assert len(list((tmp_path / "out").glob("study.part-*-of-3.h5"))) == 3
+
+
+def test_cancelled_task_resubmitted_resumes_from_its_journal(cluster, release_exe, tmp_path):
+    text = STUDY.format(t_final="300.0")
+    single_machine(release_exe, tmp_path, text)
+    env = dict(cluster.env, SUPRATRANS=release_exe)
+    array_script = str(SCRIPTS / "supratrans-array.sbatch")
+    job = cluster.run("sbatch", "--parsable", "--array=1-2", "--cpus-per-task=1", array_script, "study.nml", "2",
+                      cwd=tmp_path, env=env).stdout.strip().split(";")[0]
+    journal = tmp_path / "out" / "study.part-2-of-2.h5.journal"
+    deadline = time.time() + 120
+    while time.time() < deadline and (not journal.exists() or journal.read_text().count("\n") < 2):
+        time.sleep(0.05)
+    assert journal.exists(), "slice 2 never started"
+    cluster.run("scancel", f"{job}_2")
+    states = cluster.wait(job)
+    assert "CANCELLED" in states or "FAILED" in states, states
+    lines = journal.read_text().splitlines()[1:]
+    tasks_before = [int(x.split()[0]) for x in lines]
+    assert tasks_before and len(tasks_before) == len(set(tasks_before))
+    assert not (tmp_path / "out" / "study.part-2-of-2.h5").exists()
+    again = cluster.run("sbatch", "--parsable", "--array=2", "--cpus-per-task=1", array_script, "study.nml", "2",
+                        cwd=tmp_path, env=env).stdout.strip().split(";")[0]
+    assert cluster.wait(again) == ["COMPLETED"]
+    log = (tmp_path / f"supratrans-{again}_2.out").read_text()
+    assert f"{len(tasks_before)} already done" in log, log       # the journal's runs were not done again
+    merge = cluster.run("sbatch", "--parsable", str(SCRIPTS / "supratrans-merge.sbatch"), "study.nml", "2",
+                        cwd=tmp_path, env=env).stdout.strip().split(";")[0]
+    assert cluster.wait(merge) == ["COMPLETED"]
+    diffs, compared, _ = compare_results.compare(tmp_path / "whole.h5", tmp_path / "out" / "study.h5")
+    assert compared > 5 and not diffs, diffs
