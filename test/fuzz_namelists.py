@@ -6,8 +6,12 @@
 Each input is written to a scratch directory and checked with `EXE --check FILE` (read and validate, run nothing).
 The promise checked for every input: exit status 0 or 2, never a signal or a hang (5 s); on status 2 exactly one
 line on stderr, printable ASCII, starting with `error: `; nothing written into the scratch directory; no Fortran
-backtrace. Failing inputs are printed (and saved under --save, to become regression cases in test/fuzz_cases/).
-The test command runs 10,000 inputs (test/test_fuzz.py); this script runs longer campaigns.
+backtrace. The inputs are checked in batches, `EXE --check F1 F2 ...` (one line per file on stdout: `ok F` or
+`error 2 F: message`, the same reader and messages in one process, like a persistent-mode fuzzer), and every
+`--single`-th input also as a process of its own with the full promise above; an input whose batch crashes, hangs
+or leaves files is checked again on its own. Failing inputs are printed (and saved under --save, to become
+regression cases in test/fuzz_cases/). The test command runs 10,000 inputs (test/test_fuzz.py); this script runs
+longer campaigns.
 """
 import argparse
 import os
@@ -126,15 +130,60 @@ def verdict(status, stdout: bytes, stderr: bytes, left):
     return None
 
 
-def campaign(exe: str, count: int, seed: int, jobs: int = 4):
+def check_batch(exe: str, batch, scratch: Path, timeout: float = 60.0):
+    """Check inputs [(index, data)] in one process; return {index: reason} for those that break the promise,
+    checking each on its own when the batch as a whole crashed, hung or left files."""
+    work = Path(tempfile.mkdtemp(dir=scratch))
+    names = []
+    for k, (_, data) in enumerate(batch):
+        path = work / f"case{k:04d}.nml"
+        path.write_bytes(data)
+        names.append(path.name)
+    try:
+        proc = subprocess.run([exe, "--check", *names], cwd=work, capture_output=True, timeout=timeout,
+                              stdin=subprocess.DEVNULL)
+        broken = proc.returncode not in (0, 2) or proc.stderr or \
+            sorted(p.name for p in work.iterdir()) != sorted(names)
+    except subprocess.TimeoutExpired:
+        proc, broken = None, True
+    for p in work.iterdir():
+        if p.is_file():
+            p.unlink()
+        else:
+            import shutil
+            shutil.rmtree(p)
+    work.rmdir()
+    if broken:
+        return {i: r for i, d in batch if (r := check(exe, d, scratch))}
+    reasons = {}
+    lines = proc.stdout.decode("latin-1").splitlines()
+    if len(lines) != len(batch):
+        return {i: f"batch printed {len(lines)} lines for {len(batch)} files" for i, _ in batch}
+    for (i, _), name, line in zip(batch, names, lines):
+        if line == f"ok {name}":
+            continue
+        if not line.startswith(f"error 2 {name}: ") or any(not (32 <= ord(c) < 127) for c in line):
+            reasons[i] = f"bad answer: {line[:200]!r}"
+    return reasons
+
+
+def campaign(exe: str, count: int, seed: int, jobs: int = 4, batch_size: int = 250, single: int = 20):
     """Check `count` mutated inputs; return the list of (index, reason, data) that failed."""
     rng = random.Random(seed)
     corpus = seeds()
     inputs = [mutate(rng.choice(corpus), rng).encode("utf-8", "surrogateescape") for _ in range(count)]
+    indexed = list(enumerate(inputs))
+    batches = [indexed[k:k + batch_size] for k in range(0, count, batch_size)]
     with tempfile.TemporaryDirectory() as scratch:
         with ThreadPoolExecutor(max_workers=jobs) as pool:
-            reasons = list(pool.map(lambda d: check(exe, d, Path(scratch)), inputs))
-    return [(i, r, inputs[i]) for i, r in enumerate(reasons) if r]
+            found = {}
+            for part in pool.map(lambda b: check_batch(exe, b, Path(scratch)), batches):
+                found.update(part)
+            sample = indexed[::single]
+            for (i, _), r in zip(sample, pool.map(lambda x: check(exe, x[1], Path(scratch)), sample)):
+                if r:
+                    found[i] = r
+    return [(i, found[i], inputs[i]) for i in sorted(found)]
 
 
 def main(argv=None):
@@ -143,9 +192,10 @@ def main(argv=None):
     ap.add_argument("--count", type=int, default=100000)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2)
+    ap.add_argument("--single", type=int, default=20, help="every N-th input also as a process of its own")
     ap.add_argument("--save", type=Path, help="folder for failing inputs (regression cases)")
     args = ap.parse_args(argv)
-    failures = campaign(args.exe, args.count, args.seed, args.jobs)
+    failures = campaign(args.exe, args.count, args.seed, args.jobs, single=args.single)
     for i, reason, data in failures[:50]:
         print(f"input {i}: {reason}")
         if args.save:

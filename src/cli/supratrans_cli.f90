@@ -51,7 +51,8 @@ module supratrans_cli
         "    -o OUT              output file (default: the parts' name without .part-I-of-N)" // new_line("a") // &
         "    --overwrite         replace an existing output file" // new_line("a") // &
         "    --slices N FILE.nml the parts of slices 1..N of that namelist's output" // new_line("a") // &
-        "  --check FILE.nml      read and validate the namelist only (exit 0 if it would run)" // new_line("a") // &
+        "  --check FILE.nml...   read and validate namelists only (exit 0 if they would run; with several" &
+        // new_line("a") // "                        files one line each on stdout, the worst status)" // new_line("a") // &
         "  --version             print the version" // new_line("a") // new_line("a") // &
         "Exit status: 0 success, 2 bad input or command line, 3 a run failed fatally, 4 output not written," &
         // new_line("a") // "5 stopped by a signal (run the same command again to resume)."
@@ -70,7 +71,7 @@ contains
         !> Text for standard output (empty unless help or version).
         character(len=:), allocatable, intent(out) :: text
         character(len=:), allocatable :: file, output, parts(:)
-        integer :: i, slice_index, slice_count, nparts
+        integer :: i, slice_index, slice_count, nparts, nchecked, worst
         logical :: check_only, partial, overwrite
 
         status = 0
@@ -151,6 +152,8 @@ contains
         end select
 
         file = ""
+        nchecked = 0
+        worst = 0
         check_only = .false.
         slice_index = 0
         slice_count = 0
@@ -175,12 +178,20 @@ contains
                     call fail("unknown option '" // printable(trim(args(i))) // "' (see supratrans --help)")
                     return
                 end if
-                if (len(file) > 0) then
-                    call fail("one namelist file at a time ('" // file // "' and '" // printable(trim(args(i))) &
-                              // "'); see supratrans --help")
+                if (len(file) > 0 .and. .not. check_only) then
+                    call fail("one namelist file at a time ('" // printable(file) // "' and '" &
+                              // printable(trim(args(i))) // "'); see supratrans --help")
                     return
                 end if
-                file = trim(args(i))
+                if (len(file) > 0) then
+                    ! --check FILE FILE ...: one line per file on standard output, the worst status
+                    if (nchecked == 0) call check_one(file)
+                    call check_one(trim(args(i)))
+                    file = trim(args(i))
+                    nchecked = nchecked + 1
+                else
+                    file = trim(args(i))
+                end if
             end select
             i = i + 1
         end do
@@ -188,13 +199,31 @@ contains
             call fail(usage)
             return
         end if
-        if (check_only) then
+        if (check_only .and. nchecked > 0) then
+            status = worst
+        else if (check_only) then
             call check_file(file, status, error)
         else
             call run_from_file(file, status, error, slice_index, slice_count)
         end if
 
     contains
+
+        !> --check of one of several files: "ok FILE" or "error STATUS FILE: MESSAGE" on standard output.
+        subroutine check_one(path)
+            character(len=*), intent(in) :: path
+            type(error_type), allocatable :: problem
+            integer :: one
+
+            call check_file(path, one, problem)
+            if (allocated(problem)) then
+                write (output_unit, '(a)') "error " // int_str(one) // " " // printable(path) // ": " &
+                    // printable(problem%message)
+            else
+                write (output_unit, '(a)') "ok " // printable(path)
+            end if
+            worst = max(worst, one)
+        end subroutine check_one
 
         subroutine fail(message)
             character(len=*), intent(in) :: message

@@ -47,6 +47,8 @@ module supratrans_input
     integer, parameter, public :: default_probe = 60
     !> Largest namelist file read (bytes).
     integer, parameter :: max_input_bytes = 1048576
+    !> Longest line of a namelist file (characters).
+    integer, parameter :: max_line_length = 2000
     !> Largest number of entries in the `probes` list.
     integer, parameter, public :: max_probes = 64
 
@@ -214,6 +216,8 @@ contains
         cfg%text = text
         cfg%fingerprint = text_fingerprint(text)
         cfg%run%record%probes = [default_probe]
+        call check_line_lengths(text, path, error)
+        if (allocated(error)) return
         call parse_namelist(text, path, parsed, error)
         if (allocated(error)) return
         if (count_groups_given(parsed) == 0) then
@@ -227,6 +231,33 @@ contains
         if (parsed%n_values(find_key("record", "probes")) == 0) cfg%run%record%probes = [min(default_probe, cfg%run%chain%n)]
         call validate_config(cfg, error, check_output)
     end subroutine read_input_text
+
+    !> Refuse a line longer than `max_line_length` characters (no namelist needs one; the parser's work grows with
+    !> the number of tokens of a line, so a megabyte-long line would take seconds).
+    pure subroutine check_line_lengths(text, path, error)
+        !> The namelist text.
+        character(len=*), intent(in) :: text
+        !> Its name, for messages.
+        character(len=*), intent(in) :: path
+        !> Allocated when a line is too long.
+        type(error_type), allocatable, intent(out) :: error
+        integer :: start, k, line
+
+        start = 1
+        line = 1
+        do
+            k = index(text(start:), new_line("a"))
+            if (k == 0) k = len(text) - start + 2
+            if (k - 1 > max_line_length) then
+                call fatal_error(error, path // ": line " // int_str(line) // " is " // int_str(k - 1) &
+                                 // " characters long (at most " // int_str(max_line_length) // ")", err_input)
+                return
+            end if
+            start = start + k
+            line = line + 1
+            if (start > len(text)) exit
+        end do
+    end subroutine check_line_lengths
 
     !> Number of namelist groups present in a parsed input.
     pure function count_groups_given(parsed) result(n)
