@@ -21,6 +21,7 @@ def exe():
 def run(exe, tmp_path, text):
     nml = tmp_path / "case.nml"
     nml.write_text(text)
+    (tmp_path / "out_dir").mkdir(exist_ok=True)
     return subprocess.run([exe, str(nml)], cwd=tmp_path, capture_output=True, text=True), nml
 
 
@@ -35,6 +36,21 @@ CASES = {
     "T <= 0": ("&numerics t_final = 0.0 /\n" + OUT, "t_final"),
     "omega outside the gap": ("&drive omega = 1.2 /\n" + OUT, "omega"),
     "stability violated": ("&numerics dt = 0.3 /\n" + OUT, "dt"),
+    # limits checked before any work (each gave a silent wrong answer, a crash or a hang before)
+    "more than 2^31 steps": ("&numerics dt = 1e-6, t_final = 2200 /\n" + OUT, "t_final/dt"),
+    "t_final = 1e12": ("&numerics t_final = 1e12 /\n" + OUT, "t_final/dt"),
+    "dt = 1e-310": ("&numerics dt = 1e-310 /\n" + OUT, "t_final/dt"),
+    "resolution = 1e-10": ("&scene kind = 'bifurcation', resolution = 1e-10 /\n" + OUT, "resolution"),
+    "omega_step = 1e-15": ("&scene kind = 'bifurcation', omega_step = 1e-15 /\n" + OUT, "omega_step"),
+    "omega_step = 1e-9": ("&scene kind = 'map', omega_step = 1e-9 /\n" + OUT, "omega_step"),
+    "n = 2e9": ("&chain n = 2000000000, n0 = 10 /\n&record probes = 1 /\n" + OUT, "n = "),
+    "c = 1e308": ("&chain c = 1e308 /\n" + OUT, "c = "),
+    "10^9 runs": ("&scene kind = 'map', amplitude_step = 0.001, amplitude_max = 1000.0, omega_step = 0.0001 /\n" + OUT,
+                  "runs"),
+    "empty file": ("", "no namelist group"),
+    "comments only": ("! nothing here\n   \n", "no namelist group"),
+    "no equals sign": ("&chain c 4.0 /\n" + OUT, "'='"),
+    "output is a directory": ("&output file = 'out_dir' /\n", "directory"),
 }
 
 
@@ -89,3 +105,45 @@ def test_nested_output_directories_are_created(exe, tmp_path):
     proc, _ = run(exe, tmp_path, small + "&output file = 'a/b//c/r.h5', quiet = .true. /\n")
     assert proc.returncode == 0, proc.stderr
     assert (tmp_path / "a" / "b" / "c" / "r.h5").is_file()
+
+
+def test_output_that_is_the_input_is_refused(exe, tmp_path):
+    nml = tmp_path / "case.nml"
+    text = "&chain n = 40, n0 = 30 /\n&output file = 'case.nml', overwrite = .true. /\n"
+    nml.write_text(text)
+    proc = subprocess.run([exe, str(nml)], cwd=tmp_path, capture_output=True, text=True)
+    assert proc.returncode == 2 and "input file itself" in proc.stderr, proc.stderr
+    assert nml.read_text() == text
+
+
+def test_memory_beyond_the_process_limit_is_refused_before_work(exe, tmp_path):
+    import resource
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (4 * 10**9, 4 * 10**9))
+    nml = tmp_path / "case.nml"
+    nml.write_text("&chain n = 100000000, n0 = 10 /\n&record probes = 1 /\n&output file = 'r.h5' /\n")
+    proc = subprocess.run([exe, str(nml)], cwd=tmp_path, capture_output=True, text=True, preexec_fn=limit, timeout=60)
+    assert proc.returncode == 2, proc.stderr
+    assert "GB available" in proc.stderr and len(proc.stderr.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("args,status,words", [
+    (["--help"], 0, "usage"), (["-h"], 0, "usage"), (["--version"], 0, "supratrans 0."),
+    (["--frobnicate"], 2, "unknown option"), ([], 2, "usage"), (["--slice", "0/3", "x.nml"], 2, "--slice"),
+])
+def test_command_line_conventions(exe, tmp_path, args, status, words):
+    proc = subprocess.run([exe, *args], cwd=tmp_path, capture_output=True, text=True)
+    assert proc.returncode == status, proc.stderr
+    assert words in (proc.stdout if status == 0 else proc.stderr)
+    if status:
+        assert len(proc.stderr.strip().splitlines()) == 1
+
+
+def test_binary_garbage_is_not_echoed_raw(exe, tmp_path):
+    nml = tmp_path / "case.nml"
+    nml.write_bytes(b"&chain \x1b[31mc\x00\xff = 4 /\n")
+    proc = subprocess.run([exe, str(nml)], cwd=tmp_path, capture_output=True)
+    assert proc.returncode == 2
+    line = proc.stderr.decode("latin-1").strip()
+    assert len(line.splitlines()) == 1 and all(32 <= ord(c) < 127 for c in line), line

@@ -84,3 +84,16 @@ int supratrans_same_file(const char *a, const char *b)
     if (stat(a, &sa) != 0 || stat(b, &sb) != 0) return 0;
     return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
+
+#include <sys/resource.h>
+
+/* The smaller of the address-space and data-segment limits of this process in bytes, or -1 when unlimited. */
+double supratrans_memory_limit(void)
+{
+    struct rlimit as, data;
+    double limit = -1.0;
+    if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) limit = (double)as.rlim_cur;
+    if (getrlimit(RLIMIT_DATA, &data) == 0 && data.rlim_cur != RLIM_INFINITY)
+        if (limit < 0.0 || (double)data.rlim_cur < limit) limit = (double)data.rlim_cur;
+    return limit;
+}

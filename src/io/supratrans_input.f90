@@ -37,6 +37,7 @@ module supratrans_input
     use supratrans_curves, only: curve_count, curve_run
     use supratrans_chain, only: band_gap_edge, stability_lhs, stability_rhs, stable_by_paper_condition, critical_dt
     use supratrans_strings, only: int_str, real_str, fixed4, text_fingerprint
+    use supratrans_limits, only: check_limits
     use supratrans_system, only: path_kind, path_missing, path_directory, path_special, file_size
     implicit none
     private
@@ -47,6 +48,8 @@ module supratrans_input
     integer, parameter, public :: default_probe = 60
     !> Largest namelist file read (bytes).
     integer, parameter :: max_input_bytes = 1048576
+    !> Largest coupling c accepted (the stability condition needs dt < 1/c; c^2 must not overflow).
+    real(wp), parameter :: max_coupling = 1.0e6_wp
     !> Longest line of a namelist file (characters).
     integer, parameter :: max_line_length = 2000
     !> Largest number of entries in the `probes` list.
@@ -292,6 +295,8 @@ contains
             if (len(cfg%source) > 0) where = cfg%source
         end if
         call check_parameters(cfg, where, error)
+        if (allocated(error)) return
+        call check_limits(cfg, where, error)
         if (allocated(error)) return
         check_file = .true.
         if (present(check_output)) check_file = check_output
@@ -1190,6 +1195,10 @@ contains
                 return
             end if
             call check_real(where, "chain", "c", ch%c, .true., error)
+            if (.not. allocated(error) .and. ch%c > max_coupling) then
+                call fail(error, where, "chain", "c = " // real_str(ch%c, 6) // ": at most " // real_str(max_coupling) &
+                          // " (the scheme needs dt < 1/c)")
+            end if
             if (allocated(error)) return
             call check_real(where, "chain", "m2", ch%m2, .false., error, any_sign=.true.)
             if (allocated(error)) return
@@ -1441,6 +1450,10 @@ contains
         logical :: exists
 
         file = trim(cfg%output%file)
+        if (path_kind(file) == path_directory) then
+            call fail(error, where, "output", "file = '" // file // "' is a directory")
+            return
+        end if
         inquire (file=file, exist=exists)
         if (exists .and. .not. cfg%output%overwrite) then
             call fail(error, where, "output", "file '" // file // "' exists (set overwrite = .true. to replace it)")

@@ -1,0 +1,198 @@
+!> Limits checked before any work: counts of time steps, grid points, runs and search depths, computed in real
+!> arithmetic (so that nothing can overflow before it is checked), and the memory a run needs against the memory
+!> the machine has. Each limit is documented in the README ("Limits"); a configuration beyond one is refused with
+!> one line naming the key and the estimate.
+module supratrans_limits
+    use, intrinsic :: iso_c_binding, only: c_double
+    use supratrans_kinds, only: wp, i8
+    use supratrans_error, only: error_type, fatal_error, err_input
+    use supratrans_config, only: input_config
+    use supratrans_curves, only: curve_count
+    use supratrans_strings, only: int_str, real_str
+    !$ use omp_lib, only: omp_get_max_threads
+    implicit none
+    private
+
+    public :: check_limits, run_memory_bytes, available_memory_bytes
+
+    !> Most time steps of one run (T/dt): 10^9 steps of the paper's chain take about an hour.
+    real(wp), parameter, public :: max_steps = 1.0e9_wp
+    !> Most oscillators N of a chain.
+    real(wp), parameter, public :: max_sites = 1.0e8_wp
+    !> Most points of an amplitude or frequency axis, or of a threshold search grid ((max - min)/resolution).
+    real(wp), parameter, public :: max_axis_points = 1.0e6_wp
+    !> Most runs of a sweep or map, and most searches of a bifurcation diagram.
+    real(wp), parameter, public :: max_tasks = 1.0e7_wp
+    !> Most work of one invocation (a scene, or one slice of it), in oscillator-steps: about a day on one core.
+    real(wp), parameter, public :: max_site_steps = 5.0e13_wp
+    !> Bytes of state per oscillator of a run (levels, scheme coefficients, work arrays: measured ~100).
+    real(wp), parameter :: bytes_per_site = 160.0_wp
+
+contains
+
+    !> Check every count and size of a validated configuration against its limit and the machine's memory.
+    subroutine check_limits(cfg, where, error)
+        !> The configuration (values already within their ranges).
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Allocated when a limit is exceeded.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp) :: steps, n, namp, nomega, ngrid, tasks, runs_per_task, work, need, have, slices
+        integer :: threads
+        character(len=:), allocatable :: kind, thread_text
+
+        kind = trim(cfg%scene%kind)
+        steps = cfg%run%numerics%t_final/cfg%run%numerics%dt
+        if (.not. (steps <= max_steps)) then
+            call fail("numerics", "t_final/dt = " // sci(steps) // " time steps: more than the limit " &
+                      // sci(max_steps) // " (a larger dt or a shorter t_final)")
+            return
+        end if
+        n = real(cfg%run%chain%n, wp)
+        if (n > max_sites) then
+            call fail("chain", "n = " // sci(n) // " oscillators: more than the limit " // sci(max_sites))
+            return
+        end if
+        threads = 1
+        !$ threads = omp_get_max_threads()
+        if (kind /= "timeseries") then
+            need = run_memory_bytes(cfg, .false.)*real(threads, wp)
+        else
+            need = run_memory_bytes(cfg, .true.)
+        end if
+        have = available_memory_bytes()
+        thread_text = ""
+        if (kind /= "timeseries" .and. threads > 1) thread_text = " (" // int_str(threads) // " threads)"
+        if (have > 0.0_wp .and. need > 0.8_wp*have) then
+            call fail("chain", "n = " // int_str(cfg%run%chain%n) // " with t_final/dt = " // sci(steps) // " needs about " &
+                      // sci(need/1.0e9_wp) // " GB" // thread_text // ", more than the " // sci(have/1.0e9_wp) &
+                      // " GB available")
+            return
+        end if
+        if (kind == "timeseries") return
+
+        associate (sc => cfg%scene)
+            namp = 1.0_wp
+            nomega = 1.0_wp
+            runs_per_task = 1.0_wp
+            if (kind == "amplitude_sweep" .or. kind == "map") then
+                namp = (sc%amplitude_max - sc%amplitude_min)/sc%amplitude_step + 1.0_wp
+                if (.not. (namp <= max_axis_points)) then
+                    call fail("scene", "amplitude_step = " // sci(sc%amplitude_step) // " makes " // sci(namp) &
+                              // " amplitudes: more than the limit " // sci(max_axis_points))
+                    return
+                end if
+            end if
+            if (kind == "map" .or. kind == "bifurcation") then
+                nomega = (sc%omega_max - sc%omega_min)/sc%omega_step + 1.0_wp
+                if (.not. (nomega <= max_axis_points)) then
+                    call fail("scene", "omega_step = " // sci(sc%omega_step) // " makes " // sci(nomega) &
+                              // " frequencies: more than the limit " // sci(max_axis_points))
+                    return
+                end if
+            end if
+            if (kind == "bifurcation") then
+                ngrid = (sc%amplitude_max - sc%amplitude_min)/sc%resolution + 1.0_wp
+                if (.not. (ngrid <= max_axis_points)) then
+                    call fail("scene", "resolution = " // sci(sc%resolution) // " makes a search grid of " &
+                              // sci(ngrid) // " amplitudes: more than the limit " // sci(max_axis_points))
+                    return
+                end if
+                if (.not. (sc%coarse_step/sc%resolution <= max_axis_points)) then
+                    call fail("scene", "coarse_step/resolution = " // sci(sc%coarse_step/sc%resolution) &
+                              // ": more than the limit " // sci(max_axis_points))
+                    return
+                end if
+                ! a search asks about (range)/coarse_step coarse points and up to coarse_step/resolution fine ones
+                runs_per_task = (sc%amplitude_max - sc%amplitude_min)/sc%coarse_step + sc%coarse_step/sc%resolution
+            end if
+            tasks = real(curve_count(cfg), wp)*nomega*namp
+            if (kind == "work_precision" .or. kind == "stability") return
+            if (.not. (tasks <= max_tasks)) then
+                call fail("scene", sci(tasks) // " " // trim(merge("searches", "runs    ", kind == "bifurcation")) &
+                          // ": more than the limit " // sci(max_tasks) // " (check the steps)")
+                return
+            end if
+            slices = max(1.0_wp, real(cfg%slice_count, wp))
+            work = tasks*runs_per_task*steps*n/slices
+            if (.not. (work <= max_site_steps)) then
+                call fail("scene", "about " // sci(work) // " oscillator-steps (" // sci(tasks/slices) // " " &
+                          // trim(merge("searches", "runs    ", kind == "bifurcation")) // " x " &
+                          // sci(runs_per_task*steps) // " steps x " // sci(n) // " oscillators): more than the limit " &
+                          // sci(max_site_steps) // " (about a day on one core); split it with --slice I/N")
+                return
+            end if
+        end associate
+
+    contains
+
+        subroutine fail(group, message)
+            character(len=*), intent(in) :: group, message
+
+            call fatal_error(error, where // ": &" // group // ": " // message, err_input)
+        end subroutine fail
+
+    end subroutine check_limits
+
+    !> Bytes one run of `cfg` needs: its state (`bytes_per_site` a site) and, with `records`, the probe samples and
+    !> the ledger records kept for the output.
+    pure function run_memory_bytes(cfg, records) result(bytes)
+        !> The configuration.
+        type(input_config), intent(in) :: cfg
+        !> Count the records (a timeseries keeps them; scenes do not).
+        logical, intent(in) :: records
+        real(wp) :: bytes
+        real(wp) :: steps, nprobe
+
+        bytes = bytes_per_site*real(cfg%run%chain%n + 2, wp)
+        if (.not. records) return
+        steps = cfg%run%numerics%t_final/cfg%run%numerics%dt
+        nprobe = 0.0_wp
+        if (allocated(cfg%run%record%probes)) nprobe = real(size(cfg%run%record%probes), wp)
+        bytes = bytes + 8.0_wp*(nprobe + 2.0_wp)*(steps/real(max(cfg%run%record%probe_every, 1), wp) + 2.0_wp) &
+                + 8.0_wp*8.0_wp*(steps/real(max(cfg%run%record%ledger_every, 1), wp) + 2.0_wp)
+    end function run_memory_bytes
+
+    !> Memory available to this process (bytes): MemAvailable of /proc/meminfo, or the process's address-space or
+    !> data limit (ulimit -v / -d) when that is smaller; 0 when neither can be read.
+    function available_memory_bytes() result(bytes)
+        real(wp) :: bytes
+        interface
+            function c_memory_limit() bind(c, name="supratrans_memory_limit") result(limit)
+                import :: c_double
+                real(c_double) :: limit
+            end function c_memory_limit
+        end interface
+        real(wp) :: limit
+        integer :: unit, ios
+        character(len=256) :: line
+        integer(i8) :: kib
+
+        bytes = 0.0_wp
+        open (newunit=unit, file="/proc/meminfo", status="old", action="read", iostat=ios)
+        if (ios /= 0) return
+        do
+            read (unit, '(a)', iostat=ios) line
+            if (ios /= 0) exit
+            if (index(line, "MemAvailable:") == 1) then
+                read (line(14:), *, iostat=ios) kib
+                if (ios == 0) bytes = 1024.0_wp*real(kib, wp)
+                exit
+            end if
+        end do
+        close (unit)
+        limit = real(c_memory_limit(), wp)
+        if (limit > 0.0_wp .and. (bytes <= 0.0_wp .or. limit < bytes)) bytes = limit
+    end function available_memory_bytes
+
+    !> A number with 3 significant digits, for messages.
+    pure function sci(x) result(text)
+        !> The number.
+        real(wp), intent(in) :: x
+        character(len=:), allocatable :: text
+
+        text = real_str(x, 3)
+    end function sci
+
+end module supratrans_limits
