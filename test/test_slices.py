@@ -224,3 +224,38 @@ def test_second_instance_on_one_output_is_refused(exe, tmp_path):
     third = sh(exe, "study.nml", cwd=tmp_path, check=False)     # the first has ended: the lock is free
     assert third.returncode == 0, third.stderr
     assert not lock.exists()
+
+
+@pytest.fixture()
+def small_disk(tmp_path):
+    """A 64 KiB tmpfs (root only), unmounted afterwards."""
+    mount = tmp_path / "disk"
+    mount.mkdir()
+    if os.geteuid() != 0 or subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", str(mount)],
+                                           capture_output=True).returncode != 0:
+        pytest.skip("cannot mount a small tmpfs here (needs root)")
+    yield mount
+    subprocess.run(["umount", "-l", str(mount)], capture_output=True)
+
+
+def test_full_disk_is_one_line_and_the_journal_resumes(exe, tmp_path, small_disk):
+    text = """&chain n = 40, n0 = 30 /
+&numerics t_final = 10.0 /
+&scene kind = 'amplitude_sweep', amplitude_min = 1.0, amplitude_max = 3.0, amplitude_step = 0.01,
+  vary = 'gamma', values = 0.0, 0.01, 0.02 /
+&output file = 'disk/s.h5', quiet = .true. /
+"""
+    (tmp_path / "study.nml").write_text(text)
+    proc = subprocess.run([exe, "study.nml"], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 4, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and "disk full" in lines[0], proc.stderr
+    assert sorted(p.name for p in small_disk.iterdir()) == ["s.h5.journal"]      # no .tmp, no .new, no lock
+    kept = small_disk.joinpath("s.h5.journal").read_text().count("\n") - 1
+    assert kept > 50
+    subprocess.run(["mount", "-o", "remount,size=10m", str(small_disk)], check=True)
+    proc = subprocess.run([exe, "study.nml"], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    (tmp_path / "ref.nml").write_text(text.replace("disk/s.h5", "ref.h5"))
+    subprocess.run([exe, "ref.nml"], cwd=tmp_path, check=True, capture_output=True, timeout=300)
+    identical(tmp_path / "ref.h5", small_disk / "s.h5")

@@ -97,3 +97,22 @@ double supratrans_memory_limit(void)
         if (limit < 0.0 || (double)data.rlim_cur < limit) limit = (double)data.rlim_cur;
     return limit;
 }
+
+/* Write `len` bytes to `path` (created if missing; appended to, or replacing its contents), checking every write(2)
+ * and close(2): unlike buffered Fortran I/O, a full disk or an I/O error is reported. 0 on success, -1 on failure. */
+int supratrans_write_bytes(const char *path, const char *bytes, long long len, int append)
+{
+    int fd = open(path, O_WRONLY | O_CREAT | O_CLOEXEC | (append ? O_APPEND : O_TRUNC), 0666);
+    if (fd < 0) return -1;
+    long long done = 0;
+    while (done < len) {
+        ssize_t n = write(fd, bytes + done, (size_t)(len - done));
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            close(fd);
+            return -1;
+        }
+        done += n;
+    }
+    return close(fd) == 0 ? 0 : -1;
+}

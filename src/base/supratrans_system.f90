@@ -12,7 +12,7 @@ module supratrans_system
     private
 
     public :: make_directories, rename_file, remove_file, is_directory, path_kind, file_size
-    public :: lock_file, unlock_file, catch_stop_signals, stop_signal, host_name, same_file
+    public :: lock_file, unlock_file, catch_stop_signals, stop_signal, host_name, same_file, write_bytes
 
     !> `path_kind`: nothing at that path.
     integer, parameter, public :: path_missing = 0
@@ -68,6 +68,13 @@ module supratrans_system
             import :: c_int
             integer(c_int) :: sig
         end function c_stop_signal
+        function c_write_bytes(path, bytes, length, append) bind(c, name="supratrans_write_bytes") result(stat)
+            import :: c_char, c_int, c_long_long
+            character(kind=c_char), intent(in) :: path(*), bytes(*)
+            integer(c_long_long), value :: length
+            integer(c_int), value :: append
+            integer(c_int) :: stat
+        end function c_write_bytes
         function c_same_file(a, b) bind(c, name="supratrans_same_file") result(same)
             import :: c_char, c_int
             character(kind=c_char), intent(in) :: a(*), b(*)
@@ -193,6 +200,21 @@ contains
 
         sig = int(c_stop_signal())
     end function stop_signal
+
+    !> Write `bytes` to `path` (created if missing), appended or replacing its contents, through write(2) and
+    !> close(2), whose every failure (a full disk, an I/O error) is reported: `ok` false then.
+    subroutine write_bytes(path, bytes, append, ok)
+        !> File.
+        character(len=*), intent(in) :: path
+        !> What to write.
+        character(len=*), intent(in) :: bytes
+        !> Append (true) or replace (false).
+        logical, intent(in) :: append
+        !> Whether every byte was written and the file closed without error.
+        logical, intent(out) :: ok
+
+        ok = c_write_bytes(path // c_null_char, bytes, int(len(bytes), c_long_long), merge(1_c_int, 0_c_int, append)) == 0
+    end subroutine write_bytes
 
     !> Whether two paths name the same existing file (same device and inode).
     function same_file(a, b) result(same)

@@ -193,6 +193,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
         logical :: exists
         integer :: hdferr
+        integer(c_int) :: stat
 
         file%path = path
         file%tmp_path = path//".tmp"
@@ -209,7 +210,9 @@ contains
         call h5fcreate_f(file%tmp_path, h5f_acc_trunc_f, file%id, hdferr)
         if (hdferr < 0) then
             file%id = -1
-            call fatal_error(error, file%tmp_path//": cannot create HDF5 file (h5fcreate_f failed)", err_io)
+            stat = c_remove(file%tmp_path//c_null_char)
+            call fatal_error(error, file%tmp_path//": cannot create HDF5 file (h5fcreate_f failed: disk full, or no "// &
+                "permission to write there?)", err_io)
             return
         end if
         file%mode = h5_mode_create
@@ -314,11 +317,12 @@ contains
     !> Flush and close the file, then rename `<path>.tmp` atomically to `<path>` (replacing an existing file).
     !> A file opened in place (no temporary path) is just flushed and closed.
     subroutine h5_commit(file, error)
-        !> The file; closed on return.
+        !> The file; closed on return (on failure too, its temporary file then deleted).
         type(h5_file), intent(inout) :: file
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
         integer :: hdferr, mode
+        integer(c_int) :: stat
 
         call check_open(file, "commit", "/", error)
         if (allocated(error)) return
@@ -326,16 +330,26 @@ contains
         if (mode /= h5_mode_read) then
             call h5fflush_f(file%id, h5f_scope_global_f, hdferr)
             call check(hdferr, file, "flush", "/", "h5fflush_f", error)
-            if (allocated(error)) return
+            if (allocated(error)) then
+                ! disk full or I/O error: close what can be closed and delete the temporary file, so that nothing
+                ! half-written stays behind and no exit handler meets an open file
+                error%message = error%message//" (disk full?)"
+                call h5_discard(file)
+                return
+            end if
         end if
         call h5fclose_f(file%id, hdferr)
         file%id = -1
         file%mode = h5_mode_closed
         call check(hdferr, file, "close", "/", "h5fclose_f", error)
-        if (allocated(error)) return
+        if (allocated(error)) then
+            if (mode == h5_mode_create) stat = c_remove(file%tmp_path//c_null_char)
+            return
+        end if
         if (mode == h5_mode_read .or. len(file%tmp_path) == 0) return
         if (c_rename(file%tmp_path//c_null_char, file%path//c_null_char) /= 0) then
             call fatal_error(error, file%tmp_path//": cannot rename to "//file%path, err_io)
+            if (mode == h5_mode_create) stat = c_remove(file%tmp_path//c_null_char)
         end if
     end subroutine h5_commit
 

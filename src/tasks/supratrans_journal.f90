@@ -12,11 +12,11 @@ module supratrans_journal
     use supratrans_kinds, only: wp
     use supratrans_strings, only: int_str
     use supratrans_error, only: error_type, fatal_error, err_io
-    use supratrans_system, only: rename_file, file_size
+    use supratrans_system, only: rename_file, file_size, write_bytes, remove_file
     implicit none
     private
 
-    public :: journal_header, journal_line, parse_journal_line, read_journal, write_journal, crc32
+    public :: journal_header, journal_line, parse_journal_line, read_journal, write_journal, append_journal_line, crc32
 
     !> Longest journal line accepted (a task has at most a few dozen values).
     integer, parameter :: max_line = 65536
@@ -166,26 +166,37 @@ contains
         logical, intent(in) :: done(:)
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
-        integer :: unit, ios, i
+        character(len=:), allocatable :: text
+        integer :: i
+        logical :: ok
 
-        open (newunit=unit, file=journal // ".new", status="replace", action="write", iostat=ios)
-        if (ios /= 0) then
-            call fatal_error(error, journal // ": cannot write the journal", err_io)
-            return
-        end if
-        write (unit, '(a)', iostat=ios) header
+        text = header // new_line("a")
         do i = 1, size(done)
-            if (ios /= 0) exit
-            if (done(i)) write (unit, '(a)', iostat=ios) journal_line(i, results(:, i))
+            if (done(i)) text = text // journal_line(i, results(:, i)) // new_line("a")
         end do
-        if (ios /= 0) then
-            close (unit, status="delete")
-            call fatal_error(error, journal // ": cannot write the journal (disk full?)", err_io)
+        call write_bytes(journal // ".new", text, .false., ok)
+        if (.not. ok) then
+            call remove_file(journal // ".new")
+            call fatal_error(error, journal // ": cannot write the journal (disk full, or no permission?); the one " &
+                             // "there is kept", err_io)
             return
         end if
-        close (unit, iostat=ios)
         call rename_file(journal // ".new", journal, error)
     end subroutine write_journal
+
+    !> Append one task's line to a journal (write(2): a full disk is reported, `ok` false).
+    subroutine append_journal_line(journal, index, values, ok)
+        !> Journal file.
+        character(len=*), intent(in) :: journal
+        !> Task index.
+        integer, intent(in) :: index
+        !> The task's values.
+        real(wp), intent(in) :: values(:)
+        !> Whether the line was written whole.
+        logical, intent(out) :: ok
+
+        call write_bytes(journal, journal_line(index, values) // new_line("a"), .true., ok)
+    end subroutine append_journal_line
 
     !> Read one whole line (up to `max_line` characters; a longer one is cut and will fail its checksum).
     subroutine read_line(unit, line, ios)

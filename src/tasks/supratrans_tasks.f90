@@ -14,7 +14,7 @@ module supratrans_tasks
     use supratrans_error, only: error_type, fatal_error, err_io, err_interrupted
     use supratrans_config, only: input_config
     use supratrans_system, only: remove_file, stop_signal
-    use supratrans_journal, only: journal_header, journal_line, read_journal, write_journal
+    use supratrans_journal, only: journal_header, read_journal, write_journal, append_journal_line
     use supratrans_parts, only: write_part
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
@@ -94,10 +94,10 @@ contains
         character(len=:), allocatable :: header
         real(wp), allocatable :: values(:)
         logical, allocatable :: mine(:)
-        integer :: unit, i, ndone_start, ndone, ntodo, ios, threads, dropped, slice_index, slice_count
+        integer :: i, ndone_start, ndone, ntodo, ios, threads, dropped, slice_index, slice_count
         integer(int64) :: clock_start, clock_rate, clock_now
         real(wp) :: last_progress, last_snapshot, elapsed
-        logical :: snapshot_only, write_failed
+        logical :: snapshot_only, write_failed, written
         integer :: stop_after
         character(len=16) :: knob
 
@@ -121,13 +121,9 @@ contains
             call tasks%snapshot(results, done)
             return
         end if
+        ! rewritten with the whole lines only (a new file, renamed over the old one only once it is complete)
         call write_journal(journal, header, results, done, error)
         if (allocated(error)) return
-        open (newunit=unit, file=journal, status="old", position="append", action="write", iostat=ios)
-        if (ios /= 0) then
-            call fatal_error(error, journal // ": cannot append to the journal", err_io)
-            return
-        end if
 
         ! fault injection for the tests: SUPRATRANS_STOP_AFTER=k acts as a stop signal once k tasks are journaled
         stop_after = huge(1)
@@ -152,19 +148,20 @@ contains
             flush (error_unit)
         end if
 
-        !$omp parallel do schedule(dynamic, 1) default(shared) private(i, values, clock_now, elapsed, ios)
+        !$omp parallel do schedule(dynamic, 1) default(shared) private(i, values, clock_now, elapsed, written)
         do i = 1, ntask
             if (done(i) .or. .not. mine(i)) cycle
-            if (stop_signal() /= 0 .or. ndone - ndone_start >= stop_after) cycle
+            if (stop_signal() /= 0 .or. ndone - ndone_start >= stop_after .or. write_failed) cycle
             allocate (values(nvalues))
             call tasks%run(i, values)
             !$omp critical (supratrans_tasks_journal)
             results(:, i) = values
             done(i) = .true.
             ndone = ndone + 1
-            write (unit, '(a)', iostat=ios) journal_line(i, values)
-            if (ios == 0) flush (unit, iostat=ios)
-            if (ios /= 0) write_failed = .true.
+            if (.not. write_failed) then
+                call append_journal_line(journal, i, values, written)
+                write_failed = .not. written
+            end if
             call system_clock(clock_now)
             elapsed = real(clock_now - clock_start, wp)/real(clock_rate, wp)
             if (.not. quiet .and. (elapsed - last_progress >= progress_interval .or. ndone == ntodo)) then
@@ -182,7 +179,6 @@ contains
             deallocate (values)
         end do
         !$omp end parallel do
-        close (unit, iostat=ios)
         if (write_failed) then
             call fatal_error(error, journal // ": cannot write the journal (disk full?); run again to resume from " &
                              // "the lines it holds", err_io)
