@@ -39,6 +39,16 @@ def main(argv=None):
     ap.add_argument("--numbers", action="store_true", help="print the numbers at every frequency, not a selection")
     ap.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     args = ap.parse_args(argv)
+    if args.output:
+        import matplotlib.pyplot as plt
+
+        kinds = plt.gcf().canvas.get_supported_filetypes()
+        plt.close("all")
+        suffix = Path(args.output).suffix.lower().lstrip(".")
+        if suffix not in kinds:
+            print(f"error: {args.output}: unknown image type '.{suffix}' (known: {', '.join(sorted(kinds))})",
+                  file=sys.stderr)
+            return 2
     try:
         scenes = [sp.open_scene(f, expect=args.scene) for f in args.files]
         for s in scenes[1:]:

@@ -392,3 +392,10 @@ def test_zoom_window_around_the_jumps():
     assert lo < 1.78 and hi > 1.82 and hi - lo < 0.3
     assert sp._zoom_window(amp, [1.2, 2.8]) is None  # the jumps already fill the plot
     assert sp._zoom_window(amp, [float("nan")]) is None  # no jump: nothing to zoom on
+
+
+def test_unknown_image_type_is_one_line(data, tmp_path):
+    f = need(data, "fig1_sg_A250")
+    proc = plot(f, "-o", tmp_path / "x.xyz")
+    assert_one_line_error(proc, "x.xyz", "unknown image type")
+    assert not (tmp_path / "x.xyz").exists()
