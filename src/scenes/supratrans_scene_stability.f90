@@ -52,7 +52,7 @@ module supratrans_scene_stability
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_run_parameters
-    use supratrans_rk_high, only: rk8_stability_coefficients, rk8_stages
+    use supratrans_stepper_rk8, only: rk8_stability_coefficients, rk8_stages
     use supratrans_eigen, only: general_eigenvalues
     implicit none
     private

@@ -52,7 +52,7 @@ module supratrans_scene_workprec
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_run_parameters
     use supratrans_tridiag, only: solve_tridiag
-    use supratrans_rk_high, only: rk8_stages
+    use supratrans_stepper_rk8, only: rk8_stages
     implicit none
     private
 
@@ -291,7 +291,7 @@ contains
         do ia = 1, namp
             associate (fine => res(2*ia - 1), coarse => res(2*ia), ref => tasks%refs(ia))
                 h = reference_step(tasks, .true.)
-                m = fine%steps
+                m = int(fine%steps)
                 ref%h = h
                 ref%injected = fine%ledger_series(1:m + 1, 2)
                 ref%u = fine%probe_u(1:m + 1, 1)
@@ -300,7 +300,7 @@ contains
                 ref%error_energy = abs(coarse%ledger%injected - fine%ledger%injected)/abs(fine%ledger%injected)
                 ref%error_u = 0.0_wp
                 ref%u_scale = 0.0_wp
-                do j = 0, coarse%steps
+                do j = 0, int(coarse%steps)
                     t = real(j, wp)*2.0_wp*h
                     if (t < real(m, wp)*h - tasks%window - 1.0e-9_wp) cycle
                     ref%error_u = max(ref%error_u, abs(coarse%probe_u(j + 1, 1) - fine%probe_u(2*j + 1, 1)))
@@ -367,7 +367,7 @@ contains
         if (status == run_ok .and. .not. (drift <= drift_limit)) status = run_diverged
         values(1) = real(status, wp)
         values(8) = real(res%steps, wp)
-        values(9) = real(res%newton_iterations, wp)
+        values(9) = real(res%tridiagonal_solves + res%rhs_evaluations, wp)   ! newton: = its Newton iterations
         values(10) = res%max_abs_u
         if (status /= run_ok) return
 
