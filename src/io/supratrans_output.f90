@@ -175,6 +175,8 @@ contains
                                                        int(result%newton_iterations), error)
         if (.not. allocated(error)) call h5_write_attr(file, group, "newton_max_iterations", &
                                                        result%newton_max_iterations, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "tridiagonal_solves", result%tridiagonal_solves, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "rhs_evaluations", result%rhs_evaluations, error)
         if (.not. allocated(error)) call h5_write_attr(file, group, "wall_time_s", result%wall_time, error)
         if (.not. allocated(error)) call h5_write_attr(file, group, "max_abs_u", result%max_abs_u, error)
         if (.not. allocated(error)) call h5_write_attr(file, group, "energy_injected", result%ledger%injected, error)

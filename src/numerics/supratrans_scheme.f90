@@ -17,7 +17,9 @@ module supratrans_scheme
 
     public :: scheme_init, scheme_rhs, scheme_apply_a
 
-    !> Coefficients of the scheme and the work arrays of one run (allocated once; the step allocates nothing).
+    !> Coefficients of the scheme for one chain and one time step: the matrices A, B, C (their diagonals and
+    !> off-diagonals) and the site damping. Set once by `scheme_init`, read-only afterwards; the work arrays of the
+    !> Newton iteration and of the tridiagonal solves belong to the steppers.
     type, public :: scheme_type
         !> Number of oscillators N.
         integer :: n = 0
@@ -37,16 +39,6 @@ module supratrans_scheme
         real(wp), allocatable :: e(:)
         !> Site damping alpha_n = gamma + gamma'(n), size N.
         real(wp), allocatable :: alpha(:)
-        !> Right-hand side B u^k + C u^{k-1} + v^k of the current step, size N.
-        real(wp), allocatable :: rhs(:)
-        !> Work: Newton residual / solution of the tridiagonal solve, size N.
-        real(wp), allocatable :: work(:)
-        !> Work: discrete gradient G and its slope dG/da, size N.
-        real(wp), allocatable :: g(:), dg(:)
-        !> Work: sin(s_n), cos(s_n) of the current Newton iterate (sine-Gordon), size N.
-        real(wp), allocatable :: sin_s(:), cos_s(:)
-        !> Work: copies of the tridiagonal matrix handed to `dgtsv` (it overwrites them).
-        real(wp), allocatable :: dl(:), dd(:), du(:)
     end type scheme_type
 
 contains
@@ -71,23 +63,23 @@ contains
         scheme%alpha = damping_profile(chain)
         scheme%b = (scheme%alpha + 2.0_wp*chain%beta)/(2.0_wp*dt) + chain%m2/2.0_wp + 1.0_wp/dt**2
         scheme%e = (scheme%alpha + 2.0_wp*chain%beta)/(2.0_wp*dt) - chain%m2/2.0_wp - 1.0_wp/dt**2
-        allocate (scheme%rhs(n), scheme%work(n), scheme%g(n), scheme%dg(n), scheme%sin_s(n), scheme%cos_s(n))
-        allocate (scheme%dl(max(n - 1, 1)), scheme%dd(n), scheme%du(max(n - 1, 1)))
     end subroutine scheme_init
 
-    !> Form rhs = B u^k + C u^{k-1} + (the u_0^k, u_0^{k-1} parts of v^k) into `scheme%rhs`.
+    !> Form rhs = B u^k + C u^{k-1} + (the u_0^k, u_0^{k-1} parts of v^k).
     !> The u_0^{k+1} part of v^k is not included: it is applied with A through `u_new(0)`.
-    pure subroutine scheme_rhs(scheme, u_cur, u_old)
-        !> Scheme (rhs is written).
-        type(scheme_type), intent(inout) :: scheme
+    pure subroutine scheme_rhs(scheme, u_cur, u_old, rhs)
+        !> Scheme coefficients.
+        type(scheme_type), intent(in) :: scheme
         !> Level k, u(0:N+1) with boundary cells.
         real(wp), intent(in) :: u_cur(0:)
         !> Level k-1, u(0:N+1) with boundary cells.
         real(wp), intent(in) :: u_old(0:)
+        !> The right-hand side, size N.
+        real(wp), intent(out), contiguous :: rhs(:)
         integer :: n
 
         do n = 1, scheme%n
-            scheme%rhs(n) = scheme%d*u_cur(n) + scheme%c2*(u_cur(n - 1) + u_cur(n + 1)) &
+            rhs(n) = scheme%d*u_cur(n) + scheme%c2*(u_cur(n - 1) + u_cur(n + 1)) &
                             + scheme%e(n)*u_old(n) + scheme%a*(u_old(n - 1) + u_old(n + 1))
         end do
     end subroutine scheme_rhs

@@ -9,19 +9,31 @@
 !>   G(a, b) = (a + b) [1/2 - (a^2 + b^2)/24 + (a^4 + a^2 b^2 + b^4)/720].
 !>
 !> dG/da, the diagonal added to the Newton Jacobian, is equally direct. All procedures are pure.
+!>
+!> The potentials form a closed enumeration (`sine_gordon`, `klein_gordon`): an identifier outside it is an error,
+!> never a silent choice of one of them. `check_potential` turns it into an error value (the run engine checks
+!> once per run); the kernels below, which cannot return errors, give NaN for it (V, V', G, dG/da, sums), so a
+!> caller that skipped the check sees a loud, non-finite result rather than another potential's numbers.
 module supratrans_potential
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
+    use supratrans_error, only: error_type, fatal_error, err_input
+    use supratrans_strings, only: int_str
     implicit none
     private
 
     public :: potential_v, potential_dv, discrete_gradient, discrete_gradient_da
     public :: gradient_and_slope, gradient_and_slope_array, gradient_and_slope_refine, potential_sum, force_array
-    public :: potential_name, potential_from_name
+    public :: potential_name, potential_from_name, is_potential, check_potential
 
+    !> Not a potential: what `potential_from_name` returns for an unknown name.
+    integer, parameter, public :: potential_unknown = 0
     !> Identifier of the sine-Gordon potential V(u) = 1 - cos u.
     integer, parameter, public :: sine_gordon = 1
     !> Identifier of the Klein-Gordon potential V(u) = u^2/2 - u^4/24 + u^6/720 (phi^6 truncation of 1 - cos u).
     integer, parameter, public :: klein_gordon = 2
+    !> The enumeration: every valid potential identifier.
+    integer, parameter, public :: potential_ids(2) = [sine_gordon, klein_gordon]
 
     !> Below this |h| = |a - b|/2 the Taylor series of sinc and sinc' are used (truncation error < 3e-21).
     real(wp), parameter :: h_series = 0.25_wp
@@ -39,8 +51,10 @@ contains
         select case (id)
         case (sine_gordon)
             v = 2.0_wp*sin(0.5_wp*u)**2          ! 1 - cos u without cancellation near u = 0
-        case default
+        case (klein_gordon)
             v = u*u*(0.5_wp + u*u*(-1.0_wp/24.0_wp + u*u/720.0_wp))
+        case default
+            v = ieee_value(v, ieee_quiet_nan)
         end select
     end function potential_v
 
@@ -55,8 +69,10 @@ contains
         select case (id)
         case (sine_gordon)
             dv = sin(u)
-        case default
+        case (klein_gordon)
             dv = u*(1.0_wp + u*u*(-1.0_wp/6.0_wp + u*u/120.0_wp))
+        case default
+            dv = ieee_value(dv, ieee_quiet_nan)
         end select
     end function potential_dv
 
@@ -103,10 +119,13 @@ contains
         select case (id)
         case (sine_gordon)
             call sine_gordon_g(sin(0.5_wp*(a + b)), cos(0.5_wp*(a + b)), 0.5_wp*(a - b), g, dg)
-        case default
+        case (klein_gordon)
             call klein_gordon_array([a], [b], ga, dga)
             g = ga(1)
             dg = dga(1)
+        case default
+            g = ieee_value(g, ieee_quiet_nan)
+            dg = g
         end select
     end subroutine gradient_and_slope
 
@@ -135,8 +154,11 @@ contains
                 cs(n) = cos(0.5_wp*(a(n) + b(n)))
                 call sine_gordon_g(ss(n), cs(n), 0.5_wp*(a(n) - b(n)), g(n), dg(n))
             end do
-        case default
+        case (klein_gordon)
             call klein_gordon_array(a, b, g, dg)
+        case default
+            g = ieee_value(1.0_wp, ieee_quiet_nan)
+            dg = g
         end select
     end subroutine gradient_and_slope_array
 
@@ -178,8 +200,11 @@ contains
                 end if
                 call sine_gordon_g(ss(n), cs(n), 0.5_wp*(a(n) - b(n)), g(n), dg(n))
             end do
-        case default
+        case (klein_gordon)
             call klein_gordon_array(a, b, g, dg)
+        case default
+            g = ieee_value(1.0_wp, ieee_quiet_nan)
+            dg = g
         end select
     end subroutine gradient_and_slope_refine
 
@@ -228,8 +253,10 @@ contains
         select case (id)
         case (sine_gordon)
             f = sin(u)
-        case default
+        case (klein_gordon)
             f = u*(1.0_wp + u*u*(-1.0_wp/6.0_wp + u*u/120.0_wp))
+        case default
+            f = ieee_value(1.0_wp, ieee_quiet_nan)
         end select
     end subroutine force_array
 
@@ -244,8 +271,10 @@ contains
         select case (id)
         case (sine_gordon)
             total = 2.0_wp*sum(sin(0.5_wp*u)**2)
-        case default
+        case (klein_gordon)
             total = sum(u*u*(0.5_wp + u*u*(-1.0_wp/24.0_wp + u*u/720.0_wp)))
+        case default
+            total = ieee_value(total, ieee_quiet_nan)
         end select
     end function potential_sum
 
@@ -287,7 +316,7 @@ contains
         end select
     end function potential_name
 
-    !> Identifier of a potential from its name ('sine-gordon' or 'klein-gordon'); 0 if unknown.
+    !> Identifier of a potential from its name ('sine-gordon' or 'klein-gordon'); `potential_unknown` if unknown.
     pure function potential_from_name(name) result(id)
         !> Name as written in the namelist (case-sensitive, lower case).
         character(len=*), intent(in) :: name
@@ -299,8 +328,30 @@ contains
         case ("klein-gordon")
             id = klein_gordon
         case default
-            id = 0
+            id = potential_unknown
         end select
     end function potential_from_name
+
+    !> True when `id` is one of the enumeration `potential_ids`.
+    elemental function is_potential(id) result(valid)
+        !> Potential identifier.
+        integer, intent(in) :: id
+        logical :: valid
+
+        valid = any(potential_ids == id)
+    end function is_potential
+
+    !> Validate a potential identifier: `error` is allocated (input class) when `id` is not a known potential.
+    pure subroutine check_potential(id, error)
+        !> Potential identifier.
+        integer, intent(in) :: id
+        !> Error, allocated when `id` is unknown.
+        type(error_type), allocatable, intent(out) :: error
+
+        if (is_potential(id)) return
+        call fatal_error(error, "unknown potential identifier " // int_str(id) // " (known: " &
+                         // int_str(sine_gordon) // " sine-gordon, " // int_str(klein_gordon) // " klein-gordon)", &
+                         err_input)
+    end subroutine check_potential
 
 end module supratrans_potential

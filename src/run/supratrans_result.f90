@@ -7,7 +7,8 @@ module supratrans_result
     implicit none
     private
 
-    public :: status_name, init_records, record_ledger, record_probes, observe_ramp, check_blowup, observe_detector, close_verdict
+    public :: status_name, init_records, record_ledger, record_probes, observe_ramp, check_blowup, observe_detector, &
+              observe_early_stop, close_verdict
 
     !> The run reached its final time (or was stopped early with its outcome decided).
     integer, parameter, public :: run_ok = 0
@@ -17,22 +18,31 @@ module supratrans_result
     integer, parameter, public :: run_newton_failed = 2
     !> The linear solver failed (singular tridiagonal matrix) or produced non-finite values.
     integer, parameter, public :: run_solver_failed = 3
+    !> The run could not start: its description is not runnable (unknown method or potential, a number of time
+    !> steps that is not finite or too large, records too large). No step was taken; `reason` says why.
+    integer, parameter, public :: run_invalid = 4
 
     !> Result of one run.
     type, public :: run_result
-        !> Outcome: `run_ok`, `run_diverged`, `run_newton_failed`, `run_solver_failed`.
+        !> Outcome: `run_ok`, `run_diverged`, `run_newton_failed`, `run_solver_failed`, `run_invalid`.
         integer :: status = run_ok
         !> Why the run ended as it did (empty for a normal end).
         character(len=:), allocatable :: reason
         !> Time steps taken.
-        integer :: steps = 0
+        integer(i8) :: steps = 0
         !> Time at which the run ended.
         real(wp) :: t_end = 0.0_wp
-        !> Total Newton iterations (tridiagonal solves) over the run.
+        !> Newton iterations over the run (0 for the methods without Newton: linearized, rk4, rk8).
         integer(i8) :: newton_iterations = 0
-        !> Largest number of Newton iterations in one step.
+        !> Largest number of Newton iterations in one step (0 without Newton).
         integer :: newton_max_iterations = 0
-        !> Final energy ledger.
+        !> Tridiagonal systems solved over the run: one per Newton iteration (newton), one per step (linearized),
+        !> none for the Runge-Kutta methods. A solve is LAPACK `dgtsv`, or N divisions when beta = 0.
+        integer(i8) :: tridiagonal_solves = 0
+        !> Right-hand-side evaluations of the method-of-lines system over the run: the stages of the Runge-Kutta
+        !> methods (4 or 11 a step); none for the finite-difference schemes.
+        integer(i8) :: rhs_evaluations = 0
+        !> Energy ledger: running totals during the run, final at its end.
         type(ledger_type) :: ledger
         !> Energy injected up to the end of the drive's ramp (the paper computes "the total energy" after the
         !> ramp): injected - injected_at_ramp is the energy injected after it. Valid when `ramp_passed`.
@@ -93,17 +103,17 @@ contains
             name = "newton_failed"
         case (run_solver_failed)
             name = "solver_failed"
+        case (run_invalid)
+            name = "invalid"
         case default
             name = "unknown"
         end select
     end function status_name
 
-    !> Append the current ledger state to the records (ignored when the records are full).
-    pure subroutine record_ledger(result, ledger, t)
+    !> Append the current state of the run's ledger (`result%ledger`) to the records (ignored when they are full).
+    pure subroutine record_ledger(result, t)
         !> Result whose ledger records grow by one.
         type(run_result), intent(inout) :: result
-        !> Current ledger.
-        type(ledger_type), intent(in) :: ledger
         !> Time of the record.
         real(wp), intent(in) :: t
         integer :: i
@@ -112,76 +122,83 @@ contains
         result%n_ledger_samples = result%n_ledger_samples + 1
         i = result%n_ledger_samples
         result%ledger_time(i) = t
-        result%ledger_series(i, :) = [ledger%stored, ledger%injected, ledger%dissipated_gamma, ledger%dissipated_beta, &
-                                      ledger%dissipated_absorber, ledger%residual]
+        associate (ledger => result%ledger)
+            result%ledger_series(i, :) = [ledger%stored, ledger%injected, ledger%dissipated_gamma, &
+                                          ledger%dissipated_beta, ledger%dissipated_absorber, ledger%residual]
+        end associate
     end subroutine record_ledger
 
-    !> Allocate the records of a run of `m` steps: probe samples every `record%probe_every` steps (and at t = 0),
-    !> ledger records every `record%ledger_every` steps (and at the start and the end).
+    !> Allocate the records of a run of `m` time steps (levels t_0 .. t_M): probe samples every
+    !> `record%probe_every` levels (and at t = 0), ledger records every `record%ledger_every` steps (and at the
+    !> start and the end). When the records cannot be held (a sampling interval below 1, or more than huge(0)
+    !> samples) they are allocated empty and the run is marked `run_invalid` with a reason.
     pure subroutine init_records(result, record, m)
         !> The run's result.
         type(run_result), intent(inout) :: result
         !> What to record.
         type(record_params), intent(in) :: record
-        !> Number of steps of the run.
-        integer, intent(in) :: m
-        integer :: nsample, nledger
+        !> Number of time steps M of the run.
+        integer(i8), intent(in) :: m
+        integer(i8) :: nsample, nledger
 
         if (allocated(record%probes)) then
             result%probes = record%probes
         else
             allocate (result%probes(0))
         end if
-        nsample = m/record%probe_every + 1
+        if (record%probe_every < 1 .or. record%ledger_every < 1) then
+            result%status = run_invalid
+            result%reason = "probe_every and ledger_every must be >= 1 (got " // trim(int_fixed(record%probe_every)) &
+                            // " and " // trim(int_fixed(record%ledger_every)) // ")"
+            nsample = 0
+            nledger = 0
+        else
+            nsample = m/record%probe_every + 1
+            nledger = m/record%ledger_every + 2
+            if (nsample > huge(0) .or. nledger > huge(0)) then
+                result%status = run_invalid
+                result%reason = "too many records: " // trim(real_fixed(real(nsample, wp), 6)) // " probe samples, " &
+                                // trim(real_fixed(real(nledger, wp), 6)) // " ledger records (at most " &
+                                // trim(int_fixed(huge(0))) // " each)"
+                nsample = 0
+                nledger = 0
+            end if
+        end if
         allocate (result%probe_time(nsample), result%probe_u(nsample, size(result%probes)))
-        nledger = m/record%ledger_every + 2
         allocate (result%ledger_time(nledger), result%ledger_series(nledger, size(ledger_columns)))
     end subroutine init_records
 
-    !> Append a probe sample at time `t` (ignored when the records are full): probe site n reads u(n) for
-    !> 1 <= n <= N, the drive `psi` for n = 0, and 0 for the fixed end n = N + 1.
-    pure subroutine record_probes(result, t, psi, u)
+    !> Append a probe sample at time `t` (ignored when the records are full): `u(j)` is u_n at probe site j
+    !> (the drive psi for n = 0, 0 for the fixed end n = N + 1).
+    pure subroutine record_probes(result, t, u)
         !> Result whose probe records grow by one.
         type(run_result), intent(inout) :: result
         !> Time of the sample.
         real(wp), intent(in) :: t
-        !> Drive u_0(t).
-        real(wp), intent(in) :: psi
-        !> Displacements u_1 .. u_N.
+        !> u_n at the probe sites, one per entry of `result%probes`.
         real(wp), intent(in) :: u(:)
-        integer :: i, j, site
+        integer :: i
 
         if (result%n_probe_samples >= size(result%probe_time)) return
         result%n_probe_samples = result%n_probe_samples + 1
         i = result%n_probe_samples
         result%probe_time(i) = t
-        do j = 1, size(result%probes)
-            site = result%probes(j)
-            if (site >= 1 .and. site <= size(u)) then
-                result%probe_u(i, j) = u(site)
-            else if (site == 0) then
-                result%probe_u(i, j) = psi
-            else
-                result%probe_u(i, j) = 0.0_wp
-            end if
-        end do
+        result%probe_u(i, :) = u
     end subroutine record_probes
 
     !> Note the energy injected up to the end of the ramp: call after each step with the time `t` up to which the
-    !> ledger's injected energy is summed; the first call with t >= ramp_time records it.
-    pure subroutine observe_ramp(result, injected, t, ramp_time)
+    !> run's ledger (`result%ledger`) sums the injected energy; the first call with t >= ramp_time records it.
+    pure subroutine observe_ramp(result, t, ramp_time)
         !> The run's result.
         type(run_result), intent(inout) :: result
-        !> Energy injected so far.
-        real(wp), intent(in) :: injected
-        !> Time up to which `injected` is summed.
+        !> Time up to which the ledger's injected energy is summed.
         real(wp), intent(in) :: t
         !> End of the drive's ramp.
         real(wp), intent(in) :: ramp_time
 
         if (result%ramp_passed .or. t < ramp_time) return
         result%ramp_passed = .true.
-        result%injected_at_ramp = injected
+        result%injected_at_ramp = result%ledger%injected
     end subroutine observe_ramp
 
     !> Blow-up check of a step: `umax` = max |u_n| (NaN counts as blown up). Sets the status and reason.
@@ -208,8 +225,9 @@ contains
     end subroutine check_blowup
 
     !> Transmission detector of a step: `ufar` = max |u_n| beyond the detector site `nd` at time `t`.
-    !> The run transmits once `ufar` exceeds `detect%amplitude`; `halt` asks the time loop to end the run there.
-    pure subroutine observe_detector(result, detect, nd, ufar, t, halt)
+    !> The run transmits once `ufar` exceeds `detect%amplitude` (the verdict is then decided: see
+    !> `observe_early_stop`).
+    pure subroutine observe_detector(result, detect, nd, ufar, t)
         !> The run's result.
         type(run_result), intent(inout) :: result
         !> Detector parameters.
@@ -220,10 +238,7 @@ contains
         real(wp), intent(in) :: ufar
         !> Time of the level.
         real(wp), intent(in) :: t
-        !> True when the verdict was just decided and the run should stop early.
-        logical, intent(out) :: halt
 
-        halt = .false.
         result%detect_site = nd
         result%u_beyond_max = max(result%u_beyond_max, ufar)
         if (result%transmitting .or. .not. (ufar > detect%amplitude)) return
@@ -232,11 +247,21 @@ contains
         result%verdict_reason = "|u_n| beyond site " // trim(int_fixed(nd)) // " reached " &
             // trim(real_fixed(ufar, 6)) // " > " &
                                 // trim(real_fixed(detect%amplitude, 6)) // " at t = " // trim(real_fixed(t, 6))
-        if (detect%stop_when_decided) then
-            result%stopped_early = .true.
-            halt = .true.
-        end if
     end subroutine observe_detector
+
+    !> Early stop: once the verdict is decided (the run transmits) and `detect%stop_when_decided`, `halt` asks
+    !> the time loop to end the run there (`stopped_early`).
+    pure subroutine observe_early_stop(result, detect, halt)
+        !> The run's result.
+        type(run_result), intent(inout) :: result
+        !> Detector parameters.
+        type(detect_params), intent(in) :: detect
+        !> True when the run should stop now.
+        logical, intent(out) :: halt
+
+        halt = result%transmitting .and. detect%stop_when_decided
+        if (halt) result%stopped_early = .true.
+    end subroutine observe_early_stop
 
     !> After the time loop: the verdict of a run that never transmitted (decided at its end, or undecided if it
     !> failed), and empty reasons filled.

@@ -192,7 +192,7 @@ contains
 
         run = curve
         run%detect%stop_when_decided = .true.
-        m = max(1, number_of_levels(run) - 1)
+        m = int(min(max(1_i8, number_of_levels(run) - 1), int(huge(1), i8)))
         if (allocated(run%record%probes)) deallocate (run%record%probes)
         allocate (run%record%probes(0))
         run%record%probe_every = m

@@ -52,7 +52,8 @@ module supratrans_scene_stability
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_run_parameters
-    use supratrans_rk_high, only: rk8_stability_coefficients, rk8_stages
+    use supratrans_stepper_rk8, only: rk8_stability_coefficients, rk8_stages
+    use supratrans_eigen, only: general_eigenvalues
     implicit none
     private
 
@@ -65,18 +66,6 @@ module supratrans_scene_stability
 
     !> Bisection gives up widening its bracket after this many factors of 1.5.
     integer, parameter :: max_widen = 12
-
-    interface
-        !> LAPACK: eigenvalues (and optionally vectors) of a general real matrix.
-        pure subroutine dgeev(jobvl, jobvr, n, a, lda, wr, wi, vl, ldvl, vr, ldvr, work, lwork, info)
-            import :: wp
-            character(len=1), intent(in) :: jobvl, jobvr
-            integer, intent(in) :: n, lda, ldvl, ldvr, lwork
-            real(wp), intent(inout) :: a(lda, *)
-            real(wp), intent(out) :: wr(*), wi(*), vl(ldvl, *), vr(ldvr, *), work(*)
-            integer, intent(out) :: info
-        end subroutine dgeev
-    end interface
 
     !> The scene's runs: bisections first (they take longest), then the grid.
     type, extends(task_list) :: stability_tasks
@@ -354,9 +343,8 @@ contains
         type(chain_params), intent(in) :: chain
         !> Real and imaginary parts of the 2N eigenvalues.
         real(wp), allocatable, intent(out) :: re(:), im(:)
-        real(wp), allocatable :: a(:, :), alpha(:), work(:)
-        real(wp) :: vl(1, 1), vr(1, 1), query(1)
-        integer :: n, i, info, lwork
+        real(wp), allocatable :: a(:, :), alpha(:)
+        integer :: n, i, info
 
         n = chain%n
         allocate (alpha(n))
@@ -376,10 +364,7 @@ contains
                 a(n + i, n + i + 1) = chain%beta
             end if
         end do
-        call dgeev("N", "N", 2*n, a, 2*n, re, im, vl, 1, vr, 1, query, -1, info)
-        lwork = max(1, int(query(1)))
-        allocate (work(lwork))
-        call dgeev("N", "N", 2*n, a, 2*n, re, im, vl, 1, vr, 1, work, lwork, info)
+        call general_eigenvalues(a, re, im, info)
         if (info /= 0) then
             re = ieee_value(1.0_wp, ieee_quiet_nan)
             im = re

@@ -31,7 +31,7 @@
 module supratrans_scene_sweep
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
-    use supratrans_kinds, only: wp, supratrans_version
+    use supratrans_kinds, only: wp, i8, supratrans_version
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config, run_config
     use supratrans_curves, only: curve_count, curve_run, curve_indices
@@ -72,7 +72,7 @@ module supratrans_scene_sweep
     integer, parameter, public :: iv_t_decided = 9
     !> Position: time steps taken.
     integer, parameter, public :: iv_steps = 10
-    !> Position: Newton iterations (tridiagonal solves) over the run.
+    !> Position: Newton iterations over the run (0 for the methods without Newton).
     integer, parameter, public :: iv_newton_iterations = 11
     !> Position: wall-clock time of the run (s).
     integer, parameter, public :: iv_wall_time = 12
@@ -86,8 +86,12 @@ module supratrans_scene_sweep
     integer, parameter, public :: iv_u_beyond_max = 16
     !> Position: the detector site n_d of the run.
     integer, parameter, public :: iv_detect_site = 17
+    !> Position: tridiagonal solves over the run (newton: one per iteration; linearized: one per step).
+    integer, parameter, public :: iv_tridiagonal_solves = 18
+    !> Position: right-hand-side evaluations over the run (the stages of rk4, rk8).
+    integer, parameter, public :: iv_rhs_evaluations = 19
     !> Number of values a task produces (the columns of the journal).
-    integer, parameter, public :: n_run_values = 17
+    integer, parameter, public :: n_run_values = 19
 
     !> Status of a run not computed (yet): runs missing from a partial file.
     integer, parameter, public :: status_not_run = -1
@@ -137,8 +141,12 @@ module supratrans_scene_sweep
         field_spec(iv_t_decided, "/runs/t_decided", "time", .false., "Time of the verdict: when the detector " &
                    // "amplitude was passed if transmitting, else the end of the run; NaN if not run"), &
         field_spec(iv_steps, "/runs/steps", "1", .true., "Time steps taken; -1 if not run"), &
-        field_spec(iv_newton_iterations, "/runs/newton_iterations", "1", .true., "Newton iterations (tridiagonal " &
-                   // "solves) over the run; -1 if not run"), &
+        field_spec(iv_newton_iterations, "/runs/newton_iterations", "1", .true., "Newton iterations over the run " &
+                   // "(0 for methods without Newton); -1 if not run"), &
+        field_spec(iv_tridiagonal_solves, "/runs/tridiagonal_solves", "1", .true., "Tridiagonal solves over the " &
+                   // "run (newton: one per iteration, linearized: one per step); -1 if not run"), &
+        field_spec(iv_rhs_evaluations, "/runs/rhs_evaluations", "1", .true., "Right-hand-side evaluations over " &
+                   // "the run (rk4, rk8: their stages); -1 if not run"), &
         field_spec(iv_wall_time, "/runs/wall_time", "s", .false., "Wall-clock time of the run; NaN if not run"), &
         field_spec(iv_t_end, "/runs/t_end", "time", .false., "Time at which the run ended: T, or when it failed; " &
                    // "NaN if not run"), &
@@ -231,7 +239,7 @@ contains
             tasks%curves(ic)%detect%stop_when_decided = .false.
             if (allocated(tasks%curves(ic)%record%probes)) deallocate (tasks%curves(ic)%record%probes)
             allocate (tasks%curves(ic)%record%probes(0))
-            tasks%curves(ic)%record%probe_every = number_of_levels(tasks%curves(ic))
+            tasks%curves(ic)%record%probe_every = int(min(number_of_levels(tasks%curves(ic)), int(huge(1), i8)))
             tasks%curves(ic)%record%ledger_every = huge(1)
         end do
     end subroutine init_sweep_tasks
@@ -576,6 +584,8 @@ contains
         values(iv_t_decided) = result%t_decided
         values(iv_steps) = real(result%steps, wp)
         values(iv_newton_iterations) = real(result%newton_iterations, wp)
+        values(iv_tridiagonal_solves) = real(result%tridiagonal_solves, wp)
+        values(iv_rhs_evaluations) = real(result%rhs_evaluations, wp)
         values(iv_wall_time) = result%wall_time
         values(iv_t_end) = result%t_end
         values(iv_max_abs_u) = result%max_abs_u

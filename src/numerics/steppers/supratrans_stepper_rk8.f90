@@ -1,6 +1,7 @@
-!> Higher-order reference integrator: the explicit eighth-order, eleven-stage Runge-Kutta method of Cooper and
-!> Verner on the same method-of-lines system as `supratrans_rk4` (same right-hand side `rk4_rhs`, same four
-!> energy components integrated as extra ODE components, same records and observers), with a fixed step.
+!> Stepper `rk8`, the higher-order reference integrator: the explicit eighth-order, eleven-stage Runge-Kutta method
+!> of Cooper and Verner on the same method-of-lines system as `rk4` (`supratrans_mol`: same right-hand side, same
+!> four energy components integrated as extra ODE components, same records and observers), with a fixed step.
+!> Counters: 11 right-hand-side evaluations a step; no Newton iterations, no tridiagonal solves.
 !>
 !> Tableau: G. J. Cooper and J. H. Verner, "Some explicit Runge-Kutta methods of high order", SIAM J. Numer.
 !> Anal. 9 (1972) 389-405 (the 11-stage order-8 formula built on the 5-point Lobatto rule; nodes 0,
@@ -23,15 +24,16 @@
 !> one-sided psi' of its own step (`drive_dpsi` with the step's midpoint). If ramp_time / dt is not an integer
 !> the step that contains the kink integrates across a jump of psi' and the observed order collapses to about 1
 !> (measured 0.7 to 0.9; test `test_rk8_order_collapses_at_off_grid_kink`).
-module supratrans_rk_high
+module supratrans_stepper_rk8
     use supratrans_kinds, only: wp
     use supratrans_config, only: run_config, chain_params, drive_params
-    use supratrans_result, only: run_result
-    use supratrans_rk4, only: simulate_explicit_rk, rk_stage
+    use supratrans_mol, only: rk_stage
+    use supratrans_stepper, only: step_ok
+    use supratrans_stepper_rk, only: rk_stepper, rk_init
     implicit none
     private
 
-    public :: simulate_rk8, rk8_stability_coefficients
+    public :: rk8_step, rk8_stability_coefficients
 
     !> Number of stages (right-hand-side evaluations) of one step.
     integer, parameter, public :: rk8_stages = 11
@@ -88,18 +90,38 @@ module supratrans_rk_high
     !> The weights as a vector.
     real(wp), parameter :: tableau_b(rk8_stages) = [b1, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, b8, b9, b10, b11]
 
+    !> The Cooper-Verner method.
+    type, extends(rk_stepper), public :: rk8_stepper
+    contains
+        !> Set up a run.
+        procedure :: init => rk8_init
+        !> One step.
+        procedure :: step => rk8_stepper_step
+    end type rk8_stepper
+
 contains
 
-    !> Simulate one run with the eighth-order Cooper-Verner method (same contract and records as `simulate_rk4`;
-    !> see `simulate_explicit_rk`): 11 right-hand sides a step.
-    subroutine simulate_rk8(run, result)
-        !> Validated run configuration (`run%numerics%method` is not consulted).
+    !> Set up a run: the chain at rest, eleven stages.
+    subroutine rk8_init(self, run)
+        !> The stepper.
+        class(rk8_stepper), intent(inout) :: self
+        !> Validated run configuration.
         type(run_config), intent(in) :: run
-        !> Outcome, statistics, ledger and records.
-        type(run_result), intent(out) :: result
 
-        call simulate_explicit_rk(run, result, rk8_stages, rk8_step)
-    end subroutine simulate_rk8
+        call rk_init(self, run, rk8_stages, rk8_order)
+    end subroutine rk8_init
+
+    !> One step from t_{s-1} to t_s (it cannot fail; a blow-up is the observers' to see).
+    subroutine rk8_stepper_step(self, status)
+        !> The stepper.
+        class(rk8_stepper), intent(inout) :: self
+        !> Always `step_ok`.
+        integer, intent(out) :: status
+
+        call rk8_step(self%chain, self%drive, self%alpha, real(self%steps, wp)*self%dt, self%dt, self%y, self%ys, self%k)
+        call self%end_step()
+        status = step_ok
+    end subroutine rk8_stepper_step
 
     !> One Cooper-Verner step from t0 to t0 + dt: `y` is overwritten by the new state.
     pure subroutine rk8_step(chain, drive, alpha, t0, dt, y, ys, k)
@@ -159,4 +181,4 @@ contains
         end do
     end function rk8_stability_coefficients
 
-end module supratrans_rk_high
+end module supratrans_stepper_rk8

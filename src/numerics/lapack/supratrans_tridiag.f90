@@ -1,4 +1,5 @@
 !> Thin typed wrapper over LAPACK `dgtsv` (tridiagonal solve with partial pivoting), with an explicit interface.
+!> With `supratrans_eigen` (`dgeev`) this folder holds every LAPACK routine the code calls.
 module supratrans_tridiag
     use supratrans_kinds, only: wp
     implicit none

@@ -1,0 +1,163 @@
+!> What the paper's two finite-difference schemes (Sec. 3.1) share: the scheme's matrices, the time levels, the
+!> driven end and the discrete energy ledger of Sec. 3.2 (`supratrans_ledger`). `newton` and `linearized` extend
+!> it with their step.
+!>
+!> The chain starts at rest, u^0 = u^1 = 0 (phi = varphi = 0), and the driven end follows u_0^k = psi(t_k): two
+!> initial levels, and step k (k = 1 .. M-1) computes u^{k+1} from u^k and u^{k-1} (and u^{k-2} for Newton's
+!> predictor). The levels are the columns of u(0:N+1, 4), rotated after every step; the end cells hold the
+!> boundary values u_0 = psi(t) and u_{N+1} = 0. The ledger sums dt (P_k - D_k) over the steps; E_k lives on the
+!> half level t_{k+1/2}.
+module supratrans_stepper_leapfrog
+    use supratrans_kinds, only: wp, i8
+    use supratrans_config, only: run_config, drive_params
+    use supratrans_chain, only: drive_psi
+    use supratrans_scheme, only: scheme_type, scheme_init
+    use supratrans_ledger, only: ledger_type, stored_energy, step_powers, ledger_add_step
+    use supratrans_stepper, only: stepper
+    implicit none
+    private
+
+    public :: leapfrog_init
+
+    !> A two-level scheme of the paper: the levels u^{k-2}, u^{k-1}, u^k, u^{k+1} and the scheme's matrices.
+    type, abstract, extends(stepper), public :: leapfrog_stepper
+        !> The scheme's matrices A, B, C (eq. DiscreteMainDiscr).
+        type(scheme_type) :: scheme
+        !> The drive psi(t) of the end u_0.
+        type(drive_params) :: drive
+        !> External damping gamma, internal damping beta, mass term m^2 (for the ledger).
+        real(wp) :: gamma = 0.0_wp, beta = 0.0_wp, m2 = 0.0_wp
+        !> Time levels u(0:N+1, 4): columns `io2` (k-2), `io` (k-1), `ic` (k, the newest), `inew` (free).
+        real(wp), allocatable :: u(:, :)
+        !> Columns of the levels k-2, k-1, k and of the next level.
+        integer :: io2 = 4, io = 1, ic = 2, inew = 3
+    contains
+        !> Stored energy E_k of the newest two levels.
+        procedure :: stored_energy => leapfrog_energy
+        !> Add dt (P_k - D_k) of the last step to the ledger.
+        procedure :: account => leapfrog_account
+        !> u_n of the newest level (back = 0) or the one before (back = 1).
+        procedure :: displacement => leapfrog_displacement
+        !> max |u_n| over sites first..N of the newest level.
+        procedure :: max_abs_u => leapfrog_max_abs_u
+        !> Start the next step: the new level's boundary cells; returns its time.
+        procedure :: begin_step
+        !> End a successful step: rotate the levels, count it.
+        procedure :: end_step
+    end type leapfrog_stepper
+
+contains
+
+    !> Set up the scheme and the two initial levels (at rest, the driven end at psi(0) and psi(dt)).
+    subroutine leapfrog_init(self, run)
+        !> The stepper.
+        class(leapfrog_stepper), intent(inout) :: self
+        !> Validated run configuration.
+        type(run_config), intent(in) :: run
+        integer :: n
+
+        n = run%chain%n
+        self%n = n
+        self%dt = run%numerics%dt
+        self%order = 2
+        self%initial_levels = 2
+        self%energy_offset = 0.5_wp
+        self%steps = 0
+        self%newton_iterations = 0
+        self%newton_max_iterations = 0
+        self%tridiagonal_solves = 0
+        self%rhs_evaluations = 0
+        self%drive = run%drive
+        self%gamma = run%chain%gamma
+        self%beta = run%chain%beta
+        self%m2 = run%chain%m2
+        call scheme_init(self%scheme, run%chain, self%dt)
+        if (allocated(self%u)) deallocate (self%u)
+        allocate (self%u(0:n + 1, 4), source=0.0_wp)
+        self%io2 = 4
+        self%io = 1
+        self%ic = 2
+        self%inew = 3
+        ! levels 0 and 1: at rest, boundary from the drive
+        self%u(0, self%io) = drive_psi(self%drive, 0.0_wp)
+        self%u(0, self%ic) = drive_psi(self%drive, self%dt)
+    end subroutine leapfrog_init
+
+    !> Set the boundary cells of the next level u^{k+1} (k = steps + 1) and return its time t_{k+1}.
+    function begin_step(self) result(t_new)
+        !> The stepper.
+        class(leapfrog_stepper), intent(inout) :: self
+        real(wp) :: t_new
+
+        t_new = real(self%steps + 2_i8, wp)*self%dt
+        self%u(0, self%inew) = drive_psi(self%drive, t_new)
+        self%u(self%n + 1, self%inew) = 0.0_wp
+    end function begin_step
+
+    !> After a successful step: rotate the levels k-1 -> k-2, k -> k-1, k+1 -> k, and count the step.
+    subroutine end_step(self)
+        !> The stepper.
+        class(leapfrog_stepper), intent(inout) :: self
+        integer :: itmp
+
+        itmp = self%io2
+        self%io2 = self%io
+        self%io = self%ic
+        self%ic = self%inew
+        self%inew = itmp
+        self%steps = self%steps + 1
+    end subroutine end_step
+
+    !> Stored energy E_k from the newest level (k+1) and the one before (k).
+    pure function leapfrog_energy(self) result(e)
+        !> The stepper.
+        class(leapfrog_stepper), intent(in) :: self
+        real(wp) :: e
+
+        e = stored_energy(self%scheme, self%m2, self%u(:, self%ic), self%u(:, self%io))
+    end function leapfrog_energy
+
+    !> Add the powers of the last step (levels k-1, k, k+1) times dt to the ledger.
+    pure subroutine leapfrog_account(self, ledger)
+        !> The stepper.
+        class(leapfrog_stepper), intent(in) :: self
+        !> The ledger.
+        type(ledger_type), intent(inout) :: ledger
+        real(wp) :: p_in, d_gamma, d_beta, d_abs
+
+        call step_powers(self%scheme, self%gamma, self%beta, self%u(:, self%io2), self%u(:, self%io), &
+                         self%u(:, self%ic), p_in, d_gamma, d_beta, d_abs)
+        call ledger_add_step(ledger, self%dt, p_in, d_gamma, d_beta, d_abs)
+    end subroutine leapfrog_account
+
+    !> u_n of the newest level (back = 0) or the one before (back = 1): the level's end cells are psi and 0.
+    pure function leapfrog_displacement(self, site, back) result(u)
+        !> The stepper.
+        class(leapfrog_stepper), intent(in) :: self
+        !> Site n.
+        integer, intent(in) :: site
+        !> 0 the newest level, 1 the one before.
+        integer, intent(in) :: back
+        real(wp) :: u
+
+        u = 0.0_wp
+        if (site < 0 .or. site > self%n + 1) return
+        if (back == 0) then
+            u = self%u(site, self%ic)
+        else
+            u = self%u(site, self%io)
+        end if
+    end function leapfrog_displacement
+
+    !> max |u_n| over sites first..N of the newest level.
+    pure function leapfrog_max_abs_u(self, first) result(umax)
+        !> The stepper.
+        class(leapfrog_stepper), intent(in) :: self
+        !> First site.
+        integer, intent(in) :: first
+        real(wp) :: umax
+
+        umax = maxval(abs(self%u(first:self%n, self%ic)))
+    end function leapfrog_max_abs_u
+
+end module supratrans_stepper_leapfrog
