@@ -196,6 +196,8 @@ contains
         if (.not. allocated(error)) call h5_write_attr(file, group, "verdict_reason", result%verdict_reason, error)
         if (.not. allocated(error)) call h5_write_attr(file, group, "detect_site", result%detect_site, error)
         if (.not. allocated(error)) call h5_write_attr(file, group, "u_beyond_max", result%u_beyond_max, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "verdict_margin", result%verdict_margin, error)
+        if (.not. allocated(error)) call h5_write_attr(file, group, "thin_verdict", result%thin_verdict, error)
         if (.not. allocated(error) .and. result%ramp_passed) call h5_write_attr(file, group, &
             "energy_injected_after_ramp", result%ledger%injected - result%injected_at_ramp, error)
     end subroutine write_outcome

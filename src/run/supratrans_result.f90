@@ -1,5 +1,6 @@
 !> What one simulation produces: its outcome, solver statistics, energy totals and the recorded time series.
 module supratrans_result
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_ledger, only: ledger_type
     use supratrans_config, only: detect_params, record_params
@@ -12,6 +13,10 @@ module supratrans_result
 
     !> The run reached its final time (or was stopped early with its outcome decided).
     integer, parameter, public :: run_ok = 0
+    !> A verdict whose margin (`verdict_margin`, relative to the detect amplitude) is below this is flagged thin:
+    !> below threshold |u| beyond the detector stays under 0.8 pi, above it passes 1.2 pi, everywhere the
+    !> criterion was measured to be clear (README, "Classification").
+    real(wp), parameter, public :: thin_margin = 0.2_wp
     !> The solution blew up: non-finite values or |u_n| above the blow-up threshold.
     integer, parameter, public :: run_diverged = 1
     !> Newton's method did not converge within its iteration cap.
@@ -65,6 +70,12 @@ module supratrans_result
         logical :: stopped_early = .false.
         !> Why the verdict is what it is.
         character(len=:), allocatable :: verdict_reason
+        !> Margin of the verdict, relative to the detect amplitude a: 1 - max|u|/a beyond the detector for a run that
+        !> stayed below, max|u|/a - 1 for one that crossed and ran on to T; NaN when it stopped at the crossing
+        !> (early stop: the margin is that of the search's run below) or failed.
+        real(wp) :: verdict_margin = 0.0_wp
+        !> The margin is below `thin_margin`: the verdict could flip under a small change (flagged in the output).
+        logical :: thin_verdict = .false.
         !> Probe sites.
         integer, allocatable :: probes(:)
         !> Probe sample times t_k.
@@ -272,7 +283,21 @@ contains
         type(detect_params), intent(in) :: detect
 
         if (.not. allocated(result%reason)) result%reason = ""
-        if (result%transmitting) return
+        result%verdict_margin = ieee_value(1.0_wp, ieee_quiet_nan)
+        result%thin_verdict = .false.
+        if (result%status == run_ok .and. .not. result%stopped_early) then
+            if (result%transmitting) then
+                result%verdict_margin = result%u_beyond_max/detect%amplitude - 1.0_wp
+            else
+                result%verdict_margin = 1.0_wp - result%u_beyond_max/detect%amplitude
+            end if
+            result%thin_verdict = result%verdict_margin < thin_margin
+        end if
+        if (result%transmitting) then
+            if (result%thin_verdict) result%verdict_reason = result%verdict_reason // "; thin margin " &
+                // trim(real_fixed(result%verdict_margin, 3))
+            return
+        end if
         result%t_decided = result%t_end
         if (result%status /= run_ok) then
             result%verdict_reason = "undecided: the run failed"
@@ -280,6 +305,8 @@ contains
             result%verdict_reason = "|u_n| beyond site " // trim(int_fixed(result%detect_site)) // " stayed below " &
                                     // trim(real_fixed(detect%amplitude, 6)) // " (max " &
                                         // trim(real_fixed(result%u_beyond_max, 6)) // ")"
+            if (result%thin_verdict) result%verdict_reason = result%verdict_reason // "; thin margin " &
+                // trim(real_fixed(result%verdict_margin, 3))
         end if
     end subroutine close_verdict
 

@@ -90,8 +90,12 @@ module supratrans_scene_sweep
     integer, parameter, public :: iv_tridiagonal_solves = 18
     !> Position: right-hand-side evaluations over the run (the stages of rk4, rk8).
     integer, parameter, public :: iv_rhs_evaluations = 19
+    !> Position: margin of the verdict relative to the detect amplitude (`supratrans_result%verdict_margin`).
+    integer, parameter, public :: iv_verdict_margin = 20
+    !> Position: 1 if the margin is thin (below `thin_margin`), 0 if not.
+    integer, parameter, public :: iv_thin_verdict = 21
     !> Number of values a task produces (the columns of the journal).
-    integer, parameter, public :: n_run_values = 19
+    integer, parameter, public :: n_run_values = 21
 
     !> Status of a run not computed (yet): runs missing from a partial file.
     integer, parameter, public :: status_not_run = -1
@@ -100,6 +104,9 @@ module supratrans_scene_sweep
 
     !> Slack of the end point of an axis: `first + i step` is on the axis while it is at most `last` + this.
     real(wp), parameter :: grid_slack = 1.0e-9_wp
+    !> A verdict change along the amplitude axis is backed by the energy when the energy injected after the ramp
+    !> changes there by at least this factor (measured: 20-100 at the threshold, 1.0-1.3 between neighbours elsewhere).
+    real(wp), parameter :: min_energy_jump = 3.0_wp
     !> Largest number of tasks of one scene (a guard against a step that is far too small).
     integer, parameter :: max_tasks = 10000000
 
@@ -154,7 +161,11 @@ module supratrans_scene_sweep
         field_spec(iv_u_beyond_max, "/runs/u_beyond_max", "rad", .false., "Reason of the verdict: largest |u_n| " &
                    // "beyond the detector site (transmitting once it exceeds detect_amplitude); NaN if not run"), &
         field_spec(iv_detect_site, "/runs/detect_site", "1", .true., "Detector site n_d of the verdict; -1 if not " &
-                   // "run")]
+                   // "run"), &
+        field_spec(iv_verdict_margin, "/runs/verdict_margin", "1", .false., "Margin of the verdict: 1 - u_beyond_max/" &
+                   // "detect_amplitude below, u_beyond_max/detect_amplitude - 1 above; NaN if not run or failed"), &
+        field_spec(iv_thin_verdict, "/runs/thin_verdict", "1", .true., "1 if the verdict's margin is below 0.2 " &
+                   // "(it could flip under a small change: check it), 0 if not; -1 if not run")]
 
     !> The tasks of a sweep or map: a grid of curves x driving frequencies x amplitudes, one full run each.
     !> Read-only while the tasks run.
@@ -256,7 +267,9 @@ contains
         logical, allocatable :: done(:)
         character(len=:), allocatable :: line
         integer(int64) :: ntask, clock_start, clock_end, clock_rate
-        integer :: nskip, nfail, ntrans, i
+        integer :: nskip, nfail, ntrans, i, nthin, nflat
+        real(wp), allocatable :: jump(:)
+        integer, allocatable :: change(:)
 
         call system_clock(clock_start, clock_rate)
         call validate_config(tasks%cfg, error)
@@ -310,6 +323,12 @@ contains
             ntrans = count(nint(results(iv_status, :)) == run_ok .and. nint(results(iv_transmitting, :)) == 1)
             write (error_unit, '(a)') "  " // int_str(count(nint(results(iv_status, :)) == run_ok)) // " runs ok (" &
                 // int_str(ntrans) // " transmitting), " // int_str(nfail) // " failed (see /runs/failures)"
+            nthin = count(nint(results(iv_thin_verdict, :)) == 1)
+            call jumps_along_amplitude(results, size(tasks%amplitudes), jump, change)
+            nflat = count(change == 1 .and. .not. (jump >= min_energy_jump .or. jump <= 1.0_wp/min_energy_jump))
+            if (nthin > 0 .or. nflat > 0) write (error_unit, '(a)') "  warning: " // int_str(nthin) &
+                // " verdict(s) with a thin margin (/runs/thin_verdict), " // int_str(nflat) // " verdict change(s) " &
+                // "without an energy jump (/runs/energy_jump): check them"
             flush (error_unit)
         end if
     end subroutine run_grid_scene
@@ -504,6 +523,8 @@ contains
         character(len=240), allocatable :: failures(:)
         character(len=:), allocatable :: dims
         integer :: i, j, namp, nomega, ncurve
+        real(wp), allocatable :: jump(:)
+        integer, allocatable :: change(:)
 
         namp = size(tasks%amplitudes)
         nomega = size(tasks%omegas)
@@ -551,6 +572,31 @@ contains
             if (allocated(error)) return
         end do
 
+        ! where the verdict changes along the amplitude axis, does the energy jump? (ratio to the previous amplitude)
+        call jumps_along_amplitude(values, namp, jump, change)
+        if (tasks%omega_axis) then
+            call h5_write(file, "/runs/energy_jump", reshape(jump, [namp, nomega, ncurve]), "1", "Energy injected " &
+                          // "after the ramp over that of the previous amplitude (NaN for the first or a run not ok)", &
+                          error, dims=dims)
+            if (.not. allocated(error)) call h5_write(file, "/runs/verdict_change", &
+                reshape(change, [namp, nomega, ncurve]), "1", "1 where the verdict differs from the previous " &
+                // "amplitude's, 0 where not, -1 for the first or a run not ok", error, dims=dims)
+        else
+            call h5_write(file, "/runs/energy_jump", reshape(jump, [namp, ncurve]), "1", "Energy injected after the " &
+                          // "ramp over that of the previous amplitude (NaN for the first or a run not ok)", error, &
+                          dims=dims)
+            if (.not. allocated(error)) call h5_write(file, "/runs/verdict_change", reshape(change, [namp, ncurve]), &
+                "1", "1 where the verdict differs from the previous amplitude's, 0 where not, -1 for the first or a " &
+                // "run not ok", error, dims=dims)
+        end if
+        if (allocated(error)) return
+        call h5_write_attr(file, "/runs", "thin_verdicts", count(nint(values(iv_thin_verdict, :)) == 1), error)
+        if (allocated(error)) return
+        call h5_write_attr(file, "/runs", "verdict_changes_without_energy_jump", &
+                           count(change == 1 .and. .not. (jump >= min_energy_jump .or. jump <= 1.0_wp/min_energy_jump)), &
+                           error)
+        if (allocated(error)) return
+
         allocate (failures(0))
         do i = 1, size(done)
             if (nint(values(iv_status, i)) > 0) then
@@ -562,6 +608,30 @@ contains
         if (allocated(error)) return
         call h5_write_attr(file, "/runs", "failed", size(failures), error)
     end subroutine write_run_datasets
+
+    !> Along the amplitude axis (the fastest index of the tasks): the ratio of each run's energy injected after the
+    !> ramp to the previous amplitude's, and whether the verdict changed there (-1: first amplitude or a run not ok).
+    pure subroutine jumps_along_amplitude(values, namp, jump, change)
+        !> Values of every task, (n_run_values, ntask).
+        real(wp), intent(in) :: values(:, :)
+        !> Amplitudes per line of the grid.
+        integer, intent(in) :: namp
+        !> Energy ratio to the previous amplitude.
+        real(wp), allocatable, intent(out) :: jump(:)
+        !> Verdict change flags.
+        integer, allocatable, intent(out) :: change(:)
+        integer :: i
+
+        allocate (jump(size(values, 2)), change(size(values, 2)))
+        jump = nan()
+        change = -1
+        do i = 1, size(values, 2)
+            if (mod(i - 1, namp) == 0) cycle
+            if (nint(values(iv_status, i)) /= run_ok .or. nint(values(iv_status, i - 1)) /= run_ok) cycle
+            jump(i) = values(iv_injected_after_ramp, i)/values(iv_injected_after_ramp, i - 1)
+            change(i) = merge(1, 0, nint(values(iv_transmitting, i)) /= nint(values(iv_transmitting, i - 1)))
+        end do
+    end subroutine jumps_along_amplitude
 
     !> A run's values as journalled: the ledger totals at T (NaN if the run failed), status, verdict, statistics.
     pure function run_values(result) result(values)
@@ -591,6 +661,8 @@ contains
         values(iv_max_abs_u) = result%max_abs_u
         values(iv_u_beyond_max) = result%u_beyond_max
         values(iv_detect_site) = real(result%detect_site, wp)
+        values(iv_verdict_margin) = result%verdict_margin
+        values(iv_thin_verdict) = merge(1.0_wp, 0.0_wp, result%thin_verdict)
     end function run_values
 
     !> The values of a run not computed: NaN, status `status_not_run`.
