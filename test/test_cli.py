@@ -147,3 +147,24 @@ def test_binary_garbage_is_not_echoed_raw(exe, tmp_path):
     assert proc.returncode == 2
     line = proc.stderr.decode("latin-1").strip()
     assert len(line.splitlines()) == 1 and all(32 <= ord(c) < 127 for c in line), line
+
+
+@pytest.mark.parametrize("scene", ["timeseries", "amplitude_sweep"])
+def test_every_output_records_its_provenance(exe, tmp_path, scene):
+    h5py = pytest.importorskip("h5py")
+    extra = "" if scene == "timeseries" else \
+        "&scene kind = 'amplitude_sweep', amplitude_min = 1.0, amplitude_max = 1.2, amplitude_step = 0.1 /\n"
+    text = "&chain n = 40, n0 = 30 /\n&record probes = 5 /\n&numerics t_final = 2.0 /\n" + extra + \
+        "&output file = 'result.h5', quiet = .true. /\n"
+    proc, nml = run(exe, tmp_path, text)
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(tmp_path / "result.h5") as f:
+        p = f["provenance"].attrs
+        assert p["code_version"].decode().count(".") == 2
+        commit = p["git_commit"].decode()
+        assert len(commit) == 40 and int(commit, 16) >= 0       # the test runs in a checkout
+        assert p["compiler_version"].decode().startswith("GCC")
+        assert "-fopenmp" in p["compiler_options"].decode() or "openmp" in p["compiler_options"].decode()
+        assert p["openmp_threads"] >= 1 and p["host"] and p["started"].decode()[:2] == "20"
+        assert p["input_file"].decode() == str(nml)
+        assert f["provenance/namelist"][()].decode() == text

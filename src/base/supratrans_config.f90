@@ -167,6 +167,8 @@ module supratrans_config
         character(len=:), allocatable :: source
         !> The namelist text exactly as read (stored in part files, so that `merge` needs no other copy).
         character(len=:), allocatable :: text
+        !> When the input was read, i.e. when the run started (ISO 8601, local time with its UTC offset).
+        character(len=:), allocatable :: started
         !> Fingerprint of that text (`text_fingerprint`): ties journals and part files to the input.
         character(len=:), allocatable :: fingerprint
         !> Run only slice `slice_index` of `slice_count` of the scene's tasks (command line `--slice I/N`; 0: all).

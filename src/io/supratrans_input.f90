@@ -218,6 +218,7 @@ contains
         cfg%source = path
         cfg%text = text
         cfg%fingerprint = text_fingerprint(text)
+        cfg%started = now_iso()
         cfg%run%record%probes = [default_probe]
         call check_line_lengths(text, path, error)
         if (allocated(error)) return
@@ -261,6 +262,17 @@ contains
             if (start > len(text)) exit
         end do
     end subroutine check_line_lengths
+
+    !> The date and time now, ISO 8601 with the UTC offset ("2026-11-23T08:45:54+0000").
+    function now_iso() result(stamp)
+        character(len=:), allocatable :: stamp
+        character(len=8) :: d
+        character(len=10) :: t
+        character(len=5) :: z
+
+        call date_and_time(d, t, z)
+        stamp = d(1:4) // "-" // d(5:6) // "-" // d(7:8) // "T" // t(1:2) // ":" // t(3:4) // ":" // t(5:6) // z
+    end function now_iso
 
     !> Number of namelist groups present in a parsed input.
     pure function count_groups_given(parsed) result(n)

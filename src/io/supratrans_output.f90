@@ -9,6 +9,7 @@ module supratrans_output
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: threshold_as, decay_rate, band_gap_edge, critical_dt
     use supratrans_result, only: run_result, status_name, ledger_columns
+    use supratrans_provenance, only: write_provenance
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
     implicit none
     private
@@ -153,6 +154,13 @@ contains
         if (.not. allocated(error)) call h5_write_attr(file, "/", "reference", &
             "J. E. Macias-Diaz and A. Puri, An energy-based computational method in the analysis of the " // &
             "transmission of energy in a chain of coupled oscillators", error)
+        if (.not. allocated(error)) then
+            if (allocated(cfg%started)) then
+                call write_provenance(file, cfg, cfg%started, error)
+            else
+                call write_provenance(file, cfg, timestamp(), error)
+            end if
+        end if
     end subroutine write_root
 
     !> Outcome and statistics of one run as attributes of `group`.
