@@ -259,3 +259,22 @@ def test_full_disk_is_one_line_and_the_journal_resumes(exe, tmp_path, small_disk
     (tmp_path / "ref.nml").write_text(text.replace("disk/s.h5", "ref.h5"))
     subprocess.run([exe, "ref.nml"], cwd=tmp_path, check=True, capture_output=True, timeout=300)
     identical(tmp_path / "ref.h5", small_disk / "s.h5")
+
+
+def test_unwritable_output_directory_is_refused_before_any_work(exe, tmp_path):
+    """A read-only file system (root ignores permission bits): one line, exit 4, before anything runs."""
+    mount = tmp_path / "ro"
+    mount.mkdir()
+    if os.geteuid() != 0 or subprocess.run(["mount", "-t", "tmpfs", "-o", "ro,size=64k", "tmpfs", str(mount)],
+                                           capture_output=True).returncode != 0:
+        pytest.skip("cannot mount a read-only tmpfs here (needs root)")
+    try:
+        (tmp_path / "study.nml").write_text(BIF.replace("out/study.h5", "ro/study.h5"))
+        start = time.time()
+        proc = subprocess.run([exe, "study.nml"], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+        assert proc.returncode == 4, proc.stderr
+        lines = proc.stderr.strip().splitlines()
+        assert len(lines) == 1 and "cannot write in its directory" in lines[0], proc.stderr
+        assert time.time() - start < 5
+    finally:
+        subprocess.run(["umount", "-l", str(mount)], capture_output=True)
