@@ -20,8 +20,8 @@ program main
         call get_command_argument(i, args(i))
     end do
     call run_command(args, status, error, text)
-    if (len(text) > 0) write (output_unit, '(a)') text
-    if (allocated(error)) write (error_unit, '(a)') "error: " // printable(error%message)
+    if (len(text) > 0) write (output_unit, "(a)") text
+    if (allocated(error)) write (error_unit, "(a)") "error: " // printable(error%message)
     deallocate (args, text)
     if (allocated(error)) deallocate (error)
     if (status /= 0) stop status, quiet=.true.

@@ -39,7 +39,7 @@ module pf_runtime
     !> Where an assertion stands in its `.pf` file (pFUnit's `SourceLocation`).
     type :: pf_source_location
         !> Base name of the `.pf` file.
-        character(len=256) :: file = ''
+        character(len=256) :: file = ""
         !> Line of the assertion in that file.
         integer :: line = 0
     end type pf_source_location
@@ -203,7 +203,7 @@ contains
 
         current_name = name
         current_failures = 0
-        first_failure = ''
+        first_failure = ""
     end subroutine pf_start_test
 
     !> Whether an assertion of the running test has failed.
@@ -247,7 +247,7 @@ contains
 
         character(len=:), allocatable :: name
 
-        name = module_name // '::' // test_name
+        name = module_name // "::" // test_name
         if (allocated(test_filter)) then
             if (index(to_lower(name), test_filter) == 0) return
         end if
@@ -258,10 +258,10 @@ contains
         if (pf_any_failed()) then
             n_failed = n_failed + 1
             if (current_failures > 1) then
-                write(output_unit, '(a, i0, a)') 'FAIL ' // name // first_failure // ' (and ', &
-                    current_failures - 1, ' more)'
+                write(output_unit, "(a, i0, a)") "FAIL " // name // first_failure // " (and ", &
+                    current_failures - 1, " more)"
             else
-                write(output_unit, '(a)') 'FAIL ' // name // first_failure
+                write(output_unit, "(a)") "FAIL " // name // first_failure
             end if
             flush(output_unit)
         else
@@ -273,10 +273,10 @@ contains
     subroutine pf_driver_finish()
         if (allocated(test_filter)) then
             if (n_passed + n_failed == 0) then
-                write(error_unit, '(a)') 'pf_driver: no test name contains "' // test_filter // '"'
+                write(error_unit, "(a)") 'pf_driver: no test name contains "' // test_filter // '"'
             end if
         end if
-        write(output_unit, '(a, i0, a, i0, a)') 'fortran: ', n_passed, ' passed, ', n_failed, ' failed'
+        write(output_unit, "(a, i0, a, i0, a)") "fortran: ", n_passed, " passed, ", n_failed, " failed"
         flush(output_unit)
         if (n_failed > 0) error stop 1
     end subroutine pf_driver_finish
@@ -292,13 +292,13 @@ contains
 
         current_failures = current_failures + 1
         if (current_failures > 1) return
-        first_failure = ''
+        first_failure = ""
         if (present(location)) then
-            first_failure = ' (' // trim(location%file) // ':' // int_to_str(int(location%line, int64)) // ')'
+            first_failure = " (" // trim(location%file) // ":" // int_to_str(int(location%line, int64)) // ")"
         end if
-        first_failure = first_failure // ': ' // text
+        first_failure = first_failure // ": " // text
         if (present(message)) then
-            if (len_trim(message) > 0) first_failure = first_failure // ' -- ' // trim(message)
+            if (len_trim(message) > 0) first_failure = first_failure // " -- " // trim(message)
         end if
     end subroutine record_failure
 
@@ -317,8 +317,8 @@ contains
 
         sizes_differ = n_expected /= n_actual
         if (sizes_differ) then
-            call record_failure(name // ': arrays not conformable: expected size ' &
-                // int_to_str(int(n_expected, int64)) // ' but found size ' &
+            call record_failure(name // ": arrays not conformable: expected size " &
+                // int_to_str(int(n_expected, int64)) // " but found size " &
                 // int_to_str(int(n_actual, int64)), message, location)
         end if
     end function sizes_differ
@@ -331,8 +331,8 @@ contains
         integer, intent(in) :: i
         character(len=:), allocatable :: text
 
-        text = ''
-        if (is_array) text = ' at index ' // int_to_str(int(i, int64))
+        text = ""
+        if (is_array) text = " at index " // int_to_str(int(i, int64))
     end function index_text
 
     !> Check of `assertTrue` and `assertFalse`.
@@ -347,10 +347,10 @@ contains
         type(pf_source_location), intent(in), optional :: location
 
         if (condition) return
-        if (name == 'assertTrue') then
-            call record_failure('assertTrue: condition is .false.', message, location)
+        if (name == "assertTrue") then
+            call record_failure("assertTrue: condition is .false.", message, location)
         else
-            call record_failure('assertFalse: condition is .true.', message, location)
+            call record_failure("assertFalse: condition is .true.", message, location)
         end if
     end subroutine check_condition
 
@@ -374,14 +374,14 @@ contains
         character(len=:), allocatable :: detail
         integer :: i
 
-        if (sizes_differ('assertEqual', size(expected), size(actual), message, location)) return
+        if (sizes_differ("assertEqual", size(expected), size(actual), message, location)) return
         do i = 1, size(actual)
             if (same_real(expected(i), actual(i))) cycle
             if (abs(actual(i) - expected(i)) <= tolerance) cycle
-            detail = 'difference ' // real_to_str(actual(i) - expected(i))
-            if (has_tolerance) detail = detail // ', tolerance ' // real_to_str(tolerance)
-            call record_failure('assertEqual: expected ' // real_to_str(expected(i)) // ' but found ' &
-                // real_to_str(actual(i)) // index_text(is_array, i) // ' (' // detail // ')', message, location)
+            detail = "difference " // real_to_str(actual(i) - expected(i))
+            if (has_tolerance) detail = detail // ", tolerance " // real_to_str(tolerance)
+            call record_failure("assertEqual: expected " // real_to_str(expected(i)) // " but found " &
+                // real_to_str(actual(i)) // index_text(is_array, i) // " (" // detail // ")", message, location)
             return
         end do
     end subroutine check_equal_real
@@ -404,20 +404,20 @@ contains
 
         integer :: i
 
-        if (sizes_differ('assertRelativelyEqual', size(expected), size(actual), message, location)) return
+        if (sizes_differ("assertRelativelyEqual", size(expected), size(actual), message, location)) return
         do i = 1, size(actual)
             if (abs(expected(i)) <= 0.0_real64) then
-                call record_failure('assertRelativelyEqual: expected value is zero' // index_text(is_array, i) &
-                    // ', relative difference undefined', message, location)
+                call record_failure("assertRelativelyEqual: expected value is zero" // index_text(is_array, i) &
+                    // ", relative difference undefined", message, location)
                 return
             end if
         end do
         do i = 1, size(actual)
             if (abs(actual(i) - expected(i)) <= tolerance*abs(expected(i))) cycle
-            call record_failure('assertRelativelyEqual: expected ' // real_to_str(expected(i)) // ' but found ' &
-                // real_to_str(actual(i)) // index_text(is_array, i) // ' (relative difference ' &
-                // real_to_str((actual(i) - expected(i))/expected(i)) // ', tolerance ' &
-                // real_to_str(tolerance) // ')', message, location)
+            call record_failure("assertRelativelyEqual: expected " // real_to_str(expected(i)) // " but found " &
+                // real_to_str(actual(i)) // index_text(is_array, i) // " (relative difference " &
+                // real_to_str((actual(i) - expected(i))/expected(i)) // ", tolerance " &
+                // real_to_str(tolerance) // ")", message, location)
             return
         end do
     end subroutine check_relatively_equal
@@ -456,10 +456,10 @@ contains
                 holds = lhs(i) >= rhs(i) - tolerance
             end select
             if (holds) cycle
-            detail = ''
-            if (tolerance > 0.0_real64) detail = ' (tolerance ' // real_to_str(tolerance) // ')'
-            call record_failure(order_name(op) // ': ' // real_to_str(lhs(i)) // ' is not ' // order_words(op) &
-                // ' ' // real_to_str(rhs(i)) // index_text(is_array, i) // detail, message, location)
+            detail = ""
+            if (tolerance > 0.0_real64) detail = " (tolerance " // real_to_str(tolerance) // ")"
+            call record_failure(order_name(op) // ": " // real_to_str(lhs(i)) // " is not " // order_words(op) &
+                // " " // real_to_str(rhs(i)) // index_text(is_array, i) // detail, message, location)
             return
         end do
     end subroutine check_order_real
@@ -495,8 +495,8 @@ contains
                 holds = lhs(i) >= rhs(i)
             end select
             if (holds) cycle
-            call record_failure(order_name(op) // ': ' // int_to_str(lhs(i)) // ' is not ' // order_words(op) &
-                // ' ' // int_to_str(rhs(i)) // index_text(is_array, i), message, location)
+            call record_failure(order_name(op) // ": " // int_to_str(lhs(i)) // " is not " // order_words(op) &
+                // " " // int_to_str(rhs(i)) // index_text(is_array, i), message, location)
             return
         end do
     end subroutine check_order_int
@@ -509,13 +509,13 @@ contains
 
         select case (op)
         case (op_lt)
-            name = 'assertLessThan'
+            name = "assertLessThan"
         case (op_le)
-            name = 'assertLessThanOrEqual'
+            name = "assertLessThanOrEqual"
         case (op_gt)
-            name = 'assertGreaterThan'
+            name = "assertGreaterThan"
         case default
-            name = 'assertGreaterThanOrEqual'
+            name = "assertGreaterThanOrEqual"
         end select
     end function order_name
 
@@ -527,13 +527,13 @@ contains
 
         select case (op)
         case (op_lt)
-            words = 'less than'
+            words = "less than"
         case (op_le)
-            words = 'less than or equal to'
+            words = "less than or equal to"
         case (op_gt)
-            words = 'greater than'
+            words = "greater than"
         case default
-            words = 'greater than or equal to'
+            words = "greater than or equal to"
         end select
     end function order_words
 
@@ -552,10 +552,10 @@ contains
 
         integer :: i
 
-        if (sizes_differ('assertEqual', size(expected), size(actual), message, location)) return
+        if (sizes_differ("assertEqual", size(expected), size(actual), message, location)) return
         do i = 1, size(actual)
             if (expected(i) == actual(i)) cycle
-            call record_failure('assertEqual: expected ' // int_to_str(expected(i)) // ' but found ' &
+            call record_failure("assertEqual: expected " // int_to_str(expected(i)) // " but found " &
                 // int_to_str(actual(i)) // index_text(is_array, i), message, location)
             return
         end do
@@ -576,10 +576,10 @@ contains
 
         integer :: i
 
-        if (sizes_differ('assertEqual', size(expected), size(actual), message, location)) return
+        if (sizes_differ("assertEqual", size(expected), size(actual), message, location)) return
         do i = 1, size(actual)
             if (expected(i) .eqv. actual(i)) cycle
-            call record_failure('assertEqual: expected ' // logical_to_str(expected(i)) // ' but found ' &
+            call record_failure("assertEqual: expected " // logical_to_str(expected(i)) // " but found " &
                 // logical_to_str(actual(i)) // index_text(is_array, i), message, location)
             return
         end do
@@ -608,7 +608,7 @@ contains
             if (e(i:i) /= f(i:i)) exit
         end do
         call record_failure('assertEqual: expected "' // e // '" but found "' // f &
-            // '" (first difference at character ' // int_to_str(int(i, int64)) // ')', message, location)
+            // '" (first difference at character ' // int_to_str(int(i, int64)) // ")", message, location)
     end subroutine check_equal_string
 
     !> Check of `assertIsFinite`.
@@ -621,7 +621,7 @@ contains
         type(pf_source_location), intent(in), optional :: location
 
         if (ieee_is_finite(x)) return
-        call record_failure('assertIsFinite: ' // real_to_str(x) // ' is not finite', message, location)
+        call record_failure("assertIsFinite: " // real_to_str(x) // " is not finite", message, location)
     end subroutine check_is_finite
 
     !> Check of `assertIsNaN`.
@@ -634,7 +634,7 @@ contains
         type(pf_source_location), intent(in), optional :: location
 
         if (ieee_is_nan(x)) return
-        call record_failure('assertIsNaN: ' // real_to_str(x) // ' is not NaN', message, location)
+        call record_failure("assertIsNaN: " // real_to_str(x) // " is not NaN", message, location)
     end subroutine check_is_nan
 
     !> Whether two reals are equal (infinities of the same sign included, NaN excluded), without
@@ -662,43 +662,43 @@ contains
         logical :: negative
 
         if (ieee_is_nan(x)) then
-            text = 'NaN'
+            text = "NaN"
             return
         else if (.not. ieee_is_finite(x)) then
-            text = merge('-Infinity', '+Infinity', x < 0.0_real64)
+            text = merge("-Infinity", "+Infinity", x < 0.0_real64)
             return
         end if
         do n = 1, 17
-            write(form, '(a, i0, a)') '(es48.', n - 1, 'e4)'
+            write(form, "(a, i0, a)") "(es48.", n - 1, "e4)"
             write(buffer, form) x
             read(buffer, *, iostat=iostat) y
             if (iostat == 0 .and. same_real(x, y)) exit
         end do
         buffer = adjustl(buffer)
-        negative = buffer(1:1) == '-'
+        negative = buffer(1:1) == "-"
         if (negative) buffer = buffer(2:)
-        e_pos = index(buffer, 'E')
+        e_pos = index(buffer, "E")
         read(buffer(e_pos + 1:), *) exponent
         ! Significant digits without the decimal point, trailing zeros dropped.
         digits = buffer(1:1) // buffer(3:e_pos - 1)
         do while (len(digits) > 1)
-            if (digits(len(digits):len(digits)) /= '0') exit
+            if (digits(len(digits):len(digits)) /= "0") exit
             digits = digits(1:len(digits) - 1)
         end do
         if (exponent >= 0 .and. exponent <= 6) then
             if (len(digits) <= exponent + 1) then
-                text = digits // repeat('0', exponent + 1 - len(digits)) // '.0'
+                text = digits // repeat("0", exponent + 1 - len(digits)) // ".0"
             else
-                text = digits(1:exponent + 1) // '.' // digits(exponent + 2:)
+                text = digits(1:exponent + 1) // "." // digits(exponent + 2:)
             end if
         else if (exponent < 0 .and. exponent >= -4) then
-            text = '0.' // repeat('0', -exponent - 1) // digits
+            text = "0." // repeat("0", -exponent - 1) // digits
         else if (len(digits) == 1) then
-            text = digits // '.0e' // int_to_str(int(exponent, int64))
+            text = digits // ".0e" // int_to_str(int(exponent, int64))
         else
-            text = digits(1:1) // '.' // digits(2:) // 'e' // int_to_str(int(exponent, int64))
+            text = digits(1:1) // "." // digits(2:) // "e" // int_to_str(int(exponent, int64))
         end if
-        if (negative) text = '-' // text
+        if (negative) text = "-" // text
     end function real_to_str
 
     !> Decimal text of an integer.
@@ -709,7 +709,7 @@ contains
 
         character(len=24) :: buffer
 
-        write(buffer, '(i0)') i
+        write(buffer, "(i0)") i
         text = trim(buffer)
     end function int_to_str
 
@@ -720,9 +720,9 @@ contains
         character(len=:), allocatable :: text
 
         if (l) then
-            text = '.true.'
+            text = ".true."
         else
-            text = '.false.'
+            text = ".false."
         end if
     end function logical_to_str
 
@@ -736,12 +736,12 @@ contains
 
         first = 1
         do while (first <= len(s))
-            if (s(first:first) /= ' ' .and. s(first:first) /= achar(9)) exit
+            if (s(first:first) /= " " .and. s(first:first) /= achar(9)) exit
             first = first + 1
         end do
         last = len(s)
         do while (last >= first)
-            if (s(last:last) /= ' ' .and. s(last:last) /= achar(9)) exit
+            if (s(last:last) /= " " .and. s(last:last) /= achar(9)) exit
             last = last - 1
         end do
         stripped = s(first:last)
@@ -757,8 +757,8 @@ contains
 
         do i = 1, len(s)
             code = iachar(s(i:i))
-            if (code >= iachar('A') .and. code <= iachar('Z')) then
-                lower(i:i) = achar(code + iachar('a') - iachar('A'))
+            if (code >= iachar("A") .and. code <= iachar("Z")) then
+                lower(i:i) = achar(code + iachar("a") - iachar("A"))
             else
                 lower(i:i) = s(i:i)
             end if
@@ -1688,7 +1688,7 @@ contains
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_condition(condition, 'assertTrue', message, location)
+        call check_condition(condition, "assertTrue", message, location)
     end subroutine assert_true_s
 
     !> assertTrue(condition: logical(:)).
@@ -1697,7 +1697,7 @@ contains
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_condition(all(condition), 'assertTrue', message, location)
+        call check_condition(all(condition), "assertTrue", message, location)
     end subroutine assert_true_v
 
     !> assertFalse(condition: logical).
@@ -1706,7 +1706,7 @@ contains
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_condition(.not. condition, 'assertFalse', message, location)
+        call check_condition(.not. condition, "assertFalse", message, location)
     end subroutine assert_false_s
 
     !> assertFalse(condition: logical(:)).
@@ -1715,7 +1715,7 @@ contains
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_condition(.not. any(condition), 'assertFalse', message, location)
+        call check_condition(.not. any(condition), "assertFalse", message, location)
     end subroutine assert_false_v
 
 end module pf_runtime

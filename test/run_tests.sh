@@ -39,6 +39,16 @@ if ! python3 test/pf2f90.py -o test "${pf_files[@]}"; then
     translated=0
 fi
 
+# ----------------------------------------------------------------------------- 2b. lint
+# fortitude (rules and their reasons in fpm.toml [extra.fortitude.check]); one pass or one failure
+if fortitude check --output-format concise src app test/pf_runtime.f90 >"${tmp}/lint.log" 2>&1; then
+    passed=$((passed + 1))
+else
+    cat "${tmp}/lint.log"
+    note "FAILED: fortitude check (lint)"
+    failed=$((failed + 1))
+fi
+
 # ----------------------------------------------------------------------------- 3. fpm test
 if ((translated)); then
     fpm_args=(test)

@@ -50,27 +50,27 @@ program benchmark
     allocate (run%record%probes(0))
     run%record%ledger_every = 4000
 
-    write (*, '(a)') "# paper-default run: sine-Gordon, Omega = 0.9, A = 1.9, N = 200, T = 200, dt = 0.05"
-    write (*, '(a10, 2x, a12, 2x, a12, 2x, a14, 2x, a14, 2x, a14)') "scheme", "median_ms", "min_ms", &
+    write (*, "(a)") "# paper-default run: sine-Gordon, Omega = 0.9, A = 1.9, N = 200, T = 200, dt = 0.05"
+    write (*, "(a10, 2x, a12, 2x, a12, 2x, a14, 2x, a14, 2x, a14)") "scheme", "median_ms", "min_ms", &
         "work/step", "injected", "rel_residual"
     do im = 1, 2*size(methods)
         if (im == size(methods) + 1) then
             run%chain%beta = 0.1_wp
-            write (*, '(a)') "# same with internal damping beta = 0.1 (tridiagonal Jacobian: one dgtsv per iteration)"
+            write (*, "(a)") "# same with internal damping beta = 0.1 (tridiagonal Jacobian: one dgtsv per iteration)"
         end if
         run%numerics%method = methods(1 + mod(im - 1, size(methods)))
         do i = 1, repeats
             call simulate(run, result)
             times(i) = result%wall_time
         end do
-        write (*, '(a10, 2x, f12.3, 2x, f12.3, 2x, f14.4, 2x, es14.6, 2x, es14.3)') names(1 + mod(im - 1, size(methods))), &
+        write (*, "(a10, 2x, f12.3, 2x, f12.3, 2x, f14.4, 2x, es14.6, 2x, es14.3)") names(1 + mod(im - 1, size(methods))), &
             1000.0_wp*median(times), 1000.0_wp*minval(times), &
             work_per_step(result), result%ledger%injected, &
             abs(result%ledger%residual)/max(result%ledger%energy_scale, tiny(1.0_wp))
     end do
 
     ! the Runge-Kutta references, at the step where each reaches its accuracy class on this run (README)
-    write (*, '(a)') "# Runge-Kutta references, beta = 0 (work/step = right-hand sides per step)"
+    write (*, "(a)") "# Runge-Kutta references, beta = 0 (work/step = right-hand sides per step)"
     run%chain%beta = 0.0_wp
     do im = 1, 2
         run%numerics%method = merge(method_rk4, method_rk8, im == 1)
@@ -79,7 +79,7 @@ program benchmark
             call simulate(run, result)
             times(i) = result%wall_time
         end do
-        write (*, '(a10, 2x, f12.3, 2x, f12.3, 2x, f14.4, 2x, es14.6, 2x, es14.3)') &
+        write (*, "(a10, 2x, f12.3, 2x, f12.3, 2x, f14.4, 2x, es14.6, 2x, es14.3)") &
             merge("rk4 dt=0.1", "rk8 dt=0.2", im == 1), 1000.0_wp*median(times), 1000.0_wp*minval(times), &
             work_per_step(result), result%ledger%injected, &
             abs(result%ledger%residual)/max(result%ledger%energy_scale, tiny(1.0_wp))
@@ -116,11 +116,11 @@ contains
         real(wp) :: seconds(2)
 
         open (newunit=unit, file=nml, status="replace", action="write")
-        write (unit, '(a)') "&drive omega = 0.9 /", "&record probes = 60 /", &
+        write (unit, "(a)") "&drive omega = 0.9 /", "&record probes = 60 /", &
             "&scene kind = 'amplitude_sweep', amplitude_min = 1.2, amplitude_max = 1.98, amplitude_step = 0.02 /", &
             "&output file = '/tmp/supratrans_bench_sweep.h5', overwrite = .true., quiet = .true. /"
         close (unit)
-        write (*, '(a)') "# 40-amplitude sweep (sine-Gordon, Omega = 0.9, A = 1.20 .. 1.98, T = 200)"
+        write (*, "(a)") "# 40-amplitude sweep (sine-Gordon, Omega = 0.9, A = 1.20 .. 1.98, T = 200)"
         do threads = 1, 2
             call read_input(nml, cfg, error)
             if (allocated(error)) error stop "benchmark: " // error%message
@@ -129,9 +129,9 @@ contains
             call run_amplitude_sweep(cfg, error)
             seconds(threads) = wall_seconds() - seconds(threads)
             if (allocated(error)) error stop "benchmark: " // error%message
-            write (*, '(a, i0, a, f8.3, a)') "threads ", threads, ": ", seconds(threads), " s"
+            write (*, "(a, i0, a, f8.3, a)") "threads ", threads, ": ", seconds(threads), " s"
         end do
-        write (*, '(a, f6.3)') "speed-up 2 threads / 1 thread: ", seconds(1)/seconds(2)
+        write (*, "(a, f6.3)") "speed-up 2 threads / 1 thread: ", seconds(1)/seconds(2)
         call remove_file("/tmp/supratrans_bench_sweep.h5")
         call remove_file(nml)
     end subroutine sweep_benchmark
@@ -168,12 +168,12 @@ contains
         if (.not. allocated(error)) call h5_read(file, "/omega", omega, error)
         if (allocated(error)) error stop "benchmark: " // error%message
         call h5_close(file, error)
-        write (*, '(a, f5.2, a, f5.2, a)') "# bifurcation diagram, undamped sine-Gordon, Omega = 0.05 ..", omega_max, &
+        write (*, "(a, f5.2, a, f5.2, a)") "# bifurcation diagram, undamped sine-Gordon, Omega = 0.05 ..", omega_max, &
             " step", omega_step, ", resolution 0.01, 2 threads"
-        write (*, '(a, i0, a, i0, a, f8.2, a)') "runs ", sum(runs, mask=runs > 0), ", time steps ", &
+        write (*, "(a, i0, a, i0, a, f8.2, a)") "runs ", sum(runs, mask=runs > 0), ", time steps ", &
             sum(int(steps, i8), mask=steps > 0), ", ", seconds, " s"
         do i = 1, size(omega)
-            if (abs(omega(i) - 0.9_wp) < 1.0e-9_wp) write (*, '(a, f6.3)') "threshold at Omega = 0.9: ", threshold(i, 1)
+            if (abs(omega(i) - 0.9_wp) < 1.0e-9_wp) write (*, "(a, f6.3)") "threshold at Omega = 0.9: ", threshold(i, 1)
         end do
         call remove_file(out)
     end subroutine bifurcation_benchmark

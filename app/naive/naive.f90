@@ -58,7 +58,7 @@ program naive
         u_old = u
         u = x
     end do
-    print '(a, es24.16, a, i0)', "u_60(T) = ", u(60), "  Newton iterations: ", iterations
+    print "(a, es24.16, a, i0)", "u_60(T) = ", u(60), "  Newton iterations: ", iterations
 
 contains
 

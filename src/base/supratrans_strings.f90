@@ -132,7 +132,7 @@ contains
         character(len=:), allocatable :: s
         character(len=32) :: buf
 
-        write (buf, '(f0.1)') x
+        write (buf, "(f0.1)") x
         s = trim(adjustl(buf))
         if (s(1:1) == ".") s = "0" // s
         if (s(1:2) == "-.") s = "-0" // s(2:)

@@ -149,6 +149,8 @@ contains
             end if
             call merge_parts(parts(1:nparts), partial, output, overwrite, status, error)
             return
+        case default
+            continue    ! a namelist and its options, below
         end select
 
         file = ""
@@ -217,10 +219,10 @@ contains
 
             call check_file(path, one, problem)
             if (allocated(problem)) then
-                write (output_unit, '(a)') "error " // int_str(one) // " " // printable(path) // ": " &
+                write (output_unit, "(a)") "error " // int_str(one) // " " // printable(path) // ": " &
                     // printable(problem%message)
             else
-                write (output_unit, '(a)') "ok " // printable(path)
+                write (output_unit, "(a)") "ok " // printable(path)
             end if
             worst = max(worst, one)
         end subroutine check_one
@@ -524,7 +526,7 @@ contains
         !> Text.
         character(len=*), intent(in) :: line
 
-        if (.not. cfg%output%quiet) write (error_unit, '(a)') line
+        if (.not. cfg%output%quiet) write (error_unit, "(a)") line
     end subroutine progress
 
 end module supratrans_cli

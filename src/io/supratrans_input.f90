@@ -382,6 +382,8 @@ contains
             call fatal_error(error, path // ": not a regular file (a FIFO, device or socket): give a namelist file", &
                              err_input)
             return
+        case default
+            continue    ! a regular file
         end select
         if (file_size(path) > max_input_bytes) then
             call fatal_error(error, path // ": " // int_str(int(file_size(path)/1024)) // " KiB is too large for a " &
@@ -805,6 +807,8 @@ contains
                 case (".false.", ".f.", "f", "false")
                     canonical = ".false."
                     return
+                case default
+                    continue    ! not a logical: the message below
                 end select
             end if
         case (kt_name)

@@ -173,7 +173,7 @@ contains
         open (newunit=unit, file="/proc/meminfo", status="old", action="read", iostat=ios)
         if (ios /= 0) return
         do
-            read (unit, '(a)', iostat=ios) line
+            read (unit, "(a)", iostat=ios) line
             if (ios /= 0) exit
             if (index(line, "MemAvailable:") == 1) then
                 read (line(14:), *, iostat=ios) kib

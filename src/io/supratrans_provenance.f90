@@ -125,7 +125,7 @@ contains
         line = ""
         open (newunit=unit, file=path, status="old", action="read", iostat=ios)
         if (ios /= 0) return
-        read (unit, '(a)', iostat=ios) buffer
+        read (unit, "(a)", iostat=ios) buffer
         close (unit)
         if (ios == 0) line = trim(buffer)
     end function first_line
@@ -141,7 +141,7 @@ contains
         open (newunit=unit, file=path, status="old", action="read", iostat=ios)
         if (ios /= 0) return
         do
-            read (unit, '(a)', iostat=ios) buffer
+            read (unit, "(a)", iostat=ios) buffer
             if (ios /= 0) exit
             k = index(buffer, " ")
             if (k > 1) then

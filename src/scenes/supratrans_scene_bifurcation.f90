@@ -143,7 +143,7 @@ contains
         tasks%partial_path = output // ".partial.h5"
         journal = output // ".journal"
         if (.not. cfg%output%quiet) then
-            write (error_unit, '(a)') "supratrans: bifurcation from " // source_name(cfg) // ": " // int_str(ncurve) &
+            write (error_unit, "(a)") "supratrans: bifurcation from " // source_name(cfg) // ": " // int_str(ncurve) &
                 // " curve(s) x " // int_str(nomega) // " frequencies, amplitudes " // real_str(cfg%scene%amplitude_min, 6) &
                 // " .. " // real_str(cfg%scene%amplitude_max, 6) // " (coarse step " &
                 // real_str(effective_coarse_step(cfg%scene%coarse_step, cfg%scene%resolution), 6) // ", resolution " &
@@ -162,8 +162,8 @@ contains
         call remove_file(tasks%partial_path)
         call remove_file(tasks%partial_path // ".tmp")
         if (.not. cfg%output%quiet) then
-            write (steps_text, '(i0)') nint(sum(results(v_steps, :)), i8)
-            write (error_unit, '(a)') "  " // int_str(nint(sum(results(v_runs, :)))) // " runs, " &
+            write (steps_text, "(i0)") nint(sum(results(v_steps, :)), i8)
+            write (error_unit, "(a)") "  " // int_str(nint(sum(results(v_runs, :)))) // " runs, " &
                 // trim(steps_text) // " time steps, " // fixed1(elapsed) // " s"
         end if
     end subroutine run_bifurcation
@@ -238,7 +238,7 @@ contains
         if (oracle%failed() .and. .not. self%cfg%output%quiet) then
             ! text only inside the critical section: deferred-length results are not thread-safe in gfortran 12
             !$omp critical (supratrans_bifurcation_messages)
-            write (error_unit, '(a)') "  warning: curve " // int_str(icurve) // ", omega = " // real_str(omega, 6) &
+            write (error_unit, "(a)") "  warning: curve " // int_str(icurve) // ", omega = " // real_str(omega, 6) &
                 // ": search abandoned, " // oracle%failure_reason()
             !$omp end critical (supratrans_bifurcation_messages)
         end if
@@ -301,7 +301,7 @@ contains
 
         call write_bifurcation_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
         if (allocated(error) .and. .not. self%cfg%output%quiet) then
-            write (error_unit, '(a)') "  warning: partial output not written: " // error%message
+            write (error_unit, "(a)") "  warning: partial output not written: " // error%message
         end if
     end subroutine write_snapshot
 

@@ -142,7 +142,7 @@ contains
         end do
 
         ! linear theory: the paper's condition, each method's linear limit
-        if (.not. cfg%output%quiet) write (error_unit, '(a)') "stability: linear theory (spectra of " &
+        if (.not. cfg%output%quiet) write (error_unit, "(a)") "stability: linear theory (spectra of " &
             // int_str(ncurve*nc) // " linearised chains)"
         allocate (linear(nc, nm, ncurve), paper(nc, ncurve), rk4_limit(nc, ncurve), rk4_undamped(nc, ncurve))
         do icurve = 1, ncurve

@@ -297,7 +297,7 @@ contains
                 if (.not. task_is_runnable(tasks, i)) nskip = nskip + 1
             end do
             if (nskip > 0) line = line // " (" // int_str(nskip) // " outside the band gap, not run)"
-            write (error_unit, '(a)') line
+            write (error_unit, "(a)") line
             flush (error_unit)
         end if
 
@@ -321,12 +321,12 @@ contains
         if (.not. tasks%cfg%output%quiet) then
             nfail = count(nint(results(iv_status, :)) > 0)
             ntrans = count(nint(results(iv_status, :)) == run_ok .and. nint(results(iv_transmitting, :)) == 1)
-            write (error_unit, '(a)') "  " // int_str(count(nint(results(iv_status, :)) == run_ok)) // " runs ok (" &
+            write (error_unit, "(a)") "  " // int_str(count(nint(results(iv_status, :)) == run_ok)) // " runs ok (" &
                 // int_str(ntrans) // " transmitting), " // int_str(nfail) // " failed (see /runs/failures)"
             nthin = count(nint(results(iv_thin_verdict, :)) == 1)
             call jumps_along_amplitude(results, size(tasks%amplitudes), jump, change)
             nflat = count(change == 1 .and. .not. (jump >= min_energy_jump .or. jump <= 1.0_wp/min_energy_jump))
-            if (nthin > 0 .or. nflat > 0) write (error_unit, '(a)') "  warning: " // int_str(nthin) &
+            if (nthin > 0 .or. nflat > 0) write (error_unit, "(a)") "  warning: " // int_str(nthin) &
                 // " verdict(s) with a thin margin (/runs/thin_verdict), " // int_str(nflat) // " verdict change(s) " &
                 // "without an energy jump (/runs/energy_jump): check them"
             flush (error_unit)
@@ -712,7 +712,7 @@ contains
 
         call write_grid_file(self, partial_path(self%cfg), .true., results, done, error)
         if (allocated(error) .and. .not. self%cfg%output%quiet) then
-            write (error_unit, '(a)') "  warning: partial file not written: " // error%message
+            write (error_unit, "(a)") "  warning: partial file not written: " // error%message
         end if
     end subroutine sweep_snapshot
 

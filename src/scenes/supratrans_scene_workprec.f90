@@ -744,7 +744,7 @@ contains
         type(input_config), intent(in) :: cfg
         character(len=*), intent(in) :: line
 
-        if (.not. cfg%output%quiet) write (error_unit, '(a)') line
+        if (.not. cfg%output%quiet) write (error_unit, "(a)") line
     end subroutine progress
 
 end module supratrans_scene_workprec

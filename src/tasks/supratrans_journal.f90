@@ -46,8 +46,8 @@ contains
         character(len=32 + 26*size(values)) :: buffer
         character(len=8) :: hex
 
-        write (buffer, '(i0, *(1x, es25.17e3))') index, values
-        write (hex, '(z8.8)') crc32(trim(buffer))
+        write (buffer, "(i0, *(1x, es25.17e3))") index, values
+        write (hex, "(z8.8)") crc32(trim(buffer))
         line = trim(buffer) // " *" // hex
     end function journal_line
 
@@ -72,7 +72,7 @@ contains
         values = 0.0_wp
         star = index_of_mark(line)
         if (star < 3 .or. len(line) - star /= 8) return
-        read (line(star + 1:), '(z8)', iostat=ios) stored
+        read (line(star + 1:), "(z8)", iostat=ios) stored
         if (ios /= 0) return
         if (stored /= crc32(line(1:star - 2))) return
         ntokens = 0
@@ -208,7 +208,7 @@ contains
 
         line = ""
         do
-            read (unit, '(a)', advance="no", iostat=ios, size=size_read) buffer
+            read (unit, "(a)", advance="no", iostat=ios, size=size_read) buffer
             if (len(line) < max_line) line = line // buffer(1:size_read)
             if (ios /= 0) exit
         end do

@@ -140,10 +140,10 @@ contains
         last_snapshot = 0.0_wp
         write_failed = .false.
         if (.not. quiet) then
-            write (error_unit, '(a)') "  " // int_str(ntodo) // " " // label // slice_text(slice_index, slice_count, &
+            write (error_unit, "(a)") "  " // int_str(ntodo) // " " // label // slice_text(slice_index, slice_count, &
                 ntask) // ", " // int_str(ndone_start) // " already done (journal " // journal // "), " &
                 // int_str(threads) // " thread(s)"
-            if (dropped > 0) write (error_unit, '(a)') "  " // int_str(dropped) // " journal line(s) failed their " &
+            if (dropped > 0) write (error_unit, "(a)") "  " // int_str(dropped) // " journal line(s) failed their " &
                 // "checksum (cut short or altered): those tasks are computed again"
             flush (error_unit)
         end if
@@ -166,7 +166,7 @@ contains
             elapsed = real(clock_now - clock_start, wp)/real(clock_rate, wp)
             if (.not. quiet .and. (elapsed - last_progress >= progress_interval .or. ndone == ntodo)) then
                 last_progress = elapsed
-                write (error_unit, '(a)') "  " // int_str(ndone) // "/" // int_str(ntodo) // " " // label &
+                write (error_unit, "(a)") "  " // int_str(ndone) // "/" // int_str(ntodo) // " " // label &
                     // ", elapsed " // fixed1(elapsed) // " s, remaining ~" &
                     // fixed1(elapsed/real(ndone - ndone_start, wp)*real(ntodo - ndone, wp)) // " s"
                 flush (error_unit)
@@ -197,7 +197,7 @@ contains
             call remove_file(journal)
             call remove_file(trim(cfg%output%file) // ".partial.h5")
             call remove_file(trim(cfg%output%file) // ".partial.h5.tmp")
-            if (.not. quiet) write (error_unit, '(a)') "  wrote part " // trim(cfg%output%file) &
+            if (.not. quiet) write (error_unit, "(a)") "  wrote part " // trim(cfg%output%file) &
                 // slice_text(slice_index, slice_count, ntask)
         end if
     end subroutine run_tasks
