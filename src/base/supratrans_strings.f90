@@ -9,7 +9,7 @@ module supratrans_strings
     implicit none
     private
 
-    public :: int_str, real_str, fixed4, fixed1, int_fixed, real_fixed, text_fingerprint
+    public :: int_str, real_str, fixed4, fixed1, int_fixed, real_fixed, text_fingerprint, text_or
 
 contains
 
@@ -158,5 +158,19 @@ contains
         write (buf, '(z8.8, "-", z8.8)') h1, h2
         hash_text = buf
     end function text_fingerprint
+
+    !> An allocatable text, or `default` when it is unallocated or empty.
+    pure function text_or(text, default) result(value)
+        !> The text.
+        character(len=:), allocatable, intent(in) :: text
+        !> What to give instead.
+        character(len=*), intent(in) :: default
+        character(len=:), allocatable :: value
+
+        value = default
+        if (allocated(text)) then
+            if (len(text) > 0) value = text
+        end if
+    end function text_or
 
 end module supratrans_strings

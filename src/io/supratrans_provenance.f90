@@ -8,6 +8,7 @@
 module supratrans_provenance
     use, intrinsic :: iso_fortran_env, only: compiler_version, compiler_options
     use supratrans_kinds, only: supratrans_version
+    use supratrans_strings, only: text_or
     use supratrans_error, only: error_type
     use supratrans_config, only: input_config
     use supratrans_system, only: host_name, is_directory
@@ -47,18 +48,6 @@ contains
         if (.not. allocated(error)) call h5_write(file, "/provenance/namelist", text_or(cfg%text, "(built in code)"), &
                                                   "", "The namelist text exactly as read", error)
     end subroutine write_provenance
-
-    !> An allocatable text, or a default.
-    pure function text_or(text, default) result(value)
-        character(len=:), allocatable, intent(in) :: text
-        character(len=*), intent(in) :: default
-        character(len=:), allocatable :: value
-
-        value = default
-        if (allocated(text)) then
-            if (len(text) > 0) value = text
-        end if
-    end function text_or
 
     !> The commit of the git checkout the executable lies in ("unknown" if none): HEAD, followed through one ref
     !> (loose file or packed-refs); a detached HEAD is the commit itself.

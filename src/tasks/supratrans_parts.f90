@@ -10,7 +10,7 @@
 !> merged file is the single-machine file by construction.
 module supratrans_parts
     use supratrans_kinds, only: wp, supratrans_version
-    use supratrans_strings, only: int_str
+    use supratrans_strings, only: int_str, text_or
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_config, only: input_config
     use supratrans_system, only: path_kind, path_regular
@@ -138,16 +138,16 @@ contains
             if (allocated(error)) exit body
             call h5_write_attr(file, "part", "journal_header", header, error)
             if (allocated(error)) exit body
-            call h5_write_attr(file, "part", "fingerprint", cfg_text(cfg%fingerprint, "none"), error)
+            call h5_write_attr(file, "part", "fingerprint", text_or(cfg%fingerprint, "none"), error)
             if (allocated(error)) exit body
-            call h5_write_attr(file, "part", "input_file", cfg_text(cfg%source, "configuration"), error)
+            call h5_write_attr(file, "part", "input_file", text_or(cfg%source, "configuration"), error)
             if (allocated(error)) exit body
             call h5_write(file, "part/task", tasks, "1", "task index of each record", error)
             if (allocated(error)) exit body
             call h5_write(file, "part/values", records, "mixed", "the task records, exactly as the " &
                           // "journal holds them (values, task)", error)
             if (allocated(error)) exit body
-            call h5_write(file, "part/namelist", cfg_text(cfg%text, ""), "", "the namelist text as read", error)
+            call h5_write(file, "part/namelist", text_or(cfg%text, ""), "", "the namelist text as read", error)
         end block body
         if (allocated(error)) then
             call h5_discard(file)
@@ -155,16 +155,6 @@ contains
         end if
         call h5_commit(file, error)
     end subroutine write_part
-
-    !> An allocatable text, or a default when unallocated.
-    pure function cfg_text(text, default) result(value)
-        character(len=:), allocatable, intent(in) :: text
-        character(len=*), intent(in) :: default
-        character(len=:), allocatable :: value
-
-        value = default
-        if (allocated(text)) value = text
-    end function cfg_text
 
     !> Read and check a set of part files. Refused with one line naming the file and the reason (status
     !> `err_input`): a file that is not a part, parts of another input, version or slice count, a slice given twice,
