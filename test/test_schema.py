@@ -1,5 +1,6 @@
 """The input schema (src/io/schema.toml) and what follows from it: the generated files are up to date and a stale one
-is detected; the program's output stores every key of the table in /parameters with the schema beside it."""
+is detected; the program's output stores every key of the table in /parameters with the schema beside it, and
+/provenance says which commit, compiler and namelist made the file."""
 import importlib.util
 import shutil
 import subprocess
@@ -94,3 +95,24 @@ def test_output_holds_every_key(exe, tmp_path):
         units = [x.decode() for x in f["parameters/schema/units"][()]]
         assert units[names.index("dt")] == "time"
 
+
+def test_output_says_where_it_comes_from(exe, tmp_path):
+    h5py = pytest.importorskip("h5py")
+    text = "! a comment that provenance keeps\n&chain n = 40, n0 = 30 /\n&numerics t_final = 2.0 /\n" \
+           "&output file = 'r.h5', quiet = .true. /\n"
+    (tmp_path / "case.nml").write_text(text)
+    proc = subprocess.run([exe, "case.nml"], cwd=tmp_path, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(tmp_path / "r.h5") as f:
+        prov = f["provenance"].attrs
+        assert f["provenance/namelist"][()].decode() == text
+        assert prov["input_file"] == b"case.nml"
+        assert prov["compiler"].decode().startswith("GCC")
+        assert prov["omp_max_threads"] >= 1
+        assert prov["host"] and prov["started"]
+        assert Path(prov["working_directory"].decode()) == tmp_path.resolve()
+        commit = prov["git_commit"].decode()
+    if shutil.which("git"):
+        head = subprocess.run(["git", "rev-parse", "HEAD"], cwd=ROOT, capture_output=True, text=True)
+        if head.returncode == 0:
+            assert commit == head.stdout.strip()

@@ -191,6 +191,10 @@ module supratrans_config
     type, public :: input_config
         !> Path of the namelist file it came from.
         character(len=:), allocatable :: source
+        !> The namelist text exactly as read (provenance).
+        character(len=:), allocatable :: text
+        !> When the input was read (ISO 8601), the start of the study.
+        character(len=:), allocatable :: started
         !> The base run (the scene varies some of its parameters).
         type(run_config) :: run
         !> The scene.

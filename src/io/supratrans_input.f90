@@ -24,6 +24,7 @@ module supratrans_input
     use supratrans_schema, only: key_table, set_key, choice_names, choice_noun, key_record_probes
     use supratrans_namelist, only: parse_namelist, parsed_input
     use supratrans_validate, only: validate_config
+    use supratrans_provenance, only: timestamp
     implicit none
     private
 
@@ -35,6 +36,7 @@ contains
     !>
     !> On failure `error` is allocated with status `err_input` and a one-line message naming the file, the group and
     !> the key. After a failed range check `cfg` still holds the values read; after a failure to read, the defaults.
+    !> `cfg%text` keeps the file's text and `cfg%started` the time it was read (provenance of the output).
     subroutine read_input(path, cfg, error)
         !> Path of the namelist file; recorded in `cfg%source` and used in messages.
         character(len=*), intent(in) :: path
@@ -46,9 +48,11 @@ contains
         type(parsed_input) :: parsed
 
         cfg%source = path
+        cfg%started = timestamp()
         cfg%run%record%probes = default_probes
         call read_text_file(path, text, error)
         if (allocated(error)) return
+        cfg%text = text
         call parse_namelist(text, path, parsed, error)
         if (allocated(error)) return
         call convert_keys(parsed, path, cfg, error)

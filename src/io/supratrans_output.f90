@@ -1,6 +1,6 @@
-!> Writes results to self-describing HDF5 files: every input parameter (`write_parameters`), units and a
-!> description on every dataset. Files are written under a temporary name and renamed when complete, so a finished
-!> file is never half-written.
+!> Writes results to self-describing HDF5 files: every input parameter (`write_parameters`), where the file comes
+!> from (`/provenance`, written by `write_root`), units and a description on every dataset. Files are written under
+!> a temporary name and renamed when complete, so a finished file is never half-written.
 module supratrans_output
     use supratrans_kinds, only: wp, supratrans_version
     use supratrans_error, only: error_type
@@ -8,23 +8,13 @@ module supratrans_output
     use supratrans_result, only: run_result, status_name, ledger_columns
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
     use supratrans_parameters, only: write_parameters
+    use supratrans_provenance, only: write_provenance, timestamp
     implicit none
     private
 
     public :: write_timeseries, write_parameters, write_root, write_outcome, timestamp
 
 contains
-
-    !> Current local date and time, ISO 8601.
-    function timestamp() result(stamp)
-        character(len=:), allocatable :: stamp
-        character(len=8) :: date
-        character(len=10) :: time
-        character(len=5) :: zone
-
-        call date_and_time(date, time, zone)
-        stamp = date(1:4)//"-"//date(5:6)//"-"//date(7:8)//"T"//time(1:2)//":"//time(3:4)//":"//time(5:6)//zone
-    end function timestamp
 
     !> Write the `timeseries` scene: one run's probes u_n(t), its energy ledger over time and its outcome.
     subroutine write_timeseries(cfg, result, error)
@@ -88,7 +78,8 @@ contains
         end select
     end function ledger_description
 
-    !> Root attributes shared by every scene: code, version, scene, description, input file, creation time.
+    !> Root attributes shared by every scene (code, version, scene, description, input file, creation time) and the
+    !> `/provenance` group.
     subroutine write_root(file, cfg, scene, description, error)
         !> Open output file.
         type(h5_file), intent(inout) :: file
@@ -110,6 +101,7 @@ contains
         if (.not. allocated(error)) call h5_write_attr(file, "/", "reference", &
             "J. E. Macias-Diaz and A. Puri, An energy-based computational method in the analysis of the " // &
             "transmission of energy in a chain of coupled oscillators", error)
+        if (.not. allocated(error)) call write_provenance(file, cfg, error)
     end subroutine write_root
 
     !> Outcome and statistics of one run as attributes of `group`.
