@@ -28,6 +28,12 @@ if ! bash .ci/install; then
     failed=$((failed + 1))
 fi
 
+# ----------------------------------------------------------------------------- generated files
+if ! python3 src/io/generate_schema.py --check; then
+    note "FAILED: generated files are stale (run python3 src/io/generate_schema.py)"
+    failed=$((failed + 1))
+fi
+
 # ----------------------------------------------------------------------------- 2. translate .pf
 shopt -s nullglob
 pf_files=(test/*.pf)

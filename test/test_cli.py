@@ -160,11 +160,11 @@ def test_every_output_records_its_provenance(exe, tmp_path, scene):
     assert proc.returncode == 0, proc.stderr
     with h5py.File(tmp_path / "result.h5") as f:
         p = f["provenance"].attrs
-        assert p["code_version"].decode().count(".") == 2
+        assert p["version"].decode().count(".") == 2
         commit = p["git_commit"].decode()
         assert len(commit) == 40 and int(commit, 16) >= 0       # the test runs in a checkout
-        assert p["compiler_version"].decode().startswith("GCC")
+        assert p["compiler"].decode().startswith("GCC")
         assert "-fopenmp" in p["compiler_options"].decode() or "openmp" in p["compiler_options"].decode()
-        assert p["openmp_threads"] >= 1 and p["host"] and p["started"].decode()[:2] == "20"
+        assert p["omp_max_threads"] >= 1 and p["host"] and p["started"].decode()[:2] == "20"
         assert p["input_file"].decode() == str(nml)
         assert f["provenance/namelist"][()].decode() == text

@@ -19,7 +19,8 @@ module supratrans_cli
     use supratrans_config, only: input_config
     use supratrans_system, only: make_directories, path_kind, path_directory, path_missing, same_file, lock_file, &
                                  unlock_file, remove_file, catch_stop_signals
-    use supratrans_input, only: read_input, read_input_text, validate_config
+    use supratrans_input, only: read_input, read_input_text
+    use supratrans_validate, only: validate_config
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, status_name
     use supratrans_output, only: write_timeseries

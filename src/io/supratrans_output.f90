@@ -1,74 +1,20 @@
-!> Writes results to self-describing HDF5 files: every input parameter as an attribute, units and a description on
-!> every dataset, the code version and the wall time. Files are written under a temporary name and renamed when
-!> complete, so a finished file is never half-written.
+!> Writes results to self-describing HDF5 files: every input parameter (`write_parameters`), where the file comes
+!> from (`/provenance`, written by `write_root`), units and a description on every dataset. Files are written under
+!> a temporary name and renamed when complete, so a finished file is never half-written.
 module supratrans_output
     use supratrans_kinds, only: wp, supratrans_version
     use supratrans_error, only: error_type
-    use supratrans_config, only: input_config, run_config
-    use supratrans_input, only: method_name
-    use supratrans_potential, only: potential_name
-    use supratrans_chain, only: threshold_as, decay_rate, band_gap_edge, critical_dt
+    use supratrans_config, only: input_config
     use supratrans_result, only: run_result, status_name, ledger_columns
-    use supratrans_provenance, only: write_provenance
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
+    use supratrans_parameters, only: write_parameters
+    use supratrans_provenance, only: write_provenance, timestamp
     implicit none
     private
 
-    public :: write_timeseries, write_run_parameters, write_root, write_outcome, timestamp
+    public :: write_timeseries, write_parameters, write_root, write_outcome, timestamp
 
 contains
-
-    !> Current local date and time, ISO 8601.
-    function timestamp() result(stamp)
-        character(len=:), allocatable :: stamp
-        character(len=8) :: date
-        character(len=10) :: time
-        character(len=5) :: zone
-
-        call date_and_time(date, time, zone)
-        stamp = date(1:4)//"-"//date(5:6)//"-"//date(7:8)//"T"//time(1:2)//":"//time(3:4)//":"//time(5:6)//zone
-    end function timestamp
-
-    !> Write the parameters of a run as attributes of group `group` (chain, drive, numerics, derived theory).
-    subroutine write_run_parameters(file, group, run, error)
-        !> Open output file.
-        type(h5_file), intent(inout) :: file
-        !> Group that receives the attributes (created if missing).
-        character(len=*), intent(in) :: group
-        !> The run.
-        type(run_config), intent(in) :: run
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
-
-        call h5_create_group(file, group, "Input parameters of the run (namelist names), and derived linear theory", &
-                             error)
-        if (allocated(error)) return
-        call h5_write_attr(file, group, "potential", potential_name(run%chain%potential), error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "c", run%chain%c, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "m2", run%chain%m2, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "gamma", run%chain%gamma, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "beta", run%chain%beta, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "n", run%chain%n, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "n0", run%chain%n0, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "kappa", run%chain%kappa, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "sigma", run%chain%sigma, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "amplitude", run%drive%amplitude, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "omega", run%drive%omega, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "ramp_time", run%drive%ramp_time, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "method", method_name(run%numerics%method), error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "dt", run%numerics%dt, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "t_final", run%numerics%t_final, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "newton_tol", run%numerics%newton_tol, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "newton_max_iter", run%numerics%newton_max_iter, error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "blowup_threshold", run%numerics%blowup_threshold, &
-                                                       error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "band_gap_edge", band_gap_edge(run%chain), error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "lambda", decay_rate(run%chain, run%drive%omega), &
-                                                       error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "threshold_As", &
-                                                       threshold_as(run%chain, run%drive%omega), error)
-        if (.not. allocated(error)) call h5_write_attr(file, group, "critical_dt", critical_dt(run%chain), error)
-    end subroutine write_run_parameters
 
     !> Write the `timeseries` scene: one run's probes u_n(t), its energy ledger over time and its outcome.
     subroutine write_timeseries(cfg, result, error)
@@ -85,7 +31,7 @@ contains
         call h5_create(file, trim(cfg%output%file), cfg%output%overwrite, error)
         if (allocated(error)) return
         call write_root(file, cfg, "timeseries", "One driven chain: u_n(t) at probe sites and the energy ledger", error)
-        if (.not. allocated(error)) call write_run_parameters(file, "/parameters", cfg%run, error)
+        if (.not. allocated(error)) call write_parameters(file, cfg, error)
         ns = result%n_probe_samples
         nl = result%n_ledger_samples
         if (.not. allocated(error)) call h5_write(file, "/probes/sites", result%probes, "1", &
@@ -132,7 +78,8 @@ contains
         end select
     end function ledger_description
 
-    !> Root attributes shared by every scene: code, version, scene, description, input file, creation time.
+    !> Root attributes shared by every scene (code, version, scene, description, input file, creation time) and the
+    !> `/provenance` group.
     subroutine write_root(file, cfg, scene, description, error)
         !> Open output file.
         type(h5_file), intent(inout) :: file
@@ -154,13 +101,7 @@ contains
         if (.not. allocated(error)) call h5_write_attr(file, "/", "reference", &
             "J. E. Macias-Diaz and A. Puri, An energy-based computational method in the analysis of the " // &
             "transmission of energy in a chain of coupled oscillators", error)
-        if (.not. allocated(error)) then
-            if (allocated(cfg%started)) then
-                call write_provenance(file, cfg, cfg%started, error)
-            else
-                call write_provenance(file, cfg, timestamp(), error)
-            end if
-        end if
+        if (.not. allocated(error)) call write_provenance(file, cfg, error)
     end subroutine write_root
 
     !> Outcome and statistics of one run as attributes of `group`.

@@ -37,7 +37,7 @@ module supratrans_scene_bifurcation
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
-    use supratrans_output, only: write_root, write_run_parameters
+    use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1
     implicit none
     private
@@ -392,7 +392,8 @@ contains
         call h5_commit(file, error)
     end subroutine write_bifurcation_file
 
-    !> `/parameters`: the base run, the scene's axes and search controls, the detection.
+    !> `/parameters`: every input key (`write_parameters`), the coarse step the search used, and
+    !> `stop_when_decided` = 1 (every run of the search stops once decided).
     subroutine write_scene_parameters(file, cfg, error)
         !> Open output file.
         type(h5_file), intent(inout) :: file
@@ -402,25 +403,9 @@ contains
         type(error_type), allocatable, intent(out) :: error
         character(len=*), parameter :: g = "/parameters"
 
-        call write_run_parameters(file, g, cfg%run, error)
-        associate (sc => cfg%scene)
-            if (.not. allocated(error)) call h5_write_attr(file, g, "kind", trim(sc%kind), error)
-            if (.not. allocated(error)) call h5_write_attr(file, g, "vary", trim(sc%vary), error)
-            if (.not. allocated(error) .and. allocated(sc%values)) call h5_write_attr(file, g, "values", sc%values, error)
-            if (.not. allocated(error)) call h5_write_attr(file, g, "potentials", potentials_text(cfg), error)
-            if (.not. allocated(error)) call h5_write_attr(file, g, "amplitude_min", sc%amplitude_min, error)
-            if (.not. allocated(error)) call h5_write_attr(file, g, "amplitude_max", sc%amplitude_max, error)
-            if (.not. allocated(error)) call h5_write_attr(file, g, "coarse_step", sc%coarse_step, error)
-            if (.not. allocated(error)) call h5_write_attr(file, g, "coarse_step_used", &
-                effective_coarse_step(sc%coarse_step, sc%resolution), error)
-            if (.not. allocated(error)) call h5_write_attr(file, g, "resolution", sc%resolution, error)
-            if (.not. allocated(error)) call h5_write_attr(file, g, "omega_min", sc%omega_min, error)
-            if (.not. allocated(error)) call h5_write_attr(file, g, "omega_max", sc%omega_max, error)
-            if (.not. allocated(error)) call h5_write_attr(file, g, "omega_step", sc%omega_step, error)
-        end associate
-        if (.not. allocated(error)) call h5_write_attr(file, g, "allow_outside_gap", cfg%allow_outside_gap, error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "detect_site", cfg%run%detect%site, error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "detect_amplitude", cfg%run%detect%amplitude, error)
+        call write_parameters(file, cfg, error)
+        if (.not. allocated(error)) call h5_write_attr(file, g, "coarse_step_used", &
+            effective_coarse_step(cfg%scene%coarse_step, cfg%scene%resolution), error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "stop_when_decided", .true., error)
     end subroutine write_scene_parameters
 
@@ -474,27 +459,6 @@ contains
         r = run
         r%drive%omega = omega
     end function with_omega
-
-    !> The scene's potentials as text ("sine-gordon, klein-gordon").
-    pure function potentials_text(cfg) result(text)
-        !> The input.
-        type(input_config), intent(in) :: cfg
-        character(len=:), allocatable :: text
-        integer :: i
-
-        if (.not. allocated(cfg%scene%potentials)) then
-            text = potential_name(cfg%run%chain%potential)
-            return
-        end if
-        if (size(cfg%scene%potentials) == 0) then
-            text = potential_name(cfg%run%chain%potential)
-            return
-        end if
-        text = potential_name(cfg%scene%potentials(1))
-        do i = 2, size(cfg%scene%potentials)
-            text = text // ", " // potential_name(cfg%scene%potentials(i))
-        end do
-    end function potentials_text
 
     !> The namelist file of the input ("configuration" when not set).
     pure function source_name(cfg) result(name)

@@ -51,8 +51,7 @@ contains
         call run_grid_scene(tasks, error)
     end subroutine run_map
 
-    !> The axes of the map: those shared with the sweep, `/omega`, `/threshold_As` (ncurve, nomega in h5py) and the
-    !> frequency axis parameters as attributes of `/parameters`.
+    !> The axes of the map: those shared with the sweep, `/omega` and `/threshold_As` (ncurve, nomega in h5py).
     subroutine map_write_axes(self, file, error)
         !> The task list.
         class(map_tasks), intent(in) :: self
@@ -80,11 +79,6 @@ contains
         call h5_write(file, "/threshold_As", as, "rad", "Continuum-limit supratransmission threshold A_s(Omega) = " &
                       // "4 arctan(lambda c / Omega) of each curve (massless, undamped theory); NaN outside the " &
                       // "curve's band gap", error, dims="curve, omega")
-        if (allocated(error)) return
-        call h5_write_attr(file, "/parameters", "omega_min", self%cfg%scene%omega_min, error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "omega_max", self%cfg%scene%omega_max, error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "omega_step", self%cfg%scene%omega_step, &
-                                                       error)
     end subroutine map_write_axes
 
 end module supratrans_scene_map

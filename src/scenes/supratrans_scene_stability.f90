@@ -41,8 +41,7 @@ module supratrans_scene_stability
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_strings, only: int_str, real_str
     use supratrans_config, only: input_config, run_config, chain_params, method_newton, method_linearized, &
-                                 method_rk4, method_rk8
-    use supratrans_input, only: method_name
+                                 method_rk4, method_rk8, method_name
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: critical_dt, damping_profile
     use supratrans_curves, only: curve_count, curve_run, curve_value
@@ -51,7 +50,7 @@ module supratrans_scene_stability
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
-    use supratrans_output, only: write_root, write_run_parameters
+    use supratrans_output, only: write_root, write_parameters
     use supratrans_stepper_rk8, only: rk8_stability_coefficients, rk8_stages
     use supratrans_eigen, only: general_eigenvalues
     implicit none
@@ -473,7 +472,7 @@ contains
         if (allocated(error)) return
         call write_root(file, cfg, "stability", "Where each integrator blows up over a grid of (dt, c), observed " &
                         // "boundaries next to the paper's necessary condition and linear stability theory", error)
-        if (.not. allocated(error)) call write_run_parameters(file, "/parameters", cfg%run, error)
+        if (.not. allocated(error)) call write_parameters(file, cfg, error)
         if (.not. allocated(error)) call h5_create_group(file, "/scene", "Controls of the stability scene", error)
         if (.not. allocated(error)) call h5_write_attr(file, "/scene", "vary", trim(cfg%scene%vary), error)
         if (.not. allocated(error)) call h5_write_attr(file, "/scene", "resolution", tasks%resolution, error)

@@ -35,7 +35,7 @@ module supratrans_scene_sweep
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config, run_config
     use supratrans_curves, only: curve_count, curve_run, curve_indices
-    use supratrans_input, only: validate_config
+    use supratrans_validate, only: validate_config
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: band_gap_edge, threshold_as
     use supratrans_simulate, only: simulate, number_of_levels
@@ -43,7 +43,7 @@ module supratrans_scene_sweep
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
-    use supratrans_output, only: write_root, write_run_parameters
+    use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str
     implicit none
     private
@@ -379,7 +379,7 @@ contains
         call h5_commit(file, error)
     end subroutine write_grid_file
 
-    !> `/parameters`: the base run (`write_run_parameters`) and the scene's parameters.
+    !> `/parameters`: every input key and the derived linear theory (`write_parameters`).
     subroutine write_scene_parameters(file, tasks, error)
         !> Open output file.
         type(h5_file), intent(inout) :: file
@@ -387,38 +387,8 @@ contains
         class(sweep_tasks), intent(in) :: tasks
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
-        character(len=:), allocatable :: names
-        integer :: i
 
-        associate (cfg => tasks%cfg, sc => tasks%cfg%scene)
-            call write_run_parameters(file, "/parameters", cfg%run, error)
-            if (allocated(error)) return
-            names = potential_name(tasks%curves(1)%chain%potential)
-            if (allocated(sc%potentials)) then
-                names = ""
-                do i = 1, size(sc%potentials)
-                    if (i > 1) names = names // ", "
-                    names = names // potential_name(sc%potentials(i))
-                end do
-            end if
-            call h5_write_attr(file, "/parameters", "potentials", names, error)
-            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "vary", trim(sc%vary), error)
-            if (.not. allocated(error) .and. allocated(sc%values)) then
-                if (size(sc%values) > 0) call h5_write_attr(file, "/parameters", "values", sc%values, error)
-            end if
-            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "amplitude_min", sc%amplitude_min, error)
-            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "amplitude_max", sc%amplitude_max, error)
-            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "amplitude_step", sc%amplitude_step, &
-                                                           error)
-            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "detect_site", cfg%run%detect%site, &
-                                                           error)
-            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "detect_amplitude", &
-                                                           cfg%run%detect%amplitude, error)
-            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "allow_outside_gap", &
-                                                           cfg%allow_outside_gap, error)
-            if (.not. allocated(error)) call h5_write_attr(file, "/parameters", "allow_unstable", cfg%allow_unstable, &
-                                                           error)
-        end associate
+        call write_parameters(file, tasks%cfg, error)
     end subroutine write_scene_parameters
 
     !> The axes of the sweep: `/amplitude`, `/curves/...` (`write_common_axes`) and `/curves/threshold_As`, the

@@ -43,14 +43,14 @@ module supratrans_scene_workprec
     use supratrans_kinds, only: wp, i8, pi
     use supratrans_error, only: error_type, fatal_error, err_input, err_runtime
     use supratrans_strings, only: int_str, real_str
-    use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8
-    use supratrans_input, only: method_name
+    use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
+                                 method_name
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok, run_diverged, status_name
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
-    use supratrans_output, only: write_root, write_run_parameters
+    use supratrans_output, only: write_root, write_parameters
     use supratrans_tridiag, only: solve_tridiag
     use supratrans_stepper_rk8, only: rk8_stages
     implicit none
@@ -618,7 +618,7 @@ contains
         if (allocated(error)) return
         call write_root(file, cfg, "work_precision", "Speed against accuracy: wall time, errors against a reference " &
                         // "and ledger drift for each integrator, time step and drive amplitude", error)
-        if (.not. allocated(error)) call write_run_parameters(file, "/parameters", tasks%base, error)
+        if (.not. allocated(error)) call write_parameters(file, cfg, error)
         if (.not. allocated(error)) call h5_create_group(file, "/scene", "Controls of the work-precision scene", error)
         if (.not. allocated(error)) call h5_write_attr(file, "/scene", "repeats", tasks%repeats, error)
         if (.not. allocated(error)) call h5_write_attr(file, "/scene", "timing", "median of the run's own wall " &

@@ -1,0 +1,484 @@
+!> The HDF5 file of supratrans: its handle (`h5_file`), its life cycle, and the helpers the reading and writing
+!> modules share (types, identifiers, errors). Use `supratrans_hdf5`, which gathers the public interface.
+!>
+!> A new output file is written as `<path>.tmp` (`h5_create`) and renamed atomically to `<path>` by `h5_commit`
+!> (POSIX `rename`), so a file found under its final name is complete. `h5_discard` closes and deletes the
+!> temporary file after an error. An existing file is opened with `h5_open`, read-only or read-write; `h5_close`
+!> closes it.
+!>
+!> The library is initialised by `h5_create` and `h5_open`, every time: `h5open_f` may be called again (it then
+!> re-creates the Fortran interface's copies of the predefined types, a few identifiers per file), and the module
+!> keeps no state of its own, so any two threads' runs share nothing here. Serial HDF5 is not thread-safe all the
+!> same: call this layer from one thread at a time.
+module supratrans_h5_file
+    use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5eset_auto_f, h5kind_to_type, h5_real_kind, h5_integer_kind, &
+        h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, h5f_acc_trunc_f, h5f_acc_rdonly_f, h5f_acc_rdwr_f, h5f_scope_global_f, &
+        h5dclose_f, h5screate_f, h5screate_simple_f, h5sclose_f, h5s_scalar_f, h5pcreate_f, h5pclose_f, &
+        h5pset_create_inter_group_f, h5p_link_create_f, h5tcopy_f, h5tclose_f, h5tset_size_f, h5tset_strpad_f, h5t_c_s1, &
+        h5t_str_nullpad_f, h5t_std_i32le, h5t_std_i64le, h5gclose_f, h5lexists_f, h5aexists_by_name_f, h5aclose_f, &
+        h5iget_type_f, h5i_file_f, h5i_group_f, h5i_dataset_f, h5i_datatype_f, h5i_dataspace_f, h5i_attr_f, h5i_genprop_lst_f
+    use supratrans_kinds, only: wp, i8
+    use supratrans_error, only: error_type, fatal_error, err_io
+    use supratrans_system, only: rename_file, remove_file
+    implicit none
+    private
+
+    public :: h5_create, h5_open, h5_close, h5_commit, h5_discard, h5_exists, h5_attr_exists, real_mem_type, int_mem_type, &
+        int_file_type, i8_mem_type, itoa, disk_path, root_if_empty, check, check_open, check_writable, check_dim_names, &
+        close_id, make_space, make_lcpl, make_string_type
+
+    !> File state: not open.
+    integer, parameter, public :: h5_mode_closed = 0
+    !> File state: an existing file open read-only (`h5_open` with `writable = .false.`).
+    integer, parameter, public :: h5_mode_read = 1
+    !> File state: an existing file open read-write (`h5_open` with `writable = .true.`).
+    integer, parameter, public :: h5_mode_readwrite = 2
+    !> File state: a new file being written as `<path>.tmp` (`h5_create`); `h5_discard` deletes it.
+    integer, parameter, public :: h5_mode_create = 3
+
+    !> An HDF5 file handle: the HDF5 identifier, the final path, the temporary path and the state.
+    !> Obtain one from `h5_create` or `h5_open`; do not set its components.
+    type, public :: h5_file
+        !> HDF5 file identifier (negative when closed).
+        integer(hid_t) :: id = -1
+        !> Final path of the file.
+        character(len=:), allocatable :: path
+        !> Path of the file on disk while it is written (`<path>.tmp`); empty when the file is written in place.
+        character(len=:), allocatable :: tmp_path
+        !> State: `h5_mode_closed`, `h5_mode_read`, `h5_mode_readwrite` or `h5_mode_create`.
+        integer :: mode = h5_mode_closed
+    end type h5_file
+
+contains
+
+    !> Create a new file: it is written as `<path>.tmp` (truncated if it exists) until `h5_commit` renames it.
+    !> Fails if `path` exists and `overwrite` is false; with `overwrite`, an existing `path` is replaced at commit.
+    !> A left-over `<path>.tmp` of a killed run is truncated.
+    !> `file` must not hold an open file (it is reset, not closed).
+    subroutine h5_create(file, path, overwrite, error)
+        !> The new file handle.
+        type(h5_file), intent(out) :: file
+        !> Final path of the file.
+        character(len=*), intent(in) :: path
+        !> Whether an existing file `path` may be replaced.
+        logical, intent(in) :: overwrite
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        logical :: exists
+        integer :: hdferr
+
+        file%path = path
+        file%tmp_path = path//".tmp"
+        inquire (file=path, exist=exists)
+        if (exists .and. .not. overwrite) then
+            call fatal_error(error, path//": output file exists (set overwrite = .true. to replace it)", err_io)
+            return
+        end if
+        call init_library(hdferr)
+        if (hdferr < 0) then
+            call fatal_error(error, path//": cannot initialise the HDF5 library", err_io)
+            return
+        end if
+        call h5fcreate_f(file%tmp_path, h5f_acc_trunc_f, file%id, hdferr)
+        if (hdferr < 0) then
+            file%id = -1
+            call remove_file(file%tmp_path)
+            call fatal_error(error, file%tmp_path//": cannot create HDF5 file (h5fcreate_f failed: disk full, or no "// &
+                "permission to write there?)", err_io)
+            return
+        end if
+        file%mode = h5_mode_create
+    end subroutine h5_create
+
+    !> Open an existing file, read-only or read-write (written in place: `h5_commit` only closes it).
+    !> `file` must not hold an open file (it is reset, not closed).
+    subroutine h5_open(file, path, writable, error)
+        !> The file handle.
+        type(h5_file), intent(out) :: file
+        !> Path of the file to open.
+        character(len=*), intent(in) :: path
+        !> Open read-write (true) or read-only (false).
+        logical, intent(in) :: writable
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        logical :: exists
+        integer :: hdferr, flags
+
+        file%path = path
+        file%tmp_path = ""
+        inquire (file=path, exist=exists)
+        if (.not. exists) then
+            call fatal_error(error, path//": file not found", err_io)
+            return
+        end if
+        call init_library(hdferr)
+        if (hdferr < 0) then
+            call fatal_error(error, path//": cannot initialise the HDF5 library", err_io)
+            return
+        end if
+        if (writable) then
+            flags = h5f_acc_rdwr_f
+        else
+            flags = h5f_acc_rdonly_f
+        end if
+        call h5fopen_f(path, flags, file%id, hdferr)
+        if (hdferr < 0) then
+            file%id = -1
+            call fatal_error(error, path//": cannot open as HDF5 file (h5fopen_f failed: not HDF5, or locked?)", &
+                err_io)
+            return
+        end if
+        if (writable) then
+            file%mode = h5_mode_readwrite
+        else
+            file%mode = h5_mode_read
+        end if
+    end subroutine h5_open
+
+    !> Close the file. A file being written as `<path>.tmp` is not renamed (see `h5_commit`).
+    !> Closing a closed file does nothing.
+    subroutine h5_close(file, error)
+        !> The file; closed on return.
+        type(h5_file), intent(inout) :: file
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        integer :: hdferr
+
+        if (file%mode == h5_mode_closed) return
+        call h5fclose_f(file%id, hdferr)
+        call check(hdferr, file, "close", "/", "h5fclose_f", error)
+        file%id = -1
+        file%mode = h5_mode_closed
+    end subroutine h5_close
+
+    !> Flush and close the file, then rename `<path>.tmp` atomically to `<path>` (replacing an existing file).
+    !> A file opened in place (no temporary path) is just flushed and closed.
+    subroutine h5_commit(file, error)
+        !> The file; closed on return (on failure too, its temporary file then deleted).
+        type(h5_file), intent(inout) :: file
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        integer :: hdferr, mode
+
+        call check_open(file, "commit", "/", error)
+        if (allocated(error)) return
+        mode = file%mode
+        if (mode /= h5_mode_read) then
+            call h5fflush_f(file%id, h5f_scope_global_f, hdferr)
+            call check(hdferr, file, "flush", "/", "h5fflush_f", error)
+            if (allocated(error)) then
+                ! disk full or I/O error: close what can be closed and delete the temporary file, so that nothing
+                ! half-written stays behind and no exit handler meets an open file
+                error%message = error%message//" (disk full?)"
+                call h5_discard(file)
+                return
+            end if
+        end if
+        call h5fclose_f(file%id, hdferr)
+        file%id = -1
+        file%mode = h5_mode_closed
+        call check(hdferr, file, "close", "/", "h5fclose_f", error)
+        if (allocated(error)) then
+            if (mode == h5_mode_create) call remove_file(file%tmp_path)
+            return
+        end if
+        if (mode == h5_mode_read .or. len(file%tmp_path) == 0) return
+        call rename_file(file%tmp_path, file%path, error)
+        if (allocated(error) .and. mode == h5_mode_create) call remove_file(file%tmp_path)
+    end subroutine h5_commit
+
+    !> Close the file, ignoring errors, and delete the temporary file of a file created by `h5_create`
+    !> (use on error). A file opened by `h5_open` is only closed, never deleted.
+    subroutine h5_discard(file)
+        !> The file; closed on return.
+        type(h5_file), intent(inout) :: file
+        integer :: hdferr
+
+        if (file%mode == h5_mode_closed) return
+        call h5fclose_f(file%id, hdferr)
+        if (file%mode == h5_mode_create) call remove_file(file%tmp_path)
+        file%id = -1
+        file%mode = h5_mode_closed
+    end subroutine h5_discard
+
+    !> Whether the object `name` exists; each level of a nested path is checked. "/" always exists in an open file.
+    function h5_exists(file, name) result(exists)
+        !> The file (open; false if closed).
+        type(h5_file), intent(in) :: file
+        !> Path of the object.
+        character(len=*), intent(in) :: name
+        logical :: exists
+        integer :: k, last, hdferr
+
+        exists = .false.
+        if (file%mode == h5_mode_closed) return
+        last = len_trim(name)
+        do while (last > 0)
+            if (name(last:last) /= "/") exit
+            last = last - 1
+        end do
+        if (last == 0) then
+            exists = .true.
+            return
+        end if
+        do k = 2, last + 1
+            if (k <= last) then
+                if (name(k:k) /= "/" .or. name(k - 1:k - 1) == "/") cycle
+            end if
+            call h5lexists_f(file%id, name(1:k - 1), exists, hdferr)
+            if (hdferr < 0) exists = .false.
+            if (.not. exists) return
+        end do
+    end function h5_exists
+
+    !> Whether the object `object` exists and has an attribute `name`.
+    function h5_attr_exists(file, object, name) result(exists)
+        !> The file (open; false if closed).
+        type(h5_file), intent(in) :: file
+        !> Path of the object ("/" for the root group).
+        character(len=*), intent(in) :: object
+        !> Name of the attribute.
+        character(len=*), intent(in) :: name
+        logical :: exists
+        integer :: hdferr
+
+        exists = h5_exists(file, object)
+        if (.not. exists) return
+        call h5aexists_by_name_f(file%id, root_if_empty(object), name, exists, hdferr)
+        if (hdferr < 0) exists = .false.
+    end function h5_attr_exists
+
+    !> Initialise the HDF5 library and its Fortran interface (`h5open_f`, which may be called again: the module
+    !> keeps no "initialised" flag) and switch off HDF5's automatic printing of error stacks.
+    subroutine init_library(hdferr)
+        !> HDF5 status, negative on failure.
+        integer, intent(out) :: hdferr
+
+        call h5open_f(hdferr)
+        if (hdferr < 0) return
+        call h5eset_auto_f(0, hdferr)
+    end subroutine init_library
+
+    !> Memory type of `real(wp)`.
+    function real_mem_type() result(type_id)
+        integer(hid_t) :: type_id
+
+        type_id = h5kind_to_type(wp, h5_real_kind)
+    end function real_mem_type
+
+    !> Memory type of default integers.
+    function int_mem_type() result(type_id)
+        integer(hid_t) :: type_id
+
+        type_id = h5kind_to_type(kind(0), h5_integer_kind)
+    end function int_mem_type
+
+    !> File type of default integers (little-endian, of their size).
+    function int_file_type() result(type_id)
+        integer(hid_t) :: type_id
+
+        if (storage_size(0) == 64) then
+            type_id = h5t_std_i64le
+        else
+            type_id = h5t_std_i32le
+        end if
+    end function int_file_type
+
+    !> Memory type of `integer(i8)`.
+    function i8_mem_type() result(type_id)
+        integer(hid_t) :: type_id
+
+        type_id = h5kind_to_type(i8, h5_integer_kind)
+    end function i8_mem_type
+
+    !> Decimal representation of an integer.
+    pure function itoa(i) result(text)
+        !> The integer.
+        integer, intent(in) :: i
+        character(len=:), allocatable :: text
+        character(len=24) :: buffer
+
+        write (buffer, "(i0)") i
+        text = trim(buffer)
+    end function itoa
+
+    !> The path of the file on disk (the temporary path while it is written).
+    pure function disk_path(file) result(path)
+        !> The file.
+        type(h5_file), intent(in) :: file
+        character(len=:), allocatable :: path
+
+        path = "(no file)"
+        if (allocated(file%path)) path = file%path
+        if (allocated(file%tmp_path)) then
+            if (len(file%tmp_path) > 0) path = file%tmp_path
+        end if
+    end function disk_path
+
+    !> "/" for an empty object path, else the path.
+    pure function root_if_empty(object) result(path)
+        !> Path of an object.
+        character(len=*), intent(in) :: object
+        character(len=:), allocatable :: path
+
+        if (len_trim(object) == 0) then
+            path = "/"
+        else
+            path = object
+        end if
+    end function root_if_empty
+
+    !> Turn a negative HDF5 status into an `err_io` error "<file>: cannot <action> '<object>' (<routine> failed)".
+    subroutine check(hdferr, file, action, object, routine, error)
+        !> HDF5 status.
+        integer, intent(in) :: hdferr
+        !> The file.
+        type(h5_file), intent(in) :: file
+        !> What was attempted, e.g. "create dataset".
+        character(len=*), intent(in) :: action
+        !> The object concerned.
+        character(len=*), intent(in) :: object
+        !> The HDF5 routine that failed.
+        character(len=*), intent(in) :: routine
+        !> Error, allocated if `hdferr < 0`.
+        type(error_type), allocatable, intent(out) :: error
+
+        if (hdferr < 0) then
+            call fatal_error(error, disk_path(file)//": cannot "//action//" '"//object//"' ("//routine//" failed)", &
+                err_io)
+        end if
+    end subroutine check
+
+    !> Error unless the file is open.
+    subroutine check_open(file, action, object, error)
+        !> The file.
+        type(h5_file), intent(in) :: file
+        !> What is attempted.
+        character(len=*), intent(in) :: action
+        !> The object concerned.
+        character(len=*), intent(in) :: object
+        !> Error, allocated if the file is closed.
+        type(error_type), allocatable, intent(out) :: error
+
+        if (file%mode == h5_mode_closed) then
+            call fatal_error(error, disk_path(file)//": file is not open, cannot "//action//" '"//object//"'", err_io)
+        end if
+    end subroutine check_open
+
+    !> Error unless the file is open for writing.
+    subroutine check_writable(file, action, object, error)
+        !> The file.
+        type(h5_file), intent(in) :: file
+        !> What is attempted.
+        character(len=*), intent(in) :: action
+        !> The object concerned.
+        character(len=*), intent(in) :: object
+        !> Error, allocated if the file is closed or read-only.
+        type(error_type), allocatable, intent(out) :: error
+
+        call check_open(file, action, object, error)
+        if (allocated(error)) return
+        if (file%mode == h5_mode_read) then
+            call fatal_error(error, disk_path(file)//": file is open read-only, cannot "//action//" '"//object//"'", &
+                err_io)
+        end if
+    end subroutine check_writable
+
+    !> Error unless `names` holds `rank` comma-separated dimension names.
+    subroutine check_dim_names(file, name, names, rank, error)
+        !> The file.
+        type(h5_file), intent(in) :: file
+        !> Path of the dataset.
+        character(len=*), intent(in) :: name
+        !> Comma-separated dimension names.
+        character(len=*), intent(in) :: names
+        !> Rank of the dataset.
+        integer, intent(in) :: rank
+        !> Error, allocated on a mismatch.
+        type(error_type), allocatable, intent(out) :: error
+        integer :: count, k
+
+        count = 1
+        do k = 1, len(names)
+            if (names(k:k) == ",") count = count + 1
+        end do
+        if (count /= rank .or. len_trim(names) == 0) then
+            call fatal_error(error, disk_path(file)//": dims = '"//names//"' names "//itoa(count)// &
+                " dimensions, dataset '"//name//"' has rank "//itoa(rank), err_io)
+        end if
+    end subroutine check_dim_names
+
+    !> Close any HDF5 identifier (file, group, dataset, datatype, dataspace, attribute, property list) and set it to
+    !> -1; negative identifiers are ignored. Never pass a predefined datatype.
+    subroutine close_id(id)
+        !> The identifier.
+        integer(hid_t), intent(inout) :: id
+        integer :: id_type, hdferr
+
+        if (id < 0) return
+        call h5iget_type_f(id, id_type, hdferr)
+        if (hdferr >= 0) then
+            if (id_type == h5i_dataset_f) then
+                call h5dclose_f(id, hdferr)
+            else if (id_type == h5i_group_f) then
+                call h5gclose_f(id, hdferr)
+            else if (id_type == h5i_datatype_f) then
+                call h5tclose_f(id, hdferr)
+            else if (id_type == h5i_dataspace_f) then
+                call h5sclose_f(id, hdferr)
+            else if (id_type == h5i_attr_f) then
+                call h5aclose_f(id, hdferr)
+            else if (id_type == h5i_genprop_lst_f) then
+                call h5pclose_f(id, hdferr)
+            else if (id_type == h5i_file_f) then
+                call h5fclose_f(id, hdferr)
+            end if
+        end if
+        id = -1
+    end subroutine close_id
+
+    !> Create a scalar dataspace (no dimensions) or a simple one.
+    subroutine make_space(dims, space, hdferr)
+        !> Dimensions in Fortran order; empty for a scalar.
+        integer(hsize_t), intent(in) :: dims(:)
+        !> The dataspace.
+        integer(hid_t), intent(out) :: space
+        !> HDF5 status.
+        integer, intent(out) :: hdferr
+
+        if (size(dims) == 0) then
+            call h5screate_f(h5s_scalar_f, space, hdferr)
+        else
+            call h5screate_simple_f(size(dims), dims, space, hdferr)
+        end if
+    end subroutine make_space
+
+    !> Create a link-creation property list that creates missing intermediate groups.
+    subroutine make_lcpl(lcpl, hdferr)
+        !> The property list.
+        integer(hid_t), intent(out) :: lcpl
+        !> HDF5 status.
+        integer, intent(out) :: hdferr
+
+        call h5pcreate_f(h5p_link_create_f, lcpl, hdferr)
+        if (hdferr < 0) return
+        call h5pset_create_inter_group_f(lcpl, 1, hdferr)
+    end subroutine make_lcpl
+
+    !> Create a fixed-length, null-padded ASCII string type of `length` characters (at least 1).
+    subroutine make_string_type(length, type_id, hdferr)
+        !> Number of characters.
+        integer, intent(in) :: length
+        !> The datatype.
+        integer(hid_t), intent(out) :: type_id
+        !> HDF5 status.
+        integer, intent(out) :: hdferr
+
+        call h5tcopy_f(h5t_c_s1, type_id, hdferr)
+        if (hdferr < 0) return
+        call h5tset_size_f(type_id, int(max(length, 1), size_t), hdferr)
+        if (hdferr < 0) return
+        call h5tset_strpad_f(type_id, h5t_str_nullpad_f, hdferr)
+    end subroutine make_string_type
+
+end module supratrans_h5_file

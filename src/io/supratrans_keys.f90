@@ -1,0 +1,181 @@
+!> The types of the input schema (src/io/schema.toml): one namelist key (`key_spec`), one value derived from the
+!> keys (`derived_spec`), and the value of a key in a configuration (`key_value`), whatever its type.
+!>
+!> The table itself, `key_table` of `supratrans_schema`, is generated from schema.toml; the reader, the range checks
+!> and the `/parameters` writer loop over it, so that none of them names a key.
+module supratrans_keys
+    use supratrans_kinds, only: wp, path_len
+    use supratrans_error, only: error_type, fatal_error, err_input
+    implicit none
+    private
+
+    public :: real_value, int_value, flag_value, text_value, input_error, joined
+
+    !> Value type of a key: an integer.
+    integer, parameter, public :: kt_integer = 1
+    !> Value type of a key: a real number (integers are accepted).
+    integer, parameter, public :: kt_real = 2
+    !> Value type of a key: a logical (.true., .false., T, F).
+    integer, parameter, public :: kt_logical = 3
+    !> Value type of a key: a name, compared in lower case, at most `name_len` characters.
+    integer, parameter, public :: kt_name = 4
+    !> Value type of a key: a file path, kept as written, at most `path_len` characters.
+    integer, parameter, public :: kt_path = 5
+
+    !> Length of group names.
+    integer, parameter, public :: group_len = 12
+    !> Length of key names.
+    integer, parameter, public :: key_len = 24
+    !> Length of `/parameters` attribute names.
+    integer, parameter :: attribute_len = 32
+    !> Length of units.
+    integer, parameter :: units_len = 16
+    !> Length of the text of a bound.
+    integer, parameter :: bound_len = 16
+    !> Length of descriptions and other texts of the table.
+    integer, parameter :: text_len = 200
+
+    !> One key of the input: where it is given, its type and count, its range, how it is stored and what it is.
+    type, public :: key_spec
+        !> Group name, lower case, without the '&'.
+        character(len=group_len) :: group = ""
+        !> Key name, lower case.
+        character(len=key_len) :: key = ""
+        !> Value type: `kt_integer`, `kt_real`, `kt_logical`, `kt_name` or `kt_path`.
+        integer :: value_type = kt_real
+        !> Largest number of values (1 for a scalar key).
+        integer :: max_values = 1
+        !> Choice set of the allowed names (`choice_*` of `supratrans_schema`); 0 for any value.
+        integer :: choices = 0
+        !> The configuration holds the number of the choice, not its name.
+        logical :: ids = .false.
+        !> Name of the attribute of `/parameters` that stores the key.
+        character(len=attribute_len) :: attribute = ""
+        !> Units of the value ("1" for counts, flags, names and dimensionless numbers).
+        character(len=units_len) :: units = "1"
+        !> Whether the value (each value of a list) has a lower bound.
+        logical :: has_min = .false.
+        !> The lower bound is strict (value > min).
+        logical :: min_strict = .false.
+        !> Lower bound.
+        real(wp) :: min = 0.0_wp
+        !> Lower bound as messages show it.
+        character(len=bound_len) :: min_text = ""
+        !> Whether the value has an upper bound.
+        logical :: has_max = .false.
+        !> The upper bound is strict (value < max).
+        logical :: max_strict = .false.
+        !> Upper bound.
+        real(wp) :: max = 0.0_wp
+        !> Upper bound as messages show it.
+        character(len=bound_len) :: max_text = ""
+        !> Replaces "must be >= <min>" in the message of a value out of range (blank: the default text).
+        character(len=text_len) :: message = ""
+        !> For a list: index of the key whose value an unset list stands for (0: none; stored empty).
+        integer :: unset = 0
+        !> The default, as the documentation shows it.
+        character(len=text_len) :: default_text = ""
+        !> The values allowed, in words (bounds, choices and the rules checked elsewhere).
+        character(len=text_len) :: range_text = ""
+        !> What the key is.
+        character(len=text_len) :: description = ""
+    end type key_spec
+
+    !> A value derived from the keys that `/parameters` stores next to them (linear theory of the base run).
+    type, public :: derived_spec
+        !> Attribute name.
+        character(len=attribute_len) :: name = ""
+        !> Units.
+        character(len=units_len) :: units = "1"
+        !> What it is.
+        character(len=text_len) :: description = ""
+    end type derived_spec
+
+    !> The value of one key, whatever its type: `n` values in the component of the key's type.
+    type, public :: key_value
+        !> Number of values; 0 for a list that is not set.
+        integer :: n = 0
+        !> Values of a real key.
+        real(wp), allocatable :: reals(:)
+        !> Values of an integer key, or the numbers of named choices held as numbers.
+        integer, allocatable :: ints(:)
+        !> Value of a logical key.
+        logical :: flag = .false.
+        !> Values of a name or path key (blank-padded).
+        character(len=path_len), allocatable :: texts(:)
+    end type key_value
+
+contains
+
+    !> A `key_value` holding reals.
+    pure function real_value(x) result(v)
+        !> The values.
+        real(wp), intent(in) :: x(:)
+        type(key_value) :: v
+
+        v%n = size(x)
+        allocate (v%reals, source=x)
+    end function real_value
+
+    !> A `key_value` holding integers (or numbers of choices).
+    pure function int_value(i) result(v)
+        !> The values.
+        integer, intent(in) :: i(:)
+        type(key_value) :: v
+
+        v%n = size(i)
+        allocate (v%ints, source=i)
+    end function int_value
+
+    !> A `key_value` holding one logical.
+    pure function flag_value(flag) result(v)
+        !> The value.
+        logical, intent(in) :: flag
+        type(key_value) :: v
+
+        v%n = 1
+        v%flag = flag
+    end function flag_value
+
+    !> A `key_value` holding names or paths.
+    pure function text_value(s) result(v)
+        !> The values.
+        character(len=*), intent(in) :: s(:)
+        type(key_value) :: v
+
+        v%n = size(s)
+        allocate (v%texts(size(s)))
+        v%texts = s
+    end function text_value
+
+    !> The input error `<where>: &<group>: <detail>` (status `err_input`): one line naming the file, group and key.
+    pure subroutine input_error(error, where, group, detail)
+        !> The error to create.
+        type(error_type), allocatable, intent(out) :: error
+        !> The namelist file (or "configuration").
+        character(len=*), intent(in) :: where
+        !> Group name.
+        character(len=*), intent(in) :: group
+        !> What is wrong, starting with the key.
+        character(len=*), intent(in) :: detail
+
+        call fatal_error(error, where // ": &" // group // ": " // detail, err_input)
+    end subroutine input_error
+
+    !> Names joined by ", ", each with a prefix ("&chain, &drive").
+    pure function joined(names, prefix) result(s)
+        !> Names (trailing blanks ignored).
+        character(len=*), intent(in) :: names(:)
+        !> Prefix of each name.
+        character(len=*), intent(in) :: prefix
+        character(len=:), allocatable :: s
+        integer :: i
+
+        s = ""
+        do i = 1, size(names)
+            if (i > 1) s = s // ", "
+            s = s // prefix // trim(names(i))
+        end do
+    end function joined
+
+end module supratrans_keys

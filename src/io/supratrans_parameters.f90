@@ -1,0 +1,225 @@
+!> The `/parameters` group of every output file, written from the schema: one attribute per key of `key_table`
+!> (under its `attribute` name), the values derived from them (`derived_table`), and `/parameters/schema`, the
+!> table itself (name, key, type, units, default, allowed values, description of each attribute).
+!>
+!> Attributes: reals and integers as numbers (lists as arrays, empty when a list is not set), logicals as 0/1,
+!> names and paths as strings, a list of names as one string "a, b". An unset list with an `unset` key in the
+!> table (`potentials`) stores the value that stands for it (the &chain potential).
+module supratrans_parameters
+    use supratrans_kinds, only: wp
+    use supratrans_error, only: error_type, fatal_error, err_io
+    use supratrans_config, only: input_config
+    use supratrans_keys, only: key_value, kt_integer, kt_real, kt_logical, kt_name, kt_path
+    use supratrans_schema, only: key_table, derived_table, get_key, choice_names
+    use supratrans_chain, only: band_gap_edge, decay_rate, threshold_as, critical_dt
+    use supratrans_hdf5, only: h5_file, h5_create_group, h5_write_attr, h5_write
+    implicit none
+    private
+
+    public :: write_parameters, key_attribute_text
+
+    !> The group written.
+    character(len=*), parameter :: group = "/parameters"
+
+contains
+
+    !> Write `/parameters`: every key of the input, the derived linear theory of the base run, and the schema.
+    subroutine write_parameters(file, cfg, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        integer :: ik, id
+
+        call h5_create_group(file, group, "Input parameters of the run (namelist names), and derived linear theory", &
+                             error)
+        do ik = 1, size(key_table)
+            if (allocated(error)) return
+            call write_key(file, cfg, ik, error)
+        end do
+        do id = 1, size(derived_table)
+            if (allocated(error)) return
+            call write_derived(file, cfg, id, error)
+        end do
+        if (.not. allocated(error)) call write_schema_table(file, error)
+    end subroutine write_parameters
+
+    !> One key as an attribute of `/parameters`.
+    subroutine write_key(file, cfg, ik, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> Index in `key_table`.
+        integer, intent(in) :: ik
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        type(key_value) :: v
+        real(wp), allocatable :: reals(:)
+        integer, allocatable :: ints(:)
+        character(len=:), allocatable :: name
+
+        name = trim(key_table(ik)%attribute)
+        associate (spec => key_table(ik))
+            v = get_key(cfg, ik)
+            if (v%n == 0 .and. spec%unset > 0) v = get_key(cfg, spec%unset)
+            select case (spec%value_type)
+            case (kt_real)
+                allocate (reals(v%n))
+                if (v%n > 0) reals = v%reals(1:v%n)
+                if (spec%max_values > 1) then
+                    call h5_write_attr(file, group, name, reals, error)
+                else
+                    call h5_write_attr(file, group, name, reals(1), error)
+                end if
+            case (kt_integer)
+                allocate (ints(v%n))
+                if (v%n > 0) ints = v%ints(1:v%n)
+                if (spec%max_values > 1) then
+                    call h5_write_attr(file, group, name, ints, error)
+                else
+                    call h5_write_attr(file, group, name, ints(1), error)
+                end if
+            case (kt_logical)
+                call h5_write_attr(file, group, name, v%flag, error)
+            case default
+                call h5_write_attr(file, group, name, key_attribute_text(ik, v), error)
+            end select
+        end associate
+    end subroutine write_key
+
+    !> The text stored for a name or path key: the names joined by ", " (numbers of choices as their names).
+    pure function key_attribute_text(ik, v) result(text)
+        !> Index in `key_table`.
+        integer, intent(in) :: ik
+        !> The key's value.
+        type(key_value), intent(in) :: v
+        character(len=:), allocatable :: text
+        integer :: i
+
+        text = ""
+        associate (names => choice_names(key_table(ik)%choices))
+            do i = 1, v%n
+                if (i > 1) text = text // ", "
+                if (key_table(ik)%ids) then
+                    if (v%ints(i) >= 1 .and. v%ints(i) <= size(names)) then
+                        text = text // trim(names(v%ints(i)))
+                    else
+                        text = text // "unknown"
+                    end if
+                else
+                    text = text // trim(v%texts(i))
+                end if
+            end do
+        end associate
+    end function key_attribute_text
+
+    !> One derived value as an attribute of `/parameters`.
+    subroutine write_derived(file, cfg, id, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> Index in `derived_table`.
+        integer, intent(in) :: id
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp) :: x
+        character(len=:), allocatable :: name
+
+        name = trim(derived_table(id)%name)
+        associate (chain => cfg%run%chain, omega => cfg%run%drive%omega)
+            select case (name)
+            case ("band_gap_edge")
+                x = band_gap_edge(chain)
+            case ("lambda")
+                x = decay_rate(chain, omega)
+            case ("threshold_As")
+                x = threshold_as(chain, omega)
+            case ("critical_dt")
+                x = critical_dt(chain)
+            case default
+                call fatal_error(error, "/parameters: no value for the derived parameter '" // name // "'", err_io)
+                return
+            end select
+            call h5_write_attr(file, group, name, x, error)
+        end associate
+    end subroutine write_derived
+
+    !> `/parameters/schema`: one row per attribute of `/parameters` (the keys, then the derived values).
+    subroutine write_schema_table(file, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), parameter :: g = group // "/schema", dims = "parameter"
+        character(len=len(key_table%description)), allocatable :: name(:), key(:), kind(:), units(:), default(:), &
+            allowed(:), description(:)
+        integer :: nk, nd, i
+
+        nk = size(key_table)
+        nd = size(derived_table)
+        allocate (name(nk + nd), key(nk + nd), kind(nk + nd), units(nk + nd), default(nk + nd), allowed(nk + nd), &
+                  description(nk + nd))
+        do i = 1, nk
+            associate (spec => key_table(i))
+                name(i) = spec%attribute
+                key(i) = "&" // trim(spec%group) // " " // spec%key
+                kind(i) = type_name(spec%value_type)
+                if (spec%max_values > 1) kind(i) = trim(kind(i)) // " list"
+                units(i) = spec%units
+                default(i) = spec%default_text
+                allowed(i) = spec%range_text
+                description(i) = spec%description
+            end associate
+        end do
+        do i = 1, nd
+            name(nk + i) = derived_table(i)%name
+            key(nk + i) = ""
+            kind(nk + i) = "real (derived)"
+            units(nk + i) = derived_table(i)%units
+            default(nk + i) = ""
+            allowed(nk + i) = ""
+            description(nk + i) = derived_table(i)%description
+        end do
+        call h5_create_group(file, g, "The schema of the attributes of /parameters, one row each (src/io/schema.toml)", &
+                             error)
+        if (.not. allocated(error)) call h5_write(file, g // "/name", name, "1", "Attribute of /parameters", error, dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/key", key, "1", &
+            "The namelist group and key it comes from (empty for a derived value)", error, dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/type", kind, "1", &
+            "Value type: integer, real, logical, name (stored as text), path (text); lists are arrays", error, dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/units", units, "1", "Units of the value", error, dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/default", default, "1", "Default of the key", error, &
+                                                  dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/allowed", allowed, "1", &
+            "Values allowed: range, choices, and the rules checked between keys", error, dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/description", description, "1", "What it is", error, &
+                                                  dims)
+    end subroutine write_schema_table
+
+    !> Name of a value type.
+    pure function type_name(value_type) result(name)
+        !> `kt_*`.
+        integer, intent(in) :: value_type
+        character(len=:), allocatable :: name
+
+        select case (value_type)
+        case (kt_integer)
+            name = "integer"
+        case (kt_real)
+            name = "real"
+        case (kt_logical)
+            name = "logical"
+        case (kt_name)
+            name = "name"
+        case (kt_path)
+            name = "path"
+        case default
+            name = "unknown"
+        end select
+    end function type_name
+
+end module supratrans_parameters

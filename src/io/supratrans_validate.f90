@@ -1,0 +1,327 @@
+!> Checking a configuration before any work starts: the ranges of the schema, then the rules that involve several
+!> keys, then the output file.
+!>
+!> 1. `check_keys`: every key against its row of `key_table` (list length, finite reals, bounds, allowed names);
+!>    nothing key-specific is written here, so a new key with a range is checked by its row alone;
+!> 2. `check_rules`: the hand-written rules between keys: 0 <= N0 <= N, Omega inside the band gap
+!>    0 < Omega < sqrt(1 + m^2), T >= 2 dt, the paper's necessary stability condition
+!>    (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt, probes within 1..N, the scene's axes and curves, the detector
+!>    site, a named output file;
+!> 3. `check_output_file`: the output file is not replaced by accident.
+!>
+!> Every failure is one line (status `err_input`): `<file>: &<group>: <key> = <value>: <what is wrong>`.
+module supratrans_validate
+    use supratrans_kinds, only: wp
+    use supratrans_limits, only: check_limits
+    use supratrans_system, only: path_kind, path_directory
+    use supratrans_error, only: error_type
+    use supratrans_config, only: input_config, run_config
+    use supratrans_potential, only: potential_name
+    use supratrans_chain, only: band_gap_edge, stability_lhs, stability_rhs, stable_by_paper_condition, critical_dt
+    use supratrans_curves, only: curve_count, curve_run
+    use supratrans_strings, only: int_str, real_str, fixed4
+    use supratrans_keys, only: key_spec, key_value, kt_integer, kt_real, kt_name, input_error, joined
+    use supratrans_schema, only: key_table, get_key, choice_names, choice_noun
+    implicit none
+    private
+
+    public :: validate_config
+
+contains
+
+    !> Check that a configuration is complete and within range: the checks `read_input` makes after conversion.
+    !>
+    !> Meant also for configurations built or changed in code (scenes). Messages start with `cfg%source`, or with
+    !> "configuration" when that is not set.
+    subroutine validate_config(cfg, error, check_output)
+        !> The configuration to check.
+        type(input_config), intent(in) :: cfg
+        !> Allocated when a check fails.
+        type(error_type), allocatable, intent(out) :: error
+        !> Check that the output file does not exist (unless `overwrite`); default true.
+        logical, intent(in), optional :: check_output
+        character(len=:), allocatable :: where
+        logical :: check_file
+
+        where = "configuration"
+        if (allocated(cfg%source)) then
+            if (len(cfg%source) > 0) where = cfg%source
+        end if
+        call check_keys(cfg, where, error)
+        if (allocated(error)) return
+        call check_rules(cfg, where, error)
+        if (allocated(error)) return
+        call check_limits(cfg, where, error)
+        if (allocated(error)) return
+        check_file = .true.
+        if (present(check_output)) check_file = check_output
+        if (check_file) call check_output_file(cfg, where, error)
+    end subroutine validate_config
+
+    !> Every key against its row of `key_table`: at most `max_values` values, each finite (reals), within its
+    !> bounds (numbers) and among its choices (names).
+    pure subroutine check_keys(cfg, where, error)
+        !> The configuration.
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Allocated on the first failed check.
+        type(error_type), allocatable, intent(out) :: error
+        type(key_value) :: v
+        character(len=:), allocatable :: label
+        integer :: ik, i
+
+        do ik = 1, size(key_table)
+            associate (spec => key_table(ik))
+                v = get_key(cfg, ik)
+                if (v%n > spec%max_values) then
+                    call input_error(error, where, trim(spec%group), trim(spec%key) // ": at most " &
+                                     // int_str(spec%max_values) // " values, got " // int_str(v%n))
+                    return
+                end if
+                do i = 1, v%n
+                    label = trim(spec%key)
+                    if (spec%max_values > 1) label = label // "(" // int_str(i) // ")"
+                    select case (spec%value_type)
+                    case (kt_real)
+                        call check_number(spec, where, label, v%reals(i), real_str(v%reals(i)), error)
+                    case (kt_integer)
+                        call check_number(spec, where, label, real(v%ints(i), wp), int_str(v%ints(i)), error)
+                    case (kt_name)
+                        if (spec%ids) then
+                            call check_choice(spec, where, label, v%ints(i), "", error)
+                        else
+                            call check_choice(spec, where, label, 0, trim(v%texts(i)), error)
+                        end if
+                    case default
+                        continue    ! logicals: no range
+                    end select
+                    if (allocated(error)) return
+                end do
+            end associate
+        end do
+    end subroutine check_keys
+
+    !> A number against the bounds of its key: finite, then `min`, then `max`.
+    pure subroutine check_number(spec, where, label, x, shown, error)
+        !> The key.
+        type(key_spec), intent(in) :: spec
+        !> Prefix of messages.
+        character(len=*), intent(in) :: where
+        !> The key (with the index of the value in a list).
+        character(len=*), intent(in) :: label
+        !> The value.
+        real(wp), intent(in) :: x
+        !> The value as messages show it.
+        character(len=*), intent(in) :: shown
+        !> Allocated when the value is out of range.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=:), allocatable :: problem
+
+        problem = ""
+        if (.not. (abs(x) <= huge(x))) then
+            problem = "must be finite"
+        else if (spec%has_min .and. spec%min_strict .and. .not. (x > spec%min)) then
+            problem = "must be > " // trim(spec%min_text)
+        else if (spec%has_min .and. .not. spec%min_strict .and. .not. (x >= spec%min)) then
+            problem = "must be >= " // trim(spec%min_text)
+        else if (spec%has_max .and. spec%max_strict .and. .not. (x < spec%max)) then
+            problem = "must be < " // trim(spec%max_text)
+        else if (spec%has_max .and. .not. spec%max_strict .and. .not. (x <= spec%max)) then
+            problem = "must be <= " // trim(spec%max_text)
+        end if
+        if (len(problem) == 0) return
+        if (len_trim(spec%message) > 0 .and. problem /= "must be finite") problem = trim(spec%message)
+        call input_error(error, where, trim(spec%group), label // " = " // shown // ": " // problem)
+    end subroutine check_number
+
+    !> A name (or the number of a named choice) against the choices of its key.
+    pure subroutine check_choice(spec, where, label, id, name, error)
+        !> The key.
+        type(key_spec), intent(in) :: spec
+        !> Prefix of messages.
+        character(len=*), intent(in) :: where
+        !> The key (with the index of the value in a list).
+        character(len=*), intent(in) :: label
+        !> Number of the choice (keys with `ids`).
+        integer, intent(in) :: id
+        !> The name (other keys).
+        character(len=*), intent(in) :: name
+        !> Allocated when the value is not among the choices.
+        type(error_type), allocatable, intent(out) :: error
+        integer :: i
+
+        if (spec%choices == 0) return
+        associate (names => choice_names(spec%choices))
+            if (spec%ids) then
+                if (id >= 1 .and. id <= size(names)) return
+                call input_error(error, where, trim(spec%group), label // " = " // int_str(id) // ": unknown " &
+                                 // choice_noun(spec%choices) // " (known: " // joined(names, "") // ")")
+            else
+                do i = 1, size(names)
+                    if (names(i) == name) return
+                end do
+                call input_error(error, where, trim(spec%group), label // " = '" // name // "': unknown " &
+                                 // choice_noun(spec%choices) // " (known: " // joined(names, "") // ")")
+            end if
+        end associate
+    end subroutine check_choice
+
+    !> The rules between keys (after `check_keys`: every value is in its own range).
+    pure subroutine check_rules(cfg, where, error)
+        !> The configuration.
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Allocated on the first failed check.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp) :: edge
+        integer :: i
+
+        associate (ch => cfg%run%chain, dr => cfg%run%drive, nu => cfg%run%numerics, rec => cfg%run%record)
+            if (ch%n0 < 0 .or. ch%n0 > ch%n) then
+                call input_error(error, where, "chain", "n0 = " // int_str(ch%n0) // ": need 0 <= N0 <= N = " &
+                                 // int_str(ch%n))
+                return
+            end if
+            edge = band_gap_edge(ch)
+            if (dr%omega >= edge .and. .not. cfg%allow_outside_gap .and. (trim(cfg%scene%kind) == "timeseries" &
+                .or. trim(cfg%scene%kind) == "amplitude_sweep")) then
+                call input_error(error, where, "drive", "omega = " // real_str(dr%omega) &
+                                 // " is outside the band gap 0 < Omega < " // fixed4(edge) &
+                                 // " (set allow_outside_gap = .true. to run anyway)")
+                return
+            end if
+            if (nu%t_final < 2.0_wp*nu%dt) then
+                call input_error(error, where, "numerics", "t_final = " // real_str(nu%t_final) &
+                                 // ": must be >= 2 dt = " // real_str(2.0_wp*nu%dt))
+                return
+            end if
+            if (.not. stable_by_paper_condition(ch, nu%dt) .and. .not. cfg%allow_unstable) then
+                call input_error(error, where, "numerics", "dt = " // real_str(nu%dt) &
+                                 // " violates the paper's necessary stability condition" &
+                                 // " (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt: " &
+                                 // real_str(stability_lhs(ch, nu%dt), 6) // " >= " &
+                                 // real_str(stability_rhs(ch, nu%dt), 6) // " (it needs dt < " &
+                                 // real_str(critical_dt(ch), 6) // "; set allow_unstable = .true. to run anyway)")
+                return
+            end if
+            if (allocated(rec%probes)) then
+                do i = 1, size(rec%probes)
+                    if (rec%probes(i) < 1 .or. rec%probes(i) > ch%n) then
+                        call input_error(error, where, "record", "probes(" // int_str(i) // ") = " &
+                                         // int_str(rec%probes(i)) // ": must be a site 1..N = " // int_str(ch%n))
+                        return
+                    end if
+                    if (any(rec%probes(1:i - 1) == rec%probes(i))) then
+                        call input_error(error, where, "record", "probes(" // int_str(i) // ") = " &
+                                         // int_str(rec%probes(i)) // ": site given twice")
+                        return
+                    end if
+                end do
+            end if
+        end associate
+
+        call check_scene(cfg, where, error)
+        if (allocated(error)) return
+
+        if (cfg%run%detect%site < 0 .or. cfg%run%detect%site >= cfg%run%chain%n) then
+            call input_error(error, where, "detect", "site = " // int_str(cfg%run%detect%site) &
+                             // ": need 0 (automatic) <= site < N = " // int_str(cfg%run%chain%n))
+            return
+        end if
+        if (len_trim(cfg%output%file) == 0) then
+            call input_error(error, where, "output", "file = '': must name the output file")
+            return
+        end if
+    end subroutine check_rules
+
+    !> The scene's rules: `values` go with `vary`; the axes are ordered; each curve (potential, varied value) is a
+    !> valid chain, stable by the paper's condition, and (sweeps at one frequency) driven inside its band gap.
+    pure subroutine check_scene(cfg, where, error)
+        !> The configuration.
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Allocated on the first failed check.
+        type(error_type), allocatable, intent(out) :: error
+        type(run_config) :: run
+        integer :: ic
+        character(len=:), allocatable :: label
+
+        associate (sc => cfg%scene)
+            if (trim(sc%vary) /= "none" .and. .not. allocated(sc%values)) then
+                call input_error(error, where, "scene", "vary = '" // trim(sc%vary) // "' needs a list of values")
+                return
+            end if
+            if (trim(sc%vary) == "none" .and. allocated(sc%values)) then
+                call input_error(error, where, "scene", &
+                                 "values are given but vary = 'none' (say which parameter they set)")
+                return
+            end if
+            if (trim(sc%kind) == "timeseries") return
+            if (.not. (sc%amplitude_max >= sc%amplitude_min)) then
+                call input_error(error, where, "scene", "amplitude_max = " // real_str(sc%amplitude_max) &
+                                 // ": must be >= amplitude_min = " // real_str(sc%amplitude_min))
+                return
+            end if
+            if (.not. (sc%omega_max >= sc%omega_min)) then
+                call input_error(error, where, "scene", "omega_max = " // real_str(sc%omega_max) &
+                                 // ": must be >= omega_min = " // real_str(sc%omega_min))
+                return
+            end if
+            if (.not. (sc%coarse_step >= sc%resolution)) then
+                call input_error(error, where, "scene", "coarse_step = " // real_str(sc%coarse_step) &
+                                 // ": must be >= resolution = " // real_str(sc%resolution))
+                return
+            end if
+        end associate
+
+        do ic = 1, curve_count(cfg)
+            run = curve_run(cfg, ic)
+            label = "curve " // int_str(ic) // " (" // potential_name(run%chain%potential) // ", " &
+                    // trim(cfg%scene%vary) // ")"
+            if (run%chain%gamma < 0.0_wp .or. run%chain%beta < 0.0_wp .or. .not. (1.0_wp + run%chain%m2 > 0.0_wp)) then
+                call input_error(error, where, "scene", label // ": need gamma >= 0, beta >= 0 and 1 + m2 > 0")
+                return
+            end if
+            if (.not. stable_by_paper_condition(run%chain, run%numerics%dt) .and. .not. cfg%allow_unstable) then
+                call input_error(error, where, "scene", label // ": dt = " // real_str(run%numerics%dt) &
+                                 // " violates the paper's necessary stability condition (it needs dt < " &
+                                 // real_str(critical_dt(run%chain), 6) &
+                                 // "; set allow_unstable = .true. to run anyway)")
+                return
+            end if
+            if (trim(cfg%scene%kind) == "amplitude_sweep" .and. run%drive%omega >= band_gap_edge(run%chain) &
+                .and. .not. cfg%allow_outside_gap) then
+                call input_error(error, where, "scene", label // ": omega = " // real_str(run%drive%omega) &
+                                 // " is outside its band gap 0 < Omega < " // fixed4(band_gap_edge(run%chain)) &
+                                 // " (set allow_outside_gap = .true. to run anyway)")
+                return
+            end if
+        end do
+    end subroutine check_scene
+
+    !> The output file must not exist unless `overwrite`.
+    subroutine check_output_file(cfg, where, error)
+        !> The configuration.
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Allocated when the check fails.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=:), allocatable :: file
+        logical :: exists
+
+        file = trim(cfg%output%file)
+        if (path_kind(file) == path_directory) then
+            call input_error(error, where, "output", "file = '" // file // "' is a directory")
+            return
+        end if
+        inquire (file=file, exist=exists)
+        if (exists .and. .not. cfg%output%overwrite) then
+            call input_error(error, where, "output", "file '" // file // "' exists (set overwrite = .true. to replace it)")
+        end if
+    end subroutine check_output_file
+
+end module supratrans_validate
