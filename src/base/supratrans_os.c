@@ -1,5 +1,5 @@
 /* Operating-system calls that Fortran cannot make portably by itself: the kind of a path (stat), an advisory
- * lock (flock), a flag set by SIGTERM/SIGINT/SIGUSR1, and the host name. Called through iso_c_binding by
+ * lock (flock), a flag set by SIGTERM/SIGINT/SIGUSR1, the same-file test, checked writes and memory limits. Called through iso_c_binding by
  * supratrans_system.f90; nothing here runs a shell. */
 #include <errno.h>
 #include <fcntl.h>
@@ -69,13 +69,6 @@ void supratrans_catch_stop_signals(void)
 /* The signal that asked the program to stop, 0 if none. */
 int supratrans_stop_signal(void) { return (int)stop_signal; }
 
-/* Host name into buf (NUL-terminated), 0 on success. */
-int supratrans_hostname(char *buf, int len)
-{
-    if (gethostname(buf, (size_t)len) != 0) return -1;
-    buf[len - 1] = '\0';
-    return 0;
-}
 
 /* 1 if the two paths name the same existing file (same device and inode), 0 otherwise. */
 int supratrans_same_file(const char *a, const char *b)

@@ -12,7 +12,7 @@ module supratrans_system
     private
 
     public :: make_directories, rename_file, remove_file, is_directory, path_kind, file_size
-    public :: lock_file, unlock_file, catch_stop_signals, stop_signal, host_name, same_file, write_bytes
+    public :: lock_file, unlock_file, catch_stop_signals, stop_signal, same_file, write_bytes
 
     !> `path_kind`: nothing at that path.
     integer, parameter, public :: path_missing = 0
@@ -80,12 +80,6 @@ module supratrans_system
             character(kind=c_char), intent(in) :: a(*), b(*)
             integer(c_int) :: same
         end function c_same_file
-        function c_hostname(buf, length) bind(c, name="supratrans_hostname") result(stat)
-            import :: c_char, c_int
-            character(kind=c_char), intent(out) :: buf(*)
-            integer(c_int), value :: length
-            integer(c_int) :: stat
-        end function c_hostname
     end interface
 
     !> Permissions asked of a new directory (rwxrwxrwx, reduced by the process umask).
@@ -226,20 +220,5 @@ contains
 
         same = c_same_file(a // c_null_char, b // c_null_char) == 1
     end function same_file
-
-    !> The machine's host name ("unknown" if it cannot be had).
-    function host_name() result(name)
-        character(len=:), allocatable :: name
-        character(kind=c_char) :: buf(256)
-        integer :: i
-
-        name = "unknown"
-        if (c_hostname(buf, int(size(buf), c_int)) /= 0) return
-        name = ""
-        do i = 1, size(buf)
-            if (buf(i) == c_null_char) exit
-            name = name // buf(i)
-        end do
-    end function host_name
 
 end module supratrans_system
