@@ -25,6 +25,7 @@ from .reader import FIGURE_SCENES, PlotError, Scene, open_scene, output_path
 
 
 def _parser() -> argparse.ArgumentParser:
+    """The options of plot.py (usage and epilog from the module documentation)."""
     ap = argparse.ArgumentParser(prog="plot.py", description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n\n".join(__doc__.split("\n\n")[1:]))

@@ -38,10 +38,12 @@ class PlotError(Exception):
 
 
 def _req(*dims: str) -> tuple[tuple[str, ...], bool]:
+    """A required dataset over the axes `dims` (SCHEMA)."""
     return dims, True
 
 
 def _opt(*dims: str) -> tuple[tuple[str, ...], bool]:
+    """An optional dataset over the axes `dims` (SCHEMA)."""
     return dims, False
 
 
@@ -241,6 +243,7 @@ def open_scene(path: Any, expect: str | Iterable[str] | None = None) -> Scene:
 
 
 def _read(f, p: Path, expect: str | Iterable[str] | None) -> Scene:
+    """The Scene of an open file `f` (path `p`), checked against SCHEMA; PlotError for what is wrong."""
     import h5py  # noqa: PLC0415
 
     attrs = {k: value(v) for k, v in f.attrs.items()}

@@ -123,6 +123,7 @@ def tail(path: Path, n: int = 3) -> list[str]:
 
 
 def _parser() -> argparse.ArgumentParser:
+    """The options of make_figures.py (usage and epilog from the module documentation)."""
     ap = argparse.ArgumentParser(prog="make_figures.py", description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog="\n\n".join(__doc__.split("\n\n")[1:]))

@@ -194,6 +194,7 @@ def fitted_order(dt: Any, err: Any, floor: float, ceiling: float = 1e-2, points:
 
 
 def _panel_title(w: Scene, ia: int) -> str:
+    """Title of the panel of amplitude `ia`: 'A = 1.9 (above A_s)'."""
     a = float(w.data["amplitude"][ia])
     p = w.params
     side = ""
@@ -203,6 +204,7 @@ def _panel_title(w: Scene, ia: int) -> str:
 
 
 def _suptitle(w: Scene, what: str) -> str:
+    """Title of a chart: what it shows and the problem's parameters."""
     p = w.params
     return (f"{what}: {p['potential']}, $c$ = {fmt(p['c'])}, $\\Omega$ = {fmt(p['omega'])}, "
             f"$N$ = {p['n']}, $T$ = {fmt(p['t_final'])}, $\\gamma$ = {fmt(p['gamma'])}, "
