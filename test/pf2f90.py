@@ -374,9 +374,11 @@ def convert(path: str, source: str) -> tuple[str, TestModule]:
 
         if stripped.startswith("@"):
             if scan_line(raw).continued:
-                raise PfError(path, lineno, "@-directive continued with '&' (pFUnit reads one line): put it on one line")
+                raise PfError(path, lineno,
+                              "@-directive continued with '&' (pFUnit reads one line): put it on one line")
             if len(stripped.rstrip()) > 124:
-                raise PfError(path, lineno, "@-directive longer than 124 characters (pFUnit's expansion would pass 132)")
+                raise PfError(path, lineno,
+                              "@-directive longer than 124 characters (pFUnit's expansion would pass 132)")
             text, last, comment = join_continued(lines, i, path)
             if comment.strip():
                 raise PfError(
@@ -389,7 +391,8 @@ def convert(path: str, source: str) -> tuple[str, TestModule]:
             key = word.lower()
             if key in ("test", "before", "after"):
                 if pending:
-                    raise PfError(path, lineno, f"@{word} follows @{pending[0]} of line {pending[1]} without a subroutine")
+                    raise PfError(path, lineno,
+                                  f"@{word} follows @{pending[0]} of line {pending[1]} without a subroutine")
                 if key == "test":
                     if rest and not (rest.startswith("(") and rest.endswith(")")):
                         raise PfError(path, lineno, f"unexpected text after @test: '{rest}'")

@@ -84,6 +84,8 @@ if ((translated)); then
 fi
 
 # ----------------------------------------------------------------------------- 4. pytest
+# pytest.ini and conftest.py (the program built once per session); every test, the slow end-to-end ones too
+# (`python3 -m pytest -m "not slow"` skips those).
 py_dirs=()
 for dir in test postprocess; do
     if [[ -d ${dir} ]]; then

@@ -1,28 +1,26 @@
 """The program as a user runs it: every bad-input case of the namelist gets one line on stderr that names the file
 and the key, exit status 2, and no output file; a good input writes its HDF5 file."""
-import os
 import subprocess
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
+
+@pytest.fixture
+def exe(debug_exe):
+    """Path of the supratrans executable (debug profile, built by fpm once per session: conftest.py)."""
+    return str(debug_exe)
 
 
-@pytest.fixture(scope="module")
-def exe():
-    """Path of the supratrans executable (debug profile, built by fpm)."""
-    subprocess.run(["fpm", "build"], cwd=ROOT, check=True, capture_output=True)
-    out = subprocess.run(["fpm", "run", "--runner", "echo"], cwd=ROOT, check=True, capture_output=True, text=True)
-    path = out.stdout.strip().splitlines()[-1].split()[0]
-    return str(ROOT / path)
+@pytest.fixture
+def run(exe, tmp_path, write_namelist):
+    """`run(text)`: the program run in tmp_path on a namelist `case.nml` with that text; (process, namelist)."""
 
+    def run_case(text):
+        nml = write_namelist(text)
+        (tmp_path / "out_dir").mkdir(exist_ok=True)
+        return subprocess.run([exe, str(nml)], cwd=tmp_path, capture_output=True, text=True), nml
 
-def run(exe, tmp_path, text):
-    nml = tmp_path / "case.nml"
-    nml.write_text(text)
-    (tmp_path / "out_dir").mkdir(exist_ok=True)
-    return subprocess.run([exe, str(nml)], cwd=tmp_path, capture_output=True, text=True), nml
+        return run_case
 
 
 OUT = "&output file = 'result.h5' /\n"
@@ -55,9 +53,9 @@ CASES = {
 
 
 @pytest.mark.parametrize("case", sorted(CASES))
-def test_bad_input(exe, tmp_path, case):
+def test_bad_input(run, tmp_path, case):
     text, key = CASES[case]
-    proc, nml = run(exe, tmp_path, text)
+    proc, nml = run(text)
     assert proc.returncode == 2, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1, proc.stderr
@@ -72,14 +70,14 @@ def test_missing_file(exe, tmp_path):
     assert "nowhere.nml" in proc.stderr and len(proc.stderr.strip().splitlines()) == 1
 
 
-def test_output_exists_is_refused_then_overwritten(exe, tmp_path):
+def test_output_exists_is_refused_then_overwritten(run, tmp_path):
     (tmp_path / "result.h5").write_text("not mine")
     small = "&chain n = 40, n0 = 30 /\n&record probes = 5 /\n&numerics t_final = 2.0 /\n"
-    proc, nml = run(exe, tmp_path, small + OUT)
+    proc, nml = run(small + OUT)
     assert proc.returncode == 2
     assert "exists" in proc.stderr and "file" in proc.stderr
     assert (tmp_path / "result.h5").read_text() == "not mine"
-    proc, nml = run(exe, tmp_path, small + "&output file = 'result.h5', overwrite = .true., quiet = .true. /\n")
+    proc, nml = run(small + "&output file = 'result.h5', overwrite = .true., quiet = .true. /\n")
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr == ""
     h5py = pytest.importorskip("h5py")
@@ -90,19 +88,19 @@ def test_output_exists_is_refused_then_overwritten(exe, tmp_path):
     assert not (tmp_path / "result.h5.tmp").exists()
 
 
-def test_output_path_never_reaches_a_shell(exe, tmp_path):
+def test_output_path_never_reaches_a_shell(run, tmp_path):
     """A path with shell syntax is a path: its directories are made literally and no command runs."""
     small = "&chain n = 40, n0 = 30 /\n&record probes = 5 /\n&numerics t_final = 2.0 /\n"
     hostile = "out/x'; echo INJECTED > PWNED; echo '/r.h5"
-    proc, _ = run(exe, tmp_path, small + f"&output file = \"{hostile}\", quiet = .true. /\n")
+    proc, _ = run(small + f"&output file = \"{hostile}\", quiet = .true. /\n")
     assert proc.returncode == 0, proc.stderr
     assert not (tmp_path / "PWNED").exists()
     assert (tmp_path / hostile).is_file()
 
 
-def test_nested_output_directories_are_created(exe, tmp_path):
+def test_nested_output_directories_are_created(run, tmp_path):
     small = "&chain n = 40, n0 = 30 /\n&record probes = 5 /\n&numerics t_final = 2.0 /\n"
-    proc, _ = run(exe, tmp_path, small + "&output file = 'a/b//c/r.h5', quiet = .true. /\n")
+    proc, _ = run(small + "&output file = 'a/b//c/r.h5', quiet = .true. /\n")
     assert proc.returncode == 0, proc.stderr
     assert (tmp_path / "a" / "b" / "c" / "r.h5").is_file()
 
@@ -150,13 +148,13 @@ def test_binary_garbage_is_not_echoed_raw(exe, tmp_path):
 
 
 @pytest.mark.parametrize("scene", ["timeseries", "amplitude_sweep"])
-def test_every_output_records_its_provenance(exe, tmp_path, scene):
+def test_every_output_records_its_provenance(run, tmp_path, scene):
     h5py = pytest.importorskip("h5py")
     extra = "" if scene == "timeseries" else \
         "&scene kind = 'amplitude_sweep', amplitude_min = 1.0, amplitude_max = 1.2, amplitude_step = 0.1 /\n"
     text = "&chain n = 40, n0 = 30 /\n&record probes = 5 /\n&numerics t_final = 2.0 /\n" + extra + \
         "&output file = 'result.h5', quiet = .true. /\n"
-    proc, nml = run(exe, tmp_path, text)
+    proc, nml = run(text)
     assert proc.returncode == 0, proc.stderr
     with h5py.File(tmp_path / "result.h5") as f:
         p = f["provenance"].attrs

@@ -4,17 +4,15 @@ from __future__ import annotations
 
 import shutil
 import subprocess
-import sys
 import textwrap
 from pathlib import Path
 
 import pytest
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))
+import pf2f90
+from pf2f90 import PfError, convert, split_args
 
-import pf2f90  # noqa: E402
-from pf2f90 import PfError, convert, split_args  # noqa: E402
+HERE = Path(__file__).resolve().parent
 
 
 def pf(body: str, name: str = "test_x", uses: str = "    use funit\n") -> str:
@@ -80,7 +78,8 @@ def test_split_args_rejects_unbalanced(text):
     [
         ("@assertEqual(1.0_wp, x)", "call assertEqual(1.0_wp, x, location=LOC)"),
         ("@assertEqual(1.0_wp, x, 1e-12_wp)", "call assertEqual(1.0_wp, x, 1e-12_wp, location=LOC)"),
-        ("@assertEqual(e, a, tolerance=t, message='m')", "call assertEqual(e, a, tolerance=t, message='m', location=LOC)"),
+        ("@assertEqual(e, a, tolerance=t, message='m')",
+         "call assertEqual(e, a, tolerance=t, message='m', location=LOC)"),
         ("@assertEqual(3, n, 'n')", "call assertEqual(3, n, 'n', location=LOC)"),
         ("@assertEqual('abc', s)", "call assertEqual('abc', s, location=LOC)"),
         ("@assertRelativelyEqual(e, a, 1e-8_wp)", "call assertRelativelyEqual(e, a, 1e-8_wp, location=LOC)"),
@@ -133,13 +132,15 @@ def test_use_funit_rewritten_and_annotations_commented():
     assert "! @test" in text and "! @before" in text and "! @after" in text
     assert not any(line.lstrip().startswith("@") for line in text.splitlines())
     assert text.startswith(pf2f90.MARKER)
-    assert (module.name, module.tests, module.before, module.after) == ("test_x", ["test_a", "test_b"], "set_up", "tear_down")
+    assert (module.name, module.tests, module.before, module.after) == ("test_x", ["test_a", "test_b"], "set_up",
+                                                                        "tear_down")
 
 
 def test_continued_directive_is_rejected_as_pfunit_does():
     """pFUnit 4.14 reads a directive from one physical line: a continued one is refused, not joined."""
     with pytest.raises(PfError, match=r"continued with '&'"):
-        translate("    @test\n    subroutine t()\n        @assertEqual(1.0_wp, &\n            x)\n    end subroutine t\n")
+        translate("    @test\n    subroutine t()\n        @assertEqual(1.0_wp, &\n            x)\n"
+                  "    end subroutine t\n")
 
 
 def test_directive_longer_than_pfunit_allows_is_rejected():
@@ -172,7 +173,8 @@ def test_ordinary_continuation_lines_copied_unchanged():
 
 def test_long_call_is_wrapped_within_132_columns():
     long_message = "x" * 90
-    text, _ = translate(f"    @test\n    subroutine t()\n        @assertTrue(ok, '{long_message}')\n    end subroutine t\n")
+    text, _ = translate(f"    @test\n    subroutine t()\n        @assertTrue(ok, '{long_message}')\n"
+                        "    end subroutine t\n")
     assert max(len(line) for line in text.splitlines()) <= 132
     assert calls(text) == [f"call assertTrue(ok, '{long_message}', location=pf_source_location('test_x.pf', 7))"]
 
@@ -195,16 +197,19 @@ def test_driver_runs_every_test_with_before_and_after():
 @pytest.mark.parametrize(
     "body, line, message",
     [
-        ("    @test\n    subroutine t()\n        @assertFoo(1)\n    end subroutine t\n", 7, "unknown directive @assertFoo"),
+        ("    @test\n    subroutine t()\n        @assertFoo(1)\n    end subroutine t\n", 7,
+         "unknown directive @assertFoo"),
         ("    @test\n    subroutine t()\n        @assertNotEqual(1, 2)\n    end subroutine t\n", 7, "does not support"),
         ("    @disable\n", 5, "does not support"),
         ("    @test\n    subroutine t()\n        @assertEqual(1)\n    end subroutine t\n", 7, "at least 2"),
         ("    @test\n    subroutine t()\n        @assertTrue(a, b, c)\n    end subroutine t\n", 7, "at most 2"),
-        ("    @test\n    subroutine t()\n        @assertTrue(x, msg='m')\n    end subroutine t\n", 7, "unknown keyword"),
+        ("    @test\n    subroutine t()\n        @assertTrue(x, msg='m')\n    end subroutine t\n", 7,
+         "unknown keyword"),
         ("    @test\n    subroutine t()\n        @assertTrue(message='m', x)\n    end subroutine t\n", 7, "positional"),
         ("    @test\n    subroutine t()\n        @assertTrue(f(x)\n    end subroutine t\n", 7, "unbalanced"),
         ("    @test\n    subroutine t()\n        @assertTrue(x) ! why\n    end subroutine t\n", 7, "comment after"),
-        ("    @test\n    subroutine t()\n        @assertTrue(x) y\n    end subroutine t\n", 7, "after the argument list"),
+        ("    @test\n    subroutine t()\n        @assertTrue(x) y\n    end subroutine t\n", 7,
+         "after the argument list"),
         ("    @test\n    function f()\n    end function f\n", 6, "expected 'subroutine name()'"),
         ("    @test\n    subroutine t(this)\n    end subroutine t\n", 6, "no arguments"),
         ("    @test\n", 6, "expected 'subroutine name()' after @test of line 5"),
@@ -233,7 +238,8 @@ def test_module_must_match_file_name():
 
 def test_use_funit_required_and_plain():
     with pytest.raises(PfError, match="no 'use funit'"):
-        convert("test_x.pf", pf("    @test\n    subroutine t()\n        @assertTrue(.true.)\n    end subroutine t\n", uses=""))
+        convert("test_x.pf", pf("    @test\n    subroutine t()\n        @assertTrue(.true.)\n    end subroutine t\n",
+                                uses=""))
     with pytest.raises(PfError, match="no only-list"):
         convert("test_x.pf", pf("", uses="    use funit, only: assertTrue\n"))
 
@@ -319,6 +325,7 @@ def build_end_to_end(tmp_path: Path) -> Path:
     return exe
 
 
+@pytest.mark.slow
 def test_end_to_end(tmp_path):
     exe = build_end_to_end(tmp_path)
     run = subprocess.run([str(exe)], capture_output=True, text=True, cwd=tmp_path, timeout=60)

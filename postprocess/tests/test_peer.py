@@ -1,101 +1,30 @@
-"""The SciPy peer and the work-precision and stability charts.
+"""The SciPy peer (supratrans_post.peer) and the work-precision and stability charts (supratrans_post.charts).
 
 - the peer's right-hand side: against a site-by-site transcription of `rk4_rhs` and against the energy
   balance by finite differences (dH/dt = injected power - dissipated power, which ties together the coupling,
   beta, the absorber, the drive's velocity and the fixed end);
-- the peer against the real program: tiny `work_precision` files made by supratrans in tmp_path (both
+- the peer against the real program: tiny `work_precision` files made by supratrans (conftest `tiny`: both
   potentials, with gamma, beta, m^2 and the absorber all on): DOP853 at a tight tolerance reproduces the
   reference's injected energy to 1e-9 (skipped when fpm is missing);
 - the charts are drawn into non-empty PNGs from tiny files, the equal-error table is printed;
 - a file of the wrong scene, a truncated or a missing one gives the one line `error: <file>: ...`, exit 2;
 - the equal-error rule (no credit for a lucky cancellation, no extrapolation).
 """
+from __future__ import annotations
+
 import math
-import os
 import shutil
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
 
+from supratrans_post import peer as ps
+from supratrans_post.charts import stability as cs
+from supratrans_post.charts import work_precision as wp
+
 h5py = pytest.importorskip("h5py")
 pytest.importorskip("scipy")
 pytest.importorskip("matplotlib")
-
-HERE = Path(__file__).resolve().parent
-ROOT = HERE.parent
-sys.path.insert(0, str(HERE))
-
-import peer_scipy as ps  # noqa: E402
-import work_precision as wp  # noqa: E402
-
-ENV = {**os.environ, "MPLBACKEND": "Agg"}
-
-CHAIN = """&chain
-    potential = '{potential}'
-    c = 2.0
-    beta = {beta}
-    gamma = {gamma}
-    m2 = {m2}
-    n = 24
-    n0 = 14
-    kappa = 0.5
-    sigma = 2.0
-/
-&drive
-    amplitude = 1.5
-    omega = 0.9
-    ramp_time = 5.0
-/
-&numerics
-    t_final = 20.0
-/
-&record
-    probes = 6
-/
-"""
-WORKPREC = """&scene
-    kind = 'work_precision'
-    amplitudes = 1.0, 2.0
-    methods = 'linearized', 'rk4', 'rk8'
-    dts = 0.25, 0.125, 0.0625
-    repeats = 1
-    reference_dt = 0.05
-/
-"""
-STABILITY = """&chain
-    potential = 'sine-gordon'
-    n = 20
-    n0 = 14
-    kappa = 0.0
-/
-&drive
-    amplitude = 0.5
-    ramp_time = 5.0
-/
-&numerics
-    t_final = 20.0
-    blowup_threshold = 1.5
-/
-&scene
-    kind = 'stability'
-    methods = 'newton', 'linearized', 'rk4'
-    c_values = 2.0, 4.0
-    dts = 0.1, 0.2, 0.3, 0.4
-    vary = 'beta'
-    values = 0.0, 0.5
-    resolution = 0.01
-/
-"""
-OUTPUT = """&output
-    file = '{out}'
-    overwrite = .true.
-    quiet = .true.
-/
-"""
-
 
 def tiny_chain(potential="sine-gordon", **kw):
     p = dict(potential=potential, c=2.0, beta=0.3, gamma=0.02, m2=-0.04, n=7, n0=3, kappa=0.5, sigma=1.5,
@@ -187,42 +116,6 @@ def test_time_at_error_rule():
     assert t == pytest.approx(math.sqrt(10.0))
 
 
-# ------------------------------------------------------------------------------------------------ with supratrans
-
-
-@pytest.fixture(scope="module")
-def exe():
-    """The supratrans executable (debug profile, built by fpm in the repository)."""
-    if shutil.which("fpm") is None:
-        pytest.skip("fpm not installed")
-    subprocess.run(["fpm", "build"], cwd=ROOT, check=True, capture_output=True)
-    out = subprocess.run(["fpm", "run", "--runner", "echo"], cwd=ROOT, check=True, capture_output=True, text=True)
-    return str(ROOT / out.stdout.strip().splitlines()[-1].split()[0])
-
-
-@pytest.fixture(scope="module")
-def files(exe, tmp_path_factory):
-    d = tmp_path_factory.mktemp("peer")
-    jobs = {"wp_sg": CHAIN.format(potential="sine-gordon", beta=0.1, gamma=0.01, m2=0.05) + WORKPREC,
-            "wp_kg": CHAIN.format(potential="klein-gordon", beta=0.0, gamma=0.02, m2=-0.03) + WORKPREC,
-            "stab": STABILITY}
-    out = {}
-    for name, text in jobs.items():
-        nml = d / f"{name}.nml"
-        nml.write_text(text + OUTPUT.format(out=d / f"{name}.h5"))
-        proc = subprocess.run([exe, str(nml)], cwd=d, capture_output=True, text=True, timeout=120)
-        if proc.returncode != 0 and ("kind" in proc.stderr or "not implemented" in proc.stderr):
-            pytest.skip(f"the program cannot write this scene: {proc.stderr.strip()}")
-        assert proc.returncode == 0, proc.stderr
-        out[name] = d / f"{name}.h5"
-    return out
-
-
-def run(script, *args):
-    return subprocess.run([sys.executable, str(HERE / script)] + [str(a) for a in args], capture_output=True,
-                          text=True, env=ENV, timeout=120)
-
-
 def assert_png(path):
     assert path.is_file() and path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 5000
 
@@ -235,9 +128,10 @@ def assert_one_line_error(proc, *words):
         assert w in lines[0], (w, lines[0])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["wp_sg", "wp_kg"])
-def test_peer_reproduces_the_programs_reference(files, name):
-    w = ps.read_work_precision(files[name])
+def test_peer_reproduces_the_programs_reference(tiny, name):
+    w = ps.read_work_precision(tiny.file(name))
     check, refs = ps.check_model(w, log=lambda *a: None)
     assert len(check) == 2
     for c in check:
@@ -245,9 +139,10 @@ def test_peer_reproduces_the_programs_reference(files, name):
         assert c["error_u_final"] < 1e-8, c
 
 
-def test_work_precision_charts_and_table(files, tmp_path):
+@pytest.mark.slow
+def test_work_precision_charts_and_table(tiny, tmp_path, call_main):
     peer = tmp_path / "peer.json"
-    proc = run("work_precision.py", "--h5", files["wp_sg"], "--tols", "1e-3", "1e-6", "1e-9", "--repeats", "1",
+    proc = call_main(wp.main, "--h5", tiny.file("wp_sg"), "--tols", "1e-3", "1e-6", "1e-9", "--repeats", "1",
                "--peer-out", peer, "--outdir", tmp_path / "figs")
     assert proc.returncode == 0, proc.stderr
     for png in ("work_precision.png", "work_precision_dt.png"):
@@ -259,34 +154,34 @@ def test_work_precision_charts_and_table(files, tmp_path):
     assert len(ok) == 2 * 2 * 3 and all(p["wall_time"] > 0 and p["error_energy"] < 1e-1 for p in ok)
     assert {row["level"] for row in r["equal_error_table"]} == set(wp.LEVELS)
     # the charts again from the points written, nothing run
-    proc = run("work_precision.py", "--h5", files["wp_sg"], "--peer", peer, "--outdir", tmp_path / "again", "-q")
+    proc = call_main(wp.main, "--h5", tiny.file("wp_sg"), "--peer", peer, "--outdir", tmp_path / "again", "-q")
     assert proc.returncode == 0, proc.stderr
     assert_png(tmp_path / "again" / "work_precision.png")
 
 
-def test_stability_chart(files, tmp_path):
+def test_stability_chart(tiny, tmp_path, call_main):
     out = tmp_path / "stability.png"
-    proc = run("chart_stability.py", files["stab"], "-o", out)
+    proc = call_main(cs.main, tiny.file("stab"), "-o", out)
     assert proc.returncode == 0, proc.stderr
     assert_png(out)
     assert "beta = 0.5" in proc.stdout and "paper" in proc.stdout
 
 
-def test_wrong_scene_truncated_missing(files, tmp_path):
-    wpf, stab = files["wp_sg"], files["stab"]
-    assert_one_line_error(run("chart_stability.py", wpf, "-o", tmp_path / "x.png"), str(wpf),
+def test_wrong_scene_truncated_missing(tiny, tmp_path, call_main):
+    wpf, stab = tiny.file("wp_sg"), tiny.file("stab")
+    assert_one_line_error(call_main(cs.main, wpf, "-o", tmp_path / "x.png"), str(wpf),
                           "scene is 'work_precision', expected 'stability'")
-    assert_one_line_error(run("work_precision.py", "--h5", stab, "--outdir", tmp_path), str(stab),
+    assert_one_line_error(call_main(wp.main, "--h5", stab, "--outdir", tmp_path), str(stab),
                           "scene is 'stability', expected 'work_precision'")
-    assert_one_line_error(run("peer_scipy.py", stab, "--check"), "expected 'work_precision'")
+    assert_one_line_error(call_main(ps.main, stab, "--check"), "expected 'work_precision'")
     cut = tmp_path / "cut.h5"
     raw = wpf.read_bytes()
     cut.write_bytes(raw[: len(raw) // 2])
-    assert_one_line_error(run("peer_scipy.py", cut), str(cut), "truncated")
+    assert_one_line_error(call_main(ps.main, cut), str(cut), "truncated")
     broken = tmp_path / "broken.h5"
     shutil.copy(wpf, broken)
     with h5py.File(broken, "r+") as h:
         del h["reference/injected"]
-    assert_one_line_error(run("work_precision.py", "--h5", broken, "--outdir", tmp_path), "reference/injected")
-    assert_one_line_error(run("chart_stability.py", tmp_path / "nowhere.h5"), "nowhere.h5", "no such file")
+    assert_one_line_error(call_main(wp.main, "--h5", broken, "--outdir", tmp_path), "reference/injected")
+    assert_one_line_error(call_main(cs.main, tmp_path / "nowhere.h5"), "nowhere.h5", "no such file")
     assert not (tmp_path / "x.png").exists() and not list(tmp_path.glob("work_precision*.png"))

@@ -1,0 +1,65 @@
+"""The namelists of `input/`, read and written with f90nml: the scene a namelist runs, the file it writes, and the
+`--quick` copies of make_figures.py (coarser scene grids, output elsewhere)."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from .reader import PlotError
+
+#: `--quick`: factor applied to the steps of the scene grids (amplitude, frequency, threshold resolution).
+QUICK = {"amplitude_step": 5.0, "omega_step": 2.0, "resolution": 5.0, "coarse_step": 2.0}
+
+
+def read(path: Any):
+    """The namelist file `path` as an f90nml Namelist ({group: {key: value}}, names in lower case); PlotError
+    (one line) when it cannot be read or parsed."""
+    import f90nml  # noqa: PLC0415 (only make_figures and work_precision read namelists)
+
+    try:
+        return f90nml.read(str(path))
+    except OSError as exc:
+        raise PlotError(path, f"cannot read ({exc.strerror or exc})") from None
+    except Exception as exc:  # noqa: BLE001 (f90nml raises ValueError, IndexError, ... on bad syntax)
+        first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise PlotError(path, f"not a namelist f90nml can read ({first})") from None
+
+
+def _group(nml, name: str) -> dict:
+    """The group `&name` of a namelist ({} when absent; the first one when it is repeated)."""
+    g = nml.get(name, {})
+    if isinstance(g, list):
+        g = g[0] if g else {}
+    return g
+
+
+def scene_kind(nml) -> str:
+    """The scene a namelist runs (`&scene kind`, default 'timeseries'), in lower case."""
+    return str(_group(nml, "scene").get("kind", "timeseries")).lower()
+
+
+def output_file(nml) -> str | None:
+    """The file a namelist writes (`&output file`), None when it names none."""
+    out = _group(nml, "output").get("file")
+    return str(out) if out else None
+
+
+def quick_copy(source: Any, target: Any, output: Any) -> Path:
+    """Write to `target` a copy of the namelist `source` whose scene grids are coarser (the steps of QUICK scaled,
+    rounded to 6 significant digits as the copies always were), that writes `output` and may overwrite it.
+    Returns `target`."""
+    nml = read(source)
+    scene = _group(nml, "scene")
+    for key, factor in QUICK.items():
+        value = scene.get(key)
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            scene[key] = float(f"{float(value) * factor:.6g}")
+    if "output" not in nml:
+        nml["output"] = {}
+    out = _group(nml, "output")
+    out["file"] = str(output)
+    out["overwrite"] = True
+    target = Path(target)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    nml.write(str(target), force=True)
+    return target

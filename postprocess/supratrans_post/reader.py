@@ -1,0 +1,323 @@
+"""The one reader of the HDF5 files written by supratrans: which datasets each scene has, their shapes, and the
+one-line errors of a file that cannot be used.
+
+`open_scene(path, expect=...)` reads, eagerly, everything the figures, charts and the SciPy peer need of one file
+(root attributes, `/parameters`, the attributes of every top-level group, and the datasets of `SCHEMA` for its
+scene) and closes it again. A file that cannot be used raises `PlotError`, which the command-line scripts print as
+the one line `error: <file>: <what is wrong>` before they exit with status 2: missing, not HDF5, truncated, not a
+supratrans file, of an unknown or another scene, a dataset missing, of the wrong rank, or whose length along an axis
+disagrees with the axis (README, "Output", has the layouts).
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Iterable
+
+import numpy as np
+
+__all__ = ["PlotError", "Scene", "SCHEMA", "SCENES", "FIGURE_SCENES", "CHART_SCENES", "open_scene", "open_h5",
+           "resolve", "output_path", "figure_name", "text", "value"]
+
+
+class PlotError(Exception):
+    """A file that cannot be used: its path and what is wrong with it, in one line."""
+
+    def __init__(self, path: Any, what: Any) -> None:
+        super().__init__(f"{path}: {what}")
+        self.path = str(path)
+        self.what = " ".join(str(what).split())
+
+    def line(self) -> str:
+        """The message the scripts print: `error: <file>: <what is wrong>`."""
+        return f"error: {self.path}: {self.what}"
+
+
+# ------------------------------------------------------------------------------------------------ the schema
+
+
+def _req(*dims: str) -> tuple[tuple[str, ...], bool]:
+    """A required dataset over the axes `dims` (SCHEMA)."""
+    return dims, True
+
+
+def _opt(*dims: str) -> tuple[tuple[str, ...], bool]:
+    """An optional dataset over the axes `dims` (SCHEMA)."""
+    return dims, False
+
+
+_ENERGIES = ("injected_after_ramp", "stored", "dissipated_gamma", "dissipated_beta", "dissipated_absorber")
+
+#: The datasets of each scene that the scripts read, {scene: {h5py path: (dimensions, required)}}, in the order they
+#: are checked. Each dimension names the axis a dataset runs over: the first dataset (in this order) with that axis
+#: sets its length and every later one must agree. Datasets not listed are not read.
+SCHEMA: dict[str, dict[str, tuple[tuple[str, ...], bool]]] = {
+    "timeseries": {
+        "probes/sites": _req("probe"), "probes/time": _req("probe_time"), "probes/u": _req("probe", "probe_time"),
+        "ledger/time": _req("ledger_time"),
+        **{f"ledger/{k}": _req("ledger_time") for k in ("stored", "injected", "dissipated_gamma", "dissipated_beta",
+                                                        "dissipated_absorber")},
+        "ledger/residual": _opt("ledger_time"),
+    },
+    "amplitude_sweep": {
+        "amplitude": _req("amplitude"), "curves/potential": _req("curve"), "curves/value": _req("curve"),
+        "energy/injected": _req("curve", "amplitude"), "runs/status": _req("curve", "amplitude"),
+        "runs/transmitting": _req("curve", "amplitude"),
+        "curves/threshold_As": _opt("curve"), "curves/m2": _opt("curve"), "curves/band_gap_edge": _opt("curve"),
+        **{f"energy/{k}": _opt("curve", "amplitude") for k in _ENERGIES},
+    },
+    "map": {
+        "omega": _req("omega"), "amplitude": _req("amplitude"), "curves/potential": _req("curve"),
+        "curves/value": _req("curve"), "threshold_As": _req("curve", "omega"),
+        "energy/injected": _req("curve", "omega", "amplitude"), "runs/status": _req("curve", "omega", "amplitude"),
+        "runs/transmitting": _req("curve", "omega", "amplitude"),
+        "curves/m2": _opt("curve"), "curves/band_gap_edge": _opt("curve"),
+        **{f"energy/{k}": _opt("curve", "omega", "amplitude") for k in _ENERGIES},
+    },
+    "bifurcation": {
+        "omega": _req("omega"), "curves/potential": _req("curve"), "curves/value": _req("curve"),
+        "threshold": _req("curve", "omega"), "threshold_As": _req("curve", "omega"), "status": _req("curve", "omega"),
+        "curves/m2": _opt("curve"), "curves/band_gap_edge": _opt("curve"), "cost/runs": _opt("curve", "omega"),
+        "cost/wall_time": _opt("curve", "omega"),
+    },
+    "work_precision": {
+        "methods": _req("method"), "amplitude": _req("amplitude"), "dt": _req("method", "dt"),
+        **{k: _req("amplitude", "method", "dt") for k in ("status", "wall_time", "error_energy", "error_u")},
+        "order_energy": _req("amplitude", "method"),
+        **{f"reference/{k}": _req("amplitude") for k in ("injected", "u_final")},
+        **{f"reference/{k}": _opt("amplitude") for k in ("error_energy", "u_scale", "error_u", "wall_time")},
+        **{k: _opt("amplitude", "method", "dt") for k in ("injected", "wall_time_min", "rhs_evaluations")},
+        "order_u": _opt("amplitude", "method"), "steps": _opt("method", "dt"),
+    },
+    "stability": {
+        "methods": _req("method"), "c": _req("c"), "dt": _req("dt"), "curves/value": _req("curve"),
+        "curves/potential": _req("curve"),
+        "boundary/observed": _req("curve", "method", "c"), "boundary/observed_unstable": _req("curve", "method", "c"),
+        "boundary/paper": _req("curve", "c"), "boundary/rk4": _req("curve", "c"),
+        "boundary/linear": _opt("curve", "method", "c"), "boundary/grid_consistent": _opt("curve", "method", "c"),
+        "boundary/rk4_undamped": _opt("curve", "c"),
+    },
+}
+#: Every scene the program writes.
+SCENES = tuple(SCHEMA)
+#: Scenes drawn as figures of the paper (`figures`), and as the speed/accuracy charts (`charts`).
+FIGURE_SCENES = ("timeseries", "amplitude_sweep", "map", "bifurcation")
+CHART_SCENES = ("stability", "work_precision")
+
+
+# ------------------------------------------------------------------------------------------------ values
+
+
+def text(v: Any) -> Any:
+    """An HDF5 string attribute or element (fixed-length bytes) as str; a bytes array as a list of str."""
+    if isinstance(v, (bytes, np.bytes_)):
+        return v.decode("utf-8", "replace").strip().rstrip("\x00").strip()
+    if isinstance(v, np.ndarray) and v.dtype.kind == "S":
+        return [text(x) for x in v.tolist()]
+    return v
+
+
+def value(v: Any) -> Any:
+    """An HDF5 attribute as a plain Python value (str, int, float, or a list for arrays)."""
+    v = text(v)
+    if isinstance(v, np.ndarray):
+        return v.tolist() if v.ndim > 0 else v.item()
+    if isinstance(v, np.generic):
+        return v.item()
+    return v
+
+
+# ------------------------------------------------------------------------------------------------ the scene
+
+
+@dataclass
+class Scene:
+    """What the scripts need from one file, read eagerly (the file is closed again)."""
+
+    #: Path of the file read.
+    path: str
+    #: Scene name (root attribute `scene`).
+    scene: str
+    #: Root attributes.
+    attrs: dict
+    #: Attributes of `/parameters`: the input parameters and derived linear theory.
+    params: dict
+    #: Datasets read, by path without the leading slash.
+    data: dict = field(default_factory=dict)
+    #: Attributes of the top-level groups (`/run`, `/runs`, `/curves`, `/scene`, ...), by name.
+    groups: dict = field(default_factory=dict)
+    #: Units of the datasets read (their attribute `units`).
+    units: dict = field(default_factory=dict)
+
+    @property
+    def name(self) -> str:
+        """Figure name: the stem of the input file that made the file (`input/fig2.nml` -> 'fig2')."""
+        return figure_name(self)
+
+    @property
+    def partial(self) -> bool:
+        """Whether the file is a partial snapshot of a scene still running or killed (`complete` = 0)."""
+        return int(self.attrs.get("complete", 1)) == 0
+
+    def progress(self) -> tuple[int, int, str] | None:
+        """(runs done, runs in all, what a run is) of a grid scene; None for the others."""
+        if self.scene in ("amplitude_sweep", "map"):
+            total = self.attrs.get("runs_total", self.data["runs/status"].size)
+            done = self.attrs.get("runs_done", int(np.count_nonzero(self.data["runs/status"] != -1)))
+            return int(done), int(total), "runs"
+        if self.scene == "bifurcation":
+            total = self.attrs.get("tasks_total", self.data["status"].size)
+            done = self.attrs.get("tasks_done", int(np.count_nonzero(self.data["status"] != -1)))
+            return int(done), int(total), "threshold searches"
+        return None
+
+    def partial_note(self) -> str:
+        """'partial: k of n runs' for a partial file, '' otherwise."""
+        progress = self.progress() if self.partial else None
+        if progress is None:
+            return ""
+        done, total, what = progress
+        return f"partial: {done} of {total} {what}"
+
+    def unit(self, name: str, default: str = "") -> str:
+        """Units of a dataset read, as an axis label suffix: ' [rad]'; ' (scaled)' for the model's
+        dimensionless time, energy and frequency ('time', 'energy', '1/time'); '' for pure numbers."""
+        u = self.units.get(name, default)
+        if not u or u == "1":
+            return ""
+        if u in ("time", "energy", "1/time", "1/time^2", "time^-1"):
+            return " (scaled)"
+        return f" [{u}]"
+
+
+# ------------------------------------------------------------------------------------------------ reading
+
+
+def resolve(path: Any) -> Path:
+    """The file to read for `path`: itself, or `<path>.partial.h5` when only the partial snapshot of a scene
+    still running (or killed) exists. Raises PlotError when neither exists."""
+    p = Path(path)
+    if p.is_file():
+        return p
+    partial = Path(str(p) + ".partial.h5")
+    if partial.is_file():
+        return partial
+    if p.exists():
+        raise PlotError(path, "not a regular file")
+    raise PlotError(path, "no such file" + (" (nor a partial snapshot " + partial.name + ")"
+                                            if p.suffix == ".h5" else ""))
+
+
+def open_h5(path: Any):
+    """Open an HDF5 file for reading; a missing, truncated or non-HDF5 file is a one-line PlotError."""
+    import h5py  # noqa: PLC0415 (only the readers need it)
+
+    try:
+        return h5py.File(path, "r")
+    except OSError as exc:
+        reason = str(exc).split("\n")[0]
+        if "truncated" in reason:
+            raise PlotError(path, f"truncated HDF5 file ({reason})") from None
+        if "signature" in reason or "not an hdf5" in reason.lower():
+            raise PlotError(path, "not an HDF5 file") from None
+        raise PlotError(path, f"cannot open as HDF5 ({reason})") from None
+
+
+def open_scene(path: Any, expect: str | Iterable[str] | None = None) -> Scene:
+    """Read the file `path` (or its partial snapshot, see `resolve`).
+
+    `expect`: a scene name or several the caller can use. Raises PlotError (one line) when the file is missing,
+    not HDF5 or truncated, not a supratrans file, of an unknown or another scene, or lacks a dataset of `SCHEMA`.
+    """
+    p = resolve(path)
+    f = open_h5(p)
+    try:
+        with f:
+            return _read(f, p, expect)
+    except PlotError:
+        raise
+    except (OSError, KeyError, ValueError, TypeError, RuntimeError) as exc:
+        raise PlotError(p, f"cannot read ({str(exc).splitlines()[0] if str(exc) else type(exc).__name__}); "
+                           "the file may be truncated or damaged") from None
+
+
+def _read(f, p: Path, expect: str | Iterable[str] | None) -> Scene:
+    """The Scene of an open file `f` (path `p`), checked against SCHEMA; PlotError for what is wrong."""
+    import h5py  # noqa: PLC0415
+
+    attrs = {k: value(v) for k, v in f.attrs.items()}
+    if "scene" not in attrs:
+        code = attrs.get("code")
+        raise PlotError(p, "no root attribute 'scene': not a supratrans output file"
+                        + (f" (code '{code}')" if code else ""))
+    scene = str(attrs["scene"])
+    if scene not in SCHEMA:
+        raise PlotError(p, f"unknown scene '{scene}' (known: {', '.join(SCENES)})")
+    if expect is not None:
+        wanted = (expect,) if isinstance(expect, str) else tuple(expect)
+        if scene not in wanted:
+            raise PlotError(p, f"scene is '{scene}', expected '{' or '.join(wanted)}'")
+    if "parameters" not in f or not isinstance(f["parameters"], h5py.Group):
+        raise PlotError(p, f"group '/parameters' missing (scene {scene})")
+    out = Scene(path=str(p), scene=scene, attrs=attrs, params={k: value(v) for k, v in f["parameters"].attrs.items()})
+    for name, obj in f.items():
+        if isinstance(obj, h5py.Group) and name != "parameters":
+            out.groups[name] = {k: value(v) for k, v in obj.attrs.items()}
+    schema = SCHEMA[scene]
+    for name, (dims, required) in schema.items():
+        obj = f.get(name)
+        if obj is None or not isinstance(obj, h5py.Dataset):
+            if required:
+                raise PlotError(p, f"dataset '/{name}' missing (scene {scene})")
+            continue
+        data = obj[()]
+        if data.dtype.kind in "SO":
+            data = np.array([text(x) for x in np.atleast_1d(data).tolist()], dtype=object)
+        if np.ndim(data) != len(dims):
+            raise PlotError(p, f"dataset '/{name}' has shape {np.shape(data)}, expected rank {len(dims)}")
+        out.data[name] = data
+        if "units" in obj.attrs:
+            out.units[name] = text(obj.attrs["units"])
+    _check_dimensions(p, out, schema)
+    return out
+
+
+def _check_dimensions(p: Path, s: Scene, schema: dict) -> None:
+    """Every dataset read agrees with the others on the length of each axis it runs over."""
+    length: dict[str, int] = {}
+    for name, (dims, _) in schema.items():
+        if name not in s.data:
+            continue
+        shape = tuple(s.data[name].shape)
+        for d, n in zip(dims, shape):
+            length.setdefault(d, n)
+        expected = tuple(length[d] for d in dims)
+        if shape != expected:
+            raise PlotError(p, f"dataset '/{name}' has shape {shape}, expected {expected}")
+
+
+# ------------------------------------------------------------------------------------------------ names
+
+
+def figure_name(scene: Scene) -> str:
+    """Name of the figure a file belongs to: the stem of its input file (`input/fig3half.nml` -> 'fig3half'),
+    'fig1' for the four Fig. 1 runs (`fig1_sg_A177` ...)."""
+    stem = Path(str(scene.attrs.get("input_file", "") or Path(scene.path).name)).name
+    stem = re.sub(r"(\.h5)?(\.partial\.h5)?$", "", stem)
+    stem = re.sub(r"\.nml$", "", stem)
+    if re.match(r"fig1_", stem):
+        return "fig1"
+    return stem
+
+
+def output_path(path: Any, suffix: str = ".png") -> Path:
+    """Default path of what is made from a data file: `out/fig2.h5` -> `out/fig2.png`, a partial snapshot
+    `out/fig2.h5.partial.h5` -> `out/fig2.partial.png`."""
+    p = Path(path)
+    name = p.name
+    if name.endswith(".h5.partial.h5"):
+        name = name[: -len(".h5.partial.h5")] + ".partial"
+    elif name.endswith(".h5"):
+        name = name[:-3]
+    return p.with_name(name + suffix)
