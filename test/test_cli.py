@@ -20,7 +20,7 @@ def run(exe, tmp_path, write_namelist):
         (tmp_path / "out_dir").mkdir(exist_ok=True)
         return subprocess.run([exe, str(nml)], cwd=tmp_path, capture_output=True, text=True), nml
 
-        return run_case
+    return run_case
 
 
 OUT = "&output file = 'result.h5' /\n"
