@@ -32,6 +32,9 @@ module supratrans_config
     character(len=*), parameter, public :: scene_choices(*) = [character(len=15) :: "timeseries", "amplitude_sweep", "map", &
         "bifurcation", "work_precision", "stability"]
 
+    !> Names of the screening methods (&scene screen_method).
+    character(len=*), parameter, public :: screen_choices(*) = [character(len=10) :: "none", "newton", "linearized", "rk4", "rk8"]
+
     !> Names of the parameters (&scene vary).
     character(len=*), parameter, public :: vary_choices(*) = [character(len=5) :: "none", "gamma", "beta", "m2"]
 
@@ -170,6 +173,17 @@ module supratrans_config
         real(wp) :: coarse_step = 0.1_wp
         !> Bifurcation search: resolution of the threshold; stability scene: resolution of the boundary in dt (&scene resolution).
         real(wp) :: resolution = 0.01_wp
+        !> Bifurcation search: integrator that screens amplitudes far from the threshold ('none': every run uses the &numerics
+        !> method; README, "Screening") (&scene screen_method).
+        character(len=name_len) :: screen_method = "linearized"
+        !> Bifurcation search: time step of the screening runs (0: the &numerics dt) (&scene screen_dt).
+        real(wp) :: screen_dt = 0.0_wp
+        !> Bifurcation search: every amplitude the search asks within this distance below its threshold (and above) is run with the
+        !> &numerics method (&scene confirm_band).
+        real(wp) :: confirm_band = 0.05_wp
+        !> Bifurcation search: recheck each threshold with the &numerics method at dt/2 and flag it if it moves more than the
+        !> resolution (&scene certify).
+        logical :: certify = .false.
         !> Work-precision and stability scenes: the integrators compared (&scene methods).
         integer, allocatable :: methods(:)
         !> Work-precision: the time steps (each method runs those >= its dt_smallest); stability: the dt axis (&scene dts).

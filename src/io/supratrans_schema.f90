@@ -5,8 +5,8 @@
 !> configuration field of each key.
 module supratrans_schema
     use supratrans_kinds, only: wp, name_len
-    use supratrans_config, only: input_config, potential_choices, method_choices, scene_choices, vary_choices, max_curve_values, &
-        max_probes, max_scene_methods, max_scene_dts
+    use supratrans_config, only: input_config, potential_choices, method_choices, scene_choices, screen_choices, vary_choices, &
+        max_curve_values, max_probes, max_scene_methods, max_scene_dts
     use supratrans_keys, only: key_spec, derived_spec, key_value, kt_integer, kt_real, kt_logical, kt_name, kt_path, &
         real_value, int_value, flag_value, text_value
     implicit none
@@ -20,8 +20,10 @@ module supratrans_schema
     integer, parameter, public :: choice_method = 2
     !> Choice set of the scene names (`scene_choices`).
     integer, parameter, public :: choice_scene = 3
+    !> Choice set of the screening method names (`screen_choices`).
+    integer, parameter, public :: choice_screen = 4
     !> Choice set of the parameter names (`vary_choices`).
-    integer, parameter, public :: choice_vary = 4
+    integer, parameter, public :: choice_vary = 5
 
     !> Index of &chain potential in `key_table`.
     integer, parameter, public :: key_chain_potential = 1
@@ -93,32 +95,40 @@ module supratrans_schema
     integer, parameter, public :: key_scene_coarse_step = 34
     !> Index of &scene resolution in `key_table`.
     integer, parameter, public :: key_scene_resolution = 35
+    !> Index of &scene screen_method in `key_table`.
+    integer, parameter, public :: key_scene_screen_method = 36
+    !> Index of &scene screen_dt in `key_table`.
+    integer, parameter, public :: key_scene_screen_dt = 37
+    !> Index of &scene confirm_band in `key_table`.
+    integer, parameter, public :: key_scene_confirm_band = 38
+    !> Index of &scene certify in `key_table`.
+    integer, parameter, public :: key_scene_certify = 39
     !> Index of &scene methods in `key_table`.
-    integer, parameter, public :: key_scene_methods = 36
+    integer, parameter, public :: key_scene_methods = 40
     !> Index of &scene dts in `key_table`.
-    integer, parameter, public :: key_scene_dts = 37
+    integer, parameter, public :: key_scene_dts = 41
     !> Index of &scene dt_smallest in `key_table`.
-    integer, parameter, public :: key_scene_dt_smallest = 38
+    integer, parameter, public :: key_scene_dt_smallest = 42
     !> Index of &scene amplitudes in `key_table`.
-    integer, parameter, public :: key_scene_amplitudes = 39
+    integer, parameter, public :: key_scene_amplitudes = 43
     !> Index of &scene c_values in `key_table`.
-    integer, parameter, public :: key_scene_c_values = 40
+    integer, parameter, public :: key_scene_c_values = 44
     !> Index of &scene repeats in `key_table`.
-    integer, parameter, public :: key_scene_repeats = 41
+    integer, parameter, public :: key_scene_repeats = 45
     !> Index of &scene reference_dt in `key_table`.
-    integer, parameter, public :: key_scene_reference_dt = 42
+    integer, parameter, public :: key_scene_reference_dt = 46
     !> Index of &detect site in `key_table`.
-    integer, parameter, public :: key_detect_site = 43
+    integer, parameter, public :: key_detect_site = 47
     !> Index of &detect amplitude in `key_table`.
-    integer, parameter, public :: key_detect_amplitude = 44
+    integer, parameter, public :: key_detect_amplitude = 48
     !> Index of &detect stop_when_decided in `key_table`.
-    integer, parameter, public :: key_detect_stop_when_decided = 45
+    integer, parameter, public :: key_detect_stop_when_decided = 49
     !> Index of &output file in `key_table`.
-    integer, parameter, public :: key_output_file = 46
+    integer, parameter, public :: key_output_file = 50
     !> Index of &output overwrite in `key_table`.
-    integer, parameter, public :: key_output_overwrite = 47
+    integer, parameter, public :: key_output_overwrite = 51
     !> Index of &output quiet in `key_table`.
-    integer, parameter, public :: key_output_quiet = 48
+    integer, parameter, public :: key_output_quiet = 52
 
     type(key_spec), parameter :: spec_chain_potential = key_spec( &
         group="chain", key="potential", value_type=kt_name, max_values=1, attribute="potential", units="1", &
@@ -323,6 +333,32 @@ module supratrans_schema
         default_text="0.01", &
         range_text="> 0", &
         description="Bifurcation search: resolution of the threshold; stability scene: resolution of the boundary in dt")
+    type(key_spec), parameter :: spec_scene_screen_method = key_spec( &
+        group="scene", key="screen_method", value_type=kt_name, max_values=1, attribute="screen_method", units="1", &
+            choices=choice_screen, &
+        default_text="'linearized'", &
+        range_text="'none', 'newton', 'linearized', 'rk4', 'rk8'", &
+        description="Bifurcation search: integrator that screens amplitudes far from the threshold ('none': every run uses th" // &
+            "e &numerics method; README, ""Screening"")")
+    type(key_spec), parameter :: spec_scene_screen_dt = key_spec( &
+        group="scene", key="screen_dt", value_type=kt_real, max_values=1, attribute="screen_dt", units="time", has_min=.true., &
+            min=0.0_wp, min_text="0", &
+        default_text="0 (the &numerics dt)", &
+        range_text=">= 0; 0, or dt <= screen_dt <= t_final/2", &
+        description="Bifurcation search: time step of the screening runs (0: the &numerics dt)")
+    type(key_spec), parameter :: spec_scene_confirm_band = key_spec( &
+        group="scene", key="confirm_band", value_type=kt_real, max_values=1, attribute="confirm_band", units="rad", &
+            has_min=.true., min=0.0_wp, min_text="0", &
+        default_text="0.05", &
+        range_text=">= 0", &
+        description="Bifurcation search: every amplitude the search asks within this distance below its threshold (and above)" // &
+            " is run with the &numerics method")
+    type(key_spec), parameter :: spec_scene_certify = key_spec( &
+        group="scene", key="certify", value_type=kt_logical, max_values=1, attribute="certify", units="1", &
+        default_text=".false.", &
+        range_text="", &
+        description="Bifurcation search: recheck each threshold with the &numerics method at dt/2 and flag it if it moves mor" // &
+            "e than the resolution")
     type(key_spec), parameter :: spec_scene_methods = key_spec( &
         group="scene", key="methods", value_type=kt_name, max_values=max_scene_methods, attribute="methods", units="1", &
             choices=choice_method, ids=.true., &
@@ -406,9 +442,10 @@ module supratrans_schema
         spec_record_probes, spec_record_probe_every, spec_record_ledger_every, spec_scene_kind, spec_scene_amplitude_min, &
         spec_scene_amplitude_max, spec_scene_amplitude_step, spec_scene_omega_min, spec_scene_omega_max, spec_scene_omega_step, &
         spec_scene_vary, spec_scene_values, spec_scene_potentials, spec_scene_coarse_step, spec_scene_resolution, &
-        spec_scene_methods, spec_scene_dts, spec_scene_dt_smallest, spec_scene_amplitudes, spec_scene_c_values, &
-        spec_scene_repeats, spec_scene_reference_dt, spec_detect_site, spec_detect_amplitude, spec_detect_stop_when_decided, &
-        spec_output_file, spec_output_overwrite, spec_output_quiet]
+        spec_scene_screen_method, spec_scene_screen_dt, spec_scene_confirm_band, spec_scene_certify, spec_scene_methods, &
+        spec_scene_dts, spec_scene_dt_smallest, spec_scene_amplitudes, spec_scene_c_values, spec_scene_repeats, &
+        spec_scene_reference_dt, spec_detect_site, spec_detect_amplitude, spec_detect_stop_when_decided, spec_output_file, &
+        spec_output_overwrite, spec_output_quiet]
 
     !> Values derived from the keys that `/parameters` stores too.
     type(derived_spec), parameter, public :: derived_table(*) = [ &
@@ -436,6 +473,8 @@ contains
             names = method_choices
         case (choice_scene)
             names = scene_choices
+        case (choice_screen)
+            names = screen_choices
         case (choice_vary)
             names = vary_choices
         case default
@@ -456,6 +495,8 @@ contains
             noun = "method"
         case (choice_scene)
             noun = "scene"
+        case (choice_screen)
+            noun = "screening method"
         case (choice_vary)
             noun = "parameter"
         case default
@@ -543,6 +584,14 @@ contains
             v = real_value([cfg%scene%coarse_step])
         case (key_scene_resolution)
             v = real_value([cfg%scene%resolution])
+        case (key_scene_screen_method)
+            v = text_value([cfg%scene%screen_method])
+        case (key_scene_screen_dt)
+            v = real_value([cfg%scene%screen_dt])
+        case (key_scene_confirm_band)
+            v = real_value([cfg%scene%confirm_band])
+        case (key_scene_certify)
+            v = flag_value(cfg%scene%certify)
         case (key_scene_methods)
             if (allocated(cfg%scene%methods)) v = int_value(cfg%scene%methods)
         case (key_scene_dts)
@@ -658,6 +707,14 @@ contains
             cfg%scene%coarse_step = v%reals(1)
         case (key_scene_resolution)
             cfg%scene%resolution = v%reals(1)
+        case (key_scene_screen_method)
+            cfg%scene%screen_method = trim(v%texts(1))
+        case (key_scene_screen_dt)
+            cfg%scene%screen_dt = v%reals(1)
+        case (key_scene_confirm_band)
+            cfg%scene%confirm_band = v%reals(1)
+        case (key_scene_certify)
+            cfg%scene%certify = v%flag
         case (key_scene_methods)
             if (allocated(cfg%scene%methods)) deallocate (cfg%scene%methods)
             if (v%n > 0) cfg%scene%methods = v%ints(1:v%n)

@@ -275,6 +275,13 @@ contains
                                  // ": must be >= resolution = " // real_str(sc%resolution))
                 return
             end if
+            if (sc%screen_dt > 0.0_wp .and. .not. (sc%screen_dt >= cfg%run%numerics%dt &
+                                                   .and. sc%screen_dt <= cfg%run%numerics%t_final/2.0_wp)) then
+                call input_error(error, where, "scene", "screen_dt = " // real_str(sc%screen_dt) &
+                                 // ": must be 0 (the &numerics dt) or between dt = " // real_str(cfg%run%numerics%dt) &
+                                 // " and t_final/2 = " // real_str(cfg%run%numerics%t_final/2.0_wp))
+                return
+            end if
         end associate
 
         do ic = 1, curve_count(cfg)

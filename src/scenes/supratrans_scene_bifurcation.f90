@@ -26,14 +26,18 @@ module supratrans_scene_bifurcation
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
-    use supratrans_config, only: input_config, run_config
+    use supratrans_config, only: input_config, run_config, method_from_name
     use supratrans_curves, only: curve_count, curve_run, curve_value
     use supratrans_chain, only: threshold_as, band_gap_edge, detector_site
     use supratrans_potential, only: potential_name
     use supratrans_simulate, only: simulate, number_of_levels
     use supratrans_result, only: run_result, run_ok, status_name
     use supratrans_threshold, only: verdict_oracle, find_threshold, effective_coarse_step, search_grid_size, &
-                                    search_status_codes
+                                    search_status_codes, search_found
+    use supratrans_screened_search, only: find_threshold_screened, screen_report
+    use supratrans_search_record, only: search_record, search_fields, to_values, from_values, certify_status_codes, &
+                                        certify_not_checked, certify_unchanged, certify_moved_within, certify_moved, &
+                                        certify_unresolved, certify_failed
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
@@ -50,11 +54,6 @@ module supratrans_scene_bifurcation
     integer, parameter, public :: bifurcation_outside_gap = -2
     !> Status of a task not computed yet (partial files only); the same code as the sweep and map scenes.
     integer, parameter, public :: bifurcation_pending = -1
-
-    !> Columns of a task's results (the journal's values, in this order).
-    integer, parameter :: v_threshold = 1, v_as = 2, v_runs = 3, v_steps = 4, v_wall = 5, v_status = 6
-    !> Number of values per task.
-    integer, parameter :: nvalues = 6
 
     !> Oracle of the search: one simulation of `run` at the amplitude asked, stopped as soon as it transmits.
     !> `transmits` runs inside OpenMP threads and builds no text (gfortran 12 keeps the lengths of deferred-length
@@ -86,6 +85,10 @@ module supratrans_scene_bifurcation
         type(input_config) :: cfg
         !> Run of each curve, prepared for the search (early stop, nothing recorded).
         type(run_config), allocatable :: runs(:)
+        !> The same with the screening method and step (allocated when the scene screens).
+        type(run_config), allocatable :: screen_runs(:)
+        !> The same at dt/2 (allocated when the scene certifies).
+        type(run_config), allocatable :: half_runs(:)
         !> The frequencies.
         real(wp), allocatable :: omegas(:)
         !> Path of the partial output written by `snapshot`.
@@ -108,6 +111,7 @@ contains
         !> Keep the journal after a complete run (tests of the resume); default false.
         logical, intent(in), optional :: keep_journal
         type(bifurcation_tasks) :: tasks
+        type(search_record), allocatable :: records(:)
         real(wp), allocatable :: results(:, :)
         logical, allocatable :: done(:)
         character(len=:), allocatable :: output, journal
@@ -140,6 +144,21 @@ contains
         do ic = 1, ncurve
             tasks%runs(ic) = search_run(curve_run(cfg, ic))
         end do
+        if (trim(cfg%scene%screen_method) /= "none") then
+            allocate (tasks%screen_runs(ncurve))
+            do ic = 1, ncurve
+                tasks%screen_runs(ic) = search_run(with_numerics(curve_run(cfg, ic), &
+                    method_from_name(trim(cfg%scene%screen_method)), merge(cfg%scene%screen_dt, &
+                    cfg%run%numerics%dt, cfg%scene%screen_dt > 0.0_wp)))
+            end do
+        end if
+        if (cfg%scene%certify) then
+            allocate (tasks%half_runs(ncurve))
+            do ic = 1, ncurve
+                tasks%half_runs(ic) = search_run(with_numerics(curve_run(cfg, ic), cfg%run%numerics%method, &
+                                                               cfg%run%numerics%dt/2.0_wp))
+            end do
+        end if
         tasks%partial_path = output // ".partial.h5"
         journal = output // ".journal"
         if (.not. cfg%output%quiet) then
@@ -147,10 +166,10 @@ contains
                 // " curve(s) x " // int_str(nomega) // " frequencies, amplitudes " // real_str(cfg%scene%amplitude_min, 6) &
                 // " .. " // real_str(cfg%scene%amplitude_max, 6) // " (coarse step " &
                 // real_str(effective_coarse_step(cfg%scene%coarse_step, cfg%scene%resolution), 6) // ", resolution " &
-                // real_str(cfg%scene%resolution, 6) // ")"
+                // real_str(cfg%scene%resolution, 6) // ")" // trim(screening_text(cfg))
         end if
 
-        call run_tasks(tasks, ncurve*nomega, nvalues, journal, input_fingerprint(cfg), &
+        call run_tasks(tasks, ncurve*nomega, size(search_fields), journal, input_fingerprint(cfg), &
                        "threshold searches", cfg%output%quiet, results, done, error, cfg)
         if (allocated(error) .or. engine_only(cfg)) return
 
@@ -162,11 +181,33 @@ contains
         call remove_file(tasks%partial_path)
         call remove_file(tasks%partial_path // ".tmp")
         if (.not. cfg%output%quiet) then
-            write (steps_text, "(i0)") nint(sum(results(v_steps, :)), i8)
-            write (error_unit, "(a)") "  " // int_str(nint(sum(results(v_runs, :)))) // " runs, " &
-                // trim(steps_text) // " time steps, " // fixed1(elapsed) // " s"
+            allocate (records(size(done)))
+            do ic = 1, size(done)
+                records(ic) = from_values(results(:, ic))
+            end do
+            write (steps_text, "(i0)") sum(records%steps)
+            write (error_unit, "(a)") "  " // int_str(sum(records%runs)) // " runs (" &
+                // int_str(sum(records%runs_screened)) // " screened), " // trim(steps_text) // " time steps, " &
+                // fixed1(elapsed) // " s"
+            if (cfg%scene%certify) write (error_unit, "(a)") "  certified at dt/2: " &
+                // int_str(count(records%certify_status == certify_unchanged .or. records%certify_status &
+                                 == certify_moved_within)) // " thresholds stand, " &
+                // int_str(count(records%certify_status >= certify_moved)) // " flagged"
         end if
     end subroutine run_bifurcation
+
+    !> The screening and certification settings, for the progress line ("" when neither is on).
+    function screening_text(cfg) result(text)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        character(len=:), allocatable :: text
+
+        text = ""
+        if (trim(cfg%scene%screen_method) /= "none") text = "; screened by " // trim(cfg%scene%screen_method) &
+            // " at dt = " // real_str(merge(cfg%scene%screen_dt, cfg%run%numerics%dt, cfg%scene%screen_dt > 0.0_wp), 6) &
+            // ", confirmed within " // real_str(cfg%scene%confirm_band, 6)
+        if (cfg%scene%certify) text = text // "; certified at dt/2"
+    end function screening_text
 
     !> The frequency axis of a scene: Omega_i = omega_min + i omega_step <= omega_max, i = 0, 1, ... (integer index;
     !> a point within 1e-9 steps of omega_max is kept).
@@ -205,12 +246,14 @@ contains
         class(bifurcation_tasks), intent(in) :: self
         !> Task index: (curve - 1) nomega + iomega.
         integer, intent(in) :: index
-        !> threshold, A_s, runs, steps, wall time, status.
+        !> The task's `search_record`, as values (`to_values`).
         real(wp), intent(out) :: values(:)
-        type(simulation_oracle) :: oracle
-        integer :: icurve, iomega, nomega, runs, status
-        integer(i8) :: steps, clock_start, clock_end, clock_rate
-        real(wp) :: omega, threshold, nan
+        type(simulation_oracle) :: oracle, screen, check
+        type(screen_report) :: report
+        type(search_record) :: r
+        integer :: icurve, iomega, nomega
+        integer(i8) :: clock_start, clock_end, clock_rate
+        real(wp) :: omega, nan
 
         call system_clock(clock_start, clock_rate)
         nan = ieee_value(nan, ieee_quiet_nan)
@@ -220,21 +263,42 @@ contains
         omega = self%omegas(iomega)
         oracle%run = self%runs(icurve)
         oracle%run%drive%omega = omega
-        values = 0.0_wp
-        values(v_threshold) = nan
-        values(v_as) = nan
-        values(v_status) = real(bifurcation_outside_gap, wp)
-        if (omega < band_gap_edge(oracle%run%chain)) values(v_as) = threshold_as(oracle%run%chain, omega)
-        if (omega >= band_gap_edge(oracle%run%chain) .and. .not. self%cfg%allow_outside_gap) return
+        r = unsearched_record()
+        r%status = bifurcation_outside_gap
+        if (omega < band_gap_edge(oracle%run%chain)) r%threshold_as = threshold_as(oracle%run%chain, omega)
+        if (omega >= band_gap_edge(oracle%run%chain) .and. .not. self%cfg%allow_outside_gap) then
+            values = to_values(r)
+            return
+        end if
 
-        call find_threshold(oracle, self%cfg%scene%amplitude_min, self%cfg%scene%amplitude_max, &
-                            self%cfg%scene%coarse_step, self%cfg%scene%resolution, threshold, runs, steps, status)
+        associate (sc => self%cfg%scene)
+            if (allocated(self%screen_runs)) then
+                screen%run = self%screen_runs(icurve)
+                screen%run%drive%omega = omega
+                call find_threshold_screened(oracle, screen, sc%amplitude_min, sc%amplitude_max, sc%coarse_step, &
+                                             sc%resolution, sc%confirm_band, r%threshold, r%runs, r%steps, r%status, &
+                                             report)
+                r%runs_screened = report%runs_screened
+                r%runs_confirmed = report%runs_confirmed
+                r%steps_screened = report%steps_screened
+                r%steps_confirmed = report%steps_confirmed
+                r%screen_threshold = report%screen_threshold
+                r%band_low = report%band_low
+                r%band_high = report%band_high
+                r%rounds = report%rounds
+                r%disagreements = report%disagreements
+                r%farthest_disagreement = report%farthest_disagreement
+            else
+                call find_threshold(oracle, sc%amplitude_min, sc%amplitude_max, sc%coarse_step, sc%resolution, &
+                                    r%threshold, r%runs, r%steps, r%status)
+                r%runs_confirmed = r%runs
+                r%steps_confirmed = r%steps
+            end if
+            if (allocated(self%half_runs) .and. r%status == search_found) call certify()
+        end associate
         call system_clock(clock_end)
-        values(v_threshold) = threshold
-        values(v_runs) = real(runs, wp)
-        values(v_steps) = real(steps, wp)
-        values(v_wall) = real(clock_end - clock_start, wp)/real(clock_rate, wp)
-        values(v_status) = real(status, wp)
+        r%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+        values = to_values(r)
         if (oracle%failed() .and. .not. self%cfg%output%quiet) then
             ! text only inside the critical section: deferred-length results are not thread-safe in gfortran 12
             !$omp critical (supratrans_bifurcation_messages)
@@ -242,7 +306,101 @@ contains
                 // ": search abandoned, " // oracle%failure_reason()
             !$omp end critical (supratrans_bifurcation_messages)
         end if
+        if (r%certify_status >= certify_moved .and. .not. self%cfg%output%quiet) then
+            !$omp critical (supratrans_bifurcation_messages)
+            write (error_unit, "(a)") "  warning: curve " // int_str(icurve) // ", omega = " // real_str(omega, 6) &
+                // ": threshold " // real_str(r%threshold, 6) // " not certified at dt/2 (" &
+                // trim(merge("moved to " // real_str(r%certified_threshold, 6), "no threshold nearby   ", &
+                              r%certify_status == certify_moved)) // ")"
+            !$omp end critical (supratrans_bifurcation_messages)
+        end if
+
+    contains
+
+        !> Recheck the threshold r%threshold with the scene's method at dt/2: it must transmit and the grid point below
+        !> it must not; otherwise look for the dt/2 threshold within one coarse step. Fills r%certify_*.
+        subroutine certify()
+            integer :: k_t, k, m, kmax, k_new
+            logical :: at, below
+
+            associate (sc => self%cfg%scene)
+                check%run = self%half_runs(icurve)
+                check%run%drive%omega = omega
+                k_t = nint((r%threshold - sc%amplitude_min)/sc%resolution)
+                kmax = search_grid_size(sc%amplitude_min, sc%amplitude_max, sc%resolution) - 1
+                m = max(1, nint(effective_coarse_step(sc%coarse_step, sc%resolution)/sc%resolution))
+                k_new = -1
+                r%certify_status = certify_unresolved
+                at = ask(k_t)
+                if (check%failed()) return
+                if (at) then
+                    below = .false.
+                    if (k_t > 0) below = ask(k_t - 1)
+                    if (check%failed()) return
+                    if (.not. below) then
+                        k_new = k_t
+                    else
+                        do k = k_t - 2, max(0, k_t - m), -1
+                            if (.not. ask(k)) then
+                                k_new = k + 1
+                                exit
+                            end if
+                            if (check%failed()) return
+                        end do
+                    end if
+                else
+                    do k = k_t + 1, min(kmax, k_t + m)
+                        if (ask(k)) then
+                            k_new = k
+                            exit
+                        end if
+                        if (check%failed()) return
+                    end do
+                end if
+                if (k_new < 0) return
+                r%certified_threshold = sc%amplitude_min + real(k_new, wp)*sc%resolution
+                select case (abs(k_new - k_t))
+                case (0)
+                    r%certify_status = certify_unchanged
+                case (1)
+                    r%certify_status = certify_moved_within
+                case default
+                    r%certify_status = certify_moved
+                end select
+            end associate
+
+        end subroutine certify
+
+        !> One dt/2 run at grid point k: its verdict; a failure sets the status `certify_failed`.
+        function ask(k) result(transmitting)
+            !> Grid index.
+            integer, intent(in) :: k
+            logical :: transmitting
+            integer(i8) :: cost
+
+            transmitting = check%transmits(self%cfg%scene%amplitude_min + real(k, wp)*self%cfg%scene%resolution, cost)
+            r%certify_runs = r%certify_runs + 1
+            r%certify_steps = r%certify_steps + cost
+            if (check%failed()) r%certify_status = certify_failed
+        end function ask
+
     end subroutine run_search
+
+    !> A record with nothing searched: thresholds NaN, counts 0, statuses "pending" / "not checked".
+    pure function unsearched_record() result(r)
+        type(search_record) :: r
+        real(wp) :: nan
+
+        nan = ieee_value(nan, ieee_quiet_nan)
+        r%threshold = nan
+        r%threshold_as = nan
+        r%status = bifurcation_pending
+        r%screen_threshold = nan
+        r%band_low = nan
+        r%band_high = nan
+        r%certified_threshold = nan
+        r%certify_status = certify_not_checked
+    end function unsearched_record
 
     !> One simulation at amplitude `amplitude`: its verdict, and the time steps it took.
     function simulation_transmits(self, amplitude, cost) result(transmitting)
@@ -323,22 +481,17 @@ contains
         !> Error, allocated on failure (the file is then not created).
         type(error_type), allocatable, intent(out) :: error
         type(h5_file) :: file
-        real(wp), allocatable :: vals(:, :), grid(:, :)
+        type(search_record), allocatable :: rec(:)
         integer, allocatable :: nd(:, :)
         integer :: ncurve, nomega, ic, io
-        real(wp) :: nan
         character(len=*), parameter :: dims = "curve, omega"
 
-        nan = ieee_value(nan, ieee_quiet_nan)
         ncurve = size(tasks%runs)
         nomega = size(tasks%omegas)
-        allocate (vals, source=results)
+        allocate (rec(size(done)))
         do ic = 1, size(done)
-            if (.not. done(ic)) then
-                vals(:, ic) = nan
-                vals(v_runs:v_wall, ic) = 0.0_wp
-                vals(v_status, ic) = real(bifurcation_pending, wp)
-            end if
+            rec(ic) = unsearched_record()
+            if (done(ic)) rec(ic) = from_values(results(:, ic))
         end do
         allocate (nd(nomega, ncurve))
         do ic = 1, ncurve
@@ -358,39 +511,137 @@ contains
             "Driving frequency Omega_i = omega_min + i omega_step", error, dims="omega")
         if (.not. allocated(error)) call write_curves(file, tasks, error)
         if (.not. allocated(error)) then
-            grid = reshape(vals(v_threshold, :), [nomega, ncurve])
-            call h5_write(file, "/threshold", grid, "rad", "Smallest driving amplitude A (grid amplitude_min + k " &
+            call h5_write(file, "/threshold", grid(rec%threshold), "rad", "Smallest driving amplitude A (grid amplitude_min + k " &
                 // "resolution) at which the run transmits: the supratransmission threshold; NaN when not found " &
                 // "(see /status)", error, dims=dims)
         end if
         if (.not. allocated(error)) then
-            grid = reshape(vals(v_as, :), [nomega, ncurve])
-            call h5_write(file, "/threshold_As", grid, "rad", "Continuum-limit threshold A_s = 4 arctan(lambda c / " &
-                // "Omega) of the curve's chain (undamped theory); NaN outside the band gap", error, dims=dims)
+            call h5_write(file, "/threshold_As", grid(rec%threshold_as), "rad", "Continuum-limit threshold A_s = " &
+                // "4 arctan(lambda c / Omega) of the curve's chain (undamped theory); NaN outside the band gap", error, dims=dims)
         end if
         if (.not. allocated(error)) call h5_create_group(file, "/cost", "What each threshold search cost", error)
-        if (.not. allocated(error)) call h5_write(file, "/cost/runs", nint(reshape(vals(v_runs, :), [nomega, ncurve])), &
+        if (.not. allocated(error)) call h5_write(file, "/cost/runs", reshape(rec%runs, [nomega, ncurve]), &
             "1", "Simulations run by the search (coarse scan + fine scan)", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, "/cost/steps", &
-            nint(min(reshape(vals(v_steps, :), [nomega, ncurve]), real(huge(1), wp))), "1", &
+            int(min(reshape(rec%steps, [nomega, ncurve]), int(huge(1), i8))), "1", &
             "Time steps taken by all the search's simulations (transmitting runs stop when decided)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/cost/wall_time", reshape(vals(v_wall, :), [nomega, ncurve]), &
+        if (.not. allocated(error)) call h5_write(file, "/cost/wall_time", grid(rec%wall_time), &
             "s", "Wall-clock time of the search (one thread)", error, dims=dims)
         if (.not. allocated(error) .and. elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", &
                                                                                elapsed, error)
         if (.not. allocated(error)) call h5_write(file, "/detector_site", nd, "1", &
             "Detector site n_d of the verdict (a run transmits once |u_n| > detect amplitude for some n > n_d)", &
             error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/status", nint(reshape(vals(v_status, :), [nomega, ncurve])), &
+        if (.not. allocated(error)) call h5_write(file, "/status", reshape(rec%status, [nomega, ncurve]), &
             "1", "Outcome of the search (codes in attribute 'codes')", error, dims=dims)
         if (.not. allocated(error)) call h5_write_attr(file, "/status", "codes", "-2: outside gap (Omega >= " &
             // "sqrt(1 + m^2): not searched; NaN); -1: pending (not computed yet); " // search_status_codes(), error)
+        if (.not. allocated(error)) call write_screening(file, tasks%cfg, rec, nomega, ncurve, error)
+        if (.not. allocated(error)) call write_certification(file, tasks%cfg, rec, nomega, ncurve, error)
         if (allocated(error)) then
             call h5_discard(file)
             return
         end if
         call h5_commit(file, error)
+
+    contains
+
+        !> A per-task real quantity as a (omega, curve) grid.
+        pure function grid(x) result(g)
+            !> One value per task.
+            real(wp), intent(in) :: x(:)
+            real(wp), allocatable :: g(:, :)
+
+            g = reshape(x, [nomega, ncurve])
+        end function grid
+
     end subroutine write_bifurcation_file
+
+    !> `/screening`: which runs of each search the screening method answered and which the scene's method confirmed.
+    subroutine write_screening(file, cfg, rec, nomega, ncurve, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> The search records, one per task.
+        type(search_record), intent(in) :: rec(:)
+        !> Frequencies per curve.
+        integer, intent(in) :: nomega
+        !> Curves.
+        integer, intent(in) :: ncurve
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), parameter :: g = "/screening", dims = "curve, omega"
+
+        call h5_create_group(file, g, "Screening of each threshold search: amplitudes far below the threshold are " &
+            // "answered by the screening method, every amplitude the search asked within [band_low, band_high] by " &
+            // "the scene's &numerics method (README, Screening)", error)
+        if (.not. allocated(error)) call h5_write_attr(file, g, "screen_method", trim(cfg%scene%screen_method), error)
+        if (.not. allocated(error)) call h5_write_attr(file, g, "screen_dt", merge(cfg%scene%screen_dt, &
+            cfg%run%numerics%dt, cfg%scene%screen_dt > 0.0_wp), error)
+        if (.not. allocated(error)) call h5_write_attr(file, g, "confirm_band", cfg%scene%confirm_band, error)
+        if (.not. allocated(error)) call h5_write(file, g // "/runs_screened", reshape(rec%runs_screened, &
+            [nomega, ncurve]), "1", "Simulations run by the screening method", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/runs_confirmed", reshape(rec%runs_confirmed, &
+            [nomega, ncurve]), "1", "Simulations run by the scene's method (every verdict near the threshold)", &
+            error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/steps_screened", &
+            int(min(reshape(rec%steps_screened, [nomega, ncurve]), int(huge(1), i8))), "1", &
+            "Time steps of the screening runs", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/steps_confirmed", &
+            int(min(reshape(rec%steps_confirmed, [nomega, ncurve]), int(huge(1), i8))), "1", &
+            "Time steps of the scene method's runs", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/screen_threshold", reshape(rec%screen_threshold, &
+            [nomega, ncurve]), "rad", "Threshold the screening method alone finds; NaN when none or not screened", &
+            error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/band_low", reshape(rec%band_low, [nomega, ncurve]), &
+            "rad", "Lowest amplitude of the confirmation band; NaN when not screened", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/band_high", reshape(rec%band_high, [nomega, ncurve]), &
+            "rad", "Highest amplitude of the confirmation band; NaN when not screened", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/rounds", reshape(rec%rounds, [nomega, ncurve]), "1", &
+            "Searches with the confirmation band (more than 1: the band grew)", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/disagreements", reshape(rec%disagreements, &
+            [nomega, ncurve]), "1", "Amplitudes answered by both methods with different verdicts", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/farthest_disagreement", &
+            reshape(rec%farthest_disagreement, [nomega, ncurve]), "rad", "Largest distance between the threshold " &
+            // "and an amplitude where the two methods disagree (0 when none)", error, dims=dims)
+    end subroutine write_screening
+
+    !> `/certify`: each threshold rechecked with the scene's method at dt/2 (only when `certify` is on).
+    subroutine write_certification(file, cfg, rec, nomega, ncurve, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> The search records, one per task.
+        type(search_record), intent(in) :: rec(:)
+        !> Frequencies per curve.
+        integer, intent(in) :: nomega
+        !> Curves.
+        integer, intent(in) :: ncurve
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), parameter :: g = "/certify", dims = "curve, omega"
+
+        if (.not. cfg%scene%certify) return
+        call h5_create_group(file, g, "Each threshold rechecked with the scene's method at dt/2: the threshold must " &
+            // "transmit and the grid point below it must not; otherwise the dt/2 threshold within one coarse step", &
+            error)
+        if (.not. allocated(error)) call h5_write_attr(file, g, "dt", cfg%run%numerics%dt/2.0_wp, error)
+        if (.not. allocated(error)) call h5_write_attr(file, g, "flagged", count(rec%certify_status >= certify_moved), &
+                                                       error)
+        if (.not. allocated(error)) call h5_write(file, g // "/threshold", reshape(rec%certified_threshold, &
+            [nomega, ncurve]), "rad", "Threshold at dt/2 near the threshold; NaN when not checked or not found", &
+            error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/status", reshape(rec%certify_status, &
+            [nomega, ncurve]), "1", "Outcome of the check (codes in attribute 'codes'); >= 2 is flagged", error, dims=dims)
+        if (.not. allocated(error)) call h5_write_attr(file, g // "/status", "codes", certify_status_codes(), error)
+        if (.not. allocated(error)) call h5_write(file, g // "/runs", reshape(rec%certify_runs, [nomega, ncurve]), &
+            "1", "Simulations at dt/2 run by the check", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/steps", &
+            int(min(reshape(rec%certify_steps, [nomega, ncurve]), int(huge(1), i8))), "1", &
+            "Time steps of those simulations", error, dims=dims)
+    end subroutine write_certification
 
     !> `/parameters`: every input key (`write_parameters`), the coarse step the search used, and
     !> `stop_when_decided` = 1 (every run of the search stops once decided).
@@ -447,6 +698,21 @@ contains
         if (.not. allocated(error)) call h5_write(file, "/curves/band_gap_edge", edge, "1/time", &
             "Upper edge sqrt(1 + m^2) of each curve's band gap", error, dims="curve")
     end subroutine write_curves
+
+    !> A curve's run with another integrator and time step.
+    pure function with_numerics(run, method, dt) result(r)
+        !> The run.
+        type(run_config), intent(in) :: run
+        !> Integrator (`method_*`).
+        integer, intent(in) :: method
+        !> Time step.
+        real(wp), intent(in) :: dt
+        type(run_config) :: r
+
+        r = run
+        r%numerics%method = method
+        r%numerics%dt = dt
+    end function with_numerics
 
     !> A run with its drive frequency set.
     pure function with_omega(run, omega) result(r)

@@ -1,0 +1,287 @@
+!> A threshold search that screens with a cheap oracle and confirms near the threshold with the exact one, so that
+!> it reports what the exact search alone (`find_threshold` with the exact oracle) would report.
+!>
+!> Both oracles answer questions on the search grid A_k = a_min + k resolution. A *hybrid* oracle answers grid point
+!> k with the exact oracle when k lies in the confirmation set, with the cheap one otherwise, and remembers every
+!> answer of each oracle (no point is asked twice of the same oracle). The search:
+!>
+!> 1. runs `find_threshold` with the cheap oracle alone (where a cheap run fails, the exact oracle answers):
+!>    threshold a_c (index k_c). If it finds none or fails, the confirmation set becomes the whole grid: the exact
+!>    search, no saving;
+!> 2. confirmation set = the grid points within `band` of a_c;
+!> 3. runs `find_threshold` with the hybrid oracle: threshold a (index k_a). Every point it asked at or above
+!>    k_a - band/resolution must have been answered by the exact oracle; if one was not, the set grows to cover
+!>    [k_a - band/resolution, highest such point] and step 3 runs again (memoised, so only new points cost).
+!>
+!> It ends with the threshold, the point below it, the coarse hit that bracketed it and every point the search
+!> asked within `band` below it answered by the exact oracle. `find_threshold` is a deterministic function of the
+!> answers it gets, so the result is the exact search's whenever the cheap answers it used (all more than `band`
+!> below the threshold) agree with the exact oracle; the confirmation also walks down, `band` at a time, through
+!> a stretch where the cheap oracle calls transmitting amplitudes quiet. Worst case it is the exact search plus the
+!> screening search. How far from the threshold a cheap answer can be wrong was measured (README, "Screening"); the
+!> report counts the disagreements the search saw (points both oracles answered) and the farthest of them.
+module supratrans_screened_search
+    use, intrinsic :: iso_fortran_env, only: int8
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+    use supratrans_kinds, only: wp, i8
+    use supratrans_threshold, only: verdict_oracle, find_threshold, search_grid_size, search_found, &
+                                    search_at_lower_bound, search_none, search_failed
+    implicit none
+    private
+
+    public :: find_threshold_screened
+
+    !> What a screened search did.
+    type, public :: screen_report
+        !> Questions answered by the cheap (screening) oracle.
+        integer :: runs_screened = 0
+        !> Questions answered by the exact oracle.
+        integer :: runs_confirmed = 0
+        !> Cost of the screening answers (time steps).
+        integer(i8) :: steps_screened = 0_i8
+        !> Cost of the exact answers (time steps).
+        integer(i8) :: steps_confirmed = 0_i8
+        !> Threshold of the screening search alone (NaN when it found none).
+        real(wp) :: screen_threshold = 0.0_wp
+        !> Lowest amplitude of the final confirmation set (NaN when empty).
+        real(wp) :: band_low = 0.0_wp
+        !> Highest amplitude of the final confirmation set (NaN when empty).
+        real(wp) :: band_high = 0.0_wp
+        !> Hybrid searches run (1 when the first confirmation set sufficed).
+        integer :: rounds = 0
+        !> Grid points answered by both oracles with different verdicts.
+        integer :: disagreements = 0
+        !> Largest distance (amplitude) between the threshold and a point of disagreement; 0 when none.
+        real(wp) :: farthest_disagreement = 0.0_wp
+    end type screen_report
+
+    !> Memo values: not asked, quiet, transmitting, failed.
+    integer(int8), parameter :: unknown = 0_int8, quiet = 1_int8, transmitting = 2_int8, failing = 3_int8
+
+    !> The hybrid oracle: exact inside the confirmation set, cheap outside, each answer remembered.
+    type, extends(verdict_oracle) :: hybrid_oracle
+        !> The exact oracle.
+        class(verdict_oracle), pointer :: exact => null()
+        !> The cheap oracle.
+        class(verdict_oracle), pointer :: cheap => null()
+        !> Start of the search grid.
+        real(wp) :: a_min = 0.0_wp
+        !> Step of the search grid.
+        real(wp) :: resolution = 1.0_wp
+        !> Answers of the exact oracle by grid index.
+        integer(int8), allocatable :: exact_memo(:)
+        !> Answers of the cheap oracle by grid index.
+        integer(int8), allocatable :: cheap_memo(:)
+        !> The confirmation set.
+        logical, allocatable :: confirm(:)
+        !> Points of this search that the cheap oracle answered.
+        logical, allocatable :: asked_cheap(:)
+        !> The last answer came from a failed exact run.
+        logical :: last_failed = .false.
+        !> Running counts (see `screen_report`).
+        integer :: runs_screened = 0, runs_confirmed = 0
+        !> Running costs (see `screen_report`).
+        integer(i8) :: steps_screened = 0_i8, steps_confirmed = 0_i8
+    contains
+        !> Answer one grid amplitude.
+        procedure :: transmits => hybrid_transmits
+        !> Whether the last answer failed.
+        procedure :: failed => hybrid_failed
+    end type hybrid_oracle
+
+contains
+
+    !> Find the threshold that `find_threshold(exact, ...)` would find, asking `cheap` wherever the answer is far
+    !> from the threshold (see the module documentation). Arguments as `find_threshold`, plus the oracles' roles,
+    !> the confirmation `band` (amplitude units, >= 0) and the `report`; `runs` and `steps` count real questions.
+    subroutine find_threshold_screened(exact, cheap, a_min, a_max, coarse_step, resolution, band, threshold, runs, &
+                                       steps, status, report)
+        !> The oracle whose answer the search must reproduce.
+        class(verdict_oracle), intent(inout), target :: exact
+        !> The cheap screening oracle.
+        class(verdict_oracle), intent(inout), target :: cheap
+        !> Lower end of the search range.
+        real(wp), intent(in) :: a_min
+        !> Upper end of the search range.
+        real(wp), intent(in) :: a_max
+        !> Step of the coarse upward scan.
+        real(wp), intent(in) :: coarse_step
+        !> Resolution of the threshold.
+        real(wp), intent(in) :: resolution
+        !> Confirmation band (amplitude): answers within it below the threshold come from `exact`.
+        real(wp), intent(in) :: band
+        !> The threshold (NaN when none).
+        real(wp), intent(out) :: threshold
+        !> Questions asked of either oracle.
+        integer, intent(out) :: runs
+        !> Their total cost (time steps).
+        integer(i8), intent(out) :: steps
+        !> Status, as `find_threshold`'s.
+        integer, intent(out) :: status
+        !> What the screening did.
+        type(screen_report), intent(out) :: report
+        type(hybrid_oracle) :: hybrid
+        integer :: kmax, nb, k_c, k_a, lo, hi, k, n_asked
+        integer(i8) :: ignored_steps
+        real(wp) :: nan
+
+        nan = ieee_value(nan, ieee_quiet_nan)
+        report%screen_threshold = nan
+        report%band_low = nan
+        report%band_high = nan
+        kmax = search_grid_size(a_min, a_max, resolution) - 1
+        if (kmax < 0 .or. .not. (coarse_step >= resolution)) then
+            call find_threshold(exact, a_min, a_max, coarse_step, resolution, threshold, runs, steps, status)
+            report%runs_confirmed = runs
+            report%steps_confirmed = steps
+            return
+        end if
+        nb = max(0, floor(band/resolution + 1.0e-9_wp))
+        hybrid%exact => exact
+        hybrid%cheap => cheap
+        hybrid%a_min = a_min
+        hybrid%resolution = resolution
+        allocate (hybrid%exact_memo(0:kmax), hybrid%cheap_memo(0:kmax), hybrid%confirm(0:kmax), &
+                  hybrid%asked_cheap(0:kmax))
+        hybrid%exact_memo = unknown
+        hybrid%cheap_memo = unknown
+        hybrid%confirm = .false.
+
+        ! 1. the screening search alone
+        call search(threshold, status)
+        if (status /= search_failed) report%screen_threshold = threshold
+        if (status == search_found .or. status == search_at_lower_bound) then
+            k_c = grid_index(threshold)
+            hybrid%confirm(max(0, k_c - nb):min(kmax, k_c + nb)) = .true.
+        else
+            hybrid%confirm = .true.
+        end if
+
+        ! 2. hybrid searches until everything near the answer was asked of the exact oracle
+        do
+            report%rounds = report%rounds + 1
+            call search(threshold, status)
+            if (status == search_failed) exit
+            if (status /= search_found .and. status /= search_at_lower_bound) then
+                if (all(hybrid%confirm) .or. .not. any(hybrid%asked_cheap)) exit
+                hybrid%confirm = .true.
+                cycle
+            end if
+            k_a = grid_index(threshold)
+            lo = max(0, k_a - nb)
+            if (.not. any(hybrid%asked_cheap(lo:kmax))) exit
+            hi = k_a
+            do k = kmax, lo, -1
+                if (hybrid%asked_cheap(k)) then
+                    hi = max(k, k_a)
+                    exit
+                end if
+            end do
+            hybrid%confirm(lo:hi) = .true.
+        end do
+        call finish()
+
+    contains
+
+        !> One `find_threshold` with the hybrid oracle as it stands; the oracle's own counts are the real cost.
+        subroutine search(a, st)
+            !> Threshold found.
+            real(wp), intent(out) :: a
+            !> Its status.
+            integer, intent(out) :: st
+
+            hybrid%asked_cheap = .false.
+            hybrid%last_failed = .false.
+            call find_threshold(hybrid, a_min, a_max, coarse_step, resolution, a, n_asked, ignored_steps, st)
+        end subroutine search
+
+        !> Fill the report and the totals.
+        subroutine finish()
+            integer :: kk, k_t
+
+            report%runs_screened = hybrid%runs_screened
+            report%runs_confirmed = hybrid%runs_confirmed
+            report%steps_screened = hybrid%steps_screened
+            report%steps_confirmed = hybrid%steps_confirmed
+            runs = hybrid%runs_screened + hybrid%runs_confirmed
+            steps = hybrid%steps_screened + hybrid%steps_confirmed
+            if (any(hybrid%confirm)) then
+                report%band_low = a_min + real(findloc(hybrid%confirm, .true., dim=1) - 1, wp)*resolution
+                report%band_high = a_min + real(findloc(hybrid%confirm, .true., dim=1, back=.true.) - 1, wp)*resolution
+            end if
+            k_t = -1
+            if (status == search_found .or. status == search_at_lower_bound) k_t = grid_index(threshold)
+            do kk = 0, kmax
+                if (hybrid%exact_memo(kk) == unknown .or. hybrid%cheap_memo(kk) == unknown) cycle
+                if (hybrid%exact_memo(kk) == failing .or. hybrid%cheap_memo(kk) == failing) cycle
+                if (hybrid%exact_memo(kk) == hybrid%cheap_memo(kk)) cycle
+                report%disagreements = report%disagreements + 1
+                if (k_t >= 0) report%farthest_disagreement = max(report%farthest_disagreement, &
+                                                                 real(abs(kk - k_t), wp)*resolution)
+            end do
+        end subroutine finish
+
+        !> Grid index of a grid amplitude.
+        pure function grid_index(a) result(kk)
+            !> Grid amplitude.
+            real(wp), intent(in) :: a
+            integer :: kk
+
+            kk = nint((a - a_min)/resolution)
+        end function grid_index
+
+    end subroutine find_threshold_screened
+
+    !> Answer grid amplitude `amplitude`: the exact oracle inside the confirmation set (or where the cheap one
+    !> failed), the cheap one outside; remembered answers cost nothing.
+    function hybrid_transmits(self, amplitude, cost) result(verdict)
+        !> The hybrid oracle.
+        class(hybrid_oracle), intent(inout) :: self
+        !> Grid amplitude.
+        real(wp), intent(in) :: amplitude
+        !> Cost of this answer (0 when remembered).
+        integer(i8), intent(out) :: cost
+        logical :: verdict
+        integer :: k
+        integer(i8) :: c
+
+        cost = 0_i8
+        k = max(0, min(ubound(self%confirm, 1), nint((amplitude - self%a_min)/self%resolution)))
+        self%last_failed = .false.
+        if (.not. self%confirm(k)) then
+            if (self%cheap_memo(k) == unknown) then
+                verdict = self%cheap%transmits(amplitude, c)
+                cost = cost + c
+                self%runs_screened = self%runs_screened + 1
+                self%steps_screened = self%steps_screened + c
+                self%cheap_memo(k) = merge(transmitting, quiet, verdict)
+                if (self%cheap%failed()) self%cheap_memo(k) = failing
+            end if
+            if (self%cheap_memo(k) /= failing) then
+                self%asked_cheap(k) = .true.
+                verdict = self%cheap_memo(k) == transmitting
+                return
+            end if
+        end if
+        if (self%exact_memo(k) == unknown) then
+            verdict = self%exact%transmits(amplitude, c)
+            cost = cost + c
+            self%runs_confirmed = self%runs_confirmed + 1
+            self%steps_confirmed = self%steps_confirmed + c
+            self%exact_memo(k) = merge(transmitting, quiet, verdict)
+            if (self%exact%failed()) self%exact_memo(k) = failing
+        end if
+        self%last_failed = self%exact_memo(k) == failing
+        verdict = self%exact_memo(k) == transmitting
+    end function hybrid_transmits
+
+    !> Whether the last answer came from a failed exact run.
+    function hybrid_failed(self) result(failed)
+        !> The hybrid oracle.
+        class(hybrid_oracle), intent(in) :: self
+        logical :: failed
+
+        failed = self%last_failed
+    end function hybrid_failed
+
+end module supratrans_screened_search

@@ -1,0 +1,127 @@
+!> The result of one threshold search of the bifurcation scene, as a typed record, and its serialisation by name
+!> (the journal and the part files store a task's record as named values: `search_fields` lists the names).
+module supratrans_search_record
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+    use supratrans_kinds, only: wp, i8
+    implicit none
+    private
+
+    public :: search_fields, to_values, from_values, certify_status_codes
+
+    !> Certification status: not checked (certify off, or no threshold to check).
+    integer, parameter, public :: certify_not_checked = -1
+    !> Certification status: at dt/2 the threshold transmits and the grid point below it does not.
+    integer, parameter, public :: certify_unchanged = 0
+    !> Certification status: at dt/2 the threshold moved by one grid point (not more than the resolution).
+    integer, parameter, public :: certify_moved_within = 1
+    !> Certification status: at dt/2 the threshold moved by more than the resolution (flagged).
+    integer, parameter, public :: certify_moved = 2
+    !> Certification status: no dt/2 threshold within one coarse step of the threshold (flagged).
+    integer, parameter, public :: certify_unresolved = 3
+    !> Certification status: a dt/2 run failed before its verdict (flagged).
+    integer, parameter, public :: certify_failed = 4
+
+    !> One threshold search: what it found, what it cost, how screening and certification went.
+    type, public :: search_record
+        !> The threshold (smallest transmitting grid amplitude); NaN when none.
+        real(wp) :: threshold = 0.0_wp
+        !> Continuum-limit threshold A_s of the curve's chain at this frequency; NaN outside the gap.
+        real(wp) :: threshold_as = 0.0_wp
+        !> Search status (`supratrans_threshold` codes, or the scene's -2 outside gap, -1 pending).
+        integer :: status = 0
+        !> Simulations run (screening + confirming).
+        integer :: runs = 0
+        !> Time steps of those simulations.
+        integer(i8) :: steps = 0_i8
+        !> Wall-clock time of the search (s).
+        real(wp) :: wall_time = 0.0_wp
+        !> Simulations run by the screening method.
+        integer :: runs_screened = 0
+        !> Simulations run by the scene's method.
+        integer :: runs_confirmed = 0
+        !> Time steps of the screening runs.
+        integer(i8) :: steps_screened = 0_i8
+        !> Time steps of the scene method's runs.
+        integer(i8) :: steps_confirmed = 0_i8
+        !> Threshold of the screening search alone; NaN when none (or not screened).
+        real(wp) :: screen_threshold = 0.0_wp
+        !> Lowest amplitude of the confirmation band; NaN when not screened.
+        real(wp) :: band_low = 0.0_wp
+        !> Highest amplitude of the confirmation band; NaN when not screened.
+        real(wp) :: band_high = 0.0_wp
+        !> Hybrid searches run (0 when not screened).
+        integer :: rounds = 0
+        !> Amplitudes that both methods answered, with different verdicts.
+        integer :: disagreements = 0
+        !> Largest distance between the threshold and such an amplitude (0 when none).
+        real(wp) :: farthest_disagreement = 0.0_wp
+        !> Threshold found again at dt/2 near the threshold (certify); NaN when not checked or not found.
+        real(wp) :: certified_threshold = 0.0_wp
+        !> Certification status (`certify_*`).
+        integer :: certify_status = certify_not_checked
+        !> Simulations (at dt/2) run by the certification.
+        integer :: certify_runs = 0
+        !> Their time steps.
+        integer(i8) :: certify_steps = 0_i8
+    end type search_record
+
+    !> Names of the record's fields, in the order of `to_values` (the journal header lists them).
+    character(len=*), parameter :: search_fields(*) = [character(len=21) :: "threshold", "threshold_as", "status", &
+        "runs", "steps", "wall_time", "runs_screened", "runs_confirmed", "steps_screened", "steps_confirmed", &
+        "screen_threshold", "band_low", "band_high", "rounds", "disagreements", "farthest_disagreement", &
+        "certified_threshold", "certify_status", "certify_runs", "certify_steps"]
+
+contains
+
+    !> The record as values in the order of `search_fields` (integers exactly representable).
+    pure function to_values(r) result(values)
+        !> The record.
+        type(search_record), intent(in) :: r
+        real(wp) :: values(size(search_fields))
+
+        values = [r%threshold, r%threshold_as, real(r%status, wp), real(r%runs, wp), real(r%steps, wp), r%wall_time, &
+                  real(r%runs_screened, wp), real(r%runs_confirmed, wp), real(r%steps_screened, wp), &
+                  real(r%steps_confirmed, wp), r%screen_threshold, r%band_low, r%band_high, real(r%rounds, wp), &
+                  real(r%disagreements, wp), r%farthest_disagreement, r%certified_threshold, &
+                  real(r%certify_status, wp), real(r%certify_runs, wp), real(r%certify_steps, wp)]
+    end function to_values
+
+    !> The record from values in the order of `search_fields`.
+    pure function from_values(values) result(r)
+        !> The values.
+        real(wp), intent(in) :: values(:)
+        type(search_record) :: r
+
+        r%threshold = values(1)
+        r%threshold_as = values(2)
+        r%status = nint(values(3))
+        r%runs = nint(values(4))
+        r%steps = nint(values(5), i8)
+        r%wall_time = values(6)
+        r%runs_screened = nint(values(7))
+        r%runs_confirmed = nint(values(8))
+        r%steps_screened = nint(values(9), i8)
+        r%steps_confirmed = nint(values(10), i8)
+        r%screen_threshold = values(11)
+        r%band_low = values(12)
+        r%band_high = values(13)
+        r%rounds = nint(values(14))
+        r%disagreements = nint(values(15))
+        r%farthest_disagreement = values(16)
+        r%certified_threshold = values(17)
+        r%certify_status = nint(values(18))
+        r%certify_runs = nint(values(19))
+        r%certify_steps = nint(values(20), i8)
+    end function from_values
+
+    !> The certification status codes and their meaning, one "code: meaning" clause each, separated by "; ".
+    pure function certify_status_codes() result(text)
+        character(len=:), allocatable :: text
+
+        text = "-1: not checked (certify off, or no threshold); 0: unchanged at dt/2; " &
+               // "1: moved by one grid point at dt/2 (not more than the resolution); " &
+               // "2: moved by more than the resolution at dt/2 (flagged); " &
+               // "3: no dt/2 threshold within one coarse step (flagged); 4: a dt/2 run failed (flagged)"
+    end function certify_status_codes
+
+end module supratrans_search_record
