@@ -6,12 +6,13 @@
 !> answer of each oracle (no point is asked twice of the same oracle). The search:
 !>
 !> 1. runs `find_threshold` with the cheap oracle alone (where a cheap run fails, the exact oracle answers):
-!>    threshold a_c (index k_c). If it finds none or fails, the confirmation set becomes the whole grid: the exact
-!>    search, no saving;
+!>    threshold a_c (index k_c; "none transmits" counts as k_c = k_max + 1, just above the range). If it fails,
+!>    the confirmation set becomes the whole grid: the exact search, no saving;
 !> 2. confirmation set = the grid points within `band` of a_c;
-!> 3. runs `find_threshold` with the hybrid oracle: threshold a (index k_a). Every point it asked at or above
-!>    k_a - band/resolution must have been answered by the exact oracle; if one was not, the set grows to cover
-!>    [k_a - band/resolution, highest such point] and step 3 runs again (memoised, so only new points cost).
+!> 3. runs `find_threshold` with the hybrid oracle: threshold a (index k_a, or k_max + 1 for none). Every point it
+!>    asked at or above k_a - band/resolution must have been answered by the exact oracle; if one was not, the set
+!>    grows to cover [k_a - band/resolution, highest such point] (wider, by doubling, from the third round on) and
+!>    step 3 runs again (memoised, so only new points cost).
 !>
 !> It ends with the threshold, the point below it, the coarse hit that bracketed it and every point the search
 !> asked within `band` below it answered by the exact oracle. `find_threshold` is a deterministic function of the
@@ -121,7 +122,7 @@ contains
         !> What the screening did.
         type(screen_report), intent(out) :: report
         type(hybrid_oracle) :: hybrid
-        integer :: kmax, nb, k_c, k_a, lo, hi, k, n_asked
+        integer :: kmax, nb, k_ref, lo, hi, k, n_asked
         integer(i8) :: ignored_steps
         real(wp) :: nan
 
@@ -147,33 +148,30 @@ contains
         hybrid%cheap_memo = unknown
         hybrid%confirm = .false.
 
-        ! 1. the screening search alone
+        ! 1. the screening search alone; "none transmits" is taken as a threshold just above a_max
         call search(threshold, status)
         if (status /= search_failed) report%screen_threshold = threshold
-        if (status == search_found .or. status == search_at_lower_bound) then
-            k_c = grid_index(threshold)
-            hybrid%confirm(max(0, k_c - nb):min(kmax, k_c + nb)) = .true.
-        else
+        if (status == search_failed) then
             hybrid%confirm = .true.
+        else
+            k_ref = reference_index(threshold, status)
+            hybrid%confirm(max(0, min(kmax, k_ref - nb)):min(kmax, k_ref + nb)) = .true.
         end if
 
-        ! 2. hybrid searches until everything near the answer was asked of the exact oracle
+        ! 2. hybrid searches until everything near the answer was asked of the exact oracle; a band that has to
+        !    grow more than once grows by doubling widths (a long stretch of wrong cheap answers costs few rounds)
         do
             report%rounds = report%rounds + 1
             call search(threshold, status)
             if (status == search_failed) exit
-            if (status /= search_found .and. status /= search_at_lower_bound) then
-                if (all(hybrid%confirm) .or. .not. any(hybrid%asked_cheap)) exit
-                hybrid%confirm = .true.
-                cycle
-            end if
-            k_a = grid_index(threshold)
-            lo = max(0, k_a - nb)
+            k_ref = reference_index(threshold, status)
+            lo = max(0, min(kmax, k_ref - nb))
             if (.not. any(hybrid%asked_cheap(lo:kmax))) exit
-            hi = k_a
+            lo = max(0, min(kmax, k_ref - nb*2**min(20, max(0, report%rounds - 2))))
+            hi = min(kmax, k_ref)
             do k = kmax, lo, -1
                 if (hybrid%asked_cheap(k)) then
-                    hi = max(k, k_a)
+                    hi = max(k, hi)
                     exit
                 end if
             end do
@@ -220,6 +218,18 @@ contains
                                                                  real(abs(kk - k_t), wp)*resolution)
             end do
         end subroutine finish
+
+        !> Grid index the confirmation is centred on: the threshold's, or k_max + 1 when none transmits.
+        pure function reference_index(a, st) result(kk)
+            !> Threshold found.
+            real(wp), intent(in) :: a
+            !> Its status.
+            integer, intent(in) :: st
+            integer :: kk
+
+            kk = kmax + 1
+            if (st == search_found .or. st == search_at_lower_bound) kk = grid_index(a)
+        end function reference_index
 
         !> Grid index of a grid amplitude.
         pure function grid_index(a) result(kk)
