@@ -176,7 +176,8 @@ module supratrans_config
         !> Bifurcation search: integrator that screens amplitudes far from the threshold ('none': every run uses the &numerics
         !> method; README, "Screening") (&scene screen_method).
         character(len=name_len) :: screen_method = "linearized"
-        !> Bifurcation search: time step of the screening runs (0: the &numerics dt) (&scene screen_dt).
+        !> Bifurcation search: time step of the screening runs (0: twice the &numerics dt where that meets the paper's stability
+        !> condition, else dt) (&scene screen_dt).
         real(wp) :: screen_dt = 0.0_wp
         !> Bifurcation search: every amplitude the search asks within this distance below its threshold (and above) is run with the
         !> &numerics method (&scene confirm_band).

@@ -343,9 +343,10 @@ module supratrans_schema
     type(key_spec), parameter :: spec_scene_screen_dt = key_spec( &
         group="scene", key="screen_dt", value_type=kt_real, max_values=1, attribute="screen_dt", units="time", has_min=.true., &
             min=0.0_wp, min_text="0", &
-        default_text="0 (the &numerics dt)", &
+        default_text="0 (2 dt, or dt where 2 dt breaks the stability condition)", &
         range_text=">= 0; 0, or dt <= screen_dt <= t_final/2", &
-        description="Bifurcation search: time step of the screening runs (0: the &numerics dt)")
+        description="Bifurcation search: time step of the screening runs (0: twice the &numerics dt where that meets the pape" // &
+            "r's stability condition, else dt)")
     type(key_spec), parameter :: spec_scene_confirm_band = key_spec( &
         group="scene", key="confirm_band", value_type=kt_real, max_values=1, attribute="confirm_band", units="rad", &
             has_min=.true., min=0.0_wp, min_text="0", &

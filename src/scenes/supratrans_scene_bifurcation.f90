@@ -28,7 +28,7 @@ module supratrans_scene_bifurcation
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config, run_config, method_from_name
     use supratrans_curves, only: curve_count, curve_run, curve_value
-    use supratrans_chain, only: threshold_as, band_gap_edge, detector_site
+    use supratrans_chain, only: threshold_as, band_gap_edge, detector_site, stable_by_paper_condition
     use supratrans_potential, only: potential_name
     use supratrans_simulate, only: simulate, number_of_levels
     use supratrans_result, only: run_result, run_ok, status_name
@@ -148,8 +148,7 @@ contains
             allocate (tasks%screen_runs(ncurve))
             do ic = 1, ncurve
                 tasks%screen_runs(ic) = search_run(with_numerics(curve_run(cfg, ic), &
-                    method_from_name(trim(cfg%scene%screen_method)), merge(cfg%scene%screen_dt, &
-                    cfg%run%numerics%dt, cfg%scene%screen_dt > 0.0_wp)))
+                    method_from_name(trim(cfg%scene%screen_method)), screen_dt(cfg, curve_run(cfg, ic))))
             end do
         end if
         if (cfg%scene%certify) then
@@ -204,7 +203,7 @@ contains
 
         text = ""
         if (trim(cfg%scene%screen_method) /= "none") text = "; screened by " // trim(cfg%scene%screen_method) &
-            // " at dt = " // real_str(merge(cfg%scene%screen_dt, cfg%run%numerics%dt, cfg%scene%screen_dt > 0.0_wp), 6) &
+            // " at dt = " // real_str(screen_dt(cfg, cfg%run), 6) &
             // ", confirmed within " // real_str(cfg%scene%confirm_band, 6)
         if (cfg%scene%certify) text = text // "; certified at dt/2"
     end function screening_text
@@ -577,8 +576,7 @@ contains
             // "answered by the screening method, every amplitude the search asked within [band_low, band_high] by " &
             // "the scene's &numerics method (README, Screening)", error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "screen_method", trim(cfg%scene%screen_method), error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "screen_dt", merge(cfg%scene%screen_dt, &
-            cfg%run%numerics%dt, cfg%scene%screen_dt > 0.0_wp), error)
+        if (.not. allocated(error)) call h5_write_attr(file, g, "screen_dt", screen_dt(cfg, cfg%run), error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "confirm_band", cfg%scene%confirm_band, error)
         if (.not. allocated(error)) call h5_write(file, g // "/runs_screened", reshape(rec%runs_screened, &
             [nomega, ncurve]), "1", "Simulations run by the screening method", error, dims=dims)
@@ -669,11 +667,11 @@ contains
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
         character(len=16), allocatable :: names(:)
-        real(wp), allocatable :: value(:), gamma(:), beta(:), m2(:), edge(:)
+        real(wp), allocatable :: value(:), gamma(:), beta(:), m2(:), edge(:), sdt(:)
         integer :: ic, ncurve
 
         ncurve = size(tasks%runs)
-        allocate (names(ncurve), value(ncurve), gamma(ncurve), beta(ncurve), m2(ncurve), edge(ncurve))
+        allocate (names(ncurve), value(ncurve), gamma(ncurve), beta(ncurve), m2(ncurve), edge(ncurve), sdt(ncurve))
         do ic = 1, ncurve
             names(ic) = potential_name(tasks%runs(ic)%chain%potential)
             gamma(ic) = tasks%runs(ic)%chain%gamma
@@ -681,6 +679,7 @@ contains
             m2(ic) = tasks%runs(ic)%chain%m2
             edge(ic) = band_gap_edge(tasks%runs(ic)%chain)
             value(ic) = curve_value(tasks%cfg, ic)
+            sdt(ic) = screen_dt(tasks%cfg, curve_run(tasks%cfg, ic))
         end do
         call h5_create_group(file, "/curves", "One curve per potential and value of the varied parameter", error)
         if (.not. allocated(error)) call h5_write_attr(file, "/curves", "vary", trim(tasks%cfg%scene%vary), error)
@@ -697,7 +696,24 @@ contains
             "Mass term m^2 of each curve", error, dims="curve")
         if (.not. allocated(error)) call h5_write(file, "/curves/band_gap_edge", edge, "1/time", &
             "Upper edge sqrt(1 + m^2) of each curve's band gap", error, dims="curve")
+        if (.not. allocated(error) .and. trim(tasks%cfg%scene%screen_method) /= "none") call h5_write(file, &
+            "/curves/screen_dt", sdt, "time", "Time step of each curve's screening runs (/screening)", error, dims="curve")
     end subroutine write_curves
+
+    !> Time step of the screening runs of `run`: `screen_dt`, or when it is 0, twice the run's dt where that meets
+    !> the paper's stability condition for the run's chain, else the run's dt.
+    pure function screen_dt(cfg, run) result(dt)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> The run screened (a curve's run).
+        type(run_config), intent(in) :: run
+        real(wp) :: dt
+
+        dt = cfg%scene%screen_dt
+        if (dt > 0.0_wp) return
+        dt = run%numerics%dt
+        if (stable_by_paper_condition(run%chain, 2.0_wp*dt) .and. 2.0_wp*dt <= run%numerics%t_final/2.0_wp) dt = 2.0_wp*dt
+    end function screen_dt
 
     !> A curve's run with another integrator and time step.
     pure function with_numerics(run, method, dt) result(r)
