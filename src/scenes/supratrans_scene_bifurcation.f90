@@ -168,7 +168,7 @@ contains
                 // real_str(cfg%scene%resolution, 6) // ")" // trim(screening_text(cfg))
         end if
 
-        call run_tasks(tasks, ncurve*nomega, size(search_fields), journal, input_fingerprint(cfg), &
+        call run_tasks(tasks, ncurve*nomega, search_fields, journal, input_fingerprint(cfg), &
                        "threshold searches", cfg%output%quiet, results, done, error, cfg)
         if (allocated(error) .or. engine_only(cfg)) return
 

@@ -59,9 +59,16 @@ module supratrans_scene_stability
     public :: run_stability, linear_stability_dt, rk_spectrum_dt, chain_spectrum, stability_polynomial
     public :: default_stability_dts, run_is_stable
 
-    !> Values a task returns: grid task (status, max |u|, t_end, 0); bisection task (largest stable dt, smallest
-    !> unstable dt, runs made, status of the smallest unstable run).
-    integer, parameter :: nvalues = 4
+    !> Positions of a task's values. A bisection task fills the largest stable dt, the smallest unstable dt, the runs
+    !> it made and the status of the smallest unstable run; a grid task its run's status, max |u| and end time; the
+    !> other kind's values are 0.
+    integer, parameter :: s_dt_stable = 1, s_dt_unstable = 2, s_bisection_runs = 3, s_unstable_status = 4, &
+                          s_status = 5, s_max_abs_u = 6, s_t_end = 7
+    !> Number of values per task.
+    integer, parameter :: nvalues = 7
+    !> Names of a task's values in the order of their positions (the journal stores them by these names).
+    character(len=*), parameter :: value_names(nvalues) = [character(len=15) :: "dt_stable", "dt_unstable", &
+        "bisection_runs", "unstable_status", "status", "max_abs_u", "t_end"]
 
     !> Bisection gives up widening its bracket after this many factors of 1.5.
     integer, parameter :: max_widen = 12
@@ -168,7 +175,7 @@ contains
         nbis = ncurve*nm*nc
         ntask = nbis + ncurve*nm*nc*ndt
         journal = trim(cfg%output%file) // ".journal"
-        call run_tasks(tasks, ntask, nvalues, journal, input_fingerprint(cfg), "stability runs and bisections", &
+        call run_tasks(tasks, ntask, value_names, journal, input_fingerprint(cfg), "stability runs and bisections", &
                        cfg%output%quiet, results, done, error, cfg)
         if (allocated(error) .or. engine_only(cfg)) return
         call write_stability(cfg, tasks, results, linear, paper, rk4_limit, rk4_undamped, error)
@@ -183,7 +190,7 @@ contains
         class(stability_tasks), intent(in) :: self
         !> Task index.
         integer, intent(in) :: index
-        !> Grid: status, max |u|, t_end, 0. Bisection: stable dt, unstable dt, runs, status at the unstable dt.
+        !> The task's values (positions `s_*`).
         real(wp), intent(out) :: values(:)
         type(run_config) :: run
         type(run_result) :: res
@@ -225,7 +232,7 @@ contains
                 hi = 1.5_wp*hi
             end do
             if (stable) then
-                values = [lo, nan, real(runs, wp), real(run_ok, wp)]
+                call bisection_values(lo, nan, runs, run_ok)
                 return
             end if
             if (.not. found_stable) then
@@ -238,7 +245,7 @@ contains
                     lo = lo/1.5_wp
                 end do
                 if (.not. stable) then
-                    values = [nan, hi, real(runs, wp), real(status_hi, wp)]
+                    call bisection_values(nan, hi, runs, status_hi)
                     return
                 end if
             end if
@@ -252,7 +259,7 @@ contains
                     status_hi = status
                 end if
             end do
-            values = [lo, hi, real(runs, wp), real(status_hi, wp)]
+            call bisection_values(lo, hi, runs, status_hi)
         else
             i = index - nbis - 1
             idt = mod(i, ndt) + 1
@@ -264,10 +271,23 @@ contains
             run%numerics%method = self%methods(im)
             run%numerics%dt = self%dts(idt)
             call simulate(run, res)
-            values = [real(res%status, wp), res%max_abs_u, res%t_end, 0.0_wp]
+            values(s_status) = real(res%status, wp)
+            values(s_max_abs_u) = res%max_abs_u
+            values(s_t_end) = res%t_end
         end if
 
     contains
+
+        !> The values of a bisection task.
+        subroutine bisection_values(dt_stable, dt_unstable, nruns, unstable_status)
+            real(wp), intent(in) :: dt_stable, dt_unstable
+            integer, intent(in) :: nruns, unstable_status
+
+            values(s_dt_stable) = dt_stable
+            values(s_dt_unstable) = dt_unstable
+            values(s_bisection_runs) = real(nruns, wp)
+            values(s_unstable_status) = real(unstable_status, wp)
+        end subroutine bisection_values
 
         !> One run at step dt: is it stable?
         subroutine try(dt, stable, status)
@@ -462,9 +482,9 @@ contains
             do im = 1, nm
                 do ic = 1, nc
                     itask = ic + nc*((im - 1) + nm*(icurve - 1))
-                    observed(ic, im, icurve) = results(1, itask)
-                    observed_hi(ic, im, icurve) = results(2, itask)
-                    runs(ic, im, icurve) = results(3, itask)
+                    observed(ic, im, icurve) = results(s_dt_stable, itask)
+                    observed_hi(ic, im, icurve) = results(s_dt_unstable, itask)
+                    runs(ic, im, icurve) = results(s_bisection_runs, itask)
                 end do
             end do
         end do
@@ -500,9 +520,9 @@ contains
                     ok = .true.
                     do idt = 1, ndt
                         itask = nbis + idt + ndt*((ic - 1) + nc*((im - 1) + nm*(icurve - 1)))
-                        status = results(1, itask)
+                        status = results(s_status, itask)
                         verdict(idt, ic, icurve) = nint(status)
-                        umax(idt, ic, icurve) = results(2, itask)
+                        umax(idt, ic, icurve) = results(s_max_abs_u, itask)
                         ! the grid agrees with the bisection: stable at or below the stable dt, unstable at or above
                         ! the unstable one
                         if (tasks%dts(idt) <= observed(ic, im, icurve) .and. nint(status) /= run_ok) ok = .false.

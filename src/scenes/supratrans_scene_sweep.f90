@@ -48,7 +48,7 @@ module supratrans_scene_sweep
     implicit none
     private
 
-    public :: run_amplitude_sweep
+    public :: run_value_names, run_amplitude_sweep
     public :: sweep_tasks, init_sweep_tasks, run_grid_scene, write_common_axes, write_grid_file
     public :: axis_grid, run_values, not_run_values, journal_path, partial_path, status_codes_text
 
@@ -201,6 +201,18 @@ module supratrans_scene_sweep
 
 contains
 
+    !> Names of a run's values, position `iv_*` holding the value of the dataset `fields(:)%name` (its last path
+    !> component: "injected", "status", ...): the journal stores a task's values under these names.
+    pure function run_value_names() result(names)
+        character(len=32) :: names(n_run_values)
+        integer :: i
+
+        names = ""
+        do i = 1, size(fields)
+            names(fields(i)%iv) = fields(i)%name(index(fields(i)%name, "/", back=.true.) + 1:)
+        end do
+    end function run_value_names
+
     !> Run the scene `amplitude_sweep` described by `cfg` and write `cfg%output%file` (layout in README.md,
     !> "Output"): for each curve (`curve_run`) and each amplitude of the &scene axis amplitude_min..amplitude_max
     !> by amplitude_step, one full run at the &drive frequency. Resumes from `<file>.journal` if a killed sweep
@@ -301,7 +313,7 @@ contains
             flush (error_unit)
         end if
 
-        call run_tasks(tasks, tasks%task_count(), n_run_values, journal_path(tasks%cfg), &
+        call run_tasks(tasks, tasks%task_count(), run_value_names(), journal_path(tasks%cfg), &
                        input_fingerprint(tasks%cfg), "runs", tasks%cfg%output%quiet, results, done, error, tasks%cfg)
         if (allocated(error) .or. engine_only(tasks%cfg)) return
         if (.not. all(done)) then

@@ -68,9 +68,15 @@ module supratrans_scene_workprec
     !> The fitted orders use at most this many of the smallest time steps.
     integer, parameter :: order_fit_points = 4
 
-    !> Values each task returns: status, median and minimum wall time, injected energy, relative error of the
+    !> Positions of a task's values: status, median and minimum wall time, injected energy, relative error of the
     !> injected energy, error in u at the probe, ledger drift, steps, right-hand sides / solves, max |u|.
+    integer, parameter :: w_status = 1, w_wall_time = 2, w_wall_time_min = 3, w_injected = 4, w_error_energy = 5, &
+                          w_error_u = 6, w_ledger_drift = 7, w_steps = 8, w_rhs_evaluations = 9, w_max_abs_u = 10
+    !> Number of values per task.
     integer, parameter :: nvalues = 10
+    !> Names of a task's values in the order of their positions (the journal stores them by these names).
+    character(len=*), parameter :: value_names(nvalues) = [character(len=15) :: "status", "wall_time", &
+        "wall_time_min", "injected", "error_energy", "error_u", "ledger_drift", "steps", "rhs_evaluations", "max_abs_u"]
 
     !> The reference solution of one amplitude: the fine run's records at every level j h, j = 0..M.
     type :: reference_data
@@ -166,7 +172,7 @@ contains
 
         ntask = size(tasks%amplitudes)*size(tasks%methods)*size(tasks%dts)
         journal = trim(cfg%output%file) // ".journal"
-        call run_tasks(tasks, ntask, nvalues, journal, input_fingerprint(cfg), "timed runs (one at a time)", &
+        call run_tasks(tasks, ntask, value_names, journal, input_fingerprint(cfg), "timed runs (one at a time)", &
                        cfg%output%quiet, results, done, error, cfg)
         if (allocated(error) .or. engine_only(cfg)) return
 
@@ -342,7 +348,7 @@ contains
         values = nan
         dt = self%dts(idt)
         if (dt < self%dt_smallest(im)*(1.0_wp - 1.0e-12_wp)) then
-            values(1) = real(status_not_run, wp)
+            values(w_status) = real(status_not_run, wp)
             return
         end if
 
@@ -363,15 +369,15 @@ contains
         status = res%status
         drift = abs(res%ledger%residual)/max(res%ledger%energy_scale, tiny(1.0_wp))
         if (status == run_ok .and. .not. (drift <= drift_limit)) status = run_diverged
-        values(1) = real(status, wp)
-        values(8) = real(res%steps, wp)
-        values(9) = real(res%tridiagonal_solves + res%rhs_evaluations, wp)   ! newton: = its Newton iterations
-        values(10) = res%max_abs_u
+        values(w_status) = real(status, wp)
+        values(w_steps) = real(res%steps, wp)
+        values(w_rhs_evaluations) = real(res%tridiagonal_solves + res%rhs_evaluations, wp)   ! newton: = its Newton iterations
+        values(w_max_abs_u) = res%max_abs_u
         if (status /= run_ok) return
 
-        values(2) = median(times)
-        values(3) = minval(times)
-        values(4) = res%ledger%injected
+        values(w_wall_time) = median(times)
+        values(w_wall_time_min) = minval(times)
+        values(w_injected) = res%ledger%injected
         ! the reference's energy over the window the method's ledger covers
         if (run%numerics%method == method_newton .or. run%numerics%method == method_linearized) then
             t_lo = 0.5_wp*dt
@@ -382,15 +388,15 @@ contains
         end if
         associate (ref => self%refs(ia))
             e_ref = interpolate(ref%injected, ref%h, t_hi) - interpolate(ref%injected, ref%h, t_lo)
-            values(5) = abs(res%ledger%injected - e_ref)/abs(ref%injected_final)
+            values(w_error_energy) = abs(res%ledger%injected - e_ref)/abs(ref%injected_final)
             err_u = 0.0_wp
             do i = 1, res%n_probe_samples
                 if (res%probe_time(i) < res%t_end - self%window - 1.0e-9_wp) cycle
                 err_u = max(err_u, abs(res%probe_u(i, 1) - interpolate(ref%u, ref%h, res%probe_time(i))))
             end do
-            values(6) = err_u
+            values(w_error_u) = err_u
         end associate
-        values(7) = drift
+        values(w_ledger_drift) = drift
     end subroutine run_workprec_task
 
     !> Value at time t of a series sampled at t_j = j h, j = 0..M (`samples(1)` is t = 0): the sample itself on a
@@ -591,7 +597,7 @@ contains
         do im = 1, nm
             names(im) = method_name(tasks%methods(im))
             do idt = 1, ndt
-                if (nint(grid(idt, im, 1, 1)) == status_not_run) then
+                if (nint(grid(idt, im, 1, w_status)) == status_not_run) then
                     dt(idt, im) = nan
                     steps(idt, im) = nan
                 else
@@ -605,12 +611,12 @@ contains
                 per_step = real(method_stages(tasks%methods(im)), wp)*t_sine
             end if
             do ia = 1, namp
-                order_e(im, ia) = fitted_order(dt(:, im), grid(:, im, ia, 5), &
+                order_e(im, ia) = fitted_order(dt(:, im), grid(:, im, ia, w_error_energy), &
                                                max(tasks%refs(ia)%error_energy, 1.0e-13_wp))
-                order_u(im, ia) = fitted_order(dt(:, im), grid(:, im, ia, 6)/tasks%refs(ia)%u_scale, &
+                order_u(im, ia) = fitted_order(dt(:, im), grid(:, im, ia, w_error_u)/tasks%refs(ia)%u_scale, &
                                                max(tasks%refs(ia)%error_u/tasks%refs(ia)%u_scale, 1.0e-13_wp))
                 lb(:, im, ia) = steps(:, im)*per_step
-                ratio(:, im, ia) = grid(:, im, ia, 2)/lb(:, im, ia)
+                ratio(:, im, ia) = grid(:, im, ia, w_wall_time)/lb(:, im, ia)
             end do
         end do
 
@@ -639,26 +645,26 @@ contains
                                                   dims="method, dt")
         if (.not. allocated(error)) call h5_write(file, "/steps", steps, "1", "Steps M = nint(T/dt) of each run", &
                                                   error, dims="method, dt")
-        if (.not. allocated(error)) call h5_write(file, "/status", nint(grid(:, :, :, 1)), "1", &
+        if (.not. allocated(error)) call h5_write(file, "/status", nint(grid(:, :, :, w_status)), "1", &
             "Outcome: -1 not run, 0 ok, 1 diverged, 2 newton_failed, 3 solver_failed (measured values are NaN " &
             // "unless 0)", error, dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/wall_time", grid(:, :, :, 2), "s", &
+        if (.not. allocated(error)) call h5_write(file, "/wall_time", grid(:, :, :, w_wall_time), "s", &
             "Median wall time of the run over `repeats` timed runs (one at a time)", error, dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/wall_time_min", grid(:, :, :, 3), "s", &
+        if (.not. allocated(error)) call h5_write(file, "/wall_time_min", grid(:, :, :, w_wall_time_min), "s", &
             "Shortest wall time of the run over `repeats` timed runs", error, dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/injected", grid(:, :, :, 4), "energy", &
+        if (.not. allocated(error)) call h5_write(file, "/injected", grid(:, :, :, w_injected), "energy", &
             "Injected energy of the run (newton, linearized: over [dt/2, T - dt/2]; RK: over [0, T])", error, &
             dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/error_energy", grid(:, :, :, 5), "1", &
+        if (.not. allocated(error)) call h5_write(file, "/error_energy", grid(:, :, :, w_error_energy), "1", &
             "|injected - reference's injected over the same window| / reference's injected at T", error, dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/error_u", grid(:, :, :, 6), "rad", &
+        if (.not. allocated(error)) call h5_write(file, "/error_u", grid(:, :, :, w_error_u), "rad", &
             "max |u - u_ref| at the probe over the run's samples in the last drive period", error, dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/ledger_drift", grid(:, :, :, 7), "1", &
+        if (.not. allocated(error)) call h5_write(file, "/ledger_drift", grid(:, :, :, w_ledger_drift), "1", &
             "|E(T) - E(0) - (injected - dissipated)| / energy scale at the end of the run", error, dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/rhs_evaluations", grid(:, :, :, 9), "1", &
+        if (.not. allocated(error)) call h5_write(file, "/rhs_evaluations", grid(:, :, :, w_rhs_evaluations), "1", &
             "Newton iterations (newton), tridiagonal solves (linearized), right-hand sides (RK) of the run", error, &
             dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/max_abs_u", grid(:, :, :, 10), "rad", &
+        if (.not. allocated(error)) call h5_write(file, "/max_abs_u", grid(:, :, :, w_max_abs_u), "rad", &
             "Largest |u_n| of the run (also for runs that diverged)", error, dims=dims3)
         if (.not. allocated(error)) call h5_write(file, "/order_energy", order_e, "1", &
             "Fitted order: least-squares slope of log(error_energy) vs log(dt) over the (at most 4) smallest dt, " &

@@ -1,12 +1,14 @@
 !> The journal of a scene: one line per finished task, each proven whole and unaltered.
 !>
-!> The first line is the header `supratrans-journal 2 <tasks> <values per task> <fingerprint of the input>`. Every
-!> other line is `<task> <v_1> ... <v_m> *<crc>`: the task index, its m values with 17 significant digits (an exact
-!> round trip of IEEE doubles) and the CRC-32 (IEEE 802.3 polynomial, as zlib computes it) of everything before the
-!> ` *`, in 8 hexadecimal digits. A line is accepted only if its checksum matches and it holds exactly m + 1
-!> numbers that read without error; any other line (cut short by a kill, altered on disk, garbage) is dropped and
-!> its task computed again. An empty journal is no journal (the run starts afresh); a journal whose header belongs to
-!> another input or scene is refused.
+!> The first line is the header `supratrans-journal 3 <tasks> <fingerprint of the input> <name_1> ... <name_m>`:
+!> the names of the m fields of a task's record, in the order the lines hold them. Every other line is
+!> `<task> <v_1> ... <v_m> *<crc>`: the task index, its m values with 17 significant digits (an exact round trip of
+!> IEEE doubles) and the CRC-32 (IEEE 802.3 polynomial, as zlib computes it) of everything before the ` *`, in 8
+!> hexadecimal digits. A line is accepted only if its checksum matches and it holds exactly m + 1 numbers that read
+!> without error; any other line (cut short by a kill, altered on disk, garbage) is dropped and its task computed
+!> again. Records are read by name: a journal that holds the fields in another order is read in the reader's order;
+!> one that lacks a field the reader needs, or has one it does not know, is refused, as is one of another input.
+!> An empty journal is no journal (the run starts afresh).
 module supratrans_journal
     use, intrinsic :: iso_fortran_env, only: int64
     use supratrans_kinds, only: wp
@@ -23,18 +25,86 @@ module supratrans_journal
 
 contains
 
-    !> The header line of a journal of `ntask` tasks of `nvalues` values for the input `fingerprint`.
-    pure function journal_header(ntask, nvalues, fingerprint) result(header)
+    !> The header line of a journal of `ntask` tasks whose records have the fields `fields`, for the input
+    !> `fingerprint`.
+    pure function journal_header(ntask, fields, fingerprint) result(header)
         !> Number of tasks of the scene.
         integer, intent(in) :: ntask
-        !> Values per task.
-        integer, intent(in) :: nvalues
+        !> Names of a record's fields (no blanks inside a name), in the order of the values.
+        character(len=*), intent(in) :: fields(:)
         !> Fingerprint of the input.
         character(len=*), intent(in) :: fingerprint
         character(len=:), allocatable :: header
+        integer :: i
 
-        header = "supratrans-journal 2 " // int_str(ntask) // " " // int_str(nvalues) // " " // fingerprint
+        header = "supratrans-journal 3 " // int_str(ntask) // " " // fingerprint
+        do i = 1, size(fields)
+            header = header // " " // trim(fields(i))
+        end do
     end function journal_header
+
+    !> Match a journal's header against the one expected: same version, tasks and fingerprint, and the same field
+    !> names in any order. `column(i)` is the position in the journal's lines of the expected field i.
+    pure subroutine match_header(line, expected, column, same_input, ok)
+        !> The header read.
+        character(len=*), intent(in) :: line
+        !> The header expected (`journal_header`).
+        character(len=*), intent(in) :: expected
+        !> Column of each expected field in the journal (allocated when `ok`).
+        integer, allocatable, intent(out) :: column(:)
+        !> The version, task count and fingerprint agree.
+        logical, intent(out) :: same_input
+        !> The fields agree too (as a set).
+        logical, intent(out) :: ok
+        character(len=:), allocatable :: got(:), want(:)
+        integer :: i, j
+
+        ok = .false.
+        call split_words(line, got)
+        call split_words(expected, want)
+        same_input = size(got) >= 4 .and. size(want) >= 4
+        if (same_input) same_input = all(got(1:4) == want(1:4))
+        if (.not. same_input .or. size(got) /= size(want)) return
+        allocate (column(size(want) - 4))
+        do i = 5, size(want)
+            column(i - 4) = 0
+            do j = 5, size(got)
+                if (got(j) == want(i)) column(i - 4) = j - 4
+            end do
+            if (column(i - 4) == 0) return
+        end do
+        ok = .true.
+    end subroutine match_header
+
+    !> The blank-separated words of a line.
+    pure subroutine split_words(line, words)
+        !> The line.
+        character(len=*), intent(in) :: line
+        !> Its words (padded to the longest).
+        character(len=:), allocatable, intent(out) :: words(:)
+        integer :: i, n, start, longest, pass
+
+        do pass = 1, 2
+            n = 0
+            longest = 1
+            i = 1
+            do while (i <= len(line))
+                if (line(i:i) == " ") then
+                    i = i + 1
+                    cycle
+                end if
+                start = i
+                do while (i <= len(line))
+                    if (line(i:i) == " ") exit
+                    i = i + 1
+                end do
+                n = n + 1
+                longest = max(longest, i - start)
+                if (pass == 2) words(n) = line(start:i - 1)
+            end do
+            if (pass == 1) allocate (character(len=longest) :: words(n))
+        end do
+    end subroutine split_words
 
     !> The journal line of task `index` with its `values`, checksum included (thread-safe: fixed-length buffers).
     function journal_line(index, values) result(line)
@@ -113,8 +183,9 @@ contains
         integer, intent(out) :: dropped
         !> Error: unreadable, or the journal of another input.
         type(error_type), allocatable, intent(out) :: error
-        logical :: exists, ok
+        logical :: exists, ok, same_input
         integer :: unit, ios, task
+        integer, allocatable :: column(:)
         character(len=:), allocatable :: line
         real(wp), allocatable :: values(:)
 
@@ -128,9 +199,15 @@ contains
             return
         end if
         call read_line(unit, line, ios)
-        if (ios /= 0 .or. line /= header) then
+        ok = .false.
+        same_input = .false.
+        if (ios == 0) call match_header(line, header, column, same_input, ok)
+        if (.not. ok) then
             close (unit)
-            if (ios == 0 .and. index(line, "supratrans-journal ") == 1) then
+            if (same_input) then
+                call fatal_error(error, journal // ": journal of another version of supratrans (its records have " &
+                                 // "other fields; delete it to start afresh)", err_io)
+            else if (ios == 0 .and. index(line, "supratrans-journal ") == 1) then
                 call fatal_error(error, journal // ": journal of a different input or scene (delete it to start " &
                                  // "afresh, or restore the input it was made with)", err_io)
             else
@@ -148,7 +225,7 @@ contains
                 dropped = dropped + 1
                 cycle
             end if
-            results(:, task) = values
+            results(:, task) = values(column)
             done(task) = .true.
         end do
         close (unit)

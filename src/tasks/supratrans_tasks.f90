@@ -68,13 +68,13 @@ contains
     !> partial snapshot of what the journal holds. A stop signal (SIGTERM, SIGINT, SIGUSR1: see
     !> `supratrans_system`) hands out no new task: the tasks running finish and are journaled, a snapshot is
     !> written, and `error` says so with status `err_interrupted`.
-    subroutine run_tasks(tasks, ntask, nvalues, journal, fingerprint, label, quiet, results, done, error, cfg)
+    subroutine run_tasks(tasks, ntask, fields, journal, fingerprint, label, quiet, results, done, error, cfg)
         !> The tasks.
         class(task_list), intent(in) :: tasks
         !> Number of tasks.
         integer, intent(in) :: ntask
-        !> Number of values each task produces.
-        integer, intent(in) :: nvalues
+        !> Names of the fields of a task's record (`values` holds them in this order; the journal names them).
+        character(len=*), intent(in) :: fields(:)
         !> Journal file (created, or resumed from).
         character(len=*), intent(in) :: journal
         !> Identifies the input the journal belongs to.
@@ -94,13 +94,14 @@ contains
         character(len=:), allocatable :: header
         real(wp), allocatable :: values(:)
         logical, allocatable :: mine(:)
-        integer :: i, ndone_start, ndone, ntodo, ios, threads, dropped, slice_index, slice_count
+        integer :: nvalues, i, ndone_start, ndone, ntodo, ios, threads, dropped, slice_index, slice_count
         integer(int64) :: clock_start, clock_rate, clock_now
         real(wp) :: last_progress, last_snapshot, elapsed
         logical :: snapshot_only, write_failed, written
         integer :: stop_after
         character(len=16) :: knob
 
+        nvalues = size(fields)
         slice_index = 0
         slice_count = 0
         snapshot_only = .false.
@@ -114,7 +115,7 @@ contains
         done = .false.
         mine = .true.
         if (slice_count > 0) mine = [(mod(i - 1, slice_count) + 1 == slice_index, i = 1, ntask)]
-        header = journal_header(ntask, nvalues, fingerprint)
+        header = journal_header(ntask, fields, fingerprint)
         call read_journal(journal, header, results, done, dropped, error)
         if (allocated(error)) return
         if (snapshot_only) then
