@@ -5,27 +5,21 @@ module supratrans_result
     use supratrans_ledger, only: ledger_type
     use supratrans_config, only: detect_params, record_params
     use supratrans_strings, only: int_fixed, real_fixed
+    use supratrans_status, only: run_ok => status_ok, run_diverged => status_diverged, &
+                                 run_newton_failed => status_newton_failed, run_solver_failed => status_solver_failed, &
+                                 run_invalid => status_invalid, status_name => run_status_name
     implicit none
     private
 
-    public :: status_name, init_records, record_ledger, record_probes, observe_ramp, check_blowup, observe_detector, &
+    !> The run statuses (`supratrans_status`, under the names the run engine uses) and their names.
+    public :: run_ok, run_diverged, run_newton_failed, run_solver_failed, run_invalid, status_name
+    public :: init_records, record_ledger, record_probes, observe_ramp, check_blowup, observe_detector, &
               observe_early_stop, close_verdict
 
-    !> The run reached its final time (or was stopped early with its outcome decided).
-    integer, parameter, public :: run_ok = 0
     !> A verdict whose margin (`verdict_margin`, relative to the detect amplitude) is below this is flagged thin:
     !> below threshold |u| beyond the detector stays under 0.8 pi, above it passes 1.2 pi, everywhere the
     !> criterion was measured to be clear (README, "Classification").
     real(wp), parameter, public :: thin_margin = 0.2_wp
-    !> The solution blew up: non-finite values or |u_n| above the blow-up threshold.
-    integer, parameter, public :: run_diverged = 1
-    !> Newton's method did not converge within its iteration cap.
-    integer, parameter, public :: run_newton_failed = 2
-    !> The linear solver failed (singular tridiagonal matrix) or produced non-finite values.
-    integer, parameter, public :: run_solver_failed = 3
-    !> The run could not start: its description is not runnable (unknown method or potential, a number of time
-    !> steps that is not finite or too large, records too large). No step was taken; `reason` says why.
-    integer, parameter, public :: run_invalid = 4
 
     !> Result of one run.
     type, public :: run_result
@@ -99,27 +93,6 @@ module supratrans_result
 
 contains
 
-    !> Name of a run status, as written to output files.
-    pure function status_name(status) result(name)
-        !> Run status.
-        integer, intent(in) :: status
-        character(len=:), allocatable :: name
-
-        select case (status)
-        case (run_ok)
-            name = "ok"
-        case (run_diverged)
-            name = "diverged"
-        case (run_newton_failed)
-            name = "newton_failed"
-        case (run_solver_failed)
-            name = "solver_failed"
-        case (run_invalid)
-            name = "invalid"
-        case default
-            name = "unknown"
-        end select
-    end function status_name
 
     !> Append the current state of the run's ledger (`result%ledger`) to the records (ignored when they are full).
     pure subroutine record_ledger(result, t)

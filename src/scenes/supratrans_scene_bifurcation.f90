@@ -35,6 +35,7 @@ module supratrans_scene_bifurcation
     use supratrans_threshold, only: verdict_oracle, find_threshold, effective_coarse_step, search_grid_size, &
                                     search_status_codes, search_found
     use supratrans_screened_search, only: find_threshold_screened, screen_report
+    use supratrans_status, only: bifurcation_outside_gap => status_outside_gap, bifurcation_pending => status_not_run
     use supratrans_search_record, only: search_record, search_fields, to_values, from_values, certify_status_codes, &
                                         certify_not_checked, certify_unchanged, certify_moved_within, certify_moved, &
                                         certify_unresolved, certify_failed
@@ -48,12 +49,9 @@ module supratrans_scene_bifurcation
 
     public :: run_bifurcation, bifurcation_omegas
 
-    !> Status of a task whose frequency lies outside the curve's band gap (not searched; threshold NaN); the same
-    !> code as the sweep and map scenes. The codes >= 0 are those of `supratrans_threshold` (0 found, 1 at lower
-    !> bound, 2 none transmits, 3 run failed, 4 bad arguments).
-    integer, parameter, public :: bifurcation_outside_gap = -2
-    !> Status of a task not computed yet (partial files only); the same code as the sweep and map scenes.
-    integer, parameter, public :: bifurcation_pending = -1
+    !> Status of a task whose frequency lies outside the curve's band gap (not searched; threshold NaN), and of a
+    !> task not computed yet (partial files): the task codes of `supratrans_status`, shared by every scene.
+    public :: bifurcation_outside_gap, bifurcation_pending
 
     !> Oracle of the search: one simulation of `run` at the amplitude asked, stopped as soon as it transmits.
     !> `transmits` runs inside OpenMP threads and builds no text (gfortran 12 keeps the lengths of deferred-length

@@ -47,6 +47,7 @@ module supratrans_scene_stability
     use supratrans_curves, only: curve_count, curve_run, curve_value
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok
+    use supratrans_status, only: run_status_codes
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
@@ -499,7 +500,7 @@ contains
         if (.not. allocated(error)) call h5_write_attr(file, "/scene", "stable_means", "the run reaches T with " &
             // "every |u_n| <= blowup_threshold (status ok)", error)
         if (.not. allocated(error)) call h5_write_attr(file, "/scene", "status_codes", &
-            "0 stable (ok), 1 diverged, 2 newton_failed, 3 solver_failed", error)
+            "stable means 0 ok; " // run_status_codes(outside_gap=.false., not_run=.false.), error)
         do im = 1, nm
             names(im) = method_name(tasks%methods(im))
         end do

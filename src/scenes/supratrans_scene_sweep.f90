@@ -40,6 +40,7 @@ module supratrans_scene_sweep
     use supratrans_chain, only: band_gap_edge, threshold_as
     use supratrans_simulate, only: simulate, number_of_levels
     use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed, status_name
+    use supratrans_status, only: status_not_run, status_outside_gap, run_status_codes
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
@@ -97,10 +98,9 @@ module supratrans_scene_sweep
     !> Number of values a task produces (the columns of the journal).
     integer, parameter, public :: n_run_values = 21
 
-    !> Status of a run not computed (yet): runs missing from a partial file.
-    integer, parameter, public :: status_not_run = -1
-    !> Status of a grid point not run because its driving frequency lies outside the curve's band gap.
-    integer, parameter, public :: status_outside_gap = -2
+    !> Status of a run not computed (yet), and of a grid point outside the curve's band gap: the task codes of
+    !> `supratrans_status`, shared by every scene.
+    public :: status_not_run, status_outside_gap
 
     !> Slack of the end point of an axis: `first + i step` is on the axis while it is at most `last` + this.
     real(wp), parameter :: grid_slack = 1.0e-9_wp
@@ -785,20 +785,11 @@ contains
         path = trim(cfg%output%file) // ".partial.h5"
     end function partial_path
 
-    !> Meaning of the status codes of `/runs/status` (the attribute `status_codes` of `/runs`).
+    !> The codes of `/runs/status` (`supratrans_status`).
     pure function status_codes_text() result(text)
         character(len=:), allocatable :: text
 
-        text = int_str(status_outside_gap) // " outside_gap: not run, the driving frequency lies outside the band " &
-               // "gap of the curve (Omega >= sqrt(1 + m^2)); " &
-               // int_str(status_not_run) // " not_run: not computed yet (partial file); " &
-               // int_str(run_ok) // " " // status_name(run_ok) // ": the run reached T; " &
-               // int_str(run_diverged) // " " // status_name(run_diverged) // ": blow-up, |u_n| above " &
-               // "blowup_threshold or non-finite values; " &
-               // int_str(run_newton_failed) // " " // status_name(run_newton_failed) // ": Newton did not " &
-               // "converge within newton_max_iter; " &
-               // int_str(run_solver_failed) // " " // status_name(run_solver_failed) // ": the tridiagonal " &
-               // "solver failed"
+        text = run_status_codes(outside_gap=.true., not_run=.true.)
     end function status_codes_text
 
     !> One line describing a failed run (its reason, re-derived from the journalled values).

@@ -47,6 +47,7 @@ module supratrans_scene_workprec
                                  method_name
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok, run_diverged, status_name
+    use supratrans_status, only: status_not_run
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
@@ -59,8 +60,8 @@ module supratrans_scene_workprec
     public :: run_work_precision, measure_step_kernels, default_methods, default_workprec_dts, fitted_order
     public :: method_stages, median
 
-    !> Status of a (method, dt) pair that was not run (dt below the method's `dt_smallest`).
-    integer, parameter, public :: status_not_run = -1
+    !> Status of a (method, dt) pair that was not run (dt below the method's `dt_smallest`): `supratrans_status`'s.
+    public :: status_not_run
     !> A run whose final ledger residual exceeds this fraction of its energy scale is declared diverged.
     real(wp), parameter, public :: drift_limit = 0.5_wp
     !> Errors above this are pre-asymptotic and left out of the fitted orders.

@@ -3,23 +3,15 @@
 module supratrans_search_record
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp, i8
+    use supratrans_status, only: certify_not_checked, certify_unchanged, certify_moved_within, certify_moved, &
+                                 certify_unresolved, certify_failed, certify_status_codes
     implicit none
     private
 
-    public :: search_fields, to_values, from_values, certify_status_codes
-
-    !> Certification status: not checked (certify off, or no threshold to check).
-    integer, parameter, public :: certify_not_checked = -1
-    !> Certification status: at dt/2 the threshold transmits and the grid point below it does not.
-    integer, parameter, public :: certify_unchanged = 0
-    !> Certification status: at dt/2 the threshold moved by one grid point (not more than the resolution).
-    integer, parameter, public :: certify_moved_within = 1
-    !> Certification status: at dt/2 the threshold moved by more than the resolution (flagged).
-    integer, parameter, public :: certify_moved = 2
-    !> Certification status: no dt/2 threshold within one coarse step of the threshold (flagged).
-    integer, parameter, public :: certify_unresolved = 3
-    !> Certification status: a dt/2 run failed before its verdict (flagged).
-    integer, parameter, public :: certify_failed = 4
+    public :: search_fields, to_values, from_values
+    !> The certification statuses (`supratrans_status`) and their codes text.
+    public :: certify_not_checked, certify_unchanged, certify_moved_within, certify_moved, certify_unresolved, &
+              certify_failed, certify_status_codes
 
     !> One threshold search: what it found, what it cost, how screening and certification went.
     type, public :: search_record
@@ -114,14 +106,5 @@ contains
         r%certify_steps = nint(values(20), i8)
     end function from_values
 
-    !> The certification status codes and their meaning, one "code: meaning" clause each, separated by "; ".
-    pure function certify_status_codes() result(text)
-        character(len=:), allocatable :: text
-
-        text = "-1: not checked (certify off, or no threshold); 0: unchanged at dt/2; " &
-               // "1: moved by one grid point at dt/2 (not more than the resolution); " &
-               // "2: moved by more than the resolution at dt/2 (flagged); " &
-               // "3: no dt/2 threshold within one coarse step (flagged); 4: a dt/2 run failed (flagged)"
-    end function certify_status_codes
 
 end module supratrans_search_record

@@ -39,22 +39,15 @@
 module supratrans_threshold
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_finite
     use supratrans_kinds, only: wp, i8
+    use supratrans_status, only: search_found, search_at_lower_bound, search_none, search_failed, &
+                                 search_bad_arguments, search_status_name, search_status_codes
     implicit none
     private
 
     public :: find_threshold, effective_coarse_step, search_grid_size, search_status_name, search_status_codes
 
-    !> Search status: the threshold was found inside (a_min, a_max].
-    integer, parameter, public :: search_found = 0
-    !> Search status: already a_min transmits; the threshold returned is a_min and the true one may lie below it.
-    integer, parameter, public :: search_at_lower_bound = 1
-    !> Search status: no amplitude of [a_min, a_max] that the search asked transmits; the threshold is NaN.
-    integer, parameter, public :: search_none = 2
-    !> Search status: the oracle failed (e.g. a run diverged before its verdict); the threshold is NaN.
-    integer, parameter, public :: search_failed = 3
-    !> Search status: invalid arguments (resolution <= 0, coarse_step < resolution, a_max < a_min, non-finite);
-    !> the threshold is NaN and nothing was asked.
-    integer, parameter, public :: search_bad_arguments = 4
+    !> The search statuses (`supratrans_status`).
+    public :: search_found, search_at_lower_bound, search_none, search_failed, search_bad_arguments
 
     !> Tolerance, in grid units, of the number of grid points that fit in a range (against roundoff).
     real(wp), parameter :: grid_tolerance = 1.0e-9_wp
@@ -240,38 +233,7 @@ contains
 
     end subroutine find_threshold
 
-    !> Name of a search status, as written to output files.
-    pure function search_status_name(status) result(name)
-        !> Search status.
-        integer, intent(in) :: status
-        character(len=:), allocatable :: name
 
-        select case (status)
-        case (search_found)
-            name = "found"
-        case (search_at_lower_bound)
-            name = "at lower bound"
-        case (search_none)
-            name = "none transmits"
-        case (search_failed)
-            name = "run failed"
-        case (search_bad_arguments)
-            name = "bad arguments"
-        case default
-            name = "unknown"
-        end select
-    end function search_status_name
-
-    !> The search status codes and their meaning, one "code: meaning" clause each, separated by "; ".
-    pure function search_status_codes() result(text)
-        character(len=:), allocatable :: text
-
-        text = "0: found (smallest transmitting amplitude in (a_min, a_max]); " &
-               // "1: at lower bound (a_min already transmits; the threshold may lie below it); " &
-               // "2: none transmits (nothing in [a_min, a_max] the coarse scan asked transmits; NaN); " &
-               // "3: run failed (a run diverged or its solver failed before a verdict; NaN); " &
-               // "4: bad arguments (invalid search range or steps; NaN)"
-    end function search_status_codes
 
     !> Coarse step in grid points: nint(coarse_step / resolution), at least 1.
     elemental function coarse_multiple(coarse_step, resolution) result(m)
