@@ -181,7 +181,7 @@ module supratrans_config
         real(wp) :: screen_dt = 0.0_wp
         !> Bifurcation search: every amplitude the search asks within this distance below its threshold (and above) is run with the
         !> &numerics method (&scene confirm_band).
-        real(wp) :: confirm_band = 0.05_wp
+        real(wp) :: confirm_band = 0.15_wp
         !> Bifurcation search: recheck each threshold with the &numerics method at dt/2 and flag it if it moves more than the
         !> resolution (&scene certify).
         logical :: certify = .false.

@@ -350,7 +350,7 @@ module supratrans_schema
     type(key_spec), parameter :: spec_scene_confirm_band = key_spec( &
         group="scene", key="confirm_band", value_type=kt_real, max_values=1, attribute="confirm_band", units="rad", &
             has_min=.true., min=0.0_wp, min_text="0", &
-        default_text="0.05", &
+        default_text="0.15", &
         range_text=">= 0", &
         description="Bifurcation search: every amplitude the search asks within this distance below its threshold (and above)" // &
             " is run with the &numerics method")
