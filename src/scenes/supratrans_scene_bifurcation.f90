@@ -49,10 +49,6 @@ module supratrans_scene_bifurcation
 
     public :: run_bifurcation, bifurcation_omegas
 
-    !> A per-task quantity (one value per task, omega fastest) as an (omega, curve) grid.
-    interface as_grid
-        module procedure :: as_grid_real, as_grid_int, as_grid_i8
-    end interface as_grid
 
     !> Status of a task whose frequency lies outside the curve's band gap (not searched; threshold NaN), and of a
     !> task not computed yet (partial files): the task codes of `supratrans_status`, shared by every scene.
@@ -513,29 +509,30 @@ contains
             "Driving frequency Omega_i = omega_min + i omega_step", error, dims="omega")
         if (.not. allocated(error)) call write_curves(file, tasks, error)
         if (.not. allocated(error)) then
-            call h5_write(file, "/threshold", as_grid(rec%threshold, nomega), "rad", "Smallest driving amplitude " &
+            call h5_write(file, "/threshold", field_grid(rec, "threshold", nomega), "rad", "Smallest driving amplitude " &
                 // "A (grid amplitude_min + k " &
                 // "resolution) at which the run transmits: the supratransmission threshold; NaN when not found " &
                 // "(see /status)", error, dims=dims)
         end if
         if (.not. allocated(error)) then
-            call h5_write(file, "/threshold_As", as_grid(rec%threshold_as, nomega), "rad", "Continuum-limit threshold A_s = " &
+            call h5_write(file, "/threshold_As", field_grid(rec, "threshold_as", nomega), &
+                "rad", "Continuum-limit threshold A_s = " &
                 // "4 arctan(lambda c / Omega) of the curve's chain (undamped theory); NaN outside the band gap", error, dims=dims)
         end if
         if (.not. allocated(error)) call h5_create_group(file, "/cost", "What each threshold search cost", error)
-        if (.not. allocated(error)) call h5_write(file, "/cost/runs", as_grid(rec%runs, nomega), &
+        if (.not. allocated(error)) call h5_write(file, "/cost/runs", count_grid(rec, "runs", nomega), &
             "1", "Simulations run by the search (coarse scan + fine scan)", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, "/cost/steps", &
-            as_grid(rec%steps, nomega), "1", &
+            count_grid(rec, "steps", nomega), "1", &
             "Time steps taken by all the search's simulations (transmitting runs stop when decided)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/cost/wall_time", as_grid(rec%wall_time, nomega), &
+        if (.not. allocated(error)) call h5_write(file, "/cost/wall_time", field_grid(rec, "wall_time", nomega), &
             "s", "Wall-clock time of the search (one thread)", error, dims=dims)
         if (.not. allocated(error) .and. elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", &
                                                                                elapsed, error)
         if (.not. allocated(error)) call h5_write(file, "/detector_site", nd, "1", &
             "Detector site n_d of the verdict (a run transmits once |u_n| > detect amplitude for some n > n_d)", &
             error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/status", as_grid(rec%status, nomega), &
+        if (.not. allocated(error)) call h5_write(file, "/status", count_grid(rec, "status", nomega), &
             "1", "Outcome of the search (codes in attribute 'codes')", error, dims=dims)
         if (.not. allocated(error)) call h5_write_attr(file, "/status", "codes", "-2: outside gap (Omega >= " &
             // "sqrt(1 + m^2): not searched; NaN); -1: pending (not computed yet); " // search_status_codes(), error)
@@ -548,38 +545,39 @@ contains
         call h5_commit(file, error)
     end subroutine write_bifurcation_file
 
-    !> Real values per task as an (omega, curve) grid.
-    pure function as_grid_real(x, nomega) result(g)
-        !> One value per task.
-        real(wp), intent(in) :: x(:)
+    !> One field of the search records, by its name in `search_fields`, as an (omega, curve) grid.
+    pure function field_grid(rec, name, nomega) result(g)
+        !> The search records, one per task (omega fastest).
+        type(search_record), intent(in) :: rec(:)
+        !> Name of the field.
+        character(len=*), intent(in) :: name
         !> Frequencies per curve.
         integer, intent(in) :: nomega
         real(wp), allocatable :: g(:, :)
+        real(wp) :: values(size(search_fields))
+        integer :: i, j
 
-        g = reshape(x, [nomega, size(x)/nomega])
-    end function as_grid_real
+        j = findloc(search_fields, name, dim=1)
+        allocate (g(nomega, size(rec)/nomega))
+        do i = 1, size(rec)
+            values = to_values(rec(i))
+            g(mod(i - 1, nomega) + 1, (i - 1)/nomega + 1) = values(j)
+        end do
+    end function field_grid
 
-    !> Integer values per task as an (omega, curve) grid.
-    pure function as_grid_int(x, nomega) result(g)
-        !> One value per task.
-        integer, intent(in) :: x(:)
+    !> An integer field of the search records (a count or a status), by name, as an (omega, curve) grid of default
+    !> integers (counts capped at huge(1)).
+    pure function count_grid(rec, name, nomega) result(g)
+        !> The search records, one per task (omega fastest).
+        type(search_record), intent(in) :: rec(:)
+        !> Name of the field.
+        character(len=*), intent(in) :: name
         !> Frequencies per curve.
         integer, intent(in) :: nomega
         integer, allocatable :: g(:, :)
 
-        g = reshape(x, [nomega, size(x)/nomega])
-    end function as_grid_int
-
-    !> 64-bit counts per task as an (omega, curve) grid of default integers (capped at huge(1)).
-    pure function as_grid_i8(x, nomega) result(g)
-        !> One value per task.
-        integer(i8), intent(in) :: x(:)
-        !> Frequencies per curve.
-        integer, intent(in) :: nomega
-        integer, allocatable :: g(:, :)
-
-        g = reshape(int(min(x, int(huge(1), i8))), [nomega, size(x)/nomega])
-    end function as_grid_i8
+        g = nint(min(field_grid(rec, name, nomega), real(huge(1), wp)))
+    end function count_grid
 
     !> `/screening`: which runs of each search the screening method answered and which the scene's method confirmed.
     subroutine write_screening(file, cfg, rec, nomega, ncurve, error)
@@ -603,30 +601,30 @@ contains
         if (.not. allocated(error)) call h5_write_attr(file, g, "screen_method", trim(cfg%scene%screen_method), error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "screen_dt", screen_dt(cfg, cfg%run), error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "confirm_band", cfg%scene%confirm_band, error)
-        if (.not. allocated(error)) call h5_write(file, g // "/runs_screened", as_grid(rec%runs_screened, nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/runs_screened", count_grid(rec, "runs_screened", nomega), &
             "1", "Simulations run by the screening method", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/runs_confirmed", as_grid(rec%runs_confirmed, nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/runs_confirmed", count_grid(rec, "runs_confirmed", nomega), &
             "1", "Simulations run by the scene's method (every verdict near the threshold)", &
             error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, g // "/steps_screened", &
-            as_grid(rec%steps_screened, nomega), "1", &
+            count_grid(rec, "steps_screened", nomega), "1", &
             "Time steps of the screening runs", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, g // "/steps_confirmed", &
-            as_grid(rec%steps_confirmed, nomega), "1", &
+            count_grid(rec, "steps_confirmed", nomega), "1", &
             "Time steps of the scene method's runs", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/screen_threshold", as_grid(rec%screen_threshold, nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/screen_threshold", field_grid(rec, "screen_threshold", nomega), &
             "rad", "Threshold the screening method alone finds; NaN when none or not screened", &
             error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/band_low", as_grid(rec%band_low, nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/band_low", field_grid(rec, "band_low", nomega), &
             "rad", "Lowest amplitude of the confirmation band; NaN when not screened", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/band_high", as_grid(rec%band_high, nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/band_high", field_grid(rec, "band_high", nomega), &
             "rad", "Highest amplitude of the confirmation band; NaN when not screened", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/rounds", as_grid(rec%rounds, nomega), "1", &
+        if (.not. allocated(error)) call h5_write(file, g // "/rounds", count_grid(rec, "rounds", nomega), "1", &
             "Searches with the confirmation band (more than 1: the band grew)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/disagreements", as_grid(rec%disagreements, nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/disagreements", count_grid(rec, "disagreements", nomega), &
             "1", "Amplitudes answered by both methods with different verdicts", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, g // "/farthest_disagreement", &
-            as_grid(rec%farthest_disagreement, nomega), "rad", "Largest distance between the threshold " &
+            field_grid(rec, "farthest_disagreement", nomega), "rad", "Largest distance between the threshold " &
             // "and an amplitude where the two methods disagree (0 when none)", error, dims=dims)
     end subroutine write_screening
 
@@ -653,16 +651,16 @@ contains
         if (.not. allocated(error)) call h5_write_attr(file, g, "dt", cfg%run%numerics%dt/2.0_wp, error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "flagged", count(rec%certify_status >= certify_moved), &
                                                        error)
-        if (.not. allocated(error)) call h5_write(file, g // "/threshold", as_grid(rec%certified_threshold, nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/threshold", field_grid(rec, "certified_threshold", nomega), &
             "rad", "Threshold at dt/2 near the threshold; NaN when not checked or not found", &
             error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/status", as_grid(rec%certify_status, nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/status", count_grid(rec, "certify_status", nomega), &
             "1", "Outcome of the check (codes in attribute 'codes'); >= 2 is flagged", error, dims=dims)
         if (.not. allocated(error)) call h5_write_attr(file, g // "/status", "codes", certify_status_codes(), error)
-        if (.not. allocated(error)) call h5_write(file, g // "/runs", as_grid(rec%certify_runs, nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/runs", count_grid(rec, "certify_runs", nomega), &
             "1", "Simulations at dt/2 run by the check", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, g // "/steps", &
-            as_grid(rec%certify_steps, nomega), "1", &
+            count_grid(rec, "certify_steps", nomega), "1", &
             "Time steps of those simulations", error, dims=dims)
     end subroutine write_certification
 
