@@ -35,6 +35,8 @@ module supratrans_scheme
         real(wp) :: d = 0.0_wp
         !> Diagonal b_n of A, size N.
         real(wp), allocatable :: b(:)
+        !> min_n b_n (Newton's stopping test bounds the inverse Jacobian with it).
+        real(wp) :: b_min = 0.0_wp
         !> Diagonal e_n of C, size N.
         real(wp), allocatable :: e(:)
         !> Site damping alpha_n = gamma + gamma'(n), size N.
@@ -62,6 +64,7 @@ contains
         scheme%d = 2.0_wp/dt**2 - 2.0_wp*chain%c**2
         scheme%alpha = damping_profile(chain)
         scheme%b = (scheme%alpha + 2.0_wp*chain%beta)/(2.0_wp*dt) + chain%m2/2.0_wp + 1.0_wp/dt**2
+        scheme%b_min = minval(scheme%b)
         scheme%e = (scheme%alpha + 2.0_wp*chain%beta)/(2.0_wp*dt) - chain%m2/2.0_wp - 1.0_wp/dt**2
     end subroutine scheme_init
 
