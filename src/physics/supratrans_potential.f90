@@ -25,7 +25,7 @@ module supratrans_potential
     public :: potential_v, potential_dv, discrete_gradient, discrete_gradient_da
     public :: gradient_and_slope, gradient_and_slope_array, gradient_and_slope_refine, potential_sum, force_array
     public :: potential_name, potential_from_name, is_potential, check_potential
-    public :: slope_lower_bound, curvature_bound
+    public :: slope_lower_bound, curvature_bound, sin_cos_array
 
     !> Not a potential: what `potential_from_name` returns for an unknown name.
     integer, parameter, public :: potential_unknown = 0
@@ -38,6 +38,8 @@ module supratrans_potential
 
     !> Below this |h| = |a - b|/2 the Taylor series of sinc and sinc' are used (truncation error < 3e-21).
     real(wp), parameter :: h_series = 0.25_wp
+    !> Largest |x| for which `sin_cos_array` uses its own reduction (k pi/2 exact in parts for |k| < 2^20).
+    real(wp), parameter, public :: trig_max = 1.0e5_wp
     !> Largest max |delta| for which `gradient_and_slope_refine` advances sin(s), cos(s) by angle addition.
     real(wp), parameter, public :: rotate_max = 0.05_wp
 
@@ -228,8 +230,8 @@ contains
     !>
     !> Every choice is made once per array, so that each loop is branch-free and vectorises: the sinc series when
     !> `h_max` < `h_series` (the usual case: h is a velocity times dt), else the per-site closed form. The sines
-    !> and the cosines are evaluated in separate loops on purpose: in one loop gfortran merges the pair into a
-    !> scalar `sincos` call per site, while apart each vectorises through glibc's libmvec. The angle addition uses
+    !> and cosines come from the branch-free `sin_cos_reduced` (the intrinsics when some |s_n| > `trig_max`;
+    !> the intrinsic pair in one loop would be a scalar `sincos` call per site). The angle addition uses
     !> the Taylor polynomials of the sine (to degree 7) and cosine (to degree 8) of delta/2: for |delta/2| <= 0.025
     !> their truncation errors are below 5e-19 relative, far under roundoff.
     pure subroutine sine_gordon_kernel(rotate, a, b, delta, ss, cs, g, dg, h_max)
@@ -250,8 +252,9 @@ contains
 
         if (.not. rotate) then
             do n = 1, size(a)
-                ss(n) = sin(0.5_wp*(a(n) + b(n)))
+                g(n) = 0.5_wp*(a(n) + b(n))        ! g holds s until G is formed
             end do
+            call sin_cos_array(g, ss, cs)
         end if
         if (h_max < h_series) then
             if (rotate) then
@@ -268,7 +271,6 @@ contains
             else
                 !$omp simd private(sc, dsc)
                 do n = 1, size(a)
-                    cs(n) = cos(0.5_wp*(a(n) + b(n)))
                     call sinc_series(0.5_wp*(a(n) - b(n)), sc, dsc)
                     g(n) = ss(n)*sc
                     dg(n) = 0.5_wp*(cs(n)*sc + ss(n)*dsc)
@@ -282,10 +284,6 @@ contains
                     ss(n) = s_old*ce + cs(n)*se
                     cs(n) = cs(n)*ce - s_old*se
                 end do
-            else
-                do n = 1, size(a)
-                    cs(n) = cos(0.5_wp*(a(n) + b(n)))
-                end do
             end if
             do n = 1, size(a)
                 call sine_gordon_g(ss(n), cs(n), 0.5_wp*(a(n) - b(n)), g(n), dg(n))
@@ -293,33 +291,115 @@ contains
         end if
     end subroutine sine_gordon_kernel
 
-    !> sin and cos of a small angle eps (|eps| <= 0.025) by their Taylor polynomials to degree 7 and 8.
+    !> sin and cos of a small angle eps (|eps| <= 0.025) by their Taylor polynomials to degree 7 and 8, evaluated
+    !> by Estrin's scheme (short dependency chains, so that consecutive sites overlap in the pipeline).
     elemental subroutine small_angle(eps, se, ce)
         !> The angle.
         real(wp), intent(in) :: eps
         !> sin(eps), cos(eps).
         real(wp), intent(out) :: se, ce
-        real(wp) :: e2
+        real(wp) :: e2, e4
 
         e2 = eps*eps
-        se = eps*(1.0_wp + e2*(-1.0_wp/6.0_wp + e2*(1.0_wp/120.0_wp - e2/5040.0_wp)))
-        ce = 1.0_wp + e2*(-0.5_wp + e2*(1.0_wp/24.0_wp + e2*(-1.0_wp/720.0_wp + e2/40320.0_wp)))
+        e4 = e2*e2
+        se = eps + eps*e2*((-1.0_wp/6.0_wp + e2/120.0_wp) + e4*(-1.0_wp/5040.0_wp))
+        ce = 1.0_wp + e2*((-0.5_wp + e2/24.0_wp) + e4*(-1.0_wp/720.0_wp + e2/40320.0_wp))
     end subroutine small_angle
 
-    !> sinc(h) = sin(h)/h and its derivative by their Taylor series, for |h| < `h_series` (truncation < 3e-21).
+    !> sinc(h) = sin(h)/h and its derivative by their Taylor series, for |h| < `h_series` (truncation < 3e-21),
+    !> evaluated by Estrin's scheme.
     elemental subroutine sinc_series(h, sc, dsc)
         !> Argument.
         real(wp), intent(in) :: h
         !> sinc(h), sinc'(h).
         real(wp), intent(out) :: sc, dsc
-        real(wp) :: h2
+        real(wp), parameter :: c1 = -1.0_wp/6.0_wp, c2 = 1.0_wp/120.0_wp, c3 = -1.0_wp/5040.0_wp, &
+                               c4 = 1.0_wp/362880.0_wp, c5 = -1.0_wp/39916800.0_wp, c6 = 1.0_wp/6227020800.0_wp
+        real(wp), parameter :: d1 = -1.0_wp/3.0_wp, d2 = 1.0_wp/30.0_wp, d3 = -1.0_wp/840.0_wp, &
+                               d4 = 1.0_wp/45360.0_wp, d5 = -1.0_wp/3991680.0_wp, d6 = 1.0_wp/518918400.0_wp
+        real(wp) :: h2, h4
 
         h2 = h*h
-        sc = 1.0_wp + h2*(-1.0_wp/6.0_wp + h2*(1.0_wp/120.0_wp + h2*(-1.0_wp/5040.0_wp &
-             + h2*(1.0_wp/362880.0_wp + h2*(-1.0_wp/39916800.0_wp + h2/6227020800.0_wp)))))
-        dsc = h*(-1.0_wp/3.0_wp + h2*(1.0_wp/30.0_wp + h2*(-1.0_wp/840.0_wp + h2*(1.0_wp/45360.0_wp &
-              + h2*(-1.0_wp/3991680.0_wp + h2/518918400.0_wp)))))
+        h4 = h2*h2
+        sc = 1.0_wp + h2*((c1 + c2*h2) + h4*((c3 + c4*h2) + h4*(c5 + c6*h2)))
+        dsc = h*((d1 + d2*h2) + h4*((d3 + d4*h2) + h4*(d5 + d6*h2)))
     end subroutine sinc_series
+
+    !> sin(x_n) and cos(x_n) for a whole array in one branch-free loop that vectorises, without library calls
+    !> (see `sin_cos_reduced`); for max |x_n| > `trig_max` the array is handed to the intrinsic sin and cos.
+    pure subroutine sin_cos_array(x, s, c)
+        !> Arguments.
+        real(wp), intent(in), contiguous :: x(:)
+        !> sin(x_n) and cos(x_n).
+        real(wp), intent(out), contiguous :: s(:), c(:)
+        integer :: n
+        real(wp) :: x_max
+
+        x_max = 0.0_wp
+        !$omp simd reduction(max: x_max)
+        do n = 1, size(x)
+            x_max = max(x_max, abs(x(n)))
+            call sin_cos_reduced(x(n), s(n), c(n))
+        end do
+        if (x_max > trig_max) then
+            do n = 1, size(x)
+                s(n) = sin(x(n))
+            end do
+            do n = 1, size(x)
+                c(n) = cos(x(n))
+            end do
+        end if
+    end subroutine sin_cos_array
+
+    !> sin x and cos x, branch-free, for |x| <= `trig_max` (NaN or infinite x give NaN; called from
+    !> `sin_cos_array` only, so that it is inlined there and the loop vectorises): the reduction
+    !> x = k pi/2 + r, |r| <= pi/4, with pi/2 in three parts (the first two of 33 bits, so that k times them is exact
+    !> for |k| < 2^20), the Taylor polynomials of sin r (to degree 17) and cos r (to degree 18), whose truncation
+    !> errors are below 1e-19, evaluated by Estrin's scheme (short dependency chains), and the quadrant k mod 4.
+    !> Measured within 2 units in the last place of glibc's sin and cos; about 1.6 times faster than libmvec's
+    !> vector sin and cos together on this machine (SSE2; for a sine alone libmvec is faster, and is used).
+    elemental subroutine sin_cos_reduced(x, s, c)
+        !> Argument.
+        real(wp), intent(in) :: x
+        !> sin x, cos x.
+        real(wp), intent(out) :: s, c
+        real(wp), parameter :: pio2_1 = 1.5707963267341256_wp, pio2_2 = 6.077100506303966e-11_wp, &
+                               pio2_3 = 2.0222662487959506e-21_wp, two_over_pi = 0.6366197723675814_wp
+        real(wp), parameter :: s1 = -1.0_wp/6.0_wp, s2 = 1.0_wp/120.0_wp, s3 = -1.0_wp/5040.0_wp, &
+                               s4 = 1.0_wp/362880.0_wp, s5 = -1.0_wp/39916800.0_wp, s6 = 1.0_wp/6227020800.0_wp, &
+                               s7 = -1.0_wp/1307674368000.0_wp, s8 = 1.0_wp/355687428096000.0_wp
+        real(wp), parameter :: c1 = -0.5_wp, c2 = 1.0_wp/24.0_wp, c3 = -1.0_wp/720.0_wp, c4 = 1.0_wp/40320.0_wp, &
+                               c5 = -1.0_wp/3628800.0_wp, c6 = 1.0_wp/479001600.0_wp, &
+                               c7 = -1.0_wp/87178291200.0_wp, c8 = 1.0_wp/20922789888000.0_wp
+        real(wp) :: k, q, r, r2, r4, r8, sr, cr
+        logical :: odd
+
+        k = nearest_integer(x*two_over_pi)
+        q = k - 4.0_wp*nearest_integer(0.25_wp*k)       ! k mod 4, in {-2, -1, 0, 1, 2}
+        r = ((x - k*pio2_1) - k*pio2_2) - k*pio2_3
+        r2 = r*r
+        r4 = r2*r2
+        r8 = r4*r4
+        sr = r + r*r2*(((s1 + s2*r2) + r4*(s3 + s4*r2)) + r8*((s5 + s6*r2) + r4*(s7 + s8*r2)))
+        cr = 1.0_wp + r2*(((c1 + c2*r2) + r4*(c3 + c4*r2)) + r8*((c5 + c6*r2) + r4*(c7 + c8*r2)))
+        ! quadrant q: 0 (sin r, cos r), 1 (cos r, -sin r), +-2 (-sin r, -cos r), -1 (-cos r, sin r)
+        odd = abs(q) == 1.0_wp
+        s = merge(cr, sr, odd)
+        c = merge(sr, cr, odd)
+        s = merge(-s, s, q < -0.5_wp .or. q > 1.5_wp)
+        c = merge(-c, c, q > 0.5_wp .or. q < -1.5_wp)
+    end subroutine sin_cos_reduced
+
+    !> The integer nearest to x (ties to even) as a real, for |x| < 2^51, branch-free: adding and subtracting
+    !> 1.5 * 2^52 leaves the rounded value (round-to-nearest arithmetic; no fast-math reassociation).
+    elemental function nearest_integer(x) result(k)
+        !> Argument.
+        real(wp), intent(in) :: x
+        real(wp) :: k
+        real(wp), parameter :: round_shift = 6755399441055744.0_wp
+
+        k = (x + round_shift) - round_shift
+    end function nearest_integer
 
     !> max |x_n| of an array (NaN if any element is NaN, so that a caller's `<=` test fails on it).
     pure function max_abs(x) result(m)
@@ -378,7 +458,7 @@ contains
 
         select case (id)
         case (sine_gordon)
-            f = sin(u)
+            f = sin(u)                  ! libmvec's vector sin: faster than a sine alone by our reduction
         case (klein_gordon)
             f = u*(1.0_wp + u*u*(-1.0_wp/6.0_wp + u*u/120.0_wp))
         case default
@@ -390,7 +470,7 @@ contains
     pure function potential_sum(id, u) result(total)
         !> Potential identifier.
         integer, intent(in) :: id
-        !> Displacements u_n (contiguous, so that the sines vectorise).
+        !> Displacements u_n (contiguous, so that the sines vectorise through libmvec).
         real(wp), intent(in), contiguous :: u(:)
         real(wp) :: total
 

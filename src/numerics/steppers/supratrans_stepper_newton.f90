@@ -22,8 +22,8 @@ module supratrans_stepper_newton
     use supratrans_strings, only: int_fixed, real_fixed
     use supratrans_config, only: run_config
     use supratrans_potential, only: gradient_and_slope_array, gradient_and_slope_refine, slope_lower_bound, &
-                                    curvature_bound
-    use supratrans_scheme, only: scheme_type, scheme_rhs, scheme_apply_a
+                                    curvature_bound, sine_gordon
+    use supratrans_scheme, only: scheme_type, scheme_rhs_and_predictor, scheme_apply_a
     use supratrans_tridiag, only: solve_tridiag
     use supratrans_stepper, only: step_ok, step_not_converged, step_breakdown
     use supratrans_stepper_leapfrog, only: leapfrog_stepper, leapfrog_init
@@ -146,13 +146,7 @@ contains
         real(wp) :: change, defect, scale, u_max, h_max, mu, curvature
 
         n = scheme%n
-        call scheme_rhs(scheme, u_cur, u_old, ws%rhs)
-        h_max = 0.0_wp
-        !$omp simd reduction(max: h_max)
-        do j = 1, n
-            u_new(j) = 3.0_wp*(u_cur(j) - u_old(j)) + u_older(j)
-            h_max = max(h_max, 0.5_wp*abs(u_new(j) - u_old(j)))
-        end do
+        call scheme_rhs_and_predictor(scheme, u_older, u_old, u_cur, ws%rhs, u_new, h_max)
         mu = scheme%b_min + slope_lower_bound(scheme%potential) - 2.0_wp*abs(scheme%a)
         status = newton_not_converged
         iterations = 0
@@ -168,7 +162,7 @@ contains
             end if
             if (scheme%a == 0.0_wp) then
                 call diagonal_update(scheme%b, ws%rhs, ws%g, ws%dg, u_old(1:n), u_new(1:n), ws%work, &
-                                     change, defect, scale, u_max, h_max)
+                                     change, defect, scale, h_max)
                 info = 0
             else
                 call scheme_apply_a(scheme, u_new, ws%work)
@@ -180,13 +174,20 @@ contains
                 ws%du = scheme%a
                 call solve_tridiag(ws%dl, ws%dd, ws%du, ws%work, info)
                 if (info == 0) call apply_update(scheme%b, u_old(1:n), u_new(1:n), ws%work, change, defect, scale, &
-                                                 u_max, h_max)
+                                                 h_max)
             end if
             if (info /= 0 .or. .not. (change <= huge(change)) .or. .not. (defect <= huge(defect))) then
                 status = newton_breakdown
                 return
             end if
             if (mu > 0.0_wp) then
+                u_max = 0.0_wp
+                if (scheme%potential /= sine_gordon) then      ! the bound of V''' grows with |u|
+                    do j = 1, n
+                        u_max = max(u_max, abs(u_new(j)), abs(u_old(j)))
+                    end do
+                    u_max = u_max + change                     ! the previous iterate is within `change`
+                end if
                 curvature = curvature_bound(scheme%potential, u_max)
                 if (curvature/(2.0_wp*mu)*change**2 <= tol &
                     .and. 0.5_wp*curvature*defect <= epsilon(1.0_wp)*scale) then
@@ -202,7 +203,7 @@ contains
 
     !> One Newton iteration with a diagonal Jacobian (beta = 0), fused: residual r_n = rhs_n - b_n x_n - G_n,
     !> update delta_n = r_n/(b_n + dG/da_n), x_n += delta_n, and the sums of the stopping test.
-    pure subroutine diagonal_update(b, rhs, g, dg, x_old, x, delta, change, defect, scale, u_max, h_max)
+    pure subroutine diagonal_update(b, rhs, g, dg, x_old, x, delta, change, defect, scale, h_max)
         !> Diagonal b_n of A, right-hand side, G and dG/da at the current iterate.
         real(wp), intent(in), contiguous :: b(:), rhs(:), g(:), dg(:)
         !> Level k-1 (the second argument of G).
@@ -211,9 +212,8 @@ contains
         real(wp), intent(inout), contiguous :: x(:)
         !> The update.
         real(wp), intent(out), contiguous :: delta(:)
-        !> max |delta_n|, sum delta_n^2 |h_n|, sum b_n |x_n| |h_n| (h = (x - x_old)/2 after the update), and the
-        !> largest |u| among the iterates and x_old.
-        real(wp), intent(out) :: change, defect, scale, u_max
+        !> max |delta_n|, sum delta_n^2 |h_n|, sum b_n |x_n| |h_n| (h = (x - x_old)/2 after the update).
+        real(wp), intent(out) :: change, defect, scale
         !> max |h_n| after the update.
         real(wp), intent(out) :: h_max
         integer :: j
@@ -222,14 +222,12 @@ contains
         change = 0.0_wp
         defect = 0.0_wp
         scale = 0.0_wp
-        u_max = 0.0_wp
         h_max = 0.0_wp
-        !$omp simd private(d, xn, h) reduction(max: change, u_max, h_max) reduction(+: defect, scale)
+        !$omp simd private(d, xn, h) reduction(max: change, h_max) reduction(+: defect, scale)
         do j = 1, size(x)
             d = (rhs(j) - b(j)*x(j) - g(j))/(b(j) + dg(j))
             xn = x(j) + d
             h = 0.5_wp*abs(xn - x_old(j))
-            u_max = max(u_max, abs(x(j)), abs(xn), abs(x_old(j)))
             x(j) = xn
             delta(j) = d
             change = max(change, abs(d))
@@ -240,7 +238,7 @@ contains
     end subroutine diagonal_update
 
     !> Apply a Newton update (tridiagonal case) and form the sums of the stopping test (as `diagonal_update`).
-    pure subroutine apply_update(b, x_old, x, delta, change, defect, scale, u_max, h_max)
+    pure subroutine apply_update(b, x_old, x, delta, change, defect, scale, h_max)
         !> Diagonal b_n of A.
         real(wp), intent(in), contiguous :: b(:)
         !> Level k-1.
@@ -250,21 +248,19 @@ contains
         !> The update.
         real(wp), intent(in), contiguous :: delta(:)
         !> As in `diagonal_update`.
-        real(wp), intent(out) :: change, defect, scale, u_max, h_max
+        real(wp), intent(out) :: change, defect, scale, h_max
         integer :: j
         real(wp) :: d, xn, h
 
         change = 0.0_wp
         defect = 0.0_wp
         scale = 0.0_wp
-        u_max = 0.0_wp
         h_max = 0.0_wp
-        !$omp simd private(d, xn, h) reduction(max: change, u_max, h_max) reduction(+: defect, scale)
+        !$omp simd private(d, xn, h) reduction(max: change, h_max) reduction(+: defect, scale)
         do j = 1, size(x)
             d = delta(j)
             xn = x(j) + d
             h = 0.5_wp*abs(xn - x_old(j))
-            u_max = max(u_max, abs(x(j)), abs(xn), abs(x_old(j)))
             x(j) = xn
             change = max(change, abs(d))
             h_max = max(h_max, h)
