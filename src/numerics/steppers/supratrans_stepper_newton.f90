@@ -39,7 +39,9 @@ module supratrans_stepper_newton
 
     !> Levels the stepper's predictor extrapolates from (u^k .. u^{k-6}: degree 6).
     integer, parameter, public :: predictor_levels = 7
-    !> Its weights: x = sum_j w_j u^{k-j}, the binomial coefficients (-1)^j C(7, j+1).
+    !> Largest max |difference| between the degree-6 and the cubic extrapolations for which the first is used.
+    real(wp), parameter :: predictor_trust = 0.05_wp
+    !> The predictor's weights: x = sum_j w_j u^{k-j}, the binomial coefficients (-1)^j C(7, j+1).
     real(wp), parameter :: predictor_weights(predictor_levels) = [7.0_wp, -21.0_wp, 35.0_wp, -35.0_wp, 21.0_wp, &
                                                                   -7.0_wp, 1.0_wp]
 
@@ -229,7 +231,10 @@ contains
         end do
     end subroutine newton_step
 
-    !> The predictor x(1:N) = sum_j w_j u(1:N, columns(j)), columns of the levels k, k-1, ... (`predictor_weights`).
+    !> The predictor x(1:N) = sum_j w_j u(1:N, columns(j)), columns of the levels k, k-1, ... (`predictor_weights`),
+    !> unless it differs from the cubic extrapolation 3 u^k - 3 u^{k-1} + u^{k-2} by more than `predictor_trust`
+    !> somewhere: then the motion is not smooth on the scale of dt (a kink, or a numerically unstable dt, whose
+    !> growing sawtooth the degree-6 extrapolation amplifies 128 times), and the cubic one is used.
     pure subroutine extrapolate(u, columns, x)
         !> Time levels u(0:N+1, L).
         real(wp), intent(in) :: u(0:, :)
@@ -238,6 +243,7 @@ contains
         !> The predictor, size N.
         real(wp), intent(out) :: x(:)
         integer :: j, i
+        real(wp) :: gap
 
         do j = 1, size(x)
             x(j) = predictor_weights(1)*u(j, columns(1))
@@ -247,6 +253,16 @@ contains
                 x(j) = x(j) + predictor_weights(i)*u(j, columns(i))
             end do
         end do
+        gap = 0.0_wp
+        !$omp simd reduction(max: gap)
+        do j = 1, size(x)
+            gap = max(gap, abs(x(j) - (3.0_wp*(u(j, columns(1)) - u(j, columns(2))) + u(j, columns(3)))))
+        end do
+        if (.not. (gap <= predictor_trust)) then
+            do j = 1, size(x)
+                x(j) = 3.0_wp*(u(j, columns(1)) - u(j, columns(2))) + u(j, columns(3))
+            end do
+        end if
     end subroutine extrapolate
 
     !> One Newton iteration with a diagonal Jacobian (beta = 0), fused: residual r_n = rhs_n - b_n x_n - G_n,
