@@ -237,30 +237,33 @@ contains
     !> growing sawtooth the degree-6 extrapolation amplifies 128 times), and the cubic one is used.
     pure subroutine extrapolate(u, columns, x)
         !> Time levels u(0:N+1, L).
-        real(wp), intent(in) :: u(0:, :)
+        real(wp), intent(in), contiguous :: u(0:, :)
         !> Columns of u^k, u^{k-1}, ..., u^{k-6}.
         integer, intent(in) :: columns(predictor_levels)
         !> The predictor, size N.
-        real(wp), intent(out) :: x(:)
-        integer :: j, i
-        real(wp) :: gap
+        real(wp), intent(out), contiguous :: x(:)
+        integer :: j, c1, c2, c3, c4, c5, c6, c7
+        real(wp) :: gap, high
 
-        do j = 1, size(x)
-            x(j) = predictor_weights(1)*u(j, columns(1))
-        end do
-        do i = 2, predictor_levels
-            do j = 1, size(x)
-                x(j) = x(j) + predictor_weights(i)*u(j, columns(i))
-            end do
-        end do
+        c1 = columns(1)
+        c2 = columns(2)
+        c3 = columns(3)
+        c4 = columns(4)
+        c5 = columns(5)
+        c6 = columns(6)
+        c7 = columns(7)
         gap = 0.0_wp
-        !$omp simd reduction(max: gap)
+        !$omp simd private(high) reduction(max: gap)
         do j = 1, size(x)
-            gap = max(gap, abs(x(j) - (3.0_wp*(u(j, columns(1)) - u(j, columns(2))) + u(j, columns(3)))))
+            high = predictor_weights(1)*u(j, c1) + predictor_weights(2)*u(j, c2) + predictor_weights(3)*u(j, c3) &
+                   + predictor_weights(4)*u(j, c4) + predictor_weights(5)*u(j, c5) + predictor_weights(6)*u(j, c6) &
+                   + predictor_weights(7)*u(j, c7)
+            x(j) = high
+            gap = max(gap, abs(high - (3.0_wp*(u(j, c1) - u(j, c2)) + u(j, c3))))
         end do
         if (.not. (gap <= predictor_trust)) then
             do j = 1, size(x)
-                x(j) = 3.0_wp*(u(j, columns(1)) - u(j, columns(2))) + u(j, columns(3))
+                x(j) = 3.0_wp*(u(j, c1) - u(j, c2)) + u(j, c3)
             end do
         end if
     end subroutine extrapolate
