@@ -33,6 +33,7 @@ program benchmark
     use supratrans_system, only: remove_file
     use supratrans_scene_workprec, only: median
     use supratrans_tridiag, only: solve_tridiag
+    use supratrans_stepper_newton, only: newton_stepper
     use supratrans_potential, only: sin_cos_array
     !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
     implicit none
@@ -99,6 +100,16 @@ program benchmark
         floor_ms = 1000.0_wp*median(floor_times)
         call table_row(merge("rk4 dt=0.1", "rk8 dt=0.2", im == 1), times, floor_ms, result)
     end do
+
+    ! the Newton step alone: the stepper driven without the run engine's observers (ledger, probes, blow-up)
+    write (*, "(a)") "# newton steps alone (no observers: ledger, probes, blow-up check), paper default, beta = 0"
+    run%numerics%method = method_newton
+    run%numerics%dt = 0.05_wp
+    do i = 1, repeats
+        times(i) = steps_seconds(run, floor_times(i))
+    end do
+    write (*, "(a, f10.3, a, f10.3, a, f8.2)") "newton steps ", 1000.0_wp*median(times), " ms, floor ", &
+        1000.0_wp*median(floor_times), " ms, ratio ", median(times)/median(floor_times)
 
     ! the same run as the naive program (app/naive), timed in this process
     do i = 1, repeats
@@ -195,6 +206,29 @@ contains
         seconds = wall_seconds() - seconds
         if (.not. (abs(checksum) < huge(1.0_wp))) write (*, "(a)") "floor: non-finite checksum"
     end function floor_seconds
+
+    !> Seconds taken by the steps of a run's stepper alone (init excluded), and the floor of as many steps.
+    function steps_seconds(run, floor) result(seconds)
+        !> The run.
+        type(run_config), intent(in) :: run
+        !> Its floor (s).
+        real(wp), intent(out) :: floor
+        real(wp) :: seconds
+        type(newton_stepper) :: newton
+        integer(i8) :: k, m
+        integer :: status
+
+        call newton%init(run)
+        m = newton%steps_to(nint(run%numerics%t_final/run%numerics%dt, i8))
+        seconds = wall_seconds()
+        do k = 1, m
+            call newton%step(status)
+            if (status /= 0) exit
+        end do
+        seconds = wall_seconds() - seconds
+        if (status /= 0) write (*, "(a)") "steps: " // newton%reason
+        floor = floor_seconds(run%chain%n, m, 1, 2, run%chain%beta > 0.0_wp)
+    end function steps_seconds
 
     !> Seconds of the naive program's computation (app/naive/naive.f90, without its output line): the
     !> paper-default run, Newton to 1e-13 from the previous level, one dgtsv and sin, cos per site per iteration.
