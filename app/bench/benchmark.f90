@@ -1,15 +1,24 @@
-!> Benchmarks, in the release profile:  fpm run --example benchmark --profile release [-- repeats [paper]]
+!> Benchmarks, in the release profile:  fpm run --example benchmark --profile release [-- repeats [paper | runs]]
 !>
 !> 1. The paper-default run (sine-Gordon, Omega = 0.9, A = 1.9, N = 200, T = 200, dt = 0.05) for each scheme:
-!>    median wall time of a run over `repeats` runs (ms), work per step (Newton iterations for newton,
-!>    tridiagonal solves for linearized, right-hand sides for the Runge-Kutta methods), ledger residual relative
-!>    to the energy scale.
-!> 2. A 40-amplitude sweep (A = 1.20 .. 1.98 at Omega = 0.9) on 1 and on 2 threads: seconds and speed-up.
-!> 3. The undamped sine-Gordon bifurcation diagram, Omega = 0.05 .. 1.00 step 0.05, resolution 0.01
+!>    median wall time of a run over `repeats` runs (ms), its floor (ms), the ratio of the two, work per step
+!>    (Newton iterations for newton, tridiagonal solves for linearized, right-hand sides for the Runge-Kutta
+!>    methods), ledger residual relative to the energy scale. The floor of a scheme is the time of the kernels
+!>    no implementation of it can avoid, timed here over the run's number of steps on arrays of N: per step N
+!>    sines and N cosines (newton: the discrete gradient and its slope) or N sines (linearized: V'(u^k)), then N
+!>    divisions (beta = 0, diagonal matrix) or one LAPACK dgtsv (beta > 0); per right-hand side N sines
+!>    (Runge-Kutta). The sines and cosines are timed as the code's fastest kernels evaluate them: sines alone by
+!>    libmvec's vector sin, sines with cosines by `sin_cos_array` (branch-free, vectorised, about 1.6 times
+!>    faster than libmvec's sin and cos here).
+!> 2. The paper-default Newton run against the naive kernel (app/naive: Newton to 1e-13 from the previous
+!>    level, one dgtsv, sin and cos per site per iteration), timed in this process: ratio of medians.
+!> 3. A 40-amplitude sweep (A = 1.20 .. 1.98 at Omega = 0.9) on 1 and on 2 threads: seconds and speed-up.
+!> 4. The undamped sine-Gordon bifurcation diagram, Omega = 0.05 .. 1.00 step 0.05, resolution 0.01
 !>    (input/bif_undamped_sg.nml): runs, time steps, seconds; with the argument `paper`, also at the paper's
-!>    resolution Omega = 0.05 .. 0.99 step 0.01.
-!> Scene outputs go to the system's temporary directory and are deleted. With beta = 0 (the paper default) the Jacobian is diagonal;
-!> a second block repeats the runs with beta = 0.1, where every Newton iteration is one LAPACK dgtsv.
+!>    resolution Omega = 0.05 .. 0.99 step 0.01. With the argument `runs`, only 1 and 2.
+!> Scene outputs go to the system's temporary directory and are deleted. With beta = 0 (the paper default) the
+!> Jacobian is diagonal; a second block repeats the runs with beta = 0.1, where every Newton iteration is one
+!> LAPACK dgtsv.
 program benchmark
     use supratrans_kinds, only: wp, i8
     use supratrans_config, only: run_config, method_newton, method_linearized, method_rk4, method_rk8
@@ -23,16 +32,20 @@ program benchmark
     use supratrans_hdf5, only: h5_file, h5_open, h5_read, h5_close
     use supratrans_system, only: remove_file
     use supratrans_scene_workprec, only: median
+    use supratrans_tridiag, only: solve_tridiag
+    use supratrans_stepper_newton, only: newton_stepper
+    use supratrans_potential, only: sin_cos_array
     !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
     implicit none
     type(run_config) :: run
     type(run_result) :: result
     integer :: repeats, i, im
-    logical :: paper
+    logical :: paper, runs_only
     character(len=32) :: arg
     character(len=*), parameter :: names(2) = [character(len=10) :: "newton", "linearized"]
     integer, parameter :: methods(2) = [method_newton, method_linearized]
-    real(wp), allocatable :: times(:)
+    real(wp), allocatable :: times(:), floor_times(:)
+    real(wp) :: floor_ms, newton_ms
 
     repeats = 21
     if (command_argument_count() >= 1) then
@@ -40,19 +53,21 @@ program benchmark
         read (arg, *) repeats
     end if
     paper = .false.
+    runs_only = .false.
     if (command_argument_count() >= 2) then
         call get_command_argument(2, arg)
         paper = trim(arg) == "paper"
+        runs_only = trim(arg) == "runs"
     end if
-    allocate (times(repeats))
+    allocate (times(repeats), floor_times(repeats))
     run%drive%amplitude = 1.9_wp
     run%drive%omega = 0.9_wp
     allocate (run%record%probes(0))
     run%record%ledger_every = 4000
 
     write (*, "(a)") "# paper-default run: sine-Gordon, Omega = 0.9, A = 1.9, N = 200, T = 200, dt = 0.05"
-    write (*, "(a10, 2x, a12, 2x, a12, 2x, a14, 2x, a14, 2x, a14)") "scheme", "median_ms", "min_ms", &
-        "work/step", "injected", "rel_residual"
+    write (*, "(a10, 2x, a10, 2x, a10, 2x, a10, 2x, a8, 2x, a10, 2x, a14, 2x, a12)") "scheme", "median_ms", &
+        "min_ms", "floor_ms", "/floor", "work/step", "injected", "rel_residual"
     do im = 1, 2*size(methods)
         if (im == size(methods) + 1) then
             run%chain%beta = 0.1_wp
@@ -62,11 +77,12 @@ program benchmark
         do i = 1, repeats
             call simulate(run, result)
             times(i) = result%wall_time
+            floor_times(i) = floor_seconds(run%chain%n, result%steps, 1, merge(2, 1, im == 1 .or. im == 3), &
+                                           run%chain%beta > 0.0_wp)
         end do
-        write (*, "(a10, 2x, f12.3, 2x, f12.3, 2x, f14.4, 2x, es14.6, 2x, es14.3)") names(1 + mod(im - 1, size(methods))), &
-            1000.0_wp*median(times), 1000.0_wp*minval(times), &
-            work_per_step(result), result%ledger%injected, &
-            abs(result%ledger%residual)/max(result%ledger%energy_scale, tiny(1.0_wp))
+        if (im == 1) newton_ms = 1000.0_wp*median(times)
+        floor_ms = 1000.0_wp*median(floor_times)
+        call table_row(names(1 + mod(im - 1, size(methods))), times, floor_ms, result)
     end do
 
     ! the Runge-Kutta references, at the step where each reaches its accuracy class on this run (README)
@@ -78,18 +94,193 @@ program benchmark
         do i = 1, repeats
             call simulate(run, result)
             times(i) = result%wall_time
+            floor_times(i) = floor_seconds(run%chain%n, result%steps, merge(4, 11, im == 1), 1, .false., &
+                                           divisions=.false.)
         end do
-        write (*, "(a10, 2x, f12.3, 2x, f12.3, 2x, f14.4, 2x, es14.6, 2x, es14.3)") &
-            merge("rk4 dt=0.1", "rk8 dt=0.2", im == 1), 1000.0_wp*median(times), 1000.0_wp*minval(times), &
-            work_per_step(result), result%ledger%injected, &
-            abs(result%ledger%residual)/max(result%ledger%energy_scale, tiny(1.0_wp))
+        floor_ms = 1000.0_wp*median(floor_times)
+        call table_row(merge("rk4 dt=0.1", "rk8 dt=0.2", im == 1), times, floor_ms, result)
     end do
 
+    ! the Newton step alone: the stepper driven without the run engine's observers (ledger, probes, blow-up)
+    write (*, "(a)") "# newton steps alone (no observers: ledger, probes, blow-up check), paper default, beta = 0"
+    run%numerics%method = method_newton
+    run%numerics%dt = 0.05_wp
+    do i = 1, repeats
+        times(i) = steps_seconds(run, floor_times(i))
+    end do
+    write (*, "(a, f10.3, a, f10.3, a, f8.2)") "newton steps ", 1000.0_wp*median(times), " ms, floor ", &
+        1000.0_wp*median(floor_times), " ms, ratio ", median(times)/median(floor_times)
+
+    ! the same run as the naive program (app/naive), timed in this process
+    do i = 1, repeats
+        times(i) = naive_seconds()
+    end do
+    write (*, "(a)") "# paper-default newton run against the naive kernel (app/naive), in this process"
+    write (*, "(a, f10.3, a, f10.3, a, f8.4)") "newton ", newton_ms, " ms, naive ", 1000.0_wp*median(times), &
+        " ms, ratio ", newton_ms/(1000.0_wp*median(times))
+
+    if (runs_only) stop
     call sweep_benchmark()
     call bifurcation_benchmark("input/bif_undamped_sg.nml", 0.05_wp, 1.00_wp)
     if (paper) call bifurcation_benchmark("input/bif_undamped_sg.nml", 0.01_wp, 0.99_wp)
 
 contains
+
+    !> One row of the scheme table: median and minimum ms, floor ms and the ratio, work per step, ledger.
+    subroutine table_row(name, times, floor_ms, res)
+        !> Scheme label.
+        character(len=*), intent(in) :: name
+        !> Wall times of the runs (s).
+        real(wp), intent(in) :: times(:)
+        !> The scheme's floor (ms).
+        real(wp), intent(in) :: floor_ms
+        !> The last run's result.
+        type(run_result), intent(in) :: res
+
+        write (*, "(a10, 2x, f10.3, 2x, f10.3, 2x, f10.3, 2x, f8.2, 2x, f10.4, 2x, es14.6, 2x, es12.3)") name, &
+            1000.0_wp*median(times), 1000.0_wp*minval(times), floor_ms, 1000.0_wp*median(times)/floor_ms, &
+            work_per_step(res), res%ledger%injected, abs(res%ledger%residual)/max(res%ledger%energy_scale, tiny(1.0_wp))
+    end subroutine table_row
+
+    !> Seconds taken by the unavoidable kernels of a run of `steps` steps on N sites: per step, `evaluations`
+    !> times N sines (and N cosines when `functions` = 2), then N divisions or, when `tridiagonal`, one dgtsv
+    !> (neither when `divisions` is false). The arguments of the sines move every step, as a run's do.
+    function floor_seconds(n, steps, evaluations, functions, tridiagonal, divisions) result(seconds)
+        !> Number of sites N.
+        integer, intent(in) :: n
+        !> Steps of the run.
+        integer(i8), intent(in) :: steps
+        !> Evaluations of the N sines per step (right-hand sides of a Runge-Kutta step; 1 for the schemes).
+        integer, intent(in) :: evaluations
+        !> 1: sines only; 2: sines and cosines.
+        integer, intent(in) :: functions
+        !> One dgtsv per step instead of N divisions.
+        logical, intent(in) :: tridiagonal
+        !> Whether a division or solve is part of the floor (default true).
+        logical, intent(in), optional :: divisions
+        real(wp) :: seconds
+        real(wp), allocatable :: x(:), s(:), c(:), r(:), d(:), dl(:), dd(:), du(:)
+        real(wp) :: checksum
+        integer(i8) :: k
+        integer :: e, j, info
+        logical :: solve
+
+        solve = .true.
+        if (present(divisions)) solve = divisions
+        allocate (x(n), s(n), c(n), r(n), d(n), dl(max(n - 1, 1)), dd(n), du(max(n - 1, 1)))
+        do j = 1, n
+            x(j) = 1.9_wp*sin(0.37_wp*j)
+            d(j) = 400.0_wp + 0.01_wp*j
+        end do
+        c = 0.0_wp
+        checksum = 0.0_wp
+        seconds = wall_seconds()
+        do k = 1, steps
+            do e = 1, evaluations
+                if (functions == 2) then
+                    call sin_cos_array(x, s, c)
+                else
+                    do j = 1, n
+                        s(j) = sin(x(j))
+                    end do
+                end if
+                checksum = checksum + s(n)
+            end do
+            if (solve) then
+                if (tridiagonal) then
+                    r = s + c
+                    dd = d
+                    dl = -1.0_wp
+                    du = -1.0_wp
+                    call solve_tridiag(dl, dd, du, r, info)
+                else
+                    do j = 1, n
+                        r(j) = (s(j) + c(j))/d(j)
+                    end do
+                end if
+                checksum = checksum + r(1)
+            end if
+            x(1) = x(1) + 1.0e-9_wp
+            x(n) = x(n) - 1.0e-9_wp
+        end do
+        seconds = wall_seconds() - seconds
+        if (.not. (abs(checksum) < huge(1.0_wp))) write (*, "(a)") "floor: non-finite checksum"
+    end function floor_seconds
+
+    !> Seconds taken by the steps of a run's stepper alone (init excluded), and the floor of as many steps.
+    function steps_seconds(run, floor) result(seconds)
+        !> The run.
+        type(run_config), intent(in) :: run
+        !> Its floor (s).
+        real(wp), intent(out) :: floor
+        real(wp) :: seconds
+        type(newton_stepper) :: newton
+        integer(i8) :: k, m
+        integer :: status
+
+        call newton%init(run)
+        m = newton%steps_to(nint(run%numerics%t_final/run%numerics%dt, i8))
+        seconds = wall_seconds()
+        do k = 1, m
+            call newton%step(status)
+            if (status /= 0) exit
+        end do
+        seconds = wall_seconds() - seconds
+        if (status /= 0) write (*, "(a)") "steps: " // newton%reason
+        floor = floor_seconds(run%chain%n, m, 1, 2, run%chain%beta > 0.0_wp)
+    end function steps_seconds
+
+    !> Seconds of the naive program's computation (app/naive/naive.f90, without its output line): the
+    !> paper-default run, Newton to 1e-13 from the previous level, one dgtsv and sin, cos per site per iteration.
+    function naive_seconds() result(seconds)
+        real(wp) :: seconds
+        integer, parameter :: n = 200, n0 = 150
+        real(wp), parameter :: c = 4.0_wp, kappa = 0.5_wp, sigma = 3.0_wp, omega = 0.9_wp, amp = 1.9_wp
+        real(wp), parameter :: ramp = 50.0_wp, dt = 0.05_wp, t_final = 200.0_wp, tol = 1.0e-13_wp
+        real(wp) :: u_old(0:n + 1), u(0:n + 1), x(0:n + 1), alpha(n), r(n), dl(n - 1), dd(n), du(n - 1)
+        real(wp) :: s, h, g, dg, t
+        integer :: k, j, it, info
+
+        seconds = wall_seconds()
+        alpha = 0.0_wp
+        do j = n0 + 1, n
+            alpha(j) = kappa*(1.0_wp + tanh(real(2*j - n0 - n, wp)/(2.0_wp*sigma)))
+        end do
+        u_old = 0.0_wp
+        u = 0.0_wp
+        u(0) = amp*min(dt/ramp, 1.0_wp)*sin(omega*dt)
+        do k = 1, nint(t_final/dt) - 1
+            t = real(k + 1, wp)*dt
+            x = u
+            x(0) = amp*min(t/ramp, 1.0_wp)*sin(omega*t)
+            x(n + 1) = 0.0_wp
+            do it = 1, 50
+                do j = 1, n
+                    s = 0.5_wp*(x(j) + u_old(j))
+                    h = 0.5_wp*(x(j) - u_old(j))
+                    if (abs(h) > 1.0e-8_wp) then
+                        g = sin(s)*sin(h)/h
+                        dg = 0.5_wp*(cos(s)*sin(h)/h + sin(s)*(cos(h)/h - sin(h)/h**2))
+                    else
+                        g = sin(s)
+                        dg = 0.5_wp*cos(s)
+                    end if
+                    r(j) = -((x(j) - 2.0_wp*u(j) + u_old(j))/dt**2 &
+                             - c**2*(u(j + 1) - 2.0_wp*u(j) + u(j - 1)) + alpha(j)*(x(j) - u_old(j))/(2.0_wp*dt) + g)
+                    dd(j) = 1.0_wp/dt**2 + alpha(j)/(2.0_wp*dt) + dg
+                end do
+                dl = 0.0_wp
+                du = 0.0_wp
+                call solve_tridiag(dl, dd, du, r, info)
+                x(1:n) = x(1:n) + r
+                if (maxval(abs(r)) <= tol) exit
+            end do
+            u_old = u
+            u = x
+        end do
+        seconds = wall_seconds() - seconds
+        if (.not. (abs(u(60)) < huge(1.0_wp))) write (*, "(a)") "naive: non-finite u_60"
+    end function naive_seconds
 
     !> Work per step of a run: Newton iterations (newton), tridiagonal solves (linearized), right-hand sides (RK).
     pure function work_per_step(res) result(work)

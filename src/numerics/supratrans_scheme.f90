@@ -15,7 +15,7 @@ module supratrans_scheme
     implicit none
     private
 
-    public :: scheme_init, scheme_rhs, scheme_apply_a
+    public :: scheme_init, scheme_rhs, scheme_rhs_and_predictor, scheme_apply_a
 
     !> Coefficients of the scheme for one chain and one time step: the matrices A, B, C (their diagonals and
     !> off-diagonals) and the site damping. Set once by `scheme_init`, read-only afterwards; the work arrays of the
@@ -35,6 +35,8 @@ module supratrans_scheme
         real(wp) :: d = 0.0_wp
         !> Diagonal b_n of A, size N.
         real(wp), allocatable :: b(:)
+        !> min_n b_n (Newton's stopping test bounds the inverse Jacobian with it).
+        real(wp) :: b_min = 0.0_wp
         !> Diagonal e_n of C, size N.
         real(wp), allocatable :: e(:)
         !> Site damping alpha_n = gamma + gamma'(n), size N.
@@ -62,6 +64,7 @@ contains
         scheme%d = 2.0_wp/dt**2 - 2.0_wp*chain%c**2
         scheme%alpha = damping_profile(chain)
         scheme%b = (scheme%alpha + 2.0_wp*chain%beta)/(2.0_wp*dt) + chain%m2/2.0_wp + 1.0_wp/dt**2
+        scheme%b_min = minval(scheme%b)
         scheme%e = (scheme%alpha + 2.0_wp*chain%beta)/(2.0_wp*dt) - chain%m2/2.0_wp - 1.0_wp/dt**2
     end subroutine scheme_init
 
@@ -83,6 +86,31 @@ contains
                             + scheme%e(n)*u_old(n) + scheme%a*(u_old(n - 1) + u_old(n + 1))
         end do
     end subroutine scheme_rhs
+
+    !> `scheme_rhs` and, in the same pass, the cubic extrapolation x = 3 u^k - 3 u^{k-1} + u^{k-2} of the next level
+    !> (Newton's predictor, into x(1:N)) with max_n |x_n - u_n^{k-1}|/2.
+    pure subroutine scheme_rhs_and_predictor(scheme, u_older, u_old, u_cur, rhs, x, h_max)
+        !> Scheme coefficients.
+        type(scheme_type), intent(in) :: scheme
+        !> Levels k-2, k-1, k, u(0:N+1) with boundary cells.
+        real(wp), intent(in), contiguous :: u_older(0:), u_old(0:), u_cur(0:)
+        !> The right-hand side, size N.
+        real(wp), intent(out), contiguous :: rhs(:)
+        !> The next level u(0:N+1): x(1:N) set, the boundary cells untouched.
+        real(wp), intent(inout), contiguous :: x(0:)
+        !> max_n |x_n - u_n^{k-1}|/2.
+        real(wp), intent(out) :: h_max
+        integer :: n
+
+        h_max = 0.0_wp
+        !$omp simd reduction(max: h_max)
+        do n = 1, scheme%n
+            rhs(n) = scheme%d*u_cur(n) + scheme%c2*(u_cur(n - 1) + u_cur(n + 1)) &
+                     + scheme%e(n)*u_old(n) + scheme%a*(u_old(n - 1) + u_old(n + 1))
+            x(n) = 3.0_wp*(u_cur(n) - u_old(n)) + u_older(n)
+            h_max = max(h_max, 0.5_wp*abs(x(n) - u_old(n)))
+        end do
+    end subroutine scheme_rhs_and_predictor
 
     !> y = A x for x(0:N+1) including its boundary cells (so y_1 contains a x_0).
     pure subroutine scheme_apply_a(scheme, x, y)

@@ -3,9 +3,9 @@
 !> it with their step.
 !>
 !> The chain starts at rest, u^0 = u^1 = 0 (phi = varphi = 0), and the driven end follows u_0^k = psi(t_k): two
-!> initial levels, and step k (k = 1 .. M-1) computes u^{k+1} from u^k and u^{k-1} (and u^{k-2} for Newton's
-!> predictor). The levels are the columns of u(0:N+1, 4), rotated after every step; the end cells hold the
-!> boundary values u_0 = psi(t) and u_{N+1} = 0. The ledger sums dt (P_k - D_k) over the steps; E_k lives on the
+!> initial levels, and step k (k = 1 .. M-1) computes u^{k+1} from u^k and u^{k-1} (and earlier levels for
+!> Newton's predictor). The levels are the columns of u(0:N+1, L), rotated after every step; the end cells hold
+!> the boundary values u_0 = psi(t) and u_{N+1} = 0. The ledger sums dt (P_k - D_k) over the steps; E_k lives on the
 !> half level t_{k+1/2}.
 module supratrans_stepper_leapfrog
     use supratrans_kinds, only: wp, i8
@@ -27,10 +27,16 @@ module supratrans_stepper_leapfrog
         type(drive_params) :: drive
         !> External damping gamma, internal damping beta, mass term m^2 (for the ledger).
         real(wp) :: gamma = 0.0_wp, beta = 0.0_wp, m2 = 0.0_wp
-        !> Time levels u(0:N+1, 4): columns `io2` (k-2), `io` (k-1), `ic` (k, the newest), `inew` (free).
+        !> Time levels u(0:N+1, L), L = `levels` >= 4: column `col(j)` holds level k+1-j (j = 1 .. L-1, k the
+        !> newest), column `col(L)` is free for the next level; `ic`, `io`, `io2`, `inew` name col(1), col(2),
+        !> col(3) and col(L). Levels before t = 0 are the chain at rest.
         real(wp), allocatable :: u(:, :)
+        !> Number of stored levels L (4: enough for the schemes; Newton keeps more for its predictor).
+        integer :: levels = 4
+        !> Columns of the levels k, k-1, ..., and (last) of the next level.
+        integer, allocatable :: col(:)
         !> Columns of the levels k-2, k-1, k and of the next level.
-        integer :: io2 = 4, io = 1, ic = 2, inew = 3
+        integer :: io2 = 3, io = 2, ic = 1, inew = 4
     contains
         !> Stored energy E_k of the newest two levels.
         procedure :: stored_energy => leapfrog_energy
@@ -49,12 +55,14 @@ module supratrans_stepper_leapfrog
 contains
 
     !> Set up the scheme and the two initial levels (at rest, the driven end at psi(0) and psi(dt)).
-    subroutine leapfrog_init(self, run)
+    subroutine leapfrog_init(self, run, levels)
         !> The stepper.
         class(leapfrog_stepper), intent(inout) :: self
         !> Validated run configuration.
         type(run_config), intent(in) :: run
-        integer :: n
+        !> Levels to store (default 4, at least 4).
+        integer, intent(in), optional :: levels
+        integer :: n, j
 
         n = run%chain%n
         self%n = n
@@ -72,12 +80,12 @@ contains
         self%beta = run%chain%beta
         self%m2 = run%chain%m2
         call scheme_init(self%scheme, run%chain, self%dt)
+        self%levels = 4
+        if (present(levels)) self%levels = max(4, levels)
         if (allocated(self%u)) deallocate (self%u)
-        allocate (self%u(0:n + 1, 4), source=0.0_wp)
-        self%io2 = 4
-        self%io = 1
-        self%ic = 2
-        self%inew = 3
+        allocate (self%u(0:n + 1, self%levels), source=0.0_wp)
+        self%col = [(j, j=1, self%levels)]
+        call name_columns(self)
         ! levels 0 and 1: at rest, boundary from the drive
         self%u(0, self%io) = drive_psi(self%drive, 0.0_wp)
         self%u(0, self%ic) = drive_psi(self%drive, self%dt)
@@ -94,19 +102,31 @@ contains
         self%u(self%n + 1, self%inew) = 0.0_wp
     end function begin_step
 
-    !> After a successful step: rotate the levels k-1 -> k-2, k -> k-1, k+1 -> k, and count the step.
+    !> After a successful step: rotate the levels (k+1 -> k, k -> k-1, ...; the oldest column becomes free), and
+    !> count the step.
     subroutine end_step(self)
         !> The stepper.
         class(leapfrog_stepper), intent(inout) :: self
-        integer :: itmp
+        integer :: free
 
-        itmp = self%io2
-        self%io2 = self%io
-        self%io = self%ic
-        self%ic = self%inew
-        self%inew = itmp
+        free = self%col(self%levels - 1)                      ! the oldest level is dropped
+        self%col(2:self%levels - 1) = self%col(1:self%levels - 2)
+        self%col(1) = self%inew
+        self%col(self%levels) = free
+        call name_columns(self)
         self%steps = self%steps + 1
     end subroutine end_step
+
+    !> Set `ic`, `io`, `io2`, `inew` from `col`.
+    pure subroutine name_columns(self)
+        !> The stepper.
+        class(leapfrog_stepper), intent(inout) :: self
+
+        self%ic = self%col(1)
+        self%io = self%col(2)
+        self%io2 = self%col(3)
+        self%inew = self%col(self%levels)
+    end subroutine name_columns
 
     !> Stored energy E_k from the newest level (k+1) and the one before (k).
     pure function leapfrog_energy(self) result(e)
@@ -157,7 +177,25 @@ contains
         integer, intent(in) :: first
         real(wp) :: umax
 
-        umax = maxval(abs(self%u(first:self%n, self%ic)))
+        umax = max_abs_nan(self%u(first:self%n, self%ic))
     end function leapfrog_max_abs_u
+
+    !> max |x_n| in one vectorised pass; NaN (which a SIMD max may drop) is carried by the sum of x_n*0 instead.
+    pure function max_abs_nan(x) result(umax)
+        !> The values.
+        real(wp), intent(in), contiguous :: x(:)
+        real(wp) :: umax
+        integer :: n
+        real(wp) :: nan_probe
+
+        umax = 0.0_wp
+        nan_probe = 0.0_wp
+        !$omp simd reduction(max: umax) reduction(+: nan_probe)
+        do n = 1, size(x)
+            umax = max(umax, abs(x(n)))
+            nan_probe = nan_probe + 0.0_wp*x(n)
+        end do
+        if (nan_probe /= nan_probe) umax = nan_probe
+    end function max_abs_nan
 
 end module supratrans_stepper_leapfrog

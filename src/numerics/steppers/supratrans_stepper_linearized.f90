@@ -101,23 +101,26 @@ contains
         real(wp), intent(inout), contiguous :: u_new(0:)
         !> LAPACK status.
         integer, intent(out) :: info
-        integer :: n
+        integer :: n, j
 
         n = scheme%n
-        call scheme_rhs(scheme, u_cur, u_old, ws%rhs)
         call force_array(scheme%potential, u_cur(1:n), ws%g)
+        if (scheme%a == 0.0_wp) then      ! beta = 0: A is diagonal: right-hand side and division in one pass
+            do j = 1, n
+                u_new(j) = (scheme%d*u_cur(j) + scheme%c2*(u_cur(j - 1) + u_cur(j + 1)) + scheme%e(j)*u_old(j) &
+                            - ws%g(j))/scheme%b(j)
+            end do
+            info = 0
+            return
+        end if
+        call scheme_rhs(scheme, u_cur, u_old, ws%rhs)
         ws%work = ws%rhs - ws%g
         ws%work(1) = ws%work(1) - scheme%a*u_new(0)
         ws%work(n) = ws%work(n) - scheme%a*u_new(n + 1)
-        if (scheme%a == 0.0_wp) then      ! beta = 0: A is diagonal
-            ws%work = ws%work/scheme%b
-            info = 0
-        else
-            ws%dd = scheme%b
-            ws%dl = scheme%a
-            ws%du = scheme%a
-            call solve_tridiag(ws%dl, ws%dd, ws%du, ws%work, info)
-        end if
+        ws%dd = scheme%b
+        ws%dl = scheme%a
+        ws%du = scheme%a
+        call solve_tridiag(ws%dl, ws%dd, ws%du, ws%work, info)
         u_new(1:n) = ws%work
     end subroutine linearized_step
 

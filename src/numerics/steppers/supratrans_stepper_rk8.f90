@@ -130,15 +130,15 @@ contains
         !> Drive parameters.
         type(drive_params), intent(in) :: drive
         !> Site damping alpha_n.
-        real(wp), intent(in) :: alpha(:)
+        real(wp), intent(in), contiguous :: alpha(:)
         !> Start of the step and step size.
         real(wp), intent(in) :: t0, dt
         !> State (u, v, energies), advanced in place.
-        real(wp), intent(inout) :: y(:)
+        real(wp), intent(inout), contiguous :: y(:)
         !> Work: stage state.
-        real(wp), intent(inout) :: ys(:)
+        real(wp), intent(inout), contiguous :: ys(:)
         !> Work: stage derivatives, (size(y), 11).
-        real(wp), intent(inout) :: k(:, :)
+        real(wp), intent(inout), contiguous :: k(:, :)
         real(wp) :: h
 
         h = dt
