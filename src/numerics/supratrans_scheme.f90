@@ -88,8 +88,9 @@ contains
     end subroutine scheme_rhs
 
     !> `scheme_rhs` and, in the same pass, the cubic extrapolation x = 3 u^k - 3 u^{k-1} + u^{k-2} of the next level
-    !> (Newton's predictor, into x(1:N)) with max_n |x_n - u_n^{k-1}|/2.
-    pure subroutine scheme_rhs_and_predictor(scheme, u_older, u_old, u_cur, rhs, x, h_max)
+    !> (Newton's predictor, into x(1:N); unless `extrapolate` is false: then x(1:N) is the caller's predictor) with
+    !> max_n |x_n - u_n^{k-1}|/2.
+    pure subroutine scheme_rhs_and_predictor(scheme, u_older, u_old, u_cur, rhs, x, h_max, extrapolate)
         !> Scheme coefficients.
         type(scheme_type), intent(in) :: scheme
         !> Levels k-2, k-1, k, u(0:N+1) with boundary cells.
@@ -100,16 +101,30 @@ contains
         real(wp), intent(inout), contiguous :: x(0:)
         !> max_n |x_n - u_n^{k-1}|/2.
         real(wp), intent(out) :: h_max
+        !> Whether to extrapolate (default true).
+        logical, intent(in), optional :: extrapolate
         integer :: n
+        logical :: cubic
 
+        cubic = .true.
+        if (present(extrapolate)) cubic = extrapolate
         h_max = 0.0_wp
-        !$omp simd reduction(max: h_max)
-        do n = 1, scheme%n
-            rhs(n) = scheme%d*u_cur(n) + scheme%c2*(u_cur(n - 1) + u_cur(n + 1)) &
-                     + scheme%e(n)*u_old(n) + scheme%a*(u_old(n - 1) + u_old(n + 1))
-            x(n) = 3.0_wp*(u_cur(n) - u_old(n)) + u_older(n)
-            h_max = max(h_max, 0.5_wp*abs(x(n) - u_old(n)))
-        end do
+        if (cubic) then
+            !$omp simd reduction(max: h_max)
+            do n = 1, scheme%n
+                rhs(n) = scheme%d*u_cur(n) + scheme%c2*(u_cur(n - 1) + u_cur(n + 1)) &
+                         + scheme%e(n)*u_old(n) + scheme%a*(u_old(n - 1) + u_old(n + 1))
+                x(n) = 3.0_wp*(u_cur(n) - u_old(n)) + u_older(n)
+                h_max = max(h_max, 0.5_wp*abs(x(n) - u_old(n)))
+            end do
+        else
+            !$omp simd reduction(max: h_max)
+            do n = 1, scheme%n
+                rhs(n) = scheme%d*u_cur(n) + scheme%c2*(u_cur(n - 1) + u_cur(n + 1)) &
+                         + scheme%e(n)*u_old(n) + scheme%a*(u_old(n - 1) + u_old(n + 1))
+                h_max = max(h_max, 0.5_wp*abs(x(n) - u_old(n)))
+            end do
+        end if
     end subroutine scheme_rhs_and_predictor
 
     !> y = A x for x(0:N+1) including its boundary cells (so y_1 contains a x_0).

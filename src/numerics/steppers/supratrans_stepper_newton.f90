@@ -28,7 +28,7 @@ module supratrans_stepper_newton
     use supratrans_config, only: run_config
     use supratrans_potential, only: gradient_and_slope_array, gradient_and_slope_refine, slope_lower_bound, &
                                     curvature_bound, sine_gordon
-    use supratrans_scheme, only: scheme_type, scheme_rhs, scheme_rhs_and_predictor, scheme_apply_a
+    use supratrans_scheme, only: scheme_type, scheme_rhs_and_predictor, scheme_apply_a
     use supratrans_tridiag, only: solve_tridiag
     use supratrans_stepper, only: step_ok, step_not_converged, step_breakdown
     use supratrans_stepper_leapfrog, only: leapfrog_stepper, leapfrog_init
@@ -164,16 +164,8 @@ contains
 
         n = scheme%n
         if (present(predicted)) then
-            if (predicted) then
-                call scheme_rhs(scheme, u_cur, u_old, ws%rhs)
-                h_max = 0.0_wp
-                !$omp simd reduction(max: h_max)
-                do j = 1, n
-                    h_max = max(h_max, 0.5_wp*abs(u_new(j) - u_old(j)))
-                end do
-            else
-                call scheme_rhs_and_predictor(scheme, u_older, u_old, u_cur, ws%rhs, u_new, h_max)
-            end if
+            call scheme_rhs_and_predictor(scheme, u_older, u_old, u_cur, ws%rhs, u_new, h_max, &
+                                          extrapolate=.not. predicted)
         else
             call scheme_rhs_and_predictor(scheme, u_older, u_old, u_cur, ws%rhs, u_new, h_max)
         end if
