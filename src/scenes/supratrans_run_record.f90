@@ -9,7 +9,7 @@ module supratrans_run_record
     implicit none
     private
 
-    public :: run_value_names, run_values, not_run_values
+    public :: run_value_names, run_values, not_run_values, nan
 
     !> Position in a task's values: energy injected through the driven end over the run (paper: "total energy").
     integer, parameter, public :: iv_injected = 1

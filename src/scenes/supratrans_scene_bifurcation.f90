@@ -479,17 +479,17 @@ contains
         !> Error, allocated on failure (the file is then not created).
         type(error_type), allocatable, intent(out) :: error
         type(h5_file) :: file
-        type(search_record), allocatable :: rec(:)
+        real(wp), allocatable :: vals(:, :)
         integer, allocatable :: nd(:, :)
         integer :: ncurve, nomega, ic, io
         character(len=*), parameter :: dims = "curve, omega"
 
         ncurve = size(tasks%runs)
         nomega = size(tasks%omegas)
-        allocate (rec(size(done)))
+        ! the records as values in `search_fields` order; tasks not done as records with nothing searched
+        vals = results
         do ic = 1, size(done)
-            rec(ic) = unsearched_record()
-            if (done(ic)) rec(ic) = from_values(results(:, ic))
+            if (.not. done(ic)) vals(:, ic) = to_values(unsearched_record())
         end do
         allocate (nd(nomega, ncurve))
         do ic = 1, ncurve
@@ -509,35 +509,35 @@ contains
             "Driving frequency Omega_i = omega_min + i omega_step", error, dims="omega")
         if (.not. allocated(error)) call write_curves(file, tasks, error)
         if (.not. allocated(error)) then
-            call h5_write(file, "/threshold", field_grid(rec, "threshold", nomega), "rad", "Smallest driving amplitude " &
+            call h5_write(file, "/threshold", field_grid(vals, "threshold", nomega), "rad", "Smallest driving amplitude " &
                 // "A (grid amplitude_min + k " &
                 // "resolution) at which the run transmits: the supratransmission threshold; NaN when not found " &
                 // "(see /status)", error, dims=dims)
         end if
         if (.not. allocated(error)) then
-            call h5_write(file, "/threshold_As", field_grid(rec, "threshold_as", nomega), &
+            call h5_write(file, "/threshold_As", field_grid(vals, "threshold_as", nomega), &
                 "rad", "Continuum-limit threshold A_s = " &
                 // "4 arctan(lambda c / Omega) of the curve's chain (undamped theory); NaN outside the band gap", error, dims=dims)
         end if
         if (.not. allocated(error)) call h5_create_group(file, "/cost", "What each threshold search cost", error)
-        if (.not. allocated(error)) call h5_write(file, "/cost/runs", count_grid(rec, "runs", nomega), &
+        if (.not. allocated(error)) call h5_write(file, "/cost/runs", count_grid(vals, "runs", nomega), &
             "1", "Simulations run by the search (coarse scan + fine scan)", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, "/cost/steps", &
-            count_grid(rec, "steps", nomega), "1", &
+            count_grid(vals, "steps", nomega), "1", &
             "Time steps taken by all the search's simulations (transmitting runs stop when decided)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/cost/wall_time", field_grid(rec, "wall_time", nomega), &
+        if (.not. allocated(error)) call h5_write(file, "/cost/wall_time", field_grid(vals, "wall_time", nomega), &
             "s", "Wall-clock time of the search (one thread)", error, dims=dims)
         if (.not. allocated(error) .and. elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", &
                                                                                elapsed, error)
         if (.not. allocated(error)) call h5_write(file, "/detector_site", nd, "1", &
             "Detector site n_d of the verdict (a run transmits once |u_n| > detect amplitude for some n > n_d)", &
             error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/status", count_grid(rec, "status", nomega), &
+        if (.not. allocated(error)) call h5_write(file, "/status", count_grid(vals, "status", nomega), &
             "1", "Outcome of the search (codes in attribute 'codes')", error, dims=dims)
         if (.not. allocated(error)) call h5_write_attr(file, "/status", "codes", "-2: outside gap (Omega >= " &
             // "sqrt(1 + m^2): not searched; NaN); -1: pending (not computed yet); " // search_status_codes(), error)
-        if (.not. allocated(error)) call write_screening(file, tasks%cfg, rec, nomega, ncurve, error)
-        if (.not. allocated(error)) call write_certification(file, tasks%cfg, rec, nomega, ncurve, error)
+        if (.not. allocated(error)) call write_screening(file, tasks%cfg, vals, nomega, ncurve, error)
+        if (.not. allocated(error)) call write_certification(file, tasks%cfg, vals, nomega, ncurve, error)
         if (allocated(error)) then
             call h5_discard(file)
             return
@@ -546,47 +546,40 @@ contains
     end subroutine write_bifurcation_file
 
     !> One field of the search records, by its name in `search_fields`, as an (omega, curve) grid.
-    pure function field_grid(rec, name, nomega) result(g)
-        !> The search records, one per task (omega fastest).
-        type(search_record), intent(in) :: rec(:)
+    pure function field_grid(vals, name, nomega) result(g)
+        !> The search records as values (`search_fields`, tasks; omega fastest).
+        real(wp), intent(in) :: vals(:, :)
         !> Name of the field.
         character(len=*), intent(in) :: name
         !> Frequencies per curve.
         integer, intent(in) :: nomega
         real(wp), allocatable :: g(:, :)
-        real(wp) :: values(size(search_fields))
-        integer :: i, j
 
-        j = findloc(search_fields, name, dim=1)
-        allocate (g(nomega, size(rec)/nomega))
-        do i = 1, size(rec)
-            values = to_values(rec(i))
-            g(mod(i - 1, nomega) + 1, (i - 1)/nomega + 1) = values(j)
-        end do
+        g = reshape(vals(findloc(search_fields, name, dim=1), :), [nomega, size(vals, 2)/nomega])
     end function field_grid
 
     !> An integer field of the search records (a count or a status), by name, as an (omega, curve) grid of default
     !> integers (counts capped at huge(1)).
-    pure function count_grid(rec, name, nomega) result(g)
-        !> The search records, one per task (omega fastest).
-        type(search_record), intent(in) :: rec(:)
+    pure function count_grid(vals, name, nomega) result(g)
+        !> The search records as values (`search_fields`, tasks; omega fastest).
+        real(wp), intent(in) :: vals(:, :)
         !> Name of the field.
         character(len=*), intent(in) :: name
         !> Frequencies per curve.
         integer, intent(in) :: nomega
         integer, allocatable :: g(:, :)
 
-        g = nint(min(field_grid(rec, name, nomega), real(huge(1), wp)))
+        g = nint(min(field_grid(vals, name, nomega), real(huge(1), wp)))
     end function count_grid
 
     !> `/screening`: which runs of each search the screening method answered and which the scene's method confirmed.
-    subroutine write_screening(file, cfg, rec, nomega, ncurve, error)
+    subroutine write_screening(file, cfg, vals, nomega, ncurve, error)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The input.
         type(input_config), intent(in) :: cfg
-        !> The search records, one per task.
-        type(search_record), intent(in) :: rec(:)
+        !> The search records as values (`search_fields`, tasks).
+        real(wp), intent(in) :: vals(:, :)
         !> Frequencies per curve.
         integer, intent(in) :: nomega
         !> Curves.
@@ -601,41 +594,41 @@ contains
         if (.not. allocated(error)) call h5_write_attr(file, g, "screen_method", trim(cfg%scene%screen_method), error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "screen_dt", screen_dt(cfg, cfg%run), error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "confirm_band", cfg%scene%confirm_band, error)
-        if (.not. allocated(error)) call h5_write(file, g // "/runs_screened", count_grid(rec, "runs_screened", nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/runs_screened", count_grid(vals, "runs_screened", nomega), &
             "1", "Simulations run by the screening method", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/runs_confirmed", count_grid(rec, "runs_confirmed", nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/runs_confirmed", count_grid(vals, "runs_confirmed", nomega), &
             "1", "Simulations run by the scene's method (every verdict near the threshold)", &
             error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, g // "/steps_screened", &
-            count_grid(rec, "steps_screened", nomega), "1", &
+            count_grid(vals, "steps_screened", nomega), "1", &
             "Time steps of the screening runs", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, g // "/steps_confirmed", &
-            count_grid(rec, "steps_confirmed", nomega), "1", &
+            count_grid(vals, "steps_confirmed", nomega), "1", &
             "Time steps of the scene method's runs", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/screen_threshold", field_grid(rec, "screen_threshold", nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/screen_threshold", field_grid(vals, "screen_threshold", nomega), &
             "rad", "Threshold the screening method alone finds; NaN when none or not screened", &
             error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/band_low", field_grid(rec, "band_low", nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/band_low", field_grid(vals, "band_low", nomega), &
             "rad", "Lowest amplitude of the confirmation band; NaN when not screened", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/band_high", field_grid(rec, "band_high", nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/band_high", field_grid(vals, "band_high", nomega), &
             "rad", "Highest amplitude of the confirmation band; NaN when not screened", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/rounds", count_grid(rec, "rounds", nomega), "1", &
+        if (.not. allocated(error)) call h5_write(file, g // "/rounds", count_grid(vals, "rounds", nomega), "1", &
             "Searches with the confirmation band (more than 1: the band grew)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/disagreements", count_grid(rec, "disagreements", nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/disagreements", count_grid(vals, "disagreements", nomega), &
             "1", "Amplitudes answered by both methods with different verdicts", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, g // "/farthest_disagreement", &
-            field_grid(rec, "farthest_disagreement", nomega), "rad", "Largest distance between the threshold " &
+            field_grid(vals, "farthest_disagreement", nomega), "rad", "Largest distance between the threshold " &
             // "and an amplitude where the two methods disagree (0 when none)", error, dims=dims)
     end subroutine write_screening
 
     !> `/certify`: each threshold rechecked with the scene's method at dt/2 (only when `certify` is on).
-    subroutine write_certification(file, cfg, rec, nomega, ncurve, error)
+    subroutine write_certification(file, cfg, vals, nomega, ncurve, error)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The input.
         type(input_config), intent(in) :: cfg
-        !> The search records, one per task.
-        type(search_record), intent(in) :: rec(:)
+        !> The search records as values (`search_fields`, tasks).
+        real(wp), intent(in) :: vals(:, :)
         !> Frequencies per curve.
         integer, intent(in) :: nomega
         !> Curves.
@@ -649,18 +642,19 @@ contains
             // "transmit and the grid point below it must not; otherwise the dt/2 threshold within one coarse step", &
             error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "dt", cfg%run%numerics%dt/2.0_wp, error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "flagged", count(rec%certify_status >= certify_moved), &
+        if (.not. allocated(error)) call h5_write_attr(file, g, "flagged", &
+            count(count_grid(vals, "certify_status", nomega) >= certify_moved), &
                                                        error)
-        if (.not. allocated(error)) call h5_write(file, g // "/threshold", field_grid(rec, "certified_threshold", nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/threshold", field_grid(vals, "certified_threshold", nomega), &
             "rad", "Threshold at dt/2 near the threshold; NaN when not checked or not found", &
             error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/status", count_grid(rec, "certify_status", nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/status", count_grid(vals, "certify_status", nomega), &
             "1", "Outcome of the check (codes in attribute 'codes'); >= 2 is flagged", error, dims=dims)
         if (.not. allocated(error)) call h5_write_attr(file, g // "/status", "codes", certify_status_codes(), error)
-        if (.not. allocated(error)) call h5_write(file, g // "/runs", count_grid(rec, "certify_runs", nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "/runs", count_grid(vals, "certify_runs", nomega), &
             "1", "Simulations at dt/2 run by the check", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, g // "/steps", &
-            count_grid(rec, "certify_steps", nomega), "1", &
+            count_grid(vals, "certify_steps", nomega), "1", &
             "Time steps of those simulations", error, dims=dims)
     end subroutine write_certification
 

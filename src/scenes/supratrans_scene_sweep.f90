@@ -30,7 +30,7 @@
 !> and `d[ic-1, iw-1, ia-1]`. Each dataset's attribute `dimensions` names them in that (h5py) order.
 module supratrans_scene_sweep
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
-    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp, i8, supratrans_version
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config, run_config
@@ -41,7 +41,7 @@ module supratrans_scene_sweep
     use supratrans_simulate, only: simulate, number_of_levels
     use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed, status_name
     use supratrans_status, only: status_not_run, status_outside_gap, run_status_codes
-    use supratrans_run_record, only: run_value_names, run_values, not_run_values, fields, field_spec, n_run_values, &
+    use supratrans_run_record, only: run_value_names, run_values, not_run_values, nan, fields, field_spec, n_run_values, &
         iv_injected, iv_stored, iv_dissipated_gamma, iv_dissipated_beta, iv_dissipated_absorber, iv_residual, &
         iv_status, iv_transmitting, iv_t_decided, iv_steps, iv_newton_iterations, iv_wall_time, iv_t_end, &
         iv_max_abs_u, iv_injected_after_ramp, iv_u_beyond_max, iv_detect_site, iv_tridiagonal_solves, &
@@ -706,12 +706,5 @@ contains
             end if
         end do
     end function to_int
-
-    !> Quiet NaN.
-    pure function nan() result(x)
-        real(wp) :: x
-
-        x = ieee_value(x, ieee_quiet_nan)
-    end function nan
 
 end module supratrans_scene_sweep
