@@ -33,7 +33,7 @@ module supratrans_scene_bifurcation
     use supratrans_simulate, only: simulate, number_of_levels
     use supratrans_result, only: run_result, run_ok, status_name
     use supratrans_threshold, only: verdict_oracle, find_threshold, effective_coarse_step, search_grid_size, &
-                                    search_status_codes, search_found
+                                    search_status_codes, search_found, search_failed
     use supratrans_screened_search, only: find_threshold_screened, screen_report
     use supratrans_status, only: bifurcation_outside_gap => status_outside_gap, bifurcation_pending => status_not_run
     use supratrans_search_record, only: search_record, search_fields, to_values, from_values, certify_status_codes, &
@@ -297,7 +297,7 @@ contains
         call system_clock(clock_end)
         r%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
         values = to_values(r)
-        if (oracle%failed() .and. .not. self%cfg%output%quiet) then
+        if (r%status == search_failed .and. .not. self%cfg%output%quiet) then
             ! text only inside the critical section: deferred-length results are not thread-safe in gfortran 12
             !$omp critical (supratrans_bifurcation_messages)
             write (error_unit, "(a)") "  warning: curve " // int_str(icurve) // ", omega = " // real_str(omega, 6) &
