@@ -13,6 +13,9 @@
 !> 4. probes: u_n at the probe sites every `probe_every` levels (and at t = 0);
 !> 5. detector: the transmission verdict (|u_n| beyond the detector site n_d above `detect_amplitude`);
 !> 6. early stop: end the run as soon as its verdict is decided, if `stop_when_decided`.
+!>
+!> A run asked only for its verdict (threshold searches) gets 1, 5 and 6 alone: no energy bookkeeping, no ramp
+!> energy, no probes (its ledger and records stay empty).
 module supratrans_observers
     use supratrans_kinds, only: wp, i8
     use supratrans_config, only: run_config, detect_params
@@ -118,19 +121,30 @@ module supratrans_observers
 contains
 
     !> The engine's observers of a run, in the order they are called.
-    subroutine standard_observers(run, observers)
+    subroutine standard_observers(run, verdict_only, observers)
         !> Validated run configuration.
         type(run_config), intent(in) :: run
+        !> Only the verdict is wanted: blow-up, detector and early stop alone.
+        logical, intent(in) :: verdict_only
         !> The observers.
         type(observer_item), allocatable, intent(out) :: observers(:)
+        integer :: i
 
-        allocate (observers(6))
-        allocate (observers(1)%item, source=blowup_observer(threshold=run%numerics%blowup_threshold))
-        allocate (observers(2)%item, source=ledger_observer(every=run%record%ledger_every))
-        allocate (observers(3)%item, source=ramp_observer(ramp_time=run%drive%ramp_time))
-        allocate (observers(4)%item, source=probe_observer(every=run%record%probe_every))
-        allocate (observers(5)%item, source=detector_observer(detect=run%detect, site=detector_site(run)))
-        allocate (observers(6)%item, source=early_stop_observer(detect=run%detect))
+        if (verdict_only) then
+            allocate (observers(3))
+        else
+            allocate (observers(6))
+        end if
+        i = 1
+        allocate (observers(i)%item, source=blowup_observer(threshold=run%numerics%blowup_threshold))
+        if (.not. verdict_only) then
+            allocate (observers(i + 1)%item, source=ledger_observer(every=run%record%ledger_every))
+            allocate (observers(i + 2)%item, source=ramp_observer(ramp_time=run%drive%ramp_time))
+            allocate (observers(i + 3)%item, source=probe_observer(every=run%record%probe_every))
+            i = i + 3
+        end if
+        allocate (observers(i + 1)%item, source=detector_observer(detect=run%detect, site=detector_site(run)))
+        allocate (observers(i + 2)%item, source=early_stop_observer(detect=run%detect))
     end subroutine standard_observers
 
     !> Default start: nothing.

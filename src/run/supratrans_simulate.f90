@@ -67,18 +67,21 @@ contains
         if (.not. allocated(error)) levels = m + 1
     end function number_of_levels
 
-    !> Simulate one run: any method, the same observers.
-    subroutine simulate(run, result)
+    !> Simulate one run: any method, the same observers (with `verdict_only`, those of the verdict alone: the
+    !> ledger, the ramp energy and the records then stay empty).
+    subroutine simulate(run, result, verdict_only)
         !> Validated run configuration.
         type(run_config), intent(in) :: run
         !> Outcome, statistics, ledger and records.
         type(run_result), intent(out) :: result
+        !> Only the verdict is wanted (default false).
+        logical, intent(in), optional :: verdict_only
         class(stepper), allocatable :: integrator
         type(observer_item), allocatable :: observers(:)
         type(error_type), allocatable :: error
         integer(i8) :: clock_start, clock_end, clock_rate, m, nsteps
         integer :: i, status
-        logical :: halt
+        logical :: halt, verdict
 
         call system_clock(clock_start, clock_rate)
         call new_stepper(run%numerics%method, integrator, error)
@@ -97,7 +100,9 @@ contains
         end if
 
         call integrator%init(run)
-        call standard_observers(run, observers)
+        verdict = .false.
+        if (present(verdict_only)) verdict = verdict_only
+        call standard_observers(run, verdict, observers)
         do i = 1, size(observers)
             call observers(i)%item%start(integrator, result)
         end do
