@@ -182,7 +182,10 @@ module supratrans_config
         real(wp) :: screen_dt = 0.0_wp
         !> Bifurcation search: every amplitude the search asks within this distance below its threshold (and above) is run with the
         !> &numerics method (&scene confirm_band).
-        real(wp) :: confirm_band = 0.15_wp
+        real(wp) :: confirm_band = 0.05_wp
+        !> Bifurcation search: a quiet screening run whose verdict margin (1 - max|u|/amplitude beyond the detector) is below this
+        !> is run again with the &numerics method (&scene screen_margin).
+        real(wp) :: screen_margin = 0.5_wp
         !> Bifurcation search: recheck each threshold with the &numerics method at dt/2 and flag it if it moves more than the
         !> resolution (&scene certify).
         logical :: certify = .false.

@@ -101,34 +101,36 @@ module supratrans_schema
     integer, parameter, public :: key_scene_screen_dt = 37
     !> Index of &scene confirm_band in `key_table`.
     integer, parameter, public :: key_scene_confirm_band = 38
+    !> Index of &scene screen_margin in `key_table`.
+    integer, parameter, public :: key_scene_screen_margin = 39
     !> Index of &scene certify in `key_table`.
-    integer, parameter, public :: key_scene_certify = 39
+    integer, parameter, public :: key_scene_certify = 40
     !> Index of &scene methods in `key_table`.
-    integer, parameter, public :: key_scene_methods = 40
+    integer, parameter, public :: key_scene_methods = 41
     !> Index of &scene dts in `key_table`.
-    integer, parameter, public :: key_scene_dts = 41
+    integer, parameter, public :: key_scene_dts = 42
     !> Index of &scene dt_smallest in `key_table`.
-    integer, parameter, public :: key_scene_dt_smallest = 42
+    integer, parameter, public :: key_scene_dt_smallest = 43
     !> Index of &scene amplitudes in `key_table`.
-    integer, parameter, public :: key_scene_amplitudes = 43
+    integer, parameter, public :: key_scene_amplitudes = 44
     !> Index of &scene c_values in `key_table`.
-    integer, parameter, public :: key_scene_c_values = 44
+    integer, parameter, public :: key_scene_c_values = 45
     !> Index of &scene repeats in `key_table`.
-    integer, parameter, public :: key_scene_repeats = 45
+    integer, parameter, public :: key_scene_repeats = 46
     !> Index of &scene reference_dt in `key_table`.
-    integer, parameter, public :: key_scene_reference_dt = 46
+    integer, parameter, public :: key_scene_reference_dt = 47
     !> Index of &detect site in `key_table`.
-    integer, parameter, public :: key_detect_site = 47
+    integer, parameter, public :: key_detect_site = 48
     !> Index of &detect amplitude in `key_table`.
-    integer, parameter, public :: key_detect_amplitude = 48
+    integer, parameter, public :: key_detect_amplitude = 49
     !> Index of &detect stop_when_decided in `key_table`.
-    integer, parameter, public :: key_detect_stop_when_decided = 49
+    integer, parameter, public :: key_detect_stop_when_decided = 50
     !> Index of &output file in `key_table`.
-    integer, parameter, public :: key_output_file = 50
+    integer, parameter, public :: key_output_file = 51
     !> Index of &output overwrite in `key_table`.
-    integer, parameter, public :: key_output_overwrite = 51
+    integer, parameter, public :: key_output_overwrite = 52
     !> Index of &output quiet in `key_table`.
-    integer, parameter, public :: key_output_quiet = 52
+    integer, parameter, public :: key_output_quiet = 53
 
     type(key_spec), parameter :: spec_chain_potential = key_spec( &
         group="chain", key="potential", value_type=kt_name, max_values=1, attribute="potential", units="1", &
@@ -351,10 +353,17 @@ module supratrans_schema
     type(key_spec), parameter :: spec_scene_confirm_band = key_spec( &
         group="scene", key="confirm_band", value_type=kt_real, max_values=1, attribute="confirm_band", units="rad", &
             has_min=.true., min=0.0_wp, min_text="0", &
-        default_text="0.15", &
+        default_text="0.05", &
         range_text=">= 0", &
         description="Bifurcation search: every amplitude the search asks within this distance below its threshold (and above)" // &
             " is run with the &numerics method")
+    type(key_spec), parameter :: spec_scene_screen_margin = key_spec( &
+        group="scene", key="screen_margin", value_type=kt_real, max_values=1, attribute="screen_margin", units="1", &
+            has_min=.true., min=0.0_wp, min_text="0", has_max=.true., max=1.0_wp, max_text="1", &
+        default_text="0.5", &
+        range_text=">= 0 and <= 1", &
+        description="Bifurcation search: a quiet screening run whose verdict margin (1 - max|u|/amplitude beyond the detector" // &
+            ") is below this is run again with the &numerics method")
     type(key_spec), parameter :: spec_scene_certify = key_spec( &
         group="scene", key="certify", value_type=kt_logical, max_values=1, attribute="certify", units="1", &
         default_text=".false.", &
@@ -444,10 +453,10 @@ module supratrans_schema
         spec_record_probes, spec_record_probe_every, spec_record_ledger_every, spec_scene_kind, spec_scene_amplitude_min, &
         spec_scene_amplitude_max, spec_scene_amplitude_step, spec_scene_omega_min, spec_scene_omega_max, spec_scene_omega_step, &
         spec_scene_vary, spec_scene_values, spec_scene_potentials, spec_scene_coarse_step, spec_scene_resolution, &
-        spec_scene_screen_method, spec_scene_screen_dt, spec_scene_confirm_band, spec_scene_certify, spec_scene_methods, &
-        spec_scene_dts, spec_scene_dt_smallest, spec_scene_amplitudes, spec_scene_c_values, spec_scene_repeats, &
-        spec_scene_reference_dt, spec_detect_site, spec_detect_amplitude, spec_detect_stop_when_decided, spec_output_file, &
-        spec_output_overwrite, spec_output_quiet]
+        spec_scene_screen_method, spec_scene_screen_dt, spec_scene_confirm_band, spec_scene_screen_margin, spec_scene_certify, &
+        spec_scene_methods, spec_scene_dts, spec_scene_dt_smallest, spec_scene_amplitudes, spec_scene_c_values, &
+        spec_scene_repeats, spec_scene_reference_dt, spec_detect_site, spec_detect_amplitude, spec_detect_stop_when_decided, &
+        spec_output_file, spec_output_overwrite, spec_output_quiet]
 
     !> Values derived from the keys that `/parameters` stores too.
     type(derived_spec), parameter, public :: derived_table(*) = [ &
@@ -592,6 +601,8 @@ contains
             v = real_value([cfg%scene%screen_dt])
         case (key_scene_confirm_band)
             v = real_value([cfg%scene%confirm_band])
+        case (key_scene_screen_margin)
+            v = real_value([cfg%scene%screen_margin])
         case (key_scene_certify)
             v = flag_value(cfg%scene%certify)
         case (key_scene_methods)
@@ -715,6 +726,8 @@ contains
             cfg%scene%screen_dt = v%reals(1)
         case (key_scene_confirm_band)
             cfg%scene%confirm_band = v%reals(1)
+        case (key_scene_screen_margin)
+            cfg%scene%screen_margin = v%reals(1)
         case (key_scene_certify)
             cfg%scene%certify = v%flag
         case (key_scene_methods)

@@ -69,6 +69,8 @@ module supratrans_scene_bifurcation
         integer :: failed_status = run_ok
         !> The failed run's own reason.
         character(len=:), allocatable :: reason
+        !> Margin of the last run's verdict (`run_result%verdict_margin`).
+        real(wp) :: last_margin = 1.0_wp
     contains
         !> One simulation: transmitting or not, and the time steps it took.
         procedure :: transmits => simulation_transmits
@@ -76,6 +78,8 @@ module supratrans_scene_bifurcation
         procedure :: failed => simulation_failed
         !> Why it failed.
         procedure :: failure_reason => simulation_failure_reason
+        !> The margin of the last verdict.
+        procedure :: margin => simulation_margin
     end type simulation_oracle
 
     !> The tasks of a bifurcation scene: task t = (curve - 1) nomega + iomega searches one threshold.
@@ -203,7 +207,8 @@ contains
         text = ""
         if (trim(cfg%scene%screen_method) /= "none") text = "; screened by " // trim(cfg%scene%screen_method) &
             // " at dt = " // real_str(screen_dt(cfg, cfg%run), 6) &
-            // ", confirmed within " // real_str(cfg%scene%confirm_band, 6)
+            // ", confirmed within " // real_str(cfg%scene%confirm_band, 6) // " and below margin " &
+            // real_str(cfg%scene%screen_margin, 6)
         if (cfg%scene%certify) text = text // "; certified at dt/2"
     end function screening_text
 
@@ -222,7 +227,8 @@ contains
         end do
     end function bifurcation_omegas
 
-    !> A curve's run prepared for the search: stop when decided, no probes, the ledger closed once.
+    !> A curve's run prepared for the search: stop when decided, no probes, the ledger closed once (the oracle
+    !> runs it for its verdict alone: no ledger at all).
     pure function search_run(curve) result(run)
         !> The curve's run.
         type(run_config), intent(in) :: curve
@@ -274,10 +280,11 @@ contains
                 screen%run = self%screen_runs(icurve)
                 screen%run%drive%omega = omega
                 call find_threshold_screened(oracle, screen, sc%amplitude_min, sc%amplitude_max, sc%coarse_step, &
-                                             sc%resolution, sc%confirm_band, r%threshold, r%runs, r%steps, r%status, &
-                                             report)
+                                             sc%resolution, sc%confirm_band, sc%screen_margin, r%threshold, r%runs, &
+                                             r%steps, r%status, report)
                 r%runs_screened = report%runs_screened
                 r%runs_confirmed = report%runs_confirmed
+                r%runs_doubtful = report%runs_doubtful
                 r%steps_screened = report%steps_screened
                 r%steps_confirmed = report%steps_confirmed
                 r%screen_threshold = report%screen_threshold
@@ -412,9 +419,10 @@ contains
         type(run_result) :: result
 
         self%run%drive%amplitude = amplitude
-        call simulate(self%run, result)
+        call simulate(self%run, result, verdict_only=.true.)
         cost = int(result%steps, i8)
         transmitting = result%transmitting
+        self%last_margin = result%verdict_margin
         self%run_failed = result%status /= run_ok .and. .not. result%transmitting
         if (self%run_failed) then
             self%failed_amplitude = amplitude
@@ -422,6 +430,16 @@ contains
             self%reason = result%reason
         end if
     end function simulation_transmits
+
+    !> Margin of the last run's verdict, relative to the detection amplitude (NaN for a run stopped at its crossing
+    !> or failed).
+    function simulation_margin(self) result(margin)
+        !> The oracle.
+        class(simulation_oracle), intent(in) :: self
+        real(wp) :: margin
+
+        margin = self%last_margin
+    end function simulation_margin
 
     !> Whether the last run failed before its verdict.
     function simulation_failed(self) result(failed)
@@ -594,10 +612,14 @@ contains
         if (.not. allocated(error)) call h5_write_attr(file, g, "screen_method", trim(cfg%scene%screen_method), error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "screen_dt", screen_dt(cfg, cfg%run), error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "confirm_band", cfg%scene%confirm_band, error)
+        if (.not. allocated(error)) call h5_write_attr(file, g, "screen_margin", cfg%scene%screen_margin, error)
         if (.not. allocated(error)) call h5_write(file, g // "/runs_screened", count_grid(vals, "runs_screened", nomega), &
             "1", "Simulations run by the screening method", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, g // "/runs_confirmed", count_grid(vals, "runs_confirmed", nomega), &
             "1", "Simulations run by the scene's method (every verdict near the threshold)", &
+            error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "/runs_doubtful", count_grid(vals, "runs_doubtful", nomega), &
+            "1", "Screening runs quiet with a margin below screen_margin, run again by the scene's method", &
             error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, g // "/steps_screened", &
             count_grid(vals, "steps_screened", nomega), "1", &
@@ -606,7 +628,7 @@ contains
             count_grid(vals, "steps_confirmed", nomega), "1", &
             "Time steps of the scene method's runs", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, g // "/screen_threshold", field_grid(vals, "screen_threshold", nomega), &
-            "rad", "Threshold the screening method alone finds; NaN when none or not screened", &
+            "rad", "Threshold the screening method alone finds (its bracket bisected); NaN when none or not screened", &
             error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, g // "/band_low", field_grid(vals, "band_low", nomega), &
             "rad", "Lowest amplitude of the confirmation band; NaN when not screened", error, dims=dims)

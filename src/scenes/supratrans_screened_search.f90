@@ -5,10 +5,17 @@
 !> k with the exact oracle when k lies in the confirmation set, with the cheap one otherwise, and remembers every
 !> answer of each oracle (no point is asked twice of the same oracle). The search:
 !>
-!> 1. runs `find_threshold` with the cheap oracle alone (where a cheap run fails, the exact oracle answers):
-!>    threshold a_c (index k_c; "none transmits" counts as k_c = k_max + 1, just above the range). If it fails,
-!>    the confirmation set becomes the whole grid: the exact search, no saving;
+!> 1. runs `find_threshold` with the cheap oracle alone (where a cheap run fails, the exact oracle answers), its
+!>    bracket bisected rather than scanned (the answer only places the band: of the points a scan would ask, those
+!>    within the band would be asked again of the exact oracle): threshold a_c (index k_c; "none transmits" counts
+!>    as k_c = k_max + 1, just above the range). If it fails, the confirmation set becomes the whole grid: the
+!>    exact search, no saving;
 !> 2. confirmation set = the grid points within `band` of a_c;
+!>
+!> Everywhere, a cheap *quiet* answer whose margin (the oracle's `margin`: how far the run stayed below the
+!> detection amplitude, relative to it) is below `doubt` is not used: the exact oracle answers that point too. A
+!> run that came that close to transmitting is where a cheap integrator's verdict can differ from the exact one
+!> (damped chains whose response hovers near the detection amplitude over a range of amplitudes);
 !> 3. runs `find_threshold` with the hybrid oracle: threshold a (index k_a, or k_max + 1 for none). Every point it
 !>    asked at or above k_a - band/resolution must have been answered by the exact oracle; if one was not, the set
 !>    grows to cover [k_a - band/resolution, highest such point] (wider, by doubling, from the third round on) and
@@ -38,11 +45,13 @@ module supratrans_screened_search
         integer :: runs_screened = 0
         !> Questions answered by the exact oracle.
         integer :: runs_confirmed = 0
+        !> Of the screening answers, the quiet ones set aside for a margin below `doubt` (the exact oracle answered).
+        integer :: runs_doubtful = 0
         !> Cost of the screening answers (time steps).
         integer(i8) :: steps_screened = 0_i8
         !> Cost of the exact answers (time steps).
         integer(i8) :: steps_confirmed = 0_i8
-        !> Threshold of the screening search alone (NaN when it found none).
+        !> Threshold of the screening search alone, its bracket bisected (NaN when it found none).
         real(wp) :: screen_threshold = 0.0_wp
         !> Lowest amplitude of the final confirmation set (NaN when empty).
         real(wp) :: band_low = 0.0_wp
@@ -56,8 +65,9 @@ module supratrans_screened_search
         real(wp) :: farthest_disagreement = 0.0_wp
     end type screen_report
 
-    !> Memo values: not asked, quiet, transmitting, failed.
-    integer(int8), parameter :: unknown = 0_int8, quiet = 1_int8, transmitting = 2_int8, failing = 3_int8
+    !> Memo values: not asked, quiet, transmitting, failed, quiet with a margin below `doubt` (cheap oracle only).
+    integer(int8), parameter :: unknown = 0_int8, quiet = 1_int8, transmitting = 2_int8, failing = 3_int8, &
+                                doubtful = 4_int8
 
     !> The hybrid oracle: exact inside the confirmation set, cheap outside, each answer remembered.
     type, extends(verdict_oracle) :: hybrid_oracle
@@ -79,8 +89,10 @@ module supratrans_screened_search
         logical, allocatable :: asked_cheap(:)
         !> The last answer came from a failed exact run.
         logical :: last_failed = .false.
+        !> Cheap quiet answers with a margin below this are answered again by the exact oracle.
+        real(wp) :: doubt = 0.0_wp
         !> Running counts (see `screen_report`).
-        integer :: runs_screened = 0, runs_confirmed = 0
+        integer :: runs_screened = 0, runs_confirmed = 0, runs_doubtful = 0
         !> Running costs (see `screen_report`).
         integer(i8) :: steps_screened = 0_i8, steps_confirmed = 0_i8
     contains
@@ -94,9 +106,10 @@ contains
 
     !> Find the threshold that `find_threshold(exact, ...)` would find, asking `cheap` wherever the answer is far
     !> from the threshold (see the module documentation). Arguments as `find_threshold`, plus the oracles' roles,
-    !> the confirmation `band` (amplitude units, >= 0) and the `report`; `runs` and `steps` count real questions.
-    subroutine find_threshold_screened(exact, cheap, a_min, a_max, coarse_step, resolution, band, threshold, runs, &
-                                       steps, status, report)
+    !> the confirmation `band` (amplitude units, >= 0), the margin `doubt` below which a cheap quiet answer is
+    !> not used (0: every one is) and the `report`; `runs` and `steps` count real questions.
+    subroutine find_threshold_screened(exact, cheap, a_min, a_max, coarse_step, resolution, band, doubt, threshold, &
+                                       runs, steps, status, report)
         !> The oracle whose answer the search must reproduce.
         class(verdict_oracle), intent(inout), target :: exact
         !> The cheap screening oracle.
@@ -111,6 +124,8 @@ contains
         real(wp), intent(in) :: resolution
         !> Confirmation band (amplitude): answers within it below the threshold come from `exact`.
         real(wp), intent(in) :: band
+        !> Cheap quiet answers with a margin below this are answered again by `exact`.
+        real(wp), intent(in) :: doubt
         !> The threshold (NaN when none).
         real(wp), intent(out) :: threshold
         !> Questions asked of either oracle.
@@ -142,14 +157,15 @@ contains
         hybrid%cheap => cheap
         hybrid%a_min = a_min
         hybrid%resolution = resolution
+        hybrid%doubt = doubt
         allocate (hybrid%exact_memo(0:kmax), hybrid%cheap_memo(0:kmax), hybrid%confirm(0:kmax), &
                   hybrid%asked_cheap(0:kmax))
         hybrid%exact_memo = unknown
         hybrid%cheap_memo = unknown
         hybrid%confirm = .false.
 
-        ! 1. the screening search alone; "none transmits" is taken as a threshold just above a_max
-        call search(threshold, status)
+        ! 1. the screening search alone, bisecting; "none transmits" is taken as a threshold just above a_max
+        call search(threshold, status, bisect=.true.)
         if (status /= search_failed) report%screen_threshold = threshold
         if (status == search_failed) then
             hybrid%confirm = .true.
@@ -182,23 +198,27 @@ contains
     contains
 
         !> One `find_threshold` with the hybrid oracle as it stands; the oracle's own counts are the real cost.
-        subroutine search(a, st)
+        subroutine search(a, st, bisect)
             !> Threshold found.
             real(wp), intent(out) :: a
             !> Its status.
             integer, intent(out) :: st
+            !> Bisect the bracket (the first, screening search).
+            logical, intent(in), optional :: bisect
 
             hybrid%asked_cheap = .false.
             hybrid%last_failed = .false.
-            call find_threshold(hybrid, a_min, a_max, coarse_step, resolution, a, n_asked, ignored_steps, st)
+            call find_threshold(hybrid, a_min, a_max, coarse_step, resolution, a, n_asked, ignored_steps, st, bisect)
         end subroutine search
 
         !> Fill the report and the totals.
         subroutine finish()
             integer :: kk, k_t
+            integer(int8) :: cheap_answer
 
             report%runs_screened = hybrid%runs_screened
             report%runs_confirmed = hybrid%runs_confirmed
+            report%runs_doubtful = hybrid%runs_doubtful
             report%steps_screened = hybrid%steps_screened
             report%steps_confirmed = hybrid%steps_confirmed
             runs = hybrid%runs_screened + hybrid%runs_confirmed
@@ -212,7 +232,8 @@ contains
             do kk = 0, kmax
                 if (hybrid%exact_memo(kk) == unknown .or. hybrid%cheap_memo(kk) == unknown) cycle
                 if (hybrid%exact_memo(kk) == failing .or. hybrid%cheap_memo(kk) == failing) cycle
-                if (hybrid%exact_memo(kk) == hybrid%cheap_memo(kk)) cycle
+                cheap_answer = merge(quiet, hybrid%cheap_memo(kk), hybrid%cheap_memo(kk) == doubtful)
+                if (hybrid%exact_memo(kk) == cheap_answer) cycle
                 report%disagreements = report%disagreements + 1
                 if (k_t >= 0) report%farthest_disagreement = max(report%farthest_disagreement, &
                                                                  real(abs(kk - k_t), wp)*resolution)
@@ -243,7 +264,7 @@ contains
     end subroutine find_threshold_screened
 
     !> Answer grid amplitude `amplitude`: the exact oracle inside the confirmation set (or where the cheap one
-    !> failed), the cheap one outside; remembered answers cost nothing.
+    !> failed, or was quiet with a margin below `doubt`), the cheap one outside; remembered answers cost nothing.
     function hybrid_transmits(self, amplitude, cost) result(verdict)
         !> The hybrid oracle.
         class(hybrid_oracle), intent(inout) :: self
@@ -265,9 +286,14 @@ contains
                 self%runs_screened = self%runs_screened + 1
                 self%steps_screened = self%steps_screened + c
                 self%cheap_memo(k) = merge(transmitting, quiet, verdict)
-                if (self%cheap%failed()) self%cheap_memo(k) = failing
+                if (self%cheap%failed()) then
+                    self%cheap_memo(k) = failing
+                else if (.not. verdict .and. self%cheap%margin() < self%doubt) then
+                    self%cheap_memo(k) = doubtful
+                    self%runs_doubtful = self%runs_doubtful + 1
+                end if
             end if
-            if (self%cheap_memo(k) /= failing) then
+            if (self%cheap_memo(k) /= failing .and. self%cheap_memo(k) /= doubtful) then
                 self%asked_cheap(k) = .true.
                 verdict = self%cheap_memo(k) == transmitting
                 return

@@ -31,11 +31,13 @@ module supratrans_search_record
         integer :: runs_screened = 0
         !> Simulations run by the scene's method.
         integer :: runs_confirmed = 0
+        !> Of the screening runs, the quiet ones with a margin below `screen_margin` (the scene's method ran too).
+        integer :: runs_doubtful = 0
         !> Time steps of the screening runs.
         integer(i8) :: steps_screened = 0_i8
         !> Time steps of the scene method's runs.
         integer(i8) :: steps_confirmed = 0_i8
-        !> Threshold of the screening search alone; NaN when none (or not screened).
+        !> Threshold of the screening search alone (its bracket bisected); NaN when none (or not screened).
         real(wp) :: screen_threshold = 0.0_wp
         !> Lowest amplitude of the confirmation band; NaN when not screened.
         real(wp) :: band_low = 0.0_wp
@@ -59,8 +61,8 @@ module supratrans_search_record
 
     !> Names of the record's fields, in the order of `to_values` (the journal header lists them).
     character(len=*), parameter :: search_fields(*) = [character(len=21) :: "threshold", "threshold_as", "status", &
-        "runs", "steps", "wall_time", "runs_screened", "runs_confirmed", "steps_screened", "steps_confirmed", &
-        "screen_threshold", "band_low", "band_high", "rounds", "disagreements", "farthest_disagreement", &
+        "runs", "steps", "wall_time", "runs_screened", "runs_confirmed", "runs_doubtful", "steps_screened", &
+        "steps_confirmed", "screen_threshold", "band_low", "band_high", "rounds", "disagreements", "farthest_disagreement", &
         "certified_threshold", "certify_status", "certify_runs", "certify_steps"]
 
 contains
@@ -72,9 +74,9 @@ contains
         real(wp) :: values(size(search_fields))
 
         values = [r%threshold, r%threshold_as, real(r%status, wp), real(r%runs, wp), real(r%steps, wp), r%wall_time, &
-                  real(r%runs_screened, wp), real(r%runs_confirmed, wp), real(r%steps_screened, wp), &
-                  real(r%steps_confirmed, wp), r%screen_threshold, r%band_low, r%band_high, real(r%rounds, wp), &
-                  real(r%disagreements, wp), r%farthest_disagreement, r%certified_threshold, &
+                  real(r%runs_screened, wp), real(r%runs_confirmed, wp), real(r%runs_doubtful, wp), &
+                  real(r%steps_screened, wp), real(r%steps_confirmed, wp), r%screen_threshold, r%band_low, r%band_high, &
+                  real(r%rounds, wp), real(r%disagreements, wp), r%farthest_disagreement, r%certified_threshold, &
                   real(r%certify_status, wp), real(r%certify_runs, wp), real(r%certify_steps, wp)]
     end function to_values
 
@@ -92,18 +94,19 @@ contains
         r%wall_time = values(6)
         r%runs_screened = nint(values(7))
         r%runs_confirmed = nint(values(8))
-        r%steps_screened = nint(values(9), i8)
-        r%steps_confirmed = nint(values(10), i8)
-        r%screen_threshold = values(11)
-        r%band_low = values(12)
-        r%band_high = values(13)
-        r%rounds = nint(values(14))
-        r%disagreements = nint(values(15))
-        r%farthest_disagreement = values(16)
-        r%certified_threshold = values(17)
-        r%certify_status = nint(values(18))
-        r%certify_runs = nint(values(19))
-        r%certify_steps = nint(values(20), i8)
+        r%runs_doubtful = nint(values(9))
+        r%steps_screened = nint(values(10), i8)
+        r%steps_confirmed = nint(values(11), i8)
+        r%screen_threshold = values(12)
+        r%band_low = values(13)
+        r%band_high = values(14)
+        r%rounds = nint(values(15))
+        r%disagreements = nint(values(16))
+        r%farthest_disagreement = values(17)
+        r%certified_threshold = values(18)
+        r%certify_status = nint(values(19))
+        r%certify_runs = nint(values(20))
+        r%certify_steps = nint(values(21), i8)
     end function from_values
 
 

@@ -61,6 +61,8 @@ module supratrans_threshold
         procedure :: failed => oracle_never_fails
         !> Why the oracle failed (empty when it did not); default: empty.
         procedure :: failure_reason => oracle_no_reason
+        !> Margin of the last verdict: how far the run stayed from the detection amplitude, relative to it.
+        procedure :: margin => oracle_full_margin
     end type verdict_oracle
 
     abstract interface
@@ -97,6 +99,15 @@ contains
         reason = ""
     end function oracle_no_reason
 
+    !> Default margin: 1 (an oracle without a measure of doubt: every verdict is clear).
+    function oracle_full_margin(self) result(margin)
+        !> The oracle.
+        class(verdict_oracle), intent(in) :: self
+        real(wp) :: margin
+
+        margin = 1.0_wp
+    end function oracle_full_margin
+
     !> The coarse step actually used: the nearest multiple (at least 1) of `resolution`.
     elemental function effective_coarse_step(coarse_step, resolution) result(step)
         !> Requested coarse step.
@@ -127,7 +138,7 @@ contains
 
     !> Find the smallest amplitude of [a_min, a_max] at which `oracle` transmits, to within `resolution` (see the
     !> module documentation for the algorithm, its one assumption and its cost).
-    subroutine find_threshold(oracle, a_min, a_max, coarse_step, resolution, threshold, runs, steps, status)
+    subroutine find_threshold(oracle, a_min, a_max, coarse_step, resolution, threshold, runs, steps, status, bisect)
         !> Decides whether an amplitude transmits.
         class(verdict_oracle), intent(inout) :: oracle
         !> Lower end of the search range.
@@ -146,8 +157,12 @@ contains
         integer(i8), intent(out) :: steps
         !> `search_found`, `search_at_lower_bound`, `search_none`, `search_failed` or `search_bad_arguments`.
         integer, intent(out) :: status
-        integer :: m, kmax, k, k_prev, k_hit, k_found
-        logical :: hit
+        !> Bisect the bracket instead of scanning it (default false): log2(coarse_step/resolution) questions instead
+        !> of up to coarse_step/resolution - 1, and *a* grid point where the verdict changes inside the bracket, not
+        !> necessarily the smallest; an estimate (the screened search places its confirmation band with it).
+        logical, intent(in), optional :: bisect
+        integer :: m, kmax, k, k_prev, k_hit, k_found, k_low
+        logical :: hit, bisecting
 
         threshold = ieee_value(threshold, ieee_quiet_nan)
         runs = 0
@@ -191,7 +206,22 @@ contains
 
         ! 2. fine scan of the bracket (k_prev, k_hit), upward; k_hit is known to transmit
         k_found = k_hit
-        do k = k_prev + 1, k_hit - 1
+        bisecting = .false.
+        if (present(bisect)) bisecting = bisect
+        if (bisecting) then
+            k_low = k_prev
+            do while (k_found - k_low > 1)
+                k = k_low + (k_found - k_low)/2
+                call ask(k, hit)
+                if (status == search_failed) return
+                if (hit) then
+                    k_found = k
+                else
+                    k_low = k
+                end if
+            end do
+        end if
+        do k = k_prev + 1, merge(k_prev, k_hit - 1, bisecting)
             call ask(k, hit)
             if (status == search_failed) return
             if (hit) then
