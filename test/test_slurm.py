@@ -203,7 +203,10 @@ def test_array_and_merge_equal_the_single_machine_file(cluster, release_exe, tmp
 
 
 def test_cancelled_task_resubmitted_resumes_from_its_journal(cluster, release_exe, tmp_path):
-    text = STUDY.format(t_final="300.0")
+    # slice 2 must still be running when it is cancelled: long runs, unscreened (a screened slice of this study
+    # at T = 300 ends in about 0.1 s, before scancel reaches it)
+    text = STUDY.format(t_final="3000.0").replace("resolution = 0.1,", "resolution = 0.1, screen_method = 'none',")
+    assert "screen_method = 'none'" in text
     single_machine(release_exe, tmp_path, text)
     env = dict(cluster.env, SUPRATRANS=release_exe)
     array_script = str(SCRIPTS / "supratrans-array.sbatch")
