@@ -128,23 +128,21 @@ contains
         logical, intent(in) :: verdict_only
         !> The observers.
         type(observer_item), allocatable, intent(out) :: observers(:)
-        integer :: i
 
         if (verdict_only) then
             allocate (observers(3))
         else
             allocate (observers(6))
+            allocate (observers(2)%item, source=ledger_observer(every=run%record%ledger_every))
+            allocate (observers(3)%item, source=ramp_observer(ramp_time=run%drive%ramp_time))
+            allocate (observers(4)%item, source=probe_observer(every=run%record%probe_every))
         end if
-        i = 1
-        allocate (observers(i)%item, source=blowup_observer(threshold=run%numerics%blowup_threshold))
-        if (.not. verdict_only) then
-            allocate (observers(i + 1)%item, source=ledger_observer(every=run%record%ledger_every))
-            allocate (observers(i + 2)%item, source=ramp_observer(ramp_time=run%drive%ramp_time))
-            allocate (observers(i + 3)%item, source=probe_observer(every=run%record%probe_every))
-            i = i + 3
-        end if
-        allocate (observers(i + 1)%item, source=detector_observer(detect=run%detect, site=detector_site(run)))
-        allocate (observers(i + 2)%item, source=early_stop_observer(detect=run%detect))
+        ! first the blow-up check, last the detector and the early stop (it may end the run after the others)
+        allocate (observers(1)%item, source=blowup_observer(threshold=run%numerics%blowup_threshold))
+        associate (n => size(observers))
+            allocate (observers(n - 1)%item, source=detector_observer(detect=run%detect, site=detector_site(run)))
+            allocate (observers(n)%item, source=early_stop_observer(detect=run%detect))
+        end associate
     end subroutine standard_observers
 
     !> Default start: nothing.

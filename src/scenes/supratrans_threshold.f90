@@ -220,15 +220,16 @@ contains
                     k_low = k
                 end if
             end do
+        else
+            do k = k_prev + 1, k_hit - 1
+                call ask(k, hit)
+                if (status == search_failed) return
+                if (hit) then
+                    k_found = k
+                    exit
+                end if
+            end do
         end if
-        do k = k_prev + 1, merge(k_prev, k_hit - 1, bisecting)
-            call ask(k, hit)
-            if (status == search_failed) return
-            if (hit) then
-                k_found = k
-                exit
-            end if
-        end do
         threshold = grid_amplitude(k_found)
         status = search_found
 
