@@ -40,6 +40,9 @@ module supratrans_potential
     real(wp), parameter :: h_series = 0.25_wp
     !> Largest |x| for which `sin_cos_array` uses its own reduction (k pi/2 exact in parts for |k| < 2^20).
     real(wp), parameter, public :: trig_max = 1.0e5_wp
+    !> Largest |x| for which sin x and cos x are taken from their Taylor polynomials without a reduction (just
+    !> below pi/4, where the reduction of `sin_cos_reduced` leaves x unchanged).
+    real(wp), parameter :: taylor_max = 0.78_wp
     !> Largest max |delta| for which `gradient_and_slope_refine` advances sin(s), cos(s) by angle addition.
     real(wp), parameter, public :: rotate_max = 0.05_wp
 
@@ -325,21 +328,30 @@ contains
         dsc = h*((d1 + d2*h2) + h4*((d3 + d4*h2) + h4*(d5 + d6*h2)))
     end subroutine sinc_series
 
-    !> sin(x_n) and cos(x_n) for a whole array in one branch-free loop that vectorises, without library calls
-    !> (see `sin_cos_reduced`); for max |x_n| > `trig_max` the array is handed to the intrinsic sin and cos.
+    !> sin(x_n) and cos(x_n) for a whole array in branch-free loops that vectorise, without library calls: the
+    !> elements up to the last with |x_n| > `taylor_max` by `sin_cos_reduced`, the rest (the quiet tail of a
+    !> chain) by the same Taylor polynomials without the reduction, which leaves them unchanged there (k = 0), so
+    !> the values are those of `sin_cos_reduced` everywhere; for max |x_n| > `trig_max` the array is handed to the
+    !> intrinsic sin and cos.
     pure subroutine sin_cos_array(x, s, c)
         !> Arguments.
         real(wp), intent(in), contiguous :: x(:)
         !> sin(x_n) and cos(x_n).
         real(wp), intent(out), contiguous :: s(:), c(:)
-        integer :: n
+        integer :: n, m
         real(wp) :: x_max
 
+        m = head_length(x, taylor_max)
         x_max = 0.0_wp
         !$omp simd reduction(max: x_max)
-        do n = 1, size(x)
+        do n = 1, m
             x_max = max(x_max, abs(x(n)))
             call sin_cos_reduced(x(n), s(n), c(n))
+        end do
+        !$omp simd
+        do n = m + 1, size(x)
+            s(n) = sin_taylor(x(n))
+            c(n) = cos_taylor(x(n))
         end do
         if (x_max > trig_max) then
             do n = 1, size(x)
@@ -350,6 +362,21 @@ contains
             end do
         end if
     end subroutine sin_cos_array
+
+    !> The number of leading elements of x up to the last with |x_n| > bound (0 when there is none): every later
+    !> element is within the bound (or NaN, which the callers' polynomials carry through).
+    pure function head_length(x, bound) result(m)
+        !> The array.
+        real(wp), intent(in), contiguous :: x(:)
+        !> The bound.
+        real(wp), intent(in) :: bound
+        integer :: m
+
+        do m = size(x), 1, -1
+            if (abs(x(m)) > bound) return
+        end do
+        m = 0
+    end function head_length
 
     !> sin x and cos x, branch-free, for |x| <= `trig_max` (NaN or infinite x give NaN; called from
     !> `sin_cos_array` only, so that it is inlined there and the loop vectorises): the reduction
@@ -365,23 +392,14 @@ contains
         real(wp), intent(out) :: s, c
         real(wp), parameter :: pio2_1 = 1.5707963267341256_wp, pio2_2 = 6.077100506303966e-11_wp, &
                                pio2_3 = 2.0222662487959506e-21_wp, two_over_pi = 0.6366197723675814_wp
-        real(wp), parameter :: s1 = -1.0_wp/6.0_wp, s2 = 1.0_wp/120.0_wp, s3 = -1.0_wp/5040.0_wp, &
-                               s4 = 1.0_wp/362880.0_wp, s5 = -1.0_wp/39916800.0_wp, s6 = 1.0_wp/6227020800.0_wp, &
-                               s7 = -1.0_wp/1307674368000.0_wp, s8 = 1.0_wp/355687428096000.0_wp
-        real(wp), parameter :: c1 = -0.5_wp, c2 = 1.0_wp/24.0_wp, c3 = -1.0_wp/720.0_wp, c4 = 1.0_wp/40320.0_wp, &
-                               c5 = -1.0_wp/3628800.0_wp, c6 = 1.0_wp/479001600.0_wp, &
-                               c7 = -1.0_wp/87178291200.0_wp, c8 = 1.0_wp/20922789888000.0_wp
-        real(wp) :: k, q, r, r2, r4, r8, sr, cr
+        real(wp) :: k, q, r, sr, cr
         logical :: odd
 
         k = nearest_integer(x*two_over_pi)
         q = k - 4.0_wp*nearest_integer(0.25_wp*k)       ! k mod 4, in {-2, -1, 0, 1, 2}
         r = ((x - k*pio2_1) - k*pio2_2) - k*pio2_3
-        r2 = r*r
-        r4 = r2*r2
-        r8 = r4*r4
-        sr = r + r*r2*(((s1 + s2*r2) + r4*(s3 + s4*r2)) + r8*((s5 + s6*r2) + r4*(s7 + s8*r2)))
-        cr = 1.0_wp + r2*(((c1 + c2*r2) + r4*(c3 + c4*r2)) + r8*((c5 + c6*r2) + r4*(c7 + c8*r2)))
+        sr = sin_taylor(r)
+        cr = cos_taylor(r)
         ! quadrant q: 0 (sin r, cos r), 1 (cos r, -sin r), +-2 (-sin r, -cos r), -1 (-cos r, sin r)
         odd = abs(q) == 1.0_wp
         s = merge(cr, sr, odd)
@@ -389,6 +407,40 @@ contains
         s = merge(-s, s, q < -0.5_wp .or. q > 1.5_wp)
         c = merge(-c, c, q > 0.5_wp .or. q < -1.5_wp)
     end subroutine sin_cos_reduced
+
+    !> sin r by its Taylor polynomial to degree 17, for |r| <= pi/4 (truncation error below 1e-19), evaluated by
+    !> Estrin's scheme (short dependency chains).
+    elemental function sin_taylor(r) result(sr)
+        !> Argument.
+        real(wp), intent(in) :: r
+        real(wp) :: sr
+        real(wp), parameter :: s1 = -1.0_wp/6.0_wp, s2 = 1.0_wp/120.0_wp, s3 = -1.0_wp/5040.0_wp, &
+                               s4 = 1.0_wp/362880.0_wp, s5 = -1.0_wp/39916800.0_wp, s6 = 1.0_wp/6227020800.0_wp, &
+                               s7 = -1.0_wp/1307674368000.0_wp, s8 = 1.0_wp/355687428096000.0_wp
+        real(wp) :: r2, r4, r8
+
+        r2 = r*r
+        r4 = r2*r2
+        r8 = r4*r4
+        sr = r + r*r2*(((s1 + s2*r2) + r4*(s3 + s4*r2)) + r8*((s5 + s6*r2) + r4*(s7 + s8*r2)))
+    end function sin_taylor
+
+    !> cos r by its Taylor polynomial to degree 18, for |r| <= pi/4 (truncation error below 1e-19), by Estrin's
+    !> scheme.
+    elemental function cos_taylor(r) result(cr)
+        !> Argument.
+        real(wp), intent(in) :: r
+        real(wp) :: cr
+        real(wp), parameter :: c1 = -0.5_wp, c2 = 1.0_wp/24.0_wp, c3 = -1.0_wp/720.0_wp, c4 = 1.0_wp/40320.0_wp, &
+                               c5 = -1.0_wp/3628800.0_wp, c6 = 1.0_wp/479001600.0_wp, &
+                               c7 = -1.0_wp/87178291200.0_wp, c8 = 1.0_wp/20922789888000.0_wp
+        real(wp) :: r2, r4, r8
+
+        r2 = r*r
+        r4 = r2*r2
+        r8 = r4*r4
+        cr = 1.0_wp + r2*(((c1 + c2*r2) + r4*(c3 + c4*r2)) + r8*((c5 + c6*r2) + r4*(c7 + c8*r2)))
+    end function cos_taylor
 
     !> The integer nearest to x (ties to even) as a real, for |x| < 2^51, branch-free: adding and subtracting
     !> 1.5 * 2^52 leaves the rounded value (round-to-nearest arithmetic; no fast-math reassociation).
@@ -455,10 +507,13 @@ contains
         real(wp), intent(in), contiguous :: u(:)
         !> Forces V'(u_n).
         real(wp), intent(out), contiguous :: f(:)
+        integer :: m
 
         select case (id)
         case (sine_gordon)
-            f = sin(u)                  ! libmvec's vector sin: faster than a sine alone by our reduction
+            m = head_length(u, taylor_max)
+            f(1:m) = sin(u(1:m))        ! libmvec's vector sin: faster than a sine alone by our reduction
+            f(m + 1:) = sin_taylor(u(m + 1:))   ! the quiet tail: the Taylor polynomial, several times faster
         case (klein_gordon)
             f = u*(1.0_wp + u*u*(-1.0_wp/6.0_wp + u*u/120.0_wp))
         case default
