@@ -74,6 +74,8 @@ module supratrans_stepper
         procedure(stepper_max_abs_u), deferred :: max_abs_u
         !> What the blow-up check compares with its threshold: max |u_n| of the newest level (NaN counts).
         procedure :: blowup_measure
+        !> Both measures a verdict-only run watches: `blowup_measure` and max |u_n| over sites first..N.
+        procedure :: verdict_measures
         !> Time of the newest level, (steps + initial_levels - 1) dt.
         procedure :: level_time
         !> Time at which the stored energy lives, (steps + energy_offset) dt.
@@ -151,6 +153,21 @@ contains
 
         umax = self%max_abs_u(1)
     end function blowup_measure
+
+    !> Default: `blowup_measure` and `max_abs_u(first)`, one after the other.
+    pure subroutine verdict_measures(self, first, blowup, beyond)
+        !> The stepper.
+        class(stepper), intent(in) :: self
+        !> First site of the detector's range.
+        integer, intent(in) :: first
+        !> `blowup_measure()`.
+        real(wp), intent(out) :: blowup
+        !> `max_abs_u(first)`.
+        real(wp), intent(out) :: beyond
+
+        blowup = self%blowup_measure()
+        beyond = self%max_abs_u(first)
+    end subroutine verdict_measures
 
     !> Time of the newest level.
     pure function level_time(self) result(t)

@@ -15,7 +15,8 @@
 !> 6. early stop: end the run as soon as its verdict is decided, if `stop_when_decided`.
 !>
 !> A run asked only for its verdict (threshold searches) gets 1, 5 and 6 alone: no energy bookkeeping, no ramp
-!> energy, no probes (its ledger and records stay empty).
+!> energy, no probes (its ledger and records stay empty); 1 and 5 are then one observer (`verdict_observer`),
+!> whose two maxima come from one pass over the chain (`verdict_measures`).
 module supratrans_observers
     use supratrans_kinds, only: wp, i8
     use supratrans_config, only: run_config, detect_params
@@ -110,6 +111,15 @@ module supratrans_observers
         procedure :: finish => detector_finish
     end type detector_observer
 
+    !> Blow-up check and detector in one (a verdict-only run, where they follow each other): both maxima of the
+    !> new level from one pass (`verdict_measures`), then the blow-up check, then, unless it halts, the detector.
+    type, extends(detector_observer) :: verdict_observer
+        !> The blow-up threshold.
+        real(wp) :: threshold = 0.0_wp
+    contains
+        procedure :: after_step => verdict_after_step
+    end type verdict_observer
+
     !> Early stop once the verdict is decided.
     type, extends(run_observer) :: early_stop_observer
         !> Detector parameters (`stop_when_decided`).
@@ -130,19 +140,19 @@ contains
         type(observer_item), allocatable, intent(out) :: observers(:)
 
         if (verdict_only) then
-            allocate (observers(3))
+            allocate (observers(2))
+            allocate (observers(1)%item, source=verdict_observer(detect=run%detect, site=detector_site(run), &
+                                                                 threshold=run%numerics%blowup_threshold))
         else
             allocate (observers(6))
+            ! first the blow-up check, last the detector and the early stop (it may end the run after the others)
+            allocate (observers(1)%item, source=blowup_observer(threshold=run%numerics%blowup_threshold))
             allocate (observers(2)%item, source=ledger_observer(every=run%record%ledger_every))
             allocate (observers(3)%item, source=ramp_observer(ramp_time=run%drive%ramp_time))
             allocate (observers(4)%item, source=probe_observer(every=run%record%probe_every))
+            allocate (observers(5)%item, source=detector_observer(detect=run%detect, site=detector_site(run)))
         end if
-        ! first the blow-up check, last the detector and the early stop (it may end the run after the others)
-        allocate (observers(1)%item, source=blowup_observer(threshold=run%numerics%blowup_threshold))
-        associate (n => size(observers))
-            allocate (observers(n - 1)%item, source=detector_observer(detect=run%detect, site=detector_site(run)))
-            allocate (observers(n)%item, source=early_stop_observer(detect=run%detect))
-        end associate
+        allocate (observers(size(observers))%item, source=early_stop_observer(detect=run%detect))
     end subroutine standard_observers
 
     !> Default start: nothing.
@@ -323,6 +333,24 @@ contains
         call observe_detector(result, self%detect, self%site, integrator%max_abs_u(self%site + 1), &
                               integrator%level_time())
     end subroutine detector_after_step
+
+    !> Blow-up check, then (unless it halts) the detector, from one pass over the new level.
+    subroutine verdict_after_step(self, integrator, result, halt)
+        !> The observer.
+        class(verdict_observer), intent(inout) :: self
+        !> The stepper.
+        class(stepper), intent(in) :: integrator
+        !> The run's record.
+        type(run_result), intent(inout) :: result
+        !> True when the run blew up (`early_stop_observer` halts on the verdict).
+        logical, intent(out) :: halt
+        real(wp) :: blowup, beyond
+
+        call integrator%verdict_measures(self%site + 1, blowup, beyond)
+        call check_blowup(result, blowup, self%threshold, integrator%level_time(), halt)
+        if (halt) return
+        call observe_detector(result, self%detect, self%site, beyond, integrator%level_time())
+    end subroutine verdict_after_step
 
     !> The verdict of a run that never transmitted.
     subroutine detector_finish(self, integrator, result)

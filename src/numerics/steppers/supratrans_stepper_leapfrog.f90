@@ -46,6 +46,8 @@ module supratrans_stepper_leapfrog
         procedure :: displacement => leapfrog_displacement
         !> max |u_n| over sites first..N of the newest level.
         procedure :: max_abs_u => leapfrog_max_abs_u
+        !> max |u_n| over the whole chain and over sites first..N in one pass.
+        procedure :: verdict_measures => leapfrog_verdict_measures
         !> Start the next step: the new level's boundary cells; returns its time.
         procedure :: begin_step
         !> End a successful step: rotate the levels, count it.
@@ -179,6 +181,26 @@ contains
 
         umax = max_abs_nan(self%u(first:self%n, self%ic))
     end function leapfrog_max_abs_u
+
+    !> max |u_n| of the newest level over the whole chain (the blow-up measure, NaN carried as in `max_abs_nan`)
+    !> and over sites first..N, in one pass (a threshold search's run watches both every step).
+    pure subroutine leapfrog_verdict_measures(self, first, blowup, beyond)
+        !> The stepper.
+        class(leapfrog_stepper), intent(in) :: self
+        !> First site of the second range.
+        integer, intent(in) :: first
+        !> max |u_n| over 1..N.
+        real(wp), intent(out) :: blowup
+        !> max |u_n| over first..N.
+        real(wp), intent(out) :: beyond
+        real(wp) :: below
+
+        below = max_abs_nan(self%u(1:min(first - 1, self%n), self%ic))
+        beyond = max_abs_nan(self%u(max(first, 1):self%n, self%ic))
+        blowup = max(below, beyond)
+        if (below /= below) blowup = below
+        if (beyond /= beyond) blowup = beyond
+    end subroutine leapfrog_verdict_measures
 
     !> max |x_n| in one vectorised pass; NaN (which a SIMD max may drop) is carried by the sum of x_n*0 instead.
     pure function max_abs_nan(x) result(umax)
