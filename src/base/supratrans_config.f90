@@ -92,8 +92,8 @@ module supratrans_config
         real(wp) :: dt = 0.05_wp
         !> Final time T (&numerics t_final).
         real(wp) :: t_final = 200.0_wp
-        !> Newton accepts a step when its proven error bound (quadratic convergence after the last update) is at most this and the
-        !> energy ledger still closes to roundoff (&numerics newton_tol).
+        !> Newton accepts a step when its proven error bound (quadratic convergence) is at most this and, in runs that keep the
+        !> energy ledger (all but search runs), the ledger closes to roundoff (&numerics newton_tol).
         real(wp) :: newton_tol = 1.0e-10_wp
         !> Newton iteration cap; reaching it without convergence fails the run (&numerics newton_max_iter).
         integer :: newton_max_iter = 20

@@ -234,8 +234,8 @@ module supratrans_schema
             has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
         default_text="1e-10", &
         range_text="> 0", &
-        description="Newton accepts a step when its proven error bound (quadratic convergence after the last update) is at mo" // &
-            "st this and the energy ledger still closes to roundoff")
+        description="Newton accepts a step when its proven error bound (quadratic convergence) is at most this and, in runs t" // &
+            "hat keep the energy ledger (all but search runs), the ledger closes to roundoff")
     type(key_spec), parameter :: spec_numerics_newton_max_iter = key_spec( &
         group="numerics", key="newton_max_iter", value_type=kt_integer, max_values=1, attribute="newton_max_iter", units="1", &
             has_min=.true., min=1.0_wp, min_text="1", &

@@ -56,6 +56,10 @@ module supratrans_stepper
         integer(i8) :: rhs_evaluations = 0
         !> Why the last step failed (allocated by `step` when its status is not `step_ok`).
         character(len=:), allocatable :: reason
+        !> Every step keeps the discrete energy identity exact to roundoff, so that the energy ledger closes
+        !> (the default). A run that keeps no ledger (verdict-only) sets it false after `init`: the Newton scheme
+        !> then stops at its tolerance alone (one iteration fewer in one of eight of a search's Newton steps).
+        logical :: exact_energy = .true.
     contains
         !> Set up a run: coefficients, the initial levels (chain at rest, driven end), work arrays (allocated here,
         !> once), counters at zero.

@@ -68,7 +68,8 @@ contains
     end function number_of_levels
 
     !> Simulate one run: any method, the same observers (with `verdict_only`, those of the verdict alone: the
-    !> ledger, the ramp energy and the records then stay empty).
+    !> ledger, the ramp energy and the records then stay empty, and the stepper need not keep the energy identity
+    !> exact, `exact_energy`).
     subroutine simulate(run, result, verdict_only)
         !> Validated run configuration.
         type(run_config), intent(in) :: run
@@ -102,6 +103,7 @@ contains
         call integrator%init(run)
         verdict = .false.
         if (present(verdict_only)) verdict = verdict_only
+        integrator%exact_energy = .not. verdict     ! no ledger to close
         call standard_observers(run, verdict, observers)
         do i = 1, size(observers)
             call observers(i)%item%start(integrator, result)

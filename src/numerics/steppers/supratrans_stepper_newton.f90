@@ -19,6 +19,10 @@
 !> bounded by (L/2) sum_n delta_n^2 |h_n| <= (eps/16) sum_n b_n |x_n| |h_n| (a sixteenth of the roundoff of the
 !> identity's own terms; with eps itself the ledger residual of the paper-default run grew from 8e-15 to 2e-13
 !> of the energy scale over 4000 steps, with eps/16 it is 2e-15), so the ledger still closes at every step.
+!> Condition (ii) is dropped when the run keeps no ledger (`exact_energy` false: a threshold search's
+!> verdict-only runs). It alone asks for the second iteration of 2628 of the paper-default run's 3999 steps
+!> (the tolerance of none) and of 332,651 of the 2.56 million Newton steps of the paper-resolution sine-Gordon
+!> diagram (the tolerance of 326).
 !> When mu <= 0 (no bound available) the test is max|delta| <= tol.
 !>
 !> Counters: every iteration is one Newton iteration and one tridiagonal solve; no right-hand sides.
@@ -119,7 +123,8 @@ contains
         t_new = self%begin_step()
         call extrapolate(self%u, self%col(1:predictor_levels), self%u(1:self%n, self%inew))
         call newton_step(self%scheme, self%work, self%u(:, self%io2), self%u(:, self%io), self%u(:, self%ic), &
-                         self%u(:, self%inew), self%tol, self%max_iter, iters, status, predicted=.true.)
+                         self%u(:, self%inew), self%tol, self%max_iter, iters, status, predicted=.true., &
+                         exact_energy=self%exact_energy)
         self%newton_iterations = self%newton_iterations + iters
         self%tridiagonal_solves = self%tridiagonal_solves + iters
         self%newton_max_iterations = max(self%newton_max_iterations, iters)
@@ -136,7 +141,7 @@ contains
     !> Advance one step: compute u^{k+1} (into `u_new(1:N)`) from u^k and u^{k-1}.
     !> `u_new(0)` must already hold the boundary value psi(t_{k+1}) and `u_new(N+1)` zero.
     pure subroutine newton_step(scheme, ws, u_older, u_old, u_cur, u_new, tol, max_iter, iterations, status, &
-                                predicted)
+                                predicted, exact_energy)
         !> Scheme coefficients.
         type(scheme_type), intent(in) :: scheme
         !> Work arrays (`newton_work_init`).
@@ -159,8 +164,11 @@ contains
         integer, intent(out) :: status
         !> True: `u_new(1:N)` already holds the predictor (else the cubic extrapolation is made here).
         logical, intent(in), optional :: predicted
+        !> Keep the discrete energy identity exact to roundoff: condition (ii) of the stopping test (default true).
+        logical, intent(in), optional :: exact_energy
         integer :: n, j, it, info
         real(wp) :: change, defect, scale, u_max, h_max, mu, curvature
+        logical :: exact
 
         n = scheme%n
         if (present(predicted)) then
@@ -169,6 +177,8 @@ contains
         else
             call scheme_rhs_and_predictor(scheme, u_older, u_old, u_cur, ws%rhs, u_new, h_max)
         end if
+        exact = .true.
+        if (present(exact_energy)) exact = exact_energy
         mu = scheme%b_min + slope_lower_bound(scheme%potential) - 2.0_wp*abs(scheme%a)
         status = newton_not_converged
         iterations = 0
@@ -212,7 +222,7 @@ contains
                 end if
                 curvature = curvature_bound(scheme%potential, u_max)
                 if (curvature/(2.0_wp*mu)*change**2 <= tol &
-                    .and. 0.5_wp*curvature*defect <= epsilon(1.0_wp)/16.0_wp*scale) then
+                    .and. (.not. exact .or. 0.5_wp*curvature*defect <= epsilon(1.0_wp)/16.0_wp*scale)) then
                     status = newton_ok
                     return
                 end if
