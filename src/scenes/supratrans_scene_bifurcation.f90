@@ -103,6 +103,20 @@ module supratrans_scene_bifurcation
         procedure :: snapshot => write_snapshot
     end type bifurcation_tasks
 
+    !> A dataset of `/screening` or `/certify`: one field of the search records written as a (curve, omega) grid.
+    type :: grid_dataset
+        !> The field's name in `search_fields`.
+        character(len=24) :: field
+        !> The dataset's name in its group.
+        character(len=24) :: name
+        !> Units attribute.
+        character(len=4) :: units
+        !> A count or a status (written as default integers, capped at huge(1)), else a real value.
+        logical :: count
+        !> Description attribute.
+        character(len=120) :: description
+    end type grid_dataset
+
 contains
 
     !> Run the bifurcation scene described by `cfg` and write `cfg%output%file` (see the module documentation).
@@ -554,8 +568,8 @@ contains
             "1", "Outcome of the search (codes in attribute 'codes')", error, dims=dims)
         if (.not. allocated(error)) call h5_write_attr(file, "/status", "codes", "-2: outside gap (Omega >= " &
             // "sqrt(1 + m^2): not searched; NaN); -1: pending (not computed yet); " // search_status_codes(), error)
-        if (.not. allocated(error)) call write_screening(file, tasks%cfg, vals, nomega, ncurve, error)
-        if (.not. allocated(error)) call write_certification(file, tasks%cfg, vals, nomega, ncurve, error)
+        if (.not. allocated(error)) call write_screening(file, tasks%cfg, vals, nomega, error)
+        if (.not. allocated(error)) call write_certification(file, tasks%cfg, vals, nomega, error)
         if (allocated(error)) then
             call h5_discard(file)
             return
@@ -591,7 +605,7 @@ contains
     end function count_grid
 
     !> `/screening`: which runs of each search the screening method answered and which the scene's method confirmed.
-    subroutine write_screening(file, cfg, vals, nomega, ncurve, error)
+    subroutine write_screening(file, cfg, vals, nomega, error)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The input.
@@ -600,11 +614,29 @@ contains
         real(wp), intent(in) :: vals(:, :)
         !> Frequencies per curve.
         integer, intent(in) :: nomega
-        !> Curves.
-        integer, intent(in) :: ncurve
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
-        character(len=*), parameter :: g = "/screening", dims = "curve, omega"
+        character(len=*), parameter :: g = "/screening"
+        type(grid_dataset), parameter :: datasets(*) = [ &
+            grid_dataset("runs_screened", "runs_screened", "1", .true., "Simulations run by the screening method"), &
+            grid_dataset("runs_confirmed", "runs_confirmed", "1", .true., &
+                         "Simulations run by the scene's method (every verdict near the threshold)"), &
+            grid_dataset("runs_doubtful", "runs_doubtful", "1", .true., &
+                         "Screening runs quiet with a margin below screen_margin, run again by the scene's method"), &
+            grid_dataset("steps_screened", "steps_screened", "1", .true., "Time steps of the screening runs"), &
+            grid_dataset("steps_confirmed", "steps_confirmed", "1", .true., "Time steps of the scene method's runs"), &
+            grid_dataset("screen_threshold", "screen_threshold", "rad", .false., "Threshold the screening method " &
+                         // "alone finds (its bracket bisected); NaN when none or not screened"), &
+            grid_dataset("band_low", "band_low", "rad", .false., &
+                         "Lowest amplitude of the confirmation band; NaN when not screened"), &
+            grid_dataset("band_high", "band_high", "rad", .false., &
+                         "Highest amplitude of the confirmation band; NaN when not screened"), &
+            grid_dataset("rounds", "rounds", "1", .true., &
+                         "Searches with the confirmation band (more than 1: the band grew)"), &
+            grid_dataset("disagreements", "disagreements", "1", .true., &
+                         "Amplitudes answered by both methods with different verdicts"), &
+            grid_dataset("farthest_disagreement", "farthest_disagreement", "rad", .false., "Largest distance " &
+                         // "between the threshold and an amplitude where the two methods disagree (0 when none)")]
 
         call h5_create_group(file, g, "Screening of each threshold search: amplitudes far below the threshold are " &
             // "answered by the screening method, every amplitude the search asked within [band_low, band_high] by " &
@@ -613,38 +645,11 @@ contains
         if (.not. allocated(error)) call h5_write_attr(file, g, "screen_dt", screen_dt(cfg, cfg%run), error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "confirm_band", cfg%scene%confirm_band, error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "screen_margin", cfg%scene%screen_margin, error)
-        if (.not. allocated(error)) call h5_write(file, g // "/runs_screened", count_grid(vals, "runs_screened", nomega), &
-            "1", "Simulations run by the screening method", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/runs_confirmed", count_grid(vals, "runs_confirmed", nomega), &
-            "1", "Simulations run by the scene's method (every verdict near the threshold)", &
-            error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/runs_doubtful", count_grid(vals, "runs_doubtful", nomega), &
-            "1", "Screening runs quiet with a margin below screen_margin, run again by the scene's method", &
-            error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/steps_screened", &
-            count_grid(vals, "steps_screened", nomega), "1", &
-            "Time steps of the screening runs", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/steps_confirmed", &
-            count_grid(vals, "steps_confirmed", nomega), "1", &
-            "Time steps of the scene method's runs", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/screen_threshold", field_grid(vals, "screen_threshold", nomega), &
-            "rad", "Threshold the screening method alone finds (its bracket bisected); NaN when none or not screened", &
-            error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/band_low", field_grid(vals, "band_low", nomega), &
-            "rad", "Lowest amplitude of the confirmation band; NaN when not screened", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/band_high", field_grid(vals, "band_high", nomega), &
-            "rad", "Highest amplitude of the confirmation band; NaN when not screened", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/rounds", count_grid(vals, "rounds", nomega), "1", &
-            "Searches with the confirmation band (more than 1: the band grew)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/disagreements", count_grid(vals, "disagreements", nomega), &
-            "1", "Amplitudes answered by both methods with different verdicts", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/farthest_disagreement", &
-            field_grid(vals, "farthest_disagreement", nomega), "rad", "Largest distance between the threshold " &
-            // "and an amplitude where the two methods disagree (0 when none)", error, dims=dims)
+        if (.not. allocated(error)) call write_grids(file, g, datasets, vals, nomega, error)
     end subroutine write_screening
 
     !> `/certify`: each threshold rechecked with the scene's method at dt/2 (only when `certify` is on).
-    subroutine write_certification(file, cfg, vals, nomega, ncurve, error)
+    subroutine write_certification(file, cfg, vals, nomega, error)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The input.
@@ -653,11 +658,16 @@ contains
         real(wp), intent(in) :: vals(:, :)
         !> Frequencies per curve.
         integer, intent(in) :: nomega
-        !> Curves.
-        integer, intent(in) :: ncurve
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
-        character(len=*), parameter :: g = "/certify", dims = "curve, omega"
+        character(len=*), parameter :: g = "/certify"
+        type(grid_dataset), parameter :: datasets(*) = [ &
+            grid_dataset("certified_threshold", "threshold", "rad", .false., &
+                         "Threshold at dt/2 near the threshold; NaN when not checked or not found"), &
+            grid_dataset("certify_status", "status", "1", .true., &
+                         "Outcome of the check (codes in attribute 'codes'); >= 2 is flagged"), &
+            grid_dataset("certify_runs", "runs", "1", .true., "Simulations at dt/2 run by the check"), &
+            grid_dataset("certify_steps", "steps", "1", .true., "Time steps of those simulations")]
 
         if (.not. cfg%scene%certify) return
         call h5_create_group(file, g, "Each threshold rechecked with the scene's method at dt/2: the threshold must " &
@@ -665,20 +675,42 @@ contains
             error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "dt", cfg%run%numerics%dt/2.0_wp, error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "flagged", &
-            count(count_grid(vals, "certify_status", nomega) >= certify_moved), &
+                                                       count(count_grid(vals, "certify_status", nomega) >= certify_moved), &
                                                        error)
-        if (.not. allocated(error)) call h5_write(file, g // "/threshold", field_grid(vals, "certified_threshold", nomega), &
-            "rad", "Threshold at dt/2 near the threshold; NaN when not checked or not found", &
-            error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/status", count_grid(vals, "certify_status", nomega), &
-            "1", "Outcome of the check (codes in attribute 'codes'); >= 2 is flagged", error, dims=dims)
+        if (.not. allocated(error)) call write_grids(file, g, datasets, vals, nomega, error)
         if (.not. allocated(error)) call h5_write_attr(file, g // "/status", "codes", certify_status_codes(), error)
-        if (.not. allocated(error)) call h5_write(file, g // "/runs", count_grid(vals, "certify_runs", nomega), &
-            "1", "Simulations at dt/2 run by the check", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/steps", &
-            count_grid(vals, "certify_steps", nomega), "1", &
-            "Time steps of those simulations", error, dims=dims)
     end subroutine write_certification
+
+    !> Datasets of a group, each a field of the search records as a (curve, omega) grid (`grid_dataset`).
+    subroutine write_grids(file, group, datasets, vals, nomega, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> The group the datasets go into.
+        character(len=*), intent(in) :: group
+        !> What to write.
+        type(grid_dataset), intent(in) :: datasets(:)
+        !> The search records as values (`search_fields`, tasks).
+        real(wp), intent(in) :: vals(:, :)
+        !> Frequencies per curve.
+        integer, intent(in) :: nomega
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), parameter :: dims = "curve, omega"
+        integer :: i
+
+        do i = 1, size(datasets)
+            associate (d => datasets(i))
+                if (d%count) then
+                    call h5_write(file, group // "/" // trim(d%name), count_grid(vals, trim(d%field), nomega), &
+                                  trim(d%units), trim(d%description), error, dims=dims)
+                else
+                    call h5_write(file, group // "/" // trim(d%name), field_grid(vals, trim(d%field), nomega), &
+                                  trim(d%units), trim(d%description), error, dims=dims)
+                end if
+            end associate
+            if (allocated(error)) return
+        end do
+    end subroutine write_grids
 
     !> `/parameters`: every input key (`write_parameters`), the coarse step the search used, and
     !> `stop_when_decided` = 1 (every run of the search stops once decided).
