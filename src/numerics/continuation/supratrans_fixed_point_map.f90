@@ -68,7 +68,6 @@ contains
 
         umax = maxval(abs(x))
         energy = 0.5_wp*sum(x**2)
-        if (.false.) umax = umax + 0.0_wp*amplitude + 0.0_wp*self%dim
     end subroutine default_measures
 
 end module supratrans_fixed_point_map
