@@ -30,7 +30,7 @@ module supratrans_config
 
     !> Names of the scenes (&scene kind).
     character(len=*), parameter, public :: scene_choices(*) = [character(len=15) :: "timeseries", "amplitude_sweep", "map", &
-        "bifurcation", "work_precision", "stability"]
+        "bifurcation", "work_precision", "stability", "continuation"]
 
     !> Names of the screening methods (&scene screen_method).
     character(len=*), parameter, public :: screen_choices(*) = [character(len=10) :: "none", "newton", "linearized", "rk4", "rk8"]
@@ -170,6 +170,22 @@ module supratrans_config
         real(wp), allocatable :: values(:)
         !> Potentials, one panel (sweeps, maps) or set of curves each (&scene potentials).
         integer, allocatable :: potentials(:)
+        !> Continuation: first pseudo-arclength step along the branch of driven periodic states (grows and shrinks with Newton's
+        !> progress) (&scene continuation_step).
+        real(wp) :: continuation_step = 0.05_wp
+        !> Continuation: largest pseudo-arclength step (&scene continuation_step_max).
+        real(wp) :: continuation_step_max = 0.2_wp
+        !> Continuation: most points of a branch (the continuation stops there with status 'max_points') (&scene
+        !> continuation_points).
+        integer :: continuation_points = 150
+        !> Continuation: points followed along the unstable branch past the fold (&scene beyond_fold).
+        integer :: beyond_fold = 10
+        !> Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + crossing_tol (&scene
+        !> crossing_tol).
+        real(wp) :: crossing_tol = 1.0e-06_wp
+        !> Continuation: locate each fold again at dt/2 and on a chain twice as long, for its converged digits (&scene
+        !> fold_convergence).
+        logical :: fold_convergence = .true.
         !> Bifurcation search: coarse amplitude step of the upward scan (&scene coarse_step).
         real(wp) :: coarse_step = 0.1_wp
         !> Bifurcation search: resolution of the threshold; stability scene: resolution of the boundary in dt (&scene resolution).

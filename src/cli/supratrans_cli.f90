@@ -31,6 +31,7 @@ module supratrans_cli
     use supratrans_scene_bifurcation, only: run_bifurcation
     use supratrans_scene_workprec, only: run_work_precision
     use supratrans_scene_stability, only: run_stability
+    use supratrans_scene_continuation, only: run_continuation
     implicit none
     private
 
@@ -418,6 +419,8 @@ contains
             call run_work_precision(cfg, error)
         case ("stability")
             call run_stability(cfg, error)
+        case ("continuation")
+            call run_continuation(cfg, error)
         case default
             call fatal_error(error, cfg%source // ": &scene: kind '" // trim(cfg%scene%kind) // "' is not implemented", &
                              err_input)

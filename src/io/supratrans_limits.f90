@@ -84,7 +84,7 @@ contains
                     return
                 end if
             end if
-            if (kind == "map" .or. kind == "bifurcation") then
+            if (kind == "map" .or. kind == "bifurcation" .or. kind == "continuation") then
                 nomega = (sc%omega_max - sc%omega_min)/sc%omega_step + 1.0_wp
                 if (.not. (nomega <= max_axis_points)) then
                     call fail("scene", "omega_step = " // sci(sc%omega_step) // " makes " // sci(nomega) &
@@ -109,6 +109,18 @@ contains
             end if
             tasks = real(curve_count(cfg), wp)*nomega*namp
             if (kind == "work_precision" .or. kind == "stability") return
+            if (kind == "continuation") then
+                ! dense 2N x (2N + 1) matrices: the tangent, the shooting system, its LU, the eigenvalue copy (x 4
+                ! on the chain of 2N sites of the convergence check), per thread
+                n = n*merge(2.0_wp, 1.0_wp, sc%fold_convergence)
+                need = 5.0_wp*(2.0_wp*n + 1.0_wp)**2*8.0_wp*real(threads, wp)
+                if (have > 0.0_wp .and. need > 0.8_wp*have) then
+                    call fail("chain", "n = " // int_str(cfg%run%chain%n) // ": the dense shooting matrices need " &
+                              // "about " // sci(need/1.0e9_wp) // " GB" // thread_text // ", more than the " &
+                              // sci(have/1.0e9_wp) // " GB available (a shorter chain)")
+                end if
+                return
+            end if
             if (.not. (tasks <= max_tasks)) then
                 call fail("scene", sci(tasks) // " " // trim(merge("searches", "runs    ", kind == "bifurcation")) &
                           // ": more than the limit " // sci(max_tasks) // " (check the steps)")

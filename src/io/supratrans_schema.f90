@@ -91,46 +91,58 @@ module supratrans_schema
     integer, parameter, public :: key_scene_values = 32
     !> Index of &scene potentials in `key_table`.
     integer, parameter, public :: key_scene_potentials = 33
+    !> Index of &scene continuation_step in `key_table`.
+    integer, parameter, public :: key_scene_continuation_step = 34
+    !> Index of &scene continuation_step_max in `key_table`.
+    integer, parameter, public :: key_scene_continuation_step_max = 35
+    !> Index of &scene continuation_points in `key_table`.
+    integer, parameter, public :: key_scene_continuation_points = 36
+    !> Index of &scene beyond_fold in `key_table`.
+    integer, parameter, public :: key_scene_beyond_fold = 37
+    !> Index of &scene crossing_tol in `key_table`.
+    integer, parameter, public :: key_scene_crossing_tol = 38
+    !> Index of &scene fold_convergence in `key_table`.
+    integer, parameter, public :: key_scene_fold_convergence = 39
     !> Index of &scene coarse_step in `key_table`.
-    integer, parameter, public :: key_scene_coarse_step = 34
+    integer, parameter, public :: key_scene_coarse_step = 40
     !> Index of &scene resolution in `key_table`.
-    integer, parameter, public :: key_scene_resolution = 35
+    integer, parameter, public :: key_scene_resolution = 41
     !> Index of &scene screen_method in `key_table`.
-    integer, parameter, public :: key_scene_screen_method = 36
+    integer, parameter, public :: key_scene_screen_method = 42
     !> Index of &scene screen_dt in `key_table`.
-    integer, parameter, public :: key_scene_screen_dt = 37
+    integer, parameter, public :: key_scene_screen_dt = 43
     !> Index of &scene confirm_band in `key_table`.
-    integer, parameter, public :: key_scene_confirm_band = 38
+    integer, parameter, public :: key_scene_confirm_band = 44
     !> Index of &scene screen_margin in `key_table`.
-    integer, parameter, public :: key_scene_screen_margin = 39
+    integer, parameter, public :: key_scene_screen_margin = 45
     !> Index of &scene certify in `key_table`.
-    integer, parameter, public :: key_scene_certify = 40
+    integer, parameter, public :: key_scene_certify = 46
     !> Index of &scene methods in `key_table`.
-    integer, parameter, public :: key_scene_methods = 41
+    integer, parameter, public :: key_scene_methods = 47
     !> Index of &scene dts in `key_table`.
-    integer, parameter, public :: key_scene_dts = 42
+    integer, parameter, public :: key_scene_dts = 48
     !> Index of &scene dt_smallest in `key_table`.
-    integer, parameter, public :: key_scene_dt_smallest = 43
+    integer, parameter, public :: key_scene_dt_smallest = 49
     !> Index of &scene amplitudes in `key_table`.
-    integer, parameter, public :: key_scene_amplitudes = 44
+    integer, parameter, public :: key_scene_amplitudes = 50
     !> Index of &scene c_values in `key_table`.
-    integer, parameter, public :: key_scene_c_values = 45
+    integer, parameter, public :: key_scene_c_values = 51
     !> Index of &scene repeats in `key_table`.
-    integer, parameter, public :: key_scene_repeats = 46
+    integer, parameter, public :: key_scene_repeats = 52
     !> Index of &scene reference_dt in `key_table`.
-    integer, parameter, public :: key_scene_reference_dt = 47
+    integer, parameter, public :: key_scene_reference_dt = 53
     !> Index of &detect site in `key_table`.
-    integer, parameter, public :: key_detect_site = 48
+    integer, parameter, public :: key_detect_site = 54
     !> Index of &detect amplitude in `key_table`.
-    integer, parameter, public :: key_detect_amplitude = 49
+    integer, parameter, public :: key_detect_amplitude = 55
     !> Index of &detect stop_when_decided in `key_table`.
-    integer, parameter, public :: key_detect_stop_when_decided = 50
+    integer, parameter, public :: key_detect_stop_when_decided = 56
     !> Index of &output file in `key_table`.
-    integer, parameter, public :: key_output_file = 51
+    integer, parameter, public :: key_output_file = 57
     !> Index of &output overwrite in `key_table`.
-    integer, parameter, public :: key_output_overwrite = 52
+    integer, parameter, public :: key_output_overwrite = 58
     !> Index of &output quiet in `key_table`.
-    integer, parameter, public :: key_output_quiet = 53
+    integer, parameter, public :: key_output_quiet = 59
 
     type(key_spec), parameter :: spec_chain_potential = key_spec( &
         group="chain", key="potential", value_type=kt_name, max_values=1, attribute="potential", units="1", &
@@ -273,7 +285,7 @@ module supratrans_schema
     type(key_spec), parameter :: spec_scene_kind = key_spec( &
         group="scene", key="kind", value_type=kt_name, max_values=1, attribute="kind", units="1", choices=choice_scene, &
         default_text="'timeseries'", &
-        range_text="'timeseries', 'amplitude_sweep', 'map', 'bifurcation', 'work_precision', 'stability'", &
+        range_text="'timeseries', 'amplitude_sweep', 'map', 'bifurcation', 'work_precision', 'stability', 'continuation'", &
         description="Scene: the study to run")
     type(key_spec), parameter :: spec_scene_amplitude_min = key_spec( &
         group="scene", key="amplitude_min", value_type=kt_real, max_values=1, attribute="amplitude_min", units="rad", &
@@ -325,6 +337,43 @@ module supratrans_schema
         default_text="the &chain potential", &
         range_text="up to 2 values, each 'sine-gordon', 'klein-gordon'", &
         description="Potentials, one panel (sweeps, maps) or set of curves each")
+    type(key_spec), parameter :: spec_scene_continuation_step = key_spec( &
+        group="scene", key="continuation_step", value_type=kt_real, max_values=1, attribute="continuation_step", units="rad", &
+            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
+        default_text="0.05", &
+        range_text="> 0; <= continuation_step_max", &
+        description="Continuation: first pseudo-arclength step along the branch of driven periodic states (grows and shrinks " // &
+            "with Newton's progress)")
+    type(key_spec), parameter :: spec_scene_continuation_step_max = key_spec( &
+        group="scene", key="continuation_step_max", value_type=kt_real, max_values=1, attribute="continuation_step_max", &
+            units="rad", has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
+        default_text="0.2", &
+        range_text="> 0", &
+        description="Continuation: largest pseudo-arclength step")
+    type(key_spec), parameter :: spec_scene_continuation_points = key_spec( &
+        group="scene", key="continuation_points", value_type=kt_integer, max_values=1, attribute="continuation_points", &
+            units="1", has_min=.true., min=3.0_wp, min_text="3", has_max=.true., max=150.0_wp, max_text="150", &
+        default_text="150", &
+        range_text=">= 3 and <= 150", &
+        description="Continuation: most points of a branch (the continuation stops there with status 'max_points')")
+    type(key_spec), parameter :: spec_scene_beyond_fold = key_spec( &
+        group="scene", key="beyond_fold", value_type=kt_integer, max_values=1, attribute="beyond_fold", units="1", &
+            has_min=.true., min=0.0_wp, min_text="0", has_max=.true., max=100.0_wp, max_text="100", &
+        default_text="10", &
+        range_text=">= 0 and <= 100", &
+        description="Continuation: points followed along the unstable branch past the fold")
+    type(key_spec), parameter :: spec_scene_crossing_tol = key_spec( &
+        group="scene", key="crossing_tol", value_type=kt_real, max_values=1, attribute="crossing_tol", units="1", has_min=.true., &
+            min=0.0_wp, min_text="0", min_strict=.true., has_max=.true., max=0.1_wp, max_text="0.1", &
+        default_text="1e-06", &
+        range_text="> 0 and <= 0.1", &
+        description="Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + crossi" // &
+            "ng_tol")
+    type(key_spec), parameter :: spec_scene_fold_convergence = key_spec( &
+        group="scene", key="fold_convergence", value_type=kt_logical, max_values=1, attribute="fold_convergence", units="1", &
+        default_text=".true.", &
+        range_text="", &
+        description="Continuation: locate each fold again at dt/2 and on a chain twice as long, for its converged digits")
     type(key_spec), parameter :: spec_scene_coarse_step = key_spec( &
         group="scene", key="coarse_step", value_type=kt_real, max_values=1, attribute="coarse_step", units="rad", &
         default_text="0.1", &
@@ -452,11 +501,13 @@ module supratrans_schema
         spec_numerics_newton_tol, spec_numerics_newton_max_iter, spec_numerics_blowup_threshold, spec_numerics_allow_unstable, &
         spec_record_probes, spec_record_probe_every, spec_record_ledger_every, spec_scene_kind, spec_scene_amplitude_min, &
         spec_scene_amplitude_max, spec_scene_amplitude_step, spec_scene_omega_min, spec_scene_omega_max, spec_scene_omega_step, &
-        spec_scene_vary, spec_scene_values, spec_scene_potentials, spec_scene_coarse_step, spec_scene_resolution, &
-        spec_scene_screen_method, spec_scene_screen_dt, spec_scene_confirm_band, spec_scene_screen_margin, spec_scene_certify, &
-        spec_scene_methods, spec_scene_dts, spec_scene_dt_smallest, spec_scene_amplitudes, spec_scene_c_values, &
-        spec_scene_repeats, spec_scene_reference_dt, spec_detect_site, spec_detect_amplitude, spec_detect_stop_when_decided, &
-        spec_output_file, spec_output_overwrite, spec_output_quiet]
+        spec_scene_vary, spec_scene_values, spec_scene_potentials, spec_scene_continuation_step, &
+        spec_scene_continuation_step_max, spec_scene_continuation_points, spec_scene_beyond_fold, spec_scene_crossing_tol, &
+        spec_scene_fold_convergence, spec_scene_coarse_step, spec_scene_resolution, spec_scene_screen_method, &
+        spec_scene_screen_dt, spec_scene_confirm_band, spec_scene_screen_margin, spec_scene_certify, spec_scene_methods, &
+        spec_scene_dts, spec_scene_dt_smallest, spec_scene_amplitudes, spec_scene_c_values, spec_scene_repeats, &
+        spec_scene_reference_dt, spec_detect_site, spec_detect_amplitude, spec_detect_stop_when_decided, spec_output_file, &
+        spec_output_overwrite, spec_output_quiet]
 
     !> Values derived from the keys that `/parameters` stores too.
     type(derived_spec), parameter, public :: derived_table(*) = [ &
@@ -591,6 +642,18 @@ contains
             if (allocated(cfg%scene%values)) v = real_value(cfg%scene%values)
         case (key_scene_potentials)
             if (allocated(cfg%scene%potentials)) v = int_value(cfg%scene%potentials)
+        case (key_scene_continuation_step)
+            v = real_value([cfg%scene%continuation_step])
+        case (key_scene_continuation_step_max)
+            v = real_value([cfg%scene%continuation_step_max])
+        case (key_scene_continuation_points)
+            v = int_value([cfg%scene%continuation_points])
+        case (key_scene_beyond_fold)
+            v = int_value([cfg%scene%beyond_fold])
+        case (key_scene_crossing_tol)
+            v = real_value([cfg%scene%crossing_tol])
+        case (key_scene_fold_convergence)
+            v = flag_value(cfg%scene%fold_convergence)
         case (key_scene_coarse_step)
             v = real_value([cfg%scene%coarse_step])
         case (key_scene_resolution)
@@ -716,6 +779,18 @@ contains
         case (key_scene_potentials)
             if (allocated(cfg%scene%potentials)) deallocate (cfg%scene%potentials)
             if (v%n > 0) cfg%scene%potentials = v%ints(1:v%n)
+        case (key_scene_continuation_step)
+            cfg%scene%continuation_step = v%reals(1)
+        case (key_scene_continuation_step_max)
+            cfg%scene%continuation_step_max = v%reals(1)
+        case (key_scene_continuation_points)
+            cfg%scene%continuation_points = v%ints(1)
+        case (key_scene_beyond_fold)
+            cfg%scene%beyond_fold = v%ints(1)
+        case (key_scene_crossing_tol)
+            cfg%scene%crossing_tol = v%reals(1)
+        case (key_scene_fold_convergence)
+            cfg%scene%fold_convergence = v%flag
         case (key_scene_coarse_step)
             cfg%scene%coarse_step = v%reals(1)
         case (key_scene_resolution)

@@ -1,0 +1,539 @@
+!> Scene `continuation`: the supratransmission threshold as a property of the model, the fold (saddle-node) of the
+!> branch of driven time-periodic states of the discrete scheme, over the driving frequency, one curve per potential
+!> and value of the varied parameter (the layout of the bifurcation scene, so that a fold line lies over a diagram).
+!>
+!> For each curve and each frequency Omega_i = omega_min + i omega_step <= omega_max, one task continues the periodic
+!> states of the &numerics method driven at full amplitude A (no ramp) with period 2 pi / Omega, from the chain at
+!> rest at A = 0, in pseudo-arclength up the branch, through its fold and `beyond_fold` points along the unstable
+!> branch after it (`supratrans_continuation` on the one-period map of `supratrans_period_map`, dt = period / M, M
+!> = ceiling(period / dt)). Every point's Floquet multipliers (the eigenvalues of the discrete monodromy matrix) say
+!> whether it is stable (no multiplier of modulus above 1 + crossing_tol); the first loss of stability is located
+!> with its type. The model's threshold is the smaller of the fold and that loss, and the file says which it is.
+!> With `fold_convergence` the fold is located again at dt/2 and on a chain twice as long (N0 and N shifted by N,
+!> the same absorber), and the record gives the Richardson value, an error estimate and the converged digits.
+!>
+!> Frequencies outside the curve's band gap are not computed (status -2) unless `allow_outside_gap`, when they are
+!> computed and flagged (`/outside_gap`): no fold is expected there. The tasks run on OpenMP threads through
+!> `supratrans_tasks` (journal, resume, `--slice`), results stored by task index: identical for any number of
+!> threads and slices.
+module supratrans_scene_continuation
+    use, intrinsic :: iso_fortran_env, only: error_unit
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
+    use supratrans_kinds, only: wp, i8
+    use supratrans_error, only: error_type, fatal_error, err_input
+    use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
+                                 method_name
+    use supratrans_curves, only: curve_count, curve_run, curve_value
+    use supratrans_chain, only: threshold_as, band_gap_edge
+    use supratrans_potential, only: potential_name
+    use supratrans_status, only: status_outside_gap, status_not_run
+    use supratrans_fold_record, only: fold_record, fold_fields, fold_to_values, fold_from_values, empty_fold_record, &
+                                      branch_quantities, kept_multipliers, multiplier_samples
+    use supratrans_fold_line, only: trace_fold, fold_status_codes, instability_type_codes, fold_found
+    use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
+    use supratrans_system, only: remove_file
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
+    use supratrans_output, only: write_root, write_parameters
+    use supratrans_strings, only: int_str, real_str, fixed1
+    use supratrans_scene_bifurcation, only: bifurcation_omegas
+    implicit none
+    private
+
+    public :: run_continuation, continuation_omegas
+
+    !> The tasks of a continuation scene: task t = (curve - 1) nomega + iomega traces one branch to its fold.
+    type, extends(task_list) :: continuation_tasks
+        !> The validated input.
+        type(input_config) :: cfg
+        !> Run of each curve (chain, numerics; the drive's frequency and amplitude are set per task).
+        type(run_config), allocatable :: runs(:)
+        !> The frequencies.
+        real(wp), allocatable :: omegas(:)
+        !> Path of the partial output written by `snapshot`.
+        character(len=:), allocatable :: partial_path
+    contains
+        !> Trace the branch of one task.
+        procedure :: run => run_fold_task
+        !> Write the partial output.
+        procedure :: snapshot => write_snapshot
+    end type continuation_tasks
+
+contains
+
+    !> Run the continuation scene described by `cfg` and write `cfg%output%file` (see the module documentation).
+    subroutine run_continuation(cfg, error)
+        !> The validated input (`&scene kind = 'continuation'`).
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure (output exists, journal of another input, unwritable files).
+        type(error_type), allocatable, intent(out) :: error
+        type(continuation_tasks) :: tasks
+        type(fold_record) :: r
+        real(wp), allocatable :: results(:, :)
+        logical, allocatable :: done(:)
+        character(len=:), allocatable :: output, journal
+        integer :: ncurve, nomega, ic, found
+        integer(i8) :: clock_start, clock_end, clock_rate
+        logical :: exists
+        real(wp) :: elapsed
+
+        call system_clock(clock_start, clock_rate)
+        output = trim(cfg%output%file)
+        inquire (file=output, exist=exists)
+        if (exists .and. .not. cfg%output%overwrite) then
+            call fatal_error(error, output // ": output file exists (set overwrite = .true. to replace it)", err_input)
+            return
+        end if
+        tasks%cfg = cfg
+        tasks%omegas = continuation_omegas(cfg)
+        ncurve = curve_count(cfg)
+        nomega = size(tasks%omegas)
+        if (nomega < 1) then
+            call fatal_error(error, cfg%source // ": &scene: the frequency axis omega_min .. omega_max is empty", err_input)
+            return
+        end if
+        allocate (tasks%runs(ncurve))
+        do ic = 1, ncurve
+            tasks%runs(ic) = curve_run(cfg, ic)
+            tasks%runs(ic)%drive%ramp_time = 0.0_wp
+        end do
+        tasks%partial_path = output // ".partial.h5"
+        journal = output // ".journal"
+        if (.not. cfg%output%quiet) then
+            write (error_unit, "(a)") "supratrans: continuation from " // cfg%source // ": " // int_str(ncurve) &
+                // " curve(s) x " // int_str(nomega) // " frequencies, method " // method_name(cfg%run%numerics%method) &
+                // ", N = " // int_str(cfg%run%chain%n) // ", branches up to A = " // real_str(cfg%scene%amplitude_max, 6)
+        end if
+
+        call run_tasks(tasks, ncurve*nomega, fold_fields(cfg%scene%continuation_points), journal, &
+                       input_fingerprint(cfg), "fold continuations", cfg%output%quiet, results, done, error, cfg)
+        if (allocated(error) .or. engine_only(cfg)) return
+
+        call system_clock(clock_end)
+        elapsed = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+        call write_continuation_file(tasks, output, results, done, .true., elapsed, error)
+        if (allocated(error)) return
+        call remove_file(journal)
+        call remove_file(tasks%partial_path)
+        call remove_file(tasks%partial_path // ".tmp")
+        if (.not. cfg%output%quiet) then
+            found = 0
+            do ic = 1, size(done)
+                r = fold_from_values(results(:, ic), cfg%scene%continuation_points)
+                if (r%status == fold_found) found = found + 1
+            end do
+            write (error_unit, "(a)") "  " // int_str(found) // " of " // int_str(size(done)) // " folds found, " &
+                // fixed1(elapsed) // " s"
+        end if
+    end subroutine run_continuation
+
+    !> The frequency axis: that of the bifurcation scene (Omega_i = omega_min + i omega_step <= omega_max).
+    pure function continuation_omegas(cfg) result(omegas)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        real(wp), allocatable :: omegas(:)
+
+        omegas = bifurcation_omegas(cfg)
+    end function continuation_omegas
+
+    !> Trace the branch of task `index` to its fold (thread-safe: everything it changes is local).
+    subroutine run_fold_task(self, index, values)
+        !> The tasks.
+        class(continuation_tasks), intent(in) :: self
+        !> Task index: (curve - 1) nomega + iomega.
+        integer, intent(in) :: index
+        !> The task's `fold_record`, as values (`fold_to_values`).
+        real(wp), intent(out) :: values(:)
+        type(fold_record) :: r, check
+        type(run_config) :: run, other
+        integer :: icurve, iomega, nomega, p
+        integer(i8) :: clock_start, clock_end, clock_rate
+
+        call system_clock(clock_start, clock_rate)
+        nomega = size(self%omegas)
+        icurve = (index - 1)/nomega + 1
+        iomega = mod(index - 1, nomega) + 1
+        run = self%runs(icurve)
+        run%drive%omega = self%omegas(iomega)
+        r = empty_fold_record(self%cfg%scene%continuation_points)
+        if (run%drive%omega < band_gap_edge(run%chain)) r%threshold_as = threshold_as(run%chain, run%drive%omega)
+        if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. self%cfg%allow_outside_gap) then
+            r%status = status_outside_gap
+            values = fold_to_values(r)
+            return
+        end if
+
+        call trace_fold(run, self%cfg%scene, r, .true.)
+        if (self%cfg%scene%fold_convergence .and. r%status == fold_found) then
+            other = run
+            other%numerics%dt = r%dt_used/2.0_wp
+            check = empty_fold_record(self%cfg%scene%continuation_points)
+            call trace_fold(other, self%cfg%scene, check, .false.)
+            r%fold_half_dt = check%fold_amplitude
+            call add_cost(r, check)
+            other = run
+            other%chain%n0 = run%chain%n0 + run%chain%n
+            other%chain%n = 2*run%chain%n
+            check = empty_fold_record(self%cfg%scene%continuation_points)
+            call trace_fold(other, self%cfg%scene, check, .false.)
+            r%fold_long_chain = check%fold_amplitude
+            call add_cost(r, check)
+            p = method_order(run%numerics%method)
+            r%richardson = r%fold_half_dt + (r%fold_half_dt - r%fold_amplitude)/real(2**p - 1, wp)
+            r%error_estimate = max(abs(r%fold_half_dt - r%fold_amplitude)/real(2**p - 1, wp), &
+                                   abs(r%fold_long_chain - r%fold_amplitude))
+            if (.not. ieee_is_nan(r%error_estimate)) then
+                r%digits = real(min(15, max(0, floor(-log10(max(r%error_estimate, tiny(1.0_wp)) &
+                                                              /abs(r%fold_amplitude))))), wp)
+            end if
+        end if
+        call system_clock(clock_end)
+        r%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+        values = fold_to_values(r)
+    end subroutine run_fold_task
+
+    !> Add the cost counters of a convergence check to the task's record.
+    pure subroutine add_cost(r, check)
+        !> The task's record.
+        type(fold_record), intent(inout) :: r
+        !> The check's record.
+        type(fold_record), intent(in) :: check
+
+        r%newton_iterations = r%newton_iterations + check%newton_iterations
+        r%map_evaluations = r%map_evaluations + check%map_evaluations
+        r%jacobians = r%jacobians + check%jacobians
+        r%factorizations = r%factorizations + check%factorizations
+        r%eigen_calls = r%eigen_calls + check%eigen_calls
+    end subroutine add_cost
+
+    !> Order of accuracy in dt of a method (2 for the paper's schemes).
+    pure function method_order(method) result(p)
+        !> The method (`method_*`).
+        integer, intent(in) :: method
+        integer :: p
+
+        select case (method)
+        case (method_rk4)
+            p = 4
+        case (method_rk8)
+            p = 8
+        case default
+            p = 2
+        end select
+    end function method_order
+
+    !> Write the results so far to `<output>.partial.h5` (root attribute `complete = 0`); failures are ignored (the
+    !> journal, not this file, is what a resumed run reads).
+    subroutine write_snapshot(self, results, done)
+        !> The tasks.
+        class(continuation_tasks), intent(in) :: self
+        !> Results so far, (values, tasks).
+        real(wp), intent(in) :: results(:, :)
+        !> Which tasks are done.
+        logical, intent(in) :: done(:)
+        type(error_type), allocatable :: error
+
+        call write_continuation_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
+        if (allocated(error) .and. .not. self%cfg%output%quiet) then
+            write (error_unit, "(a)") "  warning: partial output not written: " // error%message
+        end if
+    end subroutine write_snapshot
+
+    !> Write the scene's file `path` (as a temporary file, renamed when complete): tasks not done get NaN and status
+    !> -1 (pending).
+    subroutine write_continuation_file(tasks, path, results, done, complete, elapsed, error)
+        !> The tasks.
+        type(continuation_tasks), intent(in) :: tasks
+        !> Final path of the file.
+        character(len=*), intent(in) :: path
+        !> Results, (values, tasks).
+        real(wp), intent(in) :: results(:, :)
+        !> Which tasks are done.
+        logical, intent(in) :: done(:)
+        !> Whether this is the complete result (root attribute `complete`).
+        logical, intent(in) :: complete
+        !> Wall time of the scene (s); negative when unknown (partial files).
+        real(wp), intent(in) :: elapsed
+        !> Error, allocated on failure (the file is then not created).
+        type(error_type), allocatable, intent(out) :: error
+        type(h5_file) :: file
+        type(fold_record), allocatable :: recs(:)
+        real(wp), allocatable :: branch(:, :, :), mult(:, :, :)
+        integer :: ncurve, nomega, ntask, t, q, npts
+        character(len=*), parameter :: dims = "curve, omega"
+
+        ncurve = size(tasks%runs)
+        nomega = size(tasks%omegas)
+        ntask = ncurve*nomega
+        npts = tasks%cfg%scene%continuation_points
+        allocate (recs(ntask))
+        do t = 1, ntask
+            if (done(t)) then
+                recs(t) = fold_from_values(results(:, t), npts)
+            else
+                recs(t) = empty_fold_record(npts)
+                recs(t)%status = status_not_run
+            end if
+        end do
+
+        call h5_create(file, path, .true., error)
+        if (allocated(error)) return
+        call write_root(file, tasks%cfg, "continuation", "Fold (saddle-node) of the branch of driven periodic " &
+                        // "states vs driving frequency: the supratransmission threshold of the model, one curve per " &
+                        // "potential and varied value, with Floquet stability and convergence", error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/", "complete", merge(1, 0, complete), error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/", "tasks_done", count(done), error)
+        if (.not. allocated(error)) call write_parameters(file, tasks%cfg, error)
+        if (.not. allocated(error)) call h5_write(file, "/omega", tasks%omegas, "1/time", &
+            "Driving frequency Omega_i = omega_min + i omega_step", error, dims="omega")
+        if (.not. allocated(error)) call write_curves(file, tasks, error)
+        if (.not. allocated(error)) call h5_write(file, "/fold_amplitude", grid(recs%fold_amplitude), "rad", &
+            "Fold A_f of the branch of periodic states (the model's supratransmission threshold when the branch is " &
+            // "stable up to it); NaN when none (see /status)", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, "/fold_residual", grid(recs%fold_residual), "rad", &
+            "max-norm of the shooting residual P(x) - x at the located fold", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, "/instability_amplitude", grid(recs%instability_amplitude), &
+            "rad", "First amplitude along the branch where a Floquet multiplier leaves the unit circle; NaN when " &
+            // "the branch stays stable up to its fold", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, "/instability_type", igrid(recs%instability_type), "1", &
+            "How the branch first loses stability (codes in attribute 'codes')", error, dims=dims)
+        if (.not. allocated(error)) call h5_write_attr(file, "/instability_type", "codes", instability_type_codes(), &
+                                                       error)
+        if (.not. allocated(error)) call h5_write(file, "/threshold", grid(recs%threshold), "rad", &
+            "The model's threshold: the smaller of the fold and the first loss of stability (/threshold_kind says " &
+            // "which)", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, "/threshold_kind", igrid(recs%threshold_kind), "1", &
+            "Which one /threshold is (the codes of /instability_type; 1: the fold)", error, dims=dims)
+        if (.not. allocated(error)) call h5_write_attr(file, "/threshold_kind", "codes", instability_type_codes(), &
+                                                       error)
+        if (.not. allocated(error)) call h5_write(file, "/threshold_As", grid(recs%threshold_as), "rad", &
+            "Continuum-limit threshold A_s = 4 arctan(lambda c / Omega) of the curve's chain; NaN outside the gap", &
+            error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, "/status", igrid(recs%status), "1", &
+            "Outcome of the continuation (codes in attribute 'codes')", error, dims=dims)
+        if (.not. allocated(error)) call h5_write_attr(file, "/status", "codes", "-2: outside gap (not computed); " &
+            // "-1: pending (not computed yet); " // fold_status_codes(), error)
+        if (.not. allocated(error)) call h5_write(file, "/dt_used", grid(recs%dt_used), "time", &
+            "Time step used: the drive period 2 pi / Omega over a whole number M of steps", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, "/steps_per_period", igrid(recs%steps_per_period), "1", &
+            "Steps M per drive period", error, dims=dims)
+        if (.not. allocated(error)) call write_convergence(file, recs, nomega, error)
+        if (.not. allocated(error)) call write_cost(file, recs, nomega, elapsed, error)
+        if (.not. allocated(error)) then
+            call h5_create_group(file, "/branch", "The branch of periodic states of each task, point by point " &
+                // "from A = 0 (NaN past /branch/points)", error)
+        end if
+        if (.not. allocated(error)) call h5_write(file, "/branch/points", igrid(recs%points), "1", &
+            "Points computed on the branch", error, dims=dims)
+        allocate (branch(npts, nomega, ncurve))
+        do q = 1, size(branch_quantities)
+            if (allocated(error)) exit
+            do t = 1, ntask
+                branch(:, mod(t - 1, nomega) + 1, (t - 1)/nomega + 1) = recs(t)%branch(q, :)
+            end do
+            call h5_write(file, "/branch/" // trim(branch_quantities(q)), branch, branch_units(q), &
+                          branch_description(q), error, dims="curve, omega, point")
+        end do
+        if (.not. allocated(error)) then
+            call h5_create_group(file, "/multipliers", "Floquet multipliers of largest modulus at a few points of " &
+                // "each branch: the first point, the one nearest half the fold, the fold, the last point", error)
+        end if
+        allocate (mult(kept_multipliers, multiplier_samples, ntask))
+        if (.not. allocated(error)) then
+            do t = 1, ntask
+                mult(:, :, t) = recs(t)%multiplier_re
+            end do
+            call h5_write(file, "/multipliers/real", mult, "1", "Real parts of the multipliers (task = (curve - 1) " &
+                          // "nomega + omega)", error, dims="task, sample, multiplier")
+        end if
+        if (.not. allocated(error)) then
+            do t = 1, ntask
+                mult(:, :, t) = recs(t)%multiplier_im
+            end do
+            call h5_write(file, "/multipliers/imag", mult, "1", "Imaginary parts of the multipliers", error, &
+                          dims="task, sample, multiplier")
+        end if
+        if (.not. allocated(error)) then
+            call h5_write(file, "/multipliers/amplitude", reshape([(recs(t)%multiplier_amplitude, t=1, ntask)], &
+                          [multiplier_samples, ntask]), "rad", "Amplitude of each sampled branch point", error, &
+                          dims="task, sample")
+        end if
+        if (allocated(error)) then
+            call h5_discard(file)
+            return
+        end if
+        call h5_commit(file, error)
+
+    contains
+
+        !> A per-task real as an (omega, curve) grid.
+        pure function grid(x) result(g)
+            real(wp), intent(in) :: x(:)
+            real(wp), allocatable :: g(:, :)
+
+            g = task_grid(x, nomega)
+        end function grid
+
+        !> A per-task integer as an (omega, curve) grid.
+        pure function igrid(x) result(g)
+            integer, intent(in) :: x(:)
+            integer, allocatable :: g(:, :)
+
+            g = task_igrid(x, nomega)
+        end function igrid
+
+    end subroutine write_continuation_file
+
+    !> A per-task real (task = (curve - 1) nomega + omega) as an (omega, curve) grid: h5py (curve, omega).
+    pure function task_grid(x, nomega) result(g)
+        !> One value per task.
+        real(wp), intent(in) :: x(:)
+        !> Frequencies per curve.
+        integer, intent(in) :: nomega
+        real(wp), allocatable :: g(:, :)
+
+        g = reshape(x, [nomega, size(x)/nomega])
+    end function task_grid
+
+    !> A per-task integer as an (omega, curve) grid.
+    pure function task_igrid(x, nomega) result(g)
+        !> One value per task.
+        integer, intent(in) :: x(:)
+        !> Frequencies per curve.
+        integer, intent(in) :: nomega
+        integer, allocatable :: g(:, :)
+
+        g = reshape(x, [nomega, size(x)/nomega])
+    end function task_igrid
+
+    !> `/convergence`: each fold again at dt/2 and on a chain twice as long, the extrapolation and the digits.
+    subroutine write_convergence(file, recs, nomega, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> The records, one per task.
+        type(fold_record), intent(in) :: recs(:)
+        !> Frequencies per curve.
+        integer, intent(in) :: nomega
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), parameter :: g = "/convergence/", dims = "curve, omega"
+
+        call h5_create_group(file, "/convergence", "How many digits of each fold are converged: the fold located " &
+            // "again at dt/2 and on a chain twice as long (&scene fold_convergence); NaN when not computed", error)
+        if (.not. allocated(error)) call h5_write(file, g // "fold_half_dt", task_grid(recs%fold_half_dt, nomega), &
+            "rad", "Fold at dt/2 (the same method, M doubled)", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "fold_long_chain", task_grid(recs%fold_long_chain, &
+            nomega), "rad", "Fold on the chain of 2N sites (N0 + N, the same absorber)", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "richardson", task_grid(recs%richardson, nomega), "rad", &
+            "Richardson extrapolation of the fold in dt (the method's order)", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "error_estimate", task_grid(recs%error_estimate, nomega), &
+            "rad", "Estimated error of /fold_amplitude: max(|A(dt/2) - A(dt)| / (2^p - 1), |A(2N) - A(N)|)", error, &
+            dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "digits", task_grid(recs%digits, nomega), "1", &
+            "Converged decimal digits of /fold_amplitude, floor(-log10(error_estimate / A_f))", error, dims=dims)
+    end subroutine write_convergence
+
+    !> `/cost`: what each continuation cost.
+    subroutine write_cost(file, recs, nomega, elapsed, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> The records, one per task.
+        type(fold_record), intent(in) :: recs(:)
+        !> Frequencies per curve.
+        integer, intent(in) :: nomega
+        !> Wall time of the scene (s); negative when unknown.
+        real(wp), intent(in) :: elapsed
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), parameter :: g = "/cost/", dims = "curve, omega"
+
+        call h5_create_group(file, "/cost", "What each task cost (the convergence checks included)", error)
+        if (.not. allocated(error)) call h5_write(file, g // "newton_iterations", task_igrid(recs%newton_iterations, &
+            nomega), "1", "Newton-shooting iterations", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "map_evaluations", task_igrid(recs%map_evaluations, &
+            nomega), "1", "Evaluations of the one-period map", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "jacobians", task_igrid(recs%jacobians, nomega), "1", &
+            "Of those, with the tangent (2N + 1 columns)", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "factorizations", task_igrid(recs%factorizations, &
+            nomega), "1", "LU factorisations of the shooting system", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "eigen_calls", task_igrid(recs%eigen_calls, nomega), &
+            "1", "Eigenvalue computations (Floquet multipliers)", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "wall_time", task_grid(recs%wall_time, nomega), "s", &
+            "Wall-clock time of the task (one thread)", error, dims=dims)
+        if (.not. allocated(error) .and. elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", &
+                                                                               elapsed, error)
+    end subroutine write_cost
+
+    !> Units of a branch quantity.
+    pure function branch_units(q) result(units)
+        !> Index in `branch_quantities`.
+        integer, intent(in) :: q
+        character(len=:), allocatable :: units
+
+        select case (trim(branch_quantities(q)))
+        case ("amplitude", "umax", "residual")
+            units = "rad"
+        case ("energy")
+            units = "energy"
+        case default
+            units = "1"
+        end select
+    end function branch_units
+
+    !> Description of a branch quantity.
+    pure function branch_description(q) result(text)
+        !> Index in `branch_quantities`.
+        integer, intent(in) :: q
+        character(len=:), allocatable :: text
+
+        select case (trim(branch_quantities(q)))
+        case ("amplitude")
+            text = "Driving amplitude A of each branch point"
+        case ("umax")
+            text = "Largest |u_n| over the chain and one drive period"
+        case ("energy")
+            text = "Stored energy of the chain, averaged over one drive period"
+        case ("multiplier_max")
+            text = "Largest modulus of the Floquet multipliers"
+        case ("stable")
+            text = "1 when every multiplier has modulus <= 1 + crossing_tol, else 0"
+        case ("newton_iterations")
+            text = "Newton-shooting iterations of the point"
+        case default
+            text = "max-norm of the shooting residual P(x) - x at the point"
+        end select
+    end function branch_description
+
+    !> `/curves`: what distinguishes the curves.
+    subroutine write_curves(file, tasks, error)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> The tasks.
+        type(continuation_tasks), intent(in) :: tasks
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=16), allocatable :: names(:)
+        real(wp), allocatable :: value(:)
+        integer :: ic, ncurve
+
+        ncurve = size(tasks%runs)
+        allocate (names(ncurve), value(ncurve))
+        do ic = 1, ncurve
+            names(ic) = potential_name(tasks%runs(ic)%chain%potential)
+            value(ic) = curve_value(tasks%cfg, ic)
+        end do
+        call h5_create_group(file, "/curves", "One curve per potential and value of the varied parameter", error)
+        if (.not. allocated(error)) call h5_write_attr(file, "/curves", "vary", trim(tasks%cfg%scene%vary), error)
+        if (.not. allocated(error)) call h5_write(file, "/curves/potential", names, "1", &
+            "On-site potential of each curve", error, dims="curve")
+        if (.not. allocated(error)) call h5_write(file, "/curves/value", value, "1", &
+            "Value of the varied parameter (/curves attribute 'vary') of each curve; NaN when nothing varies", &
+            error, dims="curve")
+        if (.not. allocated(error)) call h5_write(file, "/curves/gamma", tasks%runs%chain%gamma, "1/time", &
+            "External damping gamma of each curve", error, dims="curve")
+        if (.not. allocated(error)) call h5_write(file, "/curves/beta", tasks%runs%chain%beta, "1/time", &
+            "Internal damping beta of each curve", error, dims="curve")
+        if (.not. allocated(error)) call h5_write(file, "/curves/m2", tasks%runs%chain%m2, "1/time^2", &
+            "Mass term m^2 of each curve", error, dims="curve")
+    end subroutine write_curves
+
+end module supratrans_scene_continuation
