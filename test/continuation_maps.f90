@@ -7,7 +7,11 @@
 !> - `mode_doubling`: y -> (1/2 - 5 A) y + y^3 (fixed at y = 0, multiplier 1/2 - 5 A through -1 at A = 3/10),
 !> - `mode_torus`: (y1, y2) -> (3/5 + 2 A) R(1) (y1, y2) - |y|^2 (y1, y2) / 10 (R(1) the rotation by 1 rad; a
 !>   Neimark-Sacker normal form: fixed at y = 0, a complex pair of modulus 3/5 + 2 A through the unit circle at
-!>   A = 1/5).
+!>   A = 1/5),
+!> - `mode_crowded`: the fold map plus `n_pairs` exact rotations (y1, y2) -> R(theta_k) (y1, y2) (multipliers on the
+!>   unit circle, like the trapped modes of the undamped chain), the whole seen through the Householder reflection
+!>   Q = I - 2 v v^T / |v|^2 (x -> Q P(Q x)), so that the Jacobian is a dense matrix whose eigenvalues LAPACK finds on
+!>   the circle only up to roundoff.
 module continuation_maps
     use supratrans_kinds, only: wp
     use supratrans_fixed_point_map, only: fixed_point_map, map_ok
@@ -20,6 +24,8 @@ module continuation_maps
     integer, parameter, public :: mode_doubling = 1
     !> A complex pair through the unit circle at A = 1/5 (two more components).
     integer, parameter, public :: mode_torus = 2
+    !> The fold map with rotations whose multipliers lie on the unit circle, in dense coordinates.
+    integer, parameter, public :: mode_crowded = 3
 
     !> The test map; see the module's documentation.
     type, extends(fixed_point_map), public :: model_map
@@ -29,6 +35,8 @@ module continuation_maps
         real(wp) :: c = 1.0_wp
         !> `mode_fold`, `mode_doubling` or `mode_torus`.
         integer :: mode = mode_fold
+        !> Number of rotation pairs of `mode_crowded`.
+        integer :: n_pairs = 0
     contains
         !> P(x; A) and its derivatives.
         procedure :: apply => model_apply
@@ -39,19 +47,23 @@ module continuation_maps
 contains
 
     !> A model map of the given mode (dim 2, or 3 for the torus), relaxation h and cubic coefficient c.
-    function new_model_map(mode, h, c) result(map)
+    function new_model_map(mode, h, c, n_pairs) result(map)
         !> `mode_fold`, `mode_doubling` or `mode_torus`.
         integer, intent(in) :: mode
         !> Relaxation factor.
         real(wp), intent(in) :: h
         !> Cubic coefficient.
         real(wp), intent(in) :: c
+        !> Rotation pairs of `mode_crowded` (default 0).
+        integer, intent(in), optional :: n_pairs
         type(model_map) :: map
 
         map%mode = mode
         map%h = h
         map%c = c
         map%dim = merge(3, 2, mode == mode_torus)
+        if (present(n_pairs)) map%n_pairs = n_pairs
+        if (mode == mode_crowded) map%dim = 2 + 2*map%n_pairs
     end function new_model_map
 
     !> P(x; A) with dP/dx and dP/dA.
@@ -72,6 +84,11 @@ contains
         real(wp), intent(out), optional :: dpda(:)
         real(wp) :: r, q, cs, sn, y1, y2, s2
 
+        if (self%mode == mode_crowded) then
+            call crowded_apply(self, x, amplitude, px, jac, dpda)
+            status = map_ok
+            return
+        end if
         status = map_ok
         px(1) = x(1) + self%h*(amplitude - x(1) + self%c*x(1)**3)
         if (present(jac)) then
@@ -115,5 +132,45 @@ contains
             end if
         end select
     end subroutine model_apply
+
+    !> `mode_crowded`: Q P~(Q x) with the block map P~ (fold map, rotations) and the reflection Q.
+    pure subroutine crowded_apply(self, x, amplitude, px, jac, dpda)
+        type(model_map), intent(in) :: self
+        real(wp), intent(in) :: x(:), amplitude
+        real(wp), intent(out) :: px(:)
+        real(wp), intent(out), optional :: jac(:, :), dpda(:)
+        real(wp), allocatable :: v(:), z(:), pz(:), jz(:, :), q(:, :)
+        real(wp) :: theta
+        integer :: n, k, i, j
+
+        n = size(x)
+        v = [(1.0_wp + 0.3_wp*i, i=1, n)]
+        allocate (q(n, n), jz(n, n), pz(n))
+        do j = 1, n
+            do i = 1, n
+                q(i, j) = merge(1.0_wp, 0.0_wp, i == j) - 2.0_wp*v(i)*v(j)/sum(v**2)
+            end do
+        end do
+        z = matmul(q, x)
+        jz = 0.0_wp
+        pz(1) = z(1) + self%h*(amplitude - z(1) + self%c*z(1)**3)
+        pz(2) = 0.5_wp*z(2) + z(1)**2
+        jz(1, 1) = 1.0_wp + self%h*(-1.0_wp + 3.0_wp*self%c*z(1)**2)
+        jz(2, 1) = 2.0_wp*z(1)
+        jz(2, 2) = 0.5_wp
+        do k = 1, self%n_pairs
+            theta = 0.7_wp*k
+            i = 2*k + 1
+            pz(i) = cos(theta)*z(i) - sin(theta)*z(i + 1)
+            pz(i + 1) = sin(theta)*z(i) + cos(theta)*z(i + 1)
+            jz(i, i) = cos(theta)
+            jz(i, i + 1) = -sin(theta)
+            jz(i + 1, i) = sin(theta)
+            jz(i + 1, i + 1) = cos(theta)
+        end do
+        px = matmul(q, pz)
+        if (present(jac)) jac = matmul(q, matmul(jz, q))
+        if (present(dpda)) dpda = self%h*q(:, 1)
+    end subroutine crowded_apply
 
 end module continuation_maps

@@ -91,6 +91,9 @@ module supratrans_continuation
         real(wp) :: crossing_tol = 1.0e-6_wp
         !> Points computed past the fold, along the unstable branch.
         integer :: beyond_fold = 10
+        !> If > 0, the march past the fold also ends once the amplitude has fallen by this much below A_f
+        !> (whichever of the two comes first).
+        real(wp) :: beyond_fold_distance = 0.0_wp
         !> Multipliers at every floquet_every-th point (1: all), at the fold, and where the verdict changes.
         integer :: floquet_every = 1
         !> Accuracy in A of the located fold and of the located loss of stability.
@@ -212,7 +215,7 @@ contains
         real(wp), allocatable :: x(:), wr(:), wi(:), row(:)
         real(wp) :: ds, nan, t_start
         integer :: d, n1, info, last_checked, j
-        logical :: ok, have_mult, lost, located
+        logical :: ok, have_mult, lost, located, past
 
         t_start = wall_clock()
         nan = ieee_value(1.0_wp, ieee_quiet_nan)
@@ -259,6 +262,7 @@ contains
         end if
 
         ds = ctl%ds0
+        past = .false.
         march: do
             if (res%n_points >= ctl%max_points) then
                 call set_stop(res, cont_max_points)
@@ -312,7 +316,12 @@ contains
             call move_point(trial, cur)
             call move_system(next, base)
 
-            if (res%fold_index > 0 .and. res%points_beyond_fold >= ctl%beyond_fold) then
+            if (res%fold_index > 0) then
+                past = res%points_beyond_fold >= ctl%beyond_fold
+                if (ctl%beyond_fold_distance > 0.0_wp) &
+                    past = past .or. res%fold_amplitude - cur%y(n1) >= ctl%beyond_fold_distance
+            end if
+            if (past) then
                 call set_stop(res, cont_fold_found)
                 exit march
             end if
