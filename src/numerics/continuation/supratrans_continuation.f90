@@ -318,8 +318,9 @@ contains
 
             if (res%fold_index > 0) then
                 past = res%points_beyond_fold >= ctl%beyond_fold
-                if (ctl%beyond_fold_distance > 0.0_wp) &
+                if (ctl%beyond_fold_distance > 0.0_wp) then
                     past = past .or. res%fold_amplitude - cur%y(n1) >= ctl%beyond_fold_distance
+                end if
             end if
             if (past) then
                 call set_stop(res, cont_fold_found)
