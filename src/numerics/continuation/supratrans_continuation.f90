@@ -1,0 +1,922 @@
+!> Pseudo-arclength continuation in the drive amplitude A of the fixed points x = P(x; A) of a `fixed_point_map`
+!> (the periodic states of the driven chain, when P is the one-period map), through the fold and some way along the
+!> unstable branch beyond it, with the Floquet stability of every point.
+!>
+!> **Method** (Keller's pseudo-arclength, as in AUTO-07p and BifurcationKit.jl). A branch point is y = (x, A) with
+!> F(y) = P(x; A) - x = 0. At a converged point y_i with Jacobian [J - I, dP/dA] the unit tangent t_i solves the
+!> bordered system [[J - I, dP/dA]; [t_{i-1}^T]] z = e_{d+1}, t_i = z / |z| (oriented along t_{i-1}; at the start
+!> t_0 = e_A, A increasing). The next point is predicted at y_i + ds t_i and corrected by Newton on
+!> {F(y) = 0, t_i . (y - y_i) = ds} with the bordered matrix K_i = [[J - I, dP/dA]; [t_i^T]]. K_i differs from the
+!> factorised tangent matrix in its last row only: it is solved with the same LU and a rank-one (Sherman-Morrison)
+!> correction, whose denominator is |z| > 0, so one LU per point serves both the tangent and the corrector.
+!>
+!> **Chord / Shamanskii corrector.** The corrector reuses K_i (the Jacobian of the last point) and evaluates only P
+!> (no Jacobian) while the Newton steps shrink by at least `chord_rate` per iteration; when they do not, the
+!> Jacobian is evaluated at the current iterate and factorised, and the corrector goes on with that one. Each
+!> accepted point then costs one Jacobian (needed anyway for its tangent and multipliers), one LU, and a few map
+!> evaluations. The step ds grows (x1.5) after a fast correction (<= `newton_fast` iterations, no refresh),
+!> shrinks (x0.6) after a slow one, and is halved and retried when the corrector fails or the tangent turns by more
+!> than `max_angle` in one step.
+!>
+!> **Fold.** The fold (saddle-node) of the branch is where the tangent's A-component t_A changes sign. Between the
+!> two points it is located by a safeguarded secant (Illinois) on t_A as a function of the pseudo-arclength step
+!> from the point before it; each evaluation is a corrected point with its own tangent. Near the fold
+!> A(s) = A_f - kappa (s - s_f)^2 / 2 and t_A = -kappa (s - s_f), so the located point is within t_A^2 / (2 kappa)
+!> of A_f; the secant stops when that is below `fold_tol` (default 1e-10). The fold point is inserted in the
+!> branch, with its Newton residual and its multipliers (one of them is +1 up to the location error).
+!>
+!> **Stability.** The Floquet multipliers are the eigenvalues of J = dP/dx at each point (every point, or every
+!> `floquet_every`-th point; the points in between are examined when the verdict changes). The first point that is
+!> not stable (`supratrans_floquet`, tolerance `crossing_tol`) ends the stable part; the crossing is classified by
+!> its leading multiplier (+1 fold, -1 period doubling, complex pair torus) and located like the fold, by a secant on
+!> max |mu| - 1 over the multipliers of that class (on max |mu| - 1 - crossing_tol when the multiplier was already
+!> in the tolerance band at the stable point). A crossing through +1 next to the fold is the fold itself.
+!>
+!> An implementation of `fixed_point_map` holds its own work arrays: one map and one call per thread; this module
+!> has no state of its own.
+module supratrans_continuation
+    use supratrans_kinds, only: wp, i8
+    use supratrans_fixed_point_map, only: fixed_point_map, map_ok
+    use supratrans_dense, only: lu_factor, lu_solve
+    use supratrans_floquet, only: floquet_multipliers, largest_modulus, is_stable, leading_crossing, &
+                                  crossing_distance, nearest_real_multiplier, crossing_none, crossing_fold
+    use supratrans_shooting, only: shoot, shooting_controls, shooting_result, shoot_converged
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_finite
+    implicit none
+    private
+
+    public :: continue_branch, branch_multipliers, continuation_status_name
+
+    !> Status: a fold was found and located (the march then went up to `beyond_fold` points past it).
+    integer, parameter, public :: cont_fold_found = 0
+    !> Status: the branch reached A > `amplitude_max` with no fold.
+    integer, parameter, public :: cont_no_fold = 1
+    !> Status: Newton-shooting did not converge at the starting amplitude.
+    integer, parameter, public :: cont_newton_failed = 2
+    !> Status: the corrector kept failing until the step fell below `ds_min`, before any fold.
+    integer, parameter, public :: cont_step_too_small = 3
+    !> Status: `max_points` points computed before any fold and below `amplitude_max`.
+    integer, parameter, public :: cont_max_points = 4
+
+    !> Most points examined backwards from the first unstable one for a bracket of the crossing |mu| = 1.
+    integer, parameter :: walk_back = 10
+
+    !> Controls of the continuation, with their defaults.
+    type, public :: continuation_controls
+        !> Newton convergence: max_i |P(x)_i - x_i| <= newton_tol.
+        real(wp) :: newton_tol = 1.0e-10_wp
+        !> Most corrector iterations per attempt (chord and Newton steps together).
+        integer :: newton_max_iter = 12
+        !> A chord step that is not at least this factor smaller than the previous one triggers a Jacobian refresh.
+        real(wp) :: chord_rate = 0.5_wp
+        !> Corrections in at most this many iterations (and no refresh) let the step grow by 1.5.
+        integer :: newton_fast = 3
+        !> Corrections in this many iterations or more (or with two refreshes) shrink the step by 0.6.
+        integer :: newton_slow = 7
+        !> Amplitude at which the branch starts (from the given state, or x = 0: the chain at rest at A = 0).
+        real(wp) :: amplitude_start = 0.0_wp
+        !> First pseudo-arclength step (in the Euclidean norm of (x, A)).
+        real(wp) :: ds0 = 0.05_wp
+        !> Smallest step: below it the continuation stops (`cont_step_too_small`).
+        real(wp) :: ds_min = 1.0e-8_wp
+        !> Largest step.
+        real(wp) :: ds_max = 0.5_wp
+        !> Largest turn of the tangent in one step (radians); a larger one halves the step and retries.
+        real(wp) :: max_angle = 0.5_wp
+        !> Most branch points (the fold point included).
+        integer :: max_points = 1000
+        !> Largest amplitude: a branch beyond it with no fold ends with `cont_no_fold`.
+        real(wp) :: amplitude_max = 10.0_wp
+        !> A multiplier counts as beyond the unit circle when |mu| > 1 + crossing_tol (`supratrans_floquet`).
+        real(wp) :: crossing_tol = 1.0e-6_wp
+        !> Points computed past the fold, along the unstable branch.
+        integer :: beyond_fold = 10
+        !> If > 0, the march past the fold also ends once the amplitude has fallen by this much below A_f
+        !> (whichever of the two comes first).
+        real(wp) :: beyond_fold_distance = 0.0_wp
+        !> Multipliers at every floquet_every-th point (1: all), at the fold, and where the verdict changes.
+        integer :: floquet_every = 1
+        !> Accuracy in A of the located fold and of the located loss of stability.
+        real(wp) :: fold_tol = 1.0e-10_wp
+    end type continuation_controls
+
+    !> Where the work went: counts and wall-clock seconds.
+    type, public :: continuation_stats
+        !> Evaluations of P alone.
+        integer :: map_evaluations = 0
+        !> Evaluations of P with dP/dx and dP/dA.
+        integer :: jacobian_evaluations = 0
+        !> Dense LU factorisations (bordered systems and Newton-shooting).
+        integer :: factorisations = 0
+        !> Solves with a factorised matrix.
+        integer :: solves = 0
+        !> Eigenvalue computations (`dgeev` of the monodromy).
+        integer :: eigen_calls = 0
+        !> Seconds in evaluations of P alone.
+        real(wp) :: time_map = 0.0_wp
+        !> Seconds in evaluations with the Jacobian.
+        real(wp) :: time_jacobian = 0.0_wp
+        !> Seconds in LU factorisations and solves.
+        real(wp) :: time_lu = 0.0_wp
+        !> Seconds in eigenvalue computations.
+        real(wp) :: time_eigen = 0.0_wp
+        !> Seconds in the whole continuation.
+        real(wp) :: time_total = 0.0_wp
+    end type continuation_stats
+
+    !> The branch, its fold and its first loss of stability.
+    type, public :: continuation_result
+        !> `cont_fold_found`, `cont_no_fold`, `cont_newton_failed`, `cont_step_too_small`, `cont_max_points`.
+        integer :: status = cont_newton_failed
+        !> Why the march ended (same codes; `cont_fold_found`: the `beyond_fold` points past the fold were done).
+        integer :: stop_reason = cont_newton_failed
+        !> Amplitude A_f of the fold (NaN when there is none).
+        real(wp) :: fold_amplitude = 0.0_wp
+        !> max |P(x) - x| at the located fold point (NaN when there is none).
+        real(wp) :: fold_residual = 0.0_wp
+        !> The real multiplier nearest +1 at the fold point (NaN when there is none).
+        real(wp) :: fold_multiplier = 0.0_wp
+        !> Index of the fold point in the branch arrays (0 when there is none).
+        integer :: fold_index = 0
+        !> Points computed past the fold.
+        integer :: points_beyond_fold = 0
+        !> Amplitude where the branch first loses stability (NaN when it stays stable as far as computed).
+        real(wp) :: instability_amplitude = 0.0_wp
+        !> Kind of that loss (`supratrans_floquet`: crossing_none, crossing_fold, crossing_period_doubling,
+        !> crossing_torus).
+        integer :: instability_type = crossing_none
+        !> The crossing tolerance used for the stability verdicts.
+        real(wp) :: crossing_tol = 0.0_wp
+        !> Number of branch points.
+        integer :: n_points = 0
+        !> Per point: the drive amplitude A.
+        real(wp), allocatable :: amplitude(:)
+        !> Per point: pseudo-arclength from the start.
+        real(wp), allocatable :: arclength(:)
+        !> Per point: the largest |u_n| over the orbit (`measures` of the map).
+        real(wp), allocatable :: umax(:)
+        !> Per point: the mean stored energy over the orbit (`measures` of the map).
+        real(wp), allocatable :: energy(:)
+        !> Per point: the largest |mu| (NaN where the multipliers were not computed).
+        real(wp), allocatable :: max_multiplier(:)
+        !> Per point: 1 stable, 0 unstable, -1 not computed.
+        integer, allocatable :: stable(:)
+        !> Per point: corrector iterations.
+        integer, allocatable :: newton_iterations(:)
+        !> Per point: max |P(x) - x|.
+        real(wp), allocatable :: residual(:)
+        !> Per point: the A-component of the unit tangent (its sign change is the fold).
+        real(wp), allocatable :: tangent_amplitude(:)
+        !> Per point: the state x (dim x n_points).
+        real(wp), allocatable :: states(:, :)
+        !> Per point: the unit tangent (dx, dA) ((dim + 1) x n_points).
+        real(wp), allocatable :: tangents(:, :)
+        !> Where the work went.
+        type(continuation_stats) :: stats
+    end type continuation_result
+
+    !> A factorised bordered matrix [[J - I, dP/dA]; [r^T]], with an optional rank-one change of its last row to
+    !> r + w (Sherman-Morrison: K^{-1} b = v - z (w . v) / denom, v = B^{-1} b, z = B^{-1} e_{d+1}).
+    type :: bordered_system
+        real(wp), allocatable :: lu(:, :)
+        integer, allocatable :: ipiv(:)
+        real(wp), allocatable :: z(:), w(:)
+        real(wp) :: denom = 1.0_wp
+        logical :: updated = .false.
+    end type bordered_system
+
+    !> A converged branch point with its derivatives.
+    type :: branch_point
+        real(wp), allocatable :: y(:)
+        real(wp), allocatable :: t(:)
+        real(wp), allocatable :: jac(:, :), dpda(:)
+        real(wp) :: s = 0.0_wp
+        real(wp) :: residual = 0.0_wp
+        integer :: iterations = 0
+        integer :: refreshes = 0
+    end type branch_point
+
+contains
+
+    !> Continue the fixed points of `map` in A from `amplitude_start` (controls), starting from `x0` (default 0),
+    !> through the fold and `beyond_fold` points past it, with Floquet stability; see the module's documentation.
+    subroutine continue_branch(map, ctl, res, x0)
+        !> The map P(x; A).
+        class(fixed_point_map), intent(inout) :: map
+        !> Controls.
+        type(continuation_controls), intent(in) :: ctl
+        !> The branch, fold, stability and costs.
+        type(continuation_result), intent(out) :: res
+        !> Initial guess of the state at `amplitude_start` (default: x = 0).
+        real(wp), intent(in), optional :: x0(:)
+        type(bordered_system) :: base, next
+        type(branch_point) :: cur, trial, fold_pt, lost_pt
+        type(shooting_result) :: sres
+        real(wp), allocatable :: x(:), wr(:), wi(:), row(:)
+        real(wp) :: ds, nan, t_start
+        integer :: d, n1, info, last_checked, j
+        logical :: ok, have_mult, lost, located, past
+
+        t_start = wall_clock()
+        nan = ieee_value(1.0_wp, ieee_quiet_nan)
+        d = map%dim
+        n1 = d + 1
+        res%fold_amplitude = nan
+        res%fold_residual = nan
+        res%fold_multiplier = nan
+        res%instability_amplitude = nan
+        res%crossing_tol = ctl%crossing_tol
+        call allocate_branch(res, d, ctl%max_points + 1)
+
+        ! The start: Newton-shooting at fixed A
+        allocate (x(d))
+        x = 0.0_wp
+        if (present(x0)) x = x0
+        call shoot(map, x, ctl%amplitude_start, shooting_controls(tol=ctl%newton_tol, max_iter=ctl%newton_max_iter), &
+                   sres)
+        res%stats%jacobian_evaluations = size(sres%residuals)
+        res%stats%factorisations = sres%iterations
+        if (sres%status /= shoot_converged) then
+            res%status = cont_newton_failed
+            res%stop_reason = cont_newton_failed
+            call finish(res, t_start)
+            return
+        end if
+        cur%y = [x, ctl%amplitude_start]
+        cur%iterations = sres%iterations
+        row = [(0.0_wp, j=1, d), 1.0_wp]
+        call complete_point(map, cur, row, base, ok, res%stats)
+        if (.not. ok) then
+            res%status = cont_newton_failed
+            res%stop_reason = cont_newton_failed
+            call finish(res, t_start)
+            return
+        end if
+        call point_multipliers(cur, res%stats, wr, wi, info)
+        call record_point(map, res, cur, wr, wi, info == 0)
+        last_checked = 1
+        lost = res%stable(1) /= 1
+        if (lost) then
+            res%instability_amplitude = ctl%amplitude_start
+            res%instability_type = leading_crossing(wr, wi, ctl%crossing_tol)
+        end if
+
+        ds = ctl%ds0
+        past = .false.
+        march: do
+            if (res%n_points >= ctl%max_points) then
+                call set_stop(res, cont_max_points)
+                exit march
+            end if
+            call correct(map, cur, base, ds, ctl, trial, ok, res%stats)
+            if (ok) then
+                call complete_point(map, trial, cur%t, next, ok, res%stats)
+                if (ok) ok = dot_product(cur%t, trial%t) >= cos(ctl%max_angle)
+            end if
+            if (.not. ok) then
+                ds = 0.5_wp*ds
+                if (ds < ctl%ds_min) then
+                    call set_stop(res, cont_step_too_small)
+                    exit march
+                end if
+                cycle march
+            end if
+            trial%s = cur%s + ds
+
+            ! The fold: t_A changes sign between cur and trial
+            if (res%fold_index == 0 .and. cur%t(n1)*trial%t(n1) < 0.0_wp) then
+                call locate(map, cur, base, ds, 0, 0.0_wp, ctl, fold_pt, wr, wi, located, res%stats, trial)
+                if (.not. located) then
+                    fold_pt = trial
+                    call point_multipliers(fold_pt, res%stats, wr, wi, info)
+                end if
+                res%fold_amplitude = fold_pt%y(n1)
+                res%fold_residual = fold_pt%residual
+                res%fold_multiplier = nearest_real_multiplier(wr, wi, 1.0_wp)
+                call record_point(map, res, fold_pt, wr, wi, .true.)
+                res%fold_index = res%n_points
+                call check_stability(res%n_points, fold_pt)
+            end if
+
+            have_mult = mod(res%n_points, max(1, ctl%floquet_every)) == 0 .or. res%fold_index == res%n_points
+            if (have_mult) then
+                call point_multipliers(trial, res%stats, wr, wi, info)
+                have_mult = info == 0
+            end if
+            call record_point(map, res, trial, wr, wi, have_mult)
+            if (have_mult) call check_stability(res%n_points, trial)
+            if (res%fold_index > 0) res%points_beyond_fold = res%points_beyond_fold + 1
+
+            ! Step control
+            if (trial%iterations <= ctl%newton_fast .and. trial%refreshes == 0) then
+                ds = min(1.5_wp*ds, ctl%ds_max)
+            else if (trial%iterations >= ctl%newton_slow .or. trial%refreshes >= 2) then
+                ds = max(0.6_wp*ds, ctl%ds_min)
+            end if
+            call move_point(trial, cur)
+            call move_system(next, base)
+
+            if (res%fold_index > 0) then
+                past = res%points_beyond_fold >= ctl%beyond_fold
+                if (ctl%beyond_fold_distance > 0.0_wp) then
+                    past = past .or. res%fold_amplitude - cur%y(n1) >= ctl%beyond_fold_distance
+                end if
+            end if
+            if (past) then
+                call set_stop(res, cont_fold_found)
+                exit march
+            end if
+            if (res%fold_index == 0 .and. cur%y(n1) > ctl%amplitude_max) then
+                call set_stop(res, cont_no_fold)
+                exit march
+            end if
+        end do march
+        call finish(res, t_start)
+
+    contains
+
+        !> The multipliers of branch point `i` (computed now, or recomputed from its stored state) decide whether
+        !> it is stable; the first stable-to-unstable change is located and classified.
+        subroutine check_stability(i, pt)
+            integer, intent(in) :: i
+            type(branch_point), intent(in) :: pt
+            type(branch_point) :: left
+            real(wp), allocatable :: lr(:), li(:)
+            real(wp) :: shift
+            integer :: k, linfo, kind, m, jl
+            logical :: inside
+
+            if (lost) then
+                last_checked = i
+                return
+            end if
+            if (res%stable(i) == 1) then
+                last_checked = i
+                return
+            end if
+            ! Unstable at i, stable at last_checked: find the first unstable point in between
+            k = last_checked + 1
+            do while (k < i)
+                if (res%stable(k) < 0) call fill_multipliers(map, res, k, linfo)
+                if (res%stable(k) == 0) exit
+                k = k + 1
+            end do
+            lost = .true.
+            last_checked = i
+            ! Multipliers at k (recomputed when k is not the current point)
+            if (k == i) then
+                call point_multipliers(pt, res%stats, lr, li, linfo)
+            else
+                call stored_point(map, res, k, left, res%stats, linfo)
+                call point_multipliers(left, res%stats, lr, li, linfo)
+            end if
+            kind = leading_crossing(lr, li, ctl%crossing_tol)
+            if (kind == crossing_fold .and. res%fold_index > 0 .and. k >= res%fold_index - 1) then
+                ! A real multiplier through +1 after the fold: the fold itself
+                res%instability_amplitude = res%fold_amplitude
+                res%instability_type = crossing_fold
+                return
+            end if
+            res%instability_type = kind
+            res%instability_amplitude = res%amplitude(k)
+            ! The bracket: back from k - 1 to the last point whose multipliers of this kind are strictly inside the
+            ! unit circle (at most walk_back points), and |mu| = 1 located between it and the next point; where
+            ! there is none (a multiplier that hugs the circle), |mu| = 1 + crossing_tol between k - 1 and k
+            inside = .false.
+            do m = k - 1, max(1, k - walk_back), -1
+                call stored_point(map, res, m, left, res%stats, linfo)
+                if (linfo /= 0) return
+                call point_multipliers(left, res%stats, lr, li, linfo)
+                if (linfo /= 0) return
+                if (crossing_distance(lr, li, kind) < 0.0_wp) then
+                    inside = .true.
+                    exit
+                end if
+            end do
+            if (inside) then
+                shift = 0.0_wp
+                jl = m
+            else
+                shift = ctl%crossing_tol
+                jl = k - 1
+                call stored_point(map, res, jl, left, res%stats, linfo)
+                if (linfo /= 0) return
+            end if
+            block
+                type(bordered_system) :: sys
+                call factor_bordered(left%jac, left%dpda, left%t, sys, linfo, res%stats)
+                if (linfo /= 0) return
+                call locate(map, left, sys, res%arclength(jl + 1) - res%arclength(jl), kind, shift, ctl, lost_pt, &
+                            lr, li, located, res%stats)
+            end block
+            if (located) res%instability_amplitude = lost_pt%y(n1)
+        end subroutine check_stability
+
+    end subroutine continue_branch
+
+    !> The Floquet multipliers at branch point `i` of a computed branch, from its stored state (one Jacobian
+    !> evaluation and one `dgeev`): for the record of the spectrum at a few amplitudes. `info` /= 0 when the map or
+    !> LAPACK failed.
+    subroutine branch_multipliers(map, res, i, wr, wi, info)
+        !> The map the branch was computed with.
+        class(fixed_point_map), intent(inout) :: map
+        !> The branch.
+        type(continuation_result), intent(in) :: res
+        !> The branch point, 1 .. res%n_points.
+        integer, intent(in) :: i
+        !> Real parts of the multipliers.
+        real(wp), allocatable, intent(out) :: wr(:)
+        !> Imaginary parts of the multipliers.
+        real(wp), allocatable, intent(out) :: wi(:)
+        !> 0 on success.
+        integer, intent(out) :: info
+        real(wp), allocatable :: px(:), jac(:, :)
+        integer :: status
+
+        info = 1
+        if (i < 1 .or. i > res%n_points) return
+        allocate (px(map%dim), jac(map%dim, map%dim))
+        call map%apply(res%states(:, i), res%amplitude(i), px, status, jac=jac)
+        if (status /= map_ok) return
+        call floquet_multipliers(jac, wr, wi, info)
+    end subroutine branch_multipliers
+
+    !> The name of a continuation status: "fold_found", "no_fold", "newton_failed", "step_too_small", "max_points".
+    pure function continuation_status_name(status) result(name)
+        !> The status.
+        integer, intent(in) :: status
+        character(len=:), allocatable :: name
+
+        select case (status)
+        case (cont_fold_found)
+            name = "fold_found"
+        case (cont_no_fold)
+            name = "no_fold"
+        case (cont_newton_failed)
+            name = "newton_failed"
+        case (cont_step_too_small)
+            name = "step_too_small"
+        case (cont_max_points)
+            name = "max_points"
+        case default
+            name = "unknown"
+        end select
+    end function continuation_status_name
+
+    ! ------------------------------------------------------------------------------------------------------------
+
+    !> Predictor y_b + sigma t_b and chord/Newton corrector on {F(y) = 0, t_b . (y - y_pred) = 0} starting with the
+    !> factorised base system; a slow chord step brings a fresh Jacobian at the current iterate.
+    subroutine correct(map, bp, sys, sigma, ctl, pt, ok, stats)
+        class(fixed_point_map), intent(inout) :: map
+        type(branch_point), intent(in) :: bp
+        type(bordered_system), intent(in) :: sys
+        real(wp), intent(in) :: sigma
+        type(continuation_controls), intent(in) :: ctl
+        type(branch_point), intent(inout) :: pt
+        logical, intent(out) :: ok
+        type(continuation_stats), intent(inout) :: stats
+        type(bordered_system) :: fresh_sys
+        real(wp), allocatable :: y(:), ypred(:), r(:), px(:), jac(:, :), dpda(:)
+        real(wp) :: dn, dn_prev
+        integer :: d, n1, status, info, loops
+        logical :: want_jac, fresh, use_fresh
+
+        d = size(bp%y) - 1
+        n1 = d + 1
+        ok = .false.
+        y = bp%y + sigma*bp%t
+        ypred = y
+        allocate (r(n1), px(d))
+        want_jac = .false.
+        use_fresh = .false.
+        dn_prev = huge(1.0_wp)
+        pt%iterations = 0
+        pt%refreshes = 0
+        loops = 0
+        do
+            loops = loops + 1
+            if (loops > 3*ctl%newton_max_iter) return
+            fresh = want_jac
+            if (want_jac) then
+                if (.not. allocated(jac)) allocate (jac(d, d), dpda(d))
+                call evaluate(map, y, px, status, stats, jac, dpda)
+            else
+                call evaluate(map, y, px, status, stats)
+            end if
+            if (status /= map_ok) return
+            r(1:d) = px - y(1:d)
+            pt%residual = maxval(abs(r(1:d)))
+            if (pt%residual <= ctl%newton_tol) exit
+            if (pt%iterations >= ctl%newton_max_iter) return
+            if (want_jac) then
+                call factor_bordered(jac, dpda, bp%t, fresh_sys, info, stats)
+                if (info /= 0) return
+                use_fresh = .true.
+                want_jac = .false.
+                pt%refreshes = pt%refreshes + 1
+            end if
+            r(n1) = dot_product(bp%t, y - ypred)
+            r = -r
+            if (use_fresh) then
+                call bordered_solve(fresh_sys, r, info, stats)
+            else
+                call bordered_solve(sys, r, info, stats)
+            end if
+            if (info /= 0) return
+            dn = norm2(r)
+            if (.not. ieee_is_finite(dn)) return
+            if (.not. fresh .and. pt%iterations > 0 .and. dn > ctl%chord_rate*dn_prev) then
+                want_jac = .true.
+                cycle
+            end if
+            y = y + r
+            dn_prev = dn
+            pt%iterations = pt%iterations + 1
+        end do
+        pt%y = y
+        ok = .true.
+    end subroutine correct
+
+    !> At a corrected point: the Jacobian, the factorised bordered matrix with the previous tangent `row`, the unit
+    !> tangent (oriented along `row`), and the rank-one change of the last row to the new tangent for the next
+    !> corrector.
+    subroutine complete_point(map, pt, row, sys, ok, stats)
+        class(fixed_point_map), intent(inout) :: map
+        type(branch_point), intent(inout) :: pt
+        real(wp), intent(in) :: row(:)
+        type(bordered_system), intent(inout) :: sys
+        logical, intent(out) :: ok
+        type(continuation_stats), intent(inout) :: stats
+        real(wp), allocatable :: px(:)
+        integer :: d, status, info
+
+        d = size(pt%y) - 1
+        ok = .false.
+        if (.not. allocated(pt%jac)) allocate (pt%jac(d, d), pt%dpda(d))
+        allocate (px(d))
+        call evaluate(map, pt%y, px, status, stats, pt%jac, pt%dpda)
+        if (status /= map_ok) return
+        pt%residual = maxval(abs(px - pt%y(1:d)))
+        call factor_bordered(pt%jac, pt%dpda, row, sys, info, stats)
+        if (info /= 0) return
+        call tangent(sys, row, pt%t, info, stats)
+        ok = info == 0
+    end subroutine complete_point
+
+    !> The unit tangent from a factorised [[J - I, dP/dA]; [row^T]]: z = B^{-1} e_{d+1}, t = z / |z|; the system is
+    !> then changed (rank one) to have t as its last row.
+    subroutine tangent(sys, row, t, info, stats)
+        type(bordered_system), intent(inout) :: sys
+        real(wp), intent(in) :: row(:)
+        real(wp), allocatable, intent(inout) :: t(:)
+        integer, intent(out) :: info
+        type(continuation_stats), intent(inout) :: stats
+        real(wp) :: t0
+        integer :: n1
+
+        n1 = size(row)
+        sys%z = [(0.0_wp, info=1, n1 - 1), 1.0_wp]
+        t0 = wall_clock()
+        call lu_solve(sys%lu, sys%ipiv, sys%z, info)
+        stats%solves = stats%solves + 1
+        stats%time_lu = stats%time_lu + wall_clock() - t0
+        if (info /= 0) return
+        if (.not. all(ieee_is_finite(sys%z))) then
+            info = 1
+            return
+        end if
+        sys%denom = norm2(sys%z)
+        t = sys%z/sys%denom
+        sys%w = t - row
+        sys%updated = .true.
+    end subroutine tangent
+
+    !> Build and factorise [[J - I, dP/dA]; [row^T]].
+    subroutine factor_bordered(jac, dpda, row, sys, info, stats)
+        real(wp), intent(in) :: jac(:, :), dpda(:), row(:)
+        type(bordered_system), intent(inout) :: sys
+        integer, intent(out) :: info
+        type(continuation_stats), intent(inout) :: stats
+        real(wp) :: t0
+        integer :: d, i
+
+        t0 = wall_clock()
+        d = size(dpda)
+        if (allocated(sys%lu)) then
+            if (size(sys%lu, 1) /= d + 1) deallocate (sys%lu, sys%ipiv)
+        end if
+        if (.not. allocated(sys%lu)) allocate (sys%lu(d + 1, d + 1), sys%ipiv(d + 1))
+        sys%lu(1:d, 1:d) = jac
+        do i = 1, d
+            sys%lu(i, i) = sys%lu(i, i) - 1.0_wp
+        end do
+        sys%lu(1:d, d + 1) = dpda
+        sys%lu(d + 1, :) = row
+        call lu_factor(sys%lu, sys%ipiv, info)
+        sys%updated = .false.
+        stats%factorisations = stats%factorisations + 1
+        stats%time_lu = stats%time_lu + wall_clock() - t0
+    end subroutine factor_bordered
+
+    !> Solve with a bordered system (and its rank-one change of the last row, if any); b is overwritten.
+    subroutine bordered_solve(sys, b, info, stats)
+        type(bordered_system), intent(in) :: sys
+        real(wp), intent(inout) :: b(:)
+        integer, intent(out) :: info
+        type(continuation_stats), intent(inout) :: stats
+        real(wp) :: t0
+
+        t0 = wall_clock()
+        call lu_solve(sys%lu, sys%ipiv, b, info)
+        if (info == 0 .and. sys%updated) b = b - sys%z*(dot_product(sys%w, b)/sys%denom)
+        stats%solves = stats%solves + 1
+        stats%time_lu = stats%time_lu + wall_clock() - t0
+    end subroutine bordered_solve
+
+    !> Safeguarded secant (Illinois) on the step sigma in (0, sigma_hi) from the point `bp` for the zero of
+    !> g(sigma): the tangent's A-component (kind 0, the fold) or `crossing_distance` of that kind minus `shift`.
+    !> `pt` is the last corrected point (with its multipliers wr, wi); `located` tells whether the tolerance
+    !> was met.
+    subroutine locate(map, bp, sys, sigma_hi, kind, shift, ctl, pt, wr, wi, located, stats, hi)
+        class(fixed_point_map), intent(inout) :: map
+        type(branch_point), intent(in) :: bp
+        type(bordered_system), intent(in) :: sys
+        real(wp), intent(in) :: sigma_hi, shift
+        integer, intent(in) :: kind
+        type(continuation_controls), intent(in) :: ctl
+        type(branch_point), intent(inout) :: pt
+        real(wp), allocatable, intent(out) :: wr(:), wi(:)
+        logical, intent(out) :: located
+        type(continuation_stats), intent(inout) :: stats
+        !> The corrected point at sigma_hi, when the caller has it.
+        type(branch_point), intent(in), optional :: hi
+        type(bordered_system) :: psys
+        real(wp) :: a, b, c, fa, fb, fc, kappa, a_prev
+        integer :: iter, side, n1, info
+        logical :: ok
+
+        n1 = size(bp%y)
+        located = .false.
+        a = 0.0_wp
+        call value_at(a, fa, ok)
+        if (.not. ok) return
+        b = sigma_hi
+        if (present(hi) .and. kind == 0) then
+            fb = hi%t(n1)
+        else
+            call value_at(b, fb, ok)
+            if (.not. ok) return
+        end if
+        if (fa*fb > 0.0_wp) return
+        side = 0
+        a_prev = huge(1.0_wp)
+        do iter = 1, 60
+            c = b - fb*(b - a)/(fb - fa)
+            if (.not. (c > min(a, b) .and. c < max(a, b))) c = 0.5_wp*(a + b)
+            call value_at(c, fc, ok)
+            if (.not. ok) return
+            if (kind == 0) then
+                kappa = abs(fb - fa)/max(abs(b - a), tiny(1.0_wp))
+                if (fc**2 <= 2.0_wp*kappa*ctl%fold_tol) located = .true.
+            else
+                if (abs(pt%y(n1) - a_prev) <= ctl%fold_tol .or. fc == 0.0_wp) located = .true.
+            end if
+            if (abs(b - a) <= 1.0e-3_wp*ctl%fold_tol) located = .true.
+            if (located) exit
+            a_prev = pt%y(n1)
+            if (fc*fb < 0.0_wp) then
+                a = b
+                fa = fb
+                b = c
+                fb = fc
+                side = 0
+            else
+                b = c
+                fb = fc
+                if (side == 1) fa = 0.5_wp*fa
+                side = 1
+            end if
+        end do
+        if (kind == 0) then
+            call point_multipliers(pt, stats, wr, wi, info)
+            if (info /= 0) located = .false.
+        end if
+
+    contains
+
+        subroutine value_at(sigma, g, okv)
+            real(wp), intent(in) :: sigma
+            real(wp), intent(out) :: g
+            logical, intent(out) :: okv
+            integer :: linfo
+
+            if (sigma == 0.0_wp) then
+                pt = bp
+                okv = .true.
+            else
+                call correct(map, bp, sys, sigma, ctl, pt, okv, stats)
+                if (.not. okv) return
+                call complete_point(map, pt, bp%t, psys, okv, stats)
+                if (.not. okv) return
+            end if
+            pt%s = bp%s + sigma
+            if (kind == 0) then
+                g = pt%t(n1)
+            else
+                call point_multipliers(pt, stats, wr, wi, linfo)
+                okv = linfo == 0
+                g = crossing_distance(wr, wi, kind) - shift
+            end if
+        end subroutine value_at
+
+    end subroutine locate
+
+    !> The multipliers at a point with its Jacobian.
+    subroutine point_multipliers(pt, stats, wr, wi, info)
+        type(branch_point), intent(in) :: pt
+        type(continuation_stats), intent(inout) :: stats
+        real(wp), allocatable, intent(out) :: wr(:), wi(:)
+        integer, intent(out) :: info
+        real(wp) :: t0
+
+        t0 = wall_clock()
+        call floquet_multipliers(pt%jac, wr, wi, info)
+        stats%eigen_calls = stats%eigen_calls + 1
+        stats%time_eigen = stats%time_eigen + wall_clock() - t0
+    end subroutine point_multipliers
+
+    !> Evaluate P (and, when asked, its derivatives) at y = (x, A), counted and timed.
+    subroutine evaluate(map, y, px, status, stats, jac, dpda)
+        class(fixed_point_map), intent(inout) :: map
+        real(wp), intent(in) :: y(:)
+        real(wp), intent(out) :: px(:)
+        integer, intent(out) :: status
+        type(continuation_stats), intent(inout) :: stats
+        real(wp), intent(out), optional :: jac(:, :), dpda(:)
+        real(wp) :: t0
+        integer :: d
+
+        d = size(y) - 1
+        t0 = wall_clock()
+        if (present(jac)) then
+            call map%apply(y(1:d), y(d + 1), px, status, jac=jac, dpda=dpda)
+            stats%jacobian_evaluations = stats%jacobian_evaluations + 1
+            stats%time_jacobian = stats%time_jacobian + wall_clock() - t0
+            if (status == map_ok) then
+                if (.not. (all(ieee_is_finite(jac)) .and. all(ieee_is_finite(dpda)))) status = map_ok + 1
+            end if
+        else
+            call map%apply(y(1:d), y(d + 1), px, status)
+            stats%map_evaluations = stats%map_evaluations + 1
+            stats%time_map = stats%time_map + wall_clock() - t0
+        end if
+        if (status == map_ok) then
+            if (.not. all(ieee_is_finite(px))) status = map_ok + 1
+        end if
+    end subroutine evaluate
+
+    !> Append a point to the branch arrays (with its multipliers when `have_mult`).
+    subroutine record_point(map, res, pt, wr, wi, have_mult)
+        class(fixed_point_map), intent(inout) :: map
+        type(continuation_result), intent(inout) :: res
+        type(branch_point), intent(in) :: pt
+        real(wp), intent(in) :: wr(:), wi(:)
+        logical, intent(in) :: have_mult
+        integer :: i, d
+
+        d = size(pt%y) - 1
+        res%n_points = res%n_points + 1
+        i = res%n_points
+        res%amplitude(i) = pt%y(d + 1)
+        res%arclength(i) = pt%s
+        call map%measures(pt%y(1:d), pt%y(d + 1), res%umax(i), res%energy(i))
+        res%newton_iterations(i) = pt%iterations
+        res%residual(i) = pt%residual
+        res%tangent_amplitude(i) = pt%t(d + 1)
+        res%states(:, i) = pt%y(1:d)
+        res%tangents(:, i) = pt%t
+        if (have_mult) then
+            res%max_multiplier(i) = largest_modulus(wr, wi)
+            res%stable(i) = merge(1, 0, is_stable(wr, wi, res%crossing_tol))
+        end if
+    end subroutine record_point
+
+    !> Compute the multipliers of a recorded point whose multipliers were skipped (`floquet_every` > 1).
+    subroutine fill_multipliers(map, res, i, info)
+        class(fixed_point_map), intent(inout) :: map
+        type(continuation_result), intent(inout) :: res
+        integer, intent(in) :: i
+        integer, intent(out) :: info
+        type(branch_point) :: pt
+        real(wp), allocatable :: wr(:), wi(:)
+
+        call stored_point(map, res, i, pt, res%stats, info)
+        if (info /= 0) return
+        call point_multipliers(pt, res%stats, wr, wi, info)
+        if (info /= 0) return
+        res%max_multiplier(i) = largest_modulus(wr, wi)
+        res%stable(i) = merge(1, 0, is_stable(wr, wi, res%crossing_tol))
+    end subroutine fill_multipliers
+
+    !> A recorded point rebuilt from its stored state and tangent, with its Jacobian evaluated again.
+    subroutine stored_point(map, res, i, pt, stats, info)
+        class(fixed_point_map), intent(inout) :: map
+        type(continuation_result), intent(in) :: res
+        integer, intent(in) :: i
+        type(branch_point), intent(inout) :: pt
+        type(continuation_stats), intent(inout) :: stats
+        integer, intent(out) :: info
+        real(wp), allocatable :: px(:)
+        integer :: d, status
+
+        d = size(res%states, 1)
+        pt%y = [res%states(:, i), res%amplitude(i)]
+        pt%t = res%tangents(:, i)
+        pt%s = res%arclength(i)
+        pt%iterations = res%newton_iterations(i)
+        pt%residual = res%residual(i)
+        if (.not. allocated(pt%jac)) allocate (pt%jac(d, d), pt%dpda(d))
+        allocate (px(d))
+        call evaluate(map, pt%y, px, status, stats, pt%jac, pt%dpda)
+        info = merge(0, 1, status == map_ok)
+    end subroutine stored_point
+
+    subroutine allocate_branch(res, d, capacity)
+        type(continuation_result), intent(inout) :: res
+        integer, intent(in) :: d, capacity
+        real(wp) :: nan
+
+        nan = ieee_value(1.0_wp, ieee_quiet_nan)
+        allocate (res%amplitude(capacity), res%arclength(capacity), res%umax(capacity), res%energy(capacity), &
+                  res%max_multiplier(capacity), res%residual(capacity), res%tangent_amplitude(capacity))
+        allocate (res%stable(capacity), res%newton_iterations(capacity))
+        allocate (res%states(d, capacity), res%tangents(d + 1, capacity))
+        res%max_multiplier = nan
+        res%stable = -1
+    end subroutine allocate_branch
+
+    !> Stop reason and status: a located fold makes the status `cont_fold_found` whatever ended the march.
+    subroutine set_stop(res, reason)
+        type(continuation_result), intent(inout) :: res
+        integer, intent(in) :: reason
+
+        res%stop_reason = reason
+        res%status = reason
+        if (res%fold_index > 0) res%status = cont_fold_found
+    end subroutine set_stop
+
+    !> Trim the branch arrays to n_points and record the total time.
+    subroutine finish(res, t_start)
+        type(continuation_result), intent(inout) :: res
+        real(wp), intent(in) :: t_start
+        integer :: n
+
+        n = res%n_points
+        res%amplitude = res%amplitude(1:n)
+        res%arclength = res%arclength(1:n)
+        res%umax = res%umax(1:n)
+        res%energy = res%energy(1:n)
+        res%max_multiplier = res%max_multiplier(1:n)
+        res%residual = res%residual(1:n)
+        res%tangent_amplitude = res%tangent_amplitude(1:n)
+        res%stable = res%stable(1:n)
+        res%newton_iterations = res%newton_iterations(1:n)
+        res%states = res%states(:, 1:n)
+        res%tangents = res%tangents(:, 1:n)
+        res%stats%time_total = wall_clock() - t_start
+    end subroutine finish
+
+    subroutine move_point(from, to)
+        type(branch_point), intent(inout) :: from, to
+
+        call move_alloc(from%y, to%y)
+        call move_alloc(from%t, to%t)
+        call move_alloc(from%jac, to%jac)
+        call move_alloc(from%dpda, to%dpda)
+        to%s = from%s
+        to%residual = from%residual
+        to%iterations = from%iterations
+        to%refreshes = from%refreshes
+    end subroutine move_point
+
+    subroutine move_system(from, to)
+        type(bordered_system), intent(inout) :: from, to
+
+        call move_alloc(from%lu, to%lu)
+        call move_alloc(from%ipiv, to%ipiv)
+        call move_alloc(from%z, to%z)
+        call move_alloc(from%w, to%w)
+        to%denom = from%denom
+        to%updated = from%updated
+    end subroutine move_system
+
+    !> Wall-clock seconds (for the cost record only; no result depends on it).
+    real(wp) function wall_clock()
+        integer(i8) :: count, rate
+
+        call system_clock(count, rate)
+        wall_clock = real(count, wp)/real(max(rate, 1_i8), wp)
+    end function wall_clock
+
+end module supratrans_continuation

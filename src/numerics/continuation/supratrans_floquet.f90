@@ -1,0 +1,160 @@
+!> Floquet stability of a periodic state: the multipliers mu (eigenvalues of the monodromy matrix dP/dx of the
+!> one-period map P, LAPACK `dgeev`), the largest |mu|, and how the state loses stability when a multiplier leaves
+!> the unit circle: real through +1 (fold, saddle-node), real through -1 (period doubling), a complex pair (torus,
+!> Neimark-Sacker).
+!>
+!> **The tolerance `crossing_tol`.** A state is called stable when every |mu| <= 1 + crossing_tol, and a multiplier
+!> counts as having crossed only beyond that. In the undamped chain the multipliers of the modes trapped between the
+!> drive and the absorber sit on the unit circle up to the absorber's small damping and roundoff (|mu| - 1 of order
+!> 1e-12 .. 1e-8 in a conservative part of the spectrum); a crossing_tol well above that floor and well below the
+!> growth rate of a real instability keeps the verdict from hinging on roundoff. The continuation reports the value
+!> it used; the tests show the verdicts are the same for tolerances over several decades.
+module supratrans_floquet
+    use supratrans_kinds, only: wp
+    use supratrans_eigen, only: general_eigenvalues
+    implicit none
+    private
+
+    public :: floquet_multipliers, largest_modulus, is_stable, leading_crossing, crossing_distance, crossing_name
+    public :: nearest_real_multiplier
+
+    !> No multiplier beyond the unit circle (by more than crossing_tol).
+    integer, parameter, public :: crossing_none = 0
+    !> A real multiplier through +1: fold (saddle-node) of the periodic state.
+    integer, parameter, public :: crossing_fold = 1
+    !> A real multiplier through -1: period doubling.
+    integer, parameter, public :: crossing_period_doubling = 2
+    !> A complex pair through the unit circle: torus (Neimark-Sacker), a second frequency.
+    integer, parameter, public :: crossing_torus = 3
+
+contains
+
+    !> The Floquet multipliers wr + i wi: the eigenvalues of the monodromy matrix (not modified; a copy is given to
+    !> `dgeev`). `info` is LAPACK's status (0: success).
+    pure subroutine floquet_multipliers(monodromy, wr, wi, info)
+        !> Monodromy matrix dP/dx, d x d.
+        real(wp), intent(in) :: monodromy(:, :)
+        !> Real parts of the d multipliers.
+        real(wp), allocatable, intent(out) :: wr(:)
+        !> Imaginary parts of the d multipliers (a complex pair is listed as two entries, +wi and -wi).
+        real(wp), allocatable, intent(out) :: wi(:)
+        !> LAPACK status.
+        integer, intent(out) :: info
+        real(wp), allocatable :: a(:, :)
+
+        a = monodromy
+        allocate (wr(size(a, 1)), wi(size(a, 1)))
+        call general_eigenvalues(a, wr, wi, info)
+    end subroutine floquet_multipliers
+
+    !> The largest modulus of the multipliers, max |mu| (0 for an empty list).
+    pure real(wp) function largest_modulus(wr, wi)
+        !> Real parts.
+        real(wp), intent(in) :: wr(:)
+        !> Imaginary parts.
+        real(wp), intent(in) :: wi(:)
+
+        largest_modulus = 0.0_wp
+        if (size(wr) > 0) largest_modulus = maxval(hypot(wr, wi))
+    end function largest_modulus
+
+    !> Stable in the sense of this module: every |mu| <= 1 + crossing_tol.
+    pure logical function is_stable(wr, wi, crossing_tol)
+        !> Real parts.
+        real(wp), intent(in) :: wr(:)
+        !> Imaginary parts.
+        real(wp), intent(in) :: wi(:)
+        !> How far beyond the unit circle a multiplier must be to count as a crossing.
+        real(wp), intent(in) :: crossing_tol
+
+        is_stable = largest_modulus(wr, wi) <= 1.0_wp + crossing_tol
+    end function is_stable
+
+    !> The kind of the leading instability: `crossing_none` when the state is stable (`is_stable`), else the class of
+    !> the multiplier of largest modulus: complex (wi /= 0) `crossing_torus`, real positive `crossing_fold`, real
+    !> negative `crossing_period_doubling`.
+    pure integer function leading_crossing(wr, wi, crossing_tol)
+        !> Real parts.
+        real(wp), intent(in) :: wr(:)
+        !> Imaginary parts.
+        real(wp), intent(in) :: wi(:)
+        !> How far beyond the unit circle a multiplier must be to count as a crossing.
+        real(wp), intent(in) :: crossing_tol
+        integer :: k
+
+        leading_crossing = crossing_none
+        if (is_stable(wr, wi, crossing_tol)) return
+        k = maxloc(hypot(wr, wi), dim=1)
+        leading_crossing = multiplier_class(wr(k), wi(k))
+    end function leading_crossing
+
+    !> max |mu| - 1 over the multipliers of one class (`crossing_fold`: real positive, `crossing_period_doubling`: real
+    !> negative, `crossing_torus`: complex); -1 when the class is empty. Its zero along a branch is the crossing of
+    !> that class; it is smooth there as long as the crossing multiplier stays in its class.
+    pure real(wp) function crossing_distance(wr, wi, kind)
+        !> Real parts.
+        real(wp), intent(in) :: wr(:)
+        !> Imaginary parts.
+        real(wp), intent(in) :: wi(:)
+        !> The class (`crossing_fold`, `crossing_period_doubling`, `crossing_torus`).
+        integer, intent(in) :: kind
+        integer :: k
+
+        crossing_distance = -1.0_wp
+        do k = 1, size(wr)
+            if (multiplier_class(wr(k), wi(k)) == kind) then
+                crossing_distance = max(crossing_distance, hypot(wr(k), wi(k)) - 1.0_wp)
+            end if
+        end do
+    end function crossing_distance
+
+    !> The real multiplier nearest to `target` (+1 at a fold); NaN-free: `target` + huge when there is none.
+    pure real(wp) function nearest_real_multiplier(wr, wi, target)
+        !> Real parts.
+        real(wp), intent(in) :: wr(:)
+        !> Imaginary parts.
+        real(wp), intent(in) :: wi(:)
+        !> The value sought (+1 or -1).
+        real(wp), intent(in) :: target
+        integer :: k
+
+        nearest_real_multiplier = target + huge(1.0_wp)
+        do k = 1, size(wr)
+            if (wi(k) /= 0.0_wp) cycle
+            if (abs(wr(k) - target) < abs(nearest_real_multiplier - target)) nearest_real_multiplier = wr(k)
+        end do
+    end function nearest_real_multiplier
+
+    !> The name of a crossing kind, as written into output files: "none", "fold", "period_doubling", "torus".
+    pure function crossing_name(kind) result(name)
+        !> The kind.
+        integer, intent(in) :: kind
+        character(len=:), allocatable :: name
+
+        select case (kind)
+        case (crossing_fold)
+            name = "fold"
+        case (crossing_period_doubling)
+            name = "period_doubling"
+        case (crossing_torus)
+            name = "torus"
+        case default
+            name = "none"
+        end select
+    end function crossing_name
+
+    !> The class of one multiplier: complex (wi /= 0; `dgeev` gives exactly zero for a real eigenvalue) torus,
+    !> real >= 0 fold, real < 0 period doubling.
+    pure integer function multiplier_class(wr, wi)
+        real(wp), intent(in) :: wr, wi
+
+        if (wi /= 0.0_wp) then
+            multiplier_class = crossing_torus
+        else if (wr >= 0.0_wp) then
+            multiplier_class = crossing_fold
+        else
+            multiplier_class = crossing_period_doubling
+        end if
+    end function multiplier_class
+
+end module supratrans_floquet

@@ -1,0 +1,106 @@
+!> Thin typed wrappers over LAPACK's dense LU (`dgetrf`, `dgetrs`, `dgesv`), with explicit interfaces: the Newton
+!> systems of the shooting method and the bordered systems of the continuation in the drive amplitude A.
+!> With `supratrans_tridiag` (`dgtsv`) and `supratrans_eigen` (`dgeev`) this folder holds every LAPACK routine the
+!> code calls.
+module supratrans_dense
+    use supratrans_kinds, only: wp
+    implicit none
+    private
+
+    public :: lu_factor, lu_solve, dense_solve
+
+    !> Solve with the LU factors of `lu_factor`, for one right-hand side (a vector) or several (a matrix).
+    interface lu_solve
+        module procedure lu_solve_vector, lu_solve_matrix
+    end interface lu_solve
+
+    interface
+        !> LAPACK: LU factorisation with partial pivoting of a general matrix.
+        pure subroutine dgetrf(m, n, a, lda, ipiv, info)
+            import :: wp
+            integer, intent(in) :: m, n, lda
+            real(wp), intent(inout) :: a(lda, *)
+            integer, intent(out) :: ipiv(*), info
+        end subroutine dgetrf
+
+        !> LAPACK: solve A X = B with the LU factors of `dgetrf`.
+        pure subroutine dgetrs(trans, n, nrhs, a, lda, ipiv, b, ldb, info)
+            import :: wp
+            character(len=1), intent(in) :: trans
+            integer, intent(in) :: n, nrhs, lda, ldb
+            real(wp), intent(in) :: a(lda, *)
+            integer, intent(in) :: ipiv(*)
+            real(wp), intent(inout) :: b(ldb, *)
+            integer, intent(out) :: info
+        end subroutine dgetrs
+
+        !> LAPACK: solve A X = B by LU with partial pivoting (factorisation and solve in one call).
+        pure subroutine dgesv(n, nrhs, a, lda, ipiv, b, ldb, info)
+            import :: wp
+            integer, intent(in) :: n, nrhs, lda, ldb
+            real(wp), intent(inout) :: a(lda, *)
+            integer, intent(out) :: ipiv(*)
+            real(wp), intent(inout) :: b(ldb, *)
+            integer, intent(out) :: info
+        end subroutine dgesv
+    end interface
+
+contains
+
+    !> LU factorisation with partial pivoting of the square matrix `a` (overwritten by its factors).
+    !> `info` = 0 on success, i > 0 when U(i,i) is exactly zero (singular; the factors are still complete).
+    pure subroutine lu_factor(a, ipiv, info)
+        !> The matrix, n x n; its L and U factors on exit.
+        real(wp), intent(inout) :: a(:, :)
+        !> Pivot indices, size n.
+        integer, intent(out) :: ipiv(:)
+        !> LAPACK status.
+        integer, intent(out) :: info
+
+        call dgetrf(size(a, 1), size(a, 2), a, size(a, 1), ipiv, info)
+    end subroutine lu_factor
+
+    !> Solve A x = b with the factors of `lu_factor`; `b` is overwritten by x.
+    pure subroutine lu_solve_vector(lu, ipiv, b, info)
+        !> LU factors from `lu_factor`, n x n.
+        real(wp), intent(in) :: lu(:, :)
+        !> Pivot indices from `lu_factor`.
+        integer, intent(in) :: ipiv(:)
+        !> Right-hand side on entry, solution on exit, size n.
+        real(wp), intent(inout) :: b(:)
+        !> LAPACK status.
+        integer, intent(out) :: info
+
+        call dgetrs("N", size(lu, 1), 1, lu, size(lu, 1), ipiv, b, size(b), info)
+    end subroutine lu_solve_vector
+
+    !> Solve A X = B with the factors of `lu_factor`; `b` (n x nrhs) is overwritten by X.
+    pure subroutine lu_solve_matrix(lu, ipiv, b, info)
+        !> LU factors from `lu_factor`, n x n.
+        real(wp), intent(in) :: lu(:, :)
+        !> Pivot indices from `lu_factor`.
+        integer, intent(in) :: ipiv(:)
+        !> Right-hand sides on entry, solutions on exit, n x nrhs.
+        real(wp), intent(inout) :: b(:, :)
+        !> LAPACK status.
+        integer, intent(out) :: info
+
+        call dgetrs("N", size(lu, 1), size(b, 2), lu, size(lu, 1), ipiv, b, size(b, 1), info)
+    end subroutine lu_solve_matrix
+
+    !> Solve A x = b by LU with partial pivoting in one call: `a` is destroyed, `b` overwritten by x.
+    !> `info` = 0 on success, i > 0 when A is singular (x is then not computed).
+    pure subroutine dense_solve(a, b, info)
+        !> The matrix, n x n (overwritten by its factors).
+        real(wp), intent(inout) :: a(:, :)
+        !> Right-hand side on entry, solution on exit, size n.
+        real(wp), intent(inout) :: b(:)
+        !> LAPACK status.
+        integer, intent(out) :: info
+        integer, allocatable :: ipiv(:)
+
+        allocate (ipiv(size(a, 1)))
+        call dgesv(size(a, 1), 1, a, size(a, 1), ipiv, b, size(b), info)
+    end subroutine dense_solve
+
+end module supratrans_dense
