@@ -36,6 +36,7 @@ module supratrans_scene_continuation
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1
     use supratrans_scene_bifurcation, only: bifurcation_omegas
+    use supratrans_scene_stability, only: linear_stability_dt
     implicit none
     private
 
@@ -95,6 +96,14 @@ contains
         do ic = 1, ncurve
             tasks%runs(ic) = curve_run(cfg, ic)
             tasks%runs(ic)%drive%ramp_time = 0.0_wp
+            ! a periodic state needs a stable scheme: dt within the method's linear stability limit for the chain
+            if (cfg%run%numerics%dt >= linear_stability_dt(tasks%runs(ic)%chain, cfg%run%numerics%method)) then
+                call fatal_error(error, cfg%source // ": &numerics: dt = " // real_str(cfg%run%numerics%dt, 6) &
+                    // " is beyond the linear stability limit " // real_str(linear_stability_dt(tasks%runs(ic)%chain, &
+                    cfg%run%numerics%method), 6) // " of method '" // method_name(cfg%run%numerics%method) &
+                    // "' for curve " // int_str(ic) // ": the scheme has no periodic state to continue", err_input)
+                return
+            end if
         end do
         tasks%partial_path = output // ".partial.h5"
         journal = output // ".journal"

@@ -1,0 +1,183 @@
+!> One point of a fold line: the branch of driven periodic states of one run (chain, Omega, method, dt) continued
+!> from rest to its fold (`supratrans_continuation` on the one-period map `supratrans_period_map`), reduced to the
+!> continuation scene's record (`supratrans_fold_record`).
+!>
+!> The model's threshold is the smaller of the fold A_f and the first loss of Floquet stability met on the way;
+!> the record says which one it is (`threshold_kind`, the codes of `instability_type_codes`).
+module supratrans_fold_line
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
+    use supratrans_kinds, only: wp
+    use supratrans_error, only: error_type
+    use supratrans_config, only: run_config, scene_params
+    use supratrans_strings, only: int_str
+    use supratrans_period_map, only: period_map, period_map_init
+    use supratrans_continuation, only: continue_branch, branch_multipliers, continuation_controls, &
+                                       continuation_result, cont_fold_found, cont_no_fold, cont_newton_failed, &
+                                       cont_step_too_small, cont_max_points, continuation_status_name
+    use supratrans_floquet, only: crossing_none, crossing_fold, crossing_period_doubling, crossing_torus, &
+                                  crossing_name
+    use supratrans_fold_record, only: fold_record, branch_quantities, kept_multipliers, multiplier_samples
+    implicit none
+    private
+
+    public :: trace_fold, fold_status_codes, instability_type_codes
+
+    !> Status: the fold was found and located.
+    integer, parameter, public :: fold_found = cont_fold_found
+    !> Status: the one-period map could not be set up (e.g. more steps a period than the limit).
+    integer, parameter, public :: fold_map_failed = 5
+
+contains
+
+    !> Continue the branch of `run` (its drive frequency set; amplitude and ramp unused) with the scene's controls
+    !> and fill `r`: fold, stability, branch, multipliers at four points (`keep_multipliers`), costs.
+    subroutine trace_fold(run, scene, r, keep_multipliers)
+        !> The run: chain, drive frequency, numerics.
+        type(run_config), intent(in) :: run
+        !> The scene's controls (amplitude_max, continuation_step, continuation_step_max, continuation_points,
+        !> beyond_fold, crossing_tol).
+        type(scene_params), intent(in) :: scene
+        !> The record (from `empty_fold_record`): filled.
+        type(fold_record), intent(inout) :: r
+        !> Compute the multipliers at the sampled points (one Jacobian and one eigenvalue call each).
+        logical, intent(in) :: keep_multipliers
+        type(period_map) :: map
+        type(continuation_controls) :: ctl
+        type(continuation_result) :: res
+        type(error_type), allocatable :: error
+        integer :: npts, k, s
+        integer :: samples(multiplier_samples)
+
+        call period_map_init(map, run, error)
+        if (allocated(error)) then
+            r%status = fold_map_failed
+            return
+        end if
+        r%dt_used = map%dt_used
+        r%steps_per_period = map%steps
+        ctl%newton_tol = 1.0e-10_wp
+        ctl%ds0 = scene%continuation_step
+        ctl%ds_max = scene%continuation_step_max
+        ctl%max_points = scene%continuation_points
+        ctl%amplitude_max = scene%amplitude_max
+        ctl%crossing_tol = scene%crossing_tol
+        ctl%beyond_fold = scene%beyond_fold
+        call continue_branch(map, ctl, res)
+
+        r%status = res%status
+        r%fold_amplitude = res%fold_amplitude
+        r%fold_residual = res%fold_residual
+        r%instability_amplitude = res%instability_amplitude
+        r%instability_type = res%instability_type
+        r%threshold = r%fold_amplitude
+        r%threshold_kind = merge(crossing_fold, crossing_none, .not. ieee_is_nan(r%fold_amplitude))
+        if (.not. ieee_is_nan(r%instability_amplitude)) then
+            if (ieee_is_nan(r%threshold) .or. r%instability_amplitude < r%threshold) then
+                r%threshold = r%instability_amplitude
+                r%threshold_kind = r%instability_type
+            end if
+        end if
+        r%newton_iterations = sum(res%newton_iterations(1:res%n_points))
+        r%map_evaluations = res%stats%map_evaluations + res%stats%jacobian_evaluations
+        r%jacobians = res%stats%jacobian_evaluations
+        r%factorizations = res%stats%factorisations
+        r%eigen_calls = res%stats%eigen_calls
+        npts = min(res%n_points, size(r%branch, 2))
+        r%points = npts
+        do k = 1, npts
+            r%branch(:, k) = [res%amplitude(k), res%umax(k), res%energy(k), res%max_multiplier(k), &
+                              real(res%stable(k), wp), real(res%newton_iterations(k), wp), res%residual(k)]
+        end do
+        if (.not. keep_multipliers .or. res%n_points < 1) return
+        samples = [1, nearest_point(res, 0.5_wp*r%fold_amplitude), res%fold_index, res%n_points]
+        do s = 1, multiplier_samples
+            if (samples(s) < 1) cycle
+            call sample(samples(s), s)
+        end do
+
+    contains
+
+        !> The multipliers of largest modulus at branch point i into sample s.
+        subroutine sample(i, s)
+            integer, intent(in) :: i, s
+            real(wp), allocatable :: wr(:), wi(:)
+            integer :: info, j, m
+            integer, allocatable :: order(:)
+
+            call branch_multipliers(map, res, i, wr, wi, info)
+            r%eigen_calls = r%eigen_calls + 1
+            r%jacobians = r%jacobians + 1
+            r%map_evaluations = r%map_evaluations + 1
+            if (info /= 0) return
+            order = largest_first(hypot(wr, wi))
+            m = min(kept_multipliers, size(order))
+            do j = 1, m
+                r%multiplier_re(j, s) = wr(order(j))
+                r%multiplier_im(j, s) = wi(order(j))
+            end do
+            r%multiplier_amplitude(s) = res%amplitude(i)
+        end subroutine sample
+
+    end subroutine trace_fold
+
+    !> The branch point whose amplitude is nearest `a` among those before the fold (0 when there is none).
+    pure function nearest_point(res, a) result(i)
+        !> The branch.
+        type(continuation_result), intent(in) :: res
+        !> The amplitude.
+        real(wp), intent(in) :: a
+        integer :: i, last
+
+        i = 0
+        if (ieee_is_nan(a) .or. res%n_points < 1) return
+        last = res%n_points
+        if (res%fold_index > 0) last = res%fold_index
+        i = minloc(abs(res%amplitude(1:last) - a), dim=1)
+    end function nearest_point
+
+    !> Indices of x in order of decreasing value (a stable insertion sort: a handful of hundreds of values).
+    pure function largest_first(x) result(order)
+        !> The values.
+        real(wp), intent(in) :: x(:)
+        integer, allocatable :: order(:)
+        integer :: i, j, key
+
+        order = [(i, i=1, size(x))]
+        do i = 2, size(x)
+            key = order(i)
+            j = i - 1
+            do while (j >= 1)
+                if (x(order(j)) >= x(key)) exit
+                order(j + 1) = order(j)
+                j = j - 1
+            end do
+            order(j + 1) = key
+        end do
+    end function largest_first
+
+    !> The continuation statuses as "code name: meaning" clauses (the `/status` codes attribute).
+    pure function fold_status_codes() result(text)
+        character(len=:), allocatable :: text
+
+        text = int_str(cont_fold_found) // " " // continuation_status_name(cont_fold_found) // ": the fold was " &
+            // "found and located; " // int_str(cont_no_fold) // " " // continuation_status_name(cont_no_fold) &
+            // ": no fold below amplitude_max (NaN); " // int_str(cont_newton_failed) // " " &
+            // continuation_status_name(cont_newton_failed) // ": Newton-shooting failed at the start; " &
+            // int_str(cont_step_too_small) // " " // continuation_status_name(cont_step_too_small) &
+            // ": the step fell below its minimum before a fold; " // int_str(cont_max_points) // " " &
+            // continuation_status_name(cont_max_points) // ": continuation_points reached before a fold; " &
+            // int_str(fold_map_failed) // " map_failed: the one-period map could not be set up"
+    end function fold_status_codes
+
+    !> The instability types as "code name" clauses (the `codes` attributes of /instability_type, /threshold_kind).
+    pure function instability_type_codes() result(text)
+        character(len=:), allocatable :: text
+
+        text = int_str(crossing_none) // " " // crossing_name(crossing_none) // ": stable up to the fold; " &
+            // int_str(crossing_fold) // " " // crossing_name(crossing_fold) // ": a real multiplier through +1; " &
+            // int_str(crossing_period_doubling) // " " // crossing_name(crossing_period_doubling) &
+            // ": a real multiplier through -1; " // int_str(crossing_torus) // " " // crossing_name(crossing_torus) &
+            // ": a complex pair leaves the unit circle"
+    end function instability_type_codes
+
+end module supratrans_fold_line
