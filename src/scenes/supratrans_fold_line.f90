@@ -174,7 +174,8 @@ contains
         character(len=:), allocatable :: text
 
         text = int_str(crossing_none) // " " // crossing_name(crossing_none) // ": stable up to the fold; " &
-            // int_str(crossing_fold) // " " // crossing_name(crossing_fold) // ": a real multiplier through +1; " &
+            // int_str(crossing_fold) // " " // crossing_name(crossing_fold) // ": a real multiplier through +1 (the " &
+            // "fold itself, or a branch point where no fold is near); " &
             // int_str(crossing_period_doubling) // " " // crossing_name(crossing_period_doubling) &
             // ": a real multiplier through -1; " // int_str(crossing_torus) // " " // crossing_name(crossing_torus) &
             // ": a complex pair leaves the unit circle"

@@ -321,6 +321,10 @@ contains
             "Outcome of the continuation (codes in attribute 'codes')", error, dims=dims)
         if (.not. allocated(error)) call h5_write_attr(file, "/status", "codes", "-2: outside gap (not computed); " &
             // "-1: pending (not computed yet); " // fold_status_codes(), error)
+        if (.not. allocated(error)) call h5_write(file, "/outside_gap", task_igrid(merge(1, 0, &
+            [(tasks%omegas(mod(t - 1, nomega) + 1) >= band_gap_edge(tasks%runs((t - 1)/nomega + 1)%chain), &
+            t=1, ntask)]), nomega), "1", "1 where Omega >= sqrt(1 + m^2), outside the curve's band gap: computed only " &
+            // "with allow_outside_gap, and no fold is expected there", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, "/dt_used", grid(recs%dt_used), "time", &
             "Time step used: the drive period 2 pi / Omega over a whole number M of steps", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, "/steps_per_period", igrid(recs%steps_per_period), "1", &

@@ -1,0 +1,90 @@
+"""The continuation scene as a user drives it: a fold line identical for 1 and 2 threads and for a sliced run
+merged, the statuses and codes of its file, and one clear line (exit 2, nothing written) for each input that has no
+periodic state to continue."""
+import os
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+
+import compare_results
+
+FOLD = """&chain n = 30, n0 = 22 /
+&numerics dt = 0.1 /
+&scene kind = 'continuation', omega_min = 0.7, omega_max = 0.8, omega_step = 0.1, amplitude_max = 4.0,
+  fold_convergence = .false., potentials = 'sine-gordon', 'klein-gordon' /
+&output file = 'out/fold.h5', quiet = .true. /
+"""
+
+
+def sh(exe, *args, cwd, threads=1, check=True):
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+    proc = subprocess.run([exe, *map(str, args)], cwd=cwd, capture_output=True, text=True, timeout=600, env=env)
+    if check:
+        assert proc.returncode == 0, proc.stderr
+    return proc
+
+
+@pytest.fixture(scope="module")
+def fold_line(exe, tmp_path_factory):
+    """The fold line of FOLD computed with one thread: the folder it lives in."""
+    tmp = tmp_path_factory.mktemp("fold")
+    (tmp / "fold.nml").write_text(FOLD)
+    sh(exe, "fold.nml", cwd=tmp)
+    return tmp
+
+
+def test_fold_line_has_folds_with_their_stability(fold_line):
+    with h5py.File(fold_line / "out" / "fold.h5") as f:
+        assert f.attrs["scene"] == b"continuation"
+        status = f["status"][()]
+        fold = f["fold_amplitude"][()]
+        assert status.shape == (2, 2)
+        assert (status == 0).all(), status
+        # a fold where the branch turns: the amplitude of the points past it falls back below A_f
+        points = f["branch/points"][()]
+        amp = f["branch/amplitude"][()]
+        for c in range(2):
+            for w in range(2):
+                a = amp[c, w, : points[c, w]]
+                assert a.max() == pytest.approx(fold[c, w], abs=1e-6)
+                assert a[-1] < fold[c, w] - 1e-4
+        assert np.all(f["fold_residual"][()] < 1e-8)
+        # the model's threshold is the smaller of the fold and the first loss of stability, and says which
+        thr = f["threshold"][()]
+        inst = f["instability_amplitude"][()]
+        assert np.all(thr <= fold + 1e-12)
+        assert np.all((thr == fold) | (thr == inst))
+        assert "torus" in f["instability_type"].attrs["codes"].decode()
+        assert f["dt_used"][0, 0] <= 0.1 and f["steps_per_period"][0, 0] == np.ceil(2 * np.pi / 0.7 / 0.1)
+
+
+def test_fold_line_is_the_same_for_two_threads_and_for_slices(exe, fold_line, tmp_path):
+    (tmp_path / "fold.nml").write_text(FOLD)
+    sh(exe, "fold.nml", cwd=tmp_path, threads=2)
+    diffs, compared, _ = compare_results.compare(fold_line / "out" / "fold.h5", tmp_path / "out" / "fold.h5")
+    assert compared > 10 and not diffs, diffs
+    (tmp_path / "out" / "fold.h5").unlink()
+    for i in (1, 2, 3):
+        sh(exe, "fold.nml", "--slice", f"{i}/3", cwd=tmp_path)
+    parts = sorted((tmp_path / "out").glob("fold.part-*.h5"))
+    assert len(parts) == 3
+    sh(exe, "merge", *parts, cwd=tmp_path)
+    diffs, compared, _ = compare_results.compare(fold_line / "out" / "fold.h5", tmp_path / "out" / "fold.h5")
+    assert compared > 10 and not diffs, diffs
+
+
+@pytest.mark.parametrize("old,new,words", [
+    ("dt = 0.1", "method = 'rk4', dt = 0.4, allow_unstable = .true.", "linear stability limit"),
+    ("omega_min = 0.7", "omega_min = 0.0", "omega_min"),
+    ("n = 30, n0 = 22", "n = 20000, n0 = 15000", "dense shooting matrices"),
+], ids=["dt beyond stability", "omega zero", "dense system too large"])
+def test_no_periodic_state_is_one_line_and_nothing_written(exe, tmp_path, old, new, words):
+    assert old in FOLD
+    (tmp_path / "bad.nml").write_text(FOLD.replace(old, new))
+    proc = sh(exe, "bad.nml", cwd=tmp_path, check=False)
+    assert proc.returncode == 2, proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and words in lines[0], proc.stderr
+    assert not (tmp_path / "out" / "fold.h5").exists()
