@@ -82,6 +82,10 @@ contains
         r%jacobians = res%stats%jacobian_evaluations
         r%factorizations = res%stats%factorisations
         r%eigen_calls = res%stats%eigen_calls
+        r%time_map = res%stats%time_map
+        r%time_tangent = res%stats%time_jacobian
+        r%time_lu = res%stats%time_lu
+        r%time_eigen = res%stats%time_eigen
         npts = min(res%n_points, size(r%branch, 2))
         r%points = npts
         do k = 1, npts

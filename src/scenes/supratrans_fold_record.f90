@@ -27,7 +27,8 @@ module supratrans_fold_record
     character(len=*), parameter :: scalar_fields(*) = [character(len=24) :: "fold_amplitude", "fold_residual", &
         "status", "instability_amplitude", "instability_type", "threshold", "threshold_kind", "threshold_as", &
         "dt_used", "steps_per_period", "points", "newton_iterations", "map_evaluations", "jacobians", &
-        "factorizations", "eigen_calls", "wall_time", "fold_half_dt", "fold_long_chain", "richardson", &
+        "factorizations", "eigen_calls", "wall_time", "time_map", "time_tangent", "time_lu", "time_eigen", &
+        "fold_half_dt", "fold_long_chain", "richardson", &
         "error_estimate", "digits"]
 
     !> One (curve, Omega) task: the fold and stability of its branch, their convergence, the branch.
@@ -67,6 +68,9 @@ module supratrans_fold_record
         integer :: eigen_calls = 0
         !> Wall-clock time of the task (s), the convergence runs included.
         real(wp) :: wall_time = 0.0_wp
+        !> Seconds in evaluations of the period map alone, in those with the tangent (2N + 1 columns), in dense LU
+        !> factorisations and solves, in eigenvalue computations.
+        real(wp) :: time_map = 0.0_wp, time_tangent = 0.0_wp, time_lu = 0.0_wp, time_eigen = 0.0_wp
         !> The fold located again at dt/2 (NaN when not computed).
         real(wp) :: fold_half_dt = 0.0_wp
         !> The fold located again on a chain twice as long (N0 and N shifted by N: the same absorber; NaN when not
@@ -157,7 +161,8 @@ contains
              real(r%instability_type, wp), r%threshold, real(r%threshold_kind, wp), r%threshold_as, r%dt_used, &
              real(r%steps_per_period, wp), real(r%points, wp), real(r%newton_iterations, wp), &
              real(r%map_evaluations, wp), real(r%jacobians, wp), real(r%factorizations, wp), real(r%eigen_calls, wp), &
-             r%wall_time, r%fold_half_dt, r%fold_long_chain, r%richardson, r%error_estimate, r%digits, &
+             r%wall_time, r%time_map, r%time_tangent, r%time_lu, r%time_eigen, r%fold_half_dt, r%fold_long_chain, &
+             r%richardson, r%error_estimate, r%digits, &
              reshape(r%branch, [size(r%branch)])]
         do s = 1, multiplier_samples
             v = [v, reshape(transpose(reshape([r%multiplier_re(:, s), r%multiplier_im(:, s)], &
@@ -191,11 +196,15 @@ contains
         r%factorizations = nint(v(15))
         r%eigen_calls = nint(v(16))
         r%wall_time = v(17)
-        r%fold_half_dt = v(18)
-        r%fold_long_chain = v(19)
-        r%richardson = v(20)
-        r%error_estimate = v(21)
-        r%digits = v(22)
+        r%time_map = v(18)
+        r%time_tangent = v(19)
+        r%time_lu = v(20)
+        r%time_eigen = v(21)
+        r%fold_half_dt = v(22)
+        r%fold_long_chain = v(23)
+        r%richardson = v(24)
+        r%error_estimate = v(25)
+        r%digits = v(26)
         i = size(scalar_fields)
         nb = size(branch_quantities)*points_max
         r%branch = reshape(v(i + 1:i + nb), [size(branch_quantities), points_max])

@@ -212,6 +212,10 @@ contains
         r%jacobians = r%jacobians + check%jacobians
         r%factorizations = r%factorizations + check%factorizations
         r%eigen_calls = r%eigen_calls + check%eigen_calls
+        r%time_map = r%time_map + check%time_map
+        r%time_tangent = r%time_tangent + check%time_tangent
+        r%time_lu = r%time_lu + check%time_lu
+        r%time_eigen = r%time_eigen + check%time_eigen
     end subroutine add_cost
 
     !> Order of accuracy in dt of a method (2 for the paper's schemes).
@@ -472,6 +476,14 @@ contains
             "1", "Eigenvalue computations (Floquet multipliers)", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, g // "wall_time", task_grid(recs%wall_time, nomega), "s", &
             "Wall-clock time of the task (one thread)", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "time_map", task_grid(recs%time_map, nomega), "s", &
+            "Of the wall time: evaluations of the period map alone", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "time_tangent", task_grid(recs%time_tangent, nomega), &
+            "s", "Of the wall time: evaluations of the period map with its tangent (2N + 1 columns)", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "time_lu", task_grid(recs%time_lu, nomega), "s", &
+            "Of the wall time: dense LU factorisations and solves of the shooting systems", error, dims=dims)
+        if (.not. allocated(error)) call h5_write(file, g // "time_eigen", task_grid(recs%time_eigen, nomega), "s", &
+            "Of the wall time: eigenvalues of the monodromy matrices (Floquet multipliers)", error, dims=dims)
         if (.not. allocated(error) .and. elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", &
                                                                                elapsed, error)
     end subroutine write_cost
