@@ -66,9 +66,10 @@ def test_pip_install_gives_the_package(venv):
     assert proc.returncode == 0, proc.stderr
     where, modules = proc.stdout.splitlines()
     assert Path(where).is_relative_to(venv), where
-    source = sorted("supratrans_post." + ".".join(p.relative_to(POSTPROCESS / "supratrans_post").with_suffix("").parts)
-                    for p in (POSTPROCESS / "supratrans_post").rglob("*.py") if p.name != "__init__.py")
-    source += sorted("supratrans_post." + p.parent.name for p in (POSTPROCESS / "supratrans_post").glob("*/__init__.py"))
+    package = POSTPROCESS / "supratrans_post"
+    source = ["supratrans_post." + ".".join(p.relative_to(package).with_suffix("").parts)
+              for p in package.rglob("*.py") if p.name != "__init__.py"]
+    source += ["supratrans_post." + p.parent.name for p in package.glob("*/__init__.py")]
     assert sorted(modules.split()) == sorted(source)
 
 
