@@ -35,7 +35,6 @@ A file that cannot be used gives the one line `error: <file>: <what is wrong>` a
 """
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import statistics
@@ -47,6 +46,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from . import cli
 from .reader import PlotError, Scene, open_scene, output_path
 
 #: Tolerances of the peer: 1e-3 .. 1e-12.
@@ -385,9 +385,7 @@ def read_points(path: Any) -> dict:
 def main(argv: list[str] | None = None) -> int:
     """The command line of `peer_scipy.py`; returns the exit status (0 ok, 1 the model check failed, 2 an
     unusable file)."""
-    ap = argparse.ArgumentParser(prog="peer_scipy.py", description=__doc__.split("\n\n")[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter,
-                                 epilog="\n\n".join(__doc__.split("\n\n")[1:]))
+    ap = cli.parser("peer_scipy.py", __doc__, argv)
     ap.add_argument("h5", metavar="WORK_PRECISION.h5", help="file of the scene work_precision")
     ap.add_argument("-o", "--output", metavar="JSON", help="where to write the points (default: "
                                                            "<file>_peer.json next to the file)")
