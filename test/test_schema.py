@@ -33,18 +33,18 @@ def test_generated_files_are_up_to_date():
 
 def test_a_stale_file_is_detected(tmp_path, monkeypatch):
     g = generator()
-    readme = tmp_path / "README.md"
-    text = (ROOT / "README.md").read_text(encoding="utf-8")
-    readme.write_text(text.replace("| `&chain c` | real | 4 |", "| `&chain c` | real | 5 |"), encoding="utf-8")
-    assert readme.read_text(encoding="utf-8") != text
-    monkeypatch.setattr(g, "README", readme)
+    doc = tmp_path / "input.md"
+    text = (ROOT / "docs" / "input.md").read_text(encoding="utf-8")
+    doc.write_text(text.replace("| `c` | real | 4 |", "| `c` | real | 5 |"), encoding="utf-8")
+    assert doc.read_text(encoding="utf-8") != text
+    monkeypatch.setattr(g, "INPUT_DOC", doc)
     for name in ("CONFIG", "MODULE"):                # never rewrite the real files from a test
         copy = tmp_path / getattr(g, name).name
         shutil.copy(getattr(g, name), copy)
         monkeypatch.setattr(g, name, copy)
     assert g.main(["--check"]) == 1
     assert g.main([]) == 0                        # rewrites the copy
-    assert readme.read_text(encoding="utf-8") == text
+    assert doc.read_text(encoding="utf-8") == text
     assert g.main(["--check"]) == 0
 
 

@@ -85,7 +85,7 @@ program benchmark
         call table_row(names(1 + mod(im - 1, size(methods))), times, floor_ms, result)
     end do
 
-    ! the Runge-Kutta references, at the step where each reaches its accuracy class on this run (README)
+    ! the Runge-Kutta references, at the step where each reaches its accuracy class on this run (docs/method.md)
     write (*, "(a)") "# Runge-Kutta references, beta = 0 (work/step = right-hand sides per step)"
     run%chain%beta = 0.0_wp
     do im = 1, 2

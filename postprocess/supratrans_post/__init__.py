@@ -2,14 +2,21 @@
 
 Modules (lower ones never import higher ones):
 
-- `reader`: the one reader of the HDF5 files: each scene's datasets (`SCHEMA`), the one-line `PlotError`;
-- `style`: matplotlib without a window, number formats, saving;
+- `reader`: the one reader of the HDF5 files: each scene's datasets (`SCHEMA`), the axes of each dimension (its
+  HDF5 dimension scale when attached), the one-line `PlotError`;
+- `cli`: what the commands share: one-line argument errors, the checked `--dpi`, the checkout they run in;
+- `style`: the house style of matplotlib, only within `style_context` (never the global rcParams), figures
+  without pyplot, number formats, saving;
 - `namelist`: the namelists of `input/` read and written with f90nml (scene, output file, `--quick` copies);
 - `figures`: the paper's figures, one module per scene (timeseries, sweep, map, bifurcation);
 - `peer`: the SciPy peer (`solve_ivp` on the same chain), timed and scored against a `work_precision` file;
 - `charts`: the speed/accuracy charts (`stability`, `work_precision`);
+- `scaling`: time and memory of the program against N, T and the number of runs;
 - `plot`, `runner`: the command lines of `plot.py` and `make_figures.py`.
 
 The scripts in `postprocess/` (`plot.py`, `make_figures.py`, `work_precision.py`, `chart_stability.py`,
-`peer_scipy.py`) only call the `main` of these modules.
+`peer_scipy.py`, `scaling.py`) only call the `main` of these modules; `pip install ./postprocess` installs the
+package with the same mains as the commands `supratrans-plot`, `supratrans-figures`, `supratrans-stability-chart`,
+`supratrans-work-precision`, `supratrans-peer` and `supratrans-scaling` (pyproject.toml). Every main parses its
+arguments before it does anything else and writes only where its options (or documented defaults) say.
 """

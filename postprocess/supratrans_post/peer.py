@@ -5,7 +5,7 @@ scientist would without our code; timed and scored against the reference of a `w
     python3 postprocess/peer_scipy.py out/work_precision.h5 --check         # model check only (tight tolerance)
     python3 postprocess/peer_scipy.py out/work_precision.h5 -o peer.json --methods DOP853 --tols 1e-4 1e-8
 
-The model is the one of `src/numerics/supratrans_rk4.f90` (`rk4_rhs`), as a first-order system of size 2N + 1, with
+The model is the one of `src/numerics/supratrans_mol.f90` (`chain_rhs`), as a first-order system of size 2N + 1, with
 every parameter read from the file's `/parameters` attributes (nothing re-typed here):
 
     u_n' = v_n,
@@ -14,7 +14,7 @@ every parameter read from the file's `/parameters` attributes (nothing re-typed 
 
 n = 1..N, u_0 = psi(t) = A r(t) sin(Omega t), v_0 = psi'(t), r(t) = min(t/ramp_time, 1), u_{N+1} = v_{N+1} = 0,
 alpha_n = gamma + gamma'(n), gamma'(n) = kappa [1 + tanh((2n - N0 - N)/(2 sigma))] for N0 < n <= N (the smooth
-absorber; README, notes on the paper). V'(u) = sin u (sine-Gordon) or u - u^3/6 + u^5/120 (Klein-Gordon).
+absorber; docs/method.md, notes on the paper). V'(u) = sin u (sine-Gordon) or u - u^3/6 + u^5/120 (Klein-Gordon).
 W is a component of the state, so its accuracy is the integrator's own (no quadrature on top).
 
 The drive has a kink at t = ramp_time (psi' jumps by -A sin(Omega ramp_time)/ramp_time). An adaptive method
@@ -35,7 +35,6 @@ A file that cannot be used gives the one line `error: <file>: <what is wrong>` a
 """
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import statistics
@@ -47,6 +46,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from . import cli
 from .reader import PlotError, Scene, open_scene, output_path
 
 #: Tolerances of the peer: 1e-3 .. 1e-12.
@@ -385,9 +385,7 @@ def read_points(path: Any) -> dict:
 def main(argv: list[str] | None = None) -> int:
     """The command line of `peer_scipy.py`; returns the exit status (0 ok, 1 the model check failed, 2 an
     unusable file)."""
-    ap = argparse.ArgumentParser(prog="peer_scipy.py", description=__doc__.split("\n\n")[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter,
-                                 epilog="\n\n".join(__doc__.split("\n\n")[1:]))
+    ap = cli.parser("peer_scipy.py", __doc__, argv)
     ap.add_argument("h5", metavar="WORK_PRECISION.h5", help="file of the scene work_precision")
     ap.add_argument("-o", "--output", metavar="JSON", help="where to write the points (default: "
                                                            "<file>_peer.json next to the file)")

@@ -20,15 +20,13 @@ import argparse
 import sys
 from pathlib import Path
 
-from . import figures, style
+from . import cli, figures, style
 from .reader import FIGURE_SCENES, PlotError, Scene, open_scene, output_path
 
 
-def _parser() -> argparse.ArgumentParser:
+def _parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     """The options of plot.py (usage and epilog from the module documentation)."""
-    ap = argparse.ArgumentParser(prog="plot.py", description=__doc__.split("\n\n")[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter,
-                                 epilog="\n\n".join(__doc__.split("\n\n")[1:]))
+    ap = cli.parser("plot.py", __doc__, argv)
     ap.add_argument("files", nargs="+", metavar="FILE.h5", help="HDF5 file(s) written by supratrans")
     ap.add_argument("-o", "--output", metavar="IMAGE", help="image to write (default: next to the file, .png)")
     ap.add_argument("--scene", choices=FIGURE_SCENES, help="refuse a file of another scene")
@@ -36,7 +34,7 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--surface", action="store_true", help="map: 3-D surfaces of log10 E instead of colour maps")
     ap.add_argument("--energy", choices=list(figures.ENERGIES), default="injected",
                     help="sweep, map: which energy of the file to draw (default: injected, the paper's total energy)")
-    ap.add_argument("--dpi", type=int, default=style.DPI, help=f"resolution of the image (default {style.DPI})")
+    ap.add_argument("--dpi", type=cli.dpi, default=style.DPI, help=f"resolution of the image (default {style.DPI})")
     ap.add_argument("--show", action="store_true", help="also open the figure in a window")
     ap.add_argument("--numbers", action="store_true", help="print the numbers at every frequency, not a selection")
     ap.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
@@ -73,7 +71,7 @@ def _notes(scenes: list[Scene], files: list[str]) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     """The command line; returns the exit status (0, or 2 with one line on stderr)."""
-    args = _parser().parse_args(argv)
+    args = _parser(argv).parse_args(argv)
     try:
         if args.output:
             style.image_format(args.output)
@@ -94,7 +92,8 @@ def main(argv: list[str] | None = None) -> int:
         if args.show:
             import matplotlib.pyplot as plt  # noqa: PLC0415
 
-            fig.savefig(out, dpi=args.dpi)
+            with style.style_context():
+                fig.savefig(out, dpi=args.dpi)
             plt.show()
         else:
             style.save(fig, out, dpi=args.dpi)

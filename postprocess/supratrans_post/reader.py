@@ -5,8 +5,14 @@ one-line errors of a file that cannot be used.
 (root attributes, `/parameters`, the attributes of every top-level group, and the datasets of `SCHEMA` for its
 scene) and closes it again. A file that cannot be used raises `PlotError`, which the command-line scripts print as
 the one line `error: <file>: <what is wrong>` before they exit with status 2: missing, not HDF5, truncated, not a
-supratrans file, of an unknown or another scene, a dataset missing, of the wrong rank, or whose length along an axis
-disagrees with the axis (README, "Output", has the layouts).
+supratrans file, of an unknown or another scene, a dataset missing, of the wrong rank, text where numbers belong,
+an axis with a value that is not a finite number, or a length along an axis that disagrees with the axis (README,
+"Output", has the layouts).
+
+Which axis each dimension of a dataset runs over (`Scene.dims`, `Scene.coordinate`): the HDF5 dimension scale
+attached to it when there is one (h5py: `ds.dims[i][0]`, as xarray and HDFView read it), else the name in the
+dataset's attribute `dimensions` ('curve, amplitude'), else the schema's (`SCHEMA`). The datasets themselves are
+read by their paths in `SCHEMA`.
 """
 from __future__ import annotations
 
@@ -99,6 +105,12 @@ SCHEMA: dict[str, dict[str, tuple[tuple[str, ...], bool]]] = {
         "boundary/rk4_undamped": _opt("curve", "c"),
     },
 }
+#: The datasets that hold text (names); every other dataset of SCHEMA holds numbers.
+TEXT = ("curves/potential", "methods")
+#: The axes of the grids and records, {schema dimension: dataset}: each value of one must be a finite number (the
+#: 2-D `dt` of work_precision, one row of time steps per method padded with NaN, needs one finite value at least).
+AXES = {"amplitude": "amplitude", "omega": "omega", "c": "c", "dt": "dt", "probe": "probes/sites",
+        "probe_time": "probes/time", "ledger_time": "ledger/time"}
 #: Every scene the program writes.
 SCENES = tuple(SCHEMA)
 #: Scenes drawn as figures of the paper (`figures`), and as the speed/accuracy charts (`charts`).
@@ -149,6 +161,20 @@ class Scene:
     groups: dict = field(default_factory=dict)
     #: Units of the datasets read (their attribute `units`).
     units: dict = field(default_factory=dict)
+    #: The axis each dimension of a dataset read runs over, {dataset: (axis name, ...)}: the name of the dimension
+    #: scale attached, else from the attribute `dimensions`, else the schema's (see `dimension_axes`).
+    dims: dict = field(default_factory=dict)
+    #: Values of the dimension scales attached to the datasets read, {(dataset, dimension index): array}.
+    scales: dict = field(default_factory=dict)
+
+    def coordinate(self, name: str, i: int = 0) -> np.ndarray | None:
+        """The coordinates along dimension `i` of the dataset `name`: its dimension scale when one is attached,
+        else the axis dataset of the schema (AXES) when the file has it, else None (e.g. the curves)."""
+        if (name, i) in self.scales:
+            return self.scales[name, i]
+        dims = SCHEMA[self.scene][name][0]
+        axis = AXES.get(dims[i]) if i < len(dims) else None
+        return self.data.get(axis) if axis else None
 
     @property
     def name(self) -> str:
@@ -276,11 +302,73 @@ def _read(f, p: Path, expect: str | Iterable[str] | None) -> Scene:
             data = np.array([text(x) for x in np.atleast_1d(data).tolist()], dtype=object)
         if np.ndim(data) != len(dims):
             raise PlotError(p, f"dataset '/{name}' has shape {np.shape(data)}, expected rank {len(dims)}")
+        _check_values(p, name, data, name in AXES.values())
         out.data[name] = data
         if "units" in obj.attrs:
             out.units[name] = text(obj.attrs["units"])
+        out.dims[name] = dimension_axes(obj, dims)
+        for i, scale in enumerate(_scales(obj)):
+            if scale is None:
+                continue
+            values = scale[()]
+            if values.shape != (data.shape[i],):
+                raise PlotError(p, f"dataset '/{name}': its dimension scale '{scale.name}' along dimension {i} "
+                                   f"has shape {values.shape}, expected ({data.shape[i]},)")
+            if dims[i] in AXES:
+                _check_values(p, scale.name.lstrip("/"), values, True)
+            out.scales[name, i] = values
     _check_dimensions(p, out, schema)
     return out
+
+
+def _check_values(p: Path, name: str, data: np.ndarray, axis: bool) -> None:
+    """Numbers where SCHEMA wants numbers (all but TEXT); for an `axis`, every value of a 1-D one a finite number,
+    one at least of another (the NaN-padded 2-D `dt` of work_precision)."""
+    if name in TEXT:
+        return
+    if data.dtype.kind not in "biuf":
+        what = "text" if data.dtype.kind in "SUO" else f"values of type {data.dtype}"
+        raise PlotError(p, f"dataset '/{name}' holds {what}, expected numbers")
+    if not axis or data.size == 0:
+        return
+    bad = np.flatnonzero(~np.isfinite(data))
+    if bad.size == data.size:
+        raise PlotError(p, f"axis '/{name}' has no finite value (all {data.size} are {data.flat[0]})")
+    if bad.size and data.ndim == 1:
+        raise PlotError(p, f"axis '/{name}' has {bad.size} values that are not finite numbers "
+                           f"(the first at index {bad[0]}: {data.flat[bad[0]]})")
+
+
+def _scales(obj) -> list:
+    """The dimension scale attached to each dimension of the dataset `obj` (h5py: `obj.dims[i][0]`), or None."""
+    out = []
+    for i in range(obj.ndim):
+        try:
+            out.append(obj.dims[i][0] if len(obj.dims[i]) else None)
+        except (KeyError, ValueError, RuntimeError, OSError):  # a broken reference: as if none were attached
+            out.append(None)
+    return out
+
+
+def dimension_axes(obj, dims: tuple[str, ...] = ()) -> tuple[str, ...]:
+    """The name of the axis each dimension of the h5py dataset `obj` runs over: the dimension scale attached to
+    it (its HDF5 dimension-scale name, else the last part of its path) when there is one; else the name at that
+    place in the attribute `dimensions` ('curve, amplitude'), when it names one per dimension; else `dims` (the
+    schema's); else 'dim<i>'."""
+    listed = [x.strip() for x in str(text(obj.attrs.get("dimensions", b""))).split(",") if x.strip()]
+    if len(listed) != obj.ndim:
+        listed = []
+    names = []
+    for i, scale in enumerate(_scales(obj)):
+        if scale is not None:
+            name = text(scale.attrs.get("NAME", b""))
+            name = name if isinstance(name, str) and name and not name.startswith("This is a netCDF") else ""
+            names.append(name or scale.name.rsplit("/", 1)[-1])
+        elif listed:
+            names.append(listed[i])
+        else:
+            names.append(dims[i] if i < len(dims) else f"dim{i}")
+    return tuple(names)
 
 
 def _check_dimensions(p: Path, s: Scene, schema: dict) -> None:

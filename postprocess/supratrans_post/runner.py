@@ -36,13 +36,14 @@ import sys
 import time
 from pathlib import Path
 
-from . import figures, namelist, style
+from . import cli, figures, namelist, style
 from .charts import stability as chart_stability
 from .charts import work_precision as chart_work_precision
 from .reader import PlotError, open_scene, output_path
 
-#: The repository: the namelists' output paths are relative to it, and fpm runs there.
-ROOT = Path(__file__).resolve().parents[2]
+#: The repository: the namelists' output paths are relative to it, and fpm runs there (the checkout holding this
+#: package, else the one the command is started in; see cli.checkout).
+ROOT = cli.checkout() or Path.cwd()
 #: Order of the figures (the paper's), by input file stem or its prefix.
 ORDER = ["fig1", "fig2", "fig3", "fig3half", "fig4", "fig11", "bif1", "bif2", "bif3"]
 #: Scenes drawn by the charts of the speed/accuracy study, besides the figures' scenes.
@@ -122,11 +123,9 @@ def tail(path: Path, n: int = 3) -> list[str]:
     return lines[-n:]
 
 
-def _parser() -> argparse.ArgumentParser:
+def _parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     """The options of make_figures.py (usage and epilog from the module documentation)."""
-    ap = argparse.ArgumentParser(prog="make_figures.py", description=__doc__.split("\n\n")[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter,
-                                 epilog="\n\n".join(__doc__.split("\n\n")[1:]))
+    ap = cli.parser("make_figures.py", __doc__, argv)
     ap.add_argument("--outdir", type=Path, help="folder of the images (default postprocess/figures/, "
                                                 "with --quick out/quick/figures/)")
     ap.add_argument("--quick", action="store_true", help="coarser scene grids (steps x 2..5), outputs in out/quick/")
@@ -135,7 +134,7 @@ def _parser() -> argparse.ArgumentParser:
     ap.add_argument("--input", type=Path, default=ROOT / "input", help="folder of the namelists (default input/)")
     ap.add_argument("--logs", type=Path, help="folder of the program's output, one log per namelist "
                                               "(default out/logs/, with --quick out/quick/logs/)")
-    ap.add_argument("--dpi", type=int, default=style.DPI, help=f"resolution of the images (default {style.DPI})")
+    ap.add_argument("--dpi", type=cli.dpi, default=style.DPI, help=f"resolution of the images (default {style.DPI})")
     return ap
 
 
@@ -260,7 +259,11 @@ def _shown(path: Path) -> Path:
 def main(argv: list[str] | None = None) -> int:
     """The command line of `make_figures.py`; returns the exit status (0 all done, 1 something failed, 2 nothing
     to do, 130 interrupted)."""
-    args = _parser().parse_args(argv)
+    args = _parser(argv).parse_args(argv)
+    if cli.checkout() is None:
+        print(f"error: {Path.cwd()}: not in a supratrans checkout (no fpm.toml with postprocess/ here or above)",
+              file=sys.stderr)
+        return 2
     args.input = args.input.resolve()
     if args.outdir:
         args.outdir = args.outdir.resolve()
@@ -272,7 +275,7 @@ def main(argv: list[str] | None = None) -> int:
         jobs, failures = _jobs(args)
     except SystemExit as exc:
         return int(exc.code)
-    outdir = args.outdir or (ROOT / "out" / "quick" / "figures" if args.quick else style.FIGURE_DIR)
+    outdir = args.outdir or (ROOT / "out" / "quick" / "figures" if args.quick else style.figure_dir())
     logs = args.logs or ROOT / "out" / ("quick/logs" if args.quick else "logs")
     if not args.no_run:
         if shutil.which("fpm") is None:

@@ -1,50 +1,100 @@
-"""What every figure and chart shares: matplotlib without a window and without chatter, the number format of the
-labels, and saving (a PNG above a size budget is stored with a 256-colour palette; an image format matplotlib does
-not know is a one-line PlotError)."""
+"""What every figure and chart shares: the house style of matplotlib, set only while a figure is made and saved
+(`style_context`, `styled`: never in the global rcParams), figures made without pyplot and without a window
+(unless `plot.py --show` asks for one), the number format of the labels, and saving (a PNG above a size budget is
+stored with a 256-colour palette; an image format matplotlib does not know is a one-line PlotError).
+
+Importing the package, drawing and saving leave matplotlib's global state (rcParams, the backend, pyplot's
+figures) as they found it."""
 from __future__ import annotations
 
+import contextlib
+import functools
 import io
 import logging
 import math
-import os
 import warnings
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable, Iterator
 
 import numpy as np
 
+from . import cli
 from .reader import PlotError
 
-#: The folder of the committed figures, postprocess/figures/ (the default of make_figures and the charts).
-FIGURE_DIR = Path(__file__).resolve().parents[1] / "figures"
 #: Resolution of saved figures (dots per inch).
 DPI = 96
 #: PNGs larger than this are stored with a 256-colour palette (line plots: a third of the size, no visible change).
 PNG_BUDGET = 120_000
+#: The house style: matplotlib's rcParams while a figure is made and saved.
+STYLE = {"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 8, "figure.titlesize": 10, "axes.grid": True,
+         "grid.alpha": 0.25, "lines.linewidth": 1.3, "savefig.bbox": "tight", "figure.constrained_layout.use": True}
 
-#: Whether figures may open a window (plot.py --show); otherwise matplotlib draws into files only (Agg).
+#: Whether figures may open a window (plot.py --show): then they are made by pyplot, else as plain Figures.
 _WINDOW = {"allowed": False}
 
 
+def figure_dir() -> Path:
+    """The folder of the committed figures, postprocess/figures/ of the checkout (the default of make_figures and
+    the charts); PlotError outside a checkout (an installed package run elsewhere: say where with an option)."""
+    root = cli.checkout()
+    if root is None:
+        raise PlotError(Path.cwd(), "not in a supratrans checkout (no fpm.toml with postprocess/ here or above): "
+                                    "say where the images go (-o, --outdir)")
+    return root / "postprocess" / "figures"
+
+
 def allow_window() -> None:
-    """Let the next figures use matplotlib's interactive backend (for `plot.py --show`)."""
+    """Let the next figures be made by pyplot, for a window (`plot.py --show`)."""
     _WINDOW["allowed"] = True
 
 
-def pyplot():
-    """matplotlib.pyplot with a file backend (unless MPLBACKEND is set or a window is allowed) and the house
-    style, without chatter on stderr."""
-    logging.getLogger("matplotlib").setLevel(logging.ERROR)
+@contextlib.contextmanager
+def style_context() -> Iterator[None]:
+    """The house style (STYLE) within the block, matplotlib's rcParams as they were after it; matplotlib's
+    chatter on stderr silenced."""
     import matplotlib  # noqa: PLC0415 (importing matplotlib takes a second: only when drawing)
 
-    if "MPLBACKEND" not in os.environ and not _WINDOW["allowed"]:
-        matplotlib.use("Agg")
-    import matplotlib.pyplot as plt  # noqa: PLC0415
+    logger = logging.getLogger("matplotlib")
+    level = logger.level
+    logger.setLevel(logging.ERROR)
+    try:
+        with matplotlib.rc_context(STYLE):
+            yield
+    finally:
+        logger.setLevel(level)
 
-    plt.rcParams.update({"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 8, "figure.titlesize": 10,
-                         "axes.grid": True, "grid.alpha": 0.25, "lines.linewidth": 1.3,
-                         "savefig.bbox": "tight", "figure.constrained_layout.use": True})
-    return plt
+
+def styled(draw: Callable) -> Callable:
+    """A drawing function run within `style_context` (the figure it returns carries the style: fonts, grid and
+    layout are fixed when the figure is made)."""
+
+    @functools.wraps(draw)
+    def wrapper(*args, **kwargs):
+        with style_context():
+            return draw(*args, **kwargs)
+
+    return wrapper
+
+
+def subplots(*args, **kwargs):
+    """(figure, axes) as `pyplot.subplots(*args, **kwargs)` makes them, in the current style: a plain
+    matplotlib Figure (no pyplot, no backend, nothing to close), or pyplot's when a window is allowed."""
+    if _WINDOW["allowed"]:
+        import matplotlib.pyplot as plt  # noqa: PLC0415
+
+        return plt.subplots(*args, **kwargs)
+    from matplotlib.figure import Figure  # noqa: PLC0415
+
+    fig = Figure(figsize=kwargs.pop("figsize", None))
+    return fig, fig.subplots(*args, **kwargs)
+
+
+def close(fig) -> None:
+    """Forget a figure: pyplot's are closed, plain ones need nothing."""
+    if fig.canvas.manager is not None:
+        import matplotlib.pyplot as plt  # noqa: PLC0415
+
+        plt.close(fig)
 
 
 def cmap(name: str):
@@ -81,13 +131,11 @@ def image_format(path: Any) -> str:
 def save(fig, path: Any, dpi: int = DPI) -> Path:
     """Write a figure, creating the folder; returns the path. A PNG above PNG_BUDGET bytes is stored with a
     256-colour palette. The figure is closed, also when it cannot be written."""
-    import matplotlib.pyplot as plt  # noqa: PLC0415
-
     path = Path(path)
     try:
         kind = image_format(path)
         path.parent.mkdir(parents=True, exist_ok=True)
-        with warnings.catch_warnings():
+        with warnings.catch_warnings(), style_context():
             warnings.simplefilter("ignore")
             if kind != "png":
                 fig.savefig(path, dpi=dpi, format=kind)
@@ -96,7 +144,7 @@ def save(fig, path: Any, dpi: int = DPI) -> Path:
                 fig.savefig(buf, dpi=dpi, format="png")
                 path.write_bytes(_palette(buf.getvalue()))
     finally:
-        plt.close(fig)
+        close(fig)
     return path
 
 

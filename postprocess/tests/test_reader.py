@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from supratrans_post import figures, reader
+from supratrans_post.charts.stability import main as chart_stability_main
 from supratrans_post.plot import main as plot_main
 
 h5py = pytest.importorskip("h5py")
@@ -126,6 +127,115 @@ def test_not_hdf5_and_absent(tmp_path, call_main):
     text.write_text("not an HDF5 file\n")
     assert_one_line_error(call_main(plot_main, text), str(text), "not an HDF5 file")
     assert_one_line_error(call_main(plot_main, tmp_path / "nowhere.h5"), "nowhere.h5", "no such file")
+
+
+def replace_dataset(path: Path, name: str, data) -> None:
+    """Write `data` in place of the dataset `name` of the file `path`, its attributes kept."""
+    with h5py.File(path, "r+") as h:
+        attrs = dict(h[name].attrs)
+        del h[name]
+        h[name] = data
+        h[name].attrs.update(attrs)
+
+
+#: An axis of each scene drawn, and the command that draws it.
+AXIS_OF = [("fig2", "amplitude", "plot"), ("fig11", "omega", "plot"), ("bif3", "omega", "plot"),
+           ("fig1_sg_A150", "probes/time", "plot"), ("stab", "c", "chart")]
+
+
+@pytest.mark.parametrize("name, axis, how", AXIS_OF)
+def test_axis_of_text_is_one_line(tiny, tmp_path, call_main, name, axis, how):
+    """Issue 22: an axis holding text was a ValueError traceback (could not convert string to float)."""
+    broken = tmp_path / f"{name}.h5"
+    shutil.copy(tiny.file(name), broken)
+    n = reader.open_scene(broken).data[axis].size
+    replace_dataset(broken, axis, np.array([b"x%d" % i for i in range(n)]))
+    main = plot_main if how == "plot" else chart_stability_main
+    assert_one_line_error(call_main(main, broken, "-o", tmp_path / "x.png"), str(broken),
+                          f"dataset '/{axis}' holds text, expected numbers")
+    assert not (tmp_path / "x.png").exists()
+
+
+@pytest.mark.parametrize("name, axis, how", AXIS_OF)
+def test_axis_of_nan_is_one_line(tiny, tmp_path, call_main, name, axis, how):
+    """Issue 22: an all-NaN axis was a traceback (axis limits cannot be NaN, pcolormesh) or a figure of nothing;
+    one NaN in a grid axis is refused as well."""
+    broken = tmp_path / f"{name}.h5"
+    shutil.copy(tiny.file(name), broken)
+    values = np.asarray(reader.open_scene(broken).data[axis], dtype=float)
+    replace_dataset(broken, axis, np.full(values.shape, np.nan))
+    main = plot_main if how == "plot" else chart_stability_main
+    assert_one_line_error(call_main(main, broken, "-o", tmp_path / "x.png"), str(broken),
+                          f"axis '/{axis}' has no finite value")
+    values[-1] = np.inf
+    replace_dataset(broken, axis, values)
+    assert_one_line_error(call_main(main, broken, "-o", tmp_path / "x.png"), "not finite", f"index {values.size - 1}")
+    assert not (tmp_path / "x.png").exists()
+
+
+# ------------------------------------------------------------------------------------------------ dimension scales
+
+
+def small_sweep(path: Path, attribute: str | None = "curve, amplitude") -> Path:
+    """A minimal amplitude_sweep file written by h5py (2 curves x 3 amplitudes), without dimension scales;
+    `attribute`: the attribute `dimensions` of /energy/injected (as the program writes today), or none."""
+    with h5py.File(path, "w") as h:
+        h.attrs["scene"] = np.bytes_("amplitude_sweep")
+        h.create_group("parameters").attrs["omega"] = 0.9
+        h["amplitude"] = np.array([1.0, 1.5, 2.0])
+        h["amplitude_doubled"] = np.array([2.0, 3.0, 4.0])
+        h["curves/potential"] = np.array([b"sine-gordon", b"klein-gordon"])
+        h["curves/value"] = np.array([np.nan, np.nan])
+        h["energy/injected"] = np.arange(6.0).reshape(2, 3)
+        if attribute is not None:
+            h["energy/injected"].attrs["dimensions"] = np.bytes_(attribute)
+        h["runs/status"] = np.zeros((2, 3), dtype=np.int32)
+        h["runs/transmitting"] = np.zeros((2, 3), dtype=np.int32)
+    return path
+
+
+def test_dimensions_without_scales_come_from_the_attribute_then_the_schema(tmp_path):
+    s = reader.open_scene(small_sweep(tmp_path / "a.h5", "curve, drive amplitude"))
+    assert s.dims["energy/injected"] == ("curve", "drive amplitude")  # today's attribute
+    assert s.dims["runs/status"] == ("curve", "amplitude")  # no attribute: the schema
+    assert s.scales == {}
+    assert list(s.coordinate("energy/injected", 1)) == [1.0, 1.5, 2.0]  # the schema's axis dataset /amplitude
+    assert s.coordinate("energy/injected", 0) is None  # the curves have no axis dataset
+    s = reader.open_scene(small_sweep(tmp_path / "b.h5", "only one name"))  # not one name per dimension
+    assert s.dims["energy/injected"] == ("curve", "amplitude")
+
+
+def test_dimension_scales_are_preferred(tmp_path):
+    """A dimension scale attached (`ds.dims[i][0]`) names the axis and gives its values, before the attribute
+    `dimensions` and the schema: here a scale other than /amplitude, so that the two cannot be confused."""
+    path = small_sweep(tmp_path / "scaled.h5")
+    with h5py.File(path, "r+") as h:
+        h["amplitude_doubled"].make_scale("twice A")
+        h["energy/injected"].dims[1].attach_scale(h["amplitude_doubled"])
+        h["amplitude"].make_scale("")  # a scale without a name: named by its path
+        h["runs/status"].dims[1].attach_scale(h["amplitude"])
+        assert h["energy/injected"].dims[1][0].name == "/amplitude_doubled"
+    s = reader.open_scene(path)
+    assert s.dims["energy/injected"] == ("curve", "twice A")
+    assert s.dims["runs/status"] == ("curve", "amplitude")
+    assert list(s.coordinate("energy/injected", 1)) == [2.0, 3.0, 4.0]
+    assert list(s.coordinate("runs/status", 1)) == [1.0, 1.5, 2.0]
+    assert list(s.data["amplitude"]) == [1.0, 1.5, 2.0]  # the data read as before
+
+
+@pytest.mark.parametrize("bad, words", [(np.array([1.0, 2.0]), "has shape (2,), expected (3,)"),
+                                        (np.array([1.0, np.nan, 2.0]), "not finite"),
+                                        (np.array([b"a", b"b", b"c"]), "holds text")])
+def test_a_bad_dimension_scale_is_one_line(tmp_path, bad, words):
+    path = small_sweep(tmp_path / "bad.h5")
+    with h5py.File(path, "r+") as h:
+        h["axis"] = bad
+        h["axis"].make_scale("A")
+        h["energy/injected"].dims[1].attach_scale(h["axis"])
+    with pytest.raises(reader.PlotError) as err:
+        reader.open_scene(path)
+    line = err.value.line()
+    assert line.startswith(f"error: {path}: ") and "\n" not in line and words in line and "/axis" in line, line
 
 
 # ------------------------------------------------------------------------------------------------ partial files

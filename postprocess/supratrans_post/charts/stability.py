@@ -23,7 +23,6 @@ and exit status 2.
 """
 from __future__ import annotations
 
-import argparse
 import math
 import sys
 from pathlib import Path
@@ -31,8 +30,9 @@ from typing import Any
 
 import numpy as np
 
+from .. import cli
 from ..reader import PlotError, Scene, open_scene
-from ..style import DPI, FIGURE_DIR, fmt, pyplot, save
+from ..style import DPI, figure_dir, fmt, image_format, save, styled, subplots
 
 #: Style of each method's observed boundary.
 STYLE = {"newton": dict(color="black", marker="o"), "linearized": dict(color="tab:blue", marker="s"),
@@ -81,9 +81,9 @@ def regions(c_fine: np.ndarray, paper: np.ndarray, c: np.ndarray,
     return nb, paper > nb, paper < nb
 
 
+@styled
 def draw_stability(s: Scene):
     """The chart: one column per curve, dt (top, log-log) and the Courant number c dt (bottom) against c."""
-    plt = pyplot()
     d = s.data
     methods = [str(m) for m in d["methods"]]
     c = np.asarray(d["c"], float)
@@ -91,8 +91,8 @@ def draw_stability(s: Scene):
     ncurve = d["curves/value"].size
     inewton = methods.index("newton")
     c_fine = np.geomspace(c.min(), c.max(), 300)
-    fig, axes = plt.subplots(2, ncurve, figsize=(3.9 * ncurve, 6.4), squeeze=False, sharex=True,
-                             gridspec_kw={"height_ratios": [1, 1.25]})
+    fig, axes = subplots(2, ncurve, figsize=(3.9 * ncurve, 6.4), squeeze=False, sharex=True,
+                         gridspec_kw={"height_ratios": [1, 1.25]})
     for icurve in range(ncurve):
         par, vary, value = curve_parameters(s, icurve)
         paper_f = paper_dt(c_fine, **par)
@@ -184,19 +184,19 @@ def summary(s: Scene) -> list[str]:
 
 def main(argv: list[str] | None = None) -> int:
     """The command line of `chart_stability.py`; returns the exit status (0, or 2 with one line on stderr)."""
-    ap = argparse.ArgumentParser(prog="chart_stability.py", description=__doc__.split("\n\n")[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter,
-                                 epilog="\n\n".join(__doc__.split("\n\n")[1:]))
+    ap = cli.parser("chart_stability.py", __doc__, argv)
     ap.add_argument("h5", metavar="STABILITY.h5", help="file of the scene stability")
-    ap.add_argument("-o", "--output", type=Path, default=FIGURE_DIR / "stability.png",
-                    help="image to write (default postprocess/figures/stability.png)")
-    ap.add_argument("--dpi", type=int, default=DPI)
+    ap.add_argument("-o", "--output", type=Path,
+                    help="image to write (default postprocess/figures/stability.png of the checkout)")
+    ap.add_argument("--dpi", type=cli.dpi, default=DPI, help=f"resolution of the image (default {DPI})")
     ap.add_argument("-q", "--quiet", action="store_true", help="print nothing but errors")
     args = ap.parse_args(argv)
     try:
+        output = args.output or figure_dir() / "stability.png"
+        image_format(output)
         s = read_stability(args.h5)
         lines = summary(s)
-        path = save(draw_stability(s), args.output, dpi=args.dpi)
+        path = save(draw_stability(s), output, dpi=args.dpi)
         if not args.quiet:
             print("\n".join(lines))
             print(f"wrote {path} ({path.stat().st_size / 1024:.0f} kB)", file=sys.stderr)

@@ -26,7 +26,6 @@ A file that cannot be used gives the one line `error: <file>: <what is wrong>` a
 """
 from __future__ import annotations
 
-import argparse
 import math
 import subprocess
 import sys
@@ -36,12 +35,9 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .. import namelist, peer as ps
+from .. import cli, namelist, peer as ps
 from ..reader import PlotError, Scene, output_path
-from ..style import DPI, FIGURE_DIR, fmt, pyplot, save
-
-#: The repository (where fpm runs the scene).
-ROOT = Path(__file__).resolve().parents[3]
+from ..style import DPI, figure_dir, fmt, save, styled, subplots
 
 #: Error levels of the table.
 LEVELS = [10.0 ** -k for k in range(2, 9)]
@@ -211,13 +207,13 @@ def _suptitle(w: Scene, what: str) -> str:
             f"$\\beta$ = {fmt(p['beta'])}")
 
 
+@styled
 def draw_work_precision(w: Scene, peer: dict, rows: list[dict] | None = None):
     """Error of the injected energy vs wall time, log-log, one line per method, one panel per amplitude; the
     time SciPy's best needs divided by the goal (5) as a grey line: our points left of it meet the goal."""
-    plt = pyplot()
     amps = np.asarray(w.data["amplitude"], float)
     rows = rows if rows is not None else equal_error_table(w, peer)
-    fig, axes = plt.subplots(1, len(amps), figsize=(5.2 * len(amps), 4.2), squeeze=False, sharey=True)
+    fig, axes = subplots(1, len(amps), figsize=(5.2 * len(amps), 4.2), squeeze=False, sharey=True)
     floor = w.data.get("reference/error_energy")
     for ia, a in enumerate(amps):
         ax = axes[0, ia]
@@ -252,13 +248,13 @@ def draw_work_precision(w: Scene, peer: dict, rows: list[dict] | None = None):
     return fig
 
 
+@styled
 def draw_dt(w: Scene, peer: dict):
     """Error of the injected energy vs time step, log-log, the fitted orders in the legend; the SciPy peer
     against its mean step T/steps (its order: the same fit)."""
-    plt = pyplot()
     d = w.data
     amps = np.asarray(d["amplitude"], float)
-    fig, axes = plt.subplots(1, len(amps), figsize=(5.2 * len(amps), 4.2), squeeze=False, sharey=True)
+    fig, axes = subplots(1, len(amps), figsize=(5.2 * len(amps), 4.2), squeeze=False, sharey=True)
     floor = d.get("reference/error_energy")
     for ia, a in enumerate(amps):
         ax = axes[0, ia]
@@ -294,10 +290,11 @@ def draw_dt(w: Scene, peer: dict):
 
 def output_of(nml: Path) -> Path:
     """The `&output file` of a namelist (relative to the repository)."""
-    out = namelist.output_file(namelist.read(nml if nml.is_absolute() else ROOT / nml))
+    root = cli.repository()
+    out = namelist.output_file(namelist.read(nml if nml.is_absolute() else root / nml))
     if out is None:
         raise PlotError(nml, "no '&output file'")
-    return ROOT / out
+    return root / out
 
 
 def run_scene(nml: Path, log: Callable) -> Path:
@@ -305,8 +302,8 @@ def run_scene(nml: Path, log: Callable) -> Path:
     out = output_of(nml)
     t0 = time.monotonic()
     log(f"running: fpm run --profile release -- {nml}")
-    proc = subprocess.run(["fpm", "run", "--profile", "release", "--", str(nml)], cwd=ROOT, capture_output=True,
-                          text=True)
+    proc = subprocess.run(["fpm", "run", "--profile", "release", "--", str(nml)], cwd=cli.repository(),
+                          capture_output=True, text=True)
     if proc.returncode != 0:
         tail = (proc.stderr.strip() or proc.stdout.strip() or "no output").splitlines()[-1]
         raise PlotError(nml, f"fpm run failed (status {proc.returncode}): {tail}")
@@ -317,9 +314,7 @@ def run_scene(nml: Path, log: Callable) -> Path:
 def main(argv: list[str] | None = None) -> int:
     """The command line of `work_precision.py`; returns the exit status (0, 1 when the peer's model check fails,
     2 with one line on stderr)."""
-    ap = argparse.ArgumentParser(prog="work_precision.py", description=__doc__.split("\n\n")[0],
-                                 formatter_class=argparse.RawDescriptionHelpFormatter,
-                                 epilog="\n\n".join(__doc__.split("\n\n")[1:]))
+    ap = cli.parser("work_precision.py", __doc__, argv)
     ap.add_argument("--nml", type=Path, default=Path("input/work_precision.nml"),
                     help="namelist of the scene (default input/work_precision.nml)")
     ap.add_argument("--h5", type=Path, help="use this work_precision file instead of running the scene")
@@ -329,9 +324,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--methods", nargs="+", default=ps.DEFAULT_METHODS, choices=["DOP853", "RK45", "RK23"])
     ap.add_argument("--tols", nargs="+", type=float, default=ps.DEFAULT_TOLS, metavar="TOL")
     ap.add_argument("--repeats", type=int, default=5, help="timed solves per peer point (median; default 5)")
-    ap.add_argument("--outdir", type=Path, default=FIGURE_DIR, help="folder of the charts "
-                                                                          "(default postprocess/figures/)")
-    ap.add_argument("--dpi", type=int, default=DPI)
+    ap.add_argument("--outdir", type=Path, help="folder of the charts (default postprocess/figures/ of the checkout)")
+    ap.add_argument("--dpi", type=cli.dpi, default=DPI, help=f"resolution of the images (default {DPI})")
     ap.add_argument("-q", "--quiet", action="store_true", help="print only the table")
     args = ap.parse_args(argv)
 
@@ -340,12 +334,14 @@ def main(argv: list[str] | None = None) -> int:
             print(*a, file=sys.stderr, flush=True)
 
     try:
+        outdir = args.outdir or figure_dir()
         h5 = args.h5
         if h5 is None:
-            nml = args.nml if args.nml.is_absolute() else (ROOT / args.nml)
+            root = cli.repository()
+            nml = args.nml if args.nml.is_absolute() else (root / args.nml)
             if not nml.is_file():
                 raise PlotError(args.nml, "no such file")
-            h5 = run_scene(nml.relative_to(ROOT) if nml.is_relative_to(ROOT) else nml, log)
+            h5 = run_scene(nml.relative_to(root) if nml.is_relative_to(root) else nml, log)
         w = ps.read_work_precision(h5)
         if args.peer:
             peer = ps.read_points(args.peer)
@@ -361,7 +357,7 @@ def main(argv: list[str] | None = None) -> int:
             log(f"wrote {out}")
         for fig, name in ((draw_work_precision(w, peer, rows), "work_precision.png"),
                           (draw_dt(w, peer), "work_precision_dt.png")):
-            path = save(fig, args.outdir / name, dpi=args.dpi)
+            path = save(fig, outdir / name, dpi=args.dpi)
             log(f"wrote {path} ({path.stat().st_size / 1024:.0f} kB)")
         check = peer.get("check", [])
         for c in check:

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from ..reader import Scene
-from ..style import fmt, pyplot
+from ..style import fmt, styled, subplots
 from .common import (PANEL, SYMBOLS, columns, conditions, curve_name, family_label, massless, potential_title,
                      styles, title, vary_of)
 
@@ -26,10 +26,10 @@ def _label(vary: str, value: float, potential: str, several: bool) -> str:
     return label
 
 
+@styled
 def draw_bifurcation(s: Scene):
     """Threshold amplitude vs driving frequency, one curve per (potential, value), A_s as x-marks (one set per
     distinct A_s(Omega) curve: it does not depend on gamma or beta), the points without a threshold noted."""
-    plt = pyplot()
     omega = np.asarray(s.data["omega"], dtype=float)
     thr = np.asarray(s.data["threshold"], dtype=float)
     a_s = np.asarray(s.data["threshold_As"], dtype=float)
@@ -41,7 +41,7 @@ def draw_bifurcation(s: Scene):
     order = sorted(range(len(pots)), key=lambda i: (pots.index(pots[i]), values[i] if math.isfinite(values[i])
                                                     else 0))
     st_order = styles(values[order], vary, [pots[i] for i in order])
-    fig, ax = plt.subplots(figsize=(PANEL[0] * 1.35, PANEL[1] * 1.3))
+    fig, ax = subplots(figsize=(PANEL[0] * 1.35, PANEL[1] * 1.3))
     if not np.isin(status, (0, 1)).any():
         ax.text(0.5, 0.5, "no threshold found yet" if s.partial else "no threshold found", transform=ax.transAxes,
                 ha="center", va="center", color="0.4")

@@ -8,18 +8,18 @@ from typing import Any
 import numpy as np
 
 from ..reader import Scene
-from ..style import fmt, pyplot
+from ..style import fmt, styled, subplots
 from .common import (ENERGIES, PANEL, SYMBOLS, columns, conditions, failed_note, family_label, first_transmitting,
                      potential_title, title, vary_of)
 from .common import energy as energy_of
 
 
+@styled
 def draw_map(s: Scene, surface: bool = False, energy: str = "injected"):
     """Total energy over driving frequency x amplitude, one panel per curve, log colour scale, with the
     continuum-limit threshold A_s(Omega) (x-marks and line) and the first transmitting amplitude of each
     frequency (white dots) drawn over it. Runs outside the band gap or not done are gaps (grey). `surface`: 3-D
     surfaces of log10 E instead, like the paper. `energy`: another energy of the file (ENERGIES)."""
-    plt = pyplot()
     from matplotlib.colors import LogNorm  # noqa: PLC0415
 
     omega = np.asarray(s.data["omega"], dtype=float)
@@ -38,7 +38,7 @@ def draw_map(s: Scene, surface: bool = False, energy: str = "injected"):
         vmax = vmin * 10
     norm = LogNorm(vmin=vmin, vmax=vmax)
     kw = {"subplot_kw": {"projection": "3d"}} if surface else {}
-    fig, axes = plt.subplots(1, ncurve, figsize=(PANEL[0] * ncurve, PANEL[1] * 1.15), squeeze=False, **kw)
+    fig, axes = subplots(1, ncurve, figsize=(PANEL[0] * ncurve, PANEL[1] * 1.15), squeeze=False, **kw)
     mesh = None
     for c, ax in enumerate(axes[0]):
         e = np.where(status[c] == 0, e_all[c], np.nan).T  # (namp, nomega)

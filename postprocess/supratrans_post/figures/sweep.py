@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from ..reader import Scene
-from ..style import fmt, pyplot
+from ..style import fmt, styled, subplots
 from .common import (ENERGIES, PANEL, SYMBOLS, conditions, curve_name, failed_note, family_label, first_transmitting,
                      massless, potential_title, styles, title, vary_of)
 from .common import energy as energy_of
@@ -43,6 +43,7 @@ def zoom_window(amp: Any, first: Any) -> tuple[float, float] | None:
     return (lo, hi) if hi - lo < 0.4 * span else None
 
 
+@styled
 def draw_sweep(s: Scene, zoom: bool = True, energy: str = "injected"):
     """Total energy injected vs driving amplitude, one column per panel; when the jumps of the curves lie in a
     narrow window (and `zoom`), a second row shows that window, every run as a dot. `energy`: another energy
@@ -58,9 +59,8 @@ def draw_sweep(s: Scene, zoom: bool = True, energy: str = "injected"):
     first = [first_transmitting(amp, trans[i], status[i]) for i in range(len(pots))]
     window = zoom_window(amp, first) if zoom else None
     rows = 2 if window else 1
-    plt = pyplot()
-    fig, axes = plt.subplots(rows, len(panels), figsize=(PANEL[0] * len(panels), PANEL[1] * (1 + 0.85 * (rows - 1))),
-                             squeeze=False, height_ratios=[1, 0.85][:rows])
+    fig, axes = subplots(rows, len(panels), figsize=(PANEL[0] * len(panels), PANEL[1] * (1 + 0.85 * (rows - 1))),
+                         squeeze=False, height_ratios=[1, 0.85][:rows])
     for col, (name, idx) in enumerate(panels):
         order = sorted(idx, key=lambda i: (abs(values[i]) if math.isfinite(values[i]) else 0, values[i]))
         st_order = styles(values[order], vary, [pots[i] for i in order])

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..reader import PlotError, Scene
-from ..style import fmt, pyplot
+from ..style import close, fmt, styled, subplots
 from .common import FIGURES, PANEL, POTENTIAL_TITLES, conditions, potential_title, title
 
 
@@ -35,24 +35,24 @@ def run_note(s: Scene) -> str:
     return ", ".join(bits)
 
 
+@styled
 def draw_timeseries(scenes: list[Scene], site: int | None = None):
     """One file: u_n(t) at the probe `site` (default 60) and the energy ledger. Several files (Fig. 1): a grid
     of u_n(t), one row per potential (file order), one column per driving amplitude (ascending)."""
     if len(scenes) == 1:
         return _one(scenes[0], site)
-    plt = pyplot()
     potentials = sorted(dict.fromkeys(str(s.params.get("potential")) for s in scenes),
                         key=lambda q: (list(POTENTIAL_TITLES).index(q) if q in POTENTIAL_TITLES else 9, q))
     amplitudes = sorted({float(s.params.get("amplitude")) for s in scenes})
     nr, nc = len(potentials), len(amplitudes)
-    fig, axes = plt.subplots(nr, nc, figsize=(PANEL[0] * nc * 0.85, PANEL[1] * nr * 0.8), squeeze=False,
-                             sharex=True)
+    fig, axes = subplots(nr, nc, figsize=(PANEL[0] * nc * 0.85, PANEL[1] * nr * 0.8), squeeze=False,
+                         sharex=True)
     seen = set()
     for s in scenes:
         r = potentials.index(str(s.params.get("potential")))
         c = amplitudes.index(float(s.params.get("amplitude")))
         if (r, c) in seen:
-            plt.close(fig)
+            close(fig)
             raise PlotError(s.path, f"two files for the same panel ({s.params.get('potential')}, "
                                     f"A = {fmt(s.params.get('amplitude'))})")
         seen.add((r, c))
@@ -79,8 +79,7 @@ def draw_timeseries(scenes: list[Scene], site: int | None = None):
 def _one(s: Scene, site: int | None):
     """u_n(t) at one probe and the energy ledger of one file."""
     i, site = probe_index(s, site)
-    plt = pyplot()
-    fig, (ax, bx) = plt.subplots(2, 1, figsize=(PANEL[0] * 1.3, PANEL[1] * 1.6), sharex=True)
+    fig, (ax, bx) = subplots(2, 1, figsize=(PANEL[0] * 1.3, PANEL[1] * 1.6), sharex=True)
     t = s.data["probes/time"]
     ax.plot(t, s.data["probes/u"][i], color="black", lw=0.8)
     ax.set_ylabel(rf"$u_{{{site}}}(t)${s.unit('probes/u')}")
