@@ -87,6 +87,18 @@ SCHEMA: dict[str, dict[str, tuple[tuple[str, ...], bool]]] = {
         "curves/m2": _opt("curve"), "curves/band_gap_edge": _opt("curve"), "cost/runs": _opt("curve", "omega"),
         "cost/wall_time": _opt("curve", "omega"),
     },
+    "continuation": {
+        "omega": _req("omega"), "curves/potential": _req("curve"), "curves/value": _req("curve"),
+        "fold_amplitude": _req("curve", "omega"), "threshold": _req("curve", "omega"),
+        "threshold_kind": _req("curve", "omega"), "instability_amplitude": _req("curve", "omega"),
+        "instability_type": _req("curve", "omega"), "threshold_As": _req("curve", "omega"),
+        "status": _req("curve", "omega"), "branch/points": _req("curve", "omega"),
+        **{f"branch/{k}": _req("curve", "omega", "point") for k in ("amplitude", "umax", "stable",
+                                                                      "multiplier_max")},
+        "multipliers/real": _opt("task", "sample", "multiplier"),
+        "multipliers/imag": _opt("task", "sample", "multiplier"), "multipliers/amplitude": _opt("task", "sample"),
+        "convergence/digits": _opt("curve", "omega"), "convergence/error_estimate": _opt("curve", "omega"),
+    },
     "work_precision": {
         "methods": _req("method"), "amplitude": _req("amplitude"), "dt": _req("method", "dt"),
         **{k: _req("amplitude", "method", "dt") for k in ("status", "wall_time", "error_energy", "error_u")},
@@ -114,7 +126,7 @@ AXES = {"amplitude": "amplitude", "omega": "omega", "c": "c", "dt": "dt", "probe
 #: Every scene the program writes.
 SCENES = tuple(SCHEMA)
 #: Scenes drawn as figures of the paper (`figures`), and as the speed/accuracy charts (`charts`).
-FIGURE_SCENES = ("timeseries", "amplitude_sweep", "map", "bifurcation")
+FIGURE_SCENES = ("timeseries", "amplitude_sweep", "map", "bifurcation", "continuation")
 CHART_SCENES = ("stability", "work_precision")
 
 
@@ -192,10 +204,10 @@ class Scene:
             total = self.attrs.get("runs_total", self.data["runs/status"].size)
             done = self.attrs.get("runs_done", int(np.count_nonzero(self.data["runs/status"] != -1)))
             return int(done), int(total), "runs"
-        if self.scene == "bifurcation":
+        if self.scene in ("bifurcation", "continuation"):
             total = self.attrs.get("tasks_total", self.data["status"].size)
             done = self.attrs.get("tasks_done", int(np.count_nonzero(self.data["status"] != -1)))
-            return int(done), int(total), "threshold searches"
+            return int(done), int(total), "threshold searches" if self.scene == "bifurcation" else "continuations"
         return None
 
     def partial_note(self) -> str:

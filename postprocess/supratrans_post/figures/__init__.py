@@ -7,7 +7,9 @@ attributes of `/parameters` and `/curves`.
 - `amplitude_sweep`: total energy injected vs driving amplitude (Figs. 2, 3, 3-and-a-half, 4), one panel per
   potential, or, for one potential whose masses have both signs, 'Pure-imaginary masses' and 'Real masses';
 - `map`: total energy over driving frequency x amplitude (Fig. 11), one panel per curve, A_s(Omega) over it;
-- `bifurcation`: threshold amplitude vs driving frequency (Bif1-Bif3), A_s as x-marks.
+- `bifurcation`: threshold amplitude vs driving frequency (Bif1-Bif3), A_s as x-marks;
+- `continuation`: the branch of driven periodic states with its fold and multipliers (one frequency), or the fold
+  line over the frequency (the model's threshold, not a protocol's).
 
 Families are styled like the paper: the curves of a panel, ordered by the magnitude of the varied parameter,
 are solid, dashed, dash-dotted and dotted. Partial files (`<output>.partial.h5`, written while a scene runs or
@@ -17,12 +19,13 @@ from __future__ import annotations
 
 from ..reader import FIGURE_SCENES, PlotError, Scene
 from .bifurcation import draw_bifurcation, summary_bifurcation
+from .continuation import draw_continuation, summary_continuation
 from .common import ENERGIES, FIGURES
 from .map import draw_map, summary_map
 from .sweep import draw_sweep, summary_sweep, zoom_window
 from .timeseries import draw_timeseries, summary_timeseries
 
-__all__ = ["draw", "draw_timeseries", "draw_sweep", "draw_map", "draw_bifurcation", "summary", "zoom_window",
+__all__ = ["draw", "draw_timeseries", "draw_sweep", "draw_map", "draw_bifurcation", "draw_continuation", "summary", "zoom_window",
            "ENERGIES", "FIGURES", "SCENES"]
 
 #: Scenes drawn as figures of the paper.
@@ -46,6 +49,8 @@ def draw(scenes: Scene | list[Scene]):
         return draw_map(s)
     if s.scene == "bifurcation":
         return draw_bifurcation(s)
+    if s.scene == "continuation":
+        return draw_continuation(s)
     raise PlotError(s.path, f"scene '{s.scene}' is not a figure of the paper (its chart: chart_stability.py or "
                             "work_precision.py)")
 
@@ -61,4 +66,6 @@ def summary(s: Scene, full: bool = False) -> list[str]:
         return head + summary_sweep(s)
     if s.scene == "map":
         return head + summary_map(s, full)
+    if s.scene == "continuation":
+        return head + summary_continuation(s, full)
     return head + summary_bifurcation(s, full)

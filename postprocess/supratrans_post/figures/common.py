@@ -87,13 +87,16 @@ def conditions(s: Scene, skip: Iterable[str] = ()) -> str:
     p = s.params
     vary = str(p.get("vary", "none"))
     items = []
-    if s.scene != "map" and s.scene != "bifurcation" and "omega" not in skip:
+    if s.scene not in ("map", "bifurcation", "continuation") and "omega" not in skip:
         items.append(rf"$\Omega$ = {fmt(p.get('omega'))}")
     for key in ("gamma", "beta", "m2"):
         if key != vary and key not in skip and key in p:
             items.append(rf"${SYMBOLS[key]}$ = {fmt(p[key])}")
     items.append(rf"$c$ = {fmt(p.get('c'))}")
     items.append(rf"$N$ = {fmt(p.get('n'))}")
+    if s.scene == "continuation":  # periodic states: no final time, no ramp; the method and its step
+        items.append(f"{p.get('method', 'newton')}, " + rf"$\Delta t$ = {fmt(p.get('dt'))}")
+        return ", ".join(items)
     items.append(rf"$T$ = {fmt(p.get('t_final'))}")
     items.append(rf"$\Delta t$ = {fmt(p.get('dt'))}")
     if "ramp_time" in p:

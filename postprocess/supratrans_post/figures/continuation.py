@@ -1,0 +1,148 @@
+"""Figure of the scene `continuation`: the threshold as a property of the model.
+
+- one frequency: the branch of driven periodic states (max |u| over a period vs the drive amplitude A), stable
+  part solid, unstable part dashed, the fold A_f and the first loss of stability marked; beside it the Floquet
+  multipliers of largest modulus in the complex plane at the sampled points of the branch, with the unit circle;
+- several frequencies: the fold line A_f(Omega) of each curve, the first loss of stability where it comes before
+  the fold, and A_s = 4 arctan(lambda c / Omega) as x-marks; with a bifurcation scene's file (`scan`), its scan
+  thresholds on the same chart.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..reader import Scene
+from ..style import fmt, styled, subplots
+from .common import PANEL, conditions, curve_name, styles, title, vary_of
+
+#: Names of the instability types (the file's /instability_type codes).
+KINDS = {0: "stable to the fold", 1: "multiplier +1", 2: "period doubling (-1)", 3: "torus (complex pair)"}
+
+
+def _curves(s: Scene) -> tuple[list[str], np.ndarray, str]:
+    pots = [str(x) for x in s.data["curves/potential"]]
+    return pots, np.asarray(s.data["curves/value"], dtype=float), vary_of(s)
+
+
+@styled
+def draw_continuation(s: Scene, scan: Scene | None = None):
+    """The branch and its multipliers (one frequency) or the fold lines (several), see the module docstring."""
+    omega = np.asarray(s.data["omega"], dtype=float)
+    if omega.size == 1 and scan is None:
+        return _draw_branch(s)
+    return _draw_fold_line(s, scan)
+
+
+def _draw_branch(s: Scene):
+    pots, values, vary = _curves(s)
+    fig, (ax, axm) = subplots(1, 2, figsize=(PANEL[0] * 2.1, PANEL[1] * 1.25),
+                              gridspec_kw={"width_ratios": [1.6, 1.0]})
+    st = styles(values, vary, pots)
+    for c in range(len(pots)):
+        n = int(s.data["branch/points"][c, 0])
+        a = np.asarray(s.data["branch/amplitude"][c, 0, :n], dtype=float)
+        u = np.asarray(s.data["branch/umax"][c, 0, :n], dtype=float)
+        stable = np.asarray(s.data["branch/stable"][c, 0, :n], dtype=float) == 1
+        color = st[c].get("color")
+        label = curve_name(pots[c], vary, values[c])
+        line, = ax.plot(np.where(stable, a, np.nan), np.where(stable, u, np.nan), "-", color=color,
+                        label=f"{label}: stable")
+        ax.plot(np.where(~stable, a, np.nan), np.where(~stable, u, np.nan), "--", color=line.get_color(),
+                label="unstable")
+        af = float(s.data["fold_amplitude"][c, 0])
+        if math.isfinite(af):
+            ax.axvline(af, color=line.get_color(), lw=0.8, ls=":")
+            ax.annotate(rf"fold $A_f$ = {fmt(af, 6)}", (af, np.nanmax(u)), textcoords="offset points",
+                        xytext=(-4, -12), ha="right", fontsize=8)
+        ai = float(s.data["instability_amplitude"][c, 0])
+        kind = int(s.data["instability_type"][c, 0])
+        if math.isfinite(ai) and (not math.isfinite(af) or ai < af - 1e-9):
+            ui = np.interp(ai, a[: int(np.nanargmax(a)) + 1], u[: int(np.nanargmax(a)) + 1])
+            ax.plot([ai], [ui], "o", mfc="none", color=line.get_color(),
+                    label=f"first loss of stability, {KINDS.get(kind, kind)}: A = {fmt(ai, 6)}")
+        a_s = float(s.data["threshold_As"][c, 0])
+        if math.isfinite(a_s):
+            ax.axvline(a_s, color="0.5", lw=0.8, ls="-.", label=rf"$A_s$ = {fmt(a_s, 4)}")
+    ax.set_xlabel(f"driving amplitude $A${s.unit('branch/amplitude')}")
+    ax.set_ylabel(r"max $|u_n|$ over a period" + s.unit("branch/umax"))
+    ax.legend(loc="upper left", fontsize=7, framealpha=0.85)
+    _draw_multipliers(s, axm)
+    w = float(s.data["omega"][0])
+    fig.suptitle(title(s, rf"branch of driven periodic states at $\Omega$ = {fmt(w, 4)}") + "\n" + conditions(s))
+    return fig
+
+
+def _draw_multipliers(s: Scene, ax) -> None:
+    t = np.linspace(0.0, 2.0 * np.pi, 361)
+    ax.plot(np.cos(t), np.sin(t), color="0.6", lw=0.8)
+    if "multipliers/real" not in s.data:
+        return
+    re = np.asarray(s.data["multipliers/real"], dtype=float)
+    im = np.asarray(s.data["multipliers/imag"], dtype=float)
+    amp = np.asarray(s.data["multipliers/amplitude"], dtype=float)
+    names = ["first point", "half the fold", "fold", "last point"]
+    marks = ["o", "s", "*", "x"]
+    for k in range(re.shape[1]):
+        if not math.isfinite(amp[0, k]):
+            continue
+        ax.plot(re[0, k], im[0, k], marks[k % 4], ms=5, mfc="none" if marks[k % 4] != "x" else None,
+                label=f"{names[k % 4]} (A = {fmt(amp[0, k], 4)})")
+    ax.set_aspect("equal")
+    ax.set_xlabel(r"Re $\mu$")
+    ax.set_ylabel(r"Im $\mu$")
+    ax.set_title("Floquet multipliers of largest modulus", fontsize=9)
+    ax.legend(loc="lower left", fontsize=6, framealpha=0.85)
+
+
+def _draw_fold_line(s: Scene, scan: Scene | None):
+    pots, values, vary = _curves(s)
+    omega = np.asarray(s.data["omega"], dtype=float)
+    fold = np.asarray(s.data["fold_amplitude"], dtype=float)
+    inst = np.asarray(s.data["instability_amplitude"], dtype=float)
+    st = styles(values, vary, pots)
+    fig, ax = subplots(figsize=(PANEL[0] * 1.35, PANEL[1] * 1.3))
+    for c in range(len(pots)):
+        name = curve_name(pots[c], vary, values[c])
+        line, = ax.plot(omega, fold[c], marker=".", ms=3, label=f"fold $A_f$, {name}", **st[c])
+        before = np.isfinite(inst[c]) & ~(inst[c] >= fold[c] - 1e-9)
+        if before.any():
+            ax.plot(omega[before], inst[c][before], "v", ms=4, mfc="none", color=line.get_color(),
+                    label=f"first loss of stability, {name}")
+    a_s = np.asarray(s.data["threshold_As"], dtype=float)
+    if np.isfinite(a_s).any():
+        ax.plot(omega, a_s[0], "x", color="black", ms=4, label=r"$A_s = 4\arctan(\lambda c/\Omega)$")
+    if scan is not None:
+        thr = np.asarray(scan.data["threshold"], dtype=float)
+        status = np.asarray(scan.data["status"])
+        w2 = np.asarray(scan.data["omega"], dtype=float)
+        for c in range(thr.shape[0]):
+            y = np.where(np.isin(status[c], (0, 1)), thr[c], np.nan)
+            ax.plot(w2, y, ".", ms=3, color="0.35", label="ramped scan threshold" if c == 0 else None)
+    ax.set_xlabel(rf"driving frequency $\Omega${s.unit('omega')}")
+    ax.set_ylabel(f"amplitude $A${s.unit('fold_amplitude')}")
+    ax.legend(loc="best", fontsize=7, framealpha=0.85)
+    fig.suptitle(title(s, "fold of the driven periodic state vs driving frequency") + "\n" + conditions(s))
+    return fig
+
+
+def summary_continuation(s: Scene, full: bool = False) -> list[str]:
+    """Per curve and frequency (about seven of them unless `full`): the fold, the first loss of stability, A_s, the
+    converged digits."""
+    pots, values, vary = _curves(s)
+    omega = np.asarray(s.data["omega"], dtype=float)
+    cols = range(omega.size) if full or omega.size <= 7 else np.unique(np.linspace(0, omega.size - 1, 7).astype(int))
+    digits = s.data.get("convergence/digits")
+    lines = []
+    for c in range(len(pots)):
+        parts = []
+        for w in cols:
+            d = "" if digits is None or not math.isfinite(float(digits[c, w])) else f" ({int(digits[c, w])} digits)"
+            kind = int(s.data["instability_type"][c, w])
+            inst = float(s.data["instability_amplitude"][c, w])
+            extra = f", unstable from {fmt(inst, 6)} ({KINDS.get(kind, kind)})" if math.isfinite(inst) else ""
+            parts.append(f"Omega {fmt(omega[w], 3)}: A_f = {fmt(float(s.data['fold_amplitude'][c, w]), 8)}{d}"
+                         f"{extra}, A_s = {fmt(float(s.data['threshold_As'][c, w]), 4)}")
+        lines.append(f"  {curve_name(pots[c], vary, values[c])}: " + "; ".join(parts))
+    return lines
