@@ -334,3 +334,42 @@ def test_control_characters_are_never_printed(exe, tmp_path):
         printed = proc.stdout + proc.stderr
         assert printed.strip(), args
         assert not any(b < 32 and b != 10 or b == 127 for b in printed), (args, printed)
+
+
+# --------------------------------------------------------------------------------------- 10. stale journal
+
+
+@pytest.mark.parametrize("slices", [False, True], ids=["scene", "slice"])
+def test_finished_output_with_a_stale_journal_is_recognised_and_cleaned(exe, tmp_path, slices):
+    """A kill after the output was renamed into place and before the journal was deleted leaves journal + lock: the
+    rerun recognises the finished output of this input, deletes the stale journal with a line and exits 0."""
+    path = nml(tmp_path, SWEEP)
+    path.write_text(path.read_text().replace(", quiet = .true.", ""))
+    args = ["s.nml", "--slice", "1/2"] if slices else ["s.nml"]
+    out = tmp_path / "out" / ("s.part-1-of-2.h5" if slices else "s.h5")
+    journal = Path(str(out) + ".journal")
+    stopped = run(exe, *args, cwd=tmp_path, env={"SUPRATRANS_STOP_AFTER": "1"})
+    assert stopped.returncode == 5, stopped.stderr
+    stale = journal.read_bytes()
+    assert run(exe, *args, cwd=tmp_path).returncode == 0
+    finished = out.read_bytes()
+    journal.write_bytes(stale)                          # as a kill between the rename and the unlink leaves it
+    proc = run(exe, *args, cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    assert "complete already" in proc.stderr and "stale" in proc.stderr and journal.name in proc.stderr, proc.stderr
+    assert not journal.exists()
+    assert out.read_bytes() == finished
+    assert run(exe, *args, cwd=tmp_path).returncode == (0 if slices else 2)    # no journal: as before
+
+
+def test_stale_journal_beside_the_output_of_another_input_is_kept(exe, tmp_path):
+    path = nml(tmp_path, SWEEP)
+    journal = tmp_path / "out" / "s.h5.journal"
+    assert run(exe, "s.nml", cwd=tmp_path, env={"SUPRATRANS_STOP_AFTER": "1"}).returncode == 5
+    stale = journal.read_bytes()
+    assert run(exe, "s.nml", cwd=tmp_path).returncode == 0
+    journal.write_bytes(stale)
+    path.write_text(path.read_text() + "! another input\n")
+    proc = run(exe, "s.nml", cwd=tmp_path)
+    one_line(proc, 2, "exists")
+    assert journal.read_bytes() == stale

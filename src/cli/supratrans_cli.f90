@@ -20,13 +20,15 @@
 module supratrans_cli
     use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
     use supratrans_kinds, only: wp, supratrans_version
-    use supratrans_strings, only: real_str, int_str, printable
+    use supratrans_strings, only: real_str, int_str, printable, text_fingerprint
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config
     use, intrinsic :: iso_c_binding, only: c_null_char
     use supratrans_system, only: make_directories, path_kind, path_directory, path_missing, same_file, lock_file, &
                                  unlock_file, remove_file, catch_stop_signals, link_kind, path_link, path_special, &
-                                 lock_busy, lock_unsupported, remove_stale_temporaries, disable_hdf5_locking, temp_extra
+                                 lock_busy, lock_unsupported, remove_stale_temporaries, disable_hdf5_locking, &
+                                 temp_extra, path_regular
+    use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
     use supratrans_input, only: read_input, read_input_text
     use supratrans_validate, only: validate_config
     use supratrans_simulate, only: simulate
@@ -353,11 +355,18 @@ contains
                         if (done_part%fingerprint == cfg%fingerprint) then
                             call progress(cfg, "supratrans: " // trim(cfg%output%file) // " is complete already " &
                                           // "(slice " // int_str(slice_index) // "/" // int_str(slice_count) // ")")
+                            call clean_finished(cfg, status, error)
                             return
                         end if
                     end if
                 end if
             end if
+        end if
+        if (finished_by_earlier_run(cfg)) then
+            call progress(cfg, "supratrans: " // trim(cfg%output%file) // " is complete already (written from this " &
+                          // "input by a run stopped before it deleted its journal)")
+            call clean_finished(cfg, status, error)
+            return
         end if
         call validate_config(cfg, error)
         if (.not. allocated(error)) call check_output_location(cfg, error)
@@ -367,6 +376,75 @@ contains
         end if
         call with_lock(cfg, status, error)
     end subroutine run_from_file
+
+    !> Whether the output is the finished result of this very input while its journal is still there (a run killed
+    !> after it renamed its output into place and before it deleted the journal): the output is a regular HDF5 file
+    !> whose `/provenance/namelist` has this input's fingerprint and that is not marked `complete = 0`, and the
+    !> journal's header names this input's fingerprint. Without `overwrite` only (with it, the run starts afresh).
+    function finished_by_earlier_run(cfg) result(yes)
+        !> The input read.
+        type(input_config), intent(in) :: cfg
+        logical :: yes
+        character(len=:), allocatable :: file, text, header
+        type(h5_file) :: h5
+        type(error_type), allocatable :: cause
+        integer :: complete, unit, ios
+        character(len=4096) :: line
+
+        yes = .false.
+        file = trim(cfg%output%file)
+        if (cfg%output%overwrite .or. .not. allocated(cfg%fingerprint)) return
+        if (link_kind(file) /= path_regular .or. link_kind(file // ".journal") /= path_regular) return
+        open (newunit=unit, file=file // ".journal", status="old", action="read", iostat=ios)
+        if (ios /= 0) return
+        line = ""
+        read (unit, "(a)", iostat=ios) line
+        close (unit)
+        header = trim(line) // " "
+        if (ios /= 0 .or. index(header, "supratrans-journal ") /= 1) return
+        if (index(header, " " // cfg%fingerprint // " ") == 0) return
+        call h5_open(h5, file, .false., cause)
+        if (allocated(cause)) return
+        call h5_read(h5, "provenance/namelist", text, cause)
+        if (.not. allocated(cause)) then
+            yes = text_fingerprint(text) == cfg%fingerprint
+            if (yes .and. h5_attr_exists(h5, "/", "complete")) then
+                call h5_read_attr(h5, "/", "complete", complete, cause)
+                yes = .not. allocated(cause)
+                if (yes) yes = complete /= 0
+            end if
+        end if
+        call h5_close(h5, cause)
+    end function finished_by_earlier_run
+
+    !> Under the output's lock, delete what a run stopped after finishing left beside its output: the journal and
+    !> the partial snapshot (regular files only), with a line saying so.
+    subroutine clean_finished(cfg, status, error)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> Exit status (0, or that of the lock's error).
+        integer, intent(out) :: status
+        !> Error, allocated when the lock cannot be had.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=:), allocatable :: file
+        integer :: handle, i
+        character(len=*), parameter :: stale(2) = [character(len=11) :: ".journal", ".partial.h5"]
+
+        status = 0
+        file = trim(cfg%output%file)
+        if (all([(link_kind(file // trim(stale(i))) /= path_regular, i = 1, size(stale))])) return
+        call take_lock(cfg, handle, error)
+        if (allocated(error)) then
+            status = error%stat
+            return
+        end if
+        do i = 1, size(stale)
+            if (link_kind(file // trim(stale(i))) /= path_regular) cycle
+            call remove_file(file // trim(stale(i)))
+            call progress(cfg, "  deleted the stale " // file // trim(stale(i)) // " left by that run")
+        end do
+        call unlock_file(handle)
+    end subroutine clean_finished
 
     !> Take the output's lock, (for a merge: write the joined records as the output's journal,) run the scene, release
     !> the lock. Nothing of the output is touched before the lock is held.
