@@ -98,7 +98,7 @@ def test_link_planted_at_the_snapshot_temporary_is_never_followed(exe, tmp_path,
     nml(tmp_path, SWEEP)
     link = tmp_path / "out" / "s.h5.partial.h5.tmp"
     link.symlink_to(victim)
-    proc = run(exe, "s.nml", cwd=tmp_path, env={"SUPRATRANS_STOP_AFTER": "2"})
+    proc = run(exe, "s.nml", cwd=tmp_path, env={"SUPRATRANS_STOP_AFTER": "2", "OMP_NUM_THREADS": "1"})
     assert proc.returncode == 5, proc.stderr
     assert victim.read_bytes() == VICTIM
     assert is_hdf5(tmp_path / "out" / "s.h5.partial.h5")
@@ -348,7 +348,7 @@ def test_finished_output_with_a_stale_journal_is_recognised_and_cleaned(exe, tmp
     args = ["s.nml", "--slice", "1/2"] if slices else ["s.nml"]
     out = tmp_path / "out" / ("s.part-1-of-2.h5" if slices else "s.h5")
     journal = Path(str(out) + ".journal")
-    stopped = run(exe, *args, cwd=tmp_path, env={"SUPRATRANS_STOP_AFTER": "1"})
+    stopped = run(exe, *args, cwd=tmp_path, env={"SUPRATRANS_STOP_AFTER": "1", "OMP_NUM_THREADS": "1"})
     assert stopped.returncode == 5, stopped.stderr
     stale = journal.read_bytes()
     assert run(exe, *args, cwd=tmp_path).returncode == 0
@@ -365,7 +365,7 @@ def test_finished_output_with_a_stale_journal_is_recognised_and_cleaned(exe, tmp
 def test_stale_journal_beside_the_output_of_another_input_is_kept(exe, tmp_path):
     path = nml(tmp_path, SWEEP)
     journal = tmp_path / "out" / "s.h5.journal"
-    assert run(exe, "s.nml", cwd=tmp_path, env={"SUPRATRANS_STOP_AFTER": "1"}).returncode == 5
+    assert run(exe, "s.nml", cwd=tmp_path, env={"SUPRATRANS_STOP_AFTER": "1", "OMP_NUM_THREADS": "1"}).returncode == 5
     stale = journal.read_bytes()
     assert run(exe, "s.nml", cwd=tmp_path).returncode == 0
     journal.write_bytes(stale)

@@ -482,7 +482,8 @@ contains
     end subroutine with_lock
 
     !> Take the lock `<output>.lock` (never through a link; the file stays when released), then delete the
-    !> temporaries a killed run of this output left. With SUPRATRANS_NO_LOCK=1 no lock is taken (`handle` -1).
+    !> temporaries a killed run of this output left. With SUPRATRANS_NO_LOCK=1 no lock is taken (`handle` -1) and
+    !> no temporary is deleted.
     subroutine take_lock(cfg, handle, error)
         !> The validated input.
         type(input_config), intent(in) :: cfg
@@ -516,10 +517,11 @@ contains
                                  // ")", err_io)
             end if
             if (allocated(error)) return
+            ! only under the lock: without it, a temporary may be another run's file being written
+            call remove_stale_temporaries(file, removed)
+            if (removed > 0) call progress(cfg, "supratrans: deleted " // int_str(removed) // " temporary file(s) of " &
+                                           // file // " left by an interrupted run")
         end if
-        call remove_stale_temporaries(file, removed)
-        if (removed > 0) call progress(cfg, "supratrans: deleted " // int_str(removed) // " temporary file(s) of " &
-                                       // file // " left by an interrupted run")
     end subroutine take_lock
 
     !> Run the scene of a validated input.
@@ -681,7 +683,7 @@ contains
         last = file(k + 1:)
         if (len(last) == 0 .or. last == "." .or. last == "..") then
             call fatal_error(error, cfg%source // ": &output: file = '" // file // "' names a directory, not a file " &
-                             // "(give the file's name, e.g. '" // file(1:max(k - 1, 0)) // "/result.h5')", err_input)
+                             // "(give the file's name, e.g. '" // file(1:k) // "result.h5')", err_input)
             return
         end if
         if (len(last) + extra > name_max .or. len(file) + extra > path_max) then
