@@ -9,7 +9,7 @@ module supratrans_strings
     implicit none
     private
 
-    public :: int_str, real_str, fixed4, fixed1, int_fixed, real_fixed, text_fingerprint, text_or
+    public :: int_str, real_str, fixed4, fixed1, int_fixed, real_fixed, text_fingerprint, text_or, find_name
 
 contains
 
@@ -172,5 +172,19 @@ contains
             if (len(text) > 0) value = text
         end if
     end function text_or
+
+    !> Index of `name` in `list` (trailing blanks ignored): the number of a named choice, of a group; 0 if absent.
+    pure function find_name(list, name) result(i)
+        !> Names.
+        character(len=*), intent(in) :: list(:)
+        !> Name to look for.
+        character(len=*), intent(in) :: name
+        integer :: i
+
+        do i = 1, size(list)
+            if (list(i) == name) return
+        end do
+        i = 0
+    end function find_name
 
 end module supratrans_strings

@@ -12,6 +12,7 @@ module supratrans_provenance
     !$ use omp_lib, only: omp_get_max_threads
     use supratrans_kinds, only: supratrans_version
     use supratrans_error, only: error_type
+    use supratrans_strings, only: text_or
     use supratrans_config, only: input_config
     use supratrans_hdf5, only: h5_file, h5_create_group, h5_write_attr, h5_write
     implicit none
@@ -89,8 +90,8 @@ contains
         if (.not. allocated(error)) call h5_write_attr(file, g, "host", host_name(), error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "executable", executable_path(), error)
         if (.not. allocated(error)) call h5_write_attr(file, g, "working_directory", working_directory(), error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "started", or_unknown(cfg%started), error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "input_file", or_unknown(cfg%source), error)
+        if (.not. allocated(error)) call h5_write_attr(file, g, "started", text_or(cfg%started, unknown), error)
+        if (.not. allocated(error)) call h5_write_attr(file, g, "input_file", text_or(cfg%source, unknown), error)
         text = ""
         if (allocated(cfg%text)) text = cfg%text
         if (.not. allocated(error)) call h5_write(file, g // "/namelist", text, "1", "The namelist file exactly as " &
@@ -408,17 +409,5 @@ contains
             s(i:i) = buffer(i)
         end do
     end function from_c
-
-    !> A string, or "unknown" when it is not set or empty.
-    pure function or_unknown(s) result(t)
-        !> The string (may be unallocated).
-        character(len=:), allocatable, intent(in) :: s
-        character(len=:), allocatable :: t
-
-        t = unknown
-        if (allocated(s)) then
-            if (len(s) > 0) t = s
-        end if
-    end function or_unknown
 
 end module supratrans_provenance
