@@ -42,6 +42,8 @@ from ..style import DPI, FIGURE_DIR, fmt, pyplot, save
 
 #: The repository (where fpm runs the scene).
 ROOT = Path(__file__).resolve().parents[3]
+#: fpm through .ci/with_commit: the program records the repository's commit in /provenance.
+FPM = ["sh", str(ROOT / ".ci" / "with_commit"), "fpm"]
 
 #: Error levels of the table.
 LEVELS = [10.0 ** -k for k in range(2, 9)]
@@ -305,7 +307,7 @@ def run_scene(nml: Path, log: Callable) -> Path:
     out = output_of(nml)
     t0 = time.monotonic()
     log(f"running: fpm run --profile release -- {nml}")
-    proc = subprocess.run(["fpm", "run", "--profile", "release", "--", str(nml)], cwd=ROOT, capture_output=True,
+    proc = subprocess.run([*FPM, "run", "--profile", "release", "--", str(nml)], cwd=ROOT, capture_output=True,
                           text=True)
     if proc.returncode != 0:
         tail = (proc.stderr.strip() or proc.stdout.strip() or "no output").splitlines()[-1]
