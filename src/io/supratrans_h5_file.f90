@@ -22,12 +22,13 @@ module supratrans_h5_file
         h5iget_type_f, h5i_file_f, h5i_group_f, h5i_dataset_f, h5i_datatype_f, h5i_dataspace_f, h5i_attr_f, h5i_genprop_lst_f
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_io
+    use supratrans_strings, only: int_str
     use supratrans_system, only: commit_file, remove_file, temp_name, link_kind, path_missing, path_regular
     implicit none
     private
 
     public :: h5_create, h5_open, h5_close, h5_commit, h5_discard, h5_exists, h5_attr_exists, real_mem_type, int_mem_type, &
-        int_file_type, i8_mem_type, itoa, disk_path, root_if_empty, check, check_open, check_writable, check_dim_names, &
+        int_file_type, i8_mem_type, disk_path, root_if_empty, check, check_open, check_writable, check_dim_names, &
         close_id, make_space, make_lcpl, make_string_type
 
     !> File state: not open.
@@ -304,17 +305,6 @@ contains
         type_id = h5kind_to_type(i8, h5_integer_kind)
     end function i8_mem_type
 
-    !> Decimal representation of an integer.
-    pure function itoa(i) result(text)
-        !> The integer.
-        integer, intent(in) :: i
-        character(len=:), allocatable :: text
-        character(len=24) :: buffer
-
-        write (buffer, "(i0)") i
-        text = trim(buffer)
-    end function itoa
-
     !> The path of the file on disk (the temporary path while it is written).
     pure function disk_path(file) result(path)
         !> The file.
@@ -416,8 +406,8 @@ contains
             if (names(k:k) == ",") count = count + 1
         end do
         if (count /= rank .or. len_trim(names) == 0) then
-            call fatal_error(error, disk_path(file)//": dims = '"//names//"' names "//itoa(count)// &
-                " dimensions, dataset '"//name//"' has rank "//itoa(rank), err_io)
+            call fatal_error(error, disk_path(file)//": dims = '"//names//"' names "//int_str(count)// &
+                " dimensions, dataset '"//name//"' has rank "//int_str(rank), err_io)
         end if
     end subroutine check_dim_names
 
