@@ -27,17 +27,29 @@ ROOT = Path(__file__).resolve().parent
 # ------------------------------------------------------------------------------------------------ the program
 
 
+#: Runs a command so that the program it builds records this checkout's commit (fpm cannot run git itself).
+WITH_COMMIT = ["sh", str(ROOT / ".ci" / "with_commit")]
+
+
+def build_program(root: Path, profile: str = "debug", with_commit: bool = True) -> Path:
+    """Build the program in the source tree `root` with fpm (`debug` or `release`), through `.ci/with_commit`
+    (the commit recorded) or with plain fpm; the path of its executable. Raises CalledProcessError."""
+    args = ["--profile", profile]
+    wrapper = ["sh", str(root / ".ci" / "with_commit")] if with_commit else []
+    # one fpm call builds and names the executable: with_commit relinks at every call
+    out = subprocess.run([*wrapper, "fpm", "run", *args, "--runner", "echo"], cwd=root, check=True,
+                         capture_output=True, text=True)
+    return root / out.stdout.strip().splitlines()[-1].split()[0]
+
+
 def _build(profile: str) -> Path:
     """Build the program with fpm (`debug` or `release`) and return the path of its executable."""
     if shutil.which("fpm") is None:
         pytest.skip("fpm not installed")
-    args = ["--profile", profile]
-    build = subprocess.run(["fpm", "build", *args], cwd=ROOT, capture_output=True, text=True)
-    if build.returncode != 0:
-        pytest.fail(f"fpm build --profile {profile} failed:\n{(build.stdout + build.stderr)[-3000:]}")
-    out = subprocess.run(["fpm", "run", *args, "--runner", "echo"], cwd=ROOT, check=True, capture_output=True,
-                         text=True)
-    return ROOT / out.stdout.strip().splitlines()[-1].split()[0]
+    try:
+        return build_program(ROOT, profile)
+    except subprocess.CalledProcessError as e:
+        pytest.fail(f"fpm build --profile {profile} failed:\n{(e.stdout + e.stderr)[-3000:]}")
 
 
 @pytest.fixture(scope="session")

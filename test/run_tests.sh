@@ -3,7 +3,8 @@
 #   1. .ci/install (installs only what is missing),
 #   2. test/pf2f90.py: test/X.pf -> test/X.f90 + test/pf_driver.f90 (pFUnit syntax -> Fortran;
 #      they must sit next to test/pf_runtime.f90, the only place fpm lets them use it from),
-#   3. fpm test (debug profile), which prints `fortran: N passed, M failed`,
+#   3. fpm test (debug profile), which prints `fortran: N passed, M failed`, through .ci/with_commit (the
+#      build records the commit, as conftest.py's builds for pytest do),
 #   4. pytest on test/ and postprocess/.
 # Usage: bash test/run_tests.sh [FILTER]
 #   FILTER (optional) runs only the Fortran tests whose `module::test` name contains it.
@@ -62,7 +63,7 @@ if ((translated)); then
         fpm_args+=(-- "$@")
     fi
     log="${tmp}/fpm.log"
-    fpm "${fpm_args[@]}" 2>&1 | tee "${log}"
+    sh .ci/with_commit fpm "${fpm_args[@]}" 2>&1 | tee "${log}"
     status=${PIPESTATUS[0]}
     f_passed=0
     f_failed=0

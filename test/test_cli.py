@@ -160,7 +160,8 @@ def test_every_output_records_its_provenance(run, tmp_path, scene):
         p = f["provenance"].attrs
         assert p["version"].decode().count(".") == 2
         commit = p["git_commit"].decode()
-        assert len(commit) == 40 and int(commit, 16) >= 0       # the test runs in a checkout
+        assert len(commit) == 40 and int(commit, 16) >= 0       # built by conftest.py through .ci/with_commit
+        assert p["git_dirty"] in (0, 1)
         assert p["compiler"].decode().startswith("GCC")
         assert "-fopenmp" in p["compiler_options"].decode() or "openmp" in p["compiler_options"].decode()
         assert p["omp_max_threads"] >= 1 and p["host"] and p["started"].decode()[:2] == "20"

@@ -65,14 +65,6 @@ def test_every_key_has_units_and_a_description():
         assert k["units"] and k["description"], k["name"]
 
 
-@pytest.fixture(scope="module")
-def exe():
-    """Path of the supratrans executable (debug profile, built by fpm)."""
-    subprocess.run(["fpm", "build"], cwd=ROOT, check=True, capture_output=True)
-    out = subprocess.run(["fpm", "run", "--runner", "echo"], cwd=ROOT, check=True, capture_output=True, text=True)
-    return str(ROOT / out.stdout.strip().splitlines()[-1].split()[0])
-
-
 def test_output_holds_every_key(exe, tmp_path):
     h5py = pytest.importorskip("h5py")
     text = ("&chain n = 40, n0 = 30 /\n&record probes = 5, 7 /\n"

@@ -174,11 +174,10 @@ def cluster(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
-def release_exe():
-    subprocess.run(["fpm", "build", "--profile", "release"], cwd=ROOT, check=True, capture_output=True)
-    out = subprocess.run(["fpm", "run", "--profile", "release", "--runner", "echo"], cwd=ROOT, check=True,
-                         capture_output=True, text=True)
-    return str(ROOT / out.stdout.strip().splitlines()[-1].split()[0])
+def release_exe(release_exe):
+    """The release executable of conftest.py (built through .ci/with_commit) as a string: it goes into the
+    environment of the jobs."""
+    return str(release_exe)
 
 
 def single_machine(exe, folder, text):

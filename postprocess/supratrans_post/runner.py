@@ -44,6 +44,9 @@ from .reader import PlotError, open_scene, output_path
 #: The repository: the namelists' output paths are relative to it, and fpm runs there (the checkout holding this
 #: package, else the one the command is started in; see cli.checkout).
 ROOT = cli.checkout() or Path.cwd()
+#: fpm through .ci/with_commit, so that the program built (and rebuilt by `fpm run`) records the repository's
+#: commit in /provenance (fpm cannot run git itself; plain fpm records "unknown (built without commit)").
+FPM = ["sh", str(ROOT / ".ci" / "with_commit"), "fpm"]
 #: Order of the figures (the paper's), by input file stem or its prefix.
 ORDER = ["fig1", "fig2", "fig3", "fig3half", "fig4", "fig11", "bif1", "bif2", "bif3"]
 #: Scenes drawn by the charts of the speed/accuracy study, besides the figures' scenes.
@@ -179,7 +182,7 @@ def _build(logs: Path, tty: bool) -> bool:
     t0 = time.monotonic()
     label = "[build] fpm build --profile release ..."
     print(label, end="" if tty else "\n", flush=True)
-    status = run(["fpm", "build", "--profile", "release"], logs / "build.log", label, tty)
+    status = run([*FPM, "build", "--profile", "release"], logs / "build.log", label, tty)
     if status != 0:
         print(f"\r{label} failed (status {status}); see {logs / 'build.log'}\033[K" if tty else
               f"build failed (status {status}); see {logs / 'build.log'}")
@@ -202,7 +205,7 @@ def _run_all(jobs: list[Job], logs: Path, tty: bool) -> int:
         t = time.monotonic()
         log = logs / (job.stem + ".log")
         try:
-            status = run(["fpm", "run", "--profile", "release", "--", nml], log, label, tty)
+            status = run([*FPM, "run", "--profile", "release", "--", nml], log, label, tty)
         except KeyboardInterrupt:
             print(f"\r{label} interrupted\033[K" if tty else " interrupted")
             raise

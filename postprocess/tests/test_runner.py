@@ -115,3 +115,6 @@ def test_make_figures_runs_and_draws(release_exe, tmp_path, small_chain):
     assert (tmp_path / "figs" / "fig1.png").stat().st_size > 5000
     assert not (tmp_path / "figs" / "broken.png").exists()
     assert "n = 1" in (tmp_path / "logs" / "broken.log").read_text()  # the program's own message, kept
+    h5py = pytest.importorskip("h5py")
+    with h5py.File(tmp_path / "out" / "fig1_sg_A150.h5") as f:  # built and run through .ci/with_commit
+        assert len(f["provenance"].attrs["git_commit"].decode()) == 40

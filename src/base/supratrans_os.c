@@ -1,12 +1,26 @@
-/* Operating-system calls that Fortran cannot make portably by itself: the kind of a path (stat), an advisory
- * lock (flock), a flag set by SIGTERM/SIGINT/SIGUSR1, the same-file test, checked writes and memory limits. Called through iso_c_binding by
- * supratrans_system.f90; nothing here runs a shell. */
+/* Operating-system calls that Fortran cannot make portably by itself: the kind of a path (stat, lstat), an advisory
+ * lock (flock), a flag set by SIGTERM/SIGINT/SIGUSR1, the same-file test, checked writes, files created exclusively
+ * under unique names and memory limits. Called through iso_c_binding by supratrans_system.f90; nothing here runs a
+ * shell.
+ *
+ * Files on a shared machine: every file this program creates is created with O_CREAT | O_EXCL | O_NOFOLLOW under a
+ * name nobody can guess (`<final>.tmp-XXXXXX`, six random letters or digits, retried when taken), written, fsync'ed
+ * and renamed onto its final name, so that a symbolic link or any other file planted by another user under a
+ * predictable name is never opened for writing; an existing path is never opened for writing by name except the
+ * journal appended to (O_NOFOLLOW, regular files only) and the lock file (O_NOFOLLOW, never truncated). */
+#define _GNU_SOURCE
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/file.h>
+#include <sys/random.h>
 #include <sys/stat.h>
+#include <sys/types.h>
+#include <time.h>
 #include <unistd.h>
 
 /* Kind of a path: 0 missing, 1 regular file, 2 directory, 3 other (FIFO, device, socket). */
@@ -14,6 +28,18 @@ int supratrans_path_kind(const char *path)
 {
     struct stat st;
     if (stat(path, &st) != 0) return 0;
+    if (S_ISREG(st.st_mode)) return 1;
+    if (S_ISDIR(st.st_mode)) return 2;
+    return 3;
+}
+
+/* Kind of a path itself, a symbolic link not followed (lstat): 0 missing, 1 regular file, 2 directory, 3 other
+ * (FIFO, device, socket), 4 a symbolic link (dangling or not). */
+int supratrans_link_kind(const char *path)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0) return 0;
+    if (S_ISLNK(st.st_mode)) return 4;
     if (S_ISREG(st.st_mode)) return 1;
     if (S_ISDIR(st.st_mode)) return 2;
     return 3;
@@ -27,21 +53,38 @@ long long supratrans_file_size(const char *path)
     return (long long)st.st_size;
 }
 
-/* Take an exclusive advisory lock on `path` (created if missing) without waiting. Returns the descriptor
- * (>= 0, kept open for as long as the lock is held: the kernel releases it when the process ends, however it
- * ends), -1 if another process holds the lock, -2 if the lock file cannot be opened. */
-int supratrans_lock(const char *path)
+/* Take an exclusive advisory lock on `path` (created if missing) without waiting. Returns the descriptor (>= 0, kept
+ * open for as long as the lock is held: the kernel releases it when the process ends, however it ends), -1 if another
+ * process holds the lock, -2 if the lock file cannot be opened or is not a regular file (a symbolic link is never
+ * followed), -3 if the file system refuses locks (ENOLCK on NFS without a lock manager, EOPNOTSUPP, ENOSYS, ...).
+ * `*err` receives errno for -2 and -3. The lock file is never truncated and never unlinked (see
+ * supratrans_unlock): a file unlinked while held lets a second process lock a new file of the same name. */
+int supratrans_lock(const char *path, int *err)
 {
-    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0666);
-    if (fd < 0) return -2;
-    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    *err = 0;
+    int fd = open(path, O_RDWR | O_CREAT | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
+    if (fd < 0) {
+        *err = errno;
+        return -2;
+    }
+    struct stat st;
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        *err = EINVAL;
         close(fd);
-        return -1;
+        return -2;
+    }
+    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        int e = errno;
+        close(fd);
+        if (e == EWOULDBLOCK || e == EAGAIN || e == EINTR) return -1;
+        *err = e;
+        return -3;
     }
     return fd;
 }
 
-/* Release a lock taken by supratrans_lock. */
+/* Release a lock taken by supratrans_lock. The file stays: unlinking it while held (or between unlock and close)
+ * would let one process lock the old file and another a new one under the same name, both "holding the lock". */
 void supratrans_unlock(int fd)
 {
     if (fd >= 0) {
@@ -49,6 +92,18 @@ void supratrans_unlock(int fd)
         close(fd);
     }
 }
+
+/* The text of an errno value (strerror), copied into `buf` of `size` bytes. */
+void supratrans_strerror(int err, char *buf, int size)
+{
+    if (size <= 0) return;
+    const char *text = strerror(err);
+    snprintf(buf, (size_t)size, "%s", text ? text : "unknown error");
+}
+
+/* Set HDF5_USE_FILE_LOCKING=FALSE for this process unless it is set already (the no-lock override: HDF5 would
+ * otherwise fail on the same file system that refused our lock). */
+void supratrans_hdf5_no_file_locking(void) { setenv("HDF5_USE_FILE_LOCKING", "FALSE", 0); }
 
 static volatile sig_atomic_t stop_signal = 0;
 
@@ -91,21 +146,162 @@ double supratrans_memory_limit(void)
     return limit;
 }
 
-/* Write `len` bytes to `path` (created if missing; appended to, or replacing its contents), checking every write(2)
- * and close(2): unlike buffered Fortran I/O, a full disk or an I/O error is reported. 0 on success, -1 on failure. */
-int supratrans_write_bytes(const char *path, const char *bytes, long long len, int append)
+/* Fill the last 6 characters of `name` with random letters and digits (getrandom; the clock and pid otherwise). */
+static void random_suffix(char *name)
 {
-    int fd = open(path, O_WRONLY | O_CREAT | O_CLOEXEC | (append ? O_APPEND : O_TRUNC), 0666);
-    if (fd < 0) return -1;
+    static const char alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789";
+    unsigned char r[6];
+    size_t n = strlen(name);
+    if (getrandom(r, sizeof r, 0) != (ssize_t)sizeof r) {
+        struct timespec ts;
+        clock_gettime(CLOCK_REALTIME, &ts);
+        unsigned long long x = (unsigned long long)ts.tv_nsec ^ ((unsigned long long)getpid() << 20) ^
+                               (unsigned long long)(size_t)name;
+        for (int k = 0; k < 6; k++) {
+            r[k] = (unsigned char)(x & 0xff);
+            x = x * 6364136223846793005ULL + 1442695040888963407ULL;
+            x ^= x >> 29;
+        }
+    }
+    for (int k = 0; k < 6; k++) name[n - 6 + k] = alphabet[r[k] % (sizeof alphabet - 1)];
+}
+
+/* A fresh temporary name for `final`: `<final>.tmp-XXXXXX` with six random characters, into `buf` (`size` bytes).
+ * The name is only a candidate: it is taken by creating it with O_EXCL (or HDF5's H5F_ACC_EXCL), retried when taken.
+ * 0 on success, -1 if the name does not fit. */
+int supratrans_temp_name(const char *final, char *buf, int size)
+{
+    int n = snprintf(buf, (size_t)size, "%s.tmp-XXXXXX", final);
+    if (n < 0 || n >= size) return -1;
+    random_suffix(buf);
+    return 0;
+}
+
+/* Append `len` bytes to the journal `path` (created if missing, never through a symbolic link, never anything but a
+ * regular file), checking every write(2) and close(2): a full disk or an I/O error is reported. 0 on success,
+ * otherwise errno. */
+int supratrans_append_bytes(const char *path, const char *bytes, long long len)
+{
+    int fd = open(path, O_WRONLY | O_CREAT | O_APPEND | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
+    if (fd < 0) return errno;
+    struct stat st;
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        close(fd);
+        return EINVAL;
+    }
     long long done = 0;
     while (done < len) {
         ssize_t n = write(fd, bytes + done, (size_t)(len - done));
         if (n < 0) {
             if (errno == EINTR) continue;
+            int e = errno;
             close(fd);
-            return -1;
+            return e;
         }
         done += n;
     }
-    return close(fd) == 0 ? 0 : -1;
+    return close(fd) == 0 ? 0 : errno;
+}
+
+/* fsync the directory that holds `path` (so that a rename into it survives a crash); errors are ignored (some file
+ * systems cannot sync a directory). */
+static void sync_directory_of(const char *path)
+{
+    char dir[4096];
+    const char *slash = strrchr(path, '/');
+    if (slash == NULL) {
+        strcpy(dir, ".");
+    } else if (slash == path) {
+        strcpy(dir, "/");
+    } else {
+        size_t n = (size_t)(slash - path);
+        if (n >= sizeof dir) return;
+        memcpy(dir, path, n);
+        dir[n] = '\0';
+    }
+    int fd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd >= 0) {
+        fsync(fd);
+        close(fd);
+    }
+}
+
+/* Write `len` bytes as the new contents of `final`, atomically: a fresh `<final>.tmp-XXXXXX` created with
+ * O_CREAT | O_EXCL | O_NOFOLLOW (a name taken is retried), every write checked, fsync, close, rename(2) onto `final`
+ * (which replaces `final` itself, never the target of a link at `final`). Nothing is left behind on failure.
+ * 0 on success, otherwise errno. */
+int supratrans_write_file_atomic(const char *final, const char *bytes, long long len)
+{
+    char tmp[4096];
+    int fd = -1;
+    for (int attempt = 0; attempt < 100 && fd < 0; attempt++) {
+        if (supratrans_temp_name(final, tmp, sizeof tmp) != 0) return ENAMETOOLONG;
+        fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+        if (fd < 0 && errno != EEXIST) return errno;
+    }
+    if (fd < 0) return EEXIST;
+    long long done = 0;
+    int e = 0;
+    while (done < len) {
+        ssize_t n = write(fd, bytes + done, (size_t)(len - done));
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            e = errno;
+            break;
+        }
+        done += n;
+    }
+    if (e == 0 && fsync(fd) != 0) e = errno;
+    if (close(fd) != 0 && e == 0) e = errno;
+    if (e == 0 && rename(tmp, final) != 0) e = errno;
+    if (e != 0) {
+        unlink(tmp);
+        return e;
+    }
+    sync_directory_of(final);
+    return 0;
+}
+
+/* Make a finished temporary file durable and give it its final name: fsync `tmp` (opened read-only, never through a
+ * link), rename(2) it onto `final` (replacing `final` itself, never the target of a link), fsync the directory.
+ * 0 on success, otherwise errno (`tmp` is then left for the caller to delete). */
+int supratrans_commit_file(const char *tmp, const char *final)
+{
+    int fd = open(tmp, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
+    if (fd < 0) return errno;
+    int e = 0;
+    if (fsync(fd) != 0) e = errno;
+    close(fd);
+    if (e != 0) return e;
+    if (rename(tmp, final) != 0) return errno;
+    sync_directory_of(final);
+    return 0;
+}
+
+/* Delete the temporaries a killed run left behind: the entries of directory `dir` named `<prefix>XXXXXX` (six
+ * letters or digits) that are regular files owned by this user (lstat: a link is never followed, another user's
+ * file never touched). Call only while holding the output's lock. Returns how many were deleted. */
+int supratrans_remove_stale(const char *dir, const char *prefix)
+{
+    DIR *d = opendir(dir);
+    if (d == NULL) return 0;
+    size_t np = strlen(prefix);
+    int removed = 0;
+    struct dirent *entry;
+    while ((entry = readdir(d)) != NULL) {
+        const char *name = entry->d_name;
+        if (strlen(name) != np + 6 || strncmp(name, prefix, np) != 0) continue;
+        int ok = 1;
+        for (int k = 0; k < 6; k++) {
+            char c = name[np + k];
+            if (!((c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9'))) ok = 0;
+        }
+        if (!ok) continue;
+        struct stat st;
+        if (fstatat(dirfd(d), name, &st, AT_SYMLINK_NOFOLLOW) != 0) continue;
+        if (!S_ISREG(st.st_mode) || st.st_uid != geteuid()) continue;
+        if (unlinkat(dirfd(d), name, 0) == 0) removed++;
+    }
+    closedir(d);
+    return removed;
 }

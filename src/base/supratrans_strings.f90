@@ -9,7 +9,7 @@ module supratrans_strings
     implicit none
     private
 
-    public :: int_str, real_str, fixed4, fixed1, int_fixed, real_fixed, text_fingerprint, text_or
+    public :: int_str, real_str, fixed4, fixed1, int_fixed, real_fixed, text_fingerprint, text_or, printable, find_name
 
 contains
 
@@ -172,5 +172,34 @@ contains
             if (len(text) > 0) value = text
         end if
     end function text_or
+
+    !> A text with every character outside printable ASCII (control characters such as ESC, NUL, and bytes above
+    !> 126) shown as '?': what every line the program prints goes through, so that a name read from a namelist or
+    !> the command line cannot drive the terminal.
+    pure function printable(text) result(shown)
+        !> The text.
+        character(len=*), intent(in) :: text
+        character(len=len(text)) :: shown
+        integer :: i
+
+        shown = text
+        do i = 1, len(text)
+            if (iachar(text(i:i)) < 32 .or. iachar(text(i:i)) > 126) shown(i:i) = "?"
+        end do
+    end function printable
+
+    !> Index of `name` in `list` (trailing blanks ignored): the number of a named choice, of a group; 0 if absent.
+    pure function find_name(list, name) result(i)
+        !> Names.
+        character(len=*), intent(in) :: list(:)
+        !> Name to look for.
+        character(len=*), intent(in) :: name
+        integer :: i
+
+        do i = 1, size(list)
+            if (list(i) == name) return
+        end do
+        i = 0
+    end function find_name
 
 end module supratrans_strings

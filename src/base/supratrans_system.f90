@@ -5,6 +5,12 @@
 !> `lock_file` an advisory `flock(2)`; `catch_stop_signals`/`stop_signal` turn SIGTERM, SIGINT and SIGUSR1 into a
 !> flag that long work polls (the one process-wide state of the program: a signal can only set a flag); the C side
 !> is `supratrans_os.c`. Errors come back as values.
+!>
+!> Files on a shared machine: a file is created only under a fresh name nobody can guess (`temp_name`,
+!> `<final>.tmp-XXXXXX`) with `O_CREAT | O_EXCL | O_NOFOLLOW` (or HDF5's `H5F_ACC_EXCL`, the same flags), written,
+!> fsync'ed and renamed onto its final name (`write_file_atomic`, `commit_file`), so that no link or file planted under
+!> a predictable name is ever written through. `remove_stale_temporaries` deletes what a killed run left, only regular
+!> files of this user, and only under the output's lock.
 module supratrans_system
     use, intrinsic :: iso_c_binding, only: c_char, c_int, c_long_long, c_null_char
     use supratrans_error, only: error_type, fatal_error, err_io
@@ -12,7 +18,8 @@ module supratrans_system
     private
 
     public :: make_directories, rename_file, remove_file, is_directory, path_kind, file_size
-    public :: lock_file, unlock_file, catch_stop_signals, stop_signal, same_file, write_bytes
+    public :: lock_file, unlock_file, catch_stop_signals, stop_signal, same_file, append_bytes, link_kind
+    public :: temp_name, write_file_atomic, commit_file, remove_stale_temporaries, os_error_text, disable_hdf5_locking
 
     !> `path_kind`: nothing at that path.
     integer, parameter, public :: path_missing = 0
@@ -22,6 +29,18 @@ module supratrans_system
     integer, parameter, public :: path_directory = 2
     !> `path_kind`: something else (a FIFO, a device, a socket).
     integer, parameter, public :: path_special = 3
+    !> `link_kind`: a symbolic link (dangling or not).
+    integer, parameter, public :: path_link = 4
+    !> Suffix of the temporary file of `<final>` before its six random characters: `<final>.tmp-XXXXXX`.
+    character(len=*), parameter, public :: temp_suffix = ".tmp-"
+    !> How many characters a temporary name adds to its final name (`.tmp-XXXXXX`).
+    integer, parameter, public :: temp_extra = len(temp_suffix) + 6
+    !> `lock_file`: another process holds the lock.
+    integer, parameter, public :: lock_busy = -1
+    !> `lock_file`: the lock file cannot be opened (no permission, or a link or other non-file at its path).
+    integer, parameter, public :: lock_cannot_open = -2
+    !> `lock_file`: the file system refuses locks (ENOLCK: NFS without a lock manager; EOPNOTSUPP, ENOSYS).
+    integer, parameter, public :: lock_unsupported = -3
 
     interface
         !> POSIX mkdir(2).
@@ -53,11 +72,48 @@ module supratrans_system
             character(kind=c_char), intent(in) :: path(*)
             integer(c_long_long) :: bytes
         end function c_file_size
-        function c_lock(path) bind(c, name="supratrans_lock") result(fd)
+        function c_lock(path, err) bind(c, name="supratrans_lock") result(fd)
             import :: c_char, c_int
             character(kind=c_char), intent(in) :: path(*)
+            integer(c_int), intent(out) :: err
             integer(c_int) :: fd
         end function c_lock
+        function c_link_kind(path) bind(c, name="supratrans_link_kind") result(kind)
+            import :: c_char, c_int
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int) :: kind
+        end function c_link_kind
+        subroutine c_strerror(err, buf, size) bind(c, name="supratrans_strerror")
+            import :: c_char, c_int
+            integer(c_int), value :: err
+            character(kind=c_char), intent(out) :: buf(*)
+            integer(c_int), value :: size
+        end subroutine c_strerror
+        subroutine c_hdf5_no_file_locking() bind(c, name="supratrans_hdf5_no_file_locking")
+        end subroutine c_hdf5_no_file_locking
+        function c_temp_name(final, buf, size) bind(c, name="supratrans_temp_name") result(stat)
+            import :: c_char, c_int
+            character(kind=c_char), intent(in) :: final(*)
+            character(kind=c_char), intent(out) :: buf(*)
+            integer(c_int), value :: size
+            integer(c_int) :: stat
+        end function c_temp_name
+        function c_write_file_atomic(final, bytes, length) bind(c, name="supratrans_write_file_atomic") result(err)
+            import :: c_char, c_int, c_long_long
+            character(kind=c_char), intent(in) :: final(*), bytes(*)
+            integer(c_long_long), value :: length
+            integer(c_int) :: err
+        end function c_write_file_atomic
+        function c_commit_file(tmp, final) bind(c, name="supratrans_commit_file") result(err)
+            import :: c_char, c_int
+            character(kind=c_char), intent(in) :: tmp(*), final(*)
+            integer(c_int) :: err
+        end function c_commit_file
+        function c_remove_stale(dir, prefix) bind(c, name="supratrans_remove_stale") result(removed)
+            import :: c_char, c_int
+            character(kind=c_char), intent(in) :: dir(*), prefix(*)
+            integer(c_int) :: removed
+        end function c_remove_stale
         subroutine c_unlock(fd) bind(c, name="supratrans_unlock")
             import :: c_int
             integer(c_int), value :: fd
@@ -68,13 +124,12 @@ module supratrans_system
             import :: c_int
             integer(c_int) :: sig
         end function c_stop_signal
-        function c_write_bytes(path, bytes, length, append) bind(c, name="supratrans_write_bytes") result(stat)
+        function c_append_bytes(path, bytes, length) bind(c, name="supratrans_append_bytes") result(err)
             import :: c_char, c_int, c_long_long
             character(kind=c_char), intent(in) :: path(*), bytes(*)
             integer(c_long_long), value :: length
-            integer(c_int), value :: append
-            integer(c_int) :: stat
-        end function c_write_bytes
+            integer(c_int) :: err
+        end function c_append_bytes
         function c_same_file(a, b) bind(c, name="supratrans_same_file") result(same)
             import :: c_char, c_int
             character(kind=c_char), intent(in) :: a(*), b(*)
@@ -163,25 +218,149 @@ contains
         bytes = c_file_size(path // c_null_char)
     end function file_size
 
-    !> Take an exclusive advisory lock on `path` (created if missing) without waiting: `handle` >= 0 holds it (the
-    !> kernel releases it when the process ends, also by a crash or a kill), -1 another process holds it, -2 the
-    !> lock file cannot be created.
-    subroutine lock_file(path, handle)
+    !> Kind of a path itself (`lstat(2)`: a symbolic link is not followed): `path_missing`, `path_regular`,
+    !> `path_directory`, `path_special` or `path_link`.
+    function link_kind(path) result(kind)
+        !> Path to examine.
+        character(len=*), intent(in) :: path
+        integer :: kind
+
+        kind = int(c_link_kind(path // c_null_char))
+    end function link_kind
+
+    !> Take an exclusive advisory lock on `path` (created if missing, never through a symbolic link) without waiting:
+    !> `handle` >= 0 holds it (the kernel releases it when the process ends, also by a crash or a kill);
+    !> `lock_busy`: another process holds it; `lock_cannot_open`: the lock file cannot be created or is not a
+    !> regular file; `lock_unsupported`: the file system refuses locks. `reason` says why for the last two.
+    !> The lock file is never unlinked (`unlock_file` leaves it), so that two processes cannot each lock a file of
+    !> the same name.
+    subroutine lock_file(path, handle, reason)
         !> Lock file.
         character(len=*), intent(in) :: path
-        !> Lock handle, or -1 / -2.
+        !> Lock handle, or `lock_busy`, `lock_cannot_open`, `lock_unsupported`.
         integer, intent(out) :: handle
+        !> The system's words for the failure (strerror), empty otherwise.
+        character(len=:), allocatable, intent(out) :: reason
+        integer(c_int) :: err
 
-        handle = int(c_lock(path // c_null_char))
+        handle = int(c_lock(path // c_null_char, err))
+        reason = ""
+        if (err /= 0) reason = os_error_text(int(err))
+        if (handle /= lock_cannot_open) return
+        select case (link_kind(path))
+        case (path_link)
+            reason = "it is a symbolic link, which is never followed"
+        case (path_directory, path_special)
+            reason = "it is not a regular file"
+        case default
+            continue
+        end select
     end subroutine lock_file
 
-    !> Release a lock taken by `lock_file` (nothing for a negative handle).
+    !> Release a lock taken by `lock_file` (nothing for a negative handle); the lock file stays.
     subroutine unlock_file(handle)
         !> Lock handle.
         integer, intent(in) :: handle
 
         if (handle >= 0) call c_unlock(int(handle, c_int))
     end subroutine unlock_file
+
+    !> The system's text for an `errno` value (strerror), e.g. "No space left on device".
+    function os_error_text(err) result(text)
+        !> The errno value.
+        integer, intent(in) :: err
+        character(len=:), allocatable :: text
+        character(kind=c_char, len=256) :: buffer
+
+        buffer = ""
+        call c_strerror(int(err, c_int), buffer, int(len(buffer), c_int))
+        text = buffer(1:max(index(buffer, c_null_char) - 1, 0))
+    end function os_error_text
+
+    !> Switch HDF5's own file locking off for this process (HDF5_USE_FILE_LOCKING=FALSE, unless set): the
+    !> documented no-lock override, for file systems that refuse locks.
+    subroutine disable_hdf5_locking()
+        call c_hdf5_no_file_locking()
+    end subroutine disable_hdf5_locking
+
+    !> A fresh candidate name for a temporary file of `final`: `<final>.tmp-XXXXXX`, six random letters or digits.
+    !> Take it only by creating it exclusively (`O_EXCL`, or HDF5's `H5F_ACC_EXCL`) and retry when it is taken.
+    function temp_name(final) result(name)
+        !> The final name of the file.
+        character(len=*), intent(in) :: final
+        character(len=:), allocatable :: name
+        character(kind=c_char, len=len(final) + temp_extra + 1) :: buffer
+
+        if (c_temp_name(final // c_null_char, buffer, int(len(buffer), c_int)) /= 0) then
+            name = final // temp_suffix // "XXXXXX"
+        else
+            name = buffer(1:len(final) + temp_extra)
+        end if
+    end function temp_name
+
+    !> Write `bytes` as the new contents of `final`, atomically and never through a link: a fresh temporary file
+    !> (`temp_name`, created with `O_CREAT | O_EXCL | O_NOFOLLOW`), every write checked, fsync, rename onto `final`.
+    !> Nothing is left behind on failure, and `final` is then unchanged.
+    subroutine write_file_atomic(final, bytes, error)
+        !> The file.
+        character(len=*), intent(in) :: final
+        !> Its new contents.
+        character(len=*), intent(in) :: bytes
+        !> Error, allocated on failure (the message names the file and the system's reason).
+        type(error_type), allocatable, intent(out) :: error
+        integer :: err
+
+        if (index(final, c_null_char) > 0) then
+            call fatal_error(error, "file name holds a NUL character", err_io)
+            return
+        end if
+        err = int(c_write_file_atomic(final // c_null_char, bytes, int(len(bytes), c_long_long)))
+        if (err /= 0) call fatal_error(error, final // ": cannot write (" // os_error_text(err) // ")", err_io)
+    end subroutine write_file_atomic
+
+    !> Give a finished temporary file its final name: fsync it, rename(2) it onto `final` (replacing `final` itself,
+    !> never the target of a link there), fsync the directory.
+    subroutine commit_file(tmp, final, error)
+        !> The temporary file, written and closed.
+        character(len=*), intent(in) :: tmp
+        !> Its final name.
+        character(len=*), intent(in) :: final
+        !> Error, allocated on failure (`tmp` is then left for the caller to delete).
+        type(error_type), allocatable, intent(out) :: error
+        integer :: err
+
+        err = int(c_commit_file(tmp // c_null_char, final // c_null_char))
+        if (err /= 0) call fatal_error(error, tmp // ": cannot rename to " // final // " (" // os_error_text(err) &
+                                       // ")", err_io)
+    end subroutine commit_file
+
+    !> Delete the temporary files a killed run left for the output `file` (`<file>.tmp-XXXXXX`,
+    !> `<file>.journal.tmp-XXXXXX`, `<file>.partial.h5.tmp-XXXXXX`): only regular files owned by this user, never
+    !> through a link. Call only while holding the output's lock. `removed` counts them.
+    subroutine remove_stale_temporaries(file, removed)
+        !> The output file.
+        character(len=*), intent(in) :: file
+        !> How many were deleted.
+        integer, intent(out) :: removed
+        character(len=*), parameter :: owned(3) = [character(len=12) :: "", ".journal", ".partial.h5"]
+        character(len=:), allocatable :: dir, base
+        integer :: k, i
+
+        k = index(file, "/", back=.true.)
+        if (k == 0) then
+            dir = "."
+        else if (k == 1) then
+            dir = "/"
+        else
+            dir = file(1:k - 1)
+        end if
+        base = file(k + 1:)
+        removed = 0
+        do i = 1, size(owned)
+            removed = removed + int(c_remove_stale(dir // c_null_char, base // trim(owned(i)) // temp_suffix &
+                                                   // c_null_char))
+        end do
+    end subroutine remove_stale_temporaries
 
     !> From now on SIGTERM, SIGINT and SIGUSR1 set the stop flag (`stop_signal`) instead of ending the process.
     subroutine catch_stop_signals()
@@ -195,20 +374,19 @@ contains
         sig = int(c_stop_signal())
     end function stop_signal
 
-    !> Write `bytes` to `path` (created if missing), appended or replacing its contents, through write(2) and
-    !> close(2), whose every failure (a full disk, an I/O error) is reported: `ok` false then.
-    subroutine write_bytes(path, bytes, append, ok)
+    !> Append `bytes` to the journal `path` (created if missing; never through a symbolic link, never anything but a
+    !> regular file) through write(2) and close(2), whose every failure (a full disk, an I/O error) is reported: `ok`
+    !> false then.
+    subroutine append_bytes(path, bytes, ok)
         !> File.
         character(len=*), intent(in) :: path
         !> What to write.
         character(len=*), intent(in) :: bytes
-        !> Append (true) or replace (false).
-        logical, intent(in) :: append
         !> Whether every byte was written and the file closed without error.
         logical, intent(out) :: ok
 
-        ok = c_write_bytes(path // c_null_char, bytes, int(len(bytes), c_long_long), merge(1_c_int, 0_c_int, append)) == 0
-    end subroutine write_bytes
+        ok = c_append_bytes(path // c_null_char, bytes, int(len(bytes), c_long_long)) == 0
+    end subroutine append_bytes
 
     !> Whether two paths name the same existing file (same device and inode).
     function same_file(a, b) result(same)

@@ -7,18 +7,28 @@
 !>     supratrans --check FILE.nml          read and validate only
 !>     supratrans --help | --version
 !>
-!> Before any work starts the output location is checked: not a directory, not the input file itself, its directory
-!> made (mkdir(2), never a shell) and writable; an advisory lock `<output>.lock` keeps a second instance off the same
-!> output while the first runs. SIGTERM, SIGINT and SIGUSR1 stop a scene cleanly (exit status 5): the tasks running
-!> finish and are journaled, a snapshot is written, and the same command resumes.
+!> Before any work starts the output location is checked: a file name (no NUL, no trailing '/', short enough for the
+!> temporary and journal names made from it), not a directory, not a symbolic link, FIFO or device, not the input
+!> file itself, its directory made (mkdir(2), never a shell). Then the advisory lock `<output>.lock` is taken before
+!> any file of the output is touched (scene, slice, merge and merge --partial alike): it keeps a second instance off
+!> the same output while the first runs. The lock file is never deleted (an empty file; deleting a held lock file
+!> would let a second instance lock a new file of the same name). On a file system that refuses locks (NFS without a
+!> lock manager, Lustre without `-o flock`) the run stops and says so; `SUPRATRANS_NO_LOCK=1` runs without the lock
+!> (and without HDF5's own file locking) for whoever is sure no two runs write one output. SIGTERM, SIGINT and
+!> SIGUSR1 stop a scene cleanly (exit status 5): the tasks running finish and are journaled, a snapshot is written,
+!> and the same command resumes.
 module supratrans_cli
     use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
     use supratrans_kinds, only: wp, supratrans_version
-    use supratrans_strings, only: real_str, int_str
+    use supratrans_strings, only: real_str, int_str, printable, text_fingerprint
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config
+    use, intrinsic :: iso_c_binding, only: c_null_char
     use supratrans_system, only: make_directories, path_kind, path_directory, path_missing, same_file, lock_file, &
-                                 unlock_file, remove_file, catch_stop_signals
+                                 unlock_file, remove_file, catch_stop_signals, link_kind, path_link, path_special, &
+                                 lock_busy, lock_unsupported, remove_stale_temporaries, disable_hdf5_locking, &
+                                 temp_extra, path_regular
+    use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
     use supratrans_input, only: read_input, read_input_text
     use supratrans_validate, only: validate_config
     use supratrans_simulate, only: simulate
@@ -57,7 +67,9 @@ module supratrans_cli
         // new_line("a") // "                        files one line each on stdout, the worst status)" // new_line("a") // &
         "  --version             print the version" // new_line("a") // new_line("a") // &
         "Exit status: 0 success, 2 bad input or command line, 3 a run failed fatally, 4 output not written," &
-        // new_line("a") // "5 stopped by a signal (run the same command again to resume)."
+        // new_line("a") // "5 stopped by a signal (run the same command again to resume)." // new_line("a") &
+        // new_line("a") // "Environment: SUPRATRANS_NO_LOCK=1 runs without the output's lock, for file systems that " &
+        // "refuse locks" // new_line("a") // "(NFS without a lock manager): then make sure no two runs write one output."
 
 contains
 
@@ -276,7 +288,9 @@ contains
         k = index(text, "/")
         ios1 = 1
         ios2 = 1
-        if (k > 1 .and. k < len(text) .and. verify(text, "0123456789/") == 0 .and. len(text) <= 13) then
+        ! exactly one '/' (list-directed input would read "3/3" as 3: a '/' ends its list)
+        if (k > 1 .and. k < len(text) .and. verify(text, "0123456789/") == 0 .and. len(text) <= 13 &
+            .and. index(text(k + 1:), "/") == 0) then
             read (text(1:k - 1), *, iostat=ios1) slice_index
             read (text(k + 1:), *, iostat=ios2) slice_count
         end if
@@ -342,11 +356,18 @@ contains
                         if (done_part%fingerprint == cfg%fingerprint) then
                             call progress(cfg, "supratrans: " // trim(cfg%output%file) // " is complete already " &
                                           // "(slice " // int_str(slice_index) // "/" // int_str(slice_count) // ")")
+                            call clean_finished(cfg, status, error)
                             return
                         end if
                     end if
                 end if
             end if
+        end if
+        if (finished_by_earlier_run(cfg)) then
+            call progress(cfg, "supratrans: " // trim(cfg%output%file) // " is complete already (written from this " &
+                          // "input by a run stopped before it deleted its journal)")
+            call clean_finished(cfg, status, error)
+            return
         end if
         call validate_config(cfg, error)
         if (.not. allocated(error)) call check_output_location(cfg, error)
@@ -357,34 +378,102 @@ contains
         call with_lock(cfg, status, error)
     end subroutine run_from_file
 
-    !> Take the output's lock, run the scene, release the lock.
-    subroutine with_lock(cfg, status, error)
+    !> Whether the output is the finished result of this very input while its journal is still there (a run killed
+    !> after it renamed its output into place and before it deleted the journal): the output is a regular HDF5 file
+    !> whose `/provenance/namelist` has this input's fingerprint and that is not marked `complete = 0`, and the
+    !> journal's header names this input's fingerprint. Without `overwrite` only (with it, the run starts afresh).
+    function finished_by_earlier_run(cfg) result(yes)
+        !> The input read.
+        type(input_config), intent(in) :: cfg
+        logical :: yes
+        character(len=:), allocatable :: file, text, header
+        type(h5_file) :: h5
+        type(error_type), allocatable :: cause
+        integer :: complete, unit, ios
+        character(len=4096) :: line
+
+        yes = .false.
+        file = trim(cfg%output%file)
+        if (cfg%output%overwrite .or. .not. allocated(cfg%fingerprint)) return
+        if (link_kind(file) /= path_regular .or. link_kind(file // ".journal") /= path_regular) return
+        open (newunit=unit, file=file // ".journal", status="old", action="read", iostat=ios)
+        if (ios /= 0) return
+        line = ""
+        read (unit, "(a)", iostat=ios) line
+        close (unit)
+        header = trim(line) // " "
+        if (ios /= 0 .or. index(header, "supratrans-journal ") /= 1) return
+        if (index(header, " " // cfg%fingerprint // " ") == 0) return
+        call h5_open(h5, file, .false., cause)
+        if (allocated(cause)) return
+        call h5_read(h5, "provenance/namelist", text, cause)
+        if (.not. allocated(cause)) then
+            yes = text_fingerprint(text) == cfg%fingerprint
+            if (yes .and. h5_attr_exists(h5, "/", "complete")) then
+                call h5_read_attr(h5, "/", "complete", complete, cause)
+                yes = .not. allocated(cause)
+                if (yes) yes = complete /= 0
+            end if
+        end if
+        call h5_close(h5, cause)
+    end function finished_by_earlier_run
+
+    !> Under the output's lock, delete what a run stopped after finishing left beside its output: the journal and
+    !> the partial snapshot (regular files only), with a line saying so.
+    subroutine clean_finished(cfg, status, error)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> Exit status (0, or that of the lock's error).
+        integer, intent(out) :: status
+        !> Error, allocated when the lock cannot be had.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=:), allocatable :: file
+        integer :: handle, i
+        character(len=*), parameter :: stale(2) = [character(len=11) :: ".journal", ".partial.h5"]
+
+        status = 0
+        file = trim(cfg%output%file)
+        if (all([(link_kind(file // trim(stale(i))) /= path_regular, i = 1, size(stale))])) return
+        call take_lock(cfg, handle, error)
+        if (allocated(error)) then
+            status = error%stat
+            return
+        end if
+        do i = 1, size(stale)
+            if (link_kind(file // trim(stale(i))) /= path_regular) cycle
+            call remove_file(file // trim(stale(i)))
+            call progress(cfg, "  deleted the stale " // file // trim(stale(i)) // " left by that run")
+        end do
+        call unlock_file(handle)
+    end subroutine clean_finished
+
+    !> Take the output's lock, (for a merge: write the joined records as the output's journal,) run the scene, release
+    !> the lock. Nothing of the output is touched before the lock is held.
+    subroutine with_lock(cfg, status, error, set)
         !> The validated input.
         type(input_config), intent(inout) :: cfg
         !> Exit status.
         integer, intent(out) :: status
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
-        character(len=:), allocatable :: lock
+        !> The records of a merge, handed to the scene as a complete journal.
+        type(part_set), intent(in), optional :: set
+        character(len=:), allocatable :: journal
         integer :: handle
 
         status = 0
-        lock = trim(cfg%output%file) // ".lock"
-        call lock_file(lock, handle)
-        if (handle == -1) then
-            call fatal_error(error, trim(cfg%output%file) // ": another supratrans is writing this output (lock " &
-                             // lock // " is held); wait for it to end", err_io)
-        else if (handle < 0) then
-            call fatal_error(error, trim(cfg%output%file) // ": cannot write in its directory (lock file " // lock &
-                             // " cannot be created)", err_io)
-        end if
+        call take_lock(cfg, handle, error)
         if (allocated(error)) then
             status = error%stat
             return
         end if
-        call catch_stop_signals()
-        call run_scene(cfg, error)
-        call remove_file(lock)
+        journal = trim(cfg%output%file) // ".journal"
+        if (present(set)) call write_journal(journal, set%header, set%results, set%done, error)
+        if (.not. allocated(error)) then
+            call catch_stop_signals()
+            call run_scene(cfg, error)
+        end if
+        if (present(set) .and. cfg%snapshot_only) call remove_file(journal)
         call unlock_file(handle)
         if (allocated(error)) then
             status = error%stat
@@ -392,6 +481,49 @@ contains
         end if
         if (cfg%slice_count == 0 .and. .not. cfg%snapshot_only) call progress(cfg, "  wrote " // trim(cfg%output%file))
     end subroutine with_lock
+
+    !> Take the lock `<output>.lock` (never through a link; the file stays when released), then delete the
+    !> temporaries a killed run of this output left. With SUPRATRANS_NO_LOCK=1 no lock is taken (`handle` -1) and
+    !> no temporary is deleted.
+    subroutine take_lock(cfg, handle, error)
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Lock handle (negative: none held).
+        integer, intent(out) :: handle
+        !> Error, allocated when the lock cannot be had.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=:), allocatable :: file, lock, reason
+        character(len=8) :: knob
+        integer :: ios, removed
+
+        file = trim(cfg%output%file)
+        lock = file // ".lock"
+        handle = -1
+        call get_environment_variable("SUPRATRANS_NO_LOCK", knob, status=ios)
+        if (ios == 0 .and. trim(knob) /= "" .and. trim(knob) /= "0") then
+            call disable_hdf5_locking()
+            call progress(cfg, "supratrans: SUPRATRANS_NO_LOCK is set: " // file // " is written without a lock")
+        else
+            call lock_file(lock, handle, reason)
+            if (handle == lock_busy) then
+                call fatal_error(error, file // ": another supratrans is writing this output (lock " // lock &
+                                 // " is held); wait for it to end", err_io)
+            else if (handle == lock_unsupported) then
+                call fatal_error(error, file // ": the file system refuses locks (flock on " // lock // ": " // reason &
+                                 // "; NFS without a lock manager, or Lustre without -o flock?): write the output to a " &
+                                 // "local directory, or set SUPRATRANS_NO_LOCK=1 if no other run writes this output", &
+                                 err_io)
+            else if (handle < 0) then
+                call fatal_error(error, file // ": cannot write in its directory (lock file " // lock // ": " // reason &
+                                 // ")", err_io)
+            end if
+            if (allocated(error)) return
+            ! only under the lock: without it, a temporary may be another run's file being written
+            call remove_stale_temporaries(file, removed)
+            if (removed > 0) call progress(cfg, "supratrans: deleted " // int_str(removed) // " temporary file(s) of " &
+                                           // file // " left by an interrupted run")
+        end if
+    end subroutine take_lock
 
     !> Run the scene of a validated input.
     subroutine run_scene(cfg, error)
@@ -443,7 +575,6 @@ contains
         type(error_type), allocatable, intent(out) :: error
         type(part_set) :: set
         type(input_config) :: cfg
-        character(len=:), allocatable :: journal
 
         status = 0
         call read_parts(paths, partial, set, error)
@@ -463,21 +594,15 @@ contains
             status = error%stat
             return
         end if
-        journal = trim(cfg%output%file) // ".journal"
-        call write_journal(journal, set%header, set%results, set%done, error)
-        if (allocated(error)) then
-            status = error%stat
-            return
-        end if
         call progress(cfg, "supratrans merge: " // int_str(count(set%done)) // " of " // int_str(size(set%done)) &
                       // " tasks from " // int_str(size(paths)) // " part(s) of " // int_str(set%slice_count) &
                       // " -> " // trim(cfg%output%file) // trim(merge(".partial.h5", "           ", partial)))
-        call with_lock(cfg, status, error)
-        if (partial) call remove_file(journal)
+        call with_lock(cfg, status, error, set)
     end subroutine merge_parts
 
-    !> The output location, checked before any work: not a directory, not the input itself, its directory made
-    !> (mkdir(2), no shell).
+    !> The output location, checked before any work: a usable file name (`check_output_name`), not a directory, not
+    !> a symbolic link (refused: never written through, never replaced), FIFO or device, nor its journal and partial
+    !> snapshot, not the input itself, its directory made (mkdir(2), no shell).
     subroutine check_output_location(cfg, error, create)
         !> The input.
         type(input_config), intent(in) :: cfg
@@ -487,13 +612,38 @@ contains
         logical, intent(in), optional :: create
         character(len=:), allocatable :: file
         type(error_type), allocatable :: cause
-        integer :: k
+        integer :: k, i
+        !> The files supratrans keeps beside the output (the lock is checked when it is taken).
+        character(len=*), parameter :: companions(2) = [character(len=11) :: ".journal", ".partial.h5"]
 
         file = trim(cfg%output%file)
+        call check_output_name(cfg, error)
+        if (allocated(error)) return
         if (path_kind(file) == path_directory) then
             call fatal_error(error, cfg%source // ": &output: file = '" // file // "' is a directory", err_input)
             return
         end if
+        select case (link_kind(file))
+        case (path_link)
+            call fatal_error(error, cfg%source // ": &output: file = '" // file // "' is a symbolic link: supratrans " &
+                             // "never writes through a link nor replaces one; name the file it points to, or remove " &
+                             // "the link", err_input)
+            return
+        case (path_special)
+            call fatal_error(error, cfg%source // ": &output: file = '" // file // "' is a FIFO, device or socket, " &
+                             // "not a regular file: supratrans replaces only regular files", err_input)
+            return
+        case default
+            continue
+        end select
+        do i = 1, size(companions)
+            if (any(link_kind(file // trim(companions(i))) == [path_link, path_special, path_directory])) then
+                call fatal_error(error, file // trim(companions(i)) // ": is a symbolic link, FIFO, device or " &
+                                 // "directory, not a file of supratrans: it is never written through nor replaced; " &
+                                 // "remove it", err_io)
+                return
+            end if
+        end do
         if (allocated(cfg%source)) then
             if (same_file(file, cfg%source)) then
                 call fatal_error(error, cfg%source // ": &output: file = '" // file // "' is the input file itself", &
@@ -510,27 +660,51 @@ contains
         if (allocated(cause)) call fatal_error(error, cfg%source // ": &output: " // cause%message, err_io)
     end subroutine check_output_location
 
-    !> A text with every character outside printable ASCII shown as '?', for messages.
-    pure function printable(text) result(shown)
-        !> The text.
-        character(len=*), intent(in) :: text
-        character(len=len(text)) :: shown
-        integer :: i
+    !> The output's name must name a file that can be written together with its companions: no NUL character, not
+    !> ending in '/', '.' or '..' (a directory), and its last component short enough for the longest name made from
+    !> it (`<file>.partial.h5.tmp-XXXXXX`) to fit the 255 bytes a file name may have (4095 for the whole path), so that
+    !> a name that would fail at the write is refused before the work.
+    subroutine check_output_name(cfg, error)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> Error (status 2), allocated when the name cannot be used.
+        type(error_type), allocatable, intent(out) :: error
+        !> Longest a name component may be (NAME_MAX of Linux file systems), and a whole path (PATH_MAX - 1).
+        integer, parameter :: name_max = 255, path_max = 4095
+        !> What supratrans appends to the output's name at most: `.partial.h5` and a temporary suffix.
+        integer, parameter :: extra = len(".partial.h5") + temp_extra
+        character(len=:), allocatable :: file, last
+        integer :: k
 
-        shown = text
-        do i = 1, len(text)
-            if (iachar(text(i:i)) < 32 .or. iachar(text(i:i)) > 126) shown(i:i) = "?"
-        end do
-    end function printable
+        file = trim(cfg%output%file)
+        if (index(file, c_null_char) > 0) then
+            call fatal_error(error, cfg%source // ": &output: file = '" // printable(file) // "' holds a NUL " &
+                             // "character", err_input)
+            return
+        end if
+        k = index(file, "/", back=.true.)
+        last = file(k + 1:)
+        if (len(last) == 0 .or. last == "." .or. last == "..") then
+            call fatal_error(error, cfg%source // ": &output: file = '" // file // "' names a directory, not a file " &
+                             // "(give the file's name, e.g. '" // file(1:k) // "result.h5')", err_input)
+            return
+        end if
+        if (len(last) + extra > name_max .or. len(file) + extra > path_max) then
+            call fatal_error(error, cfg%source // ": &output: file = '" // file // "': name too long (" &
+                             // int_str(len(last)) // " characters; at most " // int_str(name_max - extra) &
+                             // ", as supratrans adds up to " // int_str(extra) // " for its journal and temporary files)", &
+                             err_input)
+        end if
+    end subroutine check_output_name
 
-    !> Print a progress line on stderr unless the output asks for quiet.
+    !> Print a progress line on stderr unless the output asks for quiet (control characters shown as '?').
     subroutine progress(cfg, line)
         !> Input (for the quiet flag).
         type(input_config), intent(in) :: cfg
         !> Text.
         character(len=*), intent(in) :: line
 
-        if (.not. cfg%output%quiet) write (error_unit, "(a)") line
+        if (.not. cfg%output%quiet) write (error_unit, "(a)") printable(line)
     end subroutine progress
 
 end module supratrans_cli

@@ -1,8 +1,11 @@
 !> The HDF5 file of supratrans: its handle (`h5_file`), its life cycle, and the helpers the reading and writing
 !> modules share (types, identifiers, errors). Use `supratrans_hdf5`, which gathers the public interface.
 !>
-!> A new output file is written as `<path>.tmp` (`h5_create`) and renamed atomically to `<path>` by `h5_commit`
-!> (POSIX `rename`), so a file found under its final name is complete. `h5_discard` closes and deletes the
+!> A new output file is written as `<path>.tmp-XXXXXX` (`h5_create`: six random characters, the file created with
+!> `H5F_ACC_EXCL`, i.e. `O_CREAT | O_EXCL`, which never opens an existing file nor follows a link) and renamed
+!> atomically to `<path>` by `h5_commit` (fsync, then POSIX `rename`, which replaces `<path>` itself, never the target
+!> of a link), so a file found under its final name is complete and no file planted under a predictable name is ever
+!> written through. Only a regular file at `<path>` is ever replaced. `h5_discard` closes and deletes the
 !> temporary file after an error. An existing file is opened with `h5_open`, read-only or read-write; `h5_close`
 !> closes it.
 !>
@@ -12,19 +15,20 @@
 !> same: call this layer from one thread at a time.
 module supratrans_h5_file
     use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5eset_auto_f, h5kind_to_type, h5_real_kind, h5_integer_kind, &
-        h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, h5f_acc_trunc_f, h5f_acc_rdonly_f, h5f_acc_rdwr_f, h5f_scope_global_f, &
+        h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, h5f_acc_excl_f, h5f_acc_rdonly_f, h5f_acc_rdwr_f, h5f_scope_global_f, &
         h5dclose_f, h5screate_f, h5screate_simple_f, h5sclose_f, h5s_scalar_f, h5pcreate_f, h5pclose_f, &
         h5pset_create_inter_group_f, h5p_link_create_f, h5tcopy_f, h5tclose_f, h5tset_size_f, h5tset_strpad_f, h5t_c_s1, &
         h5t_str_nullpad_f, h5t_std_i32le, h5t_std_i64le, h5gclose_f, h5lexists_f, h5aexists_by_name_f, h5aclose_f, &
         h5iget_type_f, h5i_file_f, h5i_group_f, h5i_dataset_f, h5i_datatype_f, h5i_dataspace_f, h5i_attr_f, h5i_genprop_lst_f
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_io
-    use supratrans_system, only: rename_file, remove_file
+    use supratrans_strings, only: int_str
+    use supratrans_system, only: commit_file, remove_file, temp_name, link_kind, path_missing, path_regular
     implicit none
     private
 
     public :: h5_create, h5_open, h5_close, h5_commit, h5_discard, h5_exists, h5_attr_exists, real_mem_type, int_mem_type, &
-        int_file_type, i8_mem_type, itoa, disk_path, root_if_empty, check, check_open, check_writable, check_dim_names, &
+        int_file_type, i8_mem_type, disk_path, root_if_empty, check, check_open, check_writable, check_dim_names, &
         close_id, make_space, make_lcpl, make_string_type
 
     !> File state: not open.
@@ -33,7 +37,7 @@ module supratrans_h5_file
     integer, parameter, public :: h5_mode_read = 1
     !> File state: an existing file open read-write (`h5_open` with `writable = .true.`).
     integer, parameter, public :: h5_mode_readwrite = 2
-    !> File state: a new file being written as `<path>.tmp` (`h5_create`); `h5_discard` deletes it.
+    !> File state: a new file being written as `<path>.tmp-XXXXXX` (`h5_create`); `h5_discard` deletes it.
     integer, parameter, public :: h5_mode_create = 3
 
     !> An HDF5 file handle: the HDF5 identifier, the final path, the temporary path and the state.
@@ -43,7 +47,7 @@ module supratrans_h5_file
         integer(hid_t) :: id = -1
         !> Final path of the file.
         character(len=:), allocatable :: path
-        !> Path of the file on disk while it is written (`<path>.tmp`); empty when the file is written in place.
+        !> Path of the file on disk while it is written (`<path>.tmp-XXXXXX`); empty when the file is written in place.
         character(len=:), allocatable :: tmp_path
         !> State: `h5_mode_closed`, `h5_mode_read`, `h5_mode_readwrite` or `h5_mode_create`.
         integer :: mode = h5_mode_closed
@@ -51,9 +55,10 @@ module supratrans_h5_file
 
 contains
 
-    !> Create a new file: it is written as `<path>.tmp` (truncated if it exists) until `h5_commit` renames it.
-    !> Fails if `path` exists and `overwrite` is false; with `overwrite`, an existing `path` is replaced at commit.
-    !> A left-over `<path>.tmp` of a killed run is truncated.
+    !> Create a new file: it is written as `<path>.tmp-XXXXXX`, a fresh file created exclusively (never an existing
+    !> file, never through a link), until `h5_commit` renames it. Fails if anything is at `path` and `overwrite` is
+    !> false (a dangling link or a FIFO included); with `overwrite`, an existing regular file `path` is replaced at
+    !> commit, anything else (a link, a FIFO, a device, a directory) is refused.
     !> `file` must not hold an open file (it is reset, not closed).
     subroutine h5_create(file, path, overwrite, error)
         !> The new file handle.
@@ -64,14 +69,17 @@ contains
         logical, intent(in) :: overwrite
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
-        logical :: exists
-        integer :: hdferr
+        integer :: hdferr, kind, attempt
 
         file%path = path
-        file%tmp_path = path//".tmp"
-        inquire (file=path, exist=exists)
-        if (exists .and. .not. overwrite) then
+        kind = link_kind(path)
+        if (kind /= path_missing .and. .not. overwrite) then
             call fatal_error(error, path//": output file exists (set overwrite = .true. to replace it)", err_io)
+            return
+        end if
+        if (kind /= path_missing .and. kind /= path_regular) then
+            call fatal_error(error, path//": exists and is not a regular file (a symbolic link, FIFO, device or "// &
+                "directory): supratrans replaces only regular files; remove it or choose another output file", err_io)
             return
         end if
         call init_library(hdferr)
@@ -79,10 +87,15 @@ contains
             call fatal_error(error, path//": cannot initialise the HDF5 library", err_io)
             return
         end if
-        call h5fcreate_f(file%tmp_path, h5f_acc_trunc_f, file%id, hdferr)
+        do attempt = 1, 100
+            file%tmp_path = temp_name(path)
+            call h5fcreate_f(file%tmp_path, h5f_acc_excl_f, file%id, hdferr)
+            if (hdferr >= 0) exit
+            file%id = -1
+            if (link_kind(file%tmp_path) == path_missing) exit     ! not a name taken: no permission, disk full
+        end do
         if (hdferr < 0) then
             file%id = -1
-            call remove_file(file%tmp_path)
             call fatal_error(error, file%tmp_path//": cannot create HDF5 file (h5fcreate_f failed: disk full, or no "// &
                 "permission to write there?)", err_io)
             return
@@ -135,7 +148,7 @@ contains
         end if
     end subroutine h5_open
 
-    !> Close the file. A file being written as `<path>.tmp` is not renamed (see `h5_commit`).
+    !> Close the file. A file being written as `<path>.tmp-XXXXXX` is not renamed (see `h5_commit`).
     !> Closing a closed file does nothing.
     subroutine h5_close(file, error)
         !> The file; closed on return.
@@ -151,7 +164,8 @@ contains
         file%mode = h5_mode_closed
     end subroutine h5_close
 
-    !> Flush and close the file, then rename `<path>.tmp` atomically to `<path>` (replacing an existing file).
+    !> Flush and close the file, fsync it, then rename `<path>.tmp-XXXXXX` atomically to `<path>` (replacing an
+    !> existing file, or a link there: never its target).
     !> A file opened in place (no temporary path) is just flushed and closed.
     subroutine h5_commit(file, error)
         !> The file; closed on return (on failure too, its temporary file then deleted).
@@ -183,7 +197,7 @@ contains
             return
         end if
         if (mode == h5_mode_read .or. len(file%tmp_path) == 0) return
-        call rename_file(file%tmp_path, file%path, error)
+        call commit_file(file%tmp_path, file%path, error)
         if (allocated(error) .and. mode == h5_mode_create) call remove_file(file%tmp_path)
     end subroutine h5_commit
 
@@ -291,17 +305,6 @@ contains
         type_id = h5kind_to_type(i8, h5_integer_kind)
     end function i8_mem_type
 
-    !> Decimal representation of an integer.
-    pure function itoa(i) result(text)
-        !> The integer.
-        integer, intent(in) :: i
-        character(len=:), allocatable :: text
-        character(len=24) :: buffer
-
-        write (buffer, "(i0)") i
-        text = trim(buffer)
-    end function itoa
-
     !> The path of the file on disk (the temporary path while it is written).
     pure function disk_path(file) result(path)
         !> The file.
@@ -403,8 +406,8 @@ contains
             if (names(k:k) == ",") count = count + 1
         end do
         if (count /= rank .or. len_trim(names) == 0) then
-            call fatal_error(error, disk_path(file)//": dims = '"//names//"' names "//itoa(count)// &
-                " dimensions, dataset '"//name//"' has rank "//itoa(rank), err_io)
+            call fatal_error(error, disk_path(file)//": dims = '"//names//"' names "//int_str(count)// &
+                " dimensions, dataset '"//name//"' has rank "//int_str(rank), err_io)
         end if
     end subroutine check_dim_names
 

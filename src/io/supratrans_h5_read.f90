@@ -9,7 +9,8 @@ module supratrans_h5_read
         h5t_string_f, h5t_str_spacepad_f, h5aopen_by_name_f, h5aread_f, h5aget_space_f, h5aget_type_f
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_io
-    use supratrans_h5_file, only: h5_exists, h5_attr_exists, real_mem_type, int_mem_type, i8_mem_type, itoa, disk_path, &
+    use supratrans_strings, only: int_str
+    use supratrans_h5_file, only: h5_exists, h5_attr_exists, real_mem_type, int_mem_type, i8_mem_type, disk_path, &
         root_if_empty, check, check_open, close_id, h5_file
     implicit none
     private
@@ -228,7 +229,7 @@ contains
         call read_strings(file, name, "", values%items, error)
         if (allocated(error)) return
         if (size(values%items) /= 1) then
-            call fatal_error(error, disk_path(file)//": dataset '"//name//"' holds "//itoa(size(values%items))// &
+            call fatal_error(error, disk_path(file)//": dataset '"//name//"' holds "//int_str(size(values%items))// &
                 " strings, expected one", err_io)
             return
         end if
@@ -267,7 +268,7 @@ contains
         if (allocated(error)) return
         if (size(values%items) /= 1) then
             call fatal_error(error, disk_path(file)//": attribute '"//name//"' of '"//object//"' holds "// &
-                itoa(size(values%items))//" strings, expected one", err_io)
+                int_str(size(values%items))//" strings, expected one", err_io)
             return
         end if
         value = values%items(1)
@@ -697,12 +698,12 @@ contains
         if (rank < 0) return
         if (rank == 0) then
             if (product(dims) /= 1) then
-                call fatal_error(error, disk_path(file)//": "//what//" holds "//itoa(int(product(dims)))// &
+                call fatal_error(error, disk_path(file)//": "//what//" holds "//int_str(int(product(dims)))// &
                     " values, expected a scalar", err_io)
             end if
         else if (size(dims) /= rank) then
-            call fatal_error(error, disk_path(file)//": "//what//" has rank "//itoa(size(dims))//", expected "// &
-                itoa(rank), err_io)
+            call fatal_error(error, disk_path(file)//": "//what//" has rank "//int_str(size(dims))//", expected "// &
+                int_str(rank), err_io)
         end if
     end subroutine check_rank
 

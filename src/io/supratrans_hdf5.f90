@@ -3,8 +3,9 @@
 !> `supratrans_h5_read`.
 !>
 !> ## Files
-!> A new output file is written as `<path>.tmp` (`h5_create`) and renamed atomically to `<path>` by `h5_commit`
-!> (POSIX `rename`), so a file found under its final name is complete. `h5_discard` closes and deletes the
+!> A new output file is written as `<path>.tmp-XXXXXX` (`h5_create`: a fresh name, created exclusively, never through
+!> a link) and renamed atomically to `<path>` by `h5_commit` (fsync, POSIX `rename`), so a file found under its final
+!> name is complete. `h5_discard` closes and deletes the
 !> temporary file after an error. An existing file is opened with `h5_open` (read-only or read-write) and closed
 !> with `h5_close`.
 !>

@@ -18,7 +18,7 @@
 module supratrans_input
     use supratrans_kinds, only: name_len
     use supratrans_error, only: error_type, fatal_error, err_input
-    use supratrans_strings, only: int_str, text_fingerprint
+    use supratrans_strings, only: int_str, text_fingerprint, find_name
     use supratrans_system, only: path_kind, path_missing, path_directory, path_special, file_size
     use supratrans_config, only: input_config, default_probes
     use supratrans_keys, only: key_value, kt_integer, kt_real, kt_logical, kt_name, input_error, joined
@@ -186,7 +186,7 @@ contains
                         names = choice_names(spec%choices)
                         allocate (v%ints(n))
                         do i = 1, n
-                            v%ints(i) = choice_number(names, items(i)%s)
+                            v%ints(i) = find_name(names, items(i)%s)
                             if (v%ints(i) == 0) then
                                 label = trim(spec%key)
                                 if (spec%max_values > 1) label = label // "(" // int_str(i) // ")"
@@ -217,20 +217,6 @@ contains
             end associate
         end do
     end subroutine convert_keys
-
-    !> Number of a choice (its index in `names`); 0 if it is not there.
-    pure function choice_number(names, name) result(id)
-        !> The names of the choice set.
-        character(len=*), intent(in) :: names(:)
-        !> The name given.
-        character(len=*), intent(in) :: name
-        integer :: id
-
-        do id = 1, size(names)
-            if (names(id) == name) return
-        end do
-        id = 0
-    end function choice_number
 
     !> The whole contents of a text file, newlines included.
     subroutine read_text_file(path, text, error)

@@ -15,7 +15,8 @@ module supratrans_limits
 
     public :: check_limits, run_memory_bytes, available_memory_bytes
 
-    !> Most time steps of one run (T/dt): 10^9 steps of the paper's chain take about an hour.
+    !> Most time steps of one run (T/dt) an input may ask for: 10^9 steps of the paper's chain take about an hour
+    !> (the engine itself counts up to `max_step_count` of `supratrans_simulate`, 2^62 - 1).
     real(wp), parameter, public :: max_steps = 1.0e9_wp
     !> Most oscillators N of a chain.
     real(wp), parameter, public :: max_sites = 1.0e8_wp

@@ -16,7 +16,7 @@
 module supratrans_namelist
     use supratrans_kinds, only: name_len, path_len
     use supratrans_error, only: error_type, fatal_error, err_input
-    use supratrans_strings, only: int_str
+    use supratrans_strings, only: int_str, find_name
     use supratrans_keys, only: key_spec, kt_integer, kt_real, kt_logical, kt_name, kt_path, group_len, key_len, &
         input_error, joined
     use supratrans_schema, only: key_table
@@ -514,20 +514,6 @@ contains
         end do
         ik = 0
     end function find_key
-
-    !> Index of `name` in `list` (trailing blanks ignored); 0 if absent.
-    pure function find_name(list, name) result(i)
-        !> Names.
-        character(len=*), intent(in) :: list(:)
-        !> Name to look for.
-        character(len=*), intent(in) :: name
-        integer :: i
-
-        do i = 1, size(list)
-            if (list(i) == name) return
-        end do
-        i = 0
-    end function find_name
 
     !> Hint for an unknown key: the group it belongs to, or a close spelling; "" if neither.
     pure function key_hint(group, key) result(hint)

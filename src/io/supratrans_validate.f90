@@ -13,7 +13,7 @@
 module supratrans_validate
     use supratrans_kinds, only: wp
     use supratrans_limits, only: check_limits
-    use supratrans_system, only: path_kind, path_directory
+    use supratrans_system, only: path_kind, path_directory, link_kind, path_missing
     use supratrans_error, only: error_type
     use supratrans_config, only: input_config, run_config
     use supratrans_potential, only: potential_name
@@ -309,7 +309,7 @@ contains
         end do
     end subroutine check_scene
 
-    !> The output file must not exist unless `overwrite`.
+    !> Nothing may be at the output's path (a file, a link, a FIFO) unless `overwrite`.
     subroutine check_output_file(cfg, where, error)
         !> The configuration.
         type(input_config), intent(in) :: cfg
@@ -318,15 +318,14 @@ contains
         !> Allocated when the check fails.
         type(error_type), allocatable, intent(out) :: error
         character(len=:), allocatable :: file
-        logical :: exists
 
         file = trim(cfg%output%file)
         if (path_kind(file) == path_directory) then
             call input_error(error, where, "output", "file = '" // file // "' is a directory")
             return
         end if
-        inquire (file=file, exist=exists)
-        if (exists .and. .not. cfg%output%overwrite) then
+        ! anything at that path counts (lstat): a FIFO, a device, a dangling symbolic link are not replaced either
+        if (link_kind(file) /= path_missing .and. .not. cfg%output%overwrite) then
             call input_error(error, where, "output", "file '" // file // "' exists (set overwrite = .true. to replace it)")
         end if
     end subroutine check_output_file

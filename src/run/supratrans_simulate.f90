@@ -6,7 +6,7 @@
 !> lives in local variables and in the result, so any number of runs can proceed at once in different threads.
 !>
 !> Step counts are 64-bit: M is computed in real arithmetic and refused (status `run_invalid`, with a reason) when
-!> T/dt is not finite or exceeds `max_steps` = huge(0_i8)/2 (about 4.6e18), so that no count ever wraps.
+!> T/dt is not finite or exceeds `max_step_count` = huge(0_i8)/2 (about 4.6e18), so that no count ever wraps.
 module supratrans_simulate
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
@@ -23,14 +23,15 @@ module supratrans_simulate
 
     public :: simulate, number_of_levels, step_count
 
-    !> Largest number of time steps M a run may have: huge(0_i8)/2 = 2^62 - 1 (so that M + 1 and any step index
-    !> plus a few levels stay far from overflow).
-    integer(i8), parameter, public :: max_steps = 2_i8**62 - 1_i8
+    !> Largest number of time steps M the engine counts: huge(0_i8)/2 = 2^62 - 1 (so that M + 1 and any step index
+    !> plus a few levels stay far from overflow). Not the limit of an input: `max_steps` of `supratrans_limits`
+    !> (10^9) refuses a longer run before any work.
+    integer(i8), parameter, public :: max_step_count = 2_i8**62 - 1_i8
 
 contains
 
     !> Number of time steps M = nint(T/dt) of a run, computed in real arithmetic. `error` is allocated (and M is
-    !> 0) when T/dt is negative, not finite, or not below 2^62 (so M <= `max_steps`).
+    !> 0) when T/dt is negative, not finite, or not below 2^62 (so M <= `max_step_count`).
     pure subroutine step_count(run, m, error)
         !> Run configuration.
         type(run_config), intent(in) :: run
@@ -42,10 +43,10 @@ contains
 
         m = 0
         ratio = run%numerics%t_final/run%numerics%dt
-        ! real(max_steps, wp) rounds to 2^62: a ratio below it rounds to at most 2^62 - 512 <= max_steps
-        if (.not. (ratio >= 0.0_wp .and. ratio < real(max_steps, wp))) then
+        ! real(max_step_count, wp) rounds to 2^62: a ratio below it rounds to at most 2^62 - 512 <= max_step_count
+        if (.not. (ratio >= 0.0_wp .and. ratio < real(max_step_count, wp))) then
             call fatal_error(error, "t_final/dt = " // real_str(ratio, 6) // " is not a number of time steps " &
-                             // "between 0 and " // real_str(real(max_steps, wp), 3) // " (t_final = " &
+                             // "between 0 and " // real_str(real(max_step_count, wp), 3) // " (t_final = " &
                              // real_str(run%numerics%t_final) // ", dt = " // real_str(run%numerics%dt) // ")", &
                              err_input)
             return

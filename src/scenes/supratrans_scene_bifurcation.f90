@@ -13,7 +13,7 @@
 !> `<output>.journal` tied to the namelist by `file_fingerprint`, partial output `<output>.partial.h5` with root
 !> attribute `complete = 0` now and then). Each task is one sequential search and results are stored by task index,
 !> so the thresholds are bit-for-bit identical for any number of threads. The final file is written as
-!> `<output>.tmp` and renamed when complete (`complete = 1`); the journal and the partial file are then deleted.
+!> `<output>.tmp-XXXXXX` and renamed when complete (`complete = 1`); the journal and the partial file are then deleted.
 !>
 !> Where the verdict is not monotone in A on the scale of the resolution (undamped sine-Gordon below Omega ~ 0.5,
 !> the paper's "discrepancy region": e.g. at Omega = 0.05, A = 5.96 and 5.97 transmit, 5.98 .. 6.00 do not, 6.01
@@ -43,7 +43,7 @@ module supratrans_scene_bifurcation
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
-    use supratrans_strings, only: int_str, real_str, fixed1
+    use supratrans_strings, only: int_str, real_str, fixed1, printable
     implicit none
     private
 
@@ -178,7 +178,7 @@ contains
         tasks%partial_path = output // ".partial.h5"
         journal = output // ".journal"
         if (.not. cfg%output%quiet) then
-            write (error_unit, "(a)") "supratrans: bifurcation from " // source_name(cfg) // ": " // int_str(ncurve) &
+            write (error_unit, "(a)") "supratrans: bifurcation from " // printable(source_name(cfg)) // ": " // int_str(ncurve) &
                 // " curve(s) x " // int_str(nomega) // " frequencies, amplitudes " // real_str(cfg%scene%amplitude_min, 6) &
                 // " .. " // real_str(cfg%scene%amplitude_max, 6) // " (coarse step " &
                 // real_str(effective_coarse_step(cfg%scene%coarse_step, cfg%scene%resolution), 6) // ", resolution " &
@@ -195,7 +195,6 @@ contains
         if (allocated(error)) return
         if (.not. keep) call remove_file(journal)
         call remove_file(tasks%partial_path)
-        call remove_file(tasks%partial_path // ".tmp")
         if (.not. cfg%output%quiet) then
             allocate (records(size(done)))
             do ic = 1, size(done)
@@ -489,11 +488,11 @@ contains
 
         call write_bifurcation_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
         if (allocated(error) .and. .not. self%cfg%output%quiet) then
-            write (error_unit, "(a)") "  warning: partial output not written: " // error%message
+            write (error_unit, "(a)") "  warning: partial output not written: " // printable(error%message)
         end if
     end subroutine write_snapshot
 
-    !> Write the scene's file `path` (as `<path>.tmp`, renamed when complete): tasks not done get NaN and status
+    !> Write the scene's file `path` (as `<path>.tmp-XXXXXX`, renamed when complete): tasks not done get NaN and status
     !> `bifurcation_pending`.
     subroutine write_bifurcation_file(tasks, path, results, done, complete, elapsed, error)
         !> The tasks.

@@ -50,7 +50,7 @@ module supratrans_scene_sweep
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
-    use supratrans_strings, only: int_str, real_str
+    use supratrans_strings, only: int_str, real_str, printable
     implicit none
     private
 
@@ -209,7 +209,7 @@ contains
                 if (.not. task_is_runnable(tasks, i)) nskip = nskip + 1
             end do
             if (nskip > 0) line = line // " (" // int_str(nskip) // " outside the band gap, not run)"
-            write (error_unit, "(a)") line
+            write (error_unit, "(a)") printable(line)
             flush (error_unit)
         end if
 
@@ -228,7 +228,6 @@ contains
         if (allocated(error)) return
         call remove_file(journal_path(tasks%cfg))
         call remove_file(partial_path(tasks%cfg))
-        call remove_file(partial_path(tasks%cfg) // ".tmp")
 
         if (.not. tasks%cfg%output%quiet) then
             nfail = count(nint(results(iv_status, :)) > 0)
@@ -245,7 +244,7 @@ contains
         end if
     end subroutine run_grid_scene
 
-    !> Write the scene's HDF5 file `path` from the results so far (atomically: `<path>.tmp`, then renamed).
+    !> Write the scene's HDF5 file `path` from the results so far (atomically: `<path>.tmp-XXXXXX`, then renamed).
     !> With every task done the file is the final output (root attribute `complete` = 1); otherwise a partial file
     !> (`complete` = 0) in which the missing runs are NaN with status `status_not_run`.
     subroutine write_grid_file(tasks, path, overwrite, results, done, error, wall_time)
@@ -556,7 +555,7 @@ contains
 
         call write_grid_file(self, partial_path(self%cfg), .true., results, done, error)
         if (allocated(error) .and. .not. self%cfg%output%quiet) then
-            write (error_unit, "(a)") "  warning: partial file not written: " // error%message
+            write (error_unit, "(a)") "  warning: partial file not written: " // printable(error%message)
         end if
     end subroutine sweep_snapshot
 

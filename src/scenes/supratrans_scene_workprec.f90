@@ -42,7 +42,7 @@ module supratrans_scene_workprec
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp, i8, pi
     use supratrans_error, only: error_type, fatal_error, err_input, err_runtime
-    use supratrans_strings, only: int_str, real_str
+    use supratrans_strings, only: int_str, real_str, printable
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
                                  method_name
     use supratrans_simulate, only: simulate
@@ -751,7 +751,7 @@ contains
         type(input_config), intent(in) :: cfg
         character(len=*), intent(in) :: line
 
-        if (.not. cfg%output%quiet) write (error_unit, "(a)") line
+        if (.not. cfg%output%quiet) write (error_unit, "(a)") printable(line)
     end subroutine progress
 
 end module supratrans_scene_workprec

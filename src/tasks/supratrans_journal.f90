@@ -14,7 +14,7 @@ module supratrans_journal
     use supratrans_kinds, only: wp
     use supratrans_strings, only: int_str
     use supratrans_error, only: error_type, fatal_error, err_io
-    use supratrans_system, only: rename_file, file_size, write_bytes, remove_file
+    use supratrans_system, only: file_size, append_bytes, write_file_atomic
     implicit none
     private
 
@@ -231,7 +231,8 @@ contains
         close (unit)
     end subroutine read_journal
 
-    !> (Re)write a journal with its header and the lines of the tasks done (atomically: temporary file, rename).
+    !> (Re)write a journal with its header and the lines of the tasks done (atomically, never through a link: a fresh
+    !> temporary file created exclusively, fsync, rename; see `write_file_atomic`).
     subroutine write_journal(journal, header, results, done, error)
         !> Journal file.
         character(len=*), intent(in) :: journal
@@ -245,23 +246,17 @@ contains
         type(error_type), allocatable, intent(out) :: error
         character(len=:), allocatable :: text
         integer :: i
-        logical :: ok
+        type(error_type), allocatable :: cause
 
         text = header // new_line("a")
         do i = 1, size(done)
             if (done(i)) text = text // journal_line(i, results(:, i)) // new_line("a")
         end do
-        call write_bytes(journal // ".new", text, .false., ok)
-        if (.not. ok) then
-            call remove_file(journal // ".new")
-            call fatal_error(error, journal // ": cannot write the journal (disk full, or no permission?); the one " &
-                             // "there is kept", err_io)
-            return
-        end if
-        call rename_file(journal // ".new", journal, error)
+        call write_file_atomic(journal, text, cause)
+        if (allocated(cause)) call fatal_error(error, cause%message // "; the journal there is kept", err_io)
     end subroutine write_journal
 
-    !> Append one task's line to a journal (write(2): a full disk is reported, `ok` false).
+    !> Append one task's line to a journal (write(2), never through a link: a full disk is reported, `ok` false).
     subroutine append_journal_line(journal, index, values, ok)
         !> Journal file.
         character(len=*), intent(in) :: journal
@@ -272,7 +267,7 @@ contains
         !> Whether the line was written whole.
         logical, intent(out) :: ok
 
-        call write_bytes(journal, journal_line(index, values) // new_line("a"), .true., ok)
+        call append_bytes(journal, journal_line(index, values) // new_line("a"), ok)
     end subroutine append_journal_line
 
     !> Read one whole line (up to `max_line` characters; a longer one is cut and will fail its checksum).

@@ -83,7 +83,7 @@ contains
         end if
     end function stem
 
-    !> Write the part file of a finished slice (atomically: `<path>.tmp`, then renamed).
+    !> Write the part file of a finished slice (atomically: `<path>.tmp-XXXXXX`, then renamed).
     subroutine write_part(path, cfg, slice_index, slice_count, header, results, done, mine, error)
         !> Part file.
         character(len=*), intent(in) :: path

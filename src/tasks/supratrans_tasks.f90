@@ -10,7 +10,7 @@
 module supratrans_tasks
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
     use supratrans_kinds, only: wp
-    use supratrans_strings, only: int_str, fixed1, text_fingerprint
+    use supratrans_strings, only: int_str, fixed1, text_fingerprint, printable
     use supratrans_error, only: error_type, fatal_error, err_io, err_interrupted
     use supratrans_config, only: input_config
     use supratrans_system, only: remove_file, stop_signal
@@ -142,7 +142,7 @@ contains
         write_failed = .false.
         if (.not. quiet) then
             write (error_unit, "(a)") "  " // int_str(ntodo) // " " // label // slice_text(slice_index, slice_count, &
-                ntask) // ", " // int_str(ndone_start) // " already done (journal " // journal // "), " &
+                ntask) // ", " // int_str(ndone_start) // " already done (journal " // printable(journal) // "), " &
                 // int_str(threads) // " thread(s)"
             if (dropped > 0) write (error_unit, "(a)") "  " // int_str(dropped) // " journal line(s) failed their " &
                 // "checksum (cut short or altered): those tasks are computed again"
@@ -197,8 +197,7 @@ contains
             if (allocated(error)) return
             call remove_file(journal)
             call remove_file(trim(cfg%output%file) // ".partial.h5")
-            call remove_file(trim(cfg%output%file) // ".partial.h5.tmp")
-            if (.not. quiet) write (error_unit, "(a)") "  wrote part " // trim(cfg%output%file) &
+            if (.not. quiet) write (error_unit, "(a)") "  wrote part " // printable(trim(cfg%output%file)) &
                 // slice_text(slice_index, slice_count, ntask)
         end if
     end subroutine run_tasks

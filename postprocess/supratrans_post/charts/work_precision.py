@@ -39,6 +39,10 @@ from .. import cli, namelist, peer as ps
 from ..reader import PlotError, Scene, output_path
 from ..style import DPI, figure_dir, fmt, save, styled, subplots
 
+#: fpm through .ci/with_commit: the program records the repository's commit in /provenance.
+def _fpm() -> list[str]:
+    return ["sh", str(cli.repository() / ".ci" / "with_commit"), "fpm"]
+
 #: Error levels of the table.
 LEVELS = [10.0 ** -k for k in range(2, 9)]
 #: The goal of issue 5: one of our methods at least this many times faster than SciPy's best at every level.
@@ -302,7 +306,7 @@ def run_scene(nml: Path, log: Callable) -> Path:
     out = output_of(nml)
     t0 = time.monotonic()
     log(f"running: fpm run --profile release -- {nml}")
-    proc = subprocess.run(["fpm", "run", "--profile", "release", "--", str(nml)], cwd=cli.repository(),
+    proc = subprocess.run([*_fpm(), "run", "--profile", "release", "--", str(nml)], cwd=cli.repository(),
                           capture_output=True, text=True)
     if proc.returncode != 0:
         tail = (proc.stderr.strip() or proc.stdout.strip() or "no output").splitlines()[-1]

@@ -1,0 +1,113 @@
+"""The commit in /provenance is fixed when the program is built (src/io/supratrans_build_info.c, `.ci/with_commit`).
+
+The sources as they are now are committed into a temporary repository and built there, once for the module (the
+first build compiles everything: marked slow); each test then sets the state it needs and rebuilds through
+`.ci/with_commit` (one C file and the links) or with plain fpm. A run records the commit of its build, whatever its
+working directory, the directory of its executable, or a later checkout say; a build without a commit (plain fpm,
+a copy without .git) records "unknown (built without commit)", never a commit read when the program runs.
+"""
+from __future__ import annotations
+
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from conftest import ROOT, build_program
+
+pytestmark = pytest.mark.slow
+
+NO_COMMIT = "unknown (built without commit)"
+
+NAMELIST = "&chain n = 40, n0 = 30 /\n&numerics t_final = 2.0 /\n&output file = 'r.h5', quiet = .true., " \
+           "overwrite = .true. /\n"
+
+
+def git(repo: Path, *args: str) -> str:
+    """Run git in `repo` (a test identity for commits); its output, stripped."""
+    out = subprocess.run(["git", "-c", "user.name=test", "-c", "user.email=test@example.invalid", *args], cwd=repo,
+                         check=True, capture_output=True, text=True)
+    return out.stdout.strip()
+
+
+def provenance(exe: Path, where: Path) -> tuple[str, int]:
+    """Run `exe` on a tiny namelist in directory `where`; `git_commit` and `git_dirty` of its file."""
+    h5py = pytest.importorskip("h5py")
+    where.mkdir(parents=True, exist_ok=True)
+    (where / "case.nml").write_text(NAMELIST)
+    proc = subprocess.run([str(exe), "case.nml"], cwd=where, capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    with h5py.File(where / "r.h5") as f:
+        attrs = f["provenance"].attrs
+        return attrs["git_commit"].decode(), int(attrs["git_dirty"])
+
+
+@pytest.fixture(scope="module")
+def repo(tmp_path_factory) -> Path:
+    """A git repository holding the sources as they are now (tracked and new files), built once."""
+    if shutil.which("fpm") is None or shutil.which("git") is None:
+        pytest.skip("fpm or git not installed")
+    listed = subprocess.run(["git", "ls-files", "-z", "--cached", "--others", "--exclude-standard"], cwd=ROOT,
+                            check=True, capture_output=True, text=True).stdout.split("\0")
+    dest = tmp_path_factory.mktemp("build_commit") / "repo"
+    for name in filter(None, listed):
+        src = ROOT / name
+        if src.is_file():
+            (dest / name).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, dest / name)
+    git(dest, "init", "-q")
+    git(dest, "add", "-A")
+    git(dest, "commit", "-q", "-m", "the sources under test")
+    build_program(dest)
+    return dest
+
+
+def test_a_run_records_the_commit_of_its_build(repo, tmp_path):
+    built = git(repo, "rev-parse", "HEAD")
+    exe = build_program(repo)
+    assert provenance(exe, tmp_path / "elsewhere") == (built, 0)
+    # another commit checked out after the build: the program (not rebuilt) still records its build's
+    (repo / "NOTE.txt").write_text("a later commit\n")
+    git(repo, "add", "NOTE.txt")
+    git(repo, "commit", "-q", "-m", "a later commit")
+    later = git(repo, "rev-parse", "HEAD")
+    git(repo, "checkout", "-q", "--detach", later)
+    assert later != built
+    assert provenance(exe, repo / "out" / "run") == (built, 0)  # out/: ignored, the tree stays clean
+    # run from another repository, the executable copied into it: neither its directory nor the working one counts
+    other = tmp_path / "other"
+    other.mkdir()
+    git(other, "init", "-q")
+    git(other, "commit", "-q", "--allow-empty", "-m", "another repository")
+    shutil.copy2(exe, other / "supratrans")
+    assert provenance(other / "supratrans", other) == (built, 0)
+    # built again: now the later commit
+    assert provenance(build_program(repo), tmp_path / "again") == (later, 0)
+
+
+def test_uncommitted_changes_are_recorded_and_undone(repo, tmp_path):
+    head = git(repo, "rev-parse", "HEAD")
+    assert provenance(build_program(repo), tmp_path / "clean") == (head, 0)
+    scratch = repo / "scratch.txt"
+    scratch.write_text("not committed\n")
+    try:
+        assert provenance(build_program(repo), tmp_path / "dirty") == (head, 1)
+    finally:
+        scratch.unlink()
+    # back to the clean tree, whose object fpm still has: the program must not keep the dirty build's flag
+    assert provenance(build_program(repo), tmp_path / "clean_again") == (head, 0)
+
+
+def test_plain_fpm_build_records_no_commit(repo, tmp_path):
+    build_program(repo)
+    assert provenance(build_program(repo, with_commit=False), tmp_path / "plain") == (NO_COMMIT, -1)
+    assert provenance(build_program(repo), tmp_path / "wrapped") == (git(repo, "rev-parse", "HEAD"), 0)
+
+
+def test_a_copy_without_git_records_no_commit(repo, tmp_path):
+    copy = tmp_path / "copy"
+    # the sources and the build tree (so that only the C file and the links are redone), not .git
+    shutil.copytree(repo, copy, ignore=shutil.ignore_patterns(".git"), symlinks=True)
+    assert not (copy / ".git").exists()
+    assert provenance(build_program(copy), tmp_path / "run") == (NO_COMMIT, -1)
