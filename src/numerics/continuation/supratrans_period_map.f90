@@ -90,6 +90,8 @@ module supratrans_period_map
         integer :: block_columns = 0
         !> Chain parameters (c, beta, gamma, m^2, potential, absorber).
         type(chain_params) :: chain
+        !> Work: P(x; A) of `measures`, size 2N.
+        real(wp), allocatable :: px_work(:)
         !> The scheme's matrices at dt_used (three-level schemes).
         type(scheme_type) :: scheme
         !> Time levels u(0:N+1, 4) with boundary cells (three-level schemes; the columns rotate).
@@ -188,6 +190,7 @@ contains
         map%steps = max(1, ceiling(ratio*(1.0_wp - 1.0e-12_wp)))
         map%dt_used = map%period/real(map%steps, wp)
         ncol = 2*n + 1
+        allocate (map%px_work(2*n))
 
         select case (map%method)
         case (method_newton, method_linearized)
@@ -305,20 +308,19 @@ contains
         real(wp), intent(out) :: umax
         !> Mean stored energy over the period.
         real(wp), intent(out) :: energy
-        real(wp), allocatable :: px(:)
         integer :: status
 
-        allocate (px(2*self%n))
         status = map_failed
         if (size(x) == 2*self%n) then
             select case (self%method)
             case (method_newton, method_linearized)
-                call leapfrog_run(self, x, amplitude, 2*self%n + 1, 2*self%n, .true., px, status, umax, energy)
+                call leapfrog_run(self, x, amplitude, 2*self%n + 1, 2*self%n, .true., self%px_work, status, umax, &
+                                  energy)
             case default
-                call rk_run(self, x, amplitude, 2*self%n + 1, 2*self%n, .true., px, status, umax, energy)
+                call rk_run(self, x, amplitude, 2*self%n + 1, 2*self%n, .true., self%px_work, status, umax, energy)
             end select
         end if
-        if (status /= map_ok .or. .not. all_finite(px)) then
+        if (status /= map_ok .or. .not. all_finite(self%px_work)) then
             umax = ieee_value(1.0_wp, ieee_quiet_nan)
             energy = umax
         end if
@@ -410,6 +412,8 @@ contains
         if (measure) energy = energy_sum/real(m, wp)
         block = self%block_columns
         if (block < 1) block = max(1, block_entries/n)
+        tm1 = 1
+        tm = 2
         do cb = c_first, c_last, block
             call propagate_block(self, cb, min(c_last, cb + block - 1), tm1, tm, status)
             if (status /= map_ok) return
@@ -692,6 +696,7 @@ contains
         status = map_ok
         umax = 0.0_wp
         energy = 0.0_wp
+        energy_sum = 0.0_wp
         drive%amplitude = amplitude
         drive%omega = self%omega
         drive%ramp_time = 0.0_wp
