@@ -88,6 +88,8 @@ module supratrans_period_map
         !> Tangent columns propagated together by the three-level schemes (0: `block_entries` / N, so that their
         !> three levels stay in cache; the results do not depend on it).
         integer :: block_columns = 0
+        !> Newton iterations of the implicit steps in the last `apply` or `measures` (Newton scheme; 0 otherwise).
+        integer :: newton_iterations = 0
         !> Chain parameters (c, beta, gamma, m^2, potential, absorber).
         type(chain_params) :: chain
         !> Work: P(x; A) of `measures`, size 2N.
@@ -361,6 +363,7 @@ contains
         umax = 0.0_wp
         energy = 0.0_wp
         energy_sum = 0.0_wp
+        self%newton_iterations = 0
         ! state columns: lm2, lm1, lc = levels k-2, k-1, k; ln = the next level
         lm2 = 1
         lm1 = 2
@@ -454,6 +457,7 @@ contains
             mu = s%b_min + slope_lower_bound(s%potential) - 2.0_wp*abs(s%a)
             previous = huge(1.0_wp)
             do it = 1, period_newton_max_iter
+                self%newton_iterations = self%newton_iterations + 1
                 call gradient_and_slope_array(s%potential, self%u(1:n, ln), self%u(1:n, lm1), self%g, self%dga, &
                                               self%sin_s, self%cos_s)
                 call scheme_apply_a(s, self%u(:, ln), self%delta)
