@@ -11,12 +11,18 @@
 !> correction, whose denominator is |z| > 0, so one LU per point serves both the tangent and the corrector.
 !>
 !> **Chord / Shamanskii corrector.** The corrector reuses K_i (the Jacobian of the last point) and evaluates only P
-!> (no Jacobian) while the Newton steps shrink by at least `chord_rate` per iteration; when they do not, the
-!> Jacobian is evaluated at the current iterate and factorised, and the corrector goes on with that one. Each
-!> accepted point then costs one Jacobian (needed anyway for its tangent and multipliers), one LU, and a few map
-!> evaluations. The step ds grows (x1.5) after a fast correction (<= `newton_fast` iterations, no refresh),
-!> shrinks (x0.6) after a slow one, and is halved and retried when the corrector fails or the tangent turns by more
-!> than `max_angle` in one step.
+!> (no Jacobian) while the Newton steps shrink by at least `chord_rate` per iteration and fast enough to reach the
+!> tolerance within `newton_max_iter`; otherwise the Jacobian is evaluated at the current iterate and factorised,
+!> and the corrector goes on with that one. With `floquet_every` = k > 1 and `reuse_jacobian`, the points without
+!> multipliers get no Jacobian of their own: their tangent is the secant from the previous point and the last
+!> factorised matrix is carried on (its last row changed by rank one); the points with multipliers, the fold and
+!> the located crossings always have their own. The step ds grows (x1.5) after a fast correction
+!> (<= `newton_fast` iterations, no refresh; 3 more allowed after a reused Jacobian), shrinks (x0.6) after a slow
+!> one, and is halved and retried when the corrector fails or the tangent turns by more than `max_angle`.
+!>
+!> **Cost.** `continuation_stats` counts the evaluations of P alone and with its Jacobian, the LU factorisations,
+!> the solves and the eigenvalue computations, with their wall-clock times. On the sine-Gordon chain (N = 200,
+!> d = 400) the full `dgeev` of the monodromy dominates with the reference LAPACK: `floquet_every` is the control.
 !>
 !> **Fold.** The fold (saddle-node) of the branch is where the tangent's A-component t_A changes sign. Between the
 !> two points it is located by a safeguarded secant (Illinois) on t_A as a function of the pseudo-arclength step
@@ -39,7 +45,7 @@ module supratrans_continuation
     use supratrans_fixed_point_map, only: fixed_point_map, map_ok
     use supratrans_dense, only: lu_factor, lu_solve
     use supratrans_floquet, only: floquet_multipliers, largest_modulus, is_stable, leading_crossing, &
-                                  crossing_distance, nearest_real_multiplier, crossing_none, crossing_fold
+                                  crossing_distance, nearest_multiplier, crossing_none, crossing_fold
     use supratrans_shooting, only: shoot, shooting_controls, shooting_result, shoot_converged
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_finite
     implicit none
@@ -140,8 +146,11 @@ module supratrans_continuation
         real(wp) :: fold_amplitude = 0.0_wp
         !> max |P(x) - x| at the located fold point (NaN when there is none).
         real(wp) :: fold_residual = 0.0_wp
-        !> The real multiplier nearest +1 at the fold point (NaN when there is none).
+        !> Real part of the multiplier nearest +1 at the fold point (NaN when there is none).
         real(wp) :: fold_multiplier = 0.0_wp
+        !> Imaginary part of that multiplier (0 when it is real; a small value when +1 met a trapped mode's
+        !> multiplier and the two form a complex pair; NaN when there is no fold).
+        real(wp) :: fold_multiplier_imag = 0.0_wp
         !> Index of the fold point in the branch arrays (0 when there is none).
         integer :: fold_index = 0
         !> Points computed past the fold.
@@ -225,7 +234,7 @@ contains
         type(shooting_result) :: sres
         real(wp), allocatable :: x(:), wr(:), wi(:), row(:)
         real(wp) :: ds, nan, t_start
-        integer :: d, n1, info, last_checked, j, every, pos, slack
+        integer :: d, n1, info, last_checked, j, every, pos, slack, k
         logical :: ok, have_mult, lost, located, past, due
 
         t_start = wall_clock()
@@ -235,6 +244,7 @@ contains
         res%fold_amplitude = nan
         res%fold_residual = nan
         res%fold_multiplier = nan
+        res%fold_multiplier_imag = nan
         res%instability_amplitude = nan
         res%crossing_tol = ctl%crossing_tol
         call allocate_branch(res, d, ctl%max_points + 1)
@@ -347,7 +357,11 @@ contains
                     end if
                     res%fold_amplitude = fold_pt%y(n1)
                     res%fold_residual = fold_pt%residual
-                    res%fold_multiplier = nearest_real_multiplier(wr, wi, 1.0_wp)
+                    k = nearest_multiplier(wr, wi, 1.0_wp)
+                    if (k > 0) then
+                        res%fold_multiplier = wr(k)
+                        res%fold_multiplier_imag = wi(k)
+                    end if
                     call record_point(map, res, fold_pt, wr, wi, .true., pos)
                     res%fold_index = pos
                     if (pos == res%n_points) then
