@@ -57,7 +57,7 @@ module supratrans_continuation
     integer, parameter, public :: cont_fold_found = 0
     !> Status: the branch reached A > `amplitude_max` with no fold.
     integer, parameter, public :: cont_no_fold = 1
-    !> Status: Newton-shooting did not converge at the starting amplitude.
+    !> Status: Newton-shooting did not converge at the starting amplitude (or x0 has the wrong size).
     integer, parameter, public :: cont_newton_failed = 2
     !> Status: the corrector kept failing until the step fell below `ds_min`, before any fold.
     integer, parameter, public :: cont_step_too_small = 3
@@ -252,7 +252,14 @@ contains
         ! The start: Newton-shooting at fixed A
         allocate (x(d))
         x = 0.0_wp
-        if (present(x0)) x = x0
+        if (present(x0)) then
+            if (size(x0) /= d) then
+                call set_stop(res, cont_newton_failed)
+                call finish(res, t_start)
+                return
+            end if
+            x = x0
+        end if
         call shoot(map, x, ctl%amplitude_start, shooting_controls(tol=ctl%newton_tol, max_iter=ctl%newton_max_iter), &
                    sres)
         res%stats%jacobian_evaluations = size(sres%residuals)
@@ -282,7 +289,7 @@ contains
             res%instability_type = leading_crossing(wr, wi, ctl%crossing_tol)
         end if
 
-        ds = ctl%ds0
+        ds = min(max(ctl%ds0, ctl%ds_min), ctl%ds_max)
         past = .false.
         every = max(1, ctl%floquet_every)
         march: do
