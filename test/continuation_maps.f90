@@ -14,7 +14,7 @@
 !>   the circle only up to roundoff.
 module continuation_maps
     use supratrans_kinds, only: wp
-    use supratrans_fixed_point_map, only: fixed_point_map, map_ok
+    use supratrans_fixed_point_map, only: fixed_point_map, map_ok, map_failed
     implicit none
     private
 
@@ -37,6 +37,8 @@ module continuation_maps
         integer :: mode = mode_fold
         !> Number of rotation pairs of `mode_crowded`.
         integer :: n_pairs = 0
+        !> The map fails (`map_failed`) for A above this (a scheme that cannot be evaluated there).
+        real(wp) :: fail_above = huge(1.0_wp)
     contains
         !> P(x; A) and its derivatives.
         procedure :: apply => model_apply
@@ -84,6 +86,11 @@ contains
         real(wp), intent(out), optional :: dpda(:)
         real(wp) :: r, q, cs, sn, y1, y2, s2
 
+        if (amplitude > self%fail_above) then
+            px = 0.0_wp
+            status = map_failed
+            return
+        end if
         if (self%mode == mode_crowded) then
             call crowded_apply(self, x, amplitude, px, jac, dpda)
             status = map_ok

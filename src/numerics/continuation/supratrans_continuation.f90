@@ -11,12 +11,18 @@
 !> correction, whose denominator is |z| > 0, so one LU per point serves both the tangent and the corrector.
 !>
 !> **Chord / Shamanskii corrector.** The corrector reuses K_i (the Jacobian of the last point) and evaluates only P
-!> (no Jacobian) while the Newton steps shrink by at least `chord_rate` per iteration; when they do not, the
-!> Jacobian is evaluated at the current iterate and factorised, and the corrector goes on with that one. Each
-!> accepted point then costs one Jacobian (needed anyway for its tangent and multipliers), one LU, and a few map
-!> evaluations. The step ds grows (x1.5) after a fast correction (<= `newton_fast` iterations, no refresh),
-!> shrinks (x0.6) after a slow one, and is halved and retried when the corrector fails or the tangent turns by more
-!> than `max_angle` in one step.
+!> (no Jacobian) while the Newton steps shrink by at least `chord_rate` per iteration and fast enough to reach the
+!> tolerance within `newton_max_iter`; otherwise the Jacobian is evaluated at the current iterate and factorised,
+!> and the corrector goes on with that one. With `floquet_every` = k > 1 and `reuse_jacobian`, the points without
+!> multipliers get no Jacobian of their own: their tangent is the secant from the previous point and the last
+!> factorised matrix is carried on (its last row changed by rank one); the points with multipliers, the fold and
+!> the located crossings always have their own. The step ds grows (x1.5) after a fast correction
+!> (<= `newton_fast` iterations, no refresh; 3 more allowed after a reused Jacobian), shrinks (x0.6) after a slow
+!> one, and is halved and retried when the corrector fails or the tangent turns by more than `max_angle`.
+!>
+!> **Cost.** `continuation_stats` counts the evaluations of P alone and with its Jacobian, the LU factorisations,
+!> the solves and the eigenvalue computations, with their wall-clock times. On the sine-Gordon chain (N = 200,
+!> d = 400) the full `dgeev` of the monodromy dominates with the reference LAPACK: `floquet_every` is the control.
 !>
 !> **Fold.** The fold (saddle-node) of the branch is where the tangent's A-component t_A changes sign. Between the
 !> two points it is located by a safeguarded secant (Illinois) on t_A as a function of the pseudo-arclength step
@@ -39,7 +45,7 @@ module supratrans_continuation
     use supratrans_fixed_point_map, only: fixed_point_map, map_ok
     use supratrans_dense, only: lu_factor, lu_solve
     use supratrans_floquet, only: floquet_multipliers, largest_modulus, is_stable, leading_crossing, &
-                                  crossing_distance, nearest_real_multiplier, crossing_none, crossing_fold
+                                  crossing_distance, nearest_multiplier, crossing_none, crossing_fold
     use supratrans_shooting, only: shoot, shooting_controls, shooting_result, shoot_converged
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_finite
     implicit none
@@ -51,7 +57,7 @@ module supratrans_continuation
     integer, parameter, public :: cont_fold_found = 0
     !> Status: the branch reached A > `amplitude_max` with no fold.
     integer, parameter, public :: cont_no_fold = 1
-    !> Status: Newton-shooting did not converge at the starting amplitude.
+    !> Status: Newton-shooting did not converge at the starting amplitude (or x0 has the wrong size).
     integer, parameter, public :: cont_newton_failed = 2
     !> Status: the corrector kept failing until the step fell below `ds_min`, before any fold.
     integer, parameter, public :: cont_step_too_small = 3
@@ -60,6 +66,8 @@ module supratrans_continuation
 
     !> Most points examined backwards from the first unstable one for a bracket of the crossing |mu| = 1.
     integer, parameter :: walk_back = 10
+    !> Corrector iterations more that the step control allows when the corrector started from a reused Jacobian.
+    integer, parameter :: reuse_slack = 3
 
     !> Controls of the continuation, with their defaults.
     type, public :: continuation_controls
@@ -96,6 +104,10 @@ module supratrans_continuation
         real(wp) :: beyond_fold_distance = 0.0_wp
         !> Multipliers at every floquet_every-th point (1: all), at the fold, and where the verdict changes.
         integer :: floquet_every = 1
+        !> Between the points with multipliers, reuse the last factorised Jacobian (Shamanskii across points): no
+        !> Jacobian at such a point, the secant (y_i - y_{i-1}) / |y_i - y_{i-1}| as its tangent. Without effect
+        !> when floquet_every = 1 (every point then has its Jacobian).
+        logical :: reuse_jacobian = .true.
         !> Accuracy in A of the located fold and of the located loss of stability.
         real(wp) :: fold_tol = 1.0e-10_wp
     end type continuation_controls
@@ -134,8 +146,11 @@ module supratrans_continuation
         real(wp) :: fold_amplitude = 0.0_wp
         !> max |P(x) - x| at the located fold point (NaN when there is none).
         real(wp) :: fold_residual = 0.0_wp
-        !> The real multiplier nearest +1 at the fold point (NaN when there is none).
+        !> Real part of the multiplier nearest +1 at the fold point (NaN when there is none).
         real(wp) :: fold_multiplier = 0.0_wp
+        !> Imaginary part of that multiplier (0 when it is real; a small value when +1 met a trapped mode's
+        !> multiplier and the two form a complex pair; NaN when there is no fold).
+        real(wp) :: fold_multiplier_imag = 0.0_wp
         !> Index of the fold point in the branch arrays (0 when there is none).
         integer :: fold_index = 0
         !> Points computed past the fold.
@@ -167,6 +182,9 @@ module supratrans_continuation
         real(wp), allocatable :: residual(:)
         !> Per point: the A-component of the unit tangent (its sign change is the fold).
         real(wp), allocatable :: tangent_amplitude(:)
+        !> Per point: 1 when the tangent was computed from the Jacobian at that point, 0 when it is the secant from
+        !> the previous point (`reuse_jacobian`).
+        integer, allocatable :: exact_tangent(:)
         !> Per point: the state x (dim x n_points).
         real(wp), allocatable :: states(:, :)
         !> Per point: the unit tangent (dx, dA) ((dim + 1) x n_points).
@@ -175,12 +193,13 @@ module supratrans_continuation
         type(continuation_stats) :: stats
     end type continuation_result
 
-    !> A factorised bordered matrix [[J - I, dP/dA]; [r^T]], with an optional rank-one change of its last row to
-    !> r + w (Sherman-Morrison: K^{-1} b = v - z (w . v) / denom, v = B^{-1} b, z = B^{-1} e_{d+1}).
+    !> A factorised bordered matrix B = [[J - I, dP/dA]; [r0^T]], with an optional rank-one change of its last row to
+    !> r0 + w (Sherman-Morrison: K^{-1} b = v - z (w . v) / denom, v = B^{-1} b, z = B^{-1} e_{d+1},
+    !> denom = 1 + w . z).
     type :: bordered_system
         real(wp), allocatable :: lu(:, :)
         integer, allocatable :: ipiv(:)
-        real(wp), allocatable :: z(:), w(:)
+        real(wp), allocatable :: row0(:), z(:), w(:)
         real(wp) :: denom = 1.0_wp
         logical :: updated = .false.
     end type bordered_system
@@ -194,6 +213,7 @@ module supratrans_continuation
         real(wp) :: residual = 0.0_wp
         integer :: iterations = 0
         integer :: refreshes = 0
+        logical :: exact = .false.
     end type branch_point
 
 contains
@@ -209,13 +229,13 @@ contains
         type(continuation_result), intent(out) :: res
         !> Initial guess of the state at `amplitude_start` (default: x = 0).
         real(wp), intent(in), optional :: x0(:)
-        type(bordered_system) :: base, next
-        type(branch_point) :: cur, trial, fold_pt, lost_pt
+        type(bordered_system) :: base, next, fresh, psys
+        type(branch_point) :: cur, trial, fold_pt, lost_pt, prev
         type(shooting_result) :: sres
         real(wp), allocatable :: x(:), wr(:), wi(:), row(:)
         real(wp) :: ds, nan, t_start
-        integer :: d, n1, info, last_checked, j
-        logical :: ok, have_mult, lost, located, past
+        integer :: d, n1, info, last_checked, j, every, pos, slack, k
+        logical :: ok, have_mult, lost, located, past, due
 
         t_start = wall_clock()
         nan = ieee_value(1.0_wp, ieee_quiet_nan)
@@ -224,6 +244,7 @@ contains
         res%fold_amplitude = nan
         res%fold_residual = nan
         res%fold_multiplier = nan
+        res%fold_multiplier_imag = nan
         res%instability_amplitude = nan
         res%crossing_tol = ctl%crossing_tol
         call allocate_branch(res, d, ctl%max_points + 1)
@@ -231,7 +252,14 @@ contains
         ! The start: Newton-shooting at fixed A
         allocate (x(d))
         x = 0.0_wp
-        if (present(x0)) x = x0
+        if (present(x0)) then
+            if (size(x0) /= d) then
+                call set_stop(res, cont_newton_failed)
+                call finish(res, t_start)
+                return
+            end if
+            x = x0
+        end if
         call shoot(map, x, ctl%amplitude_start, shooting_controls(tol=ctl%newton_tol, max_iter=ctl%newton_max_iter), &
                    sres)
         res%stats%jacobian_evaluations = size(sres%residuals)
@@ -261,16 +289,30 @@ contains
             res%instability_type = leading_crossing(wr, wi, ctl%crossing_tol)
         end if
 
-        ds = ctl%ds0
+        ds = min(max(ctl%ds0, ctl%ds_min), ctl%ds_max)
         past = .false.
+        every = max(1, ctl%floquet_every)
         march: do
             if (res%n_points >= ctl%max_points) then
                 call set_stop(res, cont_max_points)
                 exit march
             end if
-            call correct(map, cur, base, ds, ctl, trial, ok, res%stats)
+            call correct(map, cur, base, ds, ctl, trial, ok, res%stats, fresh)
             if (ok) then
-                call complete_point(map, trial, cur%t, next, ok, res%stats)
+                due = mod(res%n_points, every) == 0 .or. (res%fold_index > 0 .and. res%fold_index == res%n_points)
+                if (due .or. .not. ctl%reuse_jacobian) then
+                    call complete_point(map, trial, cur%t, next, ok, res%stats)
+                else
+                    ! Shamanskii across points: the secant as tangent, the last factorised system kept
+                    trial%t = (trial%y - cur%y)/norm2(trial%y - cur%y)
+                    if (trial%refreshes > 0) then
+                        call move_system(fresh, next)
+                    else
+                        next = base
+                    end if
+                    call set_row(next, trial%t, info, res%stats)
+                    ok = info == 0
+                end if
                 if (ok) ok = dot_product(cur%t, trial%t) >= cos(ctl%max_angle)
             end if
             if (.not. ok) then
@@ -283,22 +325,69 @@ contains
             end if
             trial%s = cur%s + ds
 
-            ! The fold: t_A changes sign between cur and trial
+            ! The fold: t_A changes sign between cur and trial (secants first, then exact tangents on both sides)
             if (res%fold_index == 0 .and. cur%t(n1)*trial%t(n1) < 0.0_wp) then
-                call locate(map, cur, base, ds, 0, 0.0_wp, ctl, fold_pt, wr, wi, located, res%stats, trial)
-                if (.not. located) then
-                    fold_pt = trial
-                    call point_multipliers(fold_pt, res%stats, wr, wi, info)
+                if (.not. trial%exact) call complete_point(map, trial, cur%t, next, ok, res%stats)
+                if (ok .and. .not. cur%exact) then
+                    call complete_point(map, cur, cur%t, base, ok, res%stats)
+                    res%tangents(:, res%n_points) = cur%t
+                    res%tangent_amplitude(res%n_points) = cur%t(n1)
+                    res%exact_tangent(res%n_points) = 1
                 end if
-                res%fold_amplitude = fold_pt%y(n1)
-                res%fold_residual = fold_pt%residual
-                res%fold_multiplier = nearest_real_multiplier(wr, wi, 1.0_wp)
-                call record_point(map, res, fold_pt, wr, wi, .true.)
-                res%fold_index = res%n_points
-                call check_stability(res%n_points, fold_pt)
+                if (ok .and. cur%t(n1)*trial%t(n1) < 0.0_wp) then
+                    call locate(map, cur, base, ds, 0, 0.0_wp, ctl, fold_pt, wr, wi, located, res%stats, trial)
+                    pos = res%n_points + 1
+                else if (ok .and. res%n_points > 1 .and. cur%t(n1)*trial%t(n1) > 0.0_wp &
+                         .and. (trial%y(n1) - cur%y(n1))*cur%t(n1) > 0.0_wp) then
+                    ! the exact tangent at cur already points the way the branch goes after the fold: the fold lies
+                    ! between the previous point and cur
+                    call stored_point(map, res, res%n_points - 1, prev, res%stats, info)
+                    ok = info == 0
+                    if (ok) then
+                        call factor_bordered(prev%jac, prev%dpda, prev%t, psys, info, res%stats)
+                        if (info == 0) call tangent(psys, prev%t, info, res%stats)
+                        ok = info == 0 .and. prev%t(n1)*cur%t(n1) < 0.0_wp
+                    end if
+                    if (ok) then
+                        call locate(map, prev, psys, cur%s - prev%s, 0, 0.0_wp, ctl, fold_pt, wr, wi, located, &
+                                    res%stats, cur)
+                        pos = res%n_points
+                    end if
+                else
+                    ok = .false.
+                end if
+                if (ok) then
+                    if (.not. located) then
+                        fold_pt = trial
+                        if (pos == res%n_points) fold_pt = cur
+                        call point_multipliers(fold_pt, res%stats, wr, wi, info)
+                    end if
+                    res%fold_amplitude = fold_pt%y(n1)
+                    res%fold_residual = fold_pt%residual
+                    k = nearest_multiplier(wr, wi, 1.0_wp)
+                    if (k > 0) then
+                        res%fold_multiplier = wr(k)
+                        res%fold_multiplier_imag = wi(k)
+                    end if
+                    call record_point(map, res, fold_pt, wr, wi, .true., pos)
+                    res%fold_index = pos
+                    if (pos == res%n_points) then
+                        call check_stability(pos, fold_pt)
+                    else
+                        ! inserted before the last point
+                        if (res%points_beyond_fold == 0) res%points_beyond_fold = 1
+                        if (last_checked >= pos) then
+                            last_checked = last_checked + 1
+                        else
+                            call check_stability(pos, fold_pt)
+                        end if
+                    end if
+                end if
+                ok = .true.
             end if
 
-            have_mult = mod(res%n_points, max(1, ctl%floquet_every)) == 0 .or. res%fold_index == res%n_points
+            have_mult = mod(res%n_points, every) == 0 .or. res%fold_index == res%n_points
+            have_mult = trial%exact .and. (have_mult .or. (res%fold_index > 0 .and. res%fold_index == res%n_points - 1))
             if (have_mult) then
                 call point_multipliers(trial, res%stats, wr, wi, info)
                 have_mult = info == 0
@@ -307,10 +396,11 @@ contains
             if (have_mult) call check_stability(res%n_points, trial)
             if (res%fold_index > 0) res%points_beyond_fold = res%points_beyond_fold + 1
 
-            ! Step control
-            if (trial%iterations <= ctl%newton_fast .and. trial%refreshes == 0) then
+            ! Step control (a corrector that started from a reused Jacobian is allowed `reuse_slack` more steps)
+            slack = merge(0, reuse_slack, cur%exact)
+            if (trial%iterations <= ctl%newton_fast + slack .and. trial%refreshes == 0) then
                 ds = min(1.5_wp*ds, ctl%ds_max)
-            else if (trial%iterations >= ctl%newton_slow .or. trial%refreshes >= 2) then
+            else if (trial%iterations >= ctl%newton_slow + slack .or. trial%refreshes >= 2) then
                 ds = max(0.6_wp*ds, ctl%ds_min)
             end if
             call move_point(trial, cur)
@@ -467,7 +557,7 @@ contains
 
     !> Predictor y_b + sigma t_b and chord/Newton corrector on {F(y) = 0, t_b . (y - y_pred) = 0} starting with the
     !> factorised base system; a slow chord step brings a fresh Jacobian at the current iterate.
-    subroutine correct(map, bp, sys, sigma, ctl, pt, ok, stats)
+    subroutine correct(map, bp, sys, sigma, ctl, pt, ok, stats, fresh_sys)
         class(fixed_point_map), intent(inout) :: map
         type(branch_point), intent(in) :: bp
         type(bordered_system), intent(in) :: sys
@@ -476,15 +566,17 @@ contains
         type(branch_point), intent(inout) :: pt
         logical, intent(out) :: ok
         type(continuation_stats), intent(inout) :: stats
-        type(bordered_system) :: fresh_sys
+        !> The system factorised at the last refresh (pt%refreshes > 0).
+        type(bordered_system), intent(inout) :: fresh_sys
         real(wp), allocatable :: y(:), ypred(:), r(:), px(:), jac(:, :), dpda(:)
-        real(wp) :: dn, dn_prev
+        real(wp) :: dn, dn_prev, rate
         integer :: d, n1, status, info, loops
         logical :: want_jac, fresh, use_fresh
 
         d = size(bp%y) - 1
         n1 = d + 1
         ok = .false.
+        pt%exact = .false.
         y = bp%y + sigma*bp%t
         ypred = y
         allocate (r(n1), px(d))
@@ -526,9 +618,16 @@ contains
             if (info /= 0) return
             dn = norm2(r)
             if (.not. ieee_is_finite(dn)) return
-            if (.not. fresh .and. pt%iterations > 0 .and. dn > ctl%chord_rate*dn_prev) then
-                want_jac = .true.
-                cycle
+            if (.not. fresh .and. pt%iterations > 0) then
+                ! Shamanskii: a fresh Jacobian when the chord contracts by less than chord_rate per step, or too
+                ! slowly to reach the tolerance within the iterations left
+                rate = dn/dn_prev
+                if (rate > ctl%chord_rate) then
+                    want_jac = .true.
+                else if (dn > ctl%newton_tol .and. rate > 0.0_wp) then
+                    want_jac = log(ctl%newton_tol/dn)/log(rate) > real(ctl%newton_max_iter - pt%iterations - 1, wp)
+                end if
+                if (want_jac) cycle
             end if
             y = y + r
             dn_prev = dn
@@ -560,37 +659,62 @@ contains
         pt%residual = maxval(abs(px - pt%y(1:d)))
         call factor_bordered(pt%jac, pt%dpda, row, sys, info, stats)
         if (info /= 0) return
-        call tangent(sys, row, pt%t, info, stats)
+        call tangent(sys, pt%t, info, stats)
         ok = info == 0
+        pt%exact = ok
     end subroutine complete_point
 
-    !> The unit tangent from a factorised [[J - I, dP/dA]; [row^T]]: z = B^{-1} e_{d+1}, t = z / |z|; the system is
-    !> then changed (rank one) to have t as its last row.
-    subroutine tangent(sys, row, t, info, stats)
+    !> The unit tangent from a freshly factorised B = [[J - I, dP/dA]; [r0^T]]: z = B^{-1} e_{d+1}, t = z / |z|
+    !> (oriented along r0: r0 . z = 1); the system is then changed (rank one) to have t as its last row.
+    subroutine tangent(sys, t, info, stats)
         type(bordered_system), intent(inout) :: sys
-        real(wp), intent(in) :: row(:)
         real(wp), allocatable, intent(inout) :: t(:)
         integer, intent(out) :: info
         type(continuation_stats), intent(inout) :: stats
-        real(wp) :: t0
-        integer :: n1
 
-        n1 = size(row)
-        sys%z = [(0.0_wp, info=1, n1 - 1), 1.0_wp]
+        call unit_solution(sys, info, stats)
+        if (info /= 0) return
+        t = sys%z/norm2(sys%z)
+        call set_row(sys, t, info, stats)
+    end subroutine tangent
+
+    !> z = B^{-1} e_{d+1} for the factorised matrix (without its rank-one change), if not yet known.
+    subroutine unit_solution(sys, info, stats)
+        type(bordered_system), intent(inout) :: sys
+        integer, intent(out) :: info
+        type(continuation_stats), intent(inout) :: stats
+        real(wp) :: t0
+        integer :: n1, i
+
+        info = 0
+        if (allocated(sys%z)) return
+        n1 = size(sys%row0)
+        allocate (sys%z(n1))
+        sys%z = [(0.0_wp, i=1, n1 - 1), 1.0_wp]
         t0 = wall_clock()
         call lu_solve(sys%lu, sys%ipiv, sys%z, info)
         stats%solves = stats%solves + 1
         stats%time_lu = stats%time_lu + wall_clock() - t0
+        if (info == 0 .and. .not. all(ieee_is_finite(sys%z))) info = 1
+        if (info /= 0) deallocate (sys%z)
+    end subroutine unit_solution
+
+    !> Change the last row of a factorised bordered system to `row` (rank one, Sherman-Morrison). `info` /= 0 when
+    !> the changed matrix is (nearly) singular: 1 + w . z, which is r . z, vanishes when `row` is orthogonal to the
+    !> branch direction z of the factorised matrix.
+    subroutine set_row(sys, row, info, stats)
+        type(bordered_system), intent(inout) :: sys
+        real(wp), intent(in) :: row(:)
+        integer, intent(out) :: info
+        type(continuation_stats), intent(inout) :: stats
+
+        call unit_solution(sys, info, stats)
         if (info /= 0) return
-        if (.not. all(ieee_is_finite(sys%z))) then
-            info = 1
-            return
-        end if
-        sys%denom = norm2(sys%z)
-        t = sys%z/sys%denom
-        sys%w = t - row
+        sys%w = row - sys%row0
+        sys%denom = 1.0_wp + dot_product(sys%w, sys%z)
         sys%updated = .true.
-    end subroutine tangent
+        if (abs(sys%denom) <= 1.0e-3_wp*norm2(sys%z)*norm2(row)) info = 1
+    end subroutine set_row
 
     !> Build and factorise [[J - I, dP/dA]; [row^T]].
     subroutine factor_bordered(jac, dpda, row, sys, info, stats)
@@ -614,6 +738,8 @@ contains
         sys%lu(1:d, d + 1) = dpda
         sys%lu(d + 1, :) = row
         call lu_factor(sys%lu, sys%ipiv, info)
+        sys%row0 = row
+        if (allocated(sys%z)) deallocate (sys%z)
         sys%updated = .false.
         stats%factorisations = stats%factorisations + 1
         stats%time_lu = stats%time_lu + wall_clock() - t0
@@ -651,7 +777,7 @@ contains
         type(continuation_stats), intent(inout) :: stats
         !> The corrected point at sigma_hi, when the caller has it.
         type(branch_point), intent(in), optional :: hi
-        type(bordered_system) :: psys
+        type(bordered_system) :: psys, fsys
         real(wp) :: a, b, c, fa, fb, fc, kappa, a_prev
         integer :: iter, side, n1, info
         logical :: ok
@@ -715,7 +841,7 @@ contains
                 pt = bp
                 okv = .true.
             else
-                call correct(map, bp, sys, sigma, ctl, pt, okv, stats)
+                call correct(map, bp, sys, sigma, ctl, pt, okv, stats, fsys)
                 if (.not. okv) return
                 call complete_point(map, pt, bp%t, psys, okv, stats)
                 if (.not. okv) return
@@ -776,26 +902,46 @@ contains
         end if
     end subroutine evaluate
 
-    !> Append a point to the branch arrays (with its multipliers when `have_mult`).
-    subroutine record_point(map, res, pt, wr, wi, have_mult)
+    !> Append a point to the branch arrays (with its multipliers when `have_mult`), or insert it at `position`.
+    subroutine record_point(map, res, pt, wr, wi, have_mult, position)
         class(fixed_point_map), intent(inout) :: map
         type(continuation_result), intent(inout) :: res
         type(branch_point), intent(in) :: pt
         real(wp), intent(in) :: wr(:), wi(:)
         logical, intent(in) :: have_mult
-        integer :: i, d
+        integer, intent(in), optional :: position
+        integer :: i, d, n
 
         d = size(pt%y) - 1
         res%n_points = res%n_points + 1
-        i = res%n_points
+        n = res%n_points
+        i = n
+        if (present(position)) i = position
+        if (i < n) then
+            res%amplitude(i + 1:n) = res%amplitude(i:n - 1)
+            res%arclength(i + 1:n) = res%arclength(i:n - 1)
+            res%umax(i + 1:n) = res%umax(i:n - 1)
+            res%energy(i + 1:n) = res%energy(i:n - 1)
+            res%max_multiplier(i + 1:n) = res%max_multiplier(i:n - 1)
+            res%stable(i + 1:n) = res%stable(i:n - 1)
+            res%newton_iterations(i + 1:n) = res%newton_iterations(i:n - 1)
+            res%residual(i + 1:n) = res%residual(i:n - 1)
+            res%tangent_amplitude(i + 1:n) = res%tangent_amplitude(i:n - 1)
+            res%exact_tangent(i + 1:n) = res%exact_tangent(i:n - 1)
+            res%states(:, i + 1:n) = res%states(:, i:n - 1)
+            res%tangents(:, i + 1:n) = res%tangents(:, i:n - 1)
+        end if
         res%amplitude(i) = pt%y(d + 1)
         res%arclength(i) = pt%s
         call map%measures(pt%y(1:d), pt%y(d + 1), res%umax(i), res%energy(i))
         res%newton_iterations(i) = pt%iterations
         res%residual(i) = pt%residual
         res%tangent_amplitude(i) = pt%t(d + 1)
+        res%exact_tangent(i) = merge(1, 0, pt%exact)
         res%states(:, i) = pt%y(1:d)
         res%tangents(:, i) = pt%t
+        res%max_multiplier(i) = ieee_value(1.0_wp, ieee_quiet_nan)
+        res%stable(i) = -1
         if (have_mult) then
             res%max_multiplier(i) = largest_modulus(wr, wi)
             res%stable(i) = merge(1, 0, is_stable(wr, wi, res%crossing_tol))
@@ -836,6 +982,7 @@ contains
         pt%s = res%arclength(i)
         pt%iterations = res%newton_iterations(i)
         pt%residual = res%residual(i)
+        pt%exact = res%exact_tangent(i) == 1
         if (.not. allocated(pt%jac)) allocate (pt%jac(d, d), pt%dpda(d))
         allocate (px(d))
         call evaluate(map, pt%y, px, status, stats, pt%jac, pt%dpda)
@@ -850,7 +997,7 @@ contains
         nan = ieee_value(1.0_wp, ieee_quiet_nan)
         allocate (res%amplitude(capacity), res%arclength(capacity), res%umax(capacity), res%energy(capacity), &
                   res%max_multiplier(capacity), res%residual(capacity), res%tangent_amplitude(capacity))
-        allocate (res%stable(capacity), res%newton_iterations(capacity))
+        allocate (res%stable(capacity), res%newton_iterations(capacity), res%exact_tangent(capacity))
         allocate (res%states(d, capacity), res%tangents(d + 1, capacity))
         res%max_multiplier = nan
         res%stable = -1
@@ -880,6 +1027,7 @@ contains
         res%max_multiplier = res%max_multiplier(1:n)
         res%residual = res%residual(1:n)
         res%tangent_amplitude = res%tangent_amplitude(1:n)
+        res%exact_tangent = res%exact_tangent(1:n)
         res%stable = res%stable(1:n)
         res%newton_iterations = res%newton_iterations(1:n)
         res%states = res%states(:, 1:n)
@@ -898,6 +1046,7 @@ contains
         to%residual = from%residual
         to%iterations = from%iterations
         to%refreshes = from%refreshes
+        to%exact = from%exact
     end subroutine move_point
 
     subroutine move_system(from, to)
@@ -905,6 +1054,7 @@ contains
 
         call move_alloc(from%lu, to%lu)
         call move_alloc(from%ipiv, to%ipiv)
+        call move_alloc(from%row0, to%row0)
         call move_alloc(from%z, to%z)
         call move_alloc(from%w, to%w)
         to%denom = from%denom

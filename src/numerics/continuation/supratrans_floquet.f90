@@ -16,7 +16,7 @@ module supratrans_floquet
     private
 
     public :: floquet_multipliers, largest_modulus, is_stable, leading_crossing, crossing_distance, crossing_name
-    public :: nearest_real_multiplier
+    public :: nearest_multiplier
 
     !> No multiplier beyond the unit circle (by more than crossing_tol).
     integer, parameter, public :: crossing_none = 0
@@ -108,22 +108,20 @@ contains
         end do
     end function crossing_distance
 
-    !> The real multiplier nearest to `target` (+1 at a fold); NaN-free: `target` + huge when there is none.
-    pure real(wp) function nearest_real_multiplier(wr, wi, target)
+    !> Index of the multiplier nearest to the real number `target` in the complex plane (+1 at a fold; 0 for an
+    !> empty list). At a fold of the undamped chain the multiplier +1 can meet a trapped mode's multiplier near +1
+    !> and the two come out of `dgeev` as a complex pair 1 +- i eps: the nearest one, real or not, is the fold's.
+    pure integer function nearest_multiplier(wr, wi, target)
         !> Real parts.
         real(wp), intent(in) :: wr(:)
         !> Imaginary parts.
         real(wp), intent(in) :: wi(:)
         !> The value sought (+1 or -1).
         real(wp), intent(in) :: target
-        integer :: k
 
-        nearest_real_multiplier = target + huge(1.0_wp)
-        do k = 1, size(wr)
-            if (wi(k) /= 0.0_wp) cycle
-            if (abs(wr(k) - target) < abs(nearest_real_multiplier - target)) nearest_real_multiplier = wr(k)
-        end do
-    end function nearest_real_multiplier
+        nearest_multiplier = 0
+        if (size(wr) > 0) nearest_multiplier = minloc(hypot(wr - target, wi), dim=1)
+    end function nearest_multiplier
 
     !> The name of a crossing kind, as written into output files: "none", "fold", "period_doubling", "torus".
     pure function crossing_name(kind) result(name)

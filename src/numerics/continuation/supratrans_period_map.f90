@@ -14,12 +14,15 @@
 !>   (`rk4_step`, `rk8_step` on the method-of-lines system of `supratrans_mol`).
 !>
 !> The tangent (the monodromy matrix dP/dx, whose eigenvalues are the Floquet multipliers of the discrete scheme,
-!> and dP/dA) is the derivative of the discrete map itself, propagated with the state, all its 2N + 1 columns at
-!> once (the columns asked for: an `apply` without `jac` and `dpda` propagates none):
+!> and dP/dA) is the derivative of the discrete map itself, propagated with the state, its 2N + 1 columns together
+!> (the columns asked for: an `apply` without `jac` and `dpda` propagates none):
 !>
 !> * Newton scheme: (A + diag(dG/da)) du^{k+1} = B du^k + (C - diag(dG/db)) du^{k-1}, with a = u^{k+1},
-!>   b = u^{k-1} the converged levels (dG/db(a, b) = dG/da(b, a): G is symmetric): one `dgttrf` and one `dgttrs`
-!>   with all the columns a step (a division when beta = 0, where the matrix is diagonal);
+!>   b = u^{k-1} the converged levels (dG/db(a, b) = dG/da(b, a): G is symmetric): one `dgttrf` a step and
+!>   `dgttrs` with many right-hand sides (a multiplication by the reciprocal diagonal when beta = 0, where the
+!>   matrix is diagonal). The state's pass stores each step's coefficients; the columns then go through the
+!>   period in blocks that stay in cache (at N = 600 twice as fast as sweeping all the columns every step; the
+!>   same at N = 200, where the work is bound by arithmetic);
 !> * linearized scheme: A du^{k+1} = (B - diag(V''(u^k))) du^k + C du^{k-1}, A factored once;
 !> * in both, the dA column's boundary cells are du_0^k = sin(Omega t_k) (the derivative of u_0^k = A sin(Omega t_k)),
 !>   the state columns' are zero;
@@ -65,6 +68,8 @@ module supratrans_period_map
     integer, parameter, public :: period_newton_max_iter = 50
     !> Most steps a period may take (T / dt beyond this is an input error, not a run).
     integer, parameter, public :: period_max_steps = 100000000
+    !> Tangent entries (sites x columns) propagated together through a period (three levels of them stay in cache).
+    integer, parameter :: block_entries = 4096
 
     !> The one-period map P(x; A) of a stepper's discrete scheme (see the module's description).
     type, extends(fixed_point_map), public :: period_map
@@ -80,8 +85,15 @@ module supratrans_period_map
         real(wp) :: period = 0.0_wp
         !> The time step used, T / M (the configured dt, adjusted so that a period is M steps).
         real(wp) :: dt_used = 0.0_wp
+        !> Tangent columns propagated together by the three-level schemes (0: `block_entries` / N, so that their
+        !> three levels stay in cache; the results do not depend on it).
+        integer :: block_columns = 0
+        !> Newton iterations of the implicit steps in the last `apply` or `measures` (Newton scheme; 0 otherwise).
+        integer :: newton_iterations = 0
         !> Chain parameters (c, beta, gamma, m^2, potential, absorber).
         type(chain_params) :: chain
+        !> Work: P(x; A) of `measures`, size 2N.
+        real(wp), allocatable :: px_work(:)
         !> The scheme's matrices at dt_used (three-level schemes).
         type(scheme_type) :: scheme
         !> Time levels u(0:N+1, 4) with boundary cells (three-level schemes; the columns rotate).
@@ -94,14 +106,20 @@ module supratrans_period_map
         real(wp), allocatable :: dl(:), dd(:), du(:), du2(:)
         !> Pivots of the factorization.
         integer, allocatable :: ipiv(:)
-        !> Diagonals of the tangent step's right-hand side: of B (d, less V''(u^k) when linearized) and of C (e_n,
-        !> less dG/db for Newton).
-        real(wp), allocatable :: diag_b(:), diag_c(:)
+        !> sin(Omega t_k), k = 0..M+1: the drive u_0^k = A sin(Omega t_k) and the dA column's boundary cells.
+        real(wp), allocatable :: sin_t(:)
+        !> Each step's tangent coefficients (`store_tangent_step`), (N, M): the diagonals of B' and C', and J's
+        !> diagonal (its LU factors' diagonal; its reciprocal when beta = 0).
+        real(wp), allocatable :: step_b(:, :), step_c(:, :), step_d(:, :)
+        !> The rest of J's LU factors per step (Newton scheme, beta /= 0): (max(N-1, 1), M), (max(N-2, 1), M), (N, M).
+        real(wp), allocatable :: step_dl(:, :), step_du(:, :), step_du2(:, :)
+        !> J's pivots per step.
+        integer, allocatable :: step_ipiv(:, :)
         !> Tangent levels du^{k-1}, du^k, du^{k+1}: (N, 2N + 1, 3), columns d/dx_1..d/dx_2N, d/dA.
         real(wp), allocatable :: tangent(:, :, :)
         !> Work of the linearized step (the stepper's own).
         type(linearized_work) :: lin
-        !> LU factors of the linearized scheme's constant matrix A (beta /= 0).
+        !> LU factors of the linearized scheme's constant matrix A (beta /= 0; when beta = 0, `add` is 1/b_n).
         real(wp), allocatable :: adl(:), add(:), adu(:), adu2(:)
         !> Pivots of A's factorization.
         integer, allocatable :: apiv(:)
@@ -137,7 +155,7 @@ contains
         !> Allocated on failure.
         type(error_type), allocatable, intent(out) :: error
         real(wp) :: ratio
-        integer :: n, ncol, info
+        integer :: n, ncol, info, i
 
         n = run%chain%n
         if (.not. (run%drive%omega > 0.0_wp .and. run%drive%omega <= huge(1.0_wp))) then
@@ -174,6 +192,7 @@ contains
         map%steps = max(1, ceiling(ratio*(1.0_wp - 1.0e-12_wp)))
         map%dt_used = map%period/real(map%steps, wp)
         ncol = 2*n + 1
+        allocate (map%px_work(2*n))
 
         select case (map%method)
         case (method_newton, method_linearized)
@@ -181,7 +200,15 @@ contains
             allocate (map%u(0:n + 1, 4), source=0.0_wp)
             allocate (map%rhs(n), map%delta(n), map%g(n), map%dga(n), map%dgb(n), map%sin_s(n), map%cos_s(n))
             allocate (map%dl(max(n - 1, 1)), map%dd(n), map%du(max(n - 1, 1)), map%du2(max(n - 2, 1)), map%ipiv(n))
-            allocate (map%diag_b(n), map%diag_c(n))
+            allocate (map%sin_t(0:map%steps + 1))
+            do i = 0, map%steps + 1
+                map%sin_t(i) = sin(map%omega*(real(i, wp)*map%dt_used))
+            end do
+            allocate (map%step_b(n, map%steps), map%step_c(n, map%steps), map%step_d(n, map%steps))
+            if (map%method == method_newton .and. map%scheme%a /= 0.0_wp) then
+                allocate (map%step_dl(max(n - 1, 1), map%steps), map%step_du(max(n - 1, 1), map%steps), &
+                          map%step_du2(max(n - 2, 1), map%steps), map%step_ipiv(n, map%steps))
+            end if
             allocate (map%tangent(n, ncol, 3), source=0.0_wp)
             if (map%method == method_linearized) then
                 call linearized_work_init(map%lin, n)
@@ -190,7 +217,9 @@ contains
                 map%adl = map%scheme%a
                 map%adu = map%scheme%a
                 map%add = map%scheme%b
-                if (map%scheme%a /= 0.0_wp) then
+                if (map%scheme%a == 0.0_wp) then
+                    map%add = 1.0_wp/map%add            ! A diagonal: its reciprocal
+                else
                     call factor_tridiag(map%adl, map%add, map%adu, map%adu2, map%apiv, info)
                     if (info /= 0) then
                         call fatal_error(error, "period map: the linearized scheme's matrix A is singular (dgttrf info = " &
@@ -281,27 +310,29 @@ contains
         real(wp), intent(out) :: umax
         !> Mean stored energy over the period.
         real(wp), intent(out) :: energy
-        real(wp), allocatable :: px(:)
         integer :: status
 
-        allocate (px(2*self%n))
         status = map_failed
         if (size(x) == 2*self%n) then
             select case (self%method)
             case (method_newton, method_linearized)
-                call leapfrog_run(self, x, amplitude, 2*self%n + 1, 2*self%n, .true., px, status, umax, energy)
+                call leapfrog_run(self, x, amplitude, 2*self%n + 1, 2*self%n, .true., self%px_work, status, umax, &
+                                  energy)
             case default
-                call rk_run(self, x, amplitude, 2*self%n + 1, 2*self%n, .true., px, status, umax, energy)
+                call rk_run(self, x, amplitude, 2*self%n + 1, 2*self%n, .true., self%px_work, status, umax, energy)
             end select
         end if
-        if (status /= map_ok .or. .not. all_finite(px)) then
+        if (status /= map_ok .or. .not. all_finite(self%px_work)) then
             umax = ieee_value(1.0_wp, ieee_quiet_nan)
             energy = umax
         end if
     end subroutine period_map_measures
 
-    !> One period of a three-level scheme from x = (u^0, u^1): P = (u^M, u^{M+1}), the tangent columns
-    !> c_first..c_last alongside, the measures when asked for.
+    !> One period of a three-level scheme from x = (u^0, u^1): P = (u^M, u^{M+1}), the measures when asked for,
+    !> and the tangent columns c_first..c_last: the state's pass stores each step's tangent coefficients (the
+    !> diagonals of B', C' and the factored matrix), then the columns are propagated through the whole period in
+    !> blocks of `block_entries` / N columns, which stay in cache (column after column, one sweep over the
+    !> tangent levels per step would be bound by memory bandwidth).
     subroutine leapfrog_run(self, x, amplitude, c_first, c_last, measure, px, status, umax, energy, jac, dpda)
         !> The map.
         class(period_map), intent(inout) :: self
@@ -323,17 +354,16 @@ contains
         real(wp), intent(inout), optional :: jac(:, :)
         !> dP/dA (column 2N + 1).
         real(wp), intent(inout), optional :: dpda(:)
-        integer :: n, m, step, info, j, lm2, lm1, lc, ln, tm1, tc, tn, swap
-        real(wp) :: dt, s_old, s_cur, s_new, energy_sum
-        logical :: tangent
+        integer :: n, m, step, info, j, lm2, lm1, lc, ln, swap, block, cb, tm, tm1
+        real(wp) :: energy_sum
 
         n = self%n
         m = self%steps
-        dt = self%dt_used
-        tangent = c_first <= c_last
         status = map_ok
         umax = 0.0_wp
         energy = 0.0_wp
+        energy_sum = 0.0_wp
+        self%newton_iterations = 0
         ! state columns: lm2, lm1, lc = levels k-2, k-1, k; ln = the next level
         lm2 = 1
         lm1 = 2
@@ -343,34 +373,17 @@ contains
         self%u(:, lc) = 0.0_wp
         self%u(1:n, lm1) = x(1:n)
         self%u(1:n, lc) = x(n + 1:2*n)
-        self%u(0, lm1) = amplitude*sin(self%omega*0.0_wp)
-        self%u(0, lc) = amplitude*sin(self%omega*dt)
+        self%u(0, lm1) = amplitude*self%sin_t(0)
+        self%u(0, lc) = amplitude*self%sin_t(1)
         ! the predictor's level -1: its first prediction is the linear extrapolation 2 u^1 - u^0
         self%u(:, lm2) = 2.0_wp*self%u(:, lm1) - self%u(:, lc)
-        ! tangent columns: tm1, tc, tn = du^{k-1}, du^k, du^{k+1}
-        tm1 = 1
-        tc = 2
-        tn = 3
-        if (tangent) then
-            self%tangent(:, c_first:c_last, tm1) = 0.0_wp
-            self%tangent(:, c_first:c_last, tc) = 0.0_wp
-            do j = c_first, min(c_last, n)
-                self%tangent(j, j, tm1) = 1.0_wp
-            end do
-            do j = max(c_first, n + 1), min(c_last, 2*n)
-                self%tangent(j - n, j, tc) = 1.0_wp
-            end do
-        end if
         if (measure) then
             umax = max(maxval(abs(self%u(1:n, lm1))), maxval(abs(self%u(1:n, lc))))
             energy_sum = stored_energy(self%scheme, self%chain%m2, self%u(:, lc), self%u(:, lm1))
         end if
-        s_old = sin(self%omega*0.0_wp)
-        s_cur = sin(self%omega*dt)
         do step = 1, m
             ! level k + 1 = step + 1
-            s_new = sin(self%omega*(real(step + 1, wp)*dt))
-            self%u(0, ln) = amplitude*s_new
+            self%u(0, ln) = amplitude*self%sin_t(step + 1)
             self%u(n + 1, ln) = 0.0_wp
             if (self%method == method_newton) then
                 call newton_solve(self, lm2, lm1, lc, ln, status)
@@ -379,9 +392,8 @@ contains
                 if (info /= 0) status = map_failed
             end if
             if (status /= map_ok) return
-            if (tangent) then
-                call leapfrog_tangent_step(self, lm1, lc, ln, tm1, tc, tn, c_first, c_last, s_old, s_cur, s_new, &
-                                           status)
+            if (c_first <= c_last) then
+                call store_tangent_step(self, step, lm1, lc, ln, status)
                 if (status /= map_ok) return
             end if
             if (measure) then
@@ -396,26 +408,28 @@ contains
             lm1 = lc
             lc = ln
             ln = swap
-            swap = tm1
-            tm1 = tc
-            tc = tn
-            tn = swap
-            s_old = s_cur
-            s_cur = s_new
         end do
         ! lm1, lc hold the levels M and M + 1
         px(1:n) = self%u(1:n, lm1)
         px(n + 1:2*n) = self%u(1:n, lc)
         if (measure) energy = energy_sum/real(m, wp)
+        block = self%block_columns
+        if (block < 1) block = max(1, block_entries/n)
+        tm1 = 1
+        tm = 2
+        do cb = c_first, c_last, block
+            call propagate_block(self, cb, min(c_last, cb + block - 1), tm1, tm, status)
+            if (status /= map_ok) return
+        end do
         if (present(jac)) then
             do j = 1, 2*n
                 jac(1:n, j) = self%tangent(:, j, tm1)
-                jac(n + 1:2*n, j) = self%tangent(:, j, tc)
+                jac(n + 1:2*n, j) = self%tangent(:, j, tm)
             end do
         end if
         if (present(dpda)) then
             dpda(1:n) = self%tangent(:, 2*n + 1, tm1)
-            dpda(n + 1:2*n) = self%tangent(:, 2*n + 1, tc)
+            dpda(n + 1:2*n) = self%tangent(:, 2*n + 1, tm)
         end if
     end subroutine leapfrog_run
 
@@ -443,6 +457,7 @@ contains
             mu = s%b_min + slope_lower_bound(s%potential) - 2.0_wp*abs(s%a)
             previous = huge(1.0_wp)
             do it = 1, period_newton_max_iter
+                self%newton_iterations = self%newton_iterations + 1
                 call gradient_and_slope_array(s%potential, self%u(1:n, ln), self%u(1:n, lm1), self%g, self%dga, &
                                               self%sin_s, self%cos_s)
                 call scheme_apply_a(s, self%u(:, ln), self%delta)
@@ -484,109 +499,171 @@ contains
         status = map_ok
     end subroutine newton_solve
 
-    !> The tangent step of a three-level scheme: du^{k+1} (column tn) from du^k (tc) and du^{k-1} (tm1) for the
-    !> columns c_first..c_last, at the converged levels lm1, lc, ln (k-1, k, k+1). s_old, s_cur, s_new are
-    !> sin(Omega t) at t_{k-1}, t_k, t_{k+1}: the dA column's boundary cells.
-    subroutine leapfrog_tangent_step(self, lm1, lc, ln, tm1, tc, tn, c_first, c_last, s_old, s_cur, s_new, status)
+    !> Store the tangent coefficients of step `step` (levels k-1, k, k+1 = step + 1 in columns lm1, lc, ln,
+    !> converged): du^{k+1} = J^{-1} (B' du^k + C' du^{k-1}) with
+    !> Newton: J = A + diag(dG/da(u^{k+1}, u^{k-1})), B' = B, C' = C - diag(dG/db) (dG/db(a, b) = dG/da(b, a));
+    !> linearized: J = A (factored once), B' = B - diag(V''(u^k)), C' = C. The diagonals of B' and C' go to
+    !> `step_b`, `step_c`; J's LU factors (`dgttrf`) to `step_dl`, `step_d`, `step_du`, `step_du2`, `step_ipiv`, or
+    !> when beta = 0 (J diagonal) its reciprocal to `step_d`.
+    subroutine store_tangent_step(self, step, lm1, lc, ln, status)
         !> The map.
         class(period_map), intent(inout) :: self
+        !> The step (1..M).
+        integer, intent(in) :: step
         !> State columns of the levels k-1, k, k+1.
         integer, intent(in) :: lm1, lc, ln
-        !> Tangent levels k-1, k, k+1.
-        integer, intent(in) :: tm1, tc, tn
-        !> Tangent columns propagated.
-        integer, intent(in) :: c_first, c_last
-        !> sin(Omega t_{k-1}), sin(Omega t_k), sin(Omega t_{k+1}).
-        real(wp), intent(in) :: s_old, s_cur, s_new
-        !> `map_ok` or `map_failed`.
+        !> `map_ok` or `map_failed` (a singular J).
         integer, intent(out) :: status
         integer :: n, info, j
-        logical :: newton
 
         n = self%n
         status = map_ok
-        newton = self%method == method_newton
         associate (s => self%scheme)
-            if (newton) then
-                ! J = A + diag(dG/da(u^{k+1}, u^{k-1})), C - diag(dG/db) with dG/db(a, b) = dG/da(b, a)
+            if (self%method == method_newton) then
                 call gradient_and_slope_array(s%potential, self%u(1:n, ln), self%u(1:n, lm1), self%g, self%dga, &
                                               self%sin_s, self%cos_s)
                 call gradient_and_slope_array(s%potential, self%u(1:n, lm1), self%u(1:n, ln), self%g, self%dgb, &
                                               self%sin_s, self%cos_s)
                 do j = 1, n
-                    self%diag_b(j) = s%d
-                    self%diag_c(j) = s%e(j) - self%dgb(j)
-                    self%dd(j) = s%b(j) + self%dga(j)
+                    self%step_b(j, step) = s%d
+                    self%step_c(j, step) = s%e(j) - self%dgb(j)
                 end do
+                if (s%a == 0.0_wp) then
+                    do j = 1, n
+                        self%step_d(j, step) = 1.0_wp/(s%b(j) + self%dga(j))
+                    end do
+                else
+                    do j = 1, n
+                        self%step_d(j, step) = s%b(j) + self%dga(j)
+                    end do
+                    self%step_dl(:, step) = s%a
+                    self%step_du(:, step) = s%a
+                    call factor_tridiag(self%step_dl(:, step), self%step_d(:, step), self%step_du(:, step), &
+                                        self%step_du2(:, step), self%step_ipiv(:, step), info)
+                    if (info /= 0) status = map_failed
+                end if
             else
-                ! A du^{k+1} = (B - diag(V''(u^k))) du^k + C du^{k-1}
                 do j = 1, n
-                    self%diag_b(j) = s%d - potential_d2v(s%potential, self%u(j, lc))
-                    self%diag_c(j) = s%e(j)
-                    self%dd(j) = s%b(j)
+                    self%step_b(j, step) = s%d - potential_d2v(s%potential, self%u(j, lc))
+                    self%step_c(j, step) = s%e(j)
                 end do
-            end if
-            call tangent_rhs(n, s%c2, s%a, self%diag_b, self%diag_c, self%tangent(:, c_first:c_last, tm1), &
-                             self%tangent(:, c_first:c_last, tc), self%tangent(:, c_first:c_last, tn))
-            if (c_last == 2*n + 1) then
-                ! the dA column's boundary cells: v^k's u_0^k, u_0^{k-1} parts and A's u_0^{k+1} part
-                self%tangent(1, c_last, tn) = self%tangent(1, c_last, tn) + s%c2*s_cur + s%a*(s_old - s_new)
-            end if
-            if (s%a == 0.0_wp) then
-                call scale_rows(self%dd, self%tangent(:, c_first:c_last, tn))
-            else if (newton) then
-                self%dl = s%a
-                self%du = s%a
-                call factor_tridiag(self%dl, self%dd, self%du, self%du2, self%ipiv, info)
-                if (info == 0) call solve_factored_tridiag(self%dl, self%dd, self%du, self%du2, self%ipiv, &
-                                                           self%tangent(:, c_first:c_last, tn), info)
-                if (info /= 0) status = map_failed
-            else
-                call solve_factored_tridiag(self%adl, self%add, self%adu, self%adu2, self%apiv, &
-                                            self%tangent(:, c_first:c_last, tn), info)
-                if (info /= 0) status = map_failed
             end if
         end associate
-    end subroutine leapfrog_tangent_step
+    end subroutine store_tangent_step
 
-    !> The tangent step's right-hand side for a block of columns: t_new = B' t_cur + C' t_old with
-    !> B' = tridiag(c^2, diag_b, c^2), C' = tridiag(a, diag_c, a) and zero boundary cells.
-    pure subroutine tangent_rhs(n, c2, a, diag_b, diag_c, t_old, t_cur, t_new)
+    !> Propagate the tangent columns cb..ce through the period with the stored coefficients of each step; on exit
+    !> columns cb..ce of tangent levels `tm1`, `tm` hold du^M and du^{M+1}. The dA column (2N + 1) gets the boundary
+    !> cells du_0^k = sin(Omega t_k): c^2 du_0^k + a (du_0^{k-1} - du_0^{k+1}) in the right-hand side's first row.
+    subroutine propagate_block(self, cb, ce, tm1, tm, status)
+        !> The map.
+        class(period_map), intent(inout) :: self
+        !> First and last column of the block.
+        integer, intent(in) :: cb, ce
+        !> Tangent levels holding du^M and du^{M+1} on exit.
+        integer, intent(out) :: tm1, tm
+        !> `map_ok` or `map_failed`.
+        integer, intent(out) :: status
+        integer :: n, j, step, tn, swap, forced, info
+        real(wp) :: boundary
+        logical :: newton
+
+        n = self%n
+        status = map_ok
+        newton = self%method == method_newton
+        forced = 0
+        if (ce == 2*n + 1) forced = ce - cb + 1
+        tm1 = 1
+        tm = 2
+        tn = 3
+        self%tangent(:, cb:ce, tm1) = 0.0_wp
+        self%tangent(:, cb:ce, tm) = 0.0_wp
+        do j = cb, min(ce, n)
+            self%tangent(j, j, tm1) = 1.0_wp
+        end do
+        do j = max(cb, n + 1), min(ce, 2*n)
+            self%tangent(j - n, j, tm) = 1.0_wp
+        end do
+        associate (s => self%scheme)
+            do step = 1, self%steps
+                ! levels k - 1, k, k + 1 = step - 1, step, step + 1
+                boundary = s%c2*self%sin_t(step) + s%a*(self%sin_t(step - 1) - self%sin_t(step + 1))
+                if (s%a == 0.0_wp) then
+                    if (newton) then
+                        call tangent_rhs(n, s%c2, s%a, self%step_b(:, step), self%step_c(:, step), .true., &
+                                         self%step_d(:, step), forced, boundary, self%tangent(:, cb:ce, tm1), &
+                                         self%tangent(:, cb:ce, tm), self%tangent(:, cb:ce, tn))
+                    else
+                        call tangent_rhs(n, s%c2, s%a, self%step_b(:, step), self%step_c(:, step), .true., &
+                                         self%add, forced, boundary, self%tangent(:, cb:ce, tm1), &
+                                         self%tangent(:, cb:ce, tm), self%tangent(:, cb:ce, tn))
+                    end if
+                else
+                    call tangent_rhs(n, s%c2, s%a, self%step_b(:, step), self%step_c(:, step), .false., &
+                                     self%step_b(:, step), forced, boundary, self%tangent(:, cb:ce, tm1), &
+                                     self%tangent(:, cb:ce, tm), self%tangent(:, cb:ce, tn))
+                    if (newton) then
+                        call solve_factored_tridiag(self%step_dl(:, step), self%step_d(:, step), self%step_du(:, step), &
+                                                    self%step_du2(:, step), self%step_ipiv(:, step), &
+                                                    self%tangent(:, cb:ce, tn), info)
+                    else
+                        call solve_factored_tridiag(self%adl, self%add, self%adu, self%adu2, self%apiv, &
+                                                    self%tangent(:, cb:ce, tn), info)
+                    end if
+                    if (info /= 0) then
+                        status = map_failed
+                        return
+                    end if
+                end if
+                swap = tm1
+                tm1 = tm
+                tm = tn
+                tn = swap
+            end do
+        end associate
+    end subroutine propagate_block
+
+    !> The tangent step's right-hand side for a block of columns, t_new = B' t_cur + C' t_old with
+    !> B' = tridiag(c^2, diag_b, c^2), C' = tridiag(a, diag_c, a), zero boundary cells but for column `forced`
+    !> (the dA column; 0: none), whose first row gets `boundary`; when `scaled`, multiplied row by row by `recip`
+    !> in the same pass (the diagonal solve when beta = 0).
+    pure subroutine tangent_rhs(n, c2, a, diag_b, diag_c, scaled, recip, forced, boundary, t_old, t_cur, t_new)
         !> Number of sites N (>= 2).
         integer, intent(in) :: n
         !> Coupling c^2 and the off-diagonal a = -beta/(2 dt).
         real(wp), intent(in) :: c2, a
         !> Diagonals of B' and C'.
         real(wp), intent(in), contiguous :: diag_b(:), diag_c(:)
+        !> Whether to scale by `recip`.
+        logical, intent(in) :: scaled
+        !> Row factors (the reciprocal of the diagonal matrix J), size N.
+        real(wp), intent(in), contiguous :: recip(:)
+        !> Column of the block that is d/dA (0: none).
+        integer, intent(in) :: forced
+        !> Its boundary term.
+        real(wp), intent(in) :: boundary
         !> Tangent levels k-1 and k, (N, columns).
         real(wp), intent(in), contiguous :: t_old(:, :), t_cur(:, :)
-        !> The right-hand side, (N, columns).
+        !> The right-hand side (or solution, when `scaled`), (N, columns).
         real(wp), intent(out), contiguous :: t_new(:, :)
         integer :: i, j
+        real(wp) :: extra
 
         do j = 1, size(t_new, 2)
-            t_new(1, j) = diag_b(1)*t_cur(1, j) + c2*t_cur(2, j) + diag_c(1)*t_old(1, j) + a*t_old(2, j)
+            extra = 0.0_wp
+            if (j == forced) extra = boundary
+            t_new(1, j) = diag_b(1)*t_cur(1, j) + c2*t_cur(2, j) + diag_c(1)*t_old(1, j) + a*t_old(2, j) + extra
             do i = 2, n - 1
                 t_new(i, j) = diag_b(i)*t_cur(i, j) + c2*(t_cur(i - 1, j) + t_cur(i + 1, j)) &
                               + diag_c(i)*t_old(i, j) + a*(t_old(i - 1, j) + t_old(i + 1, j))
             end do
             t_new(n, j) = diag_b(n)*t_cur(n, j) + c2*t_cur(n - 1, j) + diag_c(n)*t_old(n, j) + a*t_old(n - 1, j)
+            if (scaled) then
+                do i = 1, n
+                    t_new(i, j) = t_new(i, j)*recip(i)
+                end do
+            end if
         end do
     end subroutine tangent_rhs
-
-    !> Divide the rows of a block by a diagonal: t(i, :) = t(i, :) / d(i) (the diagonal solve when beta = 0).
-    pure subroutine scale_rows(d, t)
-        !> The diagonal, size N (overwritten by its reciprocals).
-        real(wp), intent(inout), contiguous :: d(:)
-        !> The block, (N, columns).
-        real(wp), intent(inout), contiguous :: t(:, :)
-        integer :: j
-
-        d = 1.0_wp/d
-        do j = 1, size(t, 2)
-            t(:, j) = t(:, j)*d
-        end do
-    end subroutine scale_rows
 
     !> One period of a Runge-Kutta method from x = (u, v) at t = 0 (the stepper's own step, M times), the tangent
     !> columns c_first..c_last alongside, the measures when asked for.
@@ -623,6 +700,7 @@ contains
         status = map_ok
         umax = 0.0_wp
         energy = 0.0_wp
+        energy_sum = 0.0_wp
         drive%amplitude = amplitude
         drive%omega = self%omega
         drive%ramp_time = 0.0_wp
