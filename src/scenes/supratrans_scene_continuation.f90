@@ -476,13 +476,13 @@ contains
             "1", "Eigenvalue computations (Floquet multipliers)", error, dims=dims)
         if (.not. allocated(error)) call h5_write(file, g // "wall_time", task_grid(recs%wall_time, nomega), "s", &
             "Wall-clock time of the task (one thread)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "time_map", task_grid(recs%time_map, nomega), "s", &
+        if (.not. allocated(error)) call h5_write(file, g // "wall_time_map", task_grid(recs%time_map, nomega), "s", &
             "Of the wall time: evaluations of the period map alone", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "time_tangent", task_grid(recs%time_tangent, nomega), &
+        if (.not. allocated(error)) call h5_write(file, g // "wall_time_tangent", task_grid(recs%time_tangent, nomega), &
             "s", "Of the wall time: evaluations of the period map with its tangent (2N + 1 columns)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "time_lu", task_grid(recs%time_lu, nomega), "s", &
+        if (.not. allocated(error)) call h5_write(file, g // "wall_time_lu", task_grid(recs%time_lu, nomega), "s", &
             "Of the wall time: dense LU factorisations and solves of the shooting systems", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "time_eigen", task_grid(recs%time_eigen, nomega), "s", &
+        if (.not. allocated(error)) call h5_write(file, g // "wall_time_eigen", task_grid(recs%time_eigen, nomega), "s", &
             "Of the wall time: eigenvalues of the monodromy matrices (Floquet multipliers)", error, dims=dims)
         if (.not. allocated(error) .and. elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", &
                                                                                elapsed, error)
