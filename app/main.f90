@@ -22,6 +22,7 @@ program main
     call run_command(args, status, error, text)
     if (len(text) > 0) write (output_unit, "(a)") text
     if (allocated(error)) write (error_unit, "(a)") "error: " // printable(error%message)
+    flush (error_unit)          ! the line reaches a redirected stderr whatever happens at exit
     deallocate (args, text)
     if (allocated(error)) deallocate (error)
     if (status /= 0) stop status, quiet=.true.

@@ -352,7 +352,7 @@ contains
         call run_bifurcation(cfg, error)
         seconds = wall_seconds() - seconds
         if (allocated(error)) error stop "benchmark: " // error%message
-        call h5_open(file, out, .false., error)
+        call h5_open(file, out, error)
         if (.not. allocated(error)) call h5_read(file, "/cost/runs", runs, error)
         if (.not. allocated(error)) call h5_read(file, "/cost/steps", steps, error)
         if (.not. allocated(error)) call h5_read(file, "/threshold", threshold, error)

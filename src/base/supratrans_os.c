@@ -121,6 +121,10 @@ void supratrans_catch_stop_signals(void)
     sigaction(SIGUSR1, &sa, NULL);
 }
 
+/* Ignore SIGXFSZ: a write beyond the file size limit (ulimit -f) then fails with EFBIG, which every write checks and
+ * reports in one line, instead of killing the process (or, under gfortran's backtrace handler, printing a trace). */
+void supratrans_ignore_file_size_signal(void) { signal(SIGXFSZ, SIG_IGN); }
+
 /* The signal that asked the program to stop, 0 if none. */
 int supratrans_stop_signal(void) { return (int)stop_signal; }
 

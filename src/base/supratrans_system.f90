@@ -18,8 +18,9 @@ module supratrans_system
     private
 
     public :: make_directories, rename_file, remove_file, is_directory, path_kind, file_size
-    public :: lock_file, unlock_file, catch_stop_signals, stop_signal, same_file, append_bytes, link_kind
-    public :: temp_name, write_file_atomic, commit_file, remove_stale_temporaries, os_error_text, disable_hdf5_locking
+    public :: lock_file, unlock_file, catch_stop_signals, ignore_file_size_signal, stop_signal, same_file, append_bytes, link_kind
+    public :: temp_name, write_file_atomic, write_bytes_atomic, commit_file, remove_stale_temporaries, os_error_text, &
+        disable_hdf5_locking
 
     !> `path_kind`: nothing at that path.
     integer, parameter, public :: path_missing = 0
@@ -120,6 +121,8 @@ module supratrans_system
         end subroutine c_unlock
         subroutine c_catch_stop_signals() bind(c, name="supratrans_catch_stop_signals")
         end subroutine c_catch_stop_signals
+        subroutine c_ignore_file_size_signal() bind(c, name="supratrans_ignore_file_size_signal")
+        end subroutine c_ignore_file_size_signal
         function c_stop_signal() bind(c, name="supratrans_stop_signal") result(sig)
             import :: c_int
             integer(c_int) :: sig
@@ -318,6 +321,26 @@ contains
         if (err /= 0) call fatal_error(error, final // ": cannot write (" // os_error_text(err) // ")", err_io)
     end subroutine write_file_atomic
 
+    !> Write the bytes `bytes` as the new contents of `final`, atomically, as `write_file_atomic` does (a fresh
+    !> temporary created exclusively, every write checked, fsync, rename; nothing left behind on failure).
+    subroutine write_bytes_atomic(final, bytes, error)
+        !> The file.
+        character(len=*), intent(in) :: final
+        !> Its new contents (an HDF5 file's image).
+        character(kind=c_char, len=1), intent(in) :: bytes(:)
+        !> Error, allocated on failure (the message names the file and the system's reason, e.g. "No space left on
+        !> device").
+        type(error_type), allocatable, intent(out) :: error
+        integer :: err
+
+        if (index(final, c_null_char) > 0) then
+            call fatal_error(error, "file name holds a NUL character", err_io)
+            return
+        end if
+        err = int(c_write_file_atomic(final // c_null_char, bytes, int(size(bytes), c_long_long)))
+        if (err /= 0) call fatal_error(error, final // ": cannot write (" // os_error_text(err) // ")", err_io)
+    end subroutine write_bytes_atomic
+
     !> Give a finished temporary file its final name: fsync it, rename(2) it onto `final` (replacing `final` itself,
     !> never the target of a link there), fsync the directory.
     subroutine commit_file(tmp, final, error)
@@ -366,6 +389,12 @@ contains
     subroutine catch_stop_signals()
         call c_catch_stop_signals()
     end subroutine catch_stop_signals
+
+    !> From now on a write beyond the file size limit (`ulimit -f`) fails with EFBIG, reported like a full disk,
+    !> instead of SIGXFSZ ending the process.
+    subroutine ignore_file_size_signal()
+        call c_ignore_file_size_signal()
+    end subroutine ignore_file_size_signal
 
     !> The signal number that asked the program to stop, 0 if none arrived.
     function stop_signal() result(sig)

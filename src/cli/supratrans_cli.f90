@@ -27,7 +27,7 @@ module supratrans_cli
     use supratrans_system, only: make_directories, path_kind, path_directory, path_missing, same_file, lock_file, &
                                  unlock_file, remove_file, catch_stop_signals, link_kind, path_link, path_special, &
                                  lock_busy, lock_unsupported, remove_stale_temporaries, disable_hdf5_locking, &
-                                 temp_extra, path_regular
+                                 temp_extra, path_regular, ignore_file_size_signal
     use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
     use supratrans_input, only: read_input, read_input_text
     use supratrans_validate, only: validate_config
@@ -90,6 +90,7 @@ contains
 
         status = 0
         text = ""
+        call ignore_file_size_signal()
         if (size(args) == 0) then
             call fail(usage)
             return
@@ -404,7 +405,7 @@ contains
         header = trim(line) // " "
         if (ios /= 0 .or. index(header, "supratrans-journal ") /= 1) return
         if (index(header, " " // cfg%fingerprint // " ") == 0) return
-        call h5_open(h5, file, .false., cause)
+        call h5_open(h5, file, cause)
         if (allocated(cause)) return
         call h5_read(h5, "provenance/namelist", text, cause)
         if (.not. allocated(cause)) then

@@ -4,10 +4,13 @@ module supratrans_curves
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
     use supratrans_config, only: input_config, run_config
+    use supratrans_potential, only: potential_name
+    use supratrans_chain, only: band_gap_edge
+    use supratrans_hdf5, only: h5_file, h5_write, h5_write_attr, h5_create_group
     implicit none
     private
 
-    public :: curve_count, potential_count, value_count, curve_run, curve_indices, curve_value
+    public :: curve_count, potential_count, value_count, curve_run, curve_indices, curve_value, write_curves
 
 contains
 
@@ -98,5 +101,53 @@ contains
             value = cfg%scene%values(ival)
         end if
     end function curve_value
+
+    !> Write `/curves`, the same in every scene: the group's attribute `vary`, and per curve its potential, the value
+    !> of the varied parameter (in the units of that parameter: gamma and beta 1/time, m2 1/time^2; "1" and NaN when
+    !> nothing varies), gamma, beta, m^2 and the band-gap edge sqrt(1 + m^2). A scene adds its own per-curve
+    !> datasets (`threshold_As`, `screen_dt`) after this.
+    subroutine write_curves(file, cfg, runs)
+        !> Open output file (a failure sticks in it).
+        type(h5_file), intent(inout) :: file
+        !> Validated input.
+        type(input_config), intent(in) :: cfg
+        !> The run configuration of each curve (`curve_run`).
+        type(run_config), intent(in) :: runs(:)
+        character(len=16) :: names(size(runs))
+        real(wp) :: values(size(runs)), edge(size(runs)), gamma(size(runs)), beta(size(runs)), m2(size(runs))
+        character(len=:), allocatable :: value_units
+        integer :: ic
+
+        do ic = 1, size(runs)
+            names(ic) = potential_name(runs(ic)%chain%potential)
+            values(ic) = curve_value(cfg, ic)
+            edge(ic) = band_gap_edge(runs(ic)%chain)
+            gamma(ic) = runs(ic)%chain%gamma
+            beta(ic) = runs(ic)%chain%beta
+            m2(ic) = runs(ic)%chain%m2
+        end do
+        select case (trim(cfg%scene%vary))
+        case ("gamma", "beta")
+            value_units = "1/time"
+        case ("m2")
+            value_units = "1/time^2"
+        case default
+            value_units = "1"
+        end select
+        call h5_create_group(file, "/curves", "One entry per curve: a potential and a value of the varied " &
+                             // "parameter (attribute vary), the values fastest")
+        call h5_write_attr(file, "/curves", "vary", trim(cfg%scene%vary))
+        call h5_write(file, "/curves/potential", names, "1", "On-site potential of each curve", dims="curve")
+        call h5_write(file, "/curves/value", values, value_units, "Value of the varied parameter (attribute vary " &
+                      // "of /curves) of each curve; NaN when vary = 'none'", dims="curve")
+        call h5_write(file, "/curves/gamma", gamma, "1/time", "External damping gamma of each curve", &
+                      dims="curve")
+        call h5_write(file, "/curves/beta", beta, "1/time", "Internal damping beta of each curve", &
+                      dims="curve")
+        call h5_write(file, "/curves/m2", m2, "1/time^2", &
+                      "Mass term m^2 of each curve (negative: imaginary mass)", dims="curve")
+        call h5_write(file, "/curves/band_gap_edge", edge, "1/time", "Upper edge sqrt(1 + m^2) of the band gap of " &
+                      // "each curve", dims="curve")
+    end subroutine write_curves
 
 end module supratrans_curves

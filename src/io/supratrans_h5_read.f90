@@ -1,12 +1,14 @@
-!> Reading HDF5 datasets and attributes back, converting numeric types by HDF5's rules and reading fixed- and
-!> variable-length strings (so that files written by h5py can be read too). Arrays come back in their Fortran
-!> shape (the reverse of the h5py shape); a logical attribute is true for any non-zero value.
+!> Reading HDF5 datasets and attributes back (what `merge`, the `--check`/resume test of a finished output and the
+!> benchmark need, and the Fortran tests), converting numeric types by HDF5's rules. Strings are read as this layer
+!> writes them, fixed-length; a variable-length string (h5py's default) is refused as "not a fixed-length string".
+!> Arrays come back in their Fortran shape (the reverse of the h5py shape); a logical attribute is true for any
+!> non-zero value.
 module supratrans_h5_read
-    use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_f_pointer, c_associated, c_char, c_size_t, c_null_char
-    use hdf5, only: hid_t, hsize_t, size_t, h5dopen_f, h5dread_f, h5dget_space_f, h5dget_type_f, h5dvlen_reclaim_f, &
-        h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, h5sget_simple_extent_npoints_f, h5p_default_f, h5tcopy_f, &
-        h5tget_size_f, h5tget_strpad_f, h5tget_class_f, h5tis_variable_str_f, h5tget_cset_f, h5tset_cset_f, h5t_string, &
-        h5t_string_f, h5t_str_spacepad_f, h5aopen_by_name_f, h5aread_f, h5aget_space_f, h5aget_type_f
+    use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_null_char
+    use hdf5, only: hid_t, hsize_t, size_t, h5dopen_f, h5dread_f, h5dget_space_f, h5dget_type_f, &
+        h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, h5sget_simple_extent_npoints_f, &
+        h5tget_size_f, h5tget_strpad_f, h5tget_class_f, h5tis_variable_str_f, h5t_string_f, h5t_str_spacepad_f, &
+        h5aopen_by_name_f, h5aread_f, h5aget_space_f, h5aget_type_f
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_io
     use supratrans_strings, only: int_str
@@ -33,16 +35,6 @@ module supratrans_h5_read
         module procedure :: read_attr_char, read_attr_real_0d, read_attr_real_1d, read_attr_int_0d
         module procedure :: read_attr_int_1d, read_attr_i8_0d, read_attr_logical
     end interface h5_read_attr
-
-    interface
-        !> C library `strlen`: length of a null-terminated string.
-        function c_strlen(str) bind(c, name="strlen") result(length)
-            import :: c_ptr, c_size_t
-            !> Address of the string.
-            type(c_ptr), value, intent(in) :: str
-            integer(c_size_t) :: length
-        end function c_strlen
-    end interface
 
     !> A list of strings (works around spurious gfortran warnings on local deferred-length character arrays).
     type :: string_array
@@ -480,14 +472,15 @@ contains
         end if
         call read_string_values(id, is_attr, values, hdferr)
         if (hdferr == -2) then
-            call fatal_error(error, disk_path(file)//": cannot "//what//" '"//object//"' as text: not a string", err_io)
+            call fatal_error(error, disk_path(file)//": cannot "//what//" '"//object//"' as text: not a fixed-length "// &
+                "string", err_io)
         else
             call check(hdferr, file, what, object, "h5dread_f/h5aread_f", error)
         end if
         call close_id(id)
     end subroutine read_strings
 
-    !> Read all strings of an open dataset or attribute, fixed or variable length. Status -2: not a string type.
+    !> Read all strings of an open dataset or attribute (fixed length). Status -2: not a fixed-length string type.
     subroutine read_string_values(id, is_attr, values, hdferr)
         !> The dataset or attribute.
         integer(hid_t), intent(in) :: id
@@ -495,21 +488,18 @@ contains
         logical, intent(in) :: is_attr
         !> The strings without padding, blank-padded to the longest.
         character(len=:), allocatable, intent(out) :: values(:)
-        !> HDF5 status; -2 if the datatype is not a string.
+        !> HDF5 status; -2 if the datatype is not a fixed-length string.
         integer, intent(out) :: hdferr
-        integer(hid_t) :: file_type, mem_type, space
+        integer(hid_t) :: file_type, space
         integer(hsize_t) :: npoints
         integer(size_t) :: width
-        integer :: type_class, pad, cset, n, i, k
+        integer :: type_class, pad, n, i, k
         integer, allocatable :: lengths(:)
         logical :: variable
-        type(c_ptr), allocatable, target :: pointers(:)
         character(kind=c_char, len=1), allocatable, target :: chars(:)
-        character(kind=c_char, len=1), pointer :: cstring(:)
         type(c_ptr) :: buf
 
         file_type = -1
-        mem_type = -1
         space = -1
         allocate (character(len=0) :: values(0))
         body: block
@@ -538,34 +528,8 @@ contains
             if (hdferr < 0) exit body
             allocate (lengths(n))
             if (variable) then
-                ! Variable-length strings (e.g. written by h5py): read C pointers, copy, let HDF5 free them.
-                call h5tcopy_f(h5t_string, mem_type, hdferr)
-                if (hdferr < 0) exit body
-                call h5tget_cset_f(file_type, cset, hdferr)
-                if (hdferr < 0) exit body
-                call h5tset_cset_f(mem_type, cset, hdferr)
-                if (hdferr < 0) exit body
-                allocate (pointers(max(n, 1)))
-                buf = c_loc(pointers)
-                if (n > 0) then
-                    call read_raw(id, is_attr, mem_type, buf, hdferr)
-                    if (hdferr < 0) exit body
-                end if
-                lengths = 0
-                do i = 1, n
-                    if (c_associated(pointers(i))) lengths(i) = int(c_strlen(pointers(i)))
-                end do
-                deallocate (values)
-                allocate (character(len=maxval([0, lengths])) :: values(n))
-                do i = 1, n
-                    values(i) = ""
-                    if (lengths(i) == 0) cycle
-                    call c_f_pointer(pointers(i), cstring, [lengths(i)])
-                    do k = 1, lengths(i)
-                        values(i) (k:k) = cstring(k)
-                    end do
-                end do
-                if (n > 0) call h5dvlen_reclaim_f(mem_type, space, h5p_default_f, buf, hdferr)
+                hdferr = -2                     ! only fixed-length strings (what this layer writes) are read
+                exit body
             else
                 ! Fixed-length strings: read the raw characters with the file's own type, strip the padding.
                 call h5tget_size_f(file_type, width, hdferr)
@@ -597,7 +561,6 @@ contains
                 end do
             end if
         end block body
-        call close_id(mem_type)
         call close_id(space)
         call close_id(file_type)
     end subroutine read_string_values

@@ -17,14 +17,14 @@ module supratrans_h5_write
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_io
     use supratrans_h5_file, only: h5_exists, real_mem_type, int_mem_type, int_file_type, i8_mem_type, disk_path, root_if_empty, &
-        check, check_writable, check_dim_names, close_id, make_space, make_lcpl, make_string_type, h5_file
+        check, check_writable, check_dim_names, close_id, make_space, make_lcpl, make_string_type, h5_file, stick, remember_dims
     implicit none
     private
 
     public :: h5_write, h5_write_attr, h5_create_group
 
     !> Write a dataset with the attributes `units` and `description` (and `dimensions` when `dims` is given):
-    !> `call h5_write(file, name, data, units, description, error [, dims])`.
+    !> `call h5_write(file, name, data, units, description [, dims])`; a failure sticks in `file`.
     !> `data`: `real(wp)` of rank 0 to 3, default integer of rank 0 to 3, `integer(i8)` of rank 0 or 1,
     !> character of rank 0 or 1. `dims` (arrays only): dimension names in C/h5py order, e.g. "probe, time".
     interface h5_write
@@ -34,7 +34,7 @@ module supratrans_h5_write
     end interface h5_write
 
     !> Write an attribute `name` of the object `object` ("/" for the root group; a missing group is created):
-    !> `call h5_write_attr(file, object, name, value, error)`. `value`: character scalar, `real(wp)` scalar or
+    !> `call h5_write_attr(file, object, name, value)` (a failure sticks in `file`). `value`: character scalar, `real(wp)` scalar or
     !> rank 1, default integer scalar or rank 1, `integer(i8)` scalar, logical scalar (stored as integer 0/1).
     interface h5_write_attr
         module procedure :: write_attr_char, write_attr_real_0d, write_attr_real_1d, write_attr_int_0d
@@ -45,29 +45,31 @@ contains
 
     !> Create a group (and missing intermediate groups) with the attribute `description`; if the group exists,
     !> only its description is (re)written.
-    subroutine h5_create_group(file, name, description, error)
+    subroutine h5_create_group(file, name, description)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the group.
         character(len=*), intent(in) :: name
         !> What the group holds.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
+        type(error_type), allocatable :: error
         integer(hid_t) :: obj
         integer :: hdferr
 
+        if (allocated(file%error)) return
         call open_or_create_group(file, name, obj, error)
-        if (allocated(error)) return
-        call put_string_attr(obj, "description", description, hdferr)
-        call check(hdferr, file, "write attribute 'description' of group", name, "h5awrite_f", error)
-        call close_id(obj)
+        if (.not. allocated(error)) then
+            call put_string_attr(obj, "description", description, hdferr)
+            call check(hdferr, file, "write attribute 'description' of group", name, "h5awrite_f", error)
+            call close_id(obj)
+        end if
+        call stick(file, error)
     end subroutine h5_create_group
 
     !> Write a `real(wp)` scalar dataset.
-    subroutine write_real_0d(file, name, data, units, description, error)
+    subroutine write_real_0d(file, name, data, units, description)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the dataset.
         character(len=*), intent(in) :: name
         !> The value.
@@ -76,17 +78,15 @@ contains
         character(len=*), intent(in) :: units
         !> What the value is.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
 
         call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, [integer(hsize_t) ::], c_loc(data), units, &
-            description, error)
+            description)
     end subroutine write_real_0d
 
     !> Write a `real(wp)` rank-1 dataset.
-    subroutine write_real_1d(file, name, data, units, description, error, dims)
+    subroutine write_real_1d(file, name, data, units, description, dims)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the dataset.
         character(len=*), intent(in) :: name
         !> The values.
@@ -95,8 +95,6 @@ contains
         character(len=*), intent(in) :: units
         !> What the values are.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         !> Name of the dimension, stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
@@ -104,13 +102,13 @@ contains
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
         call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, shape(data, kind=hsize_t), &
-            buf, units, description, error, dims)
+            buf, units, description, dims)
     end subroutine write_real_1d
 
     !> Write a `real(wp)` rank-2 dataset (h5py sees the dimensions reversed).
-    subroutine write_real_2d(file, name, data, units, description, error, dims)
+    subroutine write_real_2d(file, name, data, units, description, dims)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the dataset.
         character(len=*), intent(in) :: name
         !> The values.
@@ -119,8 +117,6 @@ contains
         character(len=*), intent(in) :: units
         !> What the values are.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         !> Names of the dimensions in C/h5py order, e.g. "probe, time"; stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
@@ -128,13 +124,13 @@ contains
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
         call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, shape(data, kind=hsize_t), &
-            buf, units, description, error, dims)
+            buf, units, description, dims)
     end subroutine write_real_2d
 
     !> Write a `real(wp)` rank-3 dataset (h5py sees the dimensions reversed).
-    subroutine write_real_3d(file, name, data, units, description, error, dims)
+    subroutine write_real_3d(file, name, data, units, description, dims)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the dataset.
         character(len=*), intent(in) :: name
         !> The values.
@@ -143,8 +139,6 @@ contains
         character(len=*), intent(in) :: units
         !> What the values are.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         !> Names of the dimensions in C/h5py order; stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
@@ -152,13 +146,13 @@ contains
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
         call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, shape(data, kind=hsize_t), &
-            buf, units, description, error, dims)
+            buf, units, description, dims)
     end subroutine write_real_3d
 
     !> Write a default-integer scalar dataset.
-    subroutine write_int_0d(file, name, data, units, description, error)
+    subroutine write_int_0d(file, name, data, units, description)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the dataset.
         character(len=*), intent(in) :: name
         !> The value.
@@ -167,17 +161,15 @@ contains
         character(len=*), intent(in) :: units
         !> What the value is.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
 
         call write_dataset(file, name, int_mem_type(), int_file_type(), [integer(hsize_t) ::], c_loc(data), units, &
-            description, error)
+            description)
     end subroutine write_int_0d
 
     !> Write a default-integer rank-1 dataset.
-    subroutine write_int_1d(file, name, data, units, description, error, dims)
+    subroutine write_int_1d(file, name, data, units, description, dims)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the dataset.
         character(len=*), intent(in) :: name
         !> The values.
@@ -186,8 +178,6 @@ contains
         character(len=*), intent(in) :: units
         !> What the values are.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         !> Name of the dimension, stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
@@ -195,13 +185,13 @@ contains
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
         call write_dataset(file, name, int_mem_type(), int_file_type(), shape(data, kind=hsize_t), &
-            buf, units, description, error, dims)
+            buf, units, description, dims)
     end subroutine write_int_1d
 
     !> Write a default-integer rank-2 dataset (h5py sees the dimensions reversed).
-    subroutine write_int_2d(file, name, data, units, description, error, dims)
+    subroutine write_int_2d(file, name, data, units, description, dims)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the dataset.
         character(len=*), intent(in) :: name
         !> The values.
@@ -210,8 +200,6 @@ contains
         character(len=*), intent(in) :: units
         !> What the values are.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         !> Names of the dimensions in C/h5py order; stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
@@ -219,13 +207,13 @@ contains
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
         call write_dataset(file, name, int_mem_type(), int_file_type(), shape(data, kind=hsize_t), &
-            buf, units, description, error, dims)
+            buf, units, description, dims)
     end subroutine write_int_2d
 
     !> Write a default-integer rank-3 dataset.
-    subroutine write_int_3d(file, name, data, units, description, error, dims)
+    subroutine write_int_3d(file, name, data, units, description, dims)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the dataset.
         character(len=*), intent(in) :: name
         !> The values.
@@ -234,8 +222,6 @@ contains
         character(len=*), intent(in) :: units
         !> What the values are.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         !> Names of the dimensions in C/h5py order; stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
@@ -243,13 +229,13 @@ contains
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
         call write_dataset(file, name, int_mem_type(), int_file_type(), shape(data, kind=hsize_t), &
-            buf, units, description, error, dims)
+            buf, units, description, dims)
     end subroutine write_int_3d
 
     !> Write an `integer(i8)` scalar dataset.
-    subroutine write_i8_0d(file, name, data, units, description, error)
+    subroutine write_i8_0d(file, name, data, units, description)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the dataset.
         character(len=*), intent(in) :: name
         !> The value.
@@ -258,17 +244,15 @@ contains
         character(len=*), intent(in) :: units
         !> What the value is.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
 
         call write_dataset(file, name, i8_mem_type(), h5t_std_i64le, [integer(hsize_t) ::], c_loc(data), units, &
-            description, error)
+            description)
     end subroutine write_i8_0d
 
     !> Write an `integer(i8)` rank-1 dataset.
-    subroutine write_i8_1d(file, name, data, units, description, error, dims)
+    subroutine write_i8_1d(file, name, data, units, description, dims)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the dataset.
         character(len=*), intent(in) :: name
         !> The values.
@@ -277,8 +261,6 @@ contains
         character(len=*), intent(in) :: units
         !> What the values are.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         !> Name of the dimension, stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
@@ -286,13 +268,13 @@ contains
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
         call write_dataset(file, name, i8_mem_type(), h5t_std_i64le, shape(data, kind=hsize_t), buf, units, &
-            description, error, dims)
+            description, dims)
     end subroutine write_i8_1d
 
     !> Write a character scalar as a fixed-length string dataset.
-    subroutine write_char_0d(file, name, data, units, description, error)
+    subroutine write_char_0d(file, name, data, units, description)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the dataset.
         character(len=*), intent(in) :: name
         !> The string (stored as given, trailing blanks included).
@@ -301,16 +283,14 @@ contains
         character(len=*), intent(in) :: units
         !> What the string is.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
 
-        call write_strings(file, name, [data], .false., units, description, error)
+        call write_strings(file, name, [data], .false., units, description)
     end subroutine write_char_0d
 
     !> Write a character array as a rank-1 fixed-length string dataset (trailing blanks are not stored).
-    subroutine write_char_1d(file, name, data, units, description, error, dims)
+    subroutine write_char_1d(file, name, data, units, description, dims)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the dataset.
         character(len=*), intent(in) :: name
         !> The strings.
@@ -319,140 +299,126 @@ contains
         character(len=*), intent(in) :: units
         !> What the strings are.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         !> Name of the dimension, stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
 
-        call write_strings(file, name, data, .true., units, description, error, dims)
+        call write_strings(file, name, data, .true., units, description, dims)
     end subroutine write_char_1d
 
     !> Write a string attribute.
-    subroutine write_attr_char(file, object, name, value, error)
+    subroutine write_attr_char(file, object, name, value)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the object ("/" for the root group).
         character(len=*), intent(in) :: object
         !> Name of the attribute.
         character(len=*), intent(in) :: name
         !> The value.
         character(len=*), intent(in) :: value
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
+        type(error_type), allocatable :: error
         integer(hid_t) :: obj
         integer :: hdferr
 
+        if (allocated(file%error)) return
         call open_attr_owner(file, object, name, obj, error)
-        if (allocated(error)) return
-        call put_string_attr(obj, name, value, hdferr)
-        call check(hdferr, file, "write attribute '"//name//"' of", object, "h5awrite_f", error)
-        call close_id(obj)
+        if (.not. allocated(error)) then
+            call put_string_attr(obj, name, value, hdferr)
+            call check(hdferr, file, "write attribute '"//name//"' of", object, "h5awrite_f", error)
+            call close_id(obj)
+        end if
+        call stick(file, error)
     end subroutine write_attr_char
 
     !> Write a `real(wp)` scalar attribute.
-    subroutine write_attr_real_0d(file, object, name, value, error)
+    subroutine write_attr_real_0d(file, object, name, value)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the object ("/" for the root group).
         character(len=*), intent(in) :: object
         !> Name of the attribute.
         character(len=*), intent(in) :: name
         !> The value.
         real(wp), intent(in), target :: value
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
 
-        call write_attr(file, object, name, real_mem_type(), h5t_ieee_f64le, [integer(hsize_t) ::], c_loc(value), &
-            error)
+        call write_attr(file, object, name, real_mem_type(), h5t_ieee_f64le, [integer(hsize_t) ::], c_loc(value))
     end subroutine write_attr_real_0d
 
     !> Write a `real(wp)` rank-1 attribute.
-    subroutine write_attr_real_1d(file, object, name, value, error)
+    subroutine write_attr_real_1d(file, object, name, value)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the object ("/" for the root group).
         character(len=*), intent(in) :: object
         !> Name of the attribute.
         character(len=*), intent(in) :: name
         !> The values.
         real(wp), intent(in), target, contiguous :: value(:)
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         type(c_ptr) :: buf
 
         buf = c_null_ptr
         if (size(value) > 0) buf = c_loc(value)
         call write_attr(file, object, name, real_mem_type(), h5t_ieee_f64le, shape(value, kind=hsize_t), &
-            buf, error)
+            buf)
     end subroutine write_attr_real_1d
 
     !> Write a default-integer scalar attribute.
-    subroutine write_attr_int_0d(file, object, name, value, error)
+    subroutine write_attr_int_0d(file, object, name, value)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the object ("/" for the root group).
         character(len=*), intent(in) :: object
         !> Name of the attribute.
         character(len=*), intent(in) :: name
         !> The value.
         integer, intent(in), target :: value
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
 
-        call write_attr(file, object, name, int_mem_type(), int_file_type(), [integer(hsize_t) ::], c_loc(value), &
-            error)
+        call write_attr(file, object, name, int_mem_type(), int_file_type(), [integer(hsize_t) ::], c_loc(value))
     end subroutine write_attr_int_0d
 
     !> Write a default-integer rank-1 attribute.
-    subroutine write_attr_int_1d(file, object, name, value, error)
+    subroutine write_attr_int_1d(file, object, name, value)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the object ("/" for the root group).
         character(len=*), intent(in) :: object
         !> Name of the attribute.
         character(len=*), intent(in) :: name
         !> The values.
         integer, intent(in), target, contiguous :: value(:)
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         type(c_ptr) :: buf
 
         buf = c_null_ptr
         if (size(value) > 0) buf = c_loc(value)
         call write_attr(file, object, name, int_mem_type(), int_file_type(), shape(value, kind=hsize_t), &
-            buf, error)
+            buf)
     end subroutine write_attr_int_1d
 
     !> Write an `integer(i8)` scalar attribute.
-    subroutine write_attr_i8_0d(file, object, name, value, error)
+    subroutine write_attr_i8_0d(file, object, name, value)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the object ("/" for the root group).
         character(len=*), intent(in) :: object
         !> Name of the attribute.
         character(len=*), intent(in) :: name
         !> The value.
         integer(i8), intent(in), target :: value
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
 
-        call write_attr(file, object, name, i8_mem_type(), h5t_std_i64le, [integer(hsize_t) ::], c_loc(value), error)
+        call write_attr(file, object, name, i8_mem_type(), h5t_std_i64le, [integer(hsize_t) ::], c_loc(value))
     end subroutine write_attr_i8_0d
 
     !> Write a logical attribute, stored as 32-bit integer 0 (false) or 1 (true).
-    subroutine write_attr_logical(file, object, name, value, error)
+    subroutine write_attr_logical(file, object, name, value)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the object ("/" for the root group).
         character(len=*), intent(in) :: object
         !> Name of the attribute.
         character(len=*), intent(in) :: name
         !> The value.
         logical, intent(in) :: value
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
 
-        call write_attr_int_0d(file, object, name, merge(1, 0, value), error)
+        call write_attr_int_0d(file, object, name, merge(1, 0, value))
     end subroutine write_attr_logical
 
     !> Create or replace an attribute of the object `obj` and write it from `buf`.
@@ -592,9 +558,9 @@ contains
     end subroutine open_attr_owner
 
     !> Write a numeric attribute of the object `object`.
-    subroutine write_attr(file, object, name, mem_type, file_type, dims, buf, error)
+    subroutine write_attr(file, object, name, mem_type, file_type, dims, buf)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the object ("/" for the root group).
         character(len=*), intent(in) :: object
         !> Name of the attribute.
@@ -607,16 +573,18 @@ contains
         integer(hsize_t), intent(in) :: dims(:)
         !> Address of the data.
         type(c_ptr), intent(in) :: buf
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
+        type(error_type), allocatable :: error
         integer(hid_t) :: obj
         integer :: hdferr
 
+        if (allocated(file%error)) return
         call open_attr_owner(file, object, name, obj, error)
-        if (allocated(error)) return
-        call put_attr(obj, name, mem_type, file_type, dims, buf, hdferr)
-        call check(hdferr, file, "write attribute '"//name//"' of", object, "h5awrite_f", error)
-        call close_id(obj)
+        if (.not. allocated(error)) then
+            call put_attr(obj, name, mem_type, file_type, dims, buf, hdferr)
+            call check(hdferr, file, "write attribute '"//name//"' of", object, "h5awrite_f", error)
+            call close_id(obj)
+        end if
+        call stick(file, error)
     end subroutine write_attr
 
     !> Prepare writing dataset `name`: check the file and the dimension names, unlink an existing dataset.
@@ -653,9 +621,9 @@ contains
     end subroutine prepare_dataset
 
     !> Create dataset `name` (replacing an existing one), write it from `buf` and describe it.
-    subroutine write_dataset(file, name, mem_type, file_type, dims, buf, units, description, error, dim_names)
+    subroutine write_dataset(file, name, mem_type, file_type, dims, buf, units, description, dim_names)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the dataset.
         character(len=*), intent(in) :: name
         !> Datatype in memory.
@@ -670,15 +638,18 @@ contains
         character(len=*), intent(in) :: units
         !> Description.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         !> Dimension names in C/h5py order.
         character(len=*), intent(in), optional :: dim_names
+        type(error_type), allocatable :: error
         integer(hid_t) :: space, lcpl, dset
         integer :: hdferr
 
+        if (allocated(file%error)) return
         call prepare_dataset(file, name, size(dims), dim_names, error)
-        if (allocated(error)) return
+        if (allocated(error)) then
+            call stick(file, error)
+            return
+        end if
         space = -1
         lcpl = -1
         dset = -1
@@ -699,16 +670,19 @@ contains
             end if
             call describe_object(dset, units, description, hdferr, dim_names)
             call check(hdferr, file, "write attributes of dataset", name, "h5awrite_f", error)
+            if (allocated(error)) exit body
+            if (present(dim_names)) call remember_dims(file, name, dim_names)
         end block body
         call close_id(dset)
         call close_id(lcpl)
         call close_id(space)
+        call stick(file, error)
     end subroutine write_dataset
 
     !> Write strings as a fixed-length string dataset: scalar (`array` false, one string) or rank 1.
-    subroutine write_strings(file, name, data, array, units, description, error, dim_names)
+    subroutine write_strings(file, name, data, array, units, description, dim_names)
         !> The file (writable).
-        type(h5_file), intent(in) :: file
+        type(h5_file), intent(inout) :: file
         !> Path of the dataset.
         character(len=*), intent(in) :: name
         !> The strings.
@@ -719,12 +693,11 @@ contains
         character(len=*), intent(in) :: units
         !> Description.
         character(len=*), intent(in) :: description
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         !> Dimension name.
         character(len=*), intent(in), optional :: dim_names
         character(kind=c_char, len=1), allocatable, target :: chars(:)
         integer(hsize_t), allocatable :: dims(:)
+        type(error_type), allocatable :: error
         integer(hid_t) :: string_type
         integer :: hdferr, width, i, k, n
         ! c_loc of a character array is stored first: passed directly, gfortran 12 adds a spurious hidden length.
@@ -747,9 +720,10 @@ contains
         end if
         call make_string_type(width, string_type, hdferr)
         call check(hdferr, file, "create string type for", name, "h5tset_size_f", error)
-        if (.not. allocated(error)) then
+        call stick(file, error)
+        if (.not. allocated(file%error)) then
             buf = c_loc(chars)
-            call write_dataset(file, name, string_type, string_type, dims, buf, units, description, error, &
+            call write_dataset(file, name, string_type, string_type, dims, buf, units, description, &
                 dim_names)
         end if
         call close_id(string_type)

@@ -7,7 +7,7 @@
 !> table (`potentials`) stores the value that stands for it (the &chain potential).
 module supratrans_parameters
     use supratrans_kinds, only: wp
-    use supratrans_error, only: error_type, fatal_error, err_io
+    use supratrans_error, only: fatal_error, err_io
     use supratrans_config, only: input_config
     use supratrans_keys, only: key_value, kt_integer, kt_real, kt_logical, kt_name, kt_path
     use supratrans_schema, only: key_table, derived_table, get_key, choice_names
@@ -24,38 +24,31 @@ module supratrans_parameters
 contains
 
     !> Write `/parameters`: every key of the input, the derived linear theory of the base run, and the schema.
-    subroutine write_parameters(file, cfg, error)
+    subroutine write_parameters(file, cfg)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The input.
         type(input_config), intent(in) :: cfg
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         integer :: ik, id
 
-        call h5_create_group(file, group, "Input parameters of the run (namelist names), and derived linear theory", &
-                             error)
+        call h5_create_group(file, group, "Input parameters of the run (namelist names), and derived linear theory")
         do ik = 1, size(key_table)
-            if (allocated(error)) return
-            call write_key(file, cfg, ik, error)
+            call write_key(file, cfg, ik)
         end do
         do id = 1, size(derived_table)
-            if (allocated(error)) return
-            call write_derived(file, cfg, id, error)
+            call write_derived(file, cfg, id)
         end do
-        if (.not. allocated(error)) call write_schema_table(file, error)
+        call write_schema_table(file)
     end subroutine write_parameters
 
     !> One key as an attribute of `/parameters`.
-    subroutine write_key(file, cfg, ik, error)
+    subroutine write_key(file, cfg, ik)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The input.
         type(input_config), intent(in) :: cfg
         !> Index in `key_table`.
         integer, intent(in) :: ik
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         type(key_value) :: v
         real(wp), allocatable :: reals(:)
         integer, allocatable :: ints(:)
@@ -70,22 +63,22 @@ contains
                 allocate (reals(v%n))
                 if (v%n > 0) reals = v%reals(1:v%n)
                 if (spec%max_values > 1) then
-                    call h5_write_attr(file, group, name, reals, error)
+                    call h5_write_attr(file, group, name, reals)
                 else
-                    call h5_write_attr(file, group, name, reals(1), error)
+                    call h5_write_attr(file, group, name, reals(1))
                 end if
             case (kt_integer)
                 allocate (ints(v%n))
                 if (v%n > 0) ints = v%ints(1:v%n)
                 if (spec%max_values > 1) then
-                    call h5_write_attr(file, group, name, ints, error)
+                    call h5_write_attr(file, group, name, ints)
                 else
-                    call h5_write_attr(file, group, name, ints(1), error)
+                    call h5_write_attr(file, group, name, ints(1))
                 end if
             case (kt_logical)
-                call h5_write_attr(file, group, name, v%flag, error)
+                call h5_write_attr(file, group, name, v%flag)
             case default
-                call h5_write_attr(file, group, name, key_attribute_text(ik, v), error)
+                call h5_write_attr(file, group, name, key_attribute_text(ik, v))
             end select
         end associate
     end subroutine write_key
@@ -117,15 +110,13 @@ contains
     end function key_attribute_text
 
     !> One derived value as an attribute of `/parameters`.
-    subroutine write_derived(file, cfg, id, error)
+    subroutine write_derived(file, cfg, id)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The input.
         type(input_config), intent(in) :: cfg
         !> Index in `derived_table`.
         integer, intent(in) :: id
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         real(wp) :: x
         character(len=:), allocatable :: name
 
@@ -141,19 +132,18 @@ contains
             case ("critical_dt")
                 x = critical_dt(chain)
             case default
-                call fatal_error(error, "/parameters: no value for the derived parameter '" // name // "'", err_io)
+                if (.not. allocated(file%error)) call fatal_error(file%error, &
+                    "/parameters: no value for the derived parameter '" // name // "'", err_io)
                 return
             end select
-            call h5_write_attr(file, group, name, x, error)
+            call h5_write_attr(file, group, name, x)
         end associate
     end subroutine write_derived
 
     !> `/parameters/schema`: one row per attribute of `/parameters` (the keys, then the derived values).
-    subroutine write_schema_table(file, error)
+    subroutine write_schema_table(file)
         !> Open output file.
         type(h5_file), intent(inout) :: file
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         character(len=*), parameter :: g = group // "/schema", dims = "parameter"
         character(len=len(key_table%description)), allocatable :: name(:), key(:), kind(:), units(:), default(:), &
             allowed(:), description(:)
@@ -184,19 +174,18 @@ contains
             allowed(nk + i) = ""
             description(nk + i) = derived_table(i)%description
         end do
-        call h5_create_group(file, g, "The schema of the attributes of /parameters, one row each (src/io/schema.toml)", &
-                             error)
-        if (.not. allocated(error)) call h5_write(file, g // "/name", name, "1", "Attribute of /parameters", error, dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/key", key, "1", &
-            "The namelist group and key it comes from (empty for a derived value)", error, dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/type", kind, "1", &
-            "Value type: integer, real, logical, name (stored as text), path (text); lists are arrays", error, dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/units", units, "1", "Units of the value", error, dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/default", default, "1", "Default of the key", error, &
+        call h5_create_group(file, g, "The schema of the attributes of /parameters, one row each (src/io/schema.toml)")
+        call h5_write(file, g // "/name", name, "1", "Attribute of /parameters", dims)
+        call h5_write(file, g // "/key", key, "1", &
+            "The namelist group and key it comes from (empty for a derived value)", dims)
+        call h5_write(file, g // "/type", kind, "1", &
+            "Value type: integer, real, logical, name (stored as text), path (text); lists are arrays", dims)
+        call h5_write(file, g // "/units", units, "1", "Units of the value", dims)
+        call h5_write(file, g // "/default", default, "1", "Default of the key", &
                                                   dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/allowed", allowed, "1", &
-            "Values allowed: range, choices, and the rules checked between keys", error, dims)
-        if (.not. allocated(error)) call h5_write(file, g // "/description", description, "1", "What it is", error, &
+        call h5_write(file, g // "/allowed", allowed, "1", &
+            "Values allowed: range, choices, and the rules checked between keys", dims)
+        call h5_write(file, g // "/description", description, "1", "What it is", &
                                                   dims)
     end subroutine write_schema_table
 

@@ -11,7 +11,6 @@ module supratrans_provenance
     use, intrinsic :: iso_fortran_env, only: compiler_version, compiler_options
     !$ use omp_lib, only: omp_get_max_threads
     use supratrans_kinds, only: supratrans_version
-    use supratrans_error, only: error_type
     use supratrans_strings, only: text_or
     use supratrans_config, only: input_config
     use supratrans_hdf5, only: h5_file, h5_create_group, h5_write_attr, h5_write
@@ -83,35 +82,33 @@ contains
     !> Write `/provenance`: attributes `version`, `git_commit` and `git_dirty` (of the build: `build_commit`,
     !> `build_dirty`), `compiler`, `compiler_options`, `omp_max_threads`, `host`, `executable`, `working_directory`,
     !> `started`, `input_file`, and the dataset `/provenance/namelist`, the input file's text exactly as read.
-    subroutine write_provenance(file, cfg, error)
+    subroutine write_provenance(file, cfg)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The input (its source, text and start time).
         type(input_config), intent(in) :: cfg
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         character(len=*), parameter :: g = "/provenance"
         character(len=:), allocatable :: text
         integer :: threads
 
         threads = 1
         !$ threads = omp_get_max_threads()
-        call h5_create_group(file, g, "Where this file comes from: code, build, machine, input", error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "version", supratrans_version, error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "git_commit", build_commit(), error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "git_dirty", build_dirty(), error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "compiler", compiler_version(), error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "compiler_options", compiler_options(), error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "omp_max_threads", threads, error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "host", host_name(), error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "executable", executable_path(), error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "working_directory", working_directory(), error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "started", text_or(cfg%started, unknown), error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "input_file", text_or(cfg%source, unknown), error)
+        call h5_create_group(file, g, "Where this file comes from: code, build, machine, input")
+        call h5_write_attr(file, g, "version", supratrans_version)
+        call h5_write_attr(file, g, "git_commit", build_commit())
+        call h5_write_attr(file, g, "git_dirty", build_dirty())
+        call h5_write_attr(file, g, "compiler", compiler_version())
+        call h5_write_attr(file, g, "compiler_options", compiler_options())
+        call h5_write_attr(file, g, "omp_max_threads", threads)
+        call h5_write_attr(file, g, "host", host_name())
+        call h5_write_attr(file, g, "executable", executable_path())
+        call h5_write_attr(file, g, "working_directory", working_directory())
+        call h5_write_attr(file, g, "started", text_or(cfg%started, unknown))
+        call h5_write_attr(file, g, "input_file", text_or(cfg%source, unknown))
         text = ""
         if (allocated(cfg%text)) text = cfg%text
-        if (.not. allocated(error)) call h5_write(file, g // "/namelist", text, "1", "The namelist file exactly as " &
-            // "read (empty for a configuration built in code)", error)
+        call h5_write(file, g // "/namelist", text, "1", "The namelist file exactly as " &
+            // "read (empty for a configuration built in code)")
     end subroutine write_provenance
 
     !> Current local date and time, ISO 8601.

@@ -27,7 +27,7 @@ module supratrans_scene_bifurcation
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config, run_config, method_from_name
-    use supratrans_curves, only: curve_count, curve_run, curve_value
+    use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge, detector_site, stable_by_paper_condition
     use supratrans_potential, only: potential_name
     use supratrans_simulate, only: simulate, number_of_levels
@@ -41,7 +41,7 @@ module supratrans_scene_bifurcation
                                         certify_unresolved, certify_failed
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1, printable
     implicit none
@@ -492,7 +492,7 @@ contains
         end if
     end subroutine write_snapshot
 
-    !> Write the scene's file `path` (as `<path>.tmp-XXXXXX`, renamed when complete): tasks not done get NaN and status
+    !> Write the scene's file `path` (built in memory, written atomically): tasks not done get NaN and status
     !> `bifurcation_pending`.
     subroutine write_bifurcation_file(tasks, path, results, done, complete, elapsed, error)
         !> The tasks.
@@ -529,50 +529,39 @@ contains
             end do
         end do
 
-        call h5_create(file, path, .true., error)
-        if (allocated(error)) return
+        call h5_create(file, path, .true.)
         call write_root(file, tasks%cfg, "bifurcation", "Supratransmission threshold (smallest transmitting driving " &
-                        // "amplitude) vs driving frequency, one curve per potential and varied value", error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/", "complete", merge(1, 0, complete), error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/", "tasks_done", count(done), error)
-        if (.not. allocated(error)) call write_scene_parameters(file, tasks%cfg, error)
-        if (.not. allocated(error)) call h5_write(file, "/omega", tasks%omegas, "1/time", &
-            "Driving frequency Omega_i = omega_min + i omega_step", error, dims="omega")
-        if (.not. allocated(error)) call write_curves(file, tasks, error)
-        if (.not. allocated(error)) then
-            call h5_write(file, "/threshold", field_grid(vals, "threshold", nomega), "rad", "Smallest driving amplitude " &
-                // "A (grid amplitude_min + k " &
-                // "resolution) at which the run transmits: the supratransmission threshold; NaN when not found " &
-                // "(see /status)", error, dims=dims)
-        end if
-        if (.not. allocated(error)) then
-            call h5_write(file, "/threshold_As", field_grid(vals, "threshold_as", nomega), &
-                "rad", "Continuum-limit threshold A_s = " &
-                // "4 arctan(lambda c / Omega) of the curve's chain (undamped theory); NaN outside the band gap", error, dims=dims)
-        end if
-        if (.not. allocated(error)) call h5_create_group(file, "/cost", "What each threshold search cost", error)
-        if (.not. allocated(error)) call h5_write(file, "/cost/runs", count_grid(vals, "runs", nomega), &
-            "1", "Simulations run by the search (coarse scan + fine scan)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/cost/steps", &
+                        // "amplitude) vs driving frequency, one curve per potential and varied value")
+        call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
+        call h5_write_attr(file, "/", "tasks_done", count(done))
+        call write_scene_parameters(file, tasks%cfg)
+        call h5_write(file, "/omega", tasks%omegas, "1/time", &
+            "Driving frequency Omega_i = omega_min + i omega_step", dims="omega")
+        call write_bifurcation_curves(file, tasks)
+        call h5_write(file, "/threshold", field_grid(vals, "threshold", nomega), "rad", "Smallest driving amplitude " &
+                      // "A (grid amplitude_min + k resolution) at which the run transmits: the supratransmission " &
+                      // "threshold; NaN when not found (see /status)", dims=dims)
+        call h5_write(file, "/threshold_As", field_grid(vals, "threshold_as", nomega), "rad", "Continuum-limit " &
+                      // "threshold A_s = 4 arctan(lambda c / Omega) of the curve's chain (undamped theory); NaN " &
+                      // "outside the band gap", dims=dims)
+        call h5_create_group(file, "/cost", "What each threshold search cost")
+        call h5_write(file, "/cost/runs", count_grid(vals, "runs", nomega), &
+            "1", "Simulations run by the search (coarse scan + fine scan)", dims=dims)
+        call h5_write(file, "/cost/steps", &
             count_grid(vals, "steps", nomega), "1", &
-            "Time steps taken by all the search's simulations (transmitting runs stop when decided)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/cost/wall_time", field_grid(vals, "wall_time", nomega), &
-            "s", "Wall-clock time of the search (one thread)", error, dims=dims)
-        if (.not. allocated(error) .and. elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", &
-                                                                               elapsed, error)
-        if (.not. allocated(error)) call h5_write(file, "/detector_site", nd, "1", &
+            "Time steps taken by all the search's simulations (transmitting runs stop when decided)", dims=dims)
+        call h5_write(file, "/cost/wall_time", field_grid(vals, "wall_time", nomega), &
+            "s", "Wall-clock time of the search (one thread)", dims=dims)
+        if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
+        call h5_write(file, "/detector_site", nd, "1", &
             "Detector site n_d of the verdict (a run transmits once |u_n| > detect amplitude for some n > n_d)", &
-            error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/status", count_grid(vals, "status", nomega), &
-            "1", "Outcome of the search (codes in attribute 'codes')", error, dims=dims)
-        if (.not. allocated(error)) call h5_write_attr(file, "/status", "codes", "-2: outside gap (Omega >= " &
-            // "sqrt(1 + m^2): not searched; NaN); -1: pending (not computed yet); " // search_status_codes(), error)
-        if (.not. allocated(error)) call write_screening(file, tasks%cfg, vals, nomega, error)
-        if (.not. allocated(error)) call write_certification(file, tasks%cfg, vals, nomega, error)
-        if (allocated(error)) then
-            call h5_discard(file)
-            return
-        end if
+            dims=dims)
+        call h5_write(file, "/status", count_grid(vals, "status", nomega), &
+            "1", "Outcome of the search (codes in attribute 'codes')", dims=dims)
+        call h5_write_attr(file, "/status", "codes", "-2: outside gap (Omega >= " &
+            // "sqrt(1 + m^2): not searched; NaN); -1: pending (not computed yet); " // search_status_codes())
+        call write_screening(file, tasks%cfg, vals, nomega)
+        call write_certification(file, tasks%cfg, vals, nomega)
         call h5_commit(file, error)
     end subroutine write_bifurcation_file
 
@@ -604,7 +593,7 @@ contains
     end function count_grid
 
     !> `/screening`: which runs of each search the screening method answered and which the scene's method confirmed.
-    subroutine write_screening(file, cfg, vals, nomega, error)
+    subroutine write_screening(file, cfg, vals, nomega)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The input.
@@ -613,8 +602,6 @@ contains
         real(wp), intent(in) :: vals(:, :)
         !> Frequencies per curve.
         integer, intent(in) :: nomega
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         character(len=*), parameter :: g = "/screening"
         type(grid_dataset), parameter :: datasets(*) = [ &
             grid_dataset("runs_screened", "runs_screened", "1", .true., "Simulations run by the screening method"), &
@@ -639,16 +626,16 @@ contains
 
         call h5_create_group(file, g, "Screening of each threshold search: amplitudes far below the threshold are " &
             // "answered by the screening method, every amplitude the search asked within [band_low, band_high] by " &
-            // "the scene's &numerics method (README, Screening)", error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "screen_method", trim(cfg%scene%screen_method), error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "screen_dt", screen_dt(cfg, cfg%run), error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "confirm_band", cfg%scene%confirm_band, error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "screen_margin", cfg%scene%screen_margin, error)
-        if (.not. allocated(error)) call write_grids(file, g, datasets, vals, nomega, error)
+            // "the scene's &numerics method (README, Screening)")
+        call h5_write_attr(file, g, "screen_method", trim(cfg%scene%screen_method))
+        call h5_write_attr(file, g, "screen_dt", screen_dt(cfg, cfg%run))
+        call h5_write_attr(file, g, "confirm_band", cfg%scene%confirm_band)
+        call h5_write_attr(file, g, "screen_margin", cfg%scene%screen_margin)
+        call write_grids(file, g, datasets, vals, nomega)
     end subroutine write_screening
 
     !> `/certify`: each threshold rechecked with the scene's method at dt/2 (only when `certify` is on).
-    subroutine write_certification(file, cfg, vals, nomega, error)
+    subroutine write_certification(file, cfg, vals, nomega)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The input.
@@ -657,8 +644,6 @@ contains
         real(wp), intent(in) :: vals(:, :)
         !> Frequencies per curve.
         integer, intent(in) :: nomega
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         character(len=*), parameter :: g = "/certify"
         type(grid_dataset), parameter :: datasets(*) = [ &
             grid_dataset("certified_threshold", "threshold", "rad", .false., &
@@ -670,18 +655,15 @@ contains
 
         if (.not. cfg%scene%certify) return
         call h5_create_group(file, g, "Each threshold rechecked with the scene's method at dt/2: the threshold must " &
-            // "transmit and the grid point below it must not; otherwise the dt/2 threshold within one coarse step", &
-            error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "dt", cfg%run%numerics%dt/2.0_wp, error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "flagged", &
-                                                       count(count_grid(vals, "certify_status", nomega) >= certify_moved), &
-                                                       error)
-        if (.not. allocated(error)) call write_grids(file, g, datasets, vals, nomega, error)
-        if (.not. allocated(error)) call h5_write_attr(file, g // "/status", "codes", certify_status_codes(), error)
+            // "transmit and the grid point below it must not; otherwise the dt/2 threshold within one coarse step")
+        call h5_write_attr(file, g, "dt", cfg%run%numerics%dt/2.0_wp)
+        call h5_write_attr(file, g, "flagged", count(count_grid(vals, "certify_status", nomega) >= certify_moved))
+        call write_grids(file, g, datasets, vals, nomega)
+        call h5_write_attr(file, g // "/status", "codes", certify_status_codes())
     end subroutine write_certification
 
     !> Datasets of a group, each a field of the search records as a (curve, omega) grid (`grid_dataset`).
-    subroutine write_grids(file, group, datasets, vals, nomega, error)
+    subroutine write_grids(file, group, datasets, vals, nomega)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The group the datasets go into.
@@ -692,8 +674,6 @@ contains
         real(wp), intent(in) :: vals(:, :)
         !> Frequencies per curve.
         integer, intent(in) :: nomega
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         character(len=*), parameter :: dims = "curve, omega"
         integer :: i
 
@@ -701,74 +681,47 @@ contains
             associate (d => datasets(i))
                 if (d%count) then
                     call h5_write(file, group // "/" // trim(d%name), count_grid(vals, trim(d%field), nomega), &
-                                  trim(d%units), trim(d%description), error, dims=dims)
+                                  trim(d%units), trim(d%description), dims=dims)
                 else
                     call h5_write(file, group // "/" // trim(d%name), field_grid(vals, trim(d%field), nomega), &
-                                  trim(d%units), trim(d%description), error, dims=dims)
+                                  trim(d%units), trim(d%description), dims=dims)
                 end if
             end associate
-            if (allocated(error)) return
         end do
     end subroutine write_grids
 
     !> `/parameters`: every input key (`write_parameters`), the coarse step the search used, and
     !> `stop_when_decided` = 1 (every run of the search stops once decided).
-    subroutine write_scene_parameters(file, cfg, error)
+    subroutine write_scene_parameters(file, cfg)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The input.
         type(input_config), intent(in) :: cfg
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         character(len=*), parameter :: g = "/parameters"
 
-        call write_parameters(file, cfg, error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "coarse_step_used", &
-            effective_coarse_step(cfg%scene%coarse_step, cfg%scene%resolution), error)
-        if (.not. allocated(error)) call h5_write_attr(file, g, "stop_when_decided", .true., error)
+        call write_parameters(file, cfg)
+        call h5_write_attr(file, g, "coarse_step_used", &
+            effective_coarse_step(cfg%scene%coarse_step, cfg%scene%resolution))
+        call h5_write_attr(file, g, "stop_when_decided", .true.)
     end subroutine write_scene_parameters
 
-    !> `/curves`: what distinguishes the curves.
-    subroutine write_curves(file, tasks, error)
-        !> Open output file.
+    !> `/curves` (`write_curves` of `supratrans_curves`, the same in every scene) and, with screening, each curve's
+    !> screening time step `/curves/screen_dt`.
+    subroutine write_bifurcation_curves(file, tasks)
+        !> Open output file (a failure sticks in it).
         type(h5_file), intent(inout) :: file
         !> The tasks.
         type(bifurcation_tasks), intent(in) :: tasks
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
-        character(len=16), allocatable :: names(:)
-        real(wp), allocatable :: value(:), gamma(:), beta(:), m2(:), edge(:), sdt(:)
-        integer :: ic, ncurve
+        real(wp) :: sdt(size(tasks%runs))
+        integer :: ic
 
-        ncurve = size(tasks%runs)
-        allocate (names(ncurve), value(ncurve), gamma(ncurve), beta(ncurve), m2(ncurve), edge(ncurve), sdt(ncurve))
-        do ic = 1, ncurve
-            names(ic) = potential_name(tasks%runs(ic)%chain%potential)
-            gamma(ic) = tasks%runs(ic)%chain%gamma
-            beta(ic) = tasks%runs(ic)%chain%beta
-            m2(ic) = tasks%runs(ic)%chain%m2
-            edge(ic) = band_gap_edge(tasks%runs(ic)%chain)
-            value(ic) = curve_value(tasks%cfg, ic)
+        call write_curves(file, tasks%cfg, tasks%runs)
+        do ic = 1, size(tasks%runs)
             sdt(ic) = screen_dt(tasks%cfg, curve_run(tasks%cfg, ic))
         end do
-        call h5_create_group(file, "/curves", "One curve per potential and value of the varied parameter", error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/curves", "vary", trim(tasks%cfg%scene%vary), error)
-        if (.not. allocated(error)) call h5_write(file, "/curves/potential", names, "1", &
-            "On-site potential of each curve", error, dims="curve")
-        if (.not. allocated(error)) call h5_write(file, "/curves/value", value, "1", &
-            "Value of the varied parameter (/curves attribute 'vary') of each curve; NaN when nothing varies", &
-            error, dims="curve")
-        if (.not. allocated(error)) call h5_write(file, "/curves/gamma", gamma, "1/time", &
-            "External damping gamma of each curve", error, dims="curve")
-        if (.not. allocated(error)) call h5_write(file, "/curves/beta", beta, "1/time", &
-            "Internal damping beta of each curve", error, dims="curve")
-        if (.not. allocated(error)) call h5_write(file, "/curves/m2", m2, "1/time^2", &
-            "Mass term m^2 of each curve", error, dims="curve")
-        if (.not. allocated(error)) call h5_write(file, "/curves/band_gap_edge", edge, "1/time", &
-            "Upper edge sqrt(1 + m^2) of each curve's band gap", error, dims="curve")
-        if (.not. allocated(error) .and. trim(tasks%cfg%scene%screen_method) /= "none") call h5_write(file, &
-            "/curves/screen_dt", sdt, "time", "Time step of each curve's screening runs (/screening)", error, dims="curve")
-    end subroutine write_curves
+        if (trim(tasks%cfg%scene%screen_method) /= "none") call h5_write(file, &
+            "/curves/screen_dt", sdt, "time", "Time step of each curve's screening runs (/screening)", dims="curve")
+    end subroutine write_bifurcation_curves
 
     !> Time step of the screening runs of `run`: `screen_dt`, or when it is 0, twice the run's dt where that meets
     !> the paper's stability condition for the run's chain, else the run's dt.

@@ -23,7 +23,7 @@ module supratrans_scene_continuation
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
                                  method_name
-    use supratrans_curves, only: curve_count, curve_run, curve_value
+    use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge
     use supratrans_potential, only: potential_name
     use supratrans_status, only: status_outside_gap, status_not_run
@@ -32,7 +32,7 @@ module supratrans_scene_continuation
     use supratrans_fold_line, only: trace_fold, fold_status_codes, instability_type_codes, fold_found
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1
     use supratrans_scene_bifurcation, only: bifurcation_omegas
@@ -288,96 +288,78 @@ contains
             end if
         end do
 
-        call h5_create(file, path, .true., error)
-        if (allocated(error)) return
+        call h5_create(file, path, .true.)
         call write_root(file, tasks%cfg, "continuation", "Fold (saddle-node) of the branch of driven periodic " &
                         // "states vs driving frequency: the supratransmission threshold of the model, one curve per " &
-                        // "potential and varied value, with Floquet stability and convergence", error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/", "complete", merge(1, 0, complete), error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/", "tasks_done", count(done), error)
-        if (.not. allocated(error)) call write_parameters(file, tasks%cfg, error)
-        if (.not. allocated(error)) call h5_write(file, "/omega", tasks%omegas, "1/time", &
-            "Driving frequency Omega_i = omega_min + i omega_step", error, dims="omega")
-        if (.not. allocated(error)) call write_curves(file, tasks, error)
-        if (.not. allocated(error)) call h5_write(file, "/fold_amplitude", grid(recs%fold_amplitude), "rad", &
+                        // "potential and varied value, with Floquet stability and convergence")
+        call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
+        call h5_write_attr(file, "/", "tasks_done", count(done))
+        call write_parameters(file, tasks%cfg)
+        call h5_write(file, "/omega", tasks%omegas, "1/time", &
+            "Driving frequency Omega_i = omega_min + i omega_step", dims="omega")
+        call write_curves(file, tasks%cfg, tasks%runs)
+        call h5_write(file, "/fold_amplitude", grid(recs%fold_amplitude), "rad", &
             "Fold A_f of the branch of periodic states (the model's supratransmission threshold when the branch is " &
-            // "stable up to it); NaN when none (see /status)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/fold_residual", grid(recs%fold_residual), "rad", &
-            "max-norm of the shooting residual P(x) - x at the located fold", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/instability_amplitude", grid(recs%instability_amplitude), &
+            // "stable up to it); NaN when none (see /status)", dims=dims)
+        call h5_write(file, "/fold_residual", grid(recs%fold_residual), "rad", &
+            "max-norm of the shooting residual P(x) - x at the located fold", dims=dims)
+        call h5_write(file, "/instability_amplitude", grid(recs%instability_amplitude), &
             "rad", "First amplitude along the branch where a Floquet multiplier leaves the unit circle; NaN when " &
-            // "the branch stays stable up to its fold", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/instability_type", igrid(recs%instability_type), "1", &
-            "How the branch first loses stability (codes in attribute 'codes')", error, dims=dims)
-        if (.not. allocated(error)) call h5_write_attr(file, "/instability_type", "codes", instability_type_codes(), &
-                                                       error)
-        if (.not. allocated(error)) call h5_write(file, "/threshold", grid(recs%threshold), "rad", &
+            // "the branch stays stable up to its fold", dims=dims)
+        call h5_write(file, "/instability_type", igrid(recs%instability_type), "1", &
+            "How the branch first loses stability (codes in attribute 'codes')", dims=dims)
+        call h5_write_attr(file, "/instability_type", "codes", instability_type_codes())
+        call h5_write(file, "/threshold", grid(recs%threshold), "rad", &
             "The model's threshold: the smaller of the fold and the first loss of stability (/threshold_kind says " &
-            // "which)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/threshold_kind", igrid(recs%threshold_kind), "1", &
-            "Which one /threshold is (the codes of /instability_type; 1: the fold)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write_attr(file, "/threshold_kind", "codes", instability_type_codes(), &
-                                                       error)
-        if (.not. allocated(error)) call h5_write(file, "/threshold_As", grid(recs%threshold_as), "rad", &
+            // "which)", dims=dims)
+        call h5_write(file, "/threshold_kind", igrid(recs%threshold_kind), "1", &
+            "Which one /threshold is (the codes of /instability_type; 1: the fold)", dims=dims)
+        call h5_write_attr(file, "/threshold_kind", "codes", instability_type_codes())
+        call h5_write(file, "/threshold_As", grid(recs%threshold_as), "rad", &
             "Continuum-limit threshold A_s = 4 arctan(lambda c / Omega) of the curve's chain; NaN outside the gap", &
-            error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/status", igrid(recs%status), "1", &
-            "Outcome of the continuation (codes in attribute 'codes')", error, dims=dims)
-        if (.not. allocated(error)) call h5_write_attr(file, "/status", "codes", "-2: outside gap (not computed); " &
-            // "-1: pending (not computed yet); " // fold_status_codes(), error)
-        if (.not. allocated(error)) call h5_write(file, "/outside_gap", task_igrid(merge(1, 0, &
+            dims=dims)
+        call h5_write(file, "/status", igrid(recs%status), "1", &
+            "Outcome of the continuation (codes in attribute 'codes')", dims=dims)
+        call h5_write_attr(file, "/status", "codes", "-2: outside gap (not computed); " &
+            // "-1: pending (not computed yet); " // fold_status_codes())
+        call h5_write(file, "/outside_gap", task_igrid(merge(1, 0, &
             [(tasks%omegas(mod(t - 1, nomega) + 1) >= band_gap_edge(tasks%runs((t - 1)/nomega + 1)%chain), &
             t=1, ntask)]), nomega), "1", "1 where Omega >= sqrt(1 + m^2), outside the curve's band gap: computed only " &
-            // "with allow_outside_gap, and no fold is expected there", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/dt_used", grid(recs%dt_used), "time", &
-            "Time step used: the drive period 2 pi / Omega over a whole number M of steps", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, "/steps_per_period", igrid(recs%steps_per_period), "1", &
-            "Steps M per drive period", error, dims=dims)
-        if (.not. allocated(error)) call write_convergence(file, recs, nomega, error)
-        if (.not. allocated(error)) call write_cost(file, recs, nomega, elapsed, error)
-        if (.not. allocated(error)) then
-            call h5_create_group(file, "/branch", "The branch of periodic states of each task, point by point " &
-                // "from A = 0 (NaN past /branch/points)", error)
-        end if
-        if (.not. allocated(error)) call h5_write(file, "/branch/points", igrid(recs%points), "1", &
-            "Points computed on the branch", error, dims=dims)
+            // "with allow_outside_gap, and no fold is expected there", dims=dims)
+        call h5_write(file, "/dt_used", grid(recs%dt_used), "time", &
+            "Time step used: the drive period 2 pi / Omega over a whole number M of steps", dims=dims)
+        call h5_write(file, "/steps_per_period", igrid(recs%steps_per_period), "1", &
+            "Steps M per drive period", dims=dims)
+        call write_convergence(file, recs, nomega)
+        call write_cost(file, recs, nomega, elapsed)
+        call h5_create_group(file, "/branch", "The branch of periodic states of each task, point by point " &
+            // "from A = 0 (NaN past /branch/points)")
+        call h5_write(file, "/branch/points", igrid(recs%points), "1", &
+            "Points computed on the branch", dims=dims)
         allocate (branch(npts, nomega, ncurve))
         do q = 1, size(branch_quantities)
-            if (allocated(error)) exit
             do t = 1, ntask
                 branch(:, mod(t - 1, nomega) + 1, (t - 1)/nomega + 1) = recs(t)%branch(q, :)
             end do
             call h5_write(file, "/branch/" // trim(branch_quantities(q)), branch, branch_units(q), &
-                          branch_description(q), error, dims="curve, omega, point")
+                          branch_description(q), dims="curve, omega, point")
         end do
-        if (.not. allocated(error)) then
-            call h5_create_group(file, "/multipliers", "Floquet multipliers of largest modulus at a few points of " &
-                // "each branch: the first point, the one nearest half the fold, the fold, the last point", error)
-        end if
+        call h5_create_group(file, "/multipliers", "Floquet multipliers of largest modulus at a few points of " &
+            // "each branch: the first point, the one nearest half the fold, the fold, the last point")
         allocate (mult(kept_multipliers, multiplier_samples, ntask))
-        if (.not. allocated(error)) then
-            do t = 1, ntask
-                mult(:, :, t) = recs(t)%multiplier_re
-            end do
-            call h5_write(file, "/multipliers/real", mult, "1", "Real parts of the multipliers (task = (curve - 1) " &
-                          // "nomega + omega)", error, dims="task, sample, multiplier")
-        end if
-        if (.not. allocated(error)) then
-            do t = 1, ntask
-                mult(:, :, t) = recs(t)%multiplier_im
-            end do
-            call h5_write(file, "/multipliers/imag", mult, "1", "Imaginary parts of the multipliers", error, &
-                          dims="task, sample, multiplier")
-        end if
-        if (.not. allocated(error)) then
-            call h5_write(file, "/multipliers/amplitude", reshape([(recs(t)%multiplier_amplitude, t=1, ntask)], &
-                          [multiplier_samples, ntask]), "rad", "Amplitude of each sampled branch point", error, &
-                          dims="task, sample")
-        end if
-        if (allocated(error)) then
-            call h5_discard(file)
-            return
-        end if
+        do t = 1, ntask
+            mult(:, :, t) = recs(t)%multiplier_re
+        end do
+        call h5_write(file, "/multipliers/real", mult, "1", "Real parts of the multipliers (task = (curve - 1) " &
+                      // "nomega + omega)", dims="task, sample, multiplier")
+        do t = 1, ntask
+            mult(:, :, t) = recs(t)%multiplier_im
+        end do
+        call h5_write(file, "/multipliers/imag", mult, "1", "Imaginary parts of the multipliers", &
+                      dims="task, sample, multiplier")
+        call h5_write(file, "/multipliers/amplitude", reshape([(recs(t)%multiplier_amplitude, t=1, ntask)], &
+                      [multiplier_samples, ntask]), "rad", "Amplitude of each sampled branch point", &
+                      dims="task, sample")
         call h5_commit(file, error)
 
     contains
@@ -423,34 +405,32 @@ contains
     end function task_igrid
 
     !> `/convergence`: each fold again at dt/2 and on a chain twice as long, the extrapolation and the digits.
-    subroutine write_convergence(file, recs, nomega, error)
+    subroutine write_convergence(file, recs, nomega)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The records, one per task.
         type(fold_record), intent(in) :: recs(:)
         !> Frequencies per curve.
         integer, intent(in) :: nomega
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         character(len=*), parameter :: g = "/convergence/", dims = "curve, omega"
 
         call h5_create_group(file, "/convergence", "How many digits of each fold are converged: the fold located " &
-            // "again at dt/2 and on a chain twice as long (&scene fold_convergence); NaN when not computed", error)
-        if (.not. allocated(error)) call h5_write(file, g // "fold_half_dt", task_grid(recs%fold_half_dt, nomega), &
-            "rad", "Fold at dt/2 (the same method, M doubled)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "fold_long_chain", task_grid(recs%fold_long_chain, &
-            nomega), "rad", "Fold on the chain of 2N sites (N0 + N, the same absorber)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "richardson", task_grid(recs%richardson, nomega), "rad", &
-            "Richardson extrapolation of the fold in dt (the method's order)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "error_estimate", task_grid(recs%error_estimate, nomega), &
-            "rad", "Estimated error of /fold_amplitude: max(|A(dt/2) - A(dt)| / (2^p - 1), |A(2N) - A(N)|)", error, &
+            // "again at dt/2 and on a chain twice as long (&scene fold_convergence); NaN when not computed")
+        call h5_write(file, g // "fold_half_dt", task_grid(recs%fold_half_dt, nomega), &
+            "rad", "Fold at dt/2 (the same method, M doubled)", dims=dims)
+        call h5_write(file, g // "fold_long_chain", task_grid(recs%fold_long_chain, &
+            nomega), "rad", "Fold on the chain of 2N sites (N0 + N, the same absorber)", dims=dims)
+        call h5_write(file, g // "richardson", task_grid(recs%richardson, nomega), "rad", &
+            "Richardson extrapolation of the fold in dt (the method's order)", dims=dims)
+        call h5_write(file, g // "error_estimate", task_grid(recs%error_estimate, nomega), &
+            "rad", "Estimated error of /fold_amplitude: max(|A(dt/2) - A(dt)| / (2^p - 1), |A(2N) - A(N)|)", &
             dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "digits", task_grid(recs%digits, nomega), "1", &
-            "Converged decimal digits of /fold_amplitude, floor(-log10(error_estimate / A_f))", error, dims=dims)
+        call h5_write(file, g // "digits", task_grid(recs%digits, nomega), "1", &
+            "Converged decimal digits of /fold_amplitude, floor(-log10(error_estimate / A_f))", dims=dims)
     end subroutine write_convergence
 
     !> `/cost`: what each continuation cost.
-    subroutine write_cost(file, recs, nomega, elapsed, error)
+    subroutine write_cost(file, recs, nomega, elapsed)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The records, one per task.
@@ -459,33 +439,30 @@ contains
         integer, intent(in) :: nomega
         !> Wall time of the scene (s); negative when unknown.
         real(wp), intent(in) :: elapsed
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         character(len=*), parameter :: g = "/cost/", dims = "curve, omega"
 
-        call h5_create_group(file, "/cost", "What each task cost (the convergence checks included)", error)
-        if (.not. allocated(error)) call h5_write(file, g // "newton_iterations", task_igrid(recs%newton_iterations, &
-            nomega), "1", "Newton-shooting iterations", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "map_evaluations", task_igrid(recs%map_evaluations, &
-            nomega), "1", "Evaluations of the one-period map", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "jacobians", task_igrid(recs%jacobians, nomega), "1", &
-            "Of those, with the tangent (2N + 1 columns)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "factorizations", task_igrid(recs%factorizations, &
-            nomega), "1", "LU factorisations of the shooting system", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "eigen_calls", task_igrid(recs%eigen_calls, nomega), &
-            "1", "Eigenvalue computations (Floquet multipliers)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "wall_time", task_grid(recs%wall_time, nomega), "s", &
-            "Wall-clock time of the task (one thread)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "wall_time_map", task_grid(recs%time_map, nomega), "s", &
-            "Of the wall time: evaluations of the period map alone", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "wall_time_tangent", task_grid(recs%time_tangent, nomega), &
-            "s", "Of the wall time: evaluations of the period map with its tangent (2N + 1 columns)", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "wall_time_lu", task_grid(recs%time_lu, nomega), "s", &
-            "Of the wall time: dense LU factorisations and solves of the shooting systems", error, dims=dims)
-        if (.not. allocated(error)) call h5_write(file, g // "wall_time_eigen", task_grid(recs%time_eigen, nomega), "s", &
-            "Of the wall time: eigenvalues of the monodromy matrices (Floquet multipliers)", error, dims=dims)
-        if (.not. allocated(error) .and. elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", &
-                                                                               elapsed, error)
+        call h5_create_group(file, "/cost", "What each task cost (the convergence checks included)")
+        call h5_write(file, g // "newton_iterations", task_igrid(recs%newton_iterations, &
+            nomega), "1", "Newton-shooting iterations", dims=dims)
+        call h5_write(file, g // "map_evaluations", task_igrid(recs%map_evaluations, &
+            nomega), "1", "Evaluations of the one-period map", dims=dims)
+        call h5_write(file, g // "jacobians", task_igrid(recs%jacobians, nomega), "1", &
+            "Of those, with the tangent (2N + 1 columns)", dims=dims)
+        call h5_write(file, g // "factorizations", task_igrid(recs%factorizations, &
+            nomega), "1", "LU factorisations of the shooting system", dims=dims)
+        call h5_write(file, g // "eigen_calls", task_igrid(recs%eigen_calls, nomega), &
+            "1", "Eigenvalue computations (Floquet multipliers)", dims=dims)
+        call h5_write(file, g // "wall_time", task_grid(recs%wall_time, nomega), "s", &
+            "Wall-clock time of the task (one thread)", dims=dims)
+        call h5_write(file, g // "wall_time_map", task_grid(recs%time_map, nomega), "s", &
+            "Of the wall time: evaluations of the period map alone", dims=dims)
+        call h5_write(file, g // "wall_time_tangent", task_grid(recs%time_tangent, nomega), &
+            "s", "Of the wall time: evaluations of the period map with its tangent (2N + 1 columns)", dims=dims)
+        call h5_write(file, g // "wall_time_lu", task_grid(recs%time_lu, nomega), "s", &
+            "Of the wall time: dense LU factorisations and solves of the shooting systems", dims=dims)
+        call h5_write(file, g // "wall_time_eigen", task_grid(recs%time_eigen, nomega), "s", &
+            "Of the wall time: eigenvalues of the monodromy matrices (Floquet multipliers)", dims=dims)
+        if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
     end subroutine write_cost
 
     !> Units of a branch quantity.
@@ -527,38 +504,5 @@ contains
             text = "max-norm of the shooting residual P(x) - x at the point"
         end select
     end function branch_description
-
-    !> `/curves`: what distinguishes the curves.
-    subroutine write_curves(file, tasks, error)
-        !> Open output file.
-        type(h5_file), intent(inout) :: file
-        !> The tasks.
-        type(continuation_tasks), intent(in) :: tasks
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
-        character(len=16), allocatable :: names(:)
-        real(wp), allocatable :: value(:)
-        integer :: ic, ncurve
-
-        ncurve = size(tasks%runs)
-        allocate (names(ncurve), value(ncurve))
-        do ic = 1, ncurve
-            names(ic) = potential_name(tasks%runs(ic)%chain%potential)
-            value(ic) = curve_value(tasks%cfg, ic)
-        end do
-        call h5_create_group(file, "/curves", "One curve per potential and value of the varied parameter", error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/curves", "vary", trim(tasks%cfg%scene%vary), error)
-        if (.not. allocated(error)) call h5_write(file, "/curves/potential", names, "1", &
-            "On-site potential of each curve", error, dims="curve")
-        if (.not. allocated(error)) call h5_write(file, "/curves/value", value, "1", &
-            "Value of the varied parameter (/curves attribute 'vary') of each curve; NaN when nothing varies", &
-            error, dims="curve")
-        if (.not. allocated(error)) call h5_write(file, "/curves/gamma", tasks%runs%chain%gamma, "1/time", &
-            "External damping gamma of each curve", error, dims="curve")
-        if (.not. allocated(error)) call h5_write(file, "/curves/beta", tasks%runs%chain%beta, "1/time", &
-            "Internal damping beta of each curve", error, dims="curve")
-        if (.not. allocated(error)) call h5_write(file, "/curves/m2", tasks%runs%chain%m2, "1/time^2", &
-            "Mass term m^2 of each curve", error, dims="curve")
-    end subroutine write_curves
 
 end module supratrans_scene_continuation

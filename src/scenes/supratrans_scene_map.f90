@@ -52,18 +52,15 @@ contains
     end subroutine run_map
 
     !> The axes of the map: those shared with the sweep, `/omega` and `/threshold_As` (ncurve, nomega in h5py).
-    subroutine map_write_axes(self, file, error)
+    subroutine map_write_axes(self, file)
         !> The task list.
         class(map_tasks), intent(in) :: self
-        !> Open output file.
+        !> Open output file (a failure sticks in it).
         type(h5_file), intent(inout) :: file
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         real(wp) :: as(size(self%omegas), size(self%curves))
         integer :: ic, iw
 
-        call write_common_axes(self, file, error)
-        if (allocated(error)) return
+        call write_common_axes(self, file)
         do ic = 1, size(self%curves)
             do iw = 1, size(self%omegas)
                 if (self%omegas(iw) < band_gap_edge(self%curves(ic)%chain)) then
@@ -74,11 +71,10 @@ contains
             end do
         end do
         call h5_write(file, "/omega", self%omegas, "1/time", "Driving frequency Omega of each run: omega_min + " &
-                      // "i omega_step, i = 0, 1, ...", error, dims="omega")
-        if (allocated(error)) return
+                      // "i omega_step, i = 0, 1, ...", dims="omega")
         call h5_write(file, "/threshold_As", as, "rad", "Continuum-limit supratransmission threshold A_s(Omega) = " &
                       // "4 arctan(lambda c / Omega) of each curve (massless, undamped theory); NaN outside the " &
-                      // "curve's band gap", error, dims="curve, omega")
+                      // "curve's band gap", dims="curve, omega")
     end subroutine map_write_axes
 
 end module supratrans_scene_map

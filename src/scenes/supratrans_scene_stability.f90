@@ -44,13 +44,13 @@ module supratrans_scene_stability
                                  method_rk4, method_rk8, method_name
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: critical_dt, damping_profile
-    use supratrans_curves, only: curve_count, curve_run, curve_value
+    use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok
     use supratrans_status, only: run_status_codes
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_stepper_rk8, only: rk8_stability_coefficients, rk8_stages
     use supratrans_eigen, only: general_eigenvalues
@@ -465,8 +465,8 @@ contains
         integer :: ncurve, nm, nc, ndt, nbis, icurve, im, ic, idt, itask
         integer, allocatable :: verdict(:, :, :)
         real(wp), allocatable :: umax(:, :, :), observed(:, :, :), observed_hi(:, :, :)
-        real(wp), allocatable :: consistent(:, :, :), runs(:, :, :), values(:)
-        character(len=16), allocatable :: names(:), potentials(:)
+        real(wp), allocatable :: consistent(:, :, :), runs(:, :, :)
+        character(len=16), allocatable :: names(:)
         real(wp) :: status
         logical :: ok
 
@@ -476,10 +476,8 @@ contains
         ndt = size(tasks%dts)
         nbis = ncurve*nm*nc
         allocate (observed(nc, nm, ncurve), observed_hi(nc, nm, ncurve), consistent(nc, nm, ncurve), &
-                  runs(nc, nm, ncurve), names(nm), potentials(ncurve), values(ncurve))
+                  runs(nc, nm, ncurve), names(nm))
         do icurve = 1, ncurve
-            potentials(icurve) = potential_name(tasks%curves(icurve)%chain%potential)
-            values(icurve) = curve_value(cfg, icurve)
             do im = 1, nm
                 do ic = 1, nc
                     itask = ic + nc*((im - 1) + nm*(icurve - 1))
@@ -489,30 +487,24 @@ contains
                 end do
             end do
         end do
-        call h5_create(file, trim(cfg%output%file), cfg%output%overwrite, error)
-        if (allocated(error)) return
+        call h5_create(file, trim(cfg%output%file), cfg%output%overwrite)
         call write_root(file, cfg, "stability", "Where each integrator blows up over a grid of (dt, c), observed " &
-                        // "boundaries next to the paper's necessary condition and linear stability theory", error)
-        if (.not. allocated(error)) call write_parameters(file, cfg, error)
-        if (.not. allocated(error)) call h5_create_group(file, "/scene", "Controls of the stability scene", error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "vary", trim(cfg%scene%vary), error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "resolution", tasks%resolution, error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "stable_means", "the run reaches T with " &
-            // "every |u_n| <= blowup_threshold (status ok)", error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "status_codes", &
-            "stable means 0 ok; " // run_status_codes(outside_gap=.false., not_run=.false.), error)
+                        // "boundaries next to the paper's necessary condition and linear stability theory")
+        call write_parameters(file, cfg)
+        call h5_create_group(file, "/scene", "Controls of the stability scene")
+        call h5_write_attr(file, "/scene", "vary", trim(cfg%scene%vary))
+        call h5_write_attr(file, "/scene", "resolution", tasks%resolution)
+        call h5_write_attr(file, "/scene", "stable_means", "the run reaches T with " &
+            // "every |u_n| <= blowup_threshold (status ok)")
+        call h5_write_attr(file, "/scene", "status_codes", &
+            "stable means 0 ok; " // run_status_codes(outside_gap=.false., not_run=.false.))
         do im = 1, nm
             names(im) = method_name(tasks%methods(im))
         end do
-        if (.not. allocated(error)) call h5_write(file, "/methods", names, "1", "Integrators", error, dims="method")
-        if (.not. allocated(error)) call h5_write(file, "/c", tasks%c, "1", "Coupling values c (grid axis)", error, &
-                                                  dims="c")
-        if (.not. allocated(error)) call h5_write(file, "/dt", tasks%dts, "time", "Time steps (grid axis)", error, &
-                                                  dims="dt")
-        if (.not. allocated(error)) call h5_write(file, "/curves/value", values, "1", &
-            "Value of the varied parameter (/scene vary) of each curve (NaN: nothing varied)", error, dims="curve")
-        if (.not. allocated(error)) call h5_write(file, "/curves/potential", potentials, "1", &
-            "Potential of each curve", error, dims="curve")
+        call h5_write(file, "/methods", names, "1", "Integrators", dims="method")
+        call h5_write(file, "/c", tasks%c, "1", "Coupling values c (grid axis)", dims="c")
+        call h5_write(file, "/dt", tasks%dts, "time", "Time steps (grid axis)", dims="dt")
+        call write_curves(file, cfg, tasks%curves)
 
         allocate (verdict(ndt, nc, ncurve), umax(ndt, nc, ncurve))
         do im = 1, nm
@@ -532,37 +524,32 @@ contains
                     consistent(ic, im, icurve) = merge(1.0_wp, 0.0_wp, ok)
                 end do
             end do
-            if (.not. allocated(error)) call h5_write(file, "/verdict/" // trim(names(im)), verdict, "1", &
-                "Outcome of the run at (c, dt): 0 stable, 1 diverged, 2 newton_failed, 3 solver_failed", error, &
+            call h5_write(file, "/verdict/" // trim(names(im)), verdict, "1", &
+                "Outcome of the run at (c, dt): 0 stable, 1 diverged, 2 newton_failed, 3 solver_failed", &
                 dims="curve, c, dt")
-            if (.not. allocated(error)) call h5_write(file, "/max_abs_u/" // trim(names(im)), umax, "rad", &
-                "Largest |u_n| of the run at (c, dt)", error, dims="curve, c, dt")
+            call h5_write(file, "/max_abs_u/" // trim(names(im)), umax, "rad", &
+                "Largest |u_n| of the run at (c, dt)", dims="curve, c, dt")
         end do
-        if (.not. allocated(error)) call h5_write(file, "/boundary/observed", observed, "time", &
-            "Largest dt found stable by bisection (NaN: none found)", error, dims="curve, method, c")
-        if (.not. allocated(error)) call h5_write(file, "/boundary/observed_unstable", observed_hi, "time", &
-            "Smallest dt found unstable by bisection (NaN: none found); the boundary lies between", error, &
+        call h5_write(file, "/boundary/observed", observed, "time", &
+            "Largest dt found stable by bisection (NaN: none found)", dims="curve, method, c")
+        call h5_write(file, "/boundary/observed_unstable", observed_hi, "time", &
+            "Smallest dt found unstable by bisection (NaN: none found); the boundary lies between", &
             dims="curve, method, c")
-        if (.not. allocated(error)) call h5_write(file, "/boundary/linear", linear, "time", &
-            "Linear-stability limit of each method (chain linearised at rest; see the module documentation)", error, &
+        call h5_write(file, "/boundary/linear", linear, "time", &
+            "Linear-stability limit of each method (chain linearised at rest; see the module documentation)", &
             dims="curve, method, c")
-        if (.not. allocated(error)) call h5_write(file, "/boundary/paper", paper, "time", &
-            "Critical dt of the paper's necessary condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt", error, &
+        call h5_write(file, "/boundary/paper", paper, "time", &
+            "Critical dt of the paper's necessary condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt", &
             dims="curve, c")
-        if (.not. allocated(error)) call h5_write(file, "/boundary/rk4", rk4_limit, "time", &
-            "RK4's linear limit: largest dt with |R(dt lambda)| <= 1 over the spectrum of the linearised chain", &
-            error, dims="curve, c")
-        if (.not. allocated(error)) call h5_write(file, "/boundary/rk4_undamped", rk4_undamped, "time", &
-            "2 sqrt(2) / sqrt(1 + m^2 + 4 c^2): RK4's limit for the undamped chain's band top", error, dims="curve, c")
-        if (.not. allocated(error)) call h5_write(file, "/boundary/grid_consistent", consistent, "1", &
-            "1 when every grid verdict agrees with the bisection (stable below, unstable above), else 0", error, &
+        call h5_write(file, "/boundary/rk4", rk4_limit, "time", &
+            "RK4's linear limit: largest dt with |R(dt lambda)| <= 1 over the spectrum of the linearised chain", dims="curve, c")
+        call h5_write(file, "/boundary/rk4_undamped", rk4_undamped, "time", &
+            "2 sqrt(2) / sqrt(1 + m^2 + 4 c^2): RK4's limit for the undamped chain's band top", dims="curve, c")
+        call h5_write(file, "/boundary/grid_consistent", consistent, "1", &
+            "1 when every grid verdict agrees with the bisection (stable below, unstable above), else 0", &
             dims="curve, method, c")
-        if (.not. allocated(error)) call h5_write(file, "/boundary/bisection_runs", runs, "1", &
-            "Runs made by the bisection", error, dims="curve, method, c")
-        if (allocated(error)) then
-            call h5_discard(file)
-            return
-        end if
+        call h5_write(file, "/boundary/bisection_runs", runs, "1", &
+            "Runs made by the bisection", dims="curve, method, c")
         call h5_commit(file, error)
     end subroutine write_stability
 

@@ -34,7 +34,7 @@ module supratrans_scene_sweep
     use supratrans_kinds, only: wp, i8, supratrans_version
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config, run_config
-    use supratrans_curves, only: curve_count, curve_run, curve_indices
+    use supratrans_curves, only: curve_count, curve_run, curve_indices, write_curves
     use supratrans_validate, only: validate_config
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: band_gap_edge, threshold_as
@@ -48,7 +48,7 @@ module supratrans_scene_sweep
         iv_rhs_evaluations, iv_verdict_margin, iv_thin_verdict
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, printable
     implicit none
@@ -244,9 +244,9 @@ contains
         end if
     end subroutine run_grid_scene
 
-    !> Write the scene's HDF5 file `path` from the results so far (atomically: `<path>.tmp-XXXXXX`, then renamed).
-    !> With every task done the file is the final output (root attribute `complete` = 1); otherwise a partial file
-    !> (`complete` = 0) in which the missing runs are NaN with status `status_not_run`.
+    !> Write the scene's HDF5 file `path` from the results so far (atomically: built in memory, written to a fresh
+    !> temporary, renamed). With every task done the file is the final output (root attribute `complete` = 1);
+    !> otherwise a partial file (`complete` = 0) in which the missing runs are NaN with status `status_not_run`.
     subroutine write_grid_file(tasks, path, overwrite, results, done, error, wall_time)
         !> The task list.
         class(sweep_tasks), intent(in) :: tasks
@@ -258,137 +258,58 @@ contains
         real(wp), intent(in) :: results(:, :)
         !> Which tasks are done.
         logical, intent(in) :: done(:)
-        !> Error, allocated on failure (the file is then not created).
+        !> Error, allocated on failure (nothing is then left under `path`).
         type(error_type), allocatable, intent(out) :: error
         !> Wall-clock time of the scene (this invocation, s), written as the root attribute `wall_time_s`.
         real(wp), intent(in), optional :: wall_time
         type(h5_file) :: file
 
-        call h5_create(file, path, overwrite, error)
-        if (allocated(error)) return
-        body: block
-            call write_root(file, tasks%cfg, tasks%scene, tasks%description, error)
-            if (allocated(error)) exit body
-            call h5_write_attr(file, "/", "complete", merge(1, 0, all(done)), error)
-            if (allocated(error)) exit body
-            call h5_write_attr(file, "/", "runs_done", count(done), error)
-            if (allocated(error)) exit body
-            call h5_write_attr(file, "/", "runs_total", size(done), error)
-            if (allocated(error)) exit body
-            if (present(wall_time)) call h5_write_attr(file, "/", "wall_time_s", wall_time, error)
-            if (allocated(error)) exit body
-            call write_scene_parameters(file, tasks, error)
-            if (allocated(error)) exit body
-            call tasks%write_axes(file, error)
-            if (allocated(error)) exit body
-            call write_run_datasets(file, tasks, results, done, error)
-        end block body
-        if (allocated(error)) then
-            call h5_discard(file)
-            return
-        end if
+        call h5_create(file, path, overwrite)
+        call write_root(file, tasks%cfg, tasks%scene, tasks%description)
+        call h5_write_attr(file, "/", "complete", merge(1, 0, all(done)))
+        call h5_write_attr(file, "/", "runs_done", count(done))
+        call h5_write_attr(file, "/", "runs_total", size(done))
+        if (present(wall_time)) call h5_write_attr(file, "/", "wall_time_s", wall_time)
+        call write_parameters(file, tasks%cfg)
+        call tasks%write_axes(file)
+        call write_run_datasets(file, tasks, results, done)
         call h5_commit(file, error)
     end subroutine write_grid_file
 
-    !> `/parameters`: every input key and the derived linear theory (`write_parameters`).
-    subroutine write_scene_parameters(file, tasks, error)
-        !> Open output file.
-        type(h5_file), intent(inout) :: file
-        !> The task list.
-        class(sweep_tasks), intent(in) :: tasks
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
-
-        call write_parameters(file, tasks%cfg, error)
-    end subroutine write_scene_parameters
-
     !> The axes of the sweep: `/amplitude`, `/curves/...` (`write_common_axes`) and `/curves/threshold_As`, the
     !> continuum-limit threshold at the sweep's frequency.
-    subroutine sweep_write_axes(self, file, error)
+    subroutine sweep_write_axes(self, file)
         !> The task list.
         class(sweep_tasks), intent(in) :: self
-        !> Open output file.
+        !> Open output file (a failure sticks in it).
         type(h5_file), intent(inout) :: file
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         real(wp) :: as(size(self%curves))
         integer :: ic
 
-        call write_common_axes(self, file, error)
-        if (allocated(error)) return
+        call write_common_axes(self, file)
         do ic = 1, size(self%curves)
             as(ic) = threshold_as_or_nan(self%curves(ic), self%omegas(1))
         end do
         call h5_write(file, "/curves/threshold_As", as, "rad", "Continuum-limit supratransmission threshold A_s = " &
                       // "4 arctan(lambda c / Omega) of each curve at the sweep's frequency (massless, undamped " &
-                      // "theory); NaN outside the band gap", error, dims="curve")
+                      // "theory); NaN outside the band gap", dims="curve")
     end subroutine sweep_write_axes
 
-    !> The axes shared by sweep and map: `/amplitude` and `/curves/{potential, value, gamma, beta, m2,
-    !> band_gap_edge}` (one entry per curve, values of the varied parameter fastest).
-    subroutine write_common_axes(tasks, file, error)
+    !> The axes shared by sweep and map: `/amplitude` and `/curves` (`write_curves`).
+    subroutine write_common_axes(tasks, file)
         !> The task list.
         class(sweep_tasks), intent(in) :: tasks
-        !> Open output file.
+        !> Open output file (a failure sticks in it).
         type(h5_file), intent(inout) :: file
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
-        character(len=16) :: names(size(tasks%curves))
-        real(wp) :: values(size(tasks%curves)), gamma(size(tasks%curves)), beta(size(tasks%curves))
-        real(wp) :: m2(size(tasks%curves)), edge(size(tasks%curves))
-        character(len=:), allocatable :: value_units
-        integer :: ic
 
-        do ic = 1, size(tasks%curves)
-            names(ic) = potential_name(tasks%curves(ic)%chain%potential)
-            gamma(ic) = tasks%curves(ic)%chain%gamma
-            beta(ic) = tasks%curves(ic)%chain%beta
-            m2(ic) = tasks%curves(ic)%chain%m2
-            edge(ic) = band_gap_edge(tasks%curves(ic)%chain)
-        end do
-        select case (trim(tasks%cfg%scene%vary))
-        case ("gamma")
-            values = gamma
-            value_units = "1/time"
-        case ("beta")
-            values = beta
-            value_units = "1/time"
-        case ("m2")
-            values = m2
-            value_units = "1/time^2"
-        case default
-            values = nan()
-            value_units = "1"
-        end select
         call h5_write(file, "/amplitude", tasks%amplitudes, "rad", "Driving amplitude A of each run: amplitude_min" &
-                      // " + i amplitude_step, i = 0, 1, ...", error, dims="amplitude")
-        if (allocated(error)) return
-        call h5_create_group(file, "/curves", "One entry per curve: a potential and a value of the varied " &
-                             // "parameter (attribute vary), the values fastest", error)
-        if (allocated(error)) return
-        call h5_write_attr(file, "/curves", "vary", trim(tasks%cfg%scene%vary), error)
-        if (allocated(error)) return
-        call h5_write(file, "/curves/potential", names, "1", "On-site potential of each curve", error, dims="curve")
-        if (allocated(error)) return
-        call h5_write(file, "/curves/value", values, value_units, "Value of the varied parameter (attribute vary " &
-                      // "of /curves) of each curve; NaN when vary = 'none'", error, dims="curve")
-        if (allocated(error)) return
-        call h5_write(file, "/curves/gamma", gamma, "1/time", "External damping gamma of each curve", error, &
-                      dims="curve")
-        if (allocated(error)) return
-        call h5_write(file, "/curves/beta", beta, "1/time", "Internal damping beta of each curve", error, &
-                      dims="curve")
-        if (allocated(error)) return
-        call h5_write(file, "/curves/m2", m2, "1/time^2", "Mass term m^2 of each curve (negative: imaginary mass)", &
-                      error, dims="curve")
-        if (allocated(error)) return
-        call h5_write(file, "/curves/band_gap_edge", edge, "1/time", "Upper edge sqrt(1 + m^2) of the band gap of " &
-                      // "each curve", error, dims="curve")
+                      // " + i amplitude_step, i = 0, 1, ...", dims="amplitude")
+        call write_curves(file, tasks%cfg, tasks%curves)
     end subroutine write_common_axes
 
     !> The per-run datasets `/energy/...` and `/runs/...` (table `fields`), `/runs/failures` and the attribute
     !> `status_codes` of `/runs`.
-    subroutine write_run_datasets(file, tasks, results, done, error)
+    subroutine write_run_datasets(file, tasks, results, done)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The task list.
@@ -397,8 +318,6 @@ contains
         real(wp), intent(in) :: results(:, :)
         !> Which tasks are done.
         logical, intent(in) :: done(:)
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
         real(wp), allocatable :: values(:, :), real2(:, :), real3(:, :, :)
         integer, allocatable :: iflat(:), int2(:, :), int3(:, :, :)
         character(len=240), allocatable :: failures(:)
@@ -421,36 +340,32 @@ contains
         dims = "curve, amplitude"
         if (tasks%omega_axis) dims = "curve, omega, amplitude"
 
-        call h5_create_group(file, "/energy", "Energy totals of each run over 0..T (the ledger at T)", error)
-        if (allocated(error)) return
-        call h5_create_group(file, "/runs", "Outcome and statistics of each run", error)
-        if (allocated(error)) return
-        call h5_write_attr(file, "/runs", "status_codes", status_codes_text(), error)
-        if (allocated(error)) return
+        call h5_create_group(file, "/energy", "Energy totals of each run over 0..T (the ledger at T)")
+        call h5_create_group(file, "/runs", "Outcome and statistics of each run")
+        call h5_write_attr(file, "/runs", "status_codes", status_codes_text())
         do j = 1, size(fields)
             if (fields(j)%is_int) then
                 iflat = to_int(values(fields(j)%iv, :))
                 if (tasks%omega_axis) then
                     int3 = reshape(iflat, [namp, nomega, ncurve])
                     call h5_write(file, trim(fields(j)%name), int3, trim(fields(j)%units), &
-                                  trim(fields(j)%description), error, dims=dims)
+                                  trim(fields(j)%description), dims=dims)
                 else
                     int2 = reshape(iflat, [namp, ncurve])
                     call h5_write(file, trim(fields(j)%name), int2, trim(fields(j)%units), &
-                                  trim(fields(j)%description), error, dims=dims)
+                                  trim(fields(j)%description), dims=dims)
                 end if
             else
                 if (tasks%omega_axis) then
                     real3 = reshape(values(fields(j)%iv, :), [namp, nomega, ncurve])
                     call h5_write(file, trim(fields(j)%name), real3, trim(fields(j)%units), &
-                                  trim(fields(j)%description), error, dims=dims)
+                                  trim(fields(j)%description), dims=dims)
                 else
                     real2 = reshape(values(fields(j)%iv, :), [namp, ncurve])
                     call h5_write(file, trim(fields(j)%name), real2, trim(fields(j)%units), &
-                                  trim(fields(j)%description), error, dims=dims)
+                                  trim(fields(j)%description), dims=dims)
                 end if
             end if
-            if (allocated(error)) return
         end do
 
         ! where the verdict changes along the amplitude axis, does the energy jump? (ratio to the previous amplitude)
@@ -458,25 +373,21 @@ contains
         if (tasks%omega_axis) then
             call h5_write(file, "/runs/energy_jump", reshape(jump, [namp, nomega, ncurve]), "1", "Energy injected " &
                           // "after the ramp over that of the previous amplitude (NaN for the first or a run not ok)", &
-                          error, dims=dims)
-            if (.not. allocated(error)) call h5_write(file, "/runs/verdict_change", &
+                          dims=dims)
+            call h5_write(file, "/runs/verdict_change", &
                 reshape(change, [namp, nomega, ncurve]), "1", "1 where the verdict differs from the previous " &
-                // "amplitude's, 0 where not, -1 for the first or a run not ok", error, dims=dims)
+                // "amplitude's, 0 where not, -1 for the first or a run not ok", dims=dims)
         else
             call h5_write(file, "/runs/energy_jump", reshape(jump, [namp, ncurve]), "1", "Energy injected after the " &
-                          // "ramp over that of the previous amplitude (NaN for the first or a run not ok)", error, &
+                          // "ramp over that of the previous amplitude (NaN for the first or a run not ok)", &
                           dims=dims)
-            if (.not. allocated(error)) call h5_write(file, "/runs/verdict_change", reshape(change, [namp, ncurve]), &
+            call h5_write(file, "/runs/verdict_change", reshape(change, [namp, ncurve]), &
                 "1", "1 where the verdict differs from the previous amplitude's, 0 where not, -1 for the first or a " &
-                // "run not ok", error, dims=dims)
+                // "run not ok", dims=dims)
         end if
-        if (allocated(error)) return
-        call h5_write_attr(file, "/runs", "thin_verdicts", count(nint(values(iv_thin_verdict, :)) == 1), error)
-        if (allocated(error)) return
+        call h5_write_attr(file, "/runs", "thin_verdicts", count(nint(values(iv_thin_verdict, :)) == 1))
         call h5_write_attr(file, "/runs", "verdict_changes_without_energy_jump", &
-                           count(change == 1 .and. .not. (jump >= min_energy_jump .or. jump <= 1.0_wp/min_energy_jump)), &
-                           error)
-        if (allocated(error)) return
+                           count(change == 1 .and. .not. (jump >= min_energy_jump .or. jump <= 1.0_wp/min_energy_jump)))
 
         allocate (failures(0))
         do i = 1, size(done)
@@ -485,9 +396,8 @@ contains
             end if
         end do
         call h5_write(file, "/runs/failures", failures, "1", "One line per run that failed (status > 0): curve, " &
-                      // "amplitude, frequency, status, when it ended and its largest |u_n|", error, dims="failure")
-        if (allocated(error)) return
-        call h5_write_attr(file, "/runs", "failed", size(failures), error)
+                      // "amplitude, frequency, status, when it ended and its largest |u_n|", dims="failure")
+        call h5_write_attr(file, "/runs", "failed", size(failures))
     end subroutine write_run_datasets
 
     !> Along the amplitude axis (the fastest index of the tasks): the ratio of each run's energy injected after the

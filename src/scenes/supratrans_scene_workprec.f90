@@ -50,7 +50,7 @@ module supratrans_scene_workprec
     use supratrans_status, only: status_not_run
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_write, h5_write_attr, h5_create_group
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_tridiag, only: solve_tridiag
     use supratrans_stepper_rk8, only: rk8_stages
@@ -621,98 +621,90 @@ contains
             end do
         end do
 
-        call h5_create(file, trim(cfg%output%file), cfg%output%overwrite, error)
-        if (allocated(error)) return
+        call h5_create(file, trim(cfg%output%file), cfg%output%overwrite)
         call write_root(file, cfg, "work_precision", "Speed against accuracy: wall time, errors against a reference " &
-                        // "and ledger drift for each integrator, time step and drive amplitude", error)
-        if (.not. allocated(error)) call write_parameters(file, cfg, error)
-        if (.not. allocated(error)) call h5_create_group(file, "/scene", "Controls of the work-precision scene", error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "repeats", tasks%repeats, error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "timing", "median of the run's own wall " &
-            // "clock over `repeats` runs; the runs are timed one at a time (a critical section)", error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "probe_site", tasks%base%record%probes(1), error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "error_window", tasks%window, error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "drift_limit", drift_limit, error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "dt_smallest", tasks%dt_smallest, error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/scene", "status_codes", &
+                        // "and ledger drift for each integrator, time step and drive amplitude")
+        call write_parameters(file, cfg)
+        call h5_create_group(file, "/scene", "Controls of the work-precision scene")
+        call h5_write_attr(file, "/scene", "repeats", tasks%repeats)
+        call h5_write_attr(file, "/scene", "timing", "median of the run's own wall " &
+            // "clock over `repeats` runs; the runs are timed one at a time (a critical section)")
+        call h5_write_attr(file, "/scene", "probe_site", tasks%base%record%probes(1))
+        call h5_write_attr(file, "/scene", "error_window", tasks%window)
+        call h5_write_attr(file, "/scene", "drift_limit", drift_limit)
+        call h5_write_attr(file, "/scene", "dt_smallest", tasks%dt_smallest)
+        call h5_write_attr(file, "/scene", "status_codes", &
             "-1 not_run, 0 ok, 1 diverged (blow-up, or ledger residual above drift_limit of the energy scale), " &
-            // "2 newton_failed, 3 solver_failed", error)
-        if (.not. allocated(error)) call h5_write(file, "/methods", names, "1", "Integrators compared", error, &
+            // "2 newton_failed, 3 solver_failed")
+        call h5_write(file, "/methods", names, "1", "Integrators compared", &
                                                   dims="method")
-        if (.not. allocated(error)) call h5_write(file, "/amplitude", tasks%amplitudes, "rad", &
-                                                  "Drive amplitudes A", error, dims="amplitude")
-        if (.not. allocated(error)) call h5_write(file, "/dt", dt, "time", &
-                                                  "Time step of each run (NaN: not run for this method)", error, &
+        call h5_write(file, "/amplitude", tasks%amplitudes, "rad", &
+                                                  "Drive amplitudes A", dims="amplitude")
+        call h5_write(file, "/dt", dt, "time", &
+                                                  "Time step of each run (NaN: not run for this method)", &
                                                   dims="method, dt")
-        if (.not. allocated(error)) call h5_write(file, "/steps", steps, "1", "Steps M = nint(T/dt) of each run", &
-                                                  error, dims="method, dt")
-        if (.not. allocated(error)) call h5_write(file, "/status", nint(grid(:, :, :, w_status)), "1", &
+        call h5_write(file, "/steps", steps, "1", "Steps M = nint(T/dt) of each run", dims="method, dt")
+        call h5_write(file, "/status", nint(grid(:, :, :, w_status)), "1", &
             "Outcome: -1 not run, 0 ok, 1 diverged, 2 newton_failed, 3 solver_failed (measured values are NaN " &
-            // "unless 0)", error, dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/wall_time", grid(:, :, :, w_wall_time), "s", &
-            "Median wall time of the run over `repeats` timed runs (one at a time)", error, dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/wall_time_min", grid(:, :, :, w_wall_time_min), "s", &
-            "Shortest wall time of the run over `repeats` timed runs", error, dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/injected", grid(:, :, :, w_injected), "energy", &
-            "Injected energy of the run (newton, linearized: over [dt/2, T - dt/2]; RK: over [0, T])", error, &
+            // "unless 0)", dims=dims3)
+        call h5_write(file, "/wall_time", grid(:, :, :, w_wall_time), "s", &
+            "Median wall time of the run over `repeats` timed runs (one at a time)", dims=dims3)
+        call h5_write(file, "/wall_time_min", grid(:, :, :, w_wall_time_min), "s", &
+            "Shortest wall time of the run over `repeats` timed runs", dims=dims3)
+        call h5_write(file, "/injected", grid(:, :, :, w_injected), "energy", &
+            "Injected energy of the run (newton, linearized: over [dt/2, T - dt/2]; RK: over [0, T])", &
             dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/error_energy", grid(:, :, :, w_error_energy), "1", &
-            "|injected - reference's injected over the same window| / reference's injected at T", error, dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/error_u", grid(:, :, :, w_error_u), "rad", &
-            "max |u - u_ref| at the probe over the run's samples in the last drive period", error, dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/ledger_drift", grid(:, :, :, w_ledger_drift), "1", &
-            "|E(T) - E(0) - (injected - dissipated)| / energy scale at the end of the run", error, dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/rhs_evaluations", grid(:, :, :, w_rhs_evaluations), "1", &
-            "Newton iterations (newton), tridiagonal solves (linearized), right-hand sides (RK) of the run", error, &
+        call h5_write(file, "/error_energy", grid(:, :, :, w_error_energy), "1", &
+            "|injected - reference's injected over the same window| / reference's injected at T", dims=dims3)
+        call h5_write(file, "/error_u", grid(:, :, :, w_error_u), "rad", &
+            "max |u - u_ref| at the probe over the run's samples in the last drive period", dims=dims3)
+        call h5_write(file, "/ledger_drift", grid(:, :, :, w_ledger_drift), "1", &
+            "|E(T) - E(0) - (injected - dissipated)| / energy scale at the end of the run", dims=dims3)
+        call h5_write(file, "/rhs_evaluations", grid(:, :, :, w_rhs_evaluations), "1", &
+            "Newton iterations (newton), tridiagonal solves (linearized), right-hand sides (RK) of the run", &
             dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/max_abs_u", grid(:, :, :, w_max_abs_u), "rad", &
-            "Largest |u_n| of the run (also for runs that diverged)", error, dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/order_energy", order_e, "1", &
+        call h5_write(file, "/max_abs_u", grid(:, :, :, w_max_abs_u), "rad", &
+            "Largest |u_n| of the run (also for runs that diverged)", dims=dims3)
+        call h5_write(file, "/order_energy", order_e, "1", &
             "Fitted order: least-squares slope of log(error_energy) vs log(dt) over the (at most 4) smallest dt, " &
             // "skipping errors at the floor (the reference's error estimate, at least 1e-13) and stopping at the " &
-            // "first error above 1e-2; NaN with fewer than 2 points", &
-            error, dims="amplitude, method")
-        if (.not. allocated(error)) call h5_write(file, "/order_u", order_u, "1", &
-            "Fitted order of error_u / reference u scale, same rule", error, dims="amplitude, method")
+            // "first error above 1e-2; NaN with fewer than 2 points", dims="amplitude, method")
+        call h5_write(file, "/order_u", order_u, "1", &
+            "Fitted order of error_u / reference u scale, same rule", dims="amplitude, method")
         ! reference
-        if (.not. allocated(error)) call h5_create_group(file, "/reference", "Reference solutions, one per amplitude", &
-                                                         error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/reference", "method", "rk8", error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/reference", "dt", 0.5_wp*tasks%reference_dt, error)
-        if (.not. allocated(error)) call h5_write_attr(file, "/reference", "check_dt", tasks%reference_dt, error)
-        if (.not. allocated(error)) call h5_write(file, "/reference/injected", ref_column(1), "energy", &
-            "Reference injected energy over [0, T] (rk8 at reference dt)", error, dims="amplitude")
-        if (.not. allocated(error)) call h5_write(file, "/reference/error_energy", ref_column(2), "1", &
+        call h5_create_group(file, "/reference", "Reference solutions, one per amplitude")
+        call h5_write_attr(file, "/reference", "method", "rk8")
+        call h5_write_attr(file, "/reference", "dt", 0.5_wp*tasks%reference_dt)
+        call h5_write_attr(file, "/reference", "check_dt", tasks%reference_dt)
+        call h5_write(file, "/reference/injected", ref_column(1), "energy", &
+            "Reference injected energy over [0, T] (rk8 at reference dt)", dims="amplitude")
+        call h5_write(file, "/reference/error_energy", ref_column(2), "1", &
             "Estimated relative error of the reference injected energy: |E(check_dt) - E(dt)| / E(dt) (an upper " &
-            // "bound: the reference's own error is about 2^-8 of it)", error, dims="amplitude")
-        if (.not. allocated(error)) call h5_write(file, "/reference/error_u", ref_column(3), "rad", &
-            "Estimated error of the reference u at the probe (max over the last drive period, same rule)", error, &
+            // "bound: the reference's own error is about 2^-8 of it)", dims="amplitude")
+        call h5_write(file, "/reference/error_u", ref_column(3), "rad", &
+            "Estimated error of the reference u at the probe (max over the last drive period, same rule)", &
             dims="amplitude")
-        if (.not. allocated(error)) call h5_write(file, "/reference/u_scale", ref_column(4), "rad", &
-            "max |u_ref| at the probe over the last drive period", error, dims="amplitude")
-        if (.not. allocated(error)) call h5_write(file, "/reference/u_final", ref_column(5), "rad", &
-            "Reference u at the probe at T", error, dims="amplitude")
-        if (.not. allocated(error)) call h5_write(file, "/reference/wall_time", ref_column(6), "s", &
-            "Wall time of the reference run (run in parallel with the others)", error, dims="amplitude")
+        call h5_write(file, "/reference/u_scale", ref_column(4), "rad", &
+            "max |u_ref| at the probe over the last drive period", dims="amplitude")
+        call h5_write(file, "/reference/u_final", ref_column(5), "rad", &
+            "Reference u at the probe at T", dims="amplitude")
+        call h5_write(file, "/reference/wall_time", ref_column(6), "s", &
+            "Wall time of the reference run (run in parallel with the others)", dims="amplitude")
         ! lower bound
-        if (.not. allocated(error)) call h5_create_group(file, "/lower_bound", "Work a step cannot avoid, timed alone: " &
+        call h5_create_group(file, "/lower_bound", "Work a step cannot avoid, timed alone: " &
             // "N sines (the potential) and, for the implicit schemes, one tridiagonal solve (N divisions when " &
-            // "beta = 0); N sines per stage for Runge-Kutta", error)
-        if (.not. allocated(error)) call h5_write(file, "/lower_bound/sine_time", t_sine, "s", &
-            "N sines of values spread over [-A, A], N = chain sites (best of 7 trials)", error)
-        if (.not. allocated(error)) call h5_write(file, "/lower_bound/division_time", t_division, "s", &
-            "N divisions (the solve when beta = 0)", error)
-        if (.not. allocated(error)) call h5_write(file, "/lower_bound/tridiagonal_time", t_tridiag, "s", &
-            "One LAPACK dgtsv of size N with the matrix copies the Newton step makes (the solve when beta > 0)", error)
-        if (.not. allocated(error)) call h5_write(file, "/lower_bound/run_time", lb, "s", &
-            "Lower bound of each run: steps x (N sines per stage [+ the solve of the implicit schemes])", error, &
+            // "beta = 0); N sines per stage for Runge-Kutta")
+        call h5_write(file, "/lower_bound/sine_time", t_sine, "s", &
+            "N sines of values spread over [-A, A], N = chain sites (best of 7 trials)")
+        call h5_write(file, "/lower_bound/division_time", t_division, "s", &
+            "N divisions (the solve when beta = 0)")
+        call h5_write(file, "/lower_bound/tridiagonal_time", t_tridiag, "s", &
+            "One LAPACK dgtsv of size N with the matrix copies the Newton step makes (the solve when beta > 0)")
+        call h5_write(file, "/lower_bound/run_time", lb, "s", &
+            "Lower bound of each run: steps x (N sines per stage [+ the solve of the implicit schemes])", &
             dims=dims3)
-        if (.not. allocated(error)) call h5_write(file, "/lower_bound/ratio", ratio, "1", &
-            "wall_time / lower_bound run_time", error, dims=dims3)
-        if (allocated(error)) then
-            call h5_discard(file)
-            return
-        end if
+        call h5_write(file, "/lower_bound/ratio", ratio, "1", &
+            "wall_time / lower_bound run_time", dims=dims3)
         call h5_commit(file, error)
 
     contains

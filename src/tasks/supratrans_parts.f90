@@ -14,7 +14,7 @@ module supratrans_parts
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_config, only: input_config
     use supratrans_system, only: path_kind, path_regular
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_open, h5_close, h5_write, &
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_open, h5_close, h5_write, &
                                h5_write_attr, h5_create_group, h5_read, h5_read_attr, h5_exists
     implicit none
     private
@@ -113,46 +113,24 @@ contains
         do i = 1, size(tasks)
             records(:, i) = results(:, tasks(i))
         end do
-        call h5_create(file, path, .true., error)
-        if (allocated(error)) return
-        body: block
-            call h5_write_attr(file, "/", "code", "supratrans", error)
-            if (allocated(error)) exit body
-            call h5_write_attr(file, "/", "version", supratrans_version, error)
-            if (allocated(error)) exit body
-            call h5_write_attr(file, "/", "scene", trim(cfg%scene%kind), error)
-            if (allocated(error)) exit body
-            call h5_write_attr(file, "/", "description", "Part " // int_str(slice_index) // " of " &
-                               // int_str(slice_count) // " of a sliced scene: join the parts with `supratrans merge`", &
-                               error)
-            if (allocated(error)) exit body
-            call h5_create_group(file, "part", "Task records of one slice (supratrans FILE.nml --slice I/N)", error)
-            if (allocated(error)) exit body
-            call h5_write_attr(file, "part", "slice_index", slice_index, error)
-            if (allocated(error)) exit body
-            call h5_write_attr(file, "part", "slice_count", slice_count, error)
-            if (allocated(error)) exit body
-            call h5_write_attr(file, "part", "tasks_total", size(done), error)
-            if (allocated(error)) exit body
-            call h5_write_attr(file, "part", "tasks_in_slice", count(mine), error)
-            if (allocated(error)) exit body
-            call h5_write_attr(file, "part", "journal_header", header, error)
-            if (allocated(error)) exit body
-            call h5_write_attr(file, "part", "fingerprint", text_or(cfg%fingerprint, "none"), error)
-            if (allocated(error)) exit body
-            call h5_write_attr(file, "part", "input_file", text_or(cfg%source, "configuration"), error)
-            if (allocated(error)) exit body
-            call h5_write(file, "part/task", tasks, "1", "task index of each record", error)
-            if (allocated(error)) exit body
-            call h5_write(file, "part/values", records, "mixed", "the task records, exactly as the " &
-                          // "journal holds them (values, task)", error)
-            if (allocated(error)) exit body
-            call h5_write(file, "part/namelist", text_or(cfg%text, ""), "", "the namelist text as read", error)
-        end block body
-        if (allocated(error)) then
-            call h5_discard(file)
-            return
-        end if
+        call h5_create(file, path, .true.)
+        call h5_write_attr(file, "/", "code", "supratrans")
+        call h5_write_attr(file, "/", "version", supratrans_version)
+        call h5_write_attr(file, "/", "scene", trim(cfg%scene%kind))
+        call h5_write_attr(file, "/", "description", "Part " // int_str(slice_index) // " of " &
+                           // int_str(slice_count) // " of a sliced scene: join the parts with `supratrans merge`")
+        call h5_create_group(file, "part", "Task records of one slice (supratrans FILE.nml --slice I/N)")
+        call h5_write_attr(file, "part", "slice_index", slice_index)
+        call h5_write_attr(file, "part", "slice_count", slice_count)
+        call h5_write_attr(file, "part", "tasks_total", size(done))
+        call h5_write_attr(file, "part", "tasks_in_slice", count(mine))
+        call h5_write_attr(file, "part", "journal_header", header)
+        call h5_write_attr(file, "part", "fingerprint", text_or(cfg%fingerprint, "none"))
+        call h5_write_attr(file, "part", "input_file", text_or(cfg%source, "configuration"))
+        call h5_write(file, "part/task", tasks, "1", "task index of each record")
+        call h5_write(file, "part/values", records, "mixed", "the task records, exactly as the " &
+                      // "journal holds them (values, task)")
+        call h5_write(file, "part/namelist", text_or(cfg%text, ""), "", "the namelist text as read")
         call h5_commit(file, error)
     end subroutine write_part
 
@@ -181,7 +159,7 @@ contains
                 call fatal_error(error, where // ": no such part file", err_input)
                 return
             end if
-            call h5_open(file, where, .false., cause)
+            call h5_open(file, where, cause)
             if (allocated(cause)) then
                 call fatal_error(error, where // ": not an HDF5 file (a part file of supratrans --slice is)", err_input)
                 return
