@@ -16,22 +16,15 @@
 !> ## Written in memory, committed in one checked write
 !> A new file is built in memory (HDF5's core driver, no backing store): HDF5 itself never writes to the disk, so a
 !> full disk cannot fail inside the library (which used to leave the library in a state that crashed at exit,
-!> SIGSEGV). `h5_commit` attaches the dimension scales (below), takes the file's image and writes it with
+!> SIGSEGV). `h5_commit` (`supratrans_h5_scales`) attaches the dimension scales, takes the file's image and writes it with
 !> `write_bytes_atomic`: a fresh `<path>.tmp-XXXXXX` created with `O_CREAT | O_EXCL | O_NOFOLLOW`, every write(2)
 !> checked, fsync, rename(2) onto `path` (replacing `path` itself, never the target of a link). A failure
 !> (no space left, a file size limit, an I/O error) is one error naming `path` and the system's reason; nothing is
 !> left under `path` nor under a temporary name. Only a regular file at `path` is ever replaced.
 !>
 !> ## Dimension scales
-!> A dataset written with `dims = "curve, amplitude"` (names in C/h5py order) is remembered by the file; at commit,
-!> each of its dimensions gets the label of its name (`H5DSset_label`) and, where the file holds a coordinate
-!> dataset for that name, that dataset attached as its dimension scale (`H5DSattach_scale`, the HDF5 high-level
-!> library), so that h5py's `ds.dims[i][0]` (and netCDF/xarray readers) find the axis. The coordinate dataset of
-!> a name `d` for a dataset in group `G` is the first of `G/d`, then `d` in each parent group up to the root, then
-!> the same with the plural `ds` (so `method` finds `/methods`), that is one-dimensional, of the dimension's
-!> length, and not the dataset itself (an axis such as `/amplitude`, written with `dims = "amplitude"`, is its own
-!> scale). Names without such a dataset (`curve`, `probe`, `point`, `task`, `failure`, `parameter`; the
-!> two-dimensional `/dt` of `work_precision`) keep only their label: their index is their coordinate.
+!> A dataset written with `dims` is remembered in the file (`remember_dims`); `h5_commit` (`supratrans_h5_scales`)
+!> attaches its dimension scales.
 !>
 !> ## Reading
 !> An existing file is opened read-only with `h5_open` and closed with `h5_close`; reads return their own error.
@@ -40,24 +33,22 @@
 !> module keeps no state of its own, so any two threads' runs share nothing here. Serial HDF5 is not thread-safe
 !> all the same: call this layer from one thread at a time.
 module supratrans_h5_file
-    use, intrinsic :: iso_c_binding, only: c_char, c_loc, c_ptr
     use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5eset_auto_f, h5kind_to_type, h5_real_kind, h5_integer_kind, &
-        h5fcreate_f, h5fopen_f, h5fclose_f, h5fflush_f, h5f_acc_trunc_f, h5f_acc_rdonly_f, h5f_scope_global_f, &
+        h5fcreate_f, h5fopen_f, h5fclose_f, h5f_acc_trunc_f, h5f_acc_rdonly_f, &
         h5dclose_f, h5screate_f, h5screate_simple_f, h5sclose_f, h5s_scalar_f, h5pcreate_f, h5pclose_f, &
-        h5pset_create_inter_group_f, h5p_link_create_f, h5p_file_access_f, h5pset_fapl_core_f, h5fget_file_image_f, &
+        h5pset_create_inter_group_f, h5p_link_create_f, h5p_file_access_f, h5pset_fapl_core_f, &
         h5tcopy_f, h5tclose_f, h5tset_size_f, h5tset_strpad_f, h5t_c_s1, &
         h5t_str_nullpad_f, h5t_std_i32le, h5t_std_i64le, h5gclose_f, h5lexists_f, h5aexists_by_name_f, h5aclose_f, &
         h5iget_type_f, h5i_file_f, h5i_group_f, h5i_dataset_f, h5i_datatype_f, h5i_dataspace_f, h5i_attr_f, &
-        h5i_genprop_lst_f, h5dopen_f, h5dget_space_f, h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f
-    use h5ds, only: h5dsset_scale_f, h5dsis_scale_f, h5dsattach_scale_f, h5dsis_attached_f, h5dsset_label_f
+        h5i_genprop_lst_f
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_io
     use supratrans_strings, only: int_str
-    use supratrans_system, only: write_bytes_atomic, temp_name, link_kind, path_missing, path_regular
+    use supratrans_system, only: temp_name, link_kind, path_missing, path_regular
     implicit none
     private
 
-    public :: h5_create, h5_open, h5_close, h5_commit, h5_discard, h5_failed, h5_exists, h5_attr_exists, stick, &
+    public :: h5_create, h5_open, h5_close, h5_discard, h5_failed, h5_exists, h5_attr_exists, stick, &
         real_mem_type, int_mem_type, int_file_type, i8_mem_type, disk_path, root_if_empty, check, check_open, &
         check_writable, check_dim_names, close_id, make_space, make_lcpl, make_string_type, remember_dims
 
@@ -184,59 +175,6 @@ contains
         file%mode = h5_mode_closed
     end subroutine h5_close
 
-    !> Finish a new file: refuse if an error stuck (it is returned, nothing is written), else attach the dimension
-    !> scales, take the file's image and write it atomically under its path (`write_bytes_atomic`: a fresh
-    !> temporary, every write checked, fsync, rename). A file opened by `h5_open` is just closed.
-    subroutine h5_commit(file, error)
-        !> The file; closed on return, its stuck error (if any) moved to `error`.
-        type(h5_file), intent(inout) :: file
-        !> Error, allocated on failure (the stuck error, or the commit's own).
-        type(error_type), allocatable, intent(out) :: error
-        character(kind=c_char, len=1), allocatable, target :: image(:)
-        integer(size_t) :: size
-        type(c_ptr) :: buf
-        integer :: hdferr
-
-        if (allocated(file%error)) then
-            call h5_discard(file)
-            call move_alloc(file%error, error)
-            return
-        end if
-        call check_open(file, "commit", "/", error)
-        if (allocated(error)) return
-        if (file%mode == h5_mode_read) then
-            call h5_close(file, error)
-            return
-        end if
-        call attach_scales(file)
-        if (allocated(file%error)) then
-            call h5_discard(file)
-            call move_alloc(file%error, error)
-            return
-        end if
-        call h5fflush_f(file%id, h5f_scope_global_f, hdferr)
-        call check(hdferr, file, "flush", "/", "h5fflush_f", error)
-        if (.not. allocated(error)) then
-            allocate (image(1))
-            buf = c_loc(image)
-            call h5fget_file_image_f(file%id, buf, 0_size_t, hdferr, size)
-            call check(hdferr, file, "take the image of", "/", "h5fget_file_image_f", error)
-        end if
-        if (.not. allocated(error)) then
-            deallocate (image)
-            allocate (image(max(size, 1_size_t)), stat=hdferr)
-            if (hdferr /= 0) call fatal_error(error, file%path//": cannot allocate "//int_str(int(min(size, 2000000000_size_t)))// &
-                                              " bytes for the file's image (out of memory)", err_io)
-        end if
-        if (.not. allocated(error)) then
-            buf = c_loc(image)
-            call h5fget_file_image_f(file%id, buf, size, hdferr)
-            call check(hdferr, file, "take the image of", "/", "h5fget_file_image_f", error)
-        end if
-        call h5_discard(file)
-        if (allocated(error)) return
-        call write_bytes_atomic(file%path, image(1:size), error)
-    end subroutine h5_commit
 
     !> Close the file, ignoring errors, without writing anything (use on error). The stuck error stays in `file`.
     subroutine h5_discard(file)
@@ -286,163 +224,9 @@ contains
         file%dim_table = file%dim_table//name//achar(9)//dims//achar(10)
     end subroutine remember_dims
 
-    !> Label every remembered dimension with its name and attach its coordinate dataset as dimension scale (see
-    !> the module's documentation for how a name finds its dataset). A failure sticks in `file`.
-    subroutine attach_scales(file)
-        !> The file (being created).
-        type(h5_file), intent(inout) :: file
-        character(len=:), allocatable :: line, name, names, dim
-        integer :: first, last, tab
 
-        if (.not. allocated(file%dim_table)) return
-        first = 1
-        do while (first <= len(file%dim_table) .and. .not. allocated(file%error))
-            last = index(file%dim_table(first:), achar(10)) + first - 1
-            line = file%dim_table(first:last - 1)
-            first = last + 1
-            tab = index(line, achar(9))
-            name = line(1:tab - 1)
-            names = line(tab + 1:)
-            call attach_dataset_scales(file, name, names)
-        end do
-    end subroutine attach_scales
 
-    !> Label the dimensions of dataset `name` and attach their scales.
-    subroutine attach_dataset_scales(file, name, names)
-        !> The file (being created).
-        type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> Its comma-separated dimension names, C/h5py order.
-        character(len=*), intent(in) :: names
-        type(error_type), allocatable :: error
-        integer(hsize_t), allocatable :: shape(:)
-        integer(hid_t) :: dset, scale
-        character(len=:), allocatable :: rest, dim, scale_path
-        integer :: rank, j, comma, hdferr, idx
-        logical :: attached, is_scale
 
-        call h5dopen_f(file%id, name, dset, hdferr)
-        call check(hdferr, file, "open dataset", name, "h5dopen_f", error)
-        if (allocated(error)) then
-            call stick(file, error)
-            return
-        end if
-        call dataset_shape(dset, shape, hdferr)
-        rank = size(shape)
-        rest = names
-        j = 0
-        do while (len(rest) > 0 .and. hdferr >= 0)
-            comma = index(rest, ",")
-            if (comma == 0) comma = len(rest) + 1
-            dim = trim(adjustl(rest(1:comma - 1)))
-            rest = rest(min(comma + 1, len(rest) + 1):)
-            j = j + 1
-            if (j > rank) exit
-            idx = j                                 ! h5ds*_f take the C index + 1 (measured with h5py, HDF5 1.10)
-            call h5dsset_label_f(dset, idx, dim, hdferr)
-            if (hdferr < 0) exit
-            call find_scale(file, name, dim, shape(rank - j + 1), scale_path)   ! shape is in Fortran order
-            if (len(scale_path) == 0) cycle
-            call h5dopen_f(file%id, scale_path, scale, hdferr)
-            if (hdferr < 0) exit
-            call h5dsis_scale_f(scale, is_scale, hdferr)
-            if (hdferr >= 0 .and. .not. is_scale) call h5dsset_scale_f(scale, hdferr, dim)
-            if (hdferr >= 0) call h5dsis_attached_f(dset, scale, idx, attached, hdferr)
-            if (hdferr >= 0 .and. .not. attached) call h5dsattach_scale_f(dset, scale, idx, hdferr)
-            call close_id(scale)
-        end do
-        call check(hdferr, file, "attach the dimension scales of", name, "h5dsattach_scale_f", error)
-        call close_id(dset)
-        call stick(file, error)
-    end subroutine attach_dataset_scales
-
-    !> The coordinate dataset of dimension `dim` (of length `length`) of dataset `name`: the first of `G/dim` for
-    !> `G` the dataset's group and each parent up to the root, then the same with `dim//"s"`, that is a rank-1
-    !> dataset of that length and not `name` itself; empty if there is none.
-    subroutine find_scale(file, name, dim, length, path)
-        !> The file.
-        type(h5_file), intent(in) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> Dimension name.
-        character(len=*), intent(in) :: dim
-        !> Length of the dimension.
-        integer(hsize_t), intent(in) :: length
-        !> Path of the coordinate dataset; empty if none.
-        character(len=:), allocatable, intent(out) :: path
-        character(len=:), allocatable :: group, candidate, own
-        integer(hsize_t), allocatable :: shape(:)
-        integer(hid_t) :: dset
-        integer :: plural, slash, hdferr
-
-        own = "/"//strip_slashes(name)
-        do plural = 0, 1
-            group = own(1:index(own, "/", back=.true.) - 1)
-            do
-                candidate = group//"/"//dim
-                if (plural == 1) candidate = candidate//"s"
-                if (candidate /= own .and. h5_exists(file, candidate)) then
-                    call h5dopen_f(file%id, candidate, dset, hdferr)
-                    if (hdferr >= 0) then
-                        call dataset_shape(dset, shape, hdferr)
-                        call close_id(dset)
-                        if (hdferr >= 0 .and. size(shape) == 1) then
-                            if (shape(1) == length) then
-                                path = candidate
-                                return
-                            end if
-                        end if
-                    end if
-                end if
-                if (len(group) == 0) exit
-                slash = index(group, "/", back=.true.)
-                group = group(1:slash - 1)
-            end do
-        end do
-        path = ""
-    end subroutine find_scale
-
-    !> A path without leading and trailing slashes.
-    pure function strip_slashes(path) result(stripped)
-        !> The path.
-        character(len=*), intent(in) :: path
-        character(len=:), allocatable :: stripped
-        integer :: first, last
-
-        first = verify(path, "/")
-        last = verify(path, "/ ", back=.true.)
-        if (first == 0) then
-            stripped = ""
-        else
-            stripped = path(first:last)
-        end if
-    end function strip_slashes
-
-    !> The shape of an open dataset, in Fortran order.
-    subroutine dataset_shape(dset, shape, hdferr)
-        !> The dataset.
-        integer(hid_t), intent(in) :: dset
-        !> Its dimensions (empty for a scalar).
-        integer(hsize_t), allocatable, intent(out) :: shape(:)
-        !> HDF5 status.
-        integer, intent(out) :: hdferr
-        integer(hid_t) :: space
-        integer(hsize_t), allocatable :: maxdims(:)
-        integer :: rank
-
-        allocate (shape(0))
-        call h5dget_space_f(dset, space, hdferr)
-        if (hdferr < 0) return
-        call h5sget_simple_extent_ndims_f(space, rank, hdferr)
-        if (hdferr >= 0 .and. rank > 0) then
-            deallocate (shape)
-            allocate (shape(rank), maxdims(rank))
-            call h5sget_simple_extent_dims_f(space, shape, maxdims, hdferr)
-            if (hdferr >= 0) hdferr = 0
-        end if
-        call close_id(space)
-    end subroutine dataset_shape
 
     !> Whether the object `name` exists; each level of a nested path is checked. "/" always exists in an open file.
     function h5_exists(file, name) result(exists)

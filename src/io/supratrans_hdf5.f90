@@ -1,6 +1,6 @@
 !> Thin, typed, self-describing HDF5 layer: every output file of supratrans is written through this module, which
-!> gathers the public interface of `supratrans_h5_file` (the file object and its life cycle), `supratrans_h5_write`
-!> and `supratrans_h5_read`.
+!> gathers the public interface of `supratrans_h5_file` (the file object and its life cycle), `supratrans_h5_write`,
+!> `supratrans_h5_scales` (the commit, with the dimension scales) and `supratrans_h5_read`.
 !>
 !> ## A writer is a sequence of writes with one check at the end
 !>
@@ -22,7 +22,8 @@
 !> intermediate groups are created. Every dataset carries the string attributes `units` and `description`;
 !> arrays written with the optional `dims` argument also carry `dimensions`, the comma-separated names of the
 !> dimensions in C/h5py order, and at commit each dimension its name as label and, where the file holds a
-!> coordinate dataset of that name, that dataset as HDF5 dimension scale (see `supratrans_h5_file`).
+!> coordinate dataset of that name, that dataset as HDF5 dimension scale, else an index scale (see
+!> `supratrans_h5_scales`).
 !> `h5_write` replaces an existing dataset of the same name; `h5_write_attr` replaces an existing attribute.
 !>
 !> ## Dimension order
@@ -46,8 +47,9 @@
 !> are `error_type`s with status `err_io` and a message naming the file and the object. No routine stops the
 !> program.
 module supratrans_hdf5
-    use supratrans_h5_file, only: h5_file, h5_create, h5_commit, h5_discard, h5_failed, h5_open, h5_close, h5_exists, &
+    use supratrans_h5_file, only: h5_file, h5_create, h5_discard, h5_failed, h5_open, h5_close, h5_exists, &
         h5_attr_exists
+    use supratrans_h5_scales, only: h5_commit
     use supratrans_h5_write, only: h5_write, h5_write_attr, h5_create_group
     use supratrans_h5_read, only: h5_read, h5_read_attr
     implicit none
