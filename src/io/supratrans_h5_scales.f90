@@ -89,7 +89,7 @@ contains
     subroutine attach_scales(file)
         !> The file (being created).
         type(h5_file), intent(inout) :: file
-        character(len=:), allocatable :: line, name, names, dim
+        character(len=:), allocatable :: line, name, names
         integer :: first, last, tab
 
         if (.not. allocated(file%dim_table)) return
