@@ -283,7 +283,7 @@ contains
         call point_multipliers(cur, res%stats, wr, wi, info)
         call record_point(map, res, cur, wr, wi, info == 0)
         last_checked = 1
-        lost = res%stable(1) /= 1
+        lost = res%stable(1) == 0
         if (lost) then
             res%instability_amplitude = ctl%amplitude_start
             res%instability_type = leading_crossing(wr, wi, ctl%crossing_tol)
