@@ -29,14 +29,23 @@
 !> from the point before it; each evaluation is a corrected point with its own tangent. Near the fold
 !> A(s) = A_f - kappa (s - s_f)^2 / 2 and t_A = -kappa (s - s_f), so the located point is within t_A^2 / (2 kappa)
 !> of A_f; the secant stops when that is below `fold_tol` (default 1e-10). The fold point is inserted in the
-!> branch, with its Newton residual and its multipliers (one of them is +1 up to the location error).
+!> branch, with its Newton residual and its multipliers (one of them is +1 up to the location error). Between
+!> points with reused Jacobians the sign change is first seen on the secants; both neighbours then get their exact
+!> tangents, and when the exact tangent of the current point shows the fold already behind it, the fold is located
+!> between the previous point and the current one and inserted there. The accuracy of A_f is also bounded by
+!> the residual: near the fold dA ~ |P(x) - x| / |l . dP/dA| (l the left null vector of J - I), so
+!> `newton_tol` = 1e-10 leaves A_f good to ~1e-10 on the test maps.
 !>
 !> **Stability.** The Floquet multipliers are the eigenvalues of J = dP/dx at each point (every point, or every
 !> `floquet_every`-th point; the points in between are examined when the verdict changes). The first point that is
 !> not stable (`supratrans_floquet`, tolerance `crossing_tol`) ends the stable part; the crossing is classified by
 !> its leading multiplier (+1 fold, -1 period doubling, complex pair torus) and located like the fold, by a secant on
-!> max |mu| - 1 over the multipliers of that class (on max |mu| - 1 - crossing_tol when the multiplier was already
-!> in the tolerance band at the stable point). A crossing through +1 next to the fold is the fold itself.
+!> max |mu| - 1 over the multipliers of that class, between the unstable point and the last point (at most 10 back)
+!> where that class is strictly inside the unit circle, so that the location does not depend on crossing_tol (on
+!> max |mu| - 1 - crossing_tol between the two points when no such point exists: a multiplier that hugs the
+!> circle). A crossing through +1 after the fold is the fold itself. Only the first loss of stability is located; a
+!> branch that regains stability before its fold (a weak instability bubble) shows it in `stable` and
+!> `max_multiplier`.
 !>
 !> An implementation of `fixed_point_map` holds its own work arrays: one map and one call per thread; this module
 !> has no state of its own.
