@@ -231,8 +231,9 @@ contains
         end if
     end subroutine pf_driver_init
 
-    !> Run one test unless the filter excludes it: `before`, then the test if `before` did not
-    !> fail, then `after` (always), and count it; print one `FAIL` line when it failed.
+    !> Run one test unless the filter excludes it: `before`, then, if `before` did not fail, the
+    !> test and `after` (also when the test failed), as pFUnit's `TestCase%runBare` does; count it
+    !> and print one `FAIL` line when it failed.
     subroutine pf_run_test(module_name, test_name, test, before, after)
         !> Name of the test module.
         character(len=*), intent(in) :: module_name
@@ -253,8 +254,10 @@ contains
         end if
         call pf_start_test(name)
         if (present(before)) call before()
-        if (.not. pf_any_failed()) call test()
-        if (present(after)) call after()
+        if (.not. pf_any_failed()) then
+            call test()
+            if (present(after)) call after()
+        end if
         if (pf_any_failed()) then
             n_failed = n_failed + 1
             if (current_failures > 1) then
