@@ -2,7 +2,9 @@
 # Run the whole test suite of supratrans from any directory:
 #   1. .ci/install (installs only what is missing),
 #   2. test/pf2f90.py: test/X.pf -> test/X.f90 + test/pf_driver.f90 (pFUnit syntax -> Fortran;
-#      they must sit next to test/pf_runtime.f90, the only place fpm lets them use it from),
+#      they must sit next to test/pf_runtime.f90, the only place fpm lets them use it from). They are
+#      committed (a fresh clone's `fpm test` runs them): one failure if the committed ones are stale
+#      (`python3 test/pf2f90.py --check`), then they are translated again, so a new .pf runs at once,
 #   3. fpm test (debug profile), which prints `fortran: N passed, M failed`,
 #   4. pytest on test/ and postprocess/.
 # Usage: bash test/run_tests.sh [FILTER]
@@ -35,11 +37,14 @@ if ! python3 src/io/generate_schema.py --check; then
 fi
 
 # ----------------------------------------------------------------------------- 2. translate .pf
-shopt -s nullglob
-pf_files=(test/*.pf)
-shopt -u nullglob
+# The translation (test/test_*.f90, test/pf_driver.f90) is committed, so that `fpm test` on a fresh clone
+# runs every Fortran test; stale committed files fail the suite, and the tests run on a fresh translation.
+if ! python3 test/pf2f90.py --check; then
+    note "FAILED: the committed translation of test/*.pf is stale: run python3 test/pf2f90.py and commit it"
+    failed=$((failed + 1))
+fi
 translated=1
-if ! python3 test/pf2f90.py -o test "${pf_files[@]}"; then
+if ! python3 test/pf2f90.py; then
     note "FAILED: test/pf2f90.py (Fortran tests not run)"
     failed=$((failed + 1))
     translated=0

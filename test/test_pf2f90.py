@@ -264,6 +264,43 @@ def test_stale_generated_files_are_deleted(tmp_path):
     assert sorted(p.name for p in out.iterdir()) == ["handwritten.f90", "pf_driver.f90", "test_new.f90"]
 
 
+def test_check_names_stale_missing_and_orphaned_files_and_writes_nothing(tmp_path, capsys):
+    src = tmp_path / "test_new.pf"
+    src.write_text(pf("    @test\n    subroutine t()\n    end subroutine t\n", name="test_new"))
+    out = tmp_path / "gen"
+    assert pf2f90.main(["-o", str(out), "--check", str(src)]) == 1  # nothing translated yet
+    err = capsys.readouterr().err
+    assert "test_new.f90: missing" in err and "pf_driver.f90: missing" in err
+    assert f"run `{pf2f90.REGENERATE}`" in err
+    assert not out.exists()
+
+    assert pf2f90.main(["-o", str(out), str(src)]) == 0
+    assert pf2f90.main(["-o", str(out), "--check", str(src)]) == 0
+    fresh = {p.name: p.read_text() for p in out.iterdir()}
+
+    src.write_text(pf("    @test\n    subroutine u()\n    end subroutine u\n", name="test_new"))  # edited .pf
+    (out / "test_old.f90").write_text(pf2f90.MARKER + " from test_old.pf\n")  # its .pf deleted
+    (out / "handwritten.f90").write_text("module handwritten\nend module handwritten\n")
+    capsys.readouterr()
+    assert pf2f90.main(["-o", str(out), "--check", str(src)]) == 1
+    err = capsys.readouterr().err
+    assert "test_new.f90: differs" in err and "pf_driver.f90: differs" in err
+    assert "test_old.f90: generated from a .pf file that no longer exists" in err
+    assert "handwritten" not in err
+    assert fresh == {p.name: p.read_text() for p in out.iterdir() if p.name in fresh}  # --check wrote nothing
+
+    assert pf2f90.main(["-o", str(out), str(src)]) == 0
+    assert pf2f90.main(["-o", str(out), "--check", str(src)]) == 0
+
+
+def test_defaults_translate_every_pf_file_next_to_the_runtime():
+    """Without -o, the inputs are test/*.pf and the output is test/ (the committed translation)."""
+    outputs, modules, errors = pf2f90.translate_all(sorted(str(p) for p in HERE.glob("*.pf")))
+    assert not errors
+    assert sorted(outputs) == sorted([p.stem + ".f90" for p in HERE.glob("*.pf")] + ["pf_driver.f90"])
+    assert sum(len(m.tests) for m in modules) > 0
+
+
 # --------------------------------------------------------------------------- end to end
 
 END_TO_END = """\
@@ -307,15 +344,16 @@ end module test_e2e
 """
 
 
-def build_end_to_end(tmp_path: Path) -> Path:
+def build_end_to_end(tmp_path: Path, source: str = END_TO_END, name: str = "test_e2e") -> Path:
+    """Translate ``source`` (the module ``name``), compile it with the runtime and a driver; the executable."""
     gfortran = shutil.which("gfortran")
     if gfortran is None:
         pytest.skip("gfortran not installed")
-    (tmp_path / "test_e2e.pf").write_text(END_TO_END)
+    (tmp_path / f"{name}.pf").write_text(source)
     gen = tmp_path / "generated"
-    assert pf2f90.main(["-o", str(gen), str(tmp_path / "test_e2e.pf")]) == 0
+    assert pf2f90.main(["-o", str(gen), str(tmp_path / f"{name}.pf")]) == 0
     exe = tmp_path / "driver"
-    sources = [HERE / "pf_runtime.f90", gen / "test_e2e.f90", gen / "pf_driver.f90"]
+    sources = [HERE / "pf_runtime.f90", gen / f"{name}.f90", gen / "pf_driver.f90"]
     build = subprocess.run(
         [gfortran, "-std=f2008", "-Wall", "-Wextra", "-Werror", "-fcheck=all", "-g",
          "-J", str(tmp_path), *map(str, sources), "-o", str(exe)],
@@ -341,6 +379,68 @@ def test_end_to_end(tmp_path):
     selected = subprocess.run([str(exe), "PASSES"], capture_output=True, text=True, cwd=tmp_path, timeout=60)
     assert selected.stdout.strip().splitlines()[-1] == "fortran: 2 passed, 0 failed"
     assert selected.returncode == 0
+
+
+FAILING_SET_UP = """\
+module test_setup
+    use funit
+    implicit none
+contains
+    @before
+    subroutine set_up()
+        @assertTrue(.false., 'set-up fails')
+    end subroutine set_up
+
+    @after
+    subroutine tear_down()
+        write(*, '(a)') 'tear-down ran'
+    end subroutine tear_down
+
+    @test
+    subroutine test_not_reached()
+        write(*, '(a)') 'test ran'
+    end subroutine test_not_reached
+end module test_setup
+"""
+
+FAILING_TEST = """\
+module test_teardown
+    use funit
+    implicit none
+contains
+    @before
+    subroutine set_up()
+    end subroutine set_up
+
+    @after
+    subroutine tear_down()
+        write(*, '(a)') 'tear-down ran'
+    end subroutine tear_down
+
+    @test
+    subroutine test_fails()
+        @assertTrue(.false., 'the test fails')
+    end subroutine test_fails
+end module test_teardown
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "name, source, ran, fail",
+    [
+        ("test_setup", FAILING_SET_UP, [],
+         "FAIL test_setup::test_not_reached (test_setup.pf:7): assertTrue: condition is .false. -- set-up fails"),
+        ("test_teardown", FAILING_TEST, ["tear-down ran"],
+         "FAIL test_teardown::test_fails (test_teardown.pf:16): assertTrue: condition is .false. -- the test fails"),
+    ],
+)
+def test_after_runs_only_when_before_passed(tmp_path, name, source, ran, fail):
+    """As pFUnit's TestCase%runBare: a failed @before skips the test and @after; a failed test does not skip @after."""
+    exe = build_end_to_end(tmp_path, source, name)
+    run = subprocess.run([str(exe)], capture_output=True, text=True, cwd=tmp_path, timeout=60)
+    assert run.stdout.strip().splitlines() == [*ran, fail, "fortran: 0 passed, 1 failed"]
+    assert run.returncode != 0
 
 
 def test_no_input_gives_an_empty_driver(tmp_path):
