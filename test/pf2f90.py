@@ -23,7 +23,8 @@ not use ``test/pf_runtime.f90`` (and a copy of it there would be a duplicate mod
 
 Only the subset of pFUnit's syntax listed in ``SUPPORTED`` below is accepted; anything else that
 starts with ``@`` is an error reported as ``file:line: message``. The translation follows pFUnit's
-own preprocessor: an assertion ``@assertX(args)`` becomes ``call assertX(args, location=...)``
+own preprocessor: an assertion ``@assertX(args)`` becomes ``call assertX(args, location=...)`` (the
+location holds the file, the line and the name ``assertX``)
 followed by ``if (pf_any_failed()) return``, with the arguments passed through unchanged, so the
 Fortran compiler checks them against the same generic interfaces and dummy argument names as
 pFUnit's. Only what pFUnit 4.14 accepts is accepted: an @-directive on one line (pFUnit reads
@@ -350,7 +351,9 @@ def translate_assert(
         raise PfError(
             path, line, f"@{macro.name} takes at most {macro.max_positional} positional arguments, got {positional}"
         )
-    location = f"location=pf_source_location({fortran_string(pf_name)}, {line})"
+    # The assertion's name rides with its place: the runtime's order assertions share their
+    # specific procedures and read from it which relation to check.
+    location = f"location=pf_source_location({fortran_string(pf_name)}, {line}, {fortran_string(macro.name)})"
     out = wrap_statement(indent, f"call {macro.name}", args + [location])
     out.append(f"{indent}if (pf_any_failed()) return")
     return out

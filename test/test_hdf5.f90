@@ -43,92 +43,142 @@ contains
         m0 = reshape([(0.1_wp*i, i=1, 6)], [2, 3])
         c0 = reshape([(real(i, wp)**2, i=1, 24)], [2, 3, 4])
         call h5_create(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 45))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 45, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "scalars/x", [1.0_wp, 2.0_wp], "s", "replaced below", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 47))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 47, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "scalars/x", 3.25_wp, "m", "a length", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 49))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 49, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "arrays/v", v0, "s", "a vector", error, dims="time")
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 51))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 51, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "arrays/m", m0, "1", "a matrix", error, dims="probe, time")
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 53))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 53, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "arrays/c", c0, "J", "a cube", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 55))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 55, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 57))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 57, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 60))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 60, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "scalars/x", x, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 62))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 62, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(3.25_wp, x, 0.0_wp, location=pf_source_location('test_hdf5.pf', 63))
+        call assertEqual(3.25_wp, x, 0.0_wp, location=pf_source_location('test_hdf5.pf', 63, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "arrays/v", v, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 65))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 65, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(v0, v, 0.0_wp, location=pf_source_location('test_hdf5.pf', 66))
+        call assertEqual(v0, v, 0.0_wp, location=pf_source_location('test_hdf5.pf', 66, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "arrays/m", m, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 68))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 68, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([2, 3], shape(m), location=pf_source_location('test_hdf5.pf', 69))
+        call assertEqual([2, 3], shape(m), location=pf_source_location('test_hdf5.pf', 69, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(pack(m0, .true.), pack(m, .true.), 0.0_wp, location=pf_source_location('test_hdf5.pf', 70))
+        call assertEqual( &
+            pack(m0, .true.), &
+            pack(m, .true.), &
+            0.0_wp, &
+            location=pf_source_location('test_hdf5.pf', 70, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/arrays/c", c, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 72))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 72, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([2, 3, 4], shape(c), location=pf_source_location('test_hdf5.pf', 73))
+        call assertEqual([2, 3, 4], shape(c), location=pf_source_location('test_hdf5.pf', 73, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(pack(c0, .true.), pack(c, .true.), 0.0_wp, location=pf_source_location('test_hdf5.pf', 74))
+        call assertEqual( &
+            pack(c0, .true.), &
+            pack(c, .true.), &
+            0.0_wp, &
+            location=pf_source_location('test_hdf5.pf', 74, 'assertEqual'))
         if (pf_any_failed()) return
 
         call h5_read_attr(file, "scalars/x", "units", text, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 77))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 77, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("m", text, location=pf_source_location('test_hdf5.pf', 78))
+        call assertEqual("m", text, location=pf_source_location('test_hdf5.pf', 78, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "scalars/x", "description", text, error)
-        call assertEqual("a length", text, location=pf_source_location('test_hdf5.pf', 80))
+        call assertEqual("a length", text, location=pf_source_location('test_hdf5.pf', 80, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "arrays/m", "units", text, error)
-        call assertEqual("1", text, location=pf_source_location('test_hdf5.pf', 82))
+        call assertEqual("1", text, location=pf_source_location('test_hdf5.pf', 82, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "arrays/m", "description", text, error)
-        call assertEqual("a matrix", text, location=pf_source_location('test_hdf5.pf', 84))
+        call assertEqual("a matrix", text, location=pf_source_location('test_hdf5.pf', 84, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "arrays/m", "dimensions", text, error)
-        call assertEqual("probe, time", text, location=pf_source_location('test_hdf5.pf', 86))
+        call assertEqual("probe, time", text, location=pf_source_location('test_hdf5.pf', 86, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "arrays/v", "dimensions", text, error)
-        call assertEqual("time", text, location=pf_source_location('test_hdf5.pf', 88))
+        call assertEqual("time", text, location=pf_source_location('test_hdf5.pf', 88, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_attr_exists(file, "arrays/c", "units"), &
             message="units of arrays/c", &
-            location=pf_source_location('test_hdf5.pf', 89))
+            location=pf_source_location('test_hdf5.pf', 89, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_attr_exists(file, "arrays/c", "description"), &
             message="description", &
-            location=pf_source_location('test_hdf5.pf', 90))
+            location=pf_source_location('test_hdf5.pf', 90, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_attr_exists(file, "arrays/c", "dimensions"), &
             message="no dimensions", &
-            location=pf_source_location('test_hdf5.pf', 91))
+            location=pf_source_location('test_hdf5.pf', 91, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 93))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 93, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_roundtrip_real
 
@@ -144,73 +194,121 @@ contains
 
         k0 = reshape([1, -2, 3, huge(1)], [2, 2])
         call h5_create(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 108))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 108, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "n", 42, "1", "an integer", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 110))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 110, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ints/k", [5, 6, 7], "1", "integers", error, dims="site")
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 112))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 112, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ints/k2", k0, "1", "an integer matrix", error, dims="column, row")
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 114))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 114, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ints/big", 2_i8**40 + 1_i8, "1", "a 64-bit integer", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 116))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 116, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ints/bigs", [-(2_i8**50), 3_i8], "1", "64-bit integers", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 118))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 118, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 120))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 120, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 123))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 123, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "n", n, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 125))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 125, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(42, n, location=pf_source_location('test_hdf5.pf', 126))
+        call assertEqual(42, n, location=pf_source_location('test_hdf5.pf', 126, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "ints/k", k, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 128))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 128, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([5, 6, 7], k, location=pf_source_location('test_hdf5.pf', 129))
+        call assertEqual([5, 6, 7], k, location=pf_source_location('test_hdf5.pf', 129, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "ints/k2", k2, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 131))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 131, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([2, 2], shape(k2), location=pf_source_location('test_hdf5.pf', 132))
+        call assertEqual([2, 2], shape(k2), location=pf_source_location('test_hdf5.pf', 132, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(pack(k0, .true.), pack(k2, .true.), location=pf_source_location('test_hdf5.pf', 133))
+        call assertEqual( &
+            pack(k0, .true.), &
+            pack(k2, .true.), &
+            location=pf_source_location('test_hdf5.pf', 133, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "ints/big", big, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 135))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 135, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             big == 2_i8**40 + 1_i8, &
             message="64-bit scalar round trip", &
-            location=pf_source_location('test_hdf5.pf', 136))
+            location=pf_source_location('test_hdf5.pf', 136, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read(file, "ints/bigs", bigs, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 138))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 138, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(bigs == [-(2_i8**50), 3_i8]), &
             message="64-bit array round trip", &
-            location=pf_source_location('test_hdf5.pf', 139))
+            location=pf_source_location('test_hdf5.pf', 139, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "ints/k2", "dimensions", text, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 141))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 141, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("column, row", text, location=pf_source_location('test_hdf5.pf', 142))
+        call assertEqual("column, row", text, location=pf_source_location('test_hdf5.pf', 142, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "n", "description", text, error)
-        call assertEqual("an integer", text, location=pf_source_location('test_hdf5.pf', 144))
+        call assertEqual("an integer", text, location=pf_source_location('test_hdf5.pf', 144, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 146))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 146, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_roundtrip_integer
 
@@ -223,59 +321,98 @@ contains
 
         names = [character(len=5) :: "sg", "phi4", "dsg"]
         call h5_create(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 158))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 158, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "model", "sine-Gordon", "", "name of the potential", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 160))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 160, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "empty", "", "", "an empty string", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 162))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 162, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "lists/names", names, "", "names of the potentials", error, dims="potential")
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 164))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 164, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 166))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 166, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 169))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 169, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "model", text, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 171))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 171, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("sine-Gordon", text, location=pf_source_location('test_hdf5.pf', 172))
+        call assertEqual("sine-Gordon", text, location=pf_source_location('test_hdf5.pf', 172, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(11, len(text), location=pf_source_location('test_hdf5.pf', 173))
+        call assertEqual(11, len(text), location=pf_source_location('test_hdf5.pf', 173, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "empty", text, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 175))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 175, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0, len(text), location=pf_source_location('test_hdf5.pf', 176))
+        call assertEqual(0, len(text), location=pf_source_location('test_hdf5.pf', 176, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "lists/names", texts, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 178))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 178, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(3, size(texts), location=pf_source_location('test_hdf5.pf', 179))
+        call assertEqual(3, size(texts), location=pf_source_location('test_hdf5.pf', 179, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("sg", trim(texts(1)), location=pf_source_location('test_hdf5.pf', 180))
+        call assertEqual("sg", trim(texts(1)), location=pf_source_location('test_hdf5.pf', 180, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("phi4", trim(texts(2)), location=pf_source_location('test_hdf5.pf', 181))
+        call assertEqual("phi4", trim(texts(2)), location=pf_source_location('test_hdf5.pf', 181, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("dsg", trim(texts(3)), location=pf_source_location('test_hdf5.pf', 182))
+        call assertEqual("dsg", trim(texts(3)), location=pf_source_location('test_hdf5.pf', 182, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "lists/names", "description", text, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 184))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 184, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("names of the potentials", text, location=pf_source_location('test_hdf5.pf', 185))
+        call assertEqual( &
+            "names of the potentials", &
+            text, &
+            location=pf_source_location('test_hdf5.pf', 185, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "model", "units", text, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 187))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 187, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("", text, location=pf_source_location('test_hdf5.pf', 188))
+        call assertEqual("", text, location=pf_source_location('test_hdf5.pf', 188, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 190))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 190, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_roundtrip_character
 
@@ -292,100 +429,182 @@ contains
         logical :: flag
 
         call h5_create(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 206))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 206, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "code", "supratrans", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 208))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 208, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "dt", 0.05_wp, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 210))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 210, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "probes", [1.0_wp, 2.0_wp, 4.0_wp], error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 212))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 212, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "nsites", 200, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 214))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 214, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "sites", [10, 20], error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 216))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 216, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "steps", 2_i8**35, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 218))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 218, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "params/chain", "absorber", .true., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 220))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 220, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "params/chain", "periodic", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 222))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 222, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "nsites", "replaced by a string", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 224))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 224, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_create_group(file, "params", "run parameters", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 226))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 226, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 228))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 228, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 231))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 231, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "code", text, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 233))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 233, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("supratrans", text, location=pf_source_location('test_hdf5.pf', 234))
+        call assertEqual("supratrans", text, location=pf_source_location('test_hdf5.pf', 234, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "dt", x, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 236))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 236, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0.05_wp, x, 0.0_wp, location=pf_source_location('test_hdf5.pf', 237))
+        call assertEqual(0.05_wp, x, 0.0_wp, location=pf_source_location('test_hdf5.pf', 237, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "probes", xs, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 239))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 239, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([1.0_wp, 2.0_wp, 4.0_wp], xs, 0.0_wp, location=pf_source_location('test_hdf5.pf', 240))
+        call assertEqual( &
+            [1.0_wp, 2.0_wp, 4.0_wp], &
+            xs, &
+            0.0_wp, &
+            location=pf_source_location('test_hdf5.pf', 240, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "nsites", text, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 242))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 242, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("replaced by a string", text, location=pf_source_location('test_hdf5.pf', 243))
+        call assertEqual("replaced by a string", text, location=pf_source_location('test_hdf5.pf', 243, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "sites", ns, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 245))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 245, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([10, 20], ns, location=pf_source_location('test_hdf5.pf', 246))
+        call assertEqual([10, 20], ns, location=pf_source_location('test_hdf5.pf', 246, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "steps", big, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 248))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 248, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             big == 2_i8**35, &
             message="64-bit attribute round trip", &
-            location=pf_source_location('test_hdf5.pf', 249))
+            location=pf_source_location('test_hdf5.pf', 249, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "params/chain", "absorber", flag, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 251))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 251, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertTrue(flag, message="logical attribute true", location=pf_source_location('test_hdf5.pf', 252))
+        call assertTrue( &
+            flag, &
+            message="logical attribute true", &
+            location=pf_source_location('test_hdf5.pf', 252, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "params/chain", "periodic", flag, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 254))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 254, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(flag, message="logical attribute false", location=pf_source_location('test_hdf5.pf', 255))
+        call assertFalse( &
+            flag, &
+            message="logical attribute false", &
+            location=pf_source_location('test_hdf5.pf', 255, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "params/chain", "absorber", n, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 257))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 257, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(1, n, location=pf_source_location('test_hdf5.pf', 258))
+        call assertEqual(1, n, location=pf_source_location('test_hdf5.pf', 258, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "params", "description", text, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 260))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 260, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("run parameters", text, location=pf_source_location('test_hdf5.pf', 261))
+        call assertEqual("run parameters", text, location=pf_source_location('test_hdf5.pf', 261, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 263))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 263, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_roundtrip_attributes
 
@@ -396,58 +615,79 @@ contains
         integer :: n
 
         call h5_create(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 273))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 273, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "n", 1, "1", "first version", error)
         call h5_commit(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 276))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 276, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_create(file, base//".h5", .false., error)
         call assertTrue( &
             allocated(error), &
             message="creating over an existing file must fail", &
-            location=pf_source_location('test_hdf5.pf', 279))
+            location=pf_source_location('test_hdf5.pf', 279, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 280))
+        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 280, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "output file exists") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 281))
+            location=pf_source_location('test_hdf5.pf', 281, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, base//".h5") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 282))
+            location=pf_source_location('test_hdf5.pf', 282, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             writable(file), &
             message="no file is open after the refusal", &
-            location=pf_source_location('test_hdf5.pf', 283))
+            location=pf_source_location('test_hdf5.pf', 283, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base//".h5.tmp"), &
             message="no temporary file after the refusal", &
-            location=pf_source_location('test_hdf5.pf', 284))
+            location=pf_source_location('test_hdf5.pf', 284, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_create(file, base//".h5", .true., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 287))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 287, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "n", 2, "1", "second version", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 289))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 289, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 291))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 291, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_open(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 293))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 293, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "n", n, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 295))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 295, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(2, n, location=pf_source_location('test_hdf5.pf', 296))
+        call assertEqual(2, n, location=pf_source_location('test_hdf5.pf', 296, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
     end subroutine test_refuses_to_overwrite
@@ -458,38 +698,47 @@ contains
         type(error_type), allocatable :: error
 
         call h5_create(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 306))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 306, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             path_exists(base//".h5.tmp"), &
             message="the file is written as <path>.tmp", &
-            location=pf_source_location('test_hdf5.pf', 307))
+            location=pf_source_location('test_hdf5.pf', 307, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base//".h5"), &
             message="no final file before commit", &
-            location=pf_source_location('test_hdf5.pf', 308))
+            location=pf_source_location('test_hdf5.pf', 308, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "x", 1.0_wp, "1", "a value", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 310))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 310, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 312))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 312, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             path_exists(base//".h5"), &
             message="the final file exists after commit", &
-            location=pf_source_location('test_hdf5.pf', 313))
+            location=pf_source_location('test_hdf5.pf', 313, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base//".h5.tmp"), &
             message="no .tmp after commit", &
-            location=pf_source_location('test_hdf5.pf', 314))
+            location=pf_source_location('test_hdf5.pf', 314, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             writable(file), &
             message="commit closes the file", &
-            location=pf_source_location('test_hdf5.pf', 315))
+            location=pf_source_location('test_hdf5.pf', 315, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_commit_renames_temporary
 
@@ -499,24 +748,27 @@ contains
         type(error_type), allocatable :: error
 
         call h5_create(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 324))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 324, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "x", [1.0_wp, 2.0_wp], "1", "values", error)
         call h5_discard(file)
         call assertFalse( &
             path_exists(base//".h5"), &
             message="no final file after discard", &
-            location=pf_source_location('test_hdf5.pf', 327))
+            location=pf_source_location('test_hdf5.pf', 327, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base//".h5.tmp"), &
             message="no temporary file after discard", &
-            location=pf_source_location('test_hdf5.pf', 328))
+            location=pf_source_location('test_hdf5.pf', 328, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             writable(file), &
             message="discard closes the file", &
-            location=pf_source_location('test_hdf5.pf', 329))
+            location=pf_source_location('test_hdf5.pf', 329, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_discard_leaves_nothing
 
@@ -526,61 +778,97 @@ contains
         type(error_type), allocatable :: error
 
         call h5_create(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 338))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 338, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "a"), &
             message="a before writing", &
-            location=pf_source_location('test_hdf5.pf', 339))
+            location=pf_source_location('test_hdf5.pf', 339, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "a/b/c", 1, "1", "a nested value", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 341))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 341, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertTrue(h5_exists(file, "/"), message="/", location=pf_source_location('test_hdf5.pf', 342))
+        call assertTrue( &
+            h5_exists(file, "/"), &
+            message="/", &
+            location=pf_source_location('test_hdf5.pf', 342, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(h5_exists(file, "a"), message="a", location=pf_source_location('test_hdf5.pf', 343))
+        call assertTrue( &
+            h5_exists(file, "a"), &
+            message="a", &
+            location=pf_source_location('test_hdf5.pf', 343, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(h5_exists(file, "a/b"), message="a/b", location=pf_source_location('test_hdf5.pf', 344))
+        call assertTrue( &
+            h5_exists(file, "a/b"), &
+            message="a/b", &
+            location=pf_source_location('test_hdf5.pf', 344, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(h5_exists(file, "a/b/c"), message="a/b/c", location=pf_source_location('test_hdf5.pf', 345))
+        call assertTrue( &
+            h5_exists(file, "a/b/c"), &
+            message="a/b/c", &
+            location=pf_source_location('test_hdf5.pf', 345, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(h5_exists(file, "/a/b/c"), message="/a/b/c", location=pf_source_location('test_hdf5.pf', 346))
+        call assertTrue( &
+            h5_exists(file, "/a/b/c"), &
+            message="/a/b/c", &
+            location=pf_source_location('test_hdf5.pf', 346, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(h5_exists(file, "a/b/"), message="a/b/", location=pf_source_location('test_hdf5.pf', 347))
+        call assertTrue( &
+            h5_exists(file, "a/b/"), &
+            message="a/b/", &
+            location=pf_source_location('test_hdf5.pf', 347, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertFalse(h5_exists(file, "a/x"), message="a/x", location=pf_source_location('test_hdf5.pf', 348))
+        call assertFalse( &
+            h5_exists(file, "a/x"), &
+            message="a/x", &
+            location=pf_source_location('test_hdf5.pf', 348, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(h5_exists(file, "a/x/c"), message="a/x/c", location=pf_source_location('test_hdf5.pf', 349))
+        call assertFalse( &
+            h5_exists(file, "a/x/c"), &
+            message="a/x/c", &
+            location=pf_source_location('test_hdf5.pf', 349, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(h5_exists(file, "x/b/c"), message="x/b/c", location=pf_source_location('test_hdf5.pf', 350))
+        call assertFalse( &
+            h5_exists(file, "x/b/c"), &
+            message="x/b/c", &
+            location=pf_source_location('test_hdf5.pf', 350, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "a/b/c/d"), &
             message="a/b/c/d", &
-            location=pf_source_location('test_hdf5.pf', 351))
+            location=pf_source_location('test_hdf5.pf', 351, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_attr_exists(file, "a/b/c", "units"), &
             message="units of a/b/c", &
-            location=pf_source_location('test_hdf5.pf', 352))
+            location=pf_source_location('test_hdf5.pf', 352, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_attr_exists(file, "a/b/c", "colour"), &
             message="colour of a/b/c", &
-            location=pf_source_location('test_hdf5.pf', 353))
+            location=pf_source_location('test_hdf5.pf', 353, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_attr_exists(file, "a/x", "units"), &
             message="units of a/x", &
-            location=pf_source_location('test_hdf5.pf', 354))
+            location=pf_source_location('test_hdf5.pf', 354, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 356))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 356, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "a"), &
             message="nothing exists in a closed file", &
-            location=pf_source_location('test_hdf5.pf', 357))
+            location=pf_source_location('test_hdf5.pf', 357, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_exists_nested
 
@@ -593,64 +881,108 @@ contains
         character(len=:), allocatable :: text
 
         call h5_create(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 369))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 369, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ledger/runs", reshape([1.0_wp, 2.0_wp, 3.0_wp, 4.0_wp, 5.0_wp, 6.0_wp], [3, 2]), "1", &
             "one row per run", error, dims="run, quantity")
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 372))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 372, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 374))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 374, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", .true., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 377))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 377, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ledger/status", [0, 3], "1", "exit status per run", error, dims="run")
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 379))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 379, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "ledger", "complete", .true., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 381))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 381, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ledger/runs", [1.0_wp, 2.0_wp], "1", "a row of the wrong length", error, dims="run, quantity")
         call assertTrue( &
             allocated(error), &
             message="2 dimension names for a rank-1 dataset must be refused", &
-            location=pf_source_location('test_hdf5.pf', 383))
+            location=pf_source_location('test_hdf5.pf', 383, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 385))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 385, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base//".h5.tmp"), &
             message="a file opened in place has no temporary file", &
-            location=pf_source_location('test_hdf5.pf', 386))
+            location=pf_source_location('test_hdf5.pf', 386, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 389))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 389, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "ledger/runs", rows, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 391))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 391, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([3, 2], shape(rows), location=pf_source_location('test_hdf5.pf', 392))
+        call assertEqual([3, 2], shape(rows), location=pf_source_location('test_hdf5.pf', 392, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual([1.0_wp, 2.0_wp, 3.0_wp], rows(:, 1), 0.0_wp, location=pf_source_location('test_hdf5.pf', 393))
+        call assertEqual( &
+            [1.0_wp, 2.0_wp, 3.0_wp], &
+            rows(:, 1), &
+            0.0_wp, &
+            location=pf_source_location('test_hdf5.pf', 393, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual([4.0_wp, 5.0_wp, 6.0_wp], rows(:, 2), 0.0_wp, location=pf_source_location('test_hdf5.pf', 394))
+        call assertEqual( &
+            [4.0_wp, 5.0_wp, 6.0_wp], &
+            rows(:, 2), &
+            0.0_wp, &
+            location=pf_source_location('test_hdf5.pf', 394, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "ledger/status", status, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 396))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 396, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([0, 3], status, location=pf_source_location('test_hdf5.pf', 397))
+        call assertEqual([0, 3], status, location=pf_source_location('test_hdf5.pf', 397, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "ledger/runs", "dimensions", text, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 399))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 399, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("run, quantity", text, location=pf_source_location('test_hdf5.pf', 400))
+        call assertEqual("run, quantity", text, location=pf_source_location('test_hdf5.pf', 400, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 402))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 402, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_write_after_reopen
 
@@ -660,28 +992,37 @@ contains
         type(error_type), allocatable :: error
 
         call h5_create(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 411))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 411, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "energy", [1.5_wp], "1", "energy per run", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 413))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 413, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 415))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 415, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             path_exists(base//".h5.tmp"), &
             message="close keeps the temporary file", &
-            location=pf_source_location('test_hdf5.pf', 416))
+            location=pf_source_location('test_hdf5.pf', 416, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base//".h5"), &
             message="close does not commit", &
-            location=pf_source_location('test_hdf5.pf', 417))
+            location=pf_source_location('test_hdf5.pf', 417, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             writable(file), &
             message="close closes the file", &
-            location=pf_source_location('test_hdf5.pf', 418))
+            location=pf_source_location('test_hdf5.pf', 418, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_close_keeps_temporary_file
 
@@ -696,39 +1037,39 @@ contains
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 429))
+                location=pf_source_location('test_hdf5.pf', 429, 'assertFalse'))
             if (pf_any_failed()) return
             call h5_write(file, "i", i, "1", "the iteration", error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 431))
+                location=pf_source_location('test_hdf5.pf', 431, 'assertFalse'))
             if (pf_any_failed()) return
             call h5_commit(file, error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 433))
+                location=pf_source_location('test_hdf5.pf', 433, 'assertFalse'))
             if (pf_any_failed()) return
             call h5_open(file, base//".h5", .false., error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 435))
+                location=pf_source_location('test_hdf5.pf', 435, 'assertFalse'))
             if (pf_any_failed()) return
             call h5_read(file, "i", n, error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 437))
+                location=pf_source_location('test_hdf5.pf', 437, 'assertFalse'))
             if (pf_any_failed()) return
-            call assertEqual(i, n, location=pf_source_location('test_hdf5.pf', 438))
+            call assertEqual(i, n, location=pf_source_location('test_hdf5.pf', 438, 'assertEqual'))
             if (pf_any_failed()) return
             call h5_close(file, error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 440))
+                location=pf_source_location('test_hdf5.pf', 440, 'assertFalse'))
             if (pf_any_failed()) return
         end do
     end subroutine test_many_files_in_one_process
@@ -745,91 +1086,109 @@ contains
         call assertTrue( &
             allocated(error), &
             message="opening a missing file must fail", &
-            location=pf_source_location('test_hdf5.pf', 453))
+            location=pf_source_location('test_hdf5.pf', 453, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 454))
+        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 454, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, base//"_b.h5") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 455))
+            location=pf_source_location('test_hdf5.pf', 455, 'assertTrue'))
         if (pf_any_failed()) return
 
         call h5_create(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 458))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 458, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "fields/m", m, "1", "a matrix", error, dims="probe")
-        call assertTrue(allocated(error), message="1 name for rank 2", location=pf_source_location('test_hdf5.pf', 460))
+        call assertTrue( &
+            allocated(error), &
+            message="1 name for rank 2", &
+            location=pf_source_location('test_hdf5.pf', 460, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_write(file, "fields/m", m, "1", "a matrix", error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 462))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 462, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "fields", 1, "1", "not over a group", error)
         call assertTrue( &
             allocated(error), &
             message="a dataset must not replace a group", &
-            location=pf_source_location('test_hdf5.pf', 464))
+            location=pf_source_location('test_hdf5.pf', 464, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "'fields'") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 465))
+            location=pf_source_location('test_hdf5.pf', 465, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 467))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 467, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", .false., error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 470))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 470, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "fields/missing", v, error)
         call assertTrue( &
             allocated(error), &
             message="reading a missing dataset must fail", &
-            location=pf_source_location('test_hdf5.pf', 472))
+            location=pf_source_location('test_hdf5.pf', 472, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 473))
+        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 473, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "fields/missing") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 474))
+            location=pf_source_location('test_hdf5.pf', 474, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, base//".h5") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 475))
+            location=pf_source_location('test_hdf5.pf', 475, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read(file, "fields/m", v, error)
         call assertTrue( &
             allocated(error), &
             message="reading a rank-2 dataset as rank 1 must fail", &
-            location=pf_source_location('test_hdf5.pf', 477))
+            location=pf_source_location('test_hdf5.pf', 477, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "rank") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 478))
+            location=pf_source_location('test_hdf5.pf', 478, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_write(file, "fields/n", 1, "1", "a value", error)
         call assertTrue( &
             allocated(error), &
             message="writing to a read-only file must fail", &
-            location=pf_source_location('test_hdf5.pf', 480))
+            location=pf_source_location('test_hdf5.pf', 480, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "read-only") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 481))
+            location=pf_source_location('test_hdf5.pf', 481, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_close(file, error)
-        call assertFalse(allocated(error), message=error_text(error), location=pf_source_location('test_hdf5.pf', 483))
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_hdf5.pf', 483, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "fields/n", 1, "1", "a value", error)
         call assertTrue( &
             allocated(error), &
             message="writing to a closed file must fail", &
-            location=pf_source_location('test_hdf5.pf', 485))
+            location=pf_source_location('test_hdf5.pf', 485, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_errors_name_file_and_object
 

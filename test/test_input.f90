@@ -25,34 +25,43 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("unknown_key", "&chain" // nl() // "    cc = 4.0" // nl() // "/", cfg, error, path)
-        call assertTrue(allocated(error), "unknown key accepted", location=pf_source_location('test_input.pf', 27))
+        call assertTrue( &
+            allocated(error), &
+            "unknown key accepted", &
+            location=pf_source_location('test_input.pf', 27, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 29))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 29, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "'cc'") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 30))
+            location=pf_source_location('test_input.pf', 30, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(index(error%message, path) > 0, error%message, location=pf_source_location('test_input.pf', 31))
+        call assertTrue( &
+            index(error%message, path) > 0, &
+            error%message, &
+            location=pf_source_location('test_input.pf', 31, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "&chain") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 32))
+            location=pf_source_location('test_input.pf', 32, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "known: potential, c, m2") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 33))
+            location=pf_source_location('test_input.pf', 33, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "did you mean 'c'?") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 34))
+            location=pf_source_location('test_input.pf', 34, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(one_line(error%message), error%message, location=pf_source_location('test_input.pf', 35))
+        call assertTrue( &
+            one_line(error%message), &
+            error%message, &
+            location=pf_source_location('test_input.pf', 35, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_key
 
@@ -66,20 +75,20 @@ contains
         call assertTrue( &
             allocated(error), &
             "key of &numerics accepted in &chain", &
-            location=pf_source_location('test_input.pf', 45))
+            location=pf_source_location('test_input.pf', 45, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 47))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 47, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "'dt'"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 48))
+            location=pf_source_location('test_input.pf', 48, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "&numerics") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 49))
+            location=pf_source_location('test_input.pf', 49, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_key_in_wrong_group
 
@@ -90,20 +99,23 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("unknown_group", "&chain n = 100, n0 = 80 /" // nl() // "&solver tol = 1 /", cfg, error, path)
-        call assertTrue(allocated(error), "unknown group accepted", location=pf_source_location('test_input.pf', 59))
+        call assertTrue( &
+            allocated(error), &
+            "unknown group accepted", &
+            location=pf_source_location('test_input.pf', 59, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 61))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 61, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "&solver"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 62))
+            location=pf_source_location('test_input.pf', 62, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "unknown group") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 63))
+            location=pf_source_location('test_input.pf', 63, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_group
 
@@ -114,20 +126,23 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("int_real", "&chain n = 2.5 /", cfg, error, path)
-        call assertTrue(allocated(error), "n = 2.5 accepted", location=pf_source_location('test_input.pf', 73))
+        call assertTrue( &
+            allocated(error), &
+            "n = 2.5 accepted", &
+            location=pf_source_location('test_input.pf', 73, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 75))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 75, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "'n'"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 76))
+            location=pf_source_location('test_input.pf', 76, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "expects an integer, got '2.5'") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 77))
+            location=pf_source_location('test_input.pf', 77, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_integer_key_given_real
 
@@ -138,20 +153,23 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("real_text", "&chain c = 'four' /", cfg, error, path)
-        call assertTrue(allocated(error), "c = 'four' accepted", location=pf_source_location('test_input.pf', 87))
+        call assertTrue( &
+            allocated(error), &
+            "c = 'four' accepted", &
+            location=pf_source_location('test_input.pf', 87, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 89))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 89, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "'c'"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 90))
+            location=pf_source_location('test_input.pf', 90, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "expects a real number") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 91))
+            location=pf_source_location('test_input.pf', 91, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_real_key_given_text
 
@@ -162,20 +180,23 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("logical_yes", "&output overwrite = yes /", cfg, error, path)
-        call assertTrue(allocated(error), "overwrite = yes accepted", location=pf_source_location('test_input.pf', 101))
+        call assertTrue( &
+            allocated(error), &
+            "overwrite = yes accepted", &
+            location=pf_source_location('test_input.pf', 101, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 103))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 103, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "'overwrite'"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 104))
+            location=pf_source_location('test_input.pf', 104, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "'yes'") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 105))
+            location=pf_source_location('test_input.pf', 105, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_logical_key_given_yes
 
@@ -189,15 +210,15 @@ contains
         call assertTrue( &
             allocated(error), &
             "two values for dt accepted", &
-            location=pf_source_location('test_input.pf', 115))
+            location=pf_source_location('test_input.pf', 115, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 117))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 117, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "'dt'"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 118))
+            location=pf_source_location('test_input.pf', 118, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_scalar_key_given_list
 
@@ -208,20 +229,23 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("repeat", "&record probes = 3*60 /", cfg, error, path)
-        call assertTrue(allocated(error), "repeat count accepted", location=pf_source_location('test_input.pf', 128))
+        call assertTrue( &
+            allocated(error), &
+            "repeat count accepted", &
+            location=pf_source_location('test_input.pf', 128, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 130))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 130, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "'probes'"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 131))
+            location=pf_source_location('test_input.pf', 131, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "repeat count") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 132))
+            location=pf_source_location('test_input.pf', 132, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_repeat_count_rejected
 
@@ -232,15 +256,18 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("twice", "&chain n = 100" // nl() // "n = 120 /", cfg, error, path)
-        call assertTrue(allocated(error), "key given twice accepted", location=pf_source_location('test_input.pf', 142))
+        call assertTrue( &
+            allocated(error), &
+            "key given twice accepted", &
+            location=pf_source_location('test_input.pf', 142, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 144))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 144, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "'n' is given twice"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 145))
+            location=pf_source_location('test_input.pf', 145, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_key_given_twice
 
@@ -254,20 +281,20 @@ contains
         call assertTrue( &
             allocated(error), &
             "group without '/' accepted", &
-            location=pf_source_location('test_input.pf', 155))
+            location=pf_source_location('test_input.pf', 155, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 157))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 157, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "&chain"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 158))
+            location=pf_source_location('test_input.pf', 158, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "line 2") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 159))
+            location=pf_source_location('test_input.pf', 159, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unterminated_group
 
@@ -282,15 +309,15 @@ contains
         call assertTrue( &
             allocated(error), &
             "unterminated string accepted", &
-            location=pf_source_location('test_input.pf', 170))
+            location=pf_source_location('test_input.pf', 170, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 172))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 172, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "line 2: unterminated string"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 173))
+            location=pf_source_location('test_input.pf', 173, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unterminated_string
 
@@ -304,15 +331,15 @@ contains
         call assertTrue( &
             allocated(error), &
             "text outside groups accepted", &
-            location=pf_source_location('test_input.pf', 183))
+            location=pf_source_location('test_input.pf', 183, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 185))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 185, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "'dt'"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 186))
+            location=pf_source_location('test_input.pf', 186, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_text_outside_groups
 
@@ -324,20 +351,23 @@ contains
 
         path = temp_path("missing", ".nml")
         call read_input(path, cfg, error)
-        call assertTrue(allocated(error), "missing file accepted", location=pf_source_location('test_input.pf', 197))
+        call assertTrue( &
+            allocated(error), &
+            "missing file accepted", &
+            location=pf_source_location('test_input.pf', 197, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 199))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 199, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, path) > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 200))
+            location=pf_source_location('test_input.pf', 200, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "cannot open file (No such file or directory)") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 201))
+            location=pf_source_location('test_input.pf', 201, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_missing_file
 
@@ -348,15 +378,18 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("n_below_two", "&chain n = 1, n0 = 0 /", cfg, error, path)
-        call assertTrue(allocated(error), "N = 1 accepted", location=pf_source_location('test_input.pf', 211))
+        call assertTrue( &
+            allocated(error), &
+            "N = 1 accepted", &
+            location=pf_source_location('test_input.pf', 211, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 213))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 213, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, path // ": &chain: n = 1: need N >= 2") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 214))
+            location=pf_source_location('test_input.pf', 214, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_n_below_two
 
@@ -367,15 +400,18 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("dt_negative", "&numerics dt = -0.1 /", cfg, error, path)
-        call assertTrue(allocated(error), "dt = -0.1 accepted", location=pf_source_location('test_input.pf', 224))
+        call assertTrue( &
+            allocated(error), &
+            "dt = -0.1 accepted", &
+            location=pf_source_location('test_input.pf', 224, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 226))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 226, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, path // ": &numerics: dt = -0.1: must be > 0") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 227))
+            location=pf_source_location('test_input.pf', 227, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_dt_negative
 
@@ -386,15 +422,18 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("dt_zero", "&numerics dt = 0 /", cfg, error, path)
-        call assertTrue(allocated(error), "dt = 0 accepted", location=pf_source_location('test_input.pf', 237))
+        call assertTrue( &
+            allocated(error), &
+            "dt = 0 accepted", &
+            location=pf_source_location('test_input.pf', 237, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 239))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 239, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "dt = 0.0: must be > 0"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 240))
+            location=pf_source_location('test_input.pf', 240, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_dt_zero
 
@@ -405,15 +444,18 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("t_final", "&numerics t_final = 0.0 /", cfg, error, path)
-        call assertTrue(allocated(error), "t_final = 0 accepted", location=pf_source_location('test_input.pf', 250))
+        call assertTrue( &
+            allocated(error), &
+            "t_final = 0 accepted", &
+            location=pf_source_location('test_input.pf', 250, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 252))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 252, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "t_final = 0.0: must be > 0"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 253))
+            location=pf_source_location('test_input.pf', 253, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_t_final_not_positive
 
@@ -424,14 +466,20 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("omega_gap", "&drive omega = 1.2 /", cfg, error, path)
-        call assertTrue(allocated(error), "omega = 1.2 accepted", location=pf_source_location('test_input.pf', 263))
+        call assertTrue( &
+            allocated(error), &
+            "omega = 1.2 accepted", &
+            location=pf_source_location('test_input.pf', 263, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 265))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 265, 'assertEqual'))
         if (pf_any_failed()) return
         expected = path // ": &drive: omega = 1.2 is outside the band gap 0 < Omega < 1.0000" &
                    // " (set allow_outside_gap = .true. to run anyway)"
-        call assertTrue(error%message == expected, error%message, location=pf_source_location('test_input.pf', 268))
+        call assertTrue( &
+            error%message == expected, &
+            error%message, &
+            location=pf_source_location('test_input.pf', 268, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_omega_outside_gap
 
@@ -448,13 +496,17 @@ contains
             call assertTrue( &
                 .false., &
                 "allow_outside_gap = .true. did not allow omega = 1.2: " // error%message, &
-                location=pf_source_location('test_input.pf', 281))
+                location=pf_source_location('test_input.pf', 281, 'assertTrue'))
             if (pf_any_failed()) return
             return
         end if
-        call assertTrue(cfg%allow_outside_gap, location=pf_source_location('test_input.pf', 284))
+        call assertTrue(cfg%allow_outside_gap, location=pf_source_location('test_input.pf', 284, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(1.2_wp, cfg%run%drive%omega, tol, location=pf_source_location('test_input.pf', 285))
+        call assertEqual( &
+            1.2_wp, &
+            cfg%run%drive%omega, &
+            tol, &
+            location=pf_source_location('test_input.pf', 285, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_omega_outside_gap_allowed
 
@@ -468,15 +520,18 @@ contains
         call assertTrue( &
             allocated(error), &
             "dt = 0.3 at c = 4 accepted", &
-            location=pf_source_location('test_input.pf', 295))
+            location=pf_source_location('test_input.pf', 295, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 297))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 297, 'assertEqual'))
         if (pf_any_failed()) return
         expected = path // ": &numerics: dt = 0.3 violates the paper's necessary stability condition" &
                    // " (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt: 1.44 >= 1.0" &
                    // " (it needs dt < 0.25; set allow_unstable = .true. to run anyway)"
-        call assertTrue(error%message == expected, error%message, location=pf_source_location('test_input.pf', 301))
+        call assertTrue( &
+            error%message == expected, &
+            error%message, &
+            location=pf_source_location('test_input.pf', 301, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_stability_violated
 
@@ -493,13 +548,17 @@ contains
             call assertTrue( &
                 .false., &
                 "allow_unstable = T did not allow dt = 0.3: " // error%message, &
-                location=pf_source_location('test_input.pf', 314))
+                location=pf_source_location('test_input.pf', 314, 'assertTrue'))
             if (pf_any_failed()) return
             return
         end if
-        call assertTrue(cfg%allow_unstable, location=pf_source_location('test_input.pf', 317))
+        call assertTrue(cfg%allow_unstable, location=pf_source_location('test_input.pf', 317, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(0.3_wp, cfg%run%numerics%dt, tol, location=pf_source_location('test_input.pf', 318))
+        call assertEqual( &
+            0.3_wp, &
+            cfg%run%numerics%dt, &
+            tol, &
+            location=pf_source_location('test_input.pf', 318, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_stability_violated_allowed
 
@@ -516,13 +575,16 @@ contains
         call assertTrue( &
             allocated(error), &
             "existing output file accepted without overwrite", &
-            location=pf_source_location('test_input.pf', 331))
+            location=pf_source_location('test_input.pf', 331, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 333))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 333, 'assertEqual'))
         if (pf_any_failed()) return
         expected = path // ": &output: file '" // out // "' exists (set overwrite = .true. to replace it)"
-        call assertTrue(error%message == expected, error%message, location=pf_source_location('test_input.pf', 335))
+        call assertTrue( &
+            error%message == expected, &
+            error%message, &
+            location=pf_source_location('test_input.pf', 335, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_output_exists
 
@@ -540,16 +602,16 @@ contains
             call assertTrue( &
                 .false., &
                 "overwrite = .true. did not allow an existing output file: " // error%message, &
-                location=pf_source_location('test_input.pf', 349))
+                location=pf_source_location('test_input.pf', 349, 'assertTrue'))
             if (pf_any_failed()) return
             return
         end if
-        call assertTrue(cfg%output%overwrite, location=pf_source_location('test_input.pf', 352))
+        call assertTrue(cfg%output%overwrite, location=pf_source_location('test_input.pf', 352, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             trim(cfg%output%file) == out, &
             trim(cfg%output%file), &
-            location=pf_source_location('test_input.pf', 353))
+            location=pf_source_location('test_input.pf', 353, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_output_exists_overwrite
 
@@ -563,20 +625,20 @@ contains
         call assertTrue( &
             allocated(error), &
             "unknown potential accepted", &
-            location=pf_source_location('test_input.pf', 363))
+            location=pf_source_location('test_input.pf', 363, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 365))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 365, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "potential = 'phi-four'"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 366))
+            location=pf_source_location('test_input.pf', 366, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "sine-gordon, klein-gordon") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 367))
+            location=pf_source_location('test_input.pf', 367, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_potential
 
@@ -587,20 +649,23 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("method", "&numerics method = 'euler' /", cfg, error, path)
-        call assertTrue(allocated(error), "unknown method accepted", location=pf_source_location('test_input.pf', 377))
+        call assertTrue( &
+            allocated(error), &
+            "unknown method accepted", &
+            location=pf_source_location('test_input.pf', 377, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 379))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 379, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "method = 'euler'"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 380))
+            location=pf_source_location('test_input.pf', 380, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "newton, linearized, rk4") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 381))
+            location=pf_source_location('test_input.pf', 381, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_method
 
@@ -611,15 +676,18 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("scene", "&scene kind = 'movie' /", cfg, error, path)
-        call assertTrue(allocated(error), "unknown scene accepted", location=pf_source_location('test_input.pf', 391))
+        call assertTrue( &
+            allocated(error), &
+            "unknown scene accepted", &
+            location=pf_source_location('test_input.pf', 391, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 393))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 393, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "kind = 'movie'"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 394))
+            location=pf_source_location('test_input.pf', 394, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_scene
 
@@ -633,15 +701,15 @@ contains
         call assertTrue( &
             allocated(error), &
             "probe 250 on a chain of 200 accepted", &
-            location=pf_source_location('test_input.pf', 404))
+            location=pf_source_location('test_input.pf', 404, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 406))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 406, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "probes(2) = 250"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 407))
+            location=pf_source_location('test_input.pf', 407, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_probe_outside_chain
 
@@ -688,84 +756,142 @@ contains
             call assertTrue( &
                 .false., &
                 "valid file rejected: " // error%message, &
-                location=pf_source_location('test_input.pf', 450))
+                location=pf_source_location('test_input.pf', 450, 'assertTrue'))
             if (pf_any_failed()) return
             return
         end if
-        call assertTrue(cfg%source == path, cfg%source, location=pf_source_location('test_input.pf', 453))
+        call assertTrue(cfg%source == path, cfg%source, location=pf_source_location('test_input.pf', 453, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(klein_gordon, cfg%run%chain%potential, location=pf_source_location('test_input.pf', 454))
+        call assertEqual( &
+            klein_gordon, &
+            cfg%run%chain%potential, &
+            location=pf_source_location('test_input.pf', 454, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(3.5_wp, cfg%run%chain%c, tol, location=pf_source_location('test_input.pf', 455))
+        call assertEqual(3.5_wp, cfg%run%chain%c, tol, location=pf_source_location('test_input.pf', 455, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.25_wp, cfg%run%chain%m2, tol, location=pf_source_location('test_input.pf', 456))
+        call assertEqual( &
+            0.25_wp, &
+            cfg%run%chain%m2, &
+            tol, &
+            location=pf_source_location('test_input.pf', 456, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.0e-2_wp, cfg%run%chain%gamma, tol, location=pf_source_location('test_input.pf', 457))
+        call assertEqual( &
+            1.0e-2_wp, &
+            cfg%run%chain%gamma, &
+            tol, &
+            location=pf_source_location('test_input.pf', 457, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(2.0e-3_wp, cfg%run%chain%beta, tol, location=pf_source_location('test_input.pf', 458))
+        call assertEqual( &
+            2.0e-3_wp, &
+            cfg%run%chain%beta, &
+            tol, &
+            location=pf_source_location('test_input.pf', 458, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(120, cfg%run%chain%n, location=pf_source_location('test_input.pf', 459))
+        call assertEqual(120, cfg%run%chain%n, location=pf_source_location('test_input.pf', 459, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(90, cfg%run%chain%n0, location=pf_source_location('test_input.pf', 460))
+        call assertEqual(90, cfg%run%chain%n0, location=pf_source_location('test_input.pf', 460, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.75_wp, cfg%run%chain%kappa, tol, location=pf_source_location('test_input.pf', 461))
+        call assertEqual( &
+            0.75_wp, &
+            cfg%run%chain%kappa, &
+            tol, &
+            location=pf_source_location('test_input.pf', 461, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(2.5_wp, cfg%run%chain%sigma, tol, location=pf_source_location('test_input.pf', 462))
+        call assertEqual( &
+            2.5_wp, &
+            cfg%run%chain%sigma, &
+            tol, &
+            location=pf_source_location('test_input.pf', 462, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.5_wp, cfg%run%drive%amplitude, tol, location=pf_source_location('test_input.pf', 463))
+        call assertEqual( &
+            1.5_wp, &
+            cfg%run%drive%amplitude, &
+            tol, &
+            location=pf_source_location('test_input.pf', 463, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.05_wp, cfg%run%drive%omega, tol, location=pf_source_location('test_input.pf', 464))
+        call assertEqual( &
+            1.05_wp, &
+            cfg%run%drive%omega, &
+            tol, &
+            location=pf_source_location('test_input.pf', 464, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.0_wp, cfg%run%drive%ramp_time, tol, location=pf_source_location('test_input.pf', 465))
+        call assertEqual( &
+            0.0_wp, &
+            cfg%run%drive%ramp_time, &
+            tol, &
+            location=pf_source_location('test_input.pf', 465, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertFalse(cfg%allow_outside_gap, location=pf_source_location('test_input.pf', 466))
+        call assertFalse(cfg%allow_outside_gap, location=pf_source_location('test_input.pf', 466, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(method_linearized, cfg%run%numerics%method, location=pf_source_location('test_input.pf', 467))
+        call assertEqual( &
+            method_linearized, &
+            cfg%run%numerics%method, &
+            location=pf_source_location('test_input.pf', 467, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.1_wp, cfg%run%numerics%dt, tol, location=pf_source_location('test_input.pf', 468))
+        call assertEqual( &
+            0.1_wp, &
+            cfg%run%numerics%dt, &
+            tol, &
+            location=pf_source_location('test_input.pf', 468, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(50.0_wp, cfg%run%numerics%t_final, tol, location=pf_source_location('test_input.pf', 469))
+        call assertEqual( &
+            50.0_wp, &
+            cfg%run%numerics%t_final, &
+            tol, &
+            location=pf_source_location('test_input.pf', 469, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0e-12_wp, &
             cfg%run%numerics%newton_tol, &
             tol, &
-            location=pf_source_location('test_input.pf', 470))
+            location=pf_source_location('test_input.pf', 470, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(30, cfg%run%numerics%newton_max_iter, location=pf_source_location('test_input.pf', 471))
+        call assertEqual( &
+            30, &
+            cfg%run%numerics%newton_max_iter, &
+            location=pf_source_location('test_input.pf', 471, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             500.0_wp, &
             cfg%run%numerics%blowup_threshold, &
             tol, &
-            location=pf_source_location('test_input.pf', 472))
+            location=pf_source_location('test_input.pf', 472, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertFalse(cfg%allow_unstable, location=pf_source_location('test_input.pf', 473))
+        call assertFalse(cfg%allow_unstable, location=pf_source_location('test_input.pf', 473, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(4, size(cfg%run%record%probes), location=pf_source_location('test_input.pf', 474))
+        call assertEqual( &
+            4, &
+            size(cfg%run%record%probes), &
+            location=pf_source_location('test_input.pf', 474, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(cfg%run%record%probes == [1, 30, 60, 120]), &
             "probes /= 1, 30, 60, 120", &
-            location=pf_source_location('test_input.pf', 475))
+            location=pf_source_location('test_input.pf', 475, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(2, cfg%run%record%probe_every, location=pf_source_location('test_input.pf', 476))
+        call assertEqual( &
+            2, &
+            cfg%run%record%probe_every, &
+            location=pf_source_location('test_input.pf', 476, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(10, cfg%run%record%ledger_every, location=pf_source_location('test_input.pf', 477))
+        call assertEqual( &
+            10, &
+            cfg%run%record%ledger_every, &
+            location=pf_source_location('test_input.pf', 477, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             trim(cfg%scene%kind) == "timeseries", &
             trim(cfg%scene%kind), &
-            location=pf_source_location('test_input.pf', 478))
+            location=pf_source_location('test_input.pf', 478, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             trim(cfg%output%file) == out, &
             trim(cfg%output%file), &
-            location=pf_source_location('test_input.pf', 479))
+            location=pf_source_location('test_input.pf', 479, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertFalse(cfg%output%overwrite, location=pf_source_location('test_input.pf', 480))
+        call assertFalse(cfg%output%overwrite, location=pf_source_location('test_input.pf', 480, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertTrue(cfg%output%quiet, location=pf_source_location('test_input.pf', 481))
+        call assertTrue(cfg%output%quiet, location=pf_source_location('test_input.pf', 481, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_full_valid_file
 
@@ -777,20 +903,23 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("empty", "", cfg, error, path)
-        call assertTrue(allocated(error), "empty file accepted", location=pf_source_location('test_input.pf', 492))
+        call assertTrue( &
+            allocated(error), &
+            "empty file accepted", &
+            location=pf_source_location('test_input.pf', 492, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
         call assertTrue( &
             index(error%message, "no namelist group") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 494))
+            location=pf_source_location('test_input.pf', 494, 'assertTrue'))
         if (pf_any_failed()) return
         deallocate (error)
         call read_snippet("comments", "! only a comment" // new_line("a") // "   " // new_line("a"), cfg, error, path)
         call assertTrue( &
             allocated(error), &
             "comments-only file accepted", &
-            location=pf_source_location('test_input.pf', 497))
+            location=pf_source_location('test_input.pf', 497, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_empty_file_is_refused
 
@@ -810,70 +939,113 @@ contains
             call assertTrue( &
                 allocated(error), &
                 "existing default output file accepted", &
-                location=pf_source_location('test_input.pf', 513))
+                location=pf_source_location('test_input.pf', 513, 'assertTrue'))
             if (pf_any_failed()) return
             if (.not. allocated(error)) return
             call assertTrue( &
                 index(error%message, "exists") > 0, &
                 error%message, &
-                location=pf_source_location('test_input.pf', 515))
+                location=pf_source_location('test_input.pf', 515, 'assertTrue'))
             if (pf_any_failed()) return
         else
-            call assertFalse(allocated(error), "empty file rejected", location=pf_source_location('test_input.pf', 517))
+            call assertFalse( &
+                allocated(error), &
+                "empty file rejected", &
+                location=pf_source_location('test_input.pf', 517, 'assertFalse'))
             if (pf_any_failed()) return
             if (allocated(error)) return
         end if
-        call assertTrue(cfg%source == path, cfg%source, location=pf_source_location('test_input.pf', 520))
+        call assertTrue(cfg%source == path, cfg%source, location=pf_source_location('test_input.pf', 520, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(sine_gordon, cfg%run%chain%potential, location=pf_source_location('test_input.pf', 521))
+        call assertEqual( &
+            sine_gordon, &
+            cfg%run%chain%potential, &
+            location=pf_source_location('test_input.pf', 521, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(4.0_wp, cfg%run%chain%c, tol, location=pf_source_location('test_input.pf', 522))
+        call assertEqual(4.0_wp, cfg%run%chain%c, tol, location=pf_source_location('test_input.pf', 522, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.0_wp, cfg%run%chain%m2, tol, location=pf_source_location('test_input.pf', 523))
+        call assertEqual( &
+            0.0_wp, &
+            cfg%run%chain%m2, &
+            tol, &
+            location=pf_source_location('test_input.pf', 523, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(200, cfg%run%chain%n, location=pf_source_location('test_input.pf', 524))
+        call assertEqual(200, cfg%run%chain%n, location=pf_source_location('test_input.pf', 524, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(150, cfg%run%chain%n0, location=pf_source_location('test_input.pf', 525))
+        call assertEqual(150, cfg%run%chain%n0, location=pf_source_location('test_input.pf', 525, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.5_wp, cfg%run%chain%kappa, tol, location=pf_source_location('test_input.pf', 526))
+        call assertEqual( &
+            0.5_wp, &
+            cfg%run%chain%kappa, &
+            tol, &
+            location=pf_source_location('test_input.pf', 526, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(3.0_wp, cfg%run%chain%sigma, tol, location=pf_source_location('test_input.pf', 527))
+        call assertEqual( &
+            3.0_wp, &
+            cfg%run%chain%sigma, &
+            tol, &
+            location=pf_source_location('test_input.pf', 527, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.77_wp, cfg%run%drive%amplitude, tol, location=pf_source_location('test_input.pf', 528))
+        call assertEqual( &
+            1.77_wp, &
+            cfg%run%drive%amplitude, &
+            tol, &
+            location=pf_source_location('test_input.pf', 528, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.9_wp, cfg%run%drive%omega, tol, location=pf_source_location('test_input.pf', 529))
+        call assertEqual( &
+            0.9_wp, &
+            cfg%run%drive%omega, &
+            tol, &
+            location=pf_source_location('test_input.pf', 529, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             default_ramp_time, &
             cfg%run%drive%ramp_time, &
             tol, &
-            location=pf_source_location('test_input.pf', 530))
+            location=pf_source_location('test_input.pf', 530, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(method_newton, cfg%run%numerics%method, location=pf_source_location('test_input.pf', 531))
+        call assertEqual( &
+            method_newton, &
+            cfg%run%numerics%method, &
+            location=pf_source_location('test_input.pf', 531, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.05_wp, cfg%run%numerics%dt, tol, location=pf_source_location('test_input.pf', 532))
+        call assertEqual( &
+            0.05_wp, &
+            cfg%run%numerics%dt, &
+            tol, &
+            location=pf_source_location('test_input.pf', 532, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(200.0_wp, cfg%run%numerics%t_final, tol, location=pf_source_location('test_input.pf', 533))
+        call assertEqual( &
+            200.0_wp, &
+            cfg%run%numerics%t_final, &
+            tol, &
+            location=pf_source_location('test_input.pf', 533, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1, size(cfg%run%record%probes), location=pf_source_location('test_input.pf', 534))
+        call assertEqual( &
+            1, &
+            size(cfg%run%record%probes), &
+            location=pf_source_location('test_input.pf', 534, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(default_probes(1), cfg%run%record%probes(1), location=pf_source_location('test_input.pf', 535))
+        call assertEqual( &
+            default_probes(1), &
+            cfg%run%record%probes(1), &
+            location=pf_source_location('test_input.pf', 535, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             trim(cfg%scene%kind) == "timeseries", &
             trim(cfg%scene%kind), &
-            location=pf_source_location('test_input.pf', 536))
+            location=pf_source_location('test_input.pf', 536, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             cfg%output%file == defaults%output%file, &
             trim(cfg%output%file), &
-            location=pf_source_location('test_input.pf', 537))
+            location=pf_source_location('test_input.pf', 537, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertFalse(cfg%output%overwrite, location=pf_source_location('test_input.pf', 538))
+        call assertFalse(cfg%output%overwrite, location=pf_source_location('test_input.pf', 538, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(cfg%allow_outside_gap, location=pf_source_location('test_input.pf', 539))
+        call assertFalse(cfg%allow_outside_gap, location=pf_source_location('test_input.pf', 539, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(cfg%allow_unstable, location=pf_source_location('test_input.pf', 540))
+        call assertFalse(cfg%allow_unstable, location=pf_source_location('test_input.pf', 540, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_defaults_of_a_minimal_file
 
@@ -887,20 +1059,23 @@ contains
         call assertFalse( &
             allocated(error), &
             "default configuration rejected", &
-            location=pf_source_location('test_input.pf', 550))
+            location=pf_source_location('test_input.pf', 550, 'assertFalse'))
         if (pf_any_failed()) return
         if (allocated(error)) return
         cfg%run%chain%sigma = -1.0_wp
         call validate_config(cfg, error, check_output=.false.)
-        call assertTrue(allocated(error), "sigma = -1 accepted", location=pf_source_location('test_input.pf', 554))
+        call assertTrue( &
+            allocated(error), &
+            "sigma = -1 accepted", &
+            location=pf_source_location('test_input.pf', 554, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 556))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 556, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "configuration: &chain: sigma = -1.0: must be > 0") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 557))
+            location=pf_source_location('test_input.pf', 557, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_validate_config_in_code
 
@@ -911,15 +1086,18 @@ contains
         type(error_type), allocatable :: error
 
         call read_snippet("list_range", "&scene dts = 0.1, -0.2 /", cfg, error, path)
-        call assertTrue(allocated(error), "dts = 0.1, -0.2 accepted", location=pf_source_location('test_input.pf', 567))
+        call assertTrue( &
+            allocated(error), &
+            "dts = 0.1, -0.2 accepted", &
+            location=pf_source_location('test_input.pf', 567, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 569))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 569, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "&scene: dts(2) = -0.2: must be > 0"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 570))
+            location=pf_source_location('test_input.pf', 570, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_list_value_out_of_range
 
@@ -933,16 +1111,16 @@ contains
         call assertTrue( &
             allocated(error), &
             "unknown potential in a list accepted", &
-            location=pf_source_location('test_input.pf', 580))
+            location=pf_source_location('test_input.pf', 580, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 582))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 582, 'assertEqual'))
         if (pf_any_failed()) return
         expected = "&scene: potentials(2) = 'phi-four': unknown potential (known: sine-gordon, klein-gordon)"
         call assertTrue( &
             names_file_and_key(error%message, path, expected), &
             error%message, &
-            location=pf_source_location('test_input.pf', 584))
+            location=pf_source_location('test_input.pf', 584, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_potential_in_list
 
@@ -959,26 +1137,29 @@ contains
             call assertTrue( &
                 .false., &
                 "lists of names rejected: " // error%message, &
-                location=pf_source_location('test_input.pf', 597))
+                location=pf_source_location('test_input.pf', 597, 'assertTrue'))
             if (pf_any_failed()) return
             return
         end if
-        call assertEqual(2, size(cfg%scene%potentials), location=pf_source_location('test_input.pf', 600))
+        call assertEqual( &
+            2, &
+            size(cfg%scene%potentials), &
+            location=pf_source_location('test_input.pf', 600, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(cfg%scene%potentials == [klein_gordon, sine_gordon]), &
             "potentials", &
-            location=pf_source_location('test_input.pf', 601))
+            location=pf_source_location('test_input.pf', 601, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(cfg%scene%methods == [method_rk8, method_newton]), &
             "methods", &
-            location=pf_source_location('test_input.pf', 602))
+            location=pf_source_location('test_input.pf', 602, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             allocated(cfg%scene%values), &
             "values not given stay unset", &
-            location=pf_source_location('test_input.pf', 603))
+            location=pf_source_location('test_input.pf', 603, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_lists_of_names_read
 
@@ -991,13 +1172,19 @@ contains
         cfg%run%record%probes = [60]
         cfg%run%numerics%method = 9
         call validate_config(cfg, error, check_output=.false.)
-        call assertTrue(allocated(error), "method number 9 accepted", location=pf_source_location('test_input.pf', 615))
+        call assertTrue( &
+            allocated(error), &
+            "method number 9 accepted", &
+            location=pf_source_location('test_input.pf', 615, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 617))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 617, 'assertEqual'))
         if (pf_any_failed()) return
         expected = "configuration: &numerics: method = 9: unknown method (known: newton, linearized, rk4, rk8)"
-        call assertTrue(error%message == expected, error%message, location=pf_source_location('test_input.pf', 619))
+        call assertTrue( &
+            error%message == expected, &
+            error%message, &
+            location=pf_source_location('test_input.pf', 619, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_method_number_in_code
 
@@ -1014,26 +1201,29 @@ contains
             call assertTrue( &
                 .false., &
                 "valid file rejected: " // error%message, &
-                location=pf_source_location('test_input.pf', 632))
+                location=pf_source_location('test_input.pf', 632, 'assertTrue'))
             if (pf_any_failed()) return
             return
         end if
         call assertTrue( &
             allocated(cfg%text), &
             "namelist text not kept", &
-            location=pf_source_location('test_input.pf', 635))
+            location=pf_source_location('test_input.pf', 635, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(cfg%text == text // nl(), cfg%text, location=pf_source_location('test_input.pf', 636))
+        call assertTrue( &
+            cfg%text == text // nl(), &
+            cfg%text, &
+            location=pf_source_location('test_input.pf', 636, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             allocated(cfg%started), &
             "start time not kept", &
-            location=pf_source_location('test_input.pf', 637))
+            location=pf_source_location('test_input.pf', 637, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(cfg%started, "T") == 11 .and. cfg%started(1:2) == "20", &
             cfg%started, &
-            location=pf_source_location('test_input.pf', 638))
+            location=pf_source_location('test_input.pf', 638, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_namelist_text_and_start_kept
 

@@ -36,29 +36,29 @@ contains
         written(:, 2) = [1.78_wp, 9.0_wp, 1.0_wp]
         call write_journal(path, journal_header(2, [character(len=9) :: "threshold", "runs", "status"], "ABC"), &
                            written, [.true., .true.], error)
-        call assertFalse(allocated(error), location=pf_source_location('test_journal.pf', 38))
+        call assertFalse(allocated(error), location=pf_source_location('test_journal.pf', 38, 'assertFalse'))
         if (pf_any_failed()) return
         results = 0.0_wp
         done = .false.
         call read_journal(path, journal_header(2, [character(len=9) :: "status", "threshold", "runs"], "ABC"), &
                           results, done, dropped, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_journal.pf', 43))
+        call assertFalse(allocated(error), location=pf_source_location('test_journal.pf', 43, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0, dropped, location=pf_source_location('test_journal.pf', 44))
+        call assertEqual(0, dropped, location=pf_source_location('test_journal.pf', 44, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertTrue(all(done), location=pf_source_location('test_journal.pf', 45))
+        call assertTrue(all(done), location=pf_source_location('test_journal.pf', 45, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             [0.0_wp, 4.28_wp, 17.0_wp], &
             results(:, 1), &
             0.0_wp, &
-            location=pf_source_location('test_journal.pf', 46))
+            location=pf_source_location('test_journal.pf', 46, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             [1.0_wp, 1.78_wp, 9.0_wp], &
             results(:, 2), &
             0.0_wp, &
-            location=pf_source_location('test_journal.pf', 47))
+            location=pf_source_location('test_journal.pf', 47, 'assertEqual'))
         if (pf_any_failed()) return
         open (newunit=unit, file=path)
         close (unit, status="delete")
@@ -82,12 +82,12 @@ contains
         call assertTrue( &
             allocated(error), &
             message="a journal with other fields was accepted", &
-            location=pf_source_location('test_journal.pf', 67))
+            location=pf_source_location('test_journal.pf', 67, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "another version") > 0, &
             message=error%message, &
-            location=pf_source_location('test_journal.pf', 68))
+            location=pf_source_location('test_journal.pf', 68, 'assertTrue'))
         if (pf_any_failed()) return
         ! one field more
         call read_journal(path, journal_header(1, [character(len=9) :: "threshold", "runs", "steps"], "ABC"), &
@@ -95,7 +95,7 @@ contains
         call assertTrue( &
             allocated(error), &
             message="a journal with fewer fields was accepted", &
-            location=pf_source_location('test_journal.pf', 72))
+            location=pf_source_location('test_journal.pf', 72, 'assertTrue'))
         if (pf_any_failed()) return
         ! another input
         call read_journal(path, journal_header(1, [character(len=9) :: "threshold", "runs"], "XYZ"), results, done, &
@@ -103,12 +103,12 @@ contains
         call assertTrue( &
             allocated(error), &
             message="a journal of another input was accepted", &
-            location=pf_source_location('test_journal.pf', 76))
+            location=pf_source_location('test_journal.pf', 76, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "different input") > 0, &
             message=error%message, &
-            location=pf_source_location('test_journal.pf', 77))
+            location=pf_source_location('test_journal.pf', 77, 'assertTrue'))
         if (pf_any_failed()) return
         open (newunit=unit, file=path)
         close (unit, status="delete")
@@ -122,7 +122,7 @@ contains
         call assertEqual( &
             "supratrans-journal 3 12 ABC threshold runs", &
             header, &
-            location=pf_source_location('test_journal.pf', 87))
+            location=pf_source_location('test_journal.pf', 87, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_header_names_the_fields
 

@@ -33,25 +33,43 @@ contains
             worst_s = max(worst_s, abs(s(i) - sin(x(i)))/spacing(max(abs(sin(x(i))), epsilon(1.0_wp))))
             worst_c = max(worst_c, abs(c(i) - cos(x(i)))/spacing(max(abs(cos(x(i))), epsilon(1.0_wp))))
         end do
-        call assertLessThanOrEqual(worst_s, 4.0_wp, location=pf_source_location('test_perf_kernels.pf', 35))
+        call assertLessThanOrEqual( &
+            worst_s, &
+            4.0_wp, &
+            location=pf_source_location('test_perf_kernels.pf', 35, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
-        call assertLessThanOrEqual(worst_c, 4.0_wp, location=pf_source_location('test_perf_kernels.pf', 36))
+        call assertLessThanOrEqual( &
+            worst_c, &
+            4.0_wp, &
+            location=pf_source_location('test_perf_kernels.pf', 36, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.0_wp, s(1), 0.0_wp, location=pf_source_location('test_perf_kernels.pf', 37))
+        call assertEqual(0.0_wp, s(1), 0.0_wp, location=pf_source_location('test_perf_kernels.pf', 37, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.0_wp, c(1), 0.0_wp, location=pf_source_location('test_perf_kernels.pf', 38))
+        call assertEqual(1.0_wp, c(1), 0.0_wp, location=pf_source_location('test_perf_kernels.pf', 38, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.0e-300_wp, s(3), 0.0_wp, location=pf_source_location('test_perf_kernels.pf', 39))
+        call assertEqual( &
+            1.0e-300_wp, &
+            s(3), &
+            0.0_wp, &
+            location=pf_source_location('test_perf_kernels.pf', 39, 'assertEqual'))
         if (pf_any_failed()) return
         big = [2.0_wp*trig_max, 0.5_wp, ieee_value(1.0_wp, ieee_quiet_nan)]
         call sin_cos_array(big, sb, cb)
-        call assertEqual(sin(big(1:2)), sb(1:2), 0.0_wp, location=pf_source_location('test_perf_kernels.pf', 42))
+        call assertEqual( &
+            sin(big(1:2)), &
+            sb(1:2), &
+            0.0_wp, &
+            location=pf_source_location('test_perf_kernels.pf', 42, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(cos(big(1:2)), cb(1:2), 0.0_wp, location=pf_source_location('test_perf_kernels.pf', 43))
+        call assertEqual( &
+            cos(big(1:2)), &
+            cb(1:2), &
+            0.0_wp, &
+            location=pf_source_location('test_perf_kernels.pf', 43, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             ieee_is_nan(sb(3)) .and. ieee_is_nan(cb(3)), &
-            location=pf_source_location('test_perf_kernels.pf', 44))
+            location=pf_source_location('test_perf_kernels.pf', 44, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_sin_cos_array_accuracy
 
@@ -71,24 +89,39 @@ contains
         x(2:4) = [0.0_wp, -0.0_wp, 1.0e-300_wp]
         call sin_cos_array(x, s_tail, c_tail)
         call sin_cos_array([x, 3.0_wp], s_head, c_head)   ! the same arguments, all before a large last one
-        call assertEqual(s_head(1:m), s_tail, 0.0_wp, location=pf_source_location('test_perf_kernels.pf', 63))
+        call assertEqual( &
+            s_head(1:m), &
+            s_tail, &
+            0.0_wp, &
+            location=pf_source_location('test_perf_kernels.pf', 63, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(c_head(1:m), c_tail, 0.0_wp, location=pf_source_location('test_perf_kernels.pf', 64))
+        call assertEqual( &
+            c_head(1:m), &
+            c_tail, &
+            0.0_wp, &
+            location=pf_source_location('test_perf_kernels.pf', 64, 'assertEqual'))
         if (pf_any_failed()) return
         call force_array(sine_gordon, x, f)
         worst = 0.0_wp
         do i = 2, m
             worst = max(worst, abs(f(i) - sin(x(i)))/spacing(max(abs(sin(x(i))), tiny(1.0_wp))))
         end do
-        call assertLessThanOrEqual(worst, 2.0_wp, location=pf_source_location('test_perf_kernels.pf', 70))
+        call assertLessThanOrEqual( &
+            worst, &
+            2.0_wp, &
+            location=pf_source_location('test_perf_kernels.pf', 70, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             sin(x(1)), &
             f(1), &
             2.0_wp*spacing(sin(x(1))), &
-            location=pf_source_location('test_perf_kernels.pf', 71))
+            location=pf_source_location('test_perf_kernels.pf', 71, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.0e-300_wp, f(4), 0.0_wp, location=pf_source_location('test_perf_kernels.pf', 72))
+        call assertEqual( &
+            1.0e-300_wp, &
+            f(4), &
+            0.0_wp, &
+            location=pf_source_location('test_perf_kernels.pf', 72, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_sin_cos_quiet_tail
 
@@ -118,25 +151,25 @@ contains
                         discrete_gradient(sine_gordon, a(n), b(n)), &
                         g(n), &
                         tol, &
-                        location=pf_source_location('test_perf_kernels.pf', 97))
+                        location=pf_source_location('test_perf_kernels.pf', 97, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         discrete_gradient_da(sine_gordon, a(n), b(n)), &
                         dg(n), &
                         tol, &
-                        location=pf_source_location('test_perf_kernels.pf', 98))
+                        location=pf_source_location('test_perf_kernels.pf', 98, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         sin(0.5_wp*(a(n) + b(n))), &
                         ss(n), &
                         tol, &
-                        location=pf_source_location('test_perf_kernels.pf', 99))
+                        location=pf_source_location('test_perf_kernels.pf', 99, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         cos(0.5_wp*(a(n) + b(n))), &
                         cs(n), &
                         tol, &
-                        location=pf_source_location('test_perf_kernels.pf', 100))
+                        location=pf_source_location('test_perf_kernels.pf', 100, 'assertEqual'))
                     if (pf_any_failed()) return
                 end do
             end do

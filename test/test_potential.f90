@@ -30,7 +30,7 @@ contains
                         quotient, &
                         discrete_gradient(ids(p), a, b), &
                         1.0e-13_wp*max(1.0_wp, abs(quotient)), &
-                        location=pf_source_location('test_potential.pf', 28))
+                        location=pf_source_location('test_potential.pf', 28, 'assertEqual'))
                     if (pf_any_failed()) return
                 end do
             end do
@@ -51,14 +51,14 @@ contains
                     potential_dv(ids(p), a), &
                     discrete_gradient(ids(p), a + h, a - h), &
                     2.0_wp*h*h + 1.0e-15_wp, &
-                    location=pf_source_location('test_potential.pf', 44))
+                    location=pf_source_location('test_potential.pf', 44, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             call assertEqual( &
                 potential_dv(ids(p), a), &
                 discrete_gradient(ids(p), a, a), &
                 1.0e-15_wp, &
-                location=pf_source_location('test_potential.pf', 46))
+                location=pf_source_location('test_potential.pf', 46, 'assertEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_gradient_tends_to_force
@@ -71,14 +71,14 @@ contains
 
         do p = 1, size(ids)
             call gradient_and_slope(ids(p), 0.0_wp, 0.0_wp, g, dg)
-            call assertEqual(0.0_wp, g, 0.0_wp, location=pf_source_location('test_potential.pf', 58))
+            call assertEqual(0.0_wp, g, 0.0_wp, location=pf_source_location('test_potential.pf', 58, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertEqual(0.5_wp, dg, 0.0_wp, location=pf_source_location('test_potential.pf', 59))
+            call assertEqual(0.5_wp, dg, 0.0_wp, location=pf_source_location('test_potential.pf', 59, 'assertEqual'))
             if (pf_any_failed()) return
             call gradient_and_slope(ids(p), 1.0e-300_wp, -1.0e-300_wp, g, dg)
-            call assertIsFinite(g, location=pf_source_location('test_potential.pf', 61))
+            call assertIsFinite(g, location=pf_source_location('test_potential.pf', 61, 'assertIsFinite'))
             if (pf_any_failed()) return
-            call assertIsFinite(dg, location=pf_source_location('test_potential.pf', 62))
+            call assertIsFinite(dg, location=pf_source_location('test_potential.pf', 62, 'assertIsFinite'))
             if (pf_any_failed()) return
         end do
     end subroutine test_gradient_exact_at_rest
@@ -100,7 +100,7 @@ contains
                     fd, &
                     discrete_gradient_da(ids(p), a, b), &
                     1.0e-8_wp, &
-                    location=pf_source_location('test_potential.pf', 79))
+                    location=pf_source_location('test_potential.pf', 79, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
         end do
@@ -123,13 +123,13 @@ contains
                     discrete_gradient(ids(p), a(n), b(n)), &
                     g2(n), &
                     1.0e-15_wp, &
-                    location=pf_source_location('test_potential.pf', 97))
+                    location=pf_source_location('test_potential.pf', 97, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     discrete_gradient_da(ids(p), a(n), b(n)), &
                     dg2(n), &
                     1.0e-15_wp, &
-                    location=pf_source_location('test_potential.pf', 98))
+                    location=pf_source_location('test_potential.pf', 98, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
         end do
@@ -140,19 +140,22 @@ contains
         call assertEqual( &
             sine_gordon, &
             potential_from_name("sine-gordon"), &
-            location=pf_source_location('test_potential.pf', 105))
+            location=pf_source_location('test_potential.pf', 105, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             klein_gordon, &
             potential_from_name(potential_name(klein_gordon)), &
-            location=pf_source_location('test_potential.pf', 106))
+            location=pf_source_location('test_potential.pf', 106, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, potential_from_name("phi-four"), location=pf_source_location('test_potential.pf', 107))
+        call assertEqual( &
+            0, &
+            potential_from_name("phi-four"), &
+            location=pf_source_location('test_potential.pf', 107, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             potential_unknown, &
             potential_from_name("phi-four"), &
-            location=pf_source_location('test_potential.pf', 108))
+            location=pf_source_location('test_potential.pf', 108, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_names_round_trip
 
@@ -165,59 +168,68 @@ contains
         integer :: p, bad(3) = [potential_unknown, 3, -1]
 
         do p = 1, size(ids)
-            call assertTrue(is_potential(ids(p)), location=pf_source_location('test_potential.pf', 120))
+            call assertTrue(is_potential(ids(p)), location=pf_source_location('test_potential.pf', 120, 'assertTrue'))
             if (pf_any_failed()) return
             call check_potential(ids(p), error)
-            call assertFalse(allocated(error), location=pf_source_location('test_potential.pf', 122))
+            call assertFalse(allocated(error), location=pf_source_location('test_potential.pf', 122, 'assertFalse'))
             if (pf_any_failed()) return
         end do
         u = [0.1_wp, -0.7_wp, 2.0_wp]
         ss = 0.0_wp
         cs = 1.0_wp
         do p = 1, size(bad)
-            call assertFalse(is_potential(bad(p)), location=pf_source_location('test_potential.pf', 128))
+            call assertFalse(is_potential(bad(p)), location=pf_source_location('test_potential.pf', 128, 'assertFalse'))
             if (pf_any_failed()) return
             call check_potential(bad(p), error)
-            call assertTrue(allocated(error), location=pf_source_location('test_potential.pf', 130))
+            call assertTrue(allocated(error), location=pf_source_location('test_potential.pf', 130, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 index(error%message, "unknown potential identifier") == 1, &
                 error%message, &
-                location=pf_source_location('test_potential.pf', 131))
+                location=pf_source_location('test_potential.pf', 131, 'assertTrue'))
             if (pf_any_failed()) return
-            call assertEqual("unknown", potential_name(bad(p)), location=pf_source_location('test_potential.pf', 132))
+            call assertEqual( &
+                "unknown", &
+                potential_name(bad(p)), &
+                location=pf_source_location('test_potential.pf', 132, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertIsNaN(potential_v(bad(p), 0.5_wp), location=pf_source_location('test_potential.pf', 133))
+            call assertIsNaN( &
+                potential_v(bad(p), 0.5_wp), &
+                location=pf_source_location('test_potential.pf', 133, 'assertIsNaN'))
             if (pf_any_failed()) return
-            call assertIsNaN(potential_dv(bad(p), 0.5_wp), location=pf_source_location('test_potential.pf', 134))
+            call assertIsNaN( &
+                potential_dv(bad(p), 0.5_wp), &
+                location=pf_source_location('test_potential.pf', 134, 'assertIsNaN'))
             if (pf_any_failed()) return
             call assertIsNaN( &
                 discrete_gradient(bad(p), 0.5_wp, 0.2_wp), &
-                location=pf_source_location('test_potential.pf', 135))
+                location=pf_source_location('test_potential.pf', 135, 'assertIsNaN'))
             if (pf_any_failed()) return
             call assertIsNaN( &
                 discrete_gradient_da(bad(p), 0.5_wp, 0.2_wp), &
-                location=pf_source_location('test_potential.pf', 136))
+                location=pf_source_location('test_potential.pf', 136, 'assertIsNaN'))
             if (pf_any_failed()) return
             call gradient_and_slope(bad(p), 0.5_wp, 0.2_wp, value, slope)
-            call assertIsNaN(value, location=pf_source_location('test_potential.pf', 138))
+            call assertIsNaN(value, location=pf_source_location('test_potential.pf', 138, 'assertIsNaN'))
             if (pf_any_failed()) return
-            call assertIsNaN(slope, location=pf_source_location('test_potential.pf', 139))
+            call assertIsNaN(slope, location=pf_source_location('test_potential.pf', 139, 'assertIsNaN'))
             if (pf_any_failed()) return
-            call assertIsNaN(potential_sum(bad(p), u), location=pf_source_location('test_potential.pf', 140))
+            call assertIsNaN( &
+                potential_sum(bad(p), u), &
+                location=pf_source_location('test_potential.pf', 140, 'assertIsNaN'))
             if (pf_any_failed()) return
             call force_array(bad(p), u, f)
-            call assertTrue(all(ieee_is_nan(f)), location=pf_source_location('test_potential.pf', 142))
+            call assertTrue(all(ieee_is_nan(f)), location=pf_source_location('test_potential.pf', 142, 'assertTrue'))
             if (pf_any_failed()) return
             call gradient_and_slope_array(bad(p), u, 0.5_wp*u, g, dg, ss, cs)
             call assertTrue( &
                 all(ieee_is_nan(g)) .and. all(ieee_is_nan(dg)), &
-                location=pf_source_location('test_potential.pf', 144))
+                location=pf_source_location('test_potential.pf', 144, 'assertTrue'))
             if (pf_any_failed()) return
             call gradient_and_slope_refine(bad(p), u, 0.5_wp*u, 0.01_wp*u, g, dg, ss, cs)
             call assertTrue( &
                 all(ieee_is_nan(g)) .and. all(ieee_is_nan(dg)), &
-                location=pf_source_location('test_potential.pf', 146))
+                location=pf_source_location('test_potential.pf', 146, 'assertTrue'))
             if (pf_any_failed()) return
         end do
     end subroutine test_unknown_potential_is_an_error

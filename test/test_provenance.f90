@@ -55,14 +55,20 @@ contains
         call put(root // "/repo/.git/HEAD", "ref: refs/heads/main")
         call put(root // "/repo/.git/refs/heads/main", sha_a)
         call make_directories(root // "/repo/src/io", error)
-        call assertFalse(allocated(error), "mkdir", location=pf_source_location('test_provenance.pf', 57))
+        call assertFalse( &
+            allocated(error), &
+            "mkdir", &
+            location=pf_source_location('test_provenance.pf', 57, 'assertFalse'))
         if (pf_any_failed()) return
         call find_commit(root // "/repo/src/io/", commit, ref, repository)
-        call assertEqual(sha_a, commit, location=pf_source_location('test_provenance.pf', 59))
+        call assertEqual(sha_a, commit, location=pf_source_location('test_provenance.pf', 59, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("refs/heads/main", ref, location=pf_source_location('test_provenance.pf', 60))
+        call assertEqual("refs/heads/main", ref, location=pf_source_location('test_provenance.pf', 60, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(root // "/repo", repository, location=pf_source_location('test_provenance.pf', 61))
+        call assertEqual( &
+            root // "/repo", &
+            repository, &
+            location=pf_source_location('test_provenance.pf', 61, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_commit_of_a_branch
 
@@ -77,11 +83,17 @@ contains
         call put(root // "/main/.git/worktrees/wt/commondir", "../..")
         call put(root // "/wt/.git", "gitdir: " // root // "/main/.git/worktrees/wt")
         call find_commit(root // "/wt", commit, ref, repository)
-        call assertEqual(sha_b, commit, location=pf_source_location('test_provenance.pf', 75))
+        call assertEqual(sha_b, commit, location=pf_source_location('test_provenance.pf', 75, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("refs/heads/feature", ref, location=pf_source_location('test_provenance.pf', 76))
+        call assertEqual( &
+            "refs/heads/feature", &
+            ref, &
+            location=pf_source_location('test_provenance.pf', 76, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(root // "/wt", repository, location=pf_source_location('test_provenance.pf', 77))
+        call assertEqual( &
+            root // "/wt", &
+            repository, &
+            location=pf_source_location('test_provenance.pf', 77, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_commit_of_a_worktree_from_packed_refs
 
@@ -91,9 +103,9 @@ contains
 
         call put(root // "/detached/.git/HEAD", sha_b)
         call find_commit(root // "/detached", commit, ref, repository)
-        call assertEqual(sha_b, commit, location=pf_source_location('test_provenance.pf', 86))
+        call assertEqual(sha_b, commit, location=pf_source_location('test_provenance.pf', 86, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("HEAD", ref, location=pf_source_location('test_provenance.pf', 87))
+        call assertEqual("HEAD", ref, location=pf_source_location('test_provenance.pf', 87, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_detached_head
 
@@ -103,20 +115,20 @@ contains
 
         call put(root // "/broken/.git/HEAD", "ref: refs/heads/gone")
         call find_commit(root // "/broken", commit, ref, repository)
-        call assertEqual("unknown", commit, location=pf_source_location('test_provenance.pf', 96))
+        call assertEqual("unknown", commit, location=pf_source_location('test_provenance.pf', 96, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("refs/heads/gone", ref, location=pf_source_location('test_provenance.pf', 97))
+        call assertEqual("refs/heads/gone", ref, location=pf_source_location('test_provenance.pf', 97, 'assertEqual'))
         if (pf_any_failed()) return
         call find_commit("relative/path", commit, ref, repository)
-        call assertEqual("unknown", commit, location=pf_source_location('test_provenance.pf', 99))
+        call assertEqual("unknown", commit, location=pf_source_location('test_provenance.pf', 99, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("unknown", repository, location=pf_source_location('test_provenance.pf', 100))
+        call assertEqual("unknown", repository, location=pf_source_location('test_provenance.pf', 100, 'assertEqual'))
         if (pf_any_failed()) return
         call git_commit(commit, ref, repository)
         call assertTrue( &
             commit == "unknown" .or. len(commit) == 40, &
             commit, &
-            location=pf_source_location('test_provenance.pf', 102))
+            location=pf_source_location('test_provenance.pf', 102, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_outside_a_repository
 
@@ -135,58 +147,85 @@ contains
         written(1) = path
         nwritten = 1
         call h5_create(file, path, .true., error)
-        call assertFalse(allocated(error), "create", location=pf_source_location('test_provenance.pf', 120))
+        call assertFalse( &
+            allocated(error), &
+            "create", &
+            location=pf_source_location('test_provenance.pf', 120, 'assertFalse'))
         if (pf_any_failed()) return
         if (allocated(error)) return
         call write_provenance(file, cfg, error)
-        call assertFalse(allocated(error), "write_provenance", location=pf_source_location('test_provenance.pf', 123))
+        call assertFalse( &
+            allocated(error), &
+            "write_provenance", &
+            location=pf_source_location('test_provenance.pf', 123, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call h5_open(file, path, .false., error)
-        call assertFalse(allocated(error), "open", location=pf_source_location('test_provenance.pf', 126))
+        call assertFalse( &
+            allocated(error), &
+            "open", &
+            location=pf_source_location('test_provenance.pf', 126, 'assertFalse'))
         if (pf_any_failed()) return
         if (allocated(error)) return
         call h5_read(file, "/provenance/namelist", text, error)
-        call assertFalse(allocated(error), "namelist", location=pf_source_location('test_provenance.pf', 129))
+        call assertFalse( &
+            allocated(error), &
+            "namelist", &
+            location=pf_source_location('test_provenance.pf', 129, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertTrue(text == cfg%text, text, location=pf_source_location('test_provenance.pf', 130))
+        call assertTrue(text == cfg%text, text, location=pf_source_location('test_provenance.pf', 130, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "compiler", text, error)
-        call assertEqual(compiler_version(), text, location=pf_source_location('test_provenance.pf', 132))
+        call assertEqual( &
+            compiler_version(), &
+            text, &
+            location=pf_source_location('test_provenance.pf', 132, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "compiler_options", text, error)
-        call assertTrue(index(text, "-") > 0, text, location=pf_source_location('test_provenance.pf', 134))
+        call assertTrue( &
+            index(text, "-") > 0, &
+            text, &
+            location=pf_source_location('test_provenance.pf', 134, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "version", text, error)
-        call assertEqual(supratrans_version, text, location=pf_source_location('test_provenance.pf', 136))
+        call assertEqual( &
+            supratrans_version, &
+            text, &
+            location=pf_source_location('test_provenance.pf', 136, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "host", text, error)
-        call assertEqual(host_name(), text, location=pf_source_location('test_provenance.pf', 138))
+        call assertEqual(host_name(), text, location=pf_source_location('test_provenance.pf', 138, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             len(text) > 0 .and. text /= "unknown", &
             text, &
-            location=pf_source_location('test_provenance.pf', 139))
+            location=pf_source_location('test_provenance.pf', 139, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "executable", text, error)
-        call assertEqual(executable_path(), text, location=pf_source_location('test_provenance.pf', 141))
+        call assertEqual(executable_path(), text, location=pf_source_location('test_provenance.pf', 141, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "started", text, error)
-        call assertEqual(cfg%started, text, location=pf_source_location('test_provenance.pf', 143))
+        call assertEqual(cfg%started, text, location=pf_source_location('test_provenance.pf', 143, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "input_file", text, error)
-        call assertEqual(cfg%source, text, location=pf_source_location('test_provenance.pf', 145))
+        call assertEqual(cfg%source, text, location=pf_source_location('test_provenance.pf', 145, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "git_commit", text, error)
         call assertTrue( &
             text == "unknown" .or. len(text) == 40, &
             text, &
-            location=pf_source_location('test_provenance.pf', 147))
+            location=pf_source_location('test_provenance.pf', 147, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "omp_max_threads", threads, error)
-        call assertFalse(allocated(error), "omp_max_threads", location=pf_source_location('test_provenance.pf', 149))
+        call assertFalse( &
+            allocated(error), &
+            "omp_max_threads", &
+            location=pf_source_location('test_provenance.pf', 149, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertTrue(threads >= 1, "omp_max_threads < 1", location=pf_source_location('test_provenance.pf', 150))
+        call assertTrue( &
+            threads >= 1, &
+            "omp_max_threads < 1", &
+            location=pf_source_location('test_provenance.pf', 150, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_close(file, error)
     end subroutine test_provenance_written

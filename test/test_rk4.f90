@@ -34,20 +34,26 @@ contains
         do k = 1, 3
             run%numerics%dt = 0.05_wp/2**(k - 1)
             call simulate(run, res)
-            call assertEqual(run_ok, res%status, location=pf_source_location('test_rk4.pf', 36))
+            call assertEqual(run_ok, res%status, location=pf_source_location('test_rk4.pf', 36, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 60.0_wp, &
                 res%probe_time(res%n_probe_samples), &
                 1.0e-9_wp, &
-                location=pf_source_location('test_rk4.pf', 37))
+                location=pf_source_location('test_rk4.pf', 37, 'assertEqual'))
             if (pf_any_failed()) return
             u(k) = res%probe_u(res%n_probe_samples, 1)
         end do
         order = log(abs(u(1) - u(2))/abs(u(2) - u(3)))/log(2.0_wp)
-        call assertGreaterThanOrEqual(order, 3.7_wp, location=pf_source_location('test_rk4.pf', 41))
+        call assertGreaterThanOrEqual( &
+            order, &
+            3.7_wp, &
+            location=pf_source_location('test_rk4.pf', 41, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
-        call assertLessThanOrEqual(order, 4.3_wp, location=pf_source_location('test_rk4.pf', 42))
+        call assertLessThanOrEqual( &
+            order, &
+            4.3_wp, &
+            location=pf_source_location('test_rk4.pf', 42, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
     end subroutine test_rk4_fourth_order
 
@@ -74,30 +80,45 @@ contains
         do k = 1, 2
             run%numerics%dt = 0.1_wp/2**(k - 1)
             call simulate(run, res)
-            call assertEqual(run_ok, res%status, location=pf_source_location('test_rk4.pf', 68))
+            call assertEqual(run_ok, res%status, location=pf_source_location('test_rk4.pf', 68, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 nint(run%numerics%t_final/run%numerics%dt) + 1, &
                 res%n_ledger_samples, &
-                location=pf_source_location('test_rk4.pf', 69))
+                location=pf_source_location('test_rk4.pf', 69, 'assertEqual'))
             if (pf_any_failed()) return
             drift(k) = maxval(abs(res%ledger_series(1:res%n_ledger_samples, 6)))
             scale = res%ledger%energy_scale
         end do
         ! it transmits, and every dissipation channel is active
-        call assertGreaterThan(res%ledger%injected, 100.0_wp, location=pf_source_location('test_rk4.pf', 74))
+        call assertGreaterThan( &
+            res%ledger%injected, &
+            100.0_wp, &
+            location=pf_source_location('test_rk4.pf', 74, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertGreaterThan(res%ledger%dissipated_gamma, 0.0_wp, location=pf_source_location('test_rk4.pf', 75))
+        call assertGreaterThan( &
+            res%ledger%dissipated_gamma, &
+            0.0_wp, &
+            location=pf_source_location('test_rk4.pf', 75, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertGreaterThan(res%ledger%dissipated_beta, 0.0_wp, location=pf_source_location('test_rk4.pf', 76))
+        call assertGreaterThan( &
+            res%ledger%dissipated_beta, &
+            0.0_wp, &
+            location=pf_source_location('test_rk4.pf', 76, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertGreaterThan(res%ledger%dissipated_absorber, 0.0_wp, location=pf_source_location('test_rk4.pf', 77))
+        call assertGreaterThan( &
+            res%ledger%dissipated_absorber, &
+            0.0_wp, &
+            location=pf_source_location('test_rk4.pf', 77, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertGreaterThan(drift(2), 0.0_wp, location=pf_source_location('test_rk4.pf', 78))
+        call assertGreaterThan(drift(2), 0.0_wp, location=pf_source_location('test_rk4.pf', 78, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertGreaterThan(drift(1)/drift(2), 10.0_wp, location=pf_source_location('test_rk4.pf', 79))
+        call assertGreaterThan( &
+            drift(1)/drift(2), &
+            10.0_wp, &
+            location=pf_source_location('test_rk4.pf', 79, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertLessThan(drift(2), 1.0e-5_wp*scale, location=pf_source_location('test_rk4.pf', 80))
+        call assertLessThan(drift(2), 1.0e-5_wp*scale, location=pf_source_location('test_rk4.pf', 80, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_rk4_energy_drift
 
@@ -114,19 +135,22 @@ contains
         allocate (run%record%probes(0))
         run%numerics%dt = 0.3_wp
         call simulate(run, res)
-        call assertEqual(run_ok, res%status, location=pf_source_location('test_rk4.pf', 96))
+        call assertEqual(run_ok, res%status, location=pf_source_location('test_rk4.pf', 96, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertLessThan(res%max_abs_u, 1.0_wp, location=pf_source_location('test_rk4.pf', 97))
+        call assertLessThan(res%max_abs_u, 1.0_wp, location=pf_source_location('test_rk4.pf', 97, 'assertLessThan'))
         if (pf_any_failed()) return
         run%numerics%dt = 0.4_wp
         call simulate(run, res)
-        call assertEqual(run_diverged, res%status, location=pf_source_location('test_rk4.pf', 100))
+        call assertEqual(run_diverged, res%status, location=pf_source_location('test_rk4.pf', 100, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertTrue(index(res%reason, "blow-up") > 0, location=pf_source_location('test_rk4.pf', 101))
+        call assertTrue(index(res%reason, "blow-up") > 0, location=pf_source_location('test_rk4.pf', 101, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertLessThan(res%t_end, run%numerics%t_final, location=pf_source_location('test_rk4.pf', 102))
+        call assertLessThan( &
+            res%t_end, &
+            run%numerics%t_final, &
+            location=pf_source_location('test_rk4.pf', 102, 'assertLessThan'))
         if (pf_any_failed()) return
-        call assertGreaterThan(res%t_end, 0.0_wp, location=pf_source_location('test_rk4.pf', 103))
+        call assertGreaterThan(res%t_end, 0.0_wp, location=pf_source_location('test_rk4.pf', 103, 'assertGreaterThan'))
         if (pf_any_failed()) return
     end subroutine test_rk4_stability_limit
 
@@ -153,12 +177,12 @@ contains
             run%numerics%method = method_newton
             run%numerics%dt = dt
             call simulate(run, res_fd)
-            call assertEqual(run_ok, res_fd%status, location=pf_source_location('test_rk4.pf', 129))
+            call assertEqual(run_ok, res_fd%status, location=pf_source_location('test_rk4.pf', 129, 'assertEqual'))
             if (pf_any_failed()) return
             run%numerics%method = method_rk4
             run%numerics%dt = 0.5_wp*dt
             call simulate(run, res_rk)
-            call assertEqual(run_ok, res_rk%status, location=pf_source_location('test_rk4.pf', 133))
+            call assertEqual(run_ok, res_rk%status, location=pf_source_location('test_rk4.pf', 133, 'assertEqual'))
             if (pf_any_failed()) return
             ! RK4 records at t = j dt/2, j = 0..2M: record 2 is t = dt/2, record 2M is t = T - dt/2
             last = res_rk%n_ledger_samples - 1
@@ -166,25 +190,28 @@ contains
                 0.5_wp*dt, &
                 res_rk%ledger_time(2), &
                 1.0e-9_wp, &
-                location=pf_source_location('test_rk4.pf', 136))
+                location=pf_source_location('test_rk4.pf', 136, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 run%numerics%t_final - 0.5_wp*dt, &
                 res_rk%ledger_time(last), &
                 1.0e-9_wp, &
-                location=pf_source_location('test_rk4.pf', 137))
+                location=pf_source_location('test_rk4.pf', 137, 'assertEqual'))
             if (pf_any_failed()) return
             e_rk = res_rk%ledger_series(last, 2) - res_rk%ledger_series(2, 2)
             diff(k) = abs(res_fd%ledger%injected - e_rk)
         end do
         ! supratransmission: far more than the evanescent response takes (about 10)
-        call assertGreaterThan(e_rk, 50.0_wp, location=pf_source_location('test_rk4.pf', 142))
+        call assertGreaterThan(e_rk, 50.0_wp, location=pf_source_location('test_rk4.pf', 142, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertGreaterThan(diff(1)/diff(2), 3.0_wp, location=pf_source_location('test_rk4.pf', 143))
+        call assertGreaterThan( &
+            diff(1)/diff(2), &
+            3.0_wp, &
+            location=pf_source_location('test_rk4.pf', 143, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertLessThan(diff(1)/diff(2), 5.5_wp, location=pf_source_location('test_rk4.pf', 144))
+        call assertLessThan(diff(1)/diff(2), 5.5_wp, location=pf_source_location('test_rk4.pf', 144, 'assertLessThan'))
         if (pf_any_failed()) return
-        call assertLessThan(diff(2), 0.01_wp*e_rk, location=pf_source_location('test_rk4.pf', 145))
+        call assertLessThan(diff(2), 0.01_wp*e_rk, location=pf_source_location('test_rk4.pf', 145, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_rk4_agrees_with_energy_conserving_scheme
 

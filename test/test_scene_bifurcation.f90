@@ -66,52 +66,64 @@ contains
                 call simulate(run, full)
                 run%detect%stop_when_decided = .true.
                 call simulate(run, early)
-                call assertEqual(run_ok, full%status, location=pf_source_location('test_scene_bifurcation.pf', 68))
+                call assertEqual( &
+                    run_ok, &
+                    full%status, &
+                    location=pf_source_location('test_scene_bifurcation.pf', 68, 'assertEqual'))
                 if (pf_any_failed()) return
-                call assertEqual(run_ok, early%status, location=pf_source_location('test_scene_bifurcation.pf', 69))
+                call assertEqual( &
+                    run_ok, &
+                    early%status, &
+                    location=pf_source_location('test_scene_bifurcation.pf', 69, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     full%transmitting .eqv. early%transmitting, &
                     message="early stop changed the verdict", &
-                    location=pf_source_location('test_scene_bifurcation.pf', 70))
+                    location=pf_source_location('test_scene_bifurcation.pf', 70, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertFalse( &
                     full%stopped_early, &
                     message="full-length run stopped early", &
-                    location=pf_source_location('test_scene_bifurcation.pf', 71))
+                    location=pf_source_location('test_scene_bifurcation.pf', 71, 'assertFalse'))
                 if (pf_any_failed()) return
                 if (full%transmitting) then
                     ntrans = ntrans + 1
                     call assertTrue( &
                         early%stopped_early, &
                         message="transmitting run not stopped early", &
-                        location=pf_source_location('test_scene_bifurcation.pf', 74))
+                        location=pf_source_location('test_scene_bifurcation.pf', 74, 'assertTrue'))
                     if (pf_any_failed()) return
                     call assertLessThan( &
                         early%steps, &
                         full%steps, &
-                        location=pf_source_location('test_scene_bifurcation.pf', 75))
+                        location=pf_source_location('test_scene_bifurcation.pf', 75, 'assertLessThan'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         full%t_decided, &
                         early%t_decided, &
                         0.0_wp, &
-                        location=pf_source_location('test_scene_bifurcation.pf', 76))
+                        location=pf_source_location('test_scene_bifurcation.pf', 76, 'assertEqual'))
                     if (pf_any_failed()) return
                 else
                     nquiet = nquiet + 1
                     call assertEqual( &
                         full%steps, &
                         early%steps, &
-                        location=pf_source_location('test_scene_bifurcation.pf', 79))
+                        location=pf_source_location('test_scene_bifurcation.pf', 79, 'assertEqual'))
                     if (pf_any_failed()) return
                 end if
             end do
         end do
         ! both verdicts occur on the grid, at both frequencies together
-        call assertGreaterThanOrEqual(ntrans, 4, location=pf_source_location('test_scene_bifurcation.pf', 84))
+        call assertGreaterThanOrEqual( &
+            ntrans, &
+            4, &
+            location=pf_source_location('test_scene_bifurcation.pf', 84, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
-        call assertGreaterThanOrEqual(nquiet, 4, location=pf_source_location('test_scene_bifurcation.pf', 85))
+        call assertGreaterThanOrEqual( &
+            nquiet, &
+            4, &
+            location=pf_source_location('test_scene_bifurcation.pf', 85, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
     end subroutine test_early_stop_keeps_verdict
 
@@ -132,7 +144,7 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 102))
+            location=pf_source_location('test_scene_bifurcation.pf', 102, 'assertFalse'))
         if (pf_any_failed()) return
         call read_results(base // ".h5", t1, s1, r1, n1, w)
         !$ call omp_set_num_threads(2)
@@ -141,35 +153,38 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 107))
+            location=pf_source_location('test_scene_bifurcation.pf', 107, 'assertFalse'))
         if (pf_any_failed()) return
         call read_results(base // ".h5", t2, s2, r2, n2, w)
-        call assertEqual([6, 2], shape(t1), location=pf_source_location('test_scene_bifurcation.pf', 109))
+        call assertEqual( &
+            [6, 2], &
+            shape(t1), &
+            location=pf_source_location('test_scene_bifurcation.pf', 109, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(same_real(t1, t2)), &
             message="thresholds differ between 1 and 2 threads", &
-            location=pf_source_location('test_scene_bifurcation.pf', 110))
+            location=pf_source_location('test_scene_bifurcation.pf', 110, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(s1, .true.), &
             pack(s2, .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 111))
+            location=pf_source_location('test_scene_bifurcation.pf', 111, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(r1, .true.), &
             pack(r2, .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 112))
+            location=pf_source_location('test_scene_bifurcation.pf', 112, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(n1, .true.), &
             pack(n2, .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 113))
+            location=pf_source_location('test_scene_bifurcation.pf', 113, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             search_found, &
             pack(s1(1:4, :), .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 114))
+            location=pf_source_location('test_scene_bifurcation.pf', 114, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_threads_give_identical_thresholds
 
@@ -191,14 +206,17 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 132))
+            location=pf_source_location('test_scene_bifurcation.pf', 132, 'assertFalse'))
         if (pf_any_failed()) return
         call read_results(base // ".h5", t, s, r, n, w)
-        call assertEqual([1, 1], shape(t), location=pf_source_location('test_scene_bifurcation.pf', 134))
+        call assertEqual([1, 1], shape(t), location=pf_source_location('test_scene_bifurcation.pf', 134, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(search_found, s(1, 1), location=pf_source_location('test_scene_bifurcation.pf', 135))
+        call assertEqual( &
+            search_found, &
+            s(1, 1), &
+            location=pf_source_location('test_scene_bifurcation.pf', 135, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertIsFinite(t(1, 1), location=pf_source_location('test_scene_bifurcation.pf', 136))
+        call assertIsFinite(t(1, 1), location=pf_source_location('test_scene_bifurcation.pf', 136, 'assertIsFinite'))
         if (pf_any_failed()) return
         run = cfg%run
         run%drive%omega = 0.8_wp
@@ -210,17 +228,17 @@ contains
         call assertTrue( &
             at%transmitting, &
             message="the threshold found does not transmit", &
-            location=pf_source_location('test_scene_bifurcation.pf', 144))
+            location=pf_source_location('test_scene_bifurcation.pf', 144, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             below%transmitting, &
             message="threshold - resolution transmits", &
-            location=pf_source_location('test_scene_bifurcation.pf', 145))
+            location=pf_source_location('test_scene_bifurcation.pf', 145, 'assertFalse'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             t(1, 1), &
             cfg%scene%amplitude_min, &
-            location=pf_source_location('test_scene_bifurcation.pf', 146))
+            location=pf_source_location('test_scene_bifurcation.pf', 146, 'assertGreaterThan'))
         if (pf_any_failed()) return
     end subroutine test_threshold_transmits_and_one_step_below_does_not
 
@@ -244,18 +262,18 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 166))
+            location=pf_source_location('test_scene_bifurcation.pf', 166, 'assertFalse'))
         if (pf_any_failed()) return
         call read_results(base // ".h5", t1, s1, r1, n1, w1)
         call assertTrue( &
             path_exists(base // ".h5.journal"), &
             message="journal kept", &
-            location=pf_source_location('test_scene_bifurcation.pf', 168))
+            location=pf_source_location('test_scene_bifurcation.pf', 168, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5.partial.h5"), &
             message="partial file left behind", &
-            location=pf_source_location('test_scene_bifurcation.pf', 169))
+            location=pf_source_location('test_scene_bifurcation.pf', 169, 'assertFalse'))
         if (pf_any_failed()) return
 
         ! read the journal: header and one line per task
@@ -269,7 +287,7 @@ contains
             lines(nlines) = line
         end do
         close (unit)
-        call assertEqual(1 + 12, nlines, location=pf_source_location('test_scene_bifurcation.pf', 182))
+        call assertEqual(1 + 12, nlines, location=pf_source_location('test_scene_bifurcation.pf', 182, 'assertEqual'))
         if (pf_any_failed()) return
         ! line 2 (first task line): replace its wall time by the sentinel
         allocate (values(size(search_fields)))
@@ -292,39 +310,39 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 201))
+            location=pf_source_location('test_scene_bifurcation.pf', 201, 'assertFalse'))
         if (pf_any_failed()) return
         call read_results(base // ".h5", t2, s2, r2, n2, w2)
         call assertTrue( &
             all(same_real(t1, t2)), &
             message="thresholds differ after the resume", &
-            location=pf_source_location('test_scene_bifurcation.pf', 203))
+            location=pf_source_location('test_scene_bifurcation.pf', 203, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(s1, .true.), &
             pack(s2, .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 204))
+            location=pf_source_location('test_scene_bifurcation.pf', 204, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(r1, .true.), &
             pack(r2, .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 205))
+            location=pf_source_location('test_scene_bifurcation.pf', 205, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(n1, .true.), &
             pack(n2, .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 206))
+            location=pf_source_location('test_scene_bifurcation.pf', 206, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             sentinel, &
             w2(mod(task - 1, 6) + 1, (task - 1)/6 + 1), &
             0.0_wp, &
-            location=pf_source_location('test_scene_bifurcation.pf', 207))
+            location=pf_source_location('test_scene_bifurcation.pf', 207, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5.journal"), &
             message="journal not deleted at the end", &
-            location=pf_source_location('test_scene_bifurcation.pf', 208))
+            location=pf_source_location('test_scene_bifurcation.pf', 208, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_resume_after_kill
 
@@ -345,65 +363,71 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 225))
+            location=pf_source_location('test_scene_bifurcation.pf', 225, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5.journal"), &
             message="journal not deleted at the end", &
-            location=pf_source_location('test_scene_bifurcation.pf', 226))
+            location=pf_source_location('test_scene_bifurcation.pf', 226, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5.partial.h5"), &
             message="partial file left behind", &
-            location=pf_source_location('test_scene_bifurcation.pf', 227))
+            location=pf_source_location('test_scene_bifurcation.pf', 227, 'assertFalse'))
         if (pf_any_failed()) return
         call read_results(base // ".h5", t, s, r, n, w)
         ! Omega = 0.6, 0.7, 0.8, 0.9, 1.0, 1.1: the last two are outside the massless gap
         call assertEqual( &
             bifurcation_outside_gap, &
             pack(s(5:6, :), .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 230))
+            location=pf_source_location('test_scene_bifurcation.pf', 230, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(ieee_is_nan(t(5:6, :))), &
             message="threshold outside the gap is not NaN", &
-            location=pf_source_location('test_scene_bifurcation.pf', 231))
+            location=pf_source_location('test_scene_bifurcation.pf', 231, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(0, pack(r(5:6, :), .true.), location=pf_source_location('test_scene_bifurcation.pf', 232))
+        call assertEqual( &
+            0, &
+            pack(r(5:6, :), .true.), &
+            location=pf_source_location('test_scene_bifurcation.pf', 232, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(r(1:4, :) > 0), &
             message="a search inside the gap ran nothing", &
-            location=pf_source_location('test_scene_bifurcation.pf', 233))
+            location=pf_source_location('test_scene_bifurcation.pf', 233, 'assertTrue'))
         if (pf_any_failed()) return
 
         call h5_open(file, base // ".h5", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 236))
+            location=pf_source_location('test_scene_bifurcation.pf', 236, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "scene", text, error)
-        call assertEqual("bifurcation", text, location=pf_source_location('test_scene_bifurcation.pf', 238))
+        call assertEqual( &
+            "bifurcation", &
+            text, &
+            location=pf_source_location('test_scene_bifurcation.pf', 238, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "complete", complete, error)
-        call assertEqual(1, complete, location=pf_source_location('test_scene_bifurcation.pf', 240))
+        call assertEqual(1, complete, location=pf_source_location('test_scene_bifurcation.pf', 240, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/omega", omega, error)
         call assertEqual( &
             bifurcation_omegas(cfg), &
             omega, &
             0.0_wp, &
-            location=pf_source_location('test_scene_bifurcation.pf', 242))
+            location=pf_source_location('test_scene_bifurcation.pf', 242, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(6, size(omega), location=pf_source_location('test_scene_bifurcation.pf', 243))
+        call assertEqual(6, size(omega), location=pf_source_location('test_scene_bifurcation.pf', 243, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/curves/value", value, error)
         call assertEqual( &
             [0.0_wp, 0.05_wp], &
             value, &
             0.0_wp, &
-            location=pf_source_location('test_scene_bifurcation.pf', 245))
+            location=pf_source_location('test_scene_bifurcation.pf', 245, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/threshold_As", as, error)
         do j = 1, 2
@@ -412,7 +436,7 @@ contains
                     threshold_as(cfg%run%chain, omega(i)), &
                     as(i, j), &
                     1.0e-14_wp, &
-                    location=pf_source_location('test_scene_bifurcation.pf', 249))
+                    location=pf_source_location('test_scene_bifurcation.pf', 249, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
         end do
@@ -420,28 +444,28 @@ contains
             call assertTrue( &
                 h5_attr_exists(file, trim(datasets(i)), "units"), &
                 message=trim(datasets(i)) // ": no units", &
-                location=pf_source_location('test_scene_bifurcation.pf', 253))
+                location=pf_source_location('test_scene_bifurcation.pf', 253, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 h5_attr_exists(file, trim(datasets(i)), "description"), &
                 message=trim(datasets(i)), &
-                location=pf_source_location('test_scene_bifurcation.pf', 254))
+                location=pf_source_location('test_scene_bifurcation.pf', 254, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         call assertTrue( &
             h5_attr_exists(file, "/status", "codes"), &
             message="/status: no codes", &
-            location=pf_source_location('test_scene_bifurcation.pf', 256))
+            location=pf_source_location('test_scene_bifurcation.pf', 256, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/parameters", "vary", text, error)
-        call assertEqual("gamma", text, location=pf_source_location('test_scene_bifurcation.pf', 258))
+        call assertEqual("gamma", text, location=pf_source_location('test_scene_bifurcation.pf', 258, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         ! damping raises the threshold (paper Fig. Bif1) where both were found
         call assertTrue( &
             all(t(1:4, 2) >= t(1:4, 1)), &
             message="gamma = 0.05 lowered a threshold", &
-            location=pf_source_location('test_scene_bifurcation.pf', 261))
+            location=pf_source_location('test_scene_bifurcation.pf', 261, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_file_layout
 
@@ -466,30 +490,30 @@ contains
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_scene_bifurcation.pf', 282))
+                location=pf_source_location('test_scene_bifurcation.pf', 282, 'assertFalse'))
             if (pf_any_failed()) return
             call read_results(base // ".h5", t, s, r, n, w)
             call assertEqual( &
                 search_failed, &
                 pack(s(1:4, :), .true.), &
-                location=pf_source_location('test_scene_bifurcation.pf', 284))
+                location=pf_source_location('test_scene_bifurcation.pf', 284, 'assertEqual'))
             if (pf_any_failed()) return
             if (i == 1) then
                 call assertEqual( &
                     1, &
                     pack(r(1:4, :), .true.), &
-                    location=pf_source_location('test_scene_bifurcation.pf', 286))
+                    location=pf_source_location('test_scene_bifurcation.pf', 286, 'assertEqual'))
                 if (pf_any_failed()) return
             end if
             call assertTrue( &
                 all(ieee_is_nan(t)), &
                 message="a failed search gave a threshold", &
-                location=pf_source_location('test_scene_bifurcation.pf', 288))
+                location=pf_source_location('test_scene_bifurcation.pf', 288, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 bifurcation_outside_gap, &
                 pack(s(5:6, :), .true.), &
-                location=pf_source_location('test_scene_bifurcation.pf', 289))
+                location=pf_source_location('test_scene_bifurcation.pf', 289, 'assertEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_failed_runs_give_status_run_failed
@@ -514,7 +538,7 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 310))
+            location=pf_source_location('test_scene_bifurcation.pf', 310, 'assertFalse'))
         if (pf_any_failed()) return
         call read_results(base // ".h5", t0, s0, r0, n, w)
         do i = 1, 2
@@ -526,24 +550,24 @@ contains
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_scene_bifurcation.pf', 318))
+                location=pf_source_location('test_scene_bifurcation.pf', 318, 'assertFalse'))
             if (pf_any_failed()) return
             call read_results(base // ".h5", t1, s1, r1, n, w)
             call assertTrue( &
                 all(same_real(t0, t1)), &
                 message="screening changed a threshold", &
-                location=pf_source_location('test_scene_bifurcation.pf', 320))
+                location=pf_source_location('test_scene_bifurcation.pf', 320, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 pack(s0, .true.), &
                 pack(s1, .true.), &
-                location=pf_source_location('test_scene_bifurcation.pf', 321))
+                location=pf_source_location('test_scene_bifurcation.pf', 321, 'assertEqual'))
             if (pf_any_failed()) return
             call h5_open(file, base // ".h5", .false., error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_scene_bifurcation.pf', 323))
+                location=pf_source_location('test_scene_bifurcation.pf', 323, 'assertFalse'))
             if (pf_any_failed()) return
             call h5_read(file, "/screening/runs_screened", screened, error)
             call h5_read(file, "/screening/runs_confirmed", confirmed, error)
@@ -556,48 +580,48 @@ contains
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_scene_bifurcation.pf', 332))
+                location=pf_source_location('test_scene_bifurcation.pf', 332, 'assertFalse'))
             if (pf_any_failed()) return
             call h5_close(file, error)
             call assertEqual( &
                 pack(r1, .true.), &
                 pack(screened + confirmed, .true.), &
-                location=pf_source_location('test_scene_bifurcation.pf', 334))
+                location=pf_source_location('test_scene_bifurcation.pf', 334, 'assertEqual'))
             if (pf_any_failed()) return
             ok = all(doubtful >= 0 .and. doubtful <= screened .and. doubtful <= confirmed)
             call assertTrue( &
                 ok, &
                 message="doubtful runs are screening runs that the scene's method ran again", &
-                location=pf_source_location('test_scene_bifurcation.pf', 336))
+                location=pf_source_location('test_scene_bifurcation.pf', 336, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 sum(confirmed) < sum(r0), &
                 message="no saving of runs of the scene's method", &
-                location=pf_source_location('test_scene_bifurcation.pf', 337))
+                location=pf_source_location('test_scene_bifurcation.pf', 337, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(pack(low <= t1 .and. t1 <= high, s1 == search_found)), &
                 message="threshold outside band", &
-                location=pf_source_location('test_scene_bifurcation.pf', 338))
+                location=pf_source_location('test_scene_bifurcation.pf', 338, 'assertTrue'))
             if (pf_any_failed()) return
             ok = all(pack(cstatus >= certify_unchanged .and. cruns >= 2, s1 == search_found))
             call assertTrue( &
                 ok, &
                 message="a found threshold was not certified", &
-                location=pf_source_location('test_scene_bifurcation.pf', 340))
+                location=pf_source_location('test_scene_bifurcation.pf', 340, 'assertTrue'))
             if (pf_any_failed()) return
             ok = all(pack(cstatus == certify_not_checked .and. cruns == 0, s1 /= search_found))
             call assertTrue( &
                 ok, &
                 message="a search without threshold was certified", &
-                location=pf_source_location('test_scene_bifurcation.pf', 342))
+                location=pf_source_location('test_scene_bifurcation.pf', 342, 'assertTrue'))
             if (pf_any_failed()) return
             ok = all(pack(abs(certified - t1) <= 1.5_wp*cfg%scene%resolution, cstatus <= certify_moved_within &
                           .and. s1 == search_found))
             call assertTrue( &
                 ok, &
                 message="certified threshold inconsistent with status", &
-                location=pf_source_location('test_scene_bifurcation.pf', 345))
+                location=pf_source_location('test_scene_bifurcation.pf', 345, 'assertTrue'))
             if (pf_any_failed()) return
         end do
     end subroutine test_screening_changes_no_threshold

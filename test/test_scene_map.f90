@@ -60,20 +60,20 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_map.pf', 59))
+            location=pf_source_location('test_scene_map.pf', 59, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base // ".h5", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_map.pf', 62))
+            location=pf_source_location('test_scene_map.pf', 62, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "scene", text, error)
-        call assertEqual("map", text, location=pf_source_location('test_scene_map.pf', 64))
+        call assertEqual("map", text, location=pf_source_location('test_scene_map.pf', 64, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "complete", complete, error)
-        call assertEqual(1, complete, location=pf_source_location('test_scene_map.pf', 66))
+        call assertEqual(1, complete, location=pf_source_location('test_scene_map.pf', 66, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/omega", omega, error)
         call h5_read(file, "/amplitude", amplitude, error)
@@ -85,13 +85,16 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_map.pf', 74))
+            location=pf_source_location('test_scene_map.pf', 74, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/runs/status", "dimensions", text, error)
-        call assertEqual("curve, omega, amplitude", text, location=pf_source_location('test_scene_map.pf', 76))
+        call assertEqual( &
+            "curve, omega, amplitude", &
+            text, &
+            location=pf_source_location('test_scene_map.pf', 76, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/threshold_As", "dimensions", text, error)
-        call assertEqual("curve, omega", text, location=pf_source_location('test_scene_map.pf', 78))
+        call assertEqual("curve, omega", text, location=pf_source_location('test_scene_map.pf', 78, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
 
@@ -99,15 +102,22 @@ contains
             [0.6_wp, 0.9_wp, 1.2_wp], &
             omega, &
             1.0e-12_wp, &
-            location=pf_source_location('test_scene_map.pf', 81))
+            location=pf_source_location('test_scene_map.pf', 81, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual([0.5_wp, 1.0_wp], amplitude, 0.0_wp, location=pf_source_location('test_scene_map.pf', 82))
+        call assertEqual( &
+            [0.5_wp, 1.0_wp], &
+            amplitude, &
+            0.0_wp, &
+            location=pf_source_location('test_scene_map.pf', 82, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual([3, 2], shape(as), location=pf_source_location('test_scene_map.pf', 83))
+        call assertEqual([3, 2], shape(as), location=pf_source_location('test_scene_map.pf', 83, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual([2, 3, 2], shape(injected), location=pf_source_location('test_scene_map.pf', 84))
+        call assertEqual( &
+            [2, 3, 2], &
+            shape(injected), &
+            location=pf_source_location('test_scene_map.pf', 84, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual([2, 3, 2], shape(status), location=pf_source_location('test_scene_map.pf', 85))
+        call assertEqual([2, 3, 2], shape(status), location=pf_source_location('test_scene_map.pf', 85, 'assertEqual'))
         if (pf_any_failed()) return
         ! curve 1 (m2 = 0, gap edge 1): Omega = 1.2 is outside; curve 2 (m2 = 0.5, edge 1.22) runs it
         do ic = 1, 2
@@ -117,56 +127,56 @@ contains
                         real(status_outside_gap, wp), &
                         status(:, iw, ic), &
                         0.0_wp, &
-                        location=pf_source_location('test_scene_map.pf', 90))
+                        location=pf_source_location('test_scene_map.pf', 90, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         -1.0_wp, &
                         transmitting(:, iw, ic), &
                         0.0_wp, &
-                        location=pf_source_location('test_scene_map.pf', 91))
+                        location=pf_source_location('test_scene_map.pf', 91, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         -1.0_wp, &
                         steps(:, iw, ic), &
                         0.0_wp, &
-                        location=pf_source_location('test_scene_map.pf', 92))
+                        location=pf_source_location('test_scene_map.pf', 92, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertTrue( &
                         all(ieee_is_nan(injected(:, iw, ic))), &
                         message="outside the gap: NaN", &
-                        location=pf_source_location('test_scene_map.pf', 93))
+                        location=pf_source_location('test_scene_map.pf', 93, 'assertTrue'))
                     if (pf_any_failed()) return
-                    call assertIsNaN(as(iw, ic), location=pf_source_location('test_scene_map.pf', 94))
+                    call assertIsNaN(as(iw, ic), location=pf_source_location('test_scene_map.pf', 94, 'assertIsNaN'))
                     if (pf_any_failed()) return
                 else
                     call assertEqual( &
                         0.0_wp, &
                         status(:, iw, ic), &
                         0.0_wp, &
-                        location=pf_source_location('test_scene_map.pf', 96))
+                        location=pf_source_location('test_scene_map.pf', 96, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         399.0_wp, &
                         steps(:, iw, ic), &
                         0.0_wp, &
-                        location=pf_source_location('test_scene_map.pf', 97))
+                        location=pf_source_location('test_scene_map.pf', 97, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertTrue( &
                         all(ieee_is_finite(injected(:, iw, ic))), &
                         message="inside the gap: run", &
-                        location=pf_source_location('test_scene_map.pf', 98))
+                        location=pf_source_location('test_scene_map.pf', 98, 'assertTrue'))
                     if (pf_any_failed()) return
                     call assertTrue( &
                         injected(2, iw, ic) > injected(1, iw, ic), &
                         message="energy grows with A", &
-                        location=pf_source_location('test_scene_map.pf', 99))
+                        location=pf_source_location('test_scene_map.pf', 99, 'assertTrue'))
                     if (pf_any_failed()) return
                     run = curve_run(cfg, ic)
                     call assertEqual( &
                         threshold_as(run%chain, omega(iw)), &
                         as(iw, ic), &
                         0.0_wp, &
-                        location=pf_source_location('test_scene_map.pf', 101))
+                        location=pf_source_location('test_scene_map.pf', 101, 'assertEqual'))
                     if (pf_any_failed()) return
                 end if
             end do
@@ -190,7 +200,7 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_map.pf', 121))
+            location=pf_source_location('test_scene_map.pf', 121, 'assertFalse'))
         if (pf_any_failed()) return
         cfg = tiny_map("_b")
         !$ call omp_set_num_threads(2)
@@ -199,19 +209,19 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_map.pf', 126))
+            location=pf_source_location('test_scene_map.pf', 126, 'assertFalse'))
         if (pf_any_failed()) return
         do i = 1, size(names)
             call assertTrue( &
                 same_dataset(base // "_a.h5", base // "_b.h5", trim(names(i))), &
                 message=trim(names(i)), &
-                location=pf_source_location('test_scene_map.pf', 128))
+                location=pf_source_location('test_scene_map.pf', 128, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         call assertFalse( &
             path_exists(base // "_b.h5.journal"), &
             message="journal deleted at the end", &
-            location=pf_source_location('test_scene_map.pf', 130))
+            location=pf_source_location('test_scene_map.pf', 130, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_map_independent_of_thread_count
 

@@ -55,23 +55,31 @@ contains
         real(wp), allocatable :: a(:)
 
         a = axis_grid(1.0_wp, 3.0_wp, 0.02_wp)
-        call assertEqual(101, size(a), location=pf_source_location('test_scene_sweep.pf', 57))
+        call assertEqual(101, size(a), location=pf_source_location('test_scene_sweep.pf', 57, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.0_wp + 100*0.02_wp, a(101), 0.0_wp, location=pf_source_location('test_scene_sweep.pf', 58))
+        call assertEqual( &
+            1.0_wp + 100*0.02_wp, &
+            a(101), &
+            0.0_wp, &
+            location=pf_source_location('test_scene_sweep.pf', 58, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.0_wp + 37*0.02_wp, a(38), 0.0_wp, location=pf_source_location('test_scene_sweep.pf', 59))
+        call assertEqual( &
+            1.0_wp + 37*0.02_wp, &
+            a(38), &
+            0.0_wp, &
+            location=pf_source_location('test_scene_sweep.pf', 59, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.1_wp, 4.0_wp, 0.1_wp)
-        call assertEqual(40, size(a), location=pf_source_location('test_scene_sweep.pf', 61))
+        call assertEqual(40, size(a), location=pf_source_location('test_scene_sweep.pf', 61, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.05_wp, 0.95_wp, 0.05_wp)
-        call assertEqual(19, size(a), location=pf_source_location('test_scene_sweep.pf', 63))
+        call assertEqual(19, size(a), location=pf_source_location('test_scene_sweep.pf', 63, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.5_wp, 0.5_wp, 0.1_wp)
-        call assertEqual(1, size(a), location=pf_source_location('test_scene_sweep.pf', 65))
+        call assertEqual(1, size(a), location=pf_source_location('test_scene_sweep.pf', 65, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.0_wp, 0.99_wp, 0.1_wp)
-        call assertEqual(10, size(a), location=pf_source_location('test_scene_sweep.pf', 67))
+        call assertEqual(10, size(a), location=pf_source_location('test_scene_sweep.pf', 67, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_axis_grid_exact
 
@@ -89,7 +97,7 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 81))
+            location=pf_source_location('test_scene_sweep.pf', 81, 'assertFalse'))
         if (pf_any_failed()) return
         cfg = tiny_config("_b")
         !$ call omp_set_num_threads(2)
@@ -98,37 +106,37 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 86))
+            location=pf_source_location('test_scene_sweep.pf', 86, 'assertFalse'))
         if (pf_any_failed()) return
 
         do i = 1, size(result_names)
             call assertTrue( &
                 same_dataset(base // "_a.h5", base // "_b.h5", trim(result_names(i))), &
                 message=trim(result_names(i)), &
-                location=pf_source_location('test_scene_sweep.pf', 89))
+                location=pf_source_location('test_scene_sweep.pf', 89, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         call read_root_counts(base // "_b.h5", complete, done, total)
-        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 92))
+        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 92, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, done, location=pf_source_location('test_scene_sweep.pf', 93))
+        call assertEqual(20, done, location=pf_source_location('test_scene_sweep.pf', 93, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 94))
+        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 94, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // "_b.h5.journal"), &
             message="journal deleted at the end", &
-            location=pf_source_location('test_scene_sweep.pf', 95))
+            location=pf_source_location('test_scene_sweep.pf', 95, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // "_b.h5.partial.h5"), &
             message="partial file deleted at the end", &
-            location=pf_source_location('test_scene_sweep.pf', 96))
+            location=pf_source_location('test_scene_sweep.pf', 96, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // "_b.h5.tmp"), &
             message="no temporary file left", &
-            location=pf_source_location('test_scene_sweep.pf', 97))
+            location=pf_source_location('test_scene_sweep.pf', 97, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_independent_of_thread_count
 
@@ -148,55 +156,64 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 113))
+            location=pf_source_location('test_scene_sweep.pf', 113, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_open(file, base // ".h5", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 115))
+            location=pf_source_location('test_scene_sweep.pf', 115, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "scene", text, error)
-        call assertEqual("amplitude_sweep", text, location=pf_source_location('test_scene_sweep.pf', 117))
+        call assertEqual( &
+            "amplitude_sweep", &
+            text, &
+            location=pf_source_location('test_scene_sweep.pf', 117, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/amplitude", amplitude, error)
         call assertEqual( &
             [0.5_wp, 1.0_wp, 1.5_wp, 2.0_wp, 2.5_wp], &
             amplitude, &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 119))
+            location=pf_source_location('test_scene_sweep.pf', 119, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/curves/value", value, error)
         call assertEqual( &
             [0.0_wp, 0.05_wp, 0.0_wp, 0.05_wp], &
             value, &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 121))
+            location=pf_source_location('test_scene_sweep.pf', 121, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/energy/injected", injected, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 123))
+            location=pf_source_location('test_scene_sweep.pf', 123, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([5, 4], shape(injected), location=pf_source_location('test_scene_sweep.pf', 124))
+        call assertEqual( &
+            [5, 4], &
+            shape(injected), &
+            location=pf_source_location('test_scene_sweep.pf', 124, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/energy/injected", "dimensions", text, error)
-        call assertEqual("curve, amplitude", text, location=pf_source_location('test_scene_sweep.pf', 126))
+        call assertEqual( &
+            "curve, amplitude", &
+            text, &
+            location=pf_source_location('test_scene_sweep.pf', 126, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/energy/injected", "units", text, error)
-        call assertEqual("energy", text, location=pf_source_location('test_scene_sweep.pf', 128))
+        call assertEqual("energy", text, location=pf_source_location('test_scene_sweep.pf', 128, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/runs", "status_codes", text, error)
         call assertTrue( &
             index(text, "-2 outside_gap") > 0, &
             message=text, &
-            location=pf_source_location('test_scene_sweep.pf', 130))
+            location=pf_source_location('test_scene_sweep.pf', 130, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(text, "1 diverged") > 0, &
             message=text, &
-            location=pf_source_location('test_scene_sweep.pf', 131))
+            location=pf_source_location('test_scene_sweep.pf', 131, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read(file, "/energy/stored", stored, error)
         call h5_read(file, "/energy/dissipated_gamma", d_gamma, error)
@@ -208,42 +225,63 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 139))
+            location=pf_source_location('test_scene_sweep.pf', 139, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
 
-        call assertEqual(0, pack(status, .true.), location=pf_source_location('test_scene_sweep.pf', 142))
+        call assertEqual( &
+            0, &
+            pack(status, .true.), &
+            location=pf_source_location('test_scene_sweep.pf', 142, 'assertEqual'))
         if (pf_any_failed()) return
         ! the ledger closes: injected = stored + dissipated (E_0 = 0), to roundoff
         call assertEqual( &
             pack(injected, .true.), &
             pack(stored + d_gamma + d_beta + d_abs, .true.), &
             1.0e-9_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 144))
+            location=pf_source_location('test_scene_sweep.pf', 144, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertLessThan(maxval(abs(res)), 1.0e-9_wp, location=pf_source_location('test_scene_sweep.pf', 145))
+        call assertLessThan( &
+            maxval(abs(res)), &
+            1.0e-9_wp, &
+            location=pf_source_location('test_scene_sweep.pf', 145, 'assertLessThan'))
         if (pf_any_failed()) return
-        call assertEqual(0.0_wp, pack(d_beta, .true.), 0.0_wp, location=pf_source_location('test_scene_sweep.pf', 146))
+        call assertEqual( &
+            0.0_wp, &
+            pack(d_beta, .true.), &
+            0.0_wp, &
+            location=pf_source_location('test_scene_sweep.pf', 146, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.0_wp, d_gamma(:, 1), 0.0_wp, location=pf_source_location('test_scene_sweep.pf', 147))
+        call assertEqual( &
+            0.0_wp, &
+            d_gamma(:, 1), &
+            0.0_wp, &
+            location=pf_source_location('test_scene_sweep.pf', 147, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.0_wp, d_gamma(:, 3), 0.0_wp, location=pf_source_location('test_scene_sweep.pf', 148))
+        call assertEqual( &
+            0.0_wp, &
+            d_gamma(:, 3), &
+            0.0_wp, &
+            location=pf_source_location('test_scene_sweep.pf', 148, 'assertEqual'))
         if (pf_any_failed()) return
         do ic = 1, 4
             ! the energy grows with the amplitude, and the smallest amplitude does not transmit
             call assertTrue( &
                 all(injected(2:, ic) > injected(:4, ic)), &
                 message="injected energy increases with A", &
-                location=pf_source_location('test_scene_sweep.pf', 151))
+                location=pf_source_location('test_scene_sweep.pf', 151, 'assertTrue'))
             if (pf_any_failed()) return
-            call assertEqual(0, transmitting(1, ic), location=pf_source_location('test_scene_sweep.pf', 152))
+            call assertEqual( &
+                0, &
+                transmitting(1, ic), &
+                location=pf_source_location('test_scene_sweep.pf', 152, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         ! damping lowers the energy left in the chain
         call assertTrue( &
             all(stored(1:2, 2) < stored(1:2, 1)), &
             message="gamma = 0.05 stores less than gamma = 0", &
-            location=pf_source_location('test_scene_sweep.pf', 155))
+            location=pf_source_location('test_scene_sweep.pf', 155, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_layout_and_physics
 
@@ -264,7 +302,7 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 172))
+            location=pf_source_location('test_scene_sweep.pf', 172, 'assertFalse'))
         if (pf_any_failed()) return
 
         ! a sweep killed after a few runs: the journal holds its header, 3 complete lines and half a line
@@ -276,15 +314,15 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 180))
+            location=pf_source_location('test_scene_sweep.pf', 180, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5"), &
             message="the engine alone writes no output file", &
-            location=pf_source_location('test_scene_sweep.pf', 181))
+            location=pf_source_location('test_scene_sweep.pf', 181, 'assertFalse'))
         if (pf_any_failed()) return
         lines = read_lines(journal)
-        call assertEqual(21, size(lines), location=pf_source_location('test_scene_sweep.pf', 183))
+        call assertEqual(21, size(lines), location=pf_source_location('test_scene_sweep.pf', 183, 'assertEqual'))
         if (pf_any_failed()) return
         kept = 3
         ! mark one kept line, to see that the resumed sweep takes it from the journal instead of recomputing it
@@ -300,17 +338,17 @@ contains
         call assertTrue( &
             allocated(error), &
             message="journal of another input accepted", &
-            location=pf_source_location('test_scene_sweep.pf', 195))
+            location=pf_source_location('test_scene_sweep.pf', 195, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "journal of a different input") > 0, &
             message=error%message, &
-            location=pf_source_location('test_scene_sweep.pf', 196))
+            location=pf_source_location('test_scene_sweep.pf', 196, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5"), &
             message="output written despite the error", &
-            location=pf_source_location('test_scene_sweep.pf', 197))
+            location=pf_source_location('test_scene_sweep.pf', 197, 'assertFalse'))
         if (pf_any_failed()) return
         deallocate (error)
 
@@ -318,29 +356,33 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 201))
+            location=pf_source_location('test_scene_sweep.pf', 201, 'assertFalse'))
         if (pf_any_failed()) return
         do i = 1, size(result_names)
             call assertTrue( &
                 same_dataset(base // "_ref.h5", base // ".h5", trim(result_names(i))), &
                 message=trim(result_names(i)), &
-                location=pf_source_location('test_scene_sweep.pf', 203))
+                location=pf_source_location('test_scene_sweep.pf', 203, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         wall = read_real_2d(base // ".h5", "/runs/wall_time")
         ia = mod(i_tampered - 1, 5) + 1
         ic = (i_tampered - 1)/5 + 1
-        call assertEqual(12345.0_wp, wall(ia, ic), 0.0_wp, location=pf_source_location('test_scene_sweep.pf', 208))
+        call assertEqual( &
+            12345.0_wp, &
+            wall(ia, ic), &
+            0.0_wp, &
+            location=pf_source_location('test_scene_sweep.pf', 208, 'assertEqual'))
         if (pf_any_failed()) return
         call read_root_counts(base // ".h5", complete, ndone, total)
-        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 210))
+        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 210, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 211))
+        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 211, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(journal), &
             message="journal deleted at the end", &
-            location=pf_source_location('test_scene_sweep.pf', 212))
+            location=pf_source_location('test_scene_sweep.pf', 212, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_resume_after_kill
 
@@ -365,14 +407,14 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 233))
+            location=pf_source_location('test_scene_sweep.pf', 233, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base // ".h5", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 236))
+            location=pf_source_location('test_scene_sweep.pf', 236, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "/amplitude", amplitude, error)
         call h5_read(file, "/runs/status", status, error)
@@ -383,47 +425,63 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 243))
+            location=pf_source_location('test_scene_sweep.pf', 243, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/runs", "failed", nfailed, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 245))
+            location=pf_source_location('test_scene_sweep.pf', 245, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
 
-        call assertEqual([5, 1], shape(status), location=pf_source_location('test_scene_sweep.pf', 248))
+        call assertEqual([5, 1], shape(status), location=pf_source_location('test_scene_sweep.pf', 248, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, status(1:2, 1), location=pf_source_location('test_scene_sweep.pf', 249))
+        call assertEqual(0, status(1:2, 1), location=pf_source_location('test_scene_sweep.pf', 249, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1, status(4:5, 1), location=pf_source_location('test_scene_sweep.pf', 250))
+        call assertEqual(1, status(4:5, 1), location=pf_source_location('test_scene_sweep.pf', 250, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(count(status /= 0), nfailed, location=pf_source_location('test_scene_sweep.pf', 251))
+        call assertEqual( &
+            count(status /= 0), &
+            nfailed, &
+            location=pf_source_location('test_scene_sweep.pf', 251, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(nfailed, size(failures), location=pf_source_location('test_scene_sweep.pf', 252))
+        call assertEqual( &
+            nfailed, &
+            size(failures), &
+            location=pf_source_location('test_scene_sweep.pf', 252, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(failures(1), "diverged") > 0, &
             message=failures(1), &
-            location=pf_source_location('test_scene_sweep.pf', 253))
+            location=pf_source_location('test_scene_sweep.pf', 253, 'assertTrue'))
         if (pf_any_failed()) return
         do ia = 1, 5
             if (status(ia, 1) == 0) then
-                call assertIsFinite(injected(ia, 1), location=pf_source_location('test_scene_sweep.pf', 256))
+                call assertIsFinite( &
+                    injected(ia, 1), &
+                    location=pf_source_location('test_scene_sweep.pf', 256, 'assertIsFinite'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     30.0_wp, &
                     t_end(ia, 1), &
                     1.0e-9_wp, &
-                    location=pf_source_location('test_scene_sweep.pf', 257))
+                    location=pf_source_location('test_scene_sweep.pf', 257, 'assertEqual'))
                 if (pf_any_failed()) return
-                call assertEqual(599, steps(ia, 1), location=pf_source_location('test_scene_sweep.pf', 258))
+                call assertEqual( &
+                    599, &
+                    steps(ia, 1), &
+                    location=pf_source_location('test_scene_sweep.pf', 258, 'assertEqual'))
                 if (pf_any_failed()) return
             else
-                call assertIsNaN(injected(ia, 1), location=pf_source_location('test_scene_sweep.pf', 260))
+                call assertIsNaN( &
+                    injected(ia, 1), &
+                    location=pf_source_location('test_scene_sweep.pf', 260, 'assertIsNaN'))
                 if (pf_any_failed()) return
-                call assertLessThan(t_end(ia, 1), 30.0_wp, location=pf_source_location('test_scene_sweep.pf', 261))
+                call assertLessThan( &
+                    t_end(ia, 1), &
+                    30.0_wp, &
+                    location=pf_source_location('test_scene_sweep.pf', 261, 'assertLessThan'))
                 if (pf_any_failed()) return
             end if
         end do
@@ -452,60 +510,63 @@ contains
         call assertTrue( &
             path_exists(partial_path(cfg)), &
             message="no partial file", &
-            location=pf_source_location('test_scene_sweep.pf', 286))
+            location=pf_source_location('test_scene_sweep.pf', 286, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(partial_path(cfg) // ".tmp"), &
             message="temporary partial file left", &
-            location=pf_source_location('test_scene_sweep.pf', 287))
+            location=pf_source_location('test_scene_sweep.pf', 287, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5"), &
             message="the snapshot wrote the final file", &
-            location=pf_source_location('test_scene_sweep.pf', 288))
+            location=pf_source_location('test_scene_sweep.pf', 288, 'assertFalse'))
         if (pf_any_failed()) return
 
         call read_root_counts(partial_path(cfg), complete, ndone, total)
-        call assertEqual(0, complete, location=pf_source_location('test_scene_sweep.pf', 291))
+        call assertEqual(0, complete, location=pf_source_location('test_scene_sweep.pf', 291, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(7, ndone, location=pf_source_location('test_scene_sweep.pf', 292))
+        call assertEqual(7, ndone, location=pf_source_location('test_scene_sweep.pf', 292, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 293))
+        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 293, 'assertEqual'))
         if (pf_any_failed()) return
         injected = reshape(read_real_2d(partial_path(cfg), "/energy/injected"), [20])
         t_decided = read_real_2d(partial_path(cfg), "/runs/t_decided")
         status = nint(read_real_2d(partial_path(cfg), "/runs/status"))
         transmitting = nint(read_real_2d(partial_path(cfg), "/runs/transmitting"))
-        call assertEqual([5, 4], shape(status), location=pf_source_location('test_scene_sweep.pf', 298))
+        call assertEqual([5, 4], shape(status), location=pf_source_location('test_scene_sweep.pf', 298, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             results(iv_injected, 1:7), &
             injected(1:7), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 299))
+            location=pf_source_location('test_scene_sweep.pf', 299, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, status(:, 1), location=pf_source_location('test_scene_sweep.pf', 300))
+        call assertEqual(0, status(:, 1), location=pf_source_location('test_scene_sweep.pf', 300, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, status(1:2, 2), location=pf_source_location('test_scene_sweep.pf', 301))
+        call assertEqual(0, status(1:2, 2), location=pf_source_location('test_scene_sweep.pf', 301, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(status_not_run, status(3:, 2), location=pf_source_location('test_scene_sweep.pf', 302))
+        call assertEqual( &
+            status_not_run, &
+            status(3:, 2), &
+            location=pf_source_location('test_scene_sweep.pf', 302, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             status_not_run, &
             pack(status(:, 3:), .true.), &
-            location=pf_source_location('test_scene_sweep.pf', 303))
+            location=pf_source_location('test_scene_sweep.pf', 303, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(-1, transmitting(:, 4), location=pf_source_location('test_scene_sweep.pf', 304))
+        call assertEqual(-1, transmitting(:, 4), location=pf_source_location('test_scene_sweep.pf', 304, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(ieee_is_nan(injected(8:))), &
             message="missing runs are NaN", &
-            location=pf_source_location('test_scene_sweep.pf', 305))
+            location=pf_source_location('test_scene_sweep.pf', 305, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(ieee_is_nan(t_decided(:, 3:))), &
             message="missing runs are NaN", &
-            location=pf_source_location('test_scene_sweep.pf', 306))
+            location=pf_source_location('test_scene_sweep.pf', 306, 'assertTrue'))
         if (pf_any_failed()) return
 
         ! a later snapshot replaces it
@@ -515,7 +576,7 @@ contains
         end do
         call tasks%snapshot(results, done)
         call read_root_counts(partial_path(cfg), complete, ndone, total)
-        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 315))
+        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 315, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_partial_snapshot
 
@@ -531,17 +592,17 @@ contains
         call assertTrue( &
             allocated(error), &
             message="existing output replaced without overwrite", &
-            location=pf_source_location('test_scene_sweep.pf', 327))
+            location=pf_source_location('test_scene_sweep.pf', 327, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "exists") > 0, &
             message=error%message, &
-            location=pf_source_location('test_scene_sweep.pf', 328))
+            location=pf_source_location('test_scene_sweep.pf', 328, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5.journal"), &
             message="work started despite the error", &
-            location=pf_source_location('test_scene_sweep.pf', 329))
+            location=pf_source_location('test_scene_sweep.pf', 329, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_refuses_existing_output
 

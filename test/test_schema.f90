@@ -23,57 +23,57 @@ contains
         call assertTrue( &
             size(key_table) > 40, &
             "key_table looks truncated", &
-            location=pf_source_location('test_schema.pf', 22))
+            location=pf_source_location('test_schema.pf', 22, 'assertTrue'))
         if (pf_any_failed()) return
         do ik = 1, size(key_table)
             associate (k => key_table(ik))
                 call assertTrue( &
                     len_trim(k%group) > 0 .and. len_trim(k%key) > 0, &
                     "key without group or name", &
-                    location=pf_source_location('test_schema.pf', 25))
+                    location=pf_source_location('test_schema.pf', 25, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     len_trim(k%units) > 0, &
                     "no units: " // trim(k%key), &
-                    location=pf_source_location('test_schema.pf', 26))
+                    location=pf_source_location('test_schema.pf', 26, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     len_trim(k%description) > 0, &
                     "no description: " // trim(k%key), &
-                    location=pf_source_location('test_schema.pf', 27))
+                    location=pf_source_location('test_schema.pf', 27, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     len_trim(k%attribute) > 0, &
                     "no attribute: " // trim(k%key), &
-                    location=pf_source_location('test_schema.pf', 28))
+                    location=pf_source_location('test_schema.pf', 28, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     k%max_values >= 1, &
                     "max_values < 1: " // trim(k%key), &
-                    location=pf_source_location('test_schema.pf', 29))
+                    location=pf_source_location('test_schema.pf', 29, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertFalse( &
                     k%ids .and. k%choices == 0, &
                     "numbers without choices: " // trim(k%key), &
-                    location=pf_source_location('test_schema.pf', 30))
+                    location=pf_source_location('test_schema.pf', 30, 'assertFalse'))
                 if (pf_any_failed()) return
                 do jk = 1, ik - 1
                     call assertFalse( &
                         key_table(jk)%group == k%group .and. key_table(jk)%key == k%key, &
                         "twice: " // k%key, &
-                        location=pf_source_location('test_schema.pf', 32))
+                        location=pf_source_location('test_schema.pf', 32, 'assertFalse'))
                     if (pf_any_failed()) return
                     call assertFalse( &
                         key_table(jk)%attribute == k%attribute, &
                         "attribute twice: " // k%attribute, &
-                        location=pf_source_location('test_schema.pf', 33))
+                        location=pf_source_location('test_schema.pf', 33, 'assertFalse'))
                     if (pf_any_failed()) return
                 end do
                 do jk = 1, size(derived_table)
                     call assertFalse( &
                         derived_table(jk)%name == k%attribute, &
                         "attribute of a derived value: " // k%attribute, &
-                        location=pf_source_location('test_schema.pf', 36))
+                        location=pf_source_location('test_schema.pf', 36, 'assertFalse'))
                     if (pf_any_failed()) return
                 end do
             end associate
@@ -81,17 +81,17 @@ contains
         call assertEqual( &
             key_chain_potential, &
             find(key_table, "chain", "potential"), &
-            location=pf_source_location('test_schema.pf', 40))
+            location=pf_source_location('test_schema.pf', 40, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             key_detect_amplitude, &
             find(key_table, "detect", "amplitude"), &
-            location=pf_source_location('test_schema.pf', 41))
+            location=pf_source_location('test_schema.pf', 41, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "detect_amplitude", &
             trim(key_table(key_detect_amplitude)%attribute), &
-            location=pf_source_location('test_schema.pf', 42))
+            location=pf_source_location('test_schema.pf', 42, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_table_is_complete
 
@@ -111,12 +111,12 @@ contains
             call assertTrue( &
                 same(ik, v, w), &
                 "set_key/get_key round trip: " // trim(key_table(ik)%key), &
-                location=pf_source_location('test_schema.pf', 58))
+                location=pf_source_location('test_schema.pf', 58, 'assertTrue'))
             if (pf_any_failed()) return
             call assertFalse( &
                 same(ik, w, get_key(base, ik)), &
                 "the change did not stick: " // trim(key_table(ik)%key), &
-                location=pf_source_location('test_schema.pf', 59))
+                location=pf_source_location('test_schema.pf', 59, 'assertFalse'))
             if (pf_any_failed()) return
             do jk = 1, size(key_table)
                 if (jk == ik) cycle
@@ -124,7 +124,7 @@ contains
                 call assertTrue( &
                     same(jk, get_key(cfg, jk), get_key(base, jk)), &
                     message, &
-                    location=pf_source_location('test_schema.pf', 63))
+                    location=pf_source_location('test_schema.pf', 63, 'assertTrue'))
                 if (pf_any_failed()) return
             end do
         end do
@@ -137,46 +137,65 @@ contains
         call assertEqual( &
             potential_sine_gordon, &
             cfg%run%chain%potential, &
-            location=pf_source_location('test_schema.pf', 72))
+            location=pf_source_location('test_schema.pf', 72, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(4.0_wp, cfg%run%chain%c, 0.0_wp, location=pf_source_location('test_schema.pf', 73))
+        call assertEqual( &
+            4.0_wp, &
+            cfg%run%chain%c, &
+            0.0_wp, &
+            location=pf_source_location('test_schema.pf', 73, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(200, cfg%run%chain%n, location=pf_source_location('test_schema.pf', 74))
+        call assertEqual(200, cfg%run%chain%n, location=pf_source_location('test_schema.pf', 74, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(150, cfg%run%chain%n0, location=pf_source_location('test_schema.pf', 75))
+        call assertEqual(150, cfg%run%chain%n0, location=pf_source_location('test_schema.pf', 75, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.9_wp, cfg%run%drive%omega, 0.0_wp, location=pf_source_location('test_schema.pf', 76))
+        call assertEqual( &
+            0.9_wp, &
+            cfg%run%drive%omega, &
+            0.0_wp, &
+            location=pf_source_location('test_schema.pf', 76, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.77_wp, cfg%run%drive%amplitude, 0.0_wp, location=pf_source_location('test_schema.pf', 77))
+        call assertEqual( &
+            1.77_wp, &
+            cfg%run%drive%amplitude, &
+            0.0_wp, &
+            location=pf_source_location('test_schema.pf', 77, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             default_ramp_time, &
             cfg%run%drive%ramp_time, &
             0.0_wp, &
-            location=pf_source_location('test_schema.pf', 78))
+            location=pf_source_location('test_schema.pf', 78, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(method_newton, cfg%run%numerics%method, location=pf_source_location('test_schema.pf', 79))
+        call assertEqual( &
+            method_newton, &
+            cfg%run%numerics%method, &
+            location=pf_source_location('test_schema.pf', 79, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.05_wp, cfg%run%numerics%dt, 0.0_wp, location=pf_source_location('test_schema.pf', 80))
+        call assertEqual( &
+            0.05_wp, &
+            cfg%run%numerics%dt, &
+            0.0_wp, &
+            location=pf_source_location('test_schema.pf', 80, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0e-10_wp, &
             cfg%run%numerics%newton_tol, &
             0.0_wp, &
-            location=pf_source_location('test_schema.pf', 81))
+            location=pf_source_location('test_schema.pf', 81, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             3.141592653589793_wp, &
             cfg%run%detect%amplitude, &
             0.0_wp, &
-            location=pf_source_location('test_schema.pf', 82))
+            location=pf_source_location('test_schema.pf', 82, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(60, default_probes(1), location=pf_source_location('test_schema.pf', 83))
+        call assertEqual(60, default_probes(1), location=pf_source_location('test_schema.pf', 83, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             trim(cfg%output%file) == "supratrans.h5", &
             cfg%output%file, &
-            location=pf_source_location('test_schema.pf', 84))
+            location=pf_source_location('test_schema.pf', 84, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_defaults_are_the_papers
 
@@ -184,39 +203,54 @@ contains
     subroutine test_choices_agree_with_the_physics()
         integer :: i
 
-        call assertEqual(sine_gordon, potential_sine_gordon, location=pf_source_location('test_schema.pf', 91))
+        call assertEqual( &
+            sine_gordon, &
+            potential_sine_gordon, &
+            location=pf_source_location('test_schema.pf', 91, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(klein_gordon, potential_klein_gordon, location=pf_source_location('test_schema.pf', 92))
+        call assertEqual( &
+            klein_gordon, &
+            potential_klein_gordon, &
+            location=pf_source_location('test_schema.pf', 92, 'assertEqual'))
         if (pf_any_failed()) return
         do i = 1, size(potential_choices)
             call assertTrue( &
                 potential_name(i) == trim(potential_choices(i)), &
                 potential_choices(i), &
-                location=pf_source_location('test_schema.pf', 94))
+                location=pf_source_location('test_schema.pf', 94, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         do i = 1, size(method_choices)
-            call assertEqual(i, method_from_name(method_name(i)), location=pf_source_location('test_schema.pf', 97))
+            call assertEqual( &
+                i, &
+                method_from_name(method_name(i)), &
+                location=pf_source_location('test_schema.pf', 97, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         call assertTrue( &
             method_name(method_rk8) == "rk8", &
             method_name(method_rk8), &
-            location=pf_source_location('test_schema.pf', 99))
+            location=pf_source_location('test_schema.pf', 99, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(method_name(0) == "unknown", method_name(0), location=pf_source_location('test_schema.pf', 100))
+        call assertTrue( &
+            method_name(0) == "unknown", &
+            method_name(0), &
+            location=pf_source_location('test_schema.pf', 100, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(0, method_from_name("euler"), location=pf_source_location('test_schema.pf', 101))
+        call assertEqual( &
+            0, &
+            method_from_name("euler"), &
+            location=pf_source_location('test_schema.pf', 101, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             choice_noun(choice_scene) == "scene", &
             choice_noun(choice_scene), &
-            location=pf_source_location('test_schema.pf', 102))
+            location=pf_source_location('test_schema.pf', 102, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             size(scene_choices), &
             size(choice_names(choice_scene)), &
-            location=pf_source_location('test_schema.pf', 103))
+            location=pf_source_location('test_schema.pf', 103, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_choices_agree_with_the_physics
 
@@ -237,17 +271,20 @@ contains
         cfg%run%chain%c = 3.5_wp
         path = "/tmp/supratrans_test_schema_parameters.h5"
         call h5_create(file, path, .true., error)
-        call assertFalse(allocated(error), "create", location=pf_source_location('test_schema.pf', 123))
+        call assertFalse(allocated(error), "create", location=pf_source_location('test_schema.pf', 123, 'assertFalse'))
         if (pf_any_failed()) return
         if (allocated(error)) return
         call write_parameters(file, cfg, error)
-        call assertFalse(allocated(error), "write_parameters", location=pf_source_location('test_schema.pf', 126))
+        call assertFalse( &
+            allocated(error), &
+            "write_parameters", &
+            location=pf_source_location('test_schema.pf', 126, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
-        call assertFalse(allocated(error), "commit", location=pf_source_location('test_schema.pf', 128))
+        call assertFalse(allocated(error), "commit", location=pf_source_location('test_schema.pf', 128, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_open(file, path, .false., error)
-        call assertFalse(allocated(error), "open", location=pf_source_location('test_schema.pf', 130))
+        call assertFalse(allocated(error), "open", location=pf_source_location('test_schema.pf', 130, 'assertFalse'))
         if (pf_any_failed()) return
         if (allocated(error)) return
         do ik = 1, size(key_table)
@@ -255,7 +292,7 @@ contains
                 call assertTrue( &
                     h5_attr_exists(file, "/parameters", trim(name)), &
                     "missing attribute " // name, &
-                    location=pf_source_location('test_schema.pf', 134))
+                    location=pf_source_location('test_schema.pf', 134, 'assertTrue'))
                 if (pf_any_failed()) return
                 v = get_key(cfg, ik)
                 if (v%n == 0 .and. k%unset > 0) v = get_key(cfg, k%unset)
@@ -263,80 +300,103 @@ contains
                 case (kt_real)
                     if (k%max_values > 1) then
                         call h5_read_attr(file, "/parameters", trim(name), xs, error)
-                        call assertEqual(v%n, size(xs), location=pf_source_location('test_schema.pf', 141))
+                        call assertEqual( &
+                            v%n, &
+                            size(xs), &
+                            location=pf_source_location('test_schema.pf', 141, 'assertEqual'))
                         if (pf_any_failed()) return
                         if (v%n > 0) then
-                            call assertEqual(v%reals, xs, 0.0_wp, location=pf_source_location('test_schema.pf', 143))
+                            call assertEqual( &
+                                v%reals, &
+                                xs, &
+                                0.0_wp, &
+                                location=pf_source_location('test_schema.pf', 143, 'assertEqual'))
                             if (pf_any_failed()) return
                         end if
                     else
                         call h5_read_attr(file, "/parameters", trim(name), x, error)
-                        call assertEqual(v%reals(1), x, 0.0_wp, location=pf_source_location('test_schema.pf', 147))
+                        call assertEqual( &
+                            v%reals(1), &
+                            x, &
+                            0.0_wp, &
+                            location=pf_source_location('test_schema.pf', 147, 'assertEqual'))
                         if (pf_any_failed()) return
                     end if
                 case (kt_integer)
                     if (k%max_values > 1) then
                         call h5_read_attr(file, "/parameters", trim(name), ns, error)
-                        call assertEqual(v%ints, ns, location=pf_source_location('test_schema.pf', 152))
+                        call assertEqual(v%ints, ns, location=pf_source_location('test_schema.pf', 152, 'assertEqual'))
                         if (pf_any_failed()) return
                     else
                         call h5_read_attr(file, "/parameters", trim(name), n, error)
-                        call assertEqual(v%ints(1), n, location=pf_source_location('test_schema.pf', 155))
+                        call assertEqual( &
+                            v%ints(1), &
+                            n, &
+                            location=pf_source_location('test_schema.pf', 155, 'assertEqual'))
                         if (pf_any_failed()) return
                     end if
                 case (kt_logical)
                     call h5_read_attr(file, "/parameters", trim(name), n, error)
-                    call assertEqual(merge(1, 0, v%flag), n, location=pf_source_location('test_schema.pf', 159))
+                    call assertEqual( &
+                        merge(1, 0, v%flag), &
+                        n, &
+                        location=pf_source_location('test_schema.pf', 159, 'assertEqual'))
                     if (pf_any_failed()) return
                 case default
                     call h5_read_attr(file, "/parameters", trim(name), text, error)
                     call assertTrue( &
                         text == key_attribute_text(ik, v), &
                         name // " = " // text, &
-                        location=pf_source_location('test_schema.pf', 162))
+                        location=pf_source_location('test_schema.pf', 162, 'assertTrue'))
                     if (pf_any_failed()) return
                 end select
                 call assertFalse( &
                     allocated(error), &
                     "reading " // name, &
-                    location=pf_source_location('test_schema.pf', 164))
+                    location=pf_source_location('test_schema.pf', 164, 'assertFalse'))
                 if (pf_any_failed()) return
             end associate
         end do
         call h5_read_attr(file, "/parameters", "c", x, error)
-        call assertEqual(3.5_wp, x, 0.0_wp, location=pf_source_location('test_schema.pf', 168))
+        call assertEqual(3.5_wp, x, 0.0_wp, location=pf_source_location('test_schema.pf', 168, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/parameters", "potentials", text, error)
-        call assertEqual("sine-gordon, klein-gordon", text, location=pf_source_location('test_schema.pf', 170))
+        call assertEqual( &
+            "sine-gordon, klein-gordon", &
+            text, &
+            location=pf_source_location('test_schema.pf', 170, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/parameters", "method", text, error)
-        call assertEqual("newton", text, location=pf_source_location('test_schema.pf', 172))
+        call assertEqual("newton", text, location=pf_source_location('test_schema.pf', 172, 'assertEqual'))
         if (pf_any_failed()) return
         do ik = 1, size(derived_table)
             call assertTrue( &
                 h5_attr_exists(file, "/parameters", trim(derived_table(ik)%name)), &
                 derived_table(ik)%name, &
-                location=pf_source_location('test_schema.pf', 174))
+                location=pf_source_location('test_schema.pf', 174, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         call h5_read(file, "/parameters/schema/name", names, error)
-        call assertFalse(allocated(error), "schema table", location=pf_source_location('test_schema.pf', 177))
+        call assertFalse( &
+            allocated(error), &
+            "schema table", &
+            location=pf_source_location('test_schema.pf', 177, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             size(key_table) + size(derived_table), &
             size(names), &
-            location=pf_source_location('test_schema.pf', 178))
+            location=pf_source_location('test_schema.pf', 178, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "detect_amplitude", &
             trim(names(key_detect_amplitude)), &
-            location=pf_source_location('test_schema.pf', 179))
+            location=pf_source_location('test_schema.pf', 179, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/parameters/schema/units", "description", text, error)
         call assertFalse( &
             allocated(error), &
             "description of the units column", &
-            location=pf_source_location('test_schema.pf', 181))
+            location=pf_source_location('test_schema.pf', 181, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call delete(path)

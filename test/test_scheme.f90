@@ -32,51 +32,54 @@ contains
             run%record%ledger_every = 1
             call simulate(run, res)
             deallocate (run%record%probes)
-            call assertEqual(run_ok, res%status, location=pf_source_location('test_scheme.pf', 34))
+            call assertEqual(run_ok, res%status, location=pf_source_location('test_scheme.pf', 34, 'assertEqual'))
             if (pf_any_failed()) return
             ! it transmits: far more energy goes in than an evanescent response takes (about 10)
-            call assertGreaterThan(res%ledger%injected, 100.0_wp, location=pf_source_location('test_scheme.pf', 36))
+            call assertGreaterThan( &
+                res%ledger%injected, &
+                100.0_wp, &
+                location=pf_source_location('test_scheme.pf', 36, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 res%ledger%dissipated_gamma, &
                 0.0_wp, &
-                location=pf_source_location('test_scheme.pf', 37))
+                location=pf_source_location('test_scheme.pf', 37, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 res%ledger%dissipated_beta, &
                 0.0_wp, &
-                location=pf_source_location('test_scheme.pf', 38))
+                location=pf_source_location('test_scheme.pf', 38, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 res%ledger%dissipated_absorber, &
                 0.0_wp, &
-                location=pf_source_location('test_scheme.pf', 39))
+                location=pf_source_location('test_scheme.pf', 39, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertLessThanOrEqual( &
                 res%ledger%max_step_residual, &
                 1.0e-12_wp*res%ledger%energy_scale, &
-                location=pf_source_location('test_scheme.pf', 40))
+                location=pf_source_location('test_scheme.pf', 40, 'assertLessThanOrEqual'))
             if (pf_any_failed()) return
             call assertLessThanOrEqual( &
                 abs(res%ledger%residual), &
                 1.0e-11_wp*res%ledger%energy_scale, &
-                location=pf_source_location('test_scheme.pf', 41))
+                location=pf_source_location('test_scheme.pf', 41, 'assertLessThanOrEqual'))
             if (pf_any_failed()) return
             ! the energy injected up to the end of the ramp is the ledger's record at the first t_{k+1/2} >= 50
-            call assertTrue(res%ramp_passed, location=pf_source_location('test_scheme.pf', 43))
+            call assertTrue(res%ramp_passed, location=pf_source_location('test_scheme.pf', 43, 'assertTrue'))
             if (pf_any_failed()) return
             i = minloc(res%ledger_time(1:res%n_ledger_samples), 1, mask=res%ledger_time(1:res%n_ledger_samples) >= 50.0_wp)
             call assertEqual( &
                 50.025_wp, &
                 res%ledger_time(i), &
                 1.0e-9_wp, &
-                location=pf_source_location('test_scheme.pf', 45))
+                location=pf_source_location('test_scheme.pf', 45, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 res%ledger_series(i, 2), &
                 res%injected_at_ramp, &
                 0.0_wp, &
-                location=pf_source_location('test_scheme.pf', 46))
+                location=pf_source_location('test_scheme.pf', 46, 'assertEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_ledger_closes_every_step
@@ -91,12 +94,12 @@ contains
         run%drive%amplitude = 1.9_wp
         allocate (run%record%probes(0))
         call simulate(run, res)
-        call assertEqual(run_ok, res%status, location=pf_source_location('test_scheme.pf', 60))
+        call assertEqual(run_ok, res%status, location=pf_source_location('test_scheme.pf', 60, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             abs(res%ledger%residual), &
             1.0e-8_wp*res%ledger%energy_scale, &
-            location=pf_source_location('test_scheme.pf', 61))
+            location=pf_source_location('test_scheme.pf', 61, 'assertGreaterThan'))
         if (pf_any_failed()) return
     end subroutine test_linearized_ledger_does_not_close
 
@@ -121,7 +124,7 @@ contains
         run%numerics%t_final = 400.0_wp
         run%record%probes = [(n, n=1, 20)]
         call simulate(run, res)
-        call assertEqual(run_ok, res%status, location=pf_source_location('test_scheme.pf', 85))
+        call assertEqual(run_ok, res%status, location=pf_source_location('test_scheme.pf', 85, 'assertEqual'))
         if (pf_any_failed()) return
         lambda = decay_rate(run%chain, run%drive%omega)
         omega_dt = 2.0_wp/run%numerics%dt*sin(0.5_wp*run%drive%omega*run%numerics%dt)
@@ -135,7 +138,7 @@ contains
                 err = max(err, abs(res%probe_u(i, n) - amp*sin(run%drive%omega*t)*exp(-lambda*n)))
             end do
         end do
-        call assertLessThan(err, tol, location=pf_source_location('test_scheme.pf', 98))
+        call assertLessThan(err, tol, location=pf_source_location('test_scheme.pf', 98, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_evanescent_wave
 
@@ -156,20 +159,26 @@ contains
             do k = 1, 3
                 run%numerics%dt = 0.1_wp/2**(k - 1)
                 call simulate(run, res)
-                call assertEqual(run_ok, res%status, location=pf_source_location('test_scheme.pf', 118))
+                call assertEqual(run_ok, res%status, location=pf_source_location('test_scheme.pf', 118, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     60.0_wp, &
                     res%probe_time(res%n_probe_samples), &
                     1.0e-9_wp, &
-                    location=pf_source_location('test_scheme.pf', 119))
+                    location=pf_source_location('test_scheme.pf', 119, 'assertEqual'))
                 if (pf_any_failed()) return
                 u(k) = res%probe_u(res%n_probe_samples, 1)
             end do
             order = log(abs(u(1) - u(2))/abs(u(2) - u(3)))/log(2.0_wp)
-            call assertGreaterThanOrEqual(order, 1.8_wp, location=pf_source_location('test_scheme.pf', 123))
+            call assertGreaterThanOrEqual( &
+                order, &
+                1.8_wp, &
+                location=pf_source_location('test_scheme.pf', 123, 'assertGreaterThanOrEqual'))
             if (pf_any_failed()) return
-            call assertLessThanOrEqual(order, 2.2_wp, location=pf_source_location('test_scheme.pf', 124))
+            call assertLessThanOrEqual( &
+                order, &
+                2.2_wp, &
+                location=pf_source_location('test_scheme.pf', 124, 'assertLessThanOrEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_second_order_in_dt
@@ -188,18 +197,29 @@ contains
             allocate (run%record%probes(0))
             run%numerics%dt = 0.95_wp*critical_dt(run%chain)
             call simulate(run, res)
-            call assertEqual(run_ok, res%status, location=pf_source_location('test_scheme.pf', 142))
+            call assertEqual(run_ok, res%status, location=pf_source_location('test_scheme.pf', 142, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertLessThan(res%max_abs_u, 1.0_wp, location=pf_source_location('test_scheme.pf', 143))
+            call assertLessThan( &
+                res%max_abs_u, &
+                1.0_wp, &
+                location=pf_source_location('test_scheme.pf', 143, 'assertLessThan'))
             if (pf_any_failed()) return
             run%numerics%dt = 1.05_wp*critical_dt(run%chain)
             call simulate(run, res)
             deallocate (run%record%probes)
-            call assertEqual(run_diverged, res%status, location=pf_source_location('test_scheme.pf', 147))
+            call assertEqual( &
+                run_diverged, &
+                res%status, &
+                location=pf_source_location('test_scheme.pf', 147, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertTrue(index(res%reason, "blow-up") > 0, location=pf_source_location('test_scheme.pf', 148))
+            call assertTrue( &
+                index(res%reason, "blow-up") > 0, &
+                location=pf_source_location('test_scheme.pf', 148, 'assertTrue'))
             if (pf_any_failed()) return
-            call assertLessThan(res%t_end, run%numerics%t_final, location=pf_source_location('test_scheme.pf', 149))
+            call assertLessThan( &
+                res%t_end, &
+                run%numerics%t_final, &
+                location=pf_source_location('test_scheme.pf', 149, 'assertLessThan'))
             if (pf_any_failed()) return
         end do
     end subroutine test_stability_boundary
@@ -215,11 +235,14 @@ contains
         run%numerics%newton_tol = 1.0e-30_wp
         allocate (run%record%probes(0))
         call simulate(run, res)
-        call assertEqual(run_newton_failed, res%status, location=pf_source_location('test_scheme.pf', 164))
+        call assertEqual( &
+            run_newton_failed, &
+            res%status, &
+            location=pf_source_location('test_scheme.pf', 164, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(res%reason, "Newton did not converge") > 0, &
-            location=pf_source_location('test_scheme.pf', 165))
+            location=pf_source_location('test_scheme.pf', 165, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_newton_failure_reported
 
@@ -247,13 +270,13 @@ contains
                 serial(i)%ledger%injected, &
                 parallel(i)%ledger%injected, &
                 0.0_wp, &
-                location=pf_source_location('test_scheme.pf', 188))
+                location=pf_source_location('test_scheme.pf', 188, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 serial(i)%probe_u(:, 2), &
                 parallel(i)%probe_u(:, 2), &
                 0.0_wp, &
-                location=pf_source_location('test_scheme.pf', 189))
+                location=pf_source_location('test_scheme.pf', 189, 'assertEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_two_runs_in_two_threads
@@ -285,21 +308,27 @@ contains
             call assertFalse( &
                 below%transmitting, &
                 below%verdict_reason, &
-                location=pf_source_location('test_scheme.pf', 217))
+                location=pf_source_location('test_scheme.pf', 217, 'assertFalse'))
             if (pf_any_failed()) return
             call assertTrue( &
                 above%transmitting, &
                 above%verdict_reason, &
-                location=pf_source_location('test_scheme.pf', 218))
+                location=pf_source_location('test_scheme.pf', 218, 'assertTrue'))
             if (pf_any_failed()) return
-            call assertLessThan(below%u_beyond_max, 1.5_wp, location=pf_source_location('test_scheme.pf', 219))
+            call assertLessThan( &
+                below%u_beyond_max, &
+                1.5_wp, &
+                location=pf_source_location('test_scheme.pf', 219, 'assertLessThan'))
             if (pf_any_failed()) return
-            call assertGreaterThan(above%u_beyond_max, 3.5_wp, location=pf_source_location('test_scheme.pf', 220))
+            call assertGreaterThan( &
+                above%u_beyond_max, &
+                3.5_wp, &
+                location=pf_source_location('test_scheme.pf', 220, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 above%ledger%injected, &
                 4.0_wp*below%ledger%injected, &
-                location=pf_source_location('test_scheme.pf', 221))
+                location=pf_source_location('test_scheme.pf', 221, 'assertGreaterThan'))
             if (pf_any_failed()) return
         end do
     end subroutine test_verdict_across_the_gap

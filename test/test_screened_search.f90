@@ -103,50 +103,70 @@ contains
         call exact_answer(exact%pattern, expected, expected_status, expected_runs)
         call find_threshold_screened(exact, cheap, a_min, a_max, coarse, res, 0.05_wp, 0.0_wp, threshold, runs, steps, &
                                      status, report)
-        call assertEqual(expected_status, status, location=pf_source_location('test_screened_search.pf', 105))
+        call assertEqual( &
+            expected_status, &
+            status, &
+            location=pf_source_location('test_screened_search.pf', 105, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(expected, threshold, 1.0e-12_wp, location=pf_source_location('test_screened_search.pf', 106))
+        call assertEqual( &
+            expected, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_screened_search.pf', 106, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(4.28_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_screened_search.pf', 107))
+        call assertEqual( &
+            4.28_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_screened_search.pf', 107, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             exact%calls, &
             report%runs_confirmed, &
-            location=pf_source_location('test_screened_search.pf', 108))
+            location=pf_source_location('test_screened_search.pf', 108, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(cheap%calls, report%runs_screened, location=pf_source_location('test_screened_search.pf', 109))
+        call assertEqual( &
+            cheap%calls, &
+            report%runs_screened, &
+            location=pf_source_location('test_screened_search.pf', 109, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(runs, exact%calls + cheap%calls, location=pf_source_location('test_screened_search.pf', 110))
+        call assertEqual( &
+            runs, &
+            exact%calls + cheap%calls, &
+            location=pf_source_location('test_screened_search.pf', 110, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             exact%calls <= 8, &
             message="only the neighbourhood of the threshold is confirmed", &
-            location=pf_source_location('test_screened_search.pf', 111))
+            location=pf_source_location('test_screened_search.pf', 111, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             exact%calls < expected_runs / 2, &
             message="fewer than half the exact search's runs", &
-            location=pf_source_location('test_screened_search.pf', 112))
+            location=pf_source_location('test_screened_search.pf', 112, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             maxval(exact%calls_at) - 1, &
             message="no point asked twice of the exact oracle", &
-            location=pf_source_location('test_screened_search.pf', 113))
+            location=pf_source_location('test_screened_search.pf', 113, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             maxval(cheap%calls_at) - 1, &
             message="no point asked twice of the cheap oracle", &
-            location=pf_source_location('test_screened_search.pf', 114))
+            location=pf_source_location('test_screened_search.pf', 114, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, report%disagreements, location=pf_source_location('test_screened_search.pf', 115))
+        call assertEqual( &
+            0, &
+            report%disagreements, &
+            location=pf_source_location('test_screened_search.pf', 115, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             4.28_wp, &
             report%screen_threshold, &
             1.0e-12_wp, &
-            location=pf_source_location('test_screened_search.pf', 116))
+            location=pf_source_location('test_screened_search.pf', 116, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_cheap_right_saves_exact_runs
 
@@ -163,20 +183,27 @@ contains
         cheap%pattern = from(381)
         call find_threshold_screened(exact, cheap, a_min, a_max, coarse, res, 0.05_wp, 0.0_wp, threshold, runs, steps, &
                                      status, report)
-        call assertEqual(search_found, status, location=pf_source_location('test_screened_search.pf', 132))
+        call assertEqual( &
+            search_found, &
+            status, &
+            location=pf_source_location('test_screened_search.pf', 132, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(4.28_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_screened_search.pf', 133))
+        call assertEqual( &
+            4.28_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_screened_search.pf', 133, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             4.31_wp, &
             report%screen_threshold, &
             1.0e-12_wp, &
-            location=pf_source_location('test_screened_search.pf', 134))
+            location=pf_source_location('test_screened_search.pf', 134, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             report%disagreements >= 1, &
             message="the points 4.28 .. 4.30 were answered differently", &
-            location=pf_source_location('test_screened_search.pf', 135))
+            location=pf_source_location('test_screened_search.pf', 135, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_cheap_too_high_within_band
 
@@ -194,14 +221,21 @@ contains
         cheap%pattern = from(400)
         call find_threshold_screened(exact, cheap, a_min, a_max, coarse, res, 0.05_wp, 0.0_wp, threshold, runs, steps, &
                                      status, report)
-        call assertEqual(search_found, status, location=pf_source_location('test_screened_search.pf', 152))
+        call assertEqual( &
+            search_found, &
+            status, &
+            location=pf_source_location('test_screened_search.pf', 152, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(4.28_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_screened_search.pf', 153))
+        call assertEqual( &
+            4.28_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_screened_search.pf', 153, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             report%rounds > 1, &
             message="the band grew", &
-            location=pf_source_location('test_screened_search.pf', 154))
+            location=pf_source_location('test_screened_search.pf', 154, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_cheap_too_high_walks_down
 
@@ -220,15 +254,22 @@ contains
         cheap%pattern(150:180) = .true.
         call find_threshold_screened(exact, cheap, a_min, a_max, coarse, res, 0.05_wp, 0.0_wp, threshold, runs, steps, &
                                      status, report)
-        call assertEqual(search_found, status, location=pf_source_location('test_screened_search.pf', 172))
+        call assertEqual( &
+            search_found, &
+            status, &
+            location=pf_source_location('test_screened_search.pf', 172, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(4.28_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_screened_search.pf', 173))
+        call assertEqual( &
+            4.28_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_screened_search.pf', 173, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             2.0_wp, &
             report%screen_threshold, &
             1.0e-12_wp, &
-            location=pf_source_location('test_screened_search.pf', 174))
+            location=pf_source_location('test_screened_search.pf', 174, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_cheap_window_far_below
 
@@ -248,7 +289,11 @@ contains
         cheap%pattern = from(378)
         cheap%margins(150:155) = 0.05_wp
         call exact_answer(exact%pattern, expected, expected_status, expected_runs)
-        call assertEqual(2.0_wp, expected, 1.0e-12_wp, location=pf_source_location('test_screened_search.pf', 193))
+        call assertEqual( &
+            2.0_wp, &
+            expected, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_screened_search.pf', 193, 'assertEqual'))
         if (pf_any_failed()) return
         call find_threshold_screened(exact, cheap, a_min, a_max, coarse, res, 0.05_wp, 0.0_wp, threshold, runs, steps, &
                                      status, report)
@@ -257,36 +302,45 @@ contains
             threshold, &
             1.0e-12_wp, &
             message="every quiet screening answer trusted", &
-            location=pf_source_location('test_screened_search.pf', 196))
+            location=pf_source_location('test_screened_search.pf', 196, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, report%runs_doubtful, location=pf_source_location('test_screened_search.pf', 197))
+        call assertEqual( &
+            0, &
+            report%runs_doubtful, &
+            location=pf_source_location('test_screened_search.pf', 197, 'assertEqual'))
         if (pf_any_failed()) return
         exact%calls_at = 0
         cheap%calls_at = 0
         call find_threshold_screened(exact, cheap, a_min, a_max, coarse, res, 0.05_wp, 0.2_wp, threshold, runs, steps, &
                                      status, report)
-        call assertEqual(expected_status, status, location=pf_source_location('test_screened_search.pf', 202))
+        call assertEqual( &
+            expected_status, &
+            status, &
+            location=pf_source_location('test_screened_search.pf', 202, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             expected, &
             threshold, &
             1.0e-12_wp, &
             message="thin quiet screening answers confirmed", &
-            location=pf_source_location('test_screened_search.pf', 203))
+            location=pf_source_location('test_screened_search.pf', 203, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             report%runs_doubtful, &
             message="the coarse point 2.0 was thin", &
-            location=pf_source_location('test_screened_search.pf', 204))
+            location=pf_source_location('test_screened_search.pf', 204, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1, exact%calls_at(150), location=pf_source_location('test_screened_search.pf', 205))
+        call assertEqual( &
+            1, &
+            exact%calls_at(150), &
+            location=pf_source_location('test_screened_search.pf', 205, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             maxval(exact%calls_at(200:kmax)), &
             message="nothing above the answer asked of the exact method", &
-            location=pf_source_location('test_screened_search.pf', 206))
+            location=pf_source_location('test_screened_search.pf', 206, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_doubtful_quiet_answers_go_to_the_exact_oracle
 
@@ -322,19 +376,19 @@ contains
                 expected_status, &
                 status, &
                 message="trial " // str(trial), &
-                location=pf_source_location('test_screened_search.pf', 237))
+                location=pf_source_location('test_screened_search.pf', 237, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 expected, &
                 threshold, &
                 1.0e-12_wp, &
                 message="trial " // str(trial), &
-                location=pf_source_location('test_screened_search.pf', 238))
+                location=pf_source_location('test_screened_search.pf', 238, 'assertEqual'))
             if (pf_any_failed()) return
             call assertTrue( &
                 maxval(exact%calls_at) <= 1, &
                 message="no exact point asked twice", &
-                location=pf_source_location('test_screened_search.pf', 239))
+                location=pf_source_location('test_screened_search.pf', 239, 'assertTrue'))
             if (pf_any_failed()) return
         end do
 
@@ -406,19 +460,19 @@ contains
                 expected_status, &
                 status, &
                 message="trial " // str(trial), &
-                location=pf_source_location('test_screened_search.pf', 306))
+                location=pf_source_location('test_screened_search.pf', 306, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 expected, &
                 threshold, &
                 1.0e-12_wp, &
                 message="trial " // str(trial), &
-                location=pf_source_location('test_screened_search.pf', 307))
+                location=pf_source_location('test_screened_search.pf', 307, 'assertEqual'))
             if (pf_any_failed()) return
             call assertTrue( &
                 maxval(exact%calls_at) <= 1, &
                 message="no exact point asked twice", &
-                location=pf_source_location('test_screened_search.pf', 308))
+                location=pf_source_location('test_screened_search.pf', 308, 'assertTrue'))
             if (pf_any_failed()) return
             total_exact = total_exact + exact%calls
             total_expected = total_expected + expected_runs
@@ -426,7 +480,7 @@ contains
         call assertTrue( &
             total_exact < total_expected / 2, &
             message="fewer than half the exact search's runs, in all", &
-            location=pf_source_location('test_screened_search.pf', 312))
+            location=pf_source_location('test_screened_search.pf', 312, 'assertTrue'))
         if (pf_any_failed()) return
 
     contains
@@ -463,14 +517,21 @@ contains
         call exact_answer(exact%pattern, expected, expected_status, expected_runs)
         call find_threshold_screened(exact, cheap, a_min, a_max, coarse, res, 0.05_wp, 0.0_wp, threshold, runs, steps, &
                                      status, report)
-        call assertEqual(search_found, status, location=pf_source_location('test_screened_search.pf', 348))
+        call assertEqual( &
+            search_found, &
+            status, &
+            location=pf_source_location('test_screened_search.pf', 348, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(expected, threshold, 1.0e-12_wp, location=pf_source_location('test_screened_search.pf', 349))
+        call assertEqual( &
+            expected, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_screened_search.pf', 349, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             ieee_is_nan(report%screen_threshold), &
             message="the screening found nothing", &
-            location=pf_source_location('test_screened_search.pf', 350))
+            location=pf_source_location('test_screened_search.pf', 350, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_cheap_finds_none
 
@@ -487,28 +548,37 @@ contains
         call exact_answer(exact%pattern, expected, expected_status, expected_runs)
         call find_threshold_screened(exact, cheap, a_min, a_max, coarse, res, 0.05_wp, 0.0_wp, threshold, runs, steps, &
                                      status, report)
-        call assertEqual(search_none, expected_status, location=pf_source_location('test_screened_search.pf', 366))
+        call assertEqual( &
+            search_none, &
+            expected_status, &
+            location=pf_source_location('test_screened_search.pf', 366, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(search_none, status, location=pf_source_location('test_screened_search.pf', 367))
+        call assertEqual( &
+            search_none, &
+            status, &
+            location=pf_source_location('test_screened_search.pf', 367, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             ieee_is_nan(threshold), &
             message="no threshold", &
-            location=pf_source_location('test_screened_search.pf', 368))
+            location=pf_source_location('test_screened_search.pf', 368, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             exact%calls, &
             message="only a_max confirmed", &
-            location=pf_source_location('test_screened_search.pf', 369))
+            location=pf_source_location('test_screened_search.pf', 369, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1, exact%calls_at(kmax), location=pf_source_location('test_screened_search.pf', 370))
+        call assertEqual( &
+            1, &
+            exact%calls_at(kmax), &
+            location=pf_source_location('test_screened_search.pf', 370, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             expected_runs, &
             cheap%calls, &
             message="the cheap method asked every coarse point", &
-            location=pf_source_location('test_screened_search.pf', 371))
+            location=pf_source_location('test_screened_search.pf', 371, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_none_transmits_confirms_the_top
 
@@ -526,12 +596,15 @@ contains
         exact%fail_at = 378
         call find_threshold_screened(exact, cheap, a_min, a_max, coarse, res, 0.05_wp, 0.0_wp, threshold, runs, steps, &
                                      status, report)
-        call assertEqual(search_failed, status, location=pf_source_location('test_screened_search.pf', 388))
+        call assertEqual( &
+            search_failed, &
+            status, &
+            location=pf_source_location('test_screened_search.pf', 388, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             ieee_is_nan(threshold), &
             message="no threshold", &
-            location=pf_source_location('test_screened_search.pf', 389))
+            location=pf_source_location('test_screened_search.pf', 389, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_exact_failure_is_reported
 
@@ -549,15 +622,22 @@ contains
         cheap%fail_at = 100
         call find_threshold_screened(exact, cheap, a_min, a_max, coarse, res, 0.05_wp, 0.0_wp, threshold, runs, steps, &
                                      status, report)
-        call assertEqual(search_found, status, location=pf_source_location('test_screened_search.pf', 406))
+        call assertEqual( &
+            search_found, &
+            status, &
+            location=pf_source_location('test_screened_search.pf', 406, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(4.28_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_screened_search.pf', 407))
+        call assertEqual( &
+            4.28_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_screened_search.pf', 407, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             exact%calls_at(100), &
             message="the exact method answered where the cheap one failed", &
-            location=pf_source_location('test_screened_search.pf', 408))
+            location=pf_source_location('test_screened_search.pf', 408, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_cheap_failure_falls_back_to_exact
 

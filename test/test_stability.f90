@@ -49,37 +49,37 @@ contains
             2.0_wp*sqrt(2.0_wp)/omega_max, &
             linear_stability_dt(chain, method_rk4), &
             1.0e-6_wp, &
-            location=pf_source_location('test_stability.pf', 47))
+            location=pf_source_location('test_stability.pf', 47, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             rk8_imaginary_limit/omega_max, &
             linear_stability_dt(chain, method_rk8), &
             1.0e-4_wp, &
-            location=pf_source_location('test_stability.pf', 48))
+            location=pf_source_location('test_stability.pf', 48, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             2.0_wp/sqrt(64.0_wp*s2 - 1.0_wp), &
             linear_stability_dt(chain, method_newton), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stability.pf', 49))
+            location=pf_source_location('test_stability.pf', 49, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             2.0_wp/sqrt(64.0_wp*s2 + 1.0_wp), &
             linear_stability_dt(chain, method_linearized), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stability.pf', 50))
+            location=pf_source_location('test_stability.pf', 50, 'assertEqual'))
         if (pf_any_failed()) return
         chain%beta = 1.0_wp
         call assertEqual( &
             2.0_wp/sqrt(64.0_wp*s2 - 1.0_wp), &
             linear_stability_dt(chain, method_newton), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stability.pf', 52))
+            location=pf_source_location('test_stability.pf', 52, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             abs(linear_stability_dt(chain, method_rk4) - 2.0_wp*sqrt(2.0_wp)/omega_max), &
             1.0e-3_wp, &
-            location=pf_source_location('test_stability.pf', 53))
+            location=pf_source_location('test_stability.pf', 53, 'assertGreaterThan'))
         if (pf_any_failed()) return
     end subroutine test_linear_limits
 
@@ -113,14 +113,14 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_stability.pf', 83))
+            location=pf_source_location('test_stability.pf', 83, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, path, .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_stability.pf', 86))
+            location=pf_source_location('test_stability.pf', 86, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "/boundary/observed", observed, error)
         call h5_read(file, "/boundary/rk4", rk4, error)
@@ -131,48 +131,56 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_stability.pf', 93))
+            location=pf_source_location('test_stability.pf', 93, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
 
         ! Fortran shapes: observed (c, method, curve), rk4 and paper (c, curve), verdicts (dt, c, curve; integer
         ! datasets read as real)
         limit = 2.0_wp*sqrt(2.0_wp)/sqrt(1.0_wp + 64.0_wp*sin(0.5_wp*acos(-1.0_wp)*20.0_wp/21.0_wp)**2)
-        call assertEqual(0.25_wp, paper(1, 1), 1.0e-12_wp, location=pf_source_location('test_stability.pf', 99))
+        call assertEqual( &
+            0.25_wp, &
+            paper(1, 1), &
+            1.0e-12_wp, &
+            location=pf_source_location('test_stability.pf', 99, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(limit, rk4(1, 1), 1.0e-6_wp, location=pf_source_location('test_stability.pf', 100))
+        call assertEqual( &
+            limit, &
+            rk4(1, 1), &
+            1.0e-6_wp, &
+            location=pf_source_location('test_stability.pf', 100, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.25_wp, &
             observed(1, 1, 1), &
             0.05_wp*0.25_wp, &
             message="energy-conserving scheme's boundary", &
-            location=pf_source_location('test_stability.pf', 101))
+            location=pf_source_location('test_stability.pf', 101, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             limit, &
             observed(1, 2, 1), &
             0.05_wp*limit, &
             message="RK4's boundary", &
-            location=pf_source_location('test_stability.pf', 102))
+            location=pf_source_location('test_stability.pf', 102, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             [0.0_wp, 1.0_wp, 1.0_wp], &
             newton(:, 1, 1), &
             0.0_wp, &
-            location=pf_source_location('test_stability.pf', 103))
+            location=pf_source_location('test_stability.pf', 103, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             [0.0_wp, 0.0_wp, 1.0_wp], &
             runge(:, 1, 1), &
             0.0_wp, &
-            location=pf_source_location('test_stability.pf', 104))
+            location=pf_source_location('test_stability.pf', 104, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             [1.0_wp, 1.0_wp], &
             consistent(1, :, 1), &
             0.0_wp, &
-            location=pf_source_location('test_stability.pf', 105))
+            location=pf_source_location('test_stability.pf', 105, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_scene_boundaries_undamped_chain
 
@@ -195,25 +203,28 @@ contains
             0.2832_wp, &
             critical_dt(run%chain), &
             1.0e-4_wp, &
-            location=pf_source_location('test_stability.pf', 123))
+            location=pf_source_location('test_stability.pf', 123, 'assertEqual'))
         if (pf_any_failed()) return
         run%numerics%dt = 0.27_wp
         call assertTrue( &
             stable_by_paper_condition(run%chain, run%numerics%dt), &
             message="the paper's condition holds", &
-            location=pf_source_location('test_stability.pf', 125))
+            location=pf_source_location('test_stability.pf', 125, 'assertTrue'))
         if (pf_any_failed()) return
         call simulate(run, res)
         call assertTrue( &
             res%status /= run_ok, &
             message="yet the scheme is unstable", &
-            location=pf_source_location('test_stability.pf', 127))
+            location=pf_source_location('test_stability.pf', 127, 'assertTrue'))
         if (pf_any_failed()) return
         run%numerics%dt = 0.24_wp
         call simulate(run, res)
-        call assertEqual(run_ok, res%status, location=pf_source_location('test_stability.pf', 130))
+        call assertEqual(run_ok, res%status, location=pf_source_location('test_stability.pf', 130, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertLessThan(res%max_abs_u, 1.0_wp, location=pf_source_location('test_stability.pf', 131))
+        call assertLessThan( &
+            res%max_abs_u, &
+            1.0_wp, &
+            location=pf_source_location('test_stability.pf', 131, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_paper_condition_not_sufficient_with_damping
 

@@ -58,22 +58,29 @@ contains
             run%numerics%method = methods(im)
             run%drive%ramp_time = 10.0_wp
             call new_stepper(methods(im), s, error)
-            call assertFalse(allocated(error), location=pf_source_location('test_stepper_contract.pf', 60))
+            call assertFalse( &
+                allocated(error), &
+                location=pf_source_location('test_stepper_contract.pf', 60, 'assertFalse'))
             if (pf_any_failed()) return
             call s%init(run)
-            call assertEqual(0_i8, s%steps, location=pf_source_location('test_stepper_contract.pf', 62))
+            call assertEqual(0_i8, s%steps, location=pf_source_location('test_stepper_contract.pf', 62, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertEqual(run%chain%n, s%n, location=pf_source_location('test_stepper_contract.pf', 63))
+            call assertEqual( &
+                run%chain%n, &
+                s%n, &
+                location=pf_source_location('test_stepper_contract.pf', 63, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertTrue(s%initial_levels >= 1, location=pf_source_location('test_stepper_contract.pf', 64))
+            call assertTrue( &
+                s%initial_levels >= 1, &
+                location=pf_source_location('test_stepper_contract.pf', 64, 'assertTrue'))
             if (pf_any_failed()) return
-            call assertTrue(s%order >= 2, location=pf_source_location('test_stepper_contract.pf', 65))
+            call assertTrue(s%order >= 2, location=pf_source_location('test_stepper_contract.pf', 65, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 real(s%initial_levels - 1, wp)*run%numerics%dt, &
                 s%level_time(), &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 66))
+                location=pf_source_location('test_stepper_contract.pf', 66, 'assertEqual'))
             if (pf_any_failed()) return
             ! at rest, the driven end on psi(t), the fixed end and any site beyond at 0
             do j = 0, s%initial_levels - 1
@@ -81,43 +88,43 @@ contains
                     drive_psi(run%drive, real(j, wp)*run%numerics%dt), &
                     s%displacement(0, s%initial_levels - 1 - j), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_contract.pf', 69))
+                    location=pf_source_location('test_stepper_contract.pf', 69, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0.0_wp, &
                     s%displacement(7, j), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_contract.pf', 70))
+                    location=pf_source_location('test_stepper_contract.pf', 70, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             call assertEqual( &
                 0.0_wp, &
                 s%displacement(run%chain%n + 1, 0), &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 72))
+                location=pf_source_location('test_stepper_contract.pf', 72, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.0_wp, &
                 s%displacement(run%chain%n + 5, 0), &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 73))
+                location=pf_source_location('test_stepper_contract.pf', 73, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.0_wp, &
                 s%max_abs_u(1), &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 74))
+                location=pf_source_location('test_stepper_contract.pf', 74, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.0_wp, &
                 s%stored_energy(), &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 75))
+                location=pf_source_location('test_stepper_contract.pf', 75, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 600_i8 - s%initial_levels + 1, &
                 s%steps_to(600_i8), &
-                location=pf_source_location('test_stepper_contract.pf', 76))
+                location=pf_source_location('test_stepper_contract.pf', 76, 'assertEqual'))
             if (pf_any_failed()) return
 
             ledger = ledger_type()
@@ -125,38 +132,47 @@ contains
             nsteps = 600
             do k = 1, int(nsteps)
                 call s%step(status)
-                call assertEqual(step_ok, status, location=pf_source_location('test_stepper_contract.pf', 83))
+                call assertEqual( &
+                    step_ok, &
+                    status, &
+                    location=pf_source_location('test_stepper_contract.pf', 83, 'assertEqual'))
                 if (pf_any_failed()) return
                 call s%account(ledger)
             end do
             call ledger_close(ledger, s%stored_energy())
-            call assertEqual(nsteps, s%steps, location=pf_source_location('test_stepper_contract.pf', 87))
+            call assertEqual( &
+                nsteps, &
+                s%steps, &
+                location=pf_source_location('test_stepper_contract.pf', 87, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 real(nsteps + s%initial_levels - 1, wp)*run%numerics%dt, &
                 s%level_time(), &
                 1.0e-12_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 88))
+                location=pf_source_location('test_stepper_contract.pf', 88, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 (real(nsteps, wp) + s%energy_offset)*run%numerics%dt, &
                 s%energy_time(), &
                 1.0e-12_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 89))
+                location=pf_source_location('test_stepper_contract.pf', 89, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 drive_psi(run%drive, s%level_time()), &
                 s%displacement(0, 0), &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 90))
+                location=pf_source_location('test_stepper_contract.pf', 90, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertGreaterThan(s%max_abs_u(1), 0.01_wp, location=pf_source_location('test_stepper_contract.pf', 91))
+            call assertGreaterThan( &
+                s%max_abs_u(1), &
+                0.01_wp, &
+                location=pf_source_location('test_stepper_contract.pf', 91, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertEqual( &
                 s%max_abs_u(1), &
                 s%blowup_measure(), &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 92))
+                location=pf_source_location('test_stepper_contract.pf', 92, 'assertEqual'))
             if (pf_any_failed()) return
             ! the verdict-only run's two maxima in one call: what the two separate calls give, for any split
             do j = 1, run%chain%n, 7
@@ -165,83 +181,83 @@ contains
                     s%blowup_measure(), &
                     blowup, &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_contract.pf', 96))
+                    location=pf_source_location('test_stepper_contract.pf', 96, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     s%max_abs_u(j), &
                     beyond, &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_contract.pf', 97))
+                    location=pf_source_location('test_stepper_contract.pf', 97, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             ! counters: what the method does, and nothing it does not
             call assertGreaterThanOrEqual( &
                 s%tridiagonal_solves, &
                 solves_per_step(im)*nsteps, &
-                location=pf_source_location('test_stepper_contract.pf', 100))
+                location=pf_source_location('test_stepper_contract.pf', 100, 'assertGreaterThanOrEqual'))
             if (pf_any_failed()) return
             if (solves_per_step(im) == 0) then
                 call assertEqual( &
                     0_i8, &
                     s%tridiagonal_solves, &
-                    location=pf_source_location('test_stepper_contract.pf', 102))
+                    location=pf_source_location('test_stepper_contract.pf', 102, 'assertEqual'))
                 if (pf_any_failed()) return
             end if
             call assertEqual( &
                 rhs_per_step(im)*nsteps, &
                 s%rhs_evaluations, &
-                location=pf_source_location('test_stepper_contract.pf', 104))
+                location=pf_source_location('test_stepper_contract.pf', 104, 'assertEqual'))
             if (pf_any_failed()) return
             if (methods(im) == method_newton) then
                 call assertEqual( &
                     s%tridiagonal_solves, &
                     s%newton_iterations, &
-                    location=pf_source_location('test_stepper_contract.pf', 106))
+                    location=pf_source_location('test_stepper_contract.pf', 106, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertGreaterThanOrEqual( &
                     s%newton_max_iterations, &
                     1, &
-                    location=pf_source_location('test_stepper_contract.pf', 107))
+                    location=pf_source_location('test_stepper_contract.pf', 107, 'assertGreaterThanOrEqual'))
                 if (pf_any_failed()) return
             else
                 call assertEqual( &
                     0_i8, &
                     s%newton_iterations, &
-                    location=pf_source_location('test_stepper_contract.pf', 109))
+                    location=pf_source_location('test_stepper_contract.pf', 109, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0, &
                     s%newton_max_iterations, &
-                    location=pf_source_location('test_stepper_contract.pf', 110))
+                    location=pf_source_location('test_stepper_contract.pf', 110, 'assertEqual'))
                 if (pf_any_failed()) return
             end if
             if (methods(im) == method_linearized) then
                 call assertEqual( &
                     nsteps, &
                     s%tridiagonal_solves, &
-                    location=pf_source_location('test_stepper_contract.pf', 113))
+                    location=pf_source_location('test_stepper_contract.pf', 113, 'assertEqual'))
                 if (pf_any_failed()) return
             end if
             ! energy bookkeeping: energy went in and the balance closes to the method's accuracy
             call assertGreaterThan( &
                 ledger%injected, &
                 0.1_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 116))
+                location=pf_source_location('test_stepper_contract.pf', 116, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 ledger%dissipated_gamma, &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 117))
+                location=pf_source_location('test_stepper_contract.pf', 117, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 ledger%dissipated_beta, &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 118))
+                location=pf_source_location('test_stepper_contract.pf', 118, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertLessThan( &
                 abs(ledger%residual), &
                 ledger_tolerance(im)*ledger%energy_scale, &
-                location=pf_source_location('test_stepper_contract.pf', 119))
+                location=pf_source_location('test_stepper_contract.pf', 119, 'assertLessThan'))
             if (pf_any_failed()) return
             deallocate (s)
         end do
@@ -273,7 +289,7 @@ contains
                     60.0_wp, &
                     s%level_time(), &
                     1.0e-9_wp, &
-                    location=pf_source_location('test_stepper_contract.pf', 146))
+                    location=pf_source_location('test_stepper_contract.pf', 146, 'assertEqual'))
                 if (pf_any_failed()) return
                 u(k) = s%displacement(5, 0)
                 deallocate (s)
@@ -285,7 +301,7 @@ contains
                 real(s%order, wp), &
                 order, &
                 merge(0.5_wp, 0.25_wp, s%order > 4), &
-                location=pf_source_location('test_stepper_contract.pf', 153))
+                location=pf_source_location('test_stepper_contract.pf', 153, 'assertEqual'))
             if (pf_any_failed()) return
             deallocate (s)
         end do
@@ -298,13 +314,13 @@ contains
         type(error_type), allocatable :: error
 
         call new_stepper(99, s, error)
-        call assertTrue(allocated(error), location=pf_source_location('test_stepper_contract.pf', 165))
+        call assertTrue(allocated(error), location=pf_source_location('test_stepper_contract.pf', 165, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertFalse(allocated(s), location=pf_source_location('test_stepper_contract.pf', 166))
+        call assertFalse(allocated(s), location=pf_source_location('test_stepper_contract.pf', 166, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "unknown method") > 0, &
-            location=pf_source_location('test_stepper_contract.pf', 167))
+            location=pf_source_location('test_stepper_contract.pf', 167, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_method_is_an_error
 
@@ -333,54 +349,66 @@ contains
                 run%record%probe_every = 1
             end select
             call simulate(run, res)
-            call assertEqual(run_invalid, res%status, location=pf_source_location('test_stepper_contract.pf', 195))
+            call assertEqual( &
+                run_invalid, &
+                res%status, &
+                location=pf_source_location('test_stepper_contract.pf', 195, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 "invalid", &
                 status_name(res%status), &
-                location=pf_source_location('test_stepper_contract.pf', 196))
+                location=pf_source_location('test_stepper_contract.pf', 196, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertEqual(0_i8, res%steps, location=pf_source_location('test_stepper_contract.pf', 197))
+            call assertEqual( &
+                0_i8, &
+                res%steps, &
+                location=pf_source_location('test_stepper_contract.pf', 197, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertEqual(0, res%n_probe_samples, location=pf_source_location('test_stepper_contract.pf', 198))
+            call assertEqual( &
+                0, &
+                res%n_probe_samples, &
+                location=pf_source_location('test_stepper_contract.pf', 198, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertEqual(0, res%n_ledger_samples, location=pf_source_location('test_stepper_contract.pf', 199))
+            call assertEqual( &
+                0, &
+                res%n_ledger_samples, &
+                location=pf_source_location('test_stepper_contract.pf', 199, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.0_wp, &
                 res%ledger%injected, &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 200))
+                location=pf_source_location('test_stepper_contract.pf', 200, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 "undecided: the run failed", &
                 res%verdict_reason, &
-                location=pf_source_location('test_stepper_contract.pf', 201))
+                location=pf_source_location('test_stepper_contract.pf', 201, 'assertEqual'))
             if (pf_any_failed()) return
             select case (k)
             case (1)
                 call assertTrue( &
                     index(res%reason, "unknown potential identifier 3") == 1, &
                     res%reason, &
-                    location=pf_source_location('test_stepper_contract.pf', 204))
+                    location=pf_source_location('test_stepper_contract.pf', 204, 'assertTrue'))
                 if (pf_any_failed()) return
             case (2)
                 call assertTrue( &
                     index(res%reason, "unknown method identifier 0") == 1, &
                     res%reason, &
-                    location=pf_source_location('test_stepper_contract.pf', 206))
+                    location=pf_source_location('test_stepper_contract.pf', 206, 'assertTrue'))
                 if (pf_any_failed()) return
             case (3, 4)
                 call assertTrue( &
                     index(res%reason, "is not a number of time steps") > 0, &
                     res%reason, &
-                    location=pf_source_location('test_stepper_contract.pf', 208))
+                    location=pf_source_location('test_stepper_contract.pf', 208, 'assertTrue'))
                 if (pf_any_failed()) return
             case (5)
                 call assertTrue( &
                     index(res%reason, "too many records") == 1, &
                     res%reason, &
-                    location=pf_source_location('test_stepper_contract.pf', 210))
+                    location=pf_source_location('test_stepper_contract.pf', 210, 'assertTrue'))
                 if (pf_any_failed()) return
             end select
         end do
@@ -402,34 +430,40 @@ contains
             call simulate(run, full)
             call simulate(run, verdict, verdict_only=.true.)
             deallocate (run%record%probes)
-            call assertEqual(run_ok, full%status, location=pf_source_location('test_stepper_contract.pf', 231))
+            call assertEqual( &
+                run_ok, &
+                full%status, &
+                location=pf_source_location('test_stepper_contract.pf', 231, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertEqual(run_ok, verdict%status, location=pf_source_location('test_stepper_contract.pf', 232))
+            call assertEqual( &
+                run_ok, &
+                verdict%status, &
+                location=pf_source_location('test_stepper_contract.pf', 232, 'assertEqual'))
             if (pf_any_failed()) return
             call assertTrue( &
                 full%transmitting .eqv. (ia == 2), &
-                location=pf_source_location('test_stepper_contract.pf', 233))
+                location=pf_source_location('test_stepper_contract.pf', 233, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 verdict%transmitting .eqv. full%transmitting, &
-                location=pf_source_location('test_stepper_contract.pf', 234))
+                location=pf_source_location('test_stepper_contract.pf', 234, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 full%t_decided, &
                 verdict%t_decided, &
                 1.5_wp*run%numerics%dt, &
-                location=pf_source_location('test_stepper_contract.pf', 235))
+                location=pf_source_location('test_stepper_contract.pf', 235, 'assertEqual'))
             if (pf_any_failed()) return
             call assertLessThan( &
                 full%ledger%max_step_residual, &
                 1.0e-13_wp*full%ledger%energy_scale, &
-                location=pf_source_location('test_stepper_contract.pf', 236))
+                location=pf_source_location('test_stepper_contract.pf', 236, 'assertLessThan'))
             if (pf_any_failed()) return
             if (ia == 2) then
                 call assertLessThan( &
                     real(verdict%newton_iterations, wp), &
                     0.8_wp*real(full%newton_iterations, wp), &
-                    location=pf_source_location('test_stepper_contract.pf', 238))
+                    location=pf_source_location('test_stepper_contract.pf', 238, 'assertLessThan'))
                 if (pf_any_failed()) return
             end if
         end do
@@ -451,40 +485,50 @@ contains
         call assertEqual( &
             2200000001_i8, &
             number_of_levels(run), &
-            location=pf_source_location('test_stepper_contract.pf', 256))
+            location=pf_source_location('test_stepper_contract.pf', 256, 'assertEqual'))
         if (pf_any_failed()) return
         call step_count(run, m, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_stepper_contract.pf', 258))
+        call assertFalse(allocated(error), location=pf_source_location('test_stepper_contract.pf', 258, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(2200000000_i8, m, location=pf_source_location('test_stepper_contract.pf', 259))
+        call assertEqual(2200000000_i8, m, location=pf_source_location('test_stepper_contract.pf', 259, 'assertEqual'))
         if (pf_any_failed()) return
         run%record%probe_every = huge(1)
         run%record%ledger_every = huge(1)
         run%numerics%blowup_threshold = 1.0e-300_wp
         call simulate(run, res)
-        call assertEqual(run_diverged, res%status, location=pf_source_location('test_stepper_contract.pf', 264))
+        call assertEqual( &
+            run_diverged, &
+            res%status, &
+            location=pf_source_location('test_stepper_contract.pf', 264, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1_i8, res%steps, location=pf_source_location('test_stepper_contract.pf', 265))
+        call assertEqual(1_i8, res%steps, location=pf_source_location('test_stepper_contract.pf', 265, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(2.0e-6_wp, res%t_end, 1.0e-20_wp, location=pf_source_location('test_stepper_contract.pf', 266))
+        call assertEqual( &
+            2.0e-6_wp, &
+            res%t_end, &
+            1.0e-20_wp, &
+            location=pf_source_location('test_stepper_contract.pf', 266, 'assertEqual'))
         if (pf_any_failed()) return
         ! below the bound, and at it: T/dt = 2^62 > max_steps = 2^62 - 1
         run%numerics%dt = 1.0_wp
         run%numerics%t_final = 2.0_wp**61
         call step_count(run, m, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_stepper_contract.pf', 271))
+        call assertFalse(allocated(error), location=pf_source_location('test_stepper_contract.pf', 271, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(2_i8**61, m, location=pf_source_location('test_stepper_contract.pf', 272))
+        call assertEqual(2_i8**61, m, location=pf_source_location('test_stepper_contract.pf', 272, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertTrue(m <= max_steps, location=pf_source_location('test_stepper_contract.pf', 273))
+        call assertTrue(m <= max_steps, location=pf_source_location('test_stepper_contract.pf', 273, 'assertTrue'))
         if (pf_any_failed()) return
         run%numerics%t_final = 2.0_wp**62
         call step_count(run, m, error)
-        call assertTrue(allocated(error), location=pf_source_location('test_stepper_contract.pf', 276))
+        call assertTrue(allocated(error), location=pf_source_location('test_stepper_contract.pf', 276, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(0_i8, m, location=pf_source_location('test_stepper_contract.pf', 277))
+        call assertEqual(0_i8, m, location=pf_source_location('test_stepper_contract.pf', 277, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0_i8, number_of_levels(run), location=pf_source_location('test_stepper_contract.pf', 278))
+        call assertEqual( &
+            0_i8, &
+            number_of_levels(run), &
+            location=pf_source_location('test_stepper_contract.pf', 278, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_engine_counts_steps_in_64_bits
 

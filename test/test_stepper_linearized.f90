@@ -36,18 +36,30 @@ contains
         u_cur = [0.35_wp, 0.5_wp, 0.0_wp]
         u_new = [0.38_wp, 0.0_wp, 0.0_wp]
         call linearized_step(scheme, ws, u_old, u_cur, u_new, info)
-        call assertEqual(0, info, location=pf_source_location('test_stepper_linearized.pf', 38))
+        call assertEqual(0, info, location=pf_source_location('test_stepper_linearized.pf', 38, 'assertEqual'))
         if (pf_any_failed()) return
         ! b = gamma/(2 dt) + m^2/2 + 1/dt^2 = 1 + 0.25 + 100, d = 2/dt^2 - 2 c^2 = 192, e = 1 - 0.25 - 100
         b = 101.25_wp
         d = 192.0_wp
         e = -99.25_wp
         expected = (d*0.5_wp + 4.0_wp*0.35_wp + e*0.4_wp - sin(0.5_wp))/b
-        call assertEqual(expected, u_new(1), 1.0e-15_wp, location=pf_source_location('test_stepper_linearized.pf', 44))
+        call assertEqual( &
+            expected, &
+            u_new(1), &
+            1.0e-15_wp, &
+            location=pf_source_location('test_stepper_linearized.pf', 44, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.38_wp, u_new(0), 0.0_wp, location=pf_source_location('test_stepper_linearized.pf', 45))
+        call assertEqual( &
+            0.38_wp, &
+            u_new(0), &
+            0.0_wp, &
+            location=pf_source_location('test_stepper_linearized.pf', 45, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.0_wp, u_new(2), 0.0_wp, location=pf_source_location('test_stepper_linearized.pf', 46))
+        call assertEqual( &
+            0.0_wp, &
+            u_new(2), &
+            0.0_wp, &
+            location=pf_source_location('test_stepper_linearized.pf', 46, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_linearized_one_site_by_hand
 
@@ -82,7 +94,7 @@ contains
             u_new = 0.0_wp
             u_new(0) = 0.9_wp*cos(-0.2_wp)
             call linearized_step(scheme, ws, u_old, u_cur, u_new, info)
-            call assertEqual(0, info, location=pf_source_location('test_stepper_linearized.pf', 80))
+            call assertEqual(0, info, location=pf_source_location('test_stepper_linearized.pf', 80, 'assertEqual'))
             if (pf_any_failed()) return
             a = -chain%beta/(2.0_wp*dt)
             d = 2.0_wp/dt**2 - 2.0_wp*chain%c**2
@@ -98,12 +110,15 @@ contains
                 residual = max(residual, abs(lhs - rhs))
                 scale = max(scale, abs(b*u_new(n)), abs(d*u_cur(n)))
             end do
-            call assertGreaterThan(scale, 100.0_wp, location=pf_source_location('test_stepper_linearized.pf', 95))
+            call assertGreaterThan( &
+                scale, &
+                100.0_wp, &
+                location=pf_source_location('test_stepper_linearized.pf', 95, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertLessThan( &
                 residual, &
                 1.0e-14_wp*scale, &
-                location=pf_source_location('test_stepper_linearized.pf', 96))
+                location=pf_source_location('test_stepper_linearized.pf', 96, 'assertLessThan'))
             if (pf_any_failed()) return
         end do
     end subroutine test_linearized_step_solves_its_system
@@ -121,36 +136,42 @@ contains
         call linearized%init(run)
         do k = 1, 300
             call linearized%step(status)
-            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_linearized.pf', 113))
+            call assertEqual( &
+                step_ok, &
+                status, &
+                location=pf_source_location('test_stepper_linearized.pf', 113, 'assertEqual'))
             if (pf_any_failed()) return
         end do
-        call assertEqual(300_i8, linearized%steps, location=pf_source_location('test_stepper_linearized.pf', 115))
+        call assertEqual( &
+            300_i8, &
+            linearized%steps, &
+            location=pf_source_location('test_stepper_linearized.pf', 115, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             300_i8, &
             linearized%tridiagonal_solves, &
-            location=pf_source_location('test_stepper_linearized.pf', 116))
+            location=pf_source_location('test_stepper_linearized.pf', 116, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0_i8, &
             linearized%newton_iterations, &
-            location=pf_source_location('test_stepper_linearized.pf', 117))
+            location=pf_source_location('test_stepper_linearized.pf', 117, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             linearized%newton_max_iterations, &
-            location=pf_source_location('test_stepper_linearized.pf', 118))
+            location=pf_source_location('test_stepper_linearized.pf', 118, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0_i8, &
             linearized%rhs_evaluations, &
-            location=pf_source_location('test_stepper_linearized.pf', 119))
+            location=pf_source_location('test_stepper_linearized.pf', 119, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             301.0_wp*run%numerics%dt, &
             linearized%level_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_linearized.pf', 120))
+            location=pf_source_location('test_stepper_linearized.pf', 120, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_linearized_stepper_counters
 
@@ -174,14 +195,19 @@ contains
         run%chain%m2 = -9.0_wp
         call linearized%init(run)
         call linearized%step(status)
-        call assertFalse(status == step_ok, location=pf_source_location('test_stepper_linearized.pf', 143))
+        call assertFalse( &
+            status == step_ok, &
+            location=pf_source_location('test_stepper_linearized.pf', 143, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0_i8, linearized%steps, location=pf_source_location('test_stepper_linearized.pf', 144))
+        call assertEqual( &
+            0_i8, &
+            linearized%steps, &
+            location=pf_source_location('test_stepper_linearized.pf', 144, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(linearized%reason, "dgtsv failed (info = ") == 1, &
             linearized%reason, &
-            location=pf_source_location('test_stepper_linearized.pf', 145))
+            location=pf_source_location('test_stepper_linearized.pf', 145, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_linearized_singular_solve_reported
 

@@ -97,34 +97,50 @@ contains
                 call known_levels(u_older, u_old, u_cur, u_new)
                 psi_new = u_new(0)
                 call newton_step(scheme, ws, u_older, u_old, u_cur, u_new, 1.0e-10_wp, 20, iterations, status)
-                call assertEqual(newton_ok, status, location=pf_source_location('test_stepper_newton.pf', 99))
+                call assertEqual( &
+                    newton_ok, &
+                    status, &
+                    location=pf_source_location('test_stepper_newton.pf', 99, 'assertEqual'))
                 if (pf_any_failed()) return
-                call assertGreaterThanOrEqual(iterations, 2, location=pf_source_location('test_stepper_newton.pf', 100))
+                call assertGreaterThanOrEqual( &
+                    iterations, &
+                    2, &
+                    location=pf_source_location('test_stepper_newton.pf', 100, 'assertGreaterThanOrEqual'))
                 if (pf_any_failed()) return
-                call assertLessThanOrEqual(iterations, 6, location=pf_source_location('test_stepper_newton.pf', 101))
+                call assertLessThanOrEqual( &
+                    iterations, &
+                    6, &
+                    location=pf_source_location('test_stepper_newton.pf', 101, 'assertLessThanOrEqual'))
                 if (pf_any_failed()) return
-                call assertEqual(psi_new, u_new(0), 0.0_wp, location=pf_source_location('test_stepper_newton.pf', 102))
+                call assertEqual( &
+                    psi_new, &
+                    u_new(0), &
+                    0.0_wp, &
+                    location=pf_source_location('test_stepper_newton.pf', 102, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0.0_wp, &
                     u_new(nsite + 1), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 103))
+                    location=pf_source_location('test_stepper_newton.pf', 103, 'assertEqual'))
                 if (pf_any_failed()) return
                 call scheme_residual(chain, dt, u_old, u_cur, u_new, residual, scale)
-                call assertGreaterThan(scale, 100.0_wp, location=pf_source_location('test_stepper_newton.pf', 105))
+                call assertGreaterThan( &
+                    scale, &
+                    100.0_wp, &
+                    location=pf_source_location('test_stepper_newton.pf', 105, 'assertGreaterThan'))
                 if (pf_any_failed()) return
                 call assertLessThan( &
                     residual, &
                     1.0e-14_wp*scale, &
-                    location=pf_source_location('test_stepper_newton.pf', 106))
+                    location=pf_source_location('test_stepper_newton.pf', 106, 'assertLessThan'))
                 if (pf_any_failed()) return
                 ! the step moved the chain: the solution is not the predictor 3 u^k - 3 u^{k-1} + u^{k-2}
                 predictor = 3.0_wp*(u_cur(1:nsite) - u_old(1:nsite)) + u_older(1:nsite)
                 call assertGreaterThan( &
                     maxval(abs(u_new(1:nsite) - predictor)), &
                     1.0e-6_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 109))
+                    location=pf_source_location('test_stepper_newton.pf', 109, 'assertGreaterThan'))
                 if (pf_any_failed()) return
             end do
         end do
@@ -167,11 +183,17 @@ contains
                         exact = u(:, 4)
                         call newton_step(scheme, ws, u(:, 1), u(:, 2), u(:, 3), exact, 1.0e-30_wp, 50, iterations, &
                                          status)
-                        call assertEqual(newton_ok, status, location=pf_source_location('test_stepper_newton.pf', 151))
+                        call assertEqual( &
+                            newton_ok, &
+                            status, &
+                            location=pf_source_location('test_stepper_newton.pf', 151, 'assertEqual'))
                         if (pf_any_failed()) return
                         call newton_step(scheme, ws, u(:, 1), u(:, 2), u(:, 3), u(:, 4), tols(it), 20, iterations, &
                                          status)
-                        call assertEqual(newton_ok, status, location=pf_source_location('test_stepper_newton.pf', 154))
+                        call assertEqual( &
+                            newton_ok, &
+                            status, &
+                            location=pf_source_location('test_stepper_newton.pf', 154, 'assertEqual'))
                         if (pf_any_failed()) return
                         worst = max(worst, maxval(abs(u(:, 4) - exact)))
                         u = cshift(u, 1, dim=2)
@@ -179,13 +201,13 @@ contains
                     call assertLessThanOrEqual( &
                         worst, &
                         tols(it), &
-                        location=pf_source_location('test_stepper_newton.pf', 158))
+                        location=pf_source_location('test_stepper_newton.pf', 158, 'assertLessThanOrEqual'))
                     if (pf_any_failed()) return
                     ! strongly nonlinear: |u| beyond 2 (sin u far from u) in the chain
                     call assertGreaterThan( &
                         maxval(abs(u(1:n, 3))), &
                         2.0_wp, &
-                        location=pf_source_location('test_stepper_newton.pf', 160))
+                        location=pf_source_location('test_stepper_newton.pf', 160, 'assertGreaterThan'))
                     if (pf_any_failed()) return
                 end do
             end do
@@ -234,26 +256,26 @@ contains
                             call assertEqual( &
                                 newton_ok, &
                                 status, &
-                                location=pf_source_location('test_stepper_newton.pf', 205))
+                                location=pf_source_location('test_stepper_newton.pf', 205, 'assertEqual'))
                             if (pf_any_failed()) return
                             call newton%step(status)
                             call assertEqual( &
                                 step_ok, &
                                 status, &
-                                location=pf_source_location('test_stepper_newton.pf', 207))
+                                location=pf_source_location('test_stepper_newton.pf', 207, 'assertEqual'))
                             if (pf_any_failed()) return
                             worst = max(worst, maxval(abs(newton%u(:, newton%ic) - exact)))
                         end do
                         call assertLessThanOrEqual( &
                             worst, &
                             run%numerics%newton_tol, &
-                            location=pf_source_location('test_stepper_newton.pf', 210))
+                            location=pf_source_location('test_stepper_newton.pf', 210, 'assertLessThanOrEqual'))
                         if (pf_any_failed()) return
                         if (ia == 1) then
                             call assertLessThan( &
                                 real(newton%newton_iterations, wp), &
                                 1.5_wp*1500.0_wp, &
-                                location=pf_source_location('test_stepper_newton.pf', 212))
+                                location=pf_source_location('test_stepper_newton.pf', 212, 'assertLessThan'))
                             if (pf_any_failed()) return
                         end if
                         used(ie) = newton%newton_iterations
@@ -262,7 +284,7 @@ contains
                         call assertLessThan( &
                             real(used(2), wp), &
                             0.9_wp*real(used(1), wp), &
-                            location=pf_source_location('test_stepper_newton.pf', 217))
+                            location=pf_source_location('test_stepper_newton.pf', 217, 'assertLessThan'))
                         if (pf_any_failed()) return
                     end if
                 end do
@@ -288,78 +310,90 @@ contains
         run%drive%amplitude = 2.5_wp
         run%drive%ramp_time = 10.0_wp
         call newton%init(run)
-        call assertEqual(2, newton%initial_levels, location=pf_source_location('test_stepper_newton.pf', 242))
+        call assertEqual( &
+            2, &
+            newton%initial_levels, &
+            location=pf_source_location('test_stepper_newton.pf', 242, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(2, newton%order, location=pf_source_location('test_stepper_newton.pf', 243))
+        call assertEqual(2, newton%order, location=pf_source_location('test_stepper_newton.pf', 243, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             run%numerics%dt, &
             newton%level_time(), &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 244))
+            location=pf_source_location('test_stepper_newton.pf', 244, 'assertEqual'))
         if (pf_any_failed()) return
         call ledger_close(ledger, newton%stored_energy())
         do k = 1, 1200
             call newton%step(status)
-            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_newton.pf', 248))
+            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_newton.pf', 248, 'assertEqual'))
             if (pf_any_failed()) return
             call newton%account(ledger)
             call ledger_close(ledger, newton%stored_energy())
         end do
-        call assertEqual(1200_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 252))
+        call assertEqual( &
+            1200_i8, &
+            newton%steps, &
+            location=pf_source_location('test_stepper_newton.pf', 252, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1201.0_wp*run%numerics%dt, &
             newton%level_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 253))
+            location=pf_source_location('test_stepper_newton.pf', 253, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1200.5_wp*run%numerics%dt, &
             newton%energy_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 254))
+            location=pf_source_location('test_stepper_newton.pf', 254, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             drive_psi(run%drive, newton%level_time()), &
             newton%displacement(0, 0), &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 255))
+            location=pf_source_location('test_stepper_newton.pf', 255, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             newton%newton_iterations, &
             newton%tridiagonal_solves, &
-            location=pf_source_location('test_stepper_newton.pf', 256))
+            location=pf_source_location('test_stepper_newton.pf', 256, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             newton%newton_iterations, &
             1200_i8, &
-            location=pf_source_location('test_stepper_newton.pf', 257))
+            location=pf_source_location('test_stepper_newton.pf', 257, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0_i8, newton%rhs_evaluations, location=pf_source_location('test_stepper_newton.pf', 258))
+        call assertEqual( &
+            0_i8, &
+            newton%rhs_evaluations, &
+            location=pf_source_location('test_stepper_newton.pf', 258, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             newton%newton_max_iterations, &
             2, &
-            location=pf_source_location('test_stepper_newton.pf', 259))
+            location=pf_source_location('test_stepper_newton.pf', 259, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         ! it transmits: far more energy goes in than an evanescent response takes
-        call assertGreaterThan(ledger%injected, 20.0_wp, location=pf_source_location('test_stepper_newton.pf', 261))
+        call assertGreaterThan( &
+            ledger%injected, &
+            20.0_wp, &
+            location=pf_source_location('test_stepper_newton.pf', 261, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             ledger%dissipated_beta, &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 262))
+            location=pf_source_location('test_stepper_newton.pf', 262, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             ledger%dissipated_absorber, &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 263))
+            location=pf_source_location('test_stepper_newton.pf', 263, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertLessThan( &
             ledger%max_step_residual, &
             1.0e-13_wp*ledger%energy_scale, &
-            location=pf_source_location('test_stepper_newton.pf', 264))
+            location=pf_source_location('test_stepper_newton.pf', 264, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_newton_stepper_counters_and_ledger
 
@@ -377,16 +411,22 @@ contains
         run%numerics%newton_tol = 1.0e-30_wp
         call newton%init(run)
         call newton%step(status)
-        call assertEqual(step_not_converged, status, location=pf_source_location('test_stepper_newton.pf', 281))
+        call assertEqual( &
+            step_not_converged, &
+            status, &
+            location=pf_source_location('test_stepper_newton.pf', 281, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 282))
+        call assertEqual(0_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 282, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1_i8, newton%newton_iterations, location=pf_source_location('test_stepper_newton.pf', 283))
+        call assertEqual( &
+            1_i8, &
+            newton%newton_iterations, &
+            location=pf_source_location('test_stepper_newton.pf', 283, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "Newton did not converge in 1 iterations at t = 0.1", &
             newton%reason, &
-            location=pf_source_location('test_stepper_newton.pf', 284))
+            location=pf_source_location('test_stepper_newton.pf', 284, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_newton_stepper_reports_failure
 

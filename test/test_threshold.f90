@@ -77,27 +77,39 @@ contains
 
         oracle = make_oracle([1.77_wp], [huge(1.0_wp)])
         call find_threshold(oracle, 0.5_wp, 8.0_wp, 0.1_wp, 0.01_wp, threshold, runs, steps, status)
-        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 79))
+        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 79, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.77_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 80))
+        call assertEqual( &
+            1.77_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 80, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(21, runs, location=pf_source_location('test_threshold.pf', 81))
+        call assertEqual(21, runs, location=pf_source_location('test_threshold.pf', 81, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(oracle%calls, runs, location=pf_source_location('test_threshold.pf', 82))
+        call assertEqual(oracle%calls, runs, location=pf_source_location('test_threshold.pf', 82, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             steps == oracle%cost_total, &
             message="steps = cost charged by the oracle", &
-            location=pf_source_location('test_threshold.pf', 83))
+            location=pf_source_location('test_threshold.pf', 83, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             steps == 2*100_i8 + 19*1000_i8, &
             message="2 transmitting + 19 non-transmitting runs", &
-            location=pf_source_location('test_threshold.pf', 84))
+            location=pf_source_location('test_threshold.pf', 84, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(1.8_wp, oracle%asked(14), 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 85))
+        call assertEqual( &
+            1.8_wp, &
+            oracle%asked(14), &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 85, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.71_wp, oracle%asked(15), 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 86))
+        call assertEqual( &
+            1.71_wp, &
+            oracle%asked(15), &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 86, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_monotone_step
 
@@ -112,25 +124,45 @@ contains
 
         oracle = make_oracle([1.77_wp], [huge(1.0_wp)])
         call find_threshold(oracle, 0.5_wp, 8.0_wp, 0.1_wp, 0.01_wp, threshold, runs, steps, status, bisect=.true.)
-        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 100))
+        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 100, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.77_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 101))
+        call assertEqual( &
+            1.77_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 101, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(14 + 3, runs, location=pf_source_location('test_threshold.pf', 102))
+        call assertEqual(14 + 3, runs, location=pf_source_location('test_threshold.pf', 102, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.75_wp, oracle%asked(15), 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 103))
+        call assertEqual( &
+            1.75_wp, &
+            oracle%asked(15), &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 103, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.77_wp, oracle%asked(16), 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 104))
+        call assertEqual( &
+            1.77_wp, &
+            oracle%asked(16), &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 104, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.76_wp, oracle%asked(17), 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 105))
+        call assertEqual( &
+            1.76_wp, &
+            oracle%asked(17), &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 105, 'assertEqual'))
         if (pf_any_failed()) return
         ! not monotone inside the bracket (1.72 .. 1.73 transmit, 1.74 .. 1.79 do not): bisection finds a change
         ! (1.8), the scan the smallest transmitting point (1.72)
         oracle = make_oracle([1.72_wp, 1.8_wp], [1.73_wp, huge(1.0_wp)])
         call find_threshold(oracle, 0.5_wp, 8.0_wp, 0.1_wp, 0.01_wp, threshold, runs, steps, status, bisect=.true.)
-        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 110))
+        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 110, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.8_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 111))
+        call assertEqual( &
+            1.8_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 111, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_bisected_bracket
 
@@ -144,13 +176,17 @@ contains
 
         oracle = make_oracle([1.8_wp], [huge(1.0_wp)])
         call find_threshold(oracle, 0.5_wp, 8.0_wp, 0.1_wp, 0.01_wp, threshold, runs, steps, status)
-        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 124))
+        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 124, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.8_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 125))
+        call assertEqual( &
+            1.8_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 125, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(14 + 9, runs, location=pf_source_location('test_threshold.pf', 126))
+        call assertEqual(14 + 9, runs, location=pf_source_location('test_threshold.pf', 126, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(oracle%calls, runs, location=pf_source_location('test_threshold.pf', 127))
+        call assertEqual(oracle%calls, runs, location=pf_source_location('test_threshold.pf', 127, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_threshold_on_a_coarse_point
 
@@ -164,25 +200,33 @@ contains
 
         oracle = make_oracle([1.23_wp, 2.07_wp], [1.41_wp, huge(1.0_wp)])
         call find_threshold(oracle, 0.5_wp, 8.0_wp, 0.1_wp, 0.01_wp, threshold, runs, steps, status)
-        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 140))
+        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 140, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.23_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 141))
+        call assertEqual( &
+            1.23_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 141, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(oracle%calls, runs, location=pf_source_location('test_threshold.pf', 142))
+        call assertEqual(oracle%calls, runs, location=pf_source_location('test_threshold.pf', 142, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             steps == oracle%cost_total, &
             message="steps = cost charged by the oracle", &
-            location=pf_source_location('test_threshold.pf', 143))
+            location=pf_source_location('test_threshold.pf', 143, 'assertTrue'))
         if (pf_any_failed()) return
         ! the same with a coarse step that jumps over the first window's start but not the window
         oracle = make_oracle([1.23_wp, 2.07_wp], [1.41_wp, huge(1.0_wp)])
         call find_threshold(oracle, 0.5_wp, 8.0_wp, 0.15_wp, 0.01_wp, threshold, runs, steps, status)
-        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 147))
+        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 147, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.23_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 148))
+        call assertEqual( &
+            1.23_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 148, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(oracle%calls, runs, location=pf_source_location('test_threshold.pf', 149))
+        call assertEqual(oracle%calls, runs, location=pf_source_location('test_threshold.pf', 149, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_two_transitions
 
@@ -196,11 +240,15 @@ contains
 
         oracle = make_oracle([1.72_wp, 1.8_wp], [1.73_wp, huge(1.0_wp)])
         call find_threshold(oracle, 0.5_wp, 8.0_wp, 0.1_wp, 0.01_wp, threshold, runs, steps, status)
-        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 162))
+        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 162, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.72_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 163))
+        call assertEqual( &
+            1.72_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 163, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(14 + 2, runs, location=pf_source_location('test_threshold.pf', 164))
+        call assertEqual(14 + 2, runs, location=pf_source_location('test_threshold.pf', 164, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_non_monotone_inside_the_bracket
 
@@ -216,25 +264,33 @@ contains
 
         oracle = make_oracle([1.03_wp, 1.47_wp], [1.07_wp, huge(1.0_wp)])
         call find_threshold(oracle, 0.5_wp, 8.0_wp, 0.1_wp, 0.01_wp, threshold, runs, steps, status)
-        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 179))
+        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 179, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.47_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 180))
+        call assertEqual( &
+            1.47_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 180, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(oracle%calls, runs, location=pf_source_location('test_threshold.pf', 181))
+        call assertEqual(oracle%calls, runs, location=pf_source_location('test_threshold.pf', 181, 'assertEqual'))
         if (pf_any_failed()) return
         do i = 1, runs
             call assertFalse( &
                 oracle%asked(i) > 1.02_wp .and. oracle%asked(i) < 1.08_wp, &
                 message="asked inside the window", &
-                location=pf_source_location('test_threshold.pf', 183))
+                location=pf_source_location('test_threshold.pf', 183, 'assertFalse'))
             if (pf_any_failed()) return
         end do
         ! a window as wide as the coarse step always holds a coarse point and is found
         oracle = make_oracle([1.03_wp, 1.47_wp], [1.13_wp, huge(1.0_wp)])
         call find_threshold(oracle, 0.5_wp, 8.0_wp, 0.1_wp, 0.01_wp, threshold, runs, steps, status)
-        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 188))
+        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 188, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.03_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 189))
+        call assertEqual( &
+            1.03_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 189, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_narrow_window_below_first_hit_is_missed
 
@@ -248,23 +304,27 @@ contains
 
         oracle = make_oracle([3.0_wp], [huge(1.0_wp)])
         call find_threshold(oracle, 0.5_wp, 2.05_wp, 0.1_wp, 0.01_wp, threshold, runs, steps, status)
-        call assertEqual(search_none, status, location=pf_source_location('test_threshold.pf', 202))
+        call assertEqual(search_none, status, location=pf_source_location('test_threshold.pf', 202, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             ieee_is_nan(threshold), &
             message="threshold is NaN", &
-            location=pf_source_location('test_threshold.pf', 203))
+            location=pf_source_location('test_threshold.pf', 203, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(17, runs, location=pf_source_location('test_threshold.pf', 204))
+        call assertEqual(17, runs, location=pf_source_location('test_threshold.pf', 204, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(oracle%calls, runs, location=pf_source_location('test_threshold.pf', 205))
+        call assertEqual(oracle%calls, runs, location=pf_source_location('test_threshold.pf', 205, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(2.05_wp, oracle%asked(17), 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 206))
+        call assertEqual( &
+            2.05_wp, &
+            oracle%asked(17), &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 206, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             steps == 17*1000_i8, &
             message="17 non-transmitting runs", &
-            location=pf_source_location('test_threshold.pf', 207))
+            location=pf_source_location('test_threshold.pf', 207, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_nothing_transmits
 
@@ -279,11 +339,15 @@ contains
 
         oracle = make_oracle([2.03_wp], [huge(1.0_wp)])
         call find_threshold(oracle, 0.5_wp, 2.05_wp, 0.1_wp, 0.01_wp, threshold, runs, steps, status)
-        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 221))
+        call assertEqual(search_found, status, location=pf_source_location('test_threshold.pf', 221, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(2.03_wp, threshold, 1.0e-12_wp, location=pf_source_location('test_threshold.pf', 222))
+        call assertEqual( &
+            2.03_wp, &
+            threshold, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_threshold.pf', 222, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(17 + 3, runs, location=pf_source_location('test_threshold.pf', 223))
+        call assertEqual(17 + 3, runs, location=pf_source_location('test_threshold.pf', 223, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_range_end_off_the_coarse_grid
 
@@ -296,11 +360,18 @@ contains
 
         oracle = make_oracle([0.1_wp], [huge(1.0_wp)])
         call find_threshold(oracle, 0.5_wp, 8.0_wp, 0.1_wp, 0.01_wp, threshold, runs, steps, status)
-        call assertEqual(search_at_lower_bound, status, location=pf_source_location('test_threshold.pf', 235))
+        call assertEqual( &
+            search_at_lower_bound, &
+            status, &
+            location=pf_source_location('test_threshold.pf', 235, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.5_wp, threshold, 0.0_wp, location=pf_source_location('test_threshold.pf', 236))
+        call assertEqual( &
+            0.5_wp, &
+            threshold, &
+            0.0_wp, &
+            location=pf_source_location('test_threshold.pf', 236, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1, runs, location=pf_source_location('test_threshold.pf', 237))
+        call assertEqual(1, runs, location=pf_source_location('test_threshold.pf', 237, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_lower_bound_transmits
 
@@ -314,16 +385,16 @@ contains
         oracle = make_oracle([1.77_wp], [huge(1.0_wp)])
         oracle%fail_on_call = 5
         call find_threshold(oracle, 0.5_wp, 8.0_wp, 0.1_wp, 0.01_wp, threshold, runs, steps, status)
-        call assertEqual(search_failed, status, location=pf_source_location('test_threshold.pf', 250))
+        call assertEqual(search_failed, status, location=pf_source_location('test_threshold.pf', 250, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             ieee_is_nan(threshold), &
             message="threshold is NaN", &
-            location=pf_source_location('test_threshold.pf', 251))
+            location=pf_source_location('test_threshold.pf', 251, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(5, runs, location=pf_source_location('test_threshold.pf', 252))
+        call assertEqual(5, runs, location=pf_source_location('test_threshold.pf', 252, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(oracle%calls, runs, location=pf_source_location('test_threshold.pf', 253))
+        call assertEqual(oracle%calls, runs, location=pf_source_location('test_threshold.pf', 253, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_failed_oracle_stops_the_search
 
@@ -336,20 +407,29 @@ contains
 
         oracle = make_oracle([1.77_wp], [huge(1.0_wp)])
         call find_threshold(oracle, 2.0_wp, 1.0_wp, 0.1_wp, 0.01_wp, threshold, runs, steps, status)
-        call assertEqual(search_bad_arguments, status, location=pf_source_location('test_threshold.pf', 265))
+        call assertEqual( &
+            search_bad_arguments, &
+            status, &
+            location=pf_source_location('test_threshold.pf', 265, 'assertEqual'))
         if (pf_any_failed()) return
         call find_threshold(oracle, 0.5_wp, 8.0_wp, 0.001_wp, 0.01_wp, threshold, runs, steps, status)
-        call assertEqual(search_bad_arguments, status, location=pf_source_location('test_threshold.pf', 267))
+        call assertEqual( &
+            search_bad_arguments, &
+            status, &
+            location=pf_source_location('test_threshold.pf', 267, 'assertEqual'))
         if (pf_any_failed()) return
         call find_threshold(oracle, 0.5_wp, 8.0_wp, 0.1_wp, 0.0_wp, threshold, runs, steps, status)
-        call assertEqual(search_bad_arguments, status, location=pf_source_location('test_threshold.pf', 269))
+        call assertEqual( &
+            search_bad_arguments, &
+            status, &
+            location=pf_source_location('test_threshold.pf', 269, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             ieee_is_nan(threshold), &
             message="threshold is NaN", &
-            location=pf_source_location('test_threshold.pf', 270))
+            location=pf_source_location('test_threshold.pf', 270, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(0, oracle%calls, location=pf_source_location('test_threshold.pf', 271))
+        call assertEqual(0, oracle%calls, location=pf_source_location('test_threshold.pf', 271, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_bad_arguments
 
@@ -358,40 +438,40 @@ contains
         call assertEqual( &
             20, &
             search_grid_size(0.05_wp, 1.0_wp, 0.05_wp), &
-            location=pf_source_location('test_threshold.pf', 276))
+            location=pf_source_location('test_threshold.pf', 276, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             95, &
             search_grid_size(0.05_wp, 0.99_wp, 0.01_wp), &
-            location=pf_source_location('test_threshold.pf', 277))
+            location=pf_source_location('test_threshold.pf', 277, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             751, &
             search_grid_size(0.5_wp, 8.0_wp, 0.01_wp), &
-            location=pf_source_location('test_threshold.pf', 278))
+            location=pf_source_location('test_threshold.pf', 278, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             search_grid_size(1.0_wp, 0.5_wp, 0.01_wp), &
-            location=pf_source_location('test_threshold.pf', 279))
+            location=pf_source_location('test_threshold.pf', 279, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.2_wp, &
             effective_coarse_step(0.2_wp, 0.01_wp), &
             1.0e-15_wp, &
-            location=pf_source_location('test_threshold.pf', 280))
+            location=pf_source_location('test_threshold.pf', 280, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.15_wp, &
             effective_coarse_step(0.149_wp, 0.01_wp), &
             1.0e-15_wp, &
-            location=pf_source_location('test_threshold.pf', 281))
+            location=pf_source_location('test_threshold.pf', 281, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.01_wp, &
             effective_coarse_step(0.01_wp, 0.01_wp), &
             1.0e-15_wp, &
-            location=pf_source_location('test_threshold.pf', 282))
+            location=pf_source_location('test_threshold.pf', 282, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_grid_helpers
 
