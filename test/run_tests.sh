@@ -2,9 +2,7 @@
 # Run the whole test suite of supratrans from any directory:
 #   1. .ci/install (installs only what is missing),
 #   2. test/pf2f90.py: test/X.pf -> test/X.f90 + test/pf_driver.f90 (pFUnit syntax -> Fortran;
-#      they must sit next to test/pf_runtime.f90, the only place fpm lets them use it from). They are
-#      committed (a fresh clone's `fpm test` runs them): one failure if the committed ones are stale
-#      (`python3 test/pf2f90.py --check`), then they are translated again, so a new .pf runs at once,
+#      they must sit next to test/pf_runtime.f90, the only place fpm lets them use it from),
 #   3. fpm test (debug profile), which prints `fortran: N passed, M failed`,
 #   4. pytest on test/ and postprocess/.
 # Usage: bash test/run_tests.sh [FILTER]
