@@ -14,12 +14,15 @@ module test_hdf5
 
     !> Path prefix of the files of the current test, unique per test.
     character(len=:), allocatable :: base
+    !> A temporary file a test leaves on purpose (deleted after the test).
+    character(len=:), allocatable :: leftover
 
 contains
 
     ! @before
     subroutine set_up()
         base = tmp_base()
+        leftover = ""
     end subroutine set_up
 
     ! @after
@@ -28,6 +31,7 @@ contains
         call delete_file(base//".h5.tmp")
         call delete_file(base//"_b.h5")
         call delete_file(base//"_b.h5.tmp")
+        if (len(leftover) > 0) call delete_file(leftover)
     end subroutine tear_down
 
     ! @test
@@ -46,139 +50,139 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 45, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 49, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "scalars/x", [1.0_wp, 2.0_wp], "s", "replaced below", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 47, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 51, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "scalars/x", 3.25_wp, "m", "a length", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 49, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 53, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "arrays/v", v0, "s", "a vector", error, dims="time")
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 51, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 55, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "arrays/m", m0, "1", "a matrix", error, dims="probe, time")
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 53, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 57, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "arrays/c", c0, "J", "a cube", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 55, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 59, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 57, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 61, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 60, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 64, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "scalars/x", x, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 62, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 66, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(3.25_wp, x, 0.0_wp, location=pf_source_location('test_hdf5.pf', 63, 'assertEqual'))
+        call assertEqual(3.25_wp, x, 0.0_wp, location=pf_source_location('test_hdf5.pf', 67, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "arrays/v", v, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 65, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 69, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(v0, v, 0.0_wp, location=pf_source_location('test_hdf5.pf', 66, 'assertEqual'))
+        call assertEqual(v0, v, 0.0_wp, location=pf_source_location('test_hdf5.pf', 70, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "arrays/m", m, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 68, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 72, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([2, 3], shape(m), location=pf_source_location('test_hdf5.pf', 69, 'assertEqual'))
+        call assertEqual([2, 3], shape(m), location=pf_source_location('test_hdf5.pf', 73, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(m0, .true.), &
             pack(m, .true.), &
             0.0_wp, &
-            location=pf_source_location('test_hdf5.pf', 70, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 74, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/arrays/c", c, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 72, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 76, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([2, 3, 4], shape(c), location=pf_source_location('test_hdf5.pf', 73, 'assertEqual'))
+        call assertEqual([2, 3, 4], shape(c), location=pf_source_location('test_hdf5.pf', 77, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(c0, .true.), &
             pack(c, .true.), &
             0.0_wp, &
-            location=pf_source_location('test_hdf5.pf', 74, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 78, 'assertEqual'))
         if (pf_any_failed()) return
 
         call h5_read_attr(file, "scalars/x", "units", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 77, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 81, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("m", text, location=pf_source_location('test_hdf5.pf', 78, 'assertEqual'))
+        call assertEqual("m", text, location=pf_source_location('test_hdf5.pf', 82, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "scalars/x", "description", text, error)
-        call assertEqual("a length", text, location=pf_source_location('test_hdf5.pf', 80, 'assertEqual'))
+        call assertEqual("a length", text, location=pf_source_location('test_hdf5.pf', 84, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "arrays/m", "units", text, error)
-        call assertEqual("1", text, location=pf_source_location('test_hdf5.pf', 82, 'assertEqual'))
+        call assertEqual("1", text, location=pf_source_location('test_hdf5.pf', 86, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "arrays/m", "description", text, error)
-        call assertEqual("a matrix", text, location=pf_source_location('test_hdf5.pf', 84, 'assertEqual'))
+        call assertEqual("a matrix", text, location=pf_source_location('test_hdf5.pf', 88, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "arrays/m", "dimensions", text, error)
-        call assertEqual("probe, time", text, location=pf_source_location('test_hdf5.pf', 86, 'assertEqual'))
+        call assertEqual("probe, time", text, location=pf_source_location('test_hdf5.pf', 90, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "arrays/v", "dimensions", text, error)
-        call assertEqual("time", text, location=pf_source_location('test_hdf5.pf', 88, 'assertEqual'))
+        call assertEqual("time", text, location=pf_source_location('test_hdf5.pf', 92, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_attr_exists(file, "arrays/c", "units"), &
             message="units of arrays/c", &
-            location=pf_source_location('test_hdf5.pf', 89, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 93, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_attr_exists(file, "arrays/c", "description"), &
             message="description", &
-            location=pf_source_location('test_hdf5.pf', 90, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 94, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_attr_exists(file, "arrays/c", "dimensions"), &
             message="no dimensions", &
-            location=pf_source_location('test_hdf5.pf', 91, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 95, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 93, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 97, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_roundtrip_real
 
@@ -197,118 +201,118 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 108, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 112, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "n", 42, "1", "an integer", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 110, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 114, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ints/k", [5, 6, 7], "1", "integers", error, dims="site")
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 112, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 116, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ints/k2", k0, "1", "an integer matrix", error, dims="column, row")
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 114, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 118, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ints/big", 2_i8**40 + 1_i8, "1", "a 64-bit integer", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 116, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 120, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ints/bigs", [-(2_i8**50), 3_i8], "1", "64-bit integers", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 118, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 122, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 120, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 124, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 123, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 127, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "n", n, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 125, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 129, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(42, n, location=pf_source_location('test_hdf5.pf', 126, 'assertEqual'))
+        call assertEqual(42, n, location=pf_source_location('test_hdf5.pf', 130, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "ints/k", k, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 128, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 132, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([5, 6, 7], k, location=pf_source_location('test_hdf5.pf', 129, 'assertEqual'))
+        call assertEqual([5, 6, 7], k, location=pf_source_location('test_hdf5.pf', 133, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "ints/k2", k2, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 131, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 135, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([2, 2], shape(k2), location=pf_source_location('test_hdf5.pf', 132, 'assertEqual'))
+        call assertEqual([2, 2], shape(k2), location=pf_source_location('test_hdf5.pf', 136, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(k0, .true.), &
             pack(k2, .true.), &
-            location=pf_source_location('test_hdf5.pf', 133, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 137, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "ints/big", big, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 135, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 139, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             big == 2_i8**40 + 1_i8, &
             message="64-bit scalar round trip", &
-            location=pf_source_location('test_hdf5.pf', 136, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 140, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read(file, "ints/bigs", bigs, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 138, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 142, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(bigs == [-(2_i8**50), 3_i8]), &
             message="64-bit array round trip", &
-            location=pf_source_location('test_hdf5.pf', 139, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 143, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "ints/k2", "dimensions", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 141, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 145, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("column, row", text, location=pf_source_location('test_hdf5.pf', 142, 'assertEqual'))
+        call assertEqual("column, row", text, location=pf_source_location('test_hdf5.pf', 146, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "n", "description", text, error)
-        call assertEqual("an integer", text, location=pf_source_location('test_hdf5.pf', 144, 'assertEqual'))
+        call assertEqual("an integer", text, location=pf_source_location('test_hdf5.pf', 148, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 146, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 150, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_roundtrip_integer
 
@@ -324,95 +328,95 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 158, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 162, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "model", "sine-Gordon", "", "name of the potential", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 160, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 164, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "empty", "", "", "an empty string", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 162, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 166, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "lists/names", names, "", "names of the potentials", error, dims="potential")
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 164, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 168, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 166, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 170, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 169, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 173, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "model", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 171, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 175, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("sine-Gordon", text, location=pf_source_location('test_hdf5.pf', 172, 'assertEqual'))
+        call assertEqual("sine-Gordon", text, location=pf_source_location('test_hdf5.pf', 176, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(11, len(text), location=pf_source_location('test_hdf5.pf', 173, 'assertEqual'))
+        call assertEqual(11, len(text), location=pf_source_location('test_hdf5.pf', 177, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "empty", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 175, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 179, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0, len(text), location=pf_source_location('test_hdf5.pf', 176, 'assertEqual'))
+        call assertEqual(0, len(text), location=pf_source_location('test_hdf5.pf', 180, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "lists/names", texts, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 178, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 182, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(3, size(texts), location=pf_source_location('test_hdf5.pf', 179, 'assertEqual'))
+        call assertEqual(3, size(texts), location=pf_source_location('test_hdf5.pf', 183, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("sg", trim(texts(1)), location=pf_source_location('test_hdf5.pf', 180, 'assertEqual'))
+        call assertEqual("sg", trim(texts(1)), location=pf_source_location('test_hdf5.pf', 184, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("phi4", trim(texts(2)), location=pf_source_location('test_hdf5.pf', 181, 'assertEqual'))
+        call assertEqual("phi4", trim(texts(2)), location=pf_source_location('test_hdf5.pf', 185, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("dsg", trim(texts(3)), location=pf_source_location('test_hdf5.pf', 182, 'assertEqual'))
+        call assertEqual("dsg", trim(texts(3)), location=pf_source_location('test_hdf5.pf', 186, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "lists/names", "description", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 184, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 188, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             "names of the potentials", &
             text, &
-            location=pf_source_location('test_hdf5.pf', 185, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 189, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "model", "units", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 187, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 191, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("", text, location=pf_source_location('test_hdf5.pf', 188, 'assertEqual'))
+        call assertEqual("", text, location=pf_source_location('test_hdf5.pf', 192, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 190, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 194, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_roundtrip_character
 
@@ -432,179 +436,179 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 206, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 210, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "code", "supratrans", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 208, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 212, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "dt", 0.05_wp, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 210, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 214, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "probes", [1.0_wp, 2.0_wp, 4.0_wp], error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 212, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 216, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "nsites", 200, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 214, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 218, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "sites", [10, 20], error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 216, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 220, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "steps", 2_i8**35, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 218, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 222, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "params/chain", "absorber", .true., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 220, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 224, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "params/chain", "periodic", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 222, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 226, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "nsites", "replaced by a string", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 224, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 228, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_create_group(file, "params", "run parameters", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 226, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 230, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 228, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 232, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 231, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 235, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "code", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 233, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 237, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("supratrans", text, location=pf_source_location('test_hdf5.pf', 234, 'assertEqual'))
+        call assertEqual("supratrans", text, location=pf_source_location('test_hdf5.pf', 238, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "dt", x, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 236, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 240, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0.05_wp, x, 0.0_wp, location=pf_source_location('test_hdf5.pf', 237, 'assertEqual'))
+        call assertEqual(0.05_wp, x, 0.0_wp, location=pf_source_location('test_hdf5.pf', 241, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "probes", xs, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 239, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 243, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             [1.0_wp, 2.0_wp, 4.0_wp], &
             xs, &
             0.0_wp, &
-            location=pf_source_location('test_hdf5.pf', 240, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 244, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "nsites", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 242, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 246, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("replaced by a string", text, location=pf_source_location('test_hdf5.pf', 243, 'assertEqual'))
+        call assertEqual("replaced by a string", text, location=pf_source_location('test_hdf5.pf', 247, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "sites", ns, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 245, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 249, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([10, 20], ns, location=pf_source_location('test_hdf5.pf', 246, 'assertEqual'))
+        call assertEqual([10, 20], ns, location=pf_source_location('test_hdf5.pf', 250, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "steps", big, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 248, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 252, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             big == 2_i8**35, &
             message="64-bit attribute round trip", &
-            location=pf_source_location('test_hdf5.pf', 249, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 253, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "params/chain", "absorber", flag, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 251, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 255, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             flag, &
             message="logical attribute true", &
-            location=pf_source_location('test_hdf5.pf', 252, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 256, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "params/chain", "periodic", flag, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 254, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 258, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             flag, &
             message="logical attribute false", &
-            location=pf_source_location('test_hdf5.pf', 255, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 259, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "params/chain", "absorber", n, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 257, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 261, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(1, n, location=pf_source_location('test_hdf5.pf', 258, 'assertEqual'))
+        call assertEqual(1, n, location=pf_source_location('test_hdf5.pf', 262, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "params", "description", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 260, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 264, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("run parameters", text, location=pf_source_location('test_hdf5.pf', 261, 'assertEqual'))
+        call assertEqual("run parameters", text, location=pf_source_location('test_hdf5.pf', 265, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 263, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 267, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_roundtrip_attributes
 
@@ -618,76 +622,76 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 273, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 277, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "n", 1, "1", "first version", error)
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 276, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 280, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_create(file, base//".h5", .false., error)
         call assertTrue( &
             allocated(error), &
             message="creating over an existing file must fail", &
-            location=pf_source_location('test_hdf5.pf', 279, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 283, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 280, 'assertEqual'))
+        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 284, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "output file exists") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 281, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 285, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, base//".h5") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 282, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 286, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             writable(file), &
             message="no file is open after the refusal", &
-            location=pf_source_location('test_hdf5.pf', 283, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 287, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
-            path_exists(base//".h5.tmp"), &
-            message="no temporary file after the refusal", &
-            location=pf_source_location('test_hdf5.pf', 284, 'assertFalse'))
+            allocated(file%tmp_path), &
+            message="no temporary file is made for a refused file", &
+            location=pf_source_location('test_hdf5.pf', 288, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_create(file, base//".h5", .true., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 287, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 291, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "n", 2, "1", "second version", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 289, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 293, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 291, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 295, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_open(file, base//".h5", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 293, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 297, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "n", n, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 295, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 299, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(2, n, location=pf_source_location('test_hdf5.pf', 296, 'assertEqual'))
+        call assertEqual(2, n, location=pf_source_location('test_hdf5.pf', 300, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
     end subroutine test_refuses_to_overwrite
@@ -696,49 +700,80 @@ contains
     subroutine test_commit_renames_temporary()
         type(h5_file) :: file
         type(error_type), allocatable :: error
+        character(len=:), allocatable :: tmp, other
 
         call h5_create(file, base//".h5", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 306, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 311, 'assertFalse'))
+        if (pf_any_failed()) return
+        tmp = file%tmp_path
+        call assertEqual( &
+            len(base//".h5.tmp-XXXXXX"), &
+            len(tmp), &
+            message="the file is written as <path>.tmp-XXXXXX", &
+            location=pf_source_location('test_hdf5.pf', 313, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            base//".h5.tmp-", &
+            tmp(1:len(base//".h5.tmp-")), &
+            message="the file is written as <path>.tmp-XXXXXX", &
+            location=pf_source_location('test_hdf5.pf', 314, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
-            path_exists(base//".h5.tmp"), &
-            message="the file is written as <path>.tmp", &
-            location=pf_source_location('test_hdf5.pf', 307, 'assertTrue'))
+            path_exists(tmp), &
+            message="the temporary file exists while written", &
+            location=pf_source_location('test_hdf5.pf', 315, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base//".h5"), &
             message="no final file before commit", &
-            location=pf_source_location('test_hdf5.pf', 308, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 316, 'assertFalse'))
         if (pf_any_failed()) return
+        block
+            type(h5_file) :: second
+
+            call h5_create(second, base//".h5", .false., error)
+            call assertFalse( &
+                allocated(error), &
+                message=error_text(error), &
+                location=pf_source_location('test_hdf5.pf', 321, 'assertFalse'))
+            if (pf_any_failed()) return
+            other = second%tmp_path
+            call assertTrue( &
+                other /= tmp, &
+                message="two files being written under one name get two temporary names", &
+                location=pf_source_location('test_hdf5.pf', 323, 'assertTrue'))
+            if (pf_any_failed()) return
+            call h5_discard(second)
+        end block
         call h5_write(file, "x", 1.0_wp, "1", "a value", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 310, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 327, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 312, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 329, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             path_exists(base//".h5"), &
             message="the final file exists after commit", &
-            location=pf_source_location('test_hdf5.pf', 313, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 330, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
-            path_exists(base//".h5.tmp"), &
-            message="no .tmp after commit", &
-            location=pf_source_location('test_hdf5.pf', 314, 'assertFalse'))
+            path_exists(tmp), &
+            message="no temporary file after commit", &
+            location=pf_source_location('test_hdf5.pf', 331, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             writable(file), &
             message="commit closes the file", &
-            location=pf_source_location('test_hdf5.pf', 315, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 332, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_commit_renames_temporary
 
@@ -746,29 +781,31 @@ contains
     subroutine test_discard_leaves_nothing()
         type(h5_file) :: file
         type(error_type), allocatable :: error
+        character(len=:), allocatable :: tmp
 
         call h5_create(file, base//".h5", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 324, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 342, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "x", [1.0_wp, 2.0_wp], "1", "values", error)
+        tmp = file%tmp_path
         call h5_discard(file)
         call assertFalse( &
             path_exists(base//".h5"), &
             message="no final file after discard", &
-            location=pf_source_location('test_hdf5.pf', 327, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 346, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
-            path_exists(base//".h5.tmp"), &
+            path_exists(tmp), &
             message="no temporary file after discard", &
-            location=pf_source_location('test_hdf5.pf', 328, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 347, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             writable(file), &
             message="discard closes the file", &
-            location=pf_source_location('test_hdf5.pf', 329, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 348, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_discard_leaves_nothing
 
@@ -781,94 +818,94 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 338, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 357, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "a"), &
             message="a before writing", &
-            location=pf_source_location('test_hdf5.pf', 339, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 358, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "a/b/c", 1, "1", "a nested value", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 341, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 360, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_exists(file, "/"), &
             message="/", &
-            location=pf_source_location('test_hdf5.pf', 342, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 361, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_exists(file, "a"), &
             message="a", &
-            location=pf_source_location('test_hdf5.pf', 343, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 362, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_exists(file, "a/b"), &
             message="a/b", &
-            location=pf_source_location('test_hdf5.pf', 344, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 363, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_exists(file, "a/b/c"), &
             message="a/b/c", &
-            location=pf_source_location('test_hdf5.pf', 345, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 364, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_exists(file, "/a/b/c"), &
             message="/a/b/c", &
-            location=pf_source_location('test_hdf5.pf', 346, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 365, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_exists(file, "a/b/"), &
             message="a/b/", &
-            location=pf_source_location('test_hdf5.pf', 347, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 366, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "a/x"), &
             message="a/x", &
-            location=pf_source_location('test_hdf5.pf', 348, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 367, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "a/x/c"), &
             message="a/x/c", &
-            location=pf_source_location('test_hdf5.pf', 349, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 368, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "x/b/c"), &
             message="x/b/c", &
-            location=pf_source_location('test_hdf5.pf', 350, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 369, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "a/b/c/d"), &
             message="a/b/c/d", &
-            location=pf_source_location('test_hdf5.pf', 351, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 370, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_attr_exists(file, "a/b/c", "units"), &
             message="units of a/b/c", &
-            location=pf_source_location('test_hdf5.pf', 352, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 371, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_attr_exists(file, "a/b/c", "colour"), &
             message="colour of a/b/c", &
-            location=pf_source_location('test_hdf5.pf', 353, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 372, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_attr_exists(file, "a/x", "units"), &
             message="units of a/x", &
-            location=pf_source_location('test_hdf5.pf', 354, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 373, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 356, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 375, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "a"), &
             message="nothing exists in a closed file", &
-            location=pf_source_location('test_hdf5.pf', 357, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 376, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_exists_nested
 
@@ -884,105 +921,106 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 369, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 388, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ledger/runs", reshape([1.0_wp, 2.0_wp, 3.0_wp, 4.0_wp, 5.0_wp, 6.0_wp], [3, 2]), "1", &
             "one row per run", error, dims="run, quantity")
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 372, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 391, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 374, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 393, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", .true., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 377, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 396, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ledger/status", [0, 3], "1", "exit status per run", error, dims="run")
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 379, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 398, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "ledger", "complete", .true., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 381, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 400, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ledger/runs", [1.0_wp, 2.0_wp], "1", "a row of the wrong length", error, dims="run, quantity")
         call assertTrue( &
             allocated(error), &
             message="2 dimension names for a rank-1 dataset must be refused", &
-            location=pf_source_location('test_hdf5.pf', 383, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 402, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0, &
+            len(file%tmp_path), &
+            message="a file opened in place has no temporary file", &
+            location=pf_source_location('test_hdf5.pf', 403, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 385, 'assertFalse'))
-        if (pf_any_failed()) return
-        call assertFalse( &
-            path_exists(base//".h5.tmp"), &
-            message="a file opened in place has no temporary file", &
-            location=pf_source_location('test_hdf5.pf', 386, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 405, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 389, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 408, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "ledger/runs", rows, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 391, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 410, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([3, 2], shape(rows), location=pf_source_location('test_hdf5.pf', 392, 'assertEqual'))
+        call assertEqual([3, 2], shape(rows), location=pf_source_location('test_hdf5.pf', 411, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             [1.0_wp, 2.0_wp, 3.0_wp], &
             rows(:, 1), &
             0.0_wp, &
-            location=pf_source_location('test_hdf5.pf', 393, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 412, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             [4.0_wp, 5.0_wp, 6.0_wp], &
             rows(:, 2), &
             0.0_wp, &
-            location=pf_source_location('test_hdf5.pf', 394, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 413, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "ledger/status", status, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 396, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 415, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([0, 3], status, location=pf_source_location('test_hdf5.pf', 397, 'assertEqual'))
+        call assertEqual([0, 3], status, location=pf_source_location('test_hdf5.pf', 416, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "ledger/runs", "dimensions", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 399, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 418, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("run, quantity", text, location=pf_source_location('test_hdf5.pf', 400, 'assertEqual'))
+        call assertEqual("run, quantity", text, location=pf_source_location('test_hdf5.pf', 419, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 402, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 421, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_write_after_reopen
 
@@ -995,34 +1033,35 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 411, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 430, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "energy", [1.5_wp], "1", "energy per run", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 413, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 432, 'assertFalse'))
         if (pf_any_failed()) return
+        leftover = file%tmp_path
         call h5_close(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 415, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 435, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
-            path_exists(base//".h5.tmp"), &
+            path_exists(leftover), &
             message="close keeps the temporary file", &
-            location=pf_source_location('test_hdf5.pf', 416, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 436, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base//".h5"), &
             message="close does not commit", &
-            location=pf_source_location('test_hdf5.pf', 417, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 437, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             writable(file), &
             message="close closes the file", &
-            location=pf_source_location('test_hdf5.pf', 418, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 438, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_close_keeps_temporary_file
 
@@ -1037,39 +1076,39 @@ contains
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 429, 'assertFalse'))
+                location=pf_source_location('test_hdf5.pf', 449, 'assertFalse'))
             if (pf_any_failed()) return
             call h5_write(file, "i", i, "1", "the iteration", error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 431, 'assertFalse'))
+                location=pf_source_location('test_hdf5.pf', 451, 'assertFalse'))
             if (pf_any_failed()) return
             call h5_commit(file, error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 433, 'assertFalse'))
+                location=pf_source_location('test_hdf5.pf', 453, 'assertFalse'))
             if (pf_any_failed()) return
             call h5_open(file, base//".h5", .false., error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 435, 'assertFalse'))
+                location=pf_source_location('test_hdf5.pf', 455, 'assertFalse'))
             if (pf_any_failed()) return
             call h5_read(file, "i", n, error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 437, 'assertFalse'))
+                location=pf_source_location('test_hdf5.pf', 457, 'assertFalse'))
             if (pf_any_failed()) return
-            call assertEqual(i, n, location=pf_source_location('test_hdf5.pf', 438, 'assertEqual'))
+            call assertEqual(i, n, location=pf_source_location('test_hdf5.pf', 458, 'assertEqual'))
             if (pf_any_failed()) return
             call h5_close(file, error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 440, 'assertFalse'))
+                location=pf_source_location('test_hdf5.pf', 460, 'assertFalse'))
             if (pf_any_failed()) return
         end do
     end subroutine test_many_files_in_one_process
@@ -1086,109 +1125,109 @@ contains
         call assertTrue( &
             allocated(error), &
             message="opening a missing file must fail", &
-            location=pf_source_location('test_hdf5.pf', 453, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 473, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 454, 'assertEqual'))
+        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 474, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, base//"_b.h5") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 455, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 475, 'assertTrue'))
         if (pf_any_failed()) return
 
         call h5_create(file, base//".h5", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 458, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 478, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "fields/m", m, "1", "a matrix", error, dims="probe")
         call assertTrue( &
             allocated(error), &
             message="1 name for rank 2", &
-            location=pf_source_location('test_hdf5.pf', 460, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 480, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_write(file, "fields/m", m, "1", "a matrix", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 462, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 482, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "fields", 1, "1", "not over a group", error)
         call assertTrue( &
             allocated(error), &
             message="a dataset must not replace a group", &
-            location=pf_source_location('test_hdf5.pf', 464, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 484, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "'fields'") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 465, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 485, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 467, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 487, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 470, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 490, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "fields/missing", v, error)
         call assertTrue( &
             allocated(error), &
             message="reading a missing dataset must fail", &
-            location=pf_source_location('test_hdf5.pf', 472, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 492, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 473, 'assertEqual'))
+        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 493, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "fields/missing") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 474, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 494, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, base//".h5") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 475, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 495, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read(file, "fields/m", v, error)
         call assertTrue( &
             allocated(error), &
             message="reading a rank-2 dataset as rank 1 must fail", &
-            location=pf_source_location('test_hdf5.pf', 477, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 497, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "rank") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 478, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 498, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_write(file, "fields/n", 1, "1", "a value", error)
         call assertTrue( &
             allocated(error), &
             message="writing to a read-only file must fail", &
-            location=pf_source_location('test_hdf5.pf', 480, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 500, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "read-only") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 481, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 501, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 483, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 503, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "fields/n", 1, "1", "a value", error)
         call assertTrue( &
             allocated(error), &
             message="writing to a closed file must fail", &
-            location=pf_source_location('test_hdf5.pf', 485, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 505, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_errors_name_file_and_object
 

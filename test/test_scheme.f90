@@ -282,7 +282,7 @@ contains
     end subroutine test_two_runs_in_two_threads
 
     !> The transmission criterion across the gap, both potentials, with and without damping: pairs of amplitudes just
-    !> below and just above the jump of the injected energy (README, "Classification") get opposite verdicts, and
+    !> below and just above the jump of the injected energy (docs/method.md, "Classification") get opposite verdicts, and
     !> the transmitting runs inject far more energy.
     ! @test
     subroutine test_verdict_across_the_gap()

@@ -12,7 +12,7 @@ module test_stepper_contract
     use supratrans_ledger, only: ledger_type, ledger_close
     use supratrans_stepper, only: stepper, step_ok
     use supratrans_steppers, only: new_stepper
-    use supratrans_simulate, only: simulate, number_of_levels, step_count, max_steps
+    use supratrans_simulate, only: simulate, number_of_levels, step_count, max_step_count
     use supratrans_result, only: run_result, run_ok, run_diverged, run_invalid, status_name
     implicit none
 
@@ -325,7 +325,7 @@ contains
     end subroutine test_unknown_method_is_an_error
 
     !> The engine runs nothing for a run it cannot run, and says why (status `run_invalid`): an unknown potential
-    !> (never silently Klein-Gordon), an unknown method, T/dt not finite or above `max_steps`, records too large.
+    !> (never silently Klein-Gordon), an unknown method, T/dt not finite or above `max_step_count`, records too large.
     ! @test
     subroutine test_engine_refuses_invalid_runs()
         type(run_config) :: run
@@ -509,7 +509,7 @@ contains
             1.0e-20_wp, &
             location=pf_source_location('test_stepper_contract.pf', 266, 'assertEqual'))
         if (pf_any_failed()) return
-        ! below the bound, and at it: T/dt = 2^62 > max_steps = 2^62 - 1
+        ! below the bound, and at it: T/dt = 2^62 > max_step_count = 2^62 - 1
         run%numerics%dt = 1.0_wp
         run%numerics%t_final = 2.0_wp**61
         call step_count(run, m, error)
@@ -517,7 +517,7 @@ contains
         if (pf_any_failed()) return
         call assertEqual(2_i8**61, m, location=pf_source_location('test_stepper_contract.pf', 272, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertTrue(m <= max_steps, location=pf_source_location('test_stepper_contract.pf', 273, 'assertTrue'))
+        call assertTrue(m <= max_step_count, location=pf_source_location('test_stepper_contract.pf', 273, 'assertTrue'))
         if (pf_any_failed()) return
         run%numerics%t_final = 2.0_wp**62
         call step_count(run, m, error)
