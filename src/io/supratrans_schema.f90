@@ -101,48 +101,50 @@ module supratrans_schema
     integer, parameter, public :: key_scene_beyond_fold = 37
     !> Index of &scene crossing_tol in `key_table`.
     integer, parameter, public :: key_scene_crossing_tol = 38
+    !> Index of &scene floquet_every in `key_table`.
+    integer, parameter, public :: key_scene_floquet_every = 39
     !> Index of &scene fold_convergence in `key_table`.
-    integer, parameter, public :: key_scene_fold_convergence = 39
+    integer, parameter, public :: key_scene_fold_convergence = 40
     !> Index of &scene coarse_step in `key_table`.
-    integer, parameter, public :: key_scene_coarse_step = 40
+    integer, parameter, public :: key_scene_coarse_step = 41
     !> Index of &scene resolution in `key_table`.
-    integer, parameter, public :: key_scene_resolution = 41
+    integer, parameter, public :: key_scene_resolution = 42
     !> Index of &scene screen_method in `key_table`.
-    integer, parameter, public :: key_scene_screen_method = 42
+    integer, parameter, public :: key_scene_screen_method = 43
     !> Index of &scene screen_dt in `key_table`.
-    integer, parameter, public :: key_scene_screen_dt = 43
+    integer, parameter, public :: key_scene_screen_dt = 44
     !> Index of &scene confirm_band in `key_table`.
-    integer, parameter, public :: key_scene_confirm_band = 44
+    integer, parameter, public :: key_scene_confirm_band = 45
     !> Index of &scene screen_margin in `key_table`.
-    integer, parameter, public :: key_scene_screen_margin = 45
+    integer, parameter, public :: key_scene_screen_margin = 46
     !> Index of &scene certify in `key_table`.
-    integer, parameter, public :: key_scene_certify = 46
+    integer, parameter, public :: key_scene_certify = 47
     !> Index of &scene methods in `key_table`.
-    integer, parameter, public :: key_scene_methods = 47
+    integer, parameter, public :: key_scene_methods = 48
     !> Index of &scene dts in `key_table`.
-    integer, parameter, public :: key_scene_dts = 48
+    integer, parameter, public :: key_scene_dts = 49
     !> Index of &scene dt_smallest in `key_table`.
-    integer, parameter, public :: key_scene_dt_smallest = 49
+    integer, parameter, public :: key_scene_dt_smallest = 50
     !> Index of &scene amplitudes in `key_table`.
-    integer, parameter, public :: key_scene_amplitudes = 50
+    integer, parameter, public :: key_scene_amplitudes = 51
     !> Index of &scene c_values in `key_table`.
-    integer, parameter, public :: key_scene_c_values = 51
+    integer, parameter, public :: key_scene_c_values = 52
     !> Index of &scene repeats in `key_table`.
-    integer, parameter, public :: key_scene_repeats = 52
+    integer, parameter, public :: key_scene_repeats = 53
     !> Index of &scene reference_dt in `key_table`.
-    integer, parameter, public :: key_scene_reference_dt = 53
+    integer, parameter, public :: key_scene_reference_dt = 54
     !> Index of &detect site in `key_table`.
-    integer, parameter, public :: key_detect_site = 54
+    integer, parameter, public :: key_detect_site = 55
     !> Index of &detect amplitude in `key_table`.
-    integer, parameter, public :: key_detect_amplitude = 55
+    integer, parameter, public :: key_detect_amplitude = 56
     !> Index of &detect stop_when_decided in `key_table`.
-    integer, parameter, public :: key_detect_stop_when_decided = 56
+    integer, parameter, public :: key_detect_stop_when_decided = 57
     !> Index of &output file in `key_table`.
-    integer, parameter, public :: key_output_file = 57
+    integer, parameter, public :: key_output_file = 58
     !> Index of &output overwrite in `key_table`.
-    integer, parameter, public :: key_output_overwrite = 58
+    integer, parameter, public :: key_output_overwrite = 59
     !> Index of &output quiet in `key_table`.
-    integer, parameter, public :: key_output_quiet = 59
+    integer, parameter, public :: key_output_quiet = 60
 
     type(key_spec), parameter :: spec_chain_potential = key_spec( &
         group="chain", key="potential", value_type=kt_name, max_values=1, attribute="potential", units="1", &
@@ -369,6 +371,13 @@ module supratrans_schema
         range_text="> 0 and <= 0.1", &
         description="Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + crossi" // &
             "ng_tol")
+    type(key_spec), parameter :: spec_scene_floquet_every = key_spec( &
+        group="scene", key="floquet_every", value_type=kt_integer, max_values=1, attribute="floquet_every", units="1", &
+            has_min=.true., min=1.0_wp, min_text="1", has_max=.true., max=100.0_wp, max_text="100", &
+        default_text="1", &
+        range_text=">= 1 and <= 100", &
+        description="Continuation: multipliers at every this many branch points (and at the fold and where the verdict change" // &
+            "s); larger is faster but can miss a brief instability")
     type(key_spec), parameter :: spec_scene_fold_convergence = key_spec( &
         group="scene", key="fold_convergence", value_type=kt_logical, max_values=1, attribute="fold_convergence", units="1", &
         default_text=".true.", &
@@ -503,11 +512,11 @@ module supratrans_schema
         spec_scene_amplitude_max, spec_scene_amplitude_step, spec_scene_omega_min, spec_scene_omega_max, spec_scene_omega_step, &
         spec_scene_vary, spec_scene_values, spec_scene_potentials, spec_scene_continuation_step, &
         spec_scene_continuation_step_max, spec_scene_continuation_points, spec_scene_beyond_fold, spec_scene_crossing_tol, &
-        spec_scene_fold_convergence, spec_scene_coarse_step, spec_scene_resolution, spec_scene_screen_method, &
-        spec_scene_screen_dt, spec_scene_confirm_band, spec_scene_screen_margin, spec_scene_certify, spec_scene_methods, &
-        spec_scene_dts, spec_scene_dt_smallest, spec_scene_amplitudes, spec_scene_c_values, spec_scene_repeats, &
-        spec_scene_reference_dt, spec_detect_site, spec_detect_amplitude, spec_detect_stop_when_decided, spec_output_file, &
-        spec_output_overwrite, spec_output_quiet]
+        spec_scene_floquet_every, spec_scene_fold_convergence, spec_scene_coarse_step, spec_scene_resolution, &
+        spec_scene_screen_method, spec_scene_screen_dt, spec_scene_confirm_band, spec_scene_screen_margin, spec_scene_certify, &
+        spec_scene_methods, spec_scene_dts, spec_scene_dt_smallest, spec_scene_amplitudes, spec_scene_c_values, &
+        spec_scene_repeats, spec_scene_reference_dt, spec_detect_site, spec_detect_amplitude, spec_detect_stop_when_decided, &
+        spec_output_file, spec_output_overwrite, spec_output_quiet]
 
     !> Values derived from the keys that `/parameters` stores too.
     type(derived_spec), parameter, public :: derived_table(*) = [ &
@@ -652,6 +661,8 @@ contains
             v = int_value([cfg%scene%beyond_fold])
         case (key_scene_crossing_tol)
             v = real_value([cfg%scene%crossing_tol])
+        case (key_scene_floquet_every)
+            v = int_value([cfg%scene%floquet_every])
         case (key_scene_fold_convergence)
             v = flag_value(cfg%scene%fold_convergence)
         case (key_scene_coarse_step)
@@ -789,6 +800,8 @@ contains
             cfg%scene%beyond_fold = v%ints(1)
         case (key_scene_crossing_tol)
             cfg%scene%crossing_tol = v%reals(1)
+        case (key_scene_floquet_every)
+            cfg%scene%floquet_every = v%ints(1)
         case (key_scene_fold_convergence)
             cfg%scene%fold_convergence = v%flag
         case (key_scene_coarse_step)
