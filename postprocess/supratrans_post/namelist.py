@@ -54,6 +54,8 @@ def quick_copy(source: Any, target: Any, output: Any) -> Path:
         value = scene.get(key)
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             scene[key] = float(f"{float(value) * factor:.6g}")
+    if str(scene.get("kind", "")).lower() == "continuation":
+        scene["fold_convergence"] = False  # the dt/2 and 2N folds cost 20x the fold itself
     if "output" not in nml:
         nml["output"] = {}
     out = _group(nml, "output")
