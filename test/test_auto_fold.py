@@ -15,7 +15,8 @@ The chain: 10 sites with a 4-site absorber (N0 = 6, kappa = 0.5, sigma = 1), sin
 undamped, and again with every term of the ODE on (gamma = 0.01, beta = 0.05, m^2 = 0.1). There the branch has a
 clean fold (A_f = 3.1015143811 undamped: the short chain's own; the scene gives 1.99 for 20 sites). AUTO's fold
 does not move with its mesh (NTST = 20, 40, 80 agree to 3e-9) and its period stays 2 pi / Omega. Where AUTO-07p (or
-gfortran, which compiles its equations) is missing the test is skipped, with the reason in the warnings summary. Marked `slow` (per chain AUTO's compile and run and two scene runs: ~25 s).
+gfortran, which compiles its equations) is missing the test is skipped, with the reason in the warnings summary.
+Marked `slow`: per chain AUTO's compile and run and two scene runs, ~30 s on a loaded machine.
 """
 from __future__ import annotations
 
