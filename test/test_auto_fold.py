@@ -32,7 +32,7 @@ from pathlib import Path
 import h5py
 import pytest
 
-# an end-to-end run of an outside tool whose equations gfortran compiles (~25 s on a loaded machine)
+# end-to-end runs of an outside tool whose equations gfortran compiles, and of the scene (~1 minute, loaded machine)
 pytestmark = pytest.mark.slow
 
 HERE = Path(__file__).resolve().parent
