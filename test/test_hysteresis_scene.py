@@ -109,3 +109,28 @@ def test_bad_stairs_are_one_line_and_nothing_written(exe, tmp_path, old, new, wo
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and words in lines[0], proc.stderr
     assert not (tmp_path / "out" / "hyst.h5").exists()
+
+
+def test_figure_draws_power_up_and_down_and_the_edges(exe, hysteresis, tmp_path, call_main):
+    from supratrans_post import plot
+    from supratrans_post.figures import draw, summary
+    from supratrans_post.reader import open_scene
+
+    s = open_scene(hysteresis / "out" / "hyst.h5", expect="hysteresis")
+    lines = summary(s)
+    up = s.data["upward_threshold"][0, 1, 0]
+    assert any(f"up {up:g}" in line for line in lines), lines
+    # two frequencies: the edges over Omega
+    fig = draw(s)
+    assert "edges" in fig._suptitle.get_text()
+    # one frequency (Omega = 0.9 alone): the power of each stair vs its amplitude, the window shaded
+    text = HYST.replace("omega_min = 0.85", "omega_min = 0.9").replace("stair_times = 100, 200", "stair_times = 100")
+    (tmp_path / "one.nml").write_text(text)
+    sh(exe, "one.nml", cwd=tmp_path)
+    ran = call_main(plot.main, tmp_path / "out" / "hyst.h5", "-o", tmp_path / "one.png")
+    assert ran.returncode == 0, ran.stderr
+    assert (tmp_path / "one.png").stat().st_size > 10000
+    one = open_scene(tmp_path / "out" / "hyst.h5")
+    fig = draw(one)
+    ax = fig.axes[0]
+    assert len(ax.lines) >= 3 and ax.patches, "up and down branches, the threshold and the shaded window"
