@@ -60,7 +60,7 @@ def _draw_stairs(s: Scene):
         ax.set_title(curve_name(pots[c], vary, values[c]), fontsize=9)
         ax.legend(loc="upper left", fontsize=6, framealpha=0.85)
     w = float(s.data["omega"][0])
-    fig.suptitle(title(s, rf"hysteresis of supratransmission at $\Omega$ = {fmt(w, 4)}") + "\n" + conditions(s))
+    fig.suptitle(title(s, rf"stairs up and down at $\Omega$ = {fmt(w, 4)}") + "\n" + conditions(s))
     return fig
 
 
