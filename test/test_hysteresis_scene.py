@@ -100,7 +100,9 @@ def test_hysteresis_is_the_same_for_two_threads_and_for_slices(exe, hysteresis, 
     ("stair_ramp = 10", "stair_ramp = 60", "stair_ramp"),
     ("amplitude_max = 2.1", "amplitude_max = 1.52", "at least one stair up"),
     ("omega_min = 0.85", "omega_min = 0.0", "omega_min"),
-], ids=["ramp longer than half a stair", "no stair up", "omega zero"])
+    ("stair_height = 0.05", "stair_height = 0.0001", "stairs: more than the limit"),
+    ("stair_times = 100, 200", "stair_times = 100, 1e9", "time steps"),
+], ids=["ramp longer than half a stair", "no stair up", "omega zero", "too many stairs", "too long a stair"])
 def test_bad_stairs_are_one_line_and_nothing_written(exe, tmp_path, old, new, words):
     assert old in HYST
     (tmp_path / "bad.nml").write_text(HYST.replace(old, new))

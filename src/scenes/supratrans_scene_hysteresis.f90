@@ -77,6 +77,9 @@ module supratrans_scene_hysteresis
     !> Status: the run failed (diverged, Newton failed); both edges NaN.
     integer, parameter, public :: hysteresis_failed = 5
 
+    !> Most levels above the bottom one, K (2K + 1 stairs): a task's journal line holds every stair's mean power.
+    integer, parameter, public :: max_stair_top = 1000
+
     !> Stair length used when `stair_times` is not set.
     real(wp), parameter :: default_stair_time = 400.0_wp
 
@@ -184,8 +187,8 @@ contains
         end if
     end function scene_stair_times
 
-    !> Check the stairs (before any work): at least one stair up (amplitude_min + stair_height <= amplitude_max), a
-    !> ramp no longer than half of every stair, stair lengths of at least two drive periods' worth of steps.
+    !> Check the stairs (before any work): at least one stair up (amplitude_min + stair_height <= amplitude_max) and
+    !> at most `max_stair_top`, a ramp no longer than half of every stair, stairs of at least 4 dt.
     subroutine check_stairs(cfg, times, top, error)
         !> The input.
         type(input_config), intent(in) :: cfg
@@ -202,6 +205,13 @@ contains
             if (top < 1) then
                 call fatal_error(error, cfg%source // ": &scene: hysteresis needs amplitude_min + stair_height <= " &
                                  // "amplitude_max (at least one stair up)", err_input)
+                return
+            end if
+            if (top > max_stair_top) then
+                call fatal_error(error, cfg%source // ": &scene: amplitude_min .. amplitude_max by stair_height makes " &
+                                 // int_str(2*top + 1) // " stairs: more than the limit " &
+                                 // int_str(2*max_stair_top + 1) // " (a journal line holds every stair's power)", &
+                                 err_input)
                 return
             end if
             do i = 1, size(times)
