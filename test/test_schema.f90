@@ -420,6 +420,7 @@ contains
         cfg%scene%dt_smallest = [0.0_wp, 0.05_wp]
         cfg%scene%amplitudes = [1.5_wp]
         cfg%scene%c_values = [2.0_wp, 3.0_wp]
+        cfg%scene%stair_times = [100.0_wp, 200.0_wp]
     end function listed
 
     !> A different value of the same type and length.

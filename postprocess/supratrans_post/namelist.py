@@ -7,8 +7,8 @@ from typing import Any
 
 from .reader import PlotError
 
-#: `--quick`: factor applied to the steps of the scene grids (amplitude, frequency, threshold resolution).
-QUICK = {"amplitude_step": 5.0, "omega_step": 2.0, "resolution": 5.0, "coarse_step": 2.0}
+#: `--quick`: factor applied to the steps of the scene grids (amplitude, frequency, threshold resolution, stairs).
+QUICK = {"amplitude_step": 5.0, "omega_step": 2.0, "resolution": 5.0, "coarse_step": 2.0, "stair_height": 5.0}
 
 
 def read(path: Any):

@@ -42,6 +42,7 @@ module supratrans_cli
     use supratrans_scene_workprec, only: run_work_precision
     use supratrans_scene_stability, only: run_stability
     use supratrans_scene_continuation, only: run_continuation
+    use supratrans_scene_hysteresis, only: run_hysteresis
     implicit none
     private
 
@@ -553,6 +554,8 @@ contains
             call run_stability(cfg, error)
         case ("continuation")
             call run_continuation(cfg, error)
+        case ("hysteresis")
+            call run_hysteresis(cfg, error)
         case default
             call fatal_error(error, cfg%source // ": &scene: kind '" // trim(cfg%scene%kind) // "' is not implemented", &
                              err_input)

@@ -25,10 +25,10 @@ module supratrans_h5_write
 
     !> Write a dataset with the attributes `units` and `description` (and `dimensions` when `dims` is given):
     !> `call h5_write(file, name, data, units, description, error [, dims])`.
-    !> `data`: `real(wp)` of rank 0 to 3, default integer of rank 0 to 3, `integer(i8)` of rank 0 or 1,
+    !> `data`: `real(wp)` of rank 0 to 4, default integer of rank 0 to 3, `integer(i8)` of rank 0 or 1,
     !> character of rank 0 or 1. `dims` (arrays only): dimension names in C/h5py order, e.g. "probe, time".
     interface h5_write
-        module procedure :: write_real_0d, write_real_1d, write_real_2d, write_real_3d
+        module procedure :: write_real_0d, write_real_1d, write_real_2d, write_real_3d, write_real_4d
         module procedure :: write_int_0d, write_int_1d, write_int_2d, write_int_3d, write_i8_0d, write_i8_1d
         module procedure :: write_char_0d, write_char_1d
     end interface h5_write
@@ -154,6 +154,30 @@ contains
         call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, shape(data, kind=hsize_t), &
             buf, units, description, error, dims)
     end subroutine write_real_3d
+
+    !> Write a `real(wp)` rank-4 dataset (h5py sees the dimensions reversed).
+    subroutine write_real_4d(file, name, data, units, description, error, dims)
+        !> The file (writable).
+        type(h5_file), intent(in) :: file
+        !> Path of the dataset.
+        character(len=*), intent(in) :: name
+        !> The values.
+        real(wp), intent(in), target, contiguous :: data(:, :, :, :)
+        !> Units ("1" for dimensionless).
+        character(len=*), intent(in) :: units
+        !> What the values are.
+        character(len=*), intent(in) :: description
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        !> Names of the dimensions in C/h5py order; stored as attribute `dimensions`.
+        character(len=*), intent(in), optional :: dims
+        type(c_ptr) :: buf
+
+        buf = c_null_ptr
+        if (size(data) > 0) buf = c_loc(data)
+        call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, shape(data, kind=hsize_t), &
+            buf, units, description, error, dims)
+    end subroutine write_real_4d
 
     !> Write a default-integer scalar dataset.
     subroutine write_int_0d(file, name, data, units, description, error)

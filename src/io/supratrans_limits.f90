@@ -39,8 +39,9 @@ contains
         character(len=*), intent(in) :: where
         !> Allocated when a limit is exceeded.
         type(error_type), allocatable, intent(out) :: error
-        real(wp) :: steps, n, namp, nomega, ngrid, tasks, runs_per_task, work, need, have, slices
-        integer :: threads
+        real(wp) :: steps, n, namp, nomega, ngrid, tasks, runs_per_task, work, need, have, slices, run_steps
+        real(wp), allocatable :: stair_times(:)
+        integer :: threads, i
         character(len=:), allocatable :: kind, thread_text
 
         kind = trim(cfg%scene%kind)
@@ -85,7 +86,7 @@ contains
                     return
                 end if
             end if
-            if (kind == "map" .or. kind == "bifurcation" .or. kind == "continuation") then
+            if (kind == "map" .or. kind == "bifurcation" .or. kind == "continuation" .or. kind == "hysteresis") then
                 nomega = (sc%omega_max - sc%omega_min)/sc%omega_step + 1.0_wp
                 if (.not. (nomega <= max_axis_points)) then
                     call fail("scene", "omega_step = " // sci(sc%omega_step) // " makes " // sci(nomega) &
@@ -109,6 +110,38 @@ contains
                 runs_per_task = (sc%amplitude_max - sc%amplitude_min)/sc%coarse_step + sc%coarse_step/sc%resolution
             end if
             tasks = real(curve_count(cfg), wp)*nomega*namp
+            if (kind == "hysteresis") then
+                ! one run per (curve, Omega, stair length) of ramp_time + (2K + 1) T_s; probes at two sites every step
+                ngrid = (sc%amplitude_max - sc%amplitude_min)/sc%stair_height + 1.0_wp
+                if (.not. (ngrid <= max_axis_points)) then
+                    call fail("scene", "stair_height = " // sci(sc%stair_height) // " makes " // sci(ngrid) &
+                              // " levels: more than the limit " // sci(max_axis_points))
+                    return
+                end if
+                steps = 0.0_wp
+                need = 0.0_wp
+                stair_times = [400.0_wp]
+                if (allocated(sc%stair_times)) then
+                    if (size(sc%stair_times) > 0) stair_times = sc%stair_times
+                end if
+                do i = 1, size(stair_times)
+                    run_steps = (cfg%run%drive%ramp_time + (2.0_wp*real(floor(ngrid + 1.0e-9_wp), wp) - 1.0_wp) &
+                                 *stair_times(i))/cfg%run%numerics%dt
+                    if (.not. (run_steps <= max_steps)) then
+                        call fail("scene", "a stair run of " // sci(run_steps) // " time steps (stair length " &
+                                  // sci(stair_times(i)) // "): more than the limit " // sci(max_steps))
+                        return
+                    end if
+                    steps = steps + run_steps
+                    need = max(need, 3.0_wp*8.0_wp*run_steps)
+                end do
+                need = (need + run_memory_bytes(cfg, .false.))*real(threads, wp)
+                if (have > 0.0_wp .and. need > 0.8_wp*have) then
+                    call fail("scene", "the stair runs' probes need about " // sci(need/1.0e9_wp) // " GB" &
+                              // thread_text // ", more than the " // sci(have/1.0e9_wp) // " GB available")
+                    return
+                end if
+            end if
             if (kind == "work_precision" .or. kind == "stability") return
             if (kind == "continuation") then
                 ! dense 2N x (2N + 1) matrices: the tangent, the shooting system, its LU, the eigenvalue copy (x 4

@@ -133,18 +133,26 @@ module supratrans_schema
     integer, parameter, public :: key_scene_repeats = 53
     !> Index of &scene reference_dt in `key_table`.
     integer, parameter, public :: key_scene_reference_dt = 54
+    !> Index of &scene stair_times in `key_table`.
+    integer, parameter, public :: key_scene_stair_times = 55
+    !> Index of &scene stair_height in `key_table`.
+    integer, parameter, public :: key_scene_stair_height = 56
+    !> Index of &scene stair_ramp in `key_table`.
+    integer, parameter, public :: key_scene_stair_ramp = 57
+    !> Index of &scene power_threshold in `key_table`.
+    integer, parameter, public :: key_scene_power_threshold = 58
     !> Index of &detect site in `key_table`.
-    integer, parameter, public :: key_detect_site = 55
+    integer, parameter, public :: key_detect_site = 59
     !> Index of &detect amplitude in `key_table`.
-    integer, parameter, public :: key_detect_amplitude = 56
+    integer, parameter, public :: key_detect_amplitude = 60
     !> Index of &detect stop_when_decided in `key_table`.
-    integer, parameter, public :: key_detect_stop_when_decided = 57
+    integer, parameter, public :: key_detect_stop_when_decided = 61
     !> Index of &output file in `key_table`.
-    integer, parameter, public :: key_output_file = 58
+    integer, parameter, public :: key_output_file = 62
     !> Index of &output overwrite in `key_table`.
-    integer, parameter, public :: key_output_overwrite = 59
+    integer, parameter, public :: key_output_overwrite = 63
     !> Index of &output quiet in `key_table`.
-    integer, parameter, public :: key_output_quiet = 60
+    integer, parameter, public :: key_output_quiet = 64
 
     type(key_spec), parameter :: spec_chain_potential = key_spec( &
         group="chain", key="potential", value_type=kt_name, max_values=1, attribute="potential", units="1", &
@@ -287,7 +295,8 @@ module supratrans_schema
     type(key_spec), parameter :: spec_scene_kind = key_spec( &
         group="scene", key="kind", value_type=kt_name, max_values=1, attribute="kind", units="1", choices=choice_scene, &
         default_text="'timeseries'", &
-        range_text="'timeseries', 'amplitude_sweep', 'map', 'bifurcation', 'work_precision', 'stability', 'continuation'", &
+        range_text="'timeseries', 'amplitude_sweep', 'map', 'bifurcation', 'work_precision', 'stability', 'continuation', 'h" // &
+            "ysteresis'", &
         description="Scene: the study to run")
     type(key_spec), parameter :: spec_scene_amplitude_min = key_spec( &
         group="scene", key="amplitude_min", value_type=kt_real, max_values=1, attribute="amplitude_min", units="rad", &
@@ -470,6 +479,33 @@ module supratrans_schema
         default_text="0.025", &
         range_text="> 0; <= t_final/2", &
         description="Work-precision: step of the reference solution (rk8 at reference_dt/2, checked against reference_dt)")
+    type(key_spec), parameter :: spec_scene_stair_times = key_spec( &
+        group="scene", key="stair_times", value_type=kt_real, max_values=max_curve_values, attribute="stair_times", units="time", &
+            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
+        default_text="400 (one stair length)", &
+        range_text="up to 16 values, each > 0; >= 2 stair_ramp", &
+        description="Hysteresis: the stair lengths (one run each per curve and Omega); the spread of the edges over them is t" // &
+            "he protocol's part")
+    type(key_spec), parameter :: spec_scene_stair_height = key_spec( &
+        group="scene", key="stair_height", value_type=kt_real, max_values=1, attribute="stair_height", units="rad", &
+            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
+        default_text="0.02", &
+        range_text="> 0", &
+        description="Hysteresis: amplitude step between two stairs (levels amplitude_min + i stair_height <= amplitude_max)")
+    type(key_spec), parameter :: spec_scene_stair_ramp = key_spec( &
+        group="scene", key="stair_ramp", value_type=kt_real, max_values=1, attribute="stair_ramp", units="time", has_min=.true., &
+            min=0.0_wp, min_text="0", &
+        default_text="10", &
+        range_text=">= 0; <= stair_times/2", &
+        description="Hysteresis: length of the linear ramp between two stairs (at the start of each stair, so that the drive " // &
+            "stays continuous)")
+    type(key_spec), parameter :: spec_scene_power_threshold = key_spec( &
+        group="scene", key="power_threshold", value_type=kt_real, max_values=1, attribute="power_threshold", units="energy/time", &
+            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
+        default_text="0.05", &
+        range_text="> 0", &
+        description="Hysteresis: a stair transmits when its mean power through the bond beyond the detector site exceeds this" // &
+            " (transmitting stairs carry 0.3 - 4 here)")
     type(key_spec), parameter :: spec_detect_site = key_spec( &
         group="detect", key="site", value_type=kt_integer, max_values=1, attribute="detect_site", units="1", &
         default_text="0", &
@@ -515,8 +551,9 @@ module supratrans_schema
         spec_scene_floquet_every, spec_scene_fold_convergence, spec_scene_coarse_step, spec_scene_resolution, &
         spec_scene_screen_method, spec_scene_screen_dt, spec_scene_confirm_band, spec_scene_screen_margin, spec_scene_certify, &
         spec_scene_methods, spec_scene_dts, spec_scene_dt_smallest, spec_scene_amplitudes, spec_scene_c_values, &
-        spec_scene_repeats, spec_scene_reference_dt, spec_detect_site, spec_detect_amplitude, spec_detect_stop_when_decided, &
-        spec_output_file, spec_output_overwrite, spec_output_quiet]
+        spec_scene_repeats, spec_scene_reference_dt, spec_scene_stair_times, spec_scene_stair_height, spec_scene_stair_ramp, &
+        spec_scene_power_threshold, spec_detect_site, spec_detect_amplitude, spec_detect_stop_when_decided, spec_output_file, &
+        spec_output_overwrite, spec_output_quiet]
 
     !> Values derived from the keys that `/parameters` stores too.
     type(derived_spec), parameter, public :: derived_table(*) = [ &
@@ -693,6 +730,14 @@ contains
             v = int_value([cfg%scene%repeats])
         case (key_scene_reference_dt)
             v = real_value([cfg%scene%reference_dt])
+        case (key_scene_stair_times)
+            if (allocated(cfg%scene%stair_times)) v = real_value(cfg%scene%stair_times)
+        case (key_scene_stair_height)
+            v = real_value([cfg%scene%stair_height])
+        case (key_scene_stair_ramp)
+            v = real_value([cfg%scene%stair_ramp])
+        case (key_scene_power_threshold)
+            v = real_value([cfg%scene%power_threshold])
         case (key_detect_site)
             v = int_value([cfg%run%detect%site])
         case (key_detect_amplitude)
@@ -837,6 +882,15 @@ contains
             cfg%scene%repeats = v%ints(1)
         case (key_scene_reference_dt)
             cfg%scene%reference_dt = v%reals(1)
+        case (key_scene_stair_times)
+            if (allocated(cfg%scene%stair_times)) deallocate (cfg%scene%stair_times)
+            if (v%n > 0) cfg%scene%stair_times = v%reals(1:v%n)
+        case (key_scene_stair_height)
+            cfg%scene%stair_height = v%reals(1)
+        case (key_scene_stair_ramp)
+            cfg%scene%stair_ramp = v%reals(1)
+        case (key_scene_power_threshold)
+            cfg%scene%power_threshold = v%reals(1)
         case (key_detect_site)
             cfg%run%detect%site = v%ints(1)
         case (key_detect_amplitude)
