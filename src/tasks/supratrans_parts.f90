@@ -475,7 +475,9 @@ contains
                     set%slice_count = slice_count
                     set%text = text
                     set%source = source
-                    allocate (set%results(size(values, 1), ntask), set%done(ntask), given(slice_count), stat=stat)
+                    allocate (set%results(size(values, 1), ntask), stat=stat)
+                    if (stat == 0) allocate (set%done(ntask), stat=stat)
+                    if (stat == 0) allocate (given(slice_count), stat=stat)
                     if (stat /= 0) then
                         call fatal_error(error, where // ": " // int_str(ntask) // " tasks of " &
                                          // int_str(size(values, 1)) // " values do not fit in memory", err_input)
