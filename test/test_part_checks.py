@@ -116,11 +116,16 @@ def test_a_part_of_another_field_set_is_refused_not_recomputed(exe, parts):
     assert "rounds" in line
 
 
-def test_a_part_of_the_format_before_checksums_is_refused(exe, parts):
+def test_a_part_of_the_format_before_checksums_is_refused(exe, parts, clean):
     with h5py.File(part(parts, 3), "r+") as f:
         del f["part"].attrs["checksum"]
         del f["part"].attrs["part_format"]
-    refused(exe, parts, "study.part-3-of-3.h5", "format changed", "run its slice again")
+    refused(exe, parts, "study.part-3-of-3.h5", "format changed", "delete it and run its slice again")
+    part(parts, 3).unlink()                   # as the message says
+    (parts / "study.nml").write_text(BIF)
+    sh(exe, "study.nml", "--slice", "3/3", cwd=parts)
+    sh(exe, "merge", *(part(parts, i) for i in (1, 2, 3)), cwd=parts)
+    identical(clean / "whole.h5", parts / "out" / "study.h5")
 
 
 def test_the_clean_parts_still_merge_to_the_single_machine_file(exe, parts, clean):

@@ -291,7 +291,7 @@ contains
 
         if (.not. h5_attr_exists(file, "part", "part_format") .or. .not. h5_attr_exists(file, "part", "checksum")) then
             call fatal_error(error, where // ": part file of an older supratrans, without a checksum (the part format " &
-                             // "changed): run its slice again", err_input)
+                             // "changed): delete it and run its slice again", err_input)
             return
         end if
         call h5_read_attr(file, "part", "part_format", format, cause)
@@ -311,7 +311,8 @@ contains
         end if
         if (format /= part_format) then
             call fatal_error(error, where // ": part file of format " // printable(format) // ", this supratrans reads " &
-                             // part_format // " (the part format changed): run its slice again", err_input)
+                             // part_format // " (the part format changed): delete it and run its slice again", &
+                             err_input)
             return
         end if
         ! counts first, so that nothing is allocated from a damaged one
