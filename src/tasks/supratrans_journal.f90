@@ -28,8 +28,10 @@ module supratrans_journal
     !> The format of the journals written (3: records not bound to the header, which had no checksum).
     character(len=*), parameter, public :: journal_format = "4"
 
-    !> Longest journal line accepted (a task has at most a few dozen values).
+    !> Longest journal line accepted (a task has at most a few dozen values, a fold line's about a thousand).
     integer, parameter :: max_line = 65536
+    !> Most values a task's record may have: its line (index, 26 characters a value, checksum) fits `max_line`.
+    integer, parameter, public :: max_fields = (max_line - 64)/26
 
 contains
 

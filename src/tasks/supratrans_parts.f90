@@ -24,7 +24,7 @@ module supratrans_parts
     use supratrans_config, only: input_config
     use supratrans_system, only: path_kind, path_regular
     use supratrans_limits, only: max_tasks
-    use supratrans_journal, only: crc32, header_checked
+    use supratrans_journal, only: crc32, header_checked, max_fields
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_discard, h5_open, h5_close, h5_write, &
                                h5_write_attr, h5_create_group, h5_read, h5_read_attr, h5_exists, h5_attr_exists
     implicit none
@@ -34,8 +34,8 @@ module supratrans_parts
 
     !> The format of the part files written (1: before they had a checksum).
     character(len=*), parameter, public :: part_format = "2"
-    !> Most fields a task's record may have (a scene has a few dozen), and most slices (as `--slice` accepts).
-    integer, parameter :: max_fields = 1000, max_slices = 100000
+    !> Most slices (as `--slice` accepts).
+    integer, parameter :: max_slices = 100000
 
     !> What `read_parts` gathers from a complete set of parts.
     type, public :: part_set
@@ -335,8 +335,13 @@ contains
         end if
         call split_words(header, hwords)
         nfields = size(hwords) - 5
-        if (nfields < 1 .or. nfields > max_fields .or. .not. header_checked(header)) then
+        if (.not. header_checked(header)) then
             call fatal_error(error, where // ": damaged part file (its journal header fails its checksum)", err_input)
+            return
+        end if
+        if (nfields < 1 .or. nfields > max_fields) then
+            call fatal_error(error, where // ": damaged part file (its journal header names " // int_str(nfields) &
+                             // " fields, not 1.." // int_str(max_fields) // ")", err_input)
             return
         end if
         call dataset_dims(file, "part/task", tdims, ok)
