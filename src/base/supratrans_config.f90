@@ -267,6 +267,9 @@ module supratrans_config
         integer :: slice_count = 0
         !> Compute nothing: write the partial snapshot of what the journal holds (merge --partial).
         logical :: snapshot_only = .false.
+        !> For `merge`: the first part file, whose records the scene receives as its journal; the scene then computes nothing and
+        !> refuses records that are not its own (unallocated: not a merge).
+        character(len=:), allocatable :: merge_part
         !> The base run (the scene varies some of its parameters).
         type(run_config) :: run
         !> The scene.

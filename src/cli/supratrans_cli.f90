@@ -474,7 +474,11 @@ contains
             call catch_stop_signals()
             call run_scene(cfg, error)
         end if
+        ! the journal a merge wrote is the parts' records: gone once used, or refused
         if (present(set) .and. cfg%snapshot_only) call remove_file(journal)
+        if (present(set) .and. allocated(error)) then
+            if (error%stat == err_input) call remove_file(journal)
+        end if
         call unlock_file(handle)
         if (allocated(error)) then
             status = error%stat
@@ -586,7 +590,13 @@ contains
             status = error%stat
             return
         end if
-        cfg%fingerprint = set%fingerprint
+        if (cfg%fingerprint /= set%fingerprint) then
+            call fatal_error(error, set%first // ": its namelist text has the fingerprint " // cfg%fingerprint &
+                             // ", not the " // set%fingerprint // " the part was made for (edited?)", err_input)
+            status = error%stat
+            return
+        end if
+        cfg%merge_part = set%first
         cfg%output%file = output
         if (len(output) == 0) cfg%output%file = merged_path(trim(paths(1)))
         if (overwrite) cfg%output%overwrite = .true.

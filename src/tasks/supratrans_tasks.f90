@@ -11,10 +11,10 @@ module supratrans_tasks
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
     use supratrans_kinds, only: wp
     use supratrans_strings, only: int_str, fixed1, text_fingerprint, printable
-    use supratrans_error, only: error_type, fatal_error, err_io, err_interrupted
+    use supratrans_error, only: error_type, fatal_error, err_io, err_interrupted, err_input
     use supratrans_config, only: input_config
     use supratrans_system, only: remove_file, stop_signal
-    use supratrans_journal, only: journal_header, read_journal, write_journal, append_journal_line
+    use supratrans_journal, only: journal_header, read_journal, write_journal, append_journal_line, record_binding
     use supratrans_parts, only: write_part
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
@@ -95,9 +95,9 @@ contains
         real(wp), allocatable :: values(:)
         logical, allocatable :: mine(:)
         integer :: nvalues, i, ndone_start, ndone, ntodo, ios, threads, dropped, slice_index, slice_count
-        integer(int64) :: clock_start, clock_rate, clock_now
+        integer(int64) :: clock_start, clock_rate, clock_now, binding
         real(wp) :: last_progress, last_snapshot, elapsed
-        logical :: snapshot_only, write_failed, written
+        logical :: snapshot_only, write_failed, written, merging
         integer :: stop_after
         character(len=16) :: knob
 
@@ -117,6 +117,23 @@ contains
         if (slice_count > 0) mine = [(mod(i - 1, slice_count) + 1 == slice_index, i = 1, ntask)]
         header = journal_header(ntask, fields, fingerprint)
         call read_journal(journal, header, results, done, dropped, error)
+        merging = .false.
+        if (present(cfg)) merging = allocated(cfg%merge_part)
+        if (merging) then
+            ! the records of merged parts: the scene's own, every one (or, merge --partial, the ones there)
+            if (allocated(error)) then
+                call fatal_error(error, cfg%merge_part // ": its records do not fit the scene '" // trim(cfg%scene%kind) &
+                                 // "' of its namelist (fields or task count of another version of supratrans: the " &
+                                 // "parts' journal header is not " // header // ")", err_input)
+                return
+            end if
+            if (.not. snapshot_only .and. (dropped > 0 .or. .not. all(done))) then
+                call fatal_error(error, cfg%merge_part // ": " // int_str(count(.not. done)) // " of " &
+                                 // int_str(ntask) // " task records missing or damaged: merge computes nothing", &
+                                 err_input)
+                return
+            end if
+        end if
         if (allocated(error)) return
         if (snapshot_only) then
             call tasks%snapshot(results, done)
@@ -125,6 +142,7 @@ contains
         ! rewritten with the whole lines only (a new file, renamed over the old one only once it is complete)
         call write_journal(journal, header, results, done, error)
         if (allocated(error)) return
+        binding = record_binding(header)      ! (not the deferred-length header itself in the parallel region)
 
         ! fault injection for the tests: SUPRATRANS_STOP_AFTER=k acts as a stop signal once k tasks are journaled
         stop_after = huge(1)
@@ -160,7 +178,7 @@ contains
             done(i) = .true.
             ndone = ndone + 1
             if (.not. write_failed) then
-                call append_journal_line(journal, i, values, written)
+                call append_journal_line(journal, binding, i, values, written)
                 write_failed = .not. written
             end if
             call system_clock(clock_now)
