@@ -74,129 +74,130 @@ program pf_driver
     use test_journal, only: t67 => test_fields_read_by_name
     use test_journal, only: t68 => test_other_fields_or_input_refused
     use test_journal, only: t69 => test_header_names_the_fields
-    use test_perf_kernels, only: t70 => test_sin_cos_array_accuracy
-    use test_perf_kernels, only: t71 => test_sin_cos_quiet_tail
-    use test_perf_kernels, only: t72 => test_gradient_paths_agree
-    use test_period_map, only: t73 => test_tangent_against_finite_differences
-    use test_period_map, only: t74 => test_same_scheme_as_steppers
-    use test_period_map, only: t75 => test_linear_evanescent_wave
-    use test_period_map, only: t76 => test_newton_shooting_quadratic
-    use test_period_map, only: t77 => test_steps_and_bad_input
-    use test_potential, only: t78 => test_gradient_equals_difference_quotient
-    use test_potential, only: t79 => test_gradient_tends_to_force
-    use test_potential, only: t80 => test_gradient_exact_at_rest
-    use test_potential, only: t81 => test_slope_matches_finite_difference
-    use test_potential, only: t82 => test_array_kernels_agree
-    use test_potential, only: t83 => test_names_round_trip
-    use test_potential, only: t84 => test_unknown_potential_is_an_error
+    use test_journal, only: t70 => test_records_bound_to_their_header
+    use test_perf_kernels, only: t71 => test_sin_cos_array_accuracy
+    use test_perf_kernels, only: t72 => test_sin_cos_quiet_tail
+    use test_perf_kernels, only: t73 => test_gradient_paths_agree
+    use test_period_map, only: t74 => test_tangent_against_finite_differences
+    use test_period_map, only: t75 => test_same_scheme_as_steppers
+    use test_period_map, only: t76 => test_linear_evanescent_wave
+    use test_period_map, only: t77 => test_newton_shooting_quadratic
+    use test_period_map, only: t78 => test_steps_and_bad_input
+    use test_potential, only: t79 => test_gradient_equals_difference_quotient
+    use test_potential, only: t80 => test_gradient_tends_to_force
+    use test_potential, only: t81 => test_gradient_exact_at_rest
+    use test_potential, only: t82 => test_slope_matches_finite_difference
+    use test_potential, only: t83 => test_array_kernels_agree
+    use test_potential, only: t84 => test_names_round_trip
+    use test_potential, only: t85 => test_unknown_potential_is_an_error
     use test_provenance, only: b10 => set_up
     use test_provenance, only: a10 => tear_down
-    use test_provenance, only: t85 => test_build_commit_is_an_id_or_unknown
-    use test_provenance, only: t86 => test_commit_is_not_read_from_the_working_directory
-    use test_provenance, only: t87 => test_provenance_written
-    use test_provenance, only: t88 => test_provenance_attributes_are_the_documented_ones
-    use test_rk4, only: t89 => test_rk4_fourth_order
-    use test_rk4, only: t90 => test_rk4_energy_drift
-    use test_rk4, only: t91 => test_rk4_stability_limit
-    use test_rk4, only: t92 => test_rk4_agrees_with_energy_conserving_scheme
+    use test_provenance, only: t86 => test_build_commit_is_an_id_or_unknown
+    use test_provenance, only: t87 => test_commit_is_not_read_from_the_working_directory
+    use test_provenance, only: t88 => test_provenance_written
+    use test_provenance, only: t89 => test_provenance_attributes_are_the_documented_ones
+    use test_rk4, only: t90 => test_rk4_fourth_order
+    use test_rk4, only: t91 => test_rk4_energy_drift
+    use test_rk4, only: t92 => test_rk4_stability_limit
+    use test_rk4, only: t93 => test_rk4_agrees_with_energy_conserving_scheme
     use test_scene_bifurcation, only: b12 => set_up
     use test_scene_bifurcation, only: a12 => tear_down
-    use test_scene_bifurcation, only: t93 => test_early_stop_keeps_verdict
-    use test_scene_bifurcation, only: t94 => test_threads_give_identical_thresholds
-    use test_scene_bifurcation, only: t95 => test_threshold_transmits_and_one_step_below_does_not
-    use test_scene_bifurcation, only: t96 => test_resume_after_kill
-    use test_scene_bifurcation, only: t97 => test_file_layout
-    use test_scene_bifurcation, only: t98 => test_failed_runs_give_status_run_failed
-    use test_scene_bifurcation, only: t99 => test_screening_changes_no_threshold
+    use test_scene_bifurcation, only: t94 => test_early_stop_keeps_verdict
+    use test_scene_bifurcation, only: t95 => test_threads_give_identical_thresholds
+    use test_scene_bifurcation, only: t96 => test_threshold_transmits_and_one_step_below_does_not
+    use test_scene_bifurcation, only: t97 => test_resume_after_kill
+    use test_scene_bifurcation, only: t98 => test_file_layout
+    use test_scene_bifurcation, only: t99 => test_failed_runs_give_status_run_failed
+    use test_scene_bifurcation, only: t100 => test_screening_changes_no_threshold
     use test_scene_map, only: b13 => set_up
     use test_scene_map, only: a13 => tear_down
-    use test_scene_map, only: t100 => test_skips_outside_gap_and_stores_as
-    use test_scene_map, only: t101 => test_map_independent_of_thread_count
+    use test_scene_map, only: t101 => test_skips_outside_gap_and_stores_as
+    use test_scene_map, only: t102 => test_map_independent_of_thread_count
     use test_scene_sweep, only: b14 => set_up
     use test_scene_sweep, only: a14 => tear_down
-    use test_scene_sweep, only: t102 => test_axis_grid_exact
-    use test_scene_sweep, only: t103 => test_independent_of_thread_count
-    use test_scene_sweep, only: t104 => test_layout_and_physics
-    use test_scene_sweep, only: t105 => test_resume_after_kill
-    use test_scene_sweep, only: t106 => test_diverging_runs_flagged
-    use test_scene_sweep, only: t107 => test_partial_snapshot
-    use test_scene_sweep, only: t108 => test_refuses_existing_output
-    use test_schema, only: t109 => test_table_is_complete
-    use test_schema, only: t110 => test_each_key_sets_its_own_field
-    use test_schema, only: t111 => test_defaults_are_the_papers
-    use test_schema, only: t112 => test_choices_agree_with_the_physics
-    use test_schema, only: t113 => test_parameters_hold_every_key
-    use test_scheme, only: t114 => test_ledger_closes_every_step
-    use test_scheme, only: t115 => test_linearized_ledger_does_not_close
-    use test_scheme, only: t116 => test_evanescent_wave
-    use test_scheme, only: t117 => test_second_order_in_dt
-    use test_scheme, only: t118 => test_stability_boundary
-    use test_scheme, only: t119 => test_newton_failure_reported
-    use test_scheme, only: t120 => test_two_runs_in_two_threads
-    use test_scheme, only: t121 => test_verdict_across_the_gap
-    use test_screened_search, only: t122 => test_cheap_right_saves_exact_runs
-    use test_screened_search, only: t123 => test_cheap_too_high_within_band
-    use test_screened_search, only: t124 => test_cheap_too_high_walks_down
-    use test_screened_search, only: t125 => test_cheap_window_far_below
-    use test_screened_search, only: t126 => test_doubtful_quiet_answers_go_to_the_exact_oracle
-    use test_screened_search, only: t127 => test_random_patterns_with_margins
-    use test_screened_search, only: t128 => test_random_patterns_false_alarms
-    use test_screened_search, only: t129 => test_cheap_finds_none
-    use test_screened_search, only: t130 => test_none_transmits_confirms_the_top
-    use test_screened_search, only: t131 => test_exact_failure_is_reported
-    use test_screened_search, only: t132 => test_cheap_failure_falls_back_to_exact
+    use test_scene_sweep, only: t103 => test_axis_grid_exact
+    use test_scene_sweep, only: t104 => test_independent_of_thread_count
+    use test_scene_sweep, only: t105 => test_layout_and_physics
+    use test_scene_sweep, only: t106 => test_resume_after_kill
+    use test_scene_sweep, only: t107 => test_diverging_runs_flagged
+    use test_scene_sweep, only: t108 => test_partial_snapshot
+    use test_scene_sweep, only: t109 => test_refuses_existing_output
+    use test_schema, only: t110 => test_table_is_complete
+    use test_schema, only: t111 => test_each_key_sets_its_own_field
+    use test_schema, only: t112 => test_defaults_are_the_papers
+    use test_schema, only: t113 => test_choices_agree_with_the_physics
+    use test_schema, only: t114 => test_parameters_hold_every_key
+    use test_scheme, only: t115 => test_ledger_closes_every_step
+    use test_scheme, only: t116 => test_linearized_ledger_does_not_close
+    use test_scheme, only: t117 => test_evanescent_wave
+    use test_scheme, only: t118 => test_second_order_in_dt
+    use test_scheme, only: t119 => test_stability_boundary
+    use test_scheme, only: t120 => test_newton_failure_reported
+    use test_scheme, only: t121 => test_two_runs_in_two_threads
+    use test_scheme, only: t122 => test_verdict_across_the_gap
+    use test_screened_search, only: t123 => test_cheap_right_saves_exact_runs
+    use test_screened_search, only: t124 => test_cheap_too_high_within_band
+    use test_screened_search, only: t125 => test_cheap_too_high_walks_down
+    use test_screened_search, only: t126 => test_cheap_window_far_below
+    use test_screened_search, only: t127 => test_doubtful_quiet_answers_go_to_the_exact_oracle
+    use test_screened_search, only: t128 => test_random_patterns_with_margins
+    use test_screened_search, only: t129 => test_random_patterns_false_alarms
+    use test_screened_search, only: t130 => test_cheap_finds_none
+    use test_screened_search, only: t131 => test_none_transmits_confirms_the_top
+    use test_screened_search, only: t132 => test_exact_failure_is_reported
+    use test_screened_search, only: t133 => test_cheap_failure_falls_back_to_exact
     use test_stability, only: b18 => set_up
     use test_stability, only: a18 => tear_down
-    use test_stability, only: t133 => test_linear_limits
-    use test_stability, only: t134 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t135 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t136 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t137 => test_stepper_contract_order
-    use test_stepper_contract, only: t138 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t139 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t140 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t141 => test_engine_counts_steps_in_64_bits
-    use test_stepper_linearized, only: t142 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t143 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t144 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t145 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t146 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t147 => test_newton_error_below_tol
-    use test_stepper_newton, only: t148 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t149 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t150 => test_newton_stepper_reports_failure
-    use test_strings, only: t151 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t152 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t153 => test_find_name_gives_the_first_index_or_zero
+    use test_stability, only: t134 => test_linear_limits
+    use test_stability, only: t135 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t136 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t137 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t138 => test_stepper_contract_order
+    use test_stepper_contract, only: t139 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t140 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t141 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t142 => test_engine_counts_steps_in_64_bits
+    use test_stepper_linearized, only: t143 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t144 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t145 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t146 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t147 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t148 => test_newton_error_below_tol
+    use test_stepper_newton, only: t149 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t150 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t151 => test_newton_stepper_reports_failure
+    use test_strings, only: t152 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t153 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t154 => test_find_name_gives_the_first_index_or_zero
     use test_system, only: b23 => set_up
     use test_system, only: a23 => tear_down
-    use test_system, only: t154 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t155 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t156 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t157 => test_temporary_names_are_fresh
-    use test_system, only: t158 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t159 => test_monotone_step
-    use test_threshold, only: t160 => test_bisected_bracket
-    use test_threshold, only: t161 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t162 => test_two_transitions
-    use test_threshold, only: t163 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t164 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t165 => test_nothing_transmits
-    use test_threshold, only: t166 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t167 => test_lower_bound_transmits
-    use test_threshold, only: t168 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t169 => test_bad_arguments
-    use test_threshold, only: t170 => test_grid_helpers
+    use test_system, only: t155 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t156 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t157 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t158 => test_temporary_names_are_fresh
+    use test_system, only: t159 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t160 => test_monotone_step
+    use test_threshold, only: t161 => test_bisected_bracket
+    use test_threshold, only: t162 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t163 => test_two_transitions
+    use test_threshold, only: t164 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t165 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t166 => test_nothing_transmits
+    use test_threshold, only: t167 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t168 => test_lower_bound_transmits
+    use test_threshold, only: t169 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t170 => test_bad_arguments
+    use test_threshold, only: t171 => test_grid_helpers
     use test_workprec, only: b25 => set_up
     use test_workprec, only: a25 => tear_down
-    use test_workprec, only: t171 => test_rk8_eighth_order
-    use test_workprec, only: t172 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t173 => test_rk8_stability_polynomial
-    use test_workprec, only: t174 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t175 => test_unstable_runs_are_reported
-    use test_workprec, only: t176 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t177 => test_fitted_order
-    use test_workprec, only: t178 => test_step_kernels_timed
+    use test_workprec, only: t172 => test_rk8_eighth_order
+    use test_workprec, only: t173 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t174 => test_rk8_stability_polynomial
+    use test_workprec, only: t175 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t176 => test_unstable_runs_are_reported
+    use test_workprec, only: t177 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t178 => test_fitted_order
+    use test_workprec, only: t179 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -269,144 +270,145 @@ program pf_driver
     call pf_run_test('test_journal', 'test_fields_read_by_name', t67)
     call pf_run_test('test_journal', 'test_other_fields_or_input_refused', t68)
     call pf_run_test('test_journal', 'test_header_names_the_fields', t69)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t70)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t71)
-    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t72)
-    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t73)
-    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t74)
-    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t75)
-    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t76)
-    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t77)
-    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t78)
-    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t79)
-    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t80)
-    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t81)
-    call pf_run_test('test_potential', 'test_array_kernels_agree', t82)
-    call pf_run_test('test_potential', 'test_names_round_trip', t83)
-    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t84)
-    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t85, before=b10, after=a10)
+    call pf_run_test('test_journal', 'test_records_bound_to_their_header', t70)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t71)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t72)
+    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t73)
+    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t74)
+    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t75)
+    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t76)
+    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t77)
+    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t78)
+    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t79)
+    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t80)
+    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t81)
+    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t82)
+    call pf_run_test('test_potential', 'test_array_kernels_agree', t83)
+    call pf_run_test('test_potential', 'test_names_round_trip', t84)
+    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t85)
+    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t86, before=b10, after=a10)
     call pf_run_test( &
         'test_provenance', &
         'test_commit_is_not_read_from_the_working_directory', &
-        t86, &
+        t87, &
         before=b10, &
         after=a10)
-    call pf_run_test('test_provenance', 'test_provenance_written', t87, before=b10, after=a10)
+    call pf_run_test('test_provenance', 'test_provenance_written', t88, before=b10, after=a10)
     call pf_run_test( &
         'test_provenance', &
         'test_provenance_attributes_are_the_documented_ones', &
-        t88, &
+        t89, &
         before=b10, &
         after=a10)
-    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t89)
-    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t90)
-    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t91)
-    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t92)
-    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t93, before=b12, after=a12)
-    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t94, before=b12, after=a12)
+    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t90)
+    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t91)
+    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t92)
+    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t93)
+    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t94, before=b12, after=a12)
+    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t95, before=b12, after=a12)
     call pf_run_test( &
         'test_scene_bifurcation', &
         'test_threshold_transmits_and_one_step_below_does_not', &
-        t95, &
+        t96, &
         before=b12, &
         after=a12)
-    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t96, before=b12, after=a12)
-    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t97, before=b12, after=a12)
-    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t98, before=b12, after=a12)
-    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t99, before=b12, after=a12)
-    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t100, before=b13, after=a13)
-    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t101, before=b13, after=a13)
-    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t102, before=b14, after=a14)
-    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t103, before=b14, after=a14)
-    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t104, before=b14, after=a14)
-    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t105, before=b14, after=a14)
-    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t106, before=b14, after=a14)
-    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t107, before=b14, after=a14)
-    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t108, before=b14, after=a14)
-    call pf_run_test('test_schema', 'test_table_is_complete', t109)
-    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t110)
-    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t111)
-    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t112)
-    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t113)
-    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t114)
-    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t115)
-    call pf_run_test('test_scheme', 'test_evanescent_wave', t116)
-    call pf_run_test('test_scheme', 'test_second_order_in_dt', t117)
-    call pf_run_test('test_scheme', 'test_stability_boundary', t118)
-    call pf_run_test('test_scheme', 'test_newton_failure_reported', t119)
-    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t120)
-    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t121)
-    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t122)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t123)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t124)
-    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t125)
-    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t126)
-    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t127)
-    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t128)
-    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t129)
-    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t130)
-    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t131)
-    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t132)
-    call pf_run_test('test_stability', 'test_linear_limits', t133, before=b18, after=a18)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t134, before=b18, after=a18)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t135, before=b18, after=a18)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t136)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t137)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t138)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t139)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t140)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t141)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t142)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t143)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t144)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t145)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t146)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t147)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t148)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t149)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t150)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t151)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t152)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t153)
+    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t97, before=b12, after=a12)
+    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t98, before=b12, after=a12)
+    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t99, before=b12, after=a12)
+    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t100, before=b12, after=a12)
+    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t101, before=b13, after=a13)
+    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t102, before=b13, after=a13)
+    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t103, before=b14, after=a14)
+    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t104, before=b14, after=a14)
+    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t105, before=b14, after=a14)
+    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t106, before=b14, after=a14)
+    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t107, before=b14, after=a14)
+    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t108, before=b14, after=a14)
+    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t109, before=b14, after=a14)
+    call pf_run_test('test_schema', 'test_table_is_complete', t110)
+    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t111)
+    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t112)
+    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t113)
+    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t114)
+    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t115)
+    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t116)
+    call pf_run_test('test_scheme', 'test_evanescent_wave', t117)
+    call pf_run_test('test_scheme', 'test_second_order_in_dt', t118)
+    call pf_run_test('test_scheme', 'test_stability_boundary', t119)
+    call pf_run_test('test_scheme', 'test_newton_failure_reported', t120)
+    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t121)
+    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t122)
+    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t123)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t124)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t125)
+    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t126)
+    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t127)
+    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t128)
+    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t129)
+    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t130)
+    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t131)
+    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t132)
+    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t133)
+    call pf_run_test('test_stability', 'test_linear_limits', t134, before=b18, after=a18)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t135, before=b18, after=a18)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t136, before=b18, after=a18)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t137)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t138)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t139)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t140)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t141)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t142)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t143)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t144)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t145)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t146)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t147)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t148)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t149)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t150)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t151)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t152)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t153)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t154)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t154, &
+        t155, &
         before=b23, &
         after=a23)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t155, before=b23, after=a23)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t156, before=b23, after=a23)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t156, &
+        t157, &
         before=b23, &
         after=a23)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t157, before=b23, after=a23)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t158, before=b23, after=a23)
-    call pf_run_test('test_threshold', 'test_monotone_step', t159)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t160)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t161)
-    call pf_run_test('test_threshold', 'test_two_transitions', t162)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t163)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t164)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t165)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t166)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t167)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t168)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t169)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t170)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t171, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t172, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t173, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t174, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t175, before=b25, after=a25)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t158, before=b23, after=a23)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t159, before=b23, after=a23)
+    call pf_run_test('test_threshold', 'test_monotone_step', t160)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t161)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t162)
+    call pf_run_test('test_threshold', 'test_two_transitions', t163)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t164)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t165)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t166)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t167)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t168)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t169)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t170)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t171)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t172, before=b25, after=a25)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t173, before=b25, after=a25)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t174, before=b25, after=a25)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t175, before=b25, after=a25)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t176, before=b25, after=a25)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t176, &
+        t177, &
         before=b25, &
         after=a25)
-    call pf_run_test('test_workprec', 'test_fitted_order', t177, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t178, before=b25, after=a25)
+    call pf_run_test('test_workprec', 'test_fitted_order', t178, before=b25, after=a25)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t179, before=b25, after=a25)
     call pf_driver_finish()
 end program pf_driver

@@ -5,7 +5,9 @@ module test_journal
     use pf_runtime
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
-    use supratrans_journal, only: journal_header, journal_line, read_journal, write_journal
+    use, intrinsic :: iso_fortran_env, only: int64
+    use supratrans_journal, only: journal_header, journal_line, read_journal, write_journal, crc32, parse_journal_line, &
+                                  header_checked
     implicit none
 
 contains
@@ -36,29 +38,29 @@ contains
         written(:, 2) = [1.78_wp, 9.0_wp, 1.0_wp]
         call write_journal(path, journal_header(2, [character(len=9) :: "threshold", "runs", "status"], "ABC"), &
                            written, [.true., .true.], error)
-        call assertFalse(allocated(error), location=pf_source_location('test_journal.pf', 38, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_journal.pf', 40, 'assertFalse'))
         if (pf_any_failed()) return
         results = 0.0_wp
         done = .false.
         call read_journal(path, journal_header(2, [character(len=9) :: "status", "threshold", "runs"], "ABC"), &
                           results, done, dropped, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_journal.pf', 43, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_journal.pf', 45, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0, dropped, location=pf_source_location('test_journal.pf', 44, 'assertEqual'))
+        call assertEqual(0, dropped, location=pf_source_location('test_journal.pf', 46, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertTrue(all(done), location=pf_source_location('test_journal.pf', 45, 'assertTrue'))
+        call assertTrue(all(done), location=pf_source_location('test_journal.pf', 47, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             [0.0_wp, 4.28_wp, 17.0_wp], &
             results(:, 1), &
             0.0_wp, &
-            location=pf_source_location('test_journal.pf', 46, 'assertEqual'))
+            location=pf_source_location('test_journal.pf', 48, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             [1.0_wp, 1.78_wp, 9.0_wp], &
             results(:, 2), &
             0.0_wp, &
-            location=pf_source_location('test_journal.pf', 47, 'assertEqual'))
+            location=pf_source_location('test_journal.pf', 49, 'assertEqual'))
         if (pf_any_failed()) return
         open (newunit=unit, file=path)
         close (unit, status="delete")
@@ -82,12 +84,12 @@ contains
         call assertTrue( &
             allocated(error), &
             message="a journal with other fields was accepted", &
-            location=pf_source_location('test_journal.pf', 67, 'assertTrue'))
+            location=pf_source_location('test_journal.pf', 69, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "another version") > 0, &
             message=error%message, &
-            location=pf_source_location('test_journal.pf', 68, 'assertTrue'))
+            location=pf_source_location('test_journal.pf', 70, 'assertTrue'))
         if (pf_any_failed()) return
         ! one field more
         call read_journal(path, journal_header(1, [character(len=9) :: "threshold", "runs", "steps"], "ABC"), &
@@ -95,7 +97,7 @@ contains
         call assertTrue( &
             allocated(error), &
             message="a journal with fewer fields was accepted", &
-            location=pf_source_location('test_journal.pf', 72, 'assertTrue'))
+            location=pf_source_location('test_journal.pf', 74, 'assertTrue'))
         if (pf_any_failed()) return
         ! another input
         call read_journal(path, journal_header(1, [character(len=9) :: "threshold", "runs"], "XYZ"), results, done, &
@@ -103,12 +105,12 @@ contains
         call assertTrue( &
             allocated(error), &
             message="a journal of another input was accepted", &
-            location=pf_source_location('test_journal.pf', 76, 'assertTrue'))
+            location=pf_source_location('test_journal.pf', 78, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "different input") > 0, &
             message=error%message, &
-            location=pf_source_location('test_journal.pf', 77, 'assertTrue'))
+            location=pf_source_location('test_journal.pf', 79, 'assertTrue'))
         if (pf_any_failed()) return
         open (newunit=unit, file=path)
         close (unit, status="delete")
@@ -117,13 +119,77 @@ contains
     ! @test
     subroutine test_header_names_the_fields()
         character(len=:), allocatable :: header
+        character(len=8) :: hex
 
+        ! the checksum is zlib's crc32 of the text before " *" (its check value for "123456789" is CBF43926)
+        call assertEqual( &
+            int(z'CBF43926', int64), &
+            crc32("123456789"), &
+            location=pf_source_location('test_journal.pf', 90, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            crc32("123456789"), &
+            crc32("6789", crc32("12345")), &
+            location=pf_source_location('test_journal.pf', 91, 'assertEqual'))
+        if (pf_any_failed()) return
+        write (hex, "(z8.8)") crc32("supratrans-journal 4 12 ABC threshold runs")
         header = journal_header(12, [character(len=9) :: "threshold", "runs"], "ABC")
         call assertEqual( &
-            "supratrans-journal 3 12 ABC threshold runs", &
+            "supratrans-journal 4 12 ABC threshold runs *" // hex, &
             header, &
-            location=pf_source_location('test_journal.pf', 87, 'assertEqual'))
+            location=pf_source_location('test_journal.pf', 94, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_header_names_the_fields
+
+    ! @test
+    subroutine test_records_bound_to_their_header()
+        ! a line made under one header (input ABC) passes under it and fails under another (input ABD, or the fields
+        ! in another order), though its own text is the same; a header with two names swapped fails its checksum
+        character(len=:), allocatable :: mine, other, swapped, line
+        real(wp) :: values(2)
+        integer :: task
+        logical :: ok
+
+        mine = journal_header(3, [character(len=9) :: "threshold", "runs"], "ABC")
+        other = journal_header(3, [character(len=9) :: "threshold", "runs"], "ABD")
+        line = journal_line(2, [4.28_wp, 17.0_wp], mine)
+        call parse_journal_line(line, mine, 3, task, values, ok)
+        call assertTrue( &
+            ok, &
+            message="a line under its own header", &
+            location=pf_source_location('test_journal.pf', 110, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertEqual(2, task, location=pf_source_location('test_journal.pf', 111, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            [4.28_wp, 17.0_wp], &
+            values, &
+            0.0_wp, &
+            location=pf_source_location('test_journal.pf', 112, 'assertEqual'))
+        if (pf_any_failed()) return
+        call parse_journal_line(line, other, 3, task, values, ok)
+        call assertFalse( &
+            ok, &
+            message="a line of another input's journal was taken", &
+            location=pf_source_location('test_journal.pf', 114, 'assertFalse'))
+        if (pf_any_failed()) return
+        call parse_journal_line(line, journal_header(3, [character(len=9) :: "runs", "threshold"], "ABC"), 3, task, &
+                                values, ok)
+        call assertFalse( &
+            ok, &
+            message="a line under a header with its fields in another order was taken", &
+            location=pf_source_location('test_journal.pf', 117, 'assertFalse'))
+        if (pf_any_failed()) return
+        call assertTrue(header_checked(mine), location=pf_source_location('test_journal.pf', 118, 'assertTrue'))
+        if (pf_any_failed()) return
+        swapped = mine(1:index(mine, "threshold") - 1) // "runs threshold" // mine(index(mine, " *"):)
+        call assertTrue(len(swapped) == len(mine), location=pf_source_location('test_journal.pf', 120, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertFalse( &
+            header_checked(swapped), &
+            message="swapped field names passed the header's checksum", &
+            location=pf_source_location('test_journal.pf', 121, 'assertFalse'))
+        if (pf_any_failed()) return
+    end subroutine test_records_bound_to_their_header
 
 end module test_journal

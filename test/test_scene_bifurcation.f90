@@ -294,7 +294,7 @@ contains
         read (lines(2), *) task, values
         record = from_values(values)
         record%wall_time = sentinel
-        lines(2) = journal_line(task, to_values(record))
+        lines(2) = journal_line(task, to_values(record), trim(lines(1)))
         ! keep two task lines and half of a third, without its newline
         call delete_file(base // ".h5.journal")
         open (newunit=unit, file=base // ".h5.journal", access="stream", form="formatted", status="new", &

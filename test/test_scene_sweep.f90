@@ -328,7 +328,7 @@ contains
         ! mark one kept line, to see that the resumed sweep takes it from the journal instead of recomputing it
         read (lines(2), *) i_tampered, values
         values(iv_wall_time) = 12345.0_wp
-        lines(2) = journal_line(i_tampered, values)
+        lines(2) = journal_line(i_tampered, values, trim(lines(1)))
         call write_text(journal, lines(1:1 + kept), lines(2 + kept)(1:len_trim(lines(2 + kept))/2))
 
         ! the same journal with another input is refused, and nothing is written
