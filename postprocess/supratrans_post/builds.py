@@ -79,7 +79,10 @@ def archive(compiler: str, name: str, folders: list[str]) -> str | None:
     for folder in folders:
         if (Path(folder) / name).is_file():
             return str(Path(folder) / name)
-    found = subprocess.run([compiler, f"-print-file-name={name}"], capture_output=True, text=True).stdout.strip()
+    try:
+        found = subprocess.run([compiler, f"-print-file-name={name}"], capture_output=True, text=True).stdout.strip()
+    except OSError:
+        return None
     return found if found and Path(found).is_file() else None
 
 
