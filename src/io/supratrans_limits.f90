@@ -55,6 +55,16 @@ contains
             call fail("chain", "n = " // sci(n) // " oscillators: more than the limit " // sci(max_sites))
             return
         end if
+        if (kind == "timeseries") then
+            ! the work limit of every scene, for its one run (t_final/dt steps x n oscillators)
+            work = steps*n
+            if (.not. (work <= max_site_steps)) then
+                call fail("numerics", "about " // sci(work) // " oscillator-steps (" // sci(steps) // " steps x " &
+                          // sci(n) // " oscillators): more than the limit " // sci(max_site_steps) &
+                          // " (about a day on one core); a shorter t_final, a larger dt or a shorter chain")
+                return
+            end if
+        end if
         threads = 1
         !$ threads = omp_get_max_threads()
         if (kind /= "timeseries") then

@@ -62,6 +62,9 @@ module supratrans_result
         real(wp) :: u_beyond_max = 0.0_wp
         !> The run was stopped as soon as its verdict was decided.
         logical :: stopped_early = .false.
+        !> The run was cut short by a stop signal (SIGTERM, SIGINT, SIGUSR1) before T: its records end at `t_end`
+        !> and it is no result (only a run asked to be `interruptible` by `simulate` can be).
+        logical :: interrupted = .false.
         !> Why the verdict is what it is.
         character(len=:), allocatable :: verdict_reason
         !> Margin of the verdict, relative to the detect amplitude a: 1 - max|u|/a beyond the detector for a run that
