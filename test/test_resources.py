@@ -197,3 +197,119 @@ def test_check_says_ok_on_a_writable_directory_and_creates_nothing(exe, tmp_path
     proc = run(exe, "--check", "s.nml", cwd=tmp_path, timeout=60)
     assert proc.returncode == 0, proc.stderr
     assert leftovers(tmp_path / "out") == []
+
+
+# ------------------------------------------------------------------------------ 8. memory and threads
+
+def fake_cgroups(root, lines, files):
+    """A fake tree for SUPRATRANS_TEST_CGROUP_ROOT: `lines` of proc/self/cgroup, `files` {path under sys/fs/cgroup:
+    text}."""
+    (root / "proc" / "self").mkdir(parents=True)
+    (root / "proc" / "self" / "cgroup").write_text("".join(line + "\n" for line in lines))
+    for name, text in files.items():
+        path = root / "sys" / "fs" / "cgroup" / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(text + "\n")
+    return {"SUPRATRANS_TEST_CGROUP_ROOT": str(root)}
+
+
+# a chain of 10^5 oscillators needs about 16 MB; the cgroups below allow 10 MB somewhere up the hierarchy
+CGROUPS = {
+    "v2, limit on the job above the step": (["0::/job_7/step_0/task_0"],
+                                            {"job_7/memory.max": "10000000", "job_7/step_0/memory.max": "max",
+                                             "job_7/step_0/task_0/memory.max": "max", "memory.max": "max"},
+                                            "job_7/memory.max"),
+    "v2, limit on the process's own cgroup": (["0::/user.slice/a.scope"],
+                                              {"user.slice/a.scope/memory.max": "10000000"},
+                                              "a.scope/memory.max"),
+    "v1 memory controller": (["12:pids:/x", "4:memory:/slurm/uid_0/job_7", "3:cpu,cpuacct:/x", "0::/"],
+                             {"memory/slurm/uid_0/job_7/memory.limit_in_bytes": "10000000",
+                              "memory/memory.limit_in_bytes": "9223372036854771712"},
+                             "job_7/memory.limit_in_bytes"),
+    "v1 inside a container (path not mounted: the mount's root)": (
+        ["4:memory:/process_api/abc"], {"memory/memory.limit_in_bytes": "10000000"}, "memory/memory.limit_in_bytes"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(CGROUPS))
+def test_cgroup_memory_limit_is_refused_before_the_work(exe, tmp_path, case):
+    """A cgroup limit below what the run needs (Slurm's --mem: the job was OOM-killed, exit 137, silently) is
+    refused before the work: status 2, one line naming the cgroup file; nothing written."""
+    lines, files, named = CGROUPS[case]
+    env = fake_cgroups(tmp_path / "root", lines, files)
+    namelist(tmp_path, TS.format(n=100000, t_final=0.1))
+    proc = run(exe, "s.nml", cwd=tmp_path, env=env, timeout=120)
+    one_line(proc, 2, "needs about 0.016 GB", "0.01 GB available", "cgroup", named)
+    assert leftovers(tmp_path / "out") == []
+    assert run(exe, "--check", "s.nml", cwd=tmp_path, env=env).returncode == 2
+
+
+def test_cgroup_without_a_limit_runs(exe, tmp_path):
+    env = fake_cgroups(tmp_path / "root", ["0::/job_7/step_0"],
+                       {"job_7/memory.max": "max", "job_7/step_0/memory.max": "max"})
+    namelist(tmp_path, TS.format(n=100000, t_final=0.1))
+    proc = run(exe, "s.nml", cwd=tmp_path, env=env, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert (tmp_path / "out" / "s.h5").is_file()
+
+
+def address_space_limit(kib):
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (kib*1024, kib*1024))
+    return limit
+
+
+def starts_under(exe, tmp_path, kib):
+    """Whether the program starts at all under RLIMIT_AS = kib KiB (`--version`): below some limit the loader cannot
+    map the libraries, or a library's start-up fails or hangs (OpenBLAS, openmp flavour) before main: not ours."""
+    try:
+        return run(exe, "--version", cwd=tmp_path, timeout=8, preexec_fn=address_space_limit(kib)).returncode == 0
+    except subprocess.TimeoutExpired:
+        return False
+
+
+def smallest_start(exe, tmp_path):
+    """The smallest address-space limit (KiB, within 2 MiB) under which the program starts (bisection)."""
+    low, high = 0, 4 << 20
+    if not starts_under(exe, tmp_path, high):
+        pytest.skip("the program does not start under a 4 GiB address-space limit here")
+    while high - low > 2048:
+        mid = (low + high)//2
+        low, high = (low, mid) if starts_under(exe, tmp_path, mid) else (mid, high)
+    return high
+
+
+def test_address_space_limit_ends_in_one_line_never_a_backtrace(exe, tmp_path):
+    """Under `ulimit -v` (RLIMIT_AS) a little above what the program maps to run, a run of 10^5 oscillators (about
+    16 MB more) used to die allocating with a backtrace (or a SIGSEGV): the check compared the need with the whole
+    limit. Now it runs (0) or is refused in one line (2) before the work: the check counts what is mapped already."""
+    base = smallest_start(exe, tmp_path)
+    namelist(tmp_path, TS.format(n=100000, t_final=0.1))
+    seen = set()
+    for kib in range(base, base + 60001, 2500):
+        if not starts_under(exe, tmp_path, kib):
+            continue
+        proc = run(exe, "s.nml", cwd=tmp_path, timeout=120, preexec_fn=address_space_limit(kib))
+        assert proc.returncode in (0, 2), (kib - base, proc.returncode, proc.stderr)
+        assert "Backtrace" not in proc.stderr and "Error allocating" not in proc.stderr, proc.stderr
+        if proc.returncode == 2:
+            one_line(proc, 2, "ulimit -v", "GB available")
+            assert leftovers(tmp_path / "out") == []
+        else:
+            assert proc.stderr == "", proc.stderr
+            (tmp_path / "out" / "s.h5").unlink()
+        (tmp_path / "out" / "s.h5.lock").unlink(missing_ok=True)
+        seen.add(proc.returncode)
+    assert seen == {0, 2}, (base, seen)            # both sides of the limit were seen
+
+
+def test_absurd_thread_count_is_bounded_with_one_line(exe, tmp_path):
+    """OMP_NUM_THREADS=100000 used to crash the program (SIGSEGV creating threads): it runs with at most 4 threads
+    a processor it may use (sched_getaffinity) and says so in one line."""
+    namelist(tmp_path, SWEEP.format(out="out/s.h5"))
+    cpus = len(os.sched_getaffinity(0))
+    proc = run(exe, "s.nml", cwd=tmp_path, env={"OMP_NUM_THREADS": "100000"}, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    line = one_line(proc, 0, "100000 OpenMP threads", f"running {4*cpus}")
+    assert line.startswith("supratrans: ")
+    assert (tmp_path / "out" / "s.h5").is_file()

@@ -144,15 +144,13 @@ int supratrans_same_file(const char *a, const char *b)
 
 #include <sys/resource.h>
 
-/* The smaller of the address-space and data-segment limits of this process in bytes, or -1 when unlimited. */
-double supratrans_memory_limit(void)
+/* A limit of this process in bytes, -1 when unlimited: `kind` 1 the address space (RLIMIT_AS, ulimit -v), 2 the
+ * data segment (RLIMIT_DATA, ulimit -d). */
+double supratrans_memory_limit(int kind)
 {
-    struct rlimit as, data;
-    double limit = -1.0;
-    if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) limit = (double)as.rlim_cur;
-    if (getrlimit(RLIMIT_DATA, &data) == 0 && data.rlim_cur != RLIM_INFINITY)
-        if (limit < 0.0 || (double)data.rlim_cur < limit) limit = (double)data.rlim_cur;
-    return limit;
+    struct rlimit r;
+    if (getrlimit(kind == 1 ? RLIMIT_AS : RLIMIT_DATA, &r) != 0 || r.rlim_cur == RLIM_INFINITY) return -1.0;
+    return (double)r.rlim_cur;
 }
 
 /* Bytes of address space this process maps now (the first field of /proc/self/statm, in pages), -1 if unknown:

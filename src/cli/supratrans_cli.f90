@@ -31,6 +31,7 @@ module supratrans_cli
     use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
     use supratrans_input, only: read_input, read_input_text
     use supratrans_validate, only: validate_config
+    use supratrans_limits, only: bound_threads
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, status_name
     use supratrans_output, only: write_timeseries
@@ -101,6 +102,14 @@ contains
         case ("--version", "-V")
             text = "supratrans " // supratrans_version
             return
+        case default
+            continue
+        end select
+        ! every command that may run something: at most max_threads_per_cpu threads a processor, said in one line
+        call bound_threads(text)
+        if (len(text) > 0) write (error_unit, "(a)") text
+        text = ""
+        select case (trim(args(1)))
         case ("merge")
             partial = .false.
             overwrite = .false.
