@@ -268,8 +268,17 @@ def starts_under(exe, tmp_path, kib):
         return False
 
 
+STARTS = {}
+
+
 def smallest_start(exe, tmp_path):
-    """The smallest address-space limit (KiB, within 2 MiB) under which the program starts (bisection)."""
+    """The smallest address-space limit (KiB, within 2 MiB) under which the program starts (bisection, once)."""
+    if exe not in STARTS:
+        STARTS[exe] = bisect_start(exe, tmp_path)
+    return STARTS[exe]
+
+
+def bisect_start(exe, tmp_path):
     low, high = 0, 4 << 20
     if not starts_under(exe, tmp_path, high):
         pytest.skip("the program does not start under a 4 GiB address-space limit here")
@@ -313,3 +322,27 @@ def test_absurd_thread_count_is_bounded_with_one_line(exe, tmp_path):
     line = one_line(proc, 0, "100000 OpenMP threads", f"running {4*cpus}")
     assert line.startswith("supratrans: ")
     assert (tmp_path / "out" / "s.h5").is_file()
+
+
+@pytest.mark.parametrize("scene", ["timeseries", "amplitude_sweep"])
+def test_allocation_failure_ends_in_one_line(exe, tmp_path, scene):
+    """When memory runs out at an allocation all the same (the check before the work skipped by the test-only
+    SUPRATRANS_TEST_NO_MEMORY_CHECK, as when its estimate is short), the run ends with one line naming what could
+    not be allocated, status 2, never a backtrace; a scene journals no task of a run that could not allocate."""
+    base = smallest_start(exe, tmp_path)
+    text = TS.format(n=2000000, t_final=0.1)
+    if scene == "amplitude_sweep":
+        text = SWEEP.format(out="out/s.h5").replace("n = 40,", "n = 2000000,").replace("t_final = 10.0", "t_final = 0.1")
+    namelist(tmp_path, text)
+    env = {"SUPRATRANS_TEST_NO_MEMORY_CHECK": "1", "OMP_NUM_THREADS": "1"}
+    proc = run(exe, "s.nml", cwd=tmp_path, env=env, timeout=120, preexec_fn=address_space_limit(base + 20000))
+    line = one_line(proc, 2, "allocate", "out of memory")
+    assert "Backtrace" not in proc.stderr and "Error allocating" not in proc.stderr
+    if scene == "timeseries":
+        assert "cannot allocate" in line and "oscillators" in line, line
+    else:
+        assert "after 0 of 4 runs" in line and "it resumes" in line, line
+    assert not (tmp_path / "out" / "s.h5").exists()
+    journal = tmp_path / "out" / "s.h5.journal"
+    if journal.exists():
+        assert journal.read_text().count("\n") == 1        # the header only: no task recorded

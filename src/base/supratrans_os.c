@@ -133,6 +133,14 @@ void supratrans_catch_stop_signals(void)
 /* The signal that asked the program to stop, 0 if none. */
 int supratrans_stop_signal(void) { return (int)stop_signal; }
 
+static volatile sig_atomic_t no_memory = 0;
+
+/* Note that a run could not allocate its arrays (any thread; the flag is only ever set). */
+void supratrans_note_out_of_memory(void) { no_memory = 1; }
+
+/* 1 once a run could not allocate its arrays. */
+int supratrans_out_of_memory(void) { return (int)no_memory; }
+
 
 /* 1 if the two paths name the same existing file (same device and inode), 0 otherwise. */
 int supratrans_same_file(const char *a, const char *b)

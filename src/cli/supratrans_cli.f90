@@ -594,6 +594,12 @@ contains
                                  // "resume: the same command runs it again from t = 0)", err_interrupted)
                 return
             end if
+            if (result%no_memory) then
+                call fatal_error(error, trim(cfg%output%file) // ": " // result%reason // " (out of memory; " &
+                                 // "nothing written): a shorter chain or t_final, sparser records, or more memory", &
+                                 err_input)
+                return
+            end if
             call progress(cfg, "  run ended: " // status_name(result%status) // " " // result%reason)
             call progress(cfg, "  verdict: " // trim(merge("transmitting    ", "not transmitting", result%transmitting)) &
                           // " (" // result%verdict_reason // "); energy injected " // real_str(result%ledger%injected, 6))

@@ -15,7 +15,7 @@ module supratrans_simulate
     use supratrans_potential, only: check_potential
     use supratrans_stepper, only: stepper, step_ok, step_not_converged, step_breakdown
     use supratrans_steppers, only: new_stepper
-    use supratrans_system, only: stop_signal
+    use supratrans_system, only: stop_signal, note_out_of_memory
     use supratrans_observers, only: observer_item, standard_observers
     use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed, run_invalid, &
                                  init_records, close_verdict
@@ -100,6 +100,7 @@ contains
             m = 0
         end if
         call init_records(result, run%record, m)
+        if (result%no_memory) call note_out_of_memory()
         if (result%status /= run_ok) then
             call close_verdict(result, run%detect)
             call stop_clock()
@@ -107,6 +108,16 @@ contains
         end if
 
         call integrator%init(run)
+        if (allocated(integrator%reason)) then
+            ! its arrays could not be allocated: no run, and a note that stops the program (`out_of_memory`)
+            result%status = run_invalid
+            result%no_memory = .true.
+            result%reason = integrator%reason
+            call note_out_of_memory()
+            call close_verdict(result, run%detect)
+            call stop_clock()
+            return
+        end if
         verdict = .false.
         if (present(verdict_only)) verdict = verdict_only
         integrator%exact_energy = .not. verdict     ! no ledger to close
