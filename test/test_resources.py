@@ -330,9 +330,9 @@ def test_allocation_failure_ends_in_one_line(exe, tmp_path, scene):
     SUPRATRANS_TEST_NO_MEMORY_CHECK, as when its estimate is short), the run ends with one line naming what could
     not be allocated, status 2, never a backtrace; a scene journals no task of a run that could not allocate."""
     base = smallest_start(exe, tmp_path)
-    text = TS.format(n=2000000, t_final=0.1)
+    text = TS.format(n=1000000, t_final=0.1)
     if scene == "amplitude_sweep":
-        text = SWEEP.format(out="out/s.h5").replace("n = 40,", "n = 2000000,").replace("t_final = 10.0", "t_final = 0.1")
+        text = SWEEP.format(out="out/s.h5").replace("n = 40,", "n = 1000000,").replace("t_final = 10.0", "t_final = 0.1")
     namelist(tmp_path, text)
     env = {"SUPRATRANS_TEST_NO_MEMORY_CHECK": "1", "OMP_NUM_THREADS": "1"}
     proc = run(exe, "s.nml", cwd=tmp_path, env=env, timeout=120, preexec_fn=address_space_limit(base + 20000))
