@@ -16,7 +16,9 @@
 !> lock manager, Lustre without `-o flock`) the run stops and says so; `SUPRATRANS_NO_LOCK=1` runs without the lock
 !> (and without HDF5's own file locking) for whoever is sure no two runs write one output. SIGTERM, SIGINT and
 !> SIGUSR1 stop a scene cleanly (exit status 5): the tasks running finish and are journaled, a snapshot is written,
-!> and the same command resumes.
+!> and the same command resumes. A timeseries (one run, no journal) stops within a time step and writes nothing; a
+!> merge catches them from its start and stops, writing nothing, unless it is writing the merged output already
+!> (then it finishes). `--check` also asks access(2) whether the output's directory can be written.
 module supratrans_cli
     use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
     use supratrans_kinds, only: wp, supratrans_version
@@ -27,7 +29,7 @@ module supratrans_cli
     use supratrans_system, only: make_directories, path_kind, path_directory, path_missing, same_file, lock_file, &
                                  unlock_file, remove_file, catch_stop_signals, link_kind, path_link, path_special, &
                                  lock_busy, lock_unsupported, remove_stale_temporaries, disable_hdf5_locking, &
-                                 temp_extra, path_regular, directory_writable, stop_signal, usable_cpus
+                                 temp_extra, path_regular, directory_writable, stop_signal
     use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
     use supratrans_input, only: read_input, read_input_text
     use supratrans_validate, only: validate_config
