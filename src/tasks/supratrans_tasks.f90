@@ -10,10 +10,10 @@
 module supratrans_tasks
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
     use supratrans_kinds, only: wp
-    use supratrans_strings, only: int_str, fixed1, text_fingerprint, printable
+    use supratrans_strings, only: int_str, real_str, fixed1, text_fingerprint, printable
     use supratrans_error, only: error_type, fatal_error, err_io, err_interrupted, err_input
     use supratrans_config, only: input_config
-    use supratrans_system, only: remove_file, stop_signal
+    use supratrans_system, only: remove_file, stop_signal, out_of_memory
     use supratrans_journal, only: journal_header, read_journal, write_journal, append_journal_line, record_binding
     use supratrans_parts, only: write_part
     !$ use omp_lib, only: omp_get_max_threads
@@ -97,7 +97,7 @@ contains
         integer :: nvalues, i, ndone_start, ndone, ntodo, ios, threads, dropped, slice_index, slice_count
         integer(int64) :: clock_start, clock_rate, clock_now, binding
         real(wp) :: last_progress, last_snapshot, elapsed
-        logical :: snapshot_only, write_failed, written, merging
+        logical :: snapshot_only, write_failed, written, merging, lost
         integer :: stop_after
         character(len=16) :: knob
 
@@ -110,7 +110,15 @@ contains
             slice_count = cfg%slice_count
             snapshot_only = cfg%snapshot_only
         end if
-        allocate (results(nvalues, ntask), done(ntask), mine(ntask))
+        allocate (results(nvalues, ntask), stat=ios)
+        if (ios == 0) allocate (done(ntask), stat=ios)
+        if (ios == 0) allocate (mine(ntask), stat=ios)
+        if (ios /= 0) then
+            call fatal_error(error, journal // ": cannot allocate " // real_str(8.0_wp*real(nvalues + 1, wp) &
+                             *real(ntask, wp)/1.0e9_wp, 3) // " GB for the results of " // int_str(ntask) // " " &
+                             // label // " (more memory, or fewer tasks)", err_input)
+            return
+        end if
         results = 0.0_wp
         done = .false.
         mine = .true.
@@ -167,23 +175,27 @@ contains
             flush (error_unit)
         end if
 
-        !$omp parallel do schedule(dynamic, 1) default(shared) private(i, values, clock_now, elapsed, written)
+        !$omp parallel do schedule(dynamic, 1) default(shared) private(i, values, clock_now, elapsed, written, lost)
         do i = 1, ntask
             if (done(i) .or. .not. mine(i)) cycle
-            if (stop_signal() /= 0 .or. ndone - ndone_start >= stop_after .or. write_failed) cycle
+            if (stop_signal() /= 0 .or. ndone - ndone_start >= stop_after .or. write_failed .or. out_of_memory()) cycle
             allocate (values(nvalues))
             call tasks%run(i, values)
+            ! a run that could not allocate its arrays (this task's or another thread's) is no result: not journaled
+            lost = out_of_memory()
             !$omp critical (supratrans_tasks_journal)
-            results(:, i) = values
-            done(i) = .true.
-            ndone = ndone + 1
-            if (.not. write_failed) then
-                call append_journal_line(journal, binding, i, values, written)
-                write_failed = .not. written
+            if (.not. lost) then
+                results(:, i) = values
+                done(i) = .true.
+                ndone = ndone + 1
+                if (.not. write_failed) then
+                    call append_journal_line(journal, binding, i, values, written)
+                    write_failed = .not. written
+                end if
             end if
             call system_clock(clock_now)
             elapsed = real(clock_now - clock_start, wp)/real(clock_rate, wp)
-            if (.not. quiet .and. (elapsed - last_progress >= progress_interval .or. ndone == ntodo)) then
+            if (.not. quiet .and. .not. lost .and. (elapsed - last_progress >= progress_interval .or. ndone == ntodo)) then
                 last_progress = elapsed
                 write (error_unit, "(a)") "  " // int_str(ndone) // "/" // int_str(ntodo) // " " // label &
                     // ", elapsed " // fixed1(elapsed) // " s, remaining ~" &
@@ -201,6 +213,13 @@ contains
         if (write_failed) then
             call fatal_error(error, journal // ": cannot write the journal (disk full?); run again to resume from " &
                              // "the lines it holds", err_io)
+            return
+        end if
+        if (out_of_memory()) then
+            call tasks%snapshot(results, done)
+            call fatal_error(error, journal // ": a run could not allocate its arrays (out of memory) after " &
+                             // int_str(count(done .and. mine)) // " of " // int_str(ntodo) // " " // label &
+                             // "; run again with fewer threads (OMP_NUM_THREADS) or more memory: it resumes", err_input)
             return
         end if
         if (count(done .and. mine) < ntodo) then
