@@ -2,6 +2,8 @@
 
 - `debug_exe`, `release_exe`: the supratrans executable, built by fpm once per session (debug, or the release
   profile that make_figures.py uses), only when a selected test needs it; the tests are skipped without fpm;
+- `host_exe`: the release build for this machine's vector units (fpm's release flags plus HOST_FLAGS, in a build
+  directory of its own: fpm hashes the flags), for the cross-build tests of test/test_host_build.py;
 - `write_namelist`: writes a namelist into the test's tmp_path; `small_chain`: the text of a tiny timeseries;
 - `tiny`: small HDF5 files of every scene, made by the program itself (tiny chains, short times) once per session,
   each the first time a test asks for it (`tiny.file("fig2")`); tests that change one copy it first;
@@ -13,6 +15,7 @@ The slow end-to-end tests (a compiler, make_figures.py running fpm, the timed Sc
 """
 from __future__ import annotations
 
+import os
 import shutil
 import subprocess
 import sys
@@ -31,10 +34,16 @@ ROOT = Path(__file__).resolve().parent
 WITH_COMMIT = ["sh", str(ROOT / ".ci" / "with_commit")]
 
 
-def build_program(root: Path, profile: str = "debug", with_commit: bool = True) -> Path:
-    """Build the program in the source tree `root` with fpm (`debug` or `release`), through `.ci/with_commit`
-    (the commit recorded) or with plain fpm; the path of its executable. Raises CalledProcessError."""
-    args = ["--profile", profile]
+#: Compiler flags of the host build, added to fpm's release flags: SUPRATRANS_HOST_FLAGS, else -march=native
+#: (every vector unit of the machine that builds it; docs/benchmark.md, "Builds for the hardware").
+HOST_FLAGS = os.environ.get("SUPRATRANS_HOST_FLAGS", "-march=native")
+
+
+def build_program(root: Path, profile: str = "debug", with_commit: bool = True, flags: str = "") -> Path:
+    """Build the program in the source tree `root` with fpm (`debug` or `release`, plus compiler `flags` when
+    given: fpm's `--flag`), through `.ci/with_commit` (the commit recorded) or with plain fpm; the path of its
+    executable. Raises CalledProcessError."""
+    args = ["--profile", profile] + (["--flag", flags] if flags else [])
     wrapper = ["sh", str(root / ".ci" / "with_commit")] if with_commit else []
     # one fpm call builds and names the executable: with_commit relinks at every call
     out = subprocess.run([*wrapper, "fpm", "run", *args, "--runner", "echo"], cwd=root, check=True,
@@ -42,14 +51,14 @@ def build_program(root: Path, profile: str = "debug", with_commit: bool = True) 
     return root / out.stdout.strip().splitlines()[-1].split()[0]
 
 
-def _build(profile: str) -> Path:
-    """Build the program with fpm (`debug` or `release`) and return the path of its executable."""
+def _build(profile: str, flags: str = "") -> Path:
+    """Build the program with fpm (`debug` or `release`, plus `flags`) and return the path of its executable."""
     if shutil.which("fpm") is None:
         pytest.skip("fpm not installed")
     try:
-        return build_program(ROOT, profile)
+        return build_program(ROOT, profile, flags=flags)
     except subprocess.CalledProcessError as e:
-        pytest.fail(f"fpm build --profile {profile} failed:\n{(e.stdout + e.stderr)[-3000:]}")
+        pytest.fail(f"fpm build --profile {profile} --flag '{flags}' failed:\n{(e.stdout + e.stderr)[-3000:]}")
 
 
 @pytest.fixture(scope="session")
@@ -68,6 +77,12 @@ def exe(debug_exe: Path) -> str:
 def release_exe() -> Path:
     """The supratrans executable, release profile (what make_figures.py runs)."""
     return _build("release")
+
+
+@pytest.fixture(scope="session")
+def host_exe() -> Path:
+    """The supratrans executable, release profile built for this machine's vector units (HOST_FLAGS)."""
+    return _build("release", HOST_FLAGS)
 
 
 @pytest.fixture

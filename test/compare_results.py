@@ -5,8 +5,9 @@
 
 Every `*.h5` file of BEFORE_DIR is matched by name in AFTER_DIR; every dataset of the first must exist in the second
 with the same shape and the same values (NaN equal to NaN, bit for bit otherwise). Timings are not results and are
-skipped: datasets whose path contains `wall_time`, `lower_bound` or `clock`, and /provenance (how the file was
-made, not what it holds). Datasets that only AFTER has are listed
+skipped: datasets whose path contains `wall_time`, `lower_bound` or `clock`, /provenance (how the file was
+made, not what it holds) and /parameters/schema (the table of every key the input could have: it grows with each
+new key; the values of the keys are in /parameters' attributes). Datasets that only AFTER has are listed
 as added. Exit status 0 when everything compared is identical, 1 otherwise.
 
 A refactor changes no result: run `python3 postprocess/make_figures.py --quick` in both checkouts and compare.
@@ -17,7 +18,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-SKIP = ("wall_time", "lower_bound", "clock", "provenance")
+SKIP = ("wall_time", "lower_bound", "clock", "provenance", "parameters/schema")
 
 
 def datasets(f):

@@ -1,12 +1,18 @@
 !> Minimal stand-in for the part of pFUnit's `funit` module that supratrans' tests use.
 !>
 !> `test/pf2f90.py` rewrites `use funit` in each `test/test_*.pf` into `use pf_runtime` and every
-!> `@assertX(args)` macro into `call assertX(args, location=pf_source_location('file.pf', line))`
+!> `@assertX(args)` macro into `call assertX(args, location=pf_source_location('file.pf', line, 'assertX'))`
 !> followed by `if (pf_any_failed()) return`, as pFUnit's own preprocessor does. The generic names
 !> and dummy argument names below are pFUnit's, and every specific procedure mirrors one that
 !> pFUnit provides, so a test that compiles against this module also compiles against pFUnit.
 !> Where pFUnit forces `message=` to be passed by keyword (logical `assertEqual`, integer order
 !> comparisons) an unusable optional dummy of a private type does the same here.
+!>
+!> Layout: a generic core of checks on rank-1 arrays of one kind (`check_*`: real64, int64,
+!> logical, character), each reporting the first failing element, and thin typed front-ends,
+!> the specific procedures of the generic names, that only convert their arguments (kind, scalar
+!> or array) for a check. The four order assertions share their front-ends: which relation to
+!> check is the assertion named in the location that their @-macro passes.
 !>
 !> Pass/fail rules are pFUnit's:
 !>
@@ -36,12 +42,16 @@ module pf_runtime
     public :: pf_start_test, pf_any_failed, anyExceptions
     public :: pf_driver_init, pf_run_test, pf_driver_finish
 
-    !> Where an assertion stands in its `.pf` file (pFUnit's `SourceLocation`).
+    !> Where an assertion stands in its `.pf` file, and which it is (pFUnit's `SourceLocation`,
+    !> plus the assertion's name).
     type :: pf_source_location
         !> Base name of the `.pf` file.
         character(len=256) :: file = ""
         !> Line of the assertion in that file.
         integer :: line = 0
+        !> Name of the @-macro, e.g. `assertLessThan`: it tells the order assertions, which share
+        !> their specific procedures, which relation to check.
+        character(len=32) :: assertion = ""
     end type pf_source_location
 
     !> Unusable type: an optional dummy of this type forces the arguments after it to be passed
@@ -55,7 +65,11 @@ module pf_runtime
         end subroutine pf_test_procedure
     end interface
 
-    !> Comparison operators of the order assertions.
+    !> The order assertions (`op_lt`, `op_le`, `op_gt`, `op_ge` index them), and their relations in words.
+    character(len=*), parameter :: order_names(4) = [character(len=24) :: "assertLessThan", &
+        "assertLessThanOrEqual", "assertGreaterThan", "assertGreaterThanOrEqual"]
+    character(len=*), parameter :: order_words(4) = [character(len=24) :: "less than", &
+        "less than or equal to", "greater than", "greater than or equal to"]
     integer, parameter :: op_lt = 1, op_le = 2, op_gt = 3, op_ge = 4
 
     !> `module::test` name of the running test.
@@ -69,129 +83,69 @@ module pf_runtime
     !> Tests run so far that passed and that failed.
     integer :: n_passed = 0, n_failed = 0
 
-    !> pFUnit's `assertEqual`: see the specific procedures for the supported types.
+    !> pFUnit's `assertEqual`: real64 actual values with real64 or int32 expected ones (tolerance
+    !> absent, real64 or real32), int32 and int64, logical, character.
     interface assertEqual
-        module procedure assert_equal_r64s_r64s
-        module procedure assert_equal_r64s_r64s_tol64
-        module procedure assert_equal_r64s_r64s_tol32
-        module procedure assert_equal_i32s_r64s
-        module procedure assert_equal_i32s_r64s_tol64
-        module procedure assert_equal_i32s_r64s_tol32
-        module procedure assert_equal_r64s_r64v
-        module procedure assert_equal_r64s_r64v_tol64
-        module procedure assert_equal_r64s_r64v_tol32
-        module procedure assert_equal_r64v_r64v
-        module procedure assert_equal_r64v_r64v_tol64
-        module procedure assert_equal_r64v_r64v_tol32
-        module procedure assert_equal_i32s_r64v
-        module procedure assert_equal_i32s_r64v_tol64
-        module procedure assert_equal_i32s_r64v_tol32
-        module procedure assert_equal_i32v_r64v
-        module procedure assert_equal_i32v_r64v_tol64
-        module procedure assert_equal_i32v_r64v_tol32
-        module procedure assert_equal_i32s_i32s
-        module procedure assert_equal_i32s_i32v
-        module procedure assert_equal_i32v_i32v
-        module procedure assert_equal_i32s_i64s
-        module procedure assert_equal_i64s_i64s
-        module procedure assert_equal_i32s_i64v
-        module procedure assert_equal_i32v_i64v
-        module procedure assert_equal_i64s_i64v
-        module procedure assert_equal_i64v_i64v
-        module procedure assert_equal_ls_ls
-        module procedure assert_equal_ls_lv
-        module procedure assert_equal_lv_lv
-        module procedure assert_equal_c_c
+        module procedure eq_r64s_r64s, eq_r64s_r64s_t64, eq_r64s_r64s_t32, eq_r64s_r64v, eq_r64s_r64v_t64
+        module procedure eq_r64s_r64v_t32, eq_r64v_r64v, eq_r64v_r64v_t64, eq_r64v_r64v_t32
+        module procedure eq_i32s_r64s, eq_i32s_r64s_t64, eq_i32s_r64s_t32, eq_i32s_r64v, eq_i32s_r64v_t64
+        module procedure eq_i32s_r64v_t32, eq_i32v_r64v, eq_i32v_r64v_t64, eq_i32v_r64v_t32
+        module procedure eq_i32s_i32s, eq_i32s_i32v, eq_i32v_i32v, eq_i32s_i64s, eq_i32s_i64v, eq_i32v_i64v
+        module procedure eq_i64s_i64s, eq_i64s_i64v, eq_i64v_i64v, eq_ls_ls, eq_ls_lv, eq_lv_lv, eq_c_c
     end interface assertEqual
 
-    !> pFUnit's `assertRelativelyEqual`: see the specific procedures for the supported types.
+    !> pFUnit's `assertRelativelyEqual` on real64 values (tolerance real64 or real32).
     interface assertRelativelyEqual
-        module procedure assert_rel_equal_r64s_r64s_tol64
-        module procedure assert_rel_equal_r64s_r64s_tol32
-        module procedure assert_rel_equal_r64s_r64v_tol64
-        module procedure assert_rel_equal_r64s_r64v_tol32
-        module procedure assert_rel_equal_r64v_r64v_tol64
-        module procedure assert_rel_equal_r64v_r64v_tol32
+        module procedure rel_r64s_r64s_t64, rel_r64s_r64s_t32, rel_r64s_r64v_t64, rel_r64s_r64v_t32
+        module procedure rel_r64v_r64v_t64, rel_r64v_r64v_t32
     end interface assertRelativelyEqual
 
-    !> pFUnit's `assertLessThan`: see the specific procedures for the supported types.
+    !> pFUnit's `assertLessThan` on real64 (tolerance optional), int32 and int64 values.
     interface assertLessThan
-        module procedure assert_less_than_r64s_r64s
-        module procedure assert_less_than_r64s_r64s_tol64
-        module procedure assert_less_than_r64s_r64v
-        module procedure assert_less_than_r64s_r64v_tol64
-        module procedure assert_less_than_r64v_r64v
-        module procedure assert_less_than_r64v_r64v_tol64
-        module procedure assert_less_than_i32s_i32s
-        module procedure assert_less_than_i32s_i32v
-        module procedure assert_less_than_i32v_i32v
-        module procedure assert_less_than_i64s_i64s
+        module procedure order_r64s_r64s, order_r64s_r64s_t64, order_r64s_r64v, order_r64s_r64v_t64
+        module procedure order_r64v_r64v, order_r64v_r64v_t64, order_i32s_i32s, order_i32s_i32v
+        module procedure order_i32v_i32v, order_i64s_i64s
     end interface assertLessThan
 
-    !> pFUnit's `assertLessThanOrEqual`: see the specific procedures for the supported types.
+    !> pFUnit's `assertLessThanOrEqual`: the same specific procedures as `assertLessThan`.
     interface assertLessThanOrEqual
-        module procedure assert_less_equal_r64s_r64s
-        module procedure assert_less_equal_r64s_r64s_tol64
-        module procedure assert_less_equal_r64s_r64v
-        module procedure assert_less_equal_r64s_r64v_tol64
-        module procedure assert_less_equal_r64v_r64v
-        module procedure assert_less_equal_r64v_r64v_tol64
-        module procedure assert_less_equal_i32s_i32s
-        module procedure assert_less_equal_i32s_i32v
-        module procedure assert_less_equal_i32v_i32v
-        module procedure assert_less_equal_i64s_i64s
+        module procedure order_r64s_r64s, order_r64s_r64s_t64, order_r64s_r64v, order_r64s_r64v_t64
+        module procedure order_r64v_r64v, order_r64v_r64v_t64, order_i32s_i32s, order_i32s_i32v
+        module procedure order_i32v_i32v, order_i64s_i64s
     end interface assertLessThanOrEqual
 
-    !> pFUnit's `assertGreaterThan`: see the specific procedures for the supported types.
+    !> pFUnit's `assertGreaterThan`: the same specific procedures as `assertLessThan`.
     interface assertGreaterThan
-        module procedure assert_greater_than_r64s_r64s
-        module procedure assert_greater_than_r64s_r64s_tol64
-        module procedure assert_greater_than_r64s_r64v
-        module procedure assert_greater_than_r64s_r64v_tol64
-        module procedure assert_greater_than_r64v_r64v
-        module procedure assert_greater_than_r64v_r64v_tol64
-        module procedure assert_greater_than_i32s_i32s
-        module procedure assert_greater_than_i32s_i32v
-        module procedure assert_greater_than_i32v_i32v
-        module procedure assert_greater_than_i64s_i64s
+        module procedure order_r64s_r64s, order_r64s_r64s_t64, order_r64s_r64v, order_r64s_r64v_t64
+        module procedure order_r64v_r64v, order_r64v_r64v_t64, order_i32s_i32s, order_i32s_i32v
+        module procedure order_i32v_i32v, order_i64s_i64s
     end interface assertGreaterThan
 
-    !> pFUnit's `assertGreaterThanOrEqual`: see the specific procedures for the supported types.
+    !> pFUnit's `assertGreaterThanOrEqual`: the same specific procedures as `assertLessThan`.
     interface assertGreaterThanOrEqual
-        module procedure assert_greater_equal_r64s_r64s
-        module procedure assert_greater_equal_r64s_r64s_tol64
-        module procedure assert_greater_equal_r64s_r64v
-        module procedure assert_greater_equal_r64s_r64v_tol64
-        module procedure assert_greater_equal_r64v_r64v
-        module procedure assert_greater_equal_r64v_r64v_tol64
-        module procedure assert_greater_equal_i32s_i32s
-        module procedure assert_greater_equal_i32s_i32v
-        module procedure assert_greater_equal_i32v_i32v
-        module procedure assert_greater_equal_i64s_i64s
+        module procedure order_r64s_r64s, order_r64s_r64s_t64, order_r64s_r64v, order_r64s_r64v_t64
+        module procedure order_r64v_r64v, order_r64v_r64v_t64, order_i32s_i32s, order_i32s_i32v
+        module procedure order_i32v_i32v, order_i64s_i64s
     end interface assertGreaterThanOrEqual
 
-    !> pFUnit's `assertIsFinite`: see the specific procedures for the supported types.
+    !> pFUnit's `assertIsFinite` on a real64 or real32 scalar.
     interface assertIsFinite
-        module procedure assert_is_finite_r64
-        module procedure assert_is_finite_r32
+        module procedure is_finite_r64, is_finite_r32
     end interface assertIsFinite
 
-    !> pFUnit's `assertIsNaN`: see the specific procedures for the supported types.
+    !> pFUnit's `assertIsNaN` on a real64 or real32 scalar.
     interface assertIsNaN
-        module procedure assert_is_nan_r64
-        module procedure assert_is_nan_r32
+        module procedure is_nan_r64, is_nan_r32
     end interface assertIsNaN
 
-    !> pFUnit's `assertTrue`: see the specific procedures for the supported types.
+    !> pFUnit's `assertTrue` on a logical scalar or array (all elements).
     interface assertTrue
-        module procedure assert_true_s
-        module procedure assert_true_v
+        module procedure true_s, true_v
     end interface assertTrue
 
-    !> pFUnit's `assertFalse`: see the specific procedures for the supported types.
+    !> pFUnit's `assertFalse` on a logical scalar or array (no element true).
     interface assertFalse
-        module procedure assert_false_s
-        module procedure assert_false_v
+        module procedure false_s, false_v
     end interface assertFalse
 
 contains
@@ -231,8 +185,9 @@ contains
         end if
     end subroutine pf_driver_init
 
-    !> Run one test unless the filter excludes it: `before`, then the test if `before` did not
-    !> fail, then `after` (always), and count it; print one `FAIL` line when it failed.
+    !> Run one test unless the filter excludes it: `before`, then, if `before` did not fail, the
+    !> test and `after` (also when the test failed), as pFUnit's `TestCase%runBare` does; count it
+    !> and print one `FAIL` line when it failed.
     subroutine pf_run_test(module_name, test_name, test, before, after)
         !> Name of the test module.
         character(len=*), intent(in) :: module_name
@@ -253,8 +208,10 @@ contains
         end if
         call pf_start_test(name)
         if (present(before)) call before()
-        if (.not. pf_any_failed()) call test()
-        if (present(after)) call after()
+        if (.not. pf_any_failed()) then
+            call test()
+            if (present(after)) call after()
+        end if
         if (pf_any_failed()) then
             n_failed = n_failed + 1
             if (current_failures > 1) then
@@ -302,6 +259,13 @@ contains
         end if
     end subroutine record_failure
 
+
+    ! ------------------------------------------------------------------------------------------
+    ! The generic core: checks on rank-1 arrays of one kind. A scalar expected value (or lhs) comes
+    ! spread to the size of the actual value; `is_array` (the actual value is an array) only adds
+    ! ` at index i` to the message. Each check records at most one failure, its first element.
+    ! ------------------------------------------------------------------------------------------
+
     !> Record a failure when the sizes of the expected and actual arrays differ.
     logical function sizes_differ(name, n_expected, n_actual, message, location)
         !> Name of the assertion.
@@ -323,227 +287,95 @@ contains
         end if
     end function sizes_differ
 
-    !> Text ` at index i` for array assertions, empty for scalars.
-    function index_text(is_array, i) result(text)
-        !> Whether the assertion is on arrays.
-        logical, intent(in) :: is_array
-        !> Index of the first failing element.
-        integer, intent(in) :: i
-        character(len=:), allocatable :: text
-
-        text = ""
-        if (is_array) text = " at index " // int_to_str(int(i, int64))
-    end function index_text
-
-    !> Check of `assertTrue` and `assertFalse`.
-    subroutine check_condition(condition, name, message, location)
-        !> Whether the assertion holds.
-        logical, intent(in) :: condition
+    !> Record the failure of element `i`: `name: what[ at index i]detail`.
+    subroutine fail_element(name, what, is_array, i, detail, message, location)
         !> Name of the assertion.
         character(len=*), intent(in) :: name
+        !> What failed, e.g. `expected 1.0 but found 1.1`.
+        character(len=*), intent(in) :: what
+        !> Whether the assertion is on arrays (then the index is given).
+        logical, intent(in) :: is_array
+        !> Index of the failing element.
+        integer, intent(in) :: i
+        !> Text after the index, e.g. ` (tolerance 0.1)`.
+        character(len=*), intent(in) :: detail
         !> The user's message, if any.
         character(len=*), intent(in), optional :: message
         !> Where the assertion is.
         type(pf_source_location), intent(in), optional :: location
 
-        if (condition) return
-        if (name == "assertTrue") then
-            call record_failure("assertTrue: condition is .false.", message, location)
+        if (is_array) then
+            call record_failure(name // ": " // what // " at index " // int_to_str(int(i, int64)) // detail, &
+                message, location)
         else
-            call record_failure("assertFalse: condition is .true.", message, location)
+            call record_failure(name // ": " // what // detail, message, location)
         end if
-    end subroutine check_condition
+    end subroutine fail_element
 
-    !> Check of `assertEqual` on reals: element i passes if equal or within `tolerance`.
-    subroutine check_equal_real(expected, actual, tolerance, has_tolerance, is_array, message, location)
-        !> Expected values (a scalar is spread to the size of `actual`).
-        real(real64), intent(in) :: expected(:)
-        !> Actual values.
-        real(real64), intent(in) :: actual(:)
-        !> Absolute tolerance (0 when the user gave none).
-        real(real64), intent(in) :: tolerance
-        !> Whether the user gave a tolerance (only changes the message).
-        logical, intent(in) :: has_tolerance
-        !> Whether the actual value is an array (only changes the message).
+    !> Check of `assertEqual` on reals: element i passes if equal or within `tolerance` (0 if absent).
+    subroutine check_equal_real(expected, actual, is_array, message, location, tolerance)
+        !> Expected and actual values.
+        real(real64), intent(in) :: expected(:), actual(:)
+        !> Whether the actual value is an array.
         logical, intent(in) :: is_array
         !> The user's message, if any.
         character(len=*), intent(in), optional :: message
         !> Where the assertion is.
         type(pf_source_location), intent(in), optional :: location
+        !> Absolute tolerance.
+        real(real64), intent(in), optional :: tolerance
 
         character(len=:), allocatable :: detail
+        real(real64) :: tol
         integer :: i
 
         if (sizes_differ("assertEqual", size(expected), size(actual), message, location)) return
-        do i = 1, size(actual)
-            if (same_real(expected(i), actual(i))) cycle
-            if (abs(actual(i) - expected(i)) <= tolerance) cycle
-            detail = "difference " // real_to_str(actual(i) - expected(i))
-            if (has_tolerance) detail = detail // ", tolerance " // real_to_str(tolerance)
-            call record_failure("assertEqual: expected " // real_to_str(expected(i)) // " but found " &
-                // real_to_str(actual(i)) // index_text(is_array, i) // " (" // detail // ")", message, location)
-            return
-        end do
+        tol = 0.0_real64
+        if (present(tolerance)) tol = tolerance
+        i = findloc(within(expected, actual, tol), .false., dim=1)
+        if (i == 0) return
+        detail = " (difference " // real_to_str(actual(i) - expected(i))
+        if (present(tolerance)) detail = detail // ", tolerance " // real_to_str(tolerance)
+        call fail_element("assertEqual", "expected " // real_to_str(expected(i)) // " but found " &
+            // real_to_str(actual(i)), is_array, i, detail // ")", message, location)
     end subroutine check_equal_real
 
     !> Check of `assertRelativelyEqual`: element i passes if
-    !> `abs(actual(i) - expected(i)) <= tolerance*abs(expected(i))`.
-    subroutine check_relatively_equal(expected, actual, tolerance, is_array, message, location)
-        !> Expected values (a scalar is spread to the size of `actual`).
-        real(real64), intent(in) :: expected(:)
-        !> Actual values.
-        real(real64), intent(in) :: actual(:)
-        !> Relative tolerance.
-        real(real64), intent(in) :: tolerance
-        !> Whether the actual value is an array (only changes the message).
+    !> `abs(actual(i) - expected(i)) <= tolerance*abs(expected(i))`; a zero expected value fails.
+    subroutine check_relatively_equal(expected, actual, is_array, message, location, tolerance)
+        !> Expected and actual values.
+        real(real64), intent(in) :: expected(:), actual(:)
+        !> Whether the actual value is an array.
         logical, intent(in) :: is_array
         !> The user's message, if any.
         character(len=*), intent(in), optional :: message
         !> Where the assertion is.
         type(pf_source_location), intent(in), optional :: location
+        !> Relative tolerance.
+        real(real64), intent(in) :: tolerance
 
         integer :: i
 
         if (sizes_differ("assertRelativelyEqual", size(expected), size(actual), message, location)) return
-        do i = 1, size(actual)
-            if (abs(expected(i)) <= 0.0_real64) then
-                call record_failure("assertRelativelyEqual: expected value is zero" // index_text(is_array, i) &
-                    // ", relative difference undefined", message, location)
-                return
-            end if
-        end do
-        do i = 1, size(actual)
-            if (abs(actual(i) - expected(i)) <= tolerance*abs(expected(i))) cycle
-            call record_failure("assertRelativelyEqual: expected " // real_to_str(expected(i)) // " but found " &
-                // real_to_str(actual(i)) // index_text(is_array, i) // " (relative difference " &
-                // real_to_str((actual(i) - expected(i))/expected(i)) // ", tolerance " &
-                // real_to_str(tolerance) // ")", message, location)
+        i = findloc(abs(expected) <= 0.0_real64, .true., dim=1)
+        if (i > 0) then
+            call fail_element("assertRelativelyEqual", "expected value is zero", is_array, i, &
+                ", relative difference undefined", message, location)
             return
-        end do
+        end if
+        i = findloc(abs(actual - expected) <= tolerance*abs(expected), .false., dim=1)
+        if (i == 0) return
+        call fail_element("assertRelativelyEqual", "expected " // real_to_str(expected(i)) // " but found " &
+            // real_to_str(actual(i)), is_array, i, " (relative difference " &
+            // real_to_str((actual(i) - expected(i))/expected(i)) // ", tolerance " // real_to_str(tolerance) &
+            // ")", message, location)
     end subroutine check_relatively_equal
-
-    !> Check of the order assertions on reals, with pFUnit's tolerance rule.
-    subroutine check_order_real(op, lhs, rhs, tolerance, is_array, message, location)
-        !> One of `op_lt`, `op_le`, `op_gt`, `op_ge`.
-        integer, intent(in) :: op
-        !> Left-hand values (a scalar is spread to the size of `rhs`).
-        real(real64), intent(in) :: lhs(:)
-        !> Right-hand values.
-        real(real64), intent(in) :: rhs(:)
-        !> Tolerance (0 when the user gave none).
-        real(real64), intent(in) :: tolerance
-        !> Whether `rhs` is an array (only changes the message).
-        logical, intent(in) :: is_array
-        !> The user's message, if any.
-        character(len=*), intent(in), optional :: message
-        !> Where the assertion is.
-        type(pf_source_location), intent(in), optional :: location
-
-        character(len=:), allocatable :: detail
-        logical :: holds
-        integer :: i
-
-        if (sizes_differ(order_name(op), size(lhs), size(rhs), message, location)) return
-        do i = 1, size(rhs)
-            select case (op)
-            case (op_lt)
-                holds = lhs(i) < rhs(i) + tolerance
-            case (op_le)
-                holds = lhs(i) <= rhs(i) + tolerance
-            case (op_gt)
-                holds = lhs(i) > rhs(i) - tolerance
-            case default
-                holds = lhs(i) >= rhs(i) - tolerance
-            end select
-            if (holds) cycle
-            detail = ""
-            if (tolerance > 0.0_real64) detail = " (tolerance " // real_to_str(tolerance) // ")"
-            call record_failure(order_name(op) // ": " // real_to_str(lhs(i)) // " is not " // order_words(op) &
-                // " " // real_to_str(rhs(i)) // index_text(is_array, i) // detail, message, location)
-            return
-        end do
-    end subroutine check_order_real
-
-    !> Check of the order assertions on integers.
-    subroutine check_order_int(op, lhs, rhs, is_array, message, location)
-        !> One of `op_lt`, `op_le`, `op_gt`, `op_ge`.
-        integer, intent(in) :: op
-        !> Left-hand values (a scalar is spread to the size of `rhs`).
-        integer(int64), intent(in) :: lhs(:)
-        !> Right-hand values.
-        integer(int64), intent(in) :: rhs(:)
-        !> Whether `rhs` is an array (only changes the message).
-        logical, intent(in) :: is_array
-        !> The user's message, if any.
-        character(len=*), intent(in), optional :: message
-        !> Where the assertion is.
-        type(pf_source_location), intent(in), optional :: location
-
-        logical :: holds
-        integer :: i
-
-        if (sizes_differ(order_name(op), size(lhs), size(rhs), message, location)) return
-        do i = 1, size(rhs)
-            select case (op)
-            case (op_lt)
-                holds = lhs(i) < rhs(i)
-            case (op_le)
-                holds = lhs(i) <= rhs(i)
-            case (op_gt)
-                holds = lhs(i) > rhs(i)
-            case default
-                holds = lhs(i) >= rhs(i)
-            end select
-            if (holds) cycle
-            call record_failure(order_name(op) // ": " // int_to_str(lhs(i)) // " is not " // order_words(op) &
-                // " " // int_to_str(rhs(i)) // index_text(is_array, i), message, location)
-            return
-        end do
-    end subroutine check_order_int
-
-    !> pFUnit name of an order assertion.
-    function order_name(op) result(name)
-        !> One of `op_lt`, `op_le`, `op_gt`, `op_ge`.
-        integer, intent(in) :: op
-        character(len=:), allocatable :: name
-
-        select case (op)
-        case (op_lt)
-            name = "assertLessThan"
-        case (op_le)
-            name = "assertLessThanOrEqual"
-        case (op_gt)
-            name = "assertGreaterThan"
-        case default
-            name = "assertGreaterThanOrEqual"
-        end select
-    end function order_name
-
-    !> The relation an order assertion asks for, in words.
-    function order_words(op) result(words)
-        !> One of `op_lt`, `op_le`, `op_gt`, `op_ge`.
-        integer, intent(in) :: op
-        character(len=:), allocatable :: words
-
-        select case (op)
-        case (op_lt)
-            words = "less than"
-        case (op_le)
-            words = "less than or equal to"
-        case (op_gt)
-            words = "greater than"
-        case default
-            words = "greater than or equal to"
-        end select
-    end function order_words
 
     !> Check of `assertEqual` on integers.
     subroutine check_equal_int(expected, actual, is_array, message, location)
-        !> Expected values (a scalar is spread to the size of `actual`).
-        integer(int64), intent(in) :: expected(:)
-        !> Actual values.
-        integer(int64), intent(in) :: actual(:)
-        !> Whether the actual value is an array (only changes the message).
+        !> Expected and actual values.
+        integer(int64), intent(in) :: expected(:), actual(:)
+        !> Whether the actual value is an array.
         logical, intent(in) :: is_array
         !> The user's message, if any.
         character(len=*), intent(in), optional :: message
@@ -553,21 +385,17 @@ contains
         integer :: i
 
         if (sizes_differ("assertEqual", size(expected), size(actual), message, location)) return
-        do i = 1, size(actual)
-            if (expected(i) == actual(i)) cycle
-            call record_failure("assertEqual: expected " // int_to_str(expected(i)) // " but found " &
-                // int_to_str(actual(i)) // index_text(is_array, i), message, location)
-            return
-        end do
+        i = findloc(expected == actual, .false., dim=1)
+        if (i == 0) return
+        call fail_element("assertEqual", "expected " // int_to_str(expected(i)) // " but found " &
+            // int_to_str(actual(i)), is_array, i, "", message, location)
     end subroutine check_equal_int
 
     !> Check of `assertEqual` on logicals (`.eqv.`).
     subroutine check_equal_logical(expected, actual, is_array, message, location)
-        !> Expected values (a scalar is spread to the size of `actual`).
-        logical, intent(in) :: expected(:)
-        !> Actual values.
-        logical, intent(in) :: actual(:)
-        !> Whether the actual value is an array (only changes the message).
+        !> Expected and actual values.
+        logical, intent(in) :: expected(:), actual(:)
+        !> Whether the actual value is an array.
         logical, intent(in) :: is_array
         !> The user's message, if any.
         character(len=*), intent(in), optional :: message
@@ -577,65 +405,116 @@ contains
         integer :: i
 
         if (sizes_differ("assertEqual", size(expected), size(actual), message, location)) return
-        do i = 1, size(actual)
-            if (expected(i) .eqv. actual(i)) cycle
-            call record_failure("assertEqual: expected " // logical_to_str(expected(i)) // " but found " &
-                // logical_to_str(actual(i)) // index_text(is_array, i), message, location)
-            return
-        end do
+        i = findloc(expected .eqv. actual, .false., dim=1)
+        if (i == 0) return
+        call fail_element("assertEqual", "expected " // logical_to_str(expected(i)) // " but found " &
+            // logical_to_str(actual(i)), is_array, i, "", message, location)
     end subroutine check_equal_logical
 
-    !> Check of `assertEqual` on character values, ignoring leading and trailing blanks and tabs.
-    subroutine check_equal_string(expected, found, message, location)
-        !> Expected text.
-        character(len=*), intent(in) :: expected
-        !> Actual text.
-        character(len=*), intent(in) :: found
+    !> Check of the order assertion that `location` names on reals, with pFUnit's tolerance rule
+    !> (`lhs < rhs + tolerance` for `assertLessThan`, ..., `lhs >= rhs - tolerance`; 0 if absent).
+    subroutine check_order_real(lhs, rhs, is_array, message, location, tolerance)
+        !> Left-hand and right-hand values.
+        real(real64), intent(in) :: lhs(:), rhs(:)
+        !> Whether `rhs` is an array.
+        logical, intent(in) :: is_array
         !> The user's message, if any.
         character(len=*), intent(in), optional :: message
-        !> Where the assertion is.
+        !> Where the assertion is, and which.
         type(pf_source_location), intent(in), optional :: location
+        !> Tolerance.
+        real(real64), intent(in), optional :: tolerance
 
-        character(len=:), allocatable :: e, f
-        integer :: i
+        character(len=:), allocatable :: detail
+        real(real64) :: tol
+        real(real64) :: bound(size(rhs))
+        integer :: op, i
 
-        e = strip_blanks(expected)
-        f = strip_blanks(found)
-        if (len(e) == len(f)) then
-            if (e == f) return
-        end if
-        do i = 1, min(len(e), len(f))
-            if (e(i:i) /= f(i:i)) exit
-        end do
-        call record_failure('assertEqual: expected "' // e // '" but found "' // f &
-            // '" (first difference at character ' // int_to_str(int(i, int64)) // ")", message, location)
-    end subroutine check_equal_string
+        call order_of(location, message, op)
+        if (op == 0) return
+        if (sizes_differ(trim(order_names(op)), size(lhs), size(rhs), message, location)) return
+        tol = 0.0_real64
+        if (present(tolerance)) tol = tolerance
+        bound = rhs + merge(tol, -tol, op <= op_le)
+        i = findloc(relation_holds(op, lhs < bound, same_real(lhs, bound), lhs > bound), .false., dim=1)
+        if (i == 0) return
+        detail = ""
+        if (tol > 0.0_real64) detail = " (tolerance " // real_to_str(tol) // ")"
+        call fail_element(trim(order_names(op)), real_to_str(lhs(i)) // " is not " // trim(order_words(op)) &
+            // " " // real_to_str(rhs(i)), is_array, i, detail, message, location)
+    end subroutine check_order_real
 
-    !> Check of `assertIsFinite`.
-    subroutine check_is_finite(x, message, location)
-        !> The value.
-        real(real64), intent(in) :: x
+    !> Check of the order assertion that `location` names on integers.
+    subroutine check_order_int(lhs, rhs, is_array, message, location)
+        !> Left-hand and right-hand values.
+        integer(int64), intent(in) :: lhs(:), rhs(:)
+        !> Whether `rhs` is an array.
+        logical, intent(in) :: is_array
         !> The user's message, if any.
         character(len=*), intent(in), optional :: message
-        !> Where the assertion is.
+        !> Where the assertion is, and which.
         type(pf_source_location), intent(in), optional :: location
 
-        if (ieee_is_finite(x)) return
-        call record_failure("assertIsFinite: " // real_to_str(x) // " is not finite", message, location)
-    end subroutine check_is_finite
+        integer :: op, i
 
-    !> Check of `assertIsNaN`.
-    subroutine check_is_nan(x, message, location)
-        !> The value.
-        real(real64), intent(in) :: x
+        call order_of(location, message, op)
+        if (op == 0) return
+        if (sizes_differ(trim(order_names(op)), size(lhs), size(rhs), message, location)) return
+        i = findloc(relation_holds(op, lhs < rhs, lhs == rhs, lhs > rhs), .false., dim=1)
+        if (i == 0) return
+        call fail_element(trim(order_names(op)), int_to_str(lhs(i)) // " is not " // trim(order_words(op)) &
+            // " " // int_to_str(rhs(i)), is_array, i, "", message, location)
+    end subroutine check_order_int
+
+    !> Which order assertion `location` names (`op_lt`, ..., `op_ge`); 0, after recording a failure,
+    !> when it names none (a direct call: the relation comes only with the @-macro's location).
+    subroutine order_of(location, message, op)
+        !> Where the assertion is, and which.
+        type(pf_source_location), intent(in), optional :: location
         !> The user's message, if any.
         character(len=*), intent(in), optional :: message
-        !> Where the assertion is.
-        type(pf_source_location), intent(in), optional :: location
+        !> The order assertion, or 0.
+        integer, intent(out) :: op
 
-        if (ieee_is_nan(x)) return
-        call record_failure("assertIsNaN: " // real_to_str(x) // " is not NaN", message, location)
-    end subroutine check_is_nan
+        op = 0
+        if (present(location)) op = findloc(order_names, location%assertion, dim=1)
+        if (op > 0) return
+        call record_failure("assertLessThan and its kin run only from their @-macros, whose location names " &
+            // "the relation to check", message, location)
+    end subroutine order_of
+
+    !> Whether the relation of order assertion `op` holds between two values that compare as given
+    !> (all three false: unordered, a NaN, which fails every relation).
+    elemental logical function relation_holds(op, less, equal, greater)
+        !> One of `op_lt`, `op_le`, `op_gt`, `op_ge`.
+        integer, intent(in) :: op
+        !> Whether lhs < rhs, lhs == rhs, lhs > rhs.
+        logical, intent(in) :: less, equal, greater
+
+        select case (op)
+        case (op_lt)
+            relation_holds = less
+        case (op_le)
+            relation_holds = less .or. equal
+        case (op_gt)
+            relation_holds = greater
+        case default
+            relation_holds = greater .or. equal
+        end select
+    end function relation_holds
+
+    !> Whether `actual` equals `expected` (see `same_real`) or lies within `tolerance` of it.
+    elemental logical function within(expected, actual, tolerance)
+        !> Expected value.
+        real(real64), intent(in) :: expected
+        !> Actual value.
+        real(real64), intent(in) :: actual
+        !> Absolute tolerance.
+        real(real64), intent(in) :: tolerance
+
+        within = same_real(expected, actual)
+        if (.not. within) within = abs(actual - expected) <= tolerance
+    end function within
 
     !> Whether two reals are equal (infinities of the same sign included, NaN excluded), without
     !> comparing reals with `==` (which `-Wcompare-reals` flags).
@@ -765,957 +644,506 @@ contains
         end do
     end function to_lower
 
+
     ! ------------------------------------------------------------------------------------------
-    ! Specific procedures of the generic assertions: one per supported combination of types,
-    ! kinds and ranks, each converting its arguments for one of the checks above.
+    ! Thin typed front-ends: the specific procedures of the generic assertions, one per pFUnit
+    ! signature (kinds; scalar s or array v; tolerance absent, t64 or t32), each converting its
+    ! arguments for one check of the core.
     ! ------------------------------------------------------------------------------------------
 
-    !> assertEqual(expected: real64, actual: real64) without tolerance.
-    subroutine assert_equal_r64s_r64s(expected, actual, message, location)
-        real(real64), intent(in) :: expected
-        real(real64), intent(in) :: actual
+    subroutine true_s(condition, message, location)
+        logical, intent(in) :: condition
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_real([expected], [actual], 0.0_real64, .false., .false., message, location)
-    end subroutine assert_equal_r64s_r64s
+        if (.not. condition) call record_failure("assertTrue: condition is .false.", message, location)
+    end subroutine true_s
 
-    !> assertEqual(expected: real64, actual: real64, tolerance: real64).
-    subroutine assert_equal_r64s_r64s_tol64(expected, actual, tolerance, message, location)
-        real(real64), intent(in) :: expected
-        real(real64), intent(in) :: actual
-        real(real64), intent(in) :: tolerance
+    subroutine true_v(condition, message, location)
+        logical, intent(in) :: condition(:)
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_real([expected], [actual], tolerance, .true., .false., message, location)
-    end subroutine assert_equal_r64s_r64s_tol64
+        call true_s(all(condition), message, location)
+    end subroutine true_v
 
-    !> assertEqual(expected: real64, actual: real64, tolerance: real32).
-    subroutine assert_equal_r64s_r64s_tol32(expected, actual, tolerance, message, location)
-        real(real64), intent(in) :: expected
-        real(real64), intent(in) :: actual
-        real(real32), intent(in) :: tolerance
+    subroutine false_s(condition, message, location)
+        logical, intent(in) :: condition
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_real([expected], [actual], real(tolerance, real64), .true., .false., &
+        if (condition) call record_failure("assertFalse: condition is .true.", message, location)
+    end subroutine false_s
+
+    subroutine false_v(condition, message, location)
+        logical, intent(in) :: condition(:)
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        call false_s(any(condition), message, location)
+    end subroutine false_v
+
+    subroutine is_finite_r64(x, message, location)
+        real(real64), intent(in) :: x
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        if (.not. ieee_is_finite(x)) call record_failure("assertIsFinite: " // real_to_str(x) // " is not finite", &
             message, location)
-    end subroutine assert_equal_r64s_r64s_tol32
+    end subroutine is_finite_r64
 
-    !> assertEqual(expected: int32, actual: real64) without tolerance.
-    subroutine assert_equal_i32s_r64s(expected, actual, message, location)
+    subroutine is_finite_r32(x, message, location)
+        real(real32), intent(in) :: x
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        call is_finite_r64(real(x, real64), message, location)
+    end subroutine is_finite_r32
+
+    subroutine is_nan_r64(x, message, location)
+        real(real64), intent(in) :: x
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        if (.not. ieee_is_nan(x)) call record_failure("assertIsNaN: " // real_to_str(x) // " is not NaN", &
+            message, location)
+    end subroutine is_nan_r64
+
+    subroutine is_nan_r32(x, message, location)
+        real(real32), intent(in) :: x
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        call is_nan_r64(real(x, real64), message, location)
+    end subroutine is_nan_r32
+
+    !> Character scalars, compared without leading and trailing blanks and tabs (pFUnit's default).
+    subroutine eq_c_c(expected, found, message, location)
+        character(len=*), intent(in) :: expected, found
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        character(len=:), allocatable :: e, f
+        integer :: i
+
+        e = strip_blanks(expected)
+        f = strip_blanks(found)
+        if (len(e) == len(f)) then
+            if (e == f) return
+        end if
+        do i = 1, min(len(e), len(f))
+            if (e(i:i) /= f(i:i)) exit
+        end do
+        call record_failure('assertEqual: expected "' // e // '" but found "' // f &
+            // '" (first difference at character ' // int_to_str(int(i, int64)) // ")", message, location)
+    end subroutine eq_c_c
+
+    subroutine eq_r64s_r64s(expected, actual, message, location)
+        real(real64), intent(in) :: expected, actual
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        call check_equal_real([expected], [actual], .false., message, location)
+    end subroutine eq_r64s_r64s
+
+    subroutine eq_r64s_r64s_t64(expected, actual, tolerance, message, location)
+        real(real64), intent(in) :: expected, actual, tolerance
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        call check_equal_real([expected], [actual], .false., message, location, tolerance)
+    end subroutine eq_r64s_r64s_t64
+
+    subroutine eq_r64s_r64s_t32(expected, actual, tolerance, message, location)
+        real(real64), intent(in) :: expected, actual
+        real(real32), intent(in) :: tolerance
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        call check_equal_real([expected], [actual], .false., message, location, real(tolerance, real64))
+    end subroutine eq_r64s_r64s_t32
+
+    subroutine eq_r64s_r64v(expected, actual, message, location)
+        real(real64), intent(in) :: expected, actual(:)
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        call check_equal_real(spread(expected, 1, size(actual)), actual, .true., message, location)
+    end subroutine eq_r64s_r64v
+
+    subroutine eq_r64s_r64v_t64(expected, actual, tolerance, message, location)
+        real(real64), intent(in) :: expected, actual(:), tolerance
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        call check_equal_real(spread(expected, 1, size(actual)), actual, .true., message, location, tolerance)
+    end subroutine eq_r64s_r64v_t64
+
+    subroutine eq_r64s_r64v_t32(expected, actual, tolerance, message, location)
+        real(real64), intent(in) :: expected, actual(:)
+        real(real32), intent(in) :: tolerance
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        call check_equal_real(spread(expected, 1, size(actual)), actual, .true., &
+            message, location, real(tolerance, real64))
+    end subroutine eq_r64s_r64v_t32
+
+    subroutine eq_r64v_r64v(expected, actual, message, location)
+        real(real64), intent(in) :: expected(:), actual(:)
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        call check_equal_real(expected, actual, .true., message, location)
+    end subroutine eq_r64v_r64v
+
+    subroutine eq_r64v_r64v_t64(expected, actual, tolerance, message, location)
+        real(real64), intent(in) :: expected(:), actual(:), tolerance
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        call check_equal_real(expected, actual, .true., message, location, tolerance)
+    end subroutine eq_r64v_r64v_t64
+
+    subroutine eq_r64v_r64v_t32(expected, actual, tolerance, message, location)
+        real(real64), intent(in) :: expected(:), actual(:)
+        real(real32), intent(in) :: tolerance
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        call check_equal_real(expected, actual, .true., message, location, real(tolerance, real64))
+    end subroutine eq_r64v_r64v_t32
+
+    subroutine eq_i32s_r64s(expected, actual, message, location)
         integer(int32), intent(in) :: expected
         real(real64), intent(in) :: actual
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_real([real(expected, real64)], [actual], 0.0_real64, .false., .false., &
-            message, location)
-    end subroutine assert_equal_i32s_r64s
+        call check_equal_real([real(expected, real64)], [actual], .false., message, location)
+    end subroutine eq_i32s_r64s
 
-    !> assertEqual(expected: int32, actual: real64, tolerance: real64).
-    subroutine assert_equal_i32s_r64s_tol64(expected, actual, tolerance, message, location)
+    subroutine eq_i32s_r64s_t64(expected, actual, tolerance, message, location)
         integer(int32), intent(in) :: expected
-        real(real64), intent(in) :: actual
-        real(real64), intent(in) :: tolerance
+        real(real64), intent(in) :: actual, tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_real([real(expected, real64)], [actual], tolerance, .true., .false., &
-            message, location)
-    end subroutine assert_equal_i32s_r64s_tol64
+        call check_equal_real([real(expected, real64)], [actual], .false., message, location, tolerance)
+    end subroutine eq_i32s_r64s_t64
 
-    !> assertEqual(expected: int32, actual: real64, tolerance: real32).
-    subroutine assert_equal_i32s_r64s_tol32(expected, actual, tolerance, message, location)
+    subroutine eq_i32s_r64s_t32(expected, actual, tolerance, message, location)
         integer(int32), intent(in) :: expected
         real(real64), intent(in) :: actual
         real(real32), intent(in) :: tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_real([real(expected, real64)], [actual], real(tolerance, real64), .true., &
-            .false., message, location)
-    end subroutine assert_equal_i32s_r64s_tol32
+        call check_equal_real([real(expected, real64)], [actual], .false., message, location, real(tolerance, real64))
+    end subroutine eq_i32s_r64s_t32
 
-    !> assertEqual(expected: real64, actual: real64(:)) without tolerance.
-    subroutine assert_equal_r64s_r64v(expected, actual, message, location)
-        real(real64), intent(in) :: expected
-        real(real64), intent(in) :: actual(:)
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_equal_real(spread(expected, 1, size(actual)), actual, 0.0_real64, .false., &
-            .true., message, location)
-    end subroutine assert_equal_r64s_r64v
-
-    !> assertEqual(expected: real64, actual: real64(:), tolerance: real64).
-    subroutine assert_equal_r64s_r64v_tol64(expected, actual, tolerance, message, location)
-        real(real64), intent(in) :: expected
-        real(real64), intent(in) :: actual(:)
-        real(real64), intent(in) :: tolerance
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_equal_real(spread(expected, 1, size(actual)), actual, tolerance, .true., .true., &
-            message, location)
-    end subroutine assert_equal_r64s_r64v_tol64
-
-    !> assertEqual(expected: real64, actual: real64(:), tolerance: real32).
-    subroutine assert_equal_r64s_r64v_tol32(expected, actual, tolerance, message, location)
-        real(real64), intent(in) :: expected
-        real(real64), intent(in) :: actual(:)
-        real(real32), intent(in) :: tolerance
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_equal_real(spread(expected, 1, size(actual)), actual, real(tolerance, real64), &
-            .true., .true., message, location)
-    end subroutine assert_equal_r64s_r64v_tol32
-
-    !> assertEqual(expected: real64(:), actual: real64(:)) without tolerance.
-    subroutine assert_equal_r64v_r64v(expected, actual, message, location)
-        real(real64), intent(in) :: expected(:)
-        real(real64), intent(in) :: actual(:)
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_equal_real(expected, actual, 0.0_real64, .false., .true., message, location)
-    end subroutine assert_equal_r64v_r64v
-
-    !> assertEqual(expected: real64(:), actual: real64(:), tolerance: real64).
-    subroutine assert_equal_r64v_r64v_tol64(expected, actual, tolerance, message, location)
-        real(real64), intent(in) :: expected(:)
-        real(real64), intent(in) :: actual(:)
-        real(real64), intent(in) :: tolerance
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_equal_real(expected, actual, tolerance, .true., .true., message, location)
-    end subroutine assert_equal_r64v_r64v_tol64
-
-    !> assertEqual(expected: real64(:), actual: real64(:), tolerance: real32).
-    subroutine assert_equal_r64v_r64v_tol32(expected, actual, tolerance, message, location)
-        real(real64), intent(in) :: expected(:)
-        real(real64), intent(in) :: actual(:)
-        real(real32), intent(in) :: tolerance
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_equal_real(expected, actual, real(tolerance, real64), .true., .true., message, &
-            location)
-    end subroutine assert_equal_r64v_r64v_tol32
-
-    !> assertEqual(expected: int32, actual: real64(:)) without tolerance.
-    subroutine assert_equal_i32s_r64v(expected, actual, message, location)
+    subroutine eq_i32s_r64v(expected, actual, message, location)
         integer(int32), intent(in) :: expected
         real(real64), intent(in) :: actual(:)
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_real(spread(real(expected, real64), 1, size(actual)), actual, 0.0_real64, &
-            .false., .true., message, location)
-    end subroutine assert_equal_i32s_r64v
+        call check_equal_real(spread(real(expected, real64), 1, size(actual)), actual, .true., message, location)
+    end subroutine eq_i32s_r64v
 
-    !> assertEqual(expected: int32, actual: real64(:), tolerance: real64).
-    subroutine assert_equal_i32s_r64v_tol64(expected, actual, tolerance, message, location)
+    subroutine eq_i32s_r64v_t64(expected, actual, tolerance, message, location)
         integer(int32), intent(in) :: expected
-        real(real64), intent(in) :: actual(:)
-        real(real64), intent(in) :: tolerance
+        real(real64), intent(in) :: actual(:), tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_real(spread(real(expected, real64), 1, size(actual)), actual, tolerance, &
-            .true., .true., message, location)
-    end subroutine assert_equal_i32s_r64v_tol64
+        call check_equal_real(spread(real(expected, real64), 1, size(actual)), actual, .true., &
+            message, location, tolerance)
+    end subroutine eq_i32s_r64v_t64
 
-    !> assertEqual(expected: int32, actual: real64(:), tolerance: real32).
-    subroutine assert_equal_i32s_r64v_tol32(expected, actual, tolerance, message, location)
+    subroutine eq_i32s_r64v_t32(expected, actual, tolerance, message, location)
         integer(int32), intent(in) :: expected
         real(real64), intent(in) :: actual(:)
         real(real32), intent(in) :: tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_real(spread(real(expected, real64), 1, size(actual)), actual, &
-            real(tolerance, real64), .true., .true., message, location)
-    end subroutine assert_equal_i32s_r64v_tol32
+        call check_equal_real(spread(real(expected, real64), 1, size(actual)), actual, .true., &
+            message, location, real(tolerance, real64))
+    end subroutine eq_i32s_r64v_t32
 
-    !> assertEqual(expected: int32(:), actual: real64(:)) without tolerance.
-    subroutine assert_equal_i32v_r64v(expected, actual, message, location)
+    subroutine eq_i32v_r64v(expected, actual, message, location)
         integer(int32), intent(in) :: expected(:)
         real(real64), intent(in) :: actual(:)
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_real(real(expected, real64), actual, 0.0_real64, .false., .true., message, &
-            location)
-    end subroutine assert_equal_i32v_r64v
+        call check_equal_real(real(expected, real64), actual, .true., message, location)
+    end subroutine eq_i32v_r64v
 
-    !> assertEqual(expected: int32(:), actual: real64(:), tolerance: real64).
-    subroutine assert_equal_i32v_r64v_tol64(expected, actual, tolerance, message, location)
+    subroutine eq_i32v_r64v_t64(expected, actual, tolerance, message, location)
         integer(int32), intent(in) :: expected(:)
-        real(real64), intent(in) :: actual(:)
-        real(real64), intent(in) :: tolerance
+        real(real64), intent(in) :: actual(:), tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_real(real(expected, real64), actual, tolerance, .true., .true., message, &
-            location)
-    end subroutine assert_equal_i32v_r64v_tol64
+        call check_equal_real(real(expected, real64), actual, .true., message, location, tolerance)
+    end subroutine eq_i32v_r64v_t64
 
-    !> assertEqual(expected: int32(:), actual: real64(:), tolerance: real32).
-    subroutine assert_equal_i32v_r64v_tol32(expected, actual, tolerance, message, location)
+    subroutine eq_i32v_r64v_t32(expected, actual, tolerance, message, location)
         integer(int32), intent(in) :: expected(:)
         real(real64), intent(in) :: actual(:)
         real(real32), intent(in) :: tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_real(real(expected, real64), actual, real(tolerance, real64), .true., &
-            .true., message, location)
-    end subroutine assert_equal_i32v_r64v_tol32
+        call check_equal_real(real(expected, real64), actual, .true., message, location, real(tolerance, real64))
+    end subroutine eq_i32v_r64v_t32
 
-    !> assertEqual(expected: int32, actual: int32).
-    subroutine assert_equal_i32s_i32s(expected, actual, message, location)
-        integer(int32), intent(in) :: expected
-        integer(int32), intent(in) :: actual
+    subroutine eq_i32s_i32s(expected, actual, message, location)
+        integer(int32), intent(in) :: expected, actual
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_int([int(expected, int64)], [int(actual, int64)], .false., message, &
-            location)
-    end subroutine assert_equal_i32s_i32s
+        call check_equal_int([int(expected, int64)], [int(actual, int64)], .false., message, location)
+    end subroutine eq_i32s_i32s
 
-    !> assertEqual(expected: int32, actual: int32(:)).
-    subroutine assert_equal_i32s_i32v(expected, actual, message, location)
-        integer(int32), intent(in) :: expected
-        integer(int32), intent(in) :: actual(:)
+    subroutine eq_i32s_i32v(expected, actual, message, location)
+        integer(int32), intent(in) :: expected, actual(:)
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_int(spread(int(expected, int64), 1, size(actual)), int(actual, int64), &
-            .true., message, location)
-    end subroutine assert_equal_i32s_i32v
+        call check_equal_int(spread(int(expected, int64), 1, size(actual)), int(actual, int64), .true., &
+            message, location)
+    end subroutine eq_i32s_i32v
 
-    !> assertEqual(expected: int32(:), actual: int32(:)).
-    subroutine assert_equal_i32v_i32v(expected, actual, message, location)
-        integer(int32), intent(in) :: expected(:)
-        integer(int32), intent(in) :: actual(:)
+    subroutine eq_i32v_i32v(expected, actual, message, location)
+        integer(int32), intent(in) :: expected(:), actual(:)
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
         call check_equal_int(int(expected, int64), int(actual, int64), .true., message, location)
-    end subroutine assert_equal_i32v_i32v
+    end subroutine eq_i32v_i32v
 
-    !> assertEqual(expected: int32, actual: int64).
-    subroutine assert_equal_i32s_i64s(expected, actual, message, location)
+    subroutine eq_i32s_i64s(expected, actual, message, location)
         integer(int32), intent(in) :: expected
         integer(int64), intent(in) :: actual
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
         call check_equal_int([int(expected, int64)], [actual], .false., message, location)
-    end subroutine assert_equal_i32s_i64s
+    end subroutine eq_i32s_i64s
 
-    !> assertEqual(expected: int64, actual: int64).
-    subroutine assert_equal_i64s_i64s(expected, actual, message, location)
-        integer(int64), intent(in) :: expected
-        integer(int64), intent(in) :: actual
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_equal_int([expected], [actual], .false., message, location)
-    end subroutine assert_equal_i64s_i64s
-
-    !> assertEqual(expected: int32, actual: int64(:)).
-    subroutine assert_equal_i32s_i64v(expected, actual, message, location)
+    subroutine eq_i32s_i64v(expected, actual, message, location)
         integer(int32), intent(in) :: expected
         integer(int64), intent(in) :: actual(:)
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_int(spread(int(expected, int64), 1, size(actual)), actual, .true., &
-            message, location)
-    end subroutine assert_equal_i32s_i64v
+        call check_equal_int(spread(int(expected, int64), 1, size(actual)), actual, .true., message, location)
+    end subroutine eq_i32s_i64v
 
-    !> assertEqual(expected: int32(:), actual: int64(:)).
-    subroutine assert_equal_i32v_i64v(expected, actual, message, location)
+    subroutine eq_i32v_i64v(expected, actual, message, location)
         integer(int32), intent(in) :: expected(:)
         integer(int64), intent(in) :: actual(:)
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
         call check_equal_int(int(expected, int64), actual, .true., message, location)
-    end subroutine assert_equal_i32v_i64v
+    end subroutine eq_i32v_i64v
 
-    !> assertEqual(expected: int64, actual: int64(:)).
-    subroutine assert_equal_i64s_i64v(expected, actual, message, location)
-        integer(int64), intent(in) :: expected
-        integer(int64), intent(in) :: actual(:)
+    subroutine eq_i64s_i64s(expected, actual, message, location)
+        integer(int64), intent(in) :: expected, actual
+        character(len=*), intent(in), optional :: message
+        type(pf_source_location), intent(in), optional :: location
+
+        call check_equal_int([expected], [actual], .false., message, location)
+    end subroutine eq_i64s_i64s
+
+    subroutine eq_i64s_i64v(expected, actual, message, location)
+        integer(int64), intent(in) :: expected, actual(:)
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
         call check_equal_int(spread(expected, 1, size(actual)), actual, .true., message, location)
-    end subroutine assert_equal_i64s_i64v
+    end subroutine eq_i64s_i64v
 
-    !> assertEqual(expected: int64(:), actual: int64(:)).
-    subroutine assert_equal_i64v_i64v(expected, actual, message, location)
-        integer(int64), intent(in) :: expected(:)
-        integer(int64), intent(in) :: actual(:)
+    subroutine eq_i64v_i64v(expected, actual, message, location)
+        integer(int64), intent(in) :: expected(:), actual(:)
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
         call check_equal_int(expected, actual, .true., message, location)
-    end subroutine assert_equal_i64v_i64v
+    end subroutine eq_i64v_i64v
 
-    !> assertEqual(expected: logical, actual: logical); `message` only by keyword, as in pFUnit.
-    subroutine assert_equal_ls_ls(expected, actual, unused, message, location)
-        logical, intent(in) :: expected
-        logical, intent(in) :: actual
+    subroutine eq_ls_ls(expected, actual, unused, message, location)
+        logical, intent(in) :: expected, actual
         class(pf_keyword_enforcer), intent(in), optional :: unused
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
         if (present(unused)) continue
         call check_equal_logical([expected], [actual], .false., message, location)
-    end subroutine assert_equal_ls_ls
+    end subroutine eq_ls_ls
 
-    !> assertEqual(expected: logical, actual: logical(:)); `message` only by keyword, as in pFUnit.
-    subroutine assert_equal_ls_lv(expected, actual, unused, message, location)
-        logical, intent(in) :: expected
-        logical, intent(in) :: actual(:)
+    subroutine eq_ls_lv(expected, actual, unused, message, location)
+        logical, intent(in) :: expected, actual(:)
         class(pf_keyword_enforcer), intent(in), optional :: unused
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
         if (present(unused)) continue
-        call check_equal_logical(spread(expected, 1, size(actual)), actual, .true., message, &
-            location)
-    end subroutine assert_equal_ls_lv
+        call check_equal_logical(spread(expected, 1, size(actual)), actual, .true., message, location)
+    end subroutine eq_ls_lv
 
-    !> assertEqual(expected: logical(:), actual: logical(:)); `message` only by keyword, as in pFUnit.
-    subroutine assert_equal_lv_lv(expected, actual, unused, message, location)
-        logical, intent(in) :: expected(:)
-        logical, intent(in) :: actual(:)
+    subroutine eq_lv_lv(expected, actual, unused, message, location)
+        logical, intent(in) :: expected(:), actual(:)
         class(pf_keyword_enforcer), intent(in), optional :: unused
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
         if (present(unused)) continue
         call check_equal_logical(expected, actual, .true., message, location)
-    end subroutine assert_equal_lv_lv
+    end subroutine eq_lv_lv
 
-    !> assertEqual for character scalars; leading and trailing blanks and tabs are ignored (pFUnit's default).
-    subroutine assert_equal_c_c(expected, found, message, location)
-        character(len=*), intent(in) :: expected
-        character(len=*), intent(in) :: found
+    subroutine rel_r64s_r64s_t64(expected, actual, tolerance, message, location)
+        real(real64), intent(in) :: expected, actual, tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_equal_string(expected, found, message, location)
-    end subroutine assert_equal_c_c
+        call check_relatively_equal([expected], [actual], .false., message, location, tolerance)
+    end subroutine rel_r64s_r64s_t64
 
-    !> assertRelativelyEqual(expected: real64, actual: real64, tolerance: real64).
-    subroutine assert_rel_equal_r64s_r64s_tol64(expected, actual, tolerance, message, location)
-        real(real64), intent(in) :: expected
-        real(real64), intent(in) :: actual
-        real(real64), intent(in) :: tolerance
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_relatively_equal([expected], [actual], tolerance, .false., message, location)
-    end subroutine assert_rel_equal_r64s_r64s_tol64
-
-    !> assertRelativelyEqual(expected: real64, actual: real64, tolerance: real32).
-    subroutine assert_rel_equal_r64s_r64s_tol32(expected, actual, tolerance, message, location)
-        real(real64), intent(in) :: expected
-        real(real64), intent(in) :: actual
+    subroutine rel_r64s_r64s_t32(expected, actual, tolerance, message, location)
+        real(real64), intent(in) :: expected, actual
         real(real32), intent(in) :: tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_relatively_equal([expected], [actual], real(tolerance, real64), .false., &
-            message, location)
-    end subroutine assert_rel_equal_r64s_r64s_tol32
+        call check_relatively_equal([expected], [actual], .false., message, location, real(tolerance, real64))
+    end subroutine rel_r64s_r64s_t32
 
-    !> assertRelativelyEqual(expected: real64, actual: real64(:), tolerance: real64).
-    subroutine assert_rel_equal_r64s_r64v_tol64(expected, actual, tolerance, message, location)
-        real(real64), intent(in) :: expected
-        real(real64), intent(in) :: actual(:)
-        real(real64), intent(in) :: tolerance
+    subroutine rel_r64s_r64v_t64(expected, actual, tolerance, message, location)
+        real(real64), intent(in) :: expected, actual(:), tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_relatively_equal(spread(expected, 1, size(actual)), actual, tolerance, .true., &
-            message, location)
-    end subroutine assert_rel_equal_r64s_r64v_tol64
+        call check_relatively_equal(spread(expected, 1, size(actual)), actual, .true., message, location, tolerance)
+    end subroutine rel_r64s_r64v_t64
 
-    !> assertRelativelyEqual(expected: real64, actual: real64(:), tolerance: real32).
-    subroutine assert_rel_equal_r64s_r64v_tol32(expected, actual, tolerance, message, location)
-        real(real64), intent(in) :: expected
-        real(real64), intent(in) :: actual(:)
+    subroutine rel_r64s_r64v_t32(expected, actual, tolerance, message, location)
+        real(real64), intent(in) :: expected, actual(:)
         real(real32), intent(in) :: tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_relatively_equal(spread(expected, 1, size(actual)), actual, &
-            real(tolerance, real64), .true., message, location)
-    end subroutine assert_rel_equal_r64s_r64v_tol32
+        call check_relatively_equal(spread(expected, 1, size(actual)), actual, .true., &
+            message, location, real(tolerance, real64))
+    end subroutine rel_r64s_r64v_t32
 
-    !> assertRelativelyEqual(expected: real64(:), actual: real64(:), tolerance: real64).
-    subroutine assert_rel_equal_r64v_r64v_tol64(expected, actual, tolerance, message, location)
-        real(real64), intent(in) :: expected(:)
-        real(real64), intent(in) :: actual(:)
-        real(real64), intent(in) :: tolerance
+    subroutine rel_r64v_r64v_t64(expected, actual, tolerance, message, location)
+        real(real64), intent(in) :: expected(:), actual(:), tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_relatively_equal(expected, actual, tolerance, .true., message, location)
-    end subroutine assert_rel_equal_r64v_r64v_tol64
+        call check_relatively_equal(expected, actual, .true., message, location, tolerance)
+    end subroutine rel_r64v_r64v_t64
 
-    !> assertRelativelyEqual(expected: real64(:), actual: real64(:), tolerance: real32).
-    subroutine assert_rel_equal_r64v_r64v_tol32(expected, actual, tolerance, message, location)
-        real(real64), intent(in) :: expected(:)
-        real(real64), intent(in) :: actual(:)
+    subroutine rel_r64v_r64v_t32(expected, actual, tolerance, message, location)
+        real(real64), intent(in) :: expected(:), actual(:)
         real(real32), intent(in) :: tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_relatively_equal(expected, actual, real(tolerance, real64), .true., message, &
-            location)
-    end subroutine assert_rel_equal_r64v_r64v_tol32
+        call check_relatively_equal(expected, actual, .true., message, location, real(tolerance, real64))
+    end subroutine rel_r64v_r64v_t32
 
-    !> assertLessThan(lhs: real64, rhs: real64).
-    subroutine assert_less_than_r64s_r64s(lhs, rhs, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs
+    subroutine order_r64s_r64s(lhs, rhs, message, location)
+        real(real64), intent(in) :: lhs, rhs
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_order_real(op_lt, [lhs], [rhs], 0.0_real64, .false., message, location)
-    end subroutine assert_less_than_r64s_r64s
+        call check_order_real([lhs], [rhs], .false., message, location)
+    end subroutine order_r64s_r64s
 
-    !> assertLessThan(lhs: real64, rhs: real64, tolerance: real64).
-    subroutine assert_less_than_r64s_r64s_tol64(lhs, rhs, tolerance, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs
-        real(real64), intent(in) :: tolerance
+    subroutine order_r64s_r64s_t64(lhs, rhs, tolerance, message, location)
+        real(real64), intent(in) :: lhs, rhs, tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_order_real(op_lt, [lhs], [rhs], tolerance, .false., message, location)
-    end subroutine assert_less_than_r64s_r64s_tol64
+        call check_order_real([lhs], [rhs], .false., message, location, tolerance)
+    end subroutine order_r64s_r64s_t64
 
-    !> assertLessThan(lhs: real64, rhs: real64(:)).
-    subroutine assert_less_than_r64s_r64v(lhs, rhs, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs(:)
+    subroutine order_r64s_r64v(lhs, rhs, message, location)
+        real(real64), intent(in) :: lhs, rhs(:)
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_order_real(op_lt, spread(lhs, 1, size(rhs)), rhs, 0.0_real64, .true., message, &
-            location)
-    end subroutine assert_less_than_r64s_r64v
+        call check_order_real(spread(lhs, 1, size(rhs)), rhs, .true., message, location)
+    end subroutine order_r64s_r64v
 
-    !> assertLessThan(lhs: real64, rhs: real64(:), tolerance: real64).
-    subroutine assert_less_than_r64s_r64v_tol64(lhs, rhs, tolerance, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs(:)
-        real(real64), intent(in) :: tolerance
+    subroutine order_r64s_r64v_t64(lhs, rhs, tolerance, message, location)
+        real(real64), intent(in) :: lhs, rhs(:), tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_order_real(op_lt, spread(lhs, 1, size(rhs)), rhs, tolerance, .true., message, &
-            location)
-    end subroutine assert_less_than_r64s_r64v_tol64
+        call check_order_real(spread(lhs, 1, size(rhs)), rhs, .true., message, location, tolerance)
+    end subroutine order_r64s_r64v_t64
 
-    !> assertLessThan(lhs: real64(:), rhs: real64(:)).
-    subroutine assert_less_than_r64v_r64v(lhs, rhs, message, location)
-        real(real64), intent(in) :: lhs(:)
-        real(real64), intent(in) :: rhs(:)
+    subroutine order_r64v_r64v(lhs, rhs, message, location)
+        real(real64), intent(in) :: lhs(:), rhs(:)
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_order_real(op_lt, lhs, rhs, 0.0_real64, .true., message, location)
-    end subroutine assert_less_than_r64v_r64v
+        call check_order_real(lhs, rhs, .true., message, location)
+    end subroutine order_r64v_r64v
 
-    !> assertLessThan(lhs: real64(:), rhs: real64(:), tolerance: real64).
-    subroutine assert_less_than_r64v_r64v_tol64(lhs, rhs, tolerance, message, location)
-        real(real64), intent(in) :: lhs(:)
-        real(real64), intent(in) :: rhs(:)
-        real(real64), intent(in) :: tolerance
+    subroutine order_r64v_r64v_t64(lhs, rhs, tolerance, message, location)
+        real(real64), intent(in) :: lhs(:), rhs(:), tolerance
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
-        call check_order_real(op_lt, lhs, rhs, tolerance, .true., message, location)
-    end subroutine assert_less_than_r64v_r64v_tol64
+        call check_order_real(lhs, rhs, .true., message, location, tolerance)
+    end subroutine order_r64v_r64v_t64
 
-    !> assertLessThan(lhs: int32, rhs: int32); `message` only by keyword, as in pFUnit.
-    subroutine assert_less_than_i32s_i32s(lhs, rhs, unused, message, location)
-        integer(int32), intent(in) :: lhs
-        integer(int32), intent(in) :: rhs
+    subroutine order_i32s_i32s(lhs, rhs, unused, message, location)
+        integer(int32), intent(in) :: lhs, rhs
         class(pf_keyword_enforcer), intent(in), optional :: unused
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
         if (present(unused)) continue
-        call check_order_int(op_lt, [int(lhs, int64)], [int(rhs, int64)], .false., message, &
-            location)
-    end subroutine assert_less_than_i32s_i32s
+        call check_order_int([int(lhs, int64)], [int(rhs, int64)], .false., message, location)
+    end subroutine order_i32s_i32s
 
-    !> assertLessThan(lhs: int32, rhs: int32(:)); `message` only by keyword, as in pFUnit.
-    subroutine assert_less_than_i32s_i32v(lhs, rhs, unused, message, location)
-        integer(int32), intent(in) :: lhs
-        integer(int32), intent(in) :: rhs(:)
+    subroutine order_i32s_i32v(lhs, rhs, unused, message, location)
+        integer(int32), intent(in) :: lhs, rhs(:)
         class(pf_keyword_enforcer), intent(in), optional :: unused
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
         if (present(unused)) continue
-        call check_order_int(op_lt, spread(int(lhs, int64), 1, size(rhs)), int(rhs, int64), .true., &
-            message, location)
-    end subroutine assert_less_than_i32s_i32v
+        call check_order_int(spread(int(lhs, int64), 1, size(rhs)), int(rhs, int64), .true., message, location)
+    end subroutine order_i32s_i32v
 
-    !> assertLessThan(lhs: int32(:), rhs: int32(:)); `message` only by keyword, as in pFUnit.
-    subroutine assert_less_than_i32v_i32v(lhs, rhs, unused, message, location)
-        integer(int32), intent(in) :: lhs(:)
-        integer(int32), intent(in) :: rhs(:)
+    subroutine order_i32v_i32v(lhs, rhs, unused, message, location)
+        integer(int32), intent(in) :: lhs(:), rhs(:)
         class(pf_keyword_enforcer), intent(in), optional :: unused
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
         if (present(unused)) continue
-        call check_order_int(op_lt, int(lhs, int64), int(rhs, int64), .true., message, location)
-    end subroutine assert_less_than_i32v_i32v
+        call check_order_int(int(lhs, int64), int(rhs, int64), .true., message, location)
+    end subroutine order_i32v_i32v
 
-    !> assertLessThan(lhs: int64, rhs: int64); `message` only by keyword, as in pFUnit.
-    subroutine assert_less_than_i64s_i64s(lhs, rhs, unused, message, location)
-        integer(int64), intent(in) :: lhs
-        integer(int64), intent(in) :: rhs
+    subroutine order_i64s_i64s(lhs, rhs, unused, message, location)
+        integer(int64), intent(in) :: lhs, rhs
         class(pf_keyword_enforcer), intent(in), optional :: unused
         character(len=*), intent(in), optional :: message
         type(pf_source_location), intent(in), optional :: location
 
         if (present(unused)) continue
-        call check_order_int(op_lt, [lhs], [rhs], .false., message, location)
-    end subroutine assert_less_than_i64s_i64s
-
-    !> assertLessThanOrEqual(lhs: real64, rhs: real64).
-    subroutine assert_less_equal_r64s_r64s(lhs, rhs, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_le, [lhs], [rhs], 0.0_real64, .false., message, location)
-    end subroutine assert_less_equal_r64s_r64s
-
-    !> assertLessThanOrEqual(lhs: real64, rhs: real64, tolerance: real64).
-    subroutine assert_less_equal_r64s_r64s_tol64(lhs, rhs, tolerance, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs
-        real(real64), intent(in) :: tolerance
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_le, [lhs], [rhs], tolerance, .false., message, location)
-    end subroutine assert_less_equal_r64s_r64s_tol64
-
-    !> assertLessThanOrEqual(lhs: real64, rhs: real64(:)).
-    subroutine assert_less_equal_r64s_r64v(lhs, rhs, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs(:)
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_le, spread(lhs, 1, size(rhs)), rhs, 0.0_real64, .true., message, &
-            location)
-    end subroutine assert_less_equal_r64s_r64v
-
-    !> assertLessThanOrEqual(lhs: real64, rhs: real64(:), tolerance: real64).
-    subroutine assert_less_equal_r64s_r64v_tol64(lhs, rhs, tolerance, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs(:)
-        real(real64), intent(in) :: tolerance
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_le, spread(lhs, 1, size(rhs)), rhs, tolerance, .true., message, &
-            location)
-    end subroutine assert_less_equal_r64s_r64v_tol64
-
-    !> assertLessThanOrEqual(lhs: real64(:), rhs: real64(:)).
-    subroutine assert_less_equal_r64v_r64v(lhs, rhs, message, location)
-        real(real64), intent(in) :: lhs(:)
-        real(real64), intent(in) :: rhs(:)
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_le, lhs, rhs, 0.0_real64, .true., message, location)
-    end subroutine assert_less_equal_r64v_r64v
-
-    !> assertLessThanOrEqual(lhs: real64(:), rhs: real64(:), tolerance: real64).
-    subroutine assert_less_equal_r64v_r64v_tol64(lhs, rhs, tolerance, message, location)
-        real(real64), intent(in) :: lhs(:)
-        real(real64), intent(in) :: rhs(:)
-        real(real64), intent(in) :: tolerance
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_le, lhs, rhs, tolerance, .true., message, location)
-    end subroutine assert_less_equal_r64v_r64v_tol64
-
-    !> assertLessThanOrEqual(lhs: int32, rhs: int32); `message` only by keyword, as in pFUnit.
-    subroutine assert_less_equal_i32s_i32s(lhs, rhs, unused, message, location)
-        integer(int32), intent(in) :: lhs
-        integer(int32), intent(in) :: rhs
-        class(pf_keyword_enforcer), intent(in), optional :: unused
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        if (present(unused)) continue
-        call check_order_int(op_le, [int(lhs, int64)], [int(rhs, int64)], .false., message, &
-            location)
-    end subroutine assert_less_equal_i32s_i32s
-
-    !> assertLessThanOrEqual(lhs: int32, rhs: int32(:)); `message` only by keyword, as in pFUnit.
-    subroutine assert_less_equal_i32s_i32v(lhs, rhs, unused, message, location)
-        integer(int32), intent(in) :: lhs
-        integer(int32), intent(in) :: rhs(:)
-        class(pf_keyword_enforcer), intent(in), optional :: unused
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        if (present(unused)) continue
-        call check_order_int(op_le, spread(int(lhs, int64), 1, size(rhs)), int(rhs, int64), .true., &
-            message, location)
-    end subroutine assert_less_equal_i32s_i32v
-
-    !> assertLessThanOrEqual(lhs: int32(:), rhs: int32(:)); `message` only by keyword, as in pFUnit.
-    subroutine assert_less_equal_i32v_i32v(lhs, rhs, unused, message, location)
-        integer(int32), intent(in) :: lhs(:)
-        integer(int32), intent(in) :: rhs(:)
-        class(pf_keyword_enforcer), intent(in), optional :: unused
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        if (present(unused)) continue
-        call check_order_int(op_le, int(lhs, int64), int(rhs, int64), .true., message, location)
-    end subroutine assert_less_equal_i32v_i32v
-
-    !> assertLessThanOrEqual(lhs: int64, rhs: int64); `message` only by keyword, as in pFUnit.
-    subroutine assert_less_equal_i64s_i64s(lhs, rhs, unused, message, location)
-        integer(int64), intent(in) :: lhs
-        integer(int64), intent(in) :: rhs
-        class(pf_keyword_enforcer), intent(in), optional :: unused
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        if (present(unused)) continue
-        call check_order_int(op_le, [lhs], [rhs], .false., message, location)
-    end subroutine assert_less_equal_i64s_i64s
-
-    !> assertGreaterThan(lhs: real64, rhs: real64).
-    subroutine assert_greater_than_r64s_r64s(lhs, rhs, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_gt, [lhs], [rhs], 0.0_real64, .false., message, location)
-    end subroutine assert_greater_than_r64s_r64s
-
-    !> assertGreaterThan(lhs: real64, rhs: real64, tolerance: real64).
-    subroutine assert_greater_than_r64s_r64s_tol64(lhs, rhs, tolerance, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs
-        real(real64), intent(in) :: tolerance
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_gt, [lhs], [rhs], tolerance, .false., message, location)
-    end subroutine assert_greater_than_r64s_r64s_tol64
-
-    !> assertGreaterThan(lhs: real64, rhs: real64(:)).
-    subroutine assert_greater_than_r64s_r64v(lhs, rhs, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs(:)
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_gt, spread(lhs, 1, size(rhs)), rhs, 0.0_real64, .true., message, &
-            location)
-    end subroutine assert_greater_than_r64s_r64v
-
-    !> assertGreaterThan(lhs: real64, rhs: real64(:), tolerance: real64).
-    subroutine assert_greater_than_r64s_r64v_tol64(lhs, rhs, tolerance, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs(:)
-        real(real64), intent(in) :: tolerance
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_gt, spread(lhs, 1, size(rhs)), rhs, tolerance, .true., message, &
-            location)
-    end subroutine assert_greater_than_r64s_r64v_tol64
-
-    !> assertGreaterThan(lhs: real64(:), rhs: real64(:)).
-    subroutine assert_greater_than_r64v_r64v(lhs, rhs, message, location)
-        real(real64), intent(in) :: lhs(:)
-        real(real64), intent(in) :: rhs(:)
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_gt, lhs, rhs, 0.0_real64, .true., message, location)
-    end subroutine assert_greater_than_r64v_r64v
-
-    !> assertGreaterThan(lhs: real64(:), rhs: real64(:), tolerance: real64).
-    subroutine assert_greater_than_r64v_r64v_tol64(lhs, rhs, tolerance, message, location)
-        real(real64), intent(in) :: lhs(:)
-        real(real64), intent(in) :: rhs(:)
-        real(real64), intent(in) :: tolerance
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_gt, lhs, rhs, tolerance, .true., message, location)
-    end subroutine assert_greater_than_r64v_r64v_tol64
-
-    !> assertGreaterThan(lhs: int32, rhs: int32); `message` only by keyword, as in pFUnit.
-    subroutine assert_greater_than_i32s_i32s(lhs, rhs, unused, message, location)
-        integer(int32), intent(in) :: lhs
-        integer(int32), intent(in) :: rhs
-        class(pf_keyword_enforcer), intent(in), optional :: unused
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        if (present(unused)) continue
-        call check_order_int(op_gt, [int(lhs, int64)], [int(rhs, int64)], .false., message, &
-            location)
-    end subroutine assert_greater_than_i32s_i32s
-
-    !> assertGreaterThan(lhs: int32, rhs: int32(:)); `message` only by keyword, as in pFUnit.
-    subroutine assert_greater_than_i32s_i32v(lhs, rhs, unused, message, location)
-        integer(int32), intent(in) :: lhs
-        integer(int32), intent(in) :: rhs(:)
-        class(pf_keyword_enforcer), intent(in), optional :: unused
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        if (present(unused)) continue
-        call check_order_int(op_gt, spread(int(lhs, int64), 1, size(rhs)), int(rhs, int64), .true., &
-            message, location)
-    end subroutine assert_greater_than_i32s_i32v
-
-    !> assertGreaterThan(lhs: int32(:), rhs: int32(:)); `message` only by keyword, as in pFUnit.
-    subroutine assert_greater_than_i32v_i32v(lhs, rhs, unused, message, location)
-        integer(int32), intent(in) :: lhs(:)
-        integer(int32), intent(in) :: rhs(:)
-        class(pf_keyword_enforcer), intent(in), optional :: unused
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        if (present(unused)) continue
-        call check_order_int(op_gt, int(lhs, int64), int(rhs, int64), .true., message, location)
-    end subroutine assert_greater_than_i32v_i32v
-
-    !> assertGreaterThan(lhs: int64, rhs: int64); `message` only by keyword, as in pFUnit.
-    subroutine assert_greater_than_i64s_i64s(lhs, rhs, unused, message, location)
-        integer(int64), intent(in) :: lhs
-        integer(int64), intent(in) :: rhs
-        class(pf_keyword_enforcer), intent(in), optional :: unused
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        if (present(unused)) continue
-        call check_order_int(op_gt, [lhs], [rhs], .false., message, location)
-    end subroutine assert_greater_than_i64s_i64s
-
-    !> assertGreaterThanOrEqual(lhs: real64, rhs: real64).
-    subroutine assert_greater_equal_r64s_r64s(lhs, rhs, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_ge, [lhs], [rhs], 0.0_real64, .false., message, location)
-    end subroutine assert_greater_equal_r64s_r64s
-
-    !> assertGreaterThanOrEqual(lhs: real64, rhs: real64, tolerance: real64).
-    subroutine assert_greater_equal_r64s_r64s_tol64(lhs, rhs, tolerance, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs
-        real(real64), intent(in) :: tolerance
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_ge, [lhs], [rhs], tolerance, .false., message, location)
-    end subroutine assert_greater_equal_r64s_r64s_tol64
-
-    !> assertGreaterThanOrEqual(lhs: real64, rhs: real64(:)).
-    subroutine assert_greater_equal_r64s_r64v(lhs, rhs, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs(:)
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_ge, spread(lhs, 1, size(rhs)), rhs, 0.0_real64, .true., message, &
-            location)
-    end subroutine assert_greater_equal_r64s_r64v
-
-    !> assertGreaterThanOrEqual(lhs: real64, rhs: real64(:), tolerance: real64).
-    subroutine assert_greater_equal_r64s_r64v_tol64(lhs, rhs, tolerance, message, location)
-        real(real64), intent(in) :: lhs
-        real(real64), intent(in) :: rhs(:)
-        real(real64), intent(in) :: tolerance
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_ge, spread(lhs, 1, size(rhs)), rhs, tolerance, .true., message, &
-            location)
-    end subroutine assert_greater_equal_r64s_r64v_tol64
-
-    !> assertGreaterThanOrEqual(lhs: real64(:), rhs: real64(:)).
-    subroutine assert_greater_equal_r64v_r64v(lhs, rhs, message, location)
-        real(real64), intent(in) :: lhs(:)
-        real(real64), intent(in) :: rhs(:)
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_ge, lhs, rhs, 0.0_real64, .true., message, location)
-    end subroutine assert_greater_equal_r64v_r64v
-
-    !> assertGreaterThanOrEqual(lhs: real64(:), rhs: real64(:), tolerance: real64).
-    subroutine assert_greater_equal_r64v_r64v_tol64(lhs, rhs, tolerance, message, location)
-        real(real64), intent(in) :: lhs(:)
-        real(real64), intent(in) :: rhs(:)
-        real(real64), intent(in) :: tolerance
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_order_real(op_ge, lhs, rhs, tolerance, .true., message, location)
-    end subroutine assert_greater_equal_r64v_r64v_tol64
-
-    !> assertGreaterThanOrEqual(lhs: int32, rhs: int32); `message` only by keyword, as in pFUnit.
-    subroutine assert_greater_equal_i32s_i32s(lhs, rhs, unused, message, location)
-        integer(int32), intent(in) :: lhs
-        integer(int32), intent(in) :: rhs
-        class(pf_keyword_enforcer), intent(in), optional :: unused
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        if (present(unused)) continue
-        call check_order_int(op_ge, [int(lhs, int64)], [int(rhs, int64)], .false., message, &
-            location)
-    end subroutine assert_greater_equal_i32s_i32s
-
-    !> assertGreaterThanOrEqual(lhs: int32, rhs: int32(:)); `message` only by keyword, as in pFUnit.
-    subroutine assert_greater_equal_i32s_i32v(lhs, rhs, unused, message, location)
-        integer(int32), intent(in) :: lhs
-        integer(int32), intent(in) :: rhs(:)
-        class(pf_keyword_enforcer), intent(in), optional :: unused
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        if (present(unused)) continue
-        call check_order_int(op_ge, spread(int(lhs, int64), 1, size(rhs)), int(rhs, int64), .true., &
-            message, location)
-    end subroutine assert_greater_equal_i32s_i32v
-
-    !> assertGreaterThanOrEqual(lhs: int32(:), rhs: int32(:)); `message` only by keyword, as in pFUnit.
-    subroutine assert_greater_equal_i32v_i32v(lhs, rhs, unused, message, location)
-        integer(int32), intent(in) :: lhs(:)
-        integer(int32), intent(in) :: rhs(:)
-        class(pf_keyword_enforcer), intent(in), optional :: unused
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        if (present(unused)) continue
-        call check_order_int(op_ge, int(lhs, int64), int(rhs, int64), .true., message, location)
-    end subroutine assert_greater_equal_i32v_i32v
-
-    !> assertGreaterThanOrEqual(lhs: int64, rhs: int64); `message` only by keyword, as in pFUnit.
-    subroutine assert_greater_equal_i64s_i64s(lhs, rhs, unused, message, location)
-        integer(int64), intent(in) :: lhs
-        integer(int64), intent(in) :: rhs
-        class(pf_keyword_enforcer), intent(in), optional :: unused
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        if (present(unused)) continue
-        call check_order_int(op_ge, [lhs], [rhs], .false., message, location)
-    end subroutine assert_greater_equal_i64s_i64s
-
-    !> assertIsFinite(x: real64).
-    subroutine assert_is_finite_r64(x, message, location)
-        real(real64), intent(in) :: x
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_is_finite(x, message, location)
-    end subroutine assert_is_finite_r64
-
-    !> assertIsFinite(x: real32).
-    subroutine assert_is_finite_r32(x, message, location)
-        real(real32), intent(in) :: x
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_is_finite(real(x, real64), message, location)
-    end subroutine assert_is_finite_r32
-
-    !> assertIsNaN(x: real64).
-    subroutine assert_is_nan_r64(x, message, location)
-        real(real64), intent(in) :: x
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_is_nan(x, message, location)
-    end subroutine assert_is_nan_r64
-
-    !> assertIsNaN(x: real32).
-    subroutine assert_is_nan_r32(x, message, location)
-        real(real32), intent(in) :: x
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_is_nan(real(x, real64), message, location)
-    end subroutine assert_is_nan_r32
-
-    !> assertTrue(condition: logical).
-    subroutine assert_true_s(condition, message, location)
-        logical, intent(in) :: condition
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_condition(condition, "assertTrue", message, location)
-    end subroutine assert_true_s
-
-    !> assertTrue(condition: logical(:)).
-    subroutine assert_true_v(condition, message, location)
-        logical, intent(in) :: condition(:)
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_condition(all(condition), "assertTrue", message, location)
-    end subroutine assert_true_v
-
-    !> assertFalse(condition: logical).
-    subroutine assert_false_s(condition, message, location)
-        logical, intent(in) :: condition
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_condition(.not. condition, "assertFalse", message, location)
-    end subroutine assert_false_s
-
-    !> assertFalse(condition: logical(:)).
-    subroutine assert_false_v(condition, message, location)
-        logical, intent(in) :: condition(:)
-        character(len=*), intent(in), optional :: message
-        type(pf_source_location), intent(in), optional :: location
-
-        call check_condition(.not. any(condition), "assertFalse", message, location)
-    end subroutine assert_false_v
+        call check_order_int([lhs], [rhs], .false., message, location)
+    end subroutine order_i64s_i64s
 
 end module pf_runtime

@@ -28,7 +28,7 @@ check() {   # check NAME LOG STATUS: a step passes when it exited 0 and its log 
     fi
 }
 
-python3 test/pf2f90.py -o test test/*.pf || { echo "sanitize: 0 passed, 1 failed"; exit 1; }
+python3 test/pf2f90.py || { echo "sanitize: 0 passed, 1 failed"; exit 1; }
 fpm test --flag "${flags}" >"${tmp}/suite.log" 2>&1
 check "fpm test" "${tmp}/suite.log" $?
 grep -E '^fortran: ' "${tmp}/suite.log" | tail -n 1

@@ -98,7 +98,8 @@ def test_split_args_rejects_unbalanced(text):
 )
 def test_macro_translation(macro, call):
     text, _ = translate(f"    @test\n    subroutine t()\n        {macro}\n    end subroutine t\n")
-    loc = "pf_source_location('test_x.pf', 7)"
+    name = call.split("(")[0].split()[-1]
+    loc = f"pf_source_location('test_x.pf', 7, '{name}')"
     assert calls(text) == [call.replace("LOC", loc)]
     lines = text.splitlines()
     k = next(i for i, line in enumerate(lines) if "call assert" in line)
@@ -148,13 +149,6 @@ def test_directive_longer_than_pfunit_allows_is_rejected():
         translate("    @test\n    subroutine t()\n        @assertTrue(ok, '" + "x" * 120 + "')\n    end subroutine t\n")
 
 
-def test_comment_on_module_line_and_use_pfunit_are_rejected():
-    with pytest.raises(PfError, match=r"comment on the module line"):
-        convert("test_x.pf", "module test_x ! tests\n    use funit\ncontains\nend module test_x\n")
-    with pytest.raises(PfError, match=r"only 'use funit'"):
-        convert("test_x.pf", "module test_x\n    use pfunit\ncontains\nend module test_x\n")
-
-
 def test_ordinary_continuation_lines_copied_unchanged():
     body = """\
     @test
@@ -176,7 +170,7 @@ def test_long_call_is_wrapped_within_132_columns():
     text, _ = translate(f"    @test\n    subroutine t()\n        @assertTrue(ok, '{long_message}')\n"
                         "    end subroutine t\n")
     assert max(len(line) for line in text.splitlines()) <= 132
-    assert calls(text) == [f"call assertTrue(ok, '{long_message}', location=pf_source_location('test_x.pf', 7))"]
+    assert calls(text) == [f"call assertTrue(ok, '{long_message}', location=pf_source_location('test_x.pf', 7, 'assertTrue'))"]
 
 
 def test_driver_runs_every_test_with_before_and_after():
@@ -224,24 +218,24 @@ def test_errors_name_file_and_line(body, line, message):
     assert message in str(info.value)
 
 
-def test_errors_at_end_of_file():
-    with pytest.raises(PfError, match=r"^test_x\.pf:5: @-directive continued"):
-        convert("test_x.pf", "module test_x\n    use funit\ncontains\n    subroutine t()\n        @assertTrue(x, &\n")
-    with pytest.raises(PfError, match=r"^test_x\.pf:3: @test without a following subroutine"):
-        convert("test_x.pf", "module test_x\ncontains\n    @test\n")
-
-
-def test_module_must_match_file_name():
-    with pytest.raises(PfError, match=r"^test_y\.pf:1: module test_x must be named like its file"):
-        convert("test_y.pf", pf(""))
-
-
-def test_use_funit_required_and_plain():
-    with pytest.raises(PfError, match="no 'use funit'"):
-        convert("test_x.pf", pf("    @test\n    subroutine t()\n        @assertTrue(.true.)\n    end subroutine t\n",
-                                uses=""))
-    with pytest.raises(PfError, match="no only-list"):
-        convert("test_x.pf", pf("", uses="    use funit, only: assertTrue\n"))
+@pytest.mark.parametrize(
+    "name, source, pattern",
+    [
+        ("test_x.pf", "module test_x ! tests\n    use funit\ncontains\nend module test_x\n", "comment on the module line"),
+        ("test_x.pf", "module test_x\n    use pfunit\ncontains\nend module test_x\n", "only 'use funit'"),
+        ("test_x.pf", "module test_x\n    use funit\ncontains\n    subroutine t()\n        @assertTrue(x, &\n",
+         r"^test_x\.pf:5: @-directive continued"),
+        ("test_x.pf", "module test_x\ncontains\n    @test\n", r"^test_x\.pf:3: @test without a following subroutine"),
+        ("test_y.pf", pf(""), r"^test_y\.pf:1: module test_x must be named like its file"),
+        ("test_x.pf", pf("    @test\n    subroutine t()\n        @assertTrue(.true.)\n    end subroutine t\n", uses=""),
+         "no 'use funit'"),
+        ("test_x.pf", pf("", uses="    use funit, only: assertTrue\n"), "no only-list"),
+    ],
+)
+def test_module_errors(name, source, pattern):
+    """The module line, `use funit`, and directives cut off by the end of the file."""
+    with pytest.raises(PfError, match=pattern):
+        convert(name, source)
 
 
 def test_command_line_reports_errors_and_writes_nothing(tmp_path, capsys):
@@ -262,6 +256,43 @@ def test_stale_generated_files_are_deleted(tmp_path):
     src.write_text(pf("    @test\n    subroutine t()\n    end subroutine t\n", name="test_new"))
     assert pf2f90.main(["-o", str(out), str(src)]) == 0
     assert sorted(p.name for p in out.iterdir()) == ["handwritten.f90", "pf_driver.f90", "test_new.f90"]
+
+
+def test_check_names_stale_missing_and_orphaned_files_and_writes_nothing(tmp_path, capsys):
+    src = tmp_path / "test_new.pf"
+    src.write_text(pf("    @test\n    subroutine t()\n    end subroutine t\n", name="test_new"))
+    out = tmp_path / "gen"
+    assert pf2f90.main(["-o", str(out), "--check", str(src)]) == 1  # nothing translated yet
+    err = capsys.readouterr().err
+    assert "test_new.f90: missing" in err and "pf_driver.f90: missing" in err
+    assert f"run `{pf2f90.REGENERATE}`" in err
+    assert not out.exists()
+
+    assert pf2f90.main(["-o", str(out), str(src)]) == 0
+    assert pf2f90.main(["-o", str(out), "--check", str(src)]) == 0
+    fresh = {p.name: p.read_text() for p in out.iterdir()}
+
+    src.write_text(pf("    @test\n    subroutine u()\n    end subroutine u\n", name="test_new"))  # edited .pf
+    (out / "test_old.f90").write_text(pf2f90.MARKER + " from test_old.pf\n")  # its .pf deleted
+    (out / "handwritten.f90").write_text("module handwritten\nend module handwritten\n")
+    capsys.readouterr()
+    assert pf2f90.main(["-o", str(out), "--check", str(src)]) == 1
+    err = capsys.readouterr().err
+    assert "test_new.f90: differs" in err and "pf_driver.f90: differs" in err
+    assert "test_old.f90: generated from a .pf file that no longer exists" in err
+    assert "handwritten" not in err
+    assert fresh == {p.name: p.read_text() for p in out.iterdir() if p.name in fresh}  # --check wrote nothing
+
+    assert pf2f90.main(["-o", str(out), str(src)]) == 0
+    assert pf2f90.main(["-o", str(out), "--check", str(src)]) == 0
+
+
+def test_defaults_translate_every_pf_file_next_to_the_runtime():
+    """Without -o, the inputs are test/*.pf and the output is test/ (the committed translation)."""
+    outputs, modules, errors = pf2f90.translate_all(sorted(str(p) for p in HERE.glob("*.pf")))
+    assert not errors
+    assert sorted(outputs) == sorted([p.stem + ".f90" for p in HERE.glob("*.pf")] + ["pf_driver.f90"])
+    assert sum(len(m.tests) for m in modules) > 0
 
 
 # --------------------------------------------------------------------------- end to end
@@ -307,15 +338,16 @@ end module test_e2e
 """
 
 
-def build_end_to_end(tmp_path: Path) -> Path:
+def build_end_to_end(tmp_path: Path, source: str = END_TO_END, name: str = "test_e2e") -> Path:
+    """Translate ``source`` (the module ``name``), compile it with the runtime and a driver; the executable."""
     gfortran = shutil.which("gfortran")
     if gfortran is None:
         pytest.skip("gfortran not installed")
-    (tmp_path / "test_e2e.pf").write_text(END_TO_END)
+    (tmp_path / f"{name}.pf").write_text(source)
     gen = tmp_path / "generated"
-    assert pf2f90.main(["-o", str(gen), str(tmp_path / "test_e2e.pf")]) == 0
+    assert pf2f90.main(["-o", str(gen), str(tmp_path / f"{name}.pf")]) == 0
     exe = tmp_path / "driver"
-    sources = [HERE / "pf_runtime.f90", gen / "test_e2e.f90", gen / "pf_driver.f90"]
+    sources = [HERE / "pf_runtime.f90", gen / f"{name}.f90", gen / "pf_driver.f90"]
     build = subprocess.run(
         [gfortran, "-std=f2008", "-Wall", "-Wextra", "-Werror", "-fcheck=all", "-g",
          "-J", str(tmp_path), *map(str, sources), "-o", str(exe)],
@@ -341,6 +373,100 @@ def test_end_to_end(tmp_path):
     selected = subprocess.run([str(exe), "PASSES"], capture_output=True, text=True, cwd=tmp_path, timeout=60)
     assert selected.stdout.strip().splitlines()[-1] == "fortran: 2 passed, 0 failed"
     assert selected.returncode == 0
+
+
+def with_set_up(name: str, set_up: str, test: str) -> str:
+    """A module whose @before does ``set_up`` (line 7), whose one test does ``test`` (line 17) and whose
+    @after prints ``tear-down ran``."""
+    return f"""\
+module {name}
+    use funit
+    implicit none
+contains
+    @before
+    subroutine set_up()
+        {set_up}
+    end subroutine set_up
+
+    @after
+    subroutine tear_down()
+        write(*, '(a)') 'tear-down ran'
+    end subroutine tear_down
+
+    @test
+    subroutine test_it()
+        {test}
+    end subroutine test_it
+end module {name}
+"""
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(
+    "name, set_up, test, ran, fail",
+    [
+        ("test_setup", "@assertTrue(.false., 'set-up fails')", "write(*, '(a)') 'test ran'", [],
+         "FAIL test_setup::test_it (test_setup.pf:7): assertTrue: condition is .false. -- set-up fails"),
+        ("test_teardown", "continue", "@assertTrue(.false., 'the test fails')", ["tear-down ran"],
+         "FAIL test_teardown::test_it (test_teardown.pf:17): assertTrue: condition is .false. -- the test fails"),
+    ],
+)
+def test_after_runs_only_when_before_passed(tmp_path, name, set_up, test, ran, fail):
+    """As pFUnit's TestCase%runBare: a failed @before skips the test and @after; a failed test does not skip @after."""
+    exe = build_end_to_end(tmp_path, with_set_up(name, set_up, test), name)
+    run = subprocess.run([str(exe)], capture_output=True, text=True, cwd=tmp_path, timeout=60)
+    assert run.stdout.strip().splitlines() == [*ran, fail, "fortran: 0 passed, 1 failed"]
+    assert run.returncode != 0
+
+
+ORDER = """\
+module test_order
+    use funit
+    implicit none
+contains
+    @test
+    subroutine test_lt_equal()
+        @assertLessThan(1, 1)
+    end subroutine test_lt_equal
+
+    @test
+    subroutine test_le_equal()
+        @assertLessThanOrEqual(1.0d0, [1.0d0, 0.5d0], 0.6d0)
+    end subroutine test_le_equal
+
+    @test
+    subroutine test_gt_equal()
+        @assertGreaterThan([1.0d0, 2.0d0], [1.0d0, 1.0d0])
+    end subroutine test_gt_equal
+
+    @test
+    subroutine test_ge_equal()
+        @assertGreaterThanOrEqual(1, [1, 2], message='ge')
+    end subroutine test_ge_equal
+
+    @test
+    subroutine test_direct_call()
+        call assertLessThan(1, 2)
+    end subroutine test_direct_call
+end module test_order
+"""
+
+
+@pytest.mark.slow
+def test_order_assertions_take_their_relation_from_the_location(tmp_path):
+    """The four order assertions share their specific procedures: each checks its own relation, and a
+    call without the location that the @-macro passes fails instead of checking an arbitrary one."""
+    exe = build_end_to_end(tmp_path, ORDER, "test_order")
+    run = subprocess.run([str(exe)], capture_output=True, text=True, cwd=tmp_path, timeout=60)
+    assert run.stdout.strip().splitlines() == [
+        "FAIL test_order::test_lt_equal (test_order.pf:7): assertLessThan: 1 is not less than 1",
+        "FAIL test_order::test_gt_equal (test_order.pf:17): assertGreaterThan: 1.0 is not greater than 1.0 at index 1",
+        "FAIL test_order::test_ge_equal (test_order.pf:22): assertGreaterThanOrEqual: 1 is not greater than or equal "
+        "to 2 at index 2 -- ge",
+        "FAIL test_order::test_direct_call: assertLessThan and its kin run only from their @-macros, whose location "
+        "names the relation to check",
+        "fortran: 1 passed, 4 failed",
+    ]
 
 
 def test_no_input_gives_an_empty_driver(tmp_path):

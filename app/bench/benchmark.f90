@@ -29,18 +29,22 @@ program benchmark
     use supratrans_input, only: read_input
     use supratrans_scene_sweep, only: run_amplitude_sweep
     use supratrans_scene_bifurcation, only: run_bifurcation
+    use supratrans_scene_continuation, only: run_continuation
     use supratrans_hdf5, only: h5_file, h5_open, h5_read, h5_close
     use supratrans_system, only: remove_file
     use supratrans_scene_workprec, only: median
     use supratrans_tridiag, only: solve_tridiag
     use supratrans_stepper_newton, only: newton_stepper
     use supratrans_potential, only: sin_cos_array
+    use supratrans_config, only: scene_params
+    use supratrans_fold_record, only: fold_record, empty_fold_record
+    use supratrans_fold_line, only: trace_fold
     !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
     implicit none
     type(run_config) :: run
     type(run_result) :: result
     integer :: repeats, i, im
-    logical :: paper, runs_only
+    logical :: paper, runs_only, folds
     character(len=32) :: arg
     character(len=*), parameter :: names(2) = [character(len=10) :: "newton", "linearized"]
     integer, parameter :: methods(2) = [method_newton, method_linearized]
@@ -54,10 +58,16 @@ program benchmark
     end if
     paper = .false.
     runs_only = .false.
+    folds = .false.
     if (command_argument_count() >= 2) then
         call get_command_argument(2, arg)
         paper = trim(arg) == "paper"
         runs_only = trim(arg) == "runs"
+        folds = trim(arg) == "fold"
+    end if
+    if (folds) then
+        call fold_benchmark()
+        stop
     end if
     allocate (times(repeats), floor_times(repeats))
     run%drive%amplitude = 1.9_wp
@@ -328,9 +338,10 @@ contains
     end subroutine sweep_benchmark
 
     !> The bifurcation diagram of `input` with its frequency step replaced by `omega_step` up to `omega_max`.
-    subroutine bifurcation_benchmark(input, omega_step, omega_max)
+    subroutine bifurcation_benchmark(input, omega_step, omega_max, omega_min)
         character(len=*), intent(in) :: input
         real(wp), intent(in) :: omega_step, omega_max
+        real(wp), intent(in), optional :: omega_min
         type(input_config) :: cfg
         type(error_type), allocatable :: error
         type(h5_file) :: file
@@ -344,6 +355,7 @@ contains
         if (allocated(error)) error stop "benchmark: " // error%message
         cfg%scene%omega_step = omega_step
         cfg%scene%omega_max = omega_max
+        if (present(omega_min)) cfg%scene%omega_min = omega_min
         cfg%output%file = out
         cfg%output%overwrite = .true.
         cfg%output%quiet = .true.
@@ -359,7 +371,8 @@ contains
         if (.not. allocated(error)) call h5_read(file, "/omega", omega, error)
         if (allocated(error)) error stop "benchmark: " // error%message
         call h5_close(file, error)
-        write (*, "(a, f5.2, a, f5.2, a)") "# bifurcation diagram, undamped sine-Gordon, Omega = 0.05 ..", omega_max, &
+        write (*, "(a, f5.2, a, f5.2, a, f5.2, a)") "# bifurcation diagram, undamped sine-Gordon, Omega = ", &
+            cfg%scene%omega_min, " ..", omega_max, &
             " step", omega_step, ", resolution 0.01, 2 threads"
         write (*, "(a, i0, a, i0, a, f8.2, a)") "runs ", sum(runs, mask=runs > 0), ", time steps ", &
             sum(int(steps, i8), mask=steps > 0), ", ", seconds, " s"
@@ -368,6 +381,54 @@ contains
         end do
         call remove_file(out)
     end subroutine bifurcation_benchmark
+
+    !> The continuation scene's cost: one fold (undamped sine-Gordon, Omega = 0.9, c = 4, dt ~ 0.05, the paper's
+    !> absorber at N0 = 3N/4) at N = 50, 100, 200 with where its time goes, then the fold line at Omega = 0.7, 0.8,
+    !> 0.9 (N = 200) against the scan of the bifurcation scene on the same grid (2 threads each).
+    subroutine fold_benchmark()
+        type(run_config) :: frun
+        type(scene_params) :: sc
+        type(fold_record) :: r
+        type(input_config) :: cfg
+        type(error_type), allocatable :: error
+        integer :: k, n
+        real(wp) :: t0, seconds
+
+        sc%amplitude_max = 4.0_wp
+        sc%continuation_points = 150
+        frun%drive%omega = 0.9_wp
+        frun%drive%ramp_time = 0.0_wp
+        write (*, "(a)") "# one fold: undamped sine-Gordon, Omega = 0.9, c = 4, dt ~ 0.05, newton, 1 thread"
+        write (*, "(a6, 2x, a12, 2x, a8, 2x, a8, 2x, a8, 2x, a8, 2x, a8, 2x, a6, 2x, a6)") "N", "A_f", "total_s", &
+            "tangent", "map", "lu", "eigen", "points", "jacobs"
+        do k = 1, 3
+            n = 50*2**(k - 1)
+            frun%chain%n = n
+            frun%chain%n0 = 3*n/4
+            r = empty_fold_record(sc%continuation_points)
+            t0 = wall_seconds()
+            call trace_fold(frun, sc, r, .false.)
+            seconds = wall_seconds() - t0
+            write (*, "(i6, 2x, f12.8, 2x, f8.3, 2x, f8.3, 2x, f8.3, 2x, f8.3, 2x, f8.3, 2x, i6, 2x, i6)") n, &
+                r%fold_amplitude, seconds, r%time_tangent, r%time_map, r%time_lu, r%time_eigen, r%points, r%jacobians
+        end do
+        call read_input("input/fold_sg.nml", cfg, error)
+        if (allocated(error)) error stop "benchmark: " // error%message
+        cfg%scene%omega_min = 0.7_wp
+        cfg%scene%omega_max = 0.9_wp
+        cfg%scene%omega_step = 0.1_wp
+        cfg%output%file = "/tmp/supratrans_bench_fold.h5"
+        cfg%output%overwrite = .true.
+        cfg%output%quiet = .true.
+        !$ call omp_set_num_threads(2)
+        t0 = wall_seconds()
+        call run_continuation(cfg, error)
+        seconds = wall_seconds() - t0
+        if (allocated(error)) error stop "benchmark: " // error%message
+        call remove_file("/tmp/supratrans_bench_fold.h5")
+        write (*, "(a, f8.2, a)") "# fold line, Omega = 0.7 .. 0.9 step 0.1, N = 200, 2 threads: ", seconds, " s"
+        call bifurcation_benchmark("input/bif_undamped_sg.nml", 0.1_wp, 0.9_wp, 0.7_wp)
+    end subroutine fold_benchmark
 
     !> Wall-clock seconds since an arbitrary origin.
     function wall_seconds() result(t)

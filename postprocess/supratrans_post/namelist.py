@@ -7,8 +7,8 @@ from typing import Any
 
 from .reader import PlotError
 
-#: `--quick`: factor applied to the steps of the scene grids (amplitude, frequency, threshold resolution).
-QUICK = {"amplitude_step": 5.0, "omega_step": 2.0, "resolution": 5.0, "coarse_step": 2.0}
+#: `--quick`: factor applied to the steps of the scene grids (amplitude, frequency, threshold resolution, stairs).
+QUICK = {"amplitude_step": 5.0, "omega_step": 2.0, "resolution": 5.0, "coarse_step": 2.0, "stair_height": 5.0}
 
 
 def read(path: Any):
@@ -54,6 +54,8 @@ def quick_copy(source: Any, target: Any, output: Any) -> Path:
         value = scene.get(key)
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             scene[key] = float(f"{float(value) * factor:.6g}")
+    if str(scene.get("kind", "")).lower() == "continuation":
+        scene["fold_convergence"] = False  # the dt/2 and 2N folds cost 20x the fold itself
     if "output" not in nml:
         nml["output"] = {}
     out = _group(nml, "output")

@@ -99,6 +99,15 @@ SCHEMA: dict[str, dict[str, tuple[tuple[str, ...], bool]]] = {
         "multipliers/imag": _opt("task", "sample", "multiplier"), "multipliers/amplitude": _opt("task", "sample"),
         "convergence/digits": _opt("curve", "omega"), "convergence/error_estimate": _opt("curve", "omega"),
     },
+    "hysteresis": {
+        "omega": _req("omega"), "stair_time": _req("stair_length"), "stair_amplitude": _req("stair"),
+        "stair_direction": _req("stair"), "curves/potential": _req("curve"), "curves/value": _req("curve"),
+        **{k: _req("curve", "omega", "stair_length") for k in ("upward_threshold", "downward_threshold", "window",
+                                                                 "status")},
+        "upward_spread": _req("curve", "omega"), "downward_spread": _req("curve", "omega"),
+        "power": _req("curve", "omega", "stair_length", "stair"),
+        "threshold_As": _opt("curve", "omega"), "downward_gaps": _opt("curve", "omega", "stair_length"),
+    },
     "work_precision": {
         "methods": _req("method"), "amplitude": _req("amplitude"), "dt": _req("method", "dt"),
         **{k: _req("amplitude", "method", "dt") for k in ("status", "wall_time", "error_energy", "error_u")},
@@ -122,11 +131,12 @@ TEXT = ("curves/potential", "methods")
 #: The axes of the grids and records, {schema dimension: dataset}: each value of one must be a finite number (the
 #: 2-D `dt` of work_precision, one row of time steps per method padded with NaN, needs one finite value at least).
 AXES = {"amplitude": "amplitude", "omega": "omega", "c": "c", "dt": "dt", "probe": "probes/sites",
+        "stair_length": "stair_time", "stair": "stair_amplitude",
         "probe_time": "probes/time", "ledger_time": "ledger/time"}
 #: Every scene the program writes.
 SCENES = tuple(SCHEMA)
 #: Scenes drawn as figures of the paper (`figures`), and as the speed/accuracy charts (`charts`).
-FIGURE_SCENES = ("timeseries", "amplitude_sweep", "map", "bifurcation", "continuation")
+FIGURE_SCENES = ("timeseries", "amplitude_sweep", "map", "bifurcation", "continuation", "hysteresis")
 CHART_SCENES = ("stability", "work_precision")
 
 
@@ -204,10 +214,11 @@ class Scene:
             total = self.attrs.get("runs_total", self.data["runs/status"].size)
             done = self.attrs.get("runs_done", int(np.count_nonzero(self.data["runs/status"] != -1)))
             return int(done), int(total), "runs"
-        if self.scene in ("bifurcation", "continuation"):
+        if self.scene in ("bifurcation", "continuation", "hysteresis"):
             total = self.attrs.get("tasks_total", self.data["status"].size)
             done = self.attrs.get("tasks_done", int(np.count_nonzero(self.data["status"] != -1)))
-            return int(done), int(total), "threshold searches" if self.scene == "bifurcation" else "continuations"
+            what = {"bifurcation": "threshold searches", "continuation": "continuations"}.get(self.scene, "stair runs")
+            return int(done), int(total), what
         return None
 
     def partial_note(self) -> str:

@@ -51,6 +51,8 @@ FPM = ["sh", str(ROOT / ".ci" / "with_commit"), "fpm"]
 ORDER = ["fig1", "fig2", "fig3", "fig3half", "fig4", "fig11", "bif1", "bif2", "bif3"]
 #: Scenes drawn by the charts of the speed/accuracy study, besides the figures' scenes.
 CHARTS = ("stability", "work_precision")
+#: Fold lines drawn over the scan thresholds of a bifurcation diagram: {continuation input: bifurcation input}.
+SCAN_OF = {"fold_sg": "bif_undamped_sg", "fold_bif1": "bif1"}
 
 
 # ------------------------------------------------------------------------------------------------ namelists
@@ -236,6 +238,9 @@ def _draw_all(jobs: list[Job], outdir: Path, args: argparse.Namespace) -> tuple[
             scenes = [open_scene(j.rel(j.output), expect=expect) for j in group]
             if name == "fig1" or all(s.scene == "timeseries" for s in scenes):
                 fig = figures.draw_timeseries(scenes)
+            elif len(scenes) == 1 and name in SCAN_OF and SCAN_OF[name] in groups:
+                scan = groups[SCAN_OF[name]][0]
+                fig = figures.draw_continuation(scenes[0], open_scene(scan.rel(scan.output), expect="bifurcation"))
             elif len(scenes) == 1:
                 fig = figures.draw(scenes[0])
             else:

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import pytest
 
-from supratrans_post import cli, scaling, style
+from supratrans_post import builds, cli, scaling, style
 from supratrans_post.charts import stability as chart_stability
 from supratrans_post.charts import work_precision as chart_work_precision
 from supratrans_post.peer import main as peer_main
@@ -26,7 +26,8 @@ POSTPROCESS = Path(__file__).resolve().parents[1]
 COMMANDS = tomllib.loads((POSTPROCESS / "pyproject.toml").read_text())["project"]["scripts"]
 #: The scripts of postprocess/ (as the README runs them) and the main each one calls.
 SCRIPTS = {"plot.py": plot_main, "make_figures.py": runner_main, "chart_stability.py": chart_stability.main,
-           "work_precision.py": chart_work_precision.main, "peer_scipy.py": peer_main, "scaling.py": scaling.main}
+           "work_precision.py": chart_work_precision.main, "peer_scipy.py": peer_main, "scaling.py": scaling.main,
+           "builds.py": builds.main}
 
 
 def clean_env(**extra: str) -> dict[str, str]:
@@ -260,3 +261,24 @@ def test_scaling_failure_is_one_line(tmp_path, call_main):
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"error: {exe}: failed") and "error: something" in lines[0]
     assert not (tmp_path / "s.png").exists()
+
+
+# ------------------------------------------------------------------------------------------------ builds
+
+
+def test_builds_ratios_are_medians_of_the_ratios_within_a_round():
+    """A round where the machine was slow for every build leaves the paired ratio alone; the medians show it."""
+    times = {"default": [(1.0, 2.0), (3.0, 6.0), (1.0, 2.0)], "host": [(0.5, 1.0), (1.5, 3.0), (0.5, 1.0)],
+             "naive": [(4.0, 8.0), (12.0, 24.0), (4.0, 8.0)]}
+    lines = builds.report("t", times, "default")
+    rows = {line.split()[0]: [float(x) for x in line.split()[1:]] for line in lines[2:]}
+    assert rows["default"] == [1000.0, 2000.0, 1.0, 1.0, 0.25, 0.25]
+    assert rows["host"] == [500.0, 1000.0, 0.5, 0.5, 0.125, 0.125]
+    assert rows["naive"][2:4] == [4.0, 4.0]
+
+
+def test_builds_static_link_names_the_missing_archives(tmp_path):
+    words = ["no-such-compiler-xyz", "-L/nonexistent", "main.o", "-lhdf5", "-o", "x"]
+    with pytest.raises(builds.PlotError, match="static archives not found: libhdf5_fortran.a, libhdf5.a"):
+        builds.link_static(tmp_path, words, tmp_path / "static" / "x")
+    assert not (tmp_path / "static").exists()

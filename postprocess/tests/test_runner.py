@@ -13,7 +13,7 @@ from supratrans_post import namelist, runner
 
 POSTPROCESS = Path(__file__).resolve().parents[1]
 ENV = {**os.environ, "MPLBACKEND": "Agg"}
-SCRIPTS = ["plot.py", "make_figures.py", "work_precision.py", "chart_stability.py", "peer_scipy.py"]
+SCRIPTS = ["plot.py", "make_figures.py", "work_precision.py", "chart_stability.py", "peer_scipy.py", "builds.py"]
 
 pytest.importorskip("f90nml")
 

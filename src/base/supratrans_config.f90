@@ -30,7 +30,7 @@ module supratrans_config
 
     !> Names of the scenes (&scene kind).
     character(len=*), parameter, public :: scene_choices(*) = [character(len=15) :: "timeseries", "amplitude_sweep", "map", &
-        "bifurcation", "work_precision", "stability", "continuation"]
+        "bifurcation", "work_precision", "stability", "continuation", "hysteresis"]
 
     !> Names of the screening methods (&scene screen_method).
     character(len=*), parameter, public :: screen_choices(*) = [character(len=10) :: "none", "newton", "linearized", "rk4", "rk8"]
@@ -74,8 +74,22 @@ module supratrans_config
         real(wp) :: sigma = 3.0_wp
     end type chain_params
 
-    !> Boundary drive u_0(t) = A r(t) sin(Omega t), r(t) = min(t / ramp_time, 1).
+    !> Boundary drive u_0(t) = A r(t) sin(Omega t), r(t) = min(t / ramp_time, 1); or, set by the hysteresis scene (not a key),
+    !> u_0(t) = A(t) sin(Omega t) with A(t) the stairs of `stair_amplitude` (supratrans_chain).
     type, public :: drive_params
+        !> Amplitude profile: 0 the ramp A r(t) (every scene but hysteresis), 1 the stairs up and down of the hysteresis scene (set
+        !> by the scene, not a key).
+        integer :: profile = 0
+        !> Stairs: the bottom level a_0 (reached from rest by the linear ramp of length ramp_time).
+        real(wp) :: stair_low = 0.0_wp
+        !> Stairs: the height of a stair, a_i = a_0 + i stair_height.
+        real(wp) :: stair_height = 0.0_wp
+        !> Stairs: the index K of the top level a_K; the levels go a_0 .. a_K .. a_0, 2K + 1 stairs.
+        integer :: stair_top = 0
+        !> Stairs: the length in time of a stair (its ramp included).
+        real(wp) :: stair_time = 0.0_wp
+        !> Stairs: the length of the linear ramp from one level to the next, at the start of a stair.
+        real(wp) :: stair_ramp = 0.0_wp
         !> Driving amplitude A (&drive amplitude).
         real(wp) :: amplitude = 1.77_wp
         !> Driving frequency Omega (&drive omega).
@@ -183,6 +197,9 @@ module supratrans_config
         !> Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + crossing_tol (&scene
         !> crossing_tol).
         real(wp) :: crossing_tol = 1.0e-06_wp
+        !> Continuation: multipliers at every this many branch points (and at the fold and where the verdict changes); larger is
+        !> faster but can miss a brief instability (&scene floquet_every).
+        integer :: floquet_every = 1
         !> Continuation: locate each fold again at dt/2 and on a chain twice as long, for its converged digits (&scene
         !> fold_convergence).
         logical :: fold_convergence = .true.
@@ -220,6 +237,18 @@ module supratrans_config
         !> Work-precision: step of the reference solution (rk8 at reference_dt/2, checked against reference_dt) (&scene
         !> reference_dt).
         real(wp) :: reference_dt = 0.025_wp
+        !> Hysteresis: the stair lengths (one run each per curve and Omega); the spread of the edges over them is the protocol's
+        !> part (&scene stair_times).
+        real(wp), allocatable :: stair_times(:)
+        !> Hysteresis: amplitude step between two stairs (levels amplitude_min + i stair_height <= amplitude_max) (&scene
+        !> stair_height).
+        real(wp) :: stair_height = 0.02_wp
+        !> Hysteresis: length of the linear ramp between two stairs (at the start of each stair, so that the drive stays
+        !> continuous) (&scene stair_ramp).
+        real(wp) :: stair_ramp = 10.0_wp
+        !> Hysteresis: a stair transmits when its mean power through the bond beyond the detector site exceeds this (transmitting
+        !> stairs carry 0.3 - 4 here) (&scene power_threshold).
+        real(wp) :: power_threshold = 0.05_wp
     end type scene_params
 
     !> A whole validated input file.
@@ -238,6 +267,9 @@ module supratrans_config
         integer :: slice_count = 0
         !> Compute nothing: write the partial snapshot of what the journal holds (merge --partial).
         logical :: snapshot_only = .false.
+        !> For `merge`: the first part file, whose records the scene receives as its journal; the scene then computes nothing and
+        !> refuses records that are not its own (unallocated: not a merge).
+        character(len=:), allocatable :: merge_part
         !> The base run (the scene varies some of its parameters).
         type(run_config) :: run
         !> The scene.

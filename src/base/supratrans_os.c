@@ -12,6 +12,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <sched.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -109,7 +110,9 @@ static volatile sig_atomic_t stop_signal = 0;
 
 static void on_signal(int sig) { stop_signal = sig; }
 
-/* Install the handler: SIGTERM, SIGINT and SIGUSR1 (Slurm's --signal) set the stop flag instead of killing. */
+/* Install the handler: SIGTERM, SIGINT and SIGUSR1 (Slurm's --signal) set the stop flag instead of killing. The three
+ * signals are then unblocked: a process started with them blocked (a parent's mask is inherited across exec) would
+ * otherwise never see them, and one already pending is delivered here, setting the flag. */
 void supratrans_catch_stop_signals(void)
 {
     struct sigaction sa;
@@ -119,6 +122,12 @@ void supratrans_catch_stop_signals(void)
     sigaction(SIGTERM, &sa, NULL);
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGUSR1, &sa, NULL);
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGTERM);
+    sigaddset(&set, SIGINT);
+    sigaddset(&set, SIGUSR1);
+    sigprocmask(SIG_UNBLOCK, &set, NULL);
 }
 
 /* Ignore SIGXFSZ: a write beyond the file size limit (ulimit -f) then fails with EFBIG, which every write checks and
@@ -127,6 +136,14 @@ void supratrans_ignore_file_size_signal(void) { signal(SIGXFSZ, SIG_IGN); }
 
 /* The signal that asked the program to stop, 0 if none. */
 int supratrans_stop_signal(void) { return (int)stop_signal; }
+
+static volatile sig_atomic_t no_memory = 0;
+
+/* Note that a run could not allocate its arrays (any thread; the flag is only ever set). */
+void supratrans_note_out_of_memory(void) { no_memory = 1; }
+
+/* 1 once a run could not allocate its arrays. */
+int supratrans_out_of_memory(void) { return (int)no_memory; }
 
 
 /* 1 if the two paths name the same existing file (same device and inode), 0 otherwise. */
@@ -139,15 +156,48 @@ int supratrans_same_file(const char *a, const char *b)
 
 #include <sys/resource.h>
 
-/* The smaller of the address-space and data-segment limits of this process in bytes, or -1 when unlimited. */
-double supratrans_memory_limit(void)
+/* A limit of this process in bytes, -1 when unlimited: `kind` 1 the address space (RLIMIT_AS, ulimit -v), 2 the
+ * data segment (RLIMIT_DATA, ulimit -d). */
+double supratrans_memory_limit(int kind)
 {
-    struct rlimit as, data;
-    double limit = -1.0;
-    if (getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != RLIM_INFINITY) limit = (double)as.rlim_cur;
-    if (getrlimit(RLIMIT_DATA, &data) == 0 && data.rlim_cur != RLIM_INFINITY)
-        if (limit < 0.0 || (double)data.rlim_cur < limit) limit = (double)data.rlim_cur;
-    return limit;
+    struct rlimit r;
+    if (getrlimit(kind == 1 ? RLIMIT_AS : RLIMIT_DATA, &r) != 0 || r.rlim_cur == RLIM_INFINITY) return -1.0;
+    return (double)r.rlim_cur;
+}
+
+/* Bytes of address space this process maps now (the first field of /proc/self/statm, in pages), -1 if unknown:
+ * what counts against RLIMIT_AS (ulimit -v) before the run allocates anything. */
+double supratrans_address_space_used(void)
+{
+    FILE *f = fopen("/proc/self/statm", "r");
+    if (f == NULL) return -1.0;
+    unsigned long long pages = 0;
+    int ok = fscanf(f, "%llu", &pages) == 1;
+    fclose(f);
+    long page = sysconf(_SC_PAGESIZE);
+    if (!ok || page <= 0) return -1.0;
+    return (double)pages * (double)page;
+}
+
+/* Processors this process may run on (sched_getaffinity: what taskset, cpusets and Slurm's --cpus-per-task leave
+ * it), or the processors online when that cannot be read; at least 1. */
+int supratrans_usable_cpus(void)
+{
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    if (sched_getaffinity(0, sizeof set, &set) == 0) {
+        int n = CPU_COUNT(&set);
+        if (n > 0) return n;
+    }
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (int)n : 1;
+}
+
+/* 0 if this process may create files in directory `path` (access(2) with W_OK | X_OK: the permission bits, ACLs and
+ * a read-only mount, EROFS, all count), otherwise errno. */
+int supratrans_directory_writable(const char *path)
+{
+    return access(path, W_OK | X_OK) == 0 ? 0 : errno;
 }
 
 /* Fill the last 6 characters of `name` with random letters and digits (getrandom; the clock and pid otherwise). */

@@ -21,6 +21,7 @@ module supratrans_system
     public :: lock_file, unlock_file, catch_stop_signals, ignore_file_size_signal, stop_signal, same_file, append_bytes, link_kind
     public :: temp_name, write_file_atomic, write_bytes_atomic, commit_file, remove_stale_temporaries, os_error_text, &
         disable_hdf5_locking
+    public :: directory_writable, usable_cpus, note_out_of_memory, out_of_memory
 
     !> `path_kind`: nothing at that path.
     integer, parameter, public :: path_missing = 0
@@ -133,6 +134,21 @@ module supratrans_system
             integer(c_long_long), value :: length
             integer(c_int) :: err
         end function c_append_bytes
+        function c_directory_writable(path) bind(c, name="supratrans_directory_writable") result(err)
+            import :: c_char, c_int
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int) :: err
+        end function c_directory_writable
+        subroutine c_note_out_of_memory() bind(c, name="supratrans_note_out_of_memory")
+        end subroutine c_note_out_of_memory
+        function c_out_of_memory() bind(c, name="supratrans_out_of_memory") result(yes)
+            import :: c_int
+            integer(c_int) :: yes
+        end function c_out_of_memory
+        function c_usable_cpus() bind(c, name="supratrans_usable_cpus") result(n)
+            import :: c_int
+            integer(c_int) :: n
+        end function c_usable_cpus
         function c_same_file(a, b) bind(c, name="supratrans_same_file") result(same)
             import :: c_char, c_int
             character(kind=c_char), intent(in) :: a(*), b(*)
@@ -427,5 +443,42 @@ contains
 
         same = c_same_file(a // c_null_char, b // c_null_char) == 1
     end function same_file
+
+    !> Whether this process may create files in the directory `path` (access(2) with W_OK | X_OK, which also
+    !> reports a read-only mount); `reason` is the system's words when not (e.g. "Read-only file system").
+    function directory_writable(path, reason) result(yes)
+        !> Directory.
+        character(len=*), intent(in) :: path
+        !> Why not (strerror), empty when writable.
+        character(len=:), allocatable, intent(out) :: reason
+        logical :: yes
+        integer :: err
+
+        err = int(c_directory_writable(path // c_null_char))
+        yes = err == 0
+        reason = ""
+        if (.not. yes) reason = os_error_text(err)
+    end function directory_writable
+
+    !> Note that a run could not allocate its arrays (safe from any thread: a flag that is only ever set). The task
+    !> loop and the timeseries scene stop with one line instead of recording such a run.
+    subroutine note_out_of_memory()
+        call c_note_out_of_memory()
+    end subroutine note_out_of_memory
+
+    !> Whether a run of this process could not allocate its arrays (`note_out_of_memory`).
+    function out_of_memory() result(yes)
+        logical :: yes
+
+        yes = c_out_of_memory() /= 0
+    end function out_of_memory
+
+    !> Processors this process may run on (sched_getaffinity(2): taskset, cpusets, Slurm's --cpus-per-task), at
+    !> least 1.
+    function usable_cpus() result(n)
+        integer :: n
+
+        n = max(1, int(c_usable_cpus()))
+    end function usable_cpus
 
 end module supratrans_system

@@ -16,21 +16,24 @@
 !> lock manager, Lustre without `-o flock`) the run stops and says so; `SUPRATRANS_NO_LOCK=1` runs without the lock
 !> (and without HDF5's own file locking) for whoever is sure no two runs write one output. SIGTERM, SIGINT and
 !> SIGUSR1 stop a scene cleanly (exit status 5): the tasks running finish and are journaled, a snapshot is written,
-!> and the same command resumes.
+!> and the same command resumes. A timeseries (one run, no journal) stops within a time step and writes nothing; a
+!> merge catches them from its start and stops, writing nothing, unless it is writing the merged output already
+!> (then it finishes). `--check` also asks access(2) whether the output's directory can be written.
 module supratrans_cli
     use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
     use supratrans_kinds, only: wp, supratrans_version
     use supratrans_strings, only: real_str, int_str, printable, text_fingerprint
-    use supratrans_error, only: error_type, fatal_error, err_input, err_io
+    use supratrans_error, only: error_type, fatal_error, err_input, err_io, err_interrupted
     use supratrans_config, only: input_config
     use, intrinsic :: iso_c_binding, only: c_null_char
     use supratrans_system, only: make_directories, path_kind, path_directory, path_missing, same_file, lock_file, &
                                  unlock_file, remove_file, catch_stop_signals, link_kind, path_link, path_special, &
                                  lock_busy, lock_unsupported, remove_stale_temporaries, disable_hdf5_locking, &
-                                 temp_extra, path_regular, ignore_file_size_signal
+                                 temp_extra, path_regular, ignore_file_size_signal, directory_writable, stop_signal
     use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
     use supratrans_input, only: read_input, read_input_text
     use supratrans_validate, only: validate_config
+    use supratrans_limits, only: bound_threads
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, status_name
     use supratrans_output, only: write_timeseries
@@ -42,6 +45,7 @@ module supratrans_cli
     use supratrans_scene_workprec, only: run_work_precision
     use supratrans_scene_stability, only: run_stability
     use supratrans_scene_continuation, only: run_continuation
+    use supratrans_scene_hysteresis, only: run_hysteresis
     implicit none
     private
 
@@ -102,6 +106,14 @@ contains
         case ("--version", "-V")
             text = "supratrans " // supratrans_version
             return
+        case default
+            continue
+        end select
+        ! every command that may run something: at most max_threads_per_cpu threads a processor, said in one line
+        call bound_threads(text)
+        if (len(text) > 0) write (error_unit, "(a)") text
+        text = ""
+        select case (trim(args(1)))
         case ("merge")
             partial = .false.
             overwrite = .false.
@@ -315,8 +327,44 @@ contains
         status = 0
         call read_input(path, cfg, error)
         if (.not. allocated(error)) call check_output_location(cfg, error, create=.false.)
+        if (.not. allocated(error)) call check_output_writable(cfg, error)
         if (allocated(error)) status = error%stat
     end subroutine check_file
+
+    !> `--check`: whether the output could be created where it is named: the nearest directory of its path that
+    !> exists (the others would be made in it) must let this process create files, asked with access(2) W_OK | X_OK,
+    !> which also sees a read-only mount. Nothing is created. Status 4 (as the run itself would end) when not.
+    subroutine check_output_writable(cfg, error)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> Error (status 4), allocated when the directory cannot be written.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=:), allocatable :: file, dir, reason
+        integer :: k
+
+        file = trim(cfg%output%file)
+        k = index(file, "/", back=.true.)
+        dir = "."
+        if (k == 1) dir = "/"
+        if (k > 1) dir = file(1:k - 1)
+        do while (path_kind(dir) == path_missing .and. dir /= "." .and. dir /= "/")
+            k = index(dir, "/", back=.true.)
+            if (k == 0) then
+                dir = "."
+            else if (k == 1) then
+                dir = "/"
+            else
+                dir = dir(1:k - 1)
+            end if
+        end do
+        if (path_kind(dir) /= path_directory) then
+            call fatal_error(error, cfg%source // ": &output: file = '" // file // "': '" // dir // "' is not a " &
+                             // "directory", err_io)
+        else if (.not. directory_writable(dir, reason)) then
+            call fatal_error(error, cfg%source // ": &output: file = '" // file // "': cannot create files in " &
+                             // "directory '" // dir // "' (access(2) W_OK: " // reason // ")", err_io)
+        end if
+    end subroutine check_output_writable
 
     !> Run the study described by namelist file `path` (or slice `slice_index` of `slice_count` of it). Returns exit
     !> status 0 on success; otherwise the error's status (2 for bad input) and `error` holds the one-line message.
@@ -469,12 +517,20 @@ contains
             return
         end if
         journal = trim(cfg%output%file) // ".journal"
-        if (present(set)) call write_journal(journal, set%header, set%results, set%done, error)
+        if (present(set)) then
+            ! a merge that a signal stopped before this point: nothing of the output written yet, nothing to leave
+            if (stop_signal() /= 0) call merge_stopped(error)
+            if (.not. allocated(error)) call write_journal(journal, set%header, set%results, set%done, error)
+        end if
         if (.not. allocated(error)) then
             call catch_stop_signals()
             call run_scene(cfg, error)
         end if
+        ! the journal a merge wrote is the parts' records: gone once used, or refused
         if (present(set) .and. cfg%snapshot_only) call remove_file(journal)
+        if (present(set) .and. allocated(error)) then
+            if (error%stat == err_input) call remove_file(journal)
+        end if
         call unlock_file(handle)
         if (allocated(error)) then
             status = error%stat
@@ -537,7 +593,21 @@ contains
         select case (trim(cfg%scene%kind))
         case ("timeseries")
             call progress(cfg, "supratrans " // supratrans_version // ": timeseries from " // cfg%source)
-            call simulate(cfg%run, result)
+            call simulate(cfg%run, result, interruptible=.true.)
+            if (result%interrupted) then
+                ! one run, no journal: a cut run is no result, and a file under the output's name would look like one
+                call fatal_error(error, trim(cfg%output%file) // ": timeseries stopped by signal " &
+                                 // int_str(stop_signal()) // " at t = " // real_str(result%t_end, 6) // " of " &
+                                 // real_str(cfg%run%numerics%t_final, 6) // ": nothing written (one run cannot " &
+                                 // "resume: the same command runs it again from t = 0)", err_interrupted)
+                return
+            end if
+            if (result%no_memory) then
+                call fatal_error(error, trim(cfg%output%file) // ": " // result%reason // " (out of memory; " &
+                                 // "nothing written): a shorter chain or t_final, sparser records, or more memory", &
+                                 err_input)
+                return
+            end if
             call progress(cfg, "  run ended: " // status_name(result%status) // " " // result%reason)
             call progress(cfg, "  verdict: " // trim(merge("transmitting    ", "not transmitting", result%transmitting)) &
                           // " (" // result%verdict_reason // "); energy injected " // real_str(result%ledger%injected, 6))
@@ -554,6 +624,8 @@ contains
             call run_stability(cfg, error)
         case ("continuation")
             call run_continuation(cfg, error)
+        case ("hysteresis")
+            call run_hysteresis(cfg, error)
         case default
             call fatal_error(error, cfg%source // ": &scene: kind '" // trim(cfg%scene%kind) // "' is not implemented", &
                              err_input)
@@ -578,13 +650,22 @@ contains
         type(input_config) :: cfg
 
         status = 0
+        ! from the start: a merge stopped by a signal ends with status 5 and writes nothing (the parts stay, the same
+        ! command merges them again); once the output is being written, the merge finishes it instead
+        call catch_stop_signals()
         call read_parts(paths, partial, set, error)
         if (.not. allocated(error)) call read_input_text(set%text, set%source, cfg, error, check_output=.false.)
         if (allocated(error)) then
             status = error%stat
             return
         end if
-        cfg%fingerprint = set%fingerprint
+        if (cfg%fingerprint /= set%fingerprint) then
+            call fatal_error(error, set%first // ": its namelist text has the fingerprint " // cfg%fingerprint &
+                             // ", not the " // set%fingerprint // " the part was made for (edited?)", err_input)
+            status = error%stat
+            return
+        end if
+        cfg%merge_part = set%first
         cfg%output%file = output
         if (len(output) == 0) cfg%output%file = merged_path(trim(paths(1)))
         if (overwrite) cfg%output%overwrite = .true.
@@ -595,11 +676,25 @@ contains
             status = error%stat
             return
         end if
+        if (stop_signal() /= 0) then
+            call merge_stopped(error)
+            status = error%stat
+            return
+        end if
         call progress(cfg, "supratrans merge: " // int_str(count(set%done)) // " of " // int_str(size(set%done)) &
                       // " tasks from " // int_str(size(paths)) // " part(s) of " // int_str(set%slice_count) &
                       // " -> " // trim(cfg%output%file) // trim(merge(".partial.h5", "           ", partial)))
         call with_lock(cfg, status, error, set)
     end subroutine merge_parts
+
+    !> The error of a merge stopped by a signal before it wrote anything (status 5).
+    subroutine merge_stopped(error)
+        !> The error.
+        type(error_type), allocatable, intent(out) :: error
+
+        call fatal_error(error, "merge: stopped by signal " // int_str(stop_signal()) // " before it wrote anything: " &
+                         // "nothing written, the parts are unchanged; run the same command again", err_interrupted)
+    end subroutine merge_stopped
 
     !> The output location, checked before any work: a usable file name (`check_output_name`), not a directory, not
     !> a symbolic link (refused: never written through, never replaced), FIFO or device, nor its journal and partial

@@ -3,17 +3,18 @@
 !> the machine has. Each limit is documented in the README ("Limits"); a configuration beyond one is refused with
 !> one line naming the key and the estimate.
 module supratrans_limits
-    use, intrinsic :: iso_c_binding, only: c_double
+    use, intrinsic :: iso_c_binding, only: c_double, c_int
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_config, only: input_config
     use supratrans_curves, only: curve_count
     use supratrans_strings, only: int_str, real_str
-    !$ use omp_lib, only: omp_get_max_threads
+    !$ use omp_lib, only: omp_get_max_threads, omp_set_num_threads
+    use supratrans_system, only: usable_cpus
     implicit none
     private
 
-    public :: check_limits, run_memory_bytes, available_memory_bytes
+    public :: check_limits, run_memory_bytes, available_memory_bytes, cgroup_memory_limit, bound_threads
 
     !> Most time steps of one run (T/dt) an input may ask for: 10^9 steps of the paper's chain take about an hour
     !> (the engine itself counts up to `max_step_count` of `supratrans_simulate`, 2^62 - 1).
@@ -26,6 +27,8 @@ module supratrans_limits
     real(wp), parameter, public :: max_tasks = 1.0e7_wp
     !> Most work of one invocation (a scene, or one slice of it), in oscillator-steps: about a day on one core.
     real(wp), parameter, public :: max_site_steps = 5.0e13_wp
+    !> Most OpenMP threads per processor the process may use (`bound_threads`).
+    integer, parameter, public :: max_threads_per_cpu = 4
     !> Bytes of state per oscillator of a run (levels, scheme coefficients, work arrays: measured ~100).
     real(wp), parameter :: bytes_per_site = 160.0_wp
 
@@ -39,9 +42,10 @@ contains
         character(len=*), intent(in) :: where
         !> Allocated when a limit is exceeded.
         type(error_type), allocatable, intent(out) :: error
-        real(wp) :: steps, n, namp, nomega, ngrid, tasks, runs_per_task, work, need, have, slices
-        integer :: threads
-        character(len=:), allocatable :: kind, thread_text
+        real(wp) :: steps, n, namp, nomega, ngrid, tasks, runs_per_task, work, need, have, slices, run_steps
+        real(wp), allocatable :: stair_times(:)
+        integer :: threads, i, length, ios
+        character(len=:), allocatable :: kind, thread_text, source
 
         kind = trim(cfg%scene%kind)
         steps = cfg%run%numerics%t_final/cfg%run%numerics%dt
@@ -55,6 +59,16 @@ contains
             call fail("chain", "n = " // sci(n) // " oscillators: more than the limit " // sci(max_sites))
             return
         end if
+        if (kind == "timeseries") then
+            ! the work limit of every scene, for its one run (t_final/dt steps x n oscillators)
+            work = steps*n
+            if (.not. (work <= max_site_steps)) then
+                call fail("numerics", "about " // sci(work) // " oscillator-steps (" // sci(steps) // " steps x " &
+                          // sci(n) // " oscillators): more than the limit " // sci(max_site_steps) &
+                          // " (about a day on one core); a shorter t_final, a larger dt or a shorter chain")
+                return
+            end if
+        end if
         threads = 1
         !$ threads = omp_get_max_threads()
         if (kind /= "timeseries") then
@@ -62,13 +76,17 @@ contains
         else
             need = run_memory_bytes(cfg, .true.)
         end if
-        have = available_memory_bytes()
+        have = available_memory_bytes(source)
+        ! fault injection for the tests: SUPRATRANS_TEST_NO_MEMORY_CHECK=1 skips the comparison (have 0: unknown),
+        ! so that a run meets its allocation failure (one line, status 2) instead of this check
+        call get_environment_variable("SUPRATRANS_TEST_NO_MEMORY_CHECK", length=length, status=ios)
+        if (ios == 0 .and. length > 0) have = 0.0_wp
         thread_text = ""
         if (kind /= "timeseries" .and. threads > 1) thread_text = " (" // int_str(threads) // " threads)"
         if (have > 0.0_wp .and. need > 0.8_wp*have) then
             call fail("chain", "n = " // int_str(cfg%run%chain%n) // " with t_final/dt = " // sci(steps) // " needs about " &
                       // sci(need/1.0e9_wp) // " GB" // thread_text // ", more than the " // sci(have/1.0e9_wp) &
-                      // " GB available")
+                      // " GB available (" // source // ")")
             return
         end if
         if (kind == "timeseries") return
@@ -85,7 +103,7 @@ contains
                     return
                 end if
             end if
-            if (kind == "map" .or. kind == "bifurcation" .or. kind == "continuation") then
+            if (kind == "map" .or. kind == "bifurcation" .or. kind == "continuation" .or. kind == "hysteresis") then
                 nomega = (sc%omega_max - sc%omega_min)/sc%omega_step + 1.0_wp
                 if (.not. (nomega <= max_axis_points)) then
                     call fail("scene", "omega_step = " // sci(sc%omega_step) // " makes " // sci(nomega) &
@@ -109,6 +127,38 @@ contains
                 runs_per_task = (sc%amplitude_max - sc%amplitude_min)/sc%coarse_step + sc%coarse_step/sc%resolution
             end if
             tasks = real(curve_count(cfg), wp)*nomega*namp
+            if (kind == "hysteresis") then
+                ! one run per (curve, Omega, stair length) of ramp_time + (2K + 1) T_s; probes at two sites every step
+                ngrid = (sc%amplitude_max - sc%amplitude_min)/sc%stair_height + 1.0_wp
+                if (.not. (ngrid <= max_axis_points)) then
+                    call fail("scene", "stair_height = " // sci(sc%stair_height) // " makes " // sci(ngrid) &
+                              // " levels: more than the limit " // sci(max_axis_points))
+                    return
+                end if
+                steps = 0.0_wp
+                need = 0.0_wp
+                stair_times = [400.0_wp]
+                if (allocated(sc%stair_times)) then
+                    if (size(sc%stair_times) > 0) stair_times = sc%stair_times
+                end if
+                do i = 1, size(stair_times)
+                    run_steps = (cfg%run%drive%ramp_time + (2.0_wp*real(floor(ngrid + 1.0e-9_wp), wp) - 1.0_wp) &
+                                 *stair_times(i))/cfg%run%numerics%dt
+                    if (.not. (run_steps <= max_steps)) then
+                        call fail("scene", "a stair run of " // sci(run_steps) // " time steps (stair length " &
+                                  // sci(stair_times(i)) // "): more than the limit " // sci(max_steps))
+                        return
+                    end if
+                    steps = steps + run_steps
+                    need = max(need, 3.0_wp*8.0_wp*run_steps)
+                end do
+                need = (need + run_memory_bytes(cfg, .false.))*real(threads, wp)
+                if (have > 0.0_wp .and. need > 0.8_wp*have) then
+                    call fail("scene", "the stair runs' probes need about " // sci(need/1.0e9_wp) // " GB" &
+                              // thread_text // ", more than the " // sci(have/1.0e9_wp) // " GB available")
+                    return
+                end if
+            end if
             if (kind == "work_precision" .or. kind == "stability") return
             if (kind == "continuation") then
                 ! dense 2N x (2N + 1) matrices: the tangent, the shooting system, its LU, the eigenvalue copy (x 4
@@ -118,7 +168,7 @@ contains
                 if (have > 0.0_wp .and. need > 0.8_wp*have) then
                     call fail("chain", "n = " // int_str(cfg%run%chain%n) // ": the dense shooting matrices need " &
                               // "about " // sci(need/1.0e9_wp) // " GB" // thread_text // ", more than the " &
-                              // sci(have/1.0e9_wp) // " GB available (a shorter chain)")
+                              // sci(have/1.0e9_wp) // " GB available (" // source // "; a shorter chain)")
                 end if
                 return
             end if
@@ -148,6 +198,25 @@ contains
 
     end subroutine check_limits
 
+    !> Bound the number of OpenMP threads to `max_threads_per_cpu` x the processors this process may use
+    !> (sched_getaffinity: taskset, cpusets, Slurm's --cpus-per-task): OMP_NUM_THREADS=100000 used to crash the
+    !> program creating its threads. `message` is one line saying so when the number was lowered, "" otherwise.
+    subroutine bound_threads(message)
+        !> What was done, for stderr ("" when nothing was).
+        character(len=:), allocatable, intent(out) :: message
+        !$ integer :: asked, cpus
+
+        message = ""
+        !$ asked = omp_get_max_threads()
+        !$ cpus = usable_cpus()
+        !$ if (asked > max_threads_per_cpu*cpus) then
+        !$     call omp_set_num_threads(max_threads_per_cpu*cpus)
+        !$     message = "supratrans: " // int_str(asked) // " OpenMP threads asked (OMP_NUM_THREADS) for the " &
+        !$         // int_str(cpus) // " processor(s) this process may use: running " &
+        !$         // int_str(max_threads_per_cpu*cpus) // " (at most " // int_str(max_threads_per_cpu) // " a processor)"
+        !$ end if
+    end subroutine bound_threads
+
     !> Bytes one run of `cfg` needs: its state (`bytes_per_site` a site) and, with `records`, the probe samples and
     !> the ledger records kept for the output.
     pure function run_memory_bytes(cfg, records) result(bytes)
@@ -167,37 +236,165 @@ contains
                 + 8.0_wp*8.0_wp*(steps/real(max(cfg%run%record%ledger_every, 1), wp) + 2.0_wp)
     end function run_memory_bytes
 
-    !> Memory available to this process (bytes): MemAvailable of /proc/meminfo, or the process's address-space or
-    !> data limit (ulimit -v / -d) when that is smaller; 0 when neither can be read.
-    function available_memory_bytes() result(bytes)
+    !> Memory available to this process (bytes): the smallest of MemAvailable of /proc/meminfo, the memory limit of
+    !> its cgroups (`cgroup_memory_limit`: Slurm's `--mem`, a container's limit), and what the address-space limit
+    !> (ulimit -v) leaves beside what the process maps already, or the data limit (ulimit -d); 0 when none can be
+    !> read. `source` names the one that binds, for messages.
+    function available_memory_bytes(source) result(bytes)
+        !> What gives the figure: "MemAvailable of /proc/meminfo", a cgroup file, "ulimit -v", "ulimit -d".
+        character(len=:), allocatable, intent(out), optional :: source
         real(wp) :: bytes
         interface
-            function c_memory_limit() bind(c, name="supratrans_memory_limit") result(limit)
-                import :: c_double
+            function c_memory_limit(kind) bind(c, name="supratrans_memory_limit") result(limit)
+                import :: c_double, c_int
+                integer(c_int), value :: kind
                 real(c_double) :: limit
             end function c_memory_limit
+            function c_address_space_used() bind(c, name="supratrans_address_space_used") result(used)
+                import :: c_double
+                real(c_double) :: used
+            end function c_address_space_used
         end interface
         real(wp) :: limit
         integer :: unit, ios
         character(len=256) :: line
+        character(len=:), allocatable :: what, root, file
         integer(i8) :: kib
 
         bytes = 0.0_wp
+        what = ""
         open (newunit=unit, file="/proc/meminfo", status="old", action="read", iostat=ios)
+        if (ios == 0) then
+            do
+                read (unit, "(a)", iostat=ios) line
+                if (ios /= 0) exit
+                if (index(line, "MemAvailable:") == 1) then
+                    read (line(14:), *, iostat=ios) kib
+                    if (ios == 0) bytes = 1024.0_wp*real(kib, wp)
+                    if (ios == 0) what = "MemAvailable of /proc/meminfo"
+                    exit
+                end if
+            end do
+            close (unit)
+        end if
+        root = cgroup_root()
+        limit = cgroup_memory_limit(root, file)
+        call take(limit, "the cgroup limit " // file)
+        limit = real(c_memory_limit(1_c_int), wp)
+        ! ulimit -v counts everything mapped: the libraries and thread stacks mapped already are not available
+        if (limit > 0.0_wp) limit = max(limit - max(real(c_address_space_used(), wp), 0.0_wp), 1.0_wp)
+        call take(limit, "ulimit -v, less the " // sci(max(real(c_address_space_used(), wp), 0.0_wp)/1.0e9_wp) &
+                  // " GB mapped already")
+        call take(real(c_memory_limit(2_c_int), wp), "ulimit -d")
+        if (present(source)) source = what
+
+    contains
+
+        subroutine take(candidate, name)
+            real(wp), intent(in) :: candidate
+            character(len=*), intent(in) :: name
+
+            if (candidate > 0.0_wp .and. (bytes <= 0.0_wp .or. candidate < bytes)) then
+                bytes = candidate
+                what = name
+            end if
+        end subroutine take
+
+    end function available_memory_bytes
+
+    !> Where the cgroup files are read: "" (the root of this machine), or the directory the test-only variable
+    !> SUPRATRANS_TEST_CGROUP_ROOT names (a fake tree holding proc/self/cgroup and sys/fs/cgroup/...).
+    function cgroup_root() result(root)
+        character(len=:), allocatable :: root
+        character(len=4096) :: value
+        integer :: ios
+
+        root = ""
+        call get_environment_variable("SUPRATRANS_TEST_CGROUP_ROOT", value, status=ios)
+        if (ios == 0) root = trim(value)
+    end function cgroup_root
+
+    !> The memory limit of this process's cgroups, in bytes (0: none found): for each line of
+    !> `<root>/proc/self/cgroup`, the cgroup v2 `memory.max` (line `0::PATH`, under `<root>/sys/fs/cgroup` or its
+    !> `unified` mount) or the v1 `memory.limit_in_bytes` (the line whose controllers hold `memory`, under
+    !> `<root>/sys/fs/cgroup/memory`) of PATH and of every parent up to the mount's root (a limit set on a parent,
+    !> as Slurm sets it on the job above its steps, binds its children; inside a container PATH may not exist and the
+    !> mount's root is the container's own cgroup). The smallest limit wins; "max" and v1's "unlimited" (2^63 rounded
+    !> down to a page) are no limit.
+    function cgroup_memory_limit(root, file) result(bytes)
+        !> Root of the tree ("" for the machine's; a fake tree in tests).
+        character(len=*), intent(in) :: root
+        !> The file that gave the limit ("" when none).
+        character(len=:), allocatable, intent(out) :: file
+        real(wp) :: bytes
+        integer :: unit, ios, k1, k2
+        character(len=4096) :: line
+        character(len=:), allocatable :: controllers, path
+
+        bytes = 0.0_wp
+        file = ""
+        open (newunit=unit, file=root // "/proc/self/cgroup", status="old", action="read", iostat=ios)
         if (ios /= 0) return
         do
             read (unit, "(a)", iostat=ios) line
             if (ios /= 0) exit
-            if (index(line, "MemAvailable:") == 1) then
-                read (line(14:), *, iostat=ios) kib
-                if (ios == 0) bytes = 1024.0_wp*real(kib, wp)
-                exit
+            k1 = index(line, ":")
+            if (k1 == 0) cycle
+            k2 = k1 + index(line(k1 + 1:), ":")
+            if (k2 == k1) cycle
+            controllers = "," // line(k1 + 1:k2 - 1) // ","
+            path = trim(line(k2 + 1:))
+            if (line(1:k1 - 1) == "0" .and. controllers == ",,") then
+                call walk(root // "/sys/fs/cgroup", "memory.max")
+                call walk(root // "/sys/fs/cgroup/unified", "memory.max")
+            else if (index(controllers, ",memory,") > 0) then
+                call walk(root // "/sys/fs/cgroup/memory", "memory.limit_in_bytes")
             end if
         end do
         close (unit)
-        limit = real(c_memory_limit(), wp)
-        if (limit > 0.0_wp .and. (bytes <= 0.0_wp .or. limit < bytes)) bytes = limit
-    end function available_memory_bytes
+
+    contains
+
+        !> Read `name` in the cgroup PATH under `mount` and in each of its parents.
+        subroutine walk(mount, name)
+            character(len=*), intent(in) :: mount, name
+            character(len=:), allocatable :: dir
+            integer :: k
+
+            dir = path
+            do
+                if (len(dir) > 0) then
+                    if (dir(len(dir):len(dir)) == "/") dir = dir(1:len(dir) - 1)
+                end if
+                call read_limit(mount // dir // "/" // name)
+                if (len(dir) == 0) exit
+                k = index(dir, "/", back=.true.)
+                if (k == 0) exit
+                dir = dir(1:k - 1)
+            end do
+        end subroutine walk
+
+        subroutine read_limit(name)
+            character(len=*), intent(in) :: name
+            integer :: u, stat
+            character(len=64) :: text
+            real(wp) :: value
+
+            open (newunit=u, file=name, status="old", action="read", iostat=stat)
+            if (stat /= 0) return
+            read (u, "(a)", iostat=stat) text
+            close (u)
+            if (stat /= 0) return
+            if (verify(trim(adjustl(text)), "0123456789") /= 0 .or. len_trim(text) == 0) return   ! "max", junk
+            read (text, *, iostat=stat) value
+            if (stat /= 0 .or. .not. (value > 0.0_wp) .or. value >= 2.0_wp**62) return
+            if (bytes <= 0.0_wp .or. value < bytes) then
+                bytes = value
+                file = name
+            end if
+        end subroutine read_limit
+
+    end function cgroup_memory_limit
 
     !> A number with 3 significant digits, for messages.
     pure function sci(x) result(text)

@@ -101,48 +101,58 @@ module supratrans_schema
     integer, parameter, public :: key_scene_beyond_fold = 37
     !> Index of &scene crossing_tol in `key_table`.
     integer, parameter, public :: key_scene_crossing_tol = 38
+    !> Index of &scene floquet_every in `key_table`.
+    integer, parameter, public :: key_scene_floquet_every = 39
     !> Index of &scene fold_convergence in `key_table`.
-    integer, parameter, public :: key_scene_fold_convergence = 39
+    integer, parameter, public :: key_scene_fold_convergence = 40
     !> Index of &scene coarse_step in `key_table`.
-    integer, parameter, public :: key_scene_coarse_step = 40
+    integer, parameter, public :: key_scene_coarse_step = 41
     !> Index of &scene resolution in `key_table`.
-    integer, parameter, public :: key_scene_resolution = 41
+    integer, parameter, public :: key_scene_resolution = 42
     !> Index of &scene screen_method in `key_table`.
-    integer, parameter, public :: key_scene_screen_method = 42
+    integer, parameter, public :: key_scene_screen_method = 43
     !> Index of &scene screen_dt in `key_table`.
-    integer, parameter, public :: key_scene_screen_dt = 43
+    integer, parameter, public :: key_scene_screen_dt = 44
     !> Index of &scene confirm_band in `key_table`.
-    integer, parameter, public :: key_scene_confirm_band = 44
+    integer, parameter, public :: key_scene_confirm_band = 45
     !> Index of &scene screen_margin in `key_table`.
-    integer, parameter, public :: key_scene_screen_margin = 45
+    integer, parameter, public :: key_scene_screen_margin = 46
     !> Index of &scene certify in `key_table`.
-    integer, parameter, public :: key_scene_certify = 46
+    integer, parameter, public :: key_scene_certify = 47
     !> Index of &scene methods in `key_table`.
-    integer, parameter, public :: key_scene_methods = 47
+    integer, parameter, public :: key_scene_methods = 48
     !> Index of &scene dts in `key_table`.
-    integer, parameter, public :: key_scene_dts = 48
+    integer, parameter, public :: key_scene_dts = 49
     !> Index of &scene dt_smallest in `key_table`.
-    integer, parameter, public :: key_scene_dt_smallest = 49
+    integer, parameter, public :: key_scene_dt_smallest = 50
     !> Index of &scene amplitudes in `key_table`.
-    integer, parameter, public :: key_scene_amplitudes = 50
+    integer, parameter, public :: key_scene_amplitudes = 51
     !> Index of &scene c_values in `key_table`.
-    integer, parameter, public :: key_scene_c_values = 51
+    integer, parameter, public :: key_scene_c_values = 52
     !> Index of &scene repeats in `key_table`.
-    integer, parameter, public :: key_scene_repeats = 52
+    integer, parameter, public :: key_scene_repeats = 53
     !> Index of &scene reference_dt in `key_table`.
-    integer, parameter, public :: key_scene_reference_dt = 53
+    integer, parameter, public :: key_scene_reference_dt = 54
+    !> Index of &scene stair_times in `key_table`.
+    integer, parameter, public :: key_scene_stair_times = 55
+    !> Index of &scene stair_height in `key_table`.
+    integer, parameter, public :: key_scene_stair_height = 56
+    !> Index of &scene stair_ramp in `key_table`.
+    integer, parameter, public :: key_scene_stair_ramp = 57
+    !> Index of &scene power_threshold in `key_table`.
+    integer, parameter, public :: key_scene_power_threshold = 58
     !> Index of &detect site in `key_table`.
-    integer, parameter, public :: key_detect_site = 54
+    integer, parameter, public :: key_detect_site = 59
     !> Index of &detect amplitude in `key_table`.
-    integer, parameter, public :: key_detect_amplitude = 55
+    integer, parameter, public :: key_detect_amplitude = 60
     !> Index of &detect stop_when_decided in `key_table`.
-    integer, parameter, public :: key_detect_stop_when_decided = 56
+    integer, parameter, public :: key_detect_stop_when_decided = 61
     !> Index of &output file in `key_table`.
-    integer, parameter, public :: key_output_file = 57
+    integer, parameter, public :: key_output_file = 62
     !> Index of &output overwrite in `key_table`.
-    integer, parameter, public :: key_output_overwrite = 58
+    integer, parameter, public :: key_output_overwrite = 63
     !> Index of &output quiet in `key_table`.
-    integer, parameter, public :: key_output_quiet = 59
+    integer, parameter, public :: key_output_quiet = 64
 
     type(key_spec), parameter :: spec_chain_potential = key_spec( &
         group="chain", key="potential", value_type=kt_name, max_values=1, attribute="potential", units="1", &
@@ -285,7 +295,8 @@ module supratrans_schema
     type(key_spec), parameter :: spec_scene_kind = key_spec( &
         group="scene", key="kind", value_type=kt_name, max_values=1, attribute="kind", units="1", choices=choice_scene, &
         default_text="'timeseries'", &
-        range_text="'timeseries', 'amplitude_sweep', 'map', 'bifurcation', 'work_precision', 'stability', 'continuation'", &
+        range_text="'timeseries', 'amplitude_sweep', 'map', 'bifurcation', 'work_precision', 'stability', 'continuation', 'h" // &
+            "ysteresis'", &
         description="Scene: the study to run")
     type(key_spec), parameter :: spec_scene_amplitude_min = key_spec( &
         group="scene", key="amplitude_min", value_type=kt_real, max_values=1, attribute="amplitude_min", units="rad", &
@@ -369,6 +380,13 @@ module supratrans_schema
         range_text="> 0 and <= 0.1", &
         description="Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + crossi" // &
             "ng_tol")
+    type(key_spec), parameter :: spec_scene_floquet_every = key_spec( &
+        group="scene", key="floquet_every", value_type=kt_integer, max_values=1, attribute="floquet_every", units="1", &
+            has_min=.true., min=1.0_wp, min_text="1", has_max=.true., max=100.0_wp, max_text="100", &
+        default_text="1", &
+        range_text=">= 1 and <= 100", &
+        description="Continuation: multipliers at every this many branch points (and at the fold and where the verdict change" // &
+            "s); larger is faster but can miss a brief instability")
     type(key_spec), parameter :: spec_scene_fold_convergence = key_spec( &
         group="scene", key="fold_convergence", value_type=kt_logical, max_values=1, attribute="fold_convergence", units="1", &
         default_text=".true.", &
@@ -461,6 +479,33 @@ module supratrans_schema
         default_text="0.025", &
         range_text="> 0; <= t_final/2", &
         description="Work-precision: step of the reference solution (rk8 at reference_dt/2, checked against reference_dt)")
+    type(key_spec), parameter :: spec_scene_stair_times = key_spec( &
+        group="scene", key="stair_times", value_type=kt_real, max_values=max_curve_values, attribute="stair_times", units="time", &
+            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
+        default_text="400 (one stair length)", &
+        range_text="up to 16 values, each > 0; >= 2 stair_ramp", &
+        description="Hysteresis: the stair lengths (one run each per curve and Omega); the spread of the edges over them is t" // &
+            "he protocol's part")
+    type(key_spec), parameter :: spec_scene_stair_height = key_spec( &
+        group="scene", key="stair_height", value_type=kt_real, max_values=1, attribute="stair_height", units="rad", &
+            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
+        default_text="0.02", &
+        range_text="> 0", &
+        description="Hysteresis: amplitude step between two stairs (levels amplitude_min + i stair_height <= amplitude_max)")
+    type(key_spec), parameter :: spec_scene_stair_ramp = key_spec( &
+        group="scene", key="stair_ramp", value_type=kt_real, max_values=1, attribute="stair_ramp", units="time", has_min=.true., &
+            min=0.0_wp, min_text="0", &
+        default_text="10", &
+        range_text=">= 0; <= stair_times/2", &
+        description="Hysteresis: length of the linear ramp between two stairs (at the start of each stair, so that the drive " // &
+            "stays continuous)")
+    type(key_spec), parameter :: spec_scene_power_threshold = key_spec( &
+        group="scene", key="power_threshold", value_type=kt_real, max_values=1, attribute="power_threshold", units="energy/time", &
+            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
+        default_text="0.05", &
+        range_text="> 0", &
+        description="Hysteresis: a stair transmits when its mean power through the bond beyond the detector site exceeds this" // &
+            " (transmitting stairs carry 0.3 - 4 here)")
     type(key_spec), parameter :: spec_detect_site = key_spec( &
         group="detect", key="site", value_type=kt_integer, max_values=1, attribute="detect_site", units="1", &
         default_text="0", &
@@ -503,10 +548,11 @@ module supratrans_schema
         spec_scene_amplitude_max, spec_scene_amplitude_step, spec_scene_omega_min, spec_scene_omega_max, spec_scene_omega_step, &
         spec_scene_vary, spec_scene_values, spec_scene_potentials, spec_scene_continuation_step, &
         spec_scene_continuation_step_max, spec_scene_continuation_points, spec_scene_beyond_fold, spec_scene_crossing_tol, &
-        spec_scene_fold_convergence, spec_scene_coarse_step, spec_scene_resolution, spec_scene_screen_method, &
-        spec_scene_screen_dt, spec_scene_confirm_band, spec_scene_screen_margin, spec_scene_certify, spec_scene_methods, &
-        spec_scene_dts, spec_scene_dt_smallest, spec_scene_amplitudes, spec_scene_c_values, spec_scene_repeats, &
-        spec_scene_reference_dt, spec_detect_site, spec_detect_amplitude, spec_detect_stop_when_decided, spec_output_file, &
+        spec_scene_floquet_every, spec_scene_fold_convergence, spec_scene_coarse_step, spec_scene_resolution, &
+        spec_scene_screen_method, spec_scene_screen_dt, spec_scene_confirm_band, spec_scene_screen_margin, spec_scene_certify, &
+        spec_scene_methods, spec_scene_dts, spec_scene_dt_smallest, spec_scene_amplitudes, spec_scene_c_values, &
+        spec_scene_repeats, spec_scene_reference_dt, spec_scene_stair_times, spec_scene_stair_height, spec_scene_stair_ramp, &
+        spec_scene_power_threshold, spec_detect_site, spec_detect_amplitude, spec_detect_stop_when_decided, spec_output_file, &
         spec_output_overwrite, spec_output_quiet]
 
     !> Values derived from the keys that `/parameters` stores too.
@@ -652,6 +698,8 @@ contains
             v = int_value([cfg%scene%beyond_fold])
         case (key_scene_crossing_tol)
             v = real_value([cfg%scene%crossing_tol])
+        case (key_scene_floquet_every)
+            v = int_value([cfg%scene%floquet_every])
         case (key_scene_fold_convergence)
             v = flag_value(cfg%scene%fold_convergence)
         case (key_scene_coarse_step)
@@ -682,6 +730,14 @@ contains
             v = int_value([cfg%scene%repeats])
         case (key_scene_reference_dt)
             v = real_value([cfg%scene%reference_dt])
+        case (key_scene_stair_times)
+            if (allocated(cfg%scene%stair_times)) v = real_value(cfg%scene%stair_times)
+        case (key_scene_stair_height)
+            v = real_value([cfg%scene%stair_height])
+        case (key_scene_stair_ramp)
+            v = real_value([cfg%scene%stair_ramp])
+        case (key_scene_power_threshold)
+            v = real_value([cfg%scene%power_threshold])
         case (key_detect_site)
             v = int_value([cfg%run%detect%site])
         case (key_detect_amplitude)
@@ -789,6 +845,8 @@ contains
             cfg%scene%beyond_fold = v%ints(1)
         case (key_scene_crossing_tol)
             cfg%scene%crossing_tol = v%reals(1)
+        case (key_scene_floquet_every)
+            cfg%scene%floquet_every = v%ints(1)
         case (key_scene_fold_convergence)
             cfg%scene%fold_convergence = v%flag
         case (key_scene_coarse_step)
@@ -824,6 +882,15 @@ contains
             cfg%scene%repeats = v%ints(1)
         case (key_scene_reference_dt)
             cfg%scene%reference_dt = v%reals(1)
+        case (key_scene_stair_times)
+            if (allocated(cfg%scene%stair_times)) deallocate (cfg%scene%stair_times)
+            if (v%n > 0) cfg%scene%stair_times = v%reals(1:v%n)
+        case (key_scene_stair_height)
+            cfg%scene%stair_height = v%reals(1)
+        case (key_scene_stair_ramp)
+            cfg%scene%stair_ramp = v%reals(1)
+        case (key_scene_power_threshold)
+            cfg%scene%power_threshold = v%reals(1)
         case (key_detect_site)
             cfg%run%detect%site = v%ints(1)
         case (key_detect_amplitude)

@@ -23,7 +23,7 @@
 module supratrans_mol
     use supratrans_kinds, only: wp
     use supratrans_config, only: chain_params, drive_params
-    use supratrans_chain, only: drive_psi, ramp_factor
+    use supratrans_chain, only: drive_psi, ramp_factor, profile_ramp, stair_amplitude, stair_slope
     use supratrans_potential, only: force_array, potential_v
     use supratrans_ledger, only: ledger_type
     implicit none
@@ -118,7 +118,8 @@ contains
         end associate
     end subroutine chain_rhs
 
-    !> Boundary velocity psi'(t) = A [r'(t) sin(Omega t) + r(t) Omega cos(Omega t)].
+    !> Boundary velocity psi'(t) = A [r'(t) sin(Omega t) + r(t) Omega cos(Omega t)] (for the stair profile of the
+    !> hysteresis scene, A'(t) sin(Omega t) + A(t) Omega cos(Omega t), A' from the piece holding `t_side`).
     !> r' = 1/ramp_time on [0, ramp_time), 0 after. At the kink (t = ramp_time to 1e-12 relative, so that a time
     !> level k dt that is the kink up to rounding counts as the kink) the one-sided value from the side of
     !> `t_side` (a time inside the current step) is taken.
@@ -133,6 +134,12 @@ contains
         real(wp) :: dr
         logical :: ramping
 
+        if (drive%profile /= profile_ramp) then
+            ! the stairs: A'(t) of the piece holding the step's midpoint (one-sided at the kinks)
+            dpsi = stair_slope(drive, t_side)*sin(drive%omega*t) &
+                   + stair_amplitude(drive, t)*drive%omega*cos(drive%omega*t)
+            return
+        end if
         dr = 0.0_wp
         if (drive%ramp_time > 0.0_wp) then
             if (abs(t - drive%ramp_time) <= 1.0e-12_wp*drive%ramp_time) then

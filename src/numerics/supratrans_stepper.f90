@@ -54,7 +54,8 @@ module supratrans_stepper
         !> Right-hand-side evaluations of the method-of-lines system over the run (the stages of a Runge-Kutta
         !> method; 0 for the finite-difference schemes, which have no such right-hand side).
         integer(i8) :: rhs_evaluations = 0
-        !> Why the last step failed (allocated by `step` when its status is not `step_ok`).
+        !> Why the last step failed (allocated by `step` when its status is not `step_ok`), or why `init` could not
+        !> set the run up (its arrays could not be allocated: the stepper is then not to be stepped).
         character(len=:), allocatable :: reason
         !> Every step keeps the discrete energy identity exact to roundoff, so that the energy ledger closes
         !> (the default). A run that keeps no ledger (verdict-only) sets it false after `init`: the Newton scheme
@@ -62,7 +63,7 @@ module supratrans_stepper
         logical :: exact_energy = .true.
     contains
         !> Set up a run: coefficients, the initial levels (chain at rest, driven end), work arrays (allocated here,
-        !> once), counters at zero.
+        !> once, with `stat=`: when memory runs out `reason` is allocated and says so), counters at zero.
         procedure(stepper_init), deferred :: init
         !> Take one step: compute the next time level. Status `step_ok` or a failure (then `reason` says why,
         !> `steps` is unchanged and the state is not to be used).

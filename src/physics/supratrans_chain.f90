@@ -10,7 +10,13 @@ module supratrans_chain
     implicit none
     private
 
-    public :: absorber_profile, damping_profile, drive_psi, ramp_factor
+    public :: absorber_profile, damping_profile, drive_psi, ramp_factor, stair_amplitude, stair_slope, stair_level, &
+              stair_count, stair_start
+
+    !> Amplitude profile of the drive (`drive_params%profile`): the ramp A r(t) of every scene but hysteresis.
+    integer, parameter, public :: profile_ramp = 0
+    !> Amplitude profile of the hysteresis scene: stairs up from a_0 to a_K and down again (`stair_amplitude`).
+    integer, parameter, public :: profile_stairs = 1
     public :: band_gap_edge, phonon_band_top, decay_rate, threshold_as
     public :: stability_lhs, stability_rhs, stable_by_paper_condition, critical_dt, detector_site
 
@@ -58,7 +64,8 @@ contains
         end if
     end function ramp_factor
 
-    !> Boundary value u_0(t) = psi(t) = A r(t) sin(Omega t).
+    !> Boundary value u_0(t) = psi(t) = A r(t) sin(Omega t) (profile_ramp, the default), or A(t) sin(Omega t) with
+    !> A(t) the stairs of `stair_amplitude` (profile_stairs).
     elemental function drive_psi(drive, t) result(psi)
         !> Drive parameters.
         type(drive_params), intent(in) :: drive
@@ -66,8 +73,96 @@ contains
         real(wp), intent(in) :: t
         real(wp) :: psi
 
-        psi = drive%amplitude*ramp_factor(drive, t)*sin(drive%omega*t)
+        if (drive%profile == profile_ramp) then
+            psi = drive%amplitude*ramp_factor(drive, t)*sin(drive%omega*t)
+        else
+            psi = stair_amplitude(drive, t)*sin(drive%omega*t)
+        end if
     end function drive_psi
+
+    !> Number of stairs 2K + 1 of the stair profile: levels a_0, a_1, .., a_K, a_{K-1}, .., a_0.
+    elemental function stair_count(drive) result(n)
+        !> Drive parameters (stair_top = K).
+        type(drive_params), intent(in) :: drive
+        integer :: n
+
+        n = 2*drive%stair_top + 1
+    end function stair_count
+
+    !> Level of stair j (0-based, 0 .. 2K): a_i = a_0 + i stair_height with i = min(j, 2K - j) (up, then down).
+    elemental function stair_level(drive, j) result(a)
+        !> Drive parameters.
+        type(drive_params), intent(in) :: drive
+        !> Stair index, 0 .. 2K (clamped to that range).
+        integer, intent(in) :: j
+        real(wp) :: a
+        integer :: jj
+
+        jj = max(0, min(j, 2*drive%stair_top))
+        a = drive%stair_low + real(min(jj, 2*drive%stair_top - jj), wp)*drive%stair_height
+    end function stair_level
+
+    !> Start time of stair j: ramp_time + j stair_time (stair 0 starts when the ramp from rest reaches a_0).
+    elemental function stair_start(drive, j) result(t)
+        !> Drive parameters.
+        type(drive_params), intent(in) :: drive
+        !> Stair index, 0 .. 2K + 1 (2K + 1: the end of the last stair).
+        integer, intent(in) :: j
+        real(wp) :: t
+
+        t = drive%ramp_time + real(j, wp)*drive%stair_time
+    end function stair_start
+
+    !> The stair profile A(t) of the hysteresis scene, continuous and piecewise linear: from rest a linear ramp to
+    !> a_0 over [0, ramp_time]; then stair j (j = 0 .. 2K) on [ramp_time + j T_s, ramp_time + (j + 1) T_s), T_s =
+    !> stair_time, whose first stair_ramp (for j >= 1) is the linear ramp from the level of stair j - 1 to its own
+    !> level `stair_level(j)`; after the last stair the bottom level a_0 is held.
+    elemental function stair_amplitude(drive, t) result(a)
+        !> Drive parameters (profile_stairs).
+        type(drive_params), intent(in) :: drive
+        !> Time t.
+        real(wp), intent(in) :: t
+        real(wp) :: a
+        real(wp) :: s, tau
+        integer :: j
+
+        if (t < drive%ramp_time) then
+            a = drive%stair_low*max(t, 0.0_wp)/drive%ramp_time
+            return
+        end if
+        s = t - drive%ramp_time
+        j = int(min(s/drive%stair_time, real(2*drive%stair_top + 1, wp)))
+        tau = s - real(j, wp)*drive%stair_time
+        a = stair_level(drive, j)
+        if (j >= 1 .and. j <= 2*drive%stair_top .and. tau < drive%stair_ramp) then
+            a = stair_level(drive, j - 1) + (a - stair_level(drive, j - 1))*(tau/drive%stair_ramp)
+        end if
+    end function stair_amplitude
+
+    !> Slope A'(t) of the stair profile on the piece that holds `t_side` (a time inside the current step, which
+    !> chooses the side at a kink: the profile's pieces are linear, so the slope of the piece holding t_side is
+    !> exact for every time of a step that crosses no kink).
+    elemental function stair_slope(drive, t_side) result(da)
+        !> Drive parameters (profile_stairs).
+        type(drive_params), intent(in) :: drive
+        !> A time inside the current step.
+        real(wp), intent(in) :: t_side
+        real(wp) :: da
+        real(wp) :: s, tau
+        integer :: j
+
+        da = 0.0_wp
+        if (t_side < drive%ramp_time) then
+            if (t_side >= 0.0_wp) da = drive%stair_low/drive%ramp_time
+            return
+        end if
+        s = t_side - drive%ramp_time
+        j = int(min(s/drive%stair_time, real(2*drive%stair_top + 1, wp)))
+        tau = s - real(j, wp)*drive%stair_time
+        if (j >= 1 .and. j <= 2*drive%stair_top .and. tau < drive%stair_ramp) then
+            da = (stair_level(drive, j) - stair_level(drive, j - 1))/drive%stair_ramp
+        end if
+    end function stair_slope
 
     !> Upper edge of the forbidden band gap, sqrt(1 + m^2): the gap is 0 < Omega < sqrt(1 + m^2).
     elemental function band_gap_edge(chain) result(w)

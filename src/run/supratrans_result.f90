@@ -62,6 +62,12 @@ module supratrans_result
         real(wp) :: u_beyond_max = 0.0_wp
         !> The run was stopped as soon as its verdict was decided.
         logical :: stopped_early = .false.
+        !> The run was cut short by a stop signal (SIGTERM, SIGINT, SIGUSR1) before T: its records end at `t_end`
+        !> and it is no result (only a run asked to be `interruptible` by `simulate` can be).
+        logical :: interrupted = .false.
+        !> The run could not allocate its state or records (`reason` says which): no result, and no verdict of
+        !> the physics; the program stops with one line rather than record it.
+        logical :: no_memory = .false.
         !> Why the verdict is what it is.
         character(len=:), allocatable :: verdict_reason
         !> Margin of the verdict, relative to the detect amplitude a: 1 - max|u|/a beyond the detector for a run that
@@ -115,7 +121,8 @@ contains
     !> Allocate the records of a run of `m` time steps (levels t_0 .. t_M): probe samples every
     !> `record%probe_every` levels (and at t = 0), ledger records every `record%ledger_every` steps (and at the
     !> start and the end). When the records cannot be held (a sampling interval below 1, or more than huge(0)
-    !> samples) they are allocated empty and the run is marked `run_invalid` with a reason.
+    !> samples) they are allocated empty and the run is marked `run_invalid` with a reason; so too when memory runs
+    !> out (`no_memory`).
     pure subroutine init_records(result, record, m)
         !> The run's result.
         type(run_result), intent(inout) :: result
@@ -124,6 +131,7 @@ contains
         !> Number of time steps M of the run.
         integer(i8), intent(in) :: m
         integer(i8) :: nsample, nledger
+        integer :: st
 
         if (allocated(record%probes)) then
             result%probes = record%probes
@@ -148,8 +156,24 @@ contains
                 nledger = 0
             end if
         end if
-        allocate (result%probe_time(nsample), result%probe_u(nsample, size(result%probes)))
-        allocate (result%ledger_time(nledger), result%ledger_series(nledger, size(ledger_columns)))
+        allocate (result%probe_time(nsample), stat=st)
+        if (st == 0) allocate (result%probe_u(nsample, size(result%probes)), stat=st)
+        if (st == 0) allocate (result%ledger_time(nledger), stat=st)
+        if (st == 0) allocate (result%ledger_series(nledger, size(ledger_columns)), stat=st)
+        if (st /= 0) then
+            result%status = run_invalid
+            result%no_memory = .true.
+            result%reason = "cannot allocate " // trim(real_fixed(8.0_wp*(real(nsample, wp)*real(size(result%probes) &
+                            + 1, wp) + real(nledger, wp)*real(size(ledger_columns) + 1, wp))/1.0e9_wp, 3)) &
+                            // " GB for the records (" // trim(real_fixed(real(nsample, wp), 6)) // " probe samples, " &
+                            // trim(real_fixed(real(nledger, wp), 6)) // " ledger records)"
+            if (allocated(result%probe_time)) deallocate (result%probe_time)
+            if (allocated(result%probe_u)) deallocate (result%probe_u)
+            if (allocated(result%ledger_time)) deallocate (result%ledger_time)
+            if (allocated(result%ledger_series)) deallocate (result%ledger_series)
+            allocate (result%probe_time(0), result%probe_u(0, size(result%probes)))
+            allocate (result%ledger_time(0), result%ledger_series(0, size(ledger_columns)))
+        end if
     end subroutine init_records
 
     !> Append a probe sample at time `t` (ignored when the records are full): `u(j)` is u_n at probe site j

@@ -15,6 +15,7 @@ module supratrans_simulate
     use supratrans_potential, only: check_potential
     use supratrans_stepper, only: stepper, step_ok, step_not_converged, step_breakdown
     use supratrans_steppers, only: new_stepper
+    use supratrans_system, only: stop_signal, note_out_of_memory
     use supratrans_observers, only: observer_item, standard_observers
     use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed, run_invalid, &
                                  init_records, close_verdict
@@ -70,20 +71,24 @@ contains
 
     !> Simulate one run: any method, the same observers (with `verdict_only`, those of the verdict alone: the
     !> ledger, the ramp energy and the records then stay empty, and the stepper need not keep the energy identity
-    !> exact, `exact_energy`).
-    subroutine simulate(run, result, verdict_only)
+    !> exact, `exact_energy`). With `interruptible` the run polls the stop flag (`stop_signal`, one load of
+    !> a C variable) before every step and ends there, `result%interrupted`, when a stop signal has arrived (the timeseries
+    !> scene: one long run); the runs of the other scenes finish, their task loop stops between runs.
+    subroutine simulate(run, result, verdict_only, interruptible)
         !> Validated run configuration.
         type(run_config), intent(in) :: run
         !> Outcome, statistics, ledger and records.
         type(run_result), intent(out) :: result
         !> Only the verdict is wanted (default false).
         logical, intent(in), optional :: verdict_only
+        !> Stop at a stop signal (default false).
+        logical, intent(in), optional :: interruptible
         class(stepper), allocatable :: integrator
         type(observer_item), allocatable :: observers(:)
         type(error_type), allocatable :: error
         integer(i8) :: clock_start, clock_end, clock_rate, m, nsteps
         integer :: i, status
-        logical :: halt, verdict
+        logical :: halt, verdict, poll
 
         call system_clock(clock_start, clock_rate)
         call new_stepper(run%numerics%method, integrator, error)
@@ -95,6 +100,7 @@ contains
             m = 0
         end if
         call init_records(result, run%record, m)
+        if (result%no_memory) call note_out_of_memory()
         if (result%status /= run_ok) then
             call close_verdict(result, run%detect)
             call stop_clock()
@@ -102,6 +108,16 @@ contains
         end if
 
         call integrator%init(run)
+        if (allocated(integrator%reason)) then
+            ! its arrays could not be allocated: no run, and a note that stops the program (`out_of_memory`)
+            result%status = run_invalid
+            result%no_memory = .true.
+            result%reason = integrator%reason
+            call note_out_of_memory()
+            call close_verdict(result, run%detect)
+            call stop_clock()
+            return
+        end if
         verdict = .false.
         if (present(verdict_only)) verdict = verdict_only
         integrator%exact_energy = .not. verdict     ! no ledger to close
@@ -110,7 +126,15 @@ contains
             call observers(i)%item%start(integrator, result)
         end do
         nsteps = integrator%steps_to(m)
+        poll = .false.
+        if (present(interruptible)) poll = interruptible
         do while (integrator%steps < nsteps)
+            if (poll) then
+                if (stop_signal() /= 0) then
+                    result%interrupted = .true.
+                    exit
+                end if
+            end if
             call integrator%step(status)
             if (status /= step_ok) then
                 select case (status)

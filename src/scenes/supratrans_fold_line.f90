@@ -45,7 +45,7 @@ contains
         type(continuation_controls) :: ctl
         type(continuation_result) :: res
         type(error_type), allocatable :: error
-        integer :: npts, k, s
+        integer :: npts, k, s, last
         integer :: samples(multiplier_samples)
 
         call period_map_init(map, run, error)
@@ -62,6 +62,7 @@ contains
         ctl%amplitude_max = scene%amplitude_max
         ctl%crossing_tol = scene%crossing_tol
         ctl%beyond_fold = scene%beyond_fold
+        ctl%floquet_every = scene%floquet_every
         call continue_branch(map, ctl, res)
 
         r%status = res%status
@@ -75,6 +76,14 @@ contains
             if (ieee_is_nan(r%threshold) .or. r%instability_amplitude < r%threshold) then
                 r%threshold = r%instability_amplitude
                 r%threshold_kind = r%instability_type
+            end if
+        end if
+        last = res%n_points
+        if (res%fold_index > 0) last = res%fold_index
+        if (last > 0) then
+            if (any(.not. ieee_is_nan(res%max_multiplier(1:last)))) then
+                r%instability_size = maxval(res%max_multiplier(1:last), &
+                                            mask=.not. ieee_is_nan(res%max_multiplier(1:last))) - 1.0_wp
             end if
         end if
         r%newton_iterations = sum(res%newton_iterations(1:res%n_points))

@@ -25,7 +25,7 @@ module supratrans_fold_record
 
     !> The scalar fields of a record, in the order of `fold_fields`.
     character(len=*), parameter :: scalar_fields(*) = [character(len=24) :: "fold_amplitude", "fold_residual", &
-        "status", "instability_amplitude", "instability_type", "threshold", "threshold_kind", "threshold_as", &
+        "status", "instability_amplitude", "instability_type", "instability_size", "threshold", "threshold_kind", "threshold_as", &
         "dt_used", "steps_per_period", "points", "newton_iterations", "map_evaluations", "jacobians", &
         "factorizations", "eigen_calls", "wall_time", "time_map", "time_tangent", "time_lu", "time_eigen", &
         "fold_half_dt", "fold_long_chain", "richardson", &
@@ -44,6 +44,9 @@ module supratrans_fold_record
         !> Type of that loss: 0 none, 1 real multiplier through +1 (fold), 2 through -1 (period doubling), 3 complex
         !> pair (torus).
         integer :: instability_type = 0
+        !> How far the multipliers leave the unit circle before the fold: max |mu| - 1 over the branch points up to
+        !> the fold (negative: stable throughout; NaN when no multipliers were computed).
+        real(wp) :: instability_size = 0.0_wp
         !> The model's threshold: the smaller of the fold and the first loss of stability; NaN when neither.
         real(wp) :: threshold = 0.0_wp
         !> Which one the threshold is (the `instability_type` codes; 1 also when it is the fold itself).
@@ -135,6 +138,7 @@ contains
         r%fold_amplitude = nan
         r%fold_residual = nan
         r%instability_amplitude = nan
+        r%instability_size = nan
         r%threshold = nan
         r%threshold_as = nan
         r%dt_used = nan
@@ -158,7 +162,7 @@ contains
         integer :: s
 
         v = [r%fold_amplitude, r%fold_residual, real(r%status, wp), r%instability_amplitude, &
-             real(r%instability_type, wp), r%threshold, real(r%threshold_kind, wp), r%threshold_as, r%dt_used, &
+             real(r%instability_type, wp), r%instability_size, r%threshold, real(r%threshold_kind, wp), r%threshold_as, r%dt_used, &
              real(r%steps_per_period, wp), real(r%points, wp), real(r%newton_iterations, wp), &
              real(r%map_evaluations, wp), real(r%jacobians, wp), real(r%factorizations, wp), real(r%eigen_calls, wp), &
              r%wall_time, r%time_map, r%time_tangent, r%time_lu, r%time_eigen, r%fold_half_dt, r%fold_long_chain, &
@@ -184,27 +188,28 @@ contains
         r%status = nint(v(3))
         r%instability_amplitude = v(4)
         r%instability_type = nint(v(5))
-        r%threshold = v(6)
-        r%threshold_kind = nint(v(7))
-        r%threshold_as = v(8)
-        r%dt_used = v(9)
-        r%steps_per_period = nint(v(10))
-        r%points = nint(v(11))
-        r%newton_iterations = nint(v(12))
-        r%map_evaluations = nint(v(13))
-        r%jacobians = nint(v(14))
-        r%factorizations = nint(v(15))
-        r%eigen_calls = nint(v(16))
-        r%wall_time = v(17)
-        r%time_map = v(18)
-        r%time_tangent = v(19)
-        r%time_lu = v(20)
-        r%time_eigen = v(21)
-        r%fold_half_dt = v(22)
-        r%fold_long_chain = v(23)
-        r%richardson = v(24)
-        r%error_estimate = v(25)
-        r%digits = v(26)
+        r%instability_size = v(6)
+        r%threshold = v(7)
+        r%threshold_kind = nint(v(8))
+        r%threshold_as = v(9)
+        r%dt_used = v(10)
+        r%steps_per_period = nint(v(11))
+        r%points = nint(v(12))
+        r%newton_iterations = nint(v(13))
+        r%map_evaluations = nint(v(14))
+        r%jacobians = nint(v(15))
+        r%factorizations = nint(v(16))
+        r%eigen_calls = nint(v(17))
+        r%wall_time = v(18)
+        r%time_map = v(19)
+        r%time_tangent = v(20)
+        r%time_lu = v(21)
+        r%time_eigen = v(22)
+        r%fold_half_dt = v(23)
+        r%fold_long_chain = v(24)
+        r%richardson = v(25)
+        r%error_estimate = v(26)
+        r%digits = v(27)
         i = size(scalar_fields)
         nb = size(branch_quantities)*points_max
         r%branch = reshape(v(i + 1:i + nb), [size(branch_quantities), points_max])

@@ -306,6 +306,9 @@ contains
         call h5_write(file, "/instability_amplitude", grid(recs%instability_amplitude), &
             "rad", "First amplitude along the branch where a Floquet multiplier leaves the unit circle; NaN when " &
             // "the branch stays stable up to its fold", dims=dims)
+        call h5_write(file, "/instability_size", grid(recs%instability_size), "1", &
+            "How far the Floquet multipliers leave the unit circle before the fold: max |mu| - 1 over the branch up " &
+            // "to it (a weak instability has a small size: compare it with crossing_tol)", dims=dims)
         call h5_write(file, "/instability_type", igrid(recs%instability_type), "1", &
             "How the branch first loses stability (codes in attribute 'codes')", dims=dims)
         call h5_write_attr(file, "/instability_type", "codes", instability_type_codes())

@@ -1,14 +1,18 @@
-!> The journal of a scene: one line per finished task, each proven whole and unaltered.
+!> The journal of a scene: one line per finished task, each proven whole, unaltered and of this input.
 !>
-!> The first line is the header `supratrans-journal 3 <tasks> <fingerprint of the input> <name_1> ... <name_m>`:
-!> the names of the m fields of a task's record, in the order the lines hold them. Every other line is
+!> The first line is the header `supratrans-journal 4 <tasks> <fingerprint of the input> <name_1> ... <name_m> *<crc>`:
+!> the names of the m fields of a task's record, in the order the lines hold them, and the CRC-32 (IEEE 802.3
+!> polynomial, as zlib computes it) of everything before the ` *`, in 8 hexadecimal digits. Every other line is
 !> `<task> <v_1> ... <v_m> *<crc>`: the task index, its m values with 17 significant digits (an exact round trip of
-!> IEEE doubles) and the CRC-32 (IEEE 802.3 polynomial, as zlib computes it) of everything before the ` *`, in 8
-!> hexadecimal digits. A line is accepted only if its checksum matches and it holds exactly m + 1 numbers that read
-!> without error; any other line (cut short by a kill, altered on disk, garbage) is dropped and its task computed
-!> again. Records are read by name: a journal that holds the fields in another order is read in the reader's order;
-!> one that lacks a field the reader needs, or has one it does not know, is refused, as is one of another input.
-!> An empty journal is no journal (the run starts afresh).
+!> IEEE doubles) and the CRC-32 of the header line, a newline and everything of the line before the ` *`: a record
+!> is bound to its header, hence to the input's fingerprint, the task count and the order of the fields, so that a
+!> line copied from another input's journal fails its check. A line is accepted only if its checksum matches and
+!> it holds exactly m + 1 numbers that read without error; any other line (cut short by a kill, altered on disk,
+!> garbage, another journal's) is dropped and its task computed again. A header that fails its checksum (two field
+!> names swapped, an edited task count) is refused, as is the journal of format 3 that supratrans wrote before the
+!> records were bound to their header. Records are read by name: a journal that holds the fields in another order is
+!> read in the reader's order; one that lacks a field the reader needs, or has one it does not know, is refused, as
+!> is one of another input. An empty journal is no journal (the run starts afresh).
 module supratrans_journal
     use, intrinsic :: iso_fortran_env, only: int64
     use supratrans_kinds, only: wp
@@ -18,10 +22,16 @@ module supratrans_journal
     implicit none
     private
 
-    public :: journal_header, journal_line, parse_journal_line, read_journal, write_journal, append_journal_line, crc32
+    public :: journal_header, journal_line, parse_journal_line, read_journal, write_journal, append_journal_line, crc32, &
+              header_checked, record_binding
 
-    !> Longest journal line accepted (a task has at most a few dozen values).
+    !> The format of the journals written (3: records not bound to the header, which had no checksum).
+    character(len=*), parameter, public :: journal_format = "4"
+
+    !> Longest journal line accepted (a task has at most a few dozen values, a fold line's about a thousand).
     integer, parameter :: max_line = 65536
+    !> Most values a task's record may have: its line (index, 26 characters a value, checksum) fits `max_line`.
+    integer, parameter, public :: max_fields = (max_line - 64)/26
 
 contains
 
@@ -37,14 +47,36 @@ contains
         character(len=:), allocatable :: header
         integer :: i
 
-        header = "supratrans-journal 3 " // int_str(ntask) // " " // fingerprint
+        character(len=8) :: hex
+
+        header = "supratrans-journal " // journal_format // " " // int_str(ntask) // " " // fingerprint
         do i = 1, size(fields)
             header = header // " " // trim(fields(i))
         end do
+        write (hex, "(z8.8)") crc32(header)
+        header = header // " *" // hex
     end function journal_header
 
+    !> Whether a header line's checksum matches (`journal_header` wrote it, and it is unaltered).
+    pure function header_checked(line) result(ok)
+        !> The header line.
+        character(len=*), intent(in) :: line
+        logical :: ok
+        integer :: star, ios
+        integer(int64) :: stored
+
+        ok = .false.
+        star = index_of_mark(line)
+        if (star < 3 .or. len(line) - star /= 8) return
+        if (verify(line(star + 1:), "0123456789ABCDEF") /= 0) return
+        read (line(star + 1:), "(z8)", iostat=ios) stored
+        if (ios /= 0) return
+        ok = stored == crc32(line(1:star - 2))
+    end function header_checked
+
     !> Match a journal's header against the one expected: same version, tasks and fingerprint, and the same field
-    !> names in any order. `column(i)` is the position in the journal's lines of the expected field i.
+    !> names in any order (checksums apart). `column(i)` is the position in the journal's lines of the expected
+    !> field i. The caller checks the header's checksum (`header_checked`).
     pure subroutine match_header(line, expected, column, same_input, ok)
         !> The header read.
         character(len=*), intent(in) :: line
@@ -60,8 +92,8 @@ contains
         integer :: i, j
 
         ok = .false.
-        call split_words(line, got)
-        call split_words(expected, want)
+        call split_words(line(1:max(0, index_of_mark(line) - 2)), got)
+        call split_words(expected(1:max(0, index_of_mark(expected) - 2)), want)
         same_input = size(got) >= 4 .and. size(want) >= 4
         if (same_input) same_input = all(got(1:4) == want(1:4))
         if (.not. same_input .or. size(got) /= size(want)) return
@@ -106,25 +138,54 @@ contains
         end do
     end subroutine split_words
 
-    !> The journal line of task `index` with its `values`, checksum included (thread-safe: fixed-length buffers).
-    function journal_line(index, values) result(line)
+    !> The journal line of task `index` with its `values`, its checksum binding it to the journal's `header`
+    !> (thread-safe: fixed-length buffers).
+    function journal_line(index, values, header) result(line)
         !> Task index.
         integer, intent(in) :: index
         !> The task's values.
         real(wp), intent(in) :: values(:)
+        !> The header line of the journal (`journal_header`).
+        character(len=*), intent(in) :: header
+        character(len=:), allocatable :: line
+
+        line = bound_line(index, values, record_binding(header))
+    end function journal_line
+
+    !> What binds the records of a journal to its `header`: the CRC-32 of the header line and a newline, from which
+    !> each record's checksum starts.
+    pure function record_binding(header) result(binding)
+        !> The header line of the journal (`journal_header`).
+        character(len=*), intent(in) :: header
+        integer(int64) :: binding
+
+        binding = crc32(header // new_line("a"))
+    end function record_binding
+
+    !> `journal_line` with the header's `record_binding` (thread-safe: fixed-length buffers).
+    function bound_line(index, values, binding) result(line)
+        !> Task index.
+        integer, intent(in) :: index
+        !> The task's values.
+        real(wp), intent(in) :: values(:)
+        !> `record_binding` of the journal's header.
+        integer(int64), intent(in) :: binding
         character(len=:), allocatable :: line
         character(len=32 + 26*size(values)) :: buffer
         character(len=8) :: hex
 
         write (buffer, "(i0, *(1x, es25.17e3))") index, values
-        write (hex, "(z8.8)") crc32(trim(buffer))
+        write (hex, "(z8.8)") crc32(trim(buffer), binding)
         line = trim(buffer) // " *" // hex
-    end function journal_line
+    end function bound_line
 
-    !> Read one journal line: `ok` only when its checksum matches and it holds exactly `size(values)` + 1 numbers.
-    subroutine parse_journal_line(line, ntask, task, values, ok)
+    !> Read one journal line: `ok` only when its checksum (bound to `header`) matches and it holds exactly
+    !> `size(values)` + 1 numbers.
+    subroutine parse_journal_line(line, header, ntask, task, values, ok)
         !> The line (without its newline).
         character(len=*), intent(in) :: line
+        !> The header line of the journal it was read from.
+        character(len=*), intent(in) :: header
         !> Number of tasks (valid indices are 1..ntask).
         integer, intent(in) :: ntask
         !> Task index read.
@@ -144,7 +205,7 @@ contains
         if (star < 3 .or. len(line) - star /= 8) return
         read (line(star + 1:), "(z8)", iostat=ios) stored
         if (ios /= 0) return
-        if (stored /= crc32(line(1:star - 2))) return
+        if (stored /= crc32(line(1:star - 2), crc32(header // new_line("a")))) return
         ntokens = 0
         in_token = .false.
         do i = 1, star - 2
@@ -186,8 +247,9 @@ contains
         logical :: exists, ok, same_input
         integer :: unit, ios, task
         integer, allocatable :: column(:)
-        character(len=:), allocatable :: line
+        character(len=:), allocatable :: line, got
         real(wp), allocatable :: values(:)
+        character(len=:), allocatable :: words(:)
 
         dropped = 0
         inquire (file=journal, exist=exists)
@@ -198,16 +260,32 @@ contains
             call fatal_error(error, journal // ": cannot read the journal of an earlier run", err_io)
             return
         end if
-        call read_line(unit, line, ios)
+        call read_line(unit, got, ios)
         ok = .false.
         same_input = .false.
-        if (ios == 0) call match_header(line, header, column, same_input, ok)
+        if (ios == 0) call split_words(got, words)
+        if (ios == 0 .and. index(got, "supratrans-journal ") == 1 .and. size(words) >= 2) then
+            if (words(2) /= journal_format) then
+                close (unit)
+                call fatal_error(error, journal // ": journal in the format " // trim(words(2)) // " of an older " &
+                                 // "supratrans (the format changed: records are now bound to their input; this one " &
+                                 // "writes " // journal_format // "): delete it to start afresh", err_io)
+                return
+            end if
+            if (.not. header_checked(got)) then
+                close (unit)
+                call fatal_error(error, journal // ": the journal's header fails its checksum (altered: its fields or " &
+                                 // "task count cannot be trusted); delete it to start afresh", err_io)
+                return
+            end if
+        end if
+        if (ios == 0) call match_header(got, header, column, same_input, ok)
         if (.not. ok) then
             close (unit)
             if (same_input) then
                 call fatal_error(error, journal // ": journal of another version of supratrans (its records have " &
                                  // "other fields; delete it to start afresh)", err_io)
-            else if (ios == 0 .and. index(line, "supratrans-journal ") == 1) then
+            else if (ios == 0 .and. index(got, "supratrans-journal ") == 1) then
                 call fatal_error(error, journal // ": journal of a different input or scene (delete it to start " &
                                  // "afresh, or restore the input it was made with)", err_io)
             else
@@ -220,7 +298,7 @@ contains
         do
             call read_line(unit, line, ios)
             if (ios /= 0) exit
-            call parse_journal_line(line, size(done), task, values, ok)
+            call parse_journal_line(line, got, size(done), task, values, ok)
             if (.not. ok) then
                 dropped = dropped + 1
                 cycle
@@ -250,16 +328,18 @@ contains
 
         text = header // new_line("a")
         do i = 1, size(done)
-            if (done(i)) text = text // journal_line(i, results(:, i)) // new_line("a")
+            if (done(i)) text = text // journal_line(i, results(:, i), header) // new_line("a")
         end do
         call write_file_atomic(journal, text, cause)
         if (allocated(cause)) call fatal_error(error, cause%message // "; the journal there is kept", err_io)
     end subroutine write_journal
 
     !> Append one task's line to a journal (write(2), never through a link: a full disk is reported, `ok` false).
-    subroutine append_journal_line(journal, index, values, ok)
+    subroutine append_journal_line(journal, binding, index, values, ok)
         !> Journal file.
         character(len=*), intent(in) :: journal
+        !> `record_binding` of its header line.
+        integer(int64), intent(in) :: binding
         !> Task index.
         integer, intent(in) :: index
         !> The task's values.
@@ -267,7 +347,7 @@ contains
         !> Whether the line was written whole.
         logical, intent(out) :: ok
 
-        call append_bytes(journal, journal_line(index, values) // new_line("a"), ok)
+        call append_bytes(journal, bound_line(index, values, binding) // new_line("a"), ok)
     end subroutine append_journal_line
 
     !> Read one whole line (up to `max_line` characters; a longer one is cut and will fail its checksum).
@@ -287,15 +367,19 @@ contains
         if (is_iostat_eor(ios)) ios = 0
     end subroutine read_line
 
-    !> CRC-32 (polynomial 0xEDB88320, reflected, initial and final XOR 0xFFFFFFFF: zlib's crc32) of a string.
-    pure function crc32(text) result(crc)
+    !> CRC-32 (polynomial 0xEDB88320, reflected, initial and final XOR 0xFFFFFFFF: zlib's crc32) of a string;
+    !> with `previous`, the CRC-32 of the bytes `previous` was the CRC of followed by `text` (zlib's crc32(crc, ...)).
+    pure function crc32(text, previous) result(crc)
         !> Bytes to check.
         character(len=*), intent(in) :: text
+        !> CRC-32 of the bytes before `text` (default: none).
+        integer(int64), intent(in), optional :: previous
         integer(int64) :: crc
         integer(int64), parameter :: poly = int(z'EDB88320', int64), mask = int(z'FFFFFFFF', int64)
         integer :: i, bit
 
         crc = mask
+        if (present(previous)) crc = ieor(iand(previous, mask), mask)
         do i = 1, len(text)
             crc = ieor(crc, int(ichar(text(i:i)), int64))
             do bit = 1, 8

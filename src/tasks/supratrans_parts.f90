@@ -4,22 +4,38 @@
 !> the expensive tasks of a frequency axis spread over the slices) and writes the part file
 !> `<output stem>.part-I-of-N.h5`: group `/part` with the task records of the slice (`task`, `values`, exactly as
 !> the journal holds them), the journal header (tasks, values per task, fingerprint of the input), I, N, the code
-!> version and the namelist text. `supratrans merge PART...` checks that the parts belong together (same
-!> fingerprint, version, N and header), that every slice 1..N is there exactly once, and hands the joined records to
-!> the scene as a complete journal: the scene then writes its ordinary output from them, computing nothing, so the
-!> merged file is the single-machine file by construction.
+!> version, the namelist text, the part format (`part_format`) and `checksum`: the CRC-32 of all of these
+!> (`part_checksum`; the values by their bits), so that a bit flipped anywhere in what the part says is seen.
+!> `supratrans merge PART...` proves each part whole before it uses it: its checksum, the fingerprint recomputed
+!> from the namelist text it holds (and named by its journal header, whose own checksum holds), counts within the
+!> limits (checked before anything is allocated), and its task indices exactly those of slice I, each once, in
+!> order. It then checks that the parts belong together (same fingerprint, version, N and header) and that every
+!> slice 1..N is there exactly once, and hands the joined records to the scene as a complete journal: the scene
+!> writes its ordinary output from them, computing nothing (a part whose fields are not the scene's is refused, see
+!> `supratrans_tasks`), so the merged file is the single-machine file by construction. Anything else is refused
+!> with one line naming the part and the reason (status 2).
 module supratrans_parts
+    use, intrinsic :: iso_fortran_env, only: int64
+    use hdf5, only: hid_t, hsize_t, h5dopen_f, h5dget_space_f, h5sget_simple_extent_ndims_f, &
+                    h5sget_simple_extent_dims_f, h5dclose_f, h5sclose_f
     use supratrans_kinds, only: wp, supratrans_version
-    use supratrans_strings, only: int_str, text_or
+    use supratrans_strings, only: int_str, text_or, text_fingerprint, printable
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_config, only: input_config
     use supratrans_system, only: path_kind, path_regular
+    use supratrans_limits, only: max_tasks
+    use supratrans_journal, only: crc32, header_checked, max_fields
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_open, h5_close, h5_write, &
-                               h5_write_attr, h5_create_group, h5_read, h5_read_attr, h5_exists
+                               h5_write_attr, h5_create_group, h5_read, h5_read_attr, h5_exists, h5_attr_exists
     implicit none
     private
 
-    public :: write_part, part_path, merged_path, part_set, read_parts
+    public :: write_part, part_path, merged_path, part_set, read_parts, part_checksum
+
+    !> The format of the part files written (1: before they had a checksum).
+    character(len=*), parameter, public :: part_format = "2"
+    !> Most slices (as `--slice` accepts).
+    integer, parameter :: max_slices = 100000
 
     !> What `read_parts` gathers from a complete set of parts.
     type, public :: part_set
@@ -37,6 +53,8 @@ module supratrans_parts
         real(wp), allocatable :: results(:, :)
         !> Which tasks the parts hold.
         logical, allocatable :: done(:)
+        !> The first part file (named when the scene refuses the records).
+        character(len=:), allocatable :: first
     end type part_set
 
 contains
@@ -107,6 +125,7 @@ contains
         integer, allocatable :: tasks(:)
         real(wp), allocatable :: records(:, :)
         integer :: i
+        character(len=8) :: hex
 
         tasks = pack([(i, i = 1, size(done))], done .and. mine)
         allocate (records(size(results, 1), size(tasks)))
@@ -131,12 +150,260 @@ contains
         call h5_write(file, "part/values", records, "mixed", "the task records, exactly as the " &
                       // "journal holds them (values, task)")
         call h5_write(file, "part/namelist", text_or(cfg%text, ""), "", "the namelist text as read")
+        call h5_write_attr(file, "part", "part_format", part_format)
+        write (hex, "(z8.8)") part_checksum(supratrans_version, trim(cfg%scene%kind), slice_index, slice_count, &
+                                            size(done), count(mine), header, text_or(cfg%fingerprint, "none"), &
+                                            text_or(cfg%source, "configuration"), text_or(cfg%text, ""), tasks, &
+                                            records)
+        call h5_write_attr(file, "part", "checksum", hex)
         call h5_commit(file, error)
     end subroutine write_part
 
+    !> The checksum of a part file: the CRC-32 (`crc32`) of its format, version, scene, I, N, task counts, journal
+    !> header, fingerprint, input name and namelist text, one per line, then of one line per record: the task index
+    !> and the 64 bits of each value in hexadecimal (so that any change of a value, a NaN's payload included, is
+    !> seen).
+    pure function part_checksum(version, scene, slice_index, slice_count, ntask, nslice, header, fingerprint, source, &
+                                text, tasks, values) result(crc)
+        !> Code version that wrote the part.
+        character(len=*), intent(in) :: version
+        !> Scene kind.
+        character(len=*), intent(in) :: scene
+        !> Slice I and number of slices N.
+        integer, intent(in) :: slice_index, slice_count
+        !> Tasks of the scene and of the slice.
+        integer, intent(in) :: ntask, nslice
+        !> Journal header of the scene.
+        character(len=*), intent(in) :: header
+        !> Fingerprint of the input.
+        character(len=*), intent(in) :: fingerprint
+        !> Name of the input file.
+        character(len=*), intent(in) :: source
+        !> Namelist text.
+        character(len=*), intent(in) :: text
+        !> Task index of each record.
+        integer, intent(in) :: tasks(:)
+        !> The records, (values, records).
+        real(wp), intent(in) :: values(:, :)
+        integer(int64) :: crc
+        character(len=:), allocatable :: line
+        character(len=17) :: word
+        character(len=1), parameter :: lf = achar(10)
+        integer :: i, j
+
+        crc = crc32("supratrans-part " // part_format // lf // version // lf // scene // lf // int_str(slice_index) &
+                    // lf // int_str(slice_count) // lf // int_str(ntask) // lf // int_str(nslice) // lf // header // lf &
+                    // fingerprint // lf // source // lf)
+        crc = crc32(text // lf, crc)
+        do i = 1, size(tasks)
+            line = int_str(tasks(i))
+            do j = 1, size(values, 1)
+                write (word, "(1x, z16.16)") transfer(values(j, i), 0_int64)
+                line = line // word
+            end do
+            crc = crc32(line // lf, crc)
+        end do
+    end function part_checksum
+
+    !> The dimensions (Fortran order, as the HDF5 Fortran API gives them) of a dataset, without reading it; `ok`
+    !> false if they cannot be had.
+    subroutine dataset_dims(file, name, dims, ok)
+        !> The file (open).
+        type(h5_file), intent(in) :: file
+        !> Path of the dataset.
+        character(len=*), intent(in) :: name
+        !> Its dimensions.
+        integer(hsize_t), allocatable, intent(out) :: dims(:)
+        !> Whether they could be read.
+        logical, intent(out) :: ok
+        integer(hid_t) :: dset, space
+        integer(hsize_t), allocatable :: maxdims(:)
+        integer :: rank, hdferr, ignored
+
+        ok = .false.
+        allocate (dims(0))
+        if (.not. h5_exists(file, name)) return
+        call h5dopen_f(file%id, name, dset, hdferr)
+        if (hdferr < 0) return
+        call h5dget_space_f(dset, space, hdferr)
+        if (hdferr >= 0) then
+            call h5sget_simple_extent_ndims_f(space, rank, hdferr)
+            if (hdferr >= 0 .and. rank >= 0 .and. rank <= 32) then
+                deallocate (dims)
+                allocate (dims(rank), maxdims(rank))
+                call h5sget_simple_extent_dims_f(space, dims, maxdims, hdferr)
+                ok = hdferr >= 0
+            end if
+            call h5sclose_f(space, ignored)
+        end if
+        call h5dclose_f(dset, ignored)
+    end subroutine dataset_dims
+
+    !> Read and check one part file (see the module's description); `error` (status `err_input`) names it and says
+    !> what is wrong.
+    subroutine read_one_part(file, where, version, slice_index, slice_count, ntask, header, fingerprint, source, &
+                             text, tasks, values, error)
+        !> The part file (open).
+        type(h5_file), intent(in) :: file
+        !> Its name, for messages.
+        character(len=*), intent(in) :: where
+        !> What it holds: code version, slice I of N, tasks of the scene, journal header, fingerprint, input name,
+        !> namelist text, task indices and records.
+        character(len=:), allocatable, intent(out) :: version, header, fingerprint, source, text
+        !> Slice I, number of slices N, tasks of the scene.
+        integer, intent(out) :: slice_index, slice_count, ntask
+        !> Task index of each record.
+        integer, allocatable, intent(out) :: tasks(:)
+        !> The records, (values, records).
+        real(wp), allocatable, intent(out) :: values(:, :)
+        !> Error, allocated when the part is refused.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=:), allocatable :: scene, format, stored, hwords(:)
+        character(len=8) :: hex
+        integer(hsize_t), allocatable :: tdims(:), vdims(:)
+        type(error_type), allocatable :: cause
+        integer :: nslice, nfields, i
+        logical :: ok
+
+        if (.not. h5_attr_exists(file, "part", "part_format") .or. .not. h5_attr_exists(file, "part", "checksum")) then
+            call fatal_error(error, where // ": part file of an older supratrans, without a checksum (the part format " &
+                             // "changed): delete it and run its slice again", err_input)
+            return
+        end if
+        call h5_read_attr(file, "part", "part_format", format, cause)
+        if (.not. allocated(cause)) call h5_read_attr(file, "part", "checksum", stored, cause)
+        if (.not. allocated(cause)) call h5_read_attr(file, "/", "version", version, cause)
+        if (.not. allocated(cause)) call h5_read_attr(file, "/", "scene", scene, cause)
+        if (.not. allocated(cause)) call h5_read_attr(file, "part", "slice_index", slice_index, cause)
+        if (.not. allocated(cause)) call h5_read_attr(file, "part", "slice_count", slice_count, cause)
+        if (.not. allocated(cause)) call h5_read_attr(file, "part", "tasks_total", ntask, cause)
+        if (.not. allocated(cause)) call h5_read_attr(file, "part", "tasks_in_slice", nslice, cause)
+        if (.not. allocated(cause)) call h5_read_attr(file, "part", "journal_header", header, cause)
+        if (.not. allocated(cause)) call h5_read_attr(file, "part", "fingerprint", fingerprint, cause)
+        if (.not. allocated(cause)) call h5_read_attr(file, "part", "input_file", source, cause)
+        if (allocated(cause)) then
+            call fatal_error(error, where // ": damaged part file (" // cause%message // ")", err_input)
+            return
+        end if
+        if (format /= part_format) then
+            call fatal_error(error, where // ": part file of format " // printable(format) // ", this supratrans reads " &
+                             // part_format // " (the part format changed): delete it and run its slice again", &
+                             err_input)
+            return
+        end if
+        ! counts first, so that nothing is allocated from a damaged one
+        if (slice_count < 1 .or. slice_count > max_slices .or. slice_index < 1 .or. slice_index > slice_count) then
+            call fatal_error(error, where // ": damaged part file (slice " // int_str(slice_index) // " of " &
+                             // int_str(slice_count) // ": not 1 <= I <= N <= " // int_str(max_slices) // ")", err_input)
+            return
+        end if
+        if (ntask < 1 .or. real(ntask, wp) > max_tasks) then
+            call fatal_error(error, where // ": damaged part file (tasks_total = " // int_str(ntask) // ", not within " &
+                             // "1.." // int_str(int(max_tasks)) // ", the limit of a scene)", err_input)
+            return
+        end if
+        if (nslice /= slice_tasks(slice_index, slice_count, ntask)) then
+            call fatal_error(error, where // ": damaged part file (tasks_in_slice = " // int_str(nslice) // ", but " &
+                             // "slice " // int_str(slice_index) // " of " // int_str(slice_count) // " of " &
+                             // int_str(ntask) // " tasks has " // int_str(slice_tasks(slice_index, slice_count, ntask)) &
+                             // ")", err_input)
+            return
+        end if
+        call split_words(header, hwords)
+        nfields = size(hwords) - 5
+        if (.not. header_checked(header)) then
+            call fatal_error(error, where // ": damaged part file (its journal header fails its checksum)", err_input)
+            return
+        end if
+        if (nfields < 1 .or. nfields > max_fields) then
+            call fatal_error(error, where // ": damaged part file (its journal header names " // int_str(nfields) &
+                             // " fields, not 1.." // int_str(max_fields) // ")", err_input)
+            return
+        end if
+        call dataset_dims(file, "part/task", tdims, ok)
+        if (ok) call dataset_dims(file, "part/values", vdims, ok)
+        if (ok) ok = size(tdims) == 1 .and. size(vdims) == 2
+        if (ok) ok = tdims(1) == nslice .and. vdims(1) == nfields .and. vdims(2) == nslice
+        if (.not. ok) then
+            call fatal_error(error, where // ": damaged part file (part/task or part/values is not of " &
+                             // int_str(nslice) // " records of " // int_str(nfields) // " values)", err_input)
+            return
+        end if
+        call h5_read(file, "part/task", tasks, cause)
+        if (.not. allocated(cause)) call h5_read(file, "part/values", values, cause)
+        if (.not. allocated(cause)) call h5_read(file, "part/namelist", text, cause)
+        if (allocated(cause)) then
+            call fatal_error(error, where // ": damaged part file (" // cause%message // ")", err_input)
+            return
+        end if
+        write (hex, "(z8.8)") part_checksum(version, scene, slice_index, slice_count, ntask, nslice, header, &
+                                            fingerprint, source, text, tasks, values)
+        if (stored /= hex) then
+            call fatal_error(error, where // ": damaged part file (its checksum " // printable(stored) // " is not " &
+                             // "that of its content, " // hex // ": altered since it was written)", err_input)
+            return
+        end if
+        if (text_fingerprint(text) /= fingerprint .or. hwords(4) /= fingerprint .or. hwords(3) /= int_str(ntask)) then
+            call fatal_error(error, where // ": its namelist text has the fingerprint " // text_fingerprint(text) &
+                             // ", not the " // printable(fingerprint) // " the part was made for (edited?)", err_input)
+            return
+        end if
+        do i = 1, nslice
+            if (tasks(i) /= slice_index + (i - 1)*slice_count) then
+                call fatal_error(error, where // ": record " // int_str(i) // " holds task " // int_str(tasks(i)) &
+                                 // ", not " // int_str(slice_index + (i - 1)*slice_count) // ": the tasks of slice " &
+                                 // int_str(slice_index) // " of " // int_str(slice_count) // " must each be there " &
+                                 // "exactly once, in order", err_input)
+                return
+            end if
+        end do
+    end subroutine read_one_part
+
+    !> Number of the tasks t of 1..ntask with mod(t - 1, N) + 1 = I.
+    pure function slice_tasks(slice_index, slice_count, ntask) result(n)
+        !> Slice I and number of slices N.
+        integer, intent(in) :: slice_index, slice_count
+        !> Tasks of the scene.
+        integer, intent(in) :: ntask
+        integer :: n
+
+        n = 0
+        if (slice_index <= ntask) n = (ntask - slice_index)/slice_count + 1
+    end function slice_tasks
+
+    !> The blank-separated words of a line.
+    pure subroutine split_words(line, words)
+        !> The line.
+        character(len=*), intent(in) :: line
+        !> Its words (padded to the longest).
+        character(len=:), allocatable, intent(out) :: words(:)
+        integer :: i, n, start, longest, pass
+
+        do pass = 1, 2
+            n = 0
+            longest = 1
+            i = 1
+            do while (i <= len(line))
+                if (line(i:i) == " ") then
+                    i = i + 1
+                    cycle
+                end if
+                start = i
+                do while (i <= len(line))
+                    if (line(i:i) == " ") exit
+                    i = i + 1
+                end do
+                n = n + 1
+                longest = max(longest, i - start)
+                if (pass == 2) words(n) = line(start:i - 1)
+            end do
+            if (pass == 1) allocate (character(len=longest) :: words(n))
+        end do
+    end subroutine split_words
+
     !> Read and check a set of part files. Refused with one line naming the file and the reason (status
-    !> `err_input`): a file that is not a part, parts of another input, version or slice count, a slice given twice,
-    !> a missing slice (unless `partial`: its tasks stay missing), a part that does not hold all its tasks.
+    !> `err_input`): a file that is not a part, a part that fails its checks (`read_one_part`), parts of another
+    !> input, version or slice count, a slice given twice, a missing slice (unless `partial`: its tasks stay missing).
     subroutine read_parts(paths, partial, set, error)
         !> The part files.
         character(len=*), intent(in) :: paths(:)
@@ -147,10 +414,10 @@ contains
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
         type(h5_file) :: file
-        character(len=:), allocatable :: version, header, fingerprint, where, first
+        character(len=:), allocatable :: version, header, fingerprint, where, first, source, text
         integer, allocatable :: tasks(:), given(:)
         real(wp), allocatable :: values(:, :)
-        integer :: ip, slice_index, slice_count, ntask, nslice, i
+        integer :: ip, slice_index, slice_count, ntask, i, stat
         type(error_type), allocatable :: cause
 
         do ip = 1, size(paths)
@@ -174,36 +441,30 @@ contains
                     end if
                     exit read_one
                 end if
-                call h5_read_attr(file, "/", "version", version, cause)
-                if (.not. allocated(cause)) call h5_read_attr(file, "part", "slice_index", slice_index, cause)
-                if (.not. allocated(cause)) call h5_read_attr(file, "part", "slice_count", slice_count, cause)
-                if (.not. allocated(cause)) call h5_read_attr(file, "part", "tasks_total", ntask, cause)
-                if (.not. allocated(cause)) call h5_read_attr(file, "part", "tasks_in_slice", nslice, cause)
-                if (.not. allocated(cause)) call h5_read_attr(file, "part", "journal_header", header, cause)
-                if (.not. allocated(cause)) call h5_read_attr(file, "part", "fingerprint", fingerprint, cause)
-                if (.not. allocated(cause)) call h5_read(file, "part/task", tasks, cause)
-                if (.not. allocated(cause)) call h5_read(file, "part/values", values, cause)
-                if (allocated(cause)) then
-                    call fatal_error(error, where // ": damaged part file (" // cause%message // ")", err_input)
-                    exit read_one
-                end if
+                call read_one_part(file, where, version, slice_index, slice_count, ntask, header, fingerprint, source, &
+                                   text, tasks, values, error)
+                if (allocated(error)) exit read_one
                 if (version /= supratrans_version) then
-                    call fatal_error(error, where // ": made by supratrans " // version // ", this is " &
+                    call fatal_error(error, where // ": made by supratrans " // printable(version) // ", this is " &
                                      // supratrans_version // ": run every slice with one version", err_input)
                     exit read_one
                 end if
                 if (ip == 1) then
                     first = where
+                    set%first = where
                     set%header = header
                     set%fingerprint = fingerprint
                     set%slice_count = slice_count
-                    call h5_read(file, "part/namelist", set%text, cause)
-                    if (.not. allocated(cause)) call h5_read_attr(file, "part", "input_file", set%source, cause)
-                    if (allocated(cause)) then
-                        call fatal_error(error, where // ": damaged part file (" // cause%message // ")", err_input)
+                    set%text = text
+                    set%source = source
+                    allocate (set%results(size(values, 1), ntask), stat=stat)
+                    if (stat == 0) allocate (set%done(ntask), stat=stat)
+                    if (stat == 0) allocate (given(slice_count), stat=stat)
+                    if (stat /= 0) then
+                        call fatal_error(error, where // ": " // int_str(ntask) // " tasks of " &
+                                         // int_str(size(values, 1)) // " values do not fit in memory", err_input)
                         exit read_one
                     end if
-                    allocate (set%results(size(values, 1), ntask), set%done(ntask), given(slice_count))
                     set%results = 0.0_wp
                     set%done = .false.
                     given = 0
@@ -217,11 +478,6 @@ contains
                                      // int_str(set%slice_count), err_input)
                     exit read_one
                 end if
-                if (slice_index < 1 .or. slice_index > slice_count .or. size(values, 1) /= size(set%results, 1) &
-                    .or. ntask /= size(set%done) .or. size(values, 2) /= size(tasks)) then
-                    call fatal_error(error, where // ": damaged part file (inconsistent sizes)", err_input)
-                    exit read_one
-                end if
                 if (given(slice_index) > 0) then
                     call fatal_error(error, where // ": slice " // int_str(slice_index) // " of " &
                                      // int_str(slice_count) // " given twice (also " // trim(paths(given(slice_index))) &
@@ -229,13 +485,6 @@ contains
                     exit read_one
                 end if
                 given(slice_index) = ip
-                if (size(tasks) /= nslice .or. any(tasks < 1 .or. tasks > ntask) .or. &
-                    any(mod(tasks - 1, slice_count) + 1 /= slice_index)) then
-                    call fatal_error(error, where // ": incomplete part (" // int_str(size(tasks)) // " of " &
-                                     // int_str(nslice) // " tasks): run slice " // int_str(slice_index) // "/" &
-                                     // int_str(slice_count) // " again", err_input)
-                    exit read_one
-                end if
                 do i = 1, size(tasks)
                     set%results(:, tasks(i)) = values(:, i)
                     set%done(tasks(i)) = .true.

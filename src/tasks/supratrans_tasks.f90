@@ -10,11 +10,11 @@
 module supratrans_tasks
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
     use supratrans_kinds, only: wp
-    use supratrans_strings, only: int_str, fixed1, text_fingerprint, printable
-    use supratrans_error, only: error_type, fatal_error, err_io, err_interrupted
+    use supratrans_strings, only: int_str, real_str, fixed1, text_fingerprint, printable
+    use supratrans_error, only: error_type, fatal_error, err_io, err_interrupted, err_input
     use supratrans_config, only: input_config
-    use supratrans_system, only: remove_file, stop_signal
-    use supratrans_journal, only: journal_header, read_journal, write_journal, append_journal_line
+    use supratrans_system, only: remove_file, stop_signal, out_of_memory
+    use supratrans_journal, only: journal_header, read_journal, write_journal, append_journal_line, record_binding
     use supratrans_parts, only: write_part
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
@@ -95,9 +95,9 @@ contains
         real(wp), allocatable :: values(:)
         logical, allocatable :: mine(:)
         integer :: nvalues, i, ndone_start, ndone, ntodo, ios, threads, dropped, slice_index, slice_count
-        integer(int64) :: clock_start, clock_rate, clock_now
+        integer(int64) :: clock_start, clock_rate, clock_now, binding
         real(wp) :: last_progress, last_snapshot, elapsed
-        logical :: snapshot_only, write_failed, written
+        logical :: snapshot_only, write_failed, written, merging, lost
         integer :: stop_after
         character(len=16) :: knob
 
@@ -110,13 +110,38 @@ contains
             slice_count = cfg%slice_count
             snapshot_only = cfg%snapshot_only
         end if
-        allocate (results(nvalues, ntask), done(ntask), mine(ntask))
+        allocate (results(nvalues, ntask), stat=ios)
+        if (ios == 0) allocate (done(ntask), stat=ios)
+        if (ios == 0) allocate (mine(ntask), stat=ios)
+        if (ios /= 0) then
+            call fatal_error(error, journal // ": cannot allocate " // real_str(8.0_wp*real(nvalues + 1, wp) &
+                             *real(ntask, wp)/1.0e9_wp, 3) // " GB for the results of " // int_str(ntask) // " " &
+                             // label // " (more memory, or fewer tasks)", err_input)
+            return
+        end if
         results = 0.0_wp
         done = .false.
         mine = .true.
         if (slice_count > 0) mine = [(mod(i - 1, slice_count) + 1 == slice_index, i = 1, ntask)]
         header = journal_header(ntask, fields, fingerprint)
         call read_journal(journal, header, results, done, dropped, error)
+        merging = .false.
+        if (present(cfg)) merging = allocated(cfg%merge_part)
+        if (merging) then
+            ! the records of merged parts: the scene's own, every one (or, merge --partial, the ones there)
+            if (allocated(error)) then
+                call fatal_error(error, cfg%merge_part // ": its records do not fit the scene '" // trim(cfg%scene%kind) &
+                                 // "' of its namelist (fields or task count of another version of supratrans: the " &
+                                 // "parts' journal header is not " // header // ")", err_input)
+                return
+            end if
+            if (.not. snapshot_only .and. (dropped > 0 .or. .not. all(done))) then
+                call fatal_error(error, cfg%merge_part // ": " // int_str(count(.not. done)) // " of " &
+                                 // int_str(ntask) // " task records missing or damaged: merge computes nothing", &
+                                 err_input)
+                return
+            end if
+        end if
         if (allocated(error)) return
         if (snapshot_only) then
             call tasks%snapshot(results, done)
@@ -125,6 +150,7 @@ contains
         ! rewritten with the whole lines only (a new file, renamed over the old one only once it is complete)
         call write_journal(journal, header, results, done, error)
         if (allocated(error)) return
+        binding = record_binding(header)      ! (not the deferred-length header itself in the parallel region)
 
         ! fault injection for the tests: SUPRATRANS_STOP_AFTER=k acts as a stop signal once k tasks are journaled
         stop_after = huge(1)
@@ -149,23 +175,27 @@ contains
             flush (error_unit)
         end if
 
-        !$omp parallel do schedule(dynamic, 1) default(shared) private(i, values, clock_now, elapsed, written)
+        !$omp parallel do schedule(dynamic, 1) default(shared) private(i, values, clock_now, elapsed, written, lost)
         do i = 1, ntask
             if (done(i) .or. .not. mine(i)) cycle
-            if (stop_signal() /= 0 .or. ndone - ndone_start >= stop_after .or. write_failed) cycle
+            if (stop_signal() /= 0 .or. ndone - ndone_start >= stop_after .or. write_failed .or. out_of_memory()) cycle
             allocate (values(nvalues))
             call tasks%run(i, values)
+            ! a run that could not allocate its arrays (this task's or another thread's) is no result: not journaled
+            lost = out_of_memory()
             !$omp critical (supratrans_tasks_journal)
-            results(:, i) = values
-            done(i) = .true.
-            ndone = ndone + 1
-            if (.not. write_failed) then
-                call append_journal_line(journal, i, values, written)
-                write_failed = .not. written
+            if (.not. lost) then
+                results(:, i) = values
+                done(i) = .true.
+                ndone = ndone + 1
+                if (.not. write_failed) then
+                    call append_journal_line(journal, binding, i, values, written)
+                    write_failed = .not. written
+                end if
             end if
             call system_clock(clock_now)
             elapsed = real(clock_now - clock_start, wp)/real(clock_rate, wp)
-            if (.not. quiet .and. (elapsed - last_progress >= progress_interval .or. ndone == ntodo)) then
+            if (.not. quiet .and. .not. lost .and. (elapsed - last_progress >= progress_interval .or. ndone == ntodo)) then
                 last_progress = elapsed
                 write (error_unit, "(a)") "  " // int_str(ndone) // "/" // int_str(ntodo) // " " // label &
                     // ", elapsed " // fixed1(elapsed) // " s, remaining ~" &
@@ -183,6 +213,13 @@ contains
         if (write_failed) then
             call fatal_error(error, journal // ": cannot write the journal (disk full?); run again to resume from " &
                              // "the lines it holds", err_io)
+            return
+        end if
+        if (out_of_memory()) then
+            call tasks%snapshot(results, done)
+            call fatal_error(error, journal // ": a run could not allocate its arrays (out of memory) after " &
+                             // int_str(count(done .and. mine)) // " of " // int_str(ntodo) // " " // label &
+                             // "; run again with fewer threads (OMP_NUM_THREADS) or more memory: it resumes", err_input)
             return
         end if
         if (count(done .and. mine) < ntodo) then

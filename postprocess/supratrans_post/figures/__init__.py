@@ -9,7 +9,9 @@ attributes of `/parameters` and `/curves`.
 - `map`: total energy over driving frequency x amplitude (Fig. 11), one panel per curve, A_s(Omega) over it;
 - `bifurcation`: threshold amplitude vs driving frequency (Bif1-Bif3), A_s as x-marks;
 - `continuation`: the branch of driven periodic states with its fold and multipliers (one frequency), or the fold
-  line over the frequency (the model's threshold, not a protocol's).
+  line over the frequency (the model's threshold, not a protocol's);
+- `hysteresis`: the mean power of each stair vs its amplitude, up and down, the bistable window shaded (one
+  frequency), or the upward and downward edges over the frequency (several).
 
 Families are styled like the paper: the curves of a panel, ordered by the magnitude of the varied parameter,
 are solid, dashed, dash-dotted and dotted. Partial files (`<output>.partial.h5`, written while a scene runs or
@@ -20,12 +22,13 @@ from __future__ import annotations
 from ..reader import FIGURE_SCENES, PlotError, Scene
 from .bifurcation import draw_bifurcation, summary_bifurcation
 from .continuation import draw_continuation, summary_continuation
+from .hysteresis import draw_hysteresis, summary_hysteresis
 from .common import ENERGIES, FIGURES
 from .map import draw_map, summary_map
 from .sweep import draw_sweep, summary_sweep, zoom_window
 from .timeseries import draw_timeseries, summary_timeseries
 
-__all__ = ["draw", "draw_timeseries", "draw_sweep", "draw_map", "draw_bifurcation", "draw_continuation", "summary", "zoom_window",
+__all__ = ["draw", "draw_timeseries", "draw_sweep", "draw_map", "draw_bifurcation", "draw_continuation", "draw_hysteresis", "summary", "zoom_window",
            "ENERGIES", "FIGURES", "SCENES"]
 
 #: Scenes drawn as figures of the paper.
@@ -51,6 +54,8 @@ def draw(scenes: Scene | list[Scene]):
         return draw_bifurcation(s)
     if s.scene == "continuation":
         return draw_continuation(s)
+    if s.scene == "hysteresis":
+        return draw_hysteresis(s)
     raise PlotError(s.path, f"scene '{s.scene}' is not a figure of the paper (its chart: chart_stability.py or "
                             "work_precision.py)")
 
@@ -68,4 +73,6 @@ def summary(s: Scene, full: bool = False) -> list[str]:
         return head + summary_map(s, full)
     if s.scene == "continuation":
         return head + summary_continuation(s, full)
+    if s.scene == "hysteresis":
+        return head + summary_hysteresis(s, full)
     return head + summary_bifurcation(s, full)

@@ -87,7 +87,7 @@ def conditions(s: Scene, skip: Iterable[str] = ()) -> str:
     p = s.params
     vary = str(p.get("vary", "none"))
     items = []
-    if s.scene not in ("map", "bifurcation", "continuation") and "omega" not in skip:
+    if s.scene not in ("map", "bifurcation", "continuation", "hysteresis") and "omega" not in skip:
         items.append(rf"$\Omega$ = {fmt(p.get('omega'))}")
     for key in ("gamma", "beta", "m2"):
         if key != vary and key not in skip and key in p:
@@ -96,6 +96,10 @@ def conditions(s: Scene, skip: Iterable[str] = ()) -> str:
     items.append(rf"$N$ = {fmt(p.get('n'))}")
     if s.scene == "continuation":  # periodic states: no final time, no ramp; the method and its step
         items.append(f"{p.get('method', 'newton')}, " + rf"$\Delta t$ = {fmt(p.get('dt'))}")
+        return ", ".join(items)
+    if s.scene == "hysteresis":  # the run's T follows from the stairs
+        items.append(f"{p.get('method', 'newton')}, " + rf"$\Delta t$ = {fmt(p.get('dt'))}")
+        items.append(f"stairs of {fmt(p.get('stair_height'))}, ramps {fmt(p.get('stair_ramp'))}")
         return ", ".join(items)
     items.append(rf"$T$ = {fmt(p.get('t_final'))}")
     items.append(rf"$\Delta t$ = {fmt(p.get('dt'))}")

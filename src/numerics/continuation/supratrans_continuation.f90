@@ -29,14 +29,23 @@
 !> from the point before it; each evaluation is a corrected point with its own tangent. Near the fold
 !> A(s) = A_f - kappa (s - s_f)^2 / 2 and t_A = -kappa (s - s_f), so the located point is within t_A^2 / (2 kappa)
 !> of A_f; the secant stops when that is below `fold_tol` (default 1e-10). The fold point is inserted in the
-!> branch, with its Newton residual and its multipliers (one of them is +1 up to the location error).
+!> branch, with its Newton residual and its multipliers (one of them is +1 up to the location error). Between
+!> points with reused Jacobians the sign change is first seen on the secants; both neighbours then get their exact
+!> tangents, and when the exact tangent of the current point shows the fold already behind it, the fold is located
+!> between the previous point and the current one and inserted there. The accuracy of A_f is also bounded by
+!> the residual: near the fold dA ~ |P(x) - x| / |l . dP/dA| (l the left null vector of J - I), so
+!> `newton_tol` = 1e-10 leaves A_f good to ~1e-10 on the test maps.
 !>
 !> **Stability.** The Floquet multipliers are the eigenvalues of J = dP/dx at each point (every point, or every
 !> `floquet_every`-th point; the points in between are examined when the verdict changes). The first point that is
 !> not stable (`supratrans_floquet`, tolerance `crossing_tol`) ends the stable part; the crossing is classified by
 !> its leading multiplier (+1 fold, -1 period doubling, complex pair torus) and located like the fold, by a secant on
-!> max |mu| - 1 over the multipliers of that class (on max |mu| - 1 - crossing_tol when the multiplier was already
-!> in the tolerance band at the stable point). A crossing through +1 next to the fold is the fold itself.
+!> max |mu| - 1 over the multipliers of that class, between the unstable point and the last point (at most 10 back)
+!> where that class is strictly inside the unit circle, so that the location does not depend on crossing_tol (on
+!> max |mu| - 1 - crossing_tol between the two points when no such point exists: a multiplier that hugs the
+!> circle). A crossing through +1 after the fold is the fold itself. Only the first loss of stability is located; a
+!> branch that regains stability before its fold (a weak instability bubble) shows it in `stable` and
+!> `max_multiplier`.
 !>
 !> An implementation of `fixed_point_map` holds its own work arrays: one map and one call per thread; this module
 !> has no state of its own.
@@ -68,6 +77,8 @@ module supratrans_continuation
     integer, parameter :: walk_back = 10
     !> Corrector iterations more that the step control allows when the corrector started from a reused Jacobian.
     integer, parameter :: reuse_slack = 3
+    !> Most Jacobian refreshes in one corrector attempt.
+    integer, parameter :: max_refreshes = 3
 
     !> Controls of the continuation, with their defaults.
     type, public :: continuation_controls
@@ -233,8 +244,8 @@ contains
         type(branch_point) :: cur, trial, fold_pt, lost_pt, prev
         type(shooting_result) :: sres
         real(wp), allocatable :: x(:), wr(:), wi(:), row(:)
-        real(wp) :: ds, nan, t_start
-        integer :: d, n1, info, last_checked, j, every, pos, slack, k
+        real(wp) :: ds, nan, t_start, sigma
+        integer :: d, n1, info, last_checked, j, every, slack
         logical :: ok, have_mult, lost, located, past, due
 
         t_start = wall_clock()
@@ -283,7 +294,7 @@ contains
         call point_multipliers(cur, res%stats, wr, wi, info)
         call record_point(map, res, cur, wr, wi, info == 0)
         last_checked = 1
-        lost = res%stable(1) /= 1
+        lost = res%stable(1) == 0
         if (lost) then
             res%instability_amplitude = ctl%amplitude_start
             res%instability_type = leading_crossing(wr, wi, ctl%crossing_tol)
@@ -299,7 +310,8 @@ contains
             end if
             call correct(map, cur, base, ds, ctl, trial, ok, res%stats, fresh)
             if (ok) then
-                due = mod(res%n_points, every) == 0 .or. (res%fold_index > 0 .and. res%fold_index == res%n_points)
+                ! multipliers due here: every `every` points, and right after the fold (appended or inserted)
+                due = mod(res%n_points, every) == 0 .or. (res%fold_index > 0 .and. res%fold_index >= res%n_points - 1)
                 if (due .or. .not. ctl%reuse_jacobian) then
                     call complete_point(map, trial, cur%t, next, ok, res%stats)
                 else
@@ -311,9 +323,21 @@ contains
                         next = base
                     end if
                     call set_row(next, trial%t, info, res%stats)
-                    ok = info == 0
+                    ! the carried matrix cannot take the secant as its last row: a Jacobian here after all
+                    if (info /= 0) call complete_point(map, trial, cur%t, next, ok, res%stats)
                 end if
                 if (ok) ok = dot_product(cur%t, trial%t) >= cos(ctl%max_angle)
+            end if
+            if (.not. ok .and. .not. cur%exact) then
+                ! before shrinking the step, give the point we stand on its own Jacobian and tangent
+                call complete_point(map, cur, cur%t, base, ok, res%stats)
+                if (ok) then
+                    ! a secant and the exact tangent with A-components of opposite signs: the fold lies behind cur
+                    located = res%tangent_amplitude(res%n_points)*cur%t(n1) < 0.0_wp
+                    call update_tangent(res, res%n_points, cur)
+                    if (located .and. res%fold_index == 0) call fold_before_cur()
+                    cycle march
+                end if
             end if
             if (.not. ok) then
                 ds = 0.5_wp*ds
@@ -330,58 +354,22 @@ contains
                 if (.not. trial%exact) call complete_point(map, trial, cur%t, next, ok, res%stats)
                 if (ok .and. .not. cur%exact) then
                     call complete_point(map, cur, cur%t, base, ok, res%stats)
-                    res%tangents(:, res%n_points) = cur%t
-                    res%tangent_amplitude(res%n_points) = cur%t(n1)
-                    res%exact_tangent(res%n_points) = 1
+                    if (ok) call update_tangent(res, res%n_points, cur)
                 end if
                 if (ok .and. cur%t(n1)*trial%t(n1) < 0.0_wp) then
-                    call locate(map, cur, base, ds, 0, 0.0_wp, ctl, fold_pt, wr, wi, located, res%stats, trial)
-                    pos = res%n_points + 1
-                else if (ok .and. res%n_points > 1 .and. cur%t(n1)*trial%t(n1) > 0.0_wp &
-                         .and. (trial%y(n1) - cur%y(n1))*cur%t(n1) > 0.0_wp) then
-                    ! the exact tangent at cur already points the way the branch goes after the fold: the fold lies
-                    ! between the previous point and cur
-                    call stored_point(map, res, res%n_points - 1, prev, res%stats, info)
-                    ok = info == 0
-                    if (ok) then
-                        call factor_bordered(prev%jac, prev%dpda, prev%t, psys, info, res%stats)
-                        if (info == 0) call tangent(psys, prev%t, info, res%stats)
-                        ok = info == 0 .and. prev%t(n1)*cur%t(n1) < 0.0_wp
-                    end if
-                    if (ok) then
-                        call locate(map, prev, psys, cur%s - prev%s, 0, 0.0_wp, ctl, fold_pt, wr, wi, located, &
-                                    res%stats, cur)
-                        pos = res%n_points
-                    end if
-                else
-                    ok = .false.
-                end if
-                if (ok) then
+                    ! the bracket is trial's step along cur's (now exact) tangent; the fold's arclength lies
+                    ! between theirs in proportion
+                    sigma = max(dot_product(cur%t, trial%y - cur%y), tiny(1.0_wp))
+                    call locate(map, cur, base, sigma, 0, 0.0_wp, ctl, fold_pt, wr, wi, located, res%stats, trial)
                     if (.not. located) then
                         fold_pt = trial
-                        if (pos == res%n_points) fold_pt = cur
                         call point_multipliers(fold_pt, res%stats, wr, wi, info)
                     end if
-                    res%fold_amplitude = fold_pt%y(n1)
-                    res%fold_residual = fold_pt%residual
-                    k = nearest_multiplier(wr, wi, 1.0_wp)
-                    if (k > 0) then
-                        res%fold_multiplier = wr(k)
-                        res%fold_multiplier_imag = wi(k)
-                    end if
-                    call record_point(map, res, fold_pt, wr, wi, .true., pos)
-                    res%fold_index = pos
-                    if (pos == res%n_points) then
-                        call check_stability(pos, fold_pt)
-                    else
-                        ! inserted before the last point
-                        if (res%points_beyond_fold == 0) res%points_beyond_fold = 1
-                        if (last_checked >= pos) then
-                            last_checked = last_checked + 1
-                        else
-                            call check_stability(pos, fold_pt)
-                        end if
-                    end if
+                    fold_pt%s = cur%s + (trial%s - cur%s)*min(max((fold_pt%s - cur%s)/sigma, 0.0_wp), 1.0_wp)
+                    call record_fold(res%n_points + 1)
+                else if (ok .and. cur%t(n1)*trial%t(n1) > 0.0_wp .and. (trial%y(n1) - cur%y(n1))*cur%t(n1) > 0.0_wp) then
+                    ! the exact tangent at cur already points the way the branch goes after the fold
+                    call fold_before_cur()
                 end if
                 ok = .true.
             end if
@@ -424,6 +412,59 @@ contains
         call finish(res, t_start)
 
     contains
+
+        !> The fold between the previous recorded point and cur (the last one): the exact tangent at the previous
+        !> point, the secant on t_A from there, the fold point inserted before cur.
+        subroutine fold_before_cur()
+            integer :: linfo
+            real(wp) :: sig
+
+            if (res%n_points < 2) return
+            call stored_point(map, res, res%n_points - 1, prev, res%stats, linfo)
+            if (linfo /= 0) return
+            call factor_bordered(prev%jac, prev%dpda, prev%t, psys, linfo, res%stats)
+            if (linfo == 0) call tangent(psys, prev%t, linfo, res%stats)
+            if (linfo /= 0) return
+            if (prev%t(n1)*cur%t(n1) >= 0.0_wp) return
+            sig = dot_product(prev%t, cur%y - prev%y)
+            if (sig <= 0.0_wp) return
+            call locate(map, prev, psys, sig, 0, 0.0_wp, ctl, fold_pt, wr, wi, located, res%stats, cur)
+            if (.not. located) then
+                fold_pt = cur
+                call point_multipliers(fold_pt, res%stats, wr, wi, linfo)
+            end if
+            fold_pt%s = prev%s + (cur%s - prev%s)*min(max((fold_pt%s - prev%s)/sig, 0.0_wp), 1.0_wp)
+            call record_fold(res%n_points)
+        end subroutine fold_before_cur
+
+        !> Record the located fold point `fold_pt` (multipliers wr, wi) at branch index `pos` (appended, or inserted
+        !> before the last point), with its amplitude, residual and multiplier nearest +1.
+        subroutine record_fold(pos)
+            !> (by value: the caller may pass res%n_points, which recording the point changes)
+            integer, value :: pos
+            integer :: kk
+
+            res%fold_amplitude = fold_pt%y(n1)
+            res%fold_residual = fold_pt%residual
+            kk = nearest_multiplier(wr, wi, 1.0_wp)
+            if (kk > 0) then
+                res%fold_multiplier = wr(kk)
+                res%fold_multiplier_imag = wi(kk)
+            end if
+            call record_point(map, res, fold_pt, wr, wi, .true., pos)
+            res%fold_index = pos
+            if (pos == res%n_points) then
+                call check_stability(pos, fold_pt)
+            else
+                ! inserted before the last point, which is past the fold
+                if (res%points_beyond_fold == 0) res%points_beyond_fold = 1
+                if (last_checked >= pos) then
+                    last_checked = last_checked + 1
+                else
+                    call check_stability(pos, fold_pt)
+                end if
+            end if
+        end subroutine record_fold
 
         !> The multipliers of branch point `i` (computed now, or recomputed from its stored state) decide whether
         !> it is stable; the first stable-to-unstable change is located and classified.
@@ -602,6 +643,8 @@ contains
             if (pt%residual <= ctl%newton_tol) exit
             if (pt%iterations >= ctl%newton_max_iter) return
             if (want_jac) then
+                ! a corrector that needs more than max_refreshes Jacobians is not converging: a shorter step will
+                if (pt%refreshes >= max_refreshes) return
                 call factor_bordered(jac, dpda, bp%t, fresh_sys, info, stats)
                 if (info /= 0) return
                 use_fresh = .true.
@@ -947,6 +990,17 @@ contains
             res%stable(i) = merge(1, 0, is_stable(wr, wi, res%crossing_tol))
         end if
     end subroutine record_point
+
+    !> Replace the recorded tangent of point `i` by the exact one of `pt`.
+    subroutine update_tangent(res, i, pt)
+        type(continuation_result), intent(inout) :: res
+        integer, intent(in) :: i
+        type(branch_point), intent(in) :: pt
+
+        res%tangents(:, i) = pt%t
+        res%tangent_amplitude(i) = pt%t(size(pt%t))
+        res%exact_tangent(i) = 1
+    end subroutine update_tangent
 
     !> Compute the multipliers of a recorded point whose multipliers were skipped (`floquet_every` > 1).
     subroutine fill_multipliers(map, res, i, info)

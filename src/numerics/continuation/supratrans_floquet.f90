@@ -8,7 +8,11 @@
 !> drive and the absorber sit on the unit circle up to the absorber's small damping and roundoff (|mu| - 1 of order
 !> 1e-12 .. 1e-8 in a conservative part of the spectrum); a crossing_tol well above that floor and well below the
 !> growth rate of a real instability keeps the verdict from hinging on roundoff. The continuation reports the value
-!> it used; the tests show the verdicts are the same for tolerances over several decades.
+!> it used. On the test maps (test_continuation) the verdicts are the same for tolerances 1e-9 .. 1e-3, multipliers
+!> exactly on the circle included. On a real chain they need not be: on the undamped sine-Gordon chain (N = 200,
+!> c = 4, Omega = 0.9, the paper's absorber) a complex pair leaves the circle by at most ~6e-6 shortly before the
+!> fold and comes back, so crossing_tol = 1e-6 reports a torus at A = 1.8266 and 1e-5 the fold at A = 1.8342 as
+!> the first loss of stability: report such a loss with its size (`max_multiplier` along the branch).
 module supratrans_floquet
     use supratrans_kinds, only: wp
     use supratrans_eigen, only: general_eigenvalues

@@ -211,7 +211,12 @@ contains
             end if
             allocate (map%tangent(n, ncol, 3), source=0.0_wp)
             if (map%method == method_linearized) then
-                call linearized_work_init(map%lin, n)
+                call linearized_work_init(map%lin, n, info)
+                if (info /= 0) then
+                    call fatal_error(error, "period map: cannot allocate the work arrays of " // int_str(n) &
+                                     // " oscillators", err_input)
+                    return
+                end if
                 allocate (map%adl(max(n - 1, 1)), map%add(n), map%adu(max(n - 1, 1)), map%adu2(max(n - 2, 1)), &
                           map%apiv(n))
                 map%adl = map%scheme%a

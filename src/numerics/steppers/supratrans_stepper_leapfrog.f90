@@ -9,6 +9,7 @@
 !> half level t_{k+1/2}.
 module supratrans_stepper_leapfrog
     use supratrans_kinds, only: wp, i8
+    use supratrans_strings, only: int_fixed, real_fixed
     use supratrans_config, only: run_config, drive_params
     use supratrans_chain, only: drive_psi
     use supratrans_scheme, only: scheme_type, scheme_init
@@ -64,10 +65,11 @@ contains
         type(run_config), intent(in) :: run
         !> Levels to store (default 4, at least 4).
         integer, intent(in), optional :: levels
-        integer :: n, j
+        integer :: n, j, stat
 
         n = run%chain%n
         self%n = n
+        if (allocated(self%reason)) deallocate (self%reason)
         self%dt = run%numerics%dt
         self%order = 2
         self%initial_levels = 2
@@ -85,7 +87,13 @@ contains
         self%levels = 4
         if (present(levels)) self%levels = max(4, levels)
         if (allocated(self%u)) deallocate (self%u)
-        allocate (self%u(0:n + 1, self%levels), source=0.0_wp)
+        allocate (self%u(0:n + 1, self%levels), source=0.0_wp, stat=stat)
+        if (stat /= 0) then
+            self%reason = "cannot allocate " // trim(real_fixed(8.0_wp*real(n + 2, wp)*real(self%levels, wp) &
+                                                                /1.0e9_wp, 3)) // " GB for the " &
+                          // trim(int_fixed(self%levels)) // " time levels of " // trim(int_fixed(n)) // " oscillators"
+            return
+        end if
         self%col = [(j, j=1, self%levels)]
         call name_columns(self)
         ! levels 0 and 1: at rest, boundary from the drive

@@ -44,14 +44,23 @@ module supratrans_stepper_linearized
 contains
 
     !> Allocate the work arrays of a linearized step on N sites.
-    pure subroutine linearized_work_init(work, n)
+    pure subroutine linearized_work_init(work, n, stat)
         !> The work arrays.
         type(linearized_work), intent(out) :: work
         !> Number of sites N.
         integer, intent(in) :: n
+        !> Nonzero when memory ran out (every caller of the program passes it; a failure without it leaves the
+        !> arrays unallocated).
+        integer, intent(out), optional :: stat
+        integer :: st
 
-        allocate (work%rhs(n), work%work(n), work%g(n))
-        allocate (work%dl(max(n - 1, 1)), work%dd(n), work%du(max(n - 1, 1)))
+        allocate (work%rhs(n), stat=st)
+        if (st == 0) allocate (work%work(n), stat=st)
+        if (st == 0) allocate (work%g(n), stat=st)
+        if (st == 0) allocate (work%dl(max(n - 1, 1)), stat=st)
+        if (st == 0) allocate (work%dd(n), stat=st)
+        if (st == 0) allocate (work%du(max(n - 1, 1)), stat=st)
+        if (present(stat)) stat = st
     end subroutine linearized_work_init
 
     !> Set up a run: the scheme, the initial levels, the work arrays.
@@ -61,8 +70,13 @@ contains
         !> Validated run configuration.
         type(run_config), intent(in) :: run
 
+        integer :: stat
+
         call leapfrog_init(self, run)
-        call linearized_work_init(self%work, run%chain%n)
+        if (allocated(self%reason)) return
+        call linearized_work_init(self%work, run%chain%n, stat)
+        if (stat /= 0) self%reason = "cannot allocate the work arrays of " // trim(int_fixed(run%chain%n)) &
+                                     // " oscillators"
     end subroutine linearized_init
 
     !> One step: u^{k+1} from u^k and u^{k-1}.

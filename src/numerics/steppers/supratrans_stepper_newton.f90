@@ -88,14 +88,26 @@ module supratrans_stepper_newton
 contains
 
     !> Allocate the work arrays of a Newton step on N sites.
-    pure subroutine newton_work_init(work, n)
+    pure subroutine newton_work_init(work, n, stat)
         !> The work arrays.
         type(newton_work), intent(out) :: work
         !> Number of sites N.
         integer, intent(in) :: n
+        !> Nonzero when memory ran out (every caller of the program passes it; a failure without it leaves the
+        !> arrays unallocated).
+        integer, intent(out), optional :: stat
+        integer :: st
 
-        allocate (work%rhs(n), work%work(n), work%g(n), work%dg(n), work%sin_s(n), work%cos_s(n))
-        allocate (work%dl(max(n - 1, 1)), work%dd(n), work%du(max(n - 1, 1)))
+        allocate (work%rhs(n), stat=st)
+        if (st == 0) allocate (work%work(n), stat=st)
+        if (st == 0) allocate (work%g(n), stat=st)
+        if (st == 0) allocate (work%dg(n), stat=st)
+        if (st == 0) allocate (work%sin_s(n), stat=st)
+        if (st == 0) allocate (work%cos_s(n), stat=st)
+        if (st == 0) allocate (work%dl(max(n - 1, 1)), stat=st)
+        if (st == 0) allocate (work%dd(n), stat=st)
+        if (st == 0) allocate (work%du(max(n - 1, 1)), stat=st)
+        if (present(stat)) stat = st
     end subroutine newton_work_init
 
     !> Set up a run: the scheme, the initial levels, the work arrays, Newton's controls.
@@ -105,10 +117,15 @@ contains
         !> Validated run configuration.
         type(run_config), intent(in) :: run
 
+        integer :: stat
+
         call leapfrog_init(self, run, levels=predictor_levels + 1)
+        if (allocated(self%reason)) return
         self%tol = run%numerics%newton_tol
         self%max_iter = run%numerics%newton_max_iter
-        call newton_work_init(self%work, run%chain%n)
+        call newton_work_init(self%work, run%chain%n, stat)
+        if (stat /= 0) self%reason = "cannot allocate the Newton work arrays of " // trim(int_fixed(run%chain%n)) &
+                                     // " oscillators"
     end subroutine newton_init
 
     !> One step: u^{k+1} from u^k, u^{k-1} (and u^{k-2} for the predictor).

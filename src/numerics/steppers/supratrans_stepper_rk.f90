@@ -6,6 +6,7 @@
 !> concrete method sets `stages` and `order` in its `init` (through `rk_init`) and advances `y` in its `step`.
 module supratrans_stepper_rk
     use supratrans_kinds, only: wp
+    use supratrans_strings, only: int_fixed, real_fixed
     use supratrans_config, only: run_config, chain_params, drive_params
     use supratrans_chain, only: damping_profile, drive_psi
     use supratrans_mol, only: chain_energy, ledger_from_state, mol_energy_components
@@ -59,9 +60,10 @@ contains
         integer, intent(in) :: stages
         !> Classical order.
         integer, intent(in) :: order
-        integer :: n
+        integer :: n, s1, s2
 
         n = run%chain%n
+        if (allocated(self%reason)) deallocate (self%reason)
         self%n = n
         self%dt = run%numerics%dt
         self%order = order
@@ -80,8 +82,12 @@ contains
         if (allocated(self%y)) deallocate (self%y)
         if (allocated(self%ys)) deallocate (self%ys)
         if (allocated(self%k)) deallocate (self%k)
-        allocate (self%y(2*n + mol_energy_components), source=0.0_wp)
-        allocate (self%ys(size(self%y)), self%k(size(self%y), stages))
+        allocate (self%y(2*n + mol_energy_components), source=0.0_wp, stat=s1)
+        allocate (self%ys(2*n + mol_energy_components), stat=s2)
+        if (s2 == 0) allocate (self%k(2*n + mol_energy_components, stages), stat=s2)
+        if (s1 /= 0 .or. s2 /= 0) self%reason = "cannot allocate " // trim(real_fixed(8.0_wp*real(2*n, wp) &
+            *real(stages + 2, wp)/1.0e9_wp, 3)) // " GB for the " // trim(int_fixed(stages)) // " stages of " &
+            // trim(int_fixed(n)) // " oscillators"
     end subroutine rk_init
 
     !> After a step: count it and its right-hand sides.

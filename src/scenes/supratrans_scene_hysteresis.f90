@@ -1,0 +1,605 @@
+!> Scene `hysteresis`: the two edges of the bistable window of supratransmission, as a slow protocol sees them, over
+!> the driving frequency, one curve per potential and value of the varied parameter (the layout of the bifurcation
+!> scene), for several stair lengths.
+!>
+!> For each curve, each frequency Omega_i = omega_min + i omega_step <= omega_max and each stair length T_s of
+!> `stair_times`, one task is one run of the curve's chain with the drive u_0 = A(t) sin(Omega t), A(t) the stairs of
+!> `stair_amplitude` (supratrans_chain): from rest a linear ramp (&drive ramp_time) to a_0 = amplitude_min, then
+!> 2K + 1 stairs of length T_s at the levels a_0, a_1, .., a_K, a_{K-1}, .., a_0, a_i = amplitude_min + i
+!> stair_height (a_K the last level <= amplitude_max), each stair starting with a linear ramp of length stair_ramp
+!> from the level before (the drive stays continuous). The run's T is ramp_time + (2K + 1) T_s (&numerics t_final is
+!> not used).
+!>
+!> **What a stair transmits.** The mean power through the bond (n_d, n_d + 1) just beyond the detector site n_d
+!> (`detector_site`, the one of the bifurcation scene's verdict): J = c^2 (u_{n_d} - u_{n_d+1}) v_{n_d+1} + beta
+!> (v_{n_d} - v_{n_d+1}) v_{n_d+1}, the energy per time that enters the sites beyond the detector, with v the
+!> centred difference (u^{k+1} - u^{k-1}) / (2 dt) of the probes at n_d and n_d + 1 (recorded every step), averaged
+!> over the last whole number of drive periods that fits in the stair's second half. Why not the injected power at
+!> the driven end: with damping (gamma, beta) the evanescent, non-transmitting state dissipates near the driven end
+!> a power comparable with what a transmitting state carries (0.86 measured at gamma = 0.1, Omega = 0.9, A = 1.8), so
+!> the injected power does not tell transmission from local dissipation; the flux beyond the detector does, for
+!> every damping: on the stable periodic state the evanescent wave is a standing wave whose flux averages to zero
+!> over whole periods, and what remains is the radiation of the drive's harmonics that lie in the phonon band
+!> (3 Omega at Omega = 0.9): measured 0.006 - 0.013 on the paper's chain below the threshold, against 0.3 - 4 on
+!> a transmitting stair (the default power_threshold 0.05 lies between). Why not the power into the absorber: a
+!> breather slowed or damped before N0 never reaches it, and the lag from the driven end to N0 (~100 time units)
+!> moves a stair's energy into the next one; the lag to n_d is a few drive periods. Averaging over the second half
+!> skips the transient of the stair's ramp; whole periods remove the oscillating part.
+!>
+!> **Edges.** A stair transmits when its mean power exceeds `power_threshold`. The upward edge is the level of the
+!> first stair on the way up (j = 0 .. K) that transmits: where the transmitting state is born. The downward edge is
+!> the level of the last stair on the way down (j = K .. 2K, the top included) that still transmits: where it dies.
+!> The window is upward - downward (the bistable window, >= 0 when the transmitting state outlives its birth). The
+!> edges are on the stair grid. Each is NaN where it does not exist, and the status says why (`hysteresis_status_codes`):
+!> nothing transmits up to a_K; a_0 already transmits (the upward edge lies below amplitude_min); the last stair
+!> a_0 still transmits (the downward edge lies below amplitude_min); the transmission died before the top; a run
+!> failed. `/downward_gaps` counts the quiet stairs between the top and the downward edge: the transmitting regime
+!> is intermittent, and this says how much. The spreads are max - min of each edge over the stair lengths (the
+!> protocol's part of the edge: the model's edge, the fold of the branch of periodic states, has none).
+!>
+!> Tasks run on OpenMP threads through `supratrans_tasks` (journal, resume, `--slice`), results stored by task
+!> index: identical for any number of threads and slices.
+module supratrans_scene_hysteresis
+    use, intrinsic :: iso_fortran_env, only: error_unit
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
+    use supratrans_kinds, only: wp, i8
+    use supratrans_error, only: error_type, fatal_error, err_input
+    use supratrans_config, only: input_config, run_config, drive_params, method_name
+    use supratrans_curves, only: curve_count, curve_run, write_curves
+    use supratrans_chain, only: threshold_as, band_gap_edge, detector_site, profile_stairs, stair_count, stair_level, &
+                                stair_start
+    use supratrans_simulate, only: simulate
+    use supratrans_result, only: run_result, run_ok
+    use supratrans_status, only: status_outside_gap, status_not_run
+    use supratrans_threshold, only: search_grid_size
+    use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
+    use supratrans_system, only: remove_file
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
+    use supratrans_output, only: write_root, write_parameters
+    use supratrans_strings, only: int_str, real_str, fixed1
+    use supratrans_scene_bifurcation, only: bifurcation_omegas
+    implicit none
+    private
+
+    public :: run_hysteresis, hysteresis_drive, stair_powers, hysteresis_edges, hysteresis_status_codes
+
+    !> Status: both edges found.
+    integer, parameter, public :: hysteresis_found = 0
+    !> Status: no stair up to a_K transmits (both edges NaN).
+    integer, parameter, public :: hysteresis_none = 1
+    !> Status: the first stair a_0 already transmits (the upward edge lies at or below amplitude_min: NaN).
+    integer, parameter, public :: hysteresis_at_bottom = 2
+    !> Status: transmission died on the way up, before the top stair (downward edge NaN).
+    integer, parameter, public :: hysteresis_died_before_top = 3
+    !> Status: the last stair a_0 still transmits (the downward edge lies below amplitude_min: NaN).
+    integer, parameter, public :: hysteresis_still_at_end = 4
+    !> Status: the run failed (diverged, Newton failed); both edges NaN.
+    integer, parameter, public :: hysteresis_failed = 5
+
+    !> Most levels above the bottom one, K (2K + 1 stairs): a task's journal line holds every stair's mean power.
+    integer, parameter, public :: max_stair_top = 1000
+
+    !> Stair length used when `stair_times` is not set.
+    real(wp), parameter :: default_stair_time = 400.0_wp
+
+    !> Scalar values of a task's record, before the stairs' mean powers (`task_fields`).
+    character(len=*), parameter :: scalar_fields(*) = [character(len=16) :: "status", "upward", "downward", "window", &
+        "downward_gaps", "detector_site", "steps", "wall_time"]
+
+    !> The tasks of a hysteresis scene: task t = ((curve - 1) nomega + iomega - 1) nlength + ilength, one run each.
+    type, extends(task_list) :: hysteresis_tasks
+        !> The validated input.
+        type(input_config) :: cfg
+        !> Run of each curve (chain, numerics; the drive's frequency and stairs are set per task).
+        type(run_config), allocatable :: runs(:)
+        !> The frequencies.
+        real(wp), allocatable :: omegas(:)
+        !> The stair lengths T_s.
+        real(wp), allocatable :: stair_times(:)
+        !> Index K of the top level: 2K + 1 stairs.
+        integer :: top = 0
+        !> Path of the partial output written by `snapshot`.
+        character(len=:), allocatable :: partial_path
+    contains
+        !> One run up and down the stairs.
+        procedure :: run => run_stairs_task
+        !> Write the partial output.
+        procedure :: snapshot => write_snapshot
+    end type hysteresis_tasks
+
+contains
+
+    !> Run the hysteresis scene described by `cfg` and write `cfg%output%file` (see the module documentation).
+    subroutine run_hysteresis(cfg, error)
+        !> The validated input (`&scene kind = 'hysteresis'`).
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure (bad stairs, output exists, journal of another input, unwritable files).
+        type(error_type), allocatable, intent(out) :: error
+        type(hysteresis_tasks) :: tasks
+        real(wp), allocatable :: results(:, :)
+        logical, allocatable :: done(:)
+        character(len=:), allocatable :: output, journal
+        integer :: ncurve, nomega, nlen, ic, found
+        integer(i8) :: clock_start, clock_end, clock_rate
+        logical :: exists
+        real(wp) :: elapsed
+
+        call system_clock(clock_start, clock_rate)
+        output = trim(cfg%output%file)
+        inquire (file=output, exist=exists)
+        if (exists .and. .not. cfg%output%overwrite) then
+            call fatal_error(error, output // ": output file exists (set overwrite = .true. to replace it)", err_input)
+            return
+        end if
+        tasks%cfg = cfg
+        tasks%omegas = bifurcation_omegas(cfg)
+        tasks%stair_times = scene_stair_times(cfg)
+        call check_stairs(cfg, tasks%stair_times, tasks%top, error)
+        if (allocated(error)) return
+        ncurve = curve_count(cfg)
+        nomega = size(tasks%omegas)
+        nlen = size(tasks%stair_times)
+        if (nomega < 1) then
+            call fatal_error(error, cfg%source // ": &scene: the frequency axis omega_min .. omega_max is empty", err_input)
+            return
+        end if
+        allocate (tasks%runs(ncurve))
+        do ic = 1, ncurve
+            tasks%runs(ic) = curve_run(cfg, ic)
+        end do
+        tasks%partial_path = output // ".partial.h5"
+        journal = output // ".journal"
+        if (.not. cfg%output%quiet) then
+            write (error_unit, "(a)") "supratrans: hysteresis from " // cfg%source // ": " // int_str(ncurve) &
+                // " curve(s) x " // int_str(nomega) // " frequencies x " // int_str(nlen) // " stair length(s), " &
+                // int_str(2*tasks%top + 1) // " stairs " // real_str(cfg%scene%amplitude_min, 6) // " .. " &
+                // real_str(cfg%scene%amplitude_min + real(tasks%top, wp)*cfg%scene%stair_height, 6) // " and back, " &
+                // "method " // method_name(cfg%run%numerics%method)
+        end if
+
+        call run_tasks(tasks, ncurve*nomega*nlen, task_fields(2*tasks%top + 1), journal, input_fingerprint(cfg), &
+                       "stair runs", cfg%output%quiet, results, done, error, cfg)
+        if (allocated(error) .or. engine_only(cfg)) return
+
+        call system_clock(clock_end)
+        elapsed = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+        call write_hysteresis_file(tasks, output, results, done, .true., elapsed, error)
+        if (allocated(error)) return
+        call remove_file(journal)
+        call remove_file(tasks%partial_path)
+        if (.not. cfg%output%quiet) then
+            found = count(nint(results(1, :)) == hysteresis_found)
+            write (error_unit, "(a)") "  " // int_str(found) // " of " // int_str(size(done)) // " runs with both " &
+                // "edges, " // fixed1(elapsed) // " s"
+        end if
+    end subroutine run_hysteresis
+
+    !> The stair lengths of the scene: `stair_times`, or `default_stair_time` when unset.
+    pure function scene_stair_times(cfg) result(times)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        real(wp), allocatable :: times(:)
+
+        times = [default_stair_time]
+        if (allocated(cfg%scene%stair_times)) then
+            if (size(cfg%scene%stair_times) > 0) times = cfg%scene%stair_times
+        end if
+    end function scene_stair_times
+
+    !> Check the stairs (before any work): at least one stair up (amplitude_min + stair_height <= amplitude_max) and
+    !> at most `max_stair_top`, a ramp no longer than half of every stair, stairs of at least 4 dt.
+    subroutine check_stairs(cfg, times, top, error)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> The stair lengths.
+        real(wp), intent(in) :: times(:)
+        !> Index K of the top level.
+        integer, intent(out) :: top
+        !> Error, allocated when the stairs are not valid.
+        type(error_type), allocatable, intent(out) :: error
+        integer :: i
+
+        associate (sc => cfg%scene)
+            top = search_grid_size(sc%amplitude_min, sc%amplitude_max, sc%stair_height) - 1
+            if (top < 1) then
+                call fatal_error(error, cfg%source // ": &scene: hysteresis needs amplitude_min + stair_height <= " &
+                                 // "amplitude_max (at least one stair up)", err_input)
+                return
+            end if
+            if (top > max_stair_top) then
+                call fatal_error(error, cfg%source // ": &scene: amplitude_min .. amplitude_max by stair_height makes " &
+                                 // int_str(2*top + 1) // " stairs: more than the limit " &
+                                 // int_str(2*max_stair_top + 1) // " (a journal line holds every stair's power)", &
+                                 err_input)
+                return
+            end if
+            do i = 1, size(times)
+                if (.not. (2.0_wp*sc%stair_ramp <= times(i))) then
+                    call fatal_error(error, cfg%source // ": &scene: stair_ramp = " // real_str(sc%stair_ramp, 6) &
+                                     // " is longer than half the stair length " // real_str(times(i), 6) &
+                                     // " (the mean power is taken over the stair's second half)", err_input)
+                    return
+                end if
+                if (.not. (times(i) >= 4.0_wp*cfg%run%numerics%dt)) then
+                    call fatal_error(error, cfg%source // ": &scene: stair length " // real_str(times(i), 6) &
+                                     // " is shorter than 4 dt", err_input)
+                    return
+                end if
+            end do
+        end associate
+    end subroutine check_stairs
+
+    !> Names of a task's values: the scalars, then power_0 .. power_{nstair - 1} (the mean power of each stair).
+    pure function task_fields(nstair) result(fields)
+        !> Number of stairs 2K + 1.
+        integer, intent(in) :: nstair
+        character(len=16), allocatable :: fields(:)
+        integer :: j
+
+        allocate (fields(size(scalar_fields) + nstair))
+        fields(1:size(scalar_fields)) = scalar_fields
+        do j = 1, nstair
+            write (fields(size(scalar_fields) + j), "(a, i0)") "power_", j - 1
+        end do
+    end function task_fields
+
+    !> The drive of a hysteresis run: the curve's drive at Omega with the stair profile (a_0 = amplitude_min, height
+    !> stair_height, top K, stair length T_s, ramp stair_ramp; the ramp from rest is &drive ramp_time).
+    pure function hysteresis_drive(run, cfg, omega, top, stair_time) result(r)
+        !> The curve's run.
+        type(run_config), intent(in) :: run
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> Driving frequency Omega.
+        real(wp), intent(in) :: omega
+        !> Index K of the top level.
+        integer, intent(in) :: top
+        !> Stair length T_s.
+        real(wp), intent(in) :: stair_time
+        type(run_config) :: r
+
+        r = run
+        r%drive%omega = omega
+        r%drive%profile = profile_stairs
+        r%drive%stair_low = cfg%scene%amplitude_min
+        r%drive%stair_height = cfg%scene%stair_height
+        r%drive%stair_top = top
+        r%drive%stair_time = stair_time
+        r%drive%stair_ramp = cfg%scene%stair_ramp
+        r%drive%amplitude = stair_level(r%drive, top)
+        r%numerics%t_final = stair_start(r%drive, stair_count(r%drive))
+        r%detect%stop_when_decided = .false.
+    end function hysteresis_drive
+
+    !> One run up and down the stairs for task `index` (thread-safe: everything it changes is local).
+    subroutine run_stairs_task(self, index, values)
+        !> The tasks.
+        class(hysteresis_tasks), intent(in) :: self
+        !> Task index: ((curve - 1) nomega + iomega - 1) nlength + ilength.
+        integer, intent(in) :: index
+        !> The task's values (`task_fields`).
+        real(wp), intent(out) :: values(:)
+        type(run_config) :: run
+        type(run_result) :: result
+        integer :: icurve, iomega, ilen, nomega, nlen, nd, nstair, status, gaps, ns
+        integer(i8) :: clock_start, clock_end, clock_rate
+        real(wp), allocatable :: power(:)
+        real(wp) :: up, down, nan
+
+        call system_clock(clock_start, clock_rate)
+        nan = ieee_value(nan, ieee_quiet_nan)
+        nomega = size(self%omegas)
+        nlen = size(self%stair_times)
+        ilen = mod(index - 1, nlen) + 1
+        iomega = mod((index - 1)/nlen, nomega) + 1
+        icurve = (index - 1)/(nlen*nomega) + 1
+        nstair = 2*self%top + 1
+        ns = size(scalar_fields)
+        values = nan
+        values(5) = 0.0_wp
+        run = hysteresis_drive(self%runs(icurve), self%cfg, self%omegas(iomega), self%top, self%stair_times(ilen))
+        nd = detector_site(run)
+        values(6) = real(nd, wp)
+        values(7) = 0.0_wp
+        if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. self%cfg%allow_outside_gap) then
+            values(1) = real(status_outside_gap, wp)
+            values(8) = 0.0_wp
+            return
+        end if
+        if (allocated(run%record%probes)) deallocate (run%record%probes)
+        run%record%probes = [nd, nd + 1]
+        run%record%probe_every = 1
+        run%record%ledger_every = int(min(huge(1)/2_i8, int(run%numerics%t_final/run%numerics%dt, i8) + 1_i8))
+        call simulate(run, result)
+        values(7) = real(result%steps, wp)
+        if (result%status /= run_ok) then
+            values(1) = real(hysteresis_failed, wp)
+        else
+            power = stair_powers(run, result)
+            call hysteresis_edges(run%drive, power, self%cfg%scene%power_threshold, up, down, gaps, status)
+            values(1) = real(status, wp)
+            values(2) = up
+            values(3) = down
+            values(4) = up - down
+            values(5) = real(gaps, wp)
+            values(ns + 1:ns + nstair) = power
+        end if
+        call system_clock(clock_end)
+        values(8) = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+    end subroutine run_stairs_task
+
+    !> Mean power through the bond (n_d, n_d + 1) on each stair of a run (see the module documentation): from the
+    !> probes at n_d and n_d + 1 recorded every step, J_k = c^2 (u_{n_d} - u_{n_d+1}) v_{n_d+1} + beta (v_{n_d} -
+    !> v_{n_d+1}) v_{n_d+1} at level k with centred velocities, averaged over the levels of the last whole number of
+    !> drive periods (at least one, at most the stair's second half) before the stair's end.
+    pure function stair_powers(run, result) result(power)
+        !> The run (stair profile).
+        type(run_config), intent(in) :: run
+        !> Its result, probes (n_d, n_d + 1) every step.
+        type(run_result), intent(in) :: result
+        real(wp), allocatable :: power(:)
+        real(wp) :: dt, t_end, t_begin, period, c2, v1, v2, flux, total
+        integer :: j, k, nsamp, kcount
+
+        dt = run%numerics%dt
+        c2 = run%chain%c**2
+        period = 8.0_wp*atan(1.0_wp)/run%drive%omega
+        nsamp = result%n_probe_samples
+        allocate (power(stair_count(run%drive)))
+        do j = 0, stair_count(run%drive) - 1
+            t_end = stair_start(run%drive, j + 1)
+            t_begin = t_end - max(1.0_wp, real(floor(0.5_wp*run%drive%stair_time/period), wp))*period
+            total = 0.0_wp
+            kcount = 0
+            do k = 2, nsamp - 1
+                associate (t => result%probe_time(k), u => result%probe_u)
+                    if (t < t_begin - 0.5_wp*dt .or. t >= t_end - 0.5_wp*dt) cycle
+                    v1 = (u(k + 1, 1) - u(k - 1, 1))/(2.0_wp*dt)
+                    v2 = (u(k + 1, 2) - u(k - 1, 2))/(2.0_wp*dt)
+                    flux = c2*(u(k, 1) - u(k, 2))*v2 + run%chain%beta*(v1 - v2)*v2
+                end associate
+                total = total + flux
+                kcount = kcount + 1
+            end do
+            power(j + 1) = total/real(max(kcount, 1), wp)
+        end do
+    end function stair_powers
+
+    !> The edges from the stairs' mean powers (see the module documentation): the upward edge (first transmitting
+    !> stair on the way up), the downward edge (last transmitting stair on the way down, the top included), the quiet
+    !> stairs between the top and the downward edge, and the status.
+    pure subroutine hysteresis_edges(drive, power, threshold, up, down, gaps, status)
+        !> The drive (stair profile: levels).
+        type(drive_params), intent(in) :: drive
+        !> Mean power of each stair, 2K + 1 values.
+        real(wp), intent(in) :: power(:)
+        !> A stair transmits when its power exceeds this.
+        real(wp), intent(in) :: threshold
+        !> Upward edge; NaN when none.
+        real(wp), intent(out) :: up
+        !> Downward edge; NaN when none.
+        real(wp), intent(out) :: down
+        !> Quiet stairs from the top down to the downward edge.
+        integer, intent(out) :: gaps
+        !> `hysteresis_*` status.
+        integer, intent(out) :: status
+        logical :: on(0:size(power) - 1)
+        integer :: top, j, ju, jd
+
+        top = (size(power) - 1)/2
+        on = power > threshold
+        up = ieee_value(up, ieee_quiet_nan)
+        down = up
+        gaps = 0
+        ju = -1
+        do j = 0, top
+            if (on(j)) then
+                ju = j
+                exit
+            end if
+        end do
+        jd = -1
+        do j = 2*top, top, -1
+            if (on(j)) then
+                jd = j
+                exit
+            end if
+        end do
+        if (ju > 0) up = stair_level(drive, ju)
+        if (jd >= top .and. jd < 2*top) down = stair_level(drive, jd)
+        if (jd >= top) gaps = count(.not. on(top:jd))
+        if (ju < 0) then
+            status = hysteresis_none
+        else if (ju == 0) then
+            status = hysteresis_at_bottom
+        else if (jd < 0) then
+            status = hysteresis_died_before_top
+        else if (jd == 2*top) then
+            status = hysteresis_still_at_end
+        else
+            status = hysteresis_found
+        end if
+        if (ju < 0) down = ieee_value(down, ieee_quiet_nan)
+    end subroutine hysteresis_edges
+
+    !> The status codes of the scene, "code: meaning" clauses separated by "; ".
+    pure function hysteresis_status_codes() result(text)
+        character(len=:), allocatable :: text
+
+        text = "-2: outside gap (Omega >= sqrt(1 + m^2): not run; NaN); -1: pending (not computed yet); " &
+               // "0: found (both edges); 1: none transmits (no stair up to the top transmits; NaN); " &
+               // "2: at bottom (the first stair amplitude_min already transmits: the upward edge lies below it; NaN); " &
+               // "3: died before top (the transmission stopped on the way up: downward edge NaN); " &
+               // "4: still at end (the last stair amplitude_min still transmits: the downward edge lies below it; NaN); " &
+               // "5: run failed (diverged or Newton failed; NaN)"
+    end function hysteresis_status_codes
+
+    !> Write the results so far to `<output>.partial.h5` (root attribute `complete = 0`); failures are ignored (the
+    !> journal, not this file, is what a resumed run reads).
+    subroutine write_snapshot(self, results, done)
+        !> The tasks.
+        class(hysteresis_tasks), intent(in) :: self
+        !> Results so far, (values, tasks).
+        real(wp), intent(in) :: results(:, :)
+        !> Which tasks are done.
+        logical, intent(in) :: done(:)
+        type(error_type), allocatable :: error
+
+        call write_hysteresis_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
+        if (allocated(error) .and. .not. self%cfg%output%quiet) then
+            write (error_unit, "(a)") "  warning: partial output not written: " // error%message
+        end if
+    end subroutine write_snapshot
+
+    !> Write the scene's file `path` (as a temporary file, renamed when complete): tasks not done get NaN and status
+    !> -1 (pending).
+    subroutine write_hysteresis_file(tasks, path, results, done, complete, elapsed, error)
+        !> The tasks.
+        type(hysteresis_tasks), intent(in) :: tasks
+        !> Final path of the file.
+        character(len=*), intent(in) :: path
+        !> Results, (values, tasks).
+        real(wp), intent(in) :: results(:, :)
+        !> Which tasks are done.
+        logical, intent(in) :: done(:)
+        !> Whether this is the complete result (root attribute `complete`).
+        logical, intent(in) :: complete
+        !> Wall time of the scene (s); negative when unknown (partial files).
+        real(wp), intent(in) :: elapsed
+        !> Error, allocated on failure (the file is then not created).
+        type(error_type), allocatable, intent(out) :: error
+        type(h5_file) :: file
+        type(run_config) :: run
+        real(wp), allocatable :: vals(:, :), levels(:), spread_up(:, :), spread_down(:, :), as(:, :)
+        integer, allocatable :: direction(:), nd(:, :)
+        integer :: ncurve, nomega, nlen, nstair, ntask, t, ns, ic, io
+        character(len=*), parameter :: dims = "curve, omega, stair_length", dims2 = "curve, omega"
+
+        ncurve = size(tasks%runs)
+        nomega = size(tasks%omegas)
+        nlen = size(tasks%stair_times)
+        nstair = 2*tasks%top + 1
+        ntask = ncurve*nomega*nlen
+        ns = size(scalar_fields)
+        vals = results
+        do t = 1, ntask
+            if (.not. done(t)) then
+                vals(:, t) = ieee_value(1.0_wp, ieee_quiet_nan)
+                vals(1, t) = real(status_not_run, wp)
+                vals(5, t) = 0.0_wp
+                vals(7, t) = 0.0_wp
+                vals(8, t) = 0.0_wp
+            end if
+        end do
+        run = hysteresis_drive(tasks%runs(1), tasks%cfg, tasks%omegas(1), tasks%top, tasks%stair_times(1))
+        levels = [(stair_level(run%drive, t), t=0, nstair - 1)]
+        direction = [(merge(1, merge(0, -1, t == tasks%top), t < tasks%top), t=0, nstair - 1)]
+        allocate (spread_up(nomega, ncurve), spread_down(nomega, ncurve), as(nomega, ncurve), nd(nomega, ncurve))
+        do ic = 1, ncurve
+            do io = 1, nomega
+                t = ((ic - 1)*nomega + io - 1)*nlen
+                spread_up(io, ic) = spread(vals(2, t + 1:t + nlen))
+                spread_down(io, ic) = spread(vals(3, t + 1:t + nlen))
+                as(io, ic) = ieee_value(1.0_wp, ieee_quiet_nan)
+                nd(io, ic) = detector_site(hysteresis_drive(tasks%runs(ic), tasks%cfg, tasks%omegas(io), tasks%top, &
+                                                            tasks%stair_times(1)))
+                if (tasks%omegas(io) < band_gap_edge(tasks%runs(ic)%chain)) as(io, ic) = threshold_as(tasks%runs(ic)%chain, &
+                                                                                                    tasks%omegas(io))
+            end do
+        end do
+
+        call h5_create(file, path, .true.)
+        call write_root(file, tasks%cfg, "hysteresis", "Hysteresis of supratransmission: the drive amplitude goes up " &
+                        // "and down in slow stairs; the upward edge (where the transmitting state is born), the " &
+                        // "downward edge (where it dies) and the bistable window, per curve, Omega and stair length")
+        call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
+        call h5_write_attr(file, "/", "tasks_done", count(done))
+        call write_parameters(file, tasks%cfg)
+        call h5_write_attr(file, "/parameters", "stair_times_used", tasks%stair_times)
+        call h5_write_attr(file, "/parameters", "power_measure", "mean energy flux " &
+            // "c^2 (u_nd - u_nd+1) v_nd+1 + beta (v_nd - v_nd+1) v_nd+1 through the bond beyond the detector site " &
+            // "n_d, over the last whole drive periods of each stair's second half")
+        call h5_write(file, "/omega", tasks%omegas, "1/time", &
+            "Driving frequency Omega_i = omega_min + i omega_step", dims="omega")
+        call h5_write(file, "/stair_time", tasks%stair_times, "time", &
+            "Stair length T_s of each protocol (the run's T = ramp_time + (2K + 1) T_s)", dims="stair_length")
+        call h5_write(file, "/stair_amplitude", levels, "rad", &
+            "Level of each stair a_i = amplitude_min + i stair_height, up then down (i = 0 .. K .. 0)", &
+            dims="stair")
+        call h5_write(file, "/stair_direction", direction, "1", &
+            "1 on the way up, 0 at the top, -1 on the way down", dims="stair")
+        call write_curves(file, tasks%cfg, tasks%runs)
+        call h5_write(file, "/upward_threshold", grid3(vals(2, :)), "rad", &
+            "Upward edge: level of the first stair on the way up that transmits (where the transmitting state is " &
+            // "born); NaN when none (see /status)", dims=dims)
+        call h5_write(file, "/downward_threshold", grid3(vals(3, :)), "rad", &
+            "Downward edge: level of the last stair on the way down that still transmits (where the transmitting " &
+            // "state dies); NaN when none (see /status)", dims=dims)
+        call h5_write(file, "/window", grid3(vals(4, :)), "rad", &
+            "Bistable window: upward - downward edge", dims=dims)
+        call h5_write(file, "/upward_spread", spread_up, "rad", &
+            "Spread of the upward edge over the stair lengths (max - min of those found; NaN when none)", &
+            dims=dims2)
+        call h5_write(file, "/downward_spread", spread_down, "rad", &
+            "Spread of the downward edge over the stair lengths (max - min of those found; NaN when none)", &
+            dims=dims2)
+        call h5_write(file, "/downward_gaps", igrid3(vals(5, :)), "1", &
+            "Quiet stairs between the top and the downward edge (the intermittency of the transmitting regime)", &
+            dims=dims)
+        call h5_write(file, "/status", igrid3(vals(1, :)), "1", &
+            "Outcome of the run (codes in attribute 'codes')", dims=dims)
+        call h5_write_attr(file, "/status", "codes", hysteresis_status_codes())
+        call h5_write(file, "/power", reshape(vals(ns + 1:ns + nstair, :), &
+            [nstair, nlen, nomega, ncurve]), "energy/time", "Mean power through the bond (n_d, n_d + 1) beyond the " &
+            // "detector site on each stair (over the last whole drive periods of its second half); NaN when not run", &
+            dims="curve, omega, stair_length, stair")
+        call h5_write_attr(file, "/power", "power_threshold", tasks%cfg%scene%power_threshold)
+        call h5_write(file, "/detector_site", nd, "1", &
+            "Detector site n_d: the power is measured through the bond (n_d, n_d + 1)", dims=dims2)
+        call h5_write(file, "/threshold_As", as, "rad", &
+            "Continuum-limit threshold A_s = 4 arctan(lambda c / Omega) of the curve's chain; NaN outside the gap", &
+            dims=dims2)
+        call h5_create_group(file, "/cost", "What each run cost")
+        call h5_write(file, "/cost/steps", grid3(vals(7, :)), "1", &
+            "Time steps of the run", dims=dims)
+        call h5_write(file, "/cost/wall_time", grid3(vals(8, :)), "s", &
+            "Wall-clock time of the run (one thread)", dims=dims)
+        if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
+        call h5_commit(file, error)
+
+    contains
+
+        !> A per-task real as a (stair_length, omega, curve) grid: h5py (curve, omega, stair_length).
+        pure function grid3(x) result(g)
+            real(wp), intent(in) :: x(:)
+            real(wp), allocatable :: g(:, :, :)
+
+            g = reshape(x, [nlen, nomega, ncurve])
+        end function grid3
+
+        !> A per-task integer (stored as a real value) as a (stair_length, omega, curve) grid.
+        pure function igrid3(x) result(g)
+            real(wp), intent(in) :: x(:)
+            integer, allocatable :: g(:, :, :)
+
+            g = reshape(nint(x), [nlen, nomega, ncurve])
+        end function igrid3
+
+    end subroutine write_hysteresis_file
+
+    !> max - min of the values that are not NaN; NaN when all are.
+    pure function spread(x) result(s)
+        !> The values.
+        real(wp), intent(in) :: x(:)
+        real(wp) :: s
+        logical :: ok(size(x))
+
+        ok = .not. ieee_is_nan(x)
+        if (.not. any(ok)) then
+            s = ieee_value(s, ieee_quiet_nan)
+        else
+            s = maxval(x, mask=ok) - minval(x, mask=ok)
+        end if
+    end function spread
+
+end module supratrans_scene_hysteresis
