@@ -398,6 +398,9 @@ contains
         sc%continuation_points = 150
         frun%drive%omega = 0.9_wp
         frun%drive%ramp_time = 0.0_wp
+        ! one thread, also for OpenBLAS (its OpenMP build follows omp_get_max_threads outside a parallel region:
+        ! two threads on a loaded machine made dgeev 30x slower)
+        !$ call omp_set_num_threads(1)
         write (*, "(a)") "# one fold: undamped sine-Gordon, Omega = 0.9, c = 4, dt ~ 0.05, newton, 1 thread"
         write (*, "(a6, 2x, a12, 2x, a8, 2x, a8, 2x, a8, 2x, a8, 2x, a8, 2x, a6, 2x, a6)") "N", "A_f", "total_s", &
             "tangent", "map", "lu", "eigen", "points", "jacobs"
