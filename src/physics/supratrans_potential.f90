@@ -22,7 +22,7 @@ module supratrans_potential
     implicit none
     private
 
-    public :: potential_v, potential_dv, discrete_gradient, discrete_gradient_da
+    public :: potential_v, potential_dv, potential_d2v, discrete_gradient, discrete_gradient_da
     public :: gradient_and_slope, gradient_and_slope_array, gradient_and_slope_refine, potential_sum, force_array
     public :: potential_name, potential_from_name, is_potential, check_potential
     public :: slope_lower_bound, curvature_bound, sin_cos_array
@@ -83,6 +83,25 @@ contains
             dv = ieee_value(dv, ieee_quiet_nan)
         end select
     end function potential_dv
+
+    !> Second derivative V''(u) of the on-site potential: cos u (sine-Gordon), 1 - u^2/2 + u^4/24 (Klein-Gordon,
+    !> phi^6 truncation); NaN for an unknown potential.
+    elemental function potential_d2v(id, u) result(d2v)
+        !> Potential identifier.
+        integer, intent(in) :: id
+        !> Displacement u_n.
+        real(wp), intent(in) :: u
+        real(wp) :: d2v
+
+        select case (id)
+        case (sine_gordon)
+            d2v = cos(u)
+        case (klein_gordon)
+            d2v = 1.0_wp + u*u*(-0.5_wp + u*u/24.0_wp)
+        case default
+            d2v = ieee_value(d2v, ieee_quiet_nan)
+        end select
+    end function potential_d2v
 
     !> Discrete gradient G(a, b) = (V(a) - V(b))/(a - b) in closed form; equals V'(a) when a = b.
     elemental function discrete_gradient(id, a, b) result(g)

@@ -44,14 +44,13 @@ module supratrans_period_map
     use supratrans_config, only: run_config, chain_params, drive_params, method_newton, method_linearized, &
                                  method_rk4, method_rk8
     use supratrans_chain, only: damping_profile
-    use supratrans_potential, only: gradient_and_slope_array, curvature_bound, slope_lower_bound, sine_gordon, &
-                                    klein_gordon
+    use supratrans_potential, only: gradient_and_slope_array, curvature_bound, slope_lower_bound, potential_d2v
     use supratrans_scheme, only: scheme_type, scheme_init, scheme_rhs_and_predictor, scheme_apply_a
     use supratrans_ledger, only: stored_energy
     use supratrans_mol, only: chain_energy, mol_energy_components
     use supratrans_stepper_linearized, only: linearized_work, linearized_work_init, linearized_step
     use supratrans_stepper_rk4, only: rk4_step, rk4_stages
-    use supratrans_stepper_rk8, only: rk8_step, rk8_stages
+    use supratrans_stepper_rk8, only: rk8_step, rk8_stages, rk8_tableau_a, rk8_tableau_b, rk8_tableau_c
     use supratrans_tridiag, only: solve_tridiag, factor_tridiag, solve_factored_tridiag
     use supratrans_fixed_point_map, only: fixed_point_map, map_ok, map_failed
     implicit none
@@ -239,7 +238,9 @@ contains
             if (map%method == method_rk4) then
                 call rk4_tableau(map%rk_a, map%rk_b, map%rk_c)
             else
-                call rk8_tableau(map%rk_a, map%rk_b, map%rk_c)
+                map%rk_a = rk8_tableau_a
+                map%rk_b = rk8_tableau_b
+                map%rk_c = rk8_tableau_c
             end if
             map%alpha = damping_profile(run%chain)
             allocate (map%y(2*n + mol_energy_components), source=0.0_wp)
@@ -821,25 +822,6 @@ contains
         end if
     end subroutine variational_rhs
 
-    !> Second derivative V''(u) of the on-site potential: cos u (sine-Gordon), 1 - u^2/2 + u^4/24 (Klein-Gordon,
-    !> phi^6 truncation); NaN for an unknown potential.
-    elemental function potential_d2v(id, u) result(d2v)
-        !> Potential identifier.
-        integer, intent(in) :: id
-        !> Displacement u_n.
-        real(wp), intent(in) :: u
-        real(wp) :: d2v
-
-        select case (id)
-        case (sine_gordon)
-            d2v = cos(u)
-        case (klein_gordon)
-            d2v = 1.0_wp + u*u*(-0.5_wp + u*u/24.0_wp)
-        case default
-            d2v = ieee_value(d2v, ieee_quiet_nan)
-        end select
-    end function potential_d2v
-
     !> True when every element of a vector is finite.
     pure function all_finite_vector(a) result(ok)
         !> The values.
@@ -878,90 +860,5 @@ contains
         b = [1.0_wp/6.0_wp, 1.0_wp/3.0_wp, 1.0_wp/3.0_wp, 1.0_wp/6.0_wp]
         c = [0.0_wp, 0.5_wp, 0.5_wp, 1.0_wp]
     end subroutine rk4_tableau
-
-    !> The Cooper-Verner eighth-order tableau of `rk8_step` (its coefficients copied from
-    !> `supratrans_stepper_rk8`, where they are private; the tests compare the tangent built on them with finite
-    !> differences of `rk8_step` itself, which a wrong coefficient would fail).
-    pure subroutine rk8_tableau(a, b, c)
-        !> Coupling coefficients (11 x 11, strictly lower triangular), weights, nodes.
-        real(wp), intent(out) :: a(:, :), b(:), c(:)
-        real(wp), parameter :: s21 = sqrt(21.0_wp)
-        ! nodes c_i
-        real(wp), parameter :: c2 = 0.5_wp, c3 = 0.5_wp, c4 = (7.0_wp + s21)/14.0_wp, c5 = (7.0_wp + s21)/14.0_wp, &
-                               c6 = 0.5_wp, c7 = (7.0_wp - s21)/14.0_wp, c8 = (7.0_wp - s21)/14.0_wp, c9 = 0.5_wp, &
-                               c10 = (7.0_wp + s21)/14.0_wp, c11 = 1.0_wp
-        ! coupling coefficients a_ij (those not listed are zero)
-        real(wp), parameter :: a21 = 0.5_wp
-        real(wp), parameter :: a31 = 0.25_wp, a32 = 0.25_wp
-        real(wp), parameter :: a41 = 1.0_wp/7.0_wp, a42 = (-7.0_wp - 3.0_wp*s21)/98.0_wp, a43 = (21.0_wp + 5.0_wp*s21)/49.0_wp
-        real(wp), parameter :: a51 = (11.0_wp + s21)/84.0_wp, a53 = (18.0_wp + 4.0_wp*s21)/63.0_wp, &
-                               a54 = (21.0_wp - s21)/252.0_wp
-        real(wp), parameter :: a61 = (5.0_wp + s21)/48.0_wp, a63 = (9.0_wp + s21)/36.0_wp, &
-                               a64 = (-231.0_wp + 14.0_wp*s21)/360.0_wp, a65 = (63.0_wp - 7.0_wp*s21)/80.0_wp
-        real(wp), parameter :: a71 = (10.0_wp - s21)/42.0_wp, a73 = (-432.0_wp + 92.0_wp*s21)/315.0_wp, &
-                               a74 = (633.0_wp - 145.0_wp*s21)/90.0_wp, a75 = (-504.0_wp + 115.0_wp*s21)/70.0_wp, &
-                               a76 = (63.0_wp - 13.0_wp*s21)/35.0_wp
-        real(wp), parameter :: a81 = 1.0_wp/14.0_wp, a85 = (14.0_wp - 3.0_wp*s21)/126.0_wp, &
-                               a86 = (13.0_wp - 3.0_wp*s21)/63.0_wp, a87 = 1.0_wp/9.0_wp
-        real(wp), parameter :: a91 = 1.0_wp/32.0_wp, a95 = (91.0_wp - 21.0_wp*s21)/576.0_wp, a96 = 11.0_wp/72.0_wp, &
-                               a97 = (-385.0_wp - 75.0_wp*s21)/1152.0_wp, a98 = (63.0_wp + 13.0_wp*s21)/128.0_wp
-        real(wp), parameter :: a101 = 1.0_wp/14.0_wp, a105 = 1.0_wp/9.0_wp, a106 = (-733.0_wp - 147.0_wp*s21)/2205.0_wp, &
-                               a107 = (515.0_wp + 111.0_wp*s21)/504.0_wp, a108 = (-51.0_wp - 11.0_wp*s21)/56.0_wp, &
-                               a109 = (132.0_wp + 28.0_wp*s21)/245.0_wp
-        real(wp), parameter :: a115 = (-42.0_wp + 7.0_wp*s21)/18.0_wp, a116 = (-18.0_wp + 28.0_wp*s21)/45.0_wp, &
-                               a117 = (-273.0_wp - 53.0_wp*s21)/72.0_wp, a118 = (301.0_wp + 53.0_wp*s21)/72.0_wp, &
-                               a119 = (28.0_wp - 28.0_wp*s21)/45.0_wp, a1110 = (49.0_wp - 7.0_wp*s21)/18.0_wp
-        ! weights b_i (b_2 .. b_7 are zero)
-        real(wp), parameter :: b1 = 1.0_wp/20.0_wp, b8 = 49.0_wp/180.0_wp, b9 = 16.0_wp/45.0_wp, b10 = 49.0_wp/180.0_wp, &
-                               b11 = 1.0_wp/20.0_wp
-
-        a = 0.0_wp
-        a(2, 1) = a21
-        a(3, 1) = a31
-        a(3, 2) = a32
-        a(4, 1) = a41
-        a(4, 2) = a42
-        a(4, 3) = a43
-        a(5, 1) = a51
-        a(5, 3) = a53
-        a(5, 4) = a54
-        a(6, 1) = a61
-        a(6, 3) = a63
-        a(6, 4) = a64
-        a(6, 5) = a65
-        a(7, 1) = a71
-        a(7, 3) = a73
-        a(7, 4) = a74
-        a(7, 5) = a75
-        a(7, 6) = a76
-        a(8, 1) = a81
-        a(8, 5) = a85
-        a(8, 6) = a86
-        a(8, 7) = a87
-        a(9, 1) = a91
-        a(9, 5) = a95
-        a(9, 6) = a96
-        a(9, 7) = a97
-        a(9, 8) = a98
-        a(10, 1) = a101
-        a(10, 5) = a105
-        a(10, 6) = a106
-        a(10, 7) = a107
-        a(10, 8) = a108
-        a(10, 9) = a109
-        a(11, 5) = a115
-        a(11, 6) = a116
-        a(11, 7) = a117
-        a(11, 8) = a118
-        a(11, 9) = a119
-        a(11, 10) = a1110
-        b = 0.0_wp
-        b(1) = b1
-        b(8) = b8
-        b(9) = b9
-        b(10) = b10
-        b(11) = b11
-        c = [0.0_wp, c2, c3, c4, c5, c6, c7, c8, c9, c10, c11]
-    end subroutine rk8_tableau
 
 end module supratrans_period_map

@@ -73,8 +73,9 @@ module supratrans_stepper_rk8
     real(wp), parameter :: b1 = 1.0_wp/20.0_wp, b8 = 49.0_wp/180.0_wp, b9 = 16.0_wp/45.0_wp, b10 = 49.0_wp/180.0_wp, &
                            b11 = 1.0_wp/20.0_wp
 
-    !> The whole tableau as a dense strictly lower-triangular matrix A(i, j) (for the stability polynomial).
-    real(wp), parameter :: tableau_a(rk8_stages, rk8_stages) = reshape([ &
+    !> The whole tableau as a dense strictly lower-triangular matrix A(i, j) (for the stability polynomial and the
+    !> period map's tangent, `supratrans_period_map`).
+    real(wp), parameter, public :: rk8_tableau_a(rk8_stages, rk8_stages) = reshape([ &
         0.0_wp, a21, a31, a41, a51, a61, a71, a81, a91, a101, 0.0_wp, &
         0.0_wp, 0.0_wp, a32, a42, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, &
         0.0_wp, 0.0_wp, 0.0_wp, a43, a53, a63, a73, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, &
@@ -88,7 +89,10 @@ module supratrans_stepper_rk8
         0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], &
         [rk8_stages, rk8_stages])
     !> The weights as a vector.
-    real(wp), parameter :: tableau_b(rk8_stages) = [b1, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, b8, b9, b10, b11]
+    real(wp), parameter, public :: rk8_tableau_b(rk8_stages) = [b1, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, b8, &
+                                                                b9, b10, b11]
+    !> The nodes as a vector.
+    real(wp), parameter, public :: rk8_tableau_c(rk8_stages) = [0.0_wp, c2, c3, c4, c5, c6, c7, c8, c9, c10, c11]
 
     !> The Cooper-Verner method.
     type, extends(rk_stepper), public :: rk8_stepper
@@ -176,8 +180,8 @@ contains
         g(0) = 1.0_wp
         v = 1.0_wp
         do j = 1, rk8_stages
-            g(j) = dot_product(tableau_b, v)
-            v = matmul(tableau_a, v)
+            g(j) = dot_product(rk8_tableau_b, v)
+            v = matmul(rk8_tableau_a, v)
         end do
     end function rk8_stability_coefficients
 
