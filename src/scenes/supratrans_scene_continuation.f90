@@ -37,10 +37,12 @@ module supratrans_scene_continuation
     use supratrans_strings, only: int_str, real_str, fixed1
     use supratrans_scene_bifurcation, only: bifurcation_omegas
     use supratrans_scene_stability, only: linear_stability_dt
+    use supratrans_stepper_rk4, only: rk4_order
+    use supratrans_stepper_rk8, only: rk8_order
     implicit none
     private
 
-    public :: run_continuation, continuation_omegas
+    public :: run_continuation
 
     !> The tasks of a continuation scene: task t = (curve - 1) nomega + iomega traces one branch to its fold.
     type, extends(task_list) :: continuation_tasks
@@ -85,7 +87,7 @@ contains
             return
         end if
         tasks%cfg = cfg
-        tasks%omegas = continuation_omegas(cfg)
+        tasks%omegas = bifurcation_omegas(cfg)  ! the bifurcation scene's axis, so fold lines lie over diagrams
         ncurve = curve_count(cfg)
         nomega = size(tasks%omegas)
         if (nomega < 1) then
@@ -134,15 +136,6 @@ contains
                 // fixed1(elapsed) // " s"
         end if
     end subroutine run_continuation
-
-    !> The frequency axis: that of the bifurcation scene (Omega_i = omega_min + i omega_step <= omega_max).
-    pure function continuation_omegas(cfg) result(omegas)
-        !> The input.
-        type(input_config), intent(in) :: cfg
-        real(wp), allocatable :: omegas(:)
-
-        omegas = bifurcation_omegas(cfg)
-    end function continuation_omegas
 
     !> Trace the branch of task `index` to its fold (thread-safe: everything it changes is local).
     subroutine run_fold_task(self, index, values)
@@ -226,9 +219,9 @@ contains
 
         select case (method)
         case (method_rk4)
-            p = 4
+            p = rk4_order
         case (method_rk8)
-            p = 8
+            p = rk8_order
         case default
             p = 2
         end select
