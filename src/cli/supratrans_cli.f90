@@ -22,7 +22,7 @@
 module supratrans_cli
     use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
     use supratrans_kinds, only: wp, supratrans_version
-    use supratrans_strings, only: real_str, int_str, printable, text_fingerprint
+    use supratrans_strings, only: int_str, printable, text_fingerprint
     use supratrans_error, only: error_type, fatal_error, err_input, err_io, err_interrupted
     use supratrans_config, only: input_config
     use, intrinsic :: iso_c_binding, only: c_null_char
@@ -34,18 +34,9 @@ module supratrans_cli
     use supratrans_input, only: read_input, read_input_text
     use supratrans_validate, only: validate_config
     use supratrans_limits, only: bound_threads
-    use supratrans_simulate, only: simulate
-    use supratrans_result, only: run_result, status_name
-    use supratrans_output, only: write_timeseries
     use supratrans_journal, only: write_journal
     use supratrans_parts, only: part_set, read_parts, part_path, merged_path
-    use supratrans_scene_sweep, only: run_amplitude_sweep
-    use supratrans_scene_map, only: run_map
-    use supratrans_scene_bifurcation, only: run_bifurcation
-    use supratrans_scene_workprec, only: run_work_precision
-    use supratrans_scene_stability, only: run_stability
-    use supratrans_scene_continuation, only: run_continuation
-    use supratrans_scene_hysteresis, only: run_hysteresis
+    use supratrans_scene, only: scene_type, new_scene
     implicit none
     private
 
@@ -380,18 +371,21 @@ contains
         type(input_config) :: cfg
         type(part_set) :: done_part
         type(error_type), allocatable :: cause
+        class(scene_type), allocatable :: scene
 
         status = 0
         call read_input(path, cfg, error, check_output=.false.)
+        if (.not. allocated(error)) call new_scene(trim(cfg%scene%kind), scene, error)
         if (allocated(error)) then
             status = error%stat
             return
         end if
         if (present(slice_index) .and. present(slice_count)) then
             if (slice_count > 0) then
-                if (trim(cfg%scene%kind) == "timeseries") then
-                    call fatal_error(error, path // ": &scene kind = 'timeseries' is one run: --slice applies to " &
-                                     // "amplitude_sweep, map, bifurcation, work_precision and stability", err_input)
+                if (scene%one_run()) then
+                    call fatal_error(error, path // ": &scene kind = '" // trim(cfg%scene%kind) // "' is one run: " &
+                                     // "--slice applies to amplitude_sweep, map, bifurcation, work_precision and " &
+                                     // "stability", err_input)
                     status = error%stat
                     return
                 end if
@@ -582,54 +576,20 @@ contains
         end if
     end subroutine take_lock
 
-    !> Run the scene of a validated input.
+    !> Run the scene of a validated input (`new_scene` makes it from &scene kind).
     subroutine run_scene(cfg, error)
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
-        type(run_result) :: result
+        class(scene_type), allocatable :: scene
 
-        select case (trim(cfg%scene%kind))
-        case ("timeseries")
-            call progress(cfg, "supratrans " // supratrans_version // ": timeseries from " // cfg%source)
-            call simulate(cfg%run, result, interruptible=.true.)
-            if (result%interrupted) then
-                ! one run, no journal: a cut run is no result, and a file under the output's name would look like one
-                call fatal_error(error, trim(cfg%output%file) // ": timeseries stopped by signal " &
-                                 // int_str(stop_signal()) // " at t = " // real_str(result%t_end, 6) // " of " &
-                                 // real_str(cfg%run%numerics%t_final, 6) // ": nothing written (one run cannot " &
-                                 // "resume: the same command runs it again from t = 0)", err_interrupted)
-                return
-            end if
-            if (result%no_memory) then
-                call fatal_error(error, trim(cfg%output%file) // ": " // result%reason // " (out of memory; " &
-                                 // "nothing written): a shorter chain or t_final, sparser records, or more memory", &
-                                 err_input)
-                return
-            end if
-            call progress(cfg, "  run ended: " // status_name(result%status) // " " // result%reason)
-            call progress(cfg, "  verdict: " // trim(merge("transmitting    ", "not transmitting", result%transmitting)) &
-                          // " (" // result%verdict_reason // "); energy injected " // real_str(result%ledger%injected, 6))
-            call write_timeseries(cfg, result, error)
-        case ("amplitude_sweep")
-            call run_amplitude_sweep(cfg, error)
-        case ("map")
-            call run_map(cfg, error)
-        case ("bifurcation")
-            call run_bifurcation(cfg, error)
-        case ("work_precision")
-            call run_work_precision(cfg, error)
-        case ("stability")
-            call run_stability(cfg, error)
-        case ("continuation")
-            call run_continuation(cfg, error)
-        case ("hysteresis")
-            call run_hysteresis(cfg, error)
-        case default
-            call fatal_error(error, cfg%source // ": &scene: kind '" // trim(cfg%scene%kind) // "' is not implemented", &
-                             err_input)
-        end select
+        call new_scene(trim(cfg%scene%kind), scene, error)
+        if (allocated(error)) then
+            error%message = cfg%source // ": " // error%message
+            return
+        end if
+        call scene%run(cfg, error)
     end subroutine run_scene
 
     !> Join part files into the scene's output (see `supratrans_parts`).

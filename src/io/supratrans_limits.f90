@@ -7,7 +7,7 @@ module supratrans_limits
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_config, only: input_config
-    use supratrans_curves, only: curve_count
+    use supratrans_scene, only: scene_type, scene_budget
     use supratrans_strings, only: int_str, real_str
     !$ use omp_lib, only: omp_get_max_threads, omp_set_num_threads
     use supratrans_system, only: usable_cpus
@@ -15,6 +15,7 @@ module supratrans_limits
     private
 
     public :: check_limits, run_memory_bytes, available_memory_bytes, cgroup_memory_limit, bound_threads
+    public :: axis_points, check_axis, check_tasks, threads_text, limit_error, sci
 
     !> Most time steps of one run (T/dt) an input may ask for: 10^9 steps of the paper's chain take about an hour
     !> (the engine itself counts up to `max_step_count` of `supratrans_simulate`, 2^62 - 1).
@@ -34,169 +35,155 @@ module supratrans_limits
 
 contains
 
-    !> Check every count and size of a validated configuration against its limit and the machine's memory.
-    subroutine check_limits(cfg, where, error)
+    !> Check every count and size of a validated configuration against its limit and the machine's memory: those of
+    !> one run here, then the scene's own (`check_limits` of `scene`: axes, tasks, work).
+    subroutine check_limits(cfg, scene, where, error)
         !> The configuration (values already within their ranges).
         type(input_config), intent(in) :: cfg
+        !> The scene of `cfg` (&scene kind).
+        class(scene_type), intent(in) :: scene
         !> Prefix of messages (the file name).
         character(len=*), intent(in) :: where
         !> Allocated when a limit is exceeded.
         type(error_type), allocatable, intent(out) :: error
-        real(wp) :: steps, n, namp, nomega, ngrid, tasks, runs_per_task, work, need, have, slices, run_steps
-        real(wp), allocatable :: stair_times(:)
-        integer :: threads, i, length, ios
-        character(len=:), allocatable :: kind, thread_text, source
+        type(scene_budget) :: budget
+        real(wp) :: steps, n, work, need
+        integer :: length, ios
+        character(len=:), allocatable :: source
 
-        kind = trim(cfg%scene%kind)
         steps = cfg%run%numerics%t_final/cfg%run%numerics%dt
         if (.not. (steps <= max_steps)) then
-            call fail("numerics", "t_final/dt = " // sci(steps) // " time steps: more than the limit " &
-                      // sci(max_steps) // " (a larger dt or a shorter t_final)")
+            call limit_error(error, where, "numerics", "t_final/dt = " // sci(steps) // " time steps: more than the limit " &
+                             // sci(max_steps) // " (a larger dt or a shorter t_final)")
             return
         end if
         n = real(cfg%run%chain%n, wp)
         if (n > max_sites) then
-            call fail("chain", "n = " // sci(n) // " oscillators: more than the limit " // sci(max_sites))
+            call limit_error(error, where, "chain", "n = " // sci(n) // " oscillators: more than the limit " &
+                             // sci(max_sites))
             return
         end if
-        if (kind == "timeseries") then
+        if (scene%one_run()) then
             ! the work limit of every scene, for its one run (t_final/dt steps x n oscillators)
             work = steps*n
             if (.not. (work <= max_site_steps)) then
-                call fail("numerics", "about " // sci(work) // " oscillator-steps (" // sci(steps) // " steps x " &
-                          // sci(n) // " oscillators): more than the limit " // sci(max_site_steps) &
-                          // " (about a day on one core); a shorter t_final, a larger dt or a shorter chain")
+                call limit_error(error, where, "numerics", "about " // sci(work) // " oscillator-steps (" // sci(steps) &
+                                 // " steps x " // sci(n) // " oscillators): more than the limit " &
+                                 // sci(max_site_steps) // " (about a day on one core); a shorter t_final, a larger " &
+                                 // "dt or a shorter chain")
                 return
             end if
         end if
-        threads = 1
-        !$ threads = omp_get_max_threads()
-        if (kind /= "timeseries") then
-            need = run_memory_bytes(cfg, .false.)*real(threads, wp)
-        else
+        !$ budget%threads = omp_get_max_threads()
+        if (scene%one_run()) then
+            budget%threads = 1
             need = run_memory_bytes(cfg, .true.)
+        else
+            need = run_memory_bytes(cfg, .false.)*real(budget%threads, wp)
         end if
-        have = available_memory_bytes(source)
+        budget%memory = available_memory_bytes(source)
+        budget%source = source
         ! fault injection for the tests: SUPRATRANS_TEST_NO_MEMORY_CHECK=1 skips the comparison (have 0: unknown),
         ! so that a run meets its allocation failure (one line, status 2) instead of this check
         call get_environment_variable("SUPRATRANS_TEST_NO_MEMORY_CHECK", length=length, status=ios)
-        if (ios == 0 .and. length > 0) have = 0.0_wp
-        thread_text = ""
-        if (kind /= "timeseries" .and. threads > 1) thread_text = " (" // int_str(threads) // " threads)"
-        if (have > 0.0_wp .and. need > 0.8_wp*have) then
-            call fail("chain", "n = " // int_str(cfg%run%chain%n) // " with t_final/dt = " // sci(steps) // " needs about " &
-                      // sci(need/1.0e9_wp) // " GB" // thread_text // ", more than the " // sci(have/1.0e9_wp) &
-                      // " GB available (" // source // ")")
+        if (ios == 0 .and. length > 0) budget%memory = 0.0_wp
+        if (budget%memory > 0.0_wp .and. need > 0.8_wp*budget%memory) then
+            call limit_error(error, where, "chain", "n = " // int_str(cfg%run%chain%n) // " with t_final/dt = " &
+                             // sci(steps) // " needs about " // sci(need/1.0e9_wp) // " GB" // threads_text(budget) &
+                             // ", more than the " // sci(budget%memory/1.0e9_wp) // " GB available (" // source // ")")
             return
         end if
-        if (kind == "timeseries") return
-
-        associate (sc => cfg%scene)
-            namp = 1.0_wp
-            nomega = 1.0_wp
-            runs_per_task = 1.0_wp
-            if (kind == "amplitude_sweep" .or. kind == "map") then
-                namp = (sc%amplitude_max - sc%amplitude_min)/sc%amplitude_step + 1.0_wp
-                if (.not. (namp <= max_axis_points)) then
-                    call fail("scene", "amplitude_step = " // sci(sc%amplitude_step) // " makes " // sci(namp) &
-                              // " amplitudes: more than the limit " // sci(max_axis_points))
-                    return
-                end if
-            end if
-            if (kind == "map" .or. kind == "bifurcation" .or. kind == "continuation" .or. kind == "hysteresis") then
-                nomega = (sc%omega_max - sc%omega_min)/sc%omega_step + 1.0_wp
-                if (.not. (nomega <= max_axis_points)) then
-                    call fail("scene", "omega_step = " // sci(sc%omega_step) // " makes " // sci(nomega) &
-                              // " frequencies: more than the limit " // sci(max_axis_points))
-                    return
-                end if
-            end if
-            if (kind == "bifurcation") then
-                ngrid = (sc%amplitude_max - sc%amplitude_min)/sc%resolution + 1.0_wp
-                if (.not. (ngrid <= max_axis_points)) then
-                    call fail("scene", "resolution = " // sci(sc%resolution) // " makes a search grid of " &
-                              // sci(ngrid) // " amplitudes: more than the limit " // sci(max_axis_points))
-                    return
-                end if
-                if (.not. (sc%coarse_step/sc%resolution <= max_axis_points)) then
-                    call fail("scene", "coarse_step/resolution = " // sci(sc%coarse_step/sc%resolution) &
-                              // ": more than the limit " // sci(max_axis_points))
-                    return
-                end if
-                ! a search asks about (range)/coarse_step coarse points and up to coarse_step/resolution fine ones
-                runs_per_task = (sc%amplitude_max - sc%amplitude_min)/sc%coarse_step + sc%coarse_step/sc%resolution
-            end if
-            tasks = real(curve_count(cfg), wp)*nomega*namp
-            if (kind == "hysteresis") then
-                ! one run per (curve, Omega, stair length) of ramp_time + (2K + 1) T_s; probes at two sites every step
-                ngrid = (sc%amplitude_max - sc%amplitude_min)/sc%stair_height + 1.0_wp
-                if (.not. (ngrid <= max_axis_points)) then
-                    call fail("scene", "stair_height = " // sci(sc%stair_height) // " makes " // sci(ngrid) &
-                              // " levels: more than the limit " // sci(max_axis_points))
-                    return
-                end if
-                steps = 0.0_wp
-                need = 0.0_wp
-                stair_times = [400.0_wp]
-                if (allocated(sc%stair_times)) then
-                    if (size(sc%stair_times) > 0) stair_times = sc%stair_times
-                end if
-                do i = 1, size(stair_times)
-                    run_steps = (cfg%run%drive%ramp_time + (2.0_wp*real(floor(ngrid + 1.0e-9_wp), wp) - 1.0_wp) &
-                                 *stair_times(i))/cfg%run%numerics%dt
-                    if (.not. (run_steps <= max_steps)) then
-                        call fail("scene", "a stair run of " // sci(run_steps) // " time steps (stair length " &
-                                  // sci(stair_times(i)) // "): more than the limit " // sci(max_steps))
-                        return
-                    end if
-                    steps = steps + run_steps
-                    need = max(need, 3.0_wp*8.0_wp*run_steps)
-                end do
-                need = (need + run_memory_bytes(cfg, .false.))*real(threads, wp)
-                if (have > 0.0_wp .and. need > 0.8_wp*have) then
-                    call fail("scene", "the stair runs' probes need about " // sci(need/1.0e9_wp) // " GB" &
-                              // thread_text // ", more than the " // sci(have/1.0e9_wp) // " GB available")
-                    return
-                end if
-            end if
-            if (kind == "work_precision" .or. kind == "stability") return
-            if (kind == "continuation") then
-                ! dense 2N x (2N + 1) matrices: the tangent, the shooting system, its LU, the eigenvalue copy (x 4
-                ! on the chain of 2N sites of the convergence check), per thread
-                n = n*merge(2.0_wp, 1.0_wp, sc%fold_convergence)
-                need = 5.0_wp*(2.0_wp*n + 1.0_wp)**2*8.0_wp*real(threads, wp)
-                if (have > 0.0_wp .and. need > 0.8_wp*have) then
-                    call fail("chain", "n = " // int_str(cfg%run%chain%n) // ": the dense shooting matrices need " &
-                              // "about " // sci(need/1.0e9_wp) // " GB" // thread_text // ", more than the " &
-                              // sci(have/1.0e9_wp) // " GB available (" // source // "; a shorter chain)")
-                end if
-                return
-            end if
-            if (.not. (tasks <= max_tasks)) then
-                call fail("scene", sci(tasks) // " " // trim(merge("searches", "runs    ", kind == "bifurcation")) &
-                          // ": more than the limit " // sci(max_tasks) // " (check the steps)")
-                return
-            end if
-            slices = max(1.0_wp, real(cfg%slice_count, wp))
-            work = tasks*runs_per_task*steps*n/slices
-            if (.not. (work <= max_site_steps)) then
-                call fail("scene", "about " // sci(work) // " oscillator-steps (" // sci(tasks/slices) // " " &
-                          // trim(merge("searches", "runs    ", kind == "bifurcation")) // " x " &
-                          // sci(runs_per_task*steps) // " steps x " // sci(n) // " oscillators): more than the limit " &
-                          // sci(max_site_steps) // " (about a day on one core); split it with --slice I/N")
-                return
-            end if
-        end associate
-
-    contains
-
-        subroutine fail(group, message)
-            character(len=*), intent(in) :: group, message
-
-            call fatal_error(error, where // ": &" // group // ": " // message, err_input)
-        end subroutine fail
-
+        call scene%check_limits(cfg, where, budget, error)
     end subroutine check_limits
+
+    !> The points of an axis from `first` to `last` by `step`, in real arithmetic (for the limits).
+    pure function axis_points(first, last, step) result(points)
+        !> First value.
+        real(wp), intent(in) :: first
+        !> Last value.
+        real(wp), intent(in) :: last
+        !> Step.
+        real(wp), intent(in) :: step
+        real(wp) :: points
+
+        points = (last - first)/step + 1.0_wp
+    end function axis_points
+
+    !> An axis of `points` points against `max_axis_points`; `what` says what makes them ("omega_step = 0.01 makes
+    !> 100 frequencies"), for the message.
+    pure subroutine check_axis(points, what, where, error)
+        !> Number of points (real: it may be huge).
+        real(wp), intent(in) :: points
+        !> What makes them.
+        character(len=*), intent(in) :: what
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Allocated when there are too many.
+        type(error_type), allocatable, intent(out) :: error
+
+        if (.not. (points <= max_axis_points)) then
+            call limit_error(error, where, "scene", what // ": more than the limit " // sci(max_axis_points))
+        end if
+    end subroutine check_axis
+
+    !> The task count and the work of a scene against `max_tasks` and `max_site_steps` (the work shared among the
+    !> slices of `--slice`): `tasks` runs or searches (`noun`) of `runs_per_task` runs of `steps` time steps each.
+    pure subroutine check_tasks(cfg, tasks, runs_per_task, steps, noun, where, error)
+        !> The configuration (chain length, slices).
+        type(input_config), intent(in) :: cfg
+        !> Number of tasks.
+        real(wp), intent(in) :: tasks
+        !> Runs of one task (a search asks several amplitudes).
+        real(wp), intent(in) :: runs_per_task
+        !> Time steps of one run.
+        real(wp), intent(in) :: steps
+        !> What a task is ("runs", "searches").
+        character(len=*), intent(in) :: noun
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Allocated when a limit is exceeded.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp) :: n, slices, work
+
+        if (.not. (tasks <= max_tasks)) then
+            call limit_error(error, where, "scene", sci(tasks) // " " // noun // ": more than the limit " &
+                             // sci(max_tasks) // " (check the steps)")
+            return
+        end if
+        n = real(cfg%run%chain%n, wp)
+        slices = max(1.0_wp, real(cfg%slice_count, wp))
+        work = tasks*runs_per_task*steps*n/slices
+        if (.not. (work <= max_site_steps)) then
+            call limit_error(error, where, "scene", "about " // sci(work) // " oscillator-steps (" // sci(tasks/slices) &
+                             // " " // noun // " x " // sci(runs_per_task*steps) // " steps x " // sci(n) &
+                             // " oscillators): more than the limit " // sci(max_site_steps) &
+                             // " (about a day on one core); split it with --slice I/N")
+        end if
+    end subroutine check_tasks
+
+    !> " (N threads)" when a scene's tasks run on more than one thread, "" otherwise (for memory messages).
+    pure function threads_text(budget) result(text)
+        !> Threads and memory of the machine.
+        type(scene_budget), intent(in) :: budget
+        character(len=:), allocatable :: text
+
+        text = ""
+        if (budget%threads > 1) text = " (" // int_str(budget%threads) // " threads)"
+    end function threads_text
+
+    !> The error of a limit exceeded: `<where>: &<group>: <message>`, status `err_input`.
+    pure subroutine limit_error(error, where, group, message)
+        !> The error to create.
+        type(error_type), allocatable, intent(out) :: error
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Group of the key.
+        character(len=*), intent(in) :: group
+        !> What is wrong.
+        character(len=*), intent(in) :: message
+
+        call fatal_error(error, where // ": &" // group // ": " // message, err_input)
+    end subroutine limit_error
 
     !> Bound the number of OpenMP threads to `max_threads_per_cpu` x the processors this process may use
     !> (sched_getaffinity: taskset, cpusets, Slurm's --cpus-per-task): OMP_NUM_THREADS=100000 used to crash the

@@ -22,6 +22,7 @@ module supratrans_validate
     use supratrans_strings, only: int_str, real_str, fixed4
     use supratrans_keys, only: key_spec, key_value, kt_integer, kt_real, kt_name, input_error, joined
     use supratrans_schema, only: key_table, get_key, choice_names, choice_noun
+    use supratrans_scene, only: scene_type, new_scene
     implicit none
     private
 
@@ -42,6 +43,7 @@ contains
         logical, intent(in), optional :: check_output
         character(len=:), allocatable :: where
         logical :: check_file
+        class(scene_type), allocatable :: scene
 
         where = "configuration"
         if (allocated(cfg%source)) then
@@ -49,9 +51,12 @@ contains
         end if
         call check_keys(cfg, where, error)
         if (allocated(error)) return
-        call check_rules(cfg, where, error)
+        ! the kind is one of the schema's choices now: its scene answers the questions that depend on it
+        call new_scene(trim(cfg%scene%kind), scene, error)
         if (allocated(error)) return
-        call check_limits(cfg, where, error)
+        call check_rules(cfg, scene, where, error)
+        if (allocated(error)) return
+        call check_limits(cfg, scene, where, error)
         if (allocated(error)) return
         check_file = .true.
         if (present(check_output)) check_file = check_output
@@ -168,9 +173,11 @@ contains
     end subroutine check_choice
 
     !> The rules between keys (after `check_keys`: every value is in its own range).
-    pure subroutine check_rules(cfg, where, error)
+    pure subroutine check_rules(cfg, scene, where, error)
         !> The configuration.
         type(input_config), intent(in) :: cfg
+        !> Its scene.
+        class(scene_type), intent(in) :: scene
         !> Prefix of messages (the file name).
         character(len=*), intent(in) :: where
         !> Allocated on the first failed check.
@@ -185,8 +192,7 @@ contains
                 return
             end if
             edge = band_gap_edge(ch)
-            if (dr%omega >= edge .and. .not. cfg%allow_outside_gap .and. (trim(cfg%scene%kind) == "timeseries" &
-                .or. trim(cfg%scene%kind) == "amplitude_sweep")) then
+            if (dr%omega >= edge .and. .not. cfg%allow_outside_gap .and. scene%gap_rule()) then
                 call input_error(error, where, "drive", "omega = " // real_str(dr%omega) &
                                  // " is outside the band gap 0 < Omega < " // fixed4(edge) &
                                  // " (set allow_outside_gap = .true. to run anyway)")
@@ -222,7 +228,7 @@ contains
             end if
         end associate
 
-        call check_scene(cfg, where, error)
+        call check_scene(cfg, scene, where, error)
         if (allocated(error)) return
 
         if (cfg%run%detect%site < 0 .or. cfg%run%detect%site >= cfg%run%chain%n) then
@@ -237,10 +243,12 @@ contains
     end subroutine check_rules
 
     !> The scene's rules: `values` go with `vary`; the axes are ordered; each curve (potential, varied value) is a
-    !> valid chain, stable by the paper's condition, and (sweeps at one frequency) driven inside its band gap.
-    pure subroutine check_scene(cfg, where, error)
+    !> valid chain, stable by the paper's condition, and (scenes whose `gap_rule` holds) driven inside its band gap.
+    pure subroutine check_scene(cfg, scene, where, error)
         !> The configuration.
         type(input_config), intent(in) :: cfg
+        !> Its scene.
+        class(scene_type), intent(in) :: scene
         !> Prefix of messages (the file name).
         character(len=*), intent(in) :: where
         !> Allocated on the first failed check.
@@ -259,7 +267,7 @@ contains
                                  "values are given but vary = 'none' (say which parameter they set)")
                 return
             end if
-            if (trim(sc%kind) == "timeseries") return
+            if (scene%one_run()) return
             if (.not. (sc%amplitude_max >= sc%amplitude_min)) then
                 call input_error(error, where, "scene", "amplitude_max = " // real_str(sc%amplitude_max) &
                                  // ": must be >= amplitude_min = " // real_str(sc%amplitude_min))
@@ -299,8 +307,7 @@ contains
                                  // "; set allow_unstable = .true. to run anyway)")
                 return
             end if
-            if (trim(cfg%scene%kind) == "amplitude_sweep" .and. run%drive%omega >= band_gap_edge(run%chain) &
-                .and. .not. cfg%allow_outside_gap) then
+            if (scene%gap_rule() .and. run%drive%omega >= band_gap_edge(run%chain) .and. .not. cfg%allow_outside_gap) then
                 call input_error(error, where, "scene", label // ": omega = " // real_str(run%drive%omega) &
                                  // " is outside its band gap 0 < Omega < " // fixed4(band_gap_edge(run%chain)) &
                                  // " (set allow_outside_gap = .true. to run anyway)")

@@ -26,6 +26,8 @@ module supratrans_scene_bifurcation
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
+    use supratrans_scene, only: scene_type, scene_budget
+    use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config, run_config, method_from_name
     use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge, detector_site, stable_by_paper_condition
@@ -116,6 +118,15 @@ module supratrans_scene_bifurcation
         !> Description attribute.
         character(len=120) :: description
     end type grid_dataset
+
+    !> The scene `bifurcation`: one threshold search A_th per (curve, frequency).
+    type, extends(scene_type), public :: bifurcation_scene
+    contains
+        !> Run it and write its output (`run_bifurcation`).
+        procedure :: run => bifurcation_scene_run
+        !> Its axes, tasks, work and memory against the limits.
+        procedure :: check_limits => bifurcation_scene_limits
+    end type bifurcation_scene
 
 contains
 
@@ -775,5 +786,51 @@ contains
         if (allocated(cfg%source)) name = cfg%source
     end function source_name
 
+
+    !> Run the scene (`run_bifurcation`).
+    subroutine bifurcation_scene_run(self, cfg, error)
+        !> The scene.
+        class(bifurcation_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+
+        call run_bifurcation(cfg, error)
+    end subroutine bifurcation_scene_run
+
+    !> The frequency axis, the search grid (amplitude_min..amplitude_max by resolution, coarse_step), then the
+    !> searches (curves x frequencies) and their work: a search asks about (range)/coarse_step coarse amplitudes
+    !> and up to coarse_step/resolution fine ones.
+    pure subroutine bifurcation_scene_limits(self, cfg, where, budget, error)
+        !> The scene.
+        class(bifurcation_scene), intent(in) :: self
+        !> The configuration (values already within their ranges and rules).
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Threads and memory of the machine.
+        type(scene_budget), intent(in) :: budget
+        !> Allocated when a limit is exceeded.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp) :: nomega, ngrid
+
+        associate (sc => cfg%scene)
+            nomega = axis_points(sc%omega_min, sc%omega_max, sc%omega_step)
+            call check_axis(nomega, "omega_step = " // sci(sc%omega_step) // " makes " // sci(nomega) // " frequencies", &
+                            where, error)
+            if (allocated(error)) return
+            ngrid = axis_points(sc%amplitude_min, sc%amplitude_max, sc%resolution)
+            call check_axis(ngrid, "resolution = " // sci(sc%resolution) // " makes a search grid of " // sci(ngrid) &
+                            // " amplitudes", where, error)
+            if (allocated(error)) return
+            call check_axis(sc%coarse_step/sc%resolution, "coarse_step/resolution = " &
+                            // sci(sc%coarse_step/sc%resolution), where, error)
+            if (allocated(error)) return
+            call check_tasks(cfg, real(curve_count(cfg), wp)*nomega*1.0_wp, &
+                             (sc%amplitude_max - sc%amplitude_min)/sc%coarse_step + sc%coarse_step/sc%resolution, &
+                             cfg%run%numerics%t_final/cfg%run%numerics%dt, "searches", where, error)
+        end associate
+    end subroutine bifurcation_scene_limits
 
 end module supratrans_scene_bifurcation

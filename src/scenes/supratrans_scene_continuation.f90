@@ -21,6 +21,8 @@ module supratrans_scene_continuation
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
+    use supratrans_scene, only: scene_type, scene_budget
+    use supratrans_limits, only: axis_points, check_axis, limit_error, threads_text, sci
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
                                  method_name
     use supratrans_curves, only: curve_count, curve_run, write_curves
@@ -60,6 +62,15 @@ module supratrans_scene_continuation
         !> Write the partial output.
         procedure :: snapshot => write_snapshot
     end type continuation_tasks
+
+    !> The scene `continuation`: the fold line of the periodic states over the frequency axis, per curve.
+    type, extends(scene_type), public :: continuation_scene
+    contains
+        !> Run it and write its output (`run_continuation`).
+        procedure :: run => continuation_scene_run
+        !> Its axes, tasks, work and memory against the limits.
+        procedure :: check_limits => continuation_scene_limits
+    end type continuation_scene
 
 contains
 
@@ -500,5 +511,48 @@ contains
             text = "max-norm of the shooting residual P(x) - x at the point"
         end select
     end function branch_description
+
+    !> Run the scene (`run_continuation`).
+    subroutine continuation_scene_run(self, cfg, error)
+        !> The scene.
+        class(continuation_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+
+        call run_continuation(cfg, error)
+    end subroutine continuation_scene_run
+
+    !> The frequency axis, then the dense 2N x (2N + 1) matrices of the shooting: the tangent, the shooting system,
+    !> its LU and the eigenvalue copy (x 4 on the chain of 2N sites of the convergence check), per thread.
+    pure subroutine continuation_scene_limits(self, cfg, where, budget, error)
+        !> The scene.
+        class(continuation_scene), intent(in) :: self
+        !> The configuration (values already within their ranges and rules).
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Threads and memory of the machine.
+        type(scene_budget), intent(in) :: budget
+        !> Allocated when a limit is exceeded.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp) :: nomega, n, need
+
+        associate (sc => cfg%scene)
+            nomega = axis_points(sc%omega_min, sc%omega_max, sc%omega_step)
+            call check_axis(nomega, "omega_step = " // sci(sc%omega_step) // " makes " // sci(nomega) // " frequencies", &
+                            where, error)
+            if (allocated(error)) return
+            n = real(cfg%run%chain%n, wp)*merge(2.0_wp, 1.0_wp, sc%fold_convergence)
+            need = 5.0_wp*(2.0_wp*n + 1.0_wp)**2*8.0_wp*real(budget%threads, wp)
+            if (budget%memory > 0.0_wp .and. need > 0.8_wp*budget%memory) then
+                call limit_error(error, where, "chain", "n = " // int_str(cfg%run%chain%n) // ": the dense shooting " &
+                                 // "matrices need about " // sci(need/1.0e9_wp) // " GB" // threads_text(budget) &
+                                 // ", more than the " // sci(budget%memory/1.0e9_wp) // " GB available (" &
+                                 // budget%source // "; a shorter chain)")
+            end if
+        end associate
+    end subroutine continuation_scene_limits
 
 end module supratrans_scene_continuation

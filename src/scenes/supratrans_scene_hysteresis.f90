@@ -44,6 +44,9 @@ module supratrans_scene_hysteresis
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
+    use supratrans_scene, only: scene_type, scene_budget
+    use supratrans_limits, only: axis_points, check_axis, check_tasks, limit_error, threads_text, sci, max_steps, &
+        run_memory_bytes
     use supratrans_config, only: input_config, run_config, drive_params, method_name
     use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge, detector_site, profile_stairs, stair_count, stair_level, &
@@ -106,6 +109,15 @@ module supratrans_scene_hysteresis
         !> Write the partial output.
         procedure :: snapshot => write_snapshot
     end type hysteresis_tasks
+
+    !> The scene `hysteresis`: the stairs up and down of the amplitude per (curve, frequency, stair length).
+    type, extends(scene_type), public :: hysteresis_scene
+    contains
+        !> Run it and write its output (`run_hysteresis`).
+        procedure :: run => hysteresis_scene_run
+        !> Its axes, tasks, work and memory against the limits.
+        procedure :: check_limits => hysteresis_scene_limits
+    end type hysteresis_scene
 
 contains
 
@@ -601,5 +613,72 @@ contains
             s = maxval(x, mask=ok) - minval(x, mask=ok)
         end if
     end function spread
+
+    !> Run the scene (`run_hysteresis`).
+    subroutine hysteresis_scene_run(self, cfg, error)
+        !> The scene.
+        class(hysteresis_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+
+        call run_hysteresis(cfg, error)
+    end subroutine hysteresis_scene_run
+
+    !> The frequency axis and the stairs (levels, time steps and probe memory of each stair length), then the
+    !> runs (curves x frequencies) and their work: one run per (curve, Omega, stair length) of ramp_time +
+    !> (2K + 1) T_s; its probes at two sites every step.
+    pure subroutine hysteresis_scene_limits(self, cfg, where, budget, error)
+        !> The scene.
+        class(hysteresis_scene), intent(in) :: self
+        !> The configuration (values already within their ranges and rules).
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Threads and memory of the machine.
+        type(scene_budget), intent(in) :: budget
+        !> Allocated when a limit is exceeded.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp) :: nomega, ngrid, steps, run_steps, need
+        real(wp), allocatable :: stair_times(:)
+        integer :: i
+
+        associate (sc => cfg%scene)
+            nomega = axis_points(sc%omega_min, sc%omega_max, sc%omega_step)
+            call check_axis(nomega, "omega_step = " // sci(sc%omega_step) // " makes " // sci(nomega) // " frequencies", &
+                            where, error)
+            if (allocated(error)) return
+            ngrid = axis_points(sc%amplitude_min, sc%amplitude_max, sc%stair_height)
+            call check_axis(ngrid, "stair_height = " // sci(sc%stair_height) // " makes " // sci(ngrid) // " levels", &
+                            where, error)
+            if (allocated(error)) return
+            steps = 0.0_wp
+            need = 0.0_wp
+            stair_times = [400.0_wp]
+            if (allocated(sc%stair_times)) then
+                if (size(sc%stair_times) > 0) stair_times = sc%stair_times
+            end if
+            do i = 1, size(stair_times)
+                run_steps = (cfg%run%drive%ramp_time + (2.0_wp*real(floor(ngrid + 1.0e-9_wp), wp) - 1.0_wp) &
+                             *stair_times(i))/cfg%run%numerics%dt
+                if (.not. (run_steps <= max_steps)) then
+                    call limit_error(error, where, "scene", "a stair run of " // sci(run_steps) // " time steps (stair " &
+                                     // "length " // sci(stair_times(i)) // "): more than the limit " // sci(max_steps))
+                    return
+                end if
+                steps = steps + run_steps
+                need = max(need, 3.0_wp*8.0_wp*run_steps)
+            end do
+            need = (need + run_memory_bytes(cfg, .false.))*real(budget%threads, wp)
+            if (budget%memory > 0.0_wp .and. need > 0.8_wp*budget%memory) then
+                call limit_error(error, where, "scene", "the stair runs' probes need about " // sci(need/1.0e9_wp) &
+                                 // " GB" // threads_text(budget) // ", more than the " &
+                                 // sci(budget%memory/1.0e9_wp) // " GB available")
+                return
+            end if
+            call check_tasks(cfg, real(curve_count(cfg), wp)*nomega*1.0_wp, 1.0_wp, steps, "runs", where, error)
+        end associate
+    end subroutine hysteresis_scene_limits
 
 end module supratrans_scene_hysteresis

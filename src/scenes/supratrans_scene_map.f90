@@ -14,6 +14,9 @@
 module supratrans_scene_map
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
+    use supratrans_scene, only: scene_type, scene_budget
+    use supratrans_curves, only: curve_count
+    use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config
     use supratrans_hdf5, only: h5_file, h5_write, h5_write_attr
     use supratrans_chain, only: band_gap_edge, threshold_as
@@ -30,6 +33,15 @@ module supratrans_scene_map
         !> Write `/amplitude`, `/curves/...`, `/omega` and `/threshold_As`.
         procedure :: write_axes => map_write_axes
     end type map_tasks
+
+    !> The scene `map`: one full run per (curve, frequency, amplitude).
+    type, extends(scene_type), public :: map_scene
+    contains
+        !> Run it and write its output (`run_map`).
+        procedure :: run => map_scene_run
+        !> Its axes, tasks, work and memory against the limits.
+        procedure :: check_limits => map_scene_limits
+    end type map_scene
 
 contains
 
@@ -76,5 +88,45 @@ contains
                       // "4 arctan(lambda c / Omega) of each curve (massless, undamped theory); NaN outside the " &
                       // "curve's band gap", dims="curve, omega")
     end subroutine map_write_axes
+
+    !> Run the scene (`run_map`).
+    subroutine map_scene_run(self, cfg, error)
+        !> The scene.
+        class(map_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+
+        call run_map(cfg, error)
+    end subroutine map_scene_run
+
+    !> The amplitude and frequency axes, then the runs (curves x frequencies x amplitudes) and their work.
+    pure subroutine map_scene_limits(self, cfg, where, budget, error)
+        !> The scene.
+        class(map_scene), intent(in) :: self
+        !> The configuration (values already within their ranges and rules).
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Threads and memory of the machine.
+        type(scene_budget), intent(in) :: budget
+        !> Allocated when a limit is exceeded.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp) :: namp, nomega
+
+        associate (sc => cfg%scene)
+            namp = axis_points(sc%amplitude_min, sc%amplitude_max, sc%amplitude_step)
+            call check_axis(namp, "amplitude_step = " // sci(sc%amplitude_step) // " makes " // sci(namp) &
+                            // " amplitudes", where, error)
+            if (allocated(error)) return
+            nomega = axis_points(sc%omega_min, sc%omega_max, sc%omega_step)
+            call check_axis(nomega, "omega_step = " // sci(sc%omega_step) // " makes " // sci(nomega) // " frequencies", &
+                            where, error)
+            if (allocated(error)) return
+            call check_tasks(cfg, real(curve_count(cfg), wp)*nomega*namp, 1.0_wp, &
+                             cfg%run%numerics%t_final/cfg%run%numerics%dt, "runs", where, error)
+        end associate
+    end subroutine map_scene_limits
 
 end module supratrans_scene_map

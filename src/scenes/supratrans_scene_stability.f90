@@ -40,6 +40,7 @@ module supratrans_scene_stability
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_strings, only: int_str, real_str
+    use supratrans_scene, only: scene_type
     use supratrans_config, only: input_config, run_config, chain_params, method_newton, method_linearized, &
                                  method_rk4, method_rk8, method_name
     use supratrans_potential, only: potential_name
@@ -88,6 +89,13 @@ module supratrans_scene_stability
     contains
         procedure :: run => run_stability_task
     end type stability_tasks
+
+    !> The scene `stability`: the largest stable dt per (curve, method), measured and predicted.
+    type, extends(scene_type), public :: stability_scene
+    contains
+        !> Run it and write its output (`run_stability`).
+        procedure :: run => stability_scene_run
+    end type stability_scene
 
 contains
 
@@ -552,5 +560,17 @@ contains
             "Runs made by the bisection", dims="curve, method, c")
         call h5_commit(file, error)
     end subroutine write_stability
+
+    !> Run the scene (`run_stability`).
+    subroutine stability_scene_run(self, cfg, error)
+        !> The scene.
+        class(stability_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+
+        call run_stability(cfg, error)
+    end subroutine stability_scene_run
 
 end module supratrans_scene_stability

@@ -33,6 +33,8 @@ module supratrans_scene_sweep
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp, i8, supratrans_version
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
+    use supratrans_scene, only: scene_type, scene_budget
+    use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config, run_config
     use supratrans_curves, only: curve_count, curve_run, curve_indices, write_curves
     use supratrans_validate, only: validate_config
@@ -109,6 +111,17 @@ module supratrans_scene_sweep
         !> Whether a (frequency, curve) is run: inside the curve's band gap, or allow_outside_gap.
         procedure :: runnable
     end type sweep_tasks
+
+    !> The scene `amplitude_sweep`: one full run per (curve, amplitude) at the &drive frequency.
+    type, extends(scene_type), public :: sweep_scene
+    contains
+        !> Run it and write its output (`run_amplitude_sweep`).
+        procedure :: run => sweep_scene_run
+        !> Its axes, tasks, work and memory against the limits.
+        procedure :: check_limits => sweep_scene_limits
+        !> At one frequency: inside the band gap.
+        procedure :: gap_rule => sweep_scene_gap
+    end type sweep_scene
 
 contains
 
@@ -615,5 +628,48 @@ contains
             end if
         end do
     end function to_int
+
+    !> Run the scene (`run_amplitude_sweep`).
+    subroutine sweep_scene_run(self, cfg, error)
+        !> The scene.
+        class(sweep_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+
+        call run_amplitude_sweep(cfg, error)
+    end subroutine sweep_scene_run
+
+    !> The amplitude axis, then the runs (curves x amplitudes) and their work.
+    pure subroutine sweep_scene_limits(self, cfg, where, budget, error)
+        !> The scene.
+        class(sweep_scene), intent(in) :: self
+        !> The configuration (values already within their ranges and rules).
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Threads and memory of the machine.
+        type(scene_budget), intent(in) :: budget
+        !> Allocated when a limit is exceeded.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp) :: namp
+
+        namp = axis_points(cfg%scene%amplitude_min, cfg%scene%amplitude_max, cfg%scene%amplitude_step)
+        call check_axis(namp, "amplitude_step = " // sci(cfg%scene%amplitude_step) // " makes " // sci(namp) &
+                        // " amplitudes", where, error)
+        if (allocated(error)) return
+        call check_tasks(cfg, real(curve_count(cfg), wp)*1.0_wp*namp, 1.0_wp, &
+                         cfg%run%numerics%t_final/cfg%run%numerics%dt, "runs", where, error)
+    end subroutine sweep_scene_limits
+
+    !> An amplitude sweep is driven at one frequency, which must lie inside each curve's band gap.
+    pure function sweep_scene_gap(self) result(yes)
+        !> The scene.
+        class(sweep_scene), intent(in) :: self
+        logical :: yes
+
+        yes = .true.
+    end function sweep_scene_gap
 
 end module supratrans_scene_sweep

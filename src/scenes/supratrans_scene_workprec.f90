@@ -43,6 +43,7 @@ module supratrans_scene_workprec
     use supratrans_kinds, only: wp, i8, pi
     use supratrans_error, only: error_type, fatal_error, err_input, err_runtime
     use supratrans_strings, only: int_str, real_str, printable
+    use supratrans_scene, only: scene_type
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
                                  method_name
     use supratrans_simulate, only: simulate
@@ -117,6 +118,13 @@ module supratrans_scene_workprec
     contains
         procedure :: run => run_workprec_task
     end type workprec_tasks
+
+    !> The scene `work_precision`: timed runs per (method, dt) against a reference.
+    type, extends(scene_type), public :: workprec_scene
+    contains
+        !> Run it and write its output (`run_work_precision`).
+        procedure :: run => workprec_scene_run
+    end type workprec_scene
 
 contains
 
@@ -745,5 +753,17 @@ contains
 
         if (.not. cfg%output%quiet) write (error_unit, "(a)") printable(line)
     end subroutine progress
+
+    !> Run the scene (`run_work_precision`).
+    subroutine workprec_scene_run(self, cfg, error)
+        !> The scene.
+        class(workprec_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+
+        call run_work_precision(cfg, error)
+    end subroutine workprec_scene_run
 
 end module supratrans_scene_workprec
