@@ -109,95 +109,100 @@ program pf_driver
     use test_scene_bifurcation, only: t98 => test_file_layout
     use test_scene_bifurcation, only: t99 => test_failed_runs_give_status_run_failed
     use test_scene_bifurcation, only: t100 => test_screening_changes_no_threshold
-    use test_scene_map, only: b13 => set_up
-    use test_scene_map, only: a13 => tear_down
-    use test_scene_map, only: t101 => test_skips_outside_gap_and_stores_as
-    use test_scene_map, only: t102 => test_map_independent_of_thread_count
-    use test_scene_sweep, only: b14 => set_up
-    use test_scene_sweep, only: a14 => tear_down
-    use test_scene_sweep, only: t103 => test_axis_grid_exact
-    use test_scene_sweep, only: t104 => test_independent_of_thread_count
-    use test_scene_sweep, only: t105 => test_layout_and_physics
-    use test_scene_sweep, only: t106 => test_resume_after_kill
-    use test_scene_sweep, only: t107 => test_diverging_runs_flagged
-    use test_scene_sweep, only: t108 => test_partial_snapshot
-    use test_scene_sweep, only: t109 => test_refuses_existing_output
-    use test_schema, only: t110 => test_table_is_complete
-    use test_schema, only: t111 => test_each_key_sets_its_own_field
-    use test_schema, only: t112 => test_defaults_are_the_papers
-    use test_schema, only: t113 => test_choices_agree_with_the_physics
-    use test_schema, only: t114 => test_parameters_hold_every_key
-    use test_scheme, only: t115 => test_ledger_closes_every_step
-    use test_scheme, only: t116 => test_linearized_ledger_does_not_close
-    use test_scheme, only: t117 => test_evanescent_wave
-    use test_scheme, only: t118 => test_second_order_in_dt
-    use test_scheme, only: t119 => test_stability_boundary
-    use test_scheme, only: t120 => test_newton_failure_reported
-    use test_scheme, only: t121 => test_two_runs_in_two_threads
-    use test_scheme, only: t122 => test_verdict_across_the_gap
-    use test_screened_search, only: t123 => test_cheap_right_saves_exact_runs
-    use test_screened_search, only: t124 => test_cheap_too_high_within_band
-    use test_screened_search, only: t125 => test_cheap_too_high_walks_down
-    use test_screened_search, only: t126 => test_cheap_window_far_below
-    use test_screened_search, only: t127 => test_doubtful_quiet_answers_go_to_the_exact_oracle
-    use test_screened_search, only: t128 => test_random_patterns_with_margins
-    use test_screened_search, only: t129 => test_random_patterns_false_alarms
-    use test_screened_search, only: t130 => test_cheap_finds_none
-    use test_screened_search, only: t131 => test_none_transmits_confirms_the_top
-    use test_screened_search, only: t132 => test_exact_failure_is_reported
-    use test_screened_search, only: t133 => test_cheap_failure_falls_back_to_exact
-    use test_stability, only: b18 => set_up
-    use test_stability, only: a18 => tear_down
-    use test_stability, only: t134 => test_linear_limits
-    use test_stability, only: t135 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t136 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t137 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t138 => test_stepper_contract_order
-    use test_stepper_contract, only: t139 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t140 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t141 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t142 => test_engine_counts_steps_in_64_bits
-    use test_stepper_linearized, only: t143 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t144 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t145 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t146 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t147 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t148 => test_newton_error_below_tol
-    use test_stepper_newton, only: t149 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t150 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t151 => test_newton_stepper_reports_failure
-    use test_strings, only: t152 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t153 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t154 => test_find_name_gives_the_first_index_or_zero
-    use test_system, only: b23 => set_up
-    use test_system, only: a23 => tear_down
-    use test_system, only: t155 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t156 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t157 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t158 => test_temporary_names_are_fresh
-    use test_system, only: t159 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t160 => test_monotone_step
-    use test_threshold, only: t161 => test_bisected_bracket
-    use test_threshold, only: t162 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t163 => test_two_transitions
-    use test_threshold, only: t164 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t165 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t166 => test_nothing_transmits
-    use test_threshold, only: t167 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t168 => test_lower_bound_transmits
-    use test_threshold, only: t169 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t170 => test_bad_arguments
-    use test_threshold, only: t171 => test_grid_helpers
-    use test_workprec, only: b25 => set_up
-    use test_workprec, only: a25 => tear_down
-    use test_workprec, only: t172 => test_rk8_eighth_order
-    use test_workprec, only: t173 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t174 => test_rk8_stability_polynomial
-    use test_workprec, only: t175 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t176 => test_unstable_runs_are_reported
-    use test_workprec, only: t177 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t178 => test_fitted_order
-    use test_workprec, only: t179 => test_step_kernels_timed
+    use test_scene_factory, only: t101 => test_every_kind_of_the_schema_has_a_scene
+    use test_scene_factory, only: t102 => test_unknown_kind_is_one_line_naming_the_known
+    use test_scene_factory, only: t103 => test_the_input_check_words_an_unknown_kind_as_before
+    use test_scene_factory, only: t104 => test_only_a_timeseries_is_one_run
+    use test_scene_factory, only: t105 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
+    use test_scene_map, only: b14 => set_up
+    use test_scene_map, only: a14 => tear_down
+    use test_scene_map, only: t106 => test_skips_outside_gap_and_stores_as
+    use test_scene_map, only: t107 => test_map_independent_of_thread_count
+    use test_scene_sweep, only: b15 => set_up
+    use test_scene_sweep, only: a15 => tear_down
+    use test_scene_sweep, only: t108 => test_axis_grid_exact
+    use test_scene_sweep, only: t109 => test_independent_of_thread_count
+    use test_scene_sweep, only: t110 => test_layout_and_physics
+    use test_scene_sweep, only: t111 => test_resume_after_kill
+    use test_scene_sweep, only: t112 => test_diverging_runs_flagged
+    use test_scene_sweep, only: t113 => test_partial_snapshot
+    use test_scene_sweep, only: t114 => test_refuses_existing_output
+    use test_schema, only: t115 => test_table_is_complete
+    use test_schema, only: t116 => test_each_key_sets_its_own_field
+    use test_schema, only: t117 => test_defaults_are_the_papers
+    use test_schema, only: t118 => test_choices_agree_with_the_physics
+    use test_schema, only: t119 => test_parameters_hold_every_key
+    use test_scheme, only: t120 => test_ledger_closes_every_step
+    use test_scheme, only: t121 => test_linearized_ledger_does_not_close
+    use test_scheme, only: t122 => test_evanescent_wave
+    use test_scheme, only: t123 => test_second_order_in_dt
+    use test_scheme, only: t124 => test_stability_boundary
+    use test_scheme, only: t125 => test_newton_failure_reported
+    use test_scheme, only: t126 => test_two_runs_in_two_threads
+    use test_scheme, only: t127 => test_verdict_across_the_gap
+    use test_screened_search, only: t128 => test_cheap_right_saves_exact_runs
+    use test_screened_search, only: t129 => test_cheap_too_high_within_band
+    use test_screened_search, only: t130 => test_cheap_too_high_walks_down
+    use test_screened_search, only: t131 => test_cheap_window_far_below
+    use test_screened_search, only: t132 => test_doubtful_quiet_answers_go_to_the_exact_oracle
+    use test_screened_search, only: t133 => test_random_patterns_with_margins
+    use test_screened_search, only: t134 => test_random_patterns_false_alarms
+    use test_screened_search, only: t135 => test_cheap_finds_none
+    use test_screened_search, only: t136 => test_none_transmits_confirms_the_top
+    use test_screened_search, only: t137 => test_exact_failure_is_reported
+    use test_screened_search, only: t138 => test_cheap_failure_falls_back_to_exact
+    use test_stability, only: b19 => set_up
+    use test_stability, only: a19 => tear_down
+    use test_stability, only: t139 => test_linear_limits
+    use test_stability, only: t140 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t141 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t142 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t143 => test_stepper_contract_order
+    use test_stepper_contract, only: t144 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t145 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t146 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t147 => test_engine_counts_steps_in_64_bits
+    use test_stepper_linearized, only: t148 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t149 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t150 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t151 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t152 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t153 => test_newton_error_below_tol
+    use test_stepper_newton, only: t154 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t155 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t156 => test_newton_stepper_reports_failure
+    use test_strings, only: t157 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t158 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t159 => test_find_name_gives_the_first_index_or_zero
+    use test_system, only: b24 => set_up
+    use test_system, only: a24 => tear_down
+    use test_system, only: t160 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t161 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t162 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t163 => test_temporary_names_are_fresh
+    use test_system, only: t164 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t165 => test_monotone_step
+    use test_threshold, only: t166 => test_bisected_bracket
+    use test_threshold, only: t167 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t168 => test_two_transitions
+    use test_threshold, only: t169 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t170 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t171 => test_nothing_transmits
+    use test_threshold, only: t172 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t173 => test_lower_bound_transmits
+    use test_threshold, only: t174 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t175 => test_bad_arguments
+    use test_threshold, only: t176 => test_grid_helpers
+    use test_workprec, only: b26 => set_up
+    use test_workprec, only: a26 => tear_down
+    use test_workprec, only: t177 => test_rk8_eighth_order
+    use test_workprec, only: t178 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t179 => test_rk8_stability_polynomial
+    use test_workprec, only: t180 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t181 => test_unstable_runs_are_reported
+    use test_workprec, only: t182 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t183 => test_fitted_order
+    use test_workprec, only: t184 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -316,99 +321,104 @@ program pf_driver
     call pf_run_test('test_scene_bifurcation', 'test_file_layout', t98, before=b12, after=a12)
     call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t99, before=b12, after=a12)
     call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t100, before=b12, after=a12)
-    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t101, before=b13, after=a13)
-    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t102, before=b13, after=a13)
-    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t103, before=b14, after=a14)
-    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t104, before=b14, after=a14)
-    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t105, before=b14, after=a14)
-    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t106, before=b14, after=a14)
-    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t107, before=b14, after=a14)
-    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t108, before=b14, after=a14)
-    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t109, before=b14, after=a14)
-    call pf_run_test('test_schema', 'test_table_is_complete', t110)
-    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t111)
-    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t112)
-    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t113)
-    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t114)
-    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t115)
-    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t116)
-    call pf_run_test('test_scheme', 'test_evanescent_wave', t117)
-    call pf_run_test('test_scheme', 'test_second_order_in_dt', t118)
-    call pf_run_test('test_scheme', 'test_stability_boundary', t119)
-    call pf_run_test('test_scheme', 'test_newton_failure_reported', t120)
-    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t121)
-    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t122)
-    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t123)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t124)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t125)
-    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t126)
-    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t127)
-    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t128)
-    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t129)
-    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t130)
-    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t131)
-    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t132)
-    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t133)
-    call pf_run_test('test_stability', 'test_linear_limits', t134, before=b18, after=a18)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t135, before=b18, after=a18)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t136, before=b18, after=a18)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t137)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t138)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t139)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t140)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t141)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t142)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t143)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t144)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t145)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t146)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t147)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t148)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t149)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t150)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t151)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t152)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t153)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t154)
+    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t101)
+    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t102)
+    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t103)
+    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t104)
+    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t105)
+    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t106, before=b14, after=a14)
+    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t107, before=b14, after=a14)
+    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t108, before=b15, after=a15)
+    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t109, before=b15, after=a15)
+    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t110, before=b15, after=a15)
+    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t111, before=b15, after=a15)
+    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t112, before=b15, after=a15)
+    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t113, before=b15, after=a15)
+    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t114, before=b15, after=a15)
+    call pf_run_test('test_schema', 'test_table_is_complete', t115)
+    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t116)
+    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t117)
+    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t118)
+    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t119)
+    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t120)
+    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t121)
+    call pf_run_test('test_scheme', 'test_evanescent_wave', t122)
+    call pf_run_test('test_scheme', 'test_second_order_in_dt', t123)
+    call pf_run_test('test_scheme', 'test_stability_boundary', t124)
+    call pf_run_test('test_scheme', 'test_newton_failure_reported', t125)
+    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t126)
+    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t127)
+    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t128)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t129)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t130)
+    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t131)
+    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t132)
+    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t133)
+    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t134)
+    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t135)
+    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t136)
+    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t137)
+    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t138)
+    call pf_run_test('test_stability', 'test_linear_limits', t139, before=b19, after=a19)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t140, before=b19, after=a19)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t141, before=b19, after=a19)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t142)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t143)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t144)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t145)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t146)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t147)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t148)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t149)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t150)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t151)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t152)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t153)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t154)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t155)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t156)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t157)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t158)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t159)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t155, &
-        before=b23, &
-        after=a23)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t156, before=b23, after=a23)
+        t160, &
+        before=b24, &
+        after=a24)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t161, before=b24, after=a24)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t157, &
-        before=b23, &
-        after=a23)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t158, before=b23, after=a23)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t159, before=b23, after=a23)
-    call pf_run_test('test_threshold', 'test_monotone_step', t160)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t161)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t162)
-    call pf_run_test('test_threshold', 'test_two_transitions', t163)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t164)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t165)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t166)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t167)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t168)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t169)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t170)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t171)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t172, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t173, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t174, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t175, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t176, before=b25, after=a25)
+        t162, &
+        before=b24, &
+        after=a24)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t163, before=b24, after=a24)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t164, before=b24, after=a24)
+    call pf_run_test('test_threshold', 'test_monotone_step', t165)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t166)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t167)
+    call pf_run_test('test_threshold', 'test_two_transitions', t168)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t169)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t170)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t171)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t172)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t173)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t174)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t175)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t176)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t177, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t178, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t179, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t180, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t181, before=b26, after=a26)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t177, &
-        before=b25, &
-        after=a25)
-    call pf_run_test('test_workprec', 'test_fitted_order', t178, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t179, before=b25, after=a25)
+        t182, &
+        before=b26, &
+        after=a26)
+    call pf_run_test('test_workprec', 'test_fitted_order', t183, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t184, before=b26, after=a26)
     call pf_driver_finish()
 end program pf_driver
