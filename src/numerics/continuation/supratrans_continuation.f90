@@ -79,6 +79,10 @@ module supratrans_continuation
     integer, parameter :: reuse_slack = 3
     !> Most Jacobian refreshes in one corrector attempt.
     integer, parameter :: max_refreshes = 3
+    !> Number of largest multiplier moduli whose trend decides extra multiplier checks (`floquet_trend`).
+    integer, parameter :: trend_ranks = 8
+    !> Safety factor on the extrapolated growth of those moduli.
+    real(wp), parameter :: trend_safety = 2.0_wp
 
     !> Controls of the continuation, with their defaults.
     type, public :: continuation_controls
@@ -115,6 +119,11 @@ module supratrans_continuation
         real(wp) :: beyond_fold_distance = 0.0_wp
         !> Multipliers at every floquet_every-th point (1: all), at the fold, and where the verdict changes.
         integer :: floquet_every = 1
+        !> With floquet_every > 1, also compute the multipliers (and the Jacobian) at a point that is not due when
+        !> one of the `trend_ranks` largest moduli, extrapolated at twice its growth over the last two points with
+        !> multipliers, would pass 1 + crossing_tol by that point: the skipped points are those where the spectrum
+        !> stays clear of the circle.
+        logical :: floquet_trend = .true.
         !> Between the points with multipliers, reuse the last factorised Jacobian (Shamanskii across points): no
         !> Jacobian at such a point, the secant (y_i - y_{i-1}) / |y_i - y_{i-1}| as its tangent. Without effect
         !> when floquet_every = 1 (every point then has its Jacobian).
@@ -245,8 +254,9 @@ contains
         type(shooting_result) :: sres
         real(wp), allocatable :: x(:), wr(:), wi(:), row(:)
         real(wp) :: ds, nan, t_start, sigma
-        integer :: d, n1, info, last_checked, j, every, slack
-        logical :: ok, have_mult, lost, located, past, due
+        integer :: d, n1, info, last_checked, j, every, slack, n_trend
+        logical :: ok, have_mult, lost, located, past, due, watch
+        real(wp) :: top_last(trend_ranks), top_prev(trend_ranks), s_last, s_prev
 
         t_start = wall_clock()
         nan = ieee_value(1.0_wp, ieee_quiet_nan)
@@ -293,6 +303,12 @@ contains
         end if
         call point_multipliers(cur, res%stats, wr, wi, info)
         call record_point(map, res, cur, wr, wi, info == 0)
+        n_trend = 0
+        s_last = 0.0_wp
+        s_prev = 0.0_wp
+        top_last = 0.0_wp
+        top_prev = 0.0_wp
+        if (info == 0) call note_trend(cur%s, wr, wi)
         last_checked = 1
         lost = res%stable(1) == 0
         if (lost) then
@@ -303,6 +319,7 @@ contains
         ds = min(max(ctl%ds0, ctl%ds_min), ctl%ds_max)
         past = .false.
         every = max(1, ctl%floquet_every)
+        watch = .false.
         march: do
             if (res%n_points >= ctl%max_points) then
                 call set_stop(res, cont_max_points)
@@ -312,6 +329,9 @@ contains
             if (ok) then
                 ! multipliers due here: every `every` points, and right after the fold (appended or inserted)
                 due = mod(res%n_points, every) == 0 .or. (res%fold_index > 0 .and. res%fold_index >= res%n_points - 1)
+                ! and wherever the trend of the largest moduli may reach the circle within this step
+                watch = every > 1 .and. ctl%floquet_trend .and. .not. lost .and. trend_due(cur%s + ds)
+                due = due .or. watch
                 if (due .or. .not. ctl%reuse_jacobian) then
                     call complete_point(map, trial, cur%t, next, ok, res%stats)
                 else
@@ -375,10 +395,12 @@ contains
             end if
 
             have_mult = mod(res%n_points, every) == 0 .or. res%fold_index == res%n_points
+            have_mult = have_mult .or. watch
             have_mult = trial%exact .and. (have_mult .or. (res%fold_index > 0 .and. res%fold_index == res%n_points - 1))
             if (have_mult) then
                 call point_multipliers(trial, res%stats, wr, wi, info)
                 have_mult = info == 0
+                if (have_mult) call note_trend(trial%s, wr, wi)
             end if
             call record_point(map, res, trial, wr, wi, have_mult)
             if (have_mult) call check_stability(res%n_points, trial)
@@ -412,6 +434,39 @@ contains
         call finish(res, t_start)
 
     contains
+
+        !> Keep the `trend_ranks` largest moduli of the multipliers at arclength s (and those of the point before).
+        subroutine note_trend(s, wr, wi)
+            real(wp), intent(in) :: s
+            real(wp), intent(in) :: wr(:), wi(:)
+            real(wp), allocatable :: modulus(:)
+            integer :: r, k
+
+            top_prev = top_last
+            s_prev = s_last
+            modulus = hypot(wr, wi)
+            top_last = 0.0_wp
+            do r = 1, min(trend_ranks, size(modulus))
+                k = maxloc(modulus, dim=1)
+                top_last(r) = modulus(k)
+                modulus(k) = -1.0_wp
+            end do
+            s_last = s
+            n_trend = min(n_trend + 1, 2)
+        end subroutine note_trend
+
+        !> Whether the multipliers are needed at arclength s_next although not due: the r-th largest modulus
+        !> (r = 1..trend_ranks), extrapolated from the last two points with multipliers at twice its rate of
+        !> growth, would pass 1 + crossing_tol by s_next (or fewer than two points are known).
+        logical function trend_due(s_next)
+            real(wp), intent(in) :: s_next
+            real(wp) :: rate(trend_ranks)
+
+            trend_due = .true.
+            if (n_trend < 2 .or. .not. (s_last > s_prev)) return
+            rate = max((top_last - top_prev)/(s_last - s_prev), 0.0_wp)
+            trend_due = any(top_last + trend_safety*rate*max(s_next - s_last, 0.0_wp) > 1.0_wp + ctl%crossing_tol)
+        end function trend_due
 
         !> The fold between the previous recorded point and cur (the last one): the exact tangent at the previous
         !> point, the secant on t_A from there, the fold point inserted before cur.
