@@ -528,7 +528,7 @@ contains
             type(branch_point), intent(in) :: pt
             type(branch_point) :: left
             real(wp), allocatable :: lr(:), li(:)
-            real(wp) :: shift
+            real(wp) :: shift, g_k, g_m, sigma_k
             integer :: k, linfo, kind, m, jl
             logical :: inside
 
@@ -557,6 +557,7 @@ contains
                 call point_multipliers(left, res%stats, lr, li, linfo)
             end if
             kind = leading_crossing(lr, li, ctl%crossing_tol)
+            g_k = crossing_distance(lr, li, kind)
             if (kind == crossing_fold .and. res%fold_index > 0 .and. k >= res%fold_index - 1) then
                 ! A real multiplier through +1 after the fold: the fold itself
                 res%instability_amplitude = res%fold_amplitude
@@ -574,7 +575,8 @@ contains
                 if (linfo /= 0) return
                 call point_multipliers(left, res%stats, lr, li, linfo)
                 if (linfo /= 0) return
-                if (crossing_distance(lr, li, kind) < 0.0_wp) then
+                g_m = crossing_distance(lr, li, kind)
+                if (g_m < 0.0_wp) then
                     inside = .true.
                     exit
                 end if
@@ -592,8 +594,23 @@ contains
                 type(bordered_system) :: sys
                 call factor_bordered(left%jac, left%dpda, left%t, sys, linfo, res%stats)
                 if (linfo /= 0) return
-                call locate(map, left, sys, res%arclength(jl + 1) - res%arclength(jl), kind, shift, ctl, lost_pt, &
-                            lr, li, located, res%stats)
+                if (inside .and. jl + 1 == k) then
+                    ! both ends known: the bracket is point k's step along left's tangent
+                    sigma_k = dot_product(left%t, [res%states(:, k), res%amplitude(k)] - left%y)
+                    if (sigma_k > 0.0_wp) then
+                        call locate(map, left, sys, sigma_k, kind, shift, ctl, lost_pt, lr, li, located, res%stats, &
+                                    g_lo=g_m, g_hi=g_k)
+                    else
+                        call locate(map, left, sys, res%arclength(jl + 1) - res%arclength(jl), kind, shift, ctl, &
+                                    lost_pt, lr, li, located, res%stats, g_lo=g_m)
+                    end if
+                else if (inside) then
+                    call locate(map, left, sys, res%arclength(jl + 1) - res%arclength(jl), kind, shift, ctl, lost_pt, &
+                                lr, li, located, res%stats, g_lo=g_m)
+                else
+                    call locate(map, left, sys, res%arclength(jl + 1) - res%arclength(jl), kind, shift, ctl, lost_pt, &
+                                lr, li, located, res%stats)
+                end if
             end block
             if (located) res%instability_amplitude = lost_pt%y(n1)
         end subroutine check_stability
@@ -862,7 +879,7 @@ contains
     !> g(sigma): the tangent's A-component (kind 0, the fold) or `crossing_distance` of that kind minus `shift`.
     !> `pt` is the last corrected point (with its multipliers wr, wi); `located` tells whether the tolerance
     !> was met.
-    subroutine locate(map, bp, sys, sigma_hi, kind, shift, ctl, pt, wr, wi, located, stats, hi)
+    subroutine locate(map, bp, sys, sigma_hi, kind, shift, ctl, pt, wr, wi, located, stats, hi, g_lo, g_hi)
         class(fixed_point_map), intent(inout) :: map
         type(branch_point), intent(in) :: bp
         type(bordered_system), intent(in) :: sys
@@ -875,6 +892,9 @@ contains
         type(continuation_stats), intent(inout) :: stats
         !> The corrected point at sigma_hi, when the caller has it.
         type(branch_point), intent(in), optional :: hi
+        !> `crossing_distance` of that kind at bp and at the branch point whose step along bp's tangent is sigma_hi,
+        !> when the caller has them (no multipliers recomputed there).
+        real(wp), intent(in), optional :: g_lo, g_hi
         type(bordered_system) :: psys, fsys
         real(wp) :: a, b, c, fa, fb, fc, kappa, a_prev
         integer :: iter, side, n1, info
@@ -883,11 +903,18 @@ contains
         n1 = size(bp%y)
         located = .false.
         a = 0.0_wp
-        call value_at(a, fa, ok)
-        if (.not. ok) return
+        if (present(g_lo) .and. kind /= 0) then
+            pt = bp
+            fa = g_lo - shift
+        else
+            call value_at(a, fa, ok)
+            if (.not. ok) return
+        end if
         b = sigma_hi
         if (present(hi) .and. kind == 0) then
             fb = hi%t(n1)
+        else if (present(g_hi) .and. kind /= 0) then
+            fb = g_hi - shift
         else
             call value_at(b, fb, ok)
             if (.not. ok) return
