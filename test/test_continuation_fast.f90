@@ -2,12 +2,16 @@
 !> The fast Floquet path of the continuation (multipliers at every `floquet_every`-th point, and wherever the trend
 !> of the largest moduli may reach the unit circle within the step, `floquet_trend`) against the full path (the
 !> multipliers, by `dgeev`, at every point) on the one-period map of the paper's scheme: the same fold to 1e-8, the
-!> same first loss of stability (type, and amplitude to 1e-8), with fewer eigenvalue computations.
+!> same first loss of stability (type, and amplitude to 1e-8), with fewer eigenvalue computations. The short chain
+!> of fold lines (`supratrans_fold_line`): used only when the input gives no n, n0, sigma; N0 the smallest with
+!> e^{-lambda' N0} <= e^{-7}.
 module test_continuation_fast
     use pf_runtime
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
-    use supratrans_config, only: run_config, method_newton
+    use supratrans_config, only: run_config, method_newton, chain_params
+    use supratrans_fold_line, only: shortest_chain, chain_length_given, scheme_decay_rate, short_absorber_width, &
+                                    short_absorber_sigma, short_chain_decay
     use supratrans_period_map, only: period_map, period_map_init
     use supratrans_continuation
     use supratrans_floquet, only: crossing_name
@@ -34,7 +38,7 @@ contains
         run%numerics%method = method_newton
         run%numerics%dt = 0.05_wp
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 36, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 40, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4)
         call continue_branch(map, ctl, full)
@@ -43,52 +47,119 @@ contains
         call assertEqual( &
             cont_fold_found, &
             full%status, &
-            location=pf_source_location('test_continuation_fast.pf', 41, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 45, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             cont_fold_found, &
             fast%status, &
-            location=pf_source_location('test_continuation_fast.pf', 42, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 46, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%fold_amplitude, &
             fast%fold_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 43, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 47, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%instability_type, &
             fast%instability_type, &
             message=crossing_name(fast%instability_type), &
-            location=pf_source_location('test_continuation_fast.pf', 44, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 48, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             ieee_is_nan(fast%instability_amplitude), &
-            location=pf_source_location('test_continuation_fast.pf', 45, 'assertFalse'))
+            location=pf_source_location('test_continuation_fast.pf', 49, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%instability_amplitude, &
             fast%instability_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 46, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 50, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             fast%stats%eigen_calls, &
             full%stats%eigen_calls, &
-            location=pf_source_location('test_continuation_fast.pf', 47, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 51, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             any(fast%stable == -1), &
-            location=pf_source_location('test_continuation_fast.pf', 48, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 52, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(full%stable(1:full%fold_index - 1) == 1), &
-            location=pf_source_location('test_continuation_fast.pf', 49, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 53, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(fast%stable(1:fast%fold_index - 1) /= 0), &
-            location=pf_source_location('test_continuation_fast.pf', 50, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 54, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_fast_floquet_same_verdicts
+
+    !> The short chain: the input's chain length counts as given when &chain sets n, n0 or sigma (or the text is
+    !> empty); at Omega = 0.9, dt = 0.05 the short chain has N - N0 = short_absorber_width, the smooth absorber's
+    !> sigma, and the smallest N0 with lambda' N0 >= short_chain_decay, lambda' within 5e-3 (the scheme's O(dt^2))
+    !> of the continuum's arccosh(1 + (1 - Omega^2) / (2 c^2)); outside the gap (Omega = 1.2) the chain is kept.
+    ! @test
+    subroutine test_short_chain()
+        type(chain_params) :: chain, given
+        character(len=*), parameter :: nl = new_line("a")
+        real(wp) :: lambda, dt_used
+
+        call assertFalse( &
+            chain_length_given("&chain" // nl // "  c = 4.0" // nl // "/" // nl), &
+            location=pf_source_location('test_continuation_fast.pf', 67, 'assertFalse'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            chain_length_given("&chain" // nl // "  n = 30" // nl // "/" // nl), &
+            location=pf_source_location('test_continuation_fast.pf', 68, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            chain_length_given("&chain" // nl // "  sigma = 3.0" // nl // "/" // nl), &
+            location=pf_source_location('test_continuation_fast.pf', 69, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            chain_length_given("&chain" // nl // "  n0 = 150" // nl // "/" // nl), &
+            location=pf_source_location('test_continuation_fast.pf', 70, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            chain_length_given(""), &
+            location=pf_source_location('test_continuation_fast.pf', 71, 'assertTrue'))
+        if (pf_any_failed()) return
+        call shortest_chain(chain, 0.9_wp, 0.05_wp)
+        call assertEqual( &
+            short_absorber_width, &
+            chain%n - chain%n0, &
+            location=pf_source_location('test_continuation_fast.pf', 73, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            short_absorber_sigma, &
+            chain%sigma, &
+            0.0_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 74, 'assertEqual'))
+        if (pf_any_failed()) return
+        dt_used = 2.0_wp*acos(-1.0_wp)/0.9_wp/140.0_wp
+        lambda = scheme_decay_rate(chain, 0.9_wp, dt_used)
+        call assertEqual( &
+            acosh(1.0_wp + (1.0_wp - 0.81_wp)/32.0_wp), &
+            lambda, &
+            5.0e-3_wp*lambda, &
+            location=pf_source_location('test_continuation_fast.pf', 77, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertGreaterThanOrEqual( &
+            lambda*chain%n0, &
+            short_chain_decay, &
+            location=pf_source_location('test_continuation_fast.pf', 78, 'assertGreaterThanOrEqual'))
+        if (pf_any_failed()) return
+        call assertLessThan( &
+            lambda*(chain%n0 - 1), &
+            short_chain_decay, &
+            location=pf_source_location('test_continuation_fast.pf', 79, 'assertLessThan'))
+        if (pf_any_failed()) return
+        call shortest_chain(given, 1.2_wp, 0.05_wp)
+        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 81, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 82, 'assertEqual'))
+        if (pf_any_failed()) return
+    end subroutine test_short_chain
 
 end module test_continuation_fast
