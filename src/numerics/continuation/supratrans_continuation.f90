@@ -737,6 +737,9 @@ contains
                 ! Shamanskii: a fresh Jacobian when the chord contracts by less than chord_rate per step, or too
                 ! slowly to reach the tolerance within the iterations left
                 rate = dn/dn_prev
+                ! growing although the Jacobian was refreshed in this attempt: the iterate has left Newton's basin,
+                ! a shorter step will do better than more Jacobians
+                if (rate >= 1.0_wp .and. pt%refreshes > 0) return
                 if (rate > ctl%chord_rate) then
                     want_jac = .true.
                 else if (dn > ctl%newton_tol .and. rate > 0.0_wp) then
