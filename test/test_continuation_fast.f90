@@ -98,7 +98,8 @@ contains
     !> The short chain: the input's chain length counts as given when &chain sets n, n0 or sigma (or the text is
     !> empty); at Omega = 0.9, dt = 0.05 the short chain has N - N0 = short_absorber_width, the smooth absorber's
     !> sigma, and the smallest N0 with lambda' N0 >= short_chain_decay, lambda' within 5e-3 (the scheme's O(dt^2))
-    !> of the continuum's arccosh(1 + (1 - Omega^2) / (2 c^2)); outside the gap (Omega = 1.2) the chain is kept.
+    !> of the continuum's arccosh(1 + (1 - Omega^2) / (2 c^2)); outside the gap (Omega = 1.2) and below the range
+    !> measured (Omega = 0.1) the chain is kept.
     ! @test
     subroutine test_short_chain()
         type(chain_params) :: chain, given
@@ -107,35 +108,35 @@ contains
 
         call assertFalse( &
             chain_length_given("&chain" // nl // "  c = 4.0" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 67, 'assertFalse'))
+            location=pf_source_location('test_continuation_fast.pf', 68, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  n = 30" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 68, 'assertTrue'))
-        if (pf_any_failed()) return
-        call assertTrue( &
-            chain_length_given("&chain" // nl // "  sigma = 3.0" // nl // "/" // nl), &
             location=pf_source_location('test_continuation_fast.pf', 69, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
-            chain_length_given("&chain" // nl // "  n0 = 150" // nl // "/" // nl), &
+            chain_length_given("&chain" // nl // "  sigma = 3.0" // nl // "/" // nl), &
             location=pf_source_location('test_continuation_fast.pf', 70, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
-            chain_length_given(""), &
+            chain_length_given("&chain" // nl // "  n0 = 150" // nl // "/" // nl), &
             location=pf_source_location('test_continuation_fast.pf', 71, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            chain_length_given(""), &
+            location=pf_source_location('test_continuation_fast.pf', 72, 'assertTrue'))
         if (pf_any_failed()) return
         call shortest_chain(chain, 0.9_wp, 0.05_wp)
         call assertEqual( &
             short_absorber_width, &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 73, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 74, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             short_absorber_sigma, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 74, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 75, 'assertEqual'))
         if (pf_any_failed()) return
         dt_used = 2.0_wp*acos(-1.0_wp)/0.9_wp/140.0_wp
         lambda = scheme_decay_rate(chain, 0.9_wp, dt_used)
@@ -143,22 +144,31 @@ contains
             acosh(1.0_wp + (1.0_wp - 0.81_wp)/32.0_wp), &
             lambda, &
             5.0e-3_wp*lambda, &
-            location=pf_source_location('test_continuation_fast.pf', 77, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 78, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             lambda*chain%n0, &
             short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 78, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 79, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             lambda*(chain%n0 - 1), &
             short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 79, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 80, 'assertLessThan'))
         if (pf_any_failed()) return
         call shortest_chain(given, 1.2_wp, 0.05_wp)
-        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 81, 'assertEqual'))
+        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 82, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 82, 'assertEqual'))
+        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 83, 'assertEqual'))
+        if (pf_any_failed()) return
+        call shortest_chain(given, 0.1_wp, 0.05_wp)
+        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 85, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            3.0_wp, &
+            given%sigma, &
+            0.0_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 86, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_short_chain
 

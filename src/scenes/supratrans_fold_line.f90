@@ -13,7 +13,8 @@
 !> 1e-3 .. 4e-2 at Omega = 0.7 .. 0.5 as N0 changes (docs/continuation.md). The short chain has N0 = the smallest
 !> integer >= `short_chain_decay` / lambda' (at least `short_n0_min`) and a smooth absorber of
 !> `short_absorber_width` sites with sigma = `short_absorber_sigma` (kappa as given). A fold line uses it when its
-!> input gives none of n, n0, sigma in &chain; the record says which chain each task used.
+!> input gives none of n, n0, sigma in &chain, at Omega >= `short_chain_omega_min` (the range measured); the
+!> record says which chain each task used.
 module supratrans_fold_line
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp
@@ -48,6 +49,9 @@ module supratrans_fold_line
     real(wp), parameter, public :: short_chain_decay = 7.0_wp
     !> Fewest sites N0 before the short chain's absorber.
     integer, parameter, public :: short_n0_min = 20
+    !> Lowest Omega given the short chain (measured down to 0.3; at Omega = 0.05 the short chain's branch creeps
+    !> past A = 5.8 without a fold within 150 points, where the paper's N = 200 chain folds at 5.66).
+    real(wp), parameter, public :: short_chain_omega_min = 0.3_wp
 
 contains
 
@@ -175,7 +179,8 @@ contains
     end function scheme_decay_rate
 
     !> The short chain of a fold line at drive frequency Omega (see the module's documentation): N0 and N and the
-    !> absorber's sigma of `chain` replaced; left as it is where Omega is outside the band gap.
+    !> absorber's sigma of `chain` replaced; left as it is where Omega is outside the band gap or below
+    !> `short_chain_omega_min`.
     pure subroutine shortest_chain(chain, omega, dt)
         !> The chain (n, n0, sigma changed).
         type(chain_params), intent(inout) :: chain
@@ -186,6 +191,7 @@ contains
         real(wp) :: period, lambda
         integer :: m
 
+        if (.not. (omega >= short_chain_omega_min)) return
         period = 2.0_wp*acos(-1.0_wp)/omega
         m = max(1, ceiling((period/dt)*(1.0_wp - 1.0e-12_wp)))
         lambda = scheme_decay_rate(chain, omega, period/real(m, wp))
