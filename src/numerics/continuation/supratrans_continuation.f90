@@ -22,7 +22,9 @@
 !>
 !> **Cost.** `continuation_stats` counts the evaluations of P alone and with its Jacobian, the LU factorisations,
 !> the solves and the eigenvalue computations, with their wall-clock times. On the sine-Gordon chain (N = 200,
-!> d = 400) the full `dgeev` of the monodromy dominates with the reference LAPACK: `floquet_every` is the control.
+!> d = 400) the full `dgeev` of the monodromy dominates (0.12 s of CPU against 0.019 s for a Jacobian, OpenBLAS):
+!> `floquet_every` with `floquet_trend` is the control. Krylov (Arnoldi) eigenvalues are no substitute here: the
+!> monodromy is far from normal, and its Ritz values leave the unit circle where no multiplier does.
 !>
 !> **Fold.** The fold (saddle-node) of the branch is where the tangent's A-component t_A changes sign. Between the
 !> two points it is located by a safeguarded secant (Illinois) on t_A as a function of the pseudo-arclength step
