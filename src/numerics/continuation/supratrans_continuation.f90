@@ -56,7 +56,8 @@ module supratrans_continuation
     use supratrans_fixed_point_map, only: fixed_point_map, map_ok
     use supratrans_dense, only: lu_factor, lu_solve
     use supratrans_floquet, only: floquet_multipliers, largest_modulus, is_stable, leading_crossing, &
-                                  crossing_distance, nearest_multiplier, crossing_none, crossing_fold
+                                  crossing_distance, nearest_multiplier, crossing_none, crossing_fold, &
+                                  track_multiplier, crossing_torus, crossing_period_doubling
     use supratrans_shooting, only: shoot, shooting_controls, shooting_result, shoot_converged
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_finite
     implicit none
@@ -146,6 +147,8 @@ module supratrans_continuation
         integer :: solves = 0
         !> Eigenvalue computations (`dgeev` of the monodromy).
         integer :: eigen_calls = 0
+        !> Multipliers tracked by inverse iteration (one complex LU each) while a crossing is located.
+        integer :: tracked = 0
         !> Seconds in evaluations of P alone.
         real(wp) :: time_map = 0.0_wp
         !> Seconds in evaluations with the Jacobian.
@@ -531,6 +534,7 @@ contains
             type(branch_point) :: left
             real(wp), allocatable :: lr(:), li(:)
             real(wp) :: shift, g_k, g_m, sigma_k
+            complex(wp) :: mu_k
             integer :: k, linfo, kind, m, jl
             logical :: inside
 
@@ -560,6 +564,8 @@ contains
             end if
             kind = leading_crossing(lr, li, ctl%crossing_tol)
             g_k = crossing_distance(lr, li, kind)
+            mu_k = cmplx(0.0_wp, 0.0_wp, kind=wp)
+            if (class_max(lr, li, kind) > 0) mu_k = cmplx(lr(class_max(lr, li, kind)), li(class_max(lr, li, kind)), kind=wp)
             if (kind == crossing_fold .and. res%fold_index > 0 .and. k >= res%fold_index - 1) then
                 ! A real multiplier through +1 after the fold: the fold itself
                 res%instability_amplitude = res%fold_amplitude
@@ -601,7 +607,7 @@ contains
                     sigma_k = dot_product(left%t, [res%states(:, k), res%amplitude(k)] - left%y)
                     if (sigma_k > 0.0_wp) then
                         call locate(map, left, sys, sigma_k, kind, shift, ctl, lost_pt, lr, li, located, res%stats, &
-                                    g_lo=g_m, g_hi=g_k)
+                                    g_lo=g_m, g_hi=g_k, mu_guess=mu_k)
                     else
                         call locate(map, left, sys, res%arclength(jl + 1) - res%arclength(jl), kind, shift, ctl, &
                                     lost_pt, lr, li, located, res%stats, g_lo=g_m)
@@ -884,7 +890,7 @@ contains
     !> g(sigma): the tangent's A-component (kind 0, the fold) or `crossing_distance` of that kind minus `shift`.
     !> `pt` is the last corrected point (with its multipliers wr, wi); `located` tells whether the tolerance
     !> was met.
-    subroutine locate(map, bp, sys, sigma_hi, kind, shift, ctl, pt, wr, wi, located, stats, hi, g_lo, g_hi)
+    subroutine locate(map, bp, sys, sigma_hi, kind, shift, ctl, pt, wr, wi, located, stats, hi, g_lo, g_hi, mu_guess)
         class(fixed_point_map), intent(inout) :: map
         type(branch_point), intent(in) :: bp
         type(bordered_system), intent(in) :: sys
@@ -900,13 +906,25 @@ contains
         !> `crossing_distance` of that kind at bp and at the branch point whose step along bp's tangent is sigma_hi,
         !> when the caller has them (no multipliers recomputed there).
         real(wp), intent(in), optional :: g_lo, g_hi
+        !> The crossing multiplier at a bracket end (kind /= 0): tracked by inverse iteration from there instead of
+        !> a `dgeev` at every secant step (`dgeev` again whenever the tracking fails or leaves the class).
+        complex(wp), intent(in), optional :: mu_guess
         type(bordered_system) :: psys, fsys
+        complex(wp) :: mu_t
+        complex(wp), allocatable :: vec(:)
+        logical :: tracking
         real(wp) :: a, b, c, fa, fb, fc, kappa, a_prev
         integer :: iter, side, n1, info
         logical :: ok
 
         n1 = size(bp%y)
         located = .false.
+        tracking = present(mu_guess) .and. kind /= 0
+        if (tracking) then
+            mu_t = mu_guess
+            allocate (vec(n1 - 1))
+            vec = cmplx(1.0_wp, 0.5_wp, kind=wp)
+        end if
         a = 0.0_wp
         if (present(g_lo) .and. kind /= 0) then
             pt = bp
@@ -980,13 +998,80 @@ contains
             if (kind == 0) then
                 g = pt%t(n1)
             else
+                if (tracking) then
+                    call tracked_distance(g, okv)
+                    if (okv) return
+                end if
                 call point_multipliers(pt, stats, wr, wi, linfo)
                 okv = linfo == 0
                 g = crossing_distance(wr, wi, kind) - shift
+                if (tracking .and. okv) then
+                    ! start the tracking again from this point's crossing multiplier
+                    linfo = class_max(wr, wi, kind)
+                    if (linfo > 0) mu_t = cmplx(wr(linfo), wi(linfo), kind=wp)
+                    vec = cmplx(1.0_wp, 0.5_wp, kind=wp)
+                end if
             end if
         end subroutine value_at
 
+        !> |mu| - 1 - shift of the tracked multiplier at pt (okt false when the tracking failed or its multiplier
+        !> is no longer of the class: a torus pair that became real, a real multiplier that turned complex).
+        subroutine tracked_distance(g, okt)
+            real(wp), intent(out) :: g
+            logical, intent(out) :: okt
+            complex(wp) :: mu_try
+            complex(wp), allocatable :: v_try(:)
+            real(wp) :: t0, im_tol
+
+            t0 = wall_clock()
+            mu_try = mu_t
+            v_try = vec
+            call track_multiplier(pt%jac, mu_try, v_try, okt, 1.0e-13_wp)
+            stats%time_eigen = stats%time_eigen + wall_clock() - t0
+            stats%tracked = stats%tracked + 1
+            g = 0.0_wp
+            if (.not. okt) return
+            im_tol = 1.0e-8_wp*abs(mu_try)
+            select case (kind)
+            case (crossing_torus)
+                okt = abs(aimag(mu_try)) > im_tol
+            case (crossing_period_doubling)
+                okt = abs(aimag(mu_try)) <= im_tol .and. real(mu_try, wp) < 0.0_wp
+            case default
+                okt = abs(aimag(mu_try)) <= im_tol .and. real(mu_try, wp) >= 0.0_wp
+            end select
+            if (.not. okt) return
+            mu_t = mu_try
+            vec = v_try
+            g = abs(mu_t) - 1.0_wp - shift
+        end subroutine tracked_distance
+
     end subroutine locate
+
+    !> Index of the multiplier of largest modulus in a class (`crossing_torus`: complex, `crossing_fold`: real >= 0,
+    !> `crossing_period_doubling`: real < 0); 0 when the class is empty.
+    pure integer function class_max(wr, wi, kind) result(k)
+        real(wp), intent(in) :: wr(:), wi(:)
+        integer, intent(in) :: kind
+        integer :: j, c
+        real(wp) :: best
+
+        k = 0
+        best = -1.0_wp
+        do j = 1, size(wr)
+            if (wi(j) /= 0.0_wp) then
+                c = crossing_torus
+            else if (wr(j) >= 0.0_wp) then
+                c = crossing_fold
+            else
+                c = crossing_period_doubling
+            end if
+            if (c == kind .and. hypot(wr(j), wi(j)) > best) then
+                best = hypot(wr(j), wi(j))
+                k = j
+            end if
+        end do
+    end function class_max
 
     !> The multipliers at a point with its Jacobian.
     subroutine point_multipliers(pt, stats, wr, wi, info)
