@@ -4,7 +4,7 @@
 !> multipliers, by `dgeev`, at every point) on the one-period map of the paper's scheme: the same fold to 1e-8, the
 !> same first loss of stability (type, and amplitude to 1e-8), with fewer eigenvalue computations. The short chain
 !> of fold lines (`supratrans_fold_line`): used only when the input gives no n, n0, sigma; N0 the smallest with
-!> e^{-lambda' N0} <= e^{-7}.
+!> e^{-lambda' N0} <= e^{-7}. The inverse iteration that tracks one multiplier on a matrix of known spectrum.
 module test_continuation_fast
     use pf_runtime
     use supratrans_kinds, only: wp
@@ -14,7 +14,7 @@ module test_continuation_fast
                                     short_absorber_sigma, short_chain_decay
     use supratrans_period_map, only: period_map, period_map_init
     use supratrans_continuation
-    use supratrans_floquet, only: crossing_name
+    use supratrans_floquet, only: crossing_name, track_multiplier
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     implicit none
 
@@ -171,5 +171,62 @@ contains
             location=pf_source_location('test_continuation_fast.pf', 86, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_short_chain
+
+    !> Inverse iteration tracks one multiplier of a matrix of known spectrum, a rotation-dilation block
+    !> 1.0001 e^{+-0.7 i} and the real eigenvalues 0.5, -0.3, 0.9, 0.2 seen through an orthogonal (Householder) change
+    !> of basis: from shifts 1e-3 away it returns 1.0001 e^{0.7 i} and -0.3 to 1e-12, with a unit eigenvector.
+    ! @test
+    subroutine test_tracked_multiplier()
+        real(wp) :: b(6, 6), q(6, 6), m(6, 6), u(6)
+        complex(wp) :: mu, v(6), exact
+        logical :: ok
+        integer :: i
+
+        b = 0.0_wp
+        b(1, 1) = 1.0001_wp*cos(0.7_wp)
+        b(1, 2) = -1.0001_wp*sin(0.7_wp)
+        b(2, 1) = 1.0001_wp*sin(0.7_wp)
+        b(2, 2) = 1.0001_wp*cos(0.7_wp)
+        b(3, 3) = 0.5_wp
+        b(4, 4) = -0.3_wp
+        b(5, 5) = 0.9_wp
+        b(6, 6) = 0.2_wp
+        u = [1.0_wp, -2.0_wp, 0.5_wp, 3.0_wp, -1.0_wp, 0.25_wp]
+        q = 0.0_wp
+        do i = 1, 6
+            q(i, i) = 1.0_wp
+        end do
+        q = q - 2.0_wp*spread(u, 2, 6)*spread(u, 1, 6)/dot_product(u, u)
+        m = matmul(q, matmul(b, transpose(q)))
+        exact = 1.0001_wp*cmplx(cos(0.7_wp), sin(0.7_wp), kind=wp)
+        mu = exact + cmplx(1.0e-3_wp, -1.0e-3_wp, kind=wp)
+        v = cmplx(1.0_wp, 0.5_wp, kind=wp)
+        call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 119, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0.0_wp, &
+            abs(mu - exact), &
+            1.0e-12_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 120, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            1.0_wp, &
+            norm2(abs(v)), &
+            1.0e-12_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 121, 'assertEqual'))
+        if (pf_any_failed()) return
+        mu = cmplx(-0.301_wp, 0.0_wp, kind=wp)
+        v = cmplx(1.0_wp, 0.5_wp, kind=wp)
+        call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 125, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0.0_wp, &
+            abs(mu - cmplx(-0.3_wp, 0.0_wp, kind=wp)), &
+            1.0e-12_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 126, 'assertEqual'))
+        if (pf_any_failed()) return
+    end subroutine test_tracked_multiplier
 
 end module test_continuation_fast
