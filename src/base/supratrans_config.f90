@@ -197,9 +197,9 @@ module supratrans_config
         !> Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + crossing_tol (&scene
         !> crossing_tol).
         real(wp) :: crossing_tol = 1.0e-06_wp
-        !> Continuation: multipliers at every this many branch points (and at the fold and where the verdict changes); larger is
-        !> faster but can miss a brief instability (&scene floquet_every).
-        integer :: floquet_every = 1
+        !> Continuation: multipliers at every this many branch points, and wherever the largest moduli's trend could reach the unit
+        !> circle, at the fold and where the verdict changes (1: at every point) (&scene floquet_every).
+        integer :: floquet_every = 4
         !> Continuation: locate each fold again at dt/2 and on a chain twice as long, for its converged digits (&scene
         !> fold_convergence).
         logical :: fold_convergence = .true.

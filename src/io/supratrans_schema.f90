@@ -383,10 +383,10 @@ module supratrans_schema
     type(key_spec), parameter :: spec_scene_floquet_every = key_spec( &
         group="scene", key="floquet_every", value_type=kt_integer, max_values=1, attribute="floquet_every", units="1", &
             has_min=.true., min=1.0_wp, min_text="1", has_max=.true., max=100.0_wp, max_text="100", &
-        default_text="1", &
+        default_text="4", &
         range_text=">= 1 and <= 100", &
-        description="Continuation: multipliers at every this many branch points (and at the fold and where the verdict change" // &
-            "s); larger is faster but can miss a brief instability")
+        description="Continuation: multipliers at every this many branch points, and wherever the largest moduli's trend coul" // &
+            "d reach the unit circle, at the fold and where the verdict changes (1: at every point)")
     type(key_spec), parameter :: spec_scene_fold_convergence = key_spec( &
         group="scene", key="fold_convergence", value_type=kt_logical, max_values=1, attribute="fold_convergence", units="1", &
         default_text=".true.", &

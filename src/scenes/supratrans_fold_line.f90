@@ -4,11 +4,24 @@
 !>
 !> The model's threshold is the smaller of the fold A_f and the first loss of Floquet stability met on the way;
 !> the record says which one it is (`threshold_kind`, the codes of `instability_type_codes`).
+!>
+!> **The short chain of fold lines** (`shortest_chain`, issue 25 point 6). The periodic state is localized at the
+!> driven end: at small amplitude it decays as e^{-lambda' n}, lambda' the scheme's own decay rate (NOTES.md:
+!> cosh lambda' = 1 + ((1 + m^2) cos(Omega dt) - (2 sin(Omega dt / 2) / dt)^2) / (2 c^2)). Beyond the core, what
+!> matters is the absorber: the state radiates its odd harmonics (3 Omega, 5 Omega, ... in the phonon band), and
+!> the paper's absorber (N - N0 = 50, sigma = 3) reflects enough of them to move A_f by 2e-5 at Omega = 0.9 and by
+!> 1e-3 .. 4e-2 at Omega = 0.7 .. 0.5 as N0 changes (docs/continuation.md). The short chain has N0 = the smallest
+!> integer >= `short_chain_decay` / lambda' (at least `short_n0_min`) and a smooth absorber of
+!> `short_absorber_width` sites with sigma = `short_absorber_sigma` (kappa as given). A fold line uses it when its
+!> input gives none of n, n0, sigma in &chain, at Omega >= `short_chain_omega_min` (the range measured); the
+!> record says which chain each task used.
 module supratrans_fold_line
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
-    use supratrans_config, only: run_config, scene_params
+    use supratrans_config, only: run_config, scene_params, chain_params
+    use supratrans_namelist, only: parse_namelist, parsed_input
+    use supratrans_schema, only: key_table
     use supratrans_strings, only: int_str
     use supratrans_period_map, only: period_map, period_map_init
     use supratrans_continuation, only: continue_branch, branch_multipliers, continuation_controls, &
@@ -20,12 +33,25 @@ module supratrans_fold_line
     implicit none
     private
 
-    public :: trace_fold, fold_status_codes, instability_type_codes
+    public :: trace_fold, fold_status_codes, instability_type_codes, shortest_chain, chain_length_given
+    public :: scheme_decay_rate
 
     !> Status: the fold was found and located.
     integer, parameter, public :: fold_found = cont_fold_found
     !> Status: the one-period map could not be set up (e.g. more steps a period than the limit).
     integer, parameter, public :: fold_map_failed = 5
+
+    !> Sites N - N0 of the short chain's absorber.
+    integer, parameter, public :: short_absorber_width = 60
+    !> Width sigma of the short chain's absorber ramp (the paper's is 3).
+    real(wp), parameter, public :: short_absorber_sigma = 6.0_wp
+    !> lambda' N0 of the short chain: the linear state is down by e^{-7} ~ 1e-3 where the absorber starts.
+    real(wp), parameter, public :: short_chain_decay = 7.0_wp
+    !> Fewest sites N0 before the short chain's absorber.
+    integer, parameter, public :: short_n0_min = 20
+    !> Lowest Omega given the short chain (measured down to 0.3; at Omega = 0.05 the short chain's branch creeps
+    !> past A = 5.8 without a fold within 150 points, where the paper's N = 200 chain folds at 5.66).
+    real(wp), parameter, public :: short_chain_omega_min = 0.3_wp
 
 contains
 
@@ -54,6 +80,9 @@ contains
             return
         end if
         r%dt_used = map%dt_used
+        r%chain_n = run%chain%n
+        r%chain_n0 = run%chain%n0
+        r%chain_sigma = run%chain%sigma
         r%steps_per_period = map%steps
         ctl%newton_tol = 1.0e-10_wp
         ctl%ds0 = scene%continuation_step
@@ -132,6 +161,70 @@ contains
         end subroutine sample
 
     end subroutine trace_fold
+
+    !> The scheme's own decay rate lambda' of the small-amplitude periodic state at drive frequency Omega with time
+    !> step dt (NOTES.md); 0 when Omega is not in the chain's band gap (no decay).
+    pure real(wp) function scheme_decay_rate(chain, omega, dt) result(lambda)
+        !> The chain (c, m^2).
+        type(chain_params), intent(in) :: chain
+        !> Driving frequency Omega.
+        real(wp), intent(in) :: omega
+        !> Time step (the one used: the drive period over a whole number of steps).
+        real(wp), intent(in) :: dt
+        real(wp) :: arg
+
+        arg = ((1.0_wp + chain%m2)*cos(omega*dt) - (2.0_wp*sin(0.5_wp*omega*dt)/dt)**2)/(2.0_wp*chain%c**2)
+        lambda = 0.0_wp
+        if (arg > 0.0_wp) lambda = acosh(1.0_wp + arg)
+    end function scheme_decay_rate
+
+    !> The short chain of a fold line at drive frequency Omega (see the module's documentation): N0 and N and the
+    !> absorber's sigma of `chain` replaced; left as it is where Omega is outside the band gap or below
+    !> `short_chain_omega_min`.
+    pure subroutine shortest_chain(chain, omega, dt)
+        !> The chain (n, n0, sigma changed).
+        type(chain_params), intent(inout) :: chain
+        !> Driving frequency Omega.
+        real(wp), intent(in) :: omega
+        !> The configured time step (adjusted to the period over M = ceiling(T / dt) steps, as the period map does).
+        real(wp), intent(in) :: dt
+        real(wp) :: period, lambda
+        integer :: m
+
+        if (.not. (omega >= short_chain_omega_min)) return
+        period = 2.0_wp*acos(-1.0_wp)/omega
+        m = max(1, ceiling((period/dt)*(1.0_wp - 1.0e-12_wp)))
+        lambda = scheme_decay_rate(chain, omega, period/real(m, wp))
+        if (.not. (lambda > 0.0_wp)) return
+        chain%n0 = max(short_n0_min, ceiling(short_chain_decay/lambda))
+        chain%n = chain%n0 + short_absorber_width
+        chain%sigma = short_absorber_sigma
+    end subroutine shortest_chain
+
+    !> Whether a namelist text gives the chain's length or absorber (n, n0 or sigma in &chain); also true when the
+    !> text is empty or cannot be read (then the chain is taken as given).
+    pure logical function chain_length_given(text) result(given)
+        !> The namelist text (`input_config%text`).
+        character(len=*), intent(in) :: text
+        type(parsed_input) :: parsed
+        type(error_type), allocatable :: error
+        integer :: ik
+
+        given = .true.
+        if (len_trim(text) == 0) return
+        call parse_namelist(text, "input", parsed, error)
+        if (allocated(error)) return
+        given = .false.
+        do ik = 1, size(key_table)
+            if (trim(key_table(ik)%group) /= "chain") cycle
+            select case (trim(key_table(ik)%key))
+            case ("n", "n0", "sigma")
+                if (parsed%n_values(ik) > 0) given = .true.
+            case default
+                continue                 ! the other keys of &chain do not set the chain's length or absorber
+            end select
+        end do
+    end function chain_length_given
 
     !> The branch point whose amplitude is nearest `a` among those before the fold (0 when there is none).
     pure function nearest_point(res, a) result(i)

@@ -29,7 +29,7 @@ module supratrans_fold_record
         "dt_used", "steps_per_period", "points", "newton_iterations", "map_evaluations", "jacobians", &
         "factorizations", "eigen_calls", "wall_time", "time_map", "time_tangent", "time_lu", "time_eigen", &
         "fold_half_dt", "fold_long_chain", "richardson", &
-        "error_estimate", "digits"]
+        "error_estimate", "digits", "chain_n", "chain_n0", "chain_sigma"]
 
     !> One (curve, Omega) task: the fold and stability of its branch, their convergence, the branch.
     type, public :: fold_record
@@ -85,6 +85,11 @@ module supratrans_fold_record
         real(wp) :: error_estimate = 0.0_wp
         !> Converged decimal digits of A_f: floor(-log10(error_estimate / A_f)), capped at 15; NaN when unknown.
         real(wp) :: digits = 0.0_wp
+        !> The chain used: N, N0 and the absorber's sigma (a fold line that gives no chain length uses the short
+        !> chain of `supratrans_fold_line`).
+        integer :: chain_n = 0, chain_n0 = 0
+        !> The absorber's sigma used.
+        real(wp) :: chain_sigma = 0.0_wp
         !> The branch: `branch_quantities` (rows) at each point (columns), NaN past `points`.
         real(wp), allocatable :: branch(:, :)
         !> Real and imaginary parts of the kept multipliers (`kept_multipliers`, `multiplier_samples`); NaN when not
@@ -148,6 +153,7 @@ contains
         r%richardson = nan
         r%error_estimate = nan
         r%digits = nan
+        r%chain_sigma = nan
         allocate (r%branch(size(branch_quantities), points_max), source=nan)
         r%multiplier_re = nan
         r%multiplier_im = nan
@@ -166,7 +172,7 @@ contains
              real(r%steps_per_period, wp), real(r%points, wp), real(r%newton_iterations, wp), &
              real(r%map_evaluations, wp), real(r%jacobians, wp), real(r%factorizations, wp), real(r%eigen_calls, wp), &
              r%wall_time, r%time_map, r%time_tangent, r%time_lu, r%time_eigen, r%fold_half_dt, r%fold_long_chain, &
-             r%richardson, r%error_estimate, r%digits, &
+             r%richardson, r%error_estimate, r%digits, real(r%chain_n, wp), real(r%chain_n0, wp), r%chain_sigma, &
              reshape(r%branch, [size(r%branch)])]
         do s = 1, multiplier_samples
             v = [v, reshape(transpose(reshape([r%multiplier_re(:, s), r%multiplier_im(:, s)], &
@@ -210,6 +216,9 @@ contains
         r%richardson = v(25)
         r%error_estimate = v(26)
         r%digits = v(27)
+        r%chain_n = nint(v(28))
+        r%chain_n0 = nint(v(29))
+        r%chain_sigma = v(30)
         i = size(scalar_fields)
         nb = size(branch_quantities)*points_max
         r%branch = reshape(v(i + 1:i + nb), [size(branch_quantities), points_max])

@@ -31,7 +31,8 @@ module supratrans_scene_continuation
     use supratrans_status, only: status_outside_gap, status_not_run
     use supratrans_fold_record, only: fold_record, fold_fields, fold_to_values, fold_from_values, empty_fold_record, &
                                       branch_quantities, kept_multipliers, multiplier_samples
-    use supratrans_fold_line, only: trace_fold, fold_status_codes, instability_type_codes, fold_found
+    use supratrans_fold_line, only: trace_fold, fold_status_codes, instability_type_codes, fold_found, &
+                                    shortest_chain, chain_length_given
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
@@ -56,6 +57,8 @@ module supratrans_scene_continuation
         real(wp), allocatable :: omegas(:)
         !> Path of the partial output written by `snapshot`.
         character(len=:), allocatable :: partial_path
+        !> The input gives no chain length (n, n0, sigma): each task uses the short chain of its Omega.
+        logical :: short_chain = .false.
     contains
         !> Trace the branch of one task.
         procedure :: run => run_fold_task
@@ -119,6 +122,7 @@ contains
             end if
         end do
         tasks%partial_path = output // ".partial.h5"
+        if (allocated(cfg%text)) tasks%short_chain = .not. chain_length_given(cfg%text)
         journal = output // ".journal"
         if (.not. cfg%output%quiet) then
             write (error_unit, "(a)") "supratrans: continuation from " // cfg%source // ": " // int_str(ncurve) &
@@ -167,6 +171,7 @@ contains
         iomega = mod(index - 1, nomega) + 1
         run = self%runs(icurve)
         run%drive%omega = self%omegas(iomega)
+        if (self%short_chain) call shortest_chain(run%chain, run%drive%omega, run%numerics%dt)
         r = empty_fold_record(self%cfg%scene%continuation_points)
         if (run%drive%omega < band_gap_edge(run%chain)) r%threshold_as = threshold_as(run%chain, run%drive%omega)
         if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. self%cfg%allow_outside_gap) then
@@ -337,6 +342,11 @@ contains
             "Time step used: the drive period 2 pi / Omega over a whole number M of steps", dims=dims)
         call h5_write(file, "/steps_per_period", igrid(recs%steps_per_period), "1", &
             "Steps M per drive period", dims=dims)
+        call h5_write(file, "/chain_n", igrid(recs%chain_n), "1", "Oscillators N of the chain used (the short " &
+            // "chain of its Omega when the input gives no n, n0, sigma; docs/continuation.md)", dims=dims)
+        call h5_write(file, "/chain_n0", igrid(recs%chain_n0), "1", "Last site N0 before the absorber", dims=dims)
+        call h5_write(file, "/chain_sigma", grid(recs%chain_sigma), "1", "Width sigma of the absorber's ramp", &
+            dims=dims)
         call write_convergence(file, recs, nomega)
         call write_cost(file, recs, nomega, elapsed)
         call h5_create_group(file, "/branch", "The branch of periodic states of each task, point by point " &

@@ -1,5 +1,6 @@
-!> Thin typed wrappers over LAPACK's dense LU (`dgetrf`, `dgetrs`, `dgesv`), with explicit interfaces: the Newton
-!> systems of the shooting method and the bordered systems of the continuation in the drive amplitude A.
+!> Thin typed wrappers over LAPACK's dense LU (`dgetrf`, `dgetrs`, `dgesv`; complex `zgetrf`, `zgetrs`), with
+!> explicit interfaces: the Newton systems of the shooting method, the bordered systems of the continuation in the
+!> drive amplitude A, and the shifted monodromy of the inverse iteration that tracks one Floquet multiplier.
 !> With `supratrans_tridiag` (`dgtsv`) and `supratrans_eigen` (`dgeev`) this folder holds every LAPACK routine the
 !> code calls.
 module supratrans_dense
@@ -7,7 +8,7 @@ module supratrans_dense
     implicit none
     private
 
-    public :: lu_factor, lu_solve, dense_solve
+    public :: lu_factor, lu_solve, dense_solve, complex_lu_factor, complex_lu_solve
 
     !> Solve with the LU factors of `lu_factor`, for one right-hand side (a vector) or several (a matrix).
     interface lu_solve
@@ -33,6 +34,25 @@ module supratrans_dense
             real(wp), intent(inout) :: b(ldb, *)
             integer, intent(out) :: info
         end subroutine dgetrs
+
+        !> LAPACK: LU factorisation with partial pivoting of a general complex matrix.
+        pure subroutine zgetrf(m, n, a, lda, ipiv, info)
+            import :: wp
+            integer, intent(in) :: m, n, lda
+            complex(wp), intent(inout) :: a(lda, *)
+            integer, intent(out) :: ipiv(*), info
+        end subroutine zgetrf
+
+        !> LAPACK: solve A X = B with the complex LU factors of `zgetrf`.
+        pure subroutine zgetrs(trans, n, nrhs, a, lda, ipiv, b, ldb, info)
+            import :: wp
+            character(len=1), intent(in) :: trans
+            integer, intent(in) :: n, nrhs, lda, ldb
+            complex(wp), intent(in) :: a(lda, *)
+            integer, intent(in) :: ipiv(*)
+            complex(wp), intent(inout) :: b(ldb, *)
+            integer, intent(out) :: info
+        end subroutine zgetrs
 
         !> LAPACK: solve A X = B by LU with partial pivoting (factorisation and solve in one call).
         pure subroutine dgesv(n, nrhs, a, lda, ipiv, b, ldb, info)
@@ -87,6 +107,33 @@ contains
 
         call dgetrs("N", size(lu, 1), size(b, 2), lu, size(lu, 1), ipiv, b, size(b, 1), info)
     end subroutine lu_solve_matrix
+
+    !> Complex LU factorisation with partial pivoting (`zgetrf`) of the square matrix `a` (overwritten by its factors):
+    !> the shifted monodromy J - sigma I of the inverse iteration that tracks one Floquet multiplier.
+    pure subroutine complex_lu_factor(a, ipiv, info)
+        !> The matrix, n x n; its L and U factors on exit.
+        complex(wp), intent(inout) :: a(:, :)
+        !> Pivot indices, size n.
+        integer, intent(out) :: ipiv(:)
+        !> LAPACK status (> 0: exactly singular).
+        integer, intent(out) :: info
+
+        call zgetrf(size(a, 1), size(a, 2), a, size(a, 1), ipiv, info)
+    end subroutine complex_lu_factor
+
+    !> Solve A x = b with the factors of `complex_lu_factor`; `b` is overwritten by x.
+    pure subroutine complex_lu_solve(lu, ipiv, b, info)
+        !> LU factors, n x n.
+        complex(wp), intent(in) :: lu(:, :)
+        !> Pivot indices.
+        integer, intent(in) :: ipiv(:)
+        !> Right-hand side on entry, solution on exit, size n.
+        complex(wp), intent(inout) :: b(:)
+        !> LAPACK status.
+        integer, intent(out) :: info
+
+        call zgetrs("N", size(lu, 1), 1, lu, size(lu, 1), ipiv, b, size(b), info)
+    end subroutine complex_lu_solve
 
     !> Solve A x = b by LU with partial pivoting in one call: `a` is destroyed, `b` overwritten by x.
     !> `info` = 0 on success, i > 0 when A is singular (x is then not computed).
