@@ -1,0 +1,582 @@
+!> Steppers `avf4` and `avf8`: the energy-preserving collocation method of Hairer (E. Hairer, "Energy-preserving
+!> variant of collocation methods", JNAIAM 5 (2010) 73-84; the continuous-stage form of the average-vector-field
+!> method, Cohen & Hairer, BIT 51 (2011) 91-101) with s Gauss nodes (s = 2: order 4; s = 4: order 8), applied to
+!> the method-of-lines system of the chain (`supratrans_mol`) in the variables (u, v = u_t), with the drive, both
+!> dampings and the absorber, and a discrete energy balance that closes every step.
+!>
+!> The method. Write the chain as y' = (J - R) grad H0(y) + f(t), y = (u, v), where H0 is the energy of the chain
+!> with u_0 = 0 (H0 = sum v^2/2 + m^2 u^2/2 + V(u) + c^2/2 sum_{n=0}^{N} (u_{n+1} - u_n)^2, u_0 = u_{N+1} = 0), J the
+!> canonical matrix, R = diag(0, alpha_n - beta Delta) >= 0 (Delta the second difference with v_0 = v_{N+1} = 0),
+!> and f = (0, (c^2 psi + beta psi') e_1) the drive. A step of size h from t0 is the polynomial sigma of degree s
+!> with sigma(t0) = y0 and, at the Gauss nodes t_i = t0 + c_i h,
+!>     sigma'(t_i) = (J - R) g_i + f(t_i),   g_i = (1/b_i) int_0^1 l_i(tau) grad H0(sigma(t0 + tau h)) dtau,
+!> l_i the Lagrange polynomials of the nodes, b_i the Gauss weights; y1 = sigma(t0 + h). The quadratic part of
+!> H0 makes g_i the value at the node (the integrand has degree 2s - 1), so only the on-site force V' is averaged:
+!>     Gbar_{n,i} = (1/b_i) int_0^1 l_i(tau) V'(sigma_{u,n}(tau)) dtau,
+!> computed with the Gauss-Legendre rule of `nq` = 3s nodes. For Klein-Gordon (V' of degree 5, sigma_u of degree s)
+!> the integrand has degree 6s - 1 and that rule is exact; for sine-Gordon its error is below 1e-15 relative at
+!> the steps used (the integrand is analytic and sigma_u moves by h |v| over a step; measured in test_avf).
+!> Everything else is s-stage Gauss collocation: U_i = u0 + h sum_j a_ij V_j, V_i = v0 + h sum_j a_ij F_i.
+!>
+!> The discrete energy balance. Since sigma' has degree s - 1 and the rule is exact for it,
+!>     H0(y1) - H0(y0) = int grad H0(sigma) . sigma' = h sum_i b_i g_i . sigma'(t_i)
+!>                     = h sum_i b_i [ - g_i . R g_i + g_i . f(t_i) ]                  (g_i . J g_i = 0),
+!> exactly (to the stage equations' residual and the rule's error). With H = H0 + c^2 psi^2/2 - c^2 u_1 psi (the
+!> ledger's energy, u_0 = psi) the ledger of the step is, with V_{0,i} = psi'(t_i), V_{N+1,i} = 0:
+!>     injected  = h sum_i b_i [c^2 psi(t_i) V_{1,i} + beta (psi'(t_i) - V_{1,i}) psi'(t_i)]
+!>                 + c^2 [psi^2/2 - u_1 psi]_{t0}^{t0+h},
+!>     D^gamma = h sum_i b_i gamma sum_n V_{n,i}^2,   D^abs = h sum_i b_i sum_n gamma'(n) V_{n,i}^2,
+!>     D^beta  = h sum_i b_i beta sum_{n=1}^{N+1} (V_{n,i} - V_{n-1,i})^2,
+!> and H(y1) - H(y0) = injected - D^gamma - D^beta - D^abs holds exactly: to roundoff for Klein-Gordon, to the
+!> rule's error for sine-Gordon. Each term is a Gauss quadrature of the continuous power of `supratrans_mol`, so it
+!> converges at the method's order.
+!>
+!> Solving a step. The unknowns are the stage displacements U (N x s); V = W (U - u0)/h, W = A^{-1}. The residual
+!> R(U)_i = (W (V - v0))_i / h - F_i(U, V) is driven to zero by simplified Newton: the Jacobian with V'' frozen at
+!> V''(u0_n) (then d Gbar_i / d U_j = V''(u0) delta_ij exactly), block tridiagonal in the sites with s x s blocks
+!> W^2/h^2 + (2 c^2 + m^2 + V''(u0_n)) I + ((alpha_n + 2 beta)/h) W (diagonal) and -c^2 I - (beta/h) W (off),
+!> factorised once a step (block Thomas, each block inverted with partial pivoting). The predictor extrapolates the
+!> previous step's collocation polynomial. The iteration stops when max |delta U| <= 1e-14 max(1, max |U|), or when
+!> it stagnates at its roundoff floor below 1e-11 max(1, max |U|); a run that keeps no ledger (`exact_energy`
+!> false) stops at &numerics newton_tol. The cap is &numerics newton_max_iter.
+!>
+!> Linear stability: the method reduces to Gauss collocation on a linear chain (V' linear), which is A-stable
+!> (its stability function is the (s, s) Pade approximant of exp, |R(z)| <= 1 for Re z <= 0): no step limit.
+!>
+!> Counters: every iteration is one Newton iteration and one block-tridiagonal solve, and `nq` right-hand sides
+!> (N-force kernels: sines for sine-Gordon).
+module supratrans_stepper_avf
+    use supratrans_kinds, only: wp
+    use supratrans_strings, only: int_fixed, real_fixed
+    use supratrans_config, only: run_config, method_avf8
+    use supratrans_chain, only: drive_psi
+    use supratrans_mol, only: drive_dpsi
+    use supratrans_potential, only: force_array, potential_d2v
+    use supratrans_stepper, only: step_ok, step_not_converged, step_breakdown
+    use supratrans_stepper_rk, only: rk_stepper, rk_init
+    implicit none
+    private
+
+    public :: avf_make_tableau, gauss_legendre
+
+    !> Gauss nodes (stages) of `avf4`.
+    integer, parameter, public :: avf4_stages = 2
+    !> Gauss nodes (stages) of `avf8`.
+    integer, parameter, public :: avf8_stages = 4
+    !> Nodes of the rule that averages V' per stage node: exact for the Klein-Gordon potential.
+    integer, parameter, public :: avf_quadrature_per_stage = 3
+    !> Relative size of the Newton update at which a step is accepted (the energy identity is then exact to
+    !> roundoff).
+    real(wp), parameter :: tight_tol = 1.0e-14_wp
+    !> Below this relative update, an iteration that no longer shrinks the update 4-fold has reached roundoff.
+    real(wp), parameter :: floor_tol = 1.0e-11_wp
+
+    !> The coefficients of the s-stage energy-preserving collocation method on [0, 1].
+    type, public :: avf_tableau
+        !> Stages s (Gauss nodes) and nodes nq of the averaging rule.
+        integer :: s = 0, nq = 0
+        !> Gauss nodes c_i and weights b_i (size s).
+        real(wp), allocatable :: c(:), b(:)
+        !> Collocation matrix A (a_ij = int_0^{c_i} l_j), its inverse W and W^2 (s x s).
+        real(wp), allocatable :: a(:, :), w(:, :), w2(:, :)
+        !> b^T W: y1 = y0 + sum_j bw_j (Y_j - y0) for u and for v (size s).
+        real(wp), allocatable :: bw(:)
+        !> lag(q, k): Lagrange basis of the nodes (0, c_1 .. c_s) at the averaging rule's node tau_q, k = 0..s.
+        real(wp), allocatable :: lag(:, :)
+        !> qw(i, q) = w_q l_i(tau_q) / b_i: Gbar_i = sum_q qw(i, q) V'(sigma(tau_q)).
+        real(wp), allocatable :: qw(:, :)
+        !> ext(i, k): the same Lagrange basis at 1 + c_i (the predictor from the previous step's polynomial).
+        real(wp), allocatable :: ext(:, :)
+    end type avf_tableau
+
+    !> The energy-preserving collocation method on the chain.
+    type, extends(rk_stepper), public :: avf_stepper
+        !> The method's coefficients.
+        type(avf_tableau) :: tab
+        !> Update size at which a verdict-only run (no ledger) accepts a step (&numerics newton_tol).
+        real(wp) :: tol = 1.0e-10_wp
+        !> Iteration cap (&numerics newton_max_iter).
+        integer :: max_iter = 20
+        !> Stage displacements U, velocities V, averaged forces Gbar, residual / update (N x s).
+        real(wp), allocatable :: uu(:, :), vv(:, :), gg(:, :), rr(:, :)
+        !> The previous step's nodes of sigma_u: u0 (column 0) and U (columns 1..s), for the predictor.
+        real(wp), allocatable :: prev(:, :)
+        !> Block Thomas factors: inverses of the pivot blocks and X_n = pivot^{-1} O (s x s x N).
+        real(wp), allocatable :: dinv(:, :, :), xx(:, :, :)
+        !> Work: sigma_u at one rule node, V' there (size N).
+        real(wp), allocatable :: sig(:), fq(:)
+        !> psi and psi' at the stage times (size s).
+        real(wp), allocatable :: psi_s(:), dpsi_s(:)
+    contains
+        !> Set up a run.
+        procedure :: init => avf_init
+        !> One step.
+        procedure :: step => avf_step
+    end type avf_stepper
+
+contains
+
+    !> Gauss-Legendre rule of k nodes on [0, 1] (nodes ascending), by Newton's method on P_k.
+    pure subroutine gauss_legendre(k, x, w)
+        !> Number of nodes.
+        integer, intent(in) :: k
+        !> Nodes and weights, size k.
+        real(wp), intent(out) :: x(:), w(:)
+        real(wp), parameter :: pi = acos(-1.0_wp)
+        integer :: i, it
+        real(wp) :: z, p1, dp, dz
+
+        do i = 1, k
+            z = cos(pi*(real(i, wp) - 0.25_wp)/(real(k, wp) + 0.5_wp))
+            do it = 1, 100
+                call legendre(z, p1, dp)
+                dz = p1/dp
+                z = z - dz
+                if (abs(dz) <= 1.0e-17_wp .or. it > 8 .and. abs(dz) <= 4.0_wp*epsilon(z)) exit
+            end do
+            call legendre(z, p1, dp)
+            x(k + 1 - i) = 0.5_wp*(1.0_wp + z)
+            w(k + 1 - i) = 1.0_wp/((1.0_wp - z*z)*dp*dp)
+        end do
+
+    contains
+
+        !> P_k(z) and P_k'(z) by the three-term recurrence.
+        pure subroutine legendre(z, pk, dpk)
+            real(wp), intent(in) :: z
+            real(wp), intent(out) :: pk, dpk
+            real(wp) :: p0, p1, p2
+            integer :: j
+
+            p0 = 1.0_wp
+            p1 = z
+            do j = 2, k
+                p2 = (real(2*j - 1, wp)*z*p1 - real(j - 1, wp)*p0)/real(j, wp)
+                p0 = p1
+                p1 = p2
+            end do
+            pk = p1
+            dpk = real(k, wp)*(z*p1 - p0)/(z*z - 1.0_wp)
+        end subroutine legendre
+    end subroutine gauss_legendre
+
+    !> The Lagrange basis polynomial j of `nodes` at t.
+    pure function lagrange(nodes, j, t) result(l)
+        !> Interpolation nodes.
+        real(wp), intent(in) :: nodes(:)
+        !> Which basis polynomial (1-based).
+        integer, intent(in) :: j
+        !> Argument.
+        real(wp), intent(in) :: t
+        real(wp) :: l
+        integer :: m
+
+        l = 1.0_wp
+        do m = 1, size(nodes)
+            if (m /= j) l = l*(t - nodes(m))/(nodes(j) - nodes(m))
+        end do
+    end function lagrange
+
+    !> Inverse of a small matrix by Gauss-Jordan elimination with partial pivoting; ok false if singular.
+    pure subroutine invert(m, minv, ok)
+        !> The matrix (s x s).
+        real(wp), intent(in) :: m(:, :)
+        !> Its inverse.
+        real(wp), intent(out) :: minv(:, :)
+        !> False when a pivot is zero or not finite.
+        logical, intent(out) :: ok
+        real(wp) :: a(size(m, 1), size(m, 1)), row(size(m, 1)), piv, f
+        integer :: s, i, j, p
+
+        s = size(m, 1)
+        a = m
+        minv = 0.0_wp
+        do i = 1, s
+            minv(i, i) = 1.0_wp
+        end do
+        ok = .true.
+        do i = 1, s
+            p = i
+            do j = i + 1, s
+                if (abs(a(j, i)) > abs(a(p, i))) p = j
+            end do
+            if (p /= i) then
+                row = a(i, :)
+                a(i, :) = a(p, :)
+                a(p, :) = row
+                row = minv(i, :)
+                minv(i, :) = minv(p, :)
+                minv(p, :) = row
+            end if
+            piv = a(i, i)
+            if (.not. (abs(piv) > 0.0_wp .and. abs(piv) <= huge(piv))) then
+                ok = .false.
+                return
+            end if
+            a(i, :) = a(i, :)/piv
+            minv(i, :) = minv(i, :)/piv
+            do j = 1, s
+                if (j == i) cycle
+                f = a(j, i)
+                a(j, :) = a(j, :) - f*a(i, :)
+                minv(j, :) = minv(j, :) - f*minv(i, :)
+            end do
+        end do
+    end subroutine invert
+
+    !> The coefficients of the s-stage method (Gauss nodes) with an averaging rule of nq nodes.
+    pure subroutine avf_make_tableau(s, nq, tab)
+        !> Stages.
+        integer, intent(in) :: s
+        !> Nodes of the averaging rule.
+        integer, intent(in) :: nq
+        !> The coefficients.
+        type(avf_tableau), intent(out) :: tab
+        real(wp) :: gx(s), gw(s), tq(nq), wq(nq), z(0:s)
+        integer :: i, j, q, k
+        logical :: ok
+
+        tab%s = s
+        tab%nq = nq
+        allocate (tab%c(s), tab%b(s), tab%a(s, s), tab%w(s, s), tab%w2(s, s), tab%bw(s))
+        allocate (tab%lag(nq, 0:s), tab%qw(s, nq), tab%ext(s, 0:s))
+        call gauss_legendre(s, tab%c, tab%b)
+        call gauss_legendre(s, gx, gw)
+        do i = 1, s
+            do j = 1, s
+                tab%a(i, j) = 0.0_wp
+                do q = 1, s
+                    tab%a(i, j) = tab%a(i, j) + tab%c(i)*gw(q)*lagrange(tab%c, j, tab%c(i)*gx(q))
+                end do
+            end do
+        end do
+        call invert(tab%a, tab%w, ok)
+        tab%w2 = matmul(tab%w, tab%w)
+        tab%bw = matmul(tab%b, tab%w)
+        call gauss_legendre(nq, tq, wq)
+        z(0) = 0.0_wp
+        z(1:s) = tab%c
+        do q = 1, nq
+            do k = 0, s
+                tab%lag(q, k) = lagrange(z, k + 1, tq(q))
+            end do
+            do i = 1, s
+                tab%qw(i, q) = wq(q)*lagrange(tab%c, i, tq(q))/tab%b(i)
+            end do
+        end do
+        do i = 1, s
+            do k = 0, s
+                tab%ext(i, k) = lagrange(z, k + 1, 1.0_wp + tab%c(i))
+            end do
+        end do
+    end subroutine avf_make_tableau
+
+    !> Set up a run: the chain at rest, the method of `run%numerics%method` (avf4 or avf8), work arrays.
+    subroutine avf_init(self, run)
+        !> The stepper.
+        class(avf_stepper), intent(inout) :: self
+        !> Validated run configuration.
+        type(run_config), intent(in) :: run
+        integer :: s, n, st
+
+        s = avf4_stages
+        if (run%numerics%method == method_avf8) s = avf8_stages
+        n = run%chain%n
+        call rk_init(self, run, s, 2*s)
+        if (allocated(self%reason)) return
+        call avf_make_tableau(s, avf_quadrature_per_stage*s, self%tab)
+        self%tol = run%numerics%newton_tol
+        self%max_iter = run%numerics%newton_max_iter
+        if (allocated(self%uu)) deallocate (self%uu)
+        if (allocated(self%vv)) deallocate (self%vv)
+        if (allocated(self%gg)) deallocate (self%gg)
+        if (allocated(self%rr)) deallocate (self%rr)
+        if (allocated(self%prev)) deallocate (self%prev)
+        if (allocated(self%dinv)) deallocate (self%dinv)
+        if (allocated(self%xx)) deallocate (self%xx)
+        if (allocated(self%sig)) deallocate (self%sig)
+        if (allocated(self%fq)) deallocate (self%fq)
+        if (allocated(self%psi_s)) deallocate (self%psi_s)
+        if (allocated(self%dpsi_s)) deallocate (self%dpsi_s)
+        allocate (self%uu(n, s), stat=st)
+        if (st == 0) allocate (self%vv(n, s), stat=st)
+        if (st == 0) allocate (self%gg(n, s), stat=st)
+        if (st == 0) allocate (self%rr(n, s), stat=st)
+        if (st == 0) allocate (self%prev(n, 0:s), stat=st)
+        if (st == 0) allocate (self%dinv(s, s, n), stat=st)
+        if (st == 0) allocate (self%xx(s, s, n), stat=st)
+        if (st == 0) allocate (self%sig(n), stat=st)
+        if (st == 0) allocate (self%fq(n), stat=st)
+        if (st == 0) allocate (self%psi_s(s), stat=st)
+        if (st == 0) allocate (self%dpsi_s(s), stat=st)
+        if (st /= 0) self%reason = "cannot allocate the collocation work arrays of " // trim(int_fixed(n)) &
+                                   // " oscillators"
+    end subroutine avf_init
+
+    !> One step from t0 = steps dt to t0 + dt.
+    subroutine avf_step(self, status)
+        !> The stepper.
+        class(avf_stepper), intent(inout) :: self
+        !> `step_ok`, `step_not_converged` or `step_breakdown`.
+        integer, intent(out) :: status
+        integer :: n, s, i, j, it, iters
+        real(wp) :: h, t0, change, change_prev, umax, scale
+        logical :: ok, accepted
+
+        n = self%n
+        s = self%tab%s
+        h = self%dt
+        t0 = real(self%steps, wp)*h
+        do i = 1, s
+            self%psi_s(i) = drive_psi(self%drive, t0 + self%tab%c(i)*h)
+            self%dpsi_s(i) = drive_dpsi(self%drive, t0 + self%tab%c(i)*h, t0 + 0.5_wp*h)
+        end do
+        associate (u0 => self%y(1:n), v0 => self%y(n + 1:2*n), tab => self%tab)
+            ! predictor: the previous step's collocation polynomial extrapolated (at rest: u0 + c h v0)
+            do i = 1, s
+                if (self%steps == 0) then
+                    self%uu(:, i) = u0 + (tab%c(i)*h)*v0
+                else
+                    self%uu(:, i) = tab%ext(i, 0)*self%prev(:, 0)
+                    do j = 1, s
+                        self%uu(:, i) = self%uu(:, i) + tab%ext(i, j)*self%prev(:, j)
+                    end do
+                end if
+            end do
+            call factorize(self, u0, ok)
+            status = step_breakdown
+            iters = 0
+            accepted = .false.
+            change_prev = huge(1.0_wp)
+            if (ok) then
+                do it = 1, self%max_iter
+                    iters = it
+                    call residual(self, u0, v0)
+                    call solve(self)
+                    change = 0.0_wp
+                    umax = 0.0_wp
+                    do j = 1, s
+                        self%uu(:, j) = self%uu(:, j) + self%rr(:, j)
+                        change = max(change, maxval(abs(self%rr(:, j))))
+                        umax = max(umax, maxval(abs(self%uu(:, j))))
+                    end do
+                    if (.not. (change <= huge(change) .and. umax <= huge(umax))) then
+                        status = step_breakdown
+                        exit
+                    end if
+                    scale = max(1.0_wp, umax)
+                    status = step_not_converged
+                    if (self%exact_energy) then
+                        accepted = change <= tight_tol*scale &
+                                   .or. (change <= floor_tol*scale .and. change > 0.25_wp*change_prev)
+                    else
+                        accepted = change <= self%tol
+                    end if
+                    if (accepted) then
+                        status = step_ok
+                        exit
+                    end if
+                    change_prev = change
+                end do
+            end if
+            self%newton_iterations = self%newton_iterations + iters
+            self%newton_max_iterations = max(self%newton_max_iterations, iters)
+            self%tridiagonal_solves = self%tridiagonal_solves + iters
+            self%rhs_evaluations = self%rhs_evaluations + int(iters, kind(self%rhs_evaluations))*tab%nq
+            if (status /= step_ok) then
+                if (status == step_not_converged) then
+                    self%reason = "collocation did not converge in " // trim(int_fixed(iters)) // " iterations at t = " &
+                                  // trim(real_fixed(t0 + h))
+                else
+                    self%reason = "collocation broke down (non-finite or singular) at t = " // trim(real_fixed(t0 + h))
+                end if
+                return
+            end if
+
+            ! the stage velocities of the accepted U, then the ledger of the step and the new level
+            do i = 1, s
+                self%vv(:, i) = 0.0_wp
+                do j = 1, s
+                    self%vv(:, i) = self%vv(:, i) + (tab%w(i, j)/h)*(self%uu(:, j) - u0)
+                end do
+            end do
+            self%prev(:, 0) = u0
+            self%prev(:, 1:s) = self%uu
+        end associate
+        call advance(self, t0, h)
+        self%steps = self%steps + 1
+    end subroutine avf_step
+
+    !> The new level y1 = sigma(t0 + h) from the accepted stages, and the step's ledger terms (module header) added to
+    !> the cumulative energies y(2N+1 .. 2N+4).
+    pure subroutine advance(self, t0, h)
+        !> The stepper: `prev` holds u0 and U, `vv` the stage velocities, `y` the old level (overwritten).
+        class(avf_stepper), intent(inout) :: self
+        !> Start of the step and step size.
+        real(wp), intent(in) :: t0, h
+        integer :: n, s, i, m
+        real(wp) :: c2, beta, gamma, injected, sum_vv, sum_abs, sum_dv, psi0, psi1, u1_first, u0_first, vn
+
+        n = self%n
+        s = self%tab%s
+        c2 = self%chain%c**2
+        beta = self%chain%beta
+        gamma = self%chain%gamma
+        injected = 0.0_wp
+        sum_vv = 0.0_wp
+        sum_abs = 0.0_wp
+        sum_dv = 0.0_wp
+        do i = 1, s
+            associate (v => self%vv(:, i), bi => self%tab%b(i))
+                injected = injected + bi*(c2*self%psi_s(i)*v(1) + beta*(self%dpsi_s(i) - v(1))*self%dpsi_s(i))
+                sum_dv = sum_dv + bi*((v(1) - self%dpsi_s(i))**2 + v(n)**2)
+                do m = 1, n
+                    vn = v(m)
+                    sum_vv = sum_vv + bi*vn*vn
+                    sum_abs = sum_abs + bi*(self%alpha(m) - gamma)*vn*vn
+                end do
+                do m = 2, n
+                    sum_dv = sum_dv + bi*(v(m) - v(m - 1))**2
+                end do
+            end associate
+        end do
+        ! the new level: sigma(1) = y0 + sum_j (b^T W)_j (Y_j - y0), for u and for v
+        u0_first = self%y(1)
+        do i = 1, s
+            self%y(1:n) = self%y(1:n) + self%tab%bw(i)*(self%prev(:, i) - self%prev(:, 0))
+        end do
+        self%fq = self%y(n + 1:2*n)
+        do i = 1, s
+            self%y(n + 1:2*n) = self%y(n + 1:2*n) + self%tab%bw(i)*(self%vv(:, i) - self%fq)
+        end do
+        u1_first = self%y(1)
+        psi0 = drive_psi(self%drive, t0)
+        psi1 = drive_psi(self%drive, t0 + h)
+        self%y(2*n + 1) = self%y(2*n + 1) + h*injected &
+                          + c2*((0.5_wp*psi1*psi1 - u1_first*psi1) - (0.5_wp*psi0*psi0 - u0_first*psi0))
+        self%y(2*n + 2) = self%y(2*n + 2) + h*gamma*sum_vv
+        self%y(2*n + 3) = self%y(2*n + 3) + h*beta*sum_dv
+        self%y(2*n + 4) = self%y(2*n + 4) + h*sum_abs
+    end subroutine advance
+
+    !> Factorise the simplified Newton matrix of the step (module header) by block Thomas: for each site the pivot
+    !> block P_n = D_n - O X_{n-1}, its inverse, and X_n = P_n^{-1} O. ok false if a pivot block is singular.
+    pure subroutine factorize(self, u0, ok)
+        !> The stepper.
+        class(avf_stepper), intent(inout) :: self
+        !> The old level u0 (V'' is frozen there).
+        real(wp), intent(in) :: u0(:)
+        !> False when a pivot block is singular or not finite.
+        logical, intent(out) :: ok
+        integer :: n, s, m, i
+        real(wp) :: h, c2, diag
+        real(wp) :: o(self%tab%s, self%tab%s), p(self%tab%s, self%tab%s)
+
+        n = self%n
+        s = self%tab%s
+        h = self%dt
+        c2 = self%chain%c**2
+        o = -(self%chain%beta/h)*self%tab%w
+        do i = 1, s
+            o(i, i) = o(i, i) - c2
+        end do
+        do m = 1, n
+            diag = 2.0_wp*c2 + self%chain%m2 + potential_d2v(self%chain%potential, u0(m))
+            p = self%tab%w2/(h*h) + ((self%alpha(m) + 2.0_wp*self%chain%beta)/h)*self%tab%w
+            do i = 1, s
+                p(i, i) = p(i, i) + diag
+            end do
+            if (m > 1) p = p - matmul(o, self%xx(:, :, m - 1))
+            call invert(p, self%dinv(:, :, m), ok)
+            if (.not. ok) return
+            self%xx(:, :, m) = matmul(self%dinv(:, :, m), o)
+        end do
+    end subroutine factorize
+
+    !> Minus the residual of the stage equations at the current U, into `rr`: F_i(U, V) - (W (V - v0))_i / h, with
+    !> V = W (U - u0)/h and Gbar averaged along sigma_u by the rule of `nq` nodes.
+    pure subroutine residual(self, u0, v0)
+        !> The stepper.
+        class(avf_stepper), intent(inout) :: self
+        !> The old level.
+        real(wp), intent(in) :: u0(:), v0(:)
+        integer :: n, s, i, j, q, m
+        real(wp) :: h, c2, beta, m2, lap_u, lap_v
+
+        n = self%n
+        s = self%tab%s
+        h = self%dt
+        c2 = self%chain%c**2
+        beta = self%chain%beta
+        m2 = self%chain%m2
+        associate (tab => self%tab, uu => self%uu, vv => self%vv, gg => self%gg, rr => self%rr)
+            do i = 1, s
+                vv(:, i) = 0.0_wp
+                do j = 1, s
+                    vv(:, i) = vv(:, i) + (tab%w(i, j)/h)*(uu(:, j) - u0)
+                end do
+            end do
+            gg = 0.0_wp
+            do q = 1, tab%nq
+                self%sig = tab%lag(q, 0)*u0
+                do j = 1, s
+                    self%sig = self%sig + tab%lag(q, j)*uu(:, j)
+                end do
+                call force_array(self%chain%potential, self%sig, self%fq)
+                do i = 1, s
+                    gg(:, i) = gg(:, i) + tab%qw(i, q)*self%fq
+                end do
+            end do
+            do i = 1, s
+                ! rr_i = - (W (V - v0))_i / h, then + F_i
+                rr(:, i) = 0.0_wp
+                do j = 1, s
+                    rr(:, i) = rr(:, i) - (tab%w(i, j)/h)*(vv(:, j) - v0)
+                end do
+                do m = 1, n
+                    if (m == 1) then
+                        lap_u = uu(2, i) - 2.0_wp*uu(1, i) + self%psi_s(i)
+                        lap_v = vv(2, i) - 2.0_wp*vv(1, i) + self%dpsi_s(i)
+                    else if (m == n) then
+                        lap_u = -2.0_wp*uu(n, i) + uu(n - 1, i)
+                        lap_v = -2.0_wp*vv(n, i) + vv(n - 1, i)
+                    else
+                        lap_u = uu(m + 1, i) - 2.0_wp*uu(m, i) + uu(m - 1, i)
+                        lap_v = vv(m + 1, i) - 2.0_wp*vv(m, i) + vv(m - 1, i)
+                    end if
+                    rr(m, i) = rr(m, i) + c2*lap_u + beta*lap_v - self%alpha(m)*vv(m, i) - m2*uu(m, i) - gg(m, i)
+                end do
+            end do
+        end associate
+    end subroutine residual
+
+    !> Solve the factorised block-tridiagonal system in place: `rr` (right-hand side, N x s) becomes the update.
+    pure subroutine solve(self)
+        !> The stepper.
+        class(avf_stepper), intent(inout) :: self
+        integer :: n, s, m, i
+        real(wp) :: h, c2, beta, r(self%tab%s), t(self%tab%s), o(self%tab%s, self%tab%s)
+
+        n = self%n
+        s = self%tab%s
+        h = self%dt
+        c2 = self%chain%c**2
+        beta = self%chain%beta
+        o = -(beta/h)*self%tab%w
+        do i = 1, s
+            o(i, i) = o(i, i) - c2
+        end do
+        ! forward: y_n = P_n^{-1} (r_n - O y_{n-1})
+        t = 0.0_wp
+        do m = 1, n
+            r = self%rr(m, :) - matmul(o, t)
+            t = matmul(self%dinv(:, :, m), r)
+            self%rr(m, :) = t
+        end do
+        ! back: delta_n = y_n - X_n delta_{n+1}
+        do m = n - 1, 1, -1
+            self%rr(m, :) = self%rr(m, :) - matmul(self%xx(:, :, m), self%rr(m + 1, :))
+        end do
+    end subroutine solve
+
+end module supratrans_stepper_avf
