@@ -7,201 +7,203 @@ program pf_driver
     use test_avf, only: t2 => test_avf_energy_balance_klein_gordon
     use test_avf, only: t3 => test_avf_energy_balance_sine_gordon
     use test_avf, only: t4 => test_avf_order
-    use test_continuation, only: t5 => test_shooting_quadratic
-    use test_continuation, only: t6 => test_floquet_classification
-    use test_continuation, only: t7 => test_fold_located
-    use test_continuation, only: t8 => test_period_doubling
-    use test_continuation, only: t9 => test_torus
-    use test_continuation, only: t10 => test_crowded_unit_circle
-    use test_continuation, only: t11 => test_robust_over_steps
-    use test_continuation, only: t12 => test_no_fold
-    use test_continuation, only: t13 => test_tangent_finite_difference
-    use test_continuation, only: t14 => test_failures_reported
-    use test_continuation, only: t15 => test_fold_next_to_failing_region
-    use test_fold_record, only: t16 => test_round_trip
+    use test_avf, only: t5 => test_avf_a_stable
+    use test_avf, only: t6 => test_avf_threads_bit_identical
+    use test_continuation, only: t7 => test_shooting_quadratic
+    use test_continuation, only: t8 => test_floquet_classification
+    use test_continuation, only: t9 => test_fold_located
+    use test_continuation, only: t10 => test_period_doubling
+    use test_continuation, only: t11 => test_torus
+    use test_continuation, only: t12 => test_crowded_unit_circle
+    use test_continuation, only: t13 => test_robust_over_steps
+    use test_continuation, only: t14 => test_no_fold
+    use test_continuation, only: t15 => test_tangent_finite_difference
+    use test_continuation, only: t16 => test_failures_reported
+    use test_continuation, only: t17 => test_fold_next_to_failing_region
+    use test_fold_record, only: t18 => test_round_trip
     use test_hdf5, only: b4 => set_up
     use test_hdf5, only: a4 => tear_down
-    use test_hdf5, only: t17 => test_roundtrip_real
-    use test_hdf5, only: t18 => test_roundtrip_integer
-    use test_hdf5, only: t19 => test_roundtrip_character
-    use test_hdf5, only: t20 => test_roundtrip_attributes
-    use test_hdf5, only: t21 => test_refuses_to_overwrite
-    use test_hdf5, only: t22 => test_nothing_on_disk_before_commit
-    use test_hdf5, only: t23 => test_discard_leaves_nothing
-    use test_hdf5, only: t24 => test_exists_nested
-    use test_hdf5, only: t25 => test_first_error_sticks
-    use test_hdf5, only: t26 => test_dimension_scales_attached
-    use test_hdf5, only: t27 => test_many_files_in_one_process
-    use test_hdf5, only: t28 => test_errors_name_file_and_object
-    use test_hysteresis, only: t29 => test_default_profile_is_the_ramp
-    use test_hysteresis, only: t30 => test_stairs_have_their_levels_at_their_times
-    use test_hysteresis, only: t31 => test_stairs_are_continuous
-    use test_hysteresis, only: t32 => test_stair_slope_against_differences
-    use test_hysteresis, only: t33 => test_edges_from_powers
-    use test_hysteresis, only: t34 => test_stair_powers_against_wave_fluxes
-    use test_input, only: t35 => test_unknown_key
-    use test_input, only: t36 => test_key_in_wrong_group
-    use test_input, only: t37 => test_unknown_group
-    use test_input, only: t38 => test_integer_key_given_real
-    use test_input, only: t39 => test_real_key_given_text
-    use test_input, only: t40 => test_logical_key_given_yes
-    use test_input, only: t41 => test_scalar_key_given_list
-    use test_input, only: t42 => test_repeat_count_rejected
-    use test_input, only: t43 => test_key_given_twice
-    use test_input, only: t44 => test_unterminated_group
-    use test_input, only: t45 => test_unterminated_string
-    use test_input, only: t46 => test_text_outside_groups
-    use test_input, only: t47 => test_missing_file
-    use test_input, only: t48 => test_n_below_two
-    use test_input, only: t49 => test_dt_negative
-    use test_input, only: t50 => test_dt_zero
-    use test_input, only: t51 => test_t_final_not_positive
-    use test_input, only: t52 => test_omega_outside_gap
-    use test_input, only: t53 => test_omega_outside_gap_allowed
-    use test_input, only: t54 => test_stability_violated
-    use test_input, only: t55 => test_stability_violated_allowed
-    use test_input, only: t56 => test_output_exists
-    use test_input, only: t57 => test_output_exists_overwrite
-    use test_input, only: t58 => test_unknown_potential
-    use test_input, only: t59 => test_unknown_method
-    use test_input, only: t60 => test_unknown_scene
-    use test_input, only: t61 => test_probe_outside_chain
-    use test_input, only: t62 => test_full_valid_file
-    use test_input, only: t63 => test_empty_file_is_refused
-    use test_input, only: t64 => test_defaults_of_a_minimal_file
-    use test_input, only: t65 => test_validate_config_in_code
-    use test_input, only: t66 => test_list_value_out_of_range
-    use test_input, only: t67 => test_unknown_potential_in_list
-    use test_input, only: t68 => test_lists_of_names_read
-    use test_input, only: t69 => test_unknown_method_number_in_code
-    use test_input, only: t70 => test_namelist_text_and_start_kept
-    use test_journal, only: t71 => test_fields_read_by_name
-    use test_journal, only: t72 => test_other_fields_or_input_refused
-    use test_journal, only: t73 => test_header_names_the_fields
-    use test_journal, only: t74 => test_records_bound_to_their_header
-    use test_perf_kernels, only: t75 => test_sin_cos_array_accuracy
-    use test_perf_kernels, only: t76 => test_sin_cos_quiet_tail
-    use test_perf_kernels, only: t77 => test_gradient_paths_agree
-    use test_period_map, only: t78 => test_tangent_against_finite_differences
-    use test_period_map, only: t79 => test_same_scheme_as_steppers
-    use test_period_map, only: t80 => test_linear_evanescent_wave
-    use test_period_map, only: t81 => test_newton_shooting_quadratic
-    use test_period_map, only: t82 => test_steps_and_bad_input
-    use test_potential, only: t83 => test_gradient_equals_difference_quotient
-    use test_potential, only: t84 => test_gradient_tends_to_force
-    use test_potential, only: t85 => test_gradient_exact_at_rest
-    use test_potential, only: t86 => test_slope_matches_finite_difference
-    use test_potential, only: t87 => test_array_kernels_agree
-    use test_potential, only: t88 => test_names_round_trip
-    use test_potential, only: t89 => test_unknown_potential_is_an_error
+    use test_hdf5, only: t19 => test_roundtrip_real
+    use test_hdf5, only: t20 => test_roundtrip_integer
+    use test_hdf5, only: t21 => test_roundtrip_character
+    use test_hdf5, only: t22 => test_roundtrip_attributes
+    use test_hdf5, only: t23 => test_refuses_to_overwrite
+    use test_hdf5, only: t24 => test_nothing_on_disk_before_commit
+    use test_hdf5, only: t25 => test_discard_leaves_nothing
+    use test_hdf5, only: t26 => test_exists_nested
+    use test_hdf5, only: t27 => test_first_error_sticks
+    use test_hdf5, only: t28 => test_dimension_scales_attached
+    use test_hdf5, only: t29 => test_many_files_in_one_process
+    use test_hdf5, only: t30 => test_errors_name_file_and_object
+    use test_hysteresis, only: t31 => test_default_profile_is_the_ramp
+    use test_hysteresis, only: t32 => test_stairs_have_their_levels_at_their_times
+    use test_hysteresis, only: t33 => test_stairs_are_continuous
+    use test_hysteresis, only: t34 => test_stair_slope_against_differences
+    use test_hysteresis, only: t35 => test_edges_from_powers
+    use test_hysteresis, only: t36 => test_stair_powers_against_wave_fluxes
+    use test_input, only: t37 => test_unknown_key
+    use test_input, only: t38 => test_key_in_wrong_group
+    use test_input, only: t39 => test_unknown_group
+    use test_input, only: t40 => test_integer_key_given_real
+    use test_input, only: t41 => test_real_key_given_text
+    use test_input, only: t42 => test_logical_key_given_yes
+    use test_input, only: t43 => test_scalar_key_given_list
+    use test_input, only: t44 => test_repeat_count_rejected
+    use test_input, only: t45 => test_key_given_twice
+    use test_input, only: t46 => test_unterminated_group
+    use test_input, only: t47 => test_unterminated_string
+    use test_input, only: t48 => test_text_outside_groups
+    use test_input, only: t49 => test_missing_file
+    use test_input, only: t50 => test_n_below_two
+    use test_input, only: t51 => test_dt_negative
+    use test_input, only: t52 => test_dt_zero
+    use test_input, only: t53 => test_t_final_not_positive
+    use test_input, only: t54 => test_omega_outside_gap
+    use test_input, only: t55 => test_omega_outside_gap_allowed
+    use test_input, only: t56 => test_stability_violated
+    use test_input, only: t57 => test_stability_violated_allowed
+    use test_input, only: t58 => test_output_exists
+    use test_input, only: t59 => test_output_exists_overwrite
+    use test_input, only: t60 => test_unknown_potential
+    use test_input, only: t61 => test_unknown_method
+    use test_input, only: t62 => test_unknown_scene
+    use test_input, only: t63 => test_probe_outside_chain
+    use test_input, only: t64 => test_full_valid_file
+    use test_input, only: t65 => test_empty_file_is_refused
+    use test_input, only: t66 => test_defaults_of_a_minimal_file
+    use test_input, only: t67 => test_validate_config_in_code
+    use test_input, only: t68 => test_list_value_out_of_range
+    use test_input, only: t69 => test_unknown_potential_in_list
+    use test_input, only: t70 => test_lists_of_names_read
+    use test_input, only: t71 => test_unknown_method_number_in_code
+    use test_input, only: t72 => test_namelist_text_and_start_kept
+    use test_journal, only: t73 => test_fields_read_by_name
+    use test_journal, only: t74 => test_other_fields_or_input_refused
+    use test_journal, only: t75 => test_header_names_the_fields
+    use test_journal, only: t76 => test_records_bound_to_their_header
+    use test_perf_kernels, only: t77 => test_sin_cos_array_accuracy
+    use test_perf_kernels, only: t78 => test_sin_cos_quiet_tail
+    use test_perf_kernels, only: t79 => test_gradient_paths_agree
+    use test_period_map, only: t80 => test_tangent_against_finite_differences
+    use test_period_map, only: t81 => test_same_scheme_as_steppers
+    use test_period_map, only: t82 => test_linear_evanescent_wave
+    use test_period_map, only: t83 => test_newton_shooting_quadratic
+    use test_period_map, only: t84 => test_steps_and_bad_input
+    use test_potential, only: t85 => test_gradient_equals_difference_quotient
+    use test_potential, only: t86 => test_gradient_tends_to_force
+    use test_potential, only: t87 => test_gradient_exact_at_rest
+    use test_potential, only: t88 => test_slope_matches_finite_difference
+    use test_potential, only: t89 => test_array_kernels_agree
+    use test_potential, only: t90 => test_names_round_trip
+    use test_potential, only: t91 => test_unknown_potential_is_an_error
     use test_provenance, only: b11 => set_up
     use test_provenance, only: a11 => tear_down
-    use test_provenance, only: t90 => test_build_commit_is_an_id_or_unknown
-    use test_provenance, only: t91 => test_commit_is_not_read_from_the_working_directory
-    use test_provenance, only: t92 => test_provenance_written
-    use test_provenance, only: t93 => test_provenance_attributes_are_the_documented_ones
-    use test_rk4, only: t94 => test_rk4_fourth_order
-    use test_rk4, only: t95 => test_rk4_energy_drift
-    use test_rk4, only: t96 => test_rk4_stability_limit
-    use test_rk4, only: t97 => test_rk4_agrees_with_energy_conserving_scheme
+    use test_provenance, only: t92 => test_build_commit_is_an_id_or_unknown
+    use test_provenance, only: t93 => test_commit_is_not_read_from_the_working_directory
+    use test_provenance, only: t94 => test_provenance_written
+    use test_provenance, only: t95 => test_provenance_attributes_are_the_documented_ones
+    use test_rk4, only: t96 => test_rk4_fourth_order
+    use test_rk4, only: t97 => test_rk4_energy_drift
+    use test_rk4, only: t98 => test_rk4_stability_limit
+    use test_rk4, only: t99 => test_rk4_agrees_with_energy_conserving_scheme
     use test_scene_bifurcation, only: b13 => set_up
     use test_scene_bifurcation, only: a13 => tear_down
-    use test_scene_bifurcation, only: t98 => test_early_stop_keeps_verdict
-    use test_scene_bifurcation, only: t99 => test_threads_give_identical_thresholds
-    use test_scene_bifurcation, only: t100 => test_threshold_transmits_and_one_step_below_does_not
-    use test_scene_bifurcation, only: t101 => test_resume_after_kill
-    use test_scene_bifurcation, only: t102 => test_file_layout
-    use test_scene_bifurcation, only: t103 => test_failed_runs_give_status_run_failed
-    use test_scene_bifurcation, only: t104 => test_screening_changes_no_threshold
+    use test_scene_bifurcation, only: t100 => test_early_stop_keeps_verdict
+    use test_scene_bifurcation, only: t101 => test_threads_give_identical_thresholds
+    use test_scene_bifurcation, only: t102 => test_threshold_transmits_and_one_step_below_does_not
+    use test_scene_bifurcation, only: t103 => test_resume_after_kill
+    use test_scene_bifurcation, only: t104 => test_file_layout
+    use test_scene_bifurcation, only: t105 => test_failed_runs_give_status_run_failed
+    use test_scene_bifurcation, only: t106 => test_screening_changes_no_threshold
     use test_scene_map, only: b14 => set_up
     use test_scene_map, only: a14 => tear_down
-    use test_scene_map, only: t105 => test_skips_outside_gap_and_stores_as
-    use test_scene_map, only: t106 => test_map_independent_of_thread_count
+    use test_scene_map, only: t107 => test_skips_outside_gap_and_stores_as
+    use test_scene_map, only: t108 => test_map_independent_of_thread_count
     use test_scene_sweep, only: b15 => set_up
     use test_scene_sweep, only: a15 => tear_down
-    use test_scene_sweep, only: t107 => test_axis_grid_exact
-    use test_scene_sweep, only: t108 => test_independent_of_thread_count
-    use test_scene_sweep, only: t109 => test_layout_and_physics
-    use test_scene_sweep, only: t110 => test_resume_after_kill
-    use test_scene_sweep, only: t111 => test_diverging_runs_flagged
-    use test_scene_sweep, only: t112 => test_partial_snapshot
-    use test_scene_sweep, only: t113 => test_refuses_existing_output
-    use test_schema, only: t114 => test_table_is_complete
-    use test_schema, only: t115 => test_each_key_sets_its_own_field
-    use test_schema, only: t116 => test_defaults_are_the_papers
-    use test_schema, only: t117 => test_choices_agree_with_the_physics
-    use test_schema, only: t118 => test_parameters_hold_every_key
-    use test_scheme, only: t119 => test_ledger_closes_every_step
-    use test_scheme, only: t120 => test_linearized_ledger_does_not_close
-    use test_scheme, only: t121 => test_evanescent_wave
-    use test_scheme, only: t122 => test_second_order_in_dt
-    use test_scheme, only: t123 => test_stability_boundary
-    use test_scheme, only: t124 => test_newton_failure_reported
-    use test_scheme, only: t125 => test_two_runs_in_two_threads
-    use test_scheme, only: t126 => test_verdict_across_the_gap
-    use test_screened_search, only: t127 => test_cheap_right_saves_exact_runs
-    use test_screened_search, only: t128 => test_cheap_too_high_within_band
-    use test_screened_search, only: t129 => test_cheap_too_high_walks_down
-    use test_screened_search, only: t130 => test_cheap_window_far_below
-    use test_screened_search, only: t131 => test_doubtful_quiet_answers_go_to_the_exact_oracle
-    use test_screened_search, only: t132 => test_random_patterns_with_margins
-    use test_screened_search, only: t133 => test_random_patterns_false_alarms
-    use test_screened_search, only: t134 => test_cheap_finds_none
-    use test_screened_search, only: t135 => test_none_transmits_confirms_the_top
-    use test_screened_search, only: t136 => test_exact_failure_is_reported
-    use test_screened_search, only: t137 => test_cheap_failure_falls_back_to_exact
+    use test_scene_sweep, only: t109 => test_axis_grid_exact
+    use test_scene_sweep, only: t110 => test_independent_of_thread_count
+    use test_scene_sweep, only: t111 => test_layout_and_physics
+    use test_scene_sweep, only: t112 => test_resume_after_kill
+    use test_scene_sweep, only: t113 => test_diverging_runs_flagged
+    use test_scene_sweep, only: t114 => test_partial_snapshot
+    use test_scene_sweep, only: t115 => test_refuses_existing_output
+    use test_schema, only: t116 => test_table_is_complete
+    use test_schema, only: t117 => test_each_key_sets_its_own_field
+    use test_schema, only: t118 => test_defaults_are_the_papers
+    use test_schema, only: t119 => test_choices_agree_with_the_physics
+    use test_schema, only: t120 => test_parameters_hold_every_key
+    use test_scheme, only: t121 => test_ledger_closes_every_step
+    use test_scheme, only: t122 => test_linearized_ledger_does_not_close
+    use test_scheme, only: t123 => test_evanescent_wave
+    use test_scheme, only: t124 => test_second_order_in_dt
+    use test_scheme, only: t125 => test_stability_boundary
+    use test_scheme, only: t126 => test_newton_failure_reported
+    use test_scheme, only: t127 => test_two_runs_in_two_threads
+    use test_scheme, only: t128 => test_verdict_across_the_gap
+    use test_screened_search, only: t129 => test_cheap_right_saves_exact_runs
+    use test_screened_search, only: t130 => test_cheap_too_high_within_band
+    use test_screened_search, only: t131 => test_cheap_too_high_walks_down
+    use test_screened_search, only: t132 => test_cheap_window_far_below
+    use test_screened_search, only: t133 => test_doubtful_quiet_answers_go_to_the_exact_oracle
+    use test_screened_search, only: t134 => test_random_patterns_with_margins
+    use test_screened_search, only: t135 => test_random_patterns_false_alarms
+    use test_screened_search, only: t136 => test_cheap_finds_none
+    use test_screened_search, only: t137 => test_none_transmits_confirms_the_top
+    use test_screened_search, only: t138 => test_exact_failure_is_reported
+    use test_screened_search, only: t139 => test_cheap_failure_falls_back_to_exact
     use test_stability, only: b19 => set_up
     use test_stability, only: a19 => tear_down
-    use test_stability, only: t138 => test_linear_limits
-    use test_stability, only: t139 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t140 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t141 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t142 => test_stepper_contract_order
-    use test_stepper_contract, only: t143 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t144 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t145 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t146 => test_engine_counts_steps_in_64_bits
-    use test_stepper_linearized, only: t147 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t148 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t149 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t150 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t151 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t152 => test_newton_error_below_tol
-    use test_stepper_newton, only: t153 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t154 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t155 => test_newton_stepper_reports_failure
-    use test_strings, only: t156 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t157 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t158 => test_find_name_gives_the_first_index_or_zero
+    use test_stability, only: t140 => test_linear_limits
+    use test_stability, only: t141 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t142 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t143 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t144 => test_stepper_contract_order
+    use test_stepper_contract, only: t145 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t146 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t147 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t148 => test_engine_counts_steps_in_64_bits
+    use test_stepper_linearized, only: t149 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t150 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t151 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t152 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t153 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t154 => test_newton_error_below_tol
+    use test_stepper_newton, only: t155 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t156 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t157 => test_newton_stepper_reports_failure
+    use test_strings, only: t158 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t159 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t160 => test_find_name_gives_the_first_index_or_zero
     use test_system, only: b24 => set_up
     use test_system, only: a24 => tear_down
-    use test_system, only: t159 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t160 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t161 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t162 => test_temporary_names_are_fresh
-    use test_system, only: t163 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t164 => test_monotone_step
-    use test_threshold, only: t165 => test_bisected_bracket
-    use test_threshold, only: t166 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t167 => test_two_transitions
-    use test_threshold, only: t168 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t169 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t170 => test_nothing_transmits
-    use test_threshold, only: t171 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t172 => test_lower_bound_transmits
-    use test_threshold, only: t173 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t174 => test_bad_arguments
-    use test_threshold, only: t175 => test_grid_helpers
+    use test_system, only: t161 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t162 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t163 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t164 => test_temporary_names_are_fresh
+    use test_system, only: t165 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t166 => test_monotone_step
+    use test_threshold, only: t167 => test_bisected_bracket
+    use test_threshold, only: t168 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t169 => test_two_transitions
+    use test_threshold, only: t170 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t171 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t172 => test_nothing_transmits
+    use test_threshold, only: t173 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t174 => test_lower_bound_transmits
+    use test_threshold, only: t175 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t176 => test_bad_arguments
+    use test_threshold, only: t177 => test_grid_helpers
     use test_workprec, only: b26 => set_up
     use test_workprec, only: a26 => tear_down
-    use test_workprec, only: t176 => test_rk8_eighth_order
-    use test_workprec, only: t177 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t178 => test_rk8_stability_polynomial
-    use test_workprec, only: t179 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t180 => test_unstable_runs_are_reported
-    use test_workprec, only: t181 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t182 => test_fitted_order
-    use test_workprec, only: t183 => test_step_kernels_timed
+    use test_workprec, only: t178 => test_rk8_eighth_order
+    use test_workprec, only: t179 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t180 => test_rk8_stability_polynomial
+    use test_workprec, only: t181 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t182 => test_unstable_runs_are_reported
+    use test_workprec, only: t183 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t184 => test_fitted_order
+    use test_workprec, only: t185 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -209,214 +211,216 @@ program pf_driver
     call pf_run_test('test_avf', 'test_avf_energy_balance_klein_gordon', t2)
     call pf_run_test('test_avf', 'test_avf_energy_balance_sine_gordon', t3)
     call pf_run_test('test_avf', 'test_avf_order', t4)
-    call pf_run_test('test_continuation', 'test_shooting_quadratic', t5)
-    call pf_run_test('test_continuation', 'test_floquet_classification', t6)
-    call pf_run_test('test_continuation', 'test_fold_located', t7)
-    call pf_run_test('test_continuation', 'test_period_doubling', t8)
-    call pf_run_test('test_continuation', 'test_torus', t9)
-    call pf_run_test('test_continuation', 'test_crowded_unit_circle', t10)
-    call pf_run_test('test_continuation', 'test_robust_over_steps', t11)
-    call pf_run_test('test_continuation', 'test_no_fold', t12)
-    call pf_run_test('test_continuation', 'test_tangent_finite_difference', t13)
-    call pf_run_test('test_continuation', 'test_failures_reported', t14)
-    call pf_run_test('test_continuation', 'test_fold_next_to_failing_region', t15)
-    call pf_run_test('test_fold_record', 'test_round_trip', t16)
-    call pf_run_test('test_hdf5', 'test_roundtrip_real', t17, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_roundtrip_integer', t18, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_roundtrip_character', t19, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_roundtrip_attributes', t20, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_refuses_to_overwrite', t21, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_nothing_on_disk_before_commit', t22, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_discard_leaves_nothing', t23, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_exists_nested', t24, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_first_error_sticks', t25, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_dimension_scales_attached', t26, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_many_files_in_one_process', t27, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_errors_name_file_and_object', t28, before=b4, after=a4)
-    call pf_run_test('test_hysteresis', 'test_default_profile_is_the_ramp', t29)
-    call pf_run_test('test_hysteresis', 'test_stairs_have_their_levels_at_their_times', t30)
-    call pf_run_test('test_hysteresis', 'test_stairs_are_continuous', t31)
-    call pf_run_test('test_hysteresis', 'test_stair_slope_against_differences', t32)
-    call pf_run_test('test_hysteresis', 'test_edges_from_powers', t33)
-    call pf_run_test('test_hysteresis', 'test_stair_powers_against_wave_fluxes', t34)
-    call pf_run_test('test_input', 'test_unknown_key', t35)
-    call pf_run_test('test_input', 'test_key_in_wrong_group', t36)
-    call pf_run_test('test_input', 'test_unknown_group', t37)
-    call pf_run_test('test_input', 'test_integer_key_given_real', t38)
-    call pf_run_test('test_input', 'test_real_key_given_text', t39)
-    call pf_run_test('test_input', 'test_logical_key_given_yes', t40)
-    call pf_run_test('test_input', 'test_scalar_key_given_list', t41)
-    call pf_run_test('test_input', 'test_repeat_count_rejected', t42)
-    call pf_run_test('test_input', 'test_key_given_twice', t43)
-    call pf_run_test('test_input', 'test_unterminated_group', t44)
-    call pf_run_test('test_input', 'test_unterminated_string', t45)
-    call pf_run_test('test_input', 'test_text_outside_groups', t46)
-    call pf_run_test('test_input', 'test_missing_file', t47)
-    call pf_run_test('test_input', 'test_n_below_two', t48)
-    call pf_run_test('test_input', 'test_dt_negative', t49)
-    call pf_run_test('test_input', 'test_dt_zero', t50)
-    call pf_run_test('test_input', 'test_t_final_not_positive', t51)
-    call pf_run_test('test_input', 'test_omega_outside_gap', t52)
-    call pf_run_test('test_input', 'test_omega_outside_gap_allowed', t53)
-    call pf_run_test('test_input', 'test_stability_violated', t54)
-    call pf_run_test('test_input', 'test_stability_violated_allowed', t55)
-    call pf_run_test('test_input', 'test_output_exists', t56)
-    call pf_run_test('test_input', 'test_output_exists_overwrite', t57)
-    call pf_run_test('test_input', 'test_unknown_potential', t58)
-    call pf_run_test('test_input', 'test_unknown_method', t59)
-    call pf_run_test('test_input', 'test_unknown_scene', t60)
-    call pf_run_test('test_input', 'test_probe_outside_chain', t61)
-    call pf_run_test('test_input', 'test_full_valid_file', t62)
-    call pf_run_test('test_input', 'test_empty_file_is_refused', t63)
-    call pf_run_test('test_input', 'test_defaults_of_a_minimal_file', t64)
-    call pf_run_test('test_input', 'test_validate_config_in_code', t65)
-    call pf_run_test('test_input', 'test_list_value_out_of_range', t66)
-    call pf_run_test('test_input', 'test_unknown_potential_in_list', t67)
-    call pf_run_test('test_input', 'test_lists_of_names_read', t68)
-    call pf_run_test('test_input', 'test_unknown_method_number_in_code', t69)
-    call pf_run_test('test_input', 'test_namelist_text_and_start_kept', t70)
-    call pf_run_test('test_journal', 'test_fields_read_by_name', t71)
-    call pf_run_test('test_journal', 'test_other_fields_or_input_refused', t72)
-    call pf_run_test('test_journal', 'test_header_names_the_fields', t73)
-    call pf_run_test('test_journal', 'test_records_bound_to_their_header', t74)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t75)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t76)
-    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t77)
-    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t78)
-    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t79)
-    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t80)
-    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t81)
-    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t82)
-    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t83)
-    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t84)
-    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t85)
-    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t86)
-    call pf_run_test('test_potential', 'test_array_kernels_agree', t87)
-    call pf_run_test('test_potential', 'test_names_round_trip', t88)
-    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t89)
-    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t90, before=b11, after=a11)
+    call pf_run_test('test_avf', 'test_avf_a_stable', t5)
+    call pf_run_test('test_avf', 'test_avf_threads_bit_identical', t6)
+    call pf_run_test('test_continuation', 'test_shooting_quadratic', t7)
+    call pf_run_test('test_continuation', 'test_floquet_classification', t8)
+    call pf_run_test('test_continuation', 'test_fold_located', t9)
+    call pf_run_test('test_continuation', 'test_period_doubling', t10)
+    call pf_run_test('test_continuation', 'test_torus', t11)
+    call pf_run_test('test_continuation', 'test_crowded_unit_circle', t12)
+    call pf_run_test('test_continuation', 'test_robust_over_steps', t13)
+    call pf_run_test('test_continuation', 'test_no_fold', t14)
+    call pf_run_test('test_continuation', 'test_tangent_finite_difference', t15)
+    call pf_run_test('test_continuation', 'test_failures_reported', t16)
+    call pf_run_test('test_continuation', 'test_fold_next_to_failing_region', t17)
+    call pf_run_test('test_fold_record', 'test_round_trip', t18)
+    call pf_run_test('test_hdf5', 'test_roundtrip_real', t19, before=b4, after=a4)
+    call pf_run_test('test_hdf5', 'test_roundtrip_integer', t20, before=b4, after=a4)
+    call pf_run_test('test_hdf5', 'test_roundtrip_character', t21, before=b4, after=a4)
+    call pf_run_test('test_hdf5', 'test_roundtrip_attributes', t22, before=b4, after=a4)
+    call pf_run_test('test_hdf5', 'test_refuses_to_overwrite', t23, before=b4, after=a4)
+    call pf_run_test('test_hdf5', 'test_nothing_on_disk_before_commit', t24, before=b4, after=a4)
+    call pf_run_test('test_hdf5', 'test_discard_leaves_nothing', t25, before=b4, after=a4)
+    call pf_run_test('test_hdf5', 'test_exists_nested', t26, before=b4, after=a4)
+    call pf_run_test('test_hdf5', 'test_first_error_sticks', t27, before=b4, after=a4)
+    call pf_run_test('test_hdf5', 'test_dimension_scales_attached', t28, before=b4, after=a4)
+    call pf_run_test('test_hdf5', 'test_many_files_in_one_process', t29, before=b4, after=a4)
+    call pf_run_test('test_hdf5', 'test_errors_name_file_and_object', t30, before=b4, after=a4)
+    call pf_run_test('test_hysteresis', 'test_default_profile_is_the_ramp', t31)
+    call pf_run_test('test_hysteresis', 'test_stairs_have_their_levels_at_their_times', t32)
+    call pf_run_test('test_hysteresis', 'test_stairs_are_continuous', t33)
+    call pf_run_test('test_hysteresis', 'test_stair_slope_against_differences', t34)
+    call pf_run_test('test_hysteresis', 'test_edges_from_powers', t35)
+    call pf_run_test('test_hysteresis', 'test_stair_powers_against_wave_fluxes', t36)
+    call pf_run_test('test_input', 'test_unknown_key', t37)
+    call pf_run_test('test_input', 'test_key_in_wrong_group', t38)
+    call pf_run_test('test_input', 'test_unknown_group', t39)
+    call pf_run_test('test_input', 'test_integer_key_given_real', t40)
+    call pf_run_test('test_input', 'test_real_key_given_text', t41)
+    call pf_run_test('test_input', 'test_logical_key_given_yes', t42)
+    call pf_run_test('test_input', 'test_scalar_key_given_list', t43)
+    call pf_run_test('test_input', 'test_repeat_count_rejected', t44)
+    call pf_run_test('test_input', 'test_key_given_twice', t45)
+    call pf_run_test('test_input', 'test_unterminated_group', t46)
+    call pf_run_test('test_input', 'test_unterminated_string', t47)
+    call pf_run_test('test_input', 'test_text_outside_groups', t48)
+    call pf_run_test('test_input', 'test_missing_file', t49)
+    call pf_run_test('test_input', 'test_n_below_two', t50)
+    call pf_run_test('test_input', 'test_dt_negative', t51)
+    call pf_run_test('test_input', 'test_dt_zero', t52)
+    call pf_run_test('test_input', 'test_t_final_not_positive', t53)
+    call pf_run_test('test_input', 'test_omega_outside_gap', t54)
+    call pf_run_test('test_input', 'test_omega_outside_gap_allowed', t55)
+    call pf_run_test('test_input', 'test_stability_violated', t56)
+    call pf_run_test('test_input', 'test_stability_violated_allowed', t57)
+    call pf_run_test('test_input', 'test_output_exists', t58)
+    call pf_run_test('test_input', 'test_output_exists_overwrite', t59)
+    call pf_run_test('test_input', 'test_unknown_potential', t60)
+    call pf_run_test('test_input', 'test_unknown_method', t61)
+    call pf_run_test('test_input', 'test_unknown_scene', t62)
+    call pf_run_test('test_input', 'test_probe_outside_chain', t63)
+    call pf_run_test('test_input', 'test_full_valid_file', t64)
+    call pf_run_test('test_input', 'test_empty_file_is_refused', t65)
+    call pf_run_test('test_input', 'test_defaults_of_a_minimal_file', t66)
+    call pf_run_test('test_input', 'test_validate_config_in_code', t67)
+    call pf_run_test('test_input', 'test_list_value_out_of_range', t68)
+    call pf_run_test('test_input', 'test_unknown_potential_in_list', t69)
+    call pf_run_test('test_input', 'test_lists_of_names_read', t70)
+    call pf_run_test('test_input', 'test_unknown_method_number_in_code', t71)
+    call pf_run_test('test_input', 'test_namelist_text_and_start_kept', t72)
+    call pf_run_test('test_journal', 'test_fields_read_by_name', t73)
+    call pf_run_test('test_journal', 'test_other_fields_or_input_refused', t74)
+    call pf_run_test('test_journal', 'test_header_names_the_fields', t75)
+    call pf_run_test('test_journal', 'test_records_bound_to_their_header', t76)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t77)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t78)
+    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t79)
+    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t80)
+    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t81)
+    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t82)
+    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t83)
+    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t84)
+    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t85)
+    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t86)
+    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t87)
+    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t88)
+    call pf_run_test('test_potential', 'test_array_kernels_agree', t89)
+    call pf_run_test('test_potential', 'test_names_round_trip', t90)
+    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t91)
+    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t92, before=b11, after=a11)
     call pf_run_test( &
         'test_provenance', &
         'test_commit_is_not_read_from_the_working_directory', &
-        t91, &
-        before=b11, &
-        after=a11)
-    call pf_run_test('test_provenance', 'test_provenance_written', t92, before=b11, after=a11)
-    call pf_run_test( &
-        'test_provenance', &
-        'test_provenance_attributes_are_the_documented_ones', &
         t93, &
         before=b11, &
         after=a11)
-    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t94)
-    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t95)
-    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t96)
-    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t97)
-    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t98, before=b13, after=a13)
-    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t99, before=b13, after=a13)
+    call pf_run_test('test_provenance', 'test_provenance_written', t94, before=b11, after=a11)
+    call pf_run_test( &
+        'test_provenance', &
+        'test_provenance_attributes_are_the_documented_ones', &
+        t95, &
+        before=b11, &
+        after=a11)
+    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t96)
+    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t97)
+    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t98)
+    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t99)
+    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t100, before=b13, after=a13)
+    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t101, before=b13, after=a13)
     call pf_run_test( &
         'test_scene_bifurcation', &
         'test_threshold_transmits_and_one_step_below_does_not', &
-        t100, &
+        t102, &
         before=b13, &
         after=a13)
-    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t101, before=b13, after=a13)
-    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t102, before=b13, after=a13)
-    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t103, before=b13, after=a13)
-    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t104, before=b13, after=a13)
-    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t105, before=b14, after=a14)
-    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t106, before=b14, after=a14)
-    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t107, before=b15, after=a15)
-    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t108, before=b15, after=a15)
-    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t109, before=b15, after=a15)
-    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t110, before=b15, after=a15)
-    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t111, before=b15, after=a15)
-    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t112, before=b15, after=a15)
-    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t113, before=b15, after=a15)
-    call pf_run_test('test_schema', 'test_table_is_complete', t114)
-    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t115)
-    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t116)
-    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t117)
-    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t118)
-    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t119)
-    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t120)
-    call pf_run_test('test_scheme', 'test_evanescent_wave', t121)
-    call pf_run_test('test_scheme', 'test_second_order_in_dt', t122)
-    call pf_run_test('test_scheme', 'test_stability_boundary', t123)
-    call pf_run_test('test_scheme', 'test_newton_failure_reported', t124)
-    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t125)
-    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t126)
-    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t127)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t128)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t129)
-    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t130)
-    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t131)
-    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t132)
-    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t133)
-    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t134)
-    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t135)
-    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t136)
-    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t137)
-    call pf_run_test('test_stability', 'test_linear_limits', t138, before=b19, after=a19)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t139, before=b19, after=a19)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t140, before=b19, after=a19)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t141)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t142)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t143)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t144)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t145)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t146)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t147)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t148)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t149)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t150)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t151)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t152)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t153)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t154)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t155)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t156)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t157)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t158)
+    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t103, before=b13, after=a13)
+    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t104, before=b13, after=a13)
+    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t105, before=b13, after=a13)
+    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t106, before=b13, after=a13)
+    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t107, before=b14, after=a14)
+    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t108, before=b14, after=a14)
+    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t109, before=b15, after=a15)
+    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t110, before=b15, after=a15)
+    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t111, before=b15, after=a15)
+    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t112, before=b15, after=a15)
+    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t113, before=b15, after=a15)
+    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t114, before=b15, after=a15)
+    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t115, before=b15, after=a15)
+    call pf_run_test('test_schema', 'test_table_is_complete', t116)
+    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t117)
+    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t118)
+    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t119)
+    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t120)
+    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t121)
+    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t122)
+    call pf_run_test('test_scheme', 'test_evanescent_wave', t123)
+    call pf_run_test('test_scheme', 'test_second_order_in_dt', t124)
+    call pf_run_test('test_scheme', 'test_stability_boundary', t125)
+    call pf_run_test('test_scheme', 'test_newton_failure_reported', t126)
+    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t127)
+    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t128)
+    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t129)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t130)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t131)
+    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t132)
+    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t133)
+    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t134)
+    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t135)
+    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t136)
+    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t137)
+    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t138)
+    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t139)
+    call pf_run_test('test_stability', 'test_linear_limits', t140, before=b19, after=a19)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t141, before=b19, after=a19)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t142, before=b19, after=a19)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t143)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t144)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t145)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t146)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t147)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t148)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t149)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t150)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t151)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t152)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t153)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t154)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t155)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t156)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t157)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t158)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t159)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t160)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t159, &
-        before=b24, &
-        after=a24)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t160, before=b24, after=a24)
-    call pf_run_test( &
-        'test_system', &
-        'test_lock_is_exclusive_never_through_a_link_and_stays', &
         t161, &
         before=b24, &
         after=a24)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t162, before=b24, after=a24)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t163, before=b24, after=a24)
-    call pf_run_test('test_threshold', 'test_monotone_step', t164)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t165)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t166)
-    call pf_run_test('test_threshold', 'test_two_transitions', t167)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t168)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t169)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t170)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t171)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t172)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t173)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t174)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t175)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t176, before=b26, after=a26)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t177, before=b26, after=a26)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t178, before=b26, after=a26)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t179, before=b26, after=a26)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t180, before=b26, after=a26)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t162, before=b24, after=a24)
+    call pf_run_test( &
+        'test_system', &
+        'test_lock_is_exclusive_never_through_a_link_and_stays', &
+        t163, &
+        before=b24, &
+        after=a24)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t164, before=b24, after=a24)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t165, before=b24, after=a24)
+    call pf_run_test('test_threshold', 'test_monotone_step', t166)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t167)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t168)
+    call pf_run_test('test_threshold', 'test_two_transitions', t169)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t170)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t171)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t172)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t173)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t174)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t175)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t176)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t177)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t178, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t179, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t180, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t181, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t182, before=b26, after=a26)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t181, &
+        t183, &
         before=b26, &
         after=a26)
-    call pf_run_test('test_workprec', 'test_fitted_order', t182, before=b26, after=a26)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t183, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_fitted_order', t184, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t185, before=b26, after=a26)
     call pf_driver_finish()
 end program pf_driver
