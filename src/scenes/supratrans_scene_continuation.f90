@@ -22,7 +22,7 @@ module supratrans_scene_continuation
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
-                                 method_name
+                                 method_avf4, method_avf8, method_name
     use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge
     use supratrans_potential, only: potential_name
@@ -92,6 +92,11 @@ contains
         nomega = size(tasks%omegas)
         if (nomega < 1) then
             call fatal_error(error, cfg%source // ": &scene: the frequency axis omega_min .. omega_max is empty", err_input)
+            return
+        end if
+        if (any(cfg%run%numerics%method == [method_avf4, method_avf8])) then   ! no period map (supratrans_period_map)
+            call fatal_error(error, cfg%source // ": &numerics: method '" // method_name(cfg%run%numerics%method) &
+                // "' has no one-period map: continue folds with 'newton', 'linearized', 'rk4' or 'rk8'", err_input)
             return
         end if
         allocate (tasks%runs(ncurve))
