@@ -602,31 +602,34 @@ contains
     pure subroutine factorize(self, u0, ok)
         !> The stepper.
         class(avf_stepper), intent(inout) :: self
-        !> Where V'' is frozen (the predictor's midpoint).
+        !> Where V'' is frozen (the predictor's midpoint; not `fq`, which holds the diagonal's real part here).
         real(wp), intent(in) :: u0(:)
         !> False when a pivot is zero or not finite.
         logical, intent(out) :: ok
         integer :: n, k, m
-        real(wp) :: c2, beta, base
+        real(wp) :: c2, beta
         complex(wp) :: lam, e, w
 
         n = self%n
         c2 = self%chain%c**2
         beta = self%chain%beta
         ok = .true.
+        do m = 1, n
+            self%fq(m) = 2.0_wp*c2 + self%chain%m2 + potential_d2v(self%chain%potential, u0(m))
+        end do
         do k = 1, self%tab%s/2
             lam = self%tab%lam(k)/self%dt
             e = -c2 - lam*beta
             do m = 1, n
-                base = 2.0_wp*c2 + self%chain%m2 + potential_d2v(self%chain%potential, u0(m))
-                w = lam*lam + base + lam*(self%alpha(m) + 2.0_wp*beta)
+                w = lam*lam + self%fq(m) + lam*(self%alpha(m) + 2.0_wp*beta)
                 if (m > 1) w = w - e*self%cfac(m - 1, k)
                 if (.not. (abs(real(w, wp)) + abs(aimag(w)) > 0.0_wp &
                            .and. abs(real(w, wp)) + abs(aimag(w)) <= huge(1.0_wp))) then
                     ok = .false.
                     return
                 end if
-                self%winv(m, k) = 1.0_wp/w
+                ! 1/w as conj(w)/|w|^2 (the library's scaled complex division is not needed: |w| ~ 1/h^2)
+                self%winv(m, k) = conjg(w)/(real(w, wp)**2 + aimag(w)**2)
                 self%cfac(m, k) = e*self%winv(m, k)
             end do
         end do
@@ -698,7 +701,7 @@ contains
         class(avf_stepper), intent(inout) :: self
         integer :: n, s, m, j, k
         real(wp) :: c2, beta
-        complex(wp) :: e
+        complex(wp) :: e(self%tab%s/2)
 
         n = self%n
         s = self%tab%s
@@ -710,13 +713,20 @@ contains
                 do j = 2, s
                     rho(:, k) = rho(:, k) + tab%tinvf(k, j)*rr(:, j)
                 end do
-                e = -c2 - (tab%lam(k)/self%dt)*beta
-                ! forward: y_1 = r_1/w_1, y_m = (r_m - e y_{m-1})/w_m; back: x_m = y_m - (e/w_m) x_{m+1}
+                e(k) = -c2 - (tab%lam(k)/self%dt)*beta
+            end do
+            ! forward: y_1 = r_1/w_1, y_m = (r_m - e y_{m-1})/w_m; back: x_m = y_m - (e/w_m) x_{m+1}; the s/2
+            ! independent recurrences interleaved (their latency chains overlap)
+            do k = 1, s/2
                 rho(1, k) = rho(1, k)*self%winv(1, k)
-                do m = 2, n
-                    rho(m, k) = (rho(m, k) - e*rho(m - 1, k))*self%winv(m, k)
+            end do
+            do m = 2, n
+                do k = 1, s/2
+                    rho(m, k) = (rho(m, k) - e(k)*rho(m - 1, k))*self%winv(m, k)
                 end do
-                do m = n - 1, 1, -1
+            end do
+            do m = n - 1, 1, -1
+                do k = 1, s/2
                     rho(m, k) = rho(m, k) - self%cfac(m, k)*rho(m + 1, k)
                 end do
             end do
