@@ -3,428 +3,440 @@
 !> tests whose `module::test` name contains it (case-insensitive).
 program pf_driver
     use pf_runtime, only: pf_driver_init, pf_run_test, pf_driver_finish
-    use test_continuation, only: t1 => test_shooting_quadratic
-    use test_continuation, only: t2 => test_floquet_classification
-    use test_continuation, only: t3 => test_fold_located
-    use test_continuation, only: t4 => test_period_doubling
-    use test_continuation, only: t5 => test_torus
-    use test_continuation, only: t6 => test_crowded_unit_circle
-    use test_continuation, only: t7 => test_robust_over_steps
-    use test_continuation, only: t8 => test_no_fold
-    use test_continuation, only: t9 => test_tangent_finite_difference
-    use test_continuation, only: t10 => test_failures_reported
-    use test_continuation, only: t11 => test_fold_next_to_failing_region
-    use test_continuation_fast, only: t12 => test_fast_floquet_same_verdicts
-    use test_continuation_fast, only: t13 => test_short_chain
-    use test_continuation_fast, only: t14 => test_tracked_multiplier
-    use test_fold_record, only: t15 => test_round_trip
-    use test_hdf5, only: b4 => set_up
-    use test_hdf5, only: a4 => tear_down
-    use test_hdf5, only: t16 => test_roundtrip_real
-    use test_hdf5, only: t17 => test_roundtrip_integer
-    use test_hdf5, only: t18 => test_roundtrip_character
-    use test_hdf5, only: t19 => test_roundtrip_attributes
-    use test_hdf5, only: t20 => test_refuses_to_overwrite
-    use test_hdf5, only: t21 => test_nothing_on_disk_before_commit
-    use test_hdf5, only: t22 => test_discard_leaves_nothing
-    use test_hdf5, only: t23 => test_exists_nested
-    use test_hdf5, only: t24 => test_first_error_sticks
-    use test_hdf5, only: t25 => test_dimension_scales_attached
-    use test_hdf5, only: t26 => test_many_files_in_one_process
-    use test_hdf5, only: t27 => test_errors_name_file_and_object
-    use test_hysteresis, only: t28 => test_default_profile_is_the_ramp
-    use test_hysteresis, only: t29 => test_stairs_have_their_levels_at_their_times
-    use test_hysteresis, only: t30 => test_stairs_are_continuous
-    use test_hysteresis, only: t31 => test_stair_slope_against_differences
-    use test_hysteresis, only: t32 => test_edges_from_powers
-    use test_hysteresis, only: t33 => test_stair_powers_against_wave_fluxes
-    use test_input, only: t34 => test_unknown_key
-    use test_input, only: t35 => test_key_in_wrong_group
-    use test_input, only: t36 => test_unknown_group
-    use test_input, only: t37 => test_integer_key_given_real
-    use test_input, only: t38 => test_real_key_given_text
-    use test_input, only: t39 => test_logical_key_given_yes
-    use test_input, only: t40 => test_scalar_key_given_list
-    use test_input, only: t41 => test_repeat_count_rejected
-    use test_input, only: t42 => test_key_given_twice
-    use test_input, only: t43 => test_unterminated_group
-    use test_input, only: t44 => test_unterminated_string
-    use test_input, only: t45 => test_text_outside_groups
-    use test_input, only: t46 => test_missing_file
-    use test_input, only: t47 => test_n_below_two
-    use test_input, only: t48 => test_dt_negative
-    use test_input, only: t49 => test_dt_zero
-    use test_input, only: t50 => test_t_final_not_positive
-    use test_input, only: t51 => test_omega_outside_gap
-    use test_input, only: t52 => test_omega_outside_gap_allowed
-    use test_input, only: t53 => test_stability_violated
-    use test_input, only: t54 => test_stability_violated_allowed
-    use test_input, only: t55 => test_output_exists
-    use test_input, only: t56 => test_output_exists_overwrite
-    use test_input, only: t57 => test_unknown_potential
-    use test_input, only: t58 => test_unknown_method
-    use test_input, only: t59 => test_unknown_scene
-    use test_input, only: t60 => test_probe_outside_chain
-    use test_input, only: t61 => test_full_valid_file
-    use test_input, only: t62 => test_empty_file_is_refused
-    use test_input, only: t63 => test_defaults_of_a_minimal_file
-    use test_input, only: t64 => test_validate_config_in_code
-    use test_input, only: t65 => test_list_value_out_of_range
-    use test_input, only: t66 => test_unknown_potential_in_list
-    use test_input, only: t67 => test_lists_of_names_read
-    use test_input, only: t68 => test_unknown_method_number_in_code
-    use test_input, only: t69 => test_namelist_text_and_start_kept
-    use test_journal, only: t70 => test_fields_read_by_name
-    use test_journal, only: t71 => test_other_fields_or_input_refused
-    use test_journal, only: t72 => test_header_names_the_fields
-    use test_journal, only: t73 => test_records_bound_to_their_header
-    use test_perf_kernels, only: t74 => test_sin_cos_array_accuracy
-    use test_perf_kernels, only: t75 => test_sin_cos_quiet_tail
-    use test_perf_kernels, only: t76 => test_gradient_paths_agree
-    use test_period_map, only: t77 => test_tangent_against_finite_differences
-    use test_period_map, only: t78 => test_same_scheme_as_steppers
-    use test_period_map, only: t79 => test_linear_evanescent_wave
-    use test_period_map, only: t80 => test_newton_shooting_quadratic
-    use test_period_map, only: t81 => test_steps_and_bad_input
-    use test_potential, only: t82 => test_gradient_equals_difference_quotient
-    use test_potential, only: t83 => test_gradient_tends_to_force
-    use test_potential, only: t84 => test_gradient_exact_at_rest
-    use test_potential, only: t85 => test_slope_matches_finite_difference
-    use test_potential, only: t86 => test_array_kernels_agree
-    use test_potential, only: t87 => test_names_round_trip
-    use test_potential, only: t88 => test_unknown_potential_is_an_error
-    use test_provenance, only: b11 => set_up
-    use test_provenance, only: a11 => tear_down
-    use test_provenance, only: t89 => test_build_commit_is_an_id_or_unknown
-    use test_provenance, only: t90 => test_commit_is_not_read_from_the_working_directory
-    use test_provenance, only: t91 => test_provenance_written
-    use test_provenance, only: t92 => test_provenance_attributes_are_the_documented_ones
-    use test_rk4, only: t93 => test_rk4_fourth_order
-    use test_rk4, only: t94 => test_rk4_energy_drift
-    use test_rk4, only: t95 => test_rk4_stability_limit
-    use test_rk4, only: t96 => test_rk4_agrees_with_energy_conserving_scheme
-    use test_scene_bifurcation, only: b13 => set_up
-    use test_scene_bifurcation, only: a13 => tear_down
-    use test_scene_bifurcation, only: t97 => test_early_stop_keeps_verdict
-    use test_scene_bifurcation, only: t98 => test_threads_give_identical_thresholds
-    use test_scene_bifurcation, only: t99 => test_threshold_transmits_and_one_step_below_does_not
-    use test_scene_bifurcation, only: t100 => test_resume_after_kill
-    use test_scene_bifurcation, only: t101 => test_file_layout
-    use test_scene_bifurcation, only: t102 => test_failed_runs_give_status_run_failed
-    use test_scene_bifurcation, only: t103 => test_screening_changes_no_threshold
-    use test_scene_factory, only: t104 => test_every_kind_of_the_schema_has_a_scene
-    use test_scene_factory, only: t105 => test_unknown_kind_is_one_line_naming_the_known
-    use test_scene_factory, only: t106 => test_the_input_check_words_an_unknown_kind_as_before
-    use test_scene_factory, only: t107 => test_only_a_timeseries_is_one_run
-    use test_scene_factory, only: t108 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
-    use test_scene_map, only: b15 => set_up
-    use test_scene_map, only: a15 => tear_down
-    use test_scene_map, only: t109 => test_skips_outside_gap_and_stores_as
-    use test_scene_map, only: t110 => test_map_independent_of_thread_count
-    use test_scene_sweep, only: b16 => set_up
-    use test_scene_sweep, only: a16 => tear_down
-    use test_scene_sweep, only: t111 => test_axis_grid_exact
-    use test_scene_sweep, only: t112 => test_independent_of_thread_count
-    use test_scene_sweep, only: t113 => test_layout_and_physics
-    use test_scene_sweep, only: t114 => test_resume_after_kill
-    use test_scene_sweep, only: t115 => test_diverging_runs_flagged
-    use test_scene_sweep, only: t116 => test_partial_snapshot
-    use test_scene_sweep, only: t117 => test_refuses_existing_output
-    use test_schema, only: t118 => test_table_is_complete
-    use test_schema, only: t119 => test_each_key_sets_its_own_field
-    use test_schema, only: t120 => test_defaults_are_the_papers
-    use test_schema, only: t121 => test_choices_agree_with_the_physics
-    use test_schema, only: t122 => test_parameters_hold_every_key
-    use test_scheme, only: t123 => test_ledger_closes_every_step
-    use test_scheme, only: t124 => test_linearized_ledger_does_not_close
-    use test_scheme, only: t125 => test_evanescent_wave
-    use test_scheme, only: t126 => test_second_order_in_dt
-    use test_scheme, only: t127 => test_stability_boundary
-    use test_scheme, only: t128 => test_newton_failure_reported
-    use test_scheme, only: t129 => test_two_runs_in_two_threads
-    use test_scheme, only: t130 => test_verdict_across_the_gap
-    use test_screened_search, only: t131 => test_cheap_right_saves_exact_runs
-    use test_screened_search, only: t132 => test_cheap_too_high_within_band
-    use test_screened_search, only: t133 => test_cheap_too_high_walks_down
-    use test_screened_search, only: t134 => test_cheap_window_far_below
-    use test_screened_search, only: t135 => test_doubtful_quiet_answers_go_to_the_exact_oracle
-    use test_screened_search, only: t136 => test_random_patterns_with_margins
-    use test_screened_search, only: t137 => test_random_patterns_false_alarms
-    use test_screened_search, only: t138 => test_cheap_finds_none
-    use test_screened_search, only: t139 => test_none_transmits_confirms_the_top
-    use test_screened_search, only: t140 => test_exact_failure_is_reported
-    use test_screened_search, only: t141 => test_cheap_failure_falls_back_to_exact
-    use test_stability, only: b20 => set_up
-    use test_stability, only: a20 => tear_down
-    use test_stability, only: t142 => test_linear_limits
-    use test_stability, only: t143 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t144 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t145 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t146 => test_stepper_contract_order
-    use test_stepper_contract, only: t147 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t148 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t149 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t150 => test_engine_counts_steps_in_64_bits
-    use test_stepper_linearized, only: t151 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t152 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t153 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t154 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t155 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t156 => test_newton_error_below_tol
-    use test_stepper_newton, only: t157 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t158 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t159 => test_newton_stepper_reports_failure
-    use test_strings, only: t160 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t161 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t162 => test_find_name_gives_the_first_index_or_zero
-    use test_system, only: b25 => set_up
-    use test_system, only: a25 => tear_down
-    use test_system, only: t163 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t164 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t165 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t166 => test_temporary_names_are_fresh
-    use test_system, only: t167 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t168 => test_monotone_step
-    use test_threshold, only: t169 => test_bisected_bracket
-    use test_threshold, only: t170 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t171 => test_two_transitions
-    use test_threshold, only: t172 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t173 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t174 => test_nothing_transmits
-    use test_threshold, only: t175 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t176 => test_lower_bound_transmits
-    use test_threshold, only: t177 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t178 => test_bad_arguments
-    use test_threshold, only: t179 => test_grid_helpers
-    use test_workprec, only: b27 => set_up
-    use test_workprec, only: a27 => tear_down
-    use test_workprec, only: t180 => test_rk8_eighth_order
-    use test_workprec, only: t181 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t182 => test_rk8_stability_polynomial
-    use test_workprec, only: t183 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t184 => test_unstable_runs_are_reported
-    use test_workprec, only: t185 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t186 => test_fitted_order
-    use test_workprec, only: t187 => test_step_kernels_timed
+    use test_avf, only: t1 => test_avf_tableau
+    use test_avf, only: t2 => test_avf_energy_balance_klein_gordon
+    use test_avf, only: t3 => test_avf_energy_balance_sine_gordon
+    use test_avf, only: t4 => test_avf_order
+    use test_avf, only: t5 => test_avf_a_stable
+    use test_avf, only: t6 => test_avf_threads_bit_identical
+    use test_continuation, only: t7 => test_shooting_quadratic
+    use test_continuation, only: t8 => test_floquet_classification
+    use test_continuation, only: t9 => test_fold_located
+    use test_continuation, only: t10 => test_period_doubling
+    use test_continuation, only: t11 => test_torus
+    use test_continuation, only: t12 => test_crowded_unit_circle
+    use test_continuation, only: t13 => test_robust_over_steps
+    use test_continuation, only: t14 => test_no_fold
+    use test_continuation, only: t15 => test_tangent_finite_difference
+    use test_continuation, only: t16 => test_failures_reported
+    use test_continuation, only: t17 => test_fold_next_to_failing_region
+    use test_continuation_fast, only: t18 => test_fast_floquet_same_verdicts
+    use test_continuation_fast, only: t19 => test_short_chain
+    use test_continuation_fast, only: t20 => test_tracked_multiplier
+    use test_fold_record, only: t21 => test_round_trip
+    use test_hdf5, only: b5 => set_up
+    use test_hdf5, only: a5 => tear_down
+    use test_hdf5, only: t22 => test_roundtrip_real
+    use test_hdf5, only: t23 => test_roundtrip_integer
+    use test_hdf5, only: t24 => test_roundtrip_character
+    use test_hdf5, only: t25 => test_roundtrip_attributes
+    use test_hdf5, only: t26 => test_refuses_to_overwrite
+    use test_hdf5, only: t27 => test_nothing_on_disk_before_commit
+    use test_hdf5, only: t28 => test_discard_leaves_nothing
+    use test_hdf5, only: t29 => test_exists_nested
+    use test_hdf5, only: t30 => test_first_error_sticks
+    use test_hdf5, only: t31 => test_dimension_scales_attached
+    use test_hdf5, only: t32 => test_many_files_in_one_process
+    use test_hdf5, only: t33 => test_errors_name_file_and_object
+    use test_hysteresis, only: t34 => test_default_profile_is_the_ramp
+    use test_hysteresis, only: t35 => test_stairs_have_their_levels_at_their_times
+    use test_hysteresis, only: t36 => test_stairs_are_continuous
+    use test_hysteresis, only: t37 => test_stair_slope_against_differences
+    use test_hysteresis, only: t38 => test_edges_from_powers
+    use test_hysteresis, only: t39 => test_stair_powers_against_wave_fluxes
+    use test_input, only: t40 => test_unknown_key
+    use test_input, only: t41 => test_key_in_wrong_group
+    use test_input, only: t42 => test_unknown_group
+    use test_input, only: t43 => test_integer_key_given_real
+    use test_input, only: t44 => test_real_key_given_text
+    use test_input, only: t45 => test_logical_key_given_yes
+    use test_input, only: t46 => test_scalar_key_given_list
+    use test_input, only: t47 => test_repeat_count_rejected
+    use test_input, only: t48 => test_key_given_twice
+    use test_input, only: t49 => test_unterminated_group
+    use test_input, only: t50 => test_unterminated_string
+    use test_input, only: t51 => test_text_outside_groups
+    use test_input, only: t52 => test_missing_file
+    use test_input, only: t53 => test_n_below_two
+    use test_input, only: t54 => test_dt_negative
+    use test_input, only: t55 => test_dt_zero
+    use test_input, only: t56 => test_t_final_not_positive
+    use test_input, only: t57 => test_omega_outside_gap
+    use test_input, only: t58 => test_omega_outside_gap_allowed
+    use test_input, only: t59 => test_stability_violated
+    use test_input, only: t60 => test_stability_violated_allowed
+    use test_input, only: t61 => test_output_exists
+    use test_input, only: t62 => test_output_exists_overwrite
+    use test_input, only: t63 => test_unknown_potential
+    use test_input, only: t64 => test_unknown_method
+    use test_input, only: t65 => test_unknown_scene
+    use test_input, only: t66 => test_probe_outside_chain
+    use test_input, only: t67 => test_full_valid_file
+    use test_input, only: t68 => test_empty_file_is_refused
+    use test_input, only: t69 => test_defaults_of_a_minimal_file
+    use test_input, only: t70 => test_validate_config_in_code
+    use test_input, only: t71 => test_list_value_out_of_range
+    use test_input, only: t72 => test_unknown_potential_in_list
+    use test_input, only: t73 => test_lists_of_names_read
+    use test_input, only: t74 => test_unknown_method_number_in_code
+    use test_input, only: t75 => test_namelist_text_and_start_kept
+    use test_journal, only: t76 => test_fields_read_by_name
+    use test_journal, only: t77 => test_other_fields_or_input_refused
+    use test_journal, only: t78 => test_header_names_the_fields
+    use test_journal, only: t79 => test_records_bound_to_their_header
+    use test_perf_kernels, only: t80 => test_sin_cos_array_accuracy
+    use test_perf_kernels, only: t81 => test_sin_cos_quiet_tail
+    use test_perf_kernels, only: t82 => test_gradient_paths_agree
+    use test_period_map, only: t83 => test_tangent_against_finite_differences
+    use test_period_map, only: t84 => test_same_scheme_as_steppers
+    use test_period_map, only: t85 => test_linear_evanescent_wave
+    use test_period_map, only: t86 => test_newton_shooting_quadratic
+    use test_period_map, only: t87 => test_steps_and_bad_input
+    use test_potential, only: t88 => test_gradient_equals_difference_quotient
+    use test_potential, only: t89 => test_gradient_tends_to_force
+    use test_potential, only: t90 => test_gradient_exact_at_rest
+    use test_potential, only: t91 => test_slope_matches_finite_difference
+    use test_potential, only: t92 => test_array_kernels_agree
+    use test_potential, only: t93 => test_names_round_trip
+    use test_potential, only: t94 => test_unknown_potential_is_an_error
+    use test_provenance, only: b12 => set_up
+    use test_provenance, only: a12 => tear_down
+    use test_provenance, only: t95 => test_build_commit_is_an_id_or_unknown
+    use test_provenance, only: t96 => test_commit_is_not_read_from_the_working_directory
+    use test_provenance, only: t97 => test_provenance_written
+    use test_provenance, only: t98 => test_provenance_attributes_are_the_documented_ones
+    use test_rk4, only: t99 => test_rk4_fourth_order
+    use test_rk4, only: t100 => test_rk4_energy_drift
+    use test_rk4, only: t101 => test_rk4_stability_limit
+    use test_rk4, only: t102 => test_rk4_agrees_with_energy_conserving_scheme
+    use test_scene_bifurcation, only: b14 => set_up
+    use test_scene_bifurcation, only: a14 => tear_down
+    use test_scene_bifurcation, only: t103 => test_early_stop_keeps_verdict
+    use test_scene_bifurcation, only: t104 => test_threads_give_identical_thresholds
+    use test_scene_bifurcation, only: t105 => test_threshold_transmits_and_one_step_below_does_not
+    use test_scene_bifurcation, only: t106 => test_resume_after_kill
+    use test_scene_bifurcation, only: t107 => test_file_layout
+    use test_scene_bifurcation, only: t108 => test_failed_runs_give_status_run_failed
+    use test_scene_bifurcation, only: t109 => test_screening_changes_no_threshold
+    use test_scene_factory, only: t110 => test_every_kind_of_the_schema_has_a_scene
+    use test_scene_factory, only: t111 => test_unknown_kind_is_one_line_naming_the_known
+    use test_scene_factory, only: t112 => test_the_input_check_words_an_unknown_kind_as_before
+    use test_scene_factory, only: t113 => test_only_a_timeseries_is_one_run
+    use test_scene_factory, only: t114 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
+    use test_scene_map, only: b16 => set_up
+    use test_scene_map, only: a16 => tear_down
+    use test_scene_map, only: t115 => test_skips_outside_gap_and_stores_as
+    use test_scene_map, only: t116 => test_map_independent_of_thread_count
+    use test_scene_sweep, only: b17 => set_up
+    use test_scene_sweep, only: a17 => tear_down
+    use test_scene_sweep, only: t117 => test_axis_grid_exact
+    use test_scene_sweep, only: t118 => test_independent_of_thread_count
+    use test_scene_sweep, only: t119 => test_layout_and_physics
+    use test_scene_sweep, only: t120 => test_resume_after_kill
+    use test_scene_sweep, only: t121 => test_diverging_runs_flagged
+    use test_scene_sweep, only: t122 => test_partial_snapshot
+    use test_scene_sweep, only: t123 => test_refuses_existing_output
+    use test_schema, only: t124 => test_table_is_complete
+    use test_schema, only: t125 => test_each_key_sets_its_own_field
+    use test_schema, only: t126 => test_defaults_are_the_papers
+    use test_schema, only: t127 => test_choices_agree_with_the_physics
+    use test_schema, only: t128 => test_parameters_hold_every_key
+    use test_scheme, only: t129 => test_ledger_closes_every_step
+    use test_scheme, only: t130 => test_linearized_ledger_does_not_close
+    use test_scheme, only: t131 => test_evanescent_wave
+    use test_scheme, only: t132 => test_second_order_in_dt
+    use test_scheme, only: t133 => test_stability_boundary
+    use test_scheme, only: t134 => test_newton_failure_reported
+    use test_scheme, only: t135 => test_two_runs_in_two_threads
+    use test_scheme, only: t136 => test_verdict_across_the_gap
+    use test_screened_search, only: t137 => test_cheap_right_saves_exact_runs
+    use test_screened_search, only: t138 => test_cheap_too_high_within_band
+    use test_screened_search, only: t139 => test_cheap_too_high_walks_down
+    use test_screened_search, only: t140 => test_cheap_window_far_below
+    use test_screened_search, only: t141 => test_doubtful_quiet_answers_go_to_the_exact_oracle
+    use test_screened_search, only: t142 => test_random_patterns_with_margins
+    use test_screened_search, only: t143 => test_random_patterns_false_alarms
+    use test_screened_search, only: t144 => test_cheap_finds_none
+    use test_screened_search, only: t145 => test_none_transmits_confirms_the_top
+    use test_screened_search, only: t146 => test_exact_failure_is_reported
+    use test_screened_search, only: t147 => test_cheap_failure_falls_back_to_exact
+    use test_stability, only: b21 => set_up
+    use test_stability, only: a21 => tear_down
+    use test_stability, only: t148 => test_linear_limits
+    use test_stability, only: t149 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t150 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t151 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t152 => test_stepper_contract_order
+    use test_stepper_contract, only: t153 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t154 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t155 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t156 => test_engine_counts_steps_in_64_bits
+    use test_stepper_linearized, only: t157 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t158 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t159 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t160 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t161 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t162 => test_newton_error_below_tol
+    use test_stepper_newton, only: t163 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t164 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t165 => test_newton_stepper_reports_failure
+    use test_strings, only: t166 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t167 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t168 => test_find_name_gives_the_first_index_or_zero
+    use test_system, only: b26 => set_up
+    use test_system, only: a26 => tear_down
+    use test_system, only: t169 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t170 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t171 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t172 => test_temporary_names_are_fresh
+    use test_system, only: t173 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t174 => test_monotone_step
+    use test_threshold, only: t175 => test_bisected_bracket
+    use test_threshold, only: t176 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t177 => test_two_transitions
+    use test_threshold, only: t178 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t179 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t180 => test_nothing_transmits
+    use test_threshold, only: t181 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t182 => test_lower_bound_transmits
+    use test_threshold, only: t183 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t184 => test_bad_arguments
+    use test_threshold, only: t185 => test_grid_helpers
+    use test_workprec, only: b28 => set_up
+    use test_workprec, only: a28 => tear_down
+    use test_workprec, only: t186 => test_rk8_eighth_order
+    use test_workprec, only: t187 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t188 => test_rk8_stability_polynomial
+    use test_workprec, only: t189 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t190 => test_unstable_runs_are_reported
+    use test_workprec, only: t191 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t192 => test_fitted_order
+    use test_workprec, only: t193 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
-    call pf_run_test('test_continuation', 'test_shooting_quadratic', t1)
-    call pf_run_test('test_continuation', 'test_floquet_classification', t2)
-    call pf_run_test('test_continuation', 'test_fold_located', t3)
-    call pf_run_test('test_continuation', 'test_period_doubling', t4)
-    call pf_run_test('test_continuation', 'test_torus', t5)
-    call pf_run_test('test_continuation', 'test_crowded_unit_circle', t6)
-    call pf_run_test('test_continuation', 'test_robust_over_steps', t7)
-    call pf_run_test('test_continuation', 'test_no_fold', t8)
-    call pf_run_test('test_continuation', 'test_tangent_finite_difference', t9)
-    call pf_run_test('test_continuation', 'test_failures_reported', t10)
-    call pf_run_test('test_continuation', 'test_fold_next_to_failing_region', t11)
-    call pf_run_test('test_continuation_fast', 'test_fast_floquet_same_verdicts', t12)
-    call pf_run_test('test_continuation_fast', 'test_short_chain', t13)
-    call pf_run_test('test_continuation_fast', 'test_tracked_multiplier', t14)
-    call pf_run_test('test_fold_record', 'test_round_trip', t15)
-    call pf_run_test('test_hdf5', 'test_roundtrip_real', t16, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_roundtrip_integer', t17, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_roundtrip_character', t18, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_roundtrip_attributes', t19, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_refuses_to_overwrite', t20, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_nothing_on_disk_before_commit', t21, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_discard_leaves_nothing', t22, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_exists_nested', t23, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_first_error_sticks', t24, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_dimension_scales_attached', t25, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_many_files_in_one_process', t26, before=b4, after=a4)
-    call pf_run_test('test_hdf5', 'test_errors_name_file_and_object', t27, before=b4, after=a4)
-    call pf_run_test('test_hysteresis', 'test_default_profile_is_the_ramp', t28)
-    call pf_run_test('test_hysteresis', 'test_stairs_have_their_levels_at_their_times', t29)
-    call pf_run_test('test_hysteresis', 'test_stairs_are_continuous', t30)
-    call pf_run_test('test_hysteresis', 'test_stair_slope_against_differences', t31)
-    call pf_run_test('test_hysteresis', 'test_edges_from_powers', t32)
-    call pf_run_test('test_hysteresis', 'test_stair_powers_against_wave_fluxes', t33)
-    call pf_run_test('test_input', 'test_unknown_key', t34)
-    call pf_run_test('test_input', 'test_key_in_wrong_group', t35)
-    call pf_run_test('test_input', 'test_unknown_group', t36)
-    call pf_run_test('test_input', 'test_integer_key_given_real', t37)
-    call pf_run_test('test_input', 'test_real_key_given_text', t38)
-    call pf_run_test('test_input', 'test_logical_key_given_yes', t39)
-    call pf_run_test('test_input', 'test_scalar_key_given_list', t40)
-    call pf_run_test('test_input', 'test_repeat_count_rejected', t41)
-    call pf_run_test('test_input', 'test_key_given_twice', t42)
-    call pf_run_test('test_input', 'test_unterminated_group', t43)
-    call pf_run_test('test_input', 'test_unterminated_string', t44)
-    call pf_run_test('test_input', 'test_text_outside_groups', t45)
-    call pf_run_test('test_input', 'test_missing_file', t46)
-    call pf_run_test('test_input', 'test_n_below_two', t47)
-    call pf_run_test('test_input', 'test_dt_negative', t48)
-    call pf_run_test('test_input', 'test_dt_zero', t49)
-    call pf_run_test('test_input', 'test_t_final_not_positive', t50)
-    call pf_run_test('test_input', 'test_omega_outside_gap', t51)
-    call pf_run_test('test_input', 'test_omega_outside_gap_allowed', t52)
-    call pf_run_test('test_input', 'test_stability_violated', t53)
-    call pf_run_test('test_input', 'test_stability_violated_allowed', t54)
-    call pf_run_test('test_input', 'test_output_exists', t55)
-    call pf_run_test('test_input', 'test_output_exists_overwrite', t56)
-    call pf_run_test('test_input', 'test_unknown_potential', t57)
-    call pf_run_test('test_input', 'test_unknown_method', t58)
-    call pf_run_test('test_input', 'test_unknown_scene', t59)
-    call pf_run_test('test_input', 'test_probe_outside_chain', t60)
-    call pf_run_test('test_input', 'test_full_valid_file', t61)
-    call pf_run_test('test_input', 'test_empty_file_is_refused', t62)
-    call pf_run_test('test_input', 'test_defaults_of_a_minimal_file', t63)
-    call pf_run_test('test_input', 'test_validate_config_in_code', t64)
-    call pf_run_test('test_input', 'test_list_value_out_of_range', t65)
-    call pf_run_test('test_input', 'test_unknown_potential_in_list', t66)
-    call pf_run_test('test_input', 'test_lists_of_names_read', t67)
-    call pf_run_test('test_input', 'test_unknown_method_number_in_code', t68)
-    call pf_run_test('test_input', 'test_namelist_text_and_start_kept', t69)
-    call pf_run_test('test_journal', 'test_fields_read_by_name', t70)
-    call pf_run_test('test_journal', 'test_other_fields_or_input_refused', t71)
-    call pf_run_test('test_journal', 'test_header_names_the_fields', t72)
-    call pf_run_test('test_journal', 'test_records_bound_to_their_header', t73)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t74)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t75)
-    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t76)
-    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t77)
-    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t78)
-    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t79)
-    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t80)
-    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t81)
-    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t82)
-    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t83)
-    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t84)
-    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t85)
-    call pf_run_test('test_potential', 'test_array_kernels_agree', t86)
-    call pf_run_test('test_potential', 'test_names_round_trip', t87)
-    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t88)
-    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t89, before=b11, after=a11)
+    call pf_run_test('test_avf', 'test_avf_tableau', t1)
+    call pf_run_test('test_avf', 'test_avf_energy_balance_klein_gordon', t2)
+    call pf_run_test('test_avf', 'test_avf_energy_balance_sine_gordon', t3)
+    call pf_run_test('test_avf', 'test_avf_order', t4)
+    call pf_run_test('test_avf', 'test_avf_a_stable', t5)
+    call pf_run_test('test_avf', 'test_avf_threads_bit_identical', t6)
+    call pf_run_test('test_continuation', 'test_shooting_quadratic', t7)
+    call pf_run_test('test_continuation', 'test_floquet_classification', t8)
+    call pf_run_test('test_continuation', 'test_fold_located', t9)
+    call pf_run_test('test_continuation', 'test_period_doubling', t10)
+    call pf_run_test('test_continuation', 'test_torus', t11)
+    call pf_run_test('test_continuation', 'test_crowded_unit_circle', t12)
+    call pf_run_test('test_continuation', 'test_robust_over_steps', t13)
+    call pf_run_test('test_continuation', 'test_no_fold', t14)
+    call pf_run_test('test_continuation', 'test_tangent_finite_difference', t15)
+    call pf_run_test('test_continuation', 'test_failures_reported', t16)
+    call pf_run_test('test_continuation', 'test_fold_next_to_failing_region', t17)
+    call pf_run_test('test_continuation_fast', 'test_fast_floquet_same_verdicts', t18)
+    call pf_run_test('test_continuation_fast', 'test_short_chain', t19)
+    call pf_run_test('test_continuation_fast', 'test_tracked_multiplier', t20)
+    call pf_run_test('test_fold_record', 'test_round_trip', t21)
+    call pf_run_test('test_hdf5', 'test_roundtrip_real', t22, before=b5, after=a5)
+    call pf_run_test('test_hdf5', 'test_roundtrip_integer', t23, before=b5, after=a5)
+    call pf_run_test('test_hdf5', 'test_roundtrip_character', t24, before=b5, after=a5)
+    call pf_run_test('test_hdf5', 'test_roundtrip_attributes', t25, before=b5, after=a5)
+    call pf_run_test('test_hdf5', 'test_refuses_to_overwrite', t26, before=b5, after=a5)
+    call pf_run_test('test_hdf5', 'test_nothing_on_disk_before_commit', t27, before=b5, after=a5)
+    call pf_run_test('test_hdf5', 'test_discard_leaves_nothing', t28, before=b5, after=a5)
+    call pf_run_test('test_hdf5', 'test_exists_nested', t29, before=b5, after=a5)
+    call pf_run_test('test_hdf5', 'test_first_error_sticks', t30, before=b5, after=a5)
+    call pf_run_test('test_hdf5', 'test_dimension_scales_attached', t31, before=b5, after=a5)
+    call pf_run_test('test_hdf5', 'test_many_files_in_one_process', t32, before=b5, after=a5)
+    call pf_run_test('test_hdf5', 'test_errors_name_file_and_object', t33, before=b5, after=a5)
+    call pf_run_test('test_hysteresis', 'test_default_profile_is_the_ramp', t34)
+    call pf_run_test('test_hysteresis', 'test_stairs_have_their_levels_at_their_times', t35)
+    call pf_run_test('test_hysteresis', 'test_stairs_are_continuous', t36)
+    call pf_run_test('test_hysteresis', 'test_stair_slope_against_differences', t37)
+    call pf_run_test('test_hysteresis', 'test_edges_from_powers', t38)
+    call pf_run_test('test_hysteresis', 'test_stair_powers_against_wave_fluxes', t39)
+    call pf_run_test('test_input', 'test_unknown_key', t40)
+    call pf_run_test('test_input', 'test_key_in_wrong_group', t41)
+    call pf_run_test('test_input', 'test_unknown_group', t42)
+    call pf_run_test('test_input', 'test_integer_key_given_real', t43)
+    call pf_run_test('test_input', 'test_real_key_given_text', t44)
+    call pf_run_test('test_input', 'test_logical_key_given_yes', t45)
+    call pf_run_test('test_input', 'test_scalar_key_given_list', t46)
+    call pf_run_test('test_input', 'test_repeat_count_rejected', t47)
+    call pf_run_test('test_input', 'test_key_given_twice', t48)
+    call pf_run_test('test_input', 'test_unterminated_group', t49)
+    call pf_run_test('test_input', 'test_unterminated_string', t50)
+    call pf_run_test('test_input', 'test_text_outside_groups', t51)
+    call pf_run_test('test_input', 'test_missing_file', t52)
+    call pf_run_test('test_input', 'test_n_below_two', t53)
+    call pf_run_test('test_input', 'test_dt_negative', t54)
+    call pf_run_test('test_input', 'test_dt_zero', t55)
+    call pf_run_test('test_input', 'test_t_final_not_positive', t56)
+    call pf_run_test('test_input', 'test_omega_outside_gap', t57)
+    call pf_run_test('test_input', 'test_omega_outside_gap_allowed', t58)
+    call pf_run_test('test_input', 'test_stability_violated', t59)
+    call pf_run_test('test_input', 'test_stability_violated_allowed', t60)
+    call pf_run_test('test_input', 'test_output_exists', t61)
+    call pf_run_test('test_input', 'test_output_exists_overwrite', t62)
+    call pf_run_test('test_input', 'test_unknown_potential', t63)
+    call pf_run_test('test_input', 'test_unknown_method', t64)
+    call pf_run_test('test_input', 'test_unknown_scene', t65)
+    call pf_run_test('test_input', 'test_probe_outside_chain', t66)
+    call pf_run_test('test_input', 'test_full_valid_file', t67)
+    call pf_run_test('test_input', 'test_empty_file_is_refused', t68)
+    call pf_run_test('test_input', 'test_defaults_of_a_minimal_file', t69)
+    call pf_run_test('test_input', 'test_validate_config_in_code', t70)
+    call pf_run_test('test_input', 'test_list_value_out_of_range', t71)
+    call pf_run_test('test_input', 'test_unknown_potential_in_list', t72)
+    call pf_run_test('test_input', 'test_lists_of_names_read', t73)
+    call pf_run_test('test_input', 'test_unknown_method_number_in_code', t74)
+    call pf_run_test('test_input', 'test_namelist_text_and_start_kept', t75)
+    call pf_run_test('test_journal', 'test_fields_read_by_name', t76)
+    call pf_run_test('test_journal', 'test_other_fields_or_input_refused', t77)
+    call pf_run_test('test_journal', 'test_header_names_the_fields', t78)
+    call pf_run_test('test_journal', 'test_records_bound_to_their_header', t79)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t80)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t81)
+    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t82)
+    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t83)
+    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t84)
+    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t85)
+    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t86)
+    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t87)
+    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t88)
+    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t89)
+    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t90)
+    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t91)
+    call pf_run_test('test_potential', 'test_array_kernels_agree', t92)
+    call pf_run_test('test_potential', 'test_names_round_trip', t93)
+    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t94)
+    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t95, before=b12, after=a12)
     call pf_run_test( &
         'test_provenance', &
         'test_commit_is_not_read_from_the_working_directory', &
-        t90, &
-        before=b11, &
-        after=a11)
-    call pf_run_test('test_provenance', 'test_provenance_written', t91, before=b11, after=a11)
+        t96, &
+        before=b12, &
+        after=a12)
+    call pf_run_test('test_provenance', 'test_provenance_written', t97, before=b12, after=a12)
     call pf_run_test( &
         'test_provenance', &
         'test_provenance_attributes_are_the_documented_ones', &
-        t92, &
-        before=b11, &
-        after=a11)
-    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t93)
-    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t94)
-    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t95)
-    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t96)
-    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t97, before=b13, after=a13)
-    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t98, before=b13, after=a13)
+        t98, &
+        before=b12, &
+        after=a12)
+    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t99)
+    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t100)
+    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t101)
+    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t102)
+    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t103, before=b14, after=a14)
+    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t104, before=b14, after=a14)
     call pf_run_test( &
         'test_scene_bifurcation', &
         'test_threshold_transmits_and_one_step_below_does_not', &
-        t99, &
-        before=b13, &
-        after=a13)
-    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t100, before=b13, after=a13)
-    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t101, before=b13, after=a13)
-    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t102, before=b13, after=a13)
-    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t103, before=b13, after=a13)
-    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t104)
-    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t105)
-    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t106)
-    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t107)
-    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t108)
-    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t109, before=b15, after=a15)
-    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t110, before=b15, after=a15)
-    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t111, before=b16, after=a16)
-    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t112, before=b16, after=a16)
-    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t113, before=b16, after=a16)
-    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t114, before=b16, after=a16)
-    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t115, before=b16, after=a16)
-    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t116, before=b16, after=a16)
-    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t117, before=b16, after=a16)
-    call pf_run_test('test_schema', 'test_table_is_complete', t118)
-    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t119)
-    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t120)
-    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t121)
-    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t122)
-    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t123)
-    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t124)
-    call pf_run_test('test_scheme', 'test_evanescent_wave', t125)
-    call pf_run_test('test_scheme', 'test_second_order_in_dt', t126)
-    call pf_run_test('test_scheme', 'test_stability_boundary', t127)
-    call pf_run_test('test_scheme', 'test_newton_failure_reported', t128)
-    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t129)
-    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t130)
-    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t131)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t132)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t133)
-    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t134)
-    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t135)
-    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t136)
-    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t137)
-    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t138)
-    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t139)
-    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t140)
-    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t141)
-    call pf_run_test('test_stability', 'test_linear_limits', t142, before=b20, after=a20)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t143, before=b20, after=a20)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t144, before=b20, after=a20)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t145)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t146)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t147)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t148)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t149)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t150)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t151)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t152)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t153)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t154)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t155)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t156)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t157)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t158)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t159)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t160)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t161)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t162)
+        t105, &
+        before=b14, &
+        after=a14)
+    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t106, before=b14, after=a14)
+    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t107, before=b14, after=a14)
+    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t108, before=b14, after=a14)
+    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t109, before=b14, after=a14)
+    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t110)
+    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t111)
+    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t112)
+    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t113)
+    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t114)
+    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t115, before=b16, after=a16)
+    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t116, before=b16, after=a16)
+    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t117, before=b17, after=a17)
+    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t118, before=b17, after=a17)
+    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t119, before=b17, after=a17)
+    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t120, before=b17, after=a17)
+    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t121, before=b17, after=a17)
+    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t122, before=b17, after=a17)
+    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t123, before=b17, after=a17)
+    call pf_run_test('test_schema', 'test_table_is_complete', t124)
+    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t125)
+    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t126)
+    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t127)
+    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t128)
+    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t129)
+    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t130)
+    call pf_run_test('test_scheme', 'test_evanescent_wave', t131)
+    call pf_run_test('test_scheme', 'test_second_order_in_dt', t132)
+    call pf_run_test('test_scheme', 'test_stability_boundary', t133)
+    call pf_run_test('test_scheme', 'test_newton_failure_reported', t134)
+    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t135)
+    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t136)
+    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t137)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t138)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t139)
+    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t140)
+    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t141)
+    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t142)
+    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t143)
+    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t144)
+    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t145)
+    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t146)
+    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t147)
+    call pf_run_test('test_stability', 'test_linear_limits', t148, before=b21, after=a21)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t149, before=b21, after=a21)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t150, before=b21, after=a21)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t151)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t152)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t153)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t154)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t155)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t156)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t157)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t158)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t159)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t160)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t161)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t162)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t163)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t164)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t165)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t166)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t167)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t168)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t163, &
-        before=b25, &
-        after=a25)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t164, before=b25, after=a25)
+        t169, &
+        before=b26, &
+        after=a26)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t170, before=b26, after=a26)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t165, &
-        before=b25, &
-        after=a25)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t166, before=b25, after=a25)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t167, before=b25, after=a25)
-    call pf_run_test('test_threshold', 'test_monotone_step', t168)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t169)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t170)
-    call pf_run_test('test_threshold', 'test_two_transitions', t171)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t172)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t173)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t174)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t175)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t176)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t177)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t178)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t179)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t180, before=b27, after=a27)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t181, before=b27, after=a27)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t182, before=b27, after=a27)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t183, before=b27, after=a27)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t184, before=b27, after=a27)
+        t171, &
+        before=b26, &
+        after=a26)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t172, before=b26, after=a26)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t173, before=b26, after=a26)
+    call pf_run_test('test_threshold', 'test_monotone_step', t174)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t175)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t176)
+    call pf_run_test('test_threshold', 'test_two_transitions', t177)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t178)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t179)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t180)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t181)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t182)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t183)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t184)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t185)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t186, before=b28, after=a28)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t187, before=b28, after=a28)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t188, before=b28, after=a28)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t189, before=b28, after=a28)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t190, before=b28, after=a28)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t185, &
-        before=b27, &
-        after=a27)
-    call pf_run_test('test_workprec', 'test_fitted_order', t186, before=b27, after=a27)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t187, before=b27, after=a27)
+        t191, &
+        before=b28, &
+        after=a28)
+    call pf_run_test('test_workprec', 'test_fitted_order', t192, before=b28, after=a28)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t193, before=b28, after=a28)
     call pf_driver_finish()
 end program pf_driver

@@ -1180,7 +1180,7 @@ contains
         if (.not. allocated(error)) return
         call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 617, 'assertEqual'))
         if (pf_any_failed()) return
-        expected = "configuration: &numerics: method = 9: unknown method (known: newton, linearized, rk4, rk8)"
+        expected = "configuration: &numerics: method = 9: unknown method (known: newton, linearized, rk4, rk8, avf4, avf8)"
         call assertTrue( &
             error%message == expected, &
             error%message, &

@@ -25,8 +25,13 @@ module supratrans_config
     integer, parameter, public :: method_rk4 = 3
     !> Eighth-order, 11-stage explicit Runge-Kutta method of Cooper and Verner on the same system (reference).
     integer, parameter, public :: method_rk8 = 4
+    !> Energy-preserving collocation (Hairer 2010) with 2 Gauss nodes, order 4: the energy ledger closes every step.
+    integer, parameter, public :: method_avf4 = 5
+    !> Energy-preserving collocation (Hairer 2010) with 4 Gauss nodes, order 8: the energy ledger closes every step.
+    integer, parameter, public :: method_avf8 = 6
     !> Names of the methods (&numerics method, &scene methods), in the order of their numbers.
-    character(len=*), parameter, public :: method_choices(*) = [character(len=10) :: "newton", "linearized", "rk4", "rk8"]
+    character(len=*), parameter, public :: method_choices(*) = [character(len=10) :: "newton", "linearized", "rk4", "rk8", &
+        "avf4", "avf8"]
 
     !> Names of the scenes (&scene kind).
     character(len=*), parameter, public :: scene_choices(*) = [character(len=15) :: "timeseries", "amplitude_sweep", "map", &
@@ -100,7 +105,8 @@ module supratrans_config
 
     !> Time discretisation and solver controls.
     type, public :: numerics_params
-        !> Integrator: 'newton' (the paper's scheme), 'linearized', 'rk4' or 'rk8' (&numerics method).
+        !> Integrator: 'newton' (the paper's scheme), 'linearized', 'rk4', 'rk8', or the energy-preserving collocation 'avf4' or
+        !> 'avf8' (docs/method.md) (&numerics method).
         integer :: method = method_newton
         !> Time step Delta t (&numerics dt).
         real(wp) :: dt = 0.05_wp

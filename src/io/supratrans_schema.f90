@@ -236,8 +236,9 @@ module supratrans_schema
         group="numerics", key="method", value_type=kt_name, max_values=1, attribute="method", units="1", choices=choice_method, &
             ids=.true., &
         default_text="'newton'", &
-        range_text="'newton', 'linearized', 'rk4', 'rk8'", &
-        description="Integrator: 'newton' (the paper's scheme), 'linearized', 'rk4' or 'rk8'")
+        range_text="'newton', 'linearized', 'rk4', 'rk8', 'avf4', 'avf8'", &
+        description="Integrator: 'newton' (the paper's scheme), 'linearized', 'rk4', 'rk8', or the energy-preserving collocat" // &
+            "ion 'avf4' or 'avf8' (docs/method.md)")
     type(key_spec), parameter :: spec_numerics_dt = key_spec( &
         group="numerics", key="dt", value_type=kt_real, max_values=1, attribute="dt", units="time", has_min=.true., min=0.0_wp, &
             min_text="0", min_strict=.true., &
@@ -441,7 +442,7 @@ module supratrans_schema
         group="scene", key="methods", value_type=kt_name, max_values=max_scene_methods, attribute="methods", units="1", &
             choices=choice_method, ids=.true., &
         default_text="all", &
-        range_text="up to 8 values, each 'newton', 'linearized', 'rk4', 'rk8'", &
+        range_text="up to 8 values, each 'newton', 'linearized', 'rk4', 'rk8', 'avf4', 'avf8'", &
         description="Work-precision and stability scenes: the integrators compared")
     type(key_spec), parameter :: spec_scene_dts = key_spec( &
         group="scene", key="dts", value_type=kt_real, max_values=max_scene_dts, attribute="dts", units="time", has_min=.true., &

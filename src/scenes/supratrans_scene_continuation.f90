@@ -24,7 +24,7 @@ module supratrans_scene_continuation
     use supratrans_scene, only: scene_type, scene_budget
     use supratrans_limits, only: axis_points, check_axis, limit_error, threads_text, sci
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
-                                 method_name
+                                 method_avf4, method_avf8, method_name
     use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge
     use supratrans_potential, only: potential_name
@@ -106,6 +106,11 @@ contains
         nomega = size(tasks%omegas)
         if (nomega < 1) then
             call fatal_error(error, cfg%source // ": &scene: the frequency axis omega_min .. omega_max is empty", err_input)
+            return
+        end if
+        if (any(cfg%run%numerics%method == [method_avf4, method_avf8])) then   ! no period map (supratrans_period_map)
+            call fatal_error(error, cfg%source // ": &numerics: method '" // method_name(cfg%run%numerics%method) &
+                // "' has no one-period map: continue folds with 'newton', 'linearized', 'rk4' or 'rk8'", err_input)
             return
         end if
         allocate (tasks%runs(ncurve))

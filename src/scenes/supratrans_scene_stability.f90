@@ -42,7 +42,7 @@ module supratrans_scene_stability
     use supratrans_strings, only: int_str, real_str
     use supratrans_scene, only: scene_type
     use supratrans_config, only: input_config, run_config, chain_params, method_newton, method_linearized, &
-                                 method_rk4, method_rk8, method_name
+                                 method_rk4, method_rk8, method_avf4, method_avf8, method_name
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: critical_dt, damping_profile
     use supratrans_curves, only: curve_count, curve_run, write_curves
@@ -123,7 +123,7 @@ contains
 
         where = "configuration"
         if (allocated(cfg%source)) where = cfg%source
-        tasks%methods = [method_newton, method_linearized, method_rk4, method_rk8]
+        tasks%methods = [method_newton, method_linearized, method_rk4, method_rk8, method_avf4, method_avf8]
         if (allocated(cfg%scene%methods)) then
             if (size(cfg%scene%methods) > 0) tasks%methods = cfg%scene%methods
         end if
@@ -336,6 +336,8 @@ contains
 
         s2 = sin(0.5_wp*acos(-1.0_wp)*real(chain%n, wp)/real(chain%n + 1, wp))**2
         select case (method)
+        case (method_avf4, method_avf8)   ! Gauss collocation on the linear chain: A-stable (supratrans_stepper_avf)
+            dt = huge(1.0_wp)
         case (method_newton)
             q = 4.0_wp*chain%c**2*s2 - (1.0_wp + chain%m2)
             dt = huge(1.0_wp)

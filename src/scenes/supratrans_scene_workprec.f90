@@ -45,7 +45,7 @@ module supratrans_scene_workprec
     use supratrans_strings, only: int_str, real_str, printable
     use supratrans_scene, only: scene_type
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
-                                 method_name
+                                 method_avf4, method_avf8, method_name
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok, run_diverged, status_name
     use supratrans_status, only: status_not_run
@@ -132,7 +132,7 @@ contains
     pure function default_methods() result(methods)
         integer, allocatable :: methods(:)
 
-        methods = [method_newton, method_linearized, method_rk4, method_rk8]
+        methods = [method_newton, method_linearized, method_rk4, method_rk8, method_avf4, method_avf8]
     end function default_methods
 
     !> Default time steps: ramp_time = 50 and T = 200 are multiples of each (the ramp's kink on a step boundary).
