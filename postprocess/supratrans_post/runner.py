@@ -53,6 +53,15 @@ ORDER = ["fig1", "fig2", "fig3", "fig3half", "fig4", "fig11", "bif1", "bif2", "b
 CHARTS = ("stability", "work_precision")
 #: Fold lines drawn over the scan thresholds of a bifurcation diagram: {continuation input: bifurcation input}.
 SCAN_OF = {"fold_sg": "bif_undamped_sg", "fold_bif1": "bif1"}
+#: Figures made of several namelists by their stems' prefix: {prefix: figure} (Fig. 1's four runs; the scans at
+#: Omega = 0.9 for each ramp time, input/ramp090_t*.nml).
+PREFIXES = {"fig1_": "fig1", "ramp090_": "ramp090"}
+#: Files a figure needs besides its own namelists: {figure: (input stems)}. `--only FIGURE` runs them too. The
+#: ramp chart lays the fold of input/fold_sg_090.nml over its scans; the chart `threshold_sg` has no namelist of its
+#: own: the fold line, the scan and the hysteresis window of the undamped sine-Gordon chain, with A_s.
+COMPANIONS = {"ramp090": ("fold_sg_090",), "threshold_sg": ("fold_sg", "bif_undamped_sg", "hysteresis")}
+#: Charts drawn from other figures' files only: {chart: (fold line, scan, hysteresis) input stems}.
+COMBINED = {"threshold_sg": ("fold_sg", "bif_undamped_sg", "hysteresis")}
 
 
 # ------------------------------------------------------------------------------------------------ namelists
@@ -68,7 +77,7 @@ class Job:
         out = namelist.output_file(parsed)
         self.output = (ROOT / out) if out else None
         self.stem = self.nml.stem
-        self.figure = "fig1" if self.stem.startswith("fig1_") else self.stem
+        self.figure = next((f for p, f in PREFIXES.items() if self.stem.startswith(p)), self.stem)
 
     def sort_key(self) -> tuple:
         """The paper's order (ORDER), then by name."""
@@ -155,11 +164,12 @@ def _jobs(args: argparse.Namespace) -> tuple[list[Job], int]:
             unreadable += 1
     jobs.sort(key=Job.sort_key)
     if args.only:
-        unknown = sorted(set(args.only) - {j.figure for j in jobs} - {j.stem for j in jobs})
+        unknown = sorted(set(args.only) - {j.figure for j in jobs} - {j.stem for j in jobs} - set(COMBINED))
         if unknown:
             print(f"error: {args.input}: no namelist for {', '.join(unknown)}", file=sys.stderr)
             raise SystemExit(2)
-        jobs = [j for j in jobs if j.figure in args.only or j.stem in args.only]
+        wanted = set(args.only).union(*(COMPANIONS.get(name, ()) for name in args.only))
+        jobs = [j for j in jobs if j.figure in wanted or j.stem in wanted]
     if not jobs:
         why = f" ({unreadable} unreadable)" if unreadable else ""
         print(f"error: {args.input}: no namelist (*.nml) to run{why}", file=sys.stderr)
@@ -238,6 +248,9 @@ def _draw_all(jobs: list[Job], outdir: Path, args: argparse.Namespace) -> tuple[
             scenes = [open_scene(j.rel(j.output), expect=expect) for j in group]
             if name == "fig1" or all(s.scene == "timeseries" for s in scenes):
                 fig = figures.draw_timeseries(scenes)
+            elif name == "ramp090":
+                fold = _companion(groups, "fold_sg_090", "continuation")
+                fig = figures.draw_ramp(scenes, fold)
             elif len(scenes) == 1 and name in SCAN_OF and SCAN_OF[name] in groups:
                 scan = groups[SCAN_OF[name]][0]
                 fig = figures.draw_continuation(scenes[0], open_scene(scan.rel(scan.output), expect="bifurcation"))
@@ -253,10 +266,45 @@ def _draw_all(jobs: list[Job], outdir: Path, args: argparse.Namespace) -> tuple[
         size = target.stat().st_size / 1024
         marks = ", ".join(s.partial_note() for s in scenes if s.partial)
         print(f"  {name}: {_shown(target)} ({size:.0f} kB){'  [' + marks + ']' if marks else ''}")
+        if name == "ramp090":
+            for line in figures.summary_ramp(scenes, fold):
+                print("    " + line.strip())
+            continue
         for s in scenes:
             for line in figures.summary(s)[1 if s.scene != "timeseries" else 0:]:
                 print("    " + line.strip())
-    return len(groups), failures
+    drawn = len(groups)
+    for name, parts in COMBINED.items():
+        if not all(p in groups for p in parts) or (args.only and name not in args.only):
+            continue
+        drawn += 1
+        failures += _draw_combined(name, [groups[p][0] for p in parts], outdir, args)
+    return drawn, failures
+
+
+def _companion(groups: dict, stem: str, scene: str):
+    """The Scene of the companion file `stem` when its namelist is among the jobs, else None."""
+    if stem not in groups:
+        return None
+    job = groups[stem][0]
+    return open_scene(job.rel(job.output), expect=scene)
+
+
+def _draw_combined(name: str, parts: list[Job], outdir: Path, args: argparse.Namespace) -> int:
+    """Draw the chart `name` of COMBINED from the files of its parts (fold line, scan, hysteresis); returns the
+    number of problems (0 or 1)."""
+    target = outdir / f"{name}.png"
+    try:
+        fold, scan, hyst = (open_scene(j.rel(j.output), expect=k)
+                            for j, k in zip(parts, ("continuation", "bifurcation", "hysteresis")))
+        style.save(figures.draw_thresholds(fold, scan, hyst), target, dpi=args.dpi)
+    except PlotError as exc:
+        print(f"  {name}: not drawn: {exc.line()}")
+        return 1
+    print(f"  {name}: {_shown(target)} ({target.stat().st_size / 1024:.0f} kB)")
+    for line in figures.summary_thresholds(fold, scan, hyst):
+        print("    " + line.strip())
+    return 0
 
 
 def _shown(path: Path) -> Path:
