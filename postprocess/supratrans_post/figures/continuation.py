@@ -105,7 +105,7 @@ def _draw_fold_line(s: Scene, scan: Scene | None):
     fig, ax = subplots(figsize=(PANEL[0] * 1.35, PANEL[1] * 1.3))
     for c in range(len(pots)):
         name = curve_name(pots[c], vary, values[c])
-        line, = ax.plot(omega, fold[c], marker=".", ms=3, label=f"fold $A_f$, {name}", **st[c])
+        line, = ax.plot(omega, fold[c], label=f"fold $A_f$, {name}", **{**st[c], "marker": ".", "markersize": 3})
         before = np.isfinite(inst[c]) & ~(inst[c] >= fold[c] - 1e-9)
         if before.any():
             ax.plot(omega[before], inst[c][before], "v", ms=4, mfc="none", color=line.get_color(),
