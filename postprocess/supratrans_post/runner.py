@@ -17,12 +17,16 @@ out/logs/X.log). A scene that fails is reported and the others go on. A sweep in
 from its journal when run again (Ctrl-C or `kill` stops the running scene too); meanwhile `--no-run` draws
 its partial snapshot, marked as such.
 Then every figure is drawn: Fig. 1 from the four fig1_* runs, one figure per other file, named after its
-input file (fig2.png, ..., bif3.png), with the numbers each figure shows printed below it. A `stability` file
+input file (fig2.png, ..., bif3.png), with the numbers each figure shows printed below it. Charts of several
+files: fold_sg.png and fold_bif1.png lay the fold line over their scan (SCAN_OF); ramp090.png the scans of
+input/ramp090_t*.nml against their ramp time next to the fold of fold_sg_090 (PREFIXES, COMPANIONS);
+threshold_sg.png the fold line, the scan, the hysteresis window and A_s of the undamped sine-Gordon chain
+(COMBINED). `--only ramp090` or `--only threshold_sg` runs the files they need too. A `stability` file
 is drawn by chart_stability.py; a `work_precision` file by work_precision.py, which first times the SciPy peer
 in the same process (with --no-run it reuses the peer points saved next to the file, if there are any).
 With --quick the namelists are copied (read and written with f90nml) to out/quick/input/, the steps of their
-scene grids scaled (amplitude_step x 5, omega_step x 2, resolution x 5, coarse_step x 2), their output in
-out/quick/ (overwritten).
+scene grids scaled (amplitude_step x 5, omega_step x 2, x 10 for a fold line, resolution x 5, coarse_step x 2,
+stair_height x 5), their output in out/quick/ (overwritten).
 Exit status 0 when every scene ran and every figure was drawn, 1 otherwise.
 """
 from __future__ import annotations
