@@ -119,7 +119,7 @@ def draw_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene | 
     fig, ax = subplots(figsize=(PANEL[0] * 1.6, PANEL[1] * 1.45))
     axes = [ax]
     if zoom:
-        axes.append(ax.inset_axes([0.07, 0.07, 0.36, 0.42]))
+        axes.append(ax.inset_axes([0.40, 0.05, 0.30, 0.36]))  # below the mid-gap thresholds (~3 .. 4.5)
     for c, key in enumerate(keys):
         name = f", {curve_name(key[0], vary, key[1])}" if several else ""
         color = COLOURS[c % len(COLOURS)]
@@ -153,6 +153,9 @@ def draw_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene | 
     ax.set_ylabel(f"threshold amplitude $A${fold.unit('fold_amplitude')}")
     ax.legend(loc="upper right", fontsize=7, framealpha=0.9)
     head = "the model's threshold (fold) against the protocols' (ramped scan, hysteresis stairs)"
+    notes = [f"{x.name}: {x.partial_note()}" for x in (fold, scan, hysteresis) if x is not None and x.partial]
+    if notes:
+        head += f"  [{'; '.join(notes)}]"
     fig.suptitle(head + "\n" + conditions(fold))
     return fig
 
