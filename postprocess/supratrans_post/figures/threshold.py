@@ -197,11 +197,11 @@ def summary_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene
         parts = []
         for w0 in wanted:
             k = int(np.argmin(np.abs(omega - w0)))
-            part = f"Omega {fmt(w0, 3)}: A_f = {fmt(float(fold.data['fold_amplitude'][c, k]), 6)}"
-            if not math.isclose(omega[k], w0, abs_tol=1e-9):
-                part += f" (at Omega {fmt(omega[k], 3)})"
+            on = math.isclose(omega[k], w0, abs_tol=1e-9)
+            part = f"Omega {fmt(w0, 3)}: " + (f"A_f = {fmt(float(fold.data['fold_amplitude'][c, k]), 6)}" if on
+                                              else "no fold computed")
             ai = float(fold.data["instability_amplitude"][c, k])
-            if math.isfinite(ai):
+            if on and math.isfinite(ai):
                 part += f", unstable from {fmt(ai, 5)} ({KINDS.get(int(fold.data['instability_type'][c, k]), '?')})"
             if scan is not None and (i := _match(scan, key, vary)) is not None:
                 w2, y = _scan_line(scan, i)
@@ -212,7 +212,8 @@ def summary_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene
                 for w in hysteresis_windows(hysteresis, j):
                     m = int(np.argmin(np.abs(w["omega"] - w0)))
                     part += f", T_s {fmt(w['stair_time'])}: up {fmt(w['up'][m], 4)} down {fmt(w['down'][m], 4)}"
-            part += f", A_s = {fmt(float(fold.data['threshold_As'][c, k]), 4)}"
+            if on:
+                part += f", A_s = {fmt(float(fold.data['threshold_As'][c, k]), 4)}"
             parts.append(part)
         lines.append(f"  {curve_name(key[0], vary, key[1])}: " + "; ".join(parts))
     return lines
