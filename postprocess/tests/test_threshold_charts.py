@@ -242,3 +242,14 @@ def test_fold_line_over_the_scan(tmp_path):
     (line,) = [ln for ln in ax.get_lines() if ln.get_label().startswith("fold $A_f$")]
     np.testing.assert_array_equal(line.get_ydata(), FOLD[0])
     assert line.get_marker() == "."
+
+
+def test_branch_points_without_multipliers_take_their_neighbours_verdict():
+    """With floquet_every > 1 most branch points have no verdict (-1 in /branch/stable): they are drawn as the
+    computed points on both sides when these agree (the branch at Omega = 0.5 was all dashed before), unknown
+    between a stable and an unstable one, as the nearest computed point at the ends."""
+    from supratrans_post.figures.continuation import verdicts
+
+    got = verdicts(np.array([-1, 1, -1, -1, 1, -1, 0, -1, -1, 0, -1], dtype=float))
+    np.testing.assert_array_equal(got, [1, 1, 1, 1, 1, -1, 0, 0, 0, 0, 0])
+    np.testing.assert_array_equal(verdicts(np.array([-1.0, -1.0])), [-1, -1])
