@@ -9,6 +9,9 @@ from .reader import PlotError
 
 #: `--quick`: factor applied to the steps of the scene grids (amplitude, frequency, threshold resolution, stairs).
 QUICK = {"amplitude_step": 5.0, "omega_step": 2.0, "resolution": 5.0, "coarse_step": 2.0, "stair_height": 5.0}
+#: `--quick`: the factors of QUICK that a scene replaces. A fold costs seconds to minutes (much more at small Omega),
+#: so a fold line takes every tenth frequency: input/fold_sg.nml's 95 folds become 10.
+QUICK_SCENE = {"continuation": {"omega_step": 10.0}}
 
 
 def read(path: Any):
@@ -50,7 +53,8 @@ def quick_copy(source: Any, target: Any, output: Any) -> Path:
     Returns `target`."""
     nml = read(source)
     scene = _group(nml, "scene")
-    for key, factor in QUICK.items():
+    factors = {**QUICK, **QUICK_SCENE.get(str(scene.get("kind", "")).lower(), {})}
+    for key, factor in factors.items():
         value = scene.get(key)
         if isinstance(value, (int, float)) and not isinstance(value, bool):
             scene[key] = float(f"{float(value) * factor:.6g}")

@@ -17,12 +17,16 @@ out/logs/X.log). A scene that fails is reported and the others go on. A sweep in
 from its journal when run again (Ctrl-C or `kill` stops the running scene too); meanwhile `--no-run` draws
 its partial snapshot, marked as such.
 Then every figure is drawn: Fig. 1 from the four fig1_* runs, one figure per other file, named after its
-input file (fig2.png, ..., bif3.png), with the numbers each figure shows printed below it. A `stability` file
+input file (fig2.png, ..., bif3.png), with the numbers each figure shows printed below it. Charts of several
+files: fold_sg.png and fold_bif1.png lay the fold line over their scan (SCAN_OF); ramp090.png the scans of
+input/ramp090_t*.nml against their ramp time next to the fold of fold_sg_090 (PREFIXES, COMPANIONS);
+threshold_sg.png the fold line, the scan, the hysteresis window and A_s of the undamped sine-Gordon chain
+(COMBINED). `--only ramp090` or `--only threshold_sg` runs the files they need too. A `stability` file
 is drawn by chart_stability.py; a `work_precision` file by work_precision.py, which first times the SciPy peer
 in the same process (with --no-run it reuses the peer points saved next to the file, if there are any).
 With --quick the namelists are copied (read and written with f90nml) to out/quick/input/, the steps of their
-scene grids scaled (amplitude_step x 5, omega_step x 2, resolution x 5, coarse_step x 2), their output in
-out/quick/ (overwritten).
+scene grids scaled (amplitude_step x 5, omega_step x 2, x 10 for a fold line, resolution x 5, coarse_step x 2,
+stair_height x 5), their output in out/quick/ (overwritten).
 Exit status 0 when every scene ran and every figure was drawn, 1 otherwise.
 """
 from __future__ import annotations
@@ -53,6 +57,15 @@ ORDER = ["fig1", "fig2", "fig3", "fig3half", "fig4", "fig11", "bif1", "bif2", "b
 CHARTS = ("stability", "work_precision")
 #: Fold lines drawn over the scan thresholds of a bifurcation diagram: {continuation input: bifurcation input}.
 SCAN_OF = {"fold_sg": "bif_undamped_sg", "fold_bif1": "bif1"}
+#: Figures made of several namelists by their stems' prefix: {prefix: figure} (Fig. 1's four runs; the scans at
+#: Omega = 0.9 for each ramp time, input/ramp090_t*.nml).
+PREFIXES = {"fig1_": "fig1", "ramp090_": "ramp090"}
+#: Files a figure needs besides its own namelists: {figure: (input stems)}. `--only FIGURE` runs them too. The
+#: ramp chart lays the fold of input/fold_sg_090.nml over its scans; the chart `threshold_sg` has no namelist of its
+#: own: the fold line, the scan and the hysteresis window of the undamped sine-Gordon chain, with A_s.
+COMPANIONS = {"ramp090": ("fold_sg_090",), "threshold_sg": ("fold_sg", "bif_undamped_sg", "hysteresis")}
+#: Charts drawn from other figures' files only: {chart: (fold line, scan, hysteresis) input stems}.
+COMBINED = {"threshold_sg": ("fold_sg", "bif_undamped_sg", "hysteresis")}
 
 
 # ------------------------------------------------------------------------------------------------ namelists
@@ -68,7 +81,7 @@ class Job:
         out = namelist.output_file(parsed)
         self.output = (ROOT / out) if out else None
         self.stem = self.nml.stem
-        self.figure = "fig1" if self.stem.startswith("fig1_") else self.stem
+        self.figure = next((f for p, f in PREFIXES.items() if self.stem.startswith(p)), self.stem)
 
     def sort_key(self) -> tuple:
         """The paper's order (ORDER), then by name."""
@@ -155,11 +168,12 @@ def _jobs(args: argparse.Namespace) -> tuple[list[Job], int]:
             unreadable += 1
     jobs.sort(key=Job.sort_key)
     if args.only:
-        unknown = sorted(set(args.only) - {j.figure for j in jobs} - {j.stem for j in jobs})
+        unknown = sorted(set(args.only) - {j.figure for j in jobs} - {j.stem for j in jobs} - set(COMBINED))
         if unknown:
             print(f"error: {args.input}: no namelist for {', '.join(unknown)}", file=sys.stderr)
             raise SystemExit(2)
-        jobs = [j for j in jobs if j.figure in args.only or j.stem in args.only]
+        wanted = set(args.only).union(*(COMPANIONS.get(name, ()) for name in args.only))
+        jobs = [j for j in jobs if j.figure in wanted or j.stem in wanted]
     if not jobs:
         why = f" ({unreadable} unreadable)" if unreadable else ""
         print(f"error: {args.input}: no namelist (*.nml) to run{why}", file=sys.stderr)
@@ -238,6 +252,9 @@ def _draw_all(jobs: list[Job], outdir: Path, args: argparse.Namespace) -> tuple[
             scenes = [open_scene(j.rel(j.output), expect=expect) for j in group]
             if name == "fig1" or all(s.scene == "timeseries" for s in scenes):
                 fig = figures.draw_timeseries(scenes)
+            elif name == "ramp090":
+                fold = _companion(groups, "fold_sg_090", "continuation")
+                fig = figures.draw_ramp(scenes, fold)
             elif len(scenes) == 1 and name in SCAN_OF and SCAN_OF[name] in groups:
                 scan = groups[SCAN_OF[name]][0]
                 fig = figures.draw_continuation(scenes[0], open_scene(scan.rel(scan.output), expect="bifurcation"))
@@ -253,10 +270,45 @@ def _draw_all(jobs: list[Job], outdir: Path, args: argparse.Namespace) -> tuple[
         size = target.stat().st_size / 1024
         marks = ", ".join(s.partial_note() for s in scenes if s.partial)
         print(f"  {name}: {_shown(target)} ({size:.0f} kB){'  [' + marks + ']' if marks else ''}")
+        if name == "ramp090":
+            for line in figures.summary_ramp(scenes, fold):
+                print("    " + line.strip())
+            continue
         for s in scenes:
             for line in figures.summary(s)[1 if s.scene != "timeseries" else 0:]:
                 print("    " + line.strip())
-    return len(groups), failures
+    drawn = len(groups)
+    for name, parts in COMBINED.items():
+        if not all(p in groups for p in parts) or (args.only and name not in args.only):
+            continue
+        drawn += 1
+        failures += _draw_combined(name, [groups[p][0] for p in parts], outdir, args)
+    return drawn, failures
+
+
+def _companion(groups: dict, stem: str, scene: str):
+    """The Scene of the companion file `stem` when its namelist is among the jobs, else None."""
+    if stem not in groups:
+        return None
+    job = groups[stem][0]
+    return open_scene(job.rel(job.output), expect=scene)
+
+
+def _draw_combined(name: str, parts: list[Job], outdir: Path, args: argparse.Namespace) -> int:
+    """Draw the chart `name` of COMBINED from the files of its parts (fold line, scan, hysteresis); returns the
+    number of problems (0 or 1)."""
+    target = outdir / f"{name}.png"
+    try:
+        fold, scan, hyst = (open_scene(j.rel(j.output), expect=k)
+                            for j, k in zip(parts, ("continuation", "bifurcation", "hysteresis")))
+        style.save(figures.draw_thresholds(fold, scan, hyst), target, dpi=args.dpi)
+    except PlotError as exc:
+        print(f"  {name}: not drawn: {exc.line()}")
+        return 1
+    print(f"  {name}: {_shown(target)} ({target.stat().st_size / 1024:.0f} kB)")
+    for line in figures.summary_thresholds(fold, scan, hyst):
+        print("    " + line.strip())
+    return 0
 
 
 def _shown(path: Path) -> Path:

@@ -11,7 +11,10 @@ attributes of `/parameters` and `/curves`.
 - `continuation`: the branch of driven periodic states with its fold and multipliers (one frequency), or the fold
   line over the frequency (the model's threshold, not a protocol's);
 - `hysteresis`: the mean power of each stair vs its amplitude, up and down, the bistable window shaded (one
-  frequency), or the upward and downward edges over the frequency (several).
+  frequency), or the upward and downward edges over the frequency (several);
+- `threshold`: charts of several files: the fold line, the scan thresholds, the hysteresis window and A_s on one
+  Bif1-style chart (`draw_thresholds`), and the scan threshold at one frequency against the ramp time next to the
+  fold (`draw_ramp`).
 
 Families are styled like the paper: the curves of a panel, ordered by the magnitude of the varied parameter,
 are solid, dashed, dash-dotted and dotted. Partial files (`<output>.partial.h5`, written while a scene runs or
@@ -26,10 +29,12 @@ from .hysteresis import draw_hysteresis, summary_hysteresis
 from .common import ENERGIES, FIGURES
 from .map import draw_map, summary_map
 from .sweep import draw_sweep, summary_sweep, zoom_window
+from .threshold import draw_ramp, draw_thresholds, summary_ramp, summary_thresholds
 from .timeseries import draw_timeseries, summary_timeseries
 
-__all__ = ["draw", "draw_timeseries", "draw_sweep", "draw_map", "draw_bifurcation", "draw_continuation", "draw_hysteresis", "summary", "zoom_window",
-           "ENERGIES", "FIGURES", "SCENES"]
+__all__ = ["draw", "draw_timeseries", "draw_sweep", "draw_map", "draw_bifurcation", "draw_continuation",
+           "draw_hysteresis", "draw_thresholds", "draw_ramp", "summary", "summary_thresholds", "summary_ramp",
+           "zoom_window", "ENERGIES", "FIGURES", "SCENES"]
 
 #: Scenes drawn as figures of the paper.
 SCENES = FIGURE_SCENES

@@ -44,13 +44,20 @@ def _draw_branch(s: Scene):
         n = int(s.data["branch/points"][c, 0])
         a = np.asarray(s.data["branch/amplitude"][c, 0, :n], dtype=float)
         u = np.asarray(s.data["branch/umax"][c, 0, :n], dtype=float)
-        stable = np.asarray(s.data["branch/stable"][c, 0, :n], dtype=float) == 1
+        verdict = verdicts(np.asarray(s.data["branch/stable"][c, 0, :n], dtype=float))
         color = st[c].get("color")
         label = curve_name(pots[c], vary, values[c])
-        line, = ax.plot(np.where(stable, a, np.nan), np.where(stable, u, np.nan), "-", color=color,
-                        label=f"{label}: stable")
-        ax.plot(np.where(~stable, a, np.nan), np.where(~stable, u, np.nan), "--", color=line.get_color(),
-                label="unstable")
+        parts = {1: ("-", 1.5, f"{label}: stable"), 0: ("--", 1.5, "unstable"),
+                 -1: (":", 0.8, "stability not computed (floquet_every)")}
+        line = None
+        for v, (ls, lw, lab) in parts.items():
+            m = verdict == v
+            if not m.any() and v == -1:
+                continue
+            m = m | np.r_[m[1:], False]  # each part joins the next: no gap where the verdict changes
+            ln, = ax.plot(np.where(m, a, np.nan), np.where(m, u, np.nan), ls, lw=lw, label=lab,
+                          color=color if line is None else line.get_color())
+            line = line or ln
         af = float(s.data["fold_amplitude"][c, 0])
         if math.isfinite(af):
             ax.axvline(af, color=line.get_color(), lw=0.8, ls=":")
@@ -72,6 +79,23 @@ def _draw_branch(s: Scene):
     w = float(s.data["omega"][0])
     fig.suptitle(title(s, rf"branch of driven periodic states at $\Omega$ = {fmt(w, 4)}") + "\n" + conditions(s))
     return fig
+
+
+def verdicts(stable: np.ndarray) -> np.ndarray:
+    """The stability of each branch point: the file's /branch/stable (1 stable, 0 unstable, -1 not computed: with
+    `floquet_every` > 1 the multipliers are computed at every k-th point only), a point not computed taking the
+    verdict of the computed points on both sides of it when they agree, -1 (unknown) when they differ."""
+    st = np.where(np.isfinite(stable), stable, -1).astype(int)
+    idx = np.arange(st.size)
+    known = st >= 0
+    if not known.any():
+        return st
+    prev = np.maximum.accumulate(np.where(known, idx, -1))
+    nxt = np.minimum.accumulate(np.where(known, idx, st.size)[::-1])[::-1]
+    before = np.where(prev >= 0, st[np.clip(prev, 0, None)], -1)
+    after = np.where(nxt < st.size, st[np.clip(nxt, None, st.size - 1)], -1)
+    fill = np.where(before == after, before, np.where(after < 0, before, np.where(before < 0, after, -1)))
+    return np.where(known, st, fill)
 
 
 def _draw_multipliers(s: Scene, ax) -> None:
@@ -105,7 +129,7 @@ def _draw_fold_line(s: Scene, scan: Scene | None):
     fig, ax = subplots(figsize=(PANEL[0] * 1.35, PANEL[1] * 1.3))
     for c in range(len(pots)):
         name = curve_name(pots[c], vary, values[c])
-        line, = ax.plot(omega, fold[c], marker=".", ms=3, label=f"fold $A_f$, {name}", **st[c])
+        line, = ax.plot(omega, fold[c], label=f"fold $A_f$, {name}", **{**st[c], "marker": ".", "markersize": 3})
         before = np.isfinite(inst[c]) & ~(inst[c] >= fold[c] - 1e-9)
         if before.any():
             ax.plot(omega[before], inst[c][before], "v", ms=4, mfc="none", color=line.get_color(),

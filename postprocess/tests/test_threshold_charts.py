@@ -1,0 +1,255 @@
+"""The charts of the model's threshold against the protocols' (supratrans_post.figures.threshold) on small
+synthetic files of the three scenes (continuation, bifurcation, hysteresis) with known numbers: what is drawn is
+what the files hold (the shaded windows span the edges, the fold line is the fold), and make_figures.py finds the
+charts' files (`--only threshold_sg` and `--only ramp090` take their companions along)."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from supratrans_post import figures, namelist, reader, runner
+from supratrans_post.figures import threshold
+
+h5py = pytest.importorskip("h5py")
+pytest.importorskip("matplotlib")
+pytest.importorskip("f90nml")
+
+OMEGA = np.array([0.5, 0.7, 0.9])
+FOLD = np.array([[4.6835, 3.3021, 1.8342]])
+INSTABILITY = np.array([[3.3439, np.nan, 1.8266]])
+AS = np.array([[4.1854, 3.1819, 1.8032]])
+SCAN = np.array([[4.60, 3.31, 1.78]])
+
+
+def _write(path: Path, scene: str, params: dict, data: dict) -> Path:
+    """A file of `scene` with the root attribute, /parameters and the datasets `data` (units 'rad' on all)."""
+    with h5py.File(path, "w") as h:
+        h.attrs["scene"] = scene
+        g = h.create_group("parameters")
+        for k, v in params.items():
+            g.attrs[k] = v
+        h.create_group("curves").attrs["vary"] = "none"
+        for name, value in data.items():
+            d = h.create_dataset(name, data=value)
+            d.attrs["units"] = "rad"
+    return path
+
+
+def fold_file(path: Path, omega=OMEGA, fold=FOLD, inst=INSTABILITY, a_s=AS) -> Path:
+    n = len(omega)
+    pts = 4
+    branch = {f"branch/{k}": np.zeros((1, n, pts)) for k in ("amplitude", "umax", "stable", "multiplier_max")}
+    return _write(path, "continuation", {"c": 4.0, "n": 200, "method": "newton", "dt": 0.05, "gamma": 0.0,
+                                         "beta": 0.0, "m2": 0.0},
+                  {"omega": np.asarray(omega, dtype=float), "curves/potential": np.array([b"sine-gordon"]),
+                   "curves/value": np.zeros(1), "fold_amplitude": fold, "threshold": np.fmin(fold, inst),
+                   "threshold_kind": np.zeros((1, n), dtype=np.int32), "instability_amplitude": inst,
+                   "instability_type": np.full((1, n), 3, dtype=np.int32), "threshold_As": a_s,
+                   "status": np.zeros((1, n), dtype=np.int32), "branch/points": np.full((1, n), pts, dtype=np.int32),
+                   **branch})
+
+
+def scan_file(path: Path, omega=OMEGA, thr=SCAN, ramp=50.0, resolution=0.01) -> Path:
+    n = len(omega)
+    return _write(path, "bifurcation", {"c": 4.0, "n": 200, "dt": 0.05, "t_final": ramp + 200.0, "ramp_time": ramp,
+                                        "resolution": resolution, "gamma": 0.0, "beta": 0.0, "m2": 0.0},
+                  {"omega": np.asarray(omega, dtype=float), "curves/potential": np.array([b"sine-gordon"]),
+                   "curves/value": np.zeros(1), "threshold": np.asarray(thr, dtype=float),
+                   "threshold_As": AS[:, :n], "status": np.zeros((1, n), dtype=np.int32)})
+
+
+def hysteresis_file(path: Path, omega, up, down) -> Path:
+    """Stairs of lengths 200 and 400 at the frequencies `omega`; up and down: (omega, length) edges."""
+    up, down = np.asarray(up, dtype=float)[None], np.asarray(down, dtype=float)[None]
+    n, k = up.shape[1], up.shape[2]
+    levels = np.array([1.0, 1.5, 2.0, 1.5, 1.0])
+    return _write(path, "hysteresis", {"c": 4.0, "n": 200, "dt": 0.05, "stair_height": 0.5, "stair_ramp": 10.0,
+                                       "gamma": 0.0, "beta": 0.0, "m2": 0.0},
+                  {"omega": np.asarray(omega, dtype=float), "stair_time": np.array([200.0, 400.0])[:k],
+                   "stair_amplitude": levels, "stair_direction": np.array([1, 1, 1, -1, -1], dtype=np.int32),
+                   "curves/potential": np.array([b"sine-gordon"]), "curves/value": np.zeros(1),
+                   "upward_threshold": up, "downward_threshold": down, "window": up - down,
+                   "status": np.zeros(up.shape, dtype=np.int32), "upward_spread": np.zeros((1, n)),
+                   "downward_spread": np.zeros((1, n)), "power": np.zeros((1, n, k, levels.size))})
+
+
+def windows(fig) -> dict[str, list[np.ndarray]]:
+    """The shaded hysteresis windows of the main axes: {gid: [vertices of each polygon]}."""
+    out: dict[str, list[np.ndarray]] = {}
+    for coll in fig.get_axes()[0].collections:
+        gid = coll.get_gid()
+        if gid and gid.startswith("window:"):
+            out[gid] = [p.vertices for p in coll.get_paths()]
+    return out
+
+
+def test_threshold_chart_at_one_hysteresis_frequency(tmp_path):
+    """The windows at Omega = 0.9 span exactly the file's downward .. upward edge of each stair length, side by
+    side around 0.9; the fold line, the scan and A_s are the files' numbers; a zoom inset is drawn."""
+    up, down = [[1.84, 1.86]], [[1.52, 1.46]]
+    fold = reader.open_scene(fold_file(tmp_path / "fold.h5"))
+    scan = reader.open_scene(scan_file(tmp_path / "scan.h5"))
+    hyst = reader.open_scene(hysteresis_file(tmp_path / "hyst.h5", [0.9], up, down))
+    fig = figures.draw_thresholds(fold, scan, hyst)
+    got = windows(fig)
+    assert sorted(got) == ["window:200", "window:400"]
+    for i, gid in enumerate(("window:200", "window:400")):
+        (v,) = got[gid]
+        assert v[:, 1].min() == pytest.approx(down[0][i]) and v[:, 1].max() == pytest.approx(up[0][i])
+        assert 0.9 - 0.1 < v[:, 0].min() < v[:, 0].max() < 0.9 + 0.1
+    xs = [got[g][0][:, 0] for g in ("window:200", "window:400")]
+    assert xs[0].max() <= xs[1].min()  # side by side, not on top of each other
+    ax = fig.get_axes()[0]
+    lines = {ln.get_label(): ln for ln in ax.get_lines()}
+    fold_line = next(ln for lab, ln in lines.items() if lab.startswith("fold $A_f$"))
+    np.testing.assert_array_equal(fold_line.get_ydata(), FOLD[0])
+    scan_line = next(ln for lab, ln in lines.items() if lab.startswith("ramped scan"))
+    np.testing.assert_array_equal(scan_line.get_ydata(), SCAN[0])
+    assert "ramp 50" in scan_line.get_label()
+    a_s = next(ln for lab, ln in lines.items() if lab.startswith("$A_s"))
+    np.testing.assert_array_equal(a_s.get_ydata(), AS[0])
+    lost = next(ln for lab, ln in lines.items() if lab.startswith("first loss"))
+    np.testing.assert_array_equal(lost.get_ydata(), [3.3439, 1.8266])  # only where it comes before the fold
+    assert len(ax.child_axes) == 1  # the zoom on the window
+    text = " ".join(threshold.summary_thresholds(fold, scan, hyst))
+    assert "A_f = 1.8342" in text and "T_s 400: up 1.86 down 1.46" in text and "scan 1.78" in text
+
+
+def test_threshold_chart_over_frequencies(tmp_path):
+    """A hysteresis file over several frequencies: one window per stair length spanning, at each frequency, the
+    edges of the file; a frequency without a downward edge leaves a gap; no zoom."""
+    om = [0.7, 0.8, 0.9]
+    up = [[3.4, 3.5], [2.7, 2.75], [1.84, 1.84]]
+    down = [[2.9, 2.8], [np.nan, 2.3], [1.52, 1.46]]
+    fold = reader.open_scene(fold_file(tmp_path / "fold.h5"))
+    hyst = reader.open_scene(hysteresis_file(tmp_path / "hyst.h5", om, up, down))
+    fig = figures.draw_thresholds(fold, None, hyst)
+    got = windows(fig)
+    for i, gid in enumerate(("window:200", "window:400")):
+        verts = np.concatenate(got[gid])
+        for w, (u, d) in enumerate(zip(np.array(up)[:, i], np.array(down)[:, i])):
+            at = verts[np.isclose(verts[:, 0], om[w])]
+            if np.isnan(d):
+                assert at.size == 0, (gid, om[w])
+            else:
+                assert at[:, 1].min() == pytest.approx(d) and at[:, 1].max() == pytest.approx(u)
+    assert not fig.get_axes()[0].child_axes
+
+
+def test_threshold_chart_refuses_swapped_files(tmp_path):
+    fold = reader.open_scene(fold_file(tmp_path / "fold.h5"))
+    scan = reader.open_scene(scan_file(tmp_path / "scan.h5"))
+    with pytest.raises(reader.PlotError, match="not 'continuation'"):
+        figures.draw_thresholds(scan, fold)
+    with pytest.raises(reader.PlotError, match="not 'bifurcation'"):
+        figures.draw_thresholds(fold, fold)
+
+
+def test_ramp_chart(tmp_path):
+    """The scans sorted by ramp time, each threshold with its bracket below it (the resolution), the fold of the
+    continuation file at the scans' frequency as a line; scans at two frequencies are refused."""
+    ramps = {400.0: 1.82, 20.0: 1.68, 100.0: 1.795}
+    scans = [reader.open_scene(scan_file(tmp_path / f"r{int(r)}.h5", [0.9], [[a]], ramp=r, resolution=0.005))
+             for r, a in ramps.items()]
+    fold = reader.open_scene(fold_file(tmp_path / "fold.h5"))
+    fig = figures.draw_ramp(scans, fold)
+    ax = fig.get_axes()[0]
+    pts = next(ln for ln in ax.get_lines() if ln.get_marker() == "s")
+    np.testing.assert_array_equal(pts.get_xdata(), [20.0, 100.0, 400.0])
+    np.testing.assert_array_equal(pts.get_ydata(), [1.68, 1.795, 1.82])
+    bars = ax.collections[0].get_segments()
+    assert [tuple(np.round(s[:, 1], 6)) for s in bars] == [(1.675, 1.68), (1.79, 1.795), (1.815, 1.82)]
+    (fold_line,) = [ln for ln in ax.get_lines() if ln.get_gid() == "fold"]
+    assert fold_line.get_ydata()[0] == pytest.approx(1.8342)
+    assert "T$ = ramp + 200" in fig._suptitle.get_text()
+    line = figures.summary_ramp(scans, fold)[0]
+    assert "ramp 20: 1.68 (-0.1542)" in line and "ramp 400: 1.82 (-0.0142)" in line
+    other = reader.open_scene(scan_file(tmp_path / "w.h5", [0.7], [[3.3]], ramp=50.0))
+    with pytest.raises(reader.PlotError, match="several frequencies"):
+        figures.draw_ramp(scans + [other], fold)
+    far = reader.open_scene(fold_file(tmp_path / "far.h5", [0.5], FOLD[:, :1], INSTABILITY[:, :1], AS[:, :1]))
+    with pytest.raises(reader.PlotError, match="no fold at Omega = 0.9"):
+        figures.draw_ramp(scans, far)
+
+
+NML = "&scene kind = '{kind}', omega_step = 0.01 /\n&output file = '{out}' /\n"
+
+
+def _inputs(tmp_path: Path) -> Path:
+    """A folder of namelists whose outputs are synthetic files: the fold line, its scan and hysteresis, the fold at
+    0.9 and two ramp scans, and an unrelated one."""
+    inp, out = tmp_path / "input", tmp_path / "out"
+    inp.mkdir()
+    out.mkdir()
+    kinds = {"fold_sg": "continuation", "bif_undamped_sg": "bifurcation", "hysteresis": "hysteresis",
+             "fold_sg_090": "continuation", "ramp090_t0020": "bifurcation", "ramp090_t0400": "bifurcation",
+             "bif2": "bifurcation"}
+    for stem, kind in kinds.items():
+        (inp / f"{stem}.nml").write_text(NML.format(kind=kind, out=out / f"{stem}.h5"))
+    fold_file(out / "fold_sg.h5")
+    scan_file(out / "bif_undamped_sg.h5")
+    scan_file(out / "bif2.h5")
+    hysteresis_file(out / "hysteresis.h5", [0.9], [[1.84, 1.86]], [[1.52, 1.46]])
+    fold_file(out / "fold_sg_090.h5", [0.9], FOLD[:, 2:], INSTABILITY[:, 2:], AS[:, 2:])
+    scan_file(out / "ramp090_t0020.h5", [0.9], [[1.68]], ramp=20.0)
+    scan_file(out / "ramp090_t0400.h5", [0.9], [[1.82]], ramp=400.0)
+    return inp
+
+
+@pytest.mark.parametrize("only, drawn, not_drawn", [
+    ("threshold_sg", ["threshold_sg", "fold_sg", "bif_undamped_sg", "hysteresis"], ["ramp090", "bif2"]),
+    ("ramp090", ["ramp090", "fold_sg_090"], ["threshold_sg", "fold_sg", "bif2"]),
+])
+def test_make_figures_draws_the_charts_with_their_companions(tmp_path, call_main, only, drawn, not_drawn):
+    inp = _inputs(tmp_path)
+    figs = tmp_path / "figs"
+    proc = call_main(runner.main, "--no-run", "--input", inp, "--outdir", figs, "--only", only)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    for name in drawn:
+        assert (figs / f"{name}.png").is_file(), (name, proc.stdout)
+    for name in not_drawn:
+        assert not (figs / f"{name}.png").exists(), name
+    if only == "ramp090":
+        assert "ramp 20: 1.68 (-0.1542), ramp 400: 1.82 (-0.0142)" in proc.stdout
+    else:
+        assert "T_s 200: up 1.84 down 1.52" in proc.stdout
+
+
+def test_ramp_namelists_belong_to_one_figure(tmp_path):
+    p = tmp_path / "ramp090_t0800.nml"
+    p.write_text(NML.format(kind="bifurcation", out="out/x.h5"))
+    assert runner.Job(p).figure == "ramp090"
+
+
+def test_quick_copy_of_a_fold_line_takes_every_tenth_frequency(tmp_path):
+    """A continuation scene's frequency step is scaled by 10 in --quick (a fold costs seconds to minutes), a
+    bifurcation scene's still by 2."""
+    for kind, factor in (("continuation", 10.0), ("bifurcation", 2.0)):
+        src = tmp_path / f"{kind}.nml"
+        src.write_text(NML.format(kind=kind, out="out/x.h5"))
+        copy = namelist.quick_copy(src, tmp_path / "q" / src.name, tmp_path / "q" / "x.h5")
+        assert namelist.read(copy)["scene"]["omega_step"] == pytest.approx(0.01 * factor)
+
+
+def test_fold_line_over_the_scan(tmp_path):
+    """The fold line of a continuation file over several frequencies, with a scan (make_figures' fold_sg.png):
+    the curve's style (which names a marker) and the fold line's own marker do not clash."""
+    fold = reader.open_scene(fold_file(tmp_path / "fold.h5"))
+    scan = reader.open_scene(scan_file(tmp_path / "scan.h5"))
+    ax = figures.draw_continuation(fold, scan).get_axes()[0]
+    (line,) = [ln for ln in ax.get_lines() if ln.get_label().startswith("fold $A_f$")]
+    np.testing.assert_array_equal(line.get_ydata(), FOLD[0])
+    assert line.get_marker() == "."
+
+
+def test_branch_points_without_multipliers_take_their_neighbours_verdict():
+    """With floquet_every > 1 most branch points have no verdict (-1 in /branch/stable): they are drawn as the
+    computed points on both sides when these agree (the branch at Omega = 0.5 was all dashed before), unknown
+    between a stable and an unstable one, as the nearest computed point at the ends."""
+    from supratrans_post.figures.continuation import verdicts
+
+    got = verdicts(np.array([-1, 1, -1, -1, 1, -1, 0, -1, -1, 0, -1], dtype=float))
+    np.testing.assert_array_equal(got, [1, 1, 1, 1, 1, -1, 0, 0, 0, 0, 0])
+    np.testing.assert_array_equal(verdicts(np.array([-1.0, -1.0])), [-1, -1])
