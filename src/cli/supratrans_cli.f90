@@ -35,6 +35,8 @@ module supratrans_cli
     use supratrans_validate, only: validate_config
     use supratrans_limits, only: bound_threads
     use supratrans_simulate, only: simulate
+    use supratrans_checkpoint, only: checkpoint_session, open_session, close_session
+    use supratrans_tasks, only: input_fingerprint
     use supratrans_result, only: run_result, status_name
     use supratrans_output, only: write_timeseries
     use supratrans_journal, only: write_journal
@@ -589,17 +591,33 @@ contains
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
         type(run_result) :: result
+        type(checkpoint_session) :: session
 
         select case (trim(cfg%scene%kind))
         case ("timeseries")
             call progress(cfg, "supratrans " // supratrans_version // ": timeseries from " // cfg%source)
-            call simulate(cfg%run, result, interruptible=.true.)
+            ! mid-run checkpoints: <output>.checkpoint, bound to the input (supratrans_checkpoint)
+            call open_session(session, trim(cfg%output%file) // ".checkpoint", input_fingerprint(cfg) // " timeseries", &
+                              cfg%output%checkpoint_every)
+            if (len_trim(session%note) > 0) call progress(cfg, "  checkpoint " // trim(cfg%output%file) &
+                                                          // ".checkpoint " // trim(session%note))
+            if (session%resumed) call progress(cfg, "  resumed from its checkpoint")
+            session%note = ""
+            call simulate(cfg%run, result, interruptible=.true., session=session)
+            if (len_trim(session%note) > 0) call progress(cfg, "  checkpoint " // trim(session%note))
             if (result%interrupted) then
-                ! one run, no journal: a cut run is no result, and a file under the output's name would look like one
-                call fatal_error(error, trim(cfg%output%file) // ": timeseries stopped by signal " &
-                                 // int_str(stop_signal()) // " at t = " // real_str(result%t_end, 6) // " of " &
-                                 // real_str(cfg%run%numerics%t_final, 6) // ": nothing written (one run cannot " &
-                                 // "resume: the same command runs it again from t = 0)", err_interrupted)
+                ! a cut run is no result, and a file under the output's name would look like one: its checkpoint is
+                if (session%written > 0 .and. len_trim(session%note) == 0) then
+                    call fatal_error(error, trim(cfg%output%file) // ": timeseries stopped by signal " &
+                                     // int_str(stop_signal()) // " at t = " // real_str(result%t_end, 6) // " of " &
+                                     // real_str(cfg%run%numerics%t_final, 6) // ": checkpoint written; the same " &
+                                     // "command resumes from there", err_interrupted)
+                else
+                    call fatal_error(error, trim(cfg%output%file) // ": timeseries stopped by signal " &
+                                     // int_str(stop_signal()) // " at t = " // real_str(result%t_end, 6) // " of " &
+                                     // real_str(cfg%run%numerics%t_final, 6) // ": nothing written (no checkpoint: " &
+                                     // "the same command runs it again from t = 0)", err_interrupted)
+                end if
                 return
             end if
             if (result%no_memory) then
@@ -612,6 +630,7 @@ contains
             call progress(cfg, "  verdict: " // trim(merge("transmitting    ", "not transmitting", result%transmitting)) &
                           // " (" // result%verdict_reason // "); energy injected " // real_str(result%ledger%injected, 6))
             call write_timeseries(cfg, result, error)
+            if (.not. allocated(error)) call close_session(session)
         case ("amplitude_sweep")
             call run_amplitude_sweep(cfg, error)
         case ("map")

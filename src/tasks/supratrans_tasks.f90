@@ -29,6 +29,9 @@ module supratrans_tasks
         procedure(run_task_interface), deferred :: run
         !> Called now and then, serially, with the results so far (write a partial output); default: nothing.
         procedure :: snapshot => no_snapshot
+        !> Whether a task's values are its result; false for a task stopped by a signal at its mid-run
+        !> checkpoint (not journaled: a rerun resumes it). Default: always.
+        procedure :: finished => always_finished
     end type task_list
 
     abstract interface
@@ -48,6 +51,17 @@ module supratrans_tasks
     real(wp), parameter :: progress_interval = 2.0_wp, snapshot_interval = 10.0_wp
 
 contains
+
+    !> Default `finished`: every task that returns has its result.
+    function always_finished(self, values) result(yes)
+        !> The task list.
+        class(task_list), intent(in) :: self
+        !> The task's values.
+        real(wp), intent(in) :: values(:)
+        logical :: yes
+
+        yes = .true.
+    end function always_finished
 
     !> Default snapshot: nothing.
     subroutine no_snapshot(self, results, done)
@@ -183,6 +197,8 @@ contains
             call tasks%run(i, values)
             ! a run that could not allocate its arrays (this task's or another thread's) is no result: not journaled
             lost = out_of_memory()
+            ! a task stopped at its checkpoint by a signal is no result either: a rerun resumes it
+            if (.not. lost) lost = .not. tasks%finished(values)
             !$omp critical (supratrans_tasks_journal)
             if (.not. lost) then
                 results(:, i) = values
