@@ -304,6 +304,8 @@ contains
         if (allocated(self%checkpoint_prefix)) then
             call open_session(session, self%checkpoint_prefix // trim(task_text), self%fingerprint // " task " &
                               // trim(task_text), self%cfg%output%checkpoint_every)
+            if (session%resumed) write (session%note, "(a, i0, a, a)") "resumed: ", session%nlog, &
+                " run(s) of the search done", trim(merge(", one in progress", "                 ", session%has_pending))
             call checkpoint_note()
             oracle%session => session
             screen%session => session
