@@ -25,7 +25,8 @@ module supratrans_checkpoint
     use, intrinsic :: iso_fortran_env, only: int64
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type
-    use supratrans_system, only: write_bytes_atomic, remove_file, link_kind, path_regular, path_missing
+    use supratrans_system, only: write_bytes_atomic, remove_file, link_kind, path_regular, path_missing, &
+                                 remove_stale_temporaries
     use supratrans_state_buffer, only: state_buffer, put_int, put_text, put_logical, put_buffer, get_int, get_text, &
                                        get_logical, crc32_bytes
     use supratrans_result, only: run_result, load_result
@@ -96,7 +97,11 @@ contains
         !> Seconds between checkpoints (<= 0: no checkpoints).
         real(wp), intent(in) :: every
 
+        integer :: removed
+
         if (.not. (every > 0.0_wp)) return
+        ! the temporary of a checkpoint whose writing was killed (the task runs under the output's lock)
+        call remove_stale_temporaries(path, removed)
         session%path = path
         session%binding = binding
         session%every = every
