@@ -157,47 +157,48 @@ program pf_driver
     use test_stepper_contract, only: t140 => test_engine_refuses_invalid_runs
     use test_stepper_contract, only: t141 => test_verdict_only_run_keeps_the_verdict
     use test_stepper_contract, only: t142 => test_engine_counts_steps_in_64_bits
-    use test_stepper_linearized, only: t143 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t144 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t145 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t146 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t147 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t148 => test_newton_error_below_tol
-    use test_stepper_newton, only: t149 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t150 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t151 => test_newton_stepper_reports_failure
-    use test_strings, only: t152 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t153 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t154 => test_find_name_gives_the_first_index_or_zero
+    use test_stepper_contract, only: t143 => test_stepper_contract_checkpoint
+    use test_stepper_linearized, only: t144 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t145 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t146 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t147 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t148 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t149 => test_newton_error_below_tol
+    use test_stepper_newton, only: t150 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t151 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t152 => test_newton_stepper_reports_failure
+    use test_strings, only: t153 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t154 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t155 => test_find_name_gives_the_first_index_or_zero
     use test_system, only: b23 => set_up
     use test_system, only: a23 => tear_down
-    use test_system, only: t155 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t156 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t157 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t158 => test_temporary_names_are_fresh
-    use test_system, only: t159 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t160 => test_monotone_step
-    use test_threshold, only: t161 => test_bisected_bracket
-    use test_threshold, only: t162 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t163 => test_two_transitions
-    use test_threshold, only: t164 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t165 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t166 => test_nothing_transmits
-    use test_threshold, only: t167 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t168 => test_lower_bound_transmits
-    use test_threshold, only: t169 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t170 => test_bad_arguments
-    use test_threshold, only: t171 => test_grid_helpers
+    use test_system, only: t156 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t157 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t158 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t159 => test_temporary_names_are_fresh
+    use test_system, only: t160 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t161 => test_monotone_step
+    use test_threshold, only: t162 => test_bisected_bracket
+    use test_threshold, only: t163 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t164 => test_two_transitions
+    use test_threshold, only: t165 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t166 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t167 => test_nothing_transmits
+    use test_threshold, only: t168 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t169 => test_lower_bound_transmits
+    use test_threshold, only: t170 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t171 => test_bad_arguments
+    use test_threshold, only: t172 => test_grid_helpers
     use test_workprec, only: b25 => set_up
     use test_workprec, only: a25 => tear_down
-    use test_workprec, only: t172 => test_rk8_eighth_order
-    use test_workprec, only: t173 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t174 => test_rk8_stability_polynomial
-    use test_workprec, only: t175 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t176 => test_unstable_runs_are_reported
-    use test_workprec, only: t177 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t178 => test_fitted_order
-    use test_workprec, only: t179 => test_step_kernels_timed
+    use test_workprec, only: t173 => test_rk8_eighth_order
+    use test_workprec, only: t174 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t175 => test_rk8_stability_polynomial
+    use test_workprec, only: t176 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t177 => test_unstable_runs_are_reported
+    use test_workprec, only: t178 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t179 => test_fitted_order
+    use test_workprec, only: t180 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -358,57 +359,58 @@ program pf_driver
     call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t140)
     call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t141)
     call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t142)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t143)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t144)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t145)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t146)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t147)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t148)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t149)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t150)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t151)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t152)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t153)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t154)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t143)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t144)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t145)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t146)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t147)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t148)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t149)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t150)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t151)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t152)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t153)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t154)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t155)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t155, &
+        t156, &
         before=b23, &
         after=a23)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t156, before=b23, after=a23)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t157, before=b23, after=a23)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t157, &
+        t158, &
         before=b23, &
         after=a23)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t158, before=b23, after=a23)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t159, before=b23, after=a23)
-    call pf_run_test('test_threshold', 'test_monotone_step', t160)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t161)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t162)
-    call pf_run_test('test_threshold', 'test_two_transitions', t163)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t164)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t165)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t166)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t167)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t168)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t169)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t170)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t171)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t172, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t173, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t174, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t175, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t176, before=b25, after=a25)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t159, before=b23, after=a23)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t160, before=b23, after=a23)
+    call pf_run_test('test_threshold', 'test_monotone_step', t161)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t162)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t163)
+    call pf_run_test('test_threshold', 'test_two_transitions', t164)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t165)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t166)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t167)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t168)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t169)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t170)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t171)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t172)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t173, before=b25, after=a25)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t174, before=b25, after=a25)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t175, before=b25, after=a25)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t176, before=b25, after=a25)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t177, before=b25, after=a25)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t177, &
+        t178, &
         before=b25, &
         after=a25)
-    call pf_run_test('test_workprec', 'test_fitted_order', t178, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t179, before=b25, after=a25)
+    call pf_run_test('test_workprec', 'test_fitted_order', t179, before=b25, after=a25)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t180, before=b25, after=a25)
     call pf_driver_finish()
 end program pf_driver
