@@ -604,6 +604,7 @@ contains
                                                           // ".checkpoint " // trim(session%note))
             if (session%resumed) call progress(cfg, "  resumed from its checkpoint")
             session%note = ""
+            session%log_runs = .false.        ! one run: nothing to replay
             call simulate(cfg%run, result, interruptible=.true., session=session)
             if (len_trim(session%note) > 0) call progress(cfg, "  checkpoint " // trim(session%note))
             if (result%interrupted) then

@@ -55,6 +55,9 @@ module supratrans_checkpoint
         integer(int64) :: clock_rate = 1
         !> Records of the task's finished runs, in order (`save_result`); a replay reads them from `log%pos`.
         type(state_buffer) :: log
+        !> Keep the records of the finished runs (a task of several runs: a search); false for a task of one run
+        !> (a timeseries), whose record would only be copied.
+        logical :: log_runs = .true.
         !> Number of records in `log`.
         integer(i8) :: nlog = 0
         !> Records already handed back by the replay.

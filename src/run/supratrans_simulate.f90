@@ -97,7 +97,7 @@ contains
         class(stepper), allocatable :: integrator
         type(observer_item), allocatable :: observers(:)
         type(error_type), allocatable :: error
-        integer(i8) :: clock_start, clock_end, clock_rate, m, nsteps
+        integer(i8) :: clock_start, clock_end, clock_rate, m, nsteps, countdown
         integer :: i, status
         logical :: halt, verdict, poll, keep, resumed
         real(wp) :: earlier_wall
@@ -162,6 +162,7 @@ contains
         end if
         nsteps = integrator%steps_to(m)
         poll = keep
+        countdown = clock_stride
         if (present(interruptible)) poll = poll .or. interruptible
         do while (integrator%steps < nsteps)
             if (poll) then
@@ -171,7 +172,10 @@ contains
                     exit
                 end if
                 if (keep) then
-                    if (mod(integrator%steps, clock_stride) == 0) then
+                    ! the wall clock every clock_stride steps (a countdown: no division in the loop)
+                    countdown = countdown - 1
+                    if (countdown <= 0) then
+                        countdown = clock_stride
                         if (checkpoint_due(session)) call save_task(.false.)
                     end if
                 end if
@@ -206,7 +210,7 @@ contains
         result%tridiagonal_solves = integrator%tridiagonal_solves
         result%rhs_evaluations = integrator%rhs_evaluations
         call stop_clock()
-        if (keep .and. .not. result%interrupted) then
+        if (keep .and. .not. result%interrupted .and. session%log_runs) then
             call save_result(result, session%log)
             session%nlog = session%nlog + 1
             session%replayed = session%nlog
