@@ -80,7 +80,8 @@ contains
     !> with mod(t - 1, N) + 1 = I and, once they are all done, writes the part file `cfg%output%file` for `merge`
     !> (then deletes the slice's journal and partial snapshot); `cfg%snapshot_only` computes nothing and writes the
     !> partial snapshot of what the journal holds. A stop signal (SIGTERM, SIGINT, SIGUSR1: see
-    !> `supratrans_system`) hands out no new task: the tasks running finish and are journaled, a snapshot is
+    !> `supratrans_system`) hands out no new task: the tasks running finish and are journaled (or, if they
+    !> checkpoint, stop at their checkpoint and are not: `finished`), a snapshot is
     !> written, and `error` says so with status `err_interrupted`.
     subroutine run_tasks(tasks, ntask, fields, journal, fingerprint, label, quiet, results, done, error, cfg)
         !> The tasks.
