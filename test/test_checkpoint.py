@@ -136,14 +136,15 @@ def test_killed_run_resumes_bit_identical(exe, tmp_path, references, scene, meth
     same_results(references(scene, method), result)
 
 
-def test_timeseries_resumes_from_its_checkpoint(exe, tmp_path, references):
-    """A SIGTERM in the middle of a long timeseries writes its checkpoint; the rerun says it resumed (it does not
-    start again from t = 0) and ends bit-identical."""
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGUSR1], ids=["SIGTERM", "SIGUSR1"])
+def test_timeseries_resumes_from_its_checkpoint(exe, tmp_path, references, sig):
+    """A SIGTERM (or Slurm's SIGUSR1) in the middle of a long timeseries writes its checkpoint; the rerun says it
+    resumed (it does not start again from t = 0) and ends bit-identical."""
     nml = write(tmp_path, "timeseries", "newton", "ts", every=300)
     proc = start(exe, nml, tmp_path)
     started(proc)
     time.sleep(0.4)
-    proc.send_signal(signal.SIGTERM)
+    proc.send_signal(sig)
     _, err = proc.communicate(timeout=600)
     assert proc.returncode == 5, err
     assert "checkpoint written" in err

@@ -210,10 +210,13 @@ contains
         result%tridiagonal_solves = integrator%tridiagonal_solves
         result%rhs_evaluations = integrator%rhs_evaluations
         call stop_clock()
-        if (keep .and. .not. result%interrupted .and. session%log_runs) then
-            call save_result(result, session%log)
-            session%nlog = session%nlog + 1
-            session%replayed = session%nlog
+        if (keep) then
+            ! (nested: `session` may be absent, and Fortran's .and. does not stop at the first false operand)
+            if (.not. result%interrupted .and. session%log_runs) then
+                call save_result(result, session%log)
+                session%nlog = session%nlog + 1
+                session%replayed = session%nlog
+            end if
         end if
 
     contains
