@@ -196,3 +196,33 @@ def test_no_checkpoint_when_off(exe, tmp_path):
     assert "nothing written" in err
     assert not checkpoints(tmp_path, "ts")
     assert not (tmp_path / "out" / "ts.h5").exists()
+
+
+def test_slice_stopped_by_sigusr1_resumes_and_merges(exe, tmp_path, references):
+    """Slurm's `--signal=B:USR1`: a slice of a search study stopped by SIGUSR1 once its searches have checkpointed
+    writes their checkpoints and exits 5; run again it resumes them, and the merged file is the single machine's."""
+    nml = write(tmp_path, "search", "rk4", "search_rk4", every=0.3)
+    env = dict(os.environ, OMP_NUM_THREADS="2")
+    proc = subprocess.Popen([exe, str(nml), "--slice", "1/2"], cwd=tmp_path, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=env)
+    first = started(proc)
+    deadline = time.time() + 60
+    while proc.poll() is None and not checkpoints(tmp_path, "search_rk4.part-1-of-2") and time.time() < deadline:
+        time.sleep(0.02)
+    proc.send_signal(signal.SIGUSR1)
+    _, err = proc.communicate(timeout=600)
+    assert proc.returncode in (0, 5), first + err
+    left = checkpoints(tmp_path, "search_rk4.part-1-of-2")
+    if proc.returncode == 5:
+        assert left and "stopped by signal 10" in err, err
+    for part in ("1/2", "2/2"):
+        again = subprocess.run([exe, str(nml), "--slice", part], cwd=tmp_path, capture_output=True, text=True,
+                               timeout=600, env=env)
+        assert again.returncode == 0, again.stderr
+        if part == "1/2" and left:
+            assert "resumed" in again.stderr, again.stderr
+    parts = sorted(str(p) for p in (tmp_path / "out").glob("search_rk4.part-*-of-2.h5"))
+    merged = subprocess.run([exe, "merge", *parts], cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert merged.returncode == 0, merged.stderr
+    assert not list((tmp_path / "out").glob("*.checkpoint*"))
+    same_results(references("search", "rk4"), tmp_path / "out" / "search_rk4.h5")
