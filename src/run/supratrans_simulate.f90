@@ -239,6 +239,7 @@ contains
             call integrator%save_levels(flight)
             if (flight%unsupported) then
                 session%note = "not written: the method cannot save its state (it starts again from t = 0)"
+                call system_clock(session%last_clock)      ! not tried again before the next interval
             else
                 call write_checkpoint(session, flight, .true.)
             end if
