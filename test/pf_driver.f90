@@ -171,47 +171,48 @@ program pf_driver
     use test_stepper_contract, only: t154 => test_engine_refuses_invalid_runs
     use test_stepper_contract, only: t155 => test_verdict_only_run_keeps_the_verdict
     use test_stepper_contract, only: t156 => test_engine_counts_steps_in_64_bits
-    use test_stepper_linearized, only: t157 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t158 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t159 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t160 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t161 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t162 => test_newton_error_below_tol
-    use test_stepper_newton, only: t163 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t164 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t165 => test_newton_stepper_reports_failure
-    use test_strings, only: t166 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t167 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t168 => test_find_name_gives_the_first_index_or_zero
+    use test_stepper_contract, only: t157 => test_stepper_contract_checkpoint
+    use test_stepper_linearized, only: t158 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t159 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t160 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t161 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t162 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t163 => test_newton_error_below_tol
+    use test_stepper_newton, only: t164 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t165 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t166 => test_newton_stepper_reports_failure
+    use test_strings, only: t167 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t168 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t169 => test_find_name_gives_the_first_index_or_zero
     use test_system, only: b26 => set_up
     use test_system, only: a26 => tear_down
-    use test_system, only: t169 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t170 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t171 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t172 => test_temporary_names_are_fresh
-    use test_system, only: t173 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t174 => test_monotone_step
-    use test_threshold, only: t175 => test_bisected_bracket
-    use test_threshold, only: t176 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t177 => test_two_transitions
-    use test_threshold, only: t178 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t179 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t180 => test_nothing_transmits
-    use test_threshold, only: t181 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t182 => test_lower_bound_transmits
-    use test_threshold, only: t183 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t184 => test_bad_arguments
-    use test_threshold, only: t185 => test_grid_helpers
+    use test_system, only: t170 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t171 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t172 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t173 => test_temporary_names_are_fresh
+    use test_system, only: t174 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t175 => test_monotone_step
+    use test_threshold, only: t176 => test_bisected_bracket
+    use test_threshold, only: t177 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t178 => test_two_transitions
+    use test_threshold, only: t179 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t180 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t181 => test_nothing_transmits
+    use test_threshold, only: t182 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t183 => test_lower_bound_transmits
+    use test_threshold, only: t184 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t185 => test_bad_arguments
+    use test_threshold, only: t186 => test_grid_helpers
     use test_workprec, only: b28 => set_up
     use test_workprec, only: a28 => tear_down
-    use test_workprec, only: t186 => test_rk8_eighth_order
-    use test_workprec, only: t187 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t188 => test_rk8_stability_polynomial
-    use test_workprec, only: t189 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t190 => test_unstable_runs_are_reported
-    use test_workprec, only: t191 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t192 => test_fitted_order
-    use test_workprec, only: t193 => test_step_kernels_timed
+    use test_workprec, only: t187 => test_rk8_eighth_order
+    use test_workprec, only: t188 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t189 => test_rk8_stability_polynomial
+    use test_workprec, only: t190 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t191 => test_unstable_runs_are_reported
+    use test_workprec, only: t192 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t193 => test_fitted_order
+    use test_workprec, only: t194 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -386,57 +387,58 @@ program pf_driver
     call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t154)
     call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t155)
     call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t156)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t157)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t158)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t159)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t160)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t161)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t162)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t163)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t164)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t165)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t166)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t167)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t168)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t157)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t158)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t159)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t160)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t161)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t162)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t163)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t164)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t165)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t166)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t167)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t168)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t169)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t169, &
+        t170, &
         before=b26, &
         after=a26)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t170, before=b26, after=a26)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t171, before=b26, after=a26)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t171, &
+        t172, &
         before=b26, &
         after=a26)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t172, before=b26, after=a26)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t173, before=b26, after=a26)
-    call pf_run_test('test_threshold', 'test_monotone_step', t174)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t175)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t176)
-    call pf_run_test('test_threshold', 'test_two_transitions', t177)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t178)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t179)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t180)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t181)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t182)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t183)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t184)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t185)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t186, before=b28, after=a28)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t187, before=b28, after=a28)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t188, before=b28, after=a28)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t189, before=b28, after=a28)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t190, before=b28, after=a28)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t173, before=b26, after=a26)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t174, before=b26, after=a26)
+    call pf_run_test('test_threshold', 'test_monotone_step', t175)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t176)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t177)
+    call pf_run_test('test_threshold', 'test_two_transitions', t178)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t179)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t180)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t181)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t182)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t183)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t184)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t185)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t186)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t187, before=b28, after=a28)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t188, before=b28, after=a28)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t189, before=b28, after=a28)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t190, before=b28, after=a28)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t191, before=b28, after=a28)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t191, &
+        t192, &
         before=b28, &
         after=a28)
-    call pf_run_test('test_workprec', 'test_fitted_order', t192, before=b28, after=a28)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t193, before=b28, after=a28)
+    call pf_run_test('test_workprec', 'test_fitted_order', t193, before=b28, after=a28)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t194, before=b28, after=a28)
     call pf_driver_finish()
 end program pf_driver

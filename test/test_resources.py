@@ -65,12 +65,13 @@ def leftovers(directory, keep=()):
 @pytest.mark.parametrize("sig", STOPS, ids=[s.name for s in STOPS])
 def test_timeseries_stops_at_a_signal_and_writes_nothing(exe, tmp_path, sig):
     """A stop signal that arrives as the run starts ends it at once: status 5, one line, no output, no temporary
-    (only the empty lock file). Today's code ignored it and ran to the end (exit 0)."""
+    (the empty lock file and the mid-run checkpoint it resumes from, issue 23). Today's code ignored it and ran to
+    the end (exit 0)."""
     namelist(tmp_path, TS.format(n=40, t_final=20000.0))
     proc = run(exe, "s.nml", cwd=tmp_path, preexec_fn=with_pending(sig), timeout=120)
-    line = one_line(proc, 5, "out/s.h5", "timeseries stopped by signal " + str(int(sig)), "nothing written")
+    line = one_line(proc, 5, "out/s.h5", "timeseries stopped by signal " + str(int(sig)), "checkpoint written")
     assert "t = 0" in line
-    assert leftovers(tmp_path / "out") == ["s.h5.lock"]
+    assert leftovers(tmp_path / "out") == ["s.h5.checkpoint", "s.h5.lock"]
 
 
 def test_timeseries_stops_at_sigterm_sent_while_it_runs(exe, tmp_path):
@@ -87,7 +88,7 @@ def test_timeseries_stops_at_sigterm_sent_while_it_runs(exe, tmp_path):
             proc.wait()
     assert proc.returncode == 5, err
     assert len(err.strip().splitlines()) == 1 and "timeseries stopped by signal 15" in err, err
-    assert leftovers(tmp_path / "out") == ["s.h5.lock"]
+    assert leftovers(tmp_path / "out") == ["s.h5.checkpoint", "s.h5.lock"]
 
 
 def wait_for_handler(pid, sig, timeout=60.0):

@@ -164,6 +164,9 @@ module supratrans_config
         character(len=path_len) :: file = "supratrans.h5"
         !> Replace an existing output file instead of refusing (&output overwrite).
         logical :: overwrite = .false.
+        !> Wall time between two mid-run checkpoints of a running task (also written at once on SIGTERM or SIGUSR1, then the
+        !> program exits 5 and resumes); 0: no checkpoints (&output checkpoint_every).
+        real(wp) :: checkpoint_every = 300.0_wp
         !> Suppress progress messages on stderr (&output quiet).
         logical :: quiet = .false.
     end type output_params

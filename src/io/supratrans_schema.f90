@@ -151,8 +151,10 @@ module supratrans_schema
     integer, parameter, public :: key_output_file = 62
     !> Index of &output overwrite in `key_table`.
     integer, parameter, public :: key_output_overwrite = 63
+    !> Index of &output checkpoint_every in `key_table`.
+    integer, parameter, public :: key_output_checkpoint_every = 64
     !> Index of &output quiet in `key_table`.
-    integer, parameter, public :: key_output_quiet = 64
+    integer, parameter, public :: key_output_quiet = 65
 
     type(key_spec), parameter :: spec_chain_potential = key_spec( &
         group="chain", key="potential", value_type=kt_name, max_values=1, attribute="potential", units="1", &
@@ -534,6 +536,13 @@ module supratrans_schema
         default_text=".false.", &
         range_text="", &
         description="Replace an existing output file instead of refusing")
+    type(key_spec), parameter :: spec_output_checkpoint_every = key_spec( &
+        group="output", key="checkpoint_every", value_type=kt_real, max_values=1, attribute="checkpoint_every", units="s", &
+            has_min=.true., min=0.0_wp, min_text="0", &
+        default_text="300", &
+        range_text=">= 0", &
+        description="Wall time between two mid-run checkpoints of a running task (also written at once on SIGTERM or SIGUSR1," // &
+            " then the program exits 5 and resumes); 0: no checkpoints")
     type(key_spec), parameter :: spec_output_quiet = key_spec( &
         group="output", key="quiet", value_type=kt_logical, max_values=1, attribute="quiet", units="1", &
         default_text=".false.", &
@@ -554,7 +563,7 @@ module supratrans_schema
         spec_scene_methods, spec_scene_dts, spec_scene_dt_smallest, spec_scene_amplitudes, spec_scene_c_values, &
         spec_scene_repeats, spec_scene_reference_dt, spec_scene_stair_times, spec_scene_stair_height, spec_scene_stair_ramp, &
         spec_scene_power_threshold, spec_detect_site, spec_detect_amplitude, spec_detect_stop_when_decided, spec_output_file, &
-        spec_output_overwrite, spec_output_quiet]
+        spec_output_overwrite, spec_output_checkpoint_every, spec_output_quiet]
 
     !> Values derived from the keys that `/parameters` stores too.
     type(derived_spec), parameter, public :: derived_table(*) = [ &
@@ -749,6 +758,8 @@ contains
             v = text_value([cfg%output%file])
         case (key_output_overwrite)
             v = flag_value(cfg%output%overwrite)
+        case (key_output_checkpoint_every)
+            v = real_value([cfg%output%checkpoint_every])
         case (key_output_quiet)
             v = flag_value(cfg%output%quiet)
         case default
@@ -902,6 +913,8 @@ contains
             cfg%output%file = trim(v%texts(1))
         case (key_output_overwrite)
             cfg%output%overwrite = v%flag
+        case (key_output_checkpoint_every)
+            cfg%output%checkpoint_every = v%reals(1)
         case (key_output_quiet)
             cfg%output%quiet = v%flag
         case default

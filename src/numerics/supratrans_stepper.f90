@@ -19,8 +19,11 @@ module supratrans_stepper
     use supratrans_kinds, only: wp, i8
     use supratrans_config, only: run_config
     use supratrans_ledger, only: ledger_type
+    use supratrans_state_buffer, only: state_buffer, put_int, get_int
     implicit none
     private
+
+    public :: save_counters, load_counters
 
     !> `step` status: the new level was computed.
     integer, parameter, public :: step_ok = 0
@@ -87,6 +90,12 @@ module supratrans_stepper
         procedure :: energy_time
         !> Steps a run to T = M dt takes: M - initial_levels + 1 (0 if negative).
         procedure :: steps_to
+        !> Mid-run checkpoints: append to a buffer everything a step reads that `init` does not set (the time levels
+        !> the method keeps), with exact bits. The default marks the buffer `unsupported` (no checkpoint is then
+        !> written); a method overrides it and `load_levels`. The counters are saved by `save_counters`.
+        procedure :: save_levels => stepper_no_save
+        !> Restore what `save_levels` saved, after `init` of the same run: `buf%ok` false when it does not fit.
+        procedure :: load_levels => stepper_no_load
     end type stepper
 
     abstract interface
@@ -149,6 +158,58 @@ module supratrans_stepper
     end interface
 
 contains
+
+    !> Default `save_levels`: this method cannot save its state (the buffer is marked `unsupported`).
+    pure subroutine stepper_no_save(self, buf)
+        !> The stepper.
+        class(stepper), intent(in) :: self
+        !> The state so far.
+        type(state_buffer), intent(inout) :: buf
+
+        buf%unsupported = .true.
+    end subroutine stepper_no_save
+
+    !> Default `load_levels`: nothing to restore from (`buf%ok` false).
+    pure subroutine stepper_no_load(self, buf)
+        !> The stepper.
+        class(stepper), intent(inout) :: self
+        !> The saved state.
+        type(state_buffer), intent(inout) :: buf
+
+        buf%ok = .false.
+    end subroutine stepper_no_load
+
+    !> Append the step index and the work counters of a stepper (every method has them) to a checkpoint's buffer.
+    pure subroutine save_counters(self, buf)
+        !> The stepper.
+        class(stepper), intent(in) :: self
+        !> The state so far.
+        type(state_buffer), intent(inout) :: buf
+
+        call put_int(buf, self%steps)
+        call put_int(buf, self%newton_iterations)
+        call put_int(buf, int(self%newton_max_iterations, i8))
+        call put_int(buf, self%tridiagonal_solves)
+        call put_int(buf, self%rhs_evaluations)
+    end subroutine save_counters
+
+    !> Restore what `save_counters` saved.
+    pure subroutine load_counters(self, buf)
+        !> The stepper, initialised.
+        class(stepper), intent(inout) :: self
+        !> The saved state.
+        type(state_buffer), intent(inout) :: buf
+        integer(i8) :: v
+
+        call get_int(buf, self%steps)
+        call get_int(buf, self%newton_iterations)
+        call get_int(buf, v)
+        if (v < 0 .or. v > huge(0)) buf%ok = .false.
+        if (buf%ok) self%newton_max_iterations = int(v)
+        call get_int(buf, self%tridiagonal_solves)
+        call get_int(buf, self%rhs_evaluations)
+        if (self%steps < 0) buf%ok = .false.
+    end subroutine load_counters
 
     !> Default blow-up measure: max |u_n| over the whole chain at the newest level.
     pure function blowup_measure(self) result(umax)

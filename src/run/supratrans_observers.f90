@@ -35,6 +35,9 @@ module supratrans_observers
     contains
         !> At the start, after the stepper's `init` (the initial levels are set).
         procedure :: start => observer_no_start
+        !> Instead of `start`, when the run resumes from a checkpoint (stepper and record restored): set up what
+        !> the observer needs without recording anything (the observers keep no state of their own).
+        procedure :: resume => observer_no_resume
         !> After every step that succeeded; `halt` ends the run after this step.
         procedure(observer_step), deferred :: after_step
         !> At the end of the run (`result%steps` and `result%t_end` set).
@@ -96,6 +99,7 @@ module supratrans_observers
         real(wp), allocatable :: sample(:)
     contains
         procedure :: start => probe_start
+        procedure :: resume => probe_resume
         procedure :: after_step => probe_after_step
     end type probe_observer
 
@@ -164,6 +168,29 @@ contains
         !> The run's record.
         type(run_result), intent(inout) :: result
     end subroutine observer_no_start
+
+    !> Default resume: nothing.
+    subroutine observer_no_resume(self, integrator, result)
+        !> The observer.
+        class(run_observer), intent(inout) :: self
+        !> The stepper, restored.
+        class(stepper), intent(in) :: integrator
+        !> The run's record, restored.
+        type(run_result), intent(inout) :: result
+    end subroutine observer_no_resume
+
+    !> Resume: the work array of a sample (the samples taken are in the record).
+    subroutine probe_resume(self, integrator, result)
+        !> The observer.
+        class(probe_observer), intent(inout) :: self
+        !> The stepper, restored.
+        class(stepper), intent(in) :: integrator
+        !> The run's record, restored.
+        type(run_result), intent(inout) :: result
+
+        if (allocated(self%sample)) deallocate (self%sample)
+        allocate (self%sample(size(result%probes)))
+    end subroutine probe_resume
 
     !> Default finish: nothing.
     subroutine observer_no_finish(self, integrator, result)

@@ -5,6 +5,9 @@ module supratrans_result
     use supratrans_ledger, only: ledger_type
     use supratrans_config, only: detect_params, record_params
     use supratrans_strings, only: int_fixed, real_fixed
+    use supratrans_state_buffer, only: state_buffer, put_int, put_real, put_logical, put_text, put_reals, &
+                                       put_reals2, put_ints, get_int, get_real, get_logical, get_text, get_reals, &
+                                       get_reals2, get_ints
     use supratrans_status, only: run_ok => status_ok, run_diverged => status_diverged, &
                                  run_newton_failed => status_newton_failed, run_solver_failed => status_solver_failed, &
                                  run_invalid => status_invalid, status_name => run_status_name
@@ -14,7 +17,7 @@ module supratrans_result
     !> The run statuses (`supratrans_status`, under the names the run engine uses) and their names.
     public :: run_ok, run_diverged, run_newton_failed, run_solver_failed, run_invalid, status_name
     public :: init_records, record_ledger, record_probes, observe_ramp, check_blowup, observe_detector, &
-              observe_early_stop, close_verdict
+              observe_early_stop, close_verdict, save_result, load_result
 
     !> A verdict whose margin (`verdict_margin`, relative to the detect amplitude) is below this is flagged thin:
     !> below threshold |u| beyond the detector stays under 0.8 pi, above it passes 1.2 pi, everywhere the
@@ -98,6 +101,165 @@ module supratrans_result
         "dissipated_gamma", "dissipated_beta", "dissipated_absorber", "residual"]
 
 contains
+
+    !> Append a run's record as it stands (outcome, ledger, verdict so far, the filled part of the series) to a
+    !> checkpoint's buffer, every real with its exact bits.
+    pure subroutine save_result(result, buf)
+        !> The run's record.
+        type(run_result), intent(in) :: result
+        !> The state so far.
+        type(state_buffer), intent(inout) :: buf
+
+        call put_int(buf, int(result%status, i8))
+        if (allocated(result%reason)) then
+            call put_text(buf, result%reason)
+        else
+            call put_text(buf, "")
+        end if
+        call put_int(buf, result%steps)
+        call put_real(buf, result%t_end)
+        call put_int(buf, result%newton_iterations)
+        call put_int(buf, int(result%newton_max_iterations, i8))
+        call put_int(buf, result%tridiagonal_solves)
+        call put_int(buf, result%rhs_evaluations)
+        associate (l => result%ledger)
+            call put_reals(buf, [l%e_start, l%injected, l%dissipated_gamma, l%dissipated_beta, l%dissipated_absorber, &
+                                 l%stored, l%residual, l%max_step_residual, l%energy_scale])
+            call put_int(buf, int(l%evaluations, i8))
+        end associate
+        call put_real(buf, result%injected_at_ramp)
+        call put_logical(buf, result%ramp_passed)
+        call put_real(buf, result%wall_time)
+        call put_real(buf, result%max_abs_u)
+        call put_logical(buf, result%transmitting)
+        call put_real(buf, result%t_decided)
+        call put_int(buf, int(result%detect_site, i8))
+        call put_real(buf, result%u_beyond_max)
+        call put_logical(buf, result%stopped_early)
+        call put_logical(buf, result%interrupted)
+        call put_logical(buf, result%no_memory)
+        if (allocated(result%verdict_reason)) then
+            call put_text(buf, result%verdict_reason)
+        else
+            call put_text(buf, "")
+        end if
+        call put_logical(buf, allocated(result%verdict_reason))
+        call put_real(buf, result%verdict_margin)
+        call put_logical(buf, result%thin_verdict)
+        call put_logical(buf, allocated(result%probes))
+        if (allocated(result%probes)) then
+            call put_ints(buf, result%probes)
+            call put_int(buf, size(result%probe_time, kind=i8))
+            call put_int(buf, size(result%ledger_time, kind=i8))
+            call put_int(buf, int(result%n_probe_samples, i8))
+            call put_reals(buf, result%probe_time(1:result%n_probe_samples))
+            call put_reals2(buf, result%probe_u(1:result%n_probe_samples, :))
+            call put_int(buf, int(result%n_ledger_samples, i8))
+            call put_reals(buf, result%ledger_time(1:result%n_ledger_samples))
+            call put_reals2(buf, result%ledger_series(1:result%n_ledger_samples, :))
+        end if
+    end subroutine save_result
+
+    !> Restore a run's record saved by `save_result`. With `fresh` the record's series are allocated here (a
+    !> finished run read back whole); otherwise they must already have the sizes saved (`init_records` of the same
+    !> run). `buf%ok` is false when the saved record does not fit.
+    pure subroutine load_result(result, buf, fresh)
+        !> The run's record.
+        type(run_result), intent(inout) :: result
+        !> The saved state.
+        type(state_buffer), intent(inout) :: buf
+        !> Allocate the series (a finished run's record).
+        logical, intent(in) :: fresh
+        real(wp) :: sums(9)
+        integer(i8) :: v, nsample, nledger, nfilled
+        logical :: has, has_probes
+        character(len=:), allocatable :: text
+
+        call get_int(buf, v)
+        result%status = int(v)
+        call get_text(buf, result%reason)
+        call get_int(buf, result%steps)
+        call get_real(buf, result%t_end)
+        call get_int(buf, result%newton_iterations)
+        call get_int(buf, v)
+        result%newton_max_iterations = int(max(0_i8, min(v, int(huge(0), i8))))
+        call get_int(buf, result%tridiagonal_solves)
+        call get_int(buf, result%rhs_evaluations)
+        call get_reals(buf, sums)
+        associate (l => result%ledger)
+            l%e_start = sums(1)
+            l%injected = sums(2)
+            l%dissipated_gamma = sums(3)
+            l%dissipated_beta = sums(4)
+            l%dissipated_absorber = sums(5)
+            l%stored = sums(6)
+            l%residual = sums(7)
+            l%max_step_residual = sums(8)
+            l%energy_scale = sums(9)
+            call get_int(buf, v)
+            l%evaluations = int(max(0_i8, min(v, int(huge(0), i8))))
+        end associate
+        call get_real(buf, result%injected_at_ramp)
+        call get_logical(buf, result%ramp_passed)
+        call get_real(buf, result%wall_time)
+        call get_real(buf, result%max_abs_u)
+        call get_logical(buf, result%transmitting)
+        call get_real(buf, result%t_decided)
+        call get_int(buf, v)
+        result%detect_site = int(max(0_i8, min(v, int(huge(0), i8))))
+        call get_real(buf, result%u_beyond_max)
+        call get_logical(buf, result%stopped_early)
+        call get_logical(buf, result%interrupted)
+        call get_logical(buf, result%no_memory)
+        call get_text(buf, text)
+        call get_logical(buf, has)
+        if (has) then
+            result%verdict_reason = text
+        else if (allocated(result%verdict_reason)) then
+            deallocate (result%verdict_reason)
+        end if
+        call get_real(buf, result%verdict_margin)
+        call get_logical(buf, result%thin_verdict)
+        call get_logical(buf, has_probes)
+        if (.not. buf%ok .or. .not. has_probes) return
+        call get_int(buf, v)
+        if (.not. buf%ok) return
+        if (fresh) then
+            if (allocated(result%probes)) deallocate (result%probes)
+            allocate (result%probes(max(0_i8, min(v, 1000000_i8))))
+        end if
+        buf%pos = buf%pos - 8
+        call get_ints(buf, result%probes)
+        call get_int(buf, nsample)
+        call get_int(buf, nledger)
+        if (fresh .and. buf%ok) then
+            if (nsample < 0 .or. nledger < 0 .or. nsample > buf%used .or. nledger > buf%used) buf%ok = .false.
+            if (.not. buf%ok) return
+            if (allocated(result%probe_time)) deallocate (result%probe_time, result%probe_u)
+            if (allocated(result%ledger_time)) deallocate (result%ledger_time, result%ledger_series)
+            allocate (result%probe_time(nsample), result%probe_u(nsample, size(result%probes)))
+            allocate (result%ledger_time(nledger), result%ledger_series(nledger, size(ledger_columns)))
+            result%probe_time = 0.0_wp
+            result%probe_u = 0.0_wp
+            result%ledger_time = 0.0_wp
+            result%ledger_series = 0.0_wp
+        end if
+        if (.not. allocated(result%probe_time) .or. .not. allocated(result%ledger_time)) buf%ok = .false.
+        if (.not. buf%ok) return
+        if (nsample /= size(result%probe_time, kind=i8) .or. nledger /= size(result%ledger_time, kind=i8)) buf%ok = .false.
+        call get_int(buf, nfilled)
+        if (nfilled < 0 .or. nfilled > nsample) buf%ok = .false.
+        if (.not. buf%ok) return
+        result%n_probe_samples = int(nfilled)
+        call get_reals(buf, result%probe_time(1:nfilled))
+        call get_reals2(buf, result%probe_u(1:nfilled, :))
+        call get_int(buf, nfilled)
+        if (nfilled < 0 .or. nfilled > nledger) buf%ok = .false.
+        if (.not. buf%ok) return
+        result%n_ledger_samples = int(nfilled)
+        call get_reals(buf, result%ledger_time(1:nfilled))
+        call get_reals2(buf, result%ledger_series(1:nfilled, :))
+    end subroutine load_result
 
 
     !> Append the current state of the run's ledger (`result%ledger`) to the records (ignored when they are full).

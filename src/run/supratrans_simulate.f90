@@ -13,12 +13,15 @@ module supratrans_simulate
     use supratrans_strings, only: real_str
     use supratrans_config, only: run_config
     use supratrans_potential, only: check_potential
-    use supratrans_stepper, only: stepper, step_ok, step_not_converged, step_breakdown
+    use supratrans_stepper, only: stepper, step_ok, step_not_converged, step_breakdown, save_counters, load_counters
+    use supratrans_state_buffer, only: state_buffer
+    use supratrans_checkpoint, only: checkpoint_session, session_active, checkpoint_due, write_checkpoint, &
+                                     clock_stride
     use supratrans_steppers, only: new_stepper
     use supratrans_system, only: stop_signal, note_out_of_memory
     use supratrans_observers, only: observer_item, standard_observers
     use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed, run_invalid, &
-                                 init_records, close_verdict
+                                 init_records, close_verdict, save_result, load_result
     implicit none
     private
 
@@ -74,7 +77,13 @@ contains
     !> exact, `exact_energy`). With `interruptible` the run polls the stop flag (`stop_signal`, one load of
     !> a C variable) before every step and ends there, `result%interrupted`, when a stop signal has arrived (the timeseries
     !> scene: one long run); the runs of the other scenes finish, their task loop stops between runs.
-    subroutine simulate(run, result, verdict_only, interruptible)
+    !>
+    !> With an active checkpoint `session` (`supratrans_checkpoint`) the run is one of a task that checkpoints: it
+    !> polls the stop flag too, writes the task's checkpoint every `checkpoint_every` seconds and at once on a stop
+    !> signal (then ends `interrupted`, and so does every later call with the session), replays a finished run of a
+    !> resumed task from its saved record and continues the run that was in progress from its saved step. A run
+    !> that ends is added to the session's records.
+    subroutine simulate(run, result, verdict_only, interruptible, session)
         !> Validated run configuration.
         type(run_config), intent(in) :: run
         !> Outcome, statistics, ledger and records.
@@ -83,14 +92,34 @@ contains
         logical, intent(in), optional :: verdict_only
         !> Stop at a stop signal (default false).
         logical, intent(in), optional :: interruptible
+        !> The checkpoints of the task this run belongs to.
+        type(checkpoint_session), intent(inout), optional :: session
         class(stepper), allocatable :: integrator
         type(observer_item), allocatable :: observers(:)
         type(error_type), allocatable :: error
-        integer(i8) :: clock_start, clock_end, clock_rate, m, nsteps
+        integer(i8) :: clock_start, clock_end, clock_rate, m, nsteps, countdown
         integer :: i, status
-        logical :: halt, verdict, poll
+        logical :: halt, verdict, poll, keep, resumed
+        real(wp) :: earlier_wall
 
         call system_clock(clock_start, clock_rate)
+        keep = .false.
+        if (present(session)) keep = session_active(session)
+        earlier_wall = 0.0_wp
+        if (keep) then
+            if (session%interrupted) then
+                ! the task was stopped: every further run is cut short at once (its caller discards the task)
+                result%interrupted = .true.
+                call close_verdict(result, run%detect)
+                return
+            end if
+            if (session%replayed < session%nlog) then
+                ! a finished run of a resumed task: its record as it was
+                call load_result(result, session%log, fresh=.true.)
+                session%replayed = session%replayed + 1
+                return
+            end if
+        end if
         call new_stepper(run%numerics%method, integrator, error)
         if (.not. allocated(error)) call check_potential(run%chain%potential, error)
         if (.not. allocated(error)) call step_count(run, m, error)
@@ -122,17 +151,33 @@ contains
         if (present(verdict_only)) verdict = verdict_only
         integrator%exact_energy = .not. verdict     ! no ledger to close
         call standard_observers(run, verdict, observers)
-        do i = 1, size(observers)
-            call observers(i)%item%start(integrator, result)
-        end do
+        resumed = .false.
+        if (keep) then
+            if (session%has_pending) call resume_run()
+        end if
+        if (.not. resumed) then
+            do i = 1, size(observers)
+                call observers(i)%item%start(integrator, result)
+            end do
+        end if
         nsteps = integrator%steps_to(m)
-        poll = .false.
-        if (present(interruptible)) poll = interruptible
+        poll = keep
+        countdown = clock_stride
+        if (present(interruptible)) poll = poll .or. interruptible
         do while (integrator%steps < nsteps)
             if (poll) then
                 if (stop_signal() /= 0) then
+                    if (keep) call save_task(.true.)
                     result%interrupted = .true.
                     exit
+                end if
+                if (keep) then
+                    ! the wall clock every clock_stride steps (a countdown: no division in the loop)
+                    countdown = countdown - 1
+                    if (countdown <= 0) then
+                        countdown = clock_stride
+                        if (checkpoint_due(session)) call save_task(.false.)
+                    end if
                 end if
             end if
             call integrator%step(status)
@@ -165,14 +210,67 @@ contains
         result%tridiagonal_solves = integrator%tridiagonal_solves
         result%rhs_evaluations = integrator%rhs_evaluations
         call stop_clock()
+        if (keep) then
+            ! (nested: `session` may be absent, and Fortran's .and. does not stop at the first false operand)
+            if (.not. result%interrupted .and. session%log_runs) then
+                call save_result(result, session%log)
+                session%nlog = session%nlog + 1
+                session%replayed = session%nlog
+            end if
+        end if
 
     contains
 
-        !> Wall-clock time of the run.
+        !> Wall-clock time of the run (with the time before the checkpoint it resumed from).
         subroutine stop_clock()
             call system_clock(clock_end)
-            result%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+            result%wall_time = earlier_wall + real(clock_end - clock_start, wp)/real(clock_rate, wp)
         end subroutine stop_clock
+
+        !> Write the task's checkpoint with this run's state; `stop`: the task stops here.
+        subroutine save_task(stop)
+            !> A stop signal arrived.
+            logical, intent(in) :: stop
+            type(state_buffer) :: flight
+
+            call stop_clock()
+            call save_result(result, flight)
+            call save_counters(integrator, flight)
+            call integrator%save_levels(flight)
+            if (flight%unsupported) then
+                session%note = "not written: the method cannot save its state (it starts again from t = 0)"
+                call system_clock(session%last_clock)      ! not tried again before the next interval
+            else
+                call write_checkpoint(session, flight, .true.)
+            end if
+            if (stop) session%interrupted = .true.
+        end subroutine save_task
+
+        !> Continue the run in progress of a resumed task from its saved state (once); a state that does not fit
+        !> this run is ignored with a note and the run starts afresh.
+        subroutine resume_run()
+            type(run_result) :: saved
+
+            session%has_pending = .false.
+            saved = result
+            call load_result(result, session%pending, fresh=.false.)
+            call load_counters(integrator, session%pending)
+            if (session%pending%ok) call integrator%load_levels(session%pending)
+            if (session%pending%ok .and. session%pending%pos == session%pending%used + 1 &
+                .and. integrator%steps <= integrator%steps_to(m)) then
+                resumed = .true.
+                earlier_wall = result%wall_time
+                do i = 1, size(observers)
+                    call observers(i)%item%resume(integrator, result)
+                end do
+            else
+                session%note = "ignored: its run in progress does not fit this run (it starts again from t = 0)"
+                result = saved
+                call integrator%init(run)
+                integrator%exact_energy = .not. verdict
+            end if
+            session%pending = state_buffer()
+        end subroutine resume_run
 
     end subroutine simulate
 

@@ -42,6 +42,7 @@ module supratrans_scene_bifurcation
                                         certify_not_checked, certify_unchanged, certify_moved_within, certify_moved, &
                                         certify_unresolved, certify_failed
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
+    use supratrans_checkpoint, only: checkpoint_session, open_session, close_session
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
@@ -73,6 +74,8 @@ module supratrans_scene_bifurcation
         character(len=:), allocatable :: reason
         !> Margin of the last run's verdict (`run_result%verdict_margin`).
         real(wp) :: last_margin = 1.0_wp
+        !> The checkpoints of the task (every oracle of one search shares them), or null.
+        type(checkpoint_session), pointer :: session => null()
     contains
         !> One simulation: transmitting or not, and the time steps it took.
         procedure :: transmits => simulation_transmits
@@ -98,9 +101,13 @@ module supratrans_scene_bifurcation
         real(wp), allocatable :: omegas(:)
         !> Path of the partial output written by `snapshot`.
         character(len=:), allocatable :: partial_path
+        !> Mid-run checkpoints of task t: `<checkpoint_prefix><t>`, bound to `fingerprint` and t.
+        character(len=:), allocatable :: checkpoint_prefix, fingerprint
     contains
         !> Search the threshold of one task.
         procedure :: run => run_search
+        !> Whether a task's record is a result (not one stopped by a signal at a checkpoint).
+        procedure :: finished => search_finished
         !> Write the partial output.
         procedure :: snapshot => write_snapshot
     end type bifurcation_tasks
@@ -187,6 +194,8 @@ contains
             end do
         end if
         tasks%partial_path = output // ".partial.h5"
+        tasks%checkpoint_prefix = output // ".checkpoint-"
+        tasks%fingerprint = input_fingerprint(cfg)
         journal = output // ".journal"
         if (.not. cfg%output%quiet) then
             write (error_unit, "(a)") "supratrans: bifurcation from " // printable(source_name(cfg)) // ": " // int_str(ncurve) &
@@ -279,9 +288,11 @@ contains
         type(simulation_oracle) :: oracle, screen, check
         type(screen_report) :: report
         type(search_record) :: r
+        type(checkpoint_session), target :: session
         integer :: icurve, iomega, nomega
         integer(i8) :: clock_start, clock_end, clock_rate
         real(wp) :: omega, nan
+        character(len=24) :: task_text
 
         call system_clock(clock_start, clock_rate)
         nan = ieee_value(nan, ieee_quiet_nan)
@@ -299,6 +310,18 @@ contains
             return
         end if
 
+        ! mid-run checkpoints of this search: its verdicts so far and its run in progress (supratrans_checkpoint)
+        write (task_text, "(i0)") index
+        if (allocated(self%checkpoint_prefix)) then
+            call open_session(session, self%checkpoint_prefix // trim(task_text), self%fingerprint // " task " &
+                              // trim(task_text), self%cfg%output%checkpoint_every)
+            if (session%resumed) write (session%note, "(a, i0, a, a)") "resumed: ", session%nlog, &
+                " run(s) of the search done", trim(merge(", one in progress", "                 ", session%has_pending))
+            call checkpoint_note()
+            oracle%session => session
+            screen%session => session
+            check%session => session
+        end if
         associate (sc => self%cfg%scene)
             if (allocated(self%screen_runs)) then
                 screen%run = self%screen_runs(icurve)
@@ -325,6 +348,13 @@ contains
             end if
             if (allocated(self%half_runs) .and. r%status == search_found) call certify()
         end associate
+        call checkpoint_note()
+        if (session%interrupted) then
+            ! stopped by a signal at its checkpoint: no result (the engine journals nothing; a rerun resumes it)
+            values = to_values(unsearched_record())
+            return
+        end if
+        call close_session(session)
         call system_clock(clock_end)
         r%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
         values = to_values(r)
@@ -345,6 +375,18 @@ contains
         end if
 
     contains
+
+        !> The session's note (an ignored or unwritable checkpoint), one line, then cleared.
+        subroutine checkpoint_note()
+            if (len_trim(session%note) == 0) return
+            if (.not. self%cfg%output%quiet) then
+                !$omp critical (supratrans_bifurcation_messages)
+                write (error_unit, "(a)") "  checkpoint " // self%checkpoint_prefix // trim(task_text) // " " &
+                    // trim(session%note)
+                !$omp end critical (supratrans_bifurcation_messages)
+            end if
+            session%note = ""
+        end subroutine checkpoint_note
 
         !> Recheck the threshold r%threshold with the scene's method at dt/2: it must transmit and the grid point below
         !> it must not; otherwise look for the dt/2 threshold within one coarse step. Fills r%certify_*.
@@ -415,6 +457,20 @@ contains
 
     end subroutine run_search
 
+    !> Whether a task's record is a result: a search stopped at its checkpoint by a signal returns the unsearched
+    !> record (status pending), which is not journaled.
+    function search_finished(self, values) result(yes)
+        !> The tasks.
+        class(bifurcation_tasks), intent(in) :: self
+        !> The task's values (`to_values`).
+        real(wp), intent(in) :: values(:)
+        logical :: yes
+        type(search_record) :: r
+
+        r = from_values(values)
+        yes = r%status /= bifurcation_pending
+    end function search_finished
+
     !> A record with nothing searched: thresholds NaN, counts 0, statuses "pending" / "not checked".
     pure function unsearched_record() result(r)
         type(search_record) :: r
@@ -443,7 +499,11 @@ contains
         type(run_result) :: result
 
         self%run%drive%amplitude = amplitude
-        call simulate(self%run, result, verdict_only=.true.)
+        if (associated(self%session)) then
+            call simulate(self%run, result, verdict_only=.true., session=self%session)
+        else
+            call simulate(self%run, result, verdict_only=.true.)
+        end if
         cost = int(result%steps, i8)
         transmitting = result%transmitting
         self%last_margin = result%verdict_margin

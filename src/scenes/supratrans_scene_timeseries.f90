@@ -1,8 +1,8 @@
 !> Scene `timeseries` (paper Fig. 1): one run of the chain driven at the &drive amplitude A and frequency Omega,
 !> its probes u_n(t) and energy ledger over time and its outcome (transmitting or not) written to the output file.
 !>
-!> It is one run, not a task list: no journal, no `--slice`; a run stopped by a signal writes nothing (the same
-!> command runs it again from t = 0). Omega must lie inside the band gap unless allow_outside_gap.
+!> It is one run, not a task list: no journal, no `--slice`. A run stopped by a signal writes no result; with
+!> `checkpoint_every` > 0 it leaves its checkpoint `<output>.checkpoint`, from which the same command resumes. Omega must lie inside the band gap unless allow_outside_gap.
 module supratrans_scene_timeseries
     use, intrinsic :: iso_fortran_env, only: error_unit
     use supratrans_kinds, only: supratrans_version
@@ -10,6 +10,8 @@ module supratrans_scene_timeseries
     use supratrans_config, only: input_config
     use supratrans_scene, only: scene_type
     use supratrans_simulate, only: simulate
+    use supratrans_checkpoint, only: checkpoint_session, open_session, close_session
+    use supratrans_tasks, only: input_fingerprint
     use supratrans_result, only: run_result, status_name
     use supratrans_output, only: write_timeseries
     use supratrans_strings, only: int_str, real_str, printable
@@ -37,18 +39,35 @@ contains
     subroutine run_timeseries(cfg, error)
         !> The validated input.
         type(input_config), intent(in) :: cfg
-        !> Error, allocated on failure: stopped by a signal (nothing written), out of memory, output not written.
+        !> Error, allocated on failure: stopped by a signal (no result written), out of memory, output not written.
         type(error_type), allocatable, intent(out) :: error
         type(run_result) :: result
+        type(checkpoint_session) :: session
 
         call progress(cfg, "supratrans " // supratrans_version // ": timeseries from " // cfg%source)
-        call simulate(cfg%run, result, interruptible=.true.)
+        ! mid-run checkpoints: <output>.checkpoint, bound to the input (supratrans_checkpoint)
+        call open_session(session, trim(cfg%output%file) // ".checkpoint", input_fingerprint(cfg) // " timeseries", &
+                          cfg%output%checkpoint_every)
+        if (len_trim(session%note) > 0) call progress(cfg, "  checkpoint " // trim(cfg%output%file) &
+                                                      // ".checkpoint " // trim(session%note))
+        if (session%resumed) call progress(cfg, "  resumed from its checkpoint")
+        session%note = ""
+        session%log_runs = .false.        ! one run: nothing to replay
+        call simulate(cfg%run, result, interruptible=.true., session=session)
+        if (len_trim(session%note) > 0) call progress(cfg, "  checkpoint " // trim(session%note))
         if (result%interrupted) then
-            ! one run, no journal: a cut run is no result, and a file under the output's name would look like one
-            call fatal_error(error, trim(cfg%output%file) // ": timeseries stopped by signal " &
-                             // int_str(stop_signal()) // " at t = " // real_str(result%t_end, 6) // " of " &
-                             // real_str(cfg%run%numerics%t_final, 6) // ": nothing written (one run cannot " &
-                             // "resume: the same command runs it again from t = 0)", err_interrupted)
+            ! a cut run is no result, and a file under the output's name would look like one: its checkpoint is
+            if (session%written > 0 .and. len_trim(session%note) == 0) then
+                call fatal_error(error, trim(cfg%output%file) // ": timeseries stopped by signal " &
+                                 // int_str(stop_signal()) // " at t = " // real_str(result%t_end, 6) // " of " &
+                                 // real_str(cfg%run%numerics%t_final, 6) // ": checkpoint written; the same " &
+                                 // "command resumes from there", err_interrupted)
+            else
+                call fatal_error(error, trim(cfg%output%file) // ": timeseries stopped by signal " &
+                                 // int_str(stop_signal()) // " at t = " // real_str(result%t_end, 6) // " of " &
+                                 // real_str(cfg%run%numerics%t_final, 6) // ": nothing written (no checkpoint: " &
+                                 // "the same command runs it again from t = 0)", err_interrupted)
+            end if
             return
         end if
         if (result%no_memory) then
@@ -61,6 +80,7 @@ contains
         call progress(cfg, "  verdict: " // trim(merge("transmitting    ", "not transmitting", result%transmitting)) &
                       // " (" // result%verdict_reason // "); energy injected " // real_str(result%ledger%injected, 6))
         call write_timeseries(cfg, result, error)
+        if (.not. allocated(error)) call close_session(session)
     end subroutine run_timeseries
 
     !> A line of progress on stderr, unless the output is quiet.

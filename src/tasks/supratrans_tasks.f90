@@ -29,6 +29,9 @@ module supratrans_tasks
         procedure(run_task_interface), deferred :: run
         !> Called now and then, serially, with the results so far (write a partial output); default: nothing.
         procedure :: snapshot => no_snapshot
+        !> Whether a task's values are its result; false for a task stopped by a signal at its mid-run
+        !> checkpoint (not journaled: a rerun resumes it). Default: always.
+        procedure :: finished => always_finished
     end type task_list
 
     abstract interface
@@ -49,6 +52,17 @@ module supratrans_tasks
 
 contains
 
+    !> Default `finished`: every task that returns has its result.
+    function always_finished(self, values) result(yes)
+        !> The task list.
+        class(task_list), intent(in) :: self
+        !> The task's values.
+        real(wp), intent(in) :: values(:)
+        logical :: yes
+
+        yes = .true.
+    end function always_finished
+
     !> Default snapshot: nothing.
     subroutine no_snapshot(self, results, done)
         !> The task list.
@@ -66,7 +80,8 @@ contains
     !> with mod(t - 1, N) + 1 = I and, once they are all done, writes the part file `cfg%output%file` for `merge`
     !> (then deletes the slice's journal and partial snapshot); `cfg%snapshot_only` computes nothing and writes the
     !> partial snapshot of what the journal holds. A stop signal (SIGTERM, SIGINT, SIGUSR1: see
-    !> `supratrans_system`) hands out no new task: the tasks running finish and are journaled, a snapshot is
+    !> `supratrans_system`) hands out no new task: the tasks running finish and are journaled (or, if they
+    !> checkpoint, stop at their checkpoint and are not: `finished`), a snapshot is
     !> written, and `error` says so with status `err_interrupted`.
     subroutine run_tasks(tasks, ntask, fields, journal, fingerprint, label, quiet, results, done, error, cfg)
         !> The tasks.
@@ -183,6 +198,8 @@ contains
             call tasks%run(i, values)
             ! a run that could not allocate its arrays (this task's or another thread's) is no result: not journaled
             lost = out_of_memory()
+            ! a task stopped at its checkpoint by a signal is no result either: a rerun resumes it
+            if (.not. lost) lost = .not. tasks%finished(values)
             !$omp critical (supratrans_tasks_journal)
             if (.not. lost) then
                 results(:, i) = values

@@ -15,6 +15,7 @@ module supratrans_stepper_leapfrog
     use supratrans_scheme, only: scheme_type, scheme_init
     use supratrans_ledger, only: ledger_type, stored_energy, step_powers, ledger_add_step
     use supratrans_stepper, only: stepper
+    use supratrans_state_buffer, only: state_buffer, put_reals2, put_ints, get_reals2, get_ints
     implicit none
     private
 
@@ -53,6 +54,10 @@ module supratrans_stepper_leapfrog
         procedure :: begin_step
         !> End a successful step: rotate the levels, count it.
         procedure :: end_step
+        !> Checkpoint: the stored levels and their column order.
+        procedure :: save_levels => leapfrog_save_levels
+        !> Restore them.
+        procedure :: load_levels => leapfrog_load_levels
     end type leapfrog_stepper
 
 contains
@@ -126,6 +131,34 @@ contains
         call name_columns(self)
         self%steps = self%steps + 1
     end subroutine end_step
+
+    !> Append the stored levels u(0:N+1, L) and the order of their columns to a checkpoint's buffer.
+    pure subroutine leapfrog_save_levels(self, buf)
+        !> The stepper.
+        class(leapfrog_stepper), intent(in) :: self
+        !> The state so far.
+        type(state_buffer), intent(inout) :: buf
+
+        call put_reals2(buf, self%u)
+        call put_ints(buf, self%col)
+    end subroutine leapfrog_save_levels
+
+    !> Restore the levels and their column order (after `init` of the same run: same N and number of levels).
+    pure subroutine leapfrog_load_levels(self, buf)
+        !> The stepper.
+        class(leapfrog_stepper), intent(inout) :: self
+        !> The saved state.
+        type(state_buffer), intent(inout) :: buf
+        integer :: j
+
+        call get_reals2(buf, self%u)
+        call get_ints(buf, self%col)
+        ! the columns must be a permutation of 1..L
+        do j = 1, self%levels
+            if (count(self%col == j) /= 1) buf%ok = .false.
+        end do
+        if (buf%ok) call name_columns(self)
+    end subroutine leapfrog_load_levels
 
     !> Set `ic`, `io`, `io2`, `inew` from `col`.
     pure subroutine name_columns(self)

@@ -12,6 +12,7 @@ module supratrans_stepper_rk
     use supratrans_mol, only: chain_energy, ledger_from_state, mol_energy_components
     use supratrans_ledger, only: ledger_type
     use supratrans_stepper, only: stepper
+    use supratrans_state_buffer, only: state_buffer, put_reals, get_reals
     implicit none
     private
 
@@ -46,6 +47,10 @@ module supratrans_stepper_rk
         procedure :: blowup_measure => rk_blowup_measure
         !> Count a step of the method taken.
         procedure :: end_step => rk_end_step
+        !> Checkpoint: the state y (the stages are work).
+        procedure :: save_levels => rk_save_levels
+        !> Restore it.
+        procedure :: load_levels => rk_load_levels
     end type rk_stepper
 
 contains
@@ -98,6 +103,26 @@ contains
         self%steps = self%steps + 1
         self%rhs_evaluations = self%rhs_evaluations + self%stages
     end subroutine rk_end_step
+
+    !> Append the state y (u, v and the integrated energies) to a checkpoint's buffer.
+    pure subroutine rk_save_levels(self, buf)
+        !> The stepper.
+        class(rk_stepper), intent(in) :: self
+        !> The state so far.
+        type(state_buffer), intent(inout) :: buf
+
+        call put_reals(buf, self%y)
+    end subroutine rk_save_levels
+
+    !> Restore the state y (after `init` of the same run).
+    pure subroutine rk_load_levels(self, buf)
+        !> The stepper.
+        class(rk_stepper), intent(inout) :: self
+        !> The saved state.
+        type(state_buffer), intent(inout) :: buf
+
+        call get_reals(buf, self%y)
+    end subroutine rk_load_levels
 
     !> Continuous energy H of the newest level, u_0 = psi(t).
     pure function rk_energy(self) result(e)

@@ -1,0 +1,228 @@
+"""Mid-run checkpoints (issue 23): a long timeseries and a threshold search, killed at random moments (SIGTERM: the
+program checkpoints at once and exits 5; SIGKILL after a periodic checkpoint), resume from their checkpoint and end
+with every result dataset bit for bit that of an uninterrupted run, for every method. A damaged or foreign
+checkpoint is ignored with one line, never used; with checkpoint_every = 0 nothing is written.
+
+The kill moments are random (the seed is printed on failure); the assertions do not depend on when they fall."""
+import os
+import random
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from compare_results import compare  # noqa: E402
+
+METHODS = ["newton", "linearized", "rk4", "rk8"]
+
+TIMESERIES = """! {tag}
+&chain n = 200, n0 = 150 /
+&drive amplitude = 1.79 /
+&record probes = 1, 60, 100, probe_every = 3, ledger_every = 7 /
+&numerics method = '{method}', dt = 0.05, t_final = {t_final} /
+&output file = 'out/{name}.h5', overwrite = .true., checkpoint_every = {every} /
+"""
+
+SEARCH = """! {tag}
+&chain n = 60, n0 = 45 /
+&numerics method = '{method}', dt = 0.05, t_final = 200.0 /
+&scene kind = 'bifurcation', amplitude_min = 0.5, amplitude_max = 6.0, omega_min = 0.7, omega_max = 0.9,
+  omega_step = 0.1, coarse_step = 0.5, resolution = 0.05, screen_method = 'none' /
+&output file = 'out/{name}.h5', overwrite = .true., checkpoint_every = {every} /
+"""
+
+TEMPLATES = {"timeseries": TIMESERIES, "search": SEARCH}
+
+
+def write(tmp_path, scene, method, name, every=0.3, tag="", t_final=400.0):
+    (tmp_path / "out").mkdir(exist_ok=True)
+    path = tmp_path / f"{name}.nml"
+    path.write_text(TEMPLATES[scene].format(method=method, name=name, every=every, tag=tag, t_final=t_final))
+    return path
+
+
+def checkpoints(tmp_path, name):
+    return sorted((tmp_path / "out").glob(f"{name}.h5.checkpoint*"))
+
+
+def run(exe, nml, cwd, threads=2):
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+    return subprocess.run([exe, str(nml)], cwd=cwd, capture_output=True, text=True, timeout=600, env=env)
+
+
+def start(exe, nml, cwd, threads=2):
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+    return subprocess.Popen([exe, str(nml)], cwd=cwd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env=env)
+
+
+def started(proc):
+    """Wait for the program's first line (its stop signals are caught from then on); the line."""
+    return proc.stderr.readline()
+
+
+def same_results(reference, result):
+    diffs, compared, added = compare(reference, result)
+    assert compared > 10 and not diffs and not added, (diffs, added)
+
+
+@pytest.fixture(scope="module")
+def references(exe, tmp_path_factory):
+    """Uninterrupted runs, checkpoints off, one per (scene, method), made when first asked for."""
+    made = {}
+    root = tmp_path_factory.mktemp("reference")
+
+    def get(scene, method):
+        if (scene, method) not in made:
+            name = f"{scene}_{method}"
+            nml = write(root, scene, method, name, every=0)
+            proc = run(exe, nml, root)
+            assert proc.returncode == 0, proc.stderr
+            assert not checkpoints(root, name)
+            made[scene, method] = root / "out" / f"{name}.h5"
+        return made[scene, method]
+
+    return get
+
+
+def kill_and_resume(exe, tmp_path, scene, method, seed):
+    """Run with periodic checkpoints; kill it twice (SIGTERM at a random moment, SIGKILL at a random moment after a
+    checkpoint was written), then let it finish; the output, and whether a rerun resumed from a checkpoint."""
+    rng = random.Random(seed)
+    name = f"{scene}_{method}"
+    nml = write(tmp_path, scene, method, name, every=0.3)
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        proc = start(exe, nml, tmp_path)
+        first = started(proc)
+        if sig == signal.SIGKILL:
+            deadline = time.time() + 60
+            before = {p: p.stat().st_mtime_ns for p in checkpoints(tmp_path, name)}
+            while proc.poll() is None and time.time() < deadline:
+                now = {p: p.stat().st_mtime_ns for p in checkpoints(tmp_path, name) if p.exists()}
+                if any(before.get(p) != t for p, t in now.items()):
+                    break
+                time.sleep(0.02)
+        time.sleep(rng.uniform(0.1, 1.2))
+        if proc.poll() is None:
+            proc.send_signal(sig)
+        out, err = proc.communicate(timeout=600)
+        err = first + err
+        if sig == signal.SIGTERM:
+            assert proc.returncode in (0, 5), err
+            if proc.returncode == 5:
+                # the checkpoint was written at the signal, and the one line says so
+                assert checkpoints(tmp_path, name), err
+                assert "checkpoint written" in err or "stopped by signal 15" in err, err
+    left = checkpoints(tmp_path, name)
+    proc = run(exe, nml, tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    if left:
+        # the run killed after a checkpoint resumed from it (it did not start again)
+        assert "resumed" in proc.stderr, proc.stderr
+    assert not checkpoints(tmp_path, name), "a finished run leaves no checkpoint"
+    return tmp_path / "out" / f"{name}.h5", proc.stderr
+
+
+@pytest.mark.parametrize("method", METHODS)
+@pytest.mark.parametrize("scene", ["timeseries", "search"])
+def test_killed_run_resumes_bit_identical(exe, tmp_path, references, scene, method):
+    seed = random.randrange(1 << 30)
+    print(f"seed {seed}")
+    result, _ = kill_and_resume(exe, tmp_path, scene, method, seed)
+    same_results(references(scene, method), result)
+
+
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGUSR1], ids=["SIGTERM", "SIGUSR1"])
+def test_timeseries_resumes_from_its_checkpoint(exe, tmp_path, references, sig):
+    """A SIGTERM (or Slurm's SIGUSR1) in the middle of a long timeseries writes its checkpoint; the rerun says it
+    resumed (it does not start again from t = 0) and ends bit-identical."""
+    nml = write(tmp_path, "timeseries", "newton", "ts", every=300)
+    proc = start(exe, nml, tmp_path)
+    started(proc)
+    time.sleep(0.4)
+    proc.send_signal(sig)
+    _, err = proc.communicate(timeout=600)
+    assert proc.returncode == 5, err
+    assert "checkpoint written" in err
+    [ckpt] = checkpoints(tmp_path, "ts")
+    assert ckpt.read_bytes().startswith(b"supratrans-checkpoint 1\n")
+    again = run(exe, nml, tmp_path)
+    assert again.returncode == 0, again.stderr
+    assert "resumed from its checkpoint" in again.stderr
+    same_results(references("timeseries", "newton"), tmp_path / "out" / "ts.h5")
+
+
+@pytest.mark.parametrize("damage", ["flipped byte", "cut short", "other input"])
+def test_damaged_or_foreign_checkpoint_is_ignored(exe, tmp_path, references, damage):
+    """A checkpoint that fails its checksum, is cut short, or belongs to another input is ignored with one line and
+    the run starts afresh (and ends with the uninterrupted result)."""
+    nml = write(tmp_path, "timeseries", "newton", "ts", every=300)
+    proc = start(exe, nml, tmp_path)
+    started(proc)
+    time.sleep(0.4)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=600)
+    assert proc.returncode == 5, err
+    [ckpt] = checkpoints(tmp_path, "ts")
+    data = bytearray(ckpt.read_bytes())
+    if damage == "flipped byte":
+        data[len(data) // 2] ^= 0x10
+        ckpt.write_bytes(bytes(data))
+    elif damage == "cut short":
+        ckpt.write_bytes(bytes(data[: len(data) - 100]))
+    else:
+        write(tmp_path, "timeseries", "newton", "ts", every=300, tag="an edited namelist is another input")
+    again = run(exe, nml, tmp_path)
+    assert again.returncode == 0, again.stderr
+    lines = [line for line in again.stderr.splitlines() if "checkpoint" in line]
+    assert len(lines) == 1 and "ignored" in lines[0], again.stderr
+    assert "resumed" not in again.stderr
+    same_results(references("timeseries", "newton"), tmp_path / "out" / "ts.h5")
+
+
+def test_no_checkpoint_when_off(exe, tmp_path):
+    """checkpoint_every = 0: a SIGTERM stops the timeseries as before (nothing written, exit 5, no checkpoint)."""
+    nml = write(tmp_path, "timeseries", "rk4", "ts", every=0)
+    proc = start(exe, nml, tmp_path)
+    started(proc)
+    time.sleep(0.4)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=600)
+    assert proc.returncode == 5, err
+    assert "nothing written" in err
+    assert not checkpoints(tmp_path, "ts")
+    assert not (tmp_path / "out" / "ts.h5").exists()
+
+
+def test_slice_stopped_by_sigusr1_resumes_and_merges(exe, tmp_path, references):
+    """Slurm's `--signal=B:USR1`: a slice of a search study stopped by SIGUSR1 once its searches have checkpointed
+    writes their checkpoints and exits 5; run again it resumes them, and the merged file is the single machine's."""
+    nml = write(tmp_path, "search", "rk4", "search_rk4", every=0.3)
+    env = dict(os.environ, OMP_NUM_THREADS="2")
+    proc = subprocess.Popen([exe, str(nml), "--slice", "1/2"], cwd=tmp_path, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True, env=env)
+    first = started(proc)
+    deadline = time.time() + 60
+    while proc.poll() is None and not checkpoints(tmp_path, "search_rk4.part-1-of-2") and time.time() < deadline:
+        time.sleep(0.02)
+    proc.send_signal(signal.SIGUSR1)
+    _, err = proc.communicate(timeout=600)
+    assert proc.returncode in (0, 5), first + err
+    left = checkpoints(tmp_path, "search_rk4.part-1-of-2")
+    if proc.returncode == 5:
+        assert left and "stopped by signal 10" in err, err
+    for part in ("1/2", "2/2"):
+        again = subprocess.run([exe, str(nml), "--slice", part], cwd=tmp_path, capture_output=True, text=True,
+                               timeout=600, env=env)
+        assert again.returncode == 0, again.stderr
+        if part == "1/2" and left:
+            assert "resumed" in again.stderr, again.stderr
+    parts = sorted(str(p) for p in (tmp_path / "out").glob("search_rk4.part-*-of-2.h5"))
+    merged = subprocess.run([exe, "merge", *parts], cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert merged.returncode == 0, merged.stderr
+    assert not list((tmp_path / "out").glob("*.checkpoint*"))
+    same_results(references("search", "rk4"), tmp_path / "out" / "search_rk4.h5")
