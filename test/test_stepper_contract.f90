@@ -19,6 +19,8 @@ module test_stepper_contract
 
     !> Every method.
     integer, parameter :: methods(4) = [method_newton, method_linearized, method_rk4, method_rk8]
+    !> Every method that checkpoints (the energy-preserving collocation too).
+    integer, parameter :: saving_methods(6) = [methods, method_avf4, method_avf8]
     !> Work of one step of each method: tridiagonal solves (at least, for newton) and right-hand sides.
     integer, parameter :: solves_per_step(4) = [1, 1, 0, 0], rhs_per_step(4) = [0, 0, 4, 11]
     !> Largest |ledger residual| / energy scale after 600 steps at dt = 0.05 (newton: the paper's exact identity,
@@ -61,27 +63,27 @@ contains
             call new_stepper(methods(im), s, error)
             call assertFalse( &
                 allocated(error), &
-                location=pf_source_location('test_stepper_contract.pf', 61, 'assertFalse'))
+                location=pf_source_location('test_stepper_contract.pf', 63, 'assertFalse'))
             if (pf_any_failed()) return
             call s%init(run)
-            call assertEqual(0_i8, s%steps, location=pf_source_location('test_stepper_contract.pf', 63, 'assertEqual'))
+            call assertEqual(0_i8, s%steps, location=pf_source_location('test_stepper_contract.pf', 65, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 run%chain%n, &
                 s%n, &
-                location=pf_source_location('test_stepper_contract.pf', 64, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 66, 'assertEqual'))
             if (pf_any_failed()) return
             call assertTrue( &
                 s%initial_levels >= 1, &
-                location=pf_source_location('test_stepper_contract.pf', 65, 'assertTrue'))
+                location=pf_source_location('test_stepper_contract.pf', 67, 'assertTrue'))
             if (pf_any_failed()) return
-            call assertTrue(s%order >= 2, location=pf_source_location('test_stepper_contract.pf', 66, 'assertTrue'))
+            call assertTrue(s%order >= 2, location=pf_source_location('test_stepper_contract.pf', 68, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 real(s%initial_levels - 1, wp)*run%numerics%dt, &
                 s%level_time(), &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 67, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 69, 'assertEqual'))
             if (pf_any_failed()) return
             ! at rest, the driven end on psi(t), the fixed end and any site beyond at 0
             do j = 0, s%initial_levels - 1
@@ -89,43 +91,43 @@ contains
                     drive_psi(run%drive, real(j, wp)*run%numerics%dt), &
                     s%displacement(0, s%initial_levels - 1 - j), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_contract.pf', 70, 'assertEqual'))
+                    location=pf_source_location('test_stepper_contract.pf', 72, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0.0_wp, &
                     s%displacement(7, j), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_contract.pf', 71, 'assertEqual'))
+                    location=pf_source_location('test_stepper_contract.pf', 73, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             call assertEqual( &
                 0.0_wp, &
                 s%displacement(run%chain%n + 1, 0), &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 73, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 75, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.0_wp, &
                 s%displacement(run%chain%n + 5, 0), &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 74, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 76, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.0_wp, &
                 s%max_abs_u(1), &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 75, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 77, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.0_wp, &
                 s%stored_energy(), &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 76, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 78, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 600_i8 - s%initial_levels + 1, &
                 s%steps_to(600_i8), &
-                location=pf_source_location('test_stepper_contract.pf', 77, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 79, 'assertEqual'))
             if (pf_any_failed()) return
 
             ledger = ledger_type()
@@ -136,7 +138,7 @@ contains
                 call assertEqual( &
                     step_ok, &
                     status, &
-                    location=pf_source_location('test_stepper_contract.pf', 84, 'assertEqual'))
+                    location=pf_source_location('test_stepper_contract.pf', 86, 'assertEqual'))
                 if (pf_any_failed()) return
                 call s%account(ledger)
             end do
@@ -144,36 +146,36 @@ contains
             call assertEqual( &
                 nsteps, &
                 s%steps, &
-                location=pf_source_location('test_stepper_contract.pf', 88, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 90, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 real(nsteps + s%initial_levels - 1, wp)*run%numerics%dt, &
                 s%level_time(), &
                 1.0e-12_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 89, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 91, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 (real(nsteps, wp) + s%energy_offset)*run%numerics%dt, &
                 s%energy_time(), &
                 1.0e-12_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 90, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 92, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 drive_psi(run%drive, s%level_time()), &
                 s%displacement(0, 0), &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 91, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 93, 'assertEqual'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 s%max_abs_u(1), &
                 0.01_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 92, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_contract.pf', 94, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertEqual( &
                 s%max_abs_u(1), &
                 s%blowup_measure(), &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 93, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 95, 'assertEqual'))
             if (pf_any_failed()) return
             ! the verdict-only run's two maxima in one call: what the two separate calls give, for any split
             do j = 1, run%chain%n, 7
@@ -182,83 +184,83 @@ contains
                     s%blowup_measure(), &
                     blowup, &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_contract.pf', 97, 'assertEqual'))
+                    location=pf_source_location('test_stepper_contract.pf', 99, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     s%max_abs_u(j), &
                     beyond, &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_contract.pf', 98, 'assertEqual'))
+                    location=pf_source_location('test_stepper_contract.pf', 100, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             ! counters: what the method does, and nothing it does not
             call assertGreaterThanOrEqual( &
                 s%tridiagonal_solves, &
                 solves_per_step(im)*nsteps, &
-                location=pf_source_location('test_stepper_contract.pf', 101, 'assertGreaterThanOrEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 103, 'assertGreaterThanOrEqual'))
             if (pf_any_failed()) return
             if (solves_per_step(im) == 0) then
                 call assertEqual( &
                     0_i8, &
                     s%tridiagonal_solves, &
-                    location=pf_source_location('test_stepper_contract.pf', 103, 'assertEqual'))
+                    location=pf_source_location('test_stepper_contract.pf', 105, 'assertEqual'))
                 if (pf_any_failed()) return
             end if
             call assertEqual( &
                 rhs_per_step(im)*nsteps, &
                 s%rhs_evaluations, &
-                location=pf_source_location('test_stepper_contract.pf', 105, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 107, 'assertEqual'))
             if (pf_any_failed()) return
             if (methods(im) == method_newton) then
                 call assertEqual( &
                     s%tridiagonal_solves, &
                     s%newton_iterations, &
-                    location=pf_source_location('test_stepper_contract.pf', 107, 'assertEqual'))
+                    location=pf_source_location('test_stepper_contract.pf', 109, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertGreaterThanOrEqual( &
                     s%newton_max_iterations, &
                     1, &
-                    location=pf_source_location('test_stepper_contract.pf', 108, 'assertGreaterThanOrEqual'))
+                    location=pf_source_location('test_stepper_contract.pf', 110, 'assertGreaterThanOrEqual'))
                 if (pf_any_failed()) return
             else
                 call assertEqual( &
                     0_i8, &
                     s%newton_iterations, &
-                    location=pf_source_location('test_stepper_contract.pf', 110, 'assertEqual'))
+                    location=pf_source_location('test_stepper_contract.pf', 112, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0, &
                     s%newton_max_iterations, &
-                    location=pf_source_location('test_stepper_contract.pf', 111, 'assertEqual'))
+                    location=pf_source_location('test_stepper_contract.pf', 113, 'assertEqual'))
                 if (pf_any_failed()) return
             end if
             if (methods(im) == method_linearized) then
                 call assertEqual( &
                     nsteps, &
                     s%tridiagonal_solves, &
-                    location=pf_source_location('test_stepper_contract.pf', 114, 'assertEqual'))
+                    location=pf_source_location('test_stepper_contract.pf', 116, 'assertEqual'))
                 if (pf_any_failed()) return
             end if
             ! energy bookkeeping: energy went in and the balance closes to the method's accuracy
             call assertGreaterThan( &
                 ledger%injected, &
                 0.1_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 117, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_contract.pf', 119, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 ledger%dissipated_gamma, &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 118, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_contract.pf', 120, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 ledger%dissipated_beta, &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 119, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_contract.pf', 121, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertLessThan( &
                 abs(ledger%residual), &
                 ledger_tolerance(im)*ledger%energy_scale, &
-                location=pf_source_location('test_stepper_contract.pf', 120, 'assertLessThan'))
+                location=pf_source_location('test_stepper_contract.pf', 122, 'assertLessThan'))
             if (pf_any_failed()) return
             deallocate (s)
         end do
@@ -290,7 +292,7 @@ contains
                     60.0_wp, &
                     s%level_time(), &
                     1.0e-9_wp, &
-                    location=pf_source_location('test_stepper_contract.pf', 147, 'assertEqual'))
+                    location=pf_source_location('test_stepper_contract.pf', 149, 'assertEqual'))
                 if (pf_any_failed()) return
                 u(k) = s%displacement(5, 0)
                 deallocate (s)
@@ -302,7 +304,7 @@ contains
                 real(s%order, wp), &
                 order, &
                 merge(0.5_wp, 0.25_wp, s%order > 4), &
-                location=pf_source_location('test_stepper_contract.pf', 154, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 156, 'assertEqual'))
             if (pf_any_failed()) return
             deallocate (s)
         end do
@@ -315,13 +317,13 @@ contains
         type(error_type), allocatable :: error
 
         call new_stepper(99, s, error)
-        call assertTrue(allocated(error), location=pf_source_location('test_stepper_contract.pf', 166, 'assertTrue'))
+        call assertTrue(allocated(error), location=pf_source_location('test_stepper_contract.pf', 168, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertFalse(allocated(s), location=pf_source_location('test_stepper_contract.pf', 167, 'assertFalse'))
+        call assertFalse(allocated(s), location=pf_source_location('test_stepper_contract.pf', 169, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "unknown method") > 0, &
-            location=pf_source_location('test_stepper_contract.pf', 168, 'assertTrue'))
+            location=pf_source_location('test_stepper_contract.pf', 170, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_method_is_an_error
 
@@ -353,63 +355,63 @@ contains
             call assertEqual( &
                 run_invalid, &
                 res%status, &
-                location=pf_source_location('test_stepper_contract.pf', 196, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 198, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 "invalid", &
                 status_name(res%status), &
-                location=pf_source_location('test_stepper_contract.pf', 197, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 199, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0_i8, &
                 res%steps, &
-                location=pf_source_location('test_stepper_contract.pf', 198, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 200, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0, &
                 res%n_probe_samples, &
-                location=pf_source_location('test_stepper_contract.pf', 199, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 201, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0, &
                 res%n_ledger_samples, &
-                location=pf_source_location('test_stepper_contract.pf', 200, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 202, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.0_wp, &
                 res%ledger%injected, &
                 0.0_wp, &
-                location=pf_source_location('test_stepper_contract.pf', 201, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 203, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 "undecided: the run failed", &
                 res%verdict_reason, &
-                location=pf_source_location('test_stepper_contract.pf', 202, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 204, 'assertEqual'))
             if (pf_any_failed()) return
             select case (k)
             case (1)
                 call assertTrue( &
                     index(res%reason, "unknown potential identifier 3") == 1, &
                     res%reason, &
-                    location=pf_source_location('test_stepper_contract.pf', 205, 'assertTrue'))
+                    location=pf_source_location('test_stepper_contract.pf', 207, 'assertTrue'))
                 if (pf_any_failed()) return
             case (2)
                 call assertTrue( &
                     index(res%reason, "unknown method identifier 0") == 1, &
                     res%reason, &
-                    location=pf_source_location('test_stepper_contract.pf', 207, 'assertTrue'))
+                    location=pf_source_location('test_stepper_contract.pf', 209, 'assertTrue'))
                 if (pf_any_failed()) return
             case (3, 4)
                 call assertTrue( &
                     index(res%reason, "is not a number of time steps") > 0, &
                     res%reason, &
-                    location=pf_source_location('test_stepper_contract.pf', 209, 'assertTrue'))
+                    location=pf_source_location('test_stepper_contract.pf', 211, 'assertTrue'))
                 if (pf_any_failed()) return
             case (5)
                 call assertTrue( &
                     index(res%reason, "too many records") == 1, &
                     res%reason, &
-                    location=pf_source_location('test_stepper_contract.pf', 211, 'assertTrue'))
+                    location=pf_source_location('test_stepper_contract.pf', 213, 'assertTrue'))
                 if (pf_any_failed()) return
             end select
         end do
@@ -434,37 +436,37 @@ contains
             call assertEqual( &
                 run_ok, &
                 full%status, &
-                location=pf_source_location('test_stepper_contract.pf', 232, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 234, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 run_ok, &
                 verdict%status, &
-                location=pf_source_location('test_stepper_contract.pf', 233, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 235, 'assertEqual'))
             if (pf_any_failed()) return
             call assertTrue( &
                 full%transmitting .eqv. (ia == 2), &
-                location=pf_source_location('test_stepper_contract.pf', 234, 'assertTrue'))
+                location=pf_source_location('test_stepper_contract.pf', 236, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 verdict%transmitting .eqv. full%transmitting, &
-                location=pf_source_location('test_stepper_contract.pf', 235, 'assertTrue'))
+                location=pf_source_location('test_stepper_contract.pf', 237, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 full%t_decided, &
                 verdict%t_decided, &
                 1.5_wp*run%numerics%dt, &
-                location=pf_source_location('test_stepper_contract.pf', 236, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 238, 'assertEqual'))
             if (pf_any_failed()) return
             call assertLessThan( &
                 full%ledger%max_step_residual, &
                 1.0e-13_wp*full%ledger%energy_scale, &
-                location=pf_source_location('test_stepper_contract.pf', 237, 'assertLessThan'))
+                location=pf_source_location('test_stepper_contract.pf', 239, 'assertLessThan'))
             if (pf_any_failed()) return
             if (ia == 2) then
                 call assertLessThan( &
                     real(verdict%newton_iterations, wp), &
                     0.8_wp*real(full%newton_iterations, wp), &
-                    location=pf_source_location('test_stepper_contract.pf', 239, 'assertLessThan'))
+                    location=pf_source_location('test_stepper_contract.pf', 241, 'assertLessThan'))
                 if (pf_any_failed()) return
             end if
         end do
@@ -486,12 +488,12 @@ contains
         call assertEqual( &
             2200000001_i8, &
             number_of_levels(run), &
-            location=pf_source_location('test_stepper_contract.pf', 257, 'assertEqual'))
+            location=pf_source_location('test_stepper_contract.pf', 259, 'assertEqual'))
         if (pf_any_failed()) return
         call step_count(run, m, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_stepper_contract.pf', 259, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_stepper_contract.pf', 261, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(2200000000_i8, m, location=pf_source_location('test_stepper_contract.pf', 260, 'assertEqual'))
+        call assertEqual(2200000000_i8, m, location=pf_source_location('test_stepper_contract.pf', 262, 'assertEqual'))
         if (pf_any_failed()) return
         run%record%probe_every = huge(1)
         run%record%ledger_every = huge(1)
@@ -500,36 +502,36 @@ contains
         call assertEqual( &
             run_diverged, &
             res%status, &
-            location=pf_source_location('test_stepper_contract.pf', 265, 'assertEqual'))
+            location=pf_source_location('test_stepper_contract.pf', 267, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1_i8, res%steps, location=pf_source_location('test_stepper_contract.pf', 266, 'assertEqual'))
+        call assertEqual(1_i8, res%steps, location=pf_source_location('test_stepper_contract.pf', 268, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             2.0e-6_wp, &
             res%t_end, &
             1.0e-20_wp, &
-            location=pf_source_location('test_stepper_contract.pf', 267, 'assertEqual'))
+            location=pf_source_location('test_stepper_contract.pf', 269, 'assertEqual'))
         if (pf_any_failed()) return
         ! below the bound, and at it: T/dt = 2^62 > max_step_count = 2^62 - 1
         run%numerics%dt = 1.0_wp
         run%numerics%t_final = 2.0_wp**61
         call step_count(run, m, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_stepper_contract.pf', 272, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_stepper_contract.pf', 274, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(2_i8**61, m, location=pf_source_location('test_stepper_contract.pf', 273, 'assertEqual'))
+        call assertEqual(2_i8**61, m, location=pf_source_location('test_stepper_contract.pf', 275, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertTrue(m <= max_step_count, location=pf_source_location('test_stepper_contract.pf', 274, 'assertTrue'))
+        call assertTrue(m <= max_step_count, location=pf_source_location('test_stepper_contract.pf', 276, 'assertTrue'))
         if (pf_any_failed()) return
         run%numerics%t_final = 2.0_wp**62
         call step_count(run, m, error)
-        call assertTrue(allocated(error), location=pf_source_location('test_stepper_contract.pf', 277, 'assertTrue'))
+        call assertTrue(allocated(error), location=pf_source_location('test_stepper_contract.pf', 279, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(0_i8, m, location=pf_source_location('test_stepper_contract.pf', 278, 'assertEqual'))
+        call assertEqual(0_i8, m, location=pf_source_location('test_stepper_contract.pf', 280, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0_i8, &
             number_of_levels(run), &
-            location=pf_source_location('test_stepper_contract.pf', 279, 'assertEqual'))
+            location=pf_source_location('test_stepper_contract.pf', 281, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_engine_counts_steps_in_64_bits
 
@@ -545,13 +547,13 @@ contains
         type(state_buffer) :: buf, cut
         integer :: im, k, status, j
 
-        do im = 1, size(methods)
+        do im = 1, size(saving_methods)
             call small_run(run)
-            run%numerics%method = methods(im)
+            run%numerics%method = saving_methods(im)
             run%drive%ramp_time = 5.0_wp
             run%drive%amplitude = 2.0_wp
-            call new_stepper(methods(im), a, error)
-            call new_stepper(methods(im), b, error)
+            call new_stepper(saving_methods(im), a, error)
+            call new_stepper(saving_methods(im), b, error)
             call a%init(run)
             call b%init(run)
             do k = 1, 37
@@ -559,41 +561,41 @@ contains
                 call assertEqual( &
                     step_ok, &
                     status, &
-                    location=pf_source_location('test_stepper_contract.pf', 305, 'assertEqual'))
+                    location=pf_source_location('test_stepper_contract.pf', 307, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             call save_counters(a, buf)
             call a%save_levels(buf)
             call assertFalse( &
                 buf%unsupported, &
-                location=pf_source_location('test_stepper_contract.pf', 309, 'assertFalse'))
+                location=pf_source_location('test_stepper_contract.pf', 311, 'assertFalse'))
             if (pf_any_failed()) return
             cut = buf
             cut%used = cut%used - 8
             buf%pos = 1
             call load_counters(b, buf)
             call b%load_levels(buf)
-            call assertTrue(buf%ok, location=pf_source_location('test_stepper_contract.pf', 315, 'assertTrue'))
+            call assertTrue(buf%ok, location=pf_source_location('test_stepper_contract.pf', 317, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 buf%used + 1, &
                 buf%pos, &
-                location=pf_source_location('test_stepper_contract.pf', 316, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 318, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 37_i8, &
                 b%steps, &
-                location=pf_source_location('test_stepper_contract.pf', 317, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 319, 'assertEqual'))
             if (pf_any_failed()) return
             call load_counters(b, cut)
             call b%load_levels(cut)
-            call assertFalse(cut%ok, location=pf_source_location('test_stepper_contract.pf', 320, 'assertFalse'))
+            call assertFalse(cut%ok, location=pf_source_location('test_stepper_contract.pf', 322, 'assertFalse'))
             if (pf_any_failed()) return
             ! a refused state leaves nothing half-read to use: load the whole one again
             buf%pos = 1
             call load_counters(b, buf)
             call b%load_levels(buf)
-            call assertTrue(buf%ok, location=pf_source_location('test_stepper_contract.pf', 325, 'assertTrue'))
+            call assertTrue(buf%ok, location=pf_source_location('test_stepper_contract.pf', 327, 'assertTrue'))
             if (pf_any_failed()) return
             do k = 1, 50
                 call a%step(status)
@@ -602,32 +604,32 @@ contains
             do j = 0, run%chain%n + 1
                 call assertTrue( &
                     a%displacement(j, 0) == b%displacement(j, 0), &
-                    location=pf_source_location('test_stepper_contract.pf', 331, 'assertTrue'))
+                    location=pf_source_location('test_stepper_contract.pf', 333, 'assertTrue'))
                 if (pf_any_failed()) return
             end do
             call assertTrue( &
                 a%stored_energy() == b%stored_energy(), &
-                location=pf_source_location('test_stepper_contract.pf', 333, 'assertTrue'))
+                location=pf_source_location('test_stepper_contract.pf', 335, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 a%steps, &
                 b%steps, &
-                location=pf_source_location('test_stepper_contract.pf', 334, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 336, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 a%tridiagonal_solves, &
                 b%tridiagonal_solves, &
-                location=pf_source_location('test_stepper_contract.pf', 335, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 337, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 a%rhs_evaluations, &
                 b%rhs_evaluations, &
-                location=pf_source_location('test_stepper_contract.pf', 336, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 338, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 a%newton_iterations, &
                 b%newton_iterations, &
-                location=pf_source_location('test_stepper_contract.pf', 337, 'assertEqual'))
+                location=pf_source_location('test_stepper_contract.pf', 339, 'assertEqual'))
             if (pf_any_failed()) return
             buf = state_buffer()
         end do

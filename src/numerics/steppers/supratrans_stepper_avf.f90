@@ -67,6 +67,7 @@ module supratrans_stepper_avf
     use supratrans_stepper, only: step_ok, step_not_converged, step_breakdown
     use supratrans_stepper_rk, only: rk_stepper, rk_init
     use supratrans_eigen, only: general_eigenvalues
+    use supratrans_state_buffer, only: state_buffer, put_reals, put_reals2, get_reals, get_reals2
     implicit none
     private
 
@@ -141,6 +142,10 @@ module supratrans_stepper_avf
         procedure :: init => avf_init
         !> One step.
         procedure :: step => avf_step
+        !> Append the state (y and the previous step's increments, which the predictor reads) to a checkpoint.
+        procedure :: save_levels => avf_save_levels
+        !> Restore what `save_levels` saved (after `init` of the same run).
+        procedure :: load_levels => avf_load_levels
     end type avf_stepper
 
 contains
@@ -738,5 +743,28 @@ contains
             end do
         end associate
     end subroutine solve
+
+    !> Append the state y (u, v, the integrated energies) and the previous step's stage increments Z (the
+    !> predictor's start, so that a resumed run iterates from the same guess and gives the same bits).
+    pure subroutine avf_save_levels(self, buf)
+        !> The stepper.
+        class(avf_stepper), intent(in) :: self
+        !> The state so far.
+        type(state_buffer), intent(inout) :: buf
+
+        call put_reals(buf, self%y)
+        call put_reals2(buf, self%prev)
+    end subroutine avf_save_levels
+
+    !> Restore y and the previous increments (after `init` of the same run).
+    pure subroutine avf_load_levels(self, buf)
+        !> The stepper.
+        class(avf_stepper), intent(inout) :: self
+        !> The saved state.
+        type(state_buffer), intent(inout) :: buf
+
+        call get_reals(buf, self%y)
+        call get_reals2(buf, self%prev)
+    end subroutine avf_load_levels
 
 end module supratrans_stepper_avf
