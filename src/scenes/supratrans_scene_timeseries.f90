@@ -2,7 +2,8 @@
 !> its probes u_n(t) and energy ledger over time and its outcome (transmitting or not) written to the output file.
 !>
 !> It is one run, not a task list: no journal, no `--slice`. A run stopped by a signal writes no result; with
-!> `checkpoint_every` > 0 it leaves its checkpoint `<output>.checkpoint`, from which the same command resumes. Omega must lie inside the band gap unless allow_outside_gap.
+!> `checkpoint_every` > 0 it leaves its checkpoint `<output>.checkpoint`, from which the same command resumes.
+!> Omega must lie inside the band gap unless allow_outside_gap.
 module supratrans_scene_timeseries
     use, intrinsic :: iso_fortran_env, only: error_unit
     use supratrans_kinds, only: supratrans_version
