@@ -1,16 +1,17 @@
 !> Part files of a sliced scene and their merge.
 !>
-!> `supratrans FILE.nml --slice I/N` runs the tasks t of the scene with mod(t - 1, N) + 1 = I (interleaved, so that
-!> the expensive tasks of a frequency axis spread over the slices) and writes the part file
+!> `supratrans FILE.nml --slice I/N` runs the tasks the largest-first assignment by estimated cost deals to slice I
+!> (`supratrans_tasks::slice_owners`; equal costs: task t to slice mod(t - 1, N) + 1) and writes the part file
 !> `<output stem>.part-I-of-N.h5`: group `/part` with the task records of the slice (`task`, `values`, exactly as
 !> the journal holds them), the journal header (tasks, values per task, fingerprint of the input), I, N, the code
 !> version, the namelist text, the part format (`part_format`) and `checksum`: the CRC-32 of all of these
 !> (`part_checksum`; the values by their bits), so that a bit flipped anywhere in what the part says is seen.
 !> `supratrans merge PART...` proves each part whole before it uses it: its checksum, the fingerprint recomputed
 !> from the namelist text it holds (and named by its journal header, whose own checksum holds), counts within the
-!> limits (checked before anything is allocated), and its task indices exactly those of slice I, each once, in
-!> order. It then checks that the parts belong together (same fingerprint, version, N and header) and that every
-!> slice 1..N is there exactly once, and hands the joined records to the scene as a complete journal: the scene
+!> limits (checked before anything is allocated), and its task indices within the scene's, each once, in order.
+!> It then checks that the parts belong together (same fingerprint, version, N and header; the assignment is a
+!> function of these), that no task is in two parts and that every slice 1..N is there exactly once, and hands
+!> the joined records to the scene as a complete journal: the scene
 !> writes its ordinary output from them, computing nothing (a part whose fields are not the scene's is refused, see
 !> `supratrans_tasks`), so the merged file is the single-machine file by construction. Anything else is refused
 !> with one line naming the part and the reason (status 2).
@@ -302,11 +303,9 @@ contains
                              // "1.." // int_str(int(max_tasks)) // ", the limit of a scene)", err_input)
             return
         end if
-        if (nslice /= slice_tasks(slice_index, slice_count, ntask)) then
-            call fatal_error(error, where // ": damaged part file (tasks_in_slice = " // int_str(nslice) // ", but " &
-                             // "slice " // int_str(slice_index) // " of " // int_str(slice_count) // " of " &
-                             // int_str(ntask) // " tasks has " // int_str(slice_tasks(slice_index, slice_count, ntask)) &
-                             // ")", err_input)
+        if (nslice < 0 .or. nslice > ntask) then
+            call fatal_error(error, where // ": damaged part file (tasks_in_slice = " // int_str(nslice) // ", not " &
+                             // "within 0.." // int_str(ntask) // ", the tasks of the scene)", err_input)
             return
         end if
         call split_words(header, hwords)
@@ -349,27 +348,15 @@ contains
             return
         end if
         do i = 1, nslice
-            if (tasks(i) /= slice_index + (i - 1)*slice_count) then
+            if (tasks(i) < 1 .or. tasks(i) > ntask .or. tasks(i) <= merge(tasks(max(i - 1, 1)), 0, i > 1)) then
                 call fatal_error(error, where // ": record " // int_str(i) // " holds task " // int_str(tasks(i)) &
-                                 // ", not " // int_str(slice_index + (i - 1)*slice_count) // ": the tasks of slice " &
-                                 // int_str(slice_index) // " of " // int_str(slice_count) // " must each be there " &
-                                 // "exactly once, in order", err_input)
+                                 // ": the tasks of slice " // int_str(slice_index) // " of " // int_str(slice_count) &
+                                 // " must be within 1.." // int_str(ntask) // ", each exactly once, in increasing " &
+                                 // "order", err_input)
                 return
             end if
         end do
     end subroutine read_one_part
-
-    !> Number of the tasks t of 1..ntask with mod(t - 1, N) + 1 = I.
-    pure function slice_tasks(slice_index, slice_count, ntask) result(n)
-        !> Slice I and number of slices N.
-        integer, intent(in) :: slice_index, slice_count
-        !> Tasks of the scene.
-        integer, intent(in) :: ntask
-        integer :: n
-
-        n = 0
-        if (slice_index <= ntask) n = (ntask - slice_index)/slice_count + 1
-    end function slice_tasks
 
     !> The blank-separated words of a line.
     pure subroutine split_words(line, words)
@@ -486,6 +473,12 @@ contains
                 end if
                 given(slice_index) = ip
                 do i = 1, size(tasks)
+                    if (set%done(tasks(i))) then
+                        call fatal_error(error, where // ": task " // int_str(tasks(i)) // " is also in another part" &
+                                         // " (the slices' tasks are disjoint by construction: a part of another " &
+                                         // "assignment?)", err_input)
+                        exit read_one
+                    end if
                     set%results(:, tasks(i)) = values(:, i)
                     set%done(tasks(i)) = .true.
                 end do
