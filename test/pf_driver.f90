@@ -146,58 +146,62 @@ program pf_driver
     use test_screened_search, only: t131 => test_none_transmits_confirms_the_top
     use test_screened_search, only: t132 => test_exact_failure_is_reported
     use test_screened_search, only: t133 => test_cheap_failure_falls_back_to_exact
-    use test_stability, only: b18 => set_up
-    use test_stability, only: a18 => tear_down
-    use test_stability, only: t134 => test_linear_limits
-    use test_stability, only: t135 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t136 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t137 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t138 => test_stepper_contract_order
-    use test_stepper_contract, only: t139 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t140 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t141 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t142 => test_engine_counts_steps_in_64_bits
-    use test_stepper_linearized, only: t143 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t144 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t145 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t146 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t147 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t148 => test_newton_error_below_tol
-    use test_stepper_newton, only: t149 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t150 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t151 => test_newton_stepper_reports_failure
-    use test_strings, only: t152 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t153 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t154 => test_find_name_gives_the_first_index_or_zero
-    use test_system, only: b23 => set_up
-    use test_system, only: a23 => tear_down
-    use test_system, only: t155 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t156 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t157 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t158 => test_temporary_names_are_fresh
-    use test_system, only: t159 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t160 => test_monotone_step
-    use test_threshold, only: t161 => test_bisected_bracket
-    use test_threshold, only: t162 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t163 => test_two_transitions
-    use test_threshold, only: t164 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t165 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t166 => test_nothing_transmits
-    use test_threshold, only: t167 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t168 => test_lower_bound_transmits
-    use test_threshold, only: t169 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t170 => test_bad_arguments
-    use test_threshold, only: t171 => test_grid_helpers
-    use test_workprec, only: b25 => set_up
-    use test_workprec, only: a25 => tear_down
-    use test_workprec, only: t172 => test_rk8_eighth_order
-    use test_workprec, only: t173 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t174 => test_rk8_stability_polynomial
-    use test_workprec, only: t175 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t176 => test_unstable_runs_are_reported
-    use test_workprec, only: t177 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t178 => test_fitted_order
-    use test_workprec, only: t179 => test_step_kernels_timed
+    use test_slice_costs, only: t134 => test_equal_costs_deal_round_robin
+    use test_slice_costs, only: t135 => test_every_task_in_one_slice_and_deterministic
+    use test_slice_costs, only: t136 => test_largest_first_is_balanced_within_the_largest_task
+    use test_slice_costs, only: t137 => test_slice_text_counts_the_slice
+    use test_stability, only: b19 => set_up
+    use test_stability, only: a19 => tear_down
+    use test_stability, only: t138 => test_linear_limits
+    use test_stability, only: t139 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t140 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t141 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t142 => test_stepper_contract_order
+    use test_stepper_contract, only: t143 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t144 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t145 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t146 => test_engine_counts_steps_in_64_bits
+    use test_stepper_linearized, only: t147 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t148 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t149 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t150 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t151 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t152 => test_newton_error_below_tol
+    use test_stepper_newton, only: t153 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t154 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t155 => test_newton_stepper_reports_failure
+    use test_strings, only: t156 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t157 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t158 => test_find_name_gives_the_first_index_or_zero
+    use test_system, only: b24 => set_up
+    use test_system, only: a24 => tear_down
+    use test_system, only: t159 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t160 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t161 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t162 => test_temporary_names_are_fresh
+    use test_system, only: t163 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t164 => test_monotone_step
+    use test_threshold, only: t165 => test_bisected_bracket
+    use test_threshold, only: t166 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t167 => test_two_transitions
+    use test_threshold, only: t168 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t169 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t170 => test_nothing_transmits
+    use test_threshold, only: t171 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t172 => test_lower_bound_transmits
+    use test_threshold, only: t173 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t174 => test_bad_arguments
+    use test_threshold, only: t175 => test_grid_helpers
+    use test_workprec, only: b26 => set_up
+    use test_workprec, only: a26 => tear_down
+    use test_workprec, only: t176 => test_rk8_eighth_order
+    use test_workprec, only: t177 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t178 => test_rk8_stability_polynomial
+    use test_workprec, only: t179 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t180 => test_unstable_runs_are_reported
+    use test_workprec, only: t181 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t182 => test_fitted_order
+    use test_workprec, only: t183 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -349,66 +353,70 @@ program pf_driver
     call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t131)
     call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t132)
     call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t133)
-    call pf_run_test('test_stability', 'test_linear_limits', t134, before=b18, after=a18)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t135, before=b18, after=a18)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t136, before=b18, after=a18)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t137)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t138)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t139)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t140)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t141)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t142)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t143)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t144)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t145)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t146)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t147)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t148)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t149)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t150)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t151)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t152)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t153)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t154)
+    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t134)
+    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t135)
+    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t136)
+    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t137)
+    call pf_run_test('test_stability', 'test_linear_limits', t138, before=b19, after=a19)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t139, before=b19, after=a19)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t140, before=b19, after=a19)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t141)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t142)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t143)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t144)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t145)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t146)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t147)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t148)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t149)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t150)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t151)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t152)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t153)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t154)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t155)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t156)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t157)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t158)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t155, &
-        before=b23, &
-        after=a23)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t156, before=b23, after=a23)
+        t159, &
+        before=b24, &
+        after=a24)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t160, before=b24, after=a24)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t157, &
-        before=b23, &
-        after=a23)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t158, before=b23, after=a23)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t159, before=b23, after=a23)
-    call pf_run_test('test_threshold', 'test_monotone_step', t160)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t161)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t162)
-    call pf_run_test('test_threshold', 'test_two_transitions', t163)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t164)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t165)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t166)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t167)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t168)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t169)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t170)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t171)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t172, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t173, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t174, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t175, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t176, before=b25, after=a25)
+        t161, &
+        before=b24, &
+        after=a24)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t162, before=b24, after=a24)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t163, before=b24, after=a24)
+    call pf_run_test('test_threshold', 'test_monotone_step', t164)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t165)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t166)
+    call pf_run_test('test_threshold', 'test_two_transitions', t167)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t168)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t169)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t170)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t171)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t172)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t173)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t174)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t175)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t176, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t177, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t178, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t179, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t180, before=b26, after=a26)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t177, &
-        before=b25, &
-        after=a25)
-    call pf_run_test('test_workprec', 'test_fitted_order', t178, before=b25, after=a25)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t179, before=b25, after=a25)
+        t181, &
+        before=b26, &
+        after=a26)
+    call pf_run_test('test_workprec', 'test_fitted_order', t182, before=b26, after=a26)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t183, before=b26, after=a26)
     call pf_driver_finish()
 end program pf_driver
