@@ -99,6 +99,20 @@ def test_merge_refuses_a_missing_slice(exe, parts):
             words=["slice 2 of 3 is missing", "--slice 2/3"])
 
 
+def test_merge_slices_names_every_missing_part(exe, parts):
+    (parts / "out" / "study.part-1-of-3.h5").unlink()
+    (parts / "out" / "study.part-3-of-3.h5").unlink()
+    proc = sh(exe, "merge", "--slices", "3", "study.nml", cwd=parts, check=False)
+    assert proc.returncode == 2, proc.stderr
+    line, = proc.stderr.strip().splitlines()
+    assert "2 of 3 parts" in line and "slice(s) 1, 3 " in line and "--slice I/3" in line, line
+    # --partial --slices N: a snapshot of what the parts there hold
+    proc = sh(exe, "merge", "--partial", "--slices", "3", "study.nml", cwd=parts)
+    with h5py.File(parts / "out" / "study.h5.partial.h5") as f:
+        assert f.attrs["complete"] == 0
+    assert not (parts / "out" / "study.h5").exists()
+
+
 def test_merge_refuses_a_slice_given_twice(exe, parts):
     (parts / "copy.part-1-of-3.h5").write_bytes((parts / "out" / "study.part-1-of-3.h5").read_bytes())
     refused(exe, parts, "out/study.part-1-of-3.h5", "copy.part-1-of-3.h5", "out/study.part-2-of-3.h5",

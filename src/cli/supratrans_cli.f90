@@ -168,7 +168,7 @@ contains
                     call fail("merge --slices N takes one namelist file")
                     return
                 end if
-                call parts_of_namelist(trim(parts(1)), slice_count, parts, error)
+                call parts_of_namelist(trim(parts(1)), slice_count, partial, parts, error)
                 if (allocated(error)) then
                     status = error%stat
                     return
@@ -264,25 +264,60 @@ contains
 
     end subroutine run_command
 
-    !> The part files of slices 1..N of the output a namelist names.
-    subroutine parts_of_namelist(path, slice_count, parts, error)
+    !> The part files of slices 1..N of the output a namelist names. Those missing are named all at once (with the
+    !> `--slice I/N` that makes each); with `partial`, they are left out (an error only when none is there).
+    subroutine parts_of_namelist(path, slice_count, partial, parts, error)
         !> Namelist file.
         character(len=*), intent(in) :: path
         !> Number of slices N.
         integer, intent(in) :: slice_count
+        !> Leave the missing parts out (merge --partial).
+        logical, intent(in) :: partial
         !> The part files.
         character(len=:), allocatable, intent(out) :: parts(:)
-        !> Error, allocated when the namelist cannot be read.
+        !> Error, allocated when the namelist cannot be read or parts are missing.
         type(error_type), allocatable, intent(out) :: error
         type(input_config) :: cfg
-        integer :: i
+        character(len=:), allocatable :: missing, first, kept(:)
+        logical, allocatable :: there(:)
+        integer :: i, nmissing
 
         call read_input(path, cfg, error, check_output=.false.)
         if (allocated(error)) return
         allocate (character(len=len_trim(cfg%output%file) + 32) :: parts(slice_count))
+        allocate (there(slice_count))
+        missing = ""
+        nmissing = 0
         do i = 1, slice_count
             parts(i) = part_path(trim(cfg%output%file), i, slice_count)
+            there(i) = path_kind(trim(parts(i))) /= path_missing
+            if (.not. there(i)) then
+                nmissing = nmissing + 1
+                if (nmissing == 1) first = trim(parts(i))
+                if (nmissing <= 20) missing = missing // merge(", ", "  ", nmissing > 1) // int_str(i)
+            end if
         end do
+        if (nmissing > 20) missing = missing // ", ... (" // int_str(nmissing) // " in all)"
+        if (nmissing == slice_count) then
+            call fatal_error(error, "merge: no part of " // path // " is there (" // first // " and the other " &
+                             // int_str(slice_count - 1) // "): run its slices first (--slice I/" &
+                             // int_str(slice_count) // ")", err_input)
+        else if (nmissing > 0 .and. .not. partial) then
+            call fatal_error(error, "merge: " // int_str(nmissing) // " of " // int_str(slice_count) // " parts of " &
+                             // path // " missing: slice(s) " // missing(3:) // " (e.g. " // first // "); run each" &
+                             // " with --slice I/" // int_str(slice_count) // ", or merge --partial to look at " &
+                             // "what is there", err_input)
+        else if (nmissing > 0) then
+            ! (a loop: gfortran's pack of a deferred-length character array loses the strings)
+            allocate (character(len=len(parts)) :: kept(slice_count - nmissing))
+            nmissing = 0
+            do i = 1, slice_count
+                if (.not. there(i)) cycle
+                nmissing = nmissing + 1
+                kept(nmissing) = parts(i)
+            end do
+            call move_alloc(kept, parts)
+        end if
     end subroutine parts_of_namelist
 
     !> Read "I/N" with 1 <= I <= N <= 100000.
