@@ -730,6 +730,8 @@ contains
             return
         end if
         cfg%merge_part = set%first
+        cfg%merge_record = set%record
+        cfg%merge_wall_time = set%wall_time
         cfg%output%file = output
         if (len(output) == 0) cfg%output%file = merged_path(trim(paths(1)))
         if (overwrite) cfg%output%overwrite = .true.

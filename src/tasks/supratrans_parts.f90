@@ -33,8 +33,9 @@ module supratrans_parts
 
     public :: write_part, part_path, merged_path, part_set, read_parts, part_checksum
 
-    !> The format of the part files written (1: before they had a checksum).
-    character(len=*), parameter, public :: part_format = "2"
+    !> The format of the part files written (1: before they had a checksum; 2: before they recorded where and
+    !> when the slice ran).
+    character(len=*), parameter, public :: part_format = "3"
     !> Most slices (as `--slice` accepts).
     integer, parameter :: max_slices = 100000
 
@@ -56,7 +57,25 @@ module supratrans_parts
         logical, allocatable :: done(:)
         !> The first part file (named when the scene refuses the records).
         character(len=:), allocatable :: first
+        !> One line per part, in slice order: slice, host, start, end, wall time (s), threads, commit.
+        character(len=:), allocatable :: record
+        !> The summed wall time of the parts' slices (s).
+        real(wp) :: wall_time = 0.0_wp
     end type part_set
+
+    !> Where and when a slice ran, as its part file records it (attributes of /part).
+    type, public :: part_run
+        !> Host name.
+        character(len=:), allocatable :: host
+        !> Start and end of the invocation that finished the slice (ISO 8601).
+        character(len=:), allocatable :: started, ended
+        !> The commit the program was built from.
+        character(len=:), allocatable :: commit
+        !> Wall time of that invocation (s).
+        real(wp) :: wall_time = 0.0_wp
+        !> OpenMP threads.
+        integer :: threads = 1
+    end type part_run
 
 contains
 
@@ -103,7 +122,7 @@ contains
     end function stem
 
     !> Write the part file of a finished slice (atomically: `<path>.tmp-XXXXXX`, then renamed).
-    subroutine write_part(path, cfg, slice_index, slice_count, header, results, done, mine, error)
+    subroutine write_part(path, cfg, slice_index, slice_count, header, results, done, mine, run, error)
         !> Part file.
         character(len=*), intent(in) :: path
         !> The input (its namelist text, source and scene).
@@ -120,6 +139,8 @@ contains
         logical, intent(in) :: done(:)
         !> Which tasks belong to the slice.
         logical, intent(in) :: mine(:)
+        !> Where and when the slice ran.
+        type(part_run), intent(in) :: run
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
         type(h5_file) :: file
@@ -152,10 +173,16 @@ contains
                       // "journal holds them (values, task)")
         call h5_write(file, "part/namelist", text_or(cfg%text, ""), "", "the namelist text as read")
         call h5_write_attr(file, "part", "part_format", part_format)
+        call h5_write_attr(file, "part", "host", run%host)
+        call h5_write_attr(file, "part", "started", run%started)
+        call h5_write_attr(file, "part", "ended", run%ended)
+        call h5_write_attr(file, "part", "wall_time_s", run%wall_time)
+        call h5_write_attr(file, "part", "threads", run%threads)
+        call h5_write_attr(file, "part", "git_commit", run%commit)
         write (hex, "(z8.8)") part_checksum(supratrans_version, trim(cfg%scene%kind), slice_index, slice_count, &
                                             size(done), count(mine), header, text_or(cfg%fingerprint, "none"), &
                                             text_or(cfg%source, "configuration"), text_or(cfg%text, ""), tasks, &
-                                            records)
+                                            records, run_line(run))
         call h5_write_attr(file, "part", "checksum", hex)
         call h5_commit(file, error)
     end subroutine write_part
@@ -163,9 +190,9 @@ contains
     !> The checksum of a part file: the CRC-32 (`crc32`) of its format, version, scene, I, N, task counts, journal
     !> header, fingerprint, input name and namelist text, one per line, then of one line per record: the task index
     !> and the 64 bits of each value in hexadecimal (so that any change of a value, a NaN's payload included, is
-    !> seen).
+    !> seen), then of the line of where and when the slice ran (`run_line`).
     pure function part_checksum(version, scene, slice_index, slice_count, ntask, nslice, header, fingerprint, source, &
-                                text, tasks, values) result(crc)
+                                text, tasks, values, run) result(crc)
         !> Code version that wrote the part.
         character(len=*), intent(in) :: version
         !> Scene kind.
@@ -186,6 +213,8 @@ contains
         integer, intent(in) :: tasks(:)
         !> The records, (values, records).
         real(wp), intent(in) :: values(:, :)
+        !> Where and when the slice ran (`run_line`).
+        character(len=*), intent(in) :: run
         integer(int64) :: crc
         character(len=:), allocatable :: line
         character(len=17) :: word
@@ -204,7 +233,22 @@ contains
             end do
             crc = crc32(line // lf, crc)
         end do
+        crc = crc32(run // lf, crc)
     end function part_checksum
+
+    !> Where and when a slice ran, one line: host, start, end, wall time (s, 17 significant digits: its bits),
+    !> threads, commit, separated by tabs.
+    pure function run_line(run) result(line)
+        !> The slice's run.
+        type(part_run), intent(in) :: run
+        character(len=:), allocatable :: line
+        character(len=32) :: wall
+        character(len=1), parameter :: tab = achar(9)
+
+        write (wall, "(es24.16e3)") run%wall_time
+        line = run%host // tab // run%started // tab // run%ended // tab // trim(adjustl(wall)) // tab &
+               // int_str(run%threads) // tab // run%commit
+    end function run_line
 
     !> The dimensions (Fortran order, as the HDF5 Fortran API gives them) of a dataset, without reading it; `ok`
     !> false if they cannot be had.
@@ -243,7 +287,7 @@ contains
     !> Read and check one part file (see the module's description); `error` (status `err_input`) names it and says
     !> what is wrong.
     subroutine read_one_part(file, where, version, slice_index, slice_count, ntask, header, fingerprint, source, &
-                             text, tasks, values, error)
+                             text, tasks, values, run, error)
         !> The part file (open).
         type(h5_file), intent(in) :: file
         !> Its name, for messages.
@@ -257,6 +301,8 @@ contains
         integer, allocatable, intent(out) :: tasks(:)
         !> The records, (values, records).
         real(wp), allocatable, intent(out) :: values(:, :)
+        !> Where and when the slice ran.
+        type(part_run), intent(out) :: run
         !> Error, allocated when the part is refused.
         type(error_type), allocatable, intent(out) :: error
         character(len=:), allocatable :: scene, format, stored, hwords(:)
@@ -282,6 +328,14 @@ contains
         if (.not. allocated(cause)) call h5_read_attr(file, "part", "journal_header", header, cause)
         if (.not. allocated(cause)) call h5_read_attr(file, "part", "fingerprint", fingerprint, cause)
         if (.not. allocated(cause)) call h5_read_attr(file, "part", "input_file", source, cause)
+        if (.not. allocated(cause) .and. format == part_format) then
+            call h5_read_attr(file, "part", "host", run%host, cause)
+            if (.not. allocated(cause)) call h5_read_attr(file, "part", "started", run%started, cause)
+            if (.not. allocated(cause)) call h5_read_attr(file, "part", "ended", run%ended, cause)
+            if (.not. allocated(cause)) call h5_read_attr(file, "part", "wall_time_s", run%wall_time, cause)
+            if (.not. allocated(cause)) call h5_read_attr(file, "part", "threads", run%threads, cause)
+            if (.not. allocated(cause)) call h5_read_attr(file, "part", "git_commit", run%commit, cause)
+        end if
         if (allocated(cause)) then
             call fatal_error(error, where // ": damaged part file (" // cause%message // ")", err_input)
             return
@@ -336,7 +390,7 @@ contains
             return
         end if
         write (hex, "(z8.8)") part_checksum(version, scene, slice_index, slice_count, ntask, nslice, header, &
-                                            fingerprint, source, text, tasks, values)
+                                            fingerprint, source, text, tasks, values, run_line(run))
         if (stored /= hex) then
             call fatal_error(error, where // ": damaged part file (its checksum " // printable(stored) // " is not " &
                              // "that of its content, " // hex // ": altered since it was written)", err_input)
@@ -406,6 +460,8 @@ contains
         real(wp), allocatable :: values(:, :)
         integer :: ip, slice_index, slice_count, ntask, i, stat
         type(error_type), allocatable :: cause
+        type(part_run) :: run
+        type(part_run), allocatable :: runs(:)
 
         do ip = 1, size(paths)
             where = trim(paths(ip))
@@ -429,7 +485,7 @@ contains
                     exit read_one
                 end if
                 call read_one_part(file, where, version, slice_index, slice_count, ntask, header, fingerprint, source, &
-                                   text, tasks, values, error)
+                                   text, tasks, values, run, error)
                 if (allocated(error)) exit read_one
                 if (version /= supratrans_version) then
                     call fatal_error(error, where // ": made by supratrans " // printable(version) // ", this is " &
@@ -472,6 +528,8 @@ contains
                     exit read_one
                 end if
                 given(slice_index) = ip
+                if (.not. allocated(runs)) allocate (runs(slice_count))
+                runs(slice_index) = run
                 do i = 1, size(tasks)
                     if (set%done(tasks(i))) then
                         call fatal_error(error, where // ": task " // int_str(tasks(i)) // " is also in another part" &
@@ -490,6 +548,13 @@ contains
             call fatal_error(error, "merge: no part files given", err_input)
             return
         end if
+        set%record = ""
+        set%wall_time = 0.0_wp
+        do i = 1, size(given)
+            if (given(i) == 0) cycle
+            set%record = set%record // int_str(i) // achar(9) // run_line(runs(i)) // achar(10)
+            set%wall_time = set%wall_time + runs(i)%wall_time
+        end do
         if (.not. partial .and. any(given == 0)) then
             i = findloc(given, 0, dim=1)
             call fatal_error(error, first // ": slice " // int_str(i) // " of " // int_str(set%slice_count) &

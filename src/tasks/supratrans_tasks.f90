@@ -16,7 +16,8 @@ module supratrans_tasks
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8
     use supratrans_system, only: remove_file, stop_signal, out_of_memory
     use supratrans_journal, only: journal_header, read_journal, write_journal, append_journal_line, record_binding
-    use supratrans_parts, only: write_part
+    use supratrans_parts, only: write_part, part_run
+    use supratrans_provenance, only: timestamp, host_name, build_commit
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
     private
@@ -254,6 +255,7 @@ contains
         real(wp) :: last_progress, last_snapshot, elapsed
         logical :: snapshot_only, write_failed, written, merging, lost
         integer :: stop_after
+        type(part_run) :: run_record
         character(len=16) :: knob
 
         nvalues = size(fields)
@@ -318,6 +320,7 @@ contains
         threads = 1
         !$ threads = omp_get_max_threads()
         call system_clock(clock_start, clock_rate)
+        run_record%started = timestamp()
         last_progress = 0.0_wp
         last_snapshot = 0.0_wp
         write_failed = .false.
@@ -385,7 +388,14 @@ contains
             return
         end if
         if (slice_count > 0 .and. present(cfg)) then
-            call write_part(trim(cfg%output%file), cfg, slice_index, slice_count, header, results, done, mine, error)
+            call system_clock(clock_now)
+            run_record%wall_time = real(clock_now - clock_start, wp)/real(clock_rate, wp)
+            run_record%ended = timestamp()
+            run_record%host = host_name()
+            run_record%commit = build_commit()
+            run_record%threads = threads
+            call write_part(trim(cfg%output%file), cfg, slice_index, slice_count, header, results, done, mine, &
+                            run_record, error)
             if (allocated(error)) return
             call remove_file(journal)
             call remove_file(trim(cfg%output%file) // ".partial.h5")
