@@ -54,7 +54,7 @@ KillWait=10
 MinJobAge=600
 InactiveLimit=0
 SlurmdTimeout=60
-NodeName=localhost CPUs=2 State=UNKNOWN
+NodeName=localhost CPUs=2 RealMemory={memory_mb} State=UNKNOWN
 PartitionName=debug Nodes=localhost Default=YES MaxTime=INFINITE State=UP
 """
 
@@ -63,6 +63,15 @@ def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+def node_memory_mb():
+    """Most of this machine's memory (MB), the node's RealMemory: submit.sh asks for --mem, which a node without it
+    (1 MB by default) cannot satisfy; more than the machine has would drain the node."""
+    for line in Path("/proc/meminfo").read_text().splitlines():
+        if line.startswith("MemTotal:"):
+            return int(line.split()[1]) // 1024 * 9 // 10
+    return 1024
 
 
 def why_no_slurm():
@@ -89,7 +98,8 @@ class Cluster:
         key = d / "munge.key"
         key.write_bytes(os.urandom(1024))
         key.chmod(0o400)
-        (d / "slurm.conf").write_text(CONF.format(dir=d, ctld_port=free_port(), d_port=free_port()))
+        (d / "slurm.conf").write_text(CONF.format(dir=d, ctld_port=free_port(), d_port=free_port(),
+                                                   memory_mb=node_memory_mb()))
         subprocess.run(["munged", f"--key-file={key}", f"--socket={d}/munge.socket", f"--pid-file={d}/munged.pid",
                         f"--log-file={d}/munged.log", f"--seed-file={d}/munged.seed", "--force"],
                        check=True, capture_output=True, timeout=30)
