@@ -64,10 +64,11 @@ if [[ -z ${exe} ]]; then
     fi
 fi
 [[ -n ${exe} ]] || die "no executable: set SUPRATRANS=/path/to/supratrans, or put supratrans on PATH"
+given=${exe}
 if [[ ${exe} != */* ]]; then
     exe=$(command -v "${exe}" || true)
 fi
-[[ -n ${exe} && -f ${exe} && -x ${exe} ]] || die "${exe:-supratrans}: not an executable file (SUPRATRANS)"
+[[ -n ${exe} && -f ${exe} && -x ${exe} ]] || die "${given}: not an executable file (SUPRATRANS, or supratrans on PATH)"
 exe=$(cd "$(dirname "${exe}")" && pwd)/$(basename "${exe}")
 
 # the namelist, checked, then its output, overwrite rule and memory from what --check says
