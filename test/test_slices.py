@@ -99,6 +99,15 @@ def test_merge_refuses_a_missing_slice(exe, parts):
             words=["slice 2 of 3 is missing", "--slice 2/3"])
 
 
+def test_check_tells_a_submission_script_the_output_and_memory(exe, tmp_path):
+    """--check of one file prints what input/slurm/submit.sh needs, one `key value` a line."""
+    (tmp_path / "study.nml").write_text(BIF)
+    proc = sh(exe, "--check", "study.nml", cwd=tmp_path)
+    report = dict(line.split(" ", 1) for line in proc.stdout.splitlines())
+    assert report["output"] == "out/study.h5" and report["overwrite"] == "0" and report["scene"] == "bifurcation"
+    assert 60 * 100 < int(report["memory_per_thread_bytes"]) < 10**8          # some 160 bytes a site of N = 60
+
+
 def test_merge_slices_names_every_missing_part(exe, parts):
     (parts / "out" / "study.part-1-of-3.h5").unlink()
     (parts / "out" / "study.part-3-of-3.h5").unlink()
