@@ -382,7 +382,7 @@ contains
         real(wp) :: bytes
 
         bytes = run_memory_bytes(cfg, trim(cfg%scene%kind) == "timeseries")
-        write (output_unit, "(a)") "output " // trim(cfg%output%file)
+        write (output_unit, "(a)") "output " // printable(trim(cfg%output%file))
         write (output_unit, "(a, i0)") "overwrite ", merge(1, 0, cfg%output%overwrite)
         write (output_unit, "(a)") "scene " // trim(cfg%scene%kind)
         write (output_unit, "(a, i0)") "memory_per_thread_bytes ", nint(min(bytes, 9.0e18_wp), int64)
