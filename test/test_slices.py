@@ -67,6 +67,29 @@ def test_slices_interleave_the_tasks(exe, tmp_path):
         assert f["part"].attrs["tasks_total"] == 10
 
 
+def test_slices_are_dealt_by_cost(exe, tmp_path):
+    """Largest-first by estimated cost: the frequencies outside the gap of the massless curve (Omega >= 1, no
+    search, next to no cost) go to the slice with less work; the merged file is still the single machine's."""
+    text = BIF.replace("omega_max = 0.9", "omega_max = 1.2").replace(
+        "potentials = 'sine-gordon', 'klein-gordon'", "vary = 'm2', values = 0.0, 0.5")
+    (tmp_path / "study.nml").write_text(text)
+    sh(exe, "study.nml", cwd=tmp_path)
+    (tmp_path / "out" / "study.h5").rename(tmp_path / "whole.h5")
+    tasks = {}
+    for i in (1, 2):
+        sh(exe, "study.nml", "--slice", f"{i}/2", cwd=tmp_path)
+        with h5py.File(tmp_path / "out" / f"study.part-{i}-of-2.h5") as f:
+            tasks[i] = list(f["part/task"][()])
+    outside = [6, 7, 8]                     # Omega = 1.0, 1.1, 1.2 of the curve m2 = 0 (gap edge 1)
+    inside = [t for t in range(1, 17) if t not in outside]
+    # the 13 searches round-robin (7 and 6), the three outside to the slice of 6
+    assert [t for t in tasks[1] if t in inside] == inside[0::2]
+    assert [t for t in tasks[2] if t in inside] == inside[1::2]
+    assert [t for t in tasks[2] if t in outside] == outside and sorted(tasks[1] + tasks[2]) == list(range(1, 17))
+    sh(exe, "merge", "--slices", "2", "study.nml", cwd=tmp_path)
+    identical(tmp_path / "whole.h5", tmp_path / "out" / "study.h5")
+
+
 def test_a_finished_slice_run_again_does_nothing(exe, tmp_path):
     (tmp_path / "study.nml").write_text(BIF)
     sh(exe, "study.nml", "--slice", "1/2", cwd=tmp_path)
