@@ -3,7 +3,8 @@ tests can forge a part or a journal whose checksums hold and reach the checks be
 
 - `text_fingerprint(text)`: the input's fingerprint (supratrans_strings::text_fingerprint);
 - `journal_header_crc(body)`: the header line `body *XXXXXXXX`; `journal_record(header, body)`: a record bound to it;
-- `part_checksum(path)`: the checksum a part file should carry; `reseal(path)`: write it into the part.
+- `part_checksum(path)`: the checksum a part file should carry (format 3: with the line of where and when the
+  slice ran); `reseal(path)`: write it into the part.
 """
 from __future__ import annotations
 
@@ -51,6 +52,11 @@ def part_checksum(path) -> str:
         for t, row in zip(tasks, values):
             bits = np.asarray(row, dtype="<f8").view("<u8")
             crc = zlib.crc32((str(int(t)) + "".join(f" {int(b):016X}" for b in bits) + "\n").encode(), crc)
+        mantissa, exponent = f"{float(a['wall_time_s']):.16E}".split("E")
+        run = b"\t".join([_text(a["host"]), _text(a["started"]), _text(a["ended"]),
+                          f"{mantissa}E{int(exponent):+04d}".encode(), str(int(a["threads"])).encode(),
+                          _text(a["git_commit"])])
+        crc = zlib.crc32(run + b"\n", crc)
     return f"{crc:08X}"
 
 

@@ -160,59 +160,63 @@ program pf_driver
     use test_screened_search, only: t145 => test_none_transmits_confirms_the_top
     use test_screened_search, only: t146 => test_exact_failure_is_reported
     use test_screened_search, only: t147 => test_cheap_failure_falls_back_to_exact
-    use test_stability, only: b21 => set_up
-    use test_stability, only: a21 => tear_down
-    use test_stability, only: t148 => test_linear_limits
-    use test_stability, only: t149 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t150 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t151 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t152 => test_stepper_contract_order
-    use test_stepper_contract, only: t153 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t154 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t155 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t156 => test_engine_counts_steps_in_64_bits
-    use test_stepper_contract, only: t157 => test_stepper_contract_checkpoint
-    use test_stepper_linearized, only: t158 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t159 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t160 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t161 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t162 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t163 => test_newton_error_below_tol
-    use test_stepper_newton, only: t164 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t165 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t166 => test_newton_stepper_reports_failure
-    use test_strings, only: t167 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t168 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t169 => test_find_name_gives_the_first_index_or_zero
-    use test_system, only: b26 => set_up
-    use test_system, only: a26 => tear_down
-    use test_system, only: t170 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t171 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t172 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t173 => test_temporary_names_are_fresh
-    use test_system, only: t174 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t175 => test_monotone_step
-    use test_threshold, only: t176 => test_bisected_bracket
-    use test_threshold, only: t177 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t178 => test_two_transitions
-    use test_threshold, only: t179 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t180 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t181 => test_nothing_transmits
-    use test_threshold, only: t182 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t183 => test_lower_bound_transmits
-    use test_threshold, only: t184 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t185 => test_bad_arguments
-    use test_threshold, only: t186 => test_grid_helpers
-    use test_workprec, only: b28 => set_up
-    use test_workprec, only: a28 => tear_down
-    use test_workprec, only: t187 => test_rk8_eighth_order
-    use test_workprec, only: t188 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t189 => test_rk8_stability_polynomial
-    use test_workprec, only: t190 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t191 => test_unstable_runs_are_reported
-    use test_workprec, only: t192 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t193 => test_fitted_order
-    use test_workprec, only: t194 => test_step_kernels_timed
+    use test_slice_costs, only: t148 => test_equal_costs_deal_round_robin
+    use test_slice_costs, only: t149 => test_every_task_in_one_slice_and_deterministic
+    use test_slice_costs, only: t150 => test_largest_first_is_balanced_within_the_largest_task
+    use test_slice_costs, only: t151 => test_slice_text_counts_the_slice
+    use test_stability, only: b22 => set_up
+    use test_stability, only: a22 => tear_down
+    use test_stability, only: t152 => test_linear_limits
+    use test_stability, only: t153 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t154 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t155 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t156 => test_stepper_contract_order
+    use test_stepper_contract, only: t157 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t158 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t159 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t160 => test_engine_counts_steps_in_64_bits
+    use test_stepper_contract, only: t161 => test_stepper_contract_checkpoint
+    use test_stepper_linearized, only: t162 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t163 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t164 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t165 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t166 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t167 => test_newton_error_below_tol
+    use test_stepper_newton, only: t168 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t169 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t170 => test_newton_stepper_reports_failure
+    use test_strings, only: t171 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t172 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t173 => test_find_name_gives_the_first_index_or_zero
+    use test_system, only: b27 => set_up
+    use test_system, only: a27 => tear_down
+    use test_system, only: t174 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t175 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t176 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t177 => test_temporary_names_are_fresh
+    use test_system, only: t178 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t179 => test_monotone_step
+    use test_threshold, only: t180 => test_bisected_bracket
+    use test_threshold, only: t181 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t182 => test_two_transitions
+    use test_threshold, only: t183 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t184 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t185 => test_nothing_transmits
+    use test_threshold, only: t186 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t187 => test_lower_bound_transmits
+    use test_threshold, only: t188 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t189 => test_bad_arguments
+    use test_threshold, only: t190 => test_grid_helpers
+    use test_workprec, only: b29 => set_up
+    use test_workprec, only: a29 => tear_down
+    use test_workprec, only: t191 => test_rk8_eighth_order
+    use test_workprec, only: t192 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t193 => test_rk8_stability_polynomial
+    use test_workprec, only: t194 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t195 => test_unstable_runs_are_reported
+    use test_workprec, only: t196 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t197 => test_fitted_order
+    use test_workprec, only: t198 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -378,67 +382,71 @@ program pf_driver
     call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t145)
     call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t146)
     call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t147)
-    call pf_run_test('test_stability', 'test_linear_limits', t148, before=b21, after=a21)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t149, before=b21, after=a21)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t150, before=b21, after=a21)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t151)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t152)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t153)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t154)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t155)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t156)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t157)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t158)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t159)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t160)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t161)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t162)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t163)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t164)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t165)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t166)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t167)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t168)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t169)
+    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t148)
+    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t149)
+    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t150)
+    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t151)
+    call pf_run_test('test_stability', 'test_linear_limits', t152, before=b22, after=a22)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t153, before=b22, after=a22)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t154, before=b22, after=a22)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t155)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t156)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t157)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t158)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t159)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t160)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t161)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t162)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t163)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t164)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t165)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t166)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t167)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t168)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t169)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t170)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t171)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t172)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t173)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t170, &
-        before=b26, &
-        after=a26)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t171, before=b26, after=a26)
+        t174, &
+        before=b27, &
+        after=a27)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t175, before=b27, after=a27)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t172, &
-        before=b26, &
-        after=a26)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t173, before=b26, after=a26)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t174, before=b26, after=a26)
-    call pf_run_test('test_threshold', 'test_monotone_step', t175)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t176)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t177)
-    call pf_run_test('test_threshold', 'test_two_transitions', t178)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t179)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t180)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t181)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t182)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t183)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t184)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t185)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t186)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t187, before=b28, after=a28)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t188, before=b28, after=a28)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t189, before=b28, after=a28)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t190, before=b28, after=a28)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t191, before=b28, after=a28)
+        t176, &
+        before=b27, &
+        after=a27)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t177, before=b27, after=a27)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t178, before=b27, after=a27)
+    call pf_run_test('test_threshold', 'test_monotone_step', t179)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t180)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t181)
+    call pf_run_test('test_threshold', 'test_two_transitions', t182)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t183)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t184)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t185)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t186)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t187)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t188)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t189)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t190)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t191, before=b29, after=a29)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t192, before=b29, after=a29)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t193, before=b29, after=a29)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t194, before=b29, after=a29)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t195, before=b29, after=a29)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t192, &
-        before=b28, &
-        after=a28)
-    call pf_run_test('test_workprec', 'test_fitted_order', t193, before=b28, after=a28)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t194, before=b28, after=a28)
+        t196, &
+        before=b29, &
+        after=a29)
+    call pf_run_test('test_workprec', 'test_fitted_order', t197, before=b29, after=a29)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t198, before=b29, after=a29)
     call pf_driver_finish()
 end program pf_driver

@@ -67,6 +67,29 @@ def test_slices_interleave_the_tasks(exe, tmp_path):
         assert f["part"].attrs["tasks_total"] == 10
 
 
+def test_slices_are_dealt_by_cost(exe, tmp_path):
+    """Largest-first by estimated cost: the frequencies outside the gap of the massless curve (Omega >= 1, no
+    search, next to no cost) go to the slice with less work; the merged file is still the single machine's."""
+    text = BIF.replace("omega_max = 0.9", "omega_max = 1.2").replace(
+        "potentials = 'sine-gordon', 'klein-gordon'", "vary = 'm2', values = 0.0, 0.5")
+    (tmp_path / "study.nml").write_text(text)
+    sh(exe, "study.nml", cwd=tmp_path)
+    (tmp_path / "out" / "study.h5").rename(tmp_path / "whole.h5")
+    tasks = {}
+    for i in (1, 2):
+        sh(exe, "study.nml", "--slice", f"{i}/2", cwd=tmp_path)
+        with h5py.File(tmp_path / "out" / f"study.part-{i}-of-2.h5") as f:
+            tasks[i] = list(f["part/task"][()])
+    outside = [6, 7, 8]                     # Omega = 1.0, 1.1, 1.2 of the curve m2 = 0 (gap edge 1)
+    inside = [t for t in range(1, 17) if t not in outside]
+    # the 13 searches round-robin (7 and 6), the three outside to the slice of 6
+    assert [t for t in tasks[1] if t in inside] == inside[0::2]
+    assert [t for t in tasks[2] if t in inside] == inside[1::2]
+    assert [t for t in tasks[2] if t in outside] == outside and sorted(tasks[1] + tasks[2]) == list(range(1, 17))
+    sh(exe, "merge", "--slices", "2", "study.nml", cwd=tmp_path)
+    identical(tmp_path / "whole.h5", tmp_path / "out" / "study.h5")
+
+
 def test_a_finished_slice_run_again_does_nothing(exe, tmp_path):
     (tmp_path / "study.nml").write_text(BIF)
     sh(exe, "study.nml", "--slice", "1/2", cwd=tmp_path)
@@ -97,6 +120,29 @@ def refused(exe, cwd, *args, words):
 def test_merge_refuses_a_missing_slice(exe, parts):
     refused(exe, parts, "out/study.part-1-of-3.h5", "out/study.part-3-of-3.h5",
             words=["slice 2 of 3 is missing", "--slice 2/3"])
+
+
+def test_check_tells_a_submission_script_the_output_and_memory(exe, tmp_path):
+    """--check of one file prints what input/slurm/submit.sh needs, one `key value` a line."""
+    (tmp_path / "study.nml").write_text(BIF)
+    proc = sh(exe, "--check", "study.nml", cwd=tmp_path)
+    report = dict(line.split(" ", 1) for line in proc.stdout.splitlines())
+    assert report["output"] == "out/study.h5" and report["overwrite"] == "0" and report["scene"] == "bifurcation"
+    assert 60 * 100 < int(report["memory_per_thread_bytes"]) < 10**8          # some 160 bytes a site of N = 60
+
+
+def test_merge_slices_names_every_missing_part(exe, parts):
+    (parts / "out" / "study.part-1-of-3.h5").unlink()
+    (parts / "out" / "study.part-3-of-3.h5").unlink()
+    proc = sh(exe, "merge", "--slices", "3", "study.nml", cwd=parts, check=False)
+    assert proc.returncode == 2, proc.stderr
+    line, = proc.stderr.strip().splitlines()
+    assert "2 of 3 parts" in line and "slice(s) 1, 3 " in line and "--slice I/3" in line, line
+    # --partial --slices N: a snapshot of what the parts there hold
+    proc = sh(exe, "merge", "--partial", "--slices", "3", "study.nml", cwd=parts)
+    with h5py.File(parts / "out" / "study.h5.partial.h5") as f:
+        assert f.attrs["complete"] == 0
+    assert not (parts / "out" / "study.h5").exists()
 
 
 def test_merge_refuses_a_slice_given_twice(exe, parts):

@@ -1,7 +1,9 @@
 """The batch scripts of input/slurm/ on a real Slurm: a one-node cluster on localhost (munged, slurmctld, slurmd
-started by hand with their own configuration, no systemd), a study submitted as a job array with a dependent merge,
-compared with the single-machine file; one array task cancelled mid-way and resubmitted, resuming from its journal.
-Where Slurm cannot start (not root, packages missing) the tests are skipped with one line saying why."""
+started by hand with their own configuration, no systemd), a study submitted as a job array with a dependent merge
+(behind a user's --dependency, options after --), compared with the single-machine file; one array task cancelled
+mid-way and resubmitted, one requeued (scontrol requeue) and one stopped by its time limit, each resuming from its
+journal; submissions refused before anything is queued. Where Slurm cannot start (not root, packages missing) the
+tests are skipped with one line saying why."""
 import os
 import shutil
 import signal
@@ -10,6 +12,7 @@ import subprocess
 import time
 from pathlib import Path
 
+import h5py
 import pytest
 
 import compare_results
@@ -52,7 +55,7 @@ KillWait=10
 MinJobAge=600
 InactiveLimit=0
 SlurmdTimeout=60
-NodeName=localhost CPUs=2 State=UNKNOWN
+NodeName=localhost CPUs=2 RealMemory={memory_mb} State=UNKNOWN
 PartitionName=debug Nodes=localhost Default=YES MaxTime=INFINITE State=UP
 """
 
@@ -61,6 +64,15 @@ def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+def node_memory_mb():
+    """Most of this machine's memory (MB), the node's RealMemory: submit.sh asks for --mem, which a node without it
+    (1 MB by default) cannot satisfy; more than the machine has would drain the node."""
+    for line in Path("/proc/meminfo").read_text().splitlines():
+        if line.startswith("MemTotal:"):
+            return int(line.split()[1]) // 1024 * 9 // 10
+    return 1024
 
 
 def why_no_slurm():
@@ -87,7 +99,8 @@ class Cluster:
         key = d / "munge.key"
         key.write_bytes(os.urandom(1024))
         key.chmod(0o400)
-        (d / "slurm.conf").write_text(CONF.format(dir=d, ctld_port=free_port(), d_port=free_port()))
+        (d / "slurm.conf").write_text(CONF.format(dir=d, ctld_port=free_port(), d_port=free_port(),
+                                                   memory_mb=node_memory_mb()))
         subprocess.run(["munged", f"--key-file={key}", f"--socket={d}/munge.socket", f"--pid-file={d}/munged.pid",
                         f"--log-file={d}/munged.log", f"--seed-file={d}/munged.seed", "--force"],
                        check=True, capture_output=True, timeout=30)
@@ -186,19 +199,69 @@ def single_machine(exe, folder, text):
     (folder / "out" / "study.h5").rename(folder / "whole.h5")
 
 
+def submit(cluster, folder, *args, env):
+    proc = subprocess.run(["bash", str(SCRIPTS / "submit.sh"), *args], cwd=folder, env=env, capture_output=True,
+                          text=True, timeout=600)
+    return proc
+
+
+def field(cluster, job, name):
+    out = cluster.run("scontrol", "-o", "show", "job", str(job), check=False).stdout
+    return [w.split("=", 1)[1] for w in out.split() if w.startswith(name + "=")]
+
+
 def test_array_and_merge_equal_the_single_machine_file(cluster, release_exe, tmp_path):
     single_machine(release_exe, tmp_path, STUDY.format(t_final="40.0"))
     env = dict(cluster.env, SUPRATRANS=release_exe)
-    proc = subprocess.run(["bash", str(SCRIPTS / "submit.sh"), "study.nml", "3"], cwd=tmp_path, env=env,
-                          capture_output=True, text=True, timeout=60)
+    # a user's own dependency (a job that holds the study back) and NAMELIST N -- opts without THROTTLE
+    hold = cluster.run("sbatch", "--parsable", "--hold", "--wrap", "true", cwd=tmp_path).stdout.strip().split(";")[0]
+    proc = submit(cluster, tmp_path, "study.nml", "3", "--", "--cpus-per-task=1", f"--dependency=afterok:{hold}",
+                  env=env)
     assert proc.returncode == 0, proc.stderr
     words = proc.stdout.split()
     array, merge = words[2], words[-1]
-    assert all(s == "COMPLETED" for s in cluster.wait(array)), list(tmp_path.glob("supratrans-*.out"))
-    assert cluster.wait(merge) == ["COMPLETED"]
+    # the namelist edited after the submission changes nothing: the tasks read the study's copy
+    (tmp_path / "study.nml").write_text(STUDY.format(t_final="45.0"))
+    assert field(cluster, array, "JobName")[0] == "supratrans-study"
+    assert f"afterok:{hold}" in field(cluster, array, "Dependency")[0]
+    merge_dep = field(cluster, merge, "Dependency")[0]
+    assert f"afterok:{array}" in merge_dep and f"afterok:{hold}" in merge_dep, merge_dep
+    assert all(s == "PENDING" for s in cluster.state(array))
+    cluster.run("scontrol", "release", hold)
+    assert cluster.wait(hold) == ["COMPLETED"]
+    assert all(s == "COMPLETED" for s in cluster.wait(array)), list((tmp_path / "out").rglob("*.out"))
+    assert cluster.wait(merge) == ["COMPLETED"], (tmp_path / "out" / "study.slurm" / "merge.out").read_text()
     diffs, compared, _ = compare_results.compare(tmp_path / "whole.h5", tmp_path / "out" / "study.h5")
     assert compared > 5 and not diffs, diffs
     assert len(list((tmp_path / "out").glob("study.part-*-of-3.h5"))) == 3
+    with h5py.File(tmp_path / "out" / "study.h5") as f:
+        parts = f["provenance/parts"][()].decode().splitlines()      # where, when and how long each slice ran
+        assert [p.split("\t")[0] for p in parts] == ["1", "2", "3"]
+        assert abs(f["cost"].attrs["scene_wall_time_s"] - sum(float(p.split("\t")[4]) for p in parts)) < 1e-9
+    logs = sorted((tmp_path / "out" / "study.slurm").glob("slice-*.out"))
+    assert len(logs) == 3 and all("slice" in p.read_text() for p in logs)
+
+
+def test_refused_at_submission(cluster, release_exe, tmp_path):
+    """An existing output without overwrite, a missing executable, a namelist that does not pass --check: one line
+    each, nothing queued."""
+    text = STUDY.format(t_final="40.0")
+    (tmp_path / "study.nml").write_text(text)
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "study.h5").write_bytes(b"an earlier result")
+    env = dict(cluster.env, SUPRATRANS=release_exe)
+    before = cluster.run("squeue", "-h", "-o", "%i").stdout.split()
+    proc = submit(cluster, tmp_path, "study.nml", "2", env=env)
+    assert proc.returncode == 2 and "exists" in proc.stderr, proc.stderr     # (--check says so)
+    assert "overwrite" in proc.stderr
+    (tmp_path / "out" / "study.h5").unlink()
+    proc = submit(cluster, tmp_path, "study.nml", "2", env=dict(env, SUPRATRANS=str(tmp_path / "no-such-exe")))
+    assert proc.returncode == 2 and "no-such-exe" in proc.stderr, proc.stderr
+    (tmp_path / "study.nml").write_text(text.replace("n = 60", "n = -60"))
+    proc = submit(cluster, tmp_path, "study.nml", "2", env=env)
+    assert proc.returncode == 2 and "--check" in proc.stderr, proc.stderr
+    assert cluster.run("squeue", "-h", "-o", "%i").stdout.split() == before
+    assert not (tmp_path / "out" / "study.h5").exists()
 
 
 def test_cancelled_task_resubmitted_resumes_from_its_journal(cluster, release_exe, tmp_path):
@@ -233,3 +296,78 @@ def test_cancelled_task_resubmitted_resumes_from_its_journal(cluster, release_ex
     assert cluster.wait(merge) == ["COMPLETED"]
     diffs, compared, _ = compare_results.compare(tmp_path / "whole.h5", tmp_path / "out" / "study.h5")
     assert compared > 5 and not diffs, diffs
+
+
+LONG = STUDY.format(t_final="3000.0").replace("resolution = 0.1,", "resolution = 0.1, screen_method = 'none',")
+
+
+@pytest.fixture(scope="module")
+def long_reference(release_exe, tmp_path_factory):
+    """The single-machine file of a study of 10 long searches (unscreened, T = 3000), made once."""
+    folder = tmp_path_factory.mktemp("long")
+    single_machine(release_exe, folder, LONG)
+    return folder / "whole.h5"
+
+
+#: Three times as long: about 75 s on one loaded core, never less than the 15 s after which a 1-minute limit with
+#: --signal=B:USR1@45 signals.
+LONGER = LONG.replace("t_final = 3000.0", "t_final = 9000.0")
+
+
+@pytest.fixture(scope="module")
+def longer_reference(release_exe, tmp_path_factory):
+    folder = tmp_path_factory.mktemp("longer")
+    single_machine(release_exe, folder, LONGER)
+    return folder / "whole.h5"
+
+
+def journal_lines(path):
+    return path.read_text().count("\n") - 1 if path.exists() else 0
+
+
+def finish_and_compare(cluster, folder, env, reference, slices):
+    merge = cluster.run("sbatch", "--parsable", str(SCRIPTS / "supratrans-merge.sbatch"), "study.nml", str(slices),
+                        cwd=folder, env=env).stdout.strip().split(";")[0]
+    assert cluster.wait(merge) == ["COMPLETED"]
+    diffs, compared, _ = compare_results.compare(reference, folder / "out" / "study.h5")
+    assert compared > 5 and not diffs, diffs
+
+
+def test_requeued_task_resumes_from_its_journal(cluster, release_exe, long_reference, tmp_path):
+    """scontrol requeue of a running slice (what a preempting scheduler does): the rerun of the same job resumes
+    from what the first run journaled, and its log is appended to the first run's."""
+    (tmp_path / "study.nml").write_text(LONG)
+    env = dict(cluster.env, SUPRATRANS=release_exe)
+    job = cluster.run("sbatch", "--parsable", "--array=1", "--cpus-per-task=1", str(SCRIPTS / "supratrans-array.sbatch"),
+                      "study.nml", "1", cwd=tmp_path, env=env).stdout.strip().split(";")[0]
+    journal = tmp_path / "out" / "study.part-1-of-1.h5.journal"
+    deadline = time.time() + 300
+    while time.time() < deadline and journal_lines(journal) < 2:
+        time.sleep(0.1)
+    assert journal_lines(journal) >= 2, "the slice never got going"
+    cluster.run("scontrol", "requeue", f"{job}_1")
+    done_before = journal_lines(journal)
+    states = cluster.wait(job, timeout=900)
+    assert states == ["COMPLETED"], states
+    log = (tmp_path / f"supratrans-{job}_1.out").read_text()
+    assert log.count("supratrans-array: slice 1/1") == 2, log        # both runs in one log
+    resumed = [int(line.split(" already done")[0].split(",")[-1]) for line in log.splitlines()
+               if "already done" in line]
+    assert len(resumed) == 2 and resumed[0] == 0 and resumed[1] >= done_before - 1, log
+    finish_and_compare(cluster, tmp_path, env, long_reference, 1)
+
+
+def test_time_limit_stops_requeues_and_resumes(cluster, release_exe, longer_reference, tmp_path):
+    """A slice longer than its time limit: SIGUSR1 before the limit (--signal=B:USR1@), a clean stop, the task
+    requeues itself and the rerun resumes, until the slice is done; the merged file is the single machine's."""
+    (tmp_path / "study.nml").write_text(LONGER)
+    env = dict(cluster.env, SUPRATRANS=release_exe)
+    job = cluster.run("sbatch", "--parsable", "--array=1", "--cpus-per-task=1", "--time=1", "--signal=B:USR1@45",
+                      str(SCRIPTS / "supratrans-array.sbatch"), "study.nml", "1", cwd=tmp_path,
+                      env=env).stdout.strip().split(";")[0]
+    states = cluster.wait(job, timeout=1800)
+    log = (tmp_path / f"supratrans-{job}_1.out").read_text()
+    assert states == ["COMPLETED"], log
+    assert "requeued to resume" in log, log
+    assert int(field(cluster, f"{job}_1", "Restarts")[0]) >= 1
+    finish_and_compare(cluster, tmp_path, env, longer_reference, 1)

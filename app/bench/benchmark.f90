@@ -16,6 +16,12 @@
 !> 4. The undamped sine-Gordon bifurcation diagram, Omega = 0.05 .. 1.00 step 0.05, resolution 0.01
 !>    (input/bif_undamped_sg.nml): runs, time steps, seconds; with the argument `paper`, also at the paper's
 !>    resolution Omega = 0.05 .. 0.99 step 0.01. With the argument `runs`, only 1 and 2.
+!> 5. With the argument `slices` (only this): the slice cost of Bif1 (input/bif1.nml, 380 searches; or the
+!>    bifurcation namelist given as the third argument) dealt
+!>    largest-first by estimated cost into 16 and into 64 slices, each slice run alone on one thread: the measured
+!>    wall (and CPU) time of the slowest slice over the mean, the bound the largest task sets (its time over the
+!>    mean slice), and, from the same searches' measured times, what interleaved slices and a largest-first
+!>    assignment by the measured times would give.
 !> Scene outputs go to the system's temporary directory and are deleted. With beta = 0 (the paper default) the
 !> Jacobian is diagonal; a second block repeats the runs with beta = 0.1, where every Newton iteration is one
 !> LAPACK dgtsv.
@@ -30,7 +36,9 @@ program benchmark
     use supratrans_scene_sweep, only: run_amplitude_sweep
     use supratrans_scene_bifurcation, only: run_bifurcation
     use supratrans_scene_continuation, only: run_continuation
-    use supratrans_hdf5, only: h5_file, h5_open, h5_read, h5_close
+    use supratrans_hdf5, only: h5_file, h5_open, h5_read, h5_close, h5_read_attr
+    use supratrans_tasks, only: slice_owners
+    use supratrans_search_record, only: from_values, search_record
     use supratrans_system, only: remove_file
     use supratrans_scene_workprec, only: median
     use supratrans_tridiag, only: solve_tridiag
@@ -44,8 +52,8 @@ program benchmark
     type(run_config) :: run
     type(run_result) :: result
     integer :: repeats, i, im
-    logical :: paper, runs_only, folds
-    character(len=32) :: arg
+    logical :: paper, runs_only, folds, slices
+    character(len=256) :: arg
     character(len=*), parameter :: names(2) = [character(len=10) :: "newton", "linearized"]
     integer, parameter :: methods(2) = [method_newton, method_linearized]
     real(wp), allocatable :: times(:), floor_times(:)
@@ -59,14 +67,22 @@ program benchmark
     paper = .false.
     runs_only = .false.
     folds = .false.
+    slices = .false.
     if (command_argument_count() >= 2) then
         call get_command_argument(2, arg)
         paper = trim(arg) == "paper"
         runs_only = trim(arg) == "runs"
         folds = trim(arg) == "fold"
+        slices = trim(arg) == "slices"
     end if
     if (folds) then
         call fold_benchmark()
+        stop
+    end if
+    if (slices) then
+        arg = "input/bif1.nml"
+        if (command_argument_count() >= 3) call get_command_argument(3, arg)
+        call slice_benchmark(trim(arg), [16, 64])
         stop
     end if
     allocate (times(repeats), floor_times(repeats))
@@ -526,6 +542,114 @@ contains
         call remove_file(scan_out)
         call remove_file(nml)
     end subroutine fold_line_against_scan
+
+    !> The slices of `input` by cost: each of `counts(k)` slices run alone on one thread (see the program's header).
+    subroutine slice_benchmark(input, counts)
+        character(len=*), intent(in) :: input
+        integer, intent(in) :: counts(:)
+        type(input_config) :: cfg
+        type(error_type), allocatable :: error
+        type(h5_file) :: file
+        integer, allocatable :: tasks(:), owner(:)
+        real(wp), allocatable :: values(:, :), wall(:), cpu(:), task_time(:), modelled(:)
+        real(wp) :: t0, c0, c1, mean
+        integer :: k, n, i, j
+        character(len=*), parameter :: out = "/tmp/supratrans_bench_slices.h5"
+        character(len=:), allocatable :: part
+        type(search_record) :: record
+
+        !$ call omp_set_num_threads(1)
+        write (*, "(a)") "# slices by cost: " // input // ", each slice alone on one thread; ratio = slowest / mean"
+        write (*, "(a6, 2x, a10, 2x, a10, 2x, a10, 2x, a10, 2x, a12, 2x, a12, 2x, a12)") "slices", "mean_s", "max_s", &
+            "wall_ratio", "cpu_ratio", "bound_1task", "interleaved", "lpt_measured"
+        do k = 1, size(counts)
+            n = counts(k)
+            allocate (wall(n), cpu(n))
+            do i = 1, n
+                call read_input(input, cfg, error)
+                if (allocated(error)) error stop "benchmark: " // error%message
+                cfg%output%file = out
+                cfg%output%overwrite = .true.
+                cfg%output%quiet = .true.
+                cfg%slice_index = i
+                cfg%slice_count = n
+                part = "/tmp/supratrans_bench_slices.part-" // itoa(i) // "-of-" // itoa(n) // ".h5"
+                cfg%output%file = part
+                call remove_file(part)
+                call cpu_time(c0)
+                t0 = wall_seconds()
+                call run_bifurcation(cfg, error)
+                wall(i) = wall_seconds() - t0
+                call cpu_time(c1)
+                cpu(i) = c1 - c0
+                if (allocated(error)) error stop "benchmark: " // error%message
+                ! the searches' own measured times, by task index
+                call h5_open(file, part, error)
+                if (.not. allocated(error)) call h5_read(file, "part/task", tasks, error)
+                if (.not. allocated(error)) call h5_read(file, "part/values", values, error)
+                if (allocated(error)) error stop "benchmark: " // error%message
+                call h5_close(file, error)
+                if (i == 1) then
+                    if (allocated(task_time)) deallocate (task_time)
+                    allocate (task_time(tasks_total(part)))
+                    task_time = 0.0_wp
+                end if
+                do j = 1, size(tasks)
+                    record = from_values(values(:, j))
+                    task_time(tasks(j)) = record%wall_time
+                end do
+                call remove_file(part)
+            end do
+            mean = sum(wall)/real(n, wp)
+            owner = [(mod(j - 1, n) + 1, j = 1, size(task_time))]
+            modelled = slice_sums(task_time, owner, n)
+            t0 = maxval(modelled)/(sum(modelled)/real(n, wp))
+            owner = slice_owners(task_time, n)
+            modelled = slice_sums(task_time, owner, n)
+            write (*, "(i6, 2x, f10.3, 2x, f10.3, 2x, f10.3, 2x, f10.3, 2x, f12.3, 2x, f12.3, 2x, f12.3)") n, mean, &
+                maxval(wall), maxval(wall)/mean, maxval(cpu)/(sum(cpu)/real(n, wp)), &
+                max(1.0_wp, maxval(task_time)/(sum(task_time)/real(n, wp))), t0, &
+                maxval(modelled)/(sum(modelled)/real(n, wp))
+            deallocate (wall, cpu)
+        end do
+    end subroutine slice_benchmark
+
+    !> The number of tasks of a part's scene (`tasks_total` of the part file).
+    function tasks_total(part) result(total)
+        character(len=*), intent(in) :: part
+        type(h5_file) :: file
+        type(error_type), allocatable :: error
+        integer :: total
+
+        call h5_open(file, part, error)
+        if (.not. allocated(error)) call h5_read_attr(file, "part", "tasks_total", total, error)
+        if (allocated(error)) error stop "benchmark: " // error%message
+        call h5_close(file, error)
+    end function tasks_total
+
+    !> The summed time of each slice under an assignment.
+    pure function slice_sums(times, owner, n) result(sums)
+        real(wp), intent(in) :: times(:)
+        integer, intent(in) :: owner(:), n
+        real(wp), allocatable :: sums(:)
+        integer :: j
+
+        allocate (sums(n))
+        sums = 0.0_wp
+        do j = 1, size(times)
+            sums(owner(j)) = sums(owner(j)) + times(j)
+        end do
+    end function slice_sums
+
+    !> An integer as text.
+    pure function itoa(i) result(text)
+        integer, intent(in) :: i
+        character(len=:), allocatable :: text
+        character(len=12) :: buffer
+
+        write (buffer, "(i0)") i
+        text = trim(buffer)
+    end function itoa
 
     !> Wall-clock seconds since an arbitrary origin.
     function wall_seconds() result(t)

@@ -279,6 +279,12 @@ module supratrans_config
         !> For `merge`: the first part file, whose records the scene receives as its journal; the scene then computes nothing and
         !> refuses records that are not its own (unallocated: not a merge).
         character(len=:), allocatable :: merge_part
+        !> For `merge`: one line per part (slice, host, start, end, wall time s, threads, commit), written to /provenance/parts of
+        !> the merged file.
+        character(len=:), allocatable :: merge_record
+        !> For `merge`: the summed wall time (s) of the slices, the merged file's cost in place of the merge's own (< 0: not a
+        !> merge).
+        real(wp) :: merge_wall_time = -1.0_wp
         !> The base run (the scene varies some of its parameters).
         type(run_config) :: run
         !> The scene.

@@ -22,7 +22,7 @@
 !> merge catches them from its start and stops, writing nothing, unless it is writing the merged output already
 !> (then it finishes). `--check` also asks access(2) whether the output's directory can be written.
 module supratrans_cli
-    use, intrinsic :: iso_fortran_env, only: error_unit, output_unit
+    use, intrinsic :: iso_fortran_env, only: error_unit, output_unit, int64
     use supratrans_kinds, only: wp, supratrans_version
     use supratrans_strings, only: int_str, printable, text_fingerprint
     use supratrans_error, only: error_type, fatal_error, err_input, err_io, err_interrupted
@@ -35,7 +35,7 @@ module supratrans_cli
     use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
     use supratrans_input, only: read_input, read_input_text
     use supratrans_validate, only: validate_config
-    use supratrans_limits, only: bound_threads
+    use supratrans_limits, only: bound_threads, run_memory_bytes
     use supratrans_journal, only: write_journal
     use supratrans_parts, only: part_set, read_parts, part_path, merged_path
     use supratrans_scene, only: scene_type, new_scene
@@ -53,15 +53,16 @@ module supratrans_cli
     character(len=*), parameter :: help_text = usage // new_line("a") // new_line("a") // &
         "  FILE.nml              run the study the namelist describes (input/ holds one per paper figure)" &
         // new_line("a") // &
-        "  --slice I/N           run only slice I of N of the scene's tasks (interleaved) and write" // new_line("a") // &
+        "  --slice I/N           run only slice I of N of the scene's tasks (largest-first by cost), write" // new_line("a") // &
         "                        <output stem>.part-I-of-N.h5; for Slurm job arrays (input/slurm/)" // new_line("a") // &
         "  merge PART...         join the part files of every slice into the scene's ordinary output" // new_line("a") // &
         "    --partial           accept missing slices: write <output>.partial.h5 from what is there" // new_line("a") // &
         "    -o OUT              output file (default: the parts' name without .part-I-of-N)" // new_line("a") // &
         "    --overwrite         replace an existing output file" // new_line("a") // &
         "    --slices N FILE.nml the parts of slices 1..N of that namelist's output" // new_line("a") // &
-        "  --check FILE.nml...   read and validate namelists only (exit 0 if they would run; with several" &
-        // new_line("a") // "                        files one line each on stdout, the worst status)" // new_line("a") // &
+        "  --check FILE.nml...   read and validate namelists only (exit 0 if they would run; one file: its" &
+        // new_line("a") // "                        output, overwrite and memory estimate on stdout, one 'key value' a" &
+        // new_line("a") // "                        line; several: one line each, the worst status)" // new_line("a") // &
         "  --version             print the version" // new_line("a") // new_line("a") // &
         "Exit status: 0 success, 2 bad input or command line, 3 a run failed fatally, 4 output not written," &
         // new_line("a") // "5 stopped by a signal (run the same command again to resume)." // new_line("a") &
@@ -160,7 +161,7 @@ contains
                     call fail("merge --slices N takes one namelist file")
                     return
                 end if
-                call parts_of_namelist(trim(parts(1)), slice_count, parts, error)
+                call parts_of_namelist(trim(parts(1)), slice_count, partial, parts, error)
                 if (allocated(error)) then
                     status = error%stat
                     return
@@ -224,7 +225,7 @@ contains
         if (check_only .and. nchecked > 0) then
             status = worst
         else if (check_only) then
-            call check_file(file, status, error)
+            call check_file(file, status, error, report=.true.)
         else
             call run_from_file(file, status, error, slice_index, slice_count)
         end if
@@ -256,25 +257,60 @@ contains
 
     end subroutine run_command
 
-    !> The part files of slices 1..N of the output a namelist names.
-    subroutine parts_of_namelist(path, slice_count, parts, error)
+    !> The part files of slices 1..N of the output a namelist names. Those missing are named all at once (with the
+    !> `--slice I/N` that makes each); with `partial`, they are left out (an error only when none is there).
+    subroutine parts_of_namelist(path, slice_count, partial, parts, error)
         !> Namelist file.
         character(len=*), intent(in) :: path
         !> Number of slices N.
         integer, intent(in) :: slice_count
+        !> Leave the missing parts out (merge --partial).
+        logical, intent(in) :: partial
         !> The part files.
         character(len=:), allocatable, intent(out) :: parts(:)
-        !> Error, allocated when the namelist cannot be read.
+        !> Error, allocated when the namelist cannot be read or parts are missing.
         type(error_type), allocatable, intent(out) :: error
         type(input_config) :: cfg
-        integer :: i
+        character(len=:), allocatable :: missing, first, kept(:)
+        logical, allocatable :: there(:)
+        integer :: i, nmissing
 
         call read_input(path, cfg, error, check_output=.false.)
         if (allocated(error)) return
         allocate (character(len=len_trim(cfg%output%file) + 32) :: parts(slice_count))
+        allocate (there(slice_count))
+        missing = ""
+        nmissing = 0
         do i = 1, slice_count
             parts(i) = part_path(trim(cfg%output%file), i, slice_count)
+            there(i) = path_kind(trim(parts(i))) /= path_missing
+            if (.not. there(i)) then
+                nmissing = nmissing + 1
+                if (nmissing == 1) first = trim(parts(i))
+                if (nmissing <= 20) missing = missing // merge(", ", "  ", nmissing > 1) // int_str(i)
+            end if
         end do
+        if (nmissing > 20) missing = missing // ", ... (" // int_str(nmissing) // " in all)"
+        if (nmissing == slice_count) then
+            call fatal_error(error, "merge: no part of " // path // " is there (" // first // " and the other " &
+                             // int_str(slice_count - 1) // "): run its slices first (--slice I/" &
+                             // int_str(slice_count) // ")", err_input)
+        else if (nmissing > 0 .and. .not. partial) then
+            call fatal_error(error, "merge: " // int_str(nmissing) // " of " // int_str(slice_count) // " parts of " &
+                             // path // " missing: slice(s) " // missing(3:) // " (e.g. " // first // "); run each" &
+                             // " with --slice I/" // int_str(slice_count) // ", or merge --partial to look at " &
+                             // "what is there", err_input)
+        else if (nmissing > 0) then
+            ! (a loop: gfortran's pack of a deferred-length character array loses the strings)
+            allocate (character(len=len(parts)) :: kept(slice_count - nmissing))
+            nmissing = 0
+            do i = 1, slice_count
+                if (.not. there(i)) cycle
+                nmissing = nmissing + 1
+                kept(nmissing) = parts(i)
+            end do
+            call move_alloc(kept, parts)
+        end if
     end subroutine parts_of_namelist
 
     !> Read "I/N" with 1 <= I <= N <= 100000.
@@ -308,13 +344,15 @@ contains
     end subroutine parse_slice
 
     !> `--check`: read and validate the namelist (output location included), run nothing, write nothing.
-    subroutine check_file(path, status, error)
+    subroutine check_file(path, status, error, report)
         !> Namelist file.
         character(len=*), intent(in) :: path
         !> Exit status.
         integer, intent(out) :: status
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
+        !> Print the output, overwrite and memory estimate (`check_report`) when the file is fine; default false.
+        logical, intent(in), optional :: report
         type(input_config) :: cfg
 
         status = 0
@@ -322,7 +360,26 @@ contains
         if (.not. allocated(error)) call check_output_location(cfg, error, create=.false.)
         if (.not. allocated(error)) call check_output_writable(cfg, error)
         if (allocated(error)) status = error%stat
+        if (.not. allocated(error) .and. present(report)) then
+            if (report) call check_report(cfg)
+        end if
     end subroutine check_file
+
+    !> What `--check` of one file says on stdout, one "key value" a line, for scripts (input/slurm/submit.sh): the
+    !> output file (`output`), whether an existing one is replaced (`overwrite` 1/0), the scene (`scene`) and the
+    !> memory one run needs (`memory_per_thread_bytes`: its state, and for a timeseries its records; a scene's
+    !> threads each hold one run).
+    subroutine check_report(cfg)
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        real(wp) :: bytes
+
+        bytes = run_memory_bytes(cfg, trim(cfg%scene%kind) == "timeseries")
+        write (output_unit, "(a)") "output " // printable(trim(cfg%output%file))
+        write (output_unit, "(a, i0)") "overwrite ", merge(1, 0, cfg%output%overwrite)
+        write (output_unit, "(a)") "scene " // trim(cfg%scene%kind)
+        write (output_unit, "(a, i0)") "memory_per_thread_bytes ", nint(min(bytes, 9.0e18_wp), int64)
+    end subroutine check_report
 
     !> `--check`: whether the output could be created where it is named: the nearest directory of its path that
     !> exists (the others would be made in it) must let this process create files, asked with access(2) W_OK | X_OK,
@@ -388,6 +445,13 @@ contains
                     call fatal_error(error, path // ": &scene kind = '" // trim(cfg%scene%kind) // "' is one run: " &
                                      // "--slice applies to amplitude_sweep, map, bifurcation, work_precision and " &
                                      // "stability", err_input)
+                    status = error%stat
+                    return
+                end if
+                if (.not. cfg%output%overwrite .and. path_kind(trim(cfg%output%file)) /= path_missing) then
+                    ! the merge would refuse it at the end: refused before the slice's work
+                    call fatal_error(error, trim(cfg%output%file) // ": output file exists (set overwrite = .true. " &
+                                     // "to replace it): the merge of the slices would be refused", err_input)
                     status = error%stat
                     return
                 end if
@@ -628,6 +692,8 @@ contains
             return
         end if
         cfg%merge_part = set%first
+        cfg%merge_record = set%record
+        cfg%merge_wall_time = set%wall_time
         cfg%output%file = output
         if (len(output) == 0) cfg%output%file = merged_path(trim(paths(1)))
         if (overwrite) cfg%output%overwrite = .true.

@@ -10,7 +10,7 @@ module supratrans_provenance
     use, intrinsic :: iso_c_binding, only: c_char, c_int, c_long, c_size_t, c_ptr, c_null_char, c_associated
     use, intrinsic :: iso_fortran_env, only: compiler_version, compiler_options
     !$ use omp_lib, only: omp_get_max_threads
-    use supratrans_kinds, only: supratrans_version
+    use supratrans_kinds, only: wp, supratrans_version
     use supratrans_strings, only: text_or
     use supratrans_config, only: input_config
     use supratrans_hdf5, only: h5_file, h5_create_group, h5_write_attr, h5_write
@@ -109,6 +109,12 @@ contains
         if (allocated(cfg%text)) text = cfg%text
         call h5_write(file, g // "/namelist", text, "1", "The namelist file exactly as " &
             // "read (empty for a configuration built in code)")
+        if (allocated(cfg%merge_record)) then
+            ! a merged file: where, when and how long each slice ran (its part file's record)
+            call h5_write(file, g // "/parts", cfg%merge_record, "1", "Merged from part files, one line per part, " &
+                // "tab-separated: slice, host, start, end, wall time (s), OpenMP threads, git commit")
+            call h5_write_attr(file, g, "slices_wall_time_s", max(cfg%merge_wall_time, 0.0_wp))
+        end if
     end subroutine write_provenance
 
     !> Current local date and time, ISO 8601.

@@ -41,7 +41,7 @@ module supratrans_scene_bifurcation
     use supratrans_search_record, only: search_record, search_fields, to_values, from_values, certify_status_codes, &
                                         certify_not_checked, certify_unchanged, certify_moved_within, certify_moved, &
                                         certify_unresolved, certify_failed
-    use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
+    use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only, run_work
     use supratrans_checkpoint, only: checkpoint_session, open_session, close_session
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
@@ -110,6 +110,8 @@ module supratrans_scene_bifurcation
         procedure :: finished => search_finished
         !> Write the partial output.
         procedure :: snapshot => write_snapshot
+        !> Estimated cost of one search (slices of equal cost).
+        procedure :: cost => search_cost
     end type bifurcation_tasks
 
     !> A dataset of `/screening` or `/certify`: one field of the search records written as a (curve, omega) grid.
@@ -211,6 +213,7 @@ contains
 
         call system_clock(clock_end)
         elapsed = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+        if (cfg%merge_wall_time >= 0.0_wp) elapsed = cfg%merge_wall_time     ! a merge: the slices' cost
         call write_bifurcation_file(tasks, output, results, done, .true., elapsed, error)
         if (allocated(error)) return
         if (.not. keep) call remove_file(journal)
@@ -470,6 +473,35 @@ contains
         r = from_values(values)
         yes = r%status /= bifurcation_pending
     end function search_finished
+
+    !> Estimated cost of task `index`, for the largest-first slices (`supratrans_tasks::slice_owners`): the work of
+    !> one run of its curve (`run_work`) x the expected runs of a search, half the coarse scan of the range and the
+    !> scan of one bracket at the resolution; a screened search runs most of them with the screening method at its
+    !> step. A frequency outside the gap is no search: nearly nothing.
+    pure function search_cost(self, index) result(cost)
+        !> The tasks.
+        class(bifurcation_tasks), intent(in) :: self
+        !> Task index: (curve - 1) nomega + iomega.
+        integer, intent(in) :: index
+        real(wp) :: cost
+        integer :: icurve
+        real(wp) :: coarse, runs
+
+        icurve = (index - 1)/size(self%omegas) + 1
+        cost = 1.0e-6_wp*run_work(self%runs(icurve))
+        if (self%omegas(mod(index - 1, size(self%omegas)) + 1) >= band_gap_edge(self%runs(icurve)%chain) &
+            .and. .not. self%cfg%allow_outside_gap) return
+        associate (sc => self%cfg%scene)
+            coarse = effective_coarse_step(sc%coarse_step, sc%resolution)
+            runs = 0.5_wp*(sc%amplitude_max - sc%amplitude_min)/coarse + coarse/sc%resolution
+        end associate
+        if (allocated(self%screen_runs)) then
+            cost = (runs - 4.0_wp)*run_work(self%screen_runs(icurve)) + 4.0_wp*run_work(self%runs(icurve))
+        else
+            cost = runs*run_work(self%runs(icurve))
+        end if
+        if (allocated(self%half_runs)) cost = cost + 2.0_wp*run_work(self%half_runs(icurve))
+    end function search_cost
 
     !> A record with nothing searched: thresholds NaN, counts 0, statuses "pending" / "not checked".
     pure function unsearched_record() result(r)

@@ -141,6 +141,7 @@ contains
 
         call system_clock(clock_end)
         elapsed = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+        if (cfg%merge_wall_time >= 0.0_wp) elapsed = cfg%merge_wall_time     ! a merge: the slices' cost
         call write_continuation_file(tasks, output, results, done, .true., elapsed, error)
         if (allocated(error)) return
         call remove_file(journal)

@@ -1,16 +1,17 @@
 !> Part files of a sliced scene and their merge.
 !>
-!> `supratrans FILE.nml --slice I/N` runs the tasks t of the scene with mod(t - 1, N) + 1 = I (interleaved, so that
-!> the expensive tasks of a frequency axis spread over the slices) and writes the part file
+!> `supratrans FILE.nml --slice I/N` runs the tasks the largest-first assignment by estimated cost deals to slice I
+!> (`supratrans_tasks::slice_owners`; equal costs: task t to slice mod(t - 1, N) + 1) and writes the part file
 !> `<output stem>.part-I-of-N.h5`: group `/part` with the task records of the slice (`task`, `values`, exactly as
 !> the journal holds them), the journal header (tasks, values per task, fingerprint of the input), I, N, the code
 !> version, the namelist text, the part format (`part_format`) and `checksum`: the CRC-32 of all of these
 !> (`part_checksum`; the values by their bits), so that a bit flipped anywhere in what the part says is seen.
 !> `supratrans merge PART...` proves each part whole before it uses it: its checksum, the fingerprint recomputed
 !> from the namelist text it holds (and named by its journal header, whose own checksum holds), counts within the
-!> limits (checked before anything is allocated), and its task indices exactly those of slice I, each once, in
-!> order. It then checks that the parts belong together (same fingerprint, version, N and header) and that every
-!> slice 1..N is there exactly once, and hands the joined records to the scene as a complete journal: the scene
+!> limits (checked before anything is allocated), and its task indices within the scene's, each once, in order.
+!> It then checks that the parts belong together (same fingerprint, version, N and header; the assignment is a
+!> function of these), that no task is in two parts and that every slice 1..N is there exactly once, and hands
+!> the joined records to the scene as a complete journal: the scene
 !> writes its ordinary output from them, computing nothing (a part whose fields are not the scene's is refused, see
 !> `supratrans_tasks`), so the merged file is the single-machine file by construction. Anything else is refused
 !> with one line naming the part and the reason (status 2).
@@ -32,8 +33,9 @@ module supratrans_parts
 
     public :: write_part, part_path, merged_path, part_set, read_parts, part_checksum
 
-    !> The format of the part files written (1: before they had a checksum).
-    character(len=*), parameter, public :: part_format = "2"
+    !> The format of the part files written (1: before they had a checksum; 2: before they recorded where and
+    !> when the slice ran).
+    character(len=*), parameter, public :: part_format = "3"
     !> Most slices (as `--slice` accepts).
     integer, parameter :: max_slices = 100000
 
@@ -55,7 +57,25 @@ module supratrans_parts
         logical, allocatable :: done(:)
         !> The first part file (named when the scene refuses the records).
         character(len=:), allocatable :: first
+        !> One line per part, in slice order: slice, host, start, end, wall time (s), threads, commit.
+        character(len=:), allocatable :: record
+        !> The summed wall time of the parts' slices (s).
+        real(wp) :: wall_time = 0.0_wp
     end type part_set
+
+    !> Where and when a slice ran, as its part file records it (attributes of /part).
+    type, public :: part_run
+        !> Host name.
+        character(len=:), allocatable :: host
+        !> Start and end of the invocation that finished the slice (ISO 8601).
+        character(len=:), allocatable :: started, ended
+        !> The commit the program was built from.
+        character(len=:), allocatable :: commit
+        !> Wall time of that invocation (s).
+        real(wp) :: wall_time = 0.0_wp
+        !> OpenMP threads.
+        integer :: threads = 1
+    end type part_run
 
 contains
 
@@ -102,7 +122,7 @@ contains
     end function stem
 
     !> Write the part file of a finished slice (atomically: `<path>.tmp-XXXXXX`, then renamed).
-    subroutine write_part(path, cfg, slice_index, slice_count, header, results, done, mine, error)
+    subroutine write_part(path, cfg, slice_index, slice_count, header, results, done, mine, run, error)
         !> Part file.
         character(len=*), intent(in) :: path
         !> The input (its namelist text, source and scene).
@@ -119,6 +139,8 @@ contains
         logical, intent(in) :: done(:)
         !> Which tasks belong to the slice.
         logical, intent(in) :: mine(:)
+        !> Where and when the slice ran.
+        type(part_run), intent(in) :: run
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
         type(h5_file) :: file
@@ -151,10 +173,16 @@ contains
                       // "journal holds them (values, task)")
         call h5_write(file, "part/namelist", text_or(cfg%text, ""), "", "the namelist text as read")
         call h5_write_attr(file, "part", "part_format", part_format)
+        call h5_write_attr(file, "part", "host", run%host)
+        call h5_write_attr(file, "part", "started", run%started)
+        call h5_write_attr(file, "part", "ended", run%ended)
+        call h5_write_attr(file, "part", "wall_time_s", run%wall_time)
+        call h5_write_attr(file, "part", "threads", run%threads)
+        call h5_write_attr(file, "part", "git_commit", run%commit)
         write (hex, "(z8.8)") part_checksum(supratrans_version, trim(cfg%scene%kind), slice_index, slice_count, &
                                             size(done), count(mine), header, text_or(cfg%fingerprint, "none"), &
                                             text_or(cfg%source, "configuration"), text_or(cfg%text, ""), tasks, &
-                                            records)
+                                            records, run_line(run))
         call h5_write_attr(file, "part", "checksum", hex)
         call h5_commit(file, error)
     end subroutine write_part
@@ -162,9 +190,9 @@ contains
     !> The checksum of a part file: the CRC-32 (`crc32`) of its format, version, scene, I, N, task counts, journal
     !> header, fingerprint, input name and namelist text, one per line, then of one line per record: the task index
     !> and the 64 bits of each value in hexadecimal (so that any change of a value, a NaN's payload included, is
-    !> seen).
+    !> seen), then of the line of where and when the slice ran (`run_line`).
     pure function part_checksum(version, scene, slice_index, slice_count, ntask, nslice, header, fingerprint, source, &
-                                text, tasks, values) result(crc)
+                                text, tasks, values, run) result(crc)
         !> Code version that wrote the part.
         character(len=*), intent(in) :: version
         !> Scene kind.
@@ -185,6 +213,8 @@ contains
         integer, intent(in) :: tasks(:)
         !> The records, (values, records).
         real(wp), intent(in) :: values(:, :)
+        !> Where and when the slice ran (`run_line`).
+        character(len=*), intent(in) :: run
         integer(int64) :: crc
         character(len=:), allocatable :: line
         character(len=17) :: word
@@ -203,7 +233,22 @@ contains
             end do
             crc = crc32(line // lf, crc)
         end do
+        crc = crc32(run // lf, crc)
     end function part_checksum
+
+    !> Where and when a slice ran, one line: host, start, end, wall time (s, 17 significant digits: its bits),
+    !> threads, commit, separated by tabs.
+    pure function run_line(run) result(line)
+        !> The slice's run.
+        type(part_run), intent(in) :: run
+        character(len=:), allocatable :: line
+        character(len=32) :: wall
+        character(len=1), parameter :: tab = achar(9)
+
+        write (wall, "(es24.16e3)") run%wall_time
+        line = run%host // tab // run%started // tab // run%ended // tab // trim(adjustl(wall)) // tab &
+               // int_str(run%threads) // tab // run%commit
+    end function run_line
 
     !> The dimensions (Fortran order, as the HDF5 Fortran API gives them) of a dataset, without reading it; `ok`
     !> false if they cannot be had.
@@ -242,7 +287,7 @@ contains
     !> Read and check one part file (see the module's description); `error` (status `err_input`) names it and says
     !> what is wrong.
     subroutine read_one_part(file, where, version, slice_index, slice_count, ntask, header, fingerprint, source, &
-                             text, tasks, values, error)
+                             text, tasks, values, run, error)
         !> The part file (open).
         type(h5_file), intent(in) :: file
         !> Its name, for messages.
@@ -256,6 +301,8 @@ contains
         integer, allocatable, intent(out) :: tasks(:)
         !> The records, (values, records).
         real(wp), allocatable, intent(out) :: values(:, :)
+        !> Where and when the slice ran.
+        type(part_run), intent(out) :: run
         !> Error, allocated when the part is refused.
         type(error_type), allocatable, intent(out) :: error
         character(len=:), allocatable :: scene, format, stored, hwords(:)
@@ -281,6 +328,14 @@ contains
         if (.not. allocated(cause)) call h5_read_attr(file, "part", "journal_header", header, cause)
         if (.not. allocated(cause)) call h5_read_attr(file, "part", "fingerprint", fingerprint, cause)
         if (.not. allocated(cause)) call h5_read_attr(file, "part", "input_file", source, cause)
+        if (.not. allocated(cause) .and. format == part_format) then
+            call h5_read_attr(file, "part", "host", run%host, cause)
+            if (.not. allocated(cause)) call h5_read_attr(file, "part", "started", run%started, cause)
+            if (.not. allocated(cause)) call h5_read_attr(file, "part", "ended", run%ended, cause)
+            if (.not. allocated(cause)) call h5_read_attr(file, "part", "wall_time_s", run%wall_time, cause)
+            if (.not. allocated(cause)) call h5_read_attr(file, "part", "threads", run%threads, cause)
+            if (.not. allocated(cause)) call h5_read_attr(file, "part", "git_commit", run%commit, cause)
+        end if
         if (allocated(cause)) then
             call fatal_error(error, where // ": damaged part file (" // cause%message // ")", err_input)
             return
@@ -302,11 +357,9 @@ contains
                              // "1.." // int_str(int(max_tasks)) // ", the limit of a scene)", err_input)
             return
         end if
-        if (nslice /= slice_tasks(slice_index, slice_count, ntask)) then
-            call fatal_error(error, where // ": damaged part file (tasks_in_slice = " // int_str(nslice) // ", but " &
-                             // "slice " // int_str(slice_index) // " of " // int_str(slice_count) // " of " &
-                             // int_str(ntask) // " tasks has " // int_str(slice_tasks(slice_index, slice_count, ntask)) &
-                             // ")", err_input)
+        if (nslice < 0 .or. nslice > ntask) then
+            call fatal_error(error, where // ": damaged part file (tasks_in_slice = " // int_str(nslice) // ", not " &
+                             // "within 0.." // int_str(ntask) // ", the tasks of the scene)", err_input)
             return
         end if
         call split_words(header, hwords)
@@ -337,7 +390,7 @@ contains
             return
         end if
         write (hex, "(z8.8)") part_checksum(version, scene, slice_index, slice_count, ntask, nslice, header, &
-                                            fingerprint, source, text, tasks, values)
+                                            fingerprint, source, text, tasks, values, run_line(run))
         if (stored /= hex) then
             call fatal_error(error, where // ": damaged part file (its checksum " // printable(stored) // " is not " &
                              // "that of its content, " // hex // ": altered since it was written)", err_input)
@@ -349,27 +402,15 @@ contains
             return
         end if
         do i = 1, nslice
-            if (tasks(i) /= slice_index + (i - 1)*slice_count) then
+            if (tasks(i) < 1 .or. tasks(i) > ntask .or. tasks(i) <= merge(tasks(max(i - 1, 1)), 0, i > 1)) then
                 call fatal_error(error, where // ": record " // int_str(i) // " holds task " // int_str(tasks(i)) &
-                                 // ", not " // int_str(slice_index + (i - 1)*slice_count) // ": the tasks of slice " &
-                                 // int_str(slice_index) // " of " // int_str(slice_count) // " must each be there " &
-                                 // "exactly once, in order", err_input)
+                                 // ": the tasks of slice " // int_str(slice_index) // " of " // int_str(slice_count) &
+                                 // " must be within 1.." // int_str(ntask) // ", each exactly once, in increasing " &
+                                 // "order", err_input)
                 return
             end if
         end do
     end subroutine read_one_part
-
-    !> Number of the tasks t of 1..ntask with mod(t - 1, N) + 1 = I.
-    pure function slice_tasks(slice_index, slice_count, ntask) result(n)
-        !> Slice I and number of slices N.
-        integer, intent(in) :: slice_index, slice_count
-        !> Tasks of the scene.
-        integer, intent(in) :: ntask
-        integer :: n
-
-        n = 0
-        if (slice_index <= ntask) n = (ntask - slice_index)/slice_count + 1
-    end function slice_tasks
 
     !> The blank-separated words of a line.
     pure subroutine split_words(line, words)
@@ -419,6 +460,8 @@ contains
         real(wp), allocatable :: values(:, :)
         integer :: ip, slice_index, slice_count, ntask, i, stat
         type(error_type), allocatable :: cause
+        type(part_run) :: run
+        type(part_run), allocatable :: runs(:)
 
         do ip = 1, size(paths)
             where = trim(paths(ip))
@@ -442,7 +485,7 @@ contains
                     exit read_one
                 end if
                 call read_one_part(file, where, version, slice_index, slice_count, ntask, header, fingerprint, source, &
-                                   text, tasks, values, error)
+                                   text, tasks, values, run, error)
                 if (allocated(error)) exit read_one
                 if (version /= supratrans_version) then
                     call fatal_error(error, where // ": made by supratrans " // printable(version) // ", this is " &
@@ -485,7 +528,15 @@ contains
                     exit read_one
                 end if
                 given(slice_index) = ip
+                if (.not. allocated(runs)) allocate (runs(slice_count))
+                runs(slice_index) = run
                 do i = 1, size(tasks)
+                    if (set%done(tasks(i))) then
+                        call fatal_error(error, where // ": task " // int_str(tasks(i)) // " is also in another part" &
+                                         // " (the slices' tasks are disjoint by construction: a part of another " &
+                                         // "assignment?)", err_input)
+                        exit read_one
+                    end if
                     set%results(:, tasks(i)) = values(:, i)
                     set%done(tasks(i)) = .true.
                 end do
@@ -497,6 +548,13 @@ contains
             call fatal_error(error, "merge: no part files given", err_input)
             return
         end if
+        set%record = ""
+        set%wall_time = 0.0_wp
+        do i = 1, size(given)
+            if (given(i) == 0) cycle
+            set%record = set%record // int_str(i) // achar(9) // run_line(runs(i)) // achar(10)
+            set%wall_time = set%wall_time + runs(i)%wall_time
+        end do
         if (.not. partial .and. any(given == 0)) then
             i = findloc(given, 0, dim=1)
             call fatal_error(error, first // ": slice " // int_str(i) // " of " // int_str(set%slice_count) &

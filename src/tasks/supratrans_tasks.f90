@@ -5,22 +5,24 @@
 !> killed at any moment (SIGKILL, a wall-time limit) loses at most the tasks that were running. Started again, it
 !> reads the journal, checks that it belongs to the same input (a fingerprint of the namelist text), keeps the lines
 !> that prove whole, and runs only what is missing. Results are stored by task index, whatever thread computed them,
-!> so they are identical for any thread count. A scene can be split into interleaved slices (`--slice I/N`, one per
-!> job of a Slurm array), each writing a part file that `merge` joins (`supratrans_parts`).
+!> so they are identical for any thread count. A scene can be split into slices (`--slice I/N`, one per job of a
+!> Slurm array), each writing a part file that `merge` joins (`supratrans_parts`): the tasks are dealt to the slices
+!> largest-first by their estimated cost (`slice_owners`), so that the slices of an array end together.
 module supratrans_tasks
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
     use supratrans_kinds, only: wp
     use supratrans_strings, only: int_str, real_str, fixed1, text_fingerprint, printable
     use supratrans_error, only: error_type, fatal_error, err_io, err_interrupted, err_input
-    use supratrans_config, only: input_config
+    use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8
     use supratrans_system, only: remove_file, stop_signal, out_of_memory
     use supratrans_journal, only: journal_header, read_journal, write_journal, append_journal_line, record_binding
-    use supratrans_parts, only: write_part
+    use supratrans_parts, only: write_part, part_run
+    use supratrans_provenance, only: timestamp, host_name, build_commit
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
     private
 
-    public :: run_tasks, file_fingerprint, text_fingerprint, input_fingerprint, engine_only
+    public :: run_tasks, file_fingerprint, text_fingerprint, input_fingerprint, engine_only, slice_owners, slice_text, run_work
 
     !> A scene's list of tasks; the scene extends it with what its tasks need (read-only during the run).
     type, abstract, public :: task_list
@@ -32,6 +34,9 @@ module supratrans_tasks
         !> Whether a task's values are its result; false for a task stopped by a signal at its mid-run
         !> checkpoint (not journaled: a rerun resumes it). Default: always.
         procedure :: finished => always_finished
+        !> Estimated cost of task `index` in any fixed unit (oscillators x time steps x work per step, times the
+        !> expected number of runs of a search); only the ratios matter (`slice_owners`). Default: 1 (equal cost).
+        procedure :: cost => equal_cost
     end type task_list
 
     abstract interface
@@ -73,11 +78,162 @@ contains
         logical, intent(in) :: done(:)
     end subroutine no_snapshot
 
-    !> Run tasks 1..ntask (those not already in the journal), in parallel over OpenMP threads.
+    !> Default cost of a task: 1, every task alike.
+    pure function equal_cost(self, index) result(cost)
+        !> The task list.
+        class(task_list), intent(in) :: self
+        !> Task index.
+        integer, intent(in) :: index
+        real(wp) :: cost
+
+        cost = 1.0_wp
+    end function equal_cost
+
+    !> Estimated work of one run, for task costs: oscillators N x time steps T/dt x the method's work per step
+    !> relative to a Newton step (measured by the benchmark on the paper-default run: a Newton step of about two
+    !> iterations 1, a linearized step 0.35, a classical Runge-Kutta step 0.6, an 8th-order one 1.6).
+    pure function run_work(run) result(work)
+        !> The run.
+        type(run_config), intent(in) :: run
+        real(wp) :: work
+        real(wp) :: per_step
+
+        select case (run%numerics%method)
+        case (method_newton)
+            per_step = 1.0_wp
+        case (method_linearized)
+            per_step = 0.35_wp
+        case (method_rk4)
+            per_step = 0.6_wp
+        case (method_rk8)
+            per_step = 1.6_wp
+        case default
+            per_step = 1.0_wp
+        end select
+        work = real(max(run%chain%n, 1), wp)*max(run%numerics%t_final/run%numerics%dt, 1.0_wp)*per_step
+    end function run_work
+
+    !> Which slice of `slice_count` each task belongs to: a deterministic largest-first (LPT) assignment. The costs,
+    !> rounded to 9 significant digits relative to the largest (so that the last bits of an estimate cannot change
+    !> the assignment), are taken in decreasing order (ties: lower task index first), each to the slice with the
+    !> least cost so far (ties: lower slice index). With equal costs this deals the tasks round-robin, task t to
+    !> slice mod(t - 1, N) + 1. Negative or non-finite costs count as 0. A binary heap of the slices' loads makes it
+    !> O(ntask log ntask).
+    pure function slice_owners(costs, slice_count) result(owner)
+        !> Estimated cost of each task.
+        real(wp), intent(in) :: costs(:)
+        !> Number of slices N (>= 1).
+        integer, intent(in) :: slice_count
+        integer :: owner(size(costs))
+        integer(int64), allocatable :: key(:), load(:)
+        integer, allocatable :: order(:), heap(:)
+        real(wp) :: top
+        integer :: i, t, n
+
+        n = size(costs)
+        allocate (key(n))
+        top = 0.0_wp
+        do i = 1, n
+            if (costs(i) > top .and. costs(i) <= huge(1.0_wp)) top = costs(i)
+        end do
+        do i = 1, n
+            key(i) = 0
+            if (top > 0.0_wp .and. costs(i) > 0.0_wp .and. costs(i) <= huge(1.0_wp)) then
+                key(i) = nint(1.0e9_wp*costs(i)/top, int64)
+            end if
+        end do
+        order = sorted_by_key(key)
+        allocate (load(slice_count), heap(slice_count))
+        load = 0
+        heap = [(i, i = 1, slice_count)]       ! equal loads: a valid heap in slice order
+        do i = 1, n
+            t = order(i)
+            owner(t) = heap(1)
+            load(heap(1)) = load(heap(1)) + key(t)
+            call sift_down(heap, load)
+        end do
+
+    end function slice_owners
+
+    !> Restore the heap order of `heap` (slices, least load first; ties: lower index) after its top grew.
+    pure subroutine sift_down(heap, load)
+        !> The slices, a binary heap but for its top.
+        integer, intent(inout) :: heap(:)
+        !> Load of each slice.
+        integer(int64), intent(in) :: load(:)
+        integer :: j, c, swap, n
+
+        n = size(heap)
+        j = 1
+        do
+            c = 2*j
+            if (c > n) exit
+            if (c < n) then
+                if (before(heap(c + 1), heap(c))) c = c + 1
+            end if
+            if (.not. before(heap(c), heap(j))) exit
+            swap = heap(j)
+            heap(j) = heap(c)
+            heap(c) = swap
+            j = c
+        end do
+
+    contains
+
+        pure logical function before(a, b)
+            integer, intent(in) :: a, b
+
+            before = load(a) < load(b) .or. (load(a) == load(b) .and. a < b)
+        end function before
+
+    end subroutine sift_down
+
+    !> The task indices ordered by decreasing key, equal keys by increasing index (a stable merge sort).
+    pure function sorted_by_key(key) result(order)
+        !> The keys.
+        integer(int64), intent(in) :: key(:)
+        integer, allocatable :: order(:)
+        integer, allocatable :: work(:)
+        integer :: n, width, lo, mid, hi, i, j, k
+
+        n = size(key)
+        order = [(i, i = 1, n)]
+        allocate (work(n))
+        width = 1
+        do while (width < n)
+            lo = 1
+            do while (lo <= n)
+                mid = min(lo + width - 1, n)
+                hi = min(lo + 2*width - 1, n)
+                i = lo
+                j = mid + 1
+                do k = lo, hi
+                    if (j > hi) then
+                        work(k) = order(i)
+                        i = i + 1
+                    else if (i > mid) then
+                        work(k) = order(j)
+                        j = j + 1
+                    else if (key(order(j)) > key(order(i))) then
+                        work(k) = order(j)
+                        j = j + 1
+                    else
+                        work(k) = order(i)
+                        i = i + 1
+                    end if
+                end do
+                lo = hi + 1
+            end do
+            order = work
+            width = 2*width
+        end do
+    end function sorted_by_key
+
     !> Run tasks 1..ntask (those not already in the journal), in parallel over OpenMP threads.
     !>
-    !> With `cfg` given, its execution options apply: `--slice I/N` (`cfg%slice_count` > 0) runs only the tasks t
-    !> with mod(t - 1, N) + 1 = I and, once they are all done, writes the part file `cfg%output%file` for `merge`
+    !> With `cfg` given, its execution options apply: `--slice I/N` (`cfg%slice_count` > 0) runs only the tasks
+    !> `slice_owners` deals to slice I by their costs (`tasks%cost`) and, once they are all done, writes the part
+    !> file `cfg%output%file` for `merge`
     !> (then deletes the slice's journal and partial snapshot); `cfg%snapshot_only` computes nothing and writes the
     !> partial snapshot of what the journal holds. A stop signal (SIGTERM, SIGINT, SIGUSR1: see
     !> `supratrans_system`) hands out no new task: the tasks running finish and are journaled (or, if they
@@ -114,6 +270,7 @@ contains
         real(wp) :: last_progress, last_snapshot, elapsed
         logical :: snapshot_only, write_failed, written, merging, lost
         integer :: stop_after
+        type(part_run) :: run_record
         character(len=16) :: knob
 
         nvalues = size(fields)
@@ -137,7 +294,7 @@ contains
         results = 0.0_wp
         done = .false.
         mine = .true.
-        if (slice_count > 0) mine = [(mod(i - 1, slice_count) + 1 == slice_index, i = 1, ntask)]
+        if (slice_count > 0) mine = slice_owners([(tasks%cost(i), i = 1, ntask)], slice_count) == slice_index
         header = journal_header(ntask, fields, fingerprint)
         call read_journal(journal, header, results, done, dropped, error)
         merging = .false.
@@ -178,12 +335,13 @@ contains
         threads = 1
         !$ threads = omp_get_max_threads()
         call system_clock(clock_start, clock_rate)
+        run_record%started = timestamp()
         last_progress = 0.0_wp
         last_snapshot = 0.0_wp
         write_failed = .false.
         if (.not. quiet) then
             write (error_unit, "(a)") "  " // int_str(ntodo) // " " // label // slice_text(slice_index, slice_count, &
-                ntask) // ", " // int_str(ndone_start) // " already done (journal " // printable(journal) // "), " &
+                ntodo, ntask) // ", " // int_str(ndone_start) // " already done (journal " // printable(journal) // "), " &
                 // int_str(threads) // " thread(s)"
             if (dropped > 0) write (error_unit, "(a)") "  " // int_str(dropped) // " journal line(s) failed their " &
                 // "checksum (cut short or altered): those tasks are computed again"
@@ -247,12 +405,19 @@ contains
             return
         end if
         if (slice_count > 0 .and. present(cfg)) then
-            call write_part(trim(cfg%output%file), cfg, slice_index, slice_count, header, results, done, mine, error)
+            call system_clock(clock_now)
+            run_record%wall_time = real(clock_now - clock_start, wp)/real(clock_rate, wp)
+            run_record%ended = timestamp()
+            run_record%host = host_name()
+            run_record%commit = build_commit()
+            run_record%threads = threads
+            call write_part(trim(cfg%output%file), cfg, slice_index, slice_count, header, results, done, mine, &
+                            run_record, error)
             if (allocated(error)) return
             call remove_file(journal)
             call remove_file(trim(cfg%output%file) // ".partial.h5")
             if (.not. quiet) write (error_unit, "(a)") "  wrote part " // printable(trim(cfg%output%file)) &
-                // slice_text(slice_index, slice_count, ntask)
+                // slice_text(slice_index, slice_count, ntodo, ntask)
         end if
     end subroutine run_tasks
 
@@ -282,18 +447,18 @@ contains
     end function input_fingerprint
 
     !> " (slice I of N: k of ntask tasks)", or "" when not sliced.
-    pure function slice_text(slice_index, slice_count, ntask) result(text)
+    pure function slice_text(slice_index, slice_count, nslice, ntask) result(text)
         !> Slice index I.
         integer, intent(in) :: slice_index
         !> Number of slices N (0: not sliced).
         integer, intent(in) :: slice_count
-        !> Number of tasks of the scene.
-        integer, intent(in) :: ntask
+        !> Number of tasks of the slice (those dealt to it), and of the scene.
+        integer, intent(in) :: nslice, ntask
         character(len=:), allocatable :: text
 
         text = ""
         if (slice_count > 0) text = " (slice " // int_str(slice_index) // " of " // int_str(slice_count) // ": " &
-            // int_str(max(0, (ntask - slice_index)/slice_count + 1)) // " of " // int_str(ntask) // " tasks)"
+            // int_str(nslice) // " of " // int_str(ntask) // " tasks)"
     end function slice_text
 
     !> A fingerprint of a file's bytes (`text_fingerprint` of its contents; of "" if it cannot be read).
