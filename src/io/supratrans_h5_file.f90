@@ -194,12 +194,8 @@ contains
 
     !> Remember that dataset `name` has the dimensions `dims` (C/h5py order), for `attach_scales` at commit.
     pure subroutine remember_dims(file, name, dims)
-        !> The file.
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> Comma-separated dimension names.
-        character(len=*), intent(in) :: dims
+        character(len=*), intent(in) :: name, dims
 
         if (.not. allocated(file%dim_table)) file%dim_table = ""
         file%dim_table = file%dim_table//name//achar(9)//dims//achar(10)
@@ -283,7 +279,6 @@ contains
 
     !> The path of the file (for messages).
     pure function disk_path(file) result(path)
-        !> The file.
         type(h5_file), intent(in) :: file
         character(len=:), allocatable :: path
 
@@ -293,7 +288,6 @@ contains
 
     !> "/" for an empty object path, else the path.
     pure function root_if_empty(object) result(path)
-        !> Path of an object.
         character(len=*), intent(in) :: object
         character(len=:), allocatable :: path
 
@@ -303,13 +297,9 @@ contains
 
     !> Turn a negative HDF5 status into an `err_io` error "<file>: cannot <action> '<object>' (<routine> failed)".
     subroutine check(hdferr, file, action, object, routine, error)
-        !> HDF5 status.
         integer, intent(in) :: hdferr
-        !> The file.
         type(h5_file), intent(in) :: file
-        !> What was attempted (e.g. "create dataset"), the object concerned, the HDF5 routine that failed.
         character(len=*), intent(in) :: action, object, routine
-        !> Error, allocated if `hdferr < 0`.
         type(error_type), allocatable, intent(out) :: error
 
         if (hdferr < 0) call fatal_error(error, disk_path(file)//": cannot "//action//" '"//object//"' ("//routine// &
@@ -318,11 +308,8 @@ contains
 
     !> Error unless the file is open.
     subroutine check_open(file, action, object, error)
-        !> The file.
         type(h5_file), intent(in) :: file
-        !> What is attempted, and the object concerned.
         character(len=*), intent(in) :: action, object
-        !> Error, allocated if the file is closed.
         type(error_type), allocatable, intent(out) :: error
 
         if (file%mode == h5_mode_closed) call fatal_error(error, disk_path(file)//": file is not open, cannot "// &
@@ -331,11 +318,8 @@ contains
 
     !> Error unless the file is open for writing.
     subroutine check_writable(file, action, object, error)
-        !> The file.
         type(h5_file), intent(in) :: file
-        !> What is attempted, and the object concerned.
         character(len=*), intent(in) :: action, object
-        !> Error, allocated if the file is closed or read-only.
         type(error_type), allocatable, intent(out) :: error
 
         call check_open(file, action, object, error)
@@ -345,13 +329,9 @@ contains
 
     !> Error unless `names` holds `rank` comma-separated dimension names.
     subroutine check_dim_names(file, name, names, rank, error)
-        !> The file.
         type(h5_file), intent(in) :: file
-        !> Path of the dataset, and its comma-separated dimension names.
         character(len=*), intent(in) :: name, names
-        !> Rank of the dataset.
         integer, intent(in) :: rank
-        !> Error, allocated on a mismatch.
         type(error_type), allocatable, intent(out) :: error
         integer :: count, k
 
@@ -366,7 +346,6 @@ contains
     !> Close any HDF5 identifier (file, group, dataset, datatype, dataspace, attribute, property list) and set it to
     !> -1; negative identifiers are ignored. Never pass a predefined datatype.
     subroutine close_id(id)
-        !> The identifier.
         integer(hid_t), intent(inout) :: id
         integer :: id_type, hdferr
 

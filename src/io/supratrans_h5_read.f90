@@ -283,7 +283,6 @@ contains
     subroutine open_object(file, object, attr, id, error)
         type(h5_file), intent(in) :: file
         character(len=*), intent(in) :: object, attr
-        !> The dataset or attribute; -1 on failure.
         integer(hid_t), intent(out) :: id
         type(error_type), allocatable, intent(out) :: error
         integer :: hdferr

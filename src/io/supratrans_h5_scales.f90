@@ -87,7 +87,6 @@ contains
     !> Label every remembered dimension with its name and attach its coordinate dataset as dimension scale (see
     !> the module's documentation for how a name finds its dataset). A failure sticks in `file`.
     subroutine attach_scales(file)
-        !> The file (being created).
         type(h5_file), intent(inout) :: file
         character(len=:), allocatable :: line, name, names
         integer :: first, last, tab
@@ -107,12 +106,8 @@ contains
 
     !> Label the dimensions of dataset `name` and attach their scales.
     subroutine attach_dataset_scales(file, name, names)
-        !> The file (being created).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> Its comma-separated dimension names, C/h5py order.
-        character(len=*), intent(in) :: names
+        character(len=*), intent(in) :: name, names
         type(error_type), allocatable :: error
         integer(hsize_t), allocatable :: shape(:)
         integer(hid_t) :: dset, scale
@@ -166,15 +161,9 @@ contains
     !> `G` the dataset's group and each parent up to the root, then the same with `dim//"s"`, that is a rank-1
     !> dataset of that length and not `name` itself; empty if there is none.
     subroutine find_scale(file, name, dim, length, path)
-        !> The file.
         type(h5_file), intent(in) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> Dimension name.
-        character(len=*), intent(in) :: dim
-        !> Length of the dimension.
+        character(len=*), intent(in) :: name, dim
         integer(hsize_t), intent(in) :: length
-        !> Path of the coordinate dataset; empty if none.
         character(len=:), allocatable, intent(out) :: path
         character(len=:), allocatable :: group, candidate, own
         integer(hsize_t), allocatable :: shape(:)
@@ -213,13 +202,9 @@ contains
     !> dataset to have a scale, or none); `/<dim>_index` where `/<dim>` is something else (the two-dimensional `/dt`
     !> of `work_precision`). Empty when both are taken: the dimension then keeps only its label.
     subroutine index_scale(file, dim, length, path)
-        !> The file (being created).
         type(h5_file), intent(inout) :: file
-        !> Dimension name.
         character(len=*), intent(in) :: dim
-        !> Length of the dimension.
         integer(hsize_t), intent(in) :: length
-        !> Path of the index scale; empty if none.
         character(len=:), allocatable, intent(out) :: path
         integer :: i
 
@@ -240,9 +225,7 @@ contains
 
     !> The length of the rank-1 dataset `path`; -1 if it is not one.
     function length_of(file, path) result(length)
-        !> The file.
         type(h5_file), intent(in) :: file
-        !> Path of the dataset (it exists).
         character(len=*), intent(in) :: path
         integer(hsize_t) :: length
         integer(hsize_t), allocatable :: shape(:)
@@ -259,7 +242,6 @@ contains
 
     !> The last component of a path ("time" for "/probes/time").
     pure function base_name(path) result(name)
-        !> The path.
         character(len=*), intent(in) :: path
         character(len=:), allocatable :: name
 
@@ -268,7 +250,6 @@ contains
 
     !> A path without leading and trailing slashes.
     pure function strip_slashes(path) result(stripped)
-        !> The path.
         character(len=*), intent(in) :: path
         character(len=:), allocatable :: stripped
         integer :: first, last
@@ -284,11 +265,8 @@ contains
 
     !> The shape of an open dataset, in Fortran order.
     subroutine dataset_shape(dset, shape, hdferr)
-        !> The dataset.
         integer(hid_t), intent(in) :: dset
-        !> Its dimensions (empty for a scalar).
         integer(hsize_t), allocatable, intent(out) :: shape(:)
-        !> HDF5 status.
         integer, intent(out) :: hdferr
         integer(hid_t) :: space
         integer(hsize_t), allocatable :: maxdims(:)

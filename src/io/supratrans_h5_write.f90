@@ -203,8 +203,7 @@ contains
 
     subroutine write_char_1d(file, name, data, units, description, dims)
         type(h5_file), intent(inout) :: file
-        character(len=*), intent(in) :: name, units, description
-        character(len=*), intent(in) :: data(:)
+        character(len=*), intent(in) :: name, units, description, data(:)
         character(len=*), intent(in), optional :: dims
 
         call write_strings(file, name, data, .true., units, description, dims)
@@ -302,9 +301,7 @@ contains
     subroutine put_attr(obj, name, mem_type, file_type, dims, buf, hdferr)
         integer(hid_t), intent(in) :: obj, mem_type, file_type
         character(len=*), intent(in) :: name
-        !> Dimensions in Fortran order; empty for a scalar.
         integer(hsize_t), intent(in) :: dims(:)
-        !> Address of the data (may be null when there are no elements).
         type(c_ptr), intent(in) :: buf
         integer, intent(out) :: hdferr
         integer(hid_t) :: space, attr
@@ -349,7 +346,6 @@ contains
     subroutine open_or_create_group(file, object, obj, error)
         type(h5_file), intent(in) :: file
         character(len=*), intent(in) :: object
-        !> The open object; -1 on failure.
         integer(hid_t), intent(out) :: obj
         type(error_type), allocatable, intent(out) :: error
         integer(hid_t) :: lcpl
@@ -389,9 +385,7 @@ contains
         type(h5_file), intent(inout) :: file
         character(len=*), intent(in) :: object, name
         integer(hid_t), intent(in) :: mem_type, file_type
-        !> Dimensions; empty for a scalar.
         integer(hsize_t), intent(in) :: dims(:)
-        !> Address of the data.
         type(c_ptr), intent(in) :: buf
         type(error_type), allocatable :: error
         integer(hid_t) :: obj
@@ -417,11 +411,8 @@ contains
         type(h5_file), intent(inout) :: file
         character(len=*), intent(in) :: name, units, description
         integer(hid_t), intent(in) :: mem_type, file_type
-        !> Dimensions in Fortran order; empty for a scalar.
         integer(hsize_t), intent(in) :: dims(:)
-        !> Address of the data (may be null when there are no elements).
         type(c_ptr), intent(in) :: buf
-        !> Dimension names in C/h5py order.
         character(len=*), intent(in), optional :: dim_names
         type(error_type), allocatable :: error
         integer(hid_t) :: space, lcpl, dset
@@ -479,8 +470,7 @@ contains
     !> (trailing blanks of each element dropped).
     subroutine write_strings(file, name, data, array, units, description, dim_names)
         type(h5_file), intent(inout) :: file
-        character(len=*), intent(in) :: name, units, description
-        character(len=*), intent(in) :: data(:)
+        character(len=*), intent(in) :: name, units, description, data(:)
         logical, intent(in) :: array
         character(len=*), intent(in), optional :: dim_names
         character(kind=c_char, len=1), allocatable, target :: chars(:)

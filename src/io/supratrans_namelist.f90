@@ -71,13 +71,8 @@ contains
 
     !> Split namelist text into tokens: `&name`, `/`, `=`, `,`, quoted strings and unquoted words; the last is `tk_eof`.
     pure subroutine tokenize(text, path, tokens, error)
-        !> The file contents.
-        character(len=*), intent(in) :: text
-        !> File name for messages.
-        character(len=*), intent(in) :: path
-        !> The tokens, ending with one `tk_eof`.
+        character(len=*), intent(in) :: text, path
         type(token_t), allocatable, intent(out) :: tokens(:)
-        !> Allocated on a lexical error (unterminated string, '&' without a name).
         type(error_type), allocatable, intent(out) :: error
         integer :: i, j, n, line, ntok
         character :: ch
@@ -98,11 +93,7 @@ contains
                 i = i + 1
             case ("!")
                 j = index(text(i:), achar(10))
-                if (j == 0) then
-                    i = n + 1
-                else
-                    i = i + j - 1
-                end if
+                i = merge(n + 1, i + j - 1, j == 0)
             case ("&")
                 j = i + 1
                 do while (j <= n)
@@ -127,26 +118,16 @@ contains
             case ("'", '"')
                 s = ""
                 j = i + 1
-                do
-                    if (j > n) exit
+                do while (j <= n)       ! to the closing quote (a doubled quote stands for one) or the line's end
                     if (text(j:j) == achar(10)) exit
                     if (text(j:j) == ch) then
-                        if (j < n) then
-                            if (text(j + 1:j + 1) == ch) then
-                                s = s // ch
-                                j = j + 2
-                                cycle
-                            end if
-                        end if
-                        exit
+                        if (text(j:min(j + 1, n)) /= ch // ch) exit
+                        j = j + 1
                     end if
                     s = s // text(j:j)
                     j = j + 1
                 end do
-                if (j > n) then
-                    call fail_line(error, path, line, "unterminated string " // ch // s)
-                    return
-                else if (text(j:j) /= ch) then
+                if (text(min(j, n):min(j, n)) /= ch .or. j > n) then
                     call fail_line(error, path, line, "unterminated string " // ch // s)
                     return
                 end if
@@ -168,15 +149,9 @@ contains
 
     !> Append a token, growing the array as needed.
     pure subroutine push_token(tokens, ntok, kind, line, text)
-        !> Token array (capacity >= ntok).
         type(token_t), allocatable, intent(inout) :: tokens(:)
-        !> Number of tokens in use; incremented.
         integer, intent(inout) :: ntok
-        !> Token kind.
-        integer, intent(in) :: kind
-        !> Line number.
-        integer, intent(in) :: line
-        !> Token text.
+        integer, intent(in) :: kind, line
         character(len=*), intent(in) :: text
         type(token_t), allocatable :: grown(:)
 
@@ -206,14 +181,14 @@ contains
         !> Allocated on the first problem found.
         type(error_type), allocatable, intent(out) :: error
         type(token_t), allocatable :: tokens(:)
-        character(len=group_len) :: groups(count_groups())
-        logical :: seen(count_groups())
+        character(len=group_len), allocatable :: groups(:)
+        logical, allocatable :: seen(:)
         integer :: it, ig
 
         call tokenize(text, path, tokens, error)
         if (allocated(error)) return
         groups = group_names()
-        seen = .false.
+        allocate (seen(size(groups)), source=.false.)
         allocate (parsed%n_values(size(key_table)), source=0)
         allocate (parsed%values(size(key_table)))
         it = 1
@@ -252,17 +227,10 @@ contains
 
     !> Check one group, from its `&name` token to its `/`; `it` ends on the token after the `/`.
     pure subroutine parse_group(tokens, it, path, group, parsed, error)
-        !> All tokens of the file.
         type(token_t), intent(in) :: tokens(:)
-        !> In: index of the `&group` token. Out: index of the token after the group.
         integer, intent(inout) :: it
-        !> File name for messages.
-        character(len=*), intent(in) :: path
-        !> Group name.
-        character(len=*), intent(in) :: group
-        !> The values of the group's keys are recorded.
+        character(len=*), intent(in) :: path, group
         type(parsed_input), intent(inout) :: parsed
-        !> Allocated on the first problem found.
         type(error_type), allocatable, intent(out) :: error
 
         it = it + 1
@@ -299,17 +267,10 @@ contains
 
     !> Check one `key = value[, value...]`; `it` ends on the token after the last value.
     pure subroutine parse_assignment(tokens, it, path, group, parsed, error)
-        !> All tokens of the file.
         type(token_t), intent(in) :: tokens(:)
-        !> In: index of the key token. Out: index of the token after the values.
         integer, intent(inout) :: it
-        !> File name for messages.
-        character(len=*), intent(in) :: path
-        !> Group name.
-        character(len=*), intent(in) :: group
-        !> The values are recorded in `parsed%values(ik)`, their number in `parsed%n_values(ik)`.
+        character(len=*), intent(in) :: path, group
         type(parsed_input), intent(inout) :: parsed
-        !> Allocated on the first problem found.
         type(error_type), allocatable, intent(out) :: error
         character(len=:), allocatable :: key, canonical
         type(string_t), allocatable :: values(:)
@@ -392,15 +353,10 @@ contains
     !> Check one value against the type of its key and give it in canonical form: numbers as written, logicals
     !> `.true.`/`.false.`, names in lower case, paths as written.
     pure subroutine check_value(spec, tok, path, canonical, error)
-        !> The key.
         type(key_spec), intent(in) :: spec
-        !> The value token (`tk_word` or `tk_string`).
         type(token_t), intent(in) :: tok
-        !> File name for messages.
         character(len=*), intent(in) :: path
-        !> The value in canonical form.
         character(len=:), allocatable, intent(out) :: canonical
-        !> Allocated when the value does not fit the key.
         type(error_type), allocatable, intent(out) :: error
         character(len=:), allocatable :: group, key, expected
         integer :: ival, ios
@@ -467,34 +423,19 @@ contains
     ! Tables, messages and strings
     ! ---------------------------------------------------------------------------------------------------------------
 
-    !> Number of distinct groups in `key_table`.
-    pure function count_groups() result(n)
-        integer :: n
-        integer :: i
-
-        n = 0
-        do i = 1, size(key_table)
-            if (.not. any(key_table(1:i - 1)%group == key_table(i)%group)) n = n + 1
-        end do
-    end function count_groups
-
     !> Group names of `key_table`, in order of first appearance.
     pure function group_names() result(names)
-        character(len=group_len) :: names(count_groups())
-        integer :: i, n
+        character(len=group_len), allocatable :: names(:)
+        integer :: i
 
-        n = 0
+        allocate (names(0))
         do i = 1, size(key_table)
-            if (.not. any(key_table(1:i - 1)%group == key_table(i)%group)) then
-                n = n + 1
-                names(n) = key_table(i)%group
-            end if
+            if (.not. any(names == key_table(i)%group)) names = [names, key_table(i)%group]
         end do
     end function group_names
 
     !> Keys of one group, in table order.
     pure function group_keys(group) result(keys)
-        !> Group name.
         character(len=*), intent(in) :: group
         character(len=key_len), allocatable :: keys(:)
 
@@ -503,10 +444,7 @@ contains
 
     !> Index in `key_table` of a key of a group; 0 if there is none.
     pure function find_key(group, key) result(ik)
-        !> Group name.
-        character(len=*), intent(in) :: group
-        !> Key name.
-        character(len=*), intent(in) :: key
+        character(len=*), intent(in) :: group, key
         integer :: ik
 
         do ik = 1, size(key_table)
@@ -517,10 +455,7 @@ contains
 
     !> Hint for an unknown key: the group it belongs to, or a close spelling; "" if neither.
     pure function key_hint(group, key) result(hint)
-        !> Group in which the key was given.
-        character(len=*), intent(in) :: group
-        !> The unknown key.
-        character(len=*), intent(in) :: key
+        character(len=*), intent(in) :: group, key
         character(len=:), allocatable :: hint
         integer :: i
 
@@ -535,14 +470,7 @@ contains
 
     !> "did you mean 'x'? " for the closest name within edit distance 2 (and less than the name's length); else "".
     pure function suggestion(name, names, prefix, suffix) result(hint)
-        !> The misspelt name.
-        character(len=*), intent(in) :: name
-        !> Candidate names.
-        character(len=*), intent(in) :: names(:)
-        !> Text shown before the suggested name ("&" for groups, "'" for keys).
-        character(len=*), intent(in) :: prefix
-        !> Text shown after the suggested name.
-        character(len=*), intent(in) :: suffix
+        character(len=*), intent(in) :: name, names(:), prefix, suffix
         character(len=:), allocatable :: hint
         integer :: i, d, best, best_d
 
@@ -563,12 +491,8 @@ contains
 
     !> Levenshtein distance between two strings.
     pure function edit_distance(a, b) result(d)
-        !> First string.
-        character(len=*), intent(in) :: a
-        !> Second string.
-        character(len=*), intent(in) :: b
-        integer :: d
-        integer :: row(0:len(b)), diag, up, i, j
+        character(len=*), intent(in) :: a, b
+        integer :: d, row(0:len(b)), diag, up, i, j
 
         row = [(j, j = 0, len(b))]
         do i = 1, len(a)
@@ -587,10 +511,8 @@ contains
         d = row(len(b))
     end function edit_distance
 
-    !> Names joined by ", ", each with a prefix.
     !> A token as quoted in messages.
     pure function describe(tok) result(s)
-        !> The token.
         type(token_t), intent(in) :: tok
         character(len=:), allocatable :: s
 
@@ -606,16 +528,11 @@ contains
         end select
     end function describe
 
-    !> Error `<path>: &<group>: <detail>`.
     !> Error `<path>: line <line>: <detail>` (syntax errors).
     pure subroutine fail_line(error, path, line, detail)
-        !> The error to create.
         type(error_type), allocatable, intent(out) :: error
-        !> File name.
         character(len=*), intent(in) :: path
-        !> Line number.
         integer, intent(in) :: line
-        !> What is wrong.
         character(len=*), intent(in) :: detail
 
         call fatal_error(error, path // ": line " // int_str(line) // ": " // detail, err_input)
@@ -623,7 +540,6 @@ contains
 
     !> True for a letter, digit or underscore.
     elemental function is_name_char(ch) result(ok)
-        !> Character.
         character, intent(in) :: ch
         logical :: ok
 
@@ -633,7 +549,6 @@ contains
 
     !> True for a Fortran name: a letter followed by letters, digits and underscores.
     pure function is_identifier(s) result(ok)
-        !> Candidate.
         character(len=*), intent(in) :: s
         logical :: ok
         integer :: i
@@ -648,7 +563,6 @@ contains
 
     !> Number of decimal digits at the start of `s`.
     pure function count_digits(s) result(n)
-        !> String.
         character(len=*), intent(in) :: s
         integer :: n
 
@@ -660,7 +574,6 @@ contains
 
     !> True for an optionally signed string of decimal digits.
     pure function is_integer(s) result(ok)
-        !> Candidate.
         character(len=*), intent(in) :: s
         logical :: ok
         integer :: i
@@ -674,7 +587,6 @@ contains
 
     !> True for a real literal: [sign] (digits [. [digits]] | . digits) [(e|d) [sign] digits].
     pure function is_real(s) result(ok)
-        !> Candidate.
         character(len=*), intent(in) :: s
         logical :: ok
         integer :: i, nint, nfrac, nexp
@@ -708,7 +620,6 @@ contains
 
     !> Lower-case copy of an ASCII string.
     pure function lower(s) result(t)
-        !> String.
         character(len=*), intent(in) :: s
         character(len=len(s)) :: t
         integer :: i
@@ -721,7 +632,6 @@ contains
 
     !> A string between single quotes, inner quotes doubled (namelist form).
     pure function quoted(s) result(q)
-        !> String.
         character(len=*), intent(in) :: s
         character(len=:), allocatable :: q
         integer :: i
@@ -736,8 +646,5 @@ contains
         end do
         q = q // "'"
     end function quoted
-
-
-
 
 end module supratrans_namelist

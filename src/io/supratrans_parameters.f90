@@ -43,11 +43,8 @@ contains
 
     !> One key as an attribute of `/parameters`.
     subroutine write_key(file, cfg, ik)
-        !> Open output file.
         type(h5_file), intent(inout) :: file
-        !> The input.
         type(input_config), intent(in) :: cfg
-        !> Index in `key_table`.
         integer, intent(in) :: ik
         type(key_value) :: v
         real(wp), allocatable :: reals(:)
@@ -111,11 +108,8 @@ contains
 
     !> One derived value as an attribute of `/parameters`.
     subroutine write_derived(file, cfg, id)
-        !> Open output file.
         type(h5_file), intent(inout) :: file
-        !> The input.
         type(input_config), intent(in) :: cfg
-        !> Index in `derived_table`.
         integer, intent(in) :: id
         real(wp) :: x
         character(len=:), allocatable :: name
@@ -142,7 +136,6 @@ contains
 
     !> `/parameters/schema`: one row per attribute of `/parameters` (the keys, then the derived values).
     subroutine write_schema_table(file)
-        !> Open output file.
         type(h5_file), intent(inout) :: file
         character(len=*), parameter :: g = group // "/schema", dims = "parameter"
         character(len=len(key_table%description)), allocatable :: name(:), key(:), kind(:), units(:), default(:), &
@@ -191,7 +184,6 @@ contains
 
     !> Name of a value type.
     pure function type_name(value_type) result(name)
-        !> `kt_*`.
         integer, intent(in) :: value_type
         character(len=:), allocatable :: name
 
