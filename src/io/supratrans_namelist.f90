@@ -430,7 +430,7 @@ contains
 
         allocate (names(0))
         do i = 1, size(key_table)
-            if (.not. any(names == key_table(i)%group)) names = [names, key_table(i)%group]
+            if (.not. any(names == key_table(i)%group)) names = [character(len=group_len) :: names, key_table(i)%group]
         end do
     end function group_names
 
