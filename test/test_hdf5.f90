@@ -8,7 +8,7 @@ module test_hdf5
     use pf_runtime
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp, i8
-    use supratrans_hdf5
+    use supratrans_h5_test
     use supratrans_error
     implicit none
 

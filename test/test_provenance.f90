@@ -14,7 +14,7 @@ module test_provenance
     use supratrans_system, only: make_directories, remove_file
     use supratrans_provenance, only: write_provenance, build_commit, build_dirty, no_commit, host_name, &
                                      executable_path, working_directory
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
+    use supratrans_h5_test, only: h5_file, h5_create, h5_commit, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
     implicit none
 
     !> Directory of the current test's files.

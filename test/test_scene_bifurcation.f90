@@ -17,7 +17,7 @@ module test_scene_bifurcation
     use supratrans_result, only: run_result, run_ok
     use supratrans_threshold, only: search_found, search_failed
     use supratrans_scene_bifurcation, only: run_bifurcation, bifurcation_omegas, bifurcation_outside_gap
-    use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
+    use supratrans_h5_test, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
     use supratrans_journal, only: journal_line
     use supratrans_search_record, only: search_record, search_fields, to_values, from_values, certify_unchanged, &
                                         certify_moved_within, certify_not_checked

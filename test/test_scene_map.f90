@@ -14,7 +14,7 @@ module test_scene_map
     use supratrans_potential, only: sine_gordon
     use supratrans_chain, only: threshold_as
     use supratrans_curves, only: curve_run
-    use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr
+    use supratrans_h5_test, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr
     use supratrans_scene_sweep, only: status_outside_gap
     use supratrans_scene_map, only: run_map
     implicit none

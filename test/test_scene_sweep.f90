@@ -12,7 +12,7 @@ module test_scene_sweep
     use supratrans_error, only: error_type
     use supratrans_config, only: input_config
     use supratrans_potential, only: sine_gordon, klein_gordon
-    use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr
+    use supratrans_h5_test, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr
     use supratrans_tasks, only: run_tasks, file_fingerprint
     use supratrans_journal, only: journal_line
     use supratrans_scene_sweep

@@ -11,7 +11,7 @@ module test_schema
     use supratrans_schema
     use supratrans_parameters, only: write_parameters, key_attribute_text
     use supratrans_potential, only: sine_gordon, klein_gordon, potential_name
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
+    use supratrans_h5_test, only: h5_file, h5_create, h5_commit, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
     implicit none
 
 contains

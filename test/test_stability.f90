@@ -13,7 +13,7 @@ module test_stability
     use supratrans_result, only: run_result, run_ok
     use supratrans_stepper_rk8, only: rk8_imaginary_limit
     use supratrans_scene_stability, only: run_stability, linear_stability_dt
-    use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read
+    use supratrans_h5_test, only: h5_file, h5_open, h5_close, h5_read
     implicit none
 
     !> Output path of the current test.

@@ -14,7 +14,7 @@ module test_workprec
     use supratrans_stepper_rk8, only: rk8_stability_coefficients, rk8_imaginary_limit, rk8_stages
     use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed
     use supratrans_scene_workprec, only: run_work_precision, fitted_order, measure_step_kernels, status_not_run
-    use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr
+    use supratrans_h5_test, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr
     implicit none
 
     !> Output path of the current test.

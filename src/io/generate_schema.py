@@ -202,12 +202,12 @@ def comment(text, indent):
     return "".join(f"{indent}!> {x}\n" for x in lines)
 
 
-def continued(head, items, indent, sep=", ", tail=""):
+def continued(head, items, indent, sep=", ", tail="", width=WIDTH):
     """`head item1, item2, ... tail` broken into continuation lines within the line width."""
     out, line = [], head
     for i, item in enumerate(items):
         piece = item + (sep if i < len(items) - 1 else tail)
-        if len(line.rsplit("\n", 1)[-1]) + len(piece) + 2 > WIDTH:
+        if len(line.rsplit("\n", 1)[-1]) + len(piece) + 2 > width:
             out.append(line.rstrip() + " &")
             line = indent + "    "
         line += piece
@@ -343,13 +343,16 @@ def choice_keys(s, c):
 # ------------------------------------------------------------------------------------------------ schema module
 
 
-def spec_constant(s, k):
-    """`type(key_spec), parameter :: spec_<id> = key_spec(...)`, one short argument group per line."""
+def spec_constructor(s, k, indent):
+    """`key_spec(group=..., ...)` of one key, its arguments packed into lines within the line width."""
     kt = {"integer": "kt_integer", "real": "kt_real", "logical": "kt_logical", "name": "kt_name",
           "path": "kt_path"}[k["type"]]
-    args = [f"group={fstring(k['group'])}", f"key={fstring(k['name'])}", f"value_type={kt}",
-            f"max_values={k['count_name'] or k['count']}", f"attribute={fstring(k['attribute'])}",
-            f"units={fstring(k['units'])}"]
+    args = [f"group={fstring(k['group'])}", f"key={fstring(k['name'])}", f"value_type={kt}"]
+    if k["list"]:   # the defaults of key_spec (one value, units "1") are left out
+        args.append(f"max_values={k['count_name'] or k['count']}")
+    args.append(f"attribute={fstring(k['attribute'])}")
+    if k["units"] != "1":
+        args.append(f"units={fstring(k['units'])}")
     if "choices" in k:
         args.append(f"choices=choice_{k['choices']}")
         if k["ids"]:
@@ -365,13 +368,18 @@ def spec_constant(s, k):
              ("description", k["description"])]
     if "message" in k:
         texts.insert(0, ("message", k["message"]))
-    indent = "        "
-    out = continued(f"    type(key_spec), parameter :: spec_{k['id']} = key_spec( &\n{indent}", args, indent,
-                    tail=", &")
-    for i, (name, text) in enumerate(texts):
-        end = ", &" if i < len(texts) - 1 else ")"
-        out += f"{indent}{name}={long_string(text, indent + '    ')}{end}\n"
-    return out
+    room = WIDTH - len(indent) - 8
+    for name, text in texts:
+        item = f"{name}={fstring(text)}"
+        if len(item) > room:    # split into `"..." // &` pieces: the first after `name=`, the others alone
+            inner, pieces, first = indent + "    ", [], WIDTH - len(indent) - len(name) - 14
+            while text:
+                n = first if not pieces else WIDTH - len(inner) - 10
+                pieces.append(text[:n])
+                text = text[n:]
+            item = f"{name}=" + (" // &\n" + inner).join(fstring(p) for p in pieces)
+        args.append(item)
+    return continued(indent + "key_spec(", args, indent, width=WIDTH - 3).rstrip("\n")[len(indent):] + ")"
 
 
 def fmt(x):
@@ -430,23 +438,29 @@ def schema_module(s):
     used = ["input_config"] + [f"{c['name']}_choices" for c in s["choices"]] + [c["name"] for c in s["constant"]]
     out.append(continued("    use supratrans_config, only: ", used, "    "))
     out.append("    use supratrans_keys, only: key_spec, derived_spec, key_value, kt_integer, kt_real, kt_logical, "
-               "kt_name, kt_path, &\n        real_value, int_value, flag_value, text_value\n")
+               "kt_name, kt_path, &\n        real_value, int_value, flag_value, text_value, set_list\n")
     out.append("    implicit none\n    private\n\n")
     out.append("    public :: get_key, set_key, choice_names, choice_noun\n\n")
     for c in s["choices"]:
         out.append(comment(f"Choice set of the {c['noun']} names (`{c['name']}_choices`).", "    "))
         out.append(f"    integer, parameter, public :: choice_{c['name']} = {c['index']}\n")
     out.append("\n")
+    out.append(comment("Index in `key_table` of each key: `key_<group>_<name>`.", "    "))
+    out.append(continued("    integer, parameter, public :: ", [f"key_{k['id']} = {k['index']}" for k in keys],
+                         "    "))
+    groups = []
     for k in keys:
-        out.append(comment(f"Index of &{k['group']} {k['name']} in `key_table`.", "    "))
-        out.append(f"    integer, parameter, public :: key_{k['id']} = {k['index']}\n")
-    out.append("\n")
-    for k in keys:
-        out.append(spec_constant(s, k))
+        if k["group"] not in groups:
+            groups.append(k["group"])
+    for g in groups:
+        out.append("\n" + comment(f"The keys of &{g}.", "    "))
+        items = [spec_constructor(s, k, "        ") for k in keys if k["group"] == g]
+        out.append(f"    type(key_spec), parameter :: {g}_keys(*) = [ &\n        " + ", &\n        ".join(items)
+                   + "]\n")
     out.append("\n" + comment("Every key of the input, grouped; the order of the groups is the order in which "
                               "they are converted and checked.", "    "))
-    out.append(continued("    type(key_spec), parameter, public :: key_table(*) = [",
-                         [f"spec_{k['id']}" for k in keys], "    ", tail="]"))
+    out.append(continued("    type(key_spec), parameter, public :: key_table(*) = [", [f"{g}_keys" for g in groups],
+                         "    ", tail="]"))
     out.append("\n" + comment("Values derived from the keys that `/parameters` stores too.", "    "))
     items = [f"derived_spec({fstring(d['name'])}, {fstring(d['units'])}, &\n            "
              f"{long_string(d['description'], '            ')})" for d in s["derived"]]
@@ -464,9 +478,8 @@ def schema_module(s):
         select case (set)
 """)
     for c in s["choices"]:
-        out.append(f"        case (choice_{c['name']})\n            names = {c['name']}_choices\n")
-    out.append("""        case default
-            allocate (names(0))
+        out.append(f"        case (choice_{c['name']}); names = {c['name']}_choices\n")
+    out.append("""        case default; allocate (names(0))
         end select
     end function choice_names
 
@@ -479,9 +492,8 @@ def schema_module(s):
         select case (set)
 """)
     for c in s["choices"]:
-        out.append(f"        case (choice_{c['name']})\n            noun = {fstring(c['noun'])}\n")
-    out.append("""        case default
-            noun = "value"
+        out.append(f"        case (choice_{c['name']}); noun = {fstring(c['noun'])}\n")
+    out.append("""        case default; noun = "value"
         end select
     end function choice_noun
 
@@ -499,15 +511,14 @@ def schema_module(s):
     for k in keys:
         ref = "cfg%" + "%".join(k["path"])
         maker = value_maker(k)
-        out.append(f"        case (key_{k['id']})\n")
         if k["list"]:
-            out.append(f"            if (allocated({ref})) v = {maker}({ref})\n")
+            stmt = f"if (allocated({ref})) v = {maker}({ref})"
         elif k["type"] == "logical":
-            out.append(f"            v = {maker}({ref})\n")
+            stmt = f"v = {maker}({ref})"
         else:
-            out.append(f"            v = {maker}([{ref}])\n")
-    out.append("""        case default
-            v%n = 0     ! not a key index: no value
+            stmt = f"v = {maker}([{ref}])"
+        out.append(case_line(k, stmt))
+    out.append("""        case default; v%n = 0     ! not a key index: no value
         end select
     end function get_key
 
@@ -526,24 +537,28 @@ def schema_module(s):
     for k in keys:
         ref = "cfg%" + "%".join(k["path"])
         src = value_source(k)
-        out.append(f"        case (key_{k['id']})\n")
         if k["list"]:
-            out.append(f"            if (allocated({ref})) deallocate ({ref})\n")
-            out.append(f"            if (v%n > 0) {ref} = {src}(1:v%n)\n")
+            stmt = f"call set_list({ref}, v)"
         elif k["type"] == "logical":
-            out.append(f"            {ref} = v%flag\n")
+            stmt = f"{ref} = v%flag"
         elif k["type"] in ("name", "path") and not k["ids"]:
-            out.append(f"            {ref} = trim({src}(1))\n")
+            stmt = f"{ref} = trim({src}(1))"
         else:
-            out.append(f"            {ref} = {src}(1)\n")
-    out.append("""        case default
-            continue    ! not a key index: nothing to set
+            stmt = f"{ref} = {src}(1)"
+        out.append(case_line(k, stmt))
+    out.append("""        case default; continue    ! not a key index: nothing to set
         end select
     end subroutine set_key
 
 end module supratrans_schema
 """)
     return "".join(out)
+
+
+def case_line(k, stmt):
+    """`case (key_<id>); <stmt>` on one line, or on two when it does not fit."""
+    line = f"        case (key_{k['id']}); {stmt}"
+    return line + "\n" if len(line) <= WIDTH else f"        case (key_{k['id']})\n            {stmt}\n"
 
 
 def value_maker(k):

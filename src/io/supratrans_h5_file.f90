@@ -1,33 +1,14 @@
 !> The HDF5 file of supratrans: its handle (`h5_file`), its life cycle, and the helpers the reading and writing
-!> modules share (types, identifiers, errors). Use `supratrans_hdf5`, which gathers the public interface.
+!> modules share (types, identifiers, errors). Use `supratrans_hdf5`, which gathers the public interface and
+!> documents the layer: a writer is a plain sequence of writes with one check at the end (the first error sticks
+!> in `file%error`, every later write does nothing, `h5_commit` returns it and writes nothing).
 !>
-!> ## A file whose first error sticks
-!> A writer is a plain sequence of writes with one check at the end:
-!>
-!>     call h5_create(file, path, overwrite)
-!>     call h5_write(file, "/amplitude", amplitudes, "rad", "Driving amplitude A", dims="amplitude")
-!>     ...
-!>     call h5_commit(file, error)
-!>
-!> The first failure (of `h5_create` or of any write) is kept in the file (`file%error`); every later write does
-!> nothing, and `h5_commit` returns that error, writes nothing under `path` and leaves no temporary file.
-!> `h5_failed` tells whether an error stuck, for a writer that wants to skip work.
-!>
-!> ## Written in memory, committed in one checked write
 !> A new file is built in memory (HDF5's core driver, no backing store): HDF5 itself never writes to the disk, so a
 !> full disk cannot fail inside the library (which used to leave the library in a state that crashed at exit,
-!> SIGSEGV). `h5_commit` (`supratrans_h5_scales`) attaches the dimension scales, takes the file's image and writes it with
-!> `write_bytes_atomic`: a fresh `<path>.tmp-XXXXXX` created with `O_CREAT | O_EXCL | O_NOFOLLOW`, every write(2)
-!> checked, fsync, rename(2) onto `path` (replacing `path` itself, never the target of a link). A failure
-!> (no space left, a file size limit, an I/O error) is one error naming `path` and the system's reason; nothing is
-!> left under `path` nor under a temporary name. Only a regular file at `path` is ever replaced.
-!>
-!> ## Dimension scales
-!> A dataset written with `dims` is remembered in the file (`remember_dims`); `h5_commit` (`supratrans_h5_scales`)
-!> attaches its dimension scales.
-!>
-!> ## Reading
-!> An existing file is opened read-only with `h5_open` and closed with `h5_close`; reads return their own error.
+!> SIGSEGV). `h5_commit` (`supratrans_h5_scales`) attaches the dimension scales of the datasets remembered here
+!> (`remember_dims`), takes the file's image and writes it with `write_bytes_atomic` (a fresh temporary created with
+!> `O_CREAT | O_EXCL | O_NOFOLLOW`, every write(2) checked, fsync, rename(2) onto `path`). An existing file is
+!> opened read-only with `h5_open` and closed with `h5_close`; reads return their own error.
 !>
 !> The library is initialised by `h5_create` and `h5_open`, every time: `h5open_f` may be called again, and the
 !> module keeps no state of its own, so any two threads' runs share nothing here. Serial HDF5 is not thread-safe
@@ -213,20 +194,12 @@ contains
 
     !> Remember that dataset `name` has the dimensions `dims` (C/h5py order), for `attach_scales` at commit.
     pure subroutine remember_dims(file, name, dims)
-        !> The file.
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> Comma-separated dimension names.
-        character(len=*), intent(in) :: dims
+        character(len=*), intent(in) :: name, dims
 
         if (.not. allocated(file%dim_table)) file%dim_table = ""
         file%dim_table = file%dim_table//name//achar(9)//dims//achar(10)
     end subroutine remember_dims
-
-
-
-
 
     !> Whether the object `name` exists; each level of a nested path is checked. "/" always exists in an open file.
     function h5_exists(file, name) result(exists)
@@ -278,49 +251,34 @@ contains
     !> Initialise the HDF5 library and its Fortran interface (`h5open_f`, which may be called again: the module
     !> keeps no "initialised" flag) and switch off HDF5's automatic printing of error stacks.
     subroutine init_library(hdferr)
-        !> HDF5 status, negative on failure.
         integer, intent(out) :: hdferr
 
         call h5open_f(hdferr)
-        if (hdferr < 0) return
-        call h5eset_auto_f(0, hdferr)
+        if (hdferr >= 0) call h5eset_auto_f(0, hdferr)
     end subroutine init_library
 
     !> Memory type of `real(wp)`.
-    function real_mem_type() result(type_id)
-        integer(hid_t) :: type_id
-
-        type_id = h5kind_to_type(wp, h5_real_kind)
+    integer(hid_t) function real_mem_type()
+        real_mem_type = h5kind_to_type(wp, h5_real_kind)
     end function real_mem_type
 
     !> Memory type of default integers.
-    function int_mem_type() result(type_id)
-        integer(hid_t) :: type_id
-
-        type_id = h5kind_to_type(kind(0), h5_integer_kind)
+    integer(hid_t) function int_mem_type()
+        int_mem_type = h5kind_to_type(kind(0), h5_integer_kind)
     end function int_mem_type
 
     !> File type of default integers (little-endian, of their size).
-    function int_file_type() result(type_id)
-        integer(hid_t) :: type_id
-
-        if (storage_size(0) == 64) then
-            type_id = h5t_std_i64le
-        else
-            type_id = h5t_std_i32le
-        end if
+    integer(hid_t) function int_file_type()
+        int_file_type = merge(h5t_std_i64le, h5t_std_i32le, storage_size(0) == 64)
     end function int_file_type
 
     !> Memory type of `integer(i8)`.
-    function i8_mem_type() result(type_id)
-        integer(hid_t) :: type_id
-
-        type_id = h5kind_to_type(i8, h5_integer_kind)
+    integer(hid_t) function i8_mem_type()
+        i8_mem_type = h5kind_to_type(i8, h5_integer_kind)
     end function i8_mem_type
 
     !> The path of the file (for messages).
     pure function disk_path(file) result(path)
-        !> The file.
         type(h5_file), intent(in) :: file
         character(len=:), allocatable :: path
 
@@ -330,84 +288,50 @@ contains
 
     !> "/" for an empty object path, else the path.
     pure function root_if_empty(object) result(path)
-        !> Path of an object.
         character(len=*), intent(in) :: object
         character(len=:), allocatable :: path
 
-        if (len_trim(object) == 0) then
-            path = "/"
-        else
-            path = object
-        end if
+        path = object
+        if (len_trim(object) == 0) path = "/"
     end function root_if_empty
 
     !> Turn a negative HDF5 status into an `err_io` error "<file>: cannot <action> '<object>' (<routine> failed)".
     subroutine check(hdferr, file, action, object, routine, error)
-        !> HDF5 status.
         integer, intent(in) :: hdferr
-        !> The file.
         type(h5_file), intent(in) :: file
-        !> What was attempted, e.g. "create dataset".
-        character(len=*), intent(in) :: action
-        !> The object concerned.
-        character(len=*), intent(in) :: object
-        !> The HDF5 routine that failed.
-        character(len=*), intent(in) :: routine
-        !> Error, allocated if `hdferr < 0`.
+        character(len=*), intent(in) :: action, object, routine
         type(error_type), allocatable, intent(out) :: error
 
-        if (hdferr < 0) then
-            call fatal_error(error, disk_path(file)//": cannot "//action//" '"//object//"' ("//routine//" failed)", &
-                err_io)
-        end if
+        if (hdferr < 0) call fatal_error(error, disk_path(file)//": cannot "//action//" '"//object//"' ("//routine// &
+            " failed)", err_io)
     end subroutine check
 
     !> Error unless the file is open.
     subroutine check_open(file, action, object, error)
-        !> The file.
         type(h5_file), intent(in) :: file
-        !> What is attempted.
-        character(len=*), intent(in) :: action
-        !> The object concerned.
-        character(len=*), intent(in) :: object
-        !> Error, allocated if the file is closed.
+        character(len=*), intent(in) :: action, object
         type(error_type), allocatable, intent(out) :: error
 
-        if (file%mode == h5_mode_closed) then
-            call fatal_error(error, disk_path(file)//": file is not open, cannot "//action//" '"//object//"'", err_io)
-        end if
+        if (file%mode == h5_mode_closed) call fatal_error(error, disk_path(file)//": file is not open, cannot "// &
+            action//" '"//object//"'", err_io)
     end subroutine check_open
 
     !> Error unless the file is open for writing.
     subroutine check_writable(file, action, object, error)
-        !> The file.
         type(h5_file), intent(in) :: file
-        !> What is attempted.
-        character(len=*), intent(in) :: action
-        !> The object concerned.
-        character(len=*), intent(in) :: object
-        !> Error, allocated if the file is closed or read-only.
+        character(len=*), intent(in) :: action, object
         type(error_type), allocatable, intent(out) :: error
 
         call check_open(file, action, object, error)
-        if (allocated(error)) return
-        if (file%mode == h5_mode_read) then
-            call fatal_error(error, disk_path(file)//": file is open read-only, cannot "//action//" '"//object//"'", &
-                err_io)
-        end if
+        if (.not. allocated(error) .and. file%mode == h5_mode_read) call fatal_error(error, disk_path(file)// &
+            ": file is open read-only, cannot "//action//" '"//object//"'", err_io)
     end subroutine check_writable
 
     !> Error unless `names` holds `rank` comma-separated dimension names.
     subroutine check_dim_names(file, name, names, rank, error)
-        !> The file.
         type(h5_file), intent(in) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> Comma-separated dimension names.
-        character(len=*), intent(in) :: names
-        !> Rank of the dataset.
+        character(len=*), intent(in) :: name, names
         integer, intent(in) :: rank
-        !> Error, allocated on a mismatch.
         type(error_type), allocatable, intent(out) :: error
         integer :: count, k
 
@@ -415,48 +339,34 @@ contains
         do k = 1, len(names)
             if (names(k:k) == ",") count = count + 1
         end do
-        if (count /= rank .or. len_trim(names) == 0) then
-            call fatal_error(error, disk_path(file)//": dims = '"//names//"' names "//int_str(count)// &
-                " dimensions, dataset '"//name//"' has rank "//int_str(rank), err_io)
-        end if
+        if (count /= rank .or. len_trim(names) == 0) call fatal_error(error, disk_path(file)//": dims = '"//names// &
+            "' names "//int_str(count)//" dimensions, dataset '"//name//"' has rank "//int_str(rank), err_io)
     end subroutine check_dim_names
 
     !> Close any HDF5 identifier (file, group, dataset, datatype, dataspace, attribute, property list) and set it to
     !> -1; negative identifiers are ignored. Never pass a predefined datatype.
     subroutine close_id(id)
-        !> The identifier.
         integer(hid_t), intent(inout) :: id
         integer :: id_type, hdferr
 
         if (id < 0) return
         call h5iget_type_f(id, id_type, hdferr)
         if (hdferr >= 0) then
-            if (id_type == h5i_dataset_f) then
-                call h5dclose_f(id, hdferr)
-            else if (id_type == h5i_group_f) then
-                call h5gclose_f(id, hdferr)
-            else if (id_type == h5i_datatype_f) then
-                call h5tclose_f(id, hdferr)
-            else if (id_type == h5i_dataspace_f) then
-                call h5sclose_f(id, hdferr)
-            else if (id_type == h5i_attr_f) then
-                call h5aclose_f(id, hdferr)
-            else if (id_type == h5i_genprop_lst_f) then
-                call h5pclose_f(id, hdferr)
-            else if (id_type == h5i_file_f) then
-                call h5fclose_f(id, hdferr)
-            end if
+            if (id_type == h5i_dataset_f) call h5dclose_f(id, hdferr)
+            if (id_type == h5i_group_f) call h5gclose_f(id, hdferr)
+            if (id_type == h5i_datatype_f) call h5tclose_f(id, hdferr)
+            if (id_type == h5i_dataspace_f) call h5sclose_f(id, hdferr)
+            if (id_type == h5i_attr_f) call h5aclose_f(id, hdferr)
+            if (id_type == h5i_genprop_lst_f) call h5pclose_f(id, hdferr)
+            if (id_type == h5i_file_f) call h5fclose_f(id, hdferr)
         end if
         id = -1
     end subroutine close_id
 
-    !> Create a scalar dataspace (no dimensions) or a simple one.
+    !> Create a scalar dataspace (`dims` empty) or a simple one (`dims` in Fortran order).
     subroutine make_space(dims, space, hdferr)
-        !> Dimensions in Fortran order; empty for a scalar.
         integer(hsize_t), intent(in) :: dims(:)
-        !> The dataspace.
         integer(hid_t), intent(out) :: space
-        !> HDF5 status.
         integer, intent(out) :: hdferr
 
         if (size(dims) == 0) then
@@ -468,30 +378,22 @@ contains
 
     !> Create a link-creation property list that creates missing intermediate groups.
     subroutine make_lcpl(lcpl, hdferr)
-        !> The property list.
         integer(hid_t), intent(out) :: lcpl
-        !> HDF5 status.
         integer, intent(out) :: hdferr
 
         call h5pcreate_f(h5p_link_create_f, lcpl, hdferr)
-        if (hdferr < 0) return
-        call h5pset_create_inter_group_f(lcpl, 1, hdferr)
+        if (hdferr >= 0) call h5pset_create_inter_group_f(lcpl, 1, hdferr)
     end subroutine make_lcpl
 
     !> Create a fixed-length, null-padded ASCII string type of `length` characters (at least 1).
     subroutine make_string_type(length, type_id, hdferr)
-        !> Number of characters.
         integer, intent(in) :: length
-        !> The datatype.
         integer(hid_t), intent(out) :: type_id
-        !> HDF5 status.
         integer, intent(out) :: hdferr
 
         call h5tcopy_f(h5t_c_s1, type_id, hdferr)
-        if (hdferr < 0) return
-        call h5tset_size_f(type_id, int(max(length, 1), size_t), hdferr)
-        if (hdferr < 0) return
-        call h5tset_strpad_f(type_id, h5t_str_nullpad_f, hdferr)
+        if (hdferr >= 0) call h5tset_size_f(type_id, int(max(length, 1), size_t), hdferr)
+        if (hdferr >= 0) call h5tset_strpad_f(type_id, h5t_str_nullpad_f, hdferr)
     end subroutine make_string_type
 
 end module supratrans_h5_file

@@ -14,8 +14,7 @@
 !> `work_precision`).
 module supratrans_h5_scales
     use, intrinsic :: iso_c_binding, only: c_char, c_loc, c_ptr
-    use hdf5, only: hid_t, hsize_t, size_t, h5fflush_f, h5f_scope_global_f, h5fget_file_image_f, h5dopen_f, &
-        h5dget_space_f, h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f
+    use hdf5, only: hid_t, hsize_t, size_t, h5fflush_f, h5f_scope_global_f, h5fget_file_image_f, h5dopen_f
     use h5ds, only: h5dsset_scale_f, h5dsis_scale_f, h5dsattach_scale_f, h5dsis_attached_f, h5dsset_label_f
     use supratrans_error, only: error_type, fatal_error, err_io
     use supratrans_strings, only: int_str
@@ -23,6 +22,7 @@ module supratrans_h5_scales
     use supratrans_h5_file, only: h5_file, h5_mode_read, h5_discard, h5_close, h5_exists, stick, check, check_open, &
         close_id
     use supratrans_h5_write, only: h5_write
+    use supratrans_h5_read, only: h5_shape
     implicit none
     private
 
@@ -87,7 +87,6 @@ contains
     !> Label every remembered dimension with its name and attach its coordinate dataset as dimension scale (see
     !> the module's documentation for how a name finds its dataset). A failure sticks in `file`.
     subroutine attach_scales(file)
-        !> The file (being created).
         type(h5_file), intent(inout) :: file
         character(len=:), allocatable :: line, name, names
         integer :: first, last, tab
@@ -107,12 +106,8 @@ contains
 
     !> Label the dimensions of dataset `name` and attach their scales.
     subroutine attach_dataset_scales(file, name, names)
-        !> The file (being created).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> Its comma-separated dimension names, C/h5py order.
-        character(len=*), intent(in) :: names
+        character(len=*), intent(in) :: name, names
         type(error_type), allocatable :: error
         integer(hsize_t), allocatable :: shape(:)
         integer(hid_t) :: dset, scale
@@ -120,13 +115,15 @@ contains
         integer :: rank, j, comma, hdferr, idx
         logical :: attached, is_scale
 
-        call h5dopen_f(file%id, name, dset, hdferr)
-        call check(hdferr, file, "open dataset", name, "h5dopen_f", error)
+        call h5_shape(file, name, "", -1, shape, error)
+        if (.not. allocated(error)) then
+            call h5dopen_f(file%id, name, dset, hdferr)
+            call check(hdferr, file, "open dataset", name, "h5dopen_f", error)
+        end if
         if (allocated(error)) then
             call stick(file, error)
             return
         end if
-        call dataset_shape(dset, shape, hdferr)
         rank = size(shape)
         rest = names
         j = 0
@@ -166,20 +163,12 @@ contains
     !> `G` the dataset's group and each parent up to the root, then the same with `dim//"s"`, that is a rank-1
     !> dataset of that length and not `name` itself; empty if there is none.
     subroutine find_scale(file, name, dim, length, path)
-        !> The file.
         type(h5_file), intent(in) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> Dimension name.
-        character(len=*), intent(in) :: dim
-        !> Length of the dimension.
+        character(len=*), intent(in) :: name, dim
         integer(hsize_t), intent(in) :: length
-        !> Path of the coordinate dataset; empty if none.
         character(len=:), allocatable, intent(out) :: path
         character(len=:), allocatable :: group, candidate, own
-        integer(hsize_t), allocatable :: shape(:)
-        integer(hid_t) :: dset
-        integer :: plural, slash, hdferr
+        integer :: plural, slash
 
         own = "/"//strip_slashes(name)
         do plural = 0, 1
@@ -187,18 +176,9 @@ contains
             do
                 candidate = group//"/"//dim
                 if (plural == 1) candidate = candidate//"s"
-                if (candidate /= own .and. h5_exists(file, candidate)) then
-                    call h5dopen_f(file%id, candidate, dset, hdferr)
-                    if (hdferr >= 0) then
-                        call dataset_shape(dset, shape, hdferr)
-                        call close_id(dset)
-                        if (hdferr >= 0 .and. size(shape) == 1) then
-                            if (shape(1) == length) then
-                                path = candidate
-                                return
-                            end if
-                        end if
-                    end if
+                if (candidate /= own .and. length_of(file, candidate) == length) then
+                    path = candidate
+                    return
                 end if
                 if (len(group) == 0) exit
                 slash = index(group, "/", back=.true.)
@@ -213,13 +193,9 @@ contains
     !> dataset to have a scale, or none); `/<dim>_index` where `/<dim>` is something else (the two-dimensional `/dt`
     !> of `work_precision`). Empty when both are taken: the dimension then keeps only its label.
     subroutine index_scale(file, dim, length, path)
-        !> The file (being created).
         type(h5_file), intent(inout) :: file
-        !> Dimension name.
         character(len=*), intent(in) :: dim
-        !> Length of the dimension.
         integer(hsize_t), intent(in) :: length
-        !> Path of the index scale; empty if none.
         character(len=:), allocatable, intent(out) :: path
         integer :: i
 
@@ -238,28 +214,22 @@ contains
         if (allocated(file%error)) path = ""
     end subroutine index_scale
 
-    !> The length of the rank-1 dataset `path`; -1 if it is not one.
+    !> The length of the rank-1 dataset `path`; -1 if there is none.
     function length_of(file, path) result(length)
-        !> The file.
         type(h5_file), intent(in) :: file
-        !> Path of the dataset (it exists).
         character(len=*), intent(in) :: path
         integer(hsize_t) :: length
         integer(hsize_t), allocatable :: shape(:)
-        integer(hid_t) :: dset
-        integer :: hdferr
+        type(error_type), allocatable :: error
 
         length = -1
-        call h5dopen_f(file%id, path, dset, hdferr)
-        if (hdferr < 0) return
-        call dataset_shape(dset, shape, hdferr)
-        call close_id(dset)
-        if (hdferr >= 0 .and. size(shape) == 1) length = shape(1)
+        if (.not. h5_exists(file, path)) return
+        call h5_shape(file, path, "", 1, shape, error)
+        if (.not. allocated(error)) length = shape(1)
     end function length_of
 
     !> The last component of a path ("time" for "/probes/time").
     pure function base_name(path) result(name)
-        !> The path.
         character(len=*), intent(in) :: path
         character(len=:), allocatable :: name
 
@@ -268,7 +238,6 @@ contains
 
     !> A path without leading and trailing slashes.
     pure function strip_slashes(path) result(stripped)
-        !> The path.
         character(len=*), intent(in) :: path
         character(len=:), allocatable :: stripped
         integer :: first, last
@@ -281,30 +250,4 @@ contains
             stripped = path(first:last)
         end if
     end function strip_slashes
-
-    !> The shape of an open dataset, in Fortran order.
-    subroutine dataset_shape(dset, shape, hdferr)
-        !> The dataset.
-        integer(hid_t), intent(in) :: dset
-        !> Its dimensions (empty for a scalar).
-        integer(hsize_t), allocatable, intent(out) :: shape(:)
-        !> HDF5 status.
-        integer, intent(out) :: hdferr
-        integer(hid_t) :: space
-        integer(hsize_t), allocatable :: maxdims(:)
-        integer :: rank
-
-        allocate (shape(0))
-        call h5dget_space_f(dset, space, hdferr)
-        if (hdferr < 0) return
-        call h5sget_simple_extent_ndims_f(space, rank, hdferr)
-        if (hdferr >= 0 .and. rank > 0) then
-            deallocate (shape)
-            allocate (shape(rank), maxdims(rank))
-            call h5sget_simple_extent_dims_f(space, shape, maxdims, hdferr)
-            if (hdferr >= 0) hdferr = 0
-        end if
-        call close_id(space)
-    end subroutine dataset_shape
-
 end module supratrans_h5_scales

@@ -8,16 +8,18 @@
 !> Fortran array `a(ntime, nprobe)`). `real(wp)` is stored as IEEE 64-bit float, default integer as 32-bit signed
 !> integer, `integer(i8)` as 64-bit, character as fixed-length, null-padded ASCII (trailing blanks of the elements
 !> of a character array are padding and are not stored), logical attributes as integer 0 or 1.
+!>
+!> Each typed routine of the generic interfaces only finds the HDF5 types and the address of its data; one
+!> routine writes every dataset (`write_dataset`) and one every attribute (`write_attr`).
 module supratrans_h5_write
     use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_loc, c_char, c_null_char
-    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
-    use hdf5, only: hid_t, hsize_t, h5dcreate_f, h5dopen_f, h5dwrite_f, h5screate_f, h5pset_create_inter_group_f, &
-        h5tset_size_f, h5t_ieee_f64le, h5t_std_i64le, h5gcreate_f, h5oopen_f, h5ldelete_f, h5aexists_f, h5adelete_f, &
-        h5acreate_f, h5awrite_f
+    use hdf5, only: hid_t, hsize_t, h5dcreate_f, h5dopen_f, h5dwrite_f, h5t_ieee_f64le, h5t_std_i64le, h5gcreate_f, &
+        h5oopen_f, h5ldelete_f, h5aexists_f, h5adelete_f, h5acreate_f, h5awrite_f
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_io
-    use supratrans_h5_file, only: h5_exists, real_mem_type, int_mem_type, int_file_type, i8_mem_type, disk_path, root_if_empty, &
-        check, check_writable, check_dim_names, close_id, make_space, make_lcpl, make_string_type, h5_file, stick, remember_dims
+    use supratrans_h5_file, only: h5_file, h5_exists, real_mem_type, int_mem_type, int_file_type, i8_mem_type, &
+        disk_path, root_if_empty, check, check_writable, check_dim_names, close_id, make_space, make_lcpl, &
+        make_string_type, stick, remember_dims
     implicit none
     private
 
@@ -34,8 +36,9 @@ module supratrans_h5_write
     end interface h5_write
 
     !> Write an attribute `name` of the object `object` ("/" for the root group; a missing group is created):
-    !> `call h5_write_attr(file, object, name, value)` (a failure sticks in `file`). `value`: character scalar, `real(wp)` scalar or
-    !> rank 1, default integer scalar or rank 1, `integer(i8)` scalar, logical scalar (stored as integer 0/1).
+    !> `call h5_write_attr(file, object, name, value)` (a failure sticks in `file`). `value`: character scalar,
+    !> `real(wp)` scalar or rank 1, default integer scalar or rank 1, `integer(i8)` scalar, logical scalar (stored
+    !> as integer 0/1).
     interface h5_write_attr
         module procedure :: write_attr_char, write_attr_real_0d, write_attr_real_1d, write_attr_int_0d
         module procedure :: write_attr_int_1d, write_attr_i8_0d, write_attr_logical
@@ -66,398 +69,240 @@ contains
         call stick(file, error)
     end subroutine h5_create_group
 
-    !> Write a `real(wp)` scalar dataset.
+    ! The typed datasets of `h5_write`: data, units, description and (arrays) the dimension names.
+
     subroutine write_real_0d(file, name, data, units, description)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> The value.
+        character(len=*), intent(in) :: name, units, description
         real(wp), intent(in), target :: data
-        !> Units ("1" for dimensionless).
-        character(len=*), intent(in) :: units
-        !> What the value is.
-        character(len=*), intent(in) :: description
 
         call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, [integer(hsize_t) ::], c_loc(data), units, &
             description)
     end subroutine write_real_0d
 
-    !> Write a `real(wp)` rank-1 dataset.
     subroutine write_real_1d(file, name, data, units, description, dims)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> The values.
+        character(len=*), intent(in) :: name, units, description
         real(wp), intent(in), target, contiguous :: data(:)
-        !> Units ("1" for dimensionless).
-        character(len=*), intent(in) :: units
-        !> What the values are.
-        character(len=*), intent(in) :: description
-        !> Name of the dimension, stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
 
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
-        call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, shape(data, kind=hsize_t), &
-            buf, units, description, dims)
+        call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, shape(data, hsize_t), buf, units, description, dims)
     end subroutine write_real_1d
 
-    !> Write a `real(wp)` rank-2 dataset (h5py sees the dimensions reversed).
     subroutine write_real_2d(file, name, data, units, description, dims)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> The values.
+        character(len=*), intent(in) :: name, units, description
         real(wp), intent(in), target, contiguous :: data(:, :)
-        !> Units ("1" for dimensionless).
-        character(len=*), intent(in) :: units
-        !> What the values are.
-        character(len=*), intent(in) :: description
-        !> Names of the dimensions in C/h5py order, e.g. "probe, time"; stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
 
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
-        call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, shape(data, kind=hsize_t), &
-            buf, units, description, dims)
+        call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, shape(data, hsize_t), buf, units, description, dims)
     end subroutine write_real_2d
 
-    !> Write a `real(wp)` rank-3 dataset (h5py sees the dimensions reversed).
     subroutine write_real_3d(file, name, data, units, description, dims)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> The values.
+        character(len=*), intent(in) :: name, units, description
         real(wp), intent(in), target, contiguous :: data(:, :, :)
-        !> Units ("1" for dimensionless).
-        character(len=*), intent(in) :: units
-        !> What the values are.
-        character(len=*), intent(in) :: description
-        !> Names of the dimensions in C/h5py order; stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
 
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
-        call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, shape(data, kind=hsize_t), &
-            buf, units, description, dims)
+        call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, shape(data, hsize_t), buf, units, description, dims)
     end subroutine write_real_3d
 
-    !> Write a `real(wp)` rank-4 dataset (h5py sees the dimensions reversed).
     subroutine write_real_4d(file, name, data, units, description, dims)
-        !> The file (writable; a failure sticks in it).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> The values.
+        character(len=*), intent(in) :: name, units, description
         real(wp), intent(in), target, contiguous :: data(:, :, :, :)
-        !> Units ("1" for dimensionless).
-        character(len=*), intent(in) :: units
-        !> What the values are.
-        character(len=*), intent(in) :: description
-        !> Names of the dimensions in C/h5py order; stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
 
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
-        call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, shape(data, kind=hsize_t), &
-            buf, units, description, dims)
+        call write_dataset(file, name, real_mem_type(), h5t_ieee_f64le, shape(data, hsize_t), buf, units, description, dims)
     end subroutine write_real_4d
 
-    !> Write a default-integer scalar dataset.
     subroutine write_int_0d(file, name, data, units, description)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> The value.
+        character(len=*), intent(in) :: name, units, description
         integer, intent(in), target :: data
-        !> Units ("1" for counts and flags).
-        character(len=*), intent(in) :: units
-        !> What the value is.
-        character(len=*), intent(in) :: description
 
         call write_dataset(file, name, int_mem_type(), int_file_type(), [integer(hsize_t) ::], c_loc(data), units, &
             description)
     end subroutine write_int_0d
 
-    !> Write a default-integer rank-1 dataset.
     subroutine write_int_1d(file, name, data, units, description, dims)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> The values.
+        character(len=*), intent(in) :: name, units, description
         integer, intent(in), target, contiguous :: data(:)
-        !> Units ("1" for counts and flags).
-        character(len=*), intent(in) :: units
-        !> What the values are.
-        character(len=*), intent(in) :: description
-        !> Name of the dimension, stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
 
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
-        call write_dataset(file, name, int_mem_type(), int_file_type(), shape(data, kind=hsize_t), &
-            buf, units, description, dims)
+        call write_dataset(file, name, int_mem_type(), int_file_type(), shape(data, hsize_t), buf, units, description, dims)
     end subroutine write_int_1d
 
-    !> Write a default-integer rank-2 dataset (h5py sees the dimensions reversed).
     subroutine write_int_2d(file, name, data, units, description, dims)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> The values.
+        character(len=*), intent(in) :: name, units, description
         integer, intent(in), target, contiguous :: data(:, :)
-        !> Units ("1" for counts and flags).
-        character(len=*), intent(in) :: units
-        !> What the values are.
-        character(len=*), intent(in) :: description
-        !> Names of the dimensions in C/h5py order; stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
 
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
-        call write_dataset(file, name, int_mem_type(), int_file_type(), shape(data, kind=hsize_t), &
-            buf, units, description, dims)
+        call write_dataset(file, name, int_mem_type(), int_file_type(), shape(data, hsize_t), buf, units, description, dims)
     end subroutine write_int_2d
 
-    !> Write a default-integer rank-3 dataset.
     subroutine write_int_3d(file, name, data, units, description, dims)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> The values.
+        character(len=*), intent(in) :: name, units, description
         integer, intent(in), target, contiguous :: data(:, :, :)
-        !> Units ("1" for counts and flags).
-        character(len=*), intent(in) :: units
-        !> What the values are.
-        character(len=*), intent(in) :: description
-        !> Names of the dimensions in C/h5py order; stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
 
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
-        call write_dataset(file, name, int_mem_type(), int_file_type(), shape(data, kind=hsize_t), &
-            buf, units, description, dims)
+        call write_dataset(file, name, int_mem_type(), int_file_type(), shape(data, hsize_t), buf, units, description, dims)
     end subroutine write_int_3d
 
-    !> Write an `integer(i8)` scalar dataset.
     subroutine write_i8_0d(file, name, data, units, description)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> The value.
+        character(len=*), intent(in) :: name, units, description
         integer(i8), intent(in), target :: data
-        !> Units ("1" for counts).
-        character(len=*), intent(in) :: units
-        !> What the value is.
-        character(len=*), intent(in) :: description
 
         call write_dataset(file, name, i8_mem_type(), h5t_std_i64le, [integer(hsize_t) ::], c_loc(data), units, &
             description)
     end subroutine write_i8_0d
 
-    !> Write an `integer(i8)` rank-1 dataset.
     subroutine write_i8_1d(file, name, data, units, description, dims)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> The values.
+        character(len=*), intent(in) :: name, units, description
         integer(i8), intent(in), target, contiguous :: data(:)
-        !> Units ("1" for counts).
-        character(len=*), intent(in) :: units
-        !> What the values are.
-        character(len=*), intent(in) :: description
-        !> Name of the dimension, stored as attribute `dimensions`.
         character(len=*), intent(in), optional :: dims
         type(c_ptr) :: buf
 
         buf = c_null_ptr
         if (size(data) > 0) buf = c_loc(data)
-        call write_dataset(file, name, i8_mem_type(), h5t_std_i64le, shape(data, kind=hsize_t), buf, units, &
-            description, dims)
+        call write_dataset(file, name, i8_mem_type(), h5t_std_i64le, shape(data, hsize_t), buf, units, description, dims)
     end subroutine write_i8_1d
 
-    !> Write a character scalar as a fixed-length string dataset.
     subroutine write_char_0d(file, name, data, units, description)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> The string (stored as given, trailing blanks included).
-        character(len=*), intent(in) :: data
-        !> Units ("1" or "" for text).
-        character(len=*), intent(in) :: units
-        !> What the string is.
-        character(len=*), intent(in) :: description
+        character(len=*), intent(in) :: name, data, units, description
 
         call write_strings(file, name, [data], .false., units, description)
     end subroutine write_char_0d
 
-    !> Write a character array as a rank-1 fixed-length string dataset (trailing blanks are not stored).
     subroutine write_char_1d(file, name, data, units, description, dims)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> The strings.
-        character(len=*), intent(in) :: data(:)
-        !> Units ("1" or "" for text).
-        character(len=*), intent(in) :: units
-        !> What the strings are.
-        character(len=*), intent(in) :: description
-        !> Name of the dimension, stored as attribute `dimensions`.
+        character(len=*), intent(in) :: name, units, description, data(:)
         character(len=*), intent(in), optional :: dims
 
         call write_strings(file, name, data, .true., units, description, dims)
     end subroutine write_char_1d
 
-    !> Write a string attribute.
-    subroutine write_attr_char(file, object, name, value)
-        !> The file (writable).
-        type(h5_file), intent(inout) :: file
-        !> Path of the object ("/" for the root group).
-        character(len=*), intent(in) :: object
-        !> Name of the attribute.
-        character(len=*), intent(in) :: name
-        !> The value.
-        character(len=*), intent(in) :: value
-        type(error_type), allocatable :: error
-        integer(hid_t) :: obj
-        integer :: hdferr
+    ! The typed attributes of `h5_write_attr`: object, attribute name, value.
 
-        if (allocated(file%error)) return
-        call open_attr_owner(file, object, name, obj, error)
-        if (.not. allocated(error)) then
-            call put_string_attr(obj, name, value, hdferr)
-            call check(hdferr, file, "write attribute '"//name//"' of", object, "h5awrite_f", error)
-            call close_id(obj)
+    subroutine write_attr_char(file, object, name, value)
+        type(h5_file), intent(inout) :: file
+        character(len=*), intent(in) :: object, name, value
+        character(kind=c_char, len=1), allocatable, target :: chars(:)
+        integer(hid_t) :: string_type
+        integer :: hdferr
+        type(c_ptr) :: buf
+
+        call c_chars(value, chars)
+        call make_string_type(len(value), string_type, hdferr)
+        buf = c_loc(chars)
+        if (hdferr < 0) then
+            call write_failed(file, hdferr, object, name)
+        else
+            call write_attr(file, object, name, string_type, string_type, [integer(hsize_t) ::], buf)
         end if
-        call stick(file, error)
+        call close_id(string_type)
     end subroutine write_attr_char
 
-    !> Write a `real(wp)` scalar attribute.
     subroutine write_attr_real_0d(file, object, name, value)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the object ("/" for the root group).
-        character(len=*), intent(in) :: object
-        !> Name of the attribute.
-        character(len=*), intent(in) :: name
-        !> The value.
+        character(len=*), intent(in) :: object, name
         real(wp), intent(in), target :: value
 
         call write_attr(file, object, name, real_mem_type(), h5t_ieee_f64le, [integer(hsize_t) ::], c_loc(value))
     end subroutine write_attr_real_0d
 
-    !> Write a `real(wp)` rank-1 attribute.
     subroutine write_attr_real_1d(file, object, name, value)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the object ("/" for the root group).
-        character(len=*), intent(in) :: object
-        !> Name of the attribute.
-        character(len=*), intent(in) :: name
-        !> The values.
+        character(len=*), intent(in) :: object, name
         real(wp), intent(in), target, contiguous :: value(:)
         type(c_ptr) :: buf
 
         buf = c_null_ptr
         if (size(value) > 0) buf = c_loc(value)
-        call write_attr(file, object, name, real_mem_type(), h5t_ieee_f64le, shape(value, kind=hsize_t), &
-            buf)
+        call write_attr(file, object, name, real_mem_type(), h5t_ieee_f64le, shape(value, hsize_t), buf)
     end subroutine write_attr_real_1d
 
-    !> Write a default-integer scalar attribute.
     subroutine write_attr_int_0d(file, object, name, value)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the object ("/" for the root group).
-        character(len=*), intent(in) :: object
-        !> Name of the attribute.
-        character(len=*), intent(in) :: name
-        !> The value.
+        character(len=*), intent(in) :: object, name
         integer, intent(in), target :: value
 
         call write_attr(file, object, name, int_mem_type(), int_file_type(), [integer(hsize_t) ::], c_loc(value))
     end subroutine write_attr_int_0d
 
-    !> Write a default-integer rank-1 attribute.
     subroutine write_attr_int_1d(file, object, name, value)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the object ("/" for the root group).
-        character(len=*), intent(in) :: object
-        !> Name of the attribute.
-        character(len=*), intent(in) :: name
-        !> The values.
+        character(len=*), intent(in) :: object, name
         integer, intent(in), target, contiguous :: value(:)
         type(c_ptr) :: buf
 
         buf = c_null_ptr
         if (size(value) > 0) buf = c_loc(value)
-        call write_attr(file, object, name, int_mem_type(), int_file_type(), shape(value, kind=hsize_t), &
-            buf)
+        call write_attr(file, object, name, int_mem_type(), int_file_type(), shape(value, hsize_t), buf)
     end subroutine write_attr_int_1d
 
-    !> Write an `integer(i8)` scalar attribute.
     subroutine write_attr_i8_0d(file, object, name, value)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the object ("/" for the root group).
-        character(len=*), intent(in) :: object
-        !> Name of the attribute.
-        character(len=*), intent(in) :: name
-        !> The value.
+        character(len=*), intent(in) :: object, name
         integer(i8), intent(in), target :: value
 
         call write_attr(file, object, name, i8_mem_type(), h5t_std_i64le, [integer(hsize_t) ::], c_loc(value))
     end subroutine write_attr_i8_0d
 
-    !> Write a logical attribute, stored as 32-bit integer 0 (false) or 1 (true).
     subroutine write_attr_logical(file, object, name, value)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the object ("/" for the root group).
-        character(len=*), intent(in) :: object
-        !> Name of the attribute.
-        character(len=*), intent(in) :: name
-        !> The value.
+        character(len=*), intent(in) :: object, name
         logical, intent(in) :: value
 
         call write_attr_int_0d(file, object, name, merge(1, 0, value))
     end subroutine write_attr_logical
 
-    !> Create or replace an attribute of the object `obj` and write it from `buf`.
+    !> The characters of a string, null-terminated buffer of at least one character.
+    pure subroutine c_chars(value, chars)
+        character(len=*), intent(in) :: value
+        character(kind=c_char, len=1), allocatable, intent(out) :: chars(:)
+        integer :: k
+
+        allocate (chars(max(len(value), 1)))
+        chars = c_null_char
+        do k = 1, len(value)
+            chars(k) = value(k:k)
+        end do
+    end subroutine c_chars
+
+    !> Create or replace an attribute of the open object `obj` and write it from `buf`.
     subroutine put_attr(obj, name, mem_type, file_type, dims, buf, hdferr)
-        !> The object (group, dataset).
-        integer(hid_t), intent(in) :: obj
-        !> Name of the attribute.
+        integer(hid_t), intent(in) :: obj, mem_type, file_type
         character(len=*), intent(in) :: name
-        !> Datatype of the data in memory.
-        integer(hid_t), intent(in) :: mem_type
-        !> Datatype in the file.
-        integer(hid_t), intent(in) :: file_type
-        !> Dimensions in Fortran order; empty for a scalar.
         integer(hsize_t), intent(in) :: dims(:)
-        !> Address of the data (may be null when there are no elements).
         type(c_ptr), intent(in) :: buf
-        !> HDF5 status.
         integer, intent(out) :: hdferr
         integer(hid_t) :: space, attr
         logical :: exists
@@ -481,61 +326,27 @@ contains
         call close_id(space)
     end subroutine put_attr
 
-    !> Create or replace a scalar string attribute of the object `obj`.
+    !> Create or replace a scalar string attribute of the open object `obj`.
     subroutine put_string_attr(obj, name, value, hdferr)
-        !> The object (group, dataset).
         integer(hid_t), intent(in) :: obj
-        !> Name of the attribute.
-        character(len=*), intent(in) :: name
-        !> The string.
-        character(len=*), intent(in) :: value
-        !> HDF5 status.
+        character(len=*), intent(in) :: name, value
         integer, intent(out) :: hdferr
         character(kind=c_char, len=1), allocatable, target :: chars(:)
         integer(hid_t) :: string_type
-        integer :: k
         type(c_ptr) :: buf
 
-        allocate (chars(max(len(value), 1)))
-        chars = c_null_char
-        do k = 1, len(value)
-            chars(k) = value(k:k)
-        end do
+        call c_chars(value, chars)
         call make_string_type(len(value), string_type, hdferr)
         buf = c_loc(chars)
         if (hdferr >= 0) call put_attr(obj, name, string_type, string_type, [integer(hsize_t) ::], buf, hdferr)
         call close_id(string_type)
     end subroutine put_string_attr
 
-    !> Write the attributes `units`, `description` and (if present) `dimensions` of a dataset.
-    subroutine describe_object(obj, units, description, hdferr, dim_names)
-        !> The dataset.
-        integer(hid_t), intent(in) :: obj
-        !> Units.
-        character(len=*), intent(in) :: units
-        !> Description.
-        character(len=*), intent(in) :: description
-        !> HDF5 status.
-        integer, intent(out) :: hdferr
-        !> Dimension names in C/h5py order.
-        character(len=*), intent(in), optional :: dim_names
-
-        call put_string_attr(obj, "units", units, hdferr)
-        if (hdferr < 0) return
-        call put_string_attr(obj, "description", description, hdferr)
-        if (hdferr < 0) return
-        if (present(dim_names)) call put_string_attr(obj, "dimensions", dim_names, hdferr)
-    end subroutine describe_object
-
     !> Open the object `object`, creating it as a group (with intermediate groups) if it does not exist.
     subroutine open_or_create_group(file, object, obj, error)
-        !> The file (writable).
         type(h5_file), intent(in) :: file
-        !> Path of the object ("/" for the root group).
         character(len=*), intent(in) :: object
-        !> The open object; -1 on failure.
         integer(hid_t), intent(out) :: obj
-        !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
         integer(hid_t) :: lcpl
         integer :: hdferr
@@ -558,124 +369,76 @@ contains
         if (allocated(error)) obj = -1
     end subroutine open_or_create_group
 
-    !> Open the owner of an attribute (creating a missing group) and check the attribute name.
-    subroutine open_attr_owner(file, object, name, obj, error)
-        !> The file (writable).
-        type(h5_file), intent(in) :: file
-        !> Path of the object ("/" for the root group).
-        character(len=*), intent(in) :: object
-        !> Name of the attribute.
-        character(len=*), intent(in) :: name
-        !> The open object.
-        integer(hid_t), intent(out) :: obj
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
-
-        obj = -1
-        if (len_trim(name) == 0) then
-            call fatal_error(error, disk_path(file)//": empty attribute name for '"//object//"'", err_io)
-            return
-        end if
-        call open_or_create_group(file, object, obj, error)
-    end subroutine open_attr_owner
-
-    !> Write a numeric attribute of the object `object`.
-    subroutine write_attr(file, object, name, mem_type, file_type, dims, buf)
-        !> The file (writable).
+    !> Stick the error of a failed attribute write in the file.
+    subroutine write_failed(file, hdferr, object, name)
         type(h5_file), intent(inout) :: file
-        !> Path of the object ("/" for the root group).
-        character(len=*), intent(in) :: object
-        !> Name of the attribute.
-        character(len=*), intent(in) :: name
-        !> Datatype in memory.
-        integer(hid_t), intent(in) :: mem_type
-        !> Datatype in the file.
-        integer(hid_t), intent(in) :: file_type
-        !> Dimensions; empty for a scalar.
+        integer, intent(in) :: hdferr
+        character(len=*), intent(in) :: object, name
+        type(error_type), allocatable :: error
+
+        call check(hdferr, file, "write attribute '"//name//"' of", object, "h5awrite_f", error)
+        call stick(file, error)
+    end subroutine write_failed
+
+    !> Write the attribute `name` of the object `object` (a missing group is created) from `buf`.
+    subroutine write_attr(file, object, name, mem_type, file_type, dims, buf)
+        type(h5_file), intent(inout) :: file
+        character(len=*), intent(in) :: object, name
+        integer(hid_t), intent(in) :: mem_type, file_type
         integer(hsize_t), intent(in) :: dims(:)
-        !> Address of the data.
         type(c_ptr), intent(in) :: buf
         type(error_type), allocatable :: error
         integer(hid_t) :: obj
         integer :: hdferr
 
         if (allocated(file%error)) return
-        call open_attr_owner(file, object, name, obj, error)
+        if (len_trim(name) == 0) then
+            call fatal_error(error, disk_path(file)//": empty attribute name for '"//object//"'", err_io)
+        else
+            call open_or_create_group(file, object, obj, error)
+        end if
         if (.not. allocated(error)) then
             call put_attr(obj, name, mem_type, file_type, dims, buf, hdferr)
-            call check(hdferr, file, "write attribute '"//name//"' of", object, "h5awrite_f", error)
             call close_id(obj)
+            if (hdferr < 0) call write_failed(file, hdferr, object, name)
         end if
         call stick(file, error)
     end subroutine write_attr
 
-    !> Prepare writing dataset `name`: check the file and the dimension names, unlink an existing dataset.
-    subroutine prepare_dataset(file, name, rank, dim_names, error)
-        !> The file (writable).
-        type(h5_file), intent(in) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> Rank of the dataset.
-        integer, intent(in) :: rank
-        !> Dimension names in C/h5py order.
-        character(len=*), intent(in), optional :: dim_names
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
-        integer(hid_t) :: dset
-        integer :: hdferr
-
-        call check_writable(file, "write dataset", name, error)
-        if (allocated(error)) return
-        if (present(dim_names)) then
-            call check_dim_names(file, name, dim_names, rank, error)
-            if (allocated(error)) return
-        end if
-        if (.not. h5_exists(file, name)) return
-        call h5dopen_f(file%id, name, dset, hdferr)
-        if (hdferr < 0) then
-            call fatal_error(error, disk_path(file)//": cannot write dataset '"//name// &
-                "': an object of that name exists and is not a dataset", err_io)
-            return
-        end if
-        call close_id(dset)
-        call h5ldelete_f(file%id, name, hdferr)
-        call check(hdferr, file, "replace dataset", name, "h5ldelete_f", error)
-    end subroutine prepare_dataset
-
-    !> Create dataset `name` (replacing an existing one), write it from `buf` and describe it.
+    !> Create dataset `name` (replacing an existing dataset), write it from `buf` and describe it: the attributes
+    !> `units`, `description` and, with `dim_names`, `dimensions` (and the dimensions remembered for the scales).
     subroutine write_dataset(file, name, mem_type, file_type, dims, buf, units, description, dim_names)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> Datatype in memory.
-        integer(hid_t), intent(in) :: mem_type
-        !> Datatype in the file.
-        integer(hid_t), intent(in) :: file_type
-        !> Dimensions in Fortran order; empty for a scalar.
+        character(len=*), intent(in) :: name, units, description
+        integer(hid_t), intent(in) :: mem_type, file_type
         integer(hsize_t), intent(in) :: dims(:)
-        !> Address of the data (may be null when there are no elements).
         type(c_ptr), intent(in) :: buf
-        !> Units.
-        character(len=*), intent(in) :: units
-        !> Description.
-        character(len=*), intent(in) :: description
-        !> Dimension names in C/h5py order.
         character(len=*), intent(in), optional :: dim_names
         type(error_type), allocatable :: error
         integer(hid_t) :: space, lcpl, dset
         integer :: hdferr
 
         if (allocated(file%error)) return
-        call prepare_dataset(file, name, size(dims), dim_names, error)
-        if (allocated(error)) then
-            call stick(file, error)
-            return
-        end if
         space = -1
         lcpl = -1
         dset = -1
         body: block
+            call check_writable(file, "write dataset", name, error)
+            if (allocated(error)) exit body
+            if (present(dim_names)) call check_dim_names(file, name, dim_names, size(dims), error)
+            if (allocated(error)) exit body
+            if (h5_exists(file, name)) then
+                call h5dopen_f(file%id, name, dset, hdferr)
+                if (hdferr < 0) then
+                    call fatal_error(error, disk_path(file)//": cannot write dataset '"//name// &
+                        "': an object of that name exists and is not a dataset", err_io)
+                    exit body
+                end if
+                call close_id(dset)
+                call h5ldelete_f(file%id, name, hdferr)
+                call check(hdferr, file, "replace dataset", name, "h5ldelete_f", error)
+                if (allocated(error)) exit body
+            end if
             call make_space(dims, space, hdferr)
             call check(hdferr, file, "create dataspace of", name, "h5screate_f", error)
             if (allocated(error)) exit body
@@ -690,7 +453,9 @@ contains
                 call check(hdferr, file, "write dataset", name, "h5dwrite_f", error)
                 if (allocated(error)) exit body
             end if
-            call describe_object(dset, units, description, hdferr, dim_names)
+            call put_string_attr(dset, "units", units, hdferr)
+            if (hdferr >= 0) call put_string_attr(dset, "description", description, hdferr)
+            if (hdferr >= 0 .and. present(dim_names)) call put_string_attr(dset, "dimensions", dim_names, hdferr)
             call check(hdferr, file, "write attributes of dataset", name, "h5awrite_f", error)
             if (allocated(error)) exit body
             if (present(dim_names)) call remember_dims(file, name, dim_names)
@@ -701,21 +466,12 @@ contains
         call stick(file, error)
     end subroutine write_dataset
 
-    !> Write strings as a fixed-length string dataset: scalar (`array` false, one string) or rank 1.
+    !> Write strings as a fixed-length string dataset: scalar (`array` false, one string, stored as given) or rank 1
+    !> (trailing blanks of each element dropped).
     subroutine write_strings(file, name, data, array, units, description, dim_names)
-        !> The file (writable).
         type(h5_file), intent(inout) :: file
-        !> Path of the dataset.
-        character(len=*), intent(in) :: name
-        !> The strings.
-        character(len=*), intent(in) :: data(:)
-        !> Rank-1 dataset (trailing blanks dropped) or scalar (string stored as given).
+        character(len=*), intent(in) :: name, units, description, data(:)
         logical, intent(in) :: array
-        !> Units.
-        character(len=*), intent(in) :: units
-        !> Description.
-        character(len=*), intent(in) :: description
-        !> Dimension name.
         character(len=*), intent(in), optional :: dim_names
         character(kind=c_char, len=1), allocatable, target :: chars(:)
         integer(hsize_t), allocatable :: dims(:)
@@ -745,8 +501,7 @@ contains
         call stick(file, error)
         if (.not. allocated(file%error)) then
             buf = c_loc(chars)
-            call write_dataset(file, name, string_type, string_type, dims, buf, units, description, &
-                dim_names)
+            call write_dataset(file, name, string_type, string_type, dims, buf, units, description, dim_names)
         end if
         call close_id(string_type)
     end subroutine write_strings

@@ -38,7 +38,8 @@
 !> the elements of a character array are padding and are not stored). Logical attributes are stored under their
 !> own name as 32-bit integer 0 (false) or 1 (true); reading one back gives `.true.` for any non-zero value.
 !> Reading (`h5_open`, `h5_read`, `h5_read_attr`, `h5_close`; each read returns its own error) converts between
-!> numeric types by HDF5's rules and reads fixed-length strings.
+!> numeric types by HDF5's rules and reads fixed-length strings; it reads the types the program reads back (merge,
+!> `--check`, the benchmark), the tests more (test/supratrans_h5_test.f90).
 !>
 !> ## Threads and errors
 !> Serial HDF5 is not thread-safe: every routine of this layer must be called from one thread only (outside

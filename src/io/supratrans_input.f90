@@ -99,7 +99,6 @@ contains
 
     !> Whether a namelist text opens a group: a line whose first character other than a blank is `&`.
     pure function has_group(text) result(yes)
-        !> The namelist text.
         character(len=*), intent(in) :: text
         logical :: yes
         integer :: i
@@ -122,11 +121,7 @@ contains
     !> Refuse a line longer than `max_line_length` characters (no namelist needs one; the parser's work grows with
     !> the number of tokens of a line, so a megabyte-long line would take seconds).
     pure subroutine check_line_lengths(text, path, error)
-        !> The namelist text.
-        character(len=*), intent(in) :: text
-        !> Its name, for messages.
-        character(len=*), intent(in) :: path
-        !> Allocated when a line is too long.
+        character(len=*), intent(in) :: text, path
         type(error_type), allocatable, intent(out) :: error
         integer :: start, k, line
 
@@ -149,13 +144,9 @@ contains
 
     !> Convert the values of every key given into `cfg`, in the order of `key_table`.
     pure subroutine convert_keys(parsed, path, cfg, error)
-        !> The checked values, as text.
         type(parsed_input), intent(in) :: parsed
-        !> File name for messages.
         character(len=*), intent(in) :: path
-        !> Configuration to fill (holds the defaults on entry).
         type(input_config), intent(inout) :: cfg
-        !> Allocated when a value cannot be converted or names no known choice.
         type(error_type), allocatable, intent(out) :: error
         type(key_value) :: v
         character(len=name_len), allocatable :: names(:)
@@ -220,11 +211,8 @@ contains
 
     !> The whole contents of a text file, newlines included.
     subroutine read_text_file(path, text, error)
-        !> File to read.
         character(len=*), intent(in) :: path
-        !> Its contents.
         character(len=:), allocatable, intent(out) :: text
-        !> Allocated when the file cannot be opened or read.
         type(error_type), allocatable, intent(out) :: error
         integer :: unit, ios, nbytes
         character(len=512) :: msg
@@ -272,7 +260,6 @@ contains
 
     !> The operating system's part of a gfortran I/O message ("Cannot open file 'x': Permission denied").
     pure function os_reason(msg) result(reason)
-        !> The iomsg text.
         character(len=*), intent(in) :: msg
         character(len=:), allocatable :: reason
         integer :: k

@@ -9,7 +9,7 @@ module supratrans_keys
     implicit none
     private
 
-    public :: real_value, int_value, flag_value, text_value, input_error, joined
+    public :: real_value, int_value, flag_value, text_value, set_list, input_error, joined
 
     !> Value type of a key: an integer.
     integer, parameter, public :: kt_integer = 1
@@ -105,7 +105,27 @@ module supratrans_keys
         character(len=path_len), allocatable :: texts(:)
     end type key_value
 
+    !> Set a list key of a configuration from a `key_value` (unset, deallocated, when it holds no value):
+    !> `call set_list(list, v)` for a `real(wp)` or default-integer allocatable list.
+    interface set_list
+        module procedure :: set_real_list, set_int_list
+    end interface set_list
+
 contains
+
+    pure subroutine set_real_list(list, v)
+        real(wp), allocatable, intent(out) :: list(:)
+        type(key_value), intent(in) :: v
+
+        if (v%n > 0) list = v%reals(1:v%n)
+    end subroutine set_real_list
+
+    pure subroutine set_int_list(list, v)
+        integer, allocatable, intent(out) :: list(:)
+        type(key_value), intent(in) :: v
+
+        if (v%n > 0) list = v%ints(1:v%n)
+    end subroutine set_int_list
 
     !> A `key_value` holding reals.
     pure function real_value(x) result(v)

@@ -1,5 +1,5 @@
-!> The namelist syntax: a small tokenizer and parser that checks a namelist file against the key table of the
-!> schema (`key_table` of `supratrans_schema`) and gives the values of each key as text.
+!> The namelist syntax: a small parser (over the tokens of `supratrans_namelist_tokens`) that checks a namelist file
+!> against the key table of the schema (`key_table` of `supratrans_schema`) and gives the values of each key as text.
 !>
 !> Syntax: `&group ... /` (or `&end`), `key = value`, `key = v1, v2, ...` (lists), separators are commas, blanks and
 !> newlines, strings in '...' or "..." (the quote doubled inside), `!` comments, logicals `.true.`, `.false.`,
@@ -20,27 +20,12 @@ module supratrans_namelist
     use supratrans_keys, only: key_spec, kt_integer, kt_real, kt_logical, kt_name, kt_path, group_len, key_len, &
         input_error, joined
     use supratrans_schema, only: key_table
+    use supratrans_namelist_tokens, only: token_t, tokenize, tk_eof, tk_group, tk_slash, tk_equals, tk_comma, &
+        tk_string, tk_word, describe, fail_line, is_identifier, is_integer, is_real, lower
     implicit none
     private
 
     public :: parse_namelist
-
-    !> Token kinds of the namelist tokenizer.
-    integer, parameter :: tk_eof = 0, tk_group = 1, tk_slash = 2, tk_equals = 3, tk_comma = 4, &
-                          tk_string = 5, tk_word = 6
-
-    !> Characters that end an unquoted word.
-    character(len=*), parameter :: word_stops = " " // achar(9) // achar(10) // achar(13) // "!&/=,'" // '"'
-
-    !> One token of a namelist file.
-    type :: token_t
-        !> Token kind (`tk_*`).
-        integer :: kind = tk_eof
-        !> Line on which the token starts.
-        integer :: line = 0
-        !> Group name (lower case) for `tk_group`, contents for `tk_string`, the characters for `tk_word`.
-        character(len=:), allocatable :: text
-    end type token_t
 
     !> A string of any length, for arrays of strings.
     type, public :: string_t
@@ -65,135 +50,7 @@ module supratrans_namelist
 
 contains
 
-    ! ---------------------------------------------------------------------------------------------------------------
-    ! Tokenizer
-    ! ---------------------------------------------------------------------------------------------------------------
-
-    !> Split namelist text into tokens: `&name`, `/`, `=`, `,`, quoted strings and unquoted words; the last is `tk_eof`.
-    pure subroutine tokenize(text, path, tokens, error)
-        !> The file contents.
-        character(len=*), intent(in) :: text
-        !> File name for messages.
-        character(len=*), intent(in) :: path
-        !> The tokens, ending with one `tk_eof`.
-        type(token_t), allocatable, intent(out) :: tokens(:)
-        !> Allocated on a lexical error (unterminated string, '&' without a name).
-        type(error_type), allocatable, intent(out) :: error
-        integer :: i, j, n, line, ntok
-        character :: ch
-        character(len=:), allocatable :: s
-
-        allocate (tokens(64))
-        ntok = 0
-        line = 1
-        n = len(text)
-        i = 1
-        do while (i <= n)
-            ch = text(i:i)
-            select case (ch)
-            case (achar(10))
-                line = line + 1
-                i = i + 1
-            case (" ", achar(9), achar(13))
-                i = i + 1
-            case ("!")
-                j = index(text(i:), achar(10))
-                if (j == 0) then
-                    i = n + 1
-                else
-                    i = i + j - 1
-                end if
-            case ("&")
-                j = i + 1
-                do while (j <= n)
-                    if (.not. is_name_char(text(j:j))) exit
-                    j = j + 1
-                end do
-                if (j == i + 1) then
-                    call fail_line(error, path, line, "'&' must be followed by a group name, such as &chain")
-                    return
-                end if
-                call push_token(tokens, ntok, tk_group, line, lower(text(i + 1:j - 1)))
-                i = j
-            case ("/")
-                call push_token(tokens, ntok, tk_slash, line, "/")
-                i = i + 1
-            case ("=")
-                call push_token(tokens, ntok, tk_equals, line, "=")
-                i = i + 1
-            case (",")
-                call push_token(tokens, ntok, tk_comma, line, ",")
-                i = i + 1
-            case ("'", '"')
-                s = ""
-                j = i + 1
-                do
-                    if (j > n) exit
-                    if (text(j:j) == achar(10)) exit
-                    if (text(j:j) == ch) then
-                        if (j < n) then
-                            if (text(j + 1:j + 1) == ch) then
-                                s = s // ch
-                                j = j + 2
-                                cycle
-                            end if
-                        end if
-                        exit
-                    end if
-                    s = s // text(j:j)
-                    j = j + 1
-                end do
-                if (j > n) then
-                    call fail_line(error, path, line, "unterminated string " // ch // s)
-                    return
-                else if (text(j:j) /= ch) then
-                    call fail_line(error, path, line, "unterminated string " // ch // s)
-                    return
-                end if
-                call push_token(tokens, ntok, tk_string, line, s)
-                i = j + 1
-            case default
-                j = i
-                do while (j <= n)
-                    if (index(word_stops, text(j:j)) > 0) exit
-                    j = j + 1
-                end do
-                call push_token(tokens, ntok, tk_word, line, text(i:j - 1))
-                i = j
-            end select
-        end do
-        call push_token(tokens, ntok, tk_eof, line, "")
-        tokens = tokens(1:ntok)
-    end subroutine tokenize
-
-    !> Append a token, growing the array as needed.
-    pure subroutine push_token(tokens, ntok, kind, line, text)
-        !> Token array (capacity >= ntok).
-        type(token_t), allocatable, intent(inout) :: tokens(:)
-        !> Number of tokens in use; incremented.
-        integer, intent(inout) :: ntok
-        !> Token kind.
-        integer, intent(in) :: kind
-        !> Line number.
-        integer, intent(in) :: line
-        !> Token text.
-        character(len=*), intent(in) :: text
-        type(token_t), allocatable :: grown(:)
-
-        if (ntok == size(tokens)) then
-            allocate (grown(2*size(tokens)))
-            grown(1:ntok) = tokens(1:ntok)
-            call move_alloc(grown, tokens)
-        end if
-        ntok = ntok + 1
-        tokens(ntok)%kind = kind
-        tokens(ntok)%line = line
-        tokens(ntok)%text = text
-    end subroutine push_token
-
-    ! ---------------------------------------------------------------------------------------------------------------
     ! Parser: groups, keys, value counts and value types against key_table
-    ! ---------------------------------------------------------------------------------------------------------------
 
     !> Tokenize and check namelist text against `key_table`; gives the values of every key present, as text.
     pure subroutine parse_namelist(text, path, parsed, error)
@@ -206,14 +63,14 @@ contains
         !> Allocated on the first problem found.
         type(error_type), allocatable, intent(out) :: error
         type(token_t), allocatable :: tokens(:)
-        character(len=group_len) :: groups(count_groups())
-        logical :: seen(count_groups())
+        character(len=group_len), allocatable :: groups(:)
+        logical, allocatable :: seen(:)
         integer :: it, ig
 
         call tokenize(text, path, tokens, error)
         if (allocated(error)) return
         groups = group_names()
-        seen = .false.
+        allocate (seen(size(groups)), source=.false.)
         allocate (parsed%n_values(size(key_table)), source=0)
         allocate (parsed%values(size(key_table)))
         it = 1
@@ -252,17 +109,10 @@ contains
 
     !> Check one group, from its `&name` token to its `/`; `it` ends on the token after the `/`.
     pure subroutine parse_group(tokens, it, path, group, parsed, error)
-        !> All tokens of the file.
         type(token_t), intent(in) :: tokens(:)
-        !> In: index of the `&group` token. Out: index of the token after the group.
         integer, intent(inout) :: it
-        !> File name for messages.
-        character(len=*), intent(in) :: path
-        !> Group name.
-        character(len=*), intent(in) :: group
-        !> The values of the group's keys are recorded.
+        character(len=*), intent(in) :: path, group
         type(parsed_input), intent(inout) :: parsed
-        !> Allocated on the first problem found.
         type(error_type), allocatable, intent(out) :: error
 
         it = it + 1
@@ -299,17 +149,10 @@ contains
 
     !> Check one `key = value[, value...]`; `it` ends on the token after the last value.
     pure subroutine parse_assignment(tokens, it, path, group, parsed, error)
-        !> All tokens of the file.
         type(token_t), intent(in) :: tokens(:)
-        !> In: index of the key token. Out: index of the token after the values.
         integer, intent(inout) :: it
-        !> File name for messages.
-        character(len=*), intent(in) :: path
-        !> Group name.
-        character(len=*), intent(in) :: group
-        !> The values are recorded in `parsed%values(ik)`, their number in `parsed%n_values(ik)`.
+        character(len=*), intent(in) :: path, group
         type(parsed_input), intent(inout) :: parsed
-        !> Allocated on the first problem found.
         type(error_type), allocatable, intent(out) :: error
         character(len=:), allocatable :: key, canonical
         type(string_t), allocatable :: values(:)
@@ -392,15 +235,10 @@ contains
     !> Check one value against the type of its key and give it in canonical form: numbers as written, logicals
     !> `.true.`/`.false.`, names in lower case, paths as written.
     pure subroutine check_value(spec, tok, path, canonical, error)
-        !> The key.
         type(key_spec), intent(in) :: spec
-        !> The value token (`tk_word` or `tk_string`).
         type(token_t), intent(in) :: tok
-        !> File name for messages.
         character(len=*), intent(in) :: path
-        !> The value in canonical form.
         character(len=:), allocatable, intent(out) :: canonical
-        !> Allocated when the value does not fit the key.
         type(error_type), allocatable, intent(out) :: error
         character(len=:), allocatable :: group, key, expected
         integer :: ival, ios
@@ -463,38 +301,21 @@ contains
         call input_error(error, path, group, "key '" // key // "' expects " // expected // ", got " // describe(tok))
     end subroutine check_value
 
-    ! ---------------------------------------------------------------------------------------------------------------
-    ! Tables, messages and strings
-    ! ---------------------------------------------------------------------------------------------------------------
-
-    !> Number of distinct groups in `key_table`.
-    pure function count_groups() result(n)
-        integer :: n
-        integer :: i
-
-        n = 0
-        do i = 1, size(key_table)
-            if (.not. any(key_table(1:i - 1)%group == key_table(i)%group)) n = n + 1
-        end do
-    end function count_groups
+    ! Tables and messages
 
     !> Group names of `key_table`, in order of first appearance.
     pure function group_names() result(names)
-        character(len=group_len) :: names(count_groups())
-        integer :: i, n
+        character(len=group_len), allocatable :: names(:)
+        integer :: i
 
-        n = 0
+        allocate (names(0))
         do i = 1, size(key_table)
-            if (.not. any(key_table(1:i - 1)%group == key_table(i)%group)) then
-                n = n + 1
-                names(n) = key_table(i)%group
-            end if
+            if (.not. any(names == key_table(i)%group)) names = [character(len=group_len) :: names, key_table(i)%group]
         end do
     end function group_names
 
     !> Keys of one group, in table order.
     pure function group_keys(group) result(keys)
-        !> Group name.
         character(len=*), intent(in) :: group
         character(len=key_len), allocatable :: keys(:)
 
@@ -503,10 +324,7 @@ contains
 
     !> Index in `key_table` of a key of a group; 0 if there is none.
     pure function find_key(group, key) result(ik)
-        !> Group name.
-        character(len=*), intent(in) :: group
-        !> Key name.
-        character(len=*), intent(in) :: key
+        character(len=*), intent(in) :: group, key
         integer :: ik
 
         do ik = 1, size(key_table)
@@ -517,10 +335,7 @@ contains
 
     !> Hint for an unknown key: the group it belongs to, or a close spelling; "" if neither.
     pure function key_hint(group, key) result(hint)
-        !> Group in which the key was given.
-        character(len=*), intent(in) :: group
-        !> The unknown key.
-        character(len=*), intent(in) :: key
+        character(len=*), intent(in) :: group, key
         character(len=:), allocatable :: hint
         integer :: i
 
@@ -535,14 +350,7 @@ contains
 
     !> "did you mean 'x'? " for the closest name within edit distance 2 (and less than the name's length); else "".
     pure function suggestion(name, names, prefix, suffix) result(hint)
-        !> The misspelt name.
-        character(len=*), intent(in) :: name
-        !> Candidate names.
-        character(len=*), intent(in) :: names(:)
-        !> Text shown before the suggested name ("&" for groups, "'" for keys).
-        character(len=*), intent(in) :: prefix
-        !> Text shown after the suggested name.
-        character(len=*), intent(in) :: suffix
+        character(len=*), intent(in) :: name, names(:), prefix, suffix
         character(len=:), allocatable :: hint
         integer :: i, d, best, best_d
 
@@ -563,12 +371,8 @@ contains
 
     !> Levenshtein distance between two strings.
     pure function edit_distance(a, b) result(d)
-        !> First string.
-        character(len=*), intent(in) :: a
-        !> Second string.
-        character(len=*), intent(in) :: b
-        integer :: d
-        integer :: row(0:len(b)), diag, up, i, j
+        character(len=*), intent(in) :: a, b
+        integer :: d, row(0:len(b)), diag, up, i, j
 
         row = [(j, j = 0, len(b))]
         do i = 1, len(a)
@@ -586,158 +390,5 @@ contains
         end do
         d = row(len(b))
     end function edit_distance
-
-    !> Names joined by ", ", each with a prefix.
-    !> A token as quoted in messages.
-    pure function describe(tok) result(s)
-        !> The token.
-        type(token_t), intent(in) :: tok
-        character(len=:), allocatable :: s
-
-        select case (tok%kind)
-        case (tk_eof)
-            s = "end of file"
-        case (tk_group)
-            s = "'&" // tok%text // "'"
-        case (tk_string)
-            s = "the string " // quoted(tok%text)
-        case default
-            s = "'" // tok%text // "'"
-        end select
-    end function describe
-
-    !> Error `<path>: &<group>: <detail>`.
-    !> Error `<path>: line <line>: <detail>` (syntax errors).
-    pure subroutine fail_line(error, path, line, detail)
-        !> The error to create.
-        type(error_type), allocatable, intent(out) :: error
-        !> File name.
-        character(len=*), intent(in) :: path
-        !> Line number.
-        integer, intent(in) :: line
-        !> What is wrong.
-        character(len=*), intent(in) :: detail
-
-        call fatal_error(error, path // ": line " // int_str(line) // ": " // detail, err_input)
-    end subroutine fail_line
-
-    !> True for a letter, digit or underscore.
-    elemental function is_name_char(ch) result(ok)
-        !> Character.
-        character, intent(in) :: ch
-        logical :: ok
-
-        ok = (ch >= "a" .and. ch <= "z") .or. (ch >= "A" .and. ch <= "Z") .or. (ch >= "0" .and. ch <= "9") &
-             .or. ch == "_"
-    end function is_name_char
-
-    !> True for a Fortran name: a letter followed by letters, digits and underscores.
-    pure function is_identifier(s) result(ok)
-        !> Candidate.
-        character(len=*), intent(in) :: s
-        logical :: ok
-        integer :: i
-
-        ok = len(s) > 0
-        if (.not. ok) return
-        ok = (s(1:1) >= "a" .and. s(1:1) <= "z") .or. (s(1:1) >= "A" .and. s(1:1) <= "Z")
-        do i = 2, len(s)
-            ok = ok .and. is_name_char(s(i:i))
-        end do
-    end function is_identifier
-
-    !> Number of decimal digits at the start of `s`.
-    pure function count_digits(s) result(n)
-        !> String.
-        character(len=*), intent(in) :: s
-        integer :: n
-
-        do n = 0, len(s) - 1
-            if (s(n + 1:n + 1) < "0" .or. s(n + 1:n + 1) > "9") return
-        end do
-        n = len(s)
-    end function count_digits
-
-    !> True for an optionally signed string of decimal digits.
-    pure function is_integer(s) result(ok)
-        !> Candidate.
-        character(len=*), intent(in) :: s
-        logical :: ok
-        integer :: i
-
-        i = 1
-        if (len(s) > 0) then
-            if (s(1:1) == "+" .or. s(1:1) == "-") i = 2
-        end if
-        ok = len(s) >= i .and. count_digits(s(i:)) == len(s) - i + 1
-    end function is_integer
-
-    !> True for a real literal: [sign] (digits [. [digits]] | . digits) [(e|d) [sign] digits].
-    pure function is_real(s) result(ok)
-        !> Candidate.
-        character(len=*), intent(in) :: s
-        logical :: ok
-        integer :: i, nint, nfrac, nexp
-
-        ok = .false.
-        i = 1
-        if (len(s) == 0) return
-        if (s(1:1) == "+" .or. s(1:1) == "-") i = 2
-        nint = count_digits(s(i:))
-        i = i + nint
-        nfrac = 0
-        if (i <= len(s)) then
-            if (s(i:i) == ".") then
-                nfrac = count_digits(s(i + 1:))
-                i = i + 1 + nfrac
-            end if
-        end if
-        if (nint + nfrac == 0) return
-        if (i <= len(s)) then
-            if (index("eEdD", s(i:i)) == 0) return
-            i = i + 1
-            if (i <= len(s)) then
-                if (s(i:i) == "+" .or. s(i:i) == "-") i = i + 1
-            end if
-            nexp = count_digits(s(i:))
-            if (nexp == 0) return
-            i = i + nexp
-        end if
-        ok = i == len(s) + 1
-    end function is_real
-
-    !> Lower-case copy of an ASCII string.
-    pure function lower(s) result(t)
-        !> String.
-        character(len=*), intent(in) :: s
-        character(len=len(s)) :: t
-        integer :: i
-
-        t = s
-        do i = 1, len(s)
-            if (s(i:i) >= "A" .and. s(i:i) <= "Z") t(i:i) = achar(iachar(s(i:i)) + 32)
-        end do
-    end function lower
-
-    !> A string between single quotes, inner quotes doubled (namelist form).
-    pure function quoted(s) result(q)
-        !> String.
-        character(len=*), intent(in) :: s
-        character(len=:), allocatable :: q
-        integer :: i
-
-        q = "'"
-        do i = 1, len(s)
-            if (s(i:i) == "'") then
-                q = q // "''"
-            else
-                q = q // s(i:i)
-            end if
-        end do
-        q = q // "'"
-    end function quoted
-
-
-
 
 end module supratrans_namelist

@@ -108,26 +108,19 @@ contains
         call h5_write_attr(file, group, "reason", result%reason)
         call h5_write_attr(file, group, "steps", result%steps)
         call h5_write_attr(file, group, "t_end", result%t_end)
-        call h5_write_attr(file, group, "newton_iterations", &
-                                                       int(result%newton_iterations))
-        call h5_write_attr(file, group, "newton_max_iterations", &
-                                                       result%newton_max_iterations)
+        call h5_write_attr(file, group, "newton_iterations", int(result%newton_iterations))
+        call h5_write_attr(file, group, "newton_max_iterations", result%newton_max_iterations)
         call h5_write_attr(file, group, "tridiagonal_solves", result%tridiagonal_solves)
         call h5_write_attr(file, group, "rhs_evaluations", result%rhs_evaluations)
         call h5_write_attr(file, group, "wall_time_s", result%wall_time)
         call h5_write_attr(file, group, "max_abs_u", result%max_abs_u)
         call h5_write_attr(file, group, "energy_injected", result%ledger%injected)
         call h5_write_attr(file, group, "energy_stored", result%ledger%stored)
-        call h5_write_attr(file, group, "energy_dissipated_gamma", &
-                                                       result%ledger%dissipated_gamma)
-        call h5_write_attr(file, group, "energy_dissipated_beta", &
-                                                       result%ledger%dissipated_beta)
-        call h5_write_attr(file, group, "energy_dissipated_absorber", &
-                                                       result%ledger%dissipated_absorber)
-        call h5_write_attr(file, group, "ledger_max_step_residual", &
-                                                       result%ledger%max_step_residual)
-        call h5_write_attr(file, group, "ledger_energy_scale", &
-                                                       result%ledger%energy_scale)
+        call h5_write_attr(file, group, "energy_dissipated_gamma", result%ledger%dissipated_gamma)
+        call h5_write_attr(file, group, "energy_dissipated_beta", result%ledger%dissipated_beta)
+        call h5_write_attr(file, group, "energy_dissipated_absorber", result%ledger%dissipated_absorber)
+        call h5_write_attr(file, group, "ledger_max_step_residual", result%ledger%max_step_residual)
+        call h5_write_attr(file, group, "ledger_energy_scale", result%ledger%energy_scale)
         call h5_write_attr(file, group, "transmitting", result%transmitting)
         call h5_write_attr(file, group, "t_decided", result%t_decided)
         call h5_write_attr(file, group, "verdict_reason", result%verdict_reason)

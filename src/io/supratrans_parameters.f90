@@ -9,7 +9,7 @@ module supratrans_parameters
     use supratrans_kinds, only: wp
     use supratrans_error, only: fatal_error, err_io
     use supratrans_config, only: input_config
-    use supratrans_keys, only: key_value, kt_integer, kt_real, kt_logical, kt_name, kt_path
+    use supratrans_keys, only: key_value, kt_integer, kt_real, kt_logical
     use supratrans_schema, only: key_table, derived_table, get_key, choice_names
     use supratrans_chain, only: band_gap_edge, decay_rate, threshold_as, critical_dt
     use supratrans_hdf5, only: h5_file, h5_create_group, h5_write_attr, h5_write
@@ -20,6 +20,8 @@ module supratrans_parameters
 
     !> The group written.
     character(len=*), parameter :: group = "/parameters"
+    !> Names of the value types `kt_integer`, `kt_real`, `kt_logical`, `kt_name`, `kt_path` (in that order).
+    character(len=*), parameter :: type_names(*) = [character(len=7) :: "integer", "real", "logical", "name", "path"]
 
 contains
 
@@ -43,11 +45,8 @@ contains
 
     !> One key as an attribute of `/parameters`.
     subroutine write_key(file, cfg, ik)
-        !> Open output file.
         type(h5_file), intent(inout) :: file
-        !> The input.
         type(input_config), intent(in) :: cfg
-        !> Index in `key_table`.
         integer, intent(in) :: ik
         type(key_value) :: v
         real(wp), allocatable :: reals(:)
@@ -111,11 +110,8 @@ contains
 
     !> One derived value as an attribute of `/parameters`.
     subroutine write_derived(file, cfg, id)
-        !> Open output file.
         type(h5_file), intent(inout) :: file
-        !> The input.
         type(input_config), intent(in) :: cfg
-        !> Index in `derived_table`.
         integer, intent(in) :: id
         real(wp) :: x
         character(len=:), allocatable :: name
@@ -142,7 +138,6 @@ contains
 
     !> `/parameters/schema`: one row per attribute of `/parameters` (the keys, then the derived values).
     subroutine write_schema_table(file)
-        !> Open output file.
         type(h5_file), intent(inout) :: file
         character(len=*), parameter :: g = group // "/schema", dims = "parameter"
         character(len=len(key_table%description)), allocatable :: name(:), key(:), kind(:), units(:), default(:), &
@@ -157,7 +152,7 @@ contains
             associate (spec => key_table(i))
                 name(i) = spec%attribute
                 key(i) = "&" // trim(spec%group) // " " // spec%key
-                kind(i) = type_name(spec%value_type)
+                kind(i) = type_names(spec%value_type)
                 if (spec%max_values > 1) kind(i) = trim(kind(i)) // " list"
                 units(i) = spec%units
                 default(i) = spec%default_text
@@ -181,34 +176,10 @@ contains
         call h5_write(file, g // "/type", kind, "1", &
             "Value type: integer, real, logical, name (stored as text), path (text); lists are arrays", dims)
         call h5_write(file, g // "/units", units, "1", "Units of the value", dims)
-        call h5_write(file, g // "/default", default, "1", "Default of the key", &
-                                                  dims)
+        call h5_write(file, g // "/default", default, "1", "Default of the key", dims)
         call h5_write(file, g // "/allowed", allowed, "1", &
             "Values allowed: range, choices, and the rules checked between keys", dims)
-        call h5_write(file, g // "/description", description, "1", "What it is", &
-                                                  dims)
+        call h5_write(file, g // "/description", description, "1", "What it is", dims)
     end subroutine write_schema_table
-
-    !> Name of a value type.
-    pure function type_name(value_type) result(name)
-        !> `kt_*`.
-        integer, intent(in) :: value_type
-        character(len=:), allocatable :: name
-
-        select case (value_type)
-        case (kt_integer)
-            name = "integer"
-        case (kt_real)
-            name = "real"
-        case (kt_logical)
-            name = "logical"
-        case (kt_name)
-            name = "name"
-        case (kt_path)
-            name = "path"
-        case default
-            name = "unknown"
-        end select
-    end function type_name
 
 end module supratrans_parameters

@@ -32,7 +32,6 @@ module supratrans_provenance
         !> POSIX gethostname(2).
         function c_gethostname(name, length) bind(c, name="gethostname") result(stat)
             import :: c_char, c_int, c_size_t
-            !> Buffer for the name.
             character(kind=c_char), intent(out) :: name(*)
             !> Size of the buffer.
             integer(c_size_t), value :: length
@@ -42,9 +41,7 @@ module supratrans_provenance
         !> POSIX readlink(2): the target of a symbolic link (not null-terminated); the number of bytes, or -1.
         function c_readlink(path, buffer, length) bind(c, name="readlink") result(nbytes)
             import :: c_char, c_long, c_size_t
-            !> Path of the link, null-terminated.
             character(kind=c_char), intent(in) :: path(*)
-            !> Buffer for the target.
             character(kind=c_char), intent(out) :: buffer(*)
             !> Size of the buffer.
             integer(c_size_t), value :: length
@@ -54,7 +51,6 @@ module supratrans_provenance
         !> POSIX getcwd(3): the working directory, null-terminated; a null pointer on failure.
         function c_getcwd(buffer, length) bind(c, name="getcwd") result(p)
             import :: c_char, c_size_t, c_ptr
-            !> Buffer for the path.
             character(kind=c_char), intent(out) :: buffer(*)
             !> Size of the buffer.
             integer(c_size_t), value :: length
@@ -64,7 +60,6 @@ module supratrans_provenance
         !> The commit id fixed at build time (supratrans_build_info.c), null-terminated; empty if none was given.
         subroutine c_build_commit(buffer, length) bind(c, name="supratrans_build_commit")
             import :: c_char, c_int
-            !> Buffer for the id.
             character(kind=c_char), intent(out) :: buffer(*)
             !> Size of the buffer.
             integer(c_int), value :: length
@@ -154,7 +149,6 @@ contains
 
     !> Whether a string is a git object id: 40 (SHA-1) or 64 (SHA-256) lower-case hexadecimal digits.
     pure function is_commit_id(s) result(ok)
-        !> Candidate.
         character(len=*), intent(in) :: s
         logical :: ok
 
@@ -204,9 +198,7 @@ contains
 
     !> The first `n` characters of a C buffer, up to its first null character.
     pure function from_c(buffer, n) result(s)
-        !> The buffer.
         character(kind=c_char), intent(in) :: buffer(:)
-        !> Largest number of characters.
         integer, intent(in) :: n
         character(len=:), allocatable :: s
         integer :: i, m

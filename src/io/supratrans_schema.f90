@@ -8,7 +8,7 @@ module supratrans_schema
     use supratrans_config, only: input_config, potential_choices, method_choices, scene_choices, screen_choices, vary_choices, &
         max_curve_values, max_probes, max_scene_methods, max_scene_dts
     use supratrans_keys, only: key_spec, derived_spec, key_value, kt_integer, kt_real, kt_logical, kt_name, kt_path, &
-        real_value, int_value, flag_value, text_value
+        real_value, int_value, flag_value, text_value, set_list
     implicit none
     private
 
@@ -25,545 +25,260 @@ module supratrans_schema
     !> Choice set of the parameter names (`vary_choices`).
     integer, parameter, public :: choice_vary = 5
 
-    !> Index of &chain potential in `key_table`.
-    integer, parameter, public :: key_chain_potential = 1
-    !> Index of &chain c in `key_table`.
-    integer, parameter, public :: key_chain_c = 2
-    !> Index of &chain m2 in `key_table`.
-    integer, parameter, public :: key_chain_m2 = 3
-    !> Index of &chain gamma in `key_table`.
-    integer, parameter, public :: key_chain_gamma = 4
-    !> Index of &chain beta in `key_table`.
-    integer, parameter, public :: key_chain_beta = 5
-    !> Index of &chain n in `key_table`.
-    integer, parameter, public :: key_chain_n = 6
-    !> Index of &chain n0 in `key_table`.
-    integer, parameter, public :: key_chain_n0 = 7
-    !> Index of &chain kappa in `key_table`.
-    integer, parameter, public :: key_chain_kappa = 8
-    !> Index of &chain sigma in `key_table`.
-    integer, parameter, public :: key_chain_sigma = 9
-    !> Index of &drive amplitude in `key_table`.
-    integer, parameter, public :: key_drive_amplitude = 10
-    !> Index of &drive omega in `key_table`.
-    integer, parameter, public :: key_drive_omega = 11
-    !> Index of &drive ramp_time in `key_table`.
-    integer, parameter, public :: key_drive_ramp_time = 12
-    !> Index of &drive allow_outside_gap in `key_table`.
-    integer, parameter, public :: key_drive_allow_outside_gap = 13
-    !> Index of &numerics method in `key_table`.
-    integer, parameter, public :: key_numerics_method = 14
-    !> Index of &numerics dt in `key_table`.
-    integer, parameter, public :: key_numerics_dt = 15
-    !> Index of &numerics t_final in `key_table`.
-    integer, parameter, public :: key_numerics_t_final = 16
-    !> Index of &numerics newton_tol in `key_table`.
-    integer, parameter, public :: key_numerics_newton_tol = 17
-    !> Index of &numerics newton_max_iter in `key_table`.
-    integer, parameter, public :: key_numerics_newton_max_iter = 18
-    !> Index of &numerics blowup_threshold in `key_table`.
-    integer, parameter, public :: key_numerics_blowup_threshold = 19
-    !> Index of &numerics allow_unstable in `key_table`.
-    integer, parameter, public :: key_numerics_allow_unstable = 20
-    !> Index of &record probes in `key_table`.
-    integer, parameter, public :: key_record_probes = 21
-    !> Index of &record probe_every in `key_table`.
-    integer, parameter, public :: key_record_probe_every = 22
-    !> Index of &record ledger_every in `key_table`.
-    integer, parameter, public :: key_record_ledger_every = 23
-    !> Index of &scene kind in `key_table`.
-    integer, parameter, public :: key_scene_kind = 24
-    !> Index of &scene amplitude_min in `key_table`.
-    integer, parameter, public :: key_scene_amplitude_min = 25
-    !> Index of &scene amplitude_max in `key_table`.
-    integer, parameter, public :: key_scene_amplitude_max = 26
-    !> Index of &scene amplitude_step in `key_table`.
-    integer, parameter, public :: key_scene_amplitude_step = 27
-    !> Index of &scene omega_min in `key_table`.
-    integer, parameter, public :: key_scene_omega_min = 28
-    !> Index of &scene omega_max in `key_table`.
-    integer, parameter, public :: key_scene_omega_max = 29
-    !> Index of &scene omega_step in `key_table`.
-    integer, parameter, public :: key_scene_omega_step = 30
-    !> Index of &scene vary in `key_table`.
-    integer, parameter, public :: key_scene_vary = 31
-    !> Index of &scene values in `key_table`.
-    integer, parameter, public :: key_scene_values = 32
-    !> Index of &scene potentials in `key_table`.
-    integer, parameter, public :: key_scene_potentials = 33
-    !> Index of &scene continuation_step in `key_table`.
-    integer, parameter, public :: key_scene_continuation_step = 34
-    !> Index of &scene continuation_step_max in `key_table`.
-    integer, parameter, public :: key_scene_continuation_step_max = 35
-    !> Index of &scene continuation_points in `key_table`.
-    integer, parameter, public :: key_scene_continuation_points = 36
-    !> Index of &scene beyond_fold in `key_table`.
-    integer, parameter, public :: key_scene_beyond_fold = 37
-    !> Index of &scene crossing_tol in `key_table`.
-    integer, parameter, public :: key_scene_crossing_tol = 38
-    !> Index of &scene floquet_every in `key_table`.
-    integer, parameter, public :: key_scene_floquet_every = 39
-    !> Index of &scene fold_convergence in `key_table`.
-    integer, parameter, public :: key_scene_fold_convergence = 40
-    !> Index of &scene coarse_step in `key_table`.
-    integer, parameter, public :: key_scene_coarse_step = 41
-    !> Index of &scene resolution in `key_table`.
-    integer, parameter, public :: key_scene_resolution = 42
-    !> Index of &scene screen_method in `key_table`.
-    integer, parameter, public :: key_scene_screen_method = 43
-    !> Index of &scene screen_dt in `key_table`.
-    integer, parameter, public :: key_scene_screen_dt = 44
-    !> Index of &scene confirm_band in `key_table`.
-    integer, parameter, public :: key_scene_confirm_band = 45
-    !> Index of &scene screen_margin in `key_table`.
-    integer, parameter, public :: key_scene_screen_margin = 46
-    !> Index of &scene certify in `key_table`.
-    integer, parameter, public :: key_scene_certify = 47
-    !> Index of &scene methods in `key_table`.
-    integer, parameter, public :: key_scene_methods = 48
-    !> Index of &scene dts in `key_table`.
-    integer, parameter, public :: key_scene_dts = 49
-    !> Index of &scene dt_smallest in `key_table`.
-    integer, parameter, public :: key_scene_dt_smallest = 50
-    !> Index of &scene amplitudes in `key_table`.
-    integer, parameter, public :: key_scene_amplitudes = 51
-    !> Index of &scene c_values in `key_table`.
-    integer, parameter, public :: key_scene_c_values = 52
-    !> Index of &scene repeats in `key_table`.
-    integer, parameter, public :: key_scene_repeats = 53
-    !> Index of &scene reference_dt in `key_table`.
-    integer, parameter, public :: key_scene_reference_dt = 54
-    !> Index of &scene stair_times in `key_table`.
-    integer, parameter, public :: key_scene_stair_times = 55
-    !> Index of &scene stair_height in `key_table`.
-    integer, parameter, public :: key_scene_stair_height = 56
-    !> Index of &scene stair_ramp in `key_table`.
-    integer, parameter, public :: key_scene_stair_ramp = 57
-    !> Index of &scene power_threshold in `key_table`.
-    integer, parameter, public :: key_scene_power_threshold = 58
-    !> Index of &detect site in `key_table`.
-    integer, parameter, public :: key_detect_site = 59
-    !> Index of &detect amplitude in `key_table`.
-    integer, parameter, public :: key_detect_amplitude = 60
-    !> Index of &detect stop_when_decided in `key_table`.
-    integer, parameter, public :: key_detect_stop_when_decided = 61
-    !> Index of &output file in `key_table`.
-    integer, parameter, public :: key_output_file = 62
-    !> Index of &output overwrite in `key_table`.
-    integer, parameter, public :: key_output_overwrite = 63
-    !> Index of &output checkpoint_every in `key_table`.
-    integer, parameter, public :: key_output_checkpoint_every = 64
-    !> Index of &output quiet in `key_table`.
-    integer, parameter, public :: key_output_quiet = 65
+    !> Index in `key_table` of each key: `key_<group>_<name>`.
+    integer, parameter, public :: key_chain_potential = 1, key_chain_c = 2, key_chain_m2 = 3, key_chain_gamma = 4, &
+        key_chain_beta = 5, key_chain_n = 6, key_chain_n0 = 7, key_chain_kappa = 8, key_chain_sigma = 9, &
+        key_drive_amplitude = 10, key_drive_omega = 11, key_drive_ramp_time = 12, key_drive_allow_outside_gap = 13, &
+        key_numerics_method = 14, key_numerics_dt = 15, key_numerics_t_final = 16, key_numerics_newton_tol = 17, &
+        key_numerics_newton_max_iter = 18, key_numerics_blowup_threshold = 19, key_numerics_allow_unstable = 20, &
+        key_record_probes = 21, key_record_probe_every = 22, key_record_ledger_every = 23, key_scene_kind = 24, &
+        key_scene_amplitude_min = 25, key_scene_amplitude_max = 26, key_scene_amplitude_step = 27, key_scene_omega_min = 28, &
+        key_scene_omega_max = 29, key_scene_omega_step = 30, key_scene_vary = 31, key_scene_values = 32, &
+        key_scene_potentials = 33, key_scene_continuation_step = 34, key_scene_continuation_step_max = 35, &
+        key_scene_continuation_points = 36, key_scene_beyond_fold = 37, key_scene_crossing_tol = 38, &
+        key_scene_floquet_every = 39, key_scene_fold_convergence = 40, key_scene_coarse_step = 41, key_scene_resolution = 42, &
+        key_scene_screen_method = 43, key_scene_screen_dt = 44, key_scene_confirm_band = 45, key_scene_screen_margin = 46, &
+        key_scene_certify = 47, key_scene_methods = 48, key_scene_dts = 49, key_scene_dt_smallest = 50, &
+        key_scene_amplitudes = 51, key_scene_c_values = 52, key_scene_repeats = 53, key_scene_reference_dt = 54, &
+        key_scene_stair_times = 55, key_scene_stair_height = 56, key_scene_stair_ramp = 57, key_scene_power_threshold = 58, &
+        key_detect_site = 59, key_detect_amplitude = 60, key_detect_stop_when_decided = 61, key_output_file = 62, &
+        key_output_overwrite = 63, key_output_checkpoint_every = 64, key_output_quiet = 65
 
-    type(key_spec), parameter :: spec_chain_potential = key_spec( &
-        group="chain", key="potential", value_type=kt_name, max_values=1, attribute="potential", units="1", &
-            choices=choice_potential, ids=.true., &
-        default_text="'sine-gordon'", &
-        range_text="'sine-gordon', 'klein-gordon'", &
-        description="On-site potential V(u): 'sine-gordon' (1 - cos u) or 'klein-gordon' (its phi^6 truncation)")
-    type(key_spec), parameter :: spec_chain_c = key_spec( &
-        group="chain", key="c", value_type=kt_real, max_values=1, attribute="c", units="1/time", has_min=.true., min=0.0_wp, &
-            min_text="0", min_strict=.true., has_max=.true., max=1000000.0_wp, max_text="1000000", &
-        default_text="4", &
-        range_text="> 0 and <= 1000000", &
-        description="Coupling coefficient c")
-    type(key_spec), parameter :: spec_chain_m2 = key_spec( &
-        group="chain", key="m2", value_type=kt_real, max_values=1, attribute="m2", units="1/time^2", has_min=.true., min=-1.0_wp, &
+    !> The keys of &chain.
+    type(key_spec), parameter :: chain_keys(*) = [ &
+        key_spec(group="chain", key="potential", value_type=kt_name, attribute="potential", choices=choice_potential, &
+            ids=.true., default_text="'sine-gordon'", range_text="'sine-gordon', 'klein-gordon'", &
+            description="On-site potential V(u): 'sine-gordon' (1 - cos u) or 'klein-gordon' (its phi^6 truncation)"), &
+        key_spec(group="chain", key="c", value_type=kt_real, attribute="c", units="1/time", has_min=.true., min=0.0_wp, &
+            min_text="0", min_strict=.true., has_max=.true., max=1000000.0_wp, max_text="1000000", default_text="4", &
+            range_text="> 0 and <= 1000000", description="Coupling coefficient c"), &
+        key_spec(group="chain", key="m2", value_type=kt_real, attribute="m2", units="1/time^2", has_min=.true., min=-1.0_wp, &
             min_text="-1", min_strict=.true., &
-        message="need 1 + m2 > 0 (the band gap 0 < Omega < sqrt(1 + m^2) must not be empty)", &
-        default_text="0", &
-        range_text="> -1", &
-        description="Mass term m^2 (negative for an imaginary mass)")
-    type(key_spec), parameter :: spec_chain_gamma = key_spec( &
-        group="chain", key="gamma", value_type=kt_real, max_values=1, attribute="gamma", units="1/time", has_min=.true., &
-            min=0.0_wp, min_text="0", &
-        default_text="0", &
-        range_text=">= 0", &
-        description="External damping gamma")
-    type(key_spec), parameter :: spec_chain_beta = key_spec( &
-        group="chain", key="beta", value_type=kt_real, max_values=1, attribute="beta", units="1/time", has_min=.true., &
-            min=0.0_wp, min_text="0", &
-        default_text="0", &
-        range_text=">= 0", &
-        description="Internal damping beta")
-    type(key_spec), parameter :: spec_chain_n = key_spec( &
-        group="chain", key="n", value_type=kt_integer, max_values=1, attribute="n", units="1", has_min=.true., min=2.0_wp, &
-            min_text="2", &
-        message="need N >= 2", &
-        default_text="200", &
-        range_text=">= 2", &
-        description="Number of oscillators N")
-    type(key_spec), parameter :: spec_chain_n0 = key_spec( &
-        group="chain", key="n0", value_type=kt_integer, max_values=1, attribute="n0", units="1", &
-        default_text="150", &
-        range_text="0 <= N0 <= N", &
-        description="Last site before the absorber, N0 (the absorber acts on N0 < n <= N)")
-    type(key_spec), parameter :: spec_chain_kappa = key_spec( &
-        group="chain", key="kappa", value_type=kt_real, max_values=1, attribute="kappa", units="1/time", has_min=.true., &
-            min=0.0_wp, min_text="0", &
-        default_text="0.5", &
-        range_text=">= 0", &
-        description="Absorber strength kappa: gamma'(n) rises smoothly from 0 to 2 kappa")
-    type(key_spec), parameter :: spec_chain_sigma = key_spec( &
-        group="chain", key="sigma", value_type=kt_real, max_values=1, attribute="sigma", units="1", has_min=.true., min=0.0_wp, &
-            min_text="0", min_strict=.true., &
-        default_text="3", &
-        range_text="> 0", &
-        description="Absorber width sigma (sites)")
-    type(key_spec), parameter :: spec_drive_amplitude = key_spec( &
-        group="drive", key="amplitude", value_type=kt_real, max_values=1, attribute="amplitude", units="rad", has_min=.true., &
-            min=0.0_wp, min_text="0", &
-        default_text="1.77", &
-        range_text=">= 0", &
-        description="Driving amplitude A")
-    type(key_spec), parameter :: spec_drive_omega = key_spec( &
-        group="drive", key="omega", value_type=kt_real, max_values=1, attribute="omega", units="1/time", has_min=.true., &
-            min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="0.9", &
-        range_text="> 0; inside the band gap, Omega < sqrt(1 + m^2), unless allow_outside_gap (timeseries, amplitude_sweep)", &
-        description="Driving frequency Omega")
-    type(key_spec), parameter :: spec_drive_ramp_time = key_spec( &
-        group="drive", key="ramp_time", value_type=kt_real, max_values=1, attribute="ramp_time", units="time", has_min=.true., &
-            min=0.0_wp, min_text="0", &
-        default_text="50", &
-        range_text=">= 0", &
-        description="Length of the linear ramp of the drive amplitude (0: no ramp)")
-    type(key_spec), parameter :: spec_drive_allow_outside_gap = key_spec( &
-        group="drive", key="allow_outside_gap", value_type=kt_logical, max_values=1, attribute="allow_outside_gap", units="1", &
-        default_text=".false.", &
-        range_text="", &
-        description="Allow a driving frequency outside the band gap")
-    type(key_spec), parameter :: spec_numerics_method = key_spec( &
-        group="numerics", key="method", value_type=kt_name, max_values=1, attribute="method", units="1", choices=choice_method, &
-            ids=.true., &
-        default_text="'newton'", &
-        range_text="'newton', 'linearized', 'rk4', 'rk8', 'avf4', 'avf8'", &
-        description="Integrator: 'newton' (the paper's scheme), 'linearized', 'rk4', 'rk8', or the energy-preserving collocat" // &
-            "ion 'avf4' or 'avf8' (docs/method.md)")
-    type(key_spec), parameter :: spec_numerics_dt = key_spec( &
-        group="numerics", key="dt", value_type=kt_real, max_values=1, attribute="dt", units="time", has_min=.true., min=0.0_wp, &
-            min_text="0", min_strict=.true., &
-        default_text="0.05", &
-        range_text="> 0; the paper's necessary stability condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt, unless allo" // &
-            "w_unstable", &
-        description="Time step Delta t")
-    type(key_spec), parameter :: spec_numerics_t_final = key_spec( &
-        group="numerics", key="t_final", value_type=kt_real, max_values=1, attribute="t_final", units="time", has_min=.true., &
-            min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="200", &
-        range_text="> 0; >= 2 dt", &
-        description="Final time T")
-    type(key_spec), parameter :: spec_numerics_newton_tol = key_spec( &
-        group="numerics", key="newton_tol", value_type=kt_real, max_values=1, attribute="newton_tol", units="rad", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="1e-10", &
-        range_text="> 0", &
-        description="Newton accepts a step when its proven error bound (quadratic convergence) is at most this and, in runs t" // &
-            "hat keep the energy ledger (all but search runs), the ledger closes to roundoff")
-    type(key_spec), parameter :: spec_numerics_newton_max_iter = key_spec( &
-        group="numerics", key="newton_max_iter", value_type=kt_integer, max_values=1, attribute="newton_max_iter", units="1", &
-            has_min=.true., min=1.0_wp, min_text="1", &
-        default_text="20", &
-        range_text=">= 1", &
-        description="Newton iteration cap; reaching it without convergence fails the run")
-    type(key_spec), parameter :: spec_numerics_blowup_threshold = key_spec( &
-        group="numerics", key="blowup_threshold", value_type=kt_real, max_values=1, attribute="blowup_threshold", units="rad", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="1000", &
-        range_text="> 0", &
-        description="A run whose |u_n| exceeds this is declared diverged (blown up)")
-    type(key_spec), parameter :: spec_numerics_allow_unstable = key_spec( &
-        group="numerics", key="allow_unstable", value_type=kt_logical, max_values=1, attribute="allow_unstable", units="1", &
-        default_text=".false.", &
-        range_text="", &
-        description="Allow parameters that violate the paper's necessary stability condition")
-    type(key_spec), parameter :: spec_record_probes = key_spec( &
-        group="record", key="probes", value_type=kt_integer, max_values=max_probes, attribute="probes", units="1", &
-        default_text="60 (N if N < 60)", &
-        range_text="up to 64 values, each a site 1 .. N, none given twice", &
-        description="Sites n whose u_n(t) is recorded")
-    type(key_spec), parameter :: spec_record_probe_every = key_spec( &
-        group="record", key="probe_every", value_type=kt_integer, max_values=1, attribute="probe_every", units="1", &
-            has_min=.true., min=1.0_wp, min_text="1", &
-        default_text="1", &
-        range_text=">= 1", &
-        description="Record probes every this many steps")
-    type(key_spec), parameter :: spec_record_ledger_every = key_spec( &
-        group="record", key="ledger_every", value_type=kt_integer, max_values=1, attribute="ledger_every", units="1", &
-            has_min=.true., min=1.0_wp, min_text="1", &
-        default_text="20", &
-        range_text=">= 1", &
-        description="Evaluate the stored energy E_k and record the ledger every this many steps")
-    type(key_spec), parameter :: spec_scene_kind = key_spec( &
-        group="scene", key="kind", value_type=kt_name, max_values=1, attribute="kind", units="1", choices=choice_scene, &
-        default_text="'timeseries'", &
-        range_text="'timeseries', 'amplitude_sweep', 'map', 'bifurcation', 'work_precision', 'stability', 'continuation', 'h" // &
-            "ysteresis'", &
-        description="Scene: the study to run")
-    type(key_spec), parameter :: spec_scene_amplitude_min = key_spec( &
-        group="scene", key="amplitude_min", value_type=kt_real, max_values=1, attribute="amplitude_min", units="rad", &
-            has_min=.true., min=0.0_wp, min_text="0", &
-        default_text="1", &
-        range_text=">= 0", &
-        description="Amplitude axis of sweeps and maps, and the search range of the bifurcation scene: lower end")
-    type(key_spec), parameter :: spec_scene_amplitude_max = key_spec( &
-        group="scene", key="amplitude_max", value_type=kt_real, max_values=1, attribute="amplitude_max", units="rad", &
-        default_text="3", &
-        range_text=">= amplitude_min", &
-        description="Upper end of the amplitude axis / search range")
-    type(key_spec), parameter :: spec_scene_amplitude_step = key_spec( &
-        group="scene", key="amplitude_step", value_type=kt_real, max_values=1, attribute="amplitude_step", units="rad", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="0.01", &
-        range_text="> 0", &
-        description="Amplitude step of sweeps and maps")
-    type(key_spec), parameter :: spec_scene_omega_min = key_spec( &
-        group="scene", key="omega_min", value_type=kt_real, max_values=1, attribute="omega_min", units="1/time", has_min=.true., &
-            min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="0.05", &
-        range_text="> 0", &
-        description="Frequency axis of maps and bifurcation diagrams: lower end")
-    type(key_spec), parameter :: spec_scene_omega_max = key_spec( &
-        group="scene", key="omega_max", value_type=kt_real, max_values=1, attribute="omega_max", units="1/time", &
-        default_text="1", &
-        range_text=">= omega_min", &
-        description="Upper end of the frequency axis")
-    type(key_spec), parameter :: spec_scene_omega_step = key_spec( &
-        group="scene", key="omega_step", value_type=kt_real, max_values=1, attribute="omega_step", units="1/time", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="0.05", &
-        range_text="> 0", &
-        description="Frequency step")
-    type(key_spec), parameter :: spec_scene_vary = key_spec( &
-        group="scene", key="vary", value_type=kt_name, max_values=1, attribute="vary", units="1", choices=choice_vary, &
-        default_text="'none'", &
-        range_text="'none', 'gamma', 'beta', 'm2'", &
-        description="Parameter that differs between curves")
-    type(key_spec), parameter :: spec_scene_values = key_spec( &
-        group="scene", key="values", value_type=kt_real, max_values=max_curve_values, attribute="values", units="1", &
-        default_text="unset (needed unless vary = 'none')", &
-        range_text="up to 16 values", &
-        description="Values of the varied parameter, one curve each (in the units of that parameter)")
-    type(key_spec), parameter :: spec_scene_potentials = key_spec( &
-        group="scene", key="potentials", value_type=kt_name, max_values=2, attribute="potentials", units="1", &
-            choices=choice_potential, ids=.true., unset=1, &
-        default_text="the &chain potential", &
-        range_text="up to 2 values, each 'sine-gordon', 'klein-gordon'", &
-        description="Potentials, one panel (sweeps, maps) or set of curves each")
-    type(key_spec), parameter :: spec_scene_continuation_step = key_spec( &
-        group="scene", key="continuation_step", value_type=kt_real, max_values=1, attribute="continuation_step", units="rad", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="0.05", &
-        range_text="> 0; <= continuation_step_max", &
-        description="Continuation: first pseudo-arclength step along the branch of driven periodic states (grows and shrinks " // &
-            "with Newton's progress)")
-    type(key_spec), parameter :: spec_scene_continuation_step_max = key_spec( &
-        group="scene", key="continuation_step_max", value_type=kt_real, max_values=1, attribute="continuation_step_max", &
-            units="rad", has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="0.2", &
-        range_text="> 0", &
-        description="Continuation: largest pseudo-arclength step")
-    type(key_spec), parameter :: spec_scene_continuation_points = key_spec( &
-        group="scene", key="continuation_points", value_type=kt_integer, max_values=1, attribute="continuation_points", &
-            units="1", has_min=.true., min=3.0_wp, min_text="3", has_max=.true., max=150.0_wp, max_text="150", &
-        default_text="150", &
-        range_text=">= 3 and <= 150", &
-        description="Continuation: most points of a branch (the continuation stops there with status 'max_points')")
-    type(key_spec), parameter :: spec_scene_beyond_fold = key_spec( &
-        group="scene", key="beyond_fold", value_type=kt_integer, max_values=1, attribute="beyond_fold", units="1", &
-            has_min=.true., min=0.0_wp, min_text="0", has_max=.true., max=100.0_wp, max_text="100", &
-        default_text="10", &
-        range_text=">= 0 and <= 100", &
-        description="Continuation: points followed along the unstable branch past the fold")
-    type(key_spec), parameter :: spec_scene_crossing_tol = key_spec( &
-        group="scene", key="crossing_tol", value_type=kt_real, max_values=1, attribute="crossing_tol", units="1", has_min=.true., &
-            min=0.0_wp, min_text="0", min_strict=.true., has_max=.true., max=0.1_wp, max_text="0.1", &
-        default_text="1e-06", &
-        range_text="> 0 and <= 0.1", &
-        description="Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + crossi" // &
-            "ng_tol")
-    type(key_spec), parameter :: spec_scene_floquet_every = key_spec( &
-        group="scene", key="floquet_every", value_type=kt_integer, max_values=1, attribute="floquet_every", units="1", &
-            has_min=.true., min=1.0_wp, min_text="1", has_max=.true., max=100.0_wp, max_text="100", &
-        default_text="4", &
-        range_text=">= 1 and <= 100", &
-        description="Continuation: multipliers at every this many branch points, and wherever the largest moduli's trend coul" // &
-            "d reach the unit circle, at the fold and where the verdict changes (1: at every point)")
-    type(key_spec), parameter :: spec_scene_fold_convergence = key_spec( &
-        group="scene", key="fold_convergence", value_type=kt_logical, max_values=1, attribute="fold_convergence", units="1", &
-        default_text=".true.", &
-        range_text="", &
-        description="Continuation: locate each fold again at dt/2 and on a chain twice as long, for its converged digits")
-    type(key_spec), parameter :: spec_scene_coarse_step = key_spec( &
-        group="scene", key="coarse_step", value_type=kt_real, max_values=1, attribute="coarse_step", units="rad", &
-        default_text="0.1", &
-        range_text=">= resolution", &
-        description="Bifurcation search: coarse amplitude step of the upward scan")
-    type(key_spec), parameter :: spec_scene_resolution = key_spec( &
-        group="scene", key="resolution", value_type=kt_real, max_values=1, attribute="resolution", units="rad", has_min=.true., &
-            min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="0.01", &
-        range_text="> 0", &
-        description="Bifurcation search: resolution of the threshold; stability scene: resolution of the boundary in dt")
-    type(key_spec), parameter :: spec_scene_screen_method = key_spec( &
-        group="scene", key="screen_method", value_type=kt_name, max_values=1, attribute="screen_method", units="1", &
-            choices=choice_screen, &
-        default_text="'linearized'", &
-        range_text="'none', 'newton', 'linearized', 'rk4', 'rk8'", &
-        description="Bifurcation search: integrator that screens amplitudes far from the threshold ('none': every run uses th" // &
-            "e &numerics method; README, ""Screening"")")
-    type(key_spec), parameter :: spec_scene_screen_dt = key_spec( &
-        group="scene", key="screen_dt", value_type=kt_real, max_values=1, attribute="screen_dt", units="time", has_min=.true., &
-            min=0.0_wp, min_text="0", &
-        default_text="0 (2 dt, or dt where 2 dt breaks the stability condition)", &
-        range_text=">= 0; 0, or dt <= screen_dt <= t_final/2", &
-        description="Bifurcation search: time step of the screening runs (0: twice the &numerics dt where that meets the pape" // &
-            "r's stability condition, else dt)")
-    type(key_spec), parameter :: spec_scene_confirm_band = key_spec( &
-        group="scene", key="confirm_band", value_type=kt_real, max_values=1, attribute="confirm_band", units="rad", &
-            has_min=.true., min=0.0_wp, min_text="0", &
-        default_text="0.05", &
-        range_text=">= 0", &
-        description="Bifurcation search: every amplitude the search asks within this distance below its threshold (and above)" // &
-            " is run with the &numerics method")
-    type(key_spec), parameter :: spec_scene_screen_margin = key_spec( &
-        group="scene", key="screen_margin", value_type=kt_real, max_values=1, attribute="screen_margin", units="1", &
-            has_min=.true., min=0.0_wp, min_text="0", has_max=.true., max=1.0_wp, max_text="1", &
-        default_text="0.5", &
-        range_text=">= 0 and <= 1", &
-        description="Bifurcation search: a quiet screening run whose verdict margin (1 - max|u|/amplitude beyond the detector" // &
-            ") is below this is run again with the &numerics method")
-    type(key_spec), parameter :: spec_scene_certify = key_spec( &
-        group="scene", key="certify", value_type=kt_logical, max_values=1, attribute="certify", units="1", &
-        default_text=".false.", &
-        range_text="", &
-        description="Bifurcation search: recheck each threshold with the &numerics method at dt/2 and flag it if it moves mor" // &
-            "e than the resolution")
-    type(key_spec), parameter :: spec_scene_methods = key_spec( &
-        group="scene", key="methods", value_type=kt_name, max_values=max_scene_methods, attribute="methods", units="1", &
-            choices=choice_method, ids=.true., &
-        default_text="all", &
-        range_text="up to 8 values, each 'newton', 'linearized', 'rk4', 'rk8', 'avf4', 'avf8'", &
-        description="Work-precision and stability scenes: the integrators compared")
-    type(key_spec), parameter :: spec_scene_dts = key_spec( &
-        group="scene", key="dts", value_type=kt_real, max_values=max_scene_dts, attribute="dts", units="time", has_min=.true., &
-            min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="the scene's list", &
-        range_text="up to 64 values, each > 0; <= t_final/2 (work_precision)", &
-        description="Work-precision: the time steps (each method runs those >= its dt_smallest); stability: the dt axis")
-    type(key_spec), parameter :: spec_scene_dt_smallest = key_spec( &
-        group="scene", key="dt_smallest", value_type=kt_real, max_values=max_scene_methods, attribute="dt_smallest", &
-            units="time", has_min=.true., min=0.0_wp, min_text="0", &
-        default_text="0 for every method", &
-        range_text="up to 8 values, each >= 0; one value per entry of methods", &
-        description="Work-precision: smallest dt run for each method, one per entry of methods (0: every dt of dts)")
-    type(key_spec), parameter :: spec_scene_amplitudes = key_spec( &
-        group="scene", key="amplitudes", value_type=kt_real, max_values=max_curve_values, attribute="amplitudes", units="rad", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="the &drive amplitude", &
-        range_text="up to 16 values, each > 0", &
-        description="Work-precision: the drive amplitudes (one set of runs each)")
-    type(key_spec), parameter :: spec_scene_c_values = key_spec( &
-        group="scene", key="c_values", value_type=kt_real, max_values=max_curve_values, attribute="c_values", units="1/time", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="the &chain c", &
-        range_text="up to 16 values, each > 0", &
-        description="Stability: the values of the coupling c (the c axis)")
-    type(key_spec), parameter :: spec_scene_repeats = key_spec( &
-        group="scene", key="repeats", value_type=kt_integer, max_values=1, attribute="repeats", units="1", has_min=.true., &
-            min=1.0_wp, min_text="1", &
-        default_text="3", &
-        range_text=">= 1", &
-        description="Work-precision: timed repetitions of each run (the median wall time is recorded)")
-    type(key_spec), parameter :: spec_scene_reference_dt = key_spec( &
-        group="scene", key="reference_dt", value_type=kt_real, max_values=1, attribute="reference_dt", units="time", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="0.025", &
-        range_text="> 0; <= t_final/2", &
-        description="Work-precision: step of the reference solution (rk8 at reference_dt/2, checked against reference_dt)")
-    type(key_spec), parameter :: spec_scene_stair_times = key_spec( &
-        group="scene", key="stair_times", value_type=kt_real, max_values=max_curve_values, attribute="stair_times", units="time", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="400 (one stair length)", &
-        range_text="up to 16 values, each > 0; >= 2 stair_ramp", &
-        description="Hysteresis: the stair lengths (one run each per curve and Omega); the spread of the edges over them is t" // &
-            "he protocol's part")
-    type(key_spec), parameter :: spec_scene_stair_height = key_spec( &
-        group="scene", key="stair_height", value_type=kt_real, max_values=1, attribute="stair_height", units="rad", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="0.02", &
-        range_text="> 0", &
-        description="Hysteresis: amplitude step between two stairs (levels amplitude_min + i stair_height <= amplitude_max)")
-    type(key_spec), parameter :: spec_scene_stair_ramp = key_spec( &
-        group="scene", key="stair_ramp", value_type=kt_real, max_values=1, attribute="stair_ramp", units="time", has_min=.true., &
-            min=0.0_wp, min_text="0", &
-        default_text="10", &
-        range_text=">= 0; <= stair_times/2", &
-        description="Hysteresis: length of the linear ramp between two stairs (at the start of each stair, so that the drive " // &
-            "stays continuous)")
-    type(key_spec), parameter :: spec_scene_power_threshold = key_spec( &
-        group="scene", key="power_threshold", value_type=kt_real, max_values=1, attribute="power_threshold", units="energy/time", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="0.05", &
-        range_text="> 0", &
-        description="Hysteresis: a stair transmits when its mean power through the bond beyond the detector site exceeds this" // &
-            " (transmitting stairs carry 0.3 - 4 here)")
-    type(key_spec), parameter :: spec_detect_site = key_spec( &
-        group="detect", key="site", value_type=kt_integer, max_values=1, attribute="detect_site", units="1", &
-        default_text="0", &
-        range_text="0 (automatic) <= site < N", &
-        description="Detector site n_d; 0 chooses min(N0 - 10, max(20, ceiling(3/lambda))), where the evanescent wave has dec" // &
-            "ayed to e^-3")
-    type(key_spec), parameter :: spec_detect_amplitude = key_spec( &
-        group="detect", key="amplitude", value_type=kt_real, max_values=1, attribute="detect_amplitude", units="rad", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., &
-        default_text="pi", &
-        range_text="> 0", &
-        description="Displacement |u_n|, n > n_d, that makes the verdict 'transmitting'")
-    type(key_spec), parameter :: spec_detect_stop_when_decided = key_spec( &
-        group="detect", key="stop_when_decided", value_type=kt_logical, max_values=1, attribute="stop_when_decided", units="1", &
-        default_text=".false.", &
-        range_text="", &
-        description="Stop a run as soon as it is found transmitting (its energy totals then end at that time)")
-    type(key_spec), parameter :: spec_output_file = key_spec( &
-        group="output", key="file", value_type=kt_path, max_values=1, attribute="file", units="1", &
-        default_text="'supratrans.h5'", &
-        range_text="not empty; must not exist unless overwrite", &
-        description="Output HDF5 file (missing directories are created)")
-    type(key_spec), parameter :: spec_output_overwrite = key_spec( &
-        group="output", key="overwrite", value_type=kt_logical, max_values=1, attribute="overwrite", units="1", &
-        default_text=".false.", &
-        range_text="", &
-        description="Replace an existing output file instead of refusing")
-    type(key_spec), parameter :: spec_output_checkpoint_every = key_spec( &
-        group="output", key="checkpoint_every", value_type=kt_real, max_values=1, attribute="checkpoint_every", units="s", &
-            has_min=.true., min=0.0_wp, min_text="0", &
-        default_text="300", &
-        range_text=">= 0", &
-        description="Wall time between two mid-run checkpoints of a running task (also written at once on SIGTERM or SIGUSR1," // &
-            " then the program exits 5 and resumes); 0: no checkpoints")
-    type(key_spec), parameter :: spec_output_quiet = key_spec( &
-        group="output", key="quiet", value_type=kt_logical, max_values=1, attribute="quiet", units="1", &
-        default_text=".false.", &
-        range_text="", &
-        description="Suppress progress messages on stderr")
+            message="need 1 + m2 > 0 (the band gap 0 < Omega < sqrt(1 + m^2) must not be empty)", default_text="0", &
+            range_text="> -1", description="Mass term m^2 (negative for an imaginary mass)"), &
+        key_spec(group="chain", key="gamma", value_type=kt_real, attribute="gamma", units="1/time", has_min=.true., &
+            min=0.0_wp, min_text="0", default_text="0", range_text=">= 0", description="External damping gamma"), &
+        key_spec(group="chain", key="beta", value_type=kt_real, attribute="beta", units="1/time", has_min=.true., min=0.0_wp, &
+            min_text="0", default_text="0", range_text=">= 0", description="Internal damping beta"), &
+        key_spec(group="chain", key="n", value_type=kt_integer, attribute="n", has_min=.true., min=2.0_wp, min_text="2", &
+            message="need N >= 2", default_text="200", range_text=">= 2", description="Number of oscillators N"), &
+        key_spec(group="chain", key="n0", value_type=kt_integer, attribute="n0", default_text="150", &
+            range_text="0 <= N0 <= N", description="Last site before the absorber, N0 (the absorber acts on N0 < n <= N)"), &
+        key_spec(group="chain", key="kappa", value_type=kt_real, attribute="kappa", units="1/time", has_min=.true., &
+            min=0.0_wp, min_text="0", default_text="0.5", range_text=">= 0", &
+            description="Absorber strength kappa: gamma'(n) rises smoothly from 0 to 2 kappa"), &
+        key_spec(group="chain", key="sigma", value_type=kt_real, attribute="sigma", has_min=.true., min=0.0_wp, min_text="0", &
+            min_strict=.true., default_text="3", range_text="> 0", description="Absorber width sigma (sites)")]
+
+    !> The keys of &drive.
+    type(key_spec), parameter :: drive_keys(*) = [ &
+        key_spec(group="drive", key="amplitude", value_type=kt_real, attribute="amplitude", units="rad", has_min=.true., &
+            min=0.0_wp, min_text="0", default_text="1.77", range_text=">= 0", description="Driving amplitude A"), &
+        key_spec(group="drive", key="omega", value_type=kt_real, attribute="omega", units="1/time", has_min=.true., &
+            min=0.0_wp, min_text="0", min_strict=.true., default_text="0.9", &
+            range_text="> 0; inside the band gap, Omega < sqrt(1 + m^2), unless allow_outside_gap (timeseries, amplitude_sweep)", &
+            description="Driving frequency Omega"), &
+        key_spec(group="drive", key="ramp_time", value_type=kt_real, attribute="ramp_time", units="time", has_min=.true., &
+            min=0.0_wp, min_text="0", default_text="50", range_text=">= 0", &
+            description="Length of the linear ramp of the drive amplitude (0: no ramp)"), &
+        key_spec(group="drive", key="allow_outside_gap", value_type=kt_logical, attribute="allow_outside_gap", &
+            default_text=".false.", range_text="", description="Allow a driving frequency outside the band gap")]
+
+    !> The keys of &numerics.
+    type(key_spec), parameter :: numerics_keys(*) = [ &
+        key_spec(group="numerics", key="method", value_type=kt_name, attribute="method", choices=choice_method, ids=.true., &
+            default_text="'newton'", range_text="'newton', 'linearized', 'rk4', 'rk8', 'avf4', 'avf8'", &
+            description="Integrator: 'newton' (the paper's scheme), 'linearized', 'rk4', 'rk8', or the energy-preserving col" // &
+            "location 'avf4' or 'avf8' (docs/method.md)"), &
+        key_spec(group="numerics", key="dt", value_type=kt_real, attribute="dt", units="time", has_min=.true., min=0.0_wp, &
+            min_text="0", min_strict=.true., default_text="0.05", &
+            range_text="> 0; the paper's necessary stability condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt, unless " // &
+            "allow_unstable", description="Time step Delta t"), &
+        key_spec(group="numerics", key="t_final", value_type=kt_real, attribute="t_final", units="time", has_min=.true., &
+            min=0.0_wp, min_text="0", min_strict=.true., default_text="200", range_text="> 0; >= 2 dt", &
+            description="Final time T"), &
+        key_spec(group="numerics", key="newton_tol", value_type=kt_real, attribute="newton_tol", units="rad", has_min=.true., &
+            min=0.0_wp, min_text="0", min_strict=.true., default_text="1e-10", range_text="> 0", &
+            description="Newton accepts a step when its proven error bound (quadratic convergence) is at most this and, in r" // &
+            "uns that keep the energy ledger (all but search runs), the ledger closes to roundoff"), &
+        key_spec(group="numerics", key="newton_max_iter", value_type=kt_integer, attribute="newton_max_iter", has_min=.true., &
+            min=1.0_wp, min_text="1", default_text="20", range_text=">= 1", &
+            description="Newton iteration cap; reaching it without convergence fails the run"), &
+        key_spec(group="numerics", key="blowup_threshold", value_type=kt_real, attribute="blowup_threshold", units="rad", &
+            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="1000", range_text="> 0", &
+            description="A run whose |u_n| exceeds this is declared diverged (blown up)"), &
+        key_spec(group="numerics", key="allow_unstable", value_type=kt_logical, attribute="allow_unstable", &
+            default_text=".false.", range_text="", &
+            description="Allow parameters that violate the paper's necessary stability condition")]
+
+    !> The keys of &record.
+    type(key_spec), parameter :: record_keys(*) = [ &
+        key_spec(group="record", key="probes", value_type=kt_integer, max_values=max_probes, attribute="probes", &
+            default_text="60 (N if N < 60)", range_text="up to 64 values, each a site 1 .. N, none given twice", &
+            description="Sites n whose u_n(t) is recorded"), &
+        key_spec(group="record", key="probe_every", value_type=kt_integer, attribute="probe_every", has_min=.true., &
+            min=1.0_wp, min_text="1", default_text="1", range_text=">= 1", description="Record probes every this many steps"), &
+        key_spec(group="record", key="ledger_every", value_type=kt_integer, attribute="ledger_every", has_min=.true., &
+            min=1.0_wp, min_text="1", default_text="20", range_text=">= 1", &
+            description="Evaluate the stored energy E_k and record the ledger every this many steps")]
+
+    !> The keys of &scene.
+    type(key_spec), parameter :: scene_keys(*) = [ &
+        key_spec(group="scene", key="kind", value_type=kt_name, attribute="kind", choices=choice_scene, &
+            default_text="'timeseries'", &
+            range_text="'timeseries', 'amplitude_sweep', 'map', 'bifurcation', 'work_precision', 'stability', 'continuation'" // &
+            ", 'hysteresis'", description="Scene: the study to run"), &
+        key_spec(group="scene", key="amplitude_min", value_type=kt_real, attribute="amplitude_min", units="rad", &
+            has_min=.true., min=0.0_wp, min_text="0", default_text="1", range_text=">= 0", &
+            description="Amplitude axis of sweeps and maps, and the search range of the bifurcation scene: lower end"), &
+        key_spec(group="scene", key="amplitude_max", value_type=kt_real, attribute="amplitude_max", units="rad", &
+            default_text="3", range_text=">= amplitude_min", description="Upper end of the amplitude axis / search range"), &
+        key_spec(group="scene", key="amplitude_step", value_type=kt_real, attribute="amplitude_step", units="rad", &
+            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="0.01", range_text="> 0", &
+            description="Amplitude step of sweeps and maps"), &
+        key_spec(group="scene", key="omega_min", value_type=kt_real, attribute="omega_min", units="1/time", has_min=.true., &
+            min=0.0_wp, min_text="0", min_strict=.true., default_text="0.05", range_text="> 0", &
+            description="Frequency axis of maps and bifurcation diagrams: lower end"), &
+        key_spec(group="scene", key="omega_max", value_type=kt_real, attribute="omega_max", units="1/time", default_text="1", &
+            range_text=">= omega_min", description="Upper end of the frequency axis"), &
+        key_spec(group="scene", key="omega_step", value_type=kt_real, attribute="omega_step", units="1/time", has_min=.true., &
+            min=0.0_wp, min_text="0", min_strict=.true., default_text="0.05", range_text="> 0", description="Frequency step"), &
+        key_spec(group="scene", key="vary", value_type=kt_name, attribute="vary", choices=choice_vary, default_text="'none'", &
+            range_text="'none', 'gamma', 'beta', 'm2'", description="Parameter that differs between curves"), &
+        key_spec(group="scene", key="values", value_type=kt_real, max_values=max_curve_values, attribute="values", &
+            default_text="unset (needed unless vary = 'none')", range_text="up to 16 values", &
+            description="Values of the varied parameter, one curve each (in the units of that parameter)"), &
+        key_spec(group="scene", key="potentials", value_type=kt_name, max_values=2, attribute="potentials", &
+            choices=choice_potential, ids=.true., unset=1, default_text="the &chain potential", &
+            range_text="up to 2 values, each 'sine-gordon', 'klein-gordon'", &
+            description="Potentials, one panel (sweeps, maps) or set of curves each"), &
+        key_spec(group="scene", key="continuation_step", value_type=kt_real, attribute="continuation_step", units="rad", &
+            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="0.05", &
+            range_text="> 0; <= continuation_step_max", &
+            description="Continuation: first pseudo-arclength step along the branch of driven periodic states (grows and shr" // &
+            "inks with Newton's progress)"), &
+        key_spec(group="scene", key="continuation_step_max", value_type=kt_real, attribute="continuation_step_max", &
+            units="rad", has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="0.2", range_text="> 0", &
+            description="Continuation: largest pseudo-arclength step"), &
+        key_spec(group="scene", key="continuation_points", value_type=kt_integer, attribute="continuation_points", &
+            has_min=.true., min=3.0_wp, min_text="3", has_max=.true., max=150.0_wp, max_text="150", default_text="150", &
+            range_text=">= 3 and <= 150", &
+            description="Continuation: most points of a branch (the continuation stops there with status 'max_points')"), &
+        key_spec(group="scene", key="beyond_fold", value_type=kt_integer, attribute="beyond_fold", has_min=.true., min=0.0_wp, &
+            min_text="0", has_max=.true., max=100.0_wp, max_text="100", default_text="10", range_text=">= 0 and <= 100", &
+            description="Continuation: points followed along the unstable branch past the fold"), &
+        key_spec(group="scene", key="crossing_tol", value_type=kt_real, attribute="crossing_tol", has_min=.true., min=0.0_wp, &
+            min_text="0", min_strict=.true., has_max=.true., max=0.1_wp, max_text="0.1", default_text="1e-06", &
+            range_text="> 0 and <= 0.1", &
+            description="Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + c" // &
+            "rossing_tol"), &
+        key_spec(group="scene", key="floquet_every", value_type=kt_integer, attribute="floquet_every", has_min=.true., &
+            min=1.0_wp, min_text="1", has_max=.true., max=100.0_wp, max_text="100", default_text="4", &
+            range_text=">= 1 and <= 100", &
+            description="Continuation: multipliers at every this many branch points, and wherever the largest moduli's trend" // &
+            " could reach the unit circle, at the fold and where the verdict changes (1: at every point)"), &
+        key_spec(group="scene", key="fold_convergence", value_type=kt_logical, attribute="fold_convergence", &
+            default_text=".true.", range_text="", &
+            description="Continuation: locate each fold again at dt/2 and on a chain twice as long, for its converged digits"), &
+        key_spec(group="scene", key="coarse_step", value_type=kt_real, attribute="coarse_step", units="rad", &
+            default_text="0.1", range_text=">= resolution", &
+            description="Bifurcation search: coarse amplitude step of the upward scan"), &
+        key_spec(group="scene", key="resolution", value_type=kt_real, attribute="resolution", units="rad", has_min=.true., &
+            min=0.0_wp, min_text="0", min_strict=.true., default_text="0.01", range_text="> 0", &
+            description="Bifurcation search: resolution of the threshold; stability scene: resolution of the boundary in dt"), &
+        key_spec(group="scene", key="screen_method", value_type=kt_name, attribute="screen_method", choices=choice_screen, &
+            default_text="'linearized'", range_text="'none', 'newton', 'linearized', 'rk4', 'rk8'", &
+            description="Bifurcation search: integrator that screens amplitudes far from the threshold ('none': every run us" // &
+            "es the &numerics method; README, ""Screening"")"), &
+        key_spec(group="scene", key="screen_dt", value_type=kt_real, attribute="screen_dt", units="time", has_min=.true., &
+            min=0.0_wp, min_text="0", default_text="0 (2 dt, or dt where 2 dt breaks the stability condition)", &
+            range_text=">= 0; 0, or dt <= screen_dt <= t_final/2", &
+            description="Bifurcation search: time step of the screening runs (0: twice the &numerics dt where that meets the" // &
+            " paper's stability condition, else dt)"), &
+        key_spec(group="scene", key="confirm_band", value_type=kt_real, attribute="confirm_band", units="rad", has_min=.true., &
+            min=0.0_wp, min_text="0", default_text="0.05", range_text=">= 0", &
+            description="Bifurcation search: every amplitude the search asks within this distance below its threshold (and a" // &
+            "bove) is run with the &numerics method"), &
+        key_spec(group="scene", key="screen_margin", value_type=kt_real, attribute="screen_margin", has_min=.true., &
+            min=0.0_wp, min_text="0", has_max=.true., max=1.0_wp, max_text="1", default_text="0.5", &
+            range_text=">= 0 and <= 1", &
+            description="Bifurcation search: a quiet screening run whose verdict margin (1 - max|u|/amplitude beyond the det" // &
+            "ector) is below this is run again with the &numerics method"), &
+        key_spec(group="scene", key="certify", value_type=kt_logical, attribute="certify", default_text=".false.", &
+            range_text="", &
+            description="Bifurcation search: recheck each threshold with the &numerics method at dt/2 and flag it if it move" // &
+            "s more than the resolution"), &
+        key_spec(group="scene", key="methods", value_type=kt_name, max_values=max_scene_methods, attribute="methods", &
+            choices=choice_method, ids=.true., default_text="all", &
+            range_text="up to 8 values, each 'newton', 'linearized', 'rk4', 'rk8', 'avf4', 'avf8'", &
+            description="Work-precision and stability scenes: the integrators compared"), &
+        key_spec(group="scene", key="dts", value_type=kt_real, max_values=max_scene_dts, attribute="dts", units="time", &
+            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="the scene's list", &
+            range_text="up to 64 values, each > 0; <= t_final/2 (work_precision)", &
+            description="Work-precision: the time steps (each method runs those >= its dt_smallest); stability: the dt axis"), &
+        key_spec(group="scene", key="dt_smallest", value_type=kt_real, max_values=max_scene_methods, attribute="dt_smallest", &
+            units="time", has_min=.true., min=0.0_wp, min_text="0", default_text="0 for every method", &
+            range_text="up to 8 values, each >= 0; one value per entry of methods", &
+            description="Work-precision: smallest dt run for each method, one per entry of methods (0: every dt of dts)"), &
+        key_spec(group="scene", key="amplitudes", value_type=kt_real, max_values=max_curve_values, attribute="amplitudes", &
+            units="rad", has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="the &drive amplitude", &
+            range_text="up to 16 values, each > 0", description="Work-precision: the drive amplitudes (one set of runs each)"), &
+        key_spec(group="scene", key="c_values", value_type=kt_real, max_values=max_curve_values, attribute="c_values", &
+            units="1/time", has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="the &chain c", &
+            range_text="up to 16 values, each > 0", description="Stability: the values of the coupling c (the c axis)"), &
+        key_spec(group="scene", key="repeats", value_type=kt_integer, attribute="repeats", has_min=.true., min=1.0_wp, &
+            min_text="1", default_text="3", range_text=">= 1", &
+            description="Work-precision: timed repetitions of each run (the median wall time is recorded)"), &
+        key_spec(group="scene", key="reference_dt", value_type=kt_real, attribute="reference_dt", units="time", &
+            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="0.025", range_text="> 0; <= t_final/2", &
+            description="Work-precision: step of the reference solution (rk8 at reference_dt/2, checked against reference_dt)"), &
+        key_spec(group="scene", key="stair_times", value_type=kt_real, max_values=max_curve_values, attribute="stair_times", &
+            units="time", has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="400 (one stair length)", &
+            range_text="up to 16 values, each > 0; >= 2 stair_ramp", &
+            description="Hysteresis: the stair lengths (one run each per curve and Omega); the spread of the edges over them" // &
+            " is the protocol's part"), &
+        key_spec(group="scene", key="stair_height", value_type=kt_real, attribute="stair_height", units="rad", has_min=.true., &
+            min=0.0_wp, min_text="0", min_strict=.true., default_text="0.02", range_text="> 0", &
+            description="Hysteresis: amplitude step between two stairs (levels amplitude_min + i stair_height <= amplitude_max)"), &
+        key_spec(group="scene", key="stair_ramp", value_type=kt_real, attribute="stair_ramp", units="time", has_min=.true., &
+            min=0.0_wp, min_text="0", default_text="10", range_text=">= 0; <= stair_times/2", &
+            description="Hysteresis: length of the linear ramp between two stairs (at the start of each stair, so that the d" // &
+            "rive stays continuous)"), &
+        key_spec(group="scene", key="power_threshold", value_type=kt_real, attribute="power_threshold", units="energy/time", &
+            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="0.05", range_text="> 0", &
+            description="Hysteresis: a stair transmits when its mean power through the bond beyond the detector site exceeds" // &
+            " this (transmitting stairs carry 0.3 - 4 here)")]
+
+    !> The keys of &detect.
+    type(key_spec), parameter :: detect_keys(*) = [ &
+        key_spec(group="detect", key="site", value_type=kt_integer, attribute="detect_site", default_text="0", &
+            range_text="0 (automatic) <= site < N", &
+            description="Detector site n_d; 0 chooses min(N0 - 10, max(20, ceiling(3/lambda))), where the evanescent wave ha" // &
+            "s decayed to e^-3"), &
+        key_spec(group="detect", key="amplitude", value_type=kt_real, attribute="detect_amplitude", units="rad", &
+            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="pi", range_text="> 0", &
+            description="Displacement |u_n|, n > n_d, that makes the verdict 'transmitting'"), &
+        key_spec(group="detect", key="stop_when_decided", value_type=kt_logical, attribute="stop_when_decided", &
+            default_text=".false.", range_text="", &
+            description="Stop a run as soon as it is found transmitting (its energy totals then end at that time)")]
+
+    !> The keys of &output.
+    type(key_spec), parameter :: output_keys(*) = [ &
+        key_spec(group="output", key="file", value_type=kt_path, attribute="file", default_text="'supratrans.h5'", &
+            range_text="not empty; must not exist unless overwrite", &
+            description="Output HDF5 file (missing directories are created)"), &
+        key_spec(group="output", key="overwrite", value_type=kt_logical, attribute="overwrite", default_text=".false.", &
+            range_text="", description="Replace an existing output file instead of refusing"), &
+        key_spec(group="output", key="checkpoint_every", value_type=kt_real, attribute="checkpoint_every", units="s", &
+            has_min=.true., min=0.0_wp, min_text="0", default_text="300", range_text=">= 0", &
+            description="Wall time between two mid-run checkpoints of a running task (also written at once on SIGTERM or SIG" // &
+            "USR1, then the program exits 5 and resumes); 0: no checkpoints"), &
+        key_spec(group="output", key="quiet", value_type=kt_logical, attribute="quiet", default_text=".false.", range_text="", &
+            description="Suppress progress messages on stderr")]
 
     !> Every key of the input, grouped; the order of the groups is the order in which they are converted and checked.
-    type(key_spec), parameter, public :: key_table(*) = [spec_chain_potential, spec_chain_c, spec_chain_m2, spec_chain_gamma, &
-        spec_chain_beta, spec_chain_n, spec_chain_n0, spec_chain_kappa, spec_chain_sigma, spec_drive_amplitude, spec_drive_omega, &
-        spec_drive_ramp_time, spec_drive_allow_outside_gap, spec_numerics_method, spec_numerics_dt, spec_numerics_t_final, &
-        spec_numerics_newton_tol, spec_numerics_newton_max_iter, spec_numerics_blowup_threshold, spec_numerics_allow_unstable, &
-        spec_record_probes, spec_record_probe_every, spec_record_ledger_every, spec_scene_kind, spec_scene_amplitude_min, &
-        spec_scene_amplitude_max, spec_scene_amplitude_step, spec_scene_omega_min, spec_scene_omega_max, spec_scene_omega_step, &
-        spec_scene_vary, spec_scene_values, spec_scene_potentials, spec_scene_continuation_step, &
-        spec_scene_continuation_step_max, spec_scene_continuation_points, spec_scene_beyond_fold, spec_scene_crossing_tol, &
-        spec_scene_floquet_every, spec_scene_fold_convergence, spec_scene_coarse_step, spec_scene_resolution, &
-        spec_scene_screen_method, spec_scene_screen_dt, spec_scene_confirm_band, spec_scene_screen_margin, spec_scene_certify, &
-        spec_scene_methods, spec_scene_dts, spec_scene_dt_smallest, spec_scene_amplitudes, spec_scene_c_values, &
-        spec_scene_repeats, spec_scene_reference_dt, spec_scene_stair_times, spec_scene_stair_height, spec_scene_stair_ramp, &
-        spec_scene_power_threshold, spec_detect_site, spec_detect_amplitude, spec_detect_stop_when_decided, spec_output_file, &
-        spec_output_overwrite, spec_output_checkpoint_every, spec_output_quiet]
+    type(key_spec), parameter, public :: key_table(*) = [chain_keys, drive_keys, numerics_keys, record_keys, scene_keys, &
+        detect_keys, output_keys]
 
     !> Values derived from the keys that `/parameters` stores too.
     type(derived_spec), parameter, public :: derived_table(*) = [ &
@@ -585,18 +300,12 @@ contains
         character(len=name_len), allocatable :: names(:)
 
         select case (set)
-        case (choice_potential)
-            names = potential_choices
-        case (choice_method)
-            names = method_choices
-        case (choice_scene)
-            names = scene_choices
-        case (choice_screen)
-            names = screen_choices
-        case (choice_vary)
-            names = vary_choices
-        case default
-            allocate (names(0))
+        case (choice_potential); names = potential_choices
+        case (choice_method); names = method_choices
+        case (choice_scene); names = scene_choices
+        case (choice_screen); names = screen_choices
+        case (choice_vary); names = vary_choices
+        case default; allocate (names(0))
         end select
     end function choice_names
 
@@ -607,18 +316,12 @@ contains
         character(len=:), allocatable :: noun
 
         select case (set)
-        case (choice_potential)
-            noun = "potential"
-        case (choice_method)
-            noun = "method"
-        case (choice_scene)
-            noun = "scene"
-        case (choice_screen)
-            noun = "screening method"
-        case (choice_vary)
-            noun = "parameter"
-        case default
-            noun = "value"
+        case (choice_potential); noun = "potential"
+        case (choice_method); noun = "method"
+        case (choice_scene); noun = "scene"
+        case (choice_screen); noun = "screening method"
+        case (choice_vary); noun = "parameter"
+        case default; noun = "value"
         end select
     end function choice_noun
 
@@ -632,138 +335,72 @@ contains
         type(key_value) :: v
 
         select case (ik)
-        case (key_chain_potential)
-            v = int_value([cfg%run%chain%potential])
-        case (key_chain_c)
-            v = real_value([cfg%run%chain%c])
-        case (key_chain_m2)
-            v = real_value([cfg%run%chain%m2])
-        case (key_chain_gamma)
-            v = real_value([cfg%run%chain%gamma])
-        case (key_chain_beta)
-            v = real_value([cfg%run%chain%beta])
-        case (key_chain_n)
-            v = int_value([cfg%run%chain%n])
-        case (key_chain_n0)
-            v = int_value([cfg%run%chain%n0])
-        case (key_chain_kappa)
-            v = real_value([cfg%run%chain%kappa])
-        case (key_chain_sigma)
-            v = real_value([cfg%run%chain%sigma])
-        case (key_drive_amplitude)
-            v = real_value([cfg%run%drive%amplitude])
-        case (key_drive_omega)
-            v = real_value([cfg%run%drive%omega])
-        case (key_drive_ramp_time)
-            v = real_value([cfg%run%drive%ramp_time])
-        case (key_drive_allow_outside_gap)
-            v = flag_value(cfg%allow_outside_gap)
-        case (key_numerics_method)
-            v = int_value([cfg%run%numerics%method])
-        case (key_numerics_dt)
-            v = real_value([cfg%run%numerics%dt])
-        case (key_numerics_t_final)
-            v = real_value([cfg%run%numerics%t_final])
-        case (key_numerics_newton_tol)
-            v = real_value([cfg%run%numerics%newton_tol])
-        case (key_numerics_newton_max_iter)
-            v = int_value([cfg%run%numerics%newton_max_iter])
-        case (key_numerics_blowup_threshold)
-            v = real_value([cfg%run%numerics%blowup_threshold])
-        case (key_numerics_allow_unstable)
-            v = flag_value(cfg%allow_unstable)
-        case (key_record_probes)
-            if (allocated(cfg%run%record%probes)) v = int_value(cfg%run%record%probes)
-        case (key_record_probe_every)
-            v = int_value([cfg%run%record%probe_every])
-        case (key_record_ledger_every)
-            v = int_value([cfg%run%record%ledger_every])
-        case (key_scene_kind)
-            v = text_value([cfg%scene%kind])
-        case (key_scene_amplitude_min)
-            v = real_value([cfg%scene%amplitude_min])
-        case (key_scene_amplitude_max)
-            v = real_value([cfg%scene%amplitude_max])
-        case (key_scene_amplitude_step)
-            v = real_value([cfg%scene%amplitude_step])
-        case (key_scene_omega_min)
-            v = real_value([cfg%scene%omega_min])
-        case (key_scene_omega_max)
-            v = real_value([cfg%scene%omega_max])
-        case (key_scene_omega_step)
-            v = real_value([cfg%scene%omega_step])
-        case (key_scene_vary)
-            v = text_value([cfg%scene%vary])
-        case (key_scene_values)
-            if (allocated(cfg%scene%values)) v = real_value(cfg%scene%values)
-        case (key_scene_potentials)
-            if (allocated(cfg%scene%potentials)) v = int_value(cfg%scene%potentials)
-        case (key_scene_continuation_step)
-            v = real_value([cfg%scene%continuation_step])
-        case (key_scene_continuation_step_max)
-            v = real_value([cfg%scene%continuation_step_max])
-        case (key_scene_continuation_points)
-            v = int_value([cfg%scene%continuation_points])
-        case (key_scene_beyond_fold)
-            v = int_value([cfg%scene%beyond_fold])
-        case (key_scene_crossing_tol)
-            v = real_value([cfg%scene%crossing_tol])
-        case (key_scene_floquet_every)
-            v = int_value([cfg%scene%floquet_every])
-        case (key_scene_fold_convergence)
-            v = flag_value(cfg%scene%fold_convergence)
-        case (key_scene_coarse_step)
-            v = real_value([cfg%scene%coarse_step])
-        case (key_scene_resolution)
-            v = real_value([cfg%scene%resolution])
-        case (key_scene_screen_method)
-            v = text_value([cfg%scene%screen_method])
-        case (key_scene_screen_dt)
-            v = real_value([cfg%scene%screen_dt])
-        case (key_scene_confirm_band)
-            v = real_value([cfg%scene%confirm_band])
-        case (key_scene_screen_margin)
-            v = real_value([cfg%scene%screen_margin])
-        case (key_scene_certify)
-            v = flag_value(cfg%scene%certify)
-        case (key_scene_methods)
-            if (allocated(cfg%scene%methods)) v = int_value(cfg%scene%methods)
-        case (key_scene_dts)
-            if (allocated(cfg%scene%dts)) v = real_value(cfg%scene%dts)
-        case (key_scene_dt_smallest)
-            if (allocated(cfg%scene%dt_smallest)) v = real_value(cfg%scene%dt_smallest)
-        case (key_scene_amplitudes)
-            if (allocated(cfg%scene%amplitudes)) v = real_value(cfg%scene%amplitudes)
-        case (key_scene_c_values)
-            if (allocated(cfg%scene%c_values)) v = real_value(cfg%scene%c_values)
-        case (key_scene_repeats)
-            v = int_value([cfg%scene%repeats])
-        case (key_scene_reference_dt)
-            v = real_value([cfg%scene%reference_dt])
-        case (key_scene_stair_times)
-            if (allocated(cfg%scene%stair_times)) v = real_value(cfg%scene%stair_times)
-        case (key_scene_stair_height)
-            v = real_value([cfg%scene%stair_height])
-        case (key_scene_stair_ramp)
-            v = real_value([cfg%scene%stair_ramp])
-        case (key_scene_power_threshold)
-            v = real_value([cfg%scene%power_threshold])
-        case (key_detect_site)
-            v = int_value([cfg%run%detect%site])
-        case (key_detect_amplitude)
-            v = real_value([cfg%run%detect%amplitude])
-        case (key_detect_stop_when_decided)
-            v = flag_value(cfg%run%detect%stop_when_decided)
-        case (key_output_file)
-            v = text_value([cfg%output%file])
-        case (key_output_overwrite)
-            v = flag_value(cfg%output%overwrite)
-        case (key_output_checkpoint_every)
-            v = real_value([cfg%output%checkpoint_every])
-        case (key_output_quiet)
-            v = flag_value(cfg%output%quiet)
-        case default
-            v%n = 0     ! not a key index: no value
+        case (key_chain_potential); v = int_value([cfg%run%chain%potential])
+        case (key_chain_c); v = real_value([cfg%run%chain%c])
+        case (key_chain_m2); v = real_value([cfg%run%chain%m2])
+        case (key_chain_gamma); v = real_value([cfg%run%chain%gamma])
+        case (key_chain_beta); v = real_value([cfg%run%chain%beta])
+        case (key_chain_n); v = int_value([cfg%run%chain%n])
+        case (key_chain_n0); v = int_value([cfg%run%chain%n0])
+        case (key_chain_kappa); v = real_value([cfg%run%chain%kappa])
+        case (key_chain_sigma); v = real_value([cfg%run%chain%sigma])
+        case (key_drive_amplitude); v = real_value([cfg%run%drive%amplitude])
+        case (key_drive_omega); v = real_value([cfg%run%drive%omega])
+        case (key_drive_ramp_time); v = real_value([cfg%run%drive%ramp_time])
+        case (key_drive_allow_outside_gap); v = flag_value(cfg%allow_outside_gap)
+        case (key_numerics_method); v = int_value([cfg%run%numerics%method])
+        case (key_numerics_dt); v = real_value([cfg%run%numerics%dt])
+        case (key_numerics_t_final); v = real_value([cfg%run%numerics%t_final])
+        case (key_numerics_newton_tol); v = real_value([cfg%run%numerics%newton_tol])
+        case (key_numerics_newton_max_iter); v = int_value([cfg%run%numerics%newton_max_iter])
+        case (key_numerics_blowup_threshold); v = real_value([cfg%run%numerics%blowup_threshold])
+        case (key_numerics_allow_unstable); v = flag_value(cfg%allow_unstable)
+        case (key_record_probes); if (allocated(cfg%run%record%probes)) v = int_value(cfg%run%record%probes)
+        case (key_record_probe_every); v = int_value([cfg%run%record%probe_every])
+        case (key_record_ledger_every); v = int_value([cfg%run%record%ledger_every])
+        case (key_scene_kind); v = text_value([cfg%scene%kind])
+        case (key_scene_amplitude_min); v = real_value([cfg%scene%amplitude_min])
+        case (key_scene_amplitude_max); v = real_value([cfg%scene%amplitude_max])
+        case (key_scene_amplitude_step); v = real_value([cfg%scene%amplitude_step])
+        case (key_scene_omega_min); v = real_value([cfg%scene%omega_min])
+        case (key_scene_omega_max); v = real_value([cfg%scene%omega_max])
+        case (key_scene_omega_step); v = real_value([cfg%scene%omega_step])
+        case (key_scene_vary); v = text_value([cfg%scene%vary])
+        case (key_scene_values); if (allocated(cfg%scene%values)) v = real_value(cfg%scene%values)
+        case (key_scene_potentials); if (allocated(cfg%scene%potentials)) v = int_value(cfg%scene%potentials)
+        case (key_scene_continuation_step); v = real_value([cfg%scene%continuation_step])
+        case (key_scene_continuation_step_max); v = real_value([cfg%scene%continuation_step_max])
+        case (key_scene_continuation_points); v = int_value([cfg%scene%continuation_points])
+        case (key_scene_beyond_fold); v = int_value([cfg%scene%beyond_fold])
+        case (key_scene_crossing_tol); v = real_value([cfg%scene%crossing_tol])
+        case (key_scene_floquet_every); v = int_value([cfg%scene%floquet_every])
+        case (key_scene_fold_convergence); v = flag_value(cfg%scene%fold_convergence)
+        case (key_scene_coarse_step); v = real_value([cfg%scene%coarse_step])
+        case (key_scene_resolution); v = real_value([cfg%scene%resolution])
+        case (key_scene_screen_method); v = text_value([cfg%scene%screen_method])
+        case (key_scene_screen_dt); v = real_value([cfg%scene%screen_dt])
+        case (key_scene_confirm_band); v = real_value([cfg%scene%confirm_band])
+        case (key_scene_screen_margin); v = real_value([cfg%scene%screen_margin])
+        case (key_scene_certify); v = flag_value(cfg%scene%certify)
+        case (key_scene_methods); if (allocated(cfg%scene%methods)) v = int_value(cfg%scene%methods)
+        case (key_scene_dts); if (allocated(cfg%scene%dts)) v = real_value(cfg%scene%dts)
+        case (key_scene_dt_smallest); if (allocated(cfg%scene%dt_smallest)) v = real_value(cfg%scene%dt_smallest)
+        case (key_scene_amplitudes); if (allocated(cfg%scene%amplitudes)) v = real_value(cfg%scene%amplitudes)
+        case (key_scene_c_values); if (allocated(cfg%scene%c_values)) v = real_value(cfg%scene%c_values)
+        case (key_scene_repeats); v = int_value([cfg%scene%repeats])
+        case (key_scene_reference_dt); v = real_value([cfg%scene%reference_dt])
+        case (key_scene_stair_times); if (allocated(cfg%scene%stair_times)) v = real_value(cfg%scene%stair_times)
+        case (key_scene_stair_height); v = real_value([cfg%scene%stair_height])
+        case (key_scene_stair_ramp); v = real_value([cfg%scene%stair_ramp])
+        case (key_scene_power_threshold); v = real_value([cfg%scene%power_threshold])
+        case (key_detect_site); v = int_value([cfg%run%detect%site])
+        case (key_detect_amplitude); v = real_value([cfg%run%detect%amplitude])
+        case (key_detect_stop_when_decided); v = flag_value(cfg%run%detect%stop_when_decided)
+        case (key_output_file); v = text_value([cfg%output%file])
+        case (key_output_overwrite); v = flag_value(cfg%output%overwrite)
+        case (key_output_checkpoint_every); v = real_value([cfg%output%checkpoint_every])
+        case (key_output_quiet); v = flag_value(cfg%output%quiet)
+        case default; v%n = 0     ! not a key index: no value
         end select
     end function get_key
 
@@ -778,147 +415,72 @@ contains
         type(key_value), intent(in) :: v
 
         select case (ik)
-        case (key_chain_potential)
-            cfg%run%chain%potential = v%ints(1)
-        case (key_chain_c)
-            cfg%run%chain%c = v%reals(1)
-        case (key_chain_m2)
-            cfg%run%chain%m2 = v%reals(1)
-        case (key_chain_gamma)
-            cfg%run%chain%gamma = v%reals(1)
-        case (key_chain_beta)
-            cfg%run%chain%beta = v%reals(1)
-        case (key_chain_n)
-            cfg%run%chain%n = v%ints(1)
-        case (key_chain_n0)
-            cfg%run%chain%n0 = v%ints(1)
-        case (key_chain_kappa)
-            cfg%run%chain%kappa = v%reals(1)
-        case (key_chain_sigma)
-            cfg%run%chain%sigma = v%reals(1)
-        case (key_drive_amplitude)
-            cfg%run%drive%amplitude = v%reals(1)
-        case (key_drive_omega)
-            cfg%run%drive%omega = v%reals(1)
-        case (key_drive_ramp_time)
-            cfg%run%drive%ramp_time = v%reals(1)
-        case (key_drive_allow_outside_gap)
-            cfg%allow_outside_gap = v%flag
-        case (key_numerics_method)
-            cfg%run%numerics%method = v%ints(1)
-        case (key_numerics_dt)
-            cfg%run%numerics%dt = v%reals(1)
-        case (key_numerics_t_final)
-            cfg%run%numerics%t_final = v%reals(1)
-        case (key_numerics_newton_tol)
-            cfg%run%numerics%newton_tol = v%reals(1)
-        case (key_numerics_newton_max_iter)
-            cfg%run%numerics%newton_max_iter = v%ints(1)
-        case (key_numerics_blowup_threshold)
-            cfg%run%numerics%blowup_threshold = v%reals(1)
-        case (key_numerics_allow_unstable)
-            cfg%allow_unstable = v%flag
-        case (key_record_probes)
-            if (allocated(cfg%run%record%probes)) deallocate (cfg%run%record%probes)
-            if (v%n > 0) cfg%run%record%probes = v%ints(1:v%n)
-        case (key_record_probe_every)
-            cfg%run%record%probe_every = v%ints(1)
-        case (key_record_ledger_every)
-            cfg%run%record%ledger_every = v%ints(1)
-        case (key_scene_kind)
-            cfg%scene%kind = trim(v%texts(1))
-        case (key_scene_amplitude_min)
-            cfg%scene%amplitude_min = v%reals(1)
-        case (key_scene_amplitude_max)
-            cfg%scene%amplitude_max = v%reals(1)
-        case (key_scene_amplitude_step)
-            cfg%scene%amplitude_step = v%reals(1)
-        case (key_scene_omega_min)
-            cfg%scene%omega_min = v%reals(1)
-        case (key_scene_omega_max)
-            cfg%scene%omega_max = v%reals(1)
-        case (key_scene_omega_step)
-            cfg%scene%omega_step = v%reals(1)
-        case (key_scene_vary)
-            cfg%scene%vary = trim(v%texts(1))
-        case (key_scene_values)
-            if (allocated(cfg%scene%values)) deallocate (cfg%scene%values)
-            if (v%n > 0) cfg%scene%values = v%reals(1:v%n)
-        case (key_scene_potentials)
-            if (allocated(cfg%scene%potentials)) deallocate (cfg%scene%potentials)
-            if (v%n > 0) cfg%scene%potentials = v%ints(1:v%n)
-        case (key_scene_continuation_step)
-            cfg%scene%continuation_step = v%reals(1)
-        case (key_scene_continuation_step_max)
-            cfg%scene%continuation_step_max = v%reals(1)
-        case (key_scene_continuation_points)
-            cfg%scene%continuation_points = v%ints(1)
-        case (key_scene_beyond_fold)
-            cfg%scene%beyond_fold = v%ints(1)
-        case (key_scene_crossing_tol)
-            cfg%scene%crossing_tol = v%reals(1)
-        case (key_scene_floquet_every)
-            cfg%scene%floquet_every = v%ints(1)
-        case (key_scene_fold_convergence)
-            cfg%scene%fold_convergence = v%flag
-        case (key_scene_coarse_step)
-            cfg%scene%coarse_step = v%reals(1)
-        case (key_scene_resolution)
-            cfg%scene%resolution = v%reals(1)
-        case (key_scene_screen_method)
-            cfg%scene%screen_method = trim(v%texts(1))
-        case (key_scene_screen_dt)
-            cfg%scene%screen_dt = v%reals(1)
-        case (key_scene_confirm_band)
-            cfg%scene%confirm_band = v%reals(1)
-        case (key_scene_screen_margin)
-            cfg%scene%screen_margin = v%reals(1)
-        case (key_scene_certify)
-            cfg%scene%certify = v%flag
-        case (key_scene_methods)
-            if (allocated(cfg%scene%methods)) deallocate (cfg%scene%methods)
-            if (v%n > 0) cfg%scene%methods = v%ints(1:v%n)
-        case (key_scene_dts)
-            if (allocated(cfg%scene%dts)) deallocate (cfg%scene%dts)
-            if (v%n > 0) cfg%scene%dts = v%reals(1:v%n)
-        case (key_scene_dt_smallest)
-            if (allocated(cfg%scene%dt_smallest)) deallocate (cfg%scene%dt_smallest)
-            if (v%n > 0) cfg%scene%dt_smallest = v%reals(1:v%n)
-        case (key_scene_amplitudes)
-            if (allocated(cfg%scene%amplitudes)) deallocate (cfg%scene%amplitudes)
-            if (v%n > 0) cfg%scene%amplitudes = v%reals(1:v%n)
-        case (key_scene_c_values)
-            if (allocated(cfg%scene%c_values)) deallocate (cfg%scene%c_values)
-            if (v%n > 0) cfg%scene%c_values = v%reals(1:v%n)
-        case (key_scene_repeats)
-            cfg%scene%repeats = v%ints(1)
-        case (key_scene_reference_dt)
-            cfg%scene%reference_dt = v%reals(1)
-        case (key_scene_stair_times)
-            if (allocated(cfg%scene%stair_times)) deallocate (cfg%scene%stair_times)
-            if (v%n > 0) cfg%scene%stair_times = v%reals(1:v%n)
-        case (key_scene_stair_height)
-            cfg%scene%stair_height = v%reals(1)
-        case (key_scene_stair_ramp)
-            cfg%scene%stair_ramp = v%reals(1)
-        case (key_scene_power_threshold)
-            cfg%scene%power_threshold = v%reals(1)
-        case (key_detect_site)
-            cfg%run%detect%site = v%ints(1)
-        case (key_detect_amplitude)
-            cfg%run%detect%amplitude = v%reals(1)
-        case (key_detect_stop_when_decided)
-            cfg%run%detect%stop_when_decided = v%flag
-        case (key_output_file)
-            cfg%output%file = trim(v%texts(1))
-        case (key_output_overwrite)
-            cfg%output%overwrite = v%flag
-        case (key_output_checkpoint_every)
-            cfg%output%checkpoint_every = v%reals(1)
-        case (key_output_quiet)
-            cfg%output%quiet = v%flag
-        case default
-            continue    ! not a key index: nothing to set
+        case (key_chain_potential); cfg%run%chain%potential = v%ints(1)
+        case (key_chain_c); cfg%run%chain%c = v%reals(1)
+        case (key_chain_m2); cfg%run%chain%m2 = v%reals(1)
+        case (key_chain_gamma); cfg%run%chain%gamma = v%reals(1)
+        case (key_chain_beta); cfg%run%chain%beta = v%reals(1)
+        case (key_chain_n); cfg%run%chain%n = v%ints(1)
+        case (key_chain_n0); cfg%run%chain%n0 = v%ints(1)
+        case (key_chain_kappa); cfg%run%chain%kappa = v%reals(1)
+        case (key_chain_sigma); cfg%run%chain%sigma = v%reals(1)
+        case (key_drive_amplitude); cfg%run%drive%amplitude = v%reals(1)
+        case (key_drive_omega); cfg%run%drive%omega = v%reals(1)
+        case (key_drive_ramp_time); cfg%run%drive%ramp_time = v%reals(1)
+        case (key_drive_allow_outside_gap); cfg%allow_outside_gap = v%flag
+        case (key_numerics_method); cfg%run%numerics%method = v%ints(1)
+        case (key_numerics_dt); cfg%run%numerics%dt = v%reals(1)
+        case (key_numerics_t_final); cfg%run%numerics%t_final = v%reals(1)
+        case (key_numerics_newton_tol); cfg%run%numerics%newton_tol = v%reals(1)
+        case (key_numerics_newton_max_iter); cfg%run%numerics%newton_max_iter = v%ints(1)
+        case (key_numerics_blowup_threshold); cfg%run%numerics%blowup_threshold = v%reals(1)
+        case (key_numerics_allow_unstable); cfg%allow_unstable = v%flag
+        case (key_record_probes); call set_list(cfg%run%record%probes, v)
+        case (key_record_probe_every); cfg%run%record%probe_every = v%ints(1)
+        case (key_record_ledger_every); cfg%run%record%ledger_every = v%ints(1)
+        case (key_scene_kind); cfg%scene%kind = trim(v%texts(1))
+        case (key_scene_amplitude_min); cfg%scene%amplitude_min = v%reals(1)
+        case (key_scene_amplitude_max); cfg%scene%amplitude_max = v%reals(1)
+        case (key_scene_amplitude_step); cfg%scene%amplitude_step = v%reals(1)
+        case (key_scene_omega_min); cfg%scene%omega_min = v%reals(1)
+        case (key_scene_omega_max); cfg%scene%omega_max = v%reals(1)
+        case (key_scene_omega_step); cfg%scene%omega_step = v%reals(1)
+        case (key_scene_vary); cfg%scene%vary = trim(v%texts(1))
+        case (key_scene_values); call set_list(cfg%scene%values, v)
+        case (key_scene_potentials); call set_list(cfg%scene%potentials, v)
+        case (key_scene_continuation_step); cfg%scene%continuation_step = v%reals(1)
+        case (key_scene_continuation_step_max); cfg%scene%continuation_step_max = v%reals(1)
+        case (key_scene_continuation_points); cfg%scene%continuation_points = v%ints(1)
+        case (key_scene_beyond_fold); cfg%scene%beyond_fold = v%ints(1)
+        case (key_scene_crossing_tol); cfg%scene%crossing_tol = v%reals(1)
+        case (key_scene_floquet_every); cfg%scene%floquet_every = v%ints(1)
+        case (key_scene_fold_convergence); cfg%scene%fold_convergence = v%flag
+        case (key_scene_coarse_step); cfg%scene%coarse_step = v%reals(1)
+        case (key_scene_resolution); cfg%scene%resolution = v%reals(1)
+        case (key_scene_screen_method); cfg%scene%screen_method = trim(v%texts(1))
+        case (key_scene_screen_dt); cfg%scene%screen_dt = v%reals(1)
+        case (key_scene_confirm_band); cfg%scene%confirm_band = v%reals(1)
+        case (key_scene_screen_margin); cfg%scene%screen_margin = v%reals(1)
+        case (key_scene_certify); cfg%scene%certify = v%flag
+        case (key_scene_methods); call set_list(cfg%scene%methods, v)
+        case (key_scene_dts); call set_list(cfg%scene%dts, v)
+        case (key_scene_dt_smallest); call set_list(cfg%scene%dt_smallest, v)
+        case (key_scene_amplitudes); call set_list(cfg%scene%amplitudes, v)
+        case (key_scene_c_values); call set_list(cfg%scene%c_values, v)
+        case (key_scene_repeats); cfg%scene%repeats = v%ints(1)
+        case (key_scene_reference_dt); cfg%scene%reference_dt = v%reals(1)
+        case (key_scene_stair_times); call set_list(cfg%scene%stair_times, v)
+        case (key_scene_stair_height); cfg%scene%stair_height = v%reals(1)
+        case (key_scene_stair_ramp); cfg%scene%stair_ramp = v%reals(1)
+        case (key_scene_power_threshold); cfg%scene%power_threshold = v%reals(1)
+        case (key_detect_site); cfg%run%detect%site = v%ints(1)
+        case (key_detect_amplitude); cfg%run%detect%amplitude = v%reals(1)
+        case (key_detect_stop_when_decided); cfg%run%detect%stop_when_decided = v%flag
+        case (key_output_file); cfg%output%file = trim(v%texts(1))
+        case (key_output_overwrite); cfg%output%overwrite = v%flag
+        case (key_output_checkpoint_every); cfg%output%checkpoint_every = v%reals(1)
+        case (key_output_quiet); cfg%output%quiet = v%flag
+        case default; continue    ! not a key index: nothing to set
         end select
     end subroutine set_key
 
