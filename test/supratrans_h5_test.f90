@@ -25,7 +25,7 @@ module supratrans_h5_test
     !> `h5_read_attr` of `supratrans_hdf5`, and `real(wp)` scalar or rank 1, default integer rank 1, `integer(i8)`
     !> and logical scalar (non-zero is true).
     interface h5_read_attr
-        module procedure :: read_attr_real_0d, read_attr_real_1d, read_attr_int_1d, read_attr_i8_0d, read_attr_logical
+        module procedure :: read_attr_real_1d, read_attr_int_1d, read_attr_i8_0d, read_attr_logical
     end interface h5_read_attr
 
 contains
@@ -100,18 +100,6 @@ contains
 
         call h5_read_strings(file, name, "", data, error)
     end subroutine read_char_1d
-
-    subroutine read_attr_real_0d(file, object, name, value, error)
-        type(h5_file), intent(in) :: file
-        character(len=*), intent(in) :: object, name
-        real(wp), intent(out), target :: value
-        type(error_type), allocatable, intent(out) :: error
-        integer(hsize_t), allocatable :: dims(:)
-
-        value = 0.0_wp
-        call h5_shape(file, object, name, 0, dims, error)
-        if (.not. allocated(error)) call h5_read_into(file, object, name, real_mem_type(), c_loc(value), error)
-    end subroutine read_attr_real_0d
 
     subroutine read_attr_real_1d(file, object, name, value, error)
         type(h5_file), intent(in) :: file

@@ -29,7 +29,7 @@ module supratrans_h5_read
     !> Read an attribute: `call h5_read_attr(file, object, name, value, error)`. `value`: deferred-length allocatable
     !> character or default integer scalar.
     interface h5_read_attr
-        module procedure :: read_attr_char, read_attr_int_0d
+        module procedure :: read_attr_char, read_attr_int_0d, read_attr_real_0d
     end interface h5_read_attr
 
     !> A list of strings (works around spurious gfortran warnings on local deferred-length character arrays).
@@ -124,6 +124,18 @@ contains
         if (allocated(error)) return
         call h5_read_into(file, object, name, int_mem_type(), c_loc(value), error)
     end subroutine read_attr_int_0d
+
+    subroutine read_attr_real_0d(file, object, name, value, error)
+        type(h5_file), intent(in) :: file
+        character(len=*), intent(in) :: object, name
+        real(wp), intent(out), target :: value
+        type(error_type), allocatable, intent(out) :: error
+        integer(hsize_t), allocatable :: dims(:)
+
+        value = 0.0_wp
+        call h5_shape(file, object, name, 0, dims, error)
+        if (.not. allocated(error)) call h5_read_into(file, object, name, real_mem_type(), c_loc(value), error)
+    end subroutine read_attr_real_0d
 
     !> Read the one string of dataset `object` (`attr` empty) or of its attribute `attr`, without padding.
     subroutine read_one_string(file, object, attr, value, error)
