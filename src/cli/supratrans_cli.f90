@@ -373,8 +373,14 @@ contains
         !> The validated input.
         type(input_config), intent(in) :: cfg
         real(wp) :: bytes
+        class(scene_type), allocatable :: scene
+        type(error_type), allocatable :: error
+        logical :: one_run
 
-        bytes = run_memory_bytes(cfg, trim(cfg%scene%kind) == "timeseries")
+        one_run = .false.
+        call new_scene(trim(cfg%scene%kind), scene, error)   ! validated: the kind is known
+        if (.not. allocated(error)) one_run = scene%one_run()
+        bytes = run_memory_bytes(cfg, one_run)   ! one run (a timeseries) holds its records too
         write (output_unit, "(a)") "output " // printable(trim(cfg%output%file))
         write (output_unit, "(a, i0)") "overwrite ", merge(1, 0, cfg%output%overwrite)
         write (output_unit, "(a)") "scene " // trim(cfg%scene%kind)
