@@ -36,7 +36,8 @@ from ..style import DPI, figure_dir, fmt, image_format, save, styled, subplots
 
 #: Style of each method's observed boundary.
 STYLE = {"newton": dict(color="black", marker="o"), "linearized": dict(color="tab:blue", marker="s"),
-         "rk4": dict(color="tab:green", marker="^"), "rk8": dict(color="tab:red", marker="D")}
+         "rk4": dict(color="tab:green", marker="^"), "rk8": dict(color="tab:red", marker="D"),
+         "avf4": dict(color="tab:cyan", marker="v"), "avf8": dict(color="tab:olive", marker="P")}
 #: Symbols of the parameters a curve may vary.
 SYMBOL = {"gamma": r"\gamma", "beta": r"\beta", "m2": "m^2"}
 

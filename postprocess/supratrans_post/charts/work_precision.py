@@ -50,6 +50,7 @@ GOAL = 5.0
 #: Styles: ours solid with filled markers, SciPy's dashed with open markers.
 STYLE = {"newton": dict(color="black", marker="o"), "linearized": dict(color="tab:blue", marker="s"),
          "rk4": dict(color="tab:green", marker="^"), "rk8": dict(color="tab:red", marker="D"),
+         "avf4": dict(color="tab:cyan", marker="v"), "avf8": dict(color="tab:olive", marker="P"),
          "DOP853": dict(color="tab:purple", marker="o", ls="--", mfc="none"),
          "RK45": dict(color="tab:orange", marker="s", ls="--", mfc="none"),
          "RK23": dict(color="tab:brown", marker="^", ls="--", mfc="none")}
