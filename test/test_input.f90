@@ -536,6 +536,36 @@ contains
     end subroutine test_stability_violated
 
     ! @test
+    subroutine test_stability_condition_not_asked_of_a_stable_methods()
+        character(len=:), allocatable :: path
+        type(input_config) :: cfg
+        type(error_type), allocatable :: error
+
+        ! avf4/avf8 are A-stable: dt = 0.3 at c = 4 (beyond the paper's 0.25) needs no allow_unstable
+        call read_snippet("unstable_avf4", "&numerics dt = 0.3, method = 'avf4' /", cfg, error, path)
+        if (allocated(error)) then
+            call assertFalse( &
+                allocated(error), &
+                error%message, &
+                location=pf_source_location('test_input.pf', 313, 'assertFalse'))
+            if (pf_any_failed()) return
+            return
+        end if
+        call assertEqual( &
+            0.3_wp, &
+            cfg%run%numerics%dt, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_input.pf', 316, 'assertEqual'))
+        if (pf_any_failed()) return
+        call read_snippet("unstable_rk4", "&numerics dt = 0.3, method = 'rk4' /", cfg, error, path)
+        call assertTrue( &
+            allocated(error), &
+            "rk4 at dt = 0.3, c = 4 accepted without allow_unstable", &
+            location=pf_source_location('test_input.pf', 318, 'assertTrue'))
+        if (pf_any_failed()) return
+    end subroutine test_stability_condition_not_asked_of_a_stable_methods
+
+    ! @test
     subroutine test_stability_violated_allowed()
         character(len=:), allocatable :: path, out
         type(input_config) :: cfg
@@ -548,17 +578,17 @@ contains
             call assertTrue( &
                 .false., &
                 "allow_unstable = T did not allow dt = 0.3: " // error%message, &
-                location=pf_source_location('test_input.pf', 314, 'assertTrue'))
+                location=pf_source_location('test_input.pf', 331, 'assertTrue'))
             if (pf_any_failed()) return
             return
         end if
-        call assertTrue(cfg%allow_unstable, location=pf_source_location('test_input.pf', 317, 'assertTrue'))
+        call assertTrue(cfg%allow_unstable, location=pf_source_location('test_input.pf', 334, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.3_wp, &
             cfg%run%numerics%dt, &
             tol, &
-            location=pf_source_location('test_input.pf', 318, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 335, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_stability_violated_allowed
 
@@ -575,16 +605,16 @@ contains
         call assertTrue( &
             allocated(error), &
             "existing output file accepted without overwrite", &
-            location=pf_source_location('test_input.pf', 331, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 348, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 333, 'assertEqual'))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 350, 'assertEqual'))
         if (pf_any_failed()) return
         expected = path // ": &output: file '" // out // "' exists (set overwrite = .true. to replace it)"
         call assertTrue( &
             error%message == expected, &
             error%message, &
-            location=pf_source_location('test_input.pf', 335, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 352, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_output_exists
 
@@ -602,16 +632,16 @@ contains
             call assertTrue( &
                 .false., &
                 "overwrite = .true. did not allow an existing output file: " // error%message, &
-                location=pf_source_location('test_input.pf', 349, 'assertTrue'))
+                location=pf_source_location('test_input.pf', 366, 'assertTrue'))
             if (pf_any_failed()) return
             return
         end if
-        call assertTrue(cfg%output%overwrite, location=pf_source_location('test_input.pf', 352, 'assertTrue'))
+        call assertTrue(cfg%output%overwrite, location=pf_source_location('test_input.pf', 369, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             trim(cfg%output%file) == out, &
             trim(cfg%output%file), &
-            location=pf_source_location('test_input.pf', 353, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 370, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_output_exists_overwrite
 
@@ -625,20 +655,20 @@ contains
         call assertTrue( &
             allocated(error), &
             "unknown potential accepted", &
-            location=pf_source_location('test_input.pf', 363, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 380, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 365, 'assertEqual'))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 382, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "potential = 'phi-four'"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 366, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 383, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "sine-gordon, klein-gordon") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 367, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 384, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_potential
 
@@ -652,20 +682,20 @@ contains
         call assertTrue( &
             allocated(error), &
             "unknown method accepted", &
-            location=pf_source_location('test_input.pf', 377, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 394, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 379, 'assertEqual'))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 396, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "method = 'euler'"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 380, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 397, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "newton, linearized, rk4") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 381, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 398, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_method
 
@@ -679,15 +709,15 @@ contains
         call assertTrue( &
             allocated(error), &
             "unknown scene accepted", &
-            location=pf_source_location('test_input.pf', 391, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 408, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 393, 'assertEqual'))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 410, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "kind = 'movie'"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 394, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 411, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_scene
 
@@ -701,15 +731,15 @@ contains
         call assertTrue( &
             allocated(error), &
             "probe 250 on a chain of 200 accepted", &
-            location=pf_source_location('test_input.pf', 404, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 421, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 406, 'assertEqual'))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 423, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "probes(2) = 250"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 407, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 424, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_probe_outside_chain
 
@@ -756,142 +786,142 @@ contains
             call assertTrue( &
                 .false., &
                 "valid file rejected: " // error%message, &
-                location=pf_source_location('test_input.pf', 450, 'assertTrue'))
+                location=pf_source_location('test_input.pf', 467, 'assertTrue'))
             if (pf_any_failed()) return
             return
         end if
-        call assertTrue(cfg%source == path, cfg%source, location=pf_source_location('test_input.pf', 453, 'assertTrue'))
+        call assertTrue(cfg%source == path, cfg%source, location=pf_source_location('test_input.pf', 470, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             klein_gordon, &
             cfg%run%chain%potential, &
-            location=pf_source_location('test_input.pf', 454, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 471, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(3.5_wp, cfg%run%chain%c, tol, location=pf_source_location('test_input.pf', 455, 'assertEqual'))
+        call assertEqual(3.5_wp, cfg%run%chain%c, tol, location=pf_source_location('test_input.pf', 472, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.25_wp, &
             cfg%run%chain%m2, &
             tol, &
-            location=pf_source_location('test_input.pf', 456, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 473, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0e-2_wp, &
             cfg%run%chain%gamma, &
             tol, &
-            location=pf_source_location('test_input.pf', 457, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 474, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             2.0e-3_wp, &
             cfg%run%chain%beta, &
             tol, &
-            location=pf_source_location('test_input.pf', 458, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 475, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(120, cfg%run%chain%n, location=pf_source_location('test_input.pf', 459, 'assertEqual'))
+        call assertEqual(120, cfg%run%chain%n, location=pf_source_location('test_input.pf', 476, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(90, cfg%run%chain%n0, location=pf_source_location('test_input.pf', 460, 'assertEqual'))
+        call assertEqual(90, cfg%run%chain%n0, location=pf_source_location('test_input.pf', 477, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.75_wp, &
             cfg%run%chain%kappa, &
             tol, &
-            location=pf_source_location('test_input.pf', 461, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 478, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             2.5_wp, &
             cfg%run%chain%sigma, &
             tol, &
-            location=pf_source_location('test_input.pf', 462, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 479, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.5_wp, &
             cfg%run%drive%amplitude, &
             tol, &
-            location=pf_source_location('test_input.pf', 463, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 480, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.05_wp, &
             cfg%run%drive%omega, &
             tol, &
-            location=pf_source_location('test_input.pf', 464, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 481, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             cfg%run%drive%ramp_time, &
             tol, &
-            location=pf_source_location('test_input.pf', 465, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 482, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertFalse(cfg%allow_outside_gap, location=pf_source_location('test_input.pf', 466, 'assertFalse'))
+        call assertFalse(cfg%allow_outside_gap, location=pf_source_location('test_input.pf', 483, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             method_linearized, &
             cfg%run%numerics%method, &
-            location=pf_source_location('test_input.pf', 467, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 484, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.1_wp, &
             cfg%run%numerics%dt, &
             tol, &
-            location=pf_source_location('test_input.pf', 468, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 485, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             50.0_wp, &
             cfg%run%numerics%t_final, &
             tol, &
-            location=pf_source_location('test_input.pf', 469, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 486, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0e-12_wp, &
             cfg%run%numerics%newton_tol, &
             tol, &
-            location=pf_source_location('test_input.pf', 470, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 487, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             30, &
             cfg%run%numerics%newton_max_iter, &
-            location=pf_source_location('test_input.pf', 471, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 488, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             500.0_wp, &
             cfg%run%numerics%blowup_threshold, &
             tol, &
-            location=pf_source_location('test_input.pf', 472, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 489, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertFalse(cfg%allow_unstable, location=pf_source_location('test_input.pf', 473, 'assertFalse'))
+        call assertFalse(cfg%allow_unstable, location=pf_source_location('test_input.pf', 490, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             4, &
             size(cfg%run%record%probes), &
-            location=pf_source_location('test_input.pf', 474, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 491, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(cfg%run%record%probes == [1, 30, 60, 120]), &
             "probes /= 1, 30, 60, 120", &
-            location=pf_source_location('test_input.pf', 475, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 492, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             2, &
             cfg%run%record%probe_every, &
-            location=pf_source_location('test_input.pf', 476, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 493, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             10, &
             cfg%run%record%ledger_every, &
-            location=pf_source_location('test_input.pf', 477, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 494, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             trim(cfg%scene%kind) == "timeseries", &
             trim(cfg%scene%kind), &
-            location=pf_source_location('test_input.pf', 478, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 495, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             trim(cfg%output%file) == out, &
             trim(cfg%output%file), &
-            location=pf_source_location('test_input.pf', 479, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 496, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertFalse(cfg%output%overwrite, location=pf_source_location('test_input.pf', 480, 'assertFalse'))
+        call assertFalse(cfg%output%overwrite, location=pf_source_location('test_input.pf', 497, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertTrue(cfg%output%quiet, location=pf_source_location('test_input.pf', 481, 'assertTrue'))
+        call assertTrue(cfg%output%quiet, location=pf_source_location('test_input.pf', 498, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_full_valid_file
 
@@ -906,20 +936,20 @@ contains
         call assertTrue( &
             allocated(error), &
             "empty file accepted", &
-            location=pf_source_location('test_input.pf', 492, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 509, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
         call assertTrue( &
             index(error%message, "no namelist group") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 494, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 511, 'assertTrue'))
         if (pf_any_failed()) return
         deallocate (error)
         call read_snippet("comments", "! only a comment" // new_line("a") // "   " // new_line("a"), cfg, error, path)
         call assertTrue( &
             allocated(error), &
             "comments-only file accepted", &
-            location=pf_source_location('test_input.pf', 497, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 514, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_empty_file_is_refused
 
@@ -939,113 +969,113 @@ contains
             call assertTrue( &
                 allocated(error), &
                 "existing default output file accepted", &
-                location=pf_source_location('test_input.pf', 513, 'assertTrue'))
+                location=pf_source_location('test_input.pf', 530, 'assertTrue'))
             if (pf_any_failed()) return
             if (.not. allocated(error)) return
             call assertTrue( &
                 index(error%message, "exists") > 0, &
                 error%message, &
-                location=pf_source_location('test_input.pf', 515, 'assertTrue'))
+                location=pf_source_location('test_input.pf', 532, 'assertTrue'))
             if (pf_any_failed()) return
         else
             call assertFalse( &
                 allocated(error), &
                 "empty file rejected", &
-                location=pf_source_location('test_input.pf', 517, 'assertFalse'))
+                location=pf_source_location('test_input.pf', 534, 'assertFalse'))
             if (pf_any_failed()) return
             if (allocated(error)) return
         end if
-        call assertTrue(cfg%source == path, cfg%source, location=pf_source_location('test_input.pf', 520, 'assertTrue'))
+        call assertTrue(cfg%source == path, cfg%source, location=pf_source_location('test_input.pf', 537, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             sine_gordon, &
             cfg%run%chain%potential, &
-            location=pf_source_location('test_input.pf', 521, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 538, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(4.0_wp, cfg%run%chain%c, tol, location=pf_source_location('test_input.pf', 522, 'assertEqual'))
+        call assertEqual(4.0_wp, cfg%run%chain%c, tol, location=pf_source_location('test_input.pf', 539, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             cfg%run%chain%m2, &
             tol, &
-            location=pf_source_location('test_input.pf', 523, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 540, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(200, cfg%run%chain%n, location=pf_source_location('test_input.pf', 524, 'assertEqual'))
+        call assertEqual(200, cfg%run%chain%n, location=pf_source_location('test_input.pf', 541, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(150, cfg%run%chain%n0, location=pf_source_location('test_input.pf', 525, 'assertEqual'))
+        call assertEqual(150, cfg%run%chain%n0, location=pf_source_location('test_input.pf', 542, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.5_wp, &
             cfg%run%chain%kappa, &
             tol, &
-            location=pf_source_location('test_input.pf', 526, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 543, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             3.0_wp, &
             cfg%run%chain%sigma, &
             tol, &
-            location=pf_source_location('test_input.pf', 527, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 544, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.77_wp, &
             cfg%run%drive%amplitude, &
             tol, &
-            location=pf_source_location('test_input.pf', 528, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 545, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.9_wp, &
             cfg%run%drive%omega, &
             tol, &
-            location=pf_source_location('test_input.pf', 529, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 546, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             default_ramp_time, &
             cfg%run%drive%ramp_time, &
             tol, &
-            location=pf_source_location('test_input.pf', 530, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 547, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             method_newton, &
             cfg%run%numerics%method, &
-            location=pf_source_location('test_input.pf', 531, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 548, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.05_wp, &
             cfg%run%numerics%dt, &
             tol, &
-            location=pf_source_location('test_input.pf', 532, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 549, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             200.0_wp, &
             cfg%run%numerics%t_final, &
             tol, &
-            location=pf_source_location('test_input.pf', 533, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 550, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             size(cfg%run%record%probes), &
-            location=pf_source_location('test_input.pf', 534, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 551, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             default_probes(1), &
             cfg%run%record%probes(1), &
-            location=pf_source_location('test_input.pf', 535, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 552, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             trim(cfg%scene%kind) == "timeseries", &
             trim(cfg%scene%kind), &
-            location=pf_source_location('test_input.pf', 536, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 553, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             cfg%output%file == defaults%output%file, &
             trim(cfg%output%file), &
-            location=pf_source_location('test_input.pf', 537, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 554, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertFalse(cfg%output%overwrite, location=pf_source_location('test_input.pf', 538, 'assertFalse'))
+        call assertFalse(cfg%output%overwrite, location=pf_source_location('test_input.pf', 555, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(cfg%allow_outside_gap, location=pf_source_location('test_input.pf', 539, 'assertFalse'))
+        call assertFalse(cfg%allow_outside_gap, location=pf_source_location('test_input.pf', 556, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(cfg%allow_unstable, location=pf_source_location('test_input.pf', 540, 'assertFalse'))
+        call assertFalse(cfg%allow_unstable, location=pf_source_location('test_input.pf', 557, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_defaults_of_a_minimal_file
 
@@ -1059,7 +1089,7 @@ contains
         call assertFalse( &
             allocated(error), &
             "default configuration rejected", &
-            location=pf_source_location('test_input.pf', 550, 'assertFalse'))
+            location=pf_source_location('test_input.pf', 567, 'assertFalse'))
         if (pf_any_failed()) return
         if (allocated(error)) return
         cfg%run%chain%sigma = -1.0_wp
@@ -1067,15 +1097,15 @@ contains
         call assertTrue( &
             allocated(error), &
             "sigma = -1 accepted", &
-            location=pf_source_location('test_input.pf', 554, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 571, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 556, 'assertEqual'))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 573, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "configuration: &chain: sigma = -1.0: must be > 0") > 0, &
             error%message, &
-            location=pf_source_location('test_input.pf', 557, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 574, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_validate_config_in_code
 
@@ -1089,15 +1119,15 @@ contains
         call assertTrue( &
             allocated(error), &
             "dts = 0.1, -0.2 accepted", &
-            location=pf_source_location('test_input.pf', 567, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 584, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 569, 'assertEqual'))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 586, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             names_file_and_key(error%message, path, "&scene: dts(2) = -0.2: must be > 0"), &
             error%message, &
-            location=pf_source_location('test_input.pf', 570, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 587, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_list_value_out_of_range
 
@@ -1111,16 +1141,16 @@ contains
         call assertTrue( &
             allocated(error), &
             "unknown potential in a list accepted", &
-            location=pf_source_location('test_input.pf', 580, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 597, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 582, 'assertEqual'))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 599, 'assertEqual'))
         if (pf_any_failed()) return
         expected = "&scene: potentials(2) = 'phi-four': unknown potential (known: sine-gordon, klein-gordon)"
         call assertTrue( &
             names_file_and_key(error%message, path, expected), &
             error%message, &
-            location=pf_source_location('test_input.pf', 584, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 601, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_potential_in_list
 
@@ -1137,29 +1167,29 @@ contains
             call assertTrue( &
                 .false., &
                 "lists of names rejected: " // error%message, &
-                location=pf_source_location('test_input.pf', 597, 'assertTrue'))
+                location=pf_source_location('test_input.pf', 614, 'assertTrue'))
             if (pf_any_failed()) return
             return
         end if
         call assertEqual( &
             2, &
             size(cfg%scene%potentials), &
-            location=pf_source_location('test_input.pf', 600, 'assertEqual'))
+            location=pf_source_location('test_input.pf', 617, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(cfg%scene%potentials == [klein_gordon, sine_gordon]), &
             "potentials", &
-            location=pf_source_location('test_input.pf', 601, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 618, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(cfg%scene%methods == [method_rk8, method_newton]), &
             "methods", &
-            location=pf_source_location('test_input.pf', 602, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 619, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             allocated(cfg%scene%values), &
             "values not given stay unset", &
-            location=pf_source_location('test_input.pf', 603, 'assertFalse'))
+            location=pf_source_location('test_input.pf', 620, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_lists_of_names_read
 
@@ -1175,16 +1205,16 @@ contains
         call assertTrue( &
             allocated(error), &
             "method number 9 accepted", &
-            location=pf_source_location('test_input.pf', 615, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 632, 'assertTrue'))
         if (pf_any_failed()) return
         if (.not. allocated(error)) return
-        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 617, 'assertEqual'))
+        call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 634, 'assertEqual'))
         if (pf_any_failed()) return
         expected = "configuration: &numerics: method = 9: unknown method (known: newton, linearized, rk4, rk8, avf4, avf8)"
         call assertTrue( &
             error%message == expected, &
             error%message, &
-            location=pf_source_location('test_input.pf', 619, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 636, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_unknown_method_number_in_code
 
@@ -1201,29 +1231,29 @@ contains
             call assertTrue( &
                 .false., &
                 "valid file rejected: " // error%message, &
-                location=pf_source_location('test_input.pf', 632, 'assertTrue'))
+                location=pf_source_location('test_input.pf', 649, 'assertTrue'))
             if (pf_any_failed()) return
             return
         end if
         call assertTrue( &
             allocated(cfg%text), &
             "namelist text not kept", &
-            location=pf_source_location('test_input.pf', 635, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 652, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             cfg%text == text // nl(), &
             cfg%text, &
-            location=pf_source_location('test_input.pf', 636, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 653, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             allocated(cfg%started), &
             "start time not kept", &
-            location=pf_source_location('test_input.pf', 637, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 654, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(cfg%started, "T") == 11 .and. cfg%started(1:2) == "20", &
             cfg%started, &
-            location=pf_source_location('test_input.pf', 638, 'assertTrue'))
+            location=pf_source_location('test_input.pf', 655, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_namelist_text_and_start_kept
 

@@ -93,7 +93,7 @@ module supratrans_schema
         key_spec(group="numerics", key="dt", value_type=kt_real, attribute="dt", units="time", has_min=.true., min=0.0_wp, &
             min_text="0", min_strict=.true., default_text="0.05", &
             range_text="> 0; the paper's necessary stability condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt, unless " // &
-            "allow_unstable", description="Time step Delta t"), &
+            "allow_unstable or an A-stable method (avf4, avf8)", description="Time step Delta t"), &
         key_spec(group="numerics", key="t_final", value_type=kt_real, attribute="t_final", units="time", has_min=.true., &
             min=0.0_wp, min_text="0", min_strict=.true., default_text="200", range_text="> 0; >= 2 dt", &
             description="Final time T"), &
