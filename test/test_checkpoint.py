@@ -186,7 +186,8 @@ def test_damaged_or_foreign_checkpoint_is_ignored(exe, tmp_path, references, dam
 
 def test_no_checkpoint_when_off(exe, tmp_path):
     """checkpoint_every = 0: a SIGTERM stops the timeseries as before (nothing written, exit 5, no checkpoint)."""
-    nml = write(tmp_path, "timeseries", "rk4", "ts", every=0)
+    # a run far longer than the 0.4 s before the signal even on a quiet machine (t_final = 400 took less)
+    nml = write(tmp_path, "timeseries", "rk4", "ts", every=0, t_final=20000.0)
     proc = start(exe, nml, tmp_path)
     started(proc)
     time.sleep(0.4)
