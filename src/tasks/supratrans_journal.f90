@@ -22,6 +22,7 @@ module supratrans_journal
     implicit none
     private
 
+    public :: split_words
     public :: journal_header, journal_line, parse_journal_line, read_journal, write_journal, append_journal_line, crc32, &
               header_checked, record_binding
 

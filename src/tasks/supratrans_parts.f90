@@ -25,7 +25,7 @@ module supratrans_parts
     use supratrans_config, only: input_config
     use supratrans_system, only: path_kind, path_regular
     use supratrans_limits, only: max_tasks
-    use supratrans_journal, only: crc32, header_checked, max_fields
+    use supratrans_journal, only: crc32, header_checked, max_fields, split_words
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_open, h5_close, h5_write, &
                                h5_write_attr, h5_create_group, h5_read, h5_read_attr, h5_exists, h5_attr_exists
     implicit none
@@ -411,36 +411,6 @@ contains
             end if
         end do
     end subroutine read_one_part
-
-    !> The blank-separated words of a line.
-    pure subroutine split_words(line, words)
-        !> The line.
-        character(len=*), intent(in) :: line
-        !> Its words (padded to the longest).
-        character(len=:), allocatable, intent(out) :: words(:)
-        integer :: i, n, start, longest, pass
-
-        do pass = 1, 2
-            n = 0
-            longest = 1
-            i = 1
-            do while (i <= len(line))
-                if (line(i:i) == " ") then
-                    i = i + 1
-                    cycle
-                end if
-                start = i
-                do while (i <= len(line))
-                    if (line(i:i) == " ") exit
-                    i = i + 1
-                end do
-                n = n + 1
-                longest = max(longest, i - start)
-                if (pass == 2) words(n) = line(start:i - 1)
-            end do
-            if (pass == 1) allocate (character(len=longest) :: words(n))
-        end do
-    end subroutine split_words
 
     !> Read and check a set of part files. Refused with one line naming the file and the reason (status
     !> `err_input`): a file that is not a part, a part that fails its checks (`read_one_part`), parts of another
