@@ -58,6 +58,11 @@ def test_fold_line_has_folds_with_their_stability(fold_line):
         assert np.all((thr == fold) | (thr == inst))
         assert "torus" in f["instability_type"].attrs["codes"].decode()
         assert f["dt_used"][0, 0] <= 0.1 and f["steps_per_period"][0, 0] == np.ceil(2 * np.pi / 0.7 / 0.1)
+        # every fold has its fate, coded, with the time it took (or the time watched)
+        fate = f["fold_fate"][()]
+        assert np.isin(fate, (1, 2)).all(), fate
+        assert np.all(f["fold_fate_time"][()] > 0)
+        assert "localized" in f["fold_fate"].attrs["codes"].decode()
 
 
 def test_fold_line_is_the_same_for_two_threads_and_for_slices(exe, fold_line, tmp_path):

@@ -253,3 +253,19 @@ def test_branch_points_without_multipliers_take_their_neighbours_verdict():
     got = verdicts(np.array([-1, 1, -1, -1, 1, -1, 0, -1, -1, 0, -1], dtype=float))
     np.testing.assert_array_equal(got, [1, 1, 1, 1, 1, -1, 0, 0, 0, 0, 0])
     np.testing.assert_array_equal(verdicts(np.array([-1.0, -1.0])), [-1, -1])
+
+
+def test_folds_past_which_the_chain_stays_localized_are_marked(tmp_path):
+    """A fold line with /fold_fate: the folds of fate 2 (the chain stays localized past them) get their own marker,
+    at their fold amplitudes, on both fold-line charts; a file without /fold_fate marks none."""
+    path = fold_file(tmp_path / "fold.h5")
+    plain = reader.open_scene(path)
+    lines = figures.draw_thresholds(plain).get_axes()[0].get_lines()
+    assert not any("stays localized" in ln.get_label() for ln in lines)
+    with h5py.File(path, "a") as h:
+        h.create_dataset("fold_fate", data=np.array([[1, 2, 1]], dtype=np.int32))
+    fold = reader.open_scene(path)
+    for fig in (figures.draw_thresholds(fold), figures.draw_continuation(fold, None)):
+        (line,) = [ln for ln in fig.get_axes()[0].get_lines() if "stays localized" in ln.get_label()]
+        np.testing.assert_array_equal(line.get_xdata(), [OMEGA[1]])
+        np.testing.assert_array_equal(line.get_ydata(), [FOLD[0, 1]])

@@ -15,6 +15,15 @@
 !> `short_absorber_width` sites with sigma = `short_absorber_sigma` (kappa as given). A fold line uses it when its
 !> input gives none of n, n0, sigma in &chain, at Omega >= `short_chain_omega_min` (the range measured); the
 !> record says which chain each task used.
+!>
+!> **The fold's fate** (`fold_fate`). A fold is the supratransmission threshold only if the chain, driven just past
+!> it, transmits. Near Omega = 1/(2k + 1), where an odd harmonic of the drive sits at the lower edge of the phonon
+!> band, the branch can fold far below the scan's threshold (e.g. A_f = 1.78 at Omega = 0.34 on the paper's chain,
+!> where the scan gives 4.66): such a fold depends on the chain's length and absorber (docs/continuation.md) and the
+!> state beyond it need not transmit. So each fold is tested: the periodic state at the fold is driven at
+!> A_f (1 + `fate_push`) at full amplitude for `fate_watch_time` (at least `fate_min_periods` periods) with the
+!> one-period map of the same scheme, and it transmits when, at the end of a period, an oscillator beyond the
+!> run's detector site (`detector_site`, the scan's own) has |u_n| > the detector amplitude (pi by default).
 module supratrans_fold_line
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp
@@ -22,8 +31,10 @@ module supratrans_fold_line
     use supratrans_config, only: run_config, scene_params, chain_params
     use supratrans_namelist, only: parse_namelist, parsed_input
     use supratrans_schema, only: key_table
-    use supratrans_strings, only: int_str
+    use supratrans_strings, only: int_str, real_str
     use supratrans_period_map, only: period_map, period_map_init
+    use supratrans_fixed_point_map, only: map_ok
+    use supratrans_chain, only: detector_site
     use supratrans_continuation, only: continue_branch, branch_multipliers, continuation_controls, &
                                        continuation_result, cont_fold_found, cont_no_fold, cont_newton_failed, &
                                        cont_step_too_small, cont_max_points, continuation_status_name
@@ -34,7 +45,7 @@ module supratrans_fold_line
     private
 
     public :: trace_fold, fold_status_codes, instability_type_codes, shortest_chain, chain_length_given
-    public :: scheme_decay_rate
+    public :: scheme_decay_rate, fate_codes, fold_fate
 
     !> Status: the fold was found and located.
     integer, parameter, public :: fold_found = cont_fold_found
@@ -52,6 +63,22 @@ module supratrans_fold_line
     !> Lowest Omega given the short chain (measured down to 0.3; at Omega = 0.05 the short chain's branch creeps
     !> past A = 5.8 without a fold within 150 points, where the paper's N = 200 chain folds at 5.66).
     real(wp), parameter, public :: short_chain_omega_min = 0.3_wp
+
+    !> Fate of a fold: not computed (no fold).
+    integer, parameter, public :: fate_not_computed = 0
+    !> Fate of a fold: driven just past it, the chain transmits (the fold is the supratransmission threshold).
+    integer, parameter, public :: fate_transmits = 1
+    !> Fate of a fold: driven just past it for `fate_watch_time`, the chain stays localized (it settles on another
+    !> state: the fold is not where transmission starts).
+    integer, parameter, public :: fate_localized = 2
+    !> Fate of a fold: the one-period map failed while watching (its implicit steps did not converge).
+    integer, parameter, public :: fate_failed = 3
+    !> Relative push past the fold: the fate is watched at A_f (1 + fate_push).
+    real(wp), parameter, public :: fate_push = 1.0e-2_wp
+    !> Time the pushed state is watched (in units of the model's time).
+    real(wp), parameter, public :: fate_watch_time = 1000.0_wp
+    !> Fewest drive periods the pushed state is watched.
+    integer, parameter, public :: fate_min_periods = 20
 
 contains
 
@@ -115,6 +142,10 @@ contains
                                             mask=.not. ieee_is_nan(res%max_multiplier(1:last))) - 1.0_wp
             end if
         end if
+        if (res%fold_index > 0 .and. .not. ieee_is_nan(r%fold_amplitude)) then
+            call fold_fate(map, run, res%states(:, res%fold_index), r%fold_amplitude*(1.0_wp + fate_push), &
+                           r%fate, r%fate_time)
+        end if
         r%newton_iterations = sum(res%newton_iterations(1:res%n_points))
         r%map_evaluations = res%stats%map_evaluations + res%stats%jacobian_evaluations
         r%jacobians = res%stats%jacobian_evaluations
@@ -161,6 +192,46 @@ contains
         end subroutine sample
 
     end subroutine trace_fold
+
+    !> The fate of a fold (see the module's documentation): from the periodic state `x` at the fold, the drive at
+    !> `amplitude` (just past the fold), one period at a time, until an oscillator beyond the detector site swings
+    !> past the detector amplitude (`fate_transmits`, `time` = the end of that period) or `fate_watch_time` has
+    !> passed (`fate_localized`, `time` = the time watched).
+    subroutine fold_fate(map, run, x, amplitude, fate, time)
+        !> The one-period map of the branch (its work arrays change).
+        type(period_map), intent(inout) :: map
+        !> The run (detector site and amplitude).
+        type(run_config), intent(in) :: run
+        !> The state at the fold (u_n at t = 0 first, n = 1..N).
+        real(wp), intent(in) :: x(:)
+        !> Drive amplitude just past the fold.
+        real(wp), intent(in) :: amplitude
+        !> `fate_transmits`, `fate_localized` or `fate_failed`.
+        integer, intent(out) :: fate
+        !> Time of the first transmission, or the time watched.
+        real(wp), intent(out) :: time
+        real(wp), allocatable :: y(:), py(:)
+        integer :: k, periods, nd, status
+
+        nd = detector_site(run)
+        periods = max(fate_min_periods, ceiling(fate_watch_time/map%period))
+        y = x
+        allocate (py(size(x)))
+        do k = 1, periods
+            call map%apply(y, amplitude, py, status)
+            time = real(k, wp)*map%period
+            if (status /= map_ok) then
+                fate = fate_failed
+                return
+            end if
+            if (maxval(abs(py(nd + 1:map%n))) > run%detect%amplitude) then
+                fate = fate_transmits
+                return
+            end if
+            y = py
+        end do
+        fate = fate_localized
+    end subroutine fold_fate
 
     !> The scheme's own decay rate lambda' of the small-amplitude periodic state at drive frequency Omega with time
     !> step dt (NOTES.md); 0 when Omega is not in the chain's band gap (no decay).
@@ -274,6 +345,18 @@ contains
             // continuation_status_name(cont_max_points) // ": continuation_points reached before a fold; " &
             // int_str(fold_map_failed) // " map_failed: the one-period map could not be set up"
     end function fold_status_codes
+
+    !> The fates of a fold as "code name: meaning" clauses (the `codes` attribute of /fold_fate).
+    pure function fate_codes() result(text)
+        character(len=:), allocatable :: text
+
+        text = int_str(fate_not_computed) // " none: no fold; " // int_str(fate_transmits) // " transmits: driven " &
+            // "at A_f (1 + " // real_str(fate_push, 3) // ") from the fold's state, an oscillator beyond the " &
+            // "detector site passes the detector amplitude (the fold is the supratransmission threshold); " &
+            // int_str(fate_localized) // " localized: no transmission within /fold_fate_time (the chain " &
+            // "settles on another state: the fold is not where transmission starts); " // int_str(fate_failed) &
+            // " failed: the scheme's implicit step did not converge"
+    end function fate_codes
 
     !> The instability types as "code name" clauses (the `codes` attributes of /instability_type, /threshold_kind).
     pure function instability_type_codes() result(text)

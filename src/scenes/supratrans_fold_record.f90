@@ -29,7 +29,7 @@ module supratrans_fold_record
         "dt_used", "steps_per_period", "points", "newton_iterations", "map_evaluations", "jacobians", &
         "factorizations", "eigen_calls", "wall_time", "time_map", "time_tangent", "time_lu", "time_eigen", &
         "fold_half_dt", "fold_long_chain", "richardson", &
-        "error_estimate", "digits", "chain_n", "chain_n0", "chain_sigma"]
+        "error_estimate", "digits", "chain_n", "chain_n0", "chain_sigma", "fate", "fate_time"]
 
     !> One (curve, Omega) task: the fold and stability of its branch, their convergence, the branch.
     type, public :: fold_record
@@ -90,6 +90,12 @@ module supratrans_fold_record
         integer :: chain_n = 0, chain_n0 = 0
         !> The absorber's sigma used.
         real(wp) :: chain_sigma = 0.0_wp
+        !> What the chain does when driven just past the fold (`supratrans_fold_line`, `fate_*` codes): 0 not computed,
+        !> 1 it transmits (the fold is the supratransmission threshold), 2 it stays localized.
+        integer :: fate = 0
+        !> Time from the push past the fold to the first transmission (fate 1), or the time watched (fate 2); NaN when
+        !> not computed.
+        real(wp) :: fate_time = 0.0_wp
         !> The branch: `branch_quantities` (rows) at each point (columns), NaN past `points`.
         real(wp), allocatable :: branch(:, :)
         !> Real and imaginary parts of the kept multipliers (`kept_multipliers`, `multiplier_samples`); NaN when not
@@ -154,6 +160,7 @@ contains
         r%error_estimate = nan
         r%digits = nan
         r%chain_sigma = nan
+        r%fate_time = nan
         allocate (r%branch(size(branch_quantities), points_max), source=nan)
         r%multiplier_re = nan
         r%multiplier_im = nan
@@ -173,7 +180,7 @@ contains
              real(r%map_evaluations, wp), real(r%jacobians, wp), real(r%factorizations, wp), real(r%eigen_calls, wp), &
              r%wall_time, r%time_map, r%time_tangent, r%time_lu, r%time_eigen, r%fold_half_dt, r%fold_long_chain, &
              r%richardson, r%error_estimate, r%digits, real(r%chain_n, wp), real(r%chain_n0, wp), r%chain_sigma, &
-             reshape(r%branch, [size(r%branch)])]
+             real(r%fate, wp), r%fate_time, reshape(r%branch, [size(r%branch)])]
         do s = 1, multiplier_samples
             v = [v, reshape(transpose(reshape([r%multiplier_re(:, s), r%multiplier_im(:, s)], &
                                               [kept_multipliers, 2])), [2*kept_multipliers]), r%multiplier_amplitude(s)]
@@ -219,6 +226,8 @@ contains
         r%chain_n = nint(v(28))
         r%chain_n0 = nint(v(29))
         r%chain_sigma = v(30)
+        r%fate = nint(v(31))
+        r%fate_time = v(32)
         i = size(scalar_fields)
         nb = size(branch_quantities)*points_max
         r%branch = reshape(v(i + 1:i + nb), [size(branch_quantities), points_max])

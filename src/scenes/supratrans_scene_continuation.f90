@@ -32,7 +32,7 @@ module supratrans_scene_continuation
     use supratrans_fold_record, only: fold_record, fold_fields, fold_to_values, fold_from_values, empty_fold_record, &
                                       branch_quantities, kept_multipliers, multiplier_samples
     use supratrans_fold_line, only: trace_fold, fold_status_codes, instability_type_codes, fold_found, &
-                                    shortest_chain, chain_length_given
+                                    shortest_chain, chain_length_given, fate_codes
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
@@ -318,6 +318,13 @@ contains
             // "stable up to it); NaN when none (see /status)", dims=dims)
         call h5_write(file, "/fold_residual", grid(recs%fold_residual), "rad", &
             "max-norm of the shooting residual P(x) - x at the located fold", dims=dims)
+        call h5_write(file, "/fold_fate", igrid(recs%fate), "1", &
+            "What the chain does when driven 1% past the fold from the fold's state (codes in attribute 'codes')", &
+            dims=dims)
+        call h5_write_attr(file, "/fold_fate", "codes", fate_codes())
+        call h5_write(file, "/fold_fate_time", grid(recs%fate_time), "time", &
+            "Time from the push past the fold to the first transmission (/fold_fate 1), or the time watched without " &
+            // "one (2); NaN when there is no fold", dims=dims)
         call h5_write(file, "/instability_amplitude", grid(recs%instability_amplitude), &
             "rad", "First amplitude along the branch where a Floquet multiplier leaves the unit circle; NaN when " &
             // "the branch stays stable up to its fold", dims=dims)

@@ -214,3 +214,13 @@ def columns(axis: Any, full: bool) -> list[int]:
             break
     targets = np.arange(math.ceil(lo / nice - 1e-9), math.floor(hi / nice + 1e-9) + 1) * nice
     return sorted({int(np.argmin(np.abs(axis - t))) for t in targets})
+
+
+def localized_folds(fold, curve: int) -> np.ndarray:
+    """Where the chain, driven just past the fold of `curve`, stays localized (/fold_fate 2): a fold that is not the
+    supratransmission threshold (all False for files without /fold_fate)."""
+    omega = np.asarray(fold.data["omega"], dtype=float)
+    fate = fold.data.get("fold_fate")
+    if fate is None:
+        return np.zeros(omega.shape, dtype=bool)
+    return np.asarray(fate)[curve] == 2
