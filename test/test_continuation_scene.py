@@ -63,6 +63,11 @@ def test_fold_line_has_folds_with_their_stability(fold_line):
         assert np.isin(fate, (1, 2)).all(), fate
         assert np.all(f["fold_fate_time"][()] > 0)
         assert "localized" in f["fold_fate"].attrs["codes"].decode()
+        # a fold that transmits is the transmission fold, reached on the first branch
+        trans = f["transmission_fold"][()]
+        first = fate == 1
+        np.testing.assert_array_equal(trans[first], fold[first])
+        assert (f["branches"][()][first] == 1).all() and (f["transmission_status"][()][first] == 0).all()
 
 
 def test_fold_line_is_the_same_for_two_threads_and_for_slices(exe, fold_line, tmp_path):

@@ -45,7 +45,7 @@ module supratrans_fold_line
     private
 
     public :: trace_fold, fold_status_codes, instability_type_codes, shortest_chain, chain_length_given
-    public :: scheme_decay_rate, fate_codes, fold_fate
+    public :: scheme_decay_rate, fate_codes, fold_fate, transmission_status_codes
 
     !> Status: the fold was found and located.
     integer, parameter, public :: fold_found = cont_fold_found
@@ -79,6 +79,15 @@ module supratrans_fold_line
     real(wp), parameter, public :: fate_watch_time = 1000.0_wp
     !> Fewest drive periods the pushed state is watched.
     integer, parameter, public :: fate_min_periods = 20
+    !> Most branches followed from rest to the fold past which the chain transmits (`follow_to_transmission`).
+    integer, parameter, public :: max_branches = 4
+    !> Why no transmission fold (beside the continuation's statuses of the last branch followed): the state Newton
+    !> found where the chain settled is unstable.
+    integer, parameter, public :: follow_unstable_start = 6
+    !> Why no transmission fold: the chain stayed localized past the folds of `max_branches` branches.
+    integer, parameter, public :: follow_too_many = 7
+    !> Why no transmission fold: the scheme failed while the fate of a fold was watched.
+    integer, parameter, public :: follow_fate_failed = 8
 
 contains
 
@@ -100,6 +109,7 @@ contains
         type(error_type), allocatable :: error
         integer :: npts, k, s, last
         integer :: samples(multiplier_samples)
+        real(wp), allocatable :: settled(:)
 
         call period_map_init(map, run, error)
         if (allocated(error)) then
@@ -144,7 +154,16 @@ contains
         end if
         if (res%fold_index > 0 .and. .not. ieee_is_nan(r%fold_amplitude)) then
             call fold_fate(map, run, res%states(:, res%fold_index), r%fold_amplitude*(1.0_wp + fate_push), &
-                           r%fate, r%fate_time)
+                           r%fate, r%fate_time, settled)
+            r%branches = 1
+            r%transmission_status = follow_fate_failed
+            if (r%fate == fate_transmits) then
+                r%transmission_fold = r%fold_amplitude
+                r%transmission_status = cont_fold_found
+            end if
+            if (r%fate == fate_localized) then
+                call follow_to_transmission(map, run, ctl, settled, r%fold_amplitude*(1.0_wp + fate_push), r)
+            end if
         end if
         r%newton_iterations = sum(res%newton_iterations(1:res%n_points))
         r%map_evaluations = res%stats%map_evaluations + res%stats%jacobian_evaluations
@@ -193,11 +212,81 @@ contains
 
     end subroutine trace_fold
 
+    !> Past a fold where the chain stays localized, the branch it settles on: from the `settled` state at amplitude
+    !> `a` (Newton-shooting first), continued in A to its own fold, whose fate is tested in turn, up to
+    !> `max_branches` branches in all. Fills `r%transmission_fold` (NaN when no branch ends in a fold that transmits)
+    !> and `r%branches`; the costs of these continuations are added to the record's.
+    subroutine follow_to_transmission(map, run, ctl, settled, a, r)
+        !> The one-period map.
+        type(period_map), intent(inout) :: map
+        !> The run (detector).
+        type(run_config), intent(in) :: run
+        !> The continuation controls of the first branch.
+        type(continuation_controls), intent(in) :: ctl
+        !> Where the chain settled past the first fold.
+        real(wp), intent(in) :: settled(:)
+        !> The amplitude it settled at.
+        real(wp), intent(in) :: a
+        !> The record.
+        type(fold_record), intent(inout) :: r
+        type(continuation_controls) :: next
+        type(continuation_result) :: res
+        real(wp), allocatable :: x(:)
+        real(wp) :: amplitude, time
+        integer :: fate
+
+        x = settled
+        amplitude = a
+        next = ctl
+        next%beyond_fold = 0
+        next%floquet_every = huge(1)
+        next%floquet_trend = .false.
+        next%newton_max_iter = 40
+        next%max_points = 4*ctl%max_points
+        do while (r%branches < max_branches)
+            next%amplitude_start = amplitude
+            call continue_branch(map, next, res, x)
+            r%branches = r%branches + 1
+            r%newton_iterations = r%newton_iterations + sum(res%newton_iterations(1:res%n_points))
+            r%map_evaluations = r%map_evaluations + res%stats%map_evaluations + res%stats%jacobian_evaluations
+            r%jacobians = r%jacobians + res%stats%jacobian_evaluations
+            r%factorizations = r%factorizations + res%stats%factorisations
+            r%eigen_calls = r%eigen_calls + res%stats%eigen_calls
+            r%time_map = r%time_map + res%stats%time_map
+            r%time_tangent = r%time_tangent + res%stats%time_jacobian
+            r%time_lu = r%time_lu + res%stats%time_lu
+            r%time_eigen = r%time_eigen + res%stats%time_eigen
+            if (res%n_points >= 1) then
+                if (res%stable(1) == 0) then          ! Newton found a state the chain cannot have settled on
+                    r%transmission_status = follow_unstable_start
+                    return
+                end if
+            end if
+            if (res%status /= cont_fold_found .or. res%fold_index < 1) then
+                r%transmission_status = res%status
+                return
+            end if
+            call fold_fate(map, run, res%states(:, res%fold_index), res%fold_amplitude*(1.0_wp + fate_push), fate, &
+                           time, x)
+            if (fate == fate_transmits) then
+                r%transmission_fold = res%fold_amplitude
+                r%transmission_status = cont_fold_found
+                return
+            end if
+            if (fate /= fate_localized) then
+                r%transmission_status = follow_fate_failed
+                return
+            end if
+            amplitude = res%fold_amplitude*(1.0_wp + fate_push)
+        end do
+        r%transmission_status = follow_too_many
+    end subroutine follow_to_transmission
+
     !> The fate of a fold (see the module's documentation): from the periodic state `x` at the fold, the drive at
     !> `amplitude` (just past the fold), one period at a time, until an oscillator beyond the detector site swings
     !> past the detector amplitude (`fate_transmits`, `time` = the end of that period) or `fate_watch_time` has
     !> passed (`fate_localized`, `time` = the time watched).
-    subroutine fold_fate(map, run, x, amplitude, fate, time)
+    subroutine fold_fate(map, run, x, amplitude, fate, time, last)
         !> The one-period map of the branch (its work arrays change).
         type(period_map), intent(inout) :: map
         !> The run (detector site and amplitude).
@@ -210,6 +299,8 @@ contains
         integer, intent(out) :: fate
         !> Time of the first transmission, or the time watched.
         real(wp), intent(out) :: time
+        !> The state at the end of the watch (where the chain has settled when it stays localized).
+        real(wp), allocatable, intent(out), optional :: last(:)
         real(wp), allocatable :: y(:), py(:)
         integer :: k, periods, nd, status
 
@@ -231,6 +322,7 @@ contains
             y = py
         end do
         fate = fate_localized
+        if (present(last)) last = y
     end subroutine fold_fate
 
     !> The scheme's own decay rate lambda' of the small-amplitude periodic state at drive frequency Omega with time
@@ -357,6 +449,20 @@ contains
             // "settles on another state: the fold is not where transmission starts); " // int_str(fate_failed) &
             // " failed: the scheme's implicit step did not converge"
     end function fate_codes
+
+    !> The codes of /transmission_status as "code: meaning" clauses.
+    pure function transmission_status_codes() result(text)
+        character(len=:), allocatable :: text
+
+        text = "-1: no fold on the first branch (see /status); " // int_str(cont_fold_found) // ": found; " &
+            // int_str(cont_no_fold) // ", " // int_str(cont_newton_failed) // ", " // int_str(cont_step_too_small) &
+            // ", " // int_str(cont_max_points) // ": the last branch followed ended as /status says of the first " &
+            // "(no fold below amplitude_max, Newton-shooting failed from the settled state, step too small, " &
+            // "points exhausted); " // int_str(follow_unstable_start) // ": the state found where the chain settled " &
+            // "is unstable; " // int_str(follow_too_many) // ": still localized past the folds of " &
+            // int_str(max_branches) // " branches; " // int_str(follow_fate_failed) // ": the scheme failed " &
+            // "while a fold's fate was watched"
+    end function transmission_status_codes
 
     !> The instability types as "code name" clauses (the `codes` attributes of /instability_type, /threshold_kind).
     pure function instability_type_codes() result(text)

@@ -29,7 +29,8 @@ module supratrans_fold_record
         "dt_used", "steps_per_period", "points", "newton_iterations", "map_evaluations", "jacobians", &
         "factorizations", "eigen_calls", "wall_time", "time_map", "time_tangent", "time_lu", "time_eigen", &
         "fold_half_dt", "fold_long_chain", "richardson", &
-        "error_estimate", "digits", "chain_n", "chain_n0", "chain_sigma", "fate", "fate_time"]
+        "error_estimate", "digits", "chain_n", "chain_n0", "chain_sigma", "fate", "fate_time", &
+        "transmission_fold", "branches", "transmission_status"]
 
     !> One (curve, Omega) task: the fold and stability of its branch, their convergence, the branch.
     type, public :: fold_record
@@ -96,6 +97,13 @@ module supratrans_fold_record
         !> Time from the push past the fold to the first transmission (fate 1), or the time watched (fate 2); NaN when
         !> not computed.
         real(wp) :: fate_time = 0.0_wp
+        !> The fold past which the chain transmits: the first fold when its fate is to transmit; else the fold of the
+        !> branch the chain settles on past it, and so on (`branches`); NaN when none was found.
+        real(wp) :: transmission_fold = 0.0_wp
+        !> Branches followed to `transmission_fold` (1: the first fold transmits; 0: no fold).
+        integer :: branches = 0
+        !> Why `transmission_fold` is what it is (`supratrans_fold_line`: 0 found, -1 no first fold, else the reason).
+        integer :: transmission_status = -1
         !> The branch: `branch_quantities` (rows) at each point (columns), NaN past `points`.
         real(wp), allocatable :: branch(:, :)
         !> Real and imaginary parts of the kept multipliers (`kept_multipliers`, `multiplier_samples`); NaN when not
@@ -161,6 +169,7 @@ contains
         r%digits = nan
         r%chain_sigma = nan
         r%fate_time = nan
+        r%transmission_fold = nan
         allocate (r%branch(size(branch_quantities), points_max), source=nan)
         r%multiplier_re = nan
         r%multiplier_im = nan
@@ -180,7 +189,8 @@ contains
              real(r%map_evaluations, wp), real(r%jacobians, wp), real(r%factorizations, wp), real(r%eigen_calls, wp), &
              r%wall_time, r%time_map, r%time_tangent, r%time_lu, r%time_eigen, r%fold_half_dt, r%fold_long_chain, &
              r%richardson, r%error_estimate, r%digits, real(r%chain_n, wp), real(r%chain_n0, wp), r%chain_sigma, &
-             real(r%fate, wp), r%fate_time, reshape(r%branch, [size(r%branch)])]
+             real(r%fate, wp), r%fate_time, r%transmission_fold, real(r%branches, wp), &
+             real(r%transmission_status, wp), reshape(r%branch, [size(r%branch)])]
         do s = 1, multiplier_samples
             v = [v, reshape(transpose(reshape([r%multiplier_re(:, s), r%multiplier_im(:, s)], &
                                               [kept_multipliers, 2])), [2*kept_multipliers]), r%multiplier_amplitude(s)]
@@ -228,6 +238,9 @@ contains
         r%chain_sigma = v(30)
         r%fate = nint(v(31))
         r%fate_time = v(32)
+        r%transmission_fold = v(33)
+        r%branches = nint(v(34))
+        r%transmission_status = nint(v(35))
         i = size(scalar_fields)
         nb = size(branch_quantities)*points_max
         r%branch = reshape(v(i + 1:i + nb), [size(branch_quantities), points_max])

@@ -32,7 +32,8 @@ module supratrans_scene_continuation
     use supratrans_fold_record, only: fold_record, fold_fields, fold_to_values, fold_from_values, empty_fold_record, &
                                       branch_quantities, kept_multipliers, multiplier_samples
     use supratrans_fold_line, only: trace_fold, fold_status_codes, instability_type_codes, fold_found, &
-                                    shortest_chain, chain_length_given, fate_codes
+                                    shortest_chain, chain_length_given, fate_codes, &
+                                    transmission_status_codes
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
@@ -325,6 +326,15 @@ contains
         call h5_write(file, "/fold_fate_time", grid(recs%fate_time), "time", &
             "Time from the push past the fold to the first transmission (/fold_fate 1), or the time watched without " &
             // "one (2); NaN when there is no fold", dims=dims)
+        call h5_write(file, "/transmission_fold", grid(recs%transmission_fold), "rad", &
+            "The fold past which the chain transmits: /fold_amplitude when its fate is to transmit; else the fold of " &
+            // "the branch the chain settles on past it, and so on (/branches); NaN when none was found", dims=dims)
+        call h5_write(file, "/branches", igrid(recs%branches), "1", &
+            "Branches of periodic states followed from rest to /transmission_fold (1: the first fold transmits)", &
+            dims=dims)
+        call h5_write(file, "/transmission_status", igrid(recs%transmission_status), "1", &
+            "Whether /transmission_fold was found, and if not why (codes in attribute 'codes')", dims=dims)
+        call h5_write_attr(file, "/transmission_status", "codes", transmission_status_codes())
         call h5_write(file, "/instability_amplitude", grid(recs%instability_amplitude), &
             "rad", "First amplitude along the branch where a Floquet multiplier leaves the unit circle; NaN when " &
             // "the branch stays stable up to its fold", dims=dims)
