@@ -264,8 +264,13 @@ def test_folds_past_which_the_chain_stays_localized_are_marked(tmp_path):
     assert not any("stays localized" in ln.get_label() for ln in lines)
     with h5py.File(path, "a") as h:
         h.create_dataset("fold_fate", data=np.array([[1, 2, 1]], dtype=np.int32))
+        h.create_dataset("transmission_fold", data=np.array([[FOLD[0, 0], 3.9, FOLD[0, 2]]]))
+        h.create_dataset("branches", data=np.array([[1, 2, 1]], dtype=np.int32))
     fold = reader.open_scene(path)
     for fig in (figures.draw_thresholds(fold), figures.draw_continuation(fold, None)):
         (line,) = [ln for ln in fig.get_axes()[0].get_lines() if "stays localized" in ln.get_label()]
         np.testing.assert_array_equal(line.get_xdata(), [OMEGA[1]])
         np.testing.assert_array_equal(line.get_ydata(), [FOLD[0, 1]])
+    # the fold of the later branch past which the chain transmits, only where it is not the first fold
+    (star,) = [ln for ln in figures.draw_thresholds(fold).get_axes()[0].get_lines() if "later branch" in ln.get_label()]
+    np.testing.assert_array_equal(star.get_ydata(), [np.nan, 3.9, np.nan])

@@ -224,3 +224,13 @@ def localized_folds(fold, curve: int) -> np.ndarray:
     if fate is None:
         return np.zeros(omega.shape, dtype=bool)
     return np.asarray(fate)[curve] == 2
+
+
+def later_transmission(fold, curve: int) -> np.ndarray:
+    """The transmission fold of `curve` where it is not the first fold (the chain stayed localized past that one and
+    was followed along the branch it settled on, /branches > 1), NaN elsewhere and for files without it."""
+    omega = np.asarray(fold.data["omega"], dtype=float)
+    trans, branches = fold.data.get("transmission_fold"), fold.data.get("branches")
+    if trans is None or branches is None:
+        return np.full(omega.shape, np.nan)
+    return np.where(np.asarray(branches)[curve] > 1, np.asarray(trans, dtype=float)[curve], np.nan)

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..reader import PlotError, Scene
 from ..style import fmt, styled, subplots
-from .common import COLOURS, PANEL, conditions, curve_name, localized_folds, vary_of
+from .common import COLOURS, PANEL, conditions, curve_name, later_transmission, localized_folds, vary_of
 from .continuation import KINDS
 
 #: Width (in Omega) of the shaded window of a hysteresis file at a single frequency, as a fraction of the chart's
@@ -135,6 +135,10 @@ def draw_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene | 
             if stays.any():
                 a.plot(omega[stays], fold_a[c][stays], "D", ms=5, mfc="none", mec="tab:red", zorder=5,
                        label=lab(f"fold past which the chain stays localized{name}"))
+                later = later_transmission(fold, c)
+                if np.isfinite(later).any():
+                    a.plot(omega, later, "*", ms=7, color="tab:red", zorder=5,
+                           label=lab(f"fold of a later branch, past which the chain transmits{name}"))
             if scan is not None:
                 i = _match(scan, key, vary)
                 if i is not None:
