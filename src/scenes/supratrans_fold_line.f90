@@ -34,6 +34,7 @@ module supratrans_fold_line
     use supratrans_strings, only: int_str, real_str
     use supratrans_period_map, only: period_map, period_map_init
     use supratrans_fixed_point_map, only: map_ok
+    use supratrans_dense, only: dense_solve
     use supratrans_chain, only: detector_site
     use supratrans_continuation, only: continue_branch, branch_multipliers, continuation_controls, &
                                        continuation_result, cont_fold_found, cont_no_fold, cont_newton_failed, &
@@ -88,6 +89,10 @@ module supratrans_fold_line
     integer, parameter, public :: follow_too_many = 7
     !> Why no transmission fold: the scheme failed while the fate of a fold was watched.
     integer, parameter, public :: follow_fate_failed = 8
+    !> Most damped Newton-shooting steps from where the chain settled (`damped_shooting`).
+    integer, parameter :: settle_iterations = 30
+    !> max |P(x) - x| at which `damped_shooting` stops (the continuation's own shooting polishes to newton_tol).
+    real(wp), parameter :: settle_tol = 1.0e-9_wp
 
 contains
 
@@ -244,6 +249,7 @@ contains
         next%newton_max_iter = 40
         next%max_points = 4*ctl%max_points
         do while (r%branches < max_branches)
+            call damped_shooting(map, x, amplitude)
             next%amplitude_start = amplitude
             call continue_branch(map, next, res, x)
             r%branches = r%branches + 1
@@ -281,6 +287,57 @@ contains
         end do
         r%transmission_status = follow_too_many
     end subroutine follow_to_transmission
+
+    !> Newton-shooting with backtracking from where the chain settled (`x`, not yet periodic: the modes trapped
+    !> between the drive and the absorber ring for long) towards the periodic state nearby: each full Newton step
+    !> is halved (down to 1/64) until it lowers max |P(x) - x|, so that the first steps, made large by the
+    !> multipliers near +1, do not throw x far away. At most `settle_iterations` steps; `x` is the periodic state
+    !> when max |P(x) - x| <= `settle_tol` was reached, else left as it came (the continuation's own, undamped
+    !> shooting then has its try: measured, each of the two converges where the other does not).
+    subroutine damped_shooting(map, x, amplitude)
+        !> The one-period map.
+        type(period_map), intent(inout) :: map
+        !> The state: in, where the chain settled; out, the best iterate.
+        real(wp), intent(inout) :: x(:)
+        !> Drive amplitude.
+        real(wp), intent(in) :: amplitude
+        real(wp), allocatable :: px(:), jac(:, :), dx(:), trial(:), y(:)
+        real(wp) :: residual, t, r_trial
+        integer :: it, i, status, info
+
+        allocate (px(size(x)), jac(size(x), size(x)), trial(size(x)))
+        y = x
+        call map%apply(y, amplitude, px, status)
+        if (status /= map_ok) return
+        residual = maxval(abs(px - y))
+        do it = 1, settle_iterations
+            if (residual <= settle_tol) then
+                x = y
+                return
+            end if
+            call map%apply(y, amplitude, px, status, jac=jac)
+            if (status /= map_ok) return
+            do i = 1, size(y)
+                jac(i, i) = jac(i, i) - 1.0_wp
+            end do
+            dx = y - px
+            call dense_solve(jac, dx, info)
+            if (info /= 0) return
+            t = 1.0_wp
+            do
+                trial = y + t*dx
+                call map%apply(trial, amplitude, px, status)
+                r_trial = huge(1.0_wp)
+                if (status == map_ok) r_trial = maxval(abs(px - trial))
+                if (r_trial < residual .or. t <= 1.0_wp/64.0_wp) exit
+                t = 0.5_wp*t
+            end do
+            if (.not. (r_trial < residual)) return
+            y = trial
+            residual = r_trial
+        end do
+        if (residual <= settle_tol) x = y
+    end subroutine damped_shooting
 
     !> The fate of a fold (see the module's documentation): from the periodic state `x` at the fold, the drive at
     !> `amplitude` (just past the fold), one period at a time, until an oscillator beyond the detector site swings
