@@ -98,3 +98,31 @@ def test_no_periodic_state_is_one_line_and_nothing_written(exe, tmp_path, old, n
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and words in lines[0], proc.stderr
     assert not (tmp_path / "out" / "fold.h5").exists()
+
+
+RESONANT = """&chain n = 90, n0 = 30, sigma = 6.0 /
+&numerics dt = 0.05 /
+&scene kind = 'continuation', omega_min = 0.34, omega_max = 0.34, amplitude_max = 7.0, continuation_step_max = 0.4,
+  fold_convergence = .false. /
+&output file = 'out/resonant.h5', quiet = .true. /
+"""
+
+
+def test_a_fold_at_a_harmonic_resonance_is_not_called_the_transmission_threshold(exe, tmp_path):
+    """Omega = 0.34 (3 Omega at the band edge) on a short chain: the branch folds, but the chain driven 1% past the
+    fold stays localized for the whole watch; the scene follows the branch it settles on and, when that does not
+    end in a fold that transmits, gives no transmission fold and says why with a named code."""
+    (tmp_path / "r.nml").write_text(RESONANT)
+    sh(exe, "r.nml", cwd=tmp_path)
+    with h5py.File(tmp_path / "out" / "resonant.h5") as f:
+        assert f["status"][0, 0] == 0
+        assert f["fold_fate"][0, 0] == 2
+        assert f["fold_fate_time"][0, 0] >= 1000.0
+        assert f["branches"][0, 0] >= 2
+        status = int(f["transmission_status"][0, 0])
+        codes = f["transmission_status"].attrs["codes"].decode()
+        if status == 0:
+            assert f["transmission_fold"][0, 0] > f["fold_amplitude"][0, 0]
+        else:
+            assert np.isnan(f["transmission_fold"][0, 0])
+            assert f"{status}: " in codes or f"{status}, " in codes, (status, codes)
