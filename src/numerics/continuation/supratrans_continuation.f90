@@ -161,6 +161,14 @@ module supratrans_continuation
         real(wp) :: time_total = 0.0_wp
     end type continuation_stats
 
+    !> The Floquet multipliers of one branch point, as `dgeev` gave them (not allocated where they were not computed).
+    type, public :: point_spectrum
+        !> Real parts of the multipliers.
+        real(wp), allocatable :: wr(:)
+        !> Imaginary parts of the multipliers.
+        real(wp), allocatable :: wi(:)
+    end type point_spectrum
+
     !> The branch, its fold and its first loss of stability.
     type, public :: continuation_result
         !> `cont_fold_found`, `cont_no_fold`, `cont_newton_failed`, `cont_step_too_small`, `cont_max_points`.
@@ -214,6 +222,9 @@ module supratrans_continuation
         real(wp), allocatable :: states(:, :)
         !> Per point: the unit tangent (dx, dA) ((dim + 1) x n_points).
         real(wp), allocatable :: tangents(:, :)
+        !> Per point: the multipliers where they were computed (kept, so that no point's `dgeev` is done twice:
+        !> the stability checks and `branch_multipliers` read them).
+        type(point_spectrum), allocatable :: spectra(:)
         !> Where the work went.
         type(continuation_stats) :: stats
     end type continuation_result
@@ -535,7 +546,7 @@ contains
             real(wp), allocatable :: lr(:), li(:)
             real(wp) :: shift, g_k, g_m, sigma_k
             complex(wp) :: mu_k
-            integer :: k, linfo, kind, m, jl
+            integer :: k, linfo, kind, m, jl, have_left
             logical :: inside
 
             if (lost) then
@@ -549,17 +560,24 @@ contains
             ! Unstable at i, stable at last_checked: find the first unstable point in between
             k = last_checked + 1
             do while (k < i)
-                if (res%stable(k) < 0) call fill_multipliers(map, res, k, linfo)
+                if (res%stable(k) < 0) then
+                    call point_with_jacobian(k, left, linfo)
+                    if (linfo == 0) call point_multipliers(left, res%stats, lr, li, linfo)
+                    if (linfo == 0) call keep_spectrum(res, k, lr, li)
+                end if
                 if (res%stable(k) == 0) exit
                 k = k + 1
             end do
             lost = .true.
             last_checked = i
-            ! Multipliers at k (recomputed when k is not the current point)
-            if (k == i) then
+            ! Multipliers at k (kept when computed; computed again otherwise)
+            if (allocated(res%spectra(k)%wr)) then
+                lr = res%spectra(k)%wr
+                li = res%spectra(k)%wi
+            else if (k == i) then
                 call point_multipliers(pt, res%stats, lr, li, linfo)
             else
-                call stored_point(map, res, k, left, res%stats, linfo)
+                call point_with_jacobian(k, left, linfo)
                 call point_multipliers(left, res%stats, lr, li, linfo)
             end if
             kind = leading_crossing(lr, li, ctl%crossing_tol)
@@ -578,11 +596,19 @@ contains
             ! unit circle (at most walk_back points), and |mu| = 1 located between it and the next point; where
             ! there is none (a multiplier that hugs the circle), |mu| = 1 + crossing_tol between k - 1 and k
             inside = .false.
+            have_left = 0
             do m = k - 1, max(1, k - walk_back), -1
-                call stored_point(map, res, m, left, res%stats, linfo)
-                if (linfo /= 0) return
-                call point_multipliers(left, res%stats, lr, li, linfo)
-                if (linfo /= 0) return
+                if (allocated(res%spectra(m)%wr)) then
+                    lr = res%spectra(m)%wr
+                    li = res%spectra(m)%wi
+                else
+                    call point_with_jacobian(m, left, linfo)
+                    if (linfo /= 0) return
+                    have_left = m
+                    call point_multipliers(left, res%stats, lr, li, linfo)
+                    if (linfo /= 0) return
+                    call keep_spectrum(res, m, lr, li)
+                end if
                 g_m = crossing_distance(lr, li, kind)
                 if (g_m < 0.0_wp) then
                     inside = .true.
@@ -595,7 +621,9 @@ contains
             else
                 shift = ctl%crossing_tol
                 jl = k - 1
-                call stored_point(map, res, jl, left, res%stats, linfo)
+            end if
+            if (have_left /= jl) then
+                call point_with_jacobian(jl, left, linfo)
                 if (linfo /= 0) return
             end if
             block
@@ -623,11 +651,39 @@ contains
             if (located) res%instability_amplitude = lost_pt%y(n1)
         end subroutine check_stability
 
+        !> Recorded point `i` with its Jacobian: `cur` when it is that point and has its own Jacobian (no
+        !> evaluation), else rebuilt from the stored state (`stored_point`).
+        subroutine point_with_jacobian(i, p, linfo)
+            integer, intent(in) :: i
+            type(branch_point), intent(inout) :: p
+            integer, intent(out) :: linfo
+            logical :: same
+
+            linfo = 0
+            same = .false.
+            if (cur%exact .and. allocated(cur%jac) .and. allocated(cur%y)) then
+                same = cur%y(n1) == res%amplitude(i) .and. cur%s == res%arclength(i)
+                if (same) same = all(cur%y(1:d) == res%states(:, i)) .and. all(cur%t == res%tangents(:, i))
+            end if
+            if (same) then
+                p%y = cur%y
+                p%t = cur%t
+                p%s = cur%s
+                p%iterations = cur%iterations
+                p%residual = cur%residual
+                p%exact = .true.
+                p%jac = cur%jac
+                p%dpda = cur%dpda
+            else
+                call stored_point(map, res, i, p, res%stats, linfo)
+            end if
+        end subroutine point_with_jacobian
+
     end subroutine continue_branch
 
-    !> The Floquet multipliers at branch point `i` of a computed branch, from its stored state (one Jacobian
-    !> evaluation and one `dgeev`): for the record of the spectrum at a few amplitudes. `info` /= 0 when the map or
-    !> LAPACK failed.
+    !> The Floquet multipliers at branch point `i` of a computed branch: those kept from the continuation where they
+    !> were computed, else from its stored state (one Jacobian evaluation and one `dgeev`): for the record of the
+    !> spectrum at a few amplitudes. `info` /= 0 when the map or LAPACK failed.
     subroutine branch_multipliers(map, res, i, wr, wi, info)
         !> The map the branch was computed with.
         class(fixed_point_map), intent(inout) :: map
@@ -646,6 +702,17 @@ contains
 
         info = 1
         if (i < 1 .or. i > res%n_points) return
+        if (allocated(res%spectra)) then
+            if (size(res%spectra) >= i) then
+                if (allocated(res%spectra(i)%wr)) then
+                    ! computed during the continuation, from the same state: the same multipliers, bit for bit
+                    wr = res%spectra(i)%wr
+                    wi = res%spectra(i)%wi
+                    info = 0
+                    return
+                end if
+            end if
+        end if
         allocate (px(map%dim), jac(map%dim, map%dim))
         call map%apply(res%states(:, i), res%amplitude(i), px, status, jac=jac)
         if (status /= map_ok) return
@@ -1125,7 +1192,7 @@ contains
         real(wp), intent(in) :: wr(:), wi(:)
         logical, intent(in) :: have_mult
         integer, intent(in), optional :: position
-        integer :: i, d, n
+        integer :: i, d, n, k
 
         d = size(pt%y) - 1
         res%n_points = res%n_points + 1
@@ -1145,6 +1212,9 @@ contains
             res%exact_tangent(i + 1:n) = res%exact_tangent(i:n - 1)
             res%states(:, i + 1:n) = res%states(:, i:n - 1)
             res%tangents(:, i + 1:n) = res%tangents(:, i:n - 1)
+            do k = n, i + 1, -1
+                call move_spectrum(res%spectra(k - 1), res%spectra(k))
+            end do
         end if
         res%amplitude(i) = pt%y(d + 1)
         res%arclength(i) = pt%s
@@ -1157,11 +1227,32 @@ contains
         res%tangents(:, i) = pt%t
         res%max_multiplier(i) = ieee_value(1.0_wp, ieee_quiet_nan)
         res%stable(i) = -1
-        if (have_mult) then
-            res%max_multiplier(i) = largest_modulus(wr, wi)
-            res%stable(i) = merge(1, 0, is_stable(wr, wi, res%crossing_tol))
-        end if
+        if (allocated(res%spectra(i)%wr)) deallocate (res%spectra(i)%wr, res%spectra(i)%wi)
+        if (have_mult) call keep_spectrum(res, i, wr, wi)
     end subroutine record_point
+
+    !> Keep the multipliers of recorded point `i` (and its largest modulus and stability verdict).
+    subroutine keep_spectrum(res, i, wr, wi)
+        type(continuation_result), intent(inout) :: res
+        integer, intent(in) :: i
+        real(wp), intent(in) :: wr(:), wi(:)
+
+        res%spectra(i)%wr = wr
+        res%spectra(i)%wi = wi
+        res%max_multiplier(i) = largest_modulus(wr, wi)
+        res%stable(i) = merge(1, 0, is_stable(wr, wi, res%crossing_tol))
+    end subroutine keep_spectrum
+
+    !> Move a kept spectrum from one point's slot to another's.
+    subroutine move_spectrum(from, to)
+        type(point_spectrum), intent(inout) :: from, to
+
+        if (allocated(to%wr)) deallocate (to%wr, to%wi)
+        if (allocated(from%wr)) then
+            call move_alloc(from%wr, to%wr)
+            call move_alloc(from%wi, to%wi)
+        end if
+    end subroutine move_spectrum
 
     !> Replace the recorded tangent of point `i` by the exact one of `pt`.
     subroutine update_tangent(res, i, pt)
@@ -1173,23 +1264,6 @@ contains
         res%tangent_amplitude(i) = pt%t(size(pt%t))
         res%exact_tangent(i) = 1
     end subroutine update_tangent
-
-    !> Compute the multipliers of a recorded point whose multipliers were skipped (`floquet_every` > 1).
-    subroutine fill_multipliers(map, res, i, info)
-        class(fixed_point_map), intent(inout) :: map
-        type(continuation_result), intent(inout) :: res
-        integer, intent(in) :: i
-        integer, intent(out) :: info
-        type(branch_point) :: pt
-        real(wp), allocatable :: wr(:), wi(:)
-
-        call stored_point(map, res, i, pt, res%stats, info)
-        if (info /= 0) return
-        call point_multipliers(pt, res%stats, wr, wi, info)
-        if (info /= 0) return
-        res%max_multiplier(i) = largest_modulus(wr, wi)
-        res%stable(i) = merge(1, 0, is_stable(wr, wi, res%crossing_tol))
-    end subroutine fill_multipliers
 
     !> A recorded point rebuilt from its stored state and tangent, with its Jacobian evaluated again.
     subroutine stored_point(map, res, i, pt, stats, info)
@@ -1224,7 +1298,7 @@ contains
         allocate (res%amplitude(capacity), res%arclength(capacity), res%umax(capacity), res%energy(capacity), &
                   res%max_multiplier(capacity), res%residual(capacity), res%tangent_amplitude(capacity))
         allocate (res%stable(capacity), res%newton_iterations(capacity), res%exact_tangent(capacity))
-        allocate (res%states(d, capacity), res%tangents(d + 1, capacity))
+        allocate (res%states(d, capacity), res%tangents(d + 1, capacity), res%spectra(capacity))
         res%max_multiplier = nan
         res%stable = -1
     end subroutine allocate_branch
@@ -1258,6 +1332,7 @@ contains
         res%newton_iterations = res%newton_iterations(1:n)
         res%states = res%states(:, 1:n)
         res%tangents = res%tangents(:, 1:n)
+        res%spectra = res%spectra(1:n)
         res%stats%time_total = wall_clock() - t_start
     end subroutine finish
 
