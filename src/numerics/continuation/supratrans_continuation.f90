@@ -299,7 +299,8 @@ contains
         end if
         call shoot(map, x, ctl%amplitude_start, shooting_controls(tol=ctl%newton_tol, max_iter=ctl%newton_max_iter), &
                    sres)
-        res%stats%jacobian_evaluations = size(sres%residuals)
+        res%stats%jacobian_evaluations = sres%jacobians
+        res%stats%map_evaluations = 1      ! shoot's first evaluation, of P alone
         res%stats%factorisations = sres%iterations
         if (sres%status /= shoot_converged) then
             res%status = cont_newton_failed
@@ -345,6 +346,8 @@ contains
             if (ok) then
                 ! multipliers due here: every `every` points, and right after the fold (appended or inserted)
                 due = mod(res%n_points, every) == 0 .or. (res%fold_index > 0 .and. res%fold_index >= res%n_points - 1)
+                ! past the fold with the stability already lost: only the first point after the fold
+                if (every > 1 .and. res%fold_index > 0 .and. lost) due = first_after_fold()
                 ! and wherever the trend of the largest moduli may reach the circle within this step
                 watch = every > 1 .and. ctl%floquet_trend .and. .not. lost .and. trend_due(cur%s + ds)
                 due = due .or. watch
@@ -413,6 +416,7 @@ contains
             have_mult = mod(res%n_points, every) == 0 .or. res%fold_index == res%n_points
             have_mult = have_mult .or. watch
             have_mult = trial%exact .and. (have_mult .or. (res%fold_index > 0 .and. res%fold_index == res%n_points - 1))
+            if (every > 1 .and. res%fold_index > 0 .and. lost) have_mult = trial%exact .and. first_after_fold()
             if (have_mult) then
                 call point_multipliers(trial, res%stats, wr, wi, info)
                 have_mult = info == 0
@@ -447,9 +451,23 @@ contains
                 exit march
             end if
         end do march
+        if (res%fold_index > 0 .and. lost .and. res%n_points > res%fold_index) then
+            ! the last point past the fold gets its multipliers (the end of the unstable part)
+            if (res%stable(res%n_points) < 0) then
+                call point_with_jacobian(res%n_points, prev, info)
+                if (info == 0) call point_multipliers(prev, res%stats, wr, wi, info)
+                if (info == 0) call keep_spectrum(res, res%n_points, wr, wi)
+            end if
+        end if
         call finish(res, t_start)
 
     contains
+
+        !> Whether no point past the fold has its multipliers yet (the next one recorded is then the first).
+        logical function first_after_fold()
+            first_after_fold = .true.
+            if (res%fold_index < res%n_points) first_after_fold = all(res%stable(res%fold_index + 1:res%n_points) < 0)
+        end function first_after_fold
 
         !> Keep the `trend_ranks` largest moduli of the multipliers at arclength s (and those of the point before).
         subroutine note_trend(s, wr, wi)
@@ -857,6 +875,24 @@ contains
         pt%exact = ok
     end subroutine complete_point
 
+    !> At a corrected point: the Jacobian only (dP/dx and dP/dA) and the residual; the tangent is not computed.
+    subroutine point_jacobian(map, pt, ok, stats)
+        class(fixed_point_map), intent(inout) :: map
+        type(branch_point), intent(inout) :: pt
+        logical, intent(out) :: ok
+        type(continuation_stats), intent(inout) :: stats
+        real(wp), allocatable :: px(:)
+        integer :: d, status
+
+        d = size(pt%y) - 1
+        if (.not. allocated(pt%jac)) allocate (pt%jac(d, d), pt%dpda(d))
+        allocate (px(d))
+        call evaluate(map, pt%y, px, status, stats, pt%jac, pt%dpda)
+        ok = status == map_ok
+        if (ok) pt%residual = maxval(abs(px - pt%y(1:d)))
+        pt%exact = .false.
+    end subroutine point_jacobian
+
     !> The unit tangent from a freshly factorised B = [[J - I, dP/dA]; [r0^T]]: z = B^{-1} e_{d+1}, t = z / |z|
     !> (oriented along r0: r0 . z = 1); the system is then changed (rank one) to have t as its last row.
     subroutine tangent(sys, t, info, stats)
@@ -976,7 +1012,8 @@ contains
         !> The crossing multiplier at a bracket end (kind /= 0): tracked by inverse iteration from there instead of
         !> a `dgeev` at every secant step (`dgeev` again whenever the tracking fails or leaves the class).
         complex(wp), intent(in), optional :: mu_guess
-        type(bordered_system) :: psys, fsys
+        type(bordered_system) :: psys, fsys, csys
+        logical :: have_csys
         complex(wp) :: mu_t
         complex(wp), allocatable :: vec(:)
         logical :: tracking
@@ -986,6 +1023,7 @@ contains
 
         n1 = size(bp%y)
         located = .false.
+        have_csys = .false.
         tracking = present(mu_guess) .and. kind /= 0
         if (tracking) then
             mu_t = mu_guess
@@ -1056,9 +1094,23 @@ contains
                 pt = bp
                 okv = .true.
             else
-                call correct(map, bp, sys, sigma, ctl, pt, okv, stats, fsys)
+                if (have_csys) then
+                    call correct(map, bp, csys, sigma, ctl, pt, okv, stats, fsys)
+                else
+                    call correct(map, bp, sys, sigma, ctl, pt, okv, stats, fsys)
+                end if
                 if (.not. okv) return
-                call complete_point(map, pt, bp%t, psys, okv, stats)
+                if (kind == 0) then
+                    call complete_point(map, pt, bp%t, psys, okv, stats)
+                else
+                    ! a crossing needs the monodromy only (no tangent); the bordered matrix at this iterate, with
+                    ! bp's tangent as its last row, is the chord matrix of the next corrections (nearer than bp's)
+                    call point_jacobian(map, pt, okv, stats)
+                    if (okv) then
+                        call factor_bordered(pt%jac, pt%dpda, bp%t, csys, linfo, stats)
+                        have_csys = linfo == 0
+                    end if
+                end if
                 if (.not. okv) return
             end if
             pt%s = bp%s + sigma
