@@ -654,6 +654,21 @@ contains
         integer :: i, j
         real(wp) :: extra
 
+        if (a == 0.0_wp .and. scaled) then
+            ! beta = 0 (the paper's default): no C' off-diagonals, and the diagonal solve in the same pass; the
+            ! terms in the order of the general loop (a zero term dropped), so the values are the same bits
+            do j = 1, size(t_new, 2)
+                extra = 0.0_wp
+                if (j == forced) extra = boundary
+                t_new(1, j) = (diag_b(1)*t_cur(1, j) + c2*t_cur(2, j) + diag_c(1)*t_old(1, j) + extra)*recip(1)
+                do i = 2, n - 1
+                    t_new(i, j) = (diag_b(i)*t_cur(i, j) + c2*(t_cur(i - 1, j) + t_cur(i + 1, j)) &
+                                   + diag_c(i)*t_old(i, j))*recip(i)
+                end do
+                t_new(n, j) = (diag_b(n)*t_cur(n, j) + c2*t_cur(n - 1, j) + diag_c(n)*t_old(n, j))*recip(n)
+            end do
+            return
+        end if
         do j = 1, size(t_new, 2)
             extra = 0.0_wp
             if (j == forced) extra = boundary
