@@ -21,10 +21,16 @@
 !> one, and is halved and retried when the corrector fails or the tangent turns by more than `max_angle`.
 !>
 !> **Cost.** `continuation_stats` counts the evaluations of P alone and with its Jacobian, the LU factorisations,
-!> the solves and the eigenvalue computations, with their wall-clock times. On the sine-Gordon chain (N = 200,
-!> d = 400) the full `dgeev` of the monodromy dominates (0.12 s of CPU against 0.019 s for a Jacobian, OpenBLAS):
-!> `floquet_every` with `floquet_trend` is the control. Krylov (Arnoldi) eigenvalues are no substitute here: the
-!> monodromy is far from normal, and its Ritz values leave the unit circle where no multiplier does.
+!> the solves and the eigenvalue computations, with their wall-clock times. No state gets two `dgeev`: the
+!> multipliers of every point where they were computed are kept (`spectra`), for the stability checks and for
+!> `branch_multipliers`; the point the march stands on lends its Jacobian to the checks instead of a new one. Past
+!> the fold, once the stability is lost and `floquet_every` > 1, only the first and the last point get multipliers
+!> (the unstable part's ends). A crossing's secant needs the monodromy only (no tangent), and its corrector uses
+!> the bordered matrix of the secant's last iterate (nearer than the bracket's left end: no refresh). On the
+!> sine-Gordon chain (N = 200, d = 400) the full `dgeev` of the monodromy dominates (about 0.1 s of CPU against
+!> 0.010 s for a Jacobian, OpenBLAS): `floquet_every` with `floquet_trend` is the control. Krylov (Arnoldi)
+!> eigenvalues are no substitute here: the monodromy is far from normal, and its Ritz values leave the unit circle
+!> where no multiplier does.
 !>
 !> **Fold.** The fold (saddle-node) of the branch is where the tangent's A-component t_A changes sign. Between the
 !> two points it is located by a safeguarded secant (Illinois) on t_A as a function of the pseudo-arclength step

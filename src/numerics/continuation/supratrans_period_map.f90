@@ -22,7 +22,10 @@
 !>   `dgttrs` with many right-hand sides (a multiplication by the reciprocal diagonal when beta = 0, where the
 !>   matrix is diagonal). The state's pass stores each step's coefficients; the columns then go through the
 !>   period in blocks that stay in cache (at N = 600 twice as fast as sweeping all the columns every step; the
-!>   same at N = 200, where the work is bound by arithmetic);
+!>   same at N = 200, where the work is bound by arithmetic). With beta = 0 a column spreads one site a step: the
+!>   blocks (within the d/du^0 columns, within the d/du^1 columns, the dA column alone) compute only the sites
+!>   their columns can have reached, the rest being exactly zero (half the work at N = 200, M = 140; none when
+!>   M >> N);
 !> * linearized scheme: A du^{k+1} = (B - diag(V''(u^k))) du^k + C du^{k-1}, A factored once;
 !> * in both, the dA column's boundary cells are du_0^k = sin(Omega t_k) (the derivative of u_0^k = A sin(Omega t_k)),
 !>   the state columns' are zero;
