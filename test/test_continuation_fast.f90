@@ -14,7 +14,8 @@ module test_continuation_fast
                                     short_absorber_sigma, short_chain_decay
     use supratrans_period_map, only: period_map, period_map_init
     use supratrans_continuation
-    use supratrans_floquet, only: crossing_name, track_multiplier
+    use supratrans_floquet, only: crossing_name, track_multiplier, floquet_multipliers
+    use supratrans_shooting, only: shoot, shooting_controls, shooting_result, shoot_converged
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     implicit none
 
@@ -38,7 +39,7 @@ contains
         run%numerics%method = method_newton
         run%numerics%dt = 0.05_wp
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 40, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 41, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4)
         call continue_branch(map, ctl, full)
@@ -47,51 +48,51 @@ contains
         call assertEqual( &
             cont_fold_found, &
             full%status, &
-            location=pf_source_location('test_continuation_fast.pf', 45, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 46, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             cont_fold_found, &
             fast%status, &
-            location=pf_source_location('test_continuation_fast.pf', 46, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 47, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%fold_amplitude, &
             fast%fold_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 47, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 48, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%instability_type, &
             fast%instability_type, &
             message=crossing_name(fast%instability_type), &
-            location=pf_source_location('test_continuation_fast.pf', 48, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 49, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             ieee_is_nan(fast%instability_amplitude), &
-            location=pf_source_location('test_continuation_fast.pf', 49, 'assertFalse'))
+            location=pf_source_location('test_continuation_fast.pf', 50, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%instability_amplitude, &
             fast%instability_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 50, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 51, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             fast%stats%eigen_calls, &
             full%stats%eigen_calls, &
-            location=pf_source_location('test_continuation_fast.pf', 51, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 52, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             any(fast%stable == -1), &
-            location=pf_source_location('test_continuation_fast.pf', 52, 'assertTrue'))
-        if (pf_any_failed()) return
-        call assertTrue( &
-            all(full%stable(1:full%fold_index - 1) == 1), &
             location=pf_source_location('test_continuation_fast.pf', 53, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
-            all(fast%stable(1:fast%fold_index - 1) /= 0), &
+            all(full%stable(1:full%fold_index - 1) == 1), &
             location=pf_source_location('test_continuation_fast.pf', 54, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            all(fast%stable(1:fast%fold_index - 1) /= 0), &
+            location=pf_source_location('test_continuation_fast.pf', 55, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_fast_floquet_same_verdicts
 
@@ -108,35 +109,35 @@ contains
 
         call assertFalse( &
             chain_length_given("&chain" // nl // "  c = 4.0" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 68, 'assertFalse'))
+            location=pf_source_location('test_continuation_fast.pf', 69, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  n = 30" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 69, 'assertTrue'))
-        if (pf_any_failed()) return
-        call assertTrue( &
-            chain_length_given("&chain" // nl // "  sigma = 3.0" // nl // "/" // nl), &
             location=pf_source_location('test_continuation_fast.pf', 70, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
-            chain_length_given("&chain" // nl // "  n0 = 150" // nl // "/" // nl), &
+            chain_length_given("&chain" // nl // "  sigma = 3.0" // nl // "/" // nl), &
             location=pf_source_location('test_continuation_fast.pf', 71, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
-            chain_length_given(""), &
+            chain_length_given("&chain" // nl // "  n0 = 150" // nl // "/" // nl), &
             location=pf_source_location('test_continuation_fast.pf', 72, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            chain_length_given(""), &
+            location=pf_source_location('test_continuation_fast.pf', 73, 'assertTrue'))
         if (pf_any_failed()) return
         call shortest_chain(chain, 0.9_wp, 0.05_wp)
         call assertEqual( &
             short_absorber_width, &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 74, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 75, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             short_absorber_sigma, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 75, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 76, 'assertEqual'))
         if (pf_any_failed()) return
         dt_used = 2.0_wp*acos(-1.0_wp)/0.9_wp/140.0_wp
         lambda = scheme_decay_rate(chain, 0.9_wp, dt_used)
@@ -144,31 +145,31 @@ contains
             acosh(1.0_wp + (1.0_wp - 0.81_wp)/32.0_wp), &
             lambda, &
             5.0e-3_wp*lambda, &
-            location=pf_source_location('test_continuation_fast.pf', 78, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 79, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             lambda*chain%n0, &
             short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 79, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 80, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             lambda*(chain%n0 - 1), &
             short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 80, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 81, 'assertLessThan'))
         if (pf_any_failed()) return
         call shortest_chain(given, 1.2_wp, 0.05_wp)
-        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 82, 'assertEqual'))
+        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 83, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 83, 'assertEqual'))
+        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 84, 'assertEqual'))
         if (pf_any_failed()) return
         call shortest_chain(given, 0.1_wp, 0.05_wp)
-        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 85, 'assertEqual'))
+        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 86, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             3.0_wp, &
             given%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 86, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 87, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_short_chain
 
@@ -202,31 +203,117 @@ contains
         mu = exact + cmplx(1.0e-3_wp, -1.0e-3_wp, kind=wp)
         v = cmplx(1.0_wp, 0.5_wp, kind=wp)
         call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 119, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 120, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             abs(mu - exact), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 120, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 121, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp, &
             norm2(abs(v)), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 121, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 122, 'assertEqual'))
         if (pf_any_failed()) return
         mu = cmplx(-0.301_wp, 0.0_wp, kind=wp)
         v = cmplx(1.0_wp, 0.5_wp, kind=wp)
         call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 125, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 126, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             abs(mu - cmplx(-0.3_wp, 0.0_wp, kind=wp)), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 126, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 127, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_tracked_multiplier
+
+    !> The multipliers the continuation keeps (and `branch_multipliers` returns without a second `dgeev`) are those
+    !> of the recorded state, bit for bit: recomputed here from a fresh Jacobian of the period map at that state;
+    !> with floquet_every > 1 the last point past the fold has them. Newton-shooting from a guess that is already
+    !> the fixed point (the chain at rest, A = 0) converges with no Jacobian, and with one when the monodromy is
+    !> asked for.
+    ! @test
+    subroutine test_kept_multipliers()
+        type(run_config) :: run
+        type(period_map) :: map
+        type(error_type), allocatable :: error
+        type(continuation_controls) :: ctl
+        type(continuation_result) :: res
+        type(shooting_result) :: sres
+        real(wp), allocatable :: wr(:), wi(:), fr(:), fi(:), px(:), jac(:, :), x(:)
+        integer :: i, info, status, checked
+
+        run%chain%n = 40
+        run%chain%n0 = 20
+        run%drive%omega = 0.9_wp
+        run%drive%ramp_time = 0.0_wp
+        run%numerics%method = method_newton
+        run%numerics%dt = 0.05_wp
+        call period_map_init(map, run, error)
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 153, 'assertFalse'))
+        if (pf_any_failed()) return
+        ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4, floquet_every=4)
+        call continue_branch(map, ctl, res)
+        call assertEqual( &
+            cont_fold_found, &
+            res%status, &
+            location=pf_source_location('test_continuation_fast.pf', 156, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            res%stable(res%n_points) >= 0, &
+            message="multipliers at the last point", &
+            location=pf_source_location('test_continuation_fast.pf', 157, 'assertTrue'))
+        if (pf_any_failed()) return
+        allocate (px(map%dim), jac(map%dim, map%dim))
+        checked = 0
+        do i = 1, res%n_points
+            if (res%stable(i) < 0) cycle
+            call branch_multipliers(map, res, i, wr, wi, info)
+            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 163, 'assertEqual'))
+            if (pf_any_failed()) return
+            call map%apply(res%states(:, i), res%amplitude(i), px, status, jac=jac)
+            call floquet_multipliers(jac, fr, fi, info)
+            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 166, 'assertEqual'))
+            if (pf_any_failed()) return
+            call assertTrue( &
+                all(wr == fr) .and. all(wi == fi), &
+                message="kept multipliers = recomputed", &
+                location=pf_source_location('test_continuation_fast.pf', 167, 'assertTrue'))
+            if (pf_any_failed()) return
+            checked = checked + 1
+        end do
+        call assertGreaterThan( &
+            checked, &
+            3, &
+            location=pf_source_location('test_continuation_fast.pf', 170, 'assertGreaterThan'))
+        if (pf_any_failed()) return
+        allocate (x(map%dim))
+        x = 0.0_wp
+        call shoot(map, x, 0.0_wp, shooting_controls(), sres)
+        call assertEqual( &
+            shoot_converged, &
+            sres%status, &
+            location=pf_source_location('test_continuation_fast.pf', 174, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0, &
+            sres%jacobians, &
+            location=pf_source_location('test_continuation_fast.pf', 175, 'assertEqual'))
+        if (pf_any_failed()) return
+        call shoot(map, x, 0.0_wp, shooting_controls(), sres, monodromy=jac)
+        call assertEqual( &
+            shoot_converged, &
+            sres%status, &
+            location=pf_source_location('test_continuation_fast.pf', 177, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            1, &
+            sres%jacobians, &
+            location=pf_source_location('test_continuation_fast.pf', 178, 'assertEqual'))
+        if (pf_any_failed()) return
+    end subroutine test_kept_multipliers
 
 end module test_continuation_fast

@@ -159,6 +159,80 @@ contains
         end do
     end subroutine test_tangent_against_finite_differences
 
+    !> With beta = 0 a tangent column spreads one site a step, and the blocks of columns compute only the sites
+    !> their columns can have reached: on a chain longer than a period's steps (N = 60, M = 35) the monodromy is
+    !> zero outside the light cone (|i - j| > M + 1 between the sites of u^M, u^{M+1} and of u^0, u^1) and the same,
+    !> bit for bit, in blocks of 7 columns (which straddle nothing, each restricted) and in one block of all the
+    !> columns (where the sites span the chain: nothing left out); and it matches central finite differences.
+    ! @test
+    subroutine test_tangent_light_cone()
+        type(run_config) :: run
+        type(period_map) :: map
+        type(error_type), allocatable :: error
+        real(wp), allocatable :: x(:), px(:), jac(:, :), dpda(:), jac1(:, :), dpda1(:)
+        real(wp) :: jac_error, dpda_error
+        integer :: n, m, i, j, status, far
+
+        run = short_run(method_newton, sine_gordon, .false.)
+        run%chain%n = 60
+        run%chain%n0 = 40
+        run%numerics%dt = 0.2_wp
+        call period_map_init(map, run, error)
+        call assertFalse(allocated(error), location=pf_source_location('test_period_map.pf', 153, 'assertFalse'))
+        if (pf_any_failed()) return
+        n = map%n
+        m = map%steps
+        call assertLessThan(m + 2, n, location=pf_source_location('test_period_map.pf', 156, 'assertLessThan'))
+        if (pf_any_failed()) return
+        x = some_state(n)
+        allocate (px(2*n), jac(2*n, 2*n), dpda(2*n), jac1(2*n, 2*n), dpda1(2*n))
+        map%block_columns = 7
+        call map%apply(x, 1.1_wp, px, status, jac, dpda)
+        call assertEqual(map_ok, status, location=pf_source_location('test_period_map.pf', 161, 'assertEqual'))
+        if (pf_any_failed()) return
+        map%block_columns = 2*n + 1
+        call map%apply(x, 1.1_wp, px, status, jac1, dpda1)
+        call assertEqual(map_ok, status, location=pf_source_location('test_period_map.pf', 164, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            all(jac == jac1) .and. all(dpda == dpda1), &
+            message="blocks of 7 = one block", &
+            location=pf_source_location('test_period_map.pf', 165, 'assertTrue'))
+        if (pf_any_failed()) return
+        far = 0
+        do j = 1, 2*n
+            do i = 1, 2*n
+                if (abs(mod(i - 1, n) - mod(j - 1, n)) > m + 1) then
+                    call assertEqual( &
+                        0.0_wp, &
+                        jac(i, j), &
+                        0.0_wp, &
+                        location=pf_source_location('test_period_map.pf', 170, 'assertEqual'))
+                    if (pf_any_failed()) return
+                    far = far + 1
+                end if
+            end do
+        end do
+        call assertGreaterThan(far, 0, location=pf_source_location('test_period_map.pf', 175, 'assertGreaterThan'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            any(jac(1, n + 1:2*n) /= 0.0_wp), &
+            location=pf_source_location('test_period_map.pf', 176, 'assertTrue'))
+        if (pf_any_failed()) return
+        map%block_columns = 7
+        call tangent_errors(map, x, 1.1_wp, jac_error, dpda_error)
+        call assertLessThan( &
+            jac_error, &
+            1.0e-6_wp, &
+            location=pf_source_location('test_period_map.pf', 179, 'assertLessThan'))
+        if (pf_any_failed()) return
+        call assertLessThan( &
+            dpda_error, &
+            1.0e-6_wp, &
+            location=pf_source_location('test_period_map.pf', 180, 'assertLessThan'))
+        if (pf_any_failed()) return
+    end subroutine test_tangent_light_cone
+
     !> One period of the map from rest equals M steps of the Newton stepper (drive without ramp, dt = dt_used,
     !> newton_tol 1e-15) and of the rk4 stepper to 1e-10; the map's measures equal max |u_n| over the stepper's
     !> levels 0..M and the mean of its stored energy over the period.
@@ -180,13 +254,13 @@ contains
             run = short_run(method_newton, sine_gordon, damped)
             run%drive%amplitude = 1.3_wp
             call period_map_init(map, run, error)
-            call assertFalse(allocated(error), location=pf_source_location('test_period_map.pf', 155, 'assertFalse'))
+            call assertFalse(allocated(error), location=pf_source_location('test_period_map.pf', 204, 'assertFalse'))
             if (pf_any_failed()) return
             n = map%n
             allocate (x(2*n), px(2*n), ref(2*n))
             x = 0.0_wp
             call map%apply(x, run%drive%amplitude, px, status)
-            call assertEqual(map_ok, status, location=pf_source_location('test_period_map.pf', 160, 'assertEqual'))
+            call assertEqual(map_ok, status, location=pf_source_location('test_period_map.pf', 209, 'assertEqual'))
             if (pf_any_failed()) return
             call map%measures(x, run%drive%amplitude, umax, energy)
             run%drive%ramp_time = 0.0_wp
@@ -198,7 +272,7 @@ contains
             energy_ref = newton%stored_energy()
             do step = 1, map%steps
                 call newton%step(status)
-                call assertEqual(step_ok, status, location=pf_source_location('test_period_map.pf', 171, 'assertEqual'))
+                call assertEqual(step_ok, status, location=pf_source_location('test_period_map.pf', 220, 'assertEqual'))
                 if (pf_any_failed()) return
                 if (step <= map%steps - 1) then
                     umax_ref = max(umax_ref, newton%max_abs_u(1))
@@ -211,49 +285,49 @@ contains
             call assertGreaterThan( &
                 maxval(abs(ref)), &
                 0.05_wp, &
-                location=pf_source_location('test_period_map.pf', 180, 'assertGreaterThan'))
+                location=pf_source_location('test_period_map.pf', 229, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertEqual( &
                 ref, &
                 px, &
                 1.0e-10_wp, &
                 message="newton map vs stepper", &
-                location=pf_source_location('test_period_map.pf', 181, 'assertEqual'))
+                location=pf_source_location('test_period_map.pf', 230, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 umax_ref, &
                 umax, &
                 1.0e-10_wp, &
                 message="newton umax", &
-                location=pf_source_location('test_period_map.pf', 182, 'assertEqual'))
+                location=pf_source_location('test_period_map.pf', 231, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 energy_ref, &
                 energy, &
                 1.0e-10_wp*abs(energy_ref), &
                 message="newton energy", &
-                location=pf_source_location('test_period_map.pf', 183, 'assertEqual'))
+                location=pf_source_location('test_period_map.pf', 232, 'assertEqual'))
             if (pf_any_failed()) return
             ! solved to roundoff: at least one iteration a step, and no step near the cap
             call assertGreaterThanOrEqual( &
                 map%newton_iterations, &
                 map%steps, &
-                location=pf_source_location('test_period_map.pf', 185, 'assertGreaterThanOrEqual'))
+                location=pf_source_location('test_period_map.pf', 234, 'assertGreaterThanOrEqual'))
             if (pf_any_failed()) return
             call assertLessThan( &
                 map%newton_iterations, &
                 5*map%steps, &
-                location=pf_source_location('test_period_map.pf', 186, 'assertLessThan'))
+                location=pf_source_location('test_period_map.pf', 235, 'assertLessThan'))
             if (pf_any_failed()) return
 
             ! rk4
             run = short_run(method_rk4, sine_gordon, damped)
             run%drive%amplitude = 1.3_wp
             call period_map_init(map, run, error)
-            call assertFalse(allocated(error), location=pf_source_location('test_period_map.pf', 192, 'assertFalse'))
+            call assertFalse(allocated(error), location=pf_source_location('test_period_map.pf', 241, 'assertFalse'))
             if (pf_any_failed()) return
             call map%apply(x, run%drive%amplitude, px, status)
-            call assertEqual(map_ok, status, location=pf_source_location('test_period_map.pf', 194, 'assertEqual'))
+            call assertEqual(map_ok, status, location=pf_source_location('test_period_map.pf', 243, 'assertEqual'))
             if (pf_any_failed()) return
             call map%measures(x, run%drive%amplitude, umax, energy)
             run%drive%ramp_time = 0.0_wp
@@ -273,21 +347,21 @@ contains
                 px, &
                 1.0e-10_wp, &
                 message="rk4 map vs stepper", &
-                location=pf_source_location('test_period_map.pf', 208, 'assertEqual'))
+                location=pf_source_location('test_period_map.pf', 257, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 umax_ref, &
                 umax, &
                 1.0e-10_wp, &
                 message="rk4 umax", &
-                location=pf_source_location('test_period_map.pf', 209, 'assertEqual'))
+                location=pf_source_location('test_period_map.pf', 258, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 energy_ref, &
                 energy, &
                 1.0e-10_wp*abs(energy_ref), &
                 message="rk4 energy", &
-                location=pf_source_location('test_period_map.pf', 210, 'assertEqual'))
+                location=pf_source_location('test_period_map.pf', 259, 'assertEqual'))
             if (pf_any_failed()) return
             deallocate (x, px, ref)
         end do
@@ -318,7 +392,7 @@ contains
         iterates(:, 1) = x
         do i = 1, size(errors)
             call map%apply(x, amplitude, px, status, jac)
-            call assertEqual(map_ok, status, location=pf_source_location('test_period_map.pf', 240, 'assertEqual'))
+            call assertEqual(map_ok, status, location=pf_source_location('test_period_map.pf', 289, 'assertEqual'))
             if (pf_any_failed()) return
             jac = -jac
             do info = 1, d
@@ -326,7 +400,7 @@ contains
             end do
             px = px - x                         ! -(x - P(x))
             call dgesv(d, 1, jac, d, ipiv, px, d, info)
-            call assertEqual(0, info, location=pf_source_location('test_period_map.pf', 247, 'assertEqual'))
+            call assertEqual(0, info, location=pf_source_location('test_period_map.pf', 296, 'assertEqual'))
             if (pf_any_failed()) return
             x = x + px
             iters = i
@@ -362,12 +436,12 @@ contains
             run%chain%n0 = 100
             run%chain%sigma = 3.0_wp
             call period_map_init(map, run, error)
-            call assertFalse(allocated(error), location=pf_source_location('test_period_map.pf', 282, 'assertFalse'))
+            call assertFalse(allocated(error), location=pf_source_location('test_period_map.pf', 331, 'assertFalse'))
             if (pf_any_failed()) return
             allocate (x(map%dim))
             x = 0.0_wp
             call shoot(map, 1.0e-4_wp, x, errors, iters)
-            call assertLessThan(iters, 6, location=pf_source_location('test_period_map.pf', 286, 'assertLessThan'))
+            call assertLessThan(iters, 6, location=pf_source_location('test_period_map.pf', 335, 'assertLessThan'))
             if (pf_any_failed()) return
             dt = map%dt_used
             omega = run%drive%omega
@@ -396,12 +470,12 @@ contains
                 lambda, &
                 -slope, &
                 1.0e-3_wp, &
-                location=pf_source_location('test_period_map.pf', 310, 'assertRelativelyEqual'))
+                location=pf_source_location('test_period_map.pf', 359, 'assertRelativelyEqual'))
             if (pf_any_failed()) return
             call assertLessThan( &
                 maxval(abs(x(1:nfit))), &
                 1.0e-3_wp*maxval(abs(x(map%n + 1:map%n + nfit))), &
-                location=pf_source_location('test_period_map.pf', 311, 'assertLessThan'))
+                location=pf_source_location('test_period_map.pf', 360, 'assertLessThan'))
             if (pf_any_failed()) return
             deallocate (x)
         end do
@@ -423,7 +497,7 @@ contains
         run%chain%n = 40
         run%chain%n0 = 30
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_period_map.pf', 332, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_period_map.pf', 381, 'assertFalse'))
         if (pf_any_failed()) return
         allocate (x(map%dim))
         x = 0.0_wp
@@ -432,7 +506,7 @@ contains
         call assertLessThanOrEqual( &
             iters, &
             8, &
-            location=pf_source_location('test_period_map.pf', 337, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_period_map.pf', 386, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         checked = 0
         do k = 1, iters - 1
@@ -440,12 +514,12 @@ contains
                 call assertLessThanOrEqual( &
                     errors(k + 1), &
                     10.0_wp*errors(k)**2, &
-                    location=pf_source_location('test_period_map.pf', 341, 'assertLessThanOrEqual'))
+                    location=pf_source_location('test_period_map.pf', 390, 'assertLessThanOrEqual'))
                 if (pf_any_failed()) return
                 checked = checked + 1
             end if
         end do
-        call assertGreaterThan(checked, 0, location=pf_source_location('test_period_map.pf', 345, 'assertGreaterThan'))
+        call assertGreaterThan(checked, 0, location=pf_source_location('test_period_map.pf', 394, 'assertGreaterThan'))
         if (pf_any_failed()) return
     end subroutine test_newton_shooting_quadratic
 
@@ -460,17 +534,17 @@ contains
         run = short_run(method_newton, sine_gordon, .false.)
         run%drive%omega = 2.0_wp*acos(-1.0_wp)/6.25_wp
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_period_map.pf', 359, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_period_map.pf', 408, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(125, map%steps, location=pf_source_location('test_period_map.pf', 360, 'assertEqual'))
+        call assertEqual(125, map%steps, location=pf_source_location('test_period_map.pf', 409, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.05_wp, &
             map%dt_used, &
             1.0e-14_wp, &
-            location=pf_source_location('test_period_map.pf', 361, 'assertEqual'))
+            location=pf_source_location('test_period_map.pf', 410, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(24, map%dim, location=pf_source_location('test_period_map.pf', 362, 'assertEqual'))
+        call assertEqual(24, map%dim, location=pf_source_location('test_period_map.pf', 411, 'assertEqual'))
         if (pf_any_failed()) return
         run%drive%omega = 0.9_wp
         run%numerics%dt = 0.06_wp
@@ -478,21 +552,21 @@ contains
         call assertEqual( &
             ceiling(2.0_wp*acos(-1.0_wp)/0.9_wp/0.06_wp), &
             map%steps, &
-            location=pf_source_location('test_period_map.pf', 366, 'assertEqual'))
+            location=pf_source_location('test_period_map.pf', 415, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             map%dt_used, &
             0.06_wp, &
-            location=pf_source_location('test_period_map.pf', 367, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_period_map.pf', 416, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         run%drive%omega = 0.0_wp
         call period_map_init(map, run, error)
-        call assertTrue(allocated(error), location=pf_source_location('test_period_map.pf', 370, 'assertTrue'))
+        call assertTrue(allocated(error), location=pf_source_location('test_period_map.pf', 419, 'assertTrue'))
         if (pf_any_failed()) return
         run%drive%omega = 0.9_wp
         run%numerics%method = 7
         call period_map_init(map, run, error)
-        call assertTrue(allocated(error), location=pf_source_location('test_period_map.pf', 374, 'assertTrue'))
+        call assertTrue(allocated(error), location=pf_source_location('test_period_map.pf', 423, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_steps_and_bad_input
 

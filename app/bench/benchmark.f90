@@ -400,11 +400,11 @@ contains
 
     !> The continuation scene's cost (argument `fold`; a third argument `paper` runs the fold line on the paper's
     !> grid Omega = 0.05 .. 0.99 step 0.01, otherwise on its subset 0.05 .. 0.95 step 0.05):
-    !> 1. one fold (undamped sine-Gordon, Omega = 0.9, c = 4, dt ~ 0.05, one thread) at N = 50, 100, 200 with the
+    !> 1. one fold (undamped sine-Gordon, Omega = 0.9, c = 4, dt ~ 0.05, one thread) at N = 100, 200, 400 with the
     !>    paper's absorber (N0 = 3N/4, sigma = 3), floquet_every = 4 (with the trend) and, at N = 200, 1 (the
     !>    multipliers at every point); then the short chain of fold lines: wall and CPU seconds, the CPU seconds
-    !>    of the tangent, the LU and the eigenvalues, points, Jacobians, dgeev calls; the growth of the CPU time
-    !>    with N;
+    !>    of the tangent (Jacobians), the maps, the LU and the eigenvalues, points, Jacobians, dgeev calls (the
+    !>    scene's four multiplier samples included); the growth of the CPU time with N;
     !> 2. the undamped fold line on the short chains (input without n) against the scan of input/bif_undamped_sg.nml
     !>    on the same grid, both on 2 threads: wall seconds and the two thresholds at each Omega.
     subroutine fold_benchmark()
@@ -432,16 +432,19 @@ contains
         write (*, "(a6, 1x, a5, 1x, a5, 1x, a12, 1x, a12, 6(1x, a7), 3(1x, a6))") "N", "N0", "every", "A_f", &
             "A_unstable", "wall", "cpu", "tangent", "map", "lu", "eigen", "points", "jacobs", "dgeev"
         do k = 1, 3
-            n = 50*2**(k - 1)
+            n = 100*2**(k - 1)
             frun%chain%n = n
             frun%chain%n0 = 3*n/4
             sc%floquet_every = 4
             call fold_row(frun, sc, cpu(k))
         end do
+        write (*, "(a, f5.2, a, f5.2, a)") "# CPU growth with N (floquet_every = 4): 100 -> 200 as N^", &
+            log(cpu(2)/cpu(1))/log(2.0_wp), ", 200 -> 400 as N^", log(cpu(3)/cpu(2))/log(2.0_wp), &
+            " (tangent ~ N^2 a Jacobian, LU and dgeev ~ N^3)"
+        frun%chain%n = 200
+        frun%chain%n0 = 150
         sc%floquet_every = 1
         call fold_row(frun, sc, cpu(3))
-        write (*, "(a, f5.2, a, f5.2)") "# CPU growth with N (floquet_every = 4): 50 -> 100 as N^", &
-            log(cpu(2)/cpu(1))/log(2.0_wp), ", 100 -> 200 as N^", log(cpu(3)/cpu(2))/log(2.0_wp)
         sc%floquet_every = 4
         call shortest_chain(frun%chain, frun%drive%omega, frun%numerics%dt)
         write (*, "(a)") "# the short chain of fold lines (N0 = ceil(7 / lambda'), smooth absorber of 60 sites, sigma 6)"

@@ -21,10 +21,16 @@
 !> one, and is halved and retried when the corrector fails or the tangent turns by more than `max_angle`.
 !>
 !> **Cost.** `continuation_stats` counts the evaluations of P alone and with its Jacobian, the LU factorisations,
-!> the solves and the eigenvalue computations, with their wall-clock times. On the sine-Gordon chain (N = 200,
-!> d = 400) the full `dgeev` of the monodromy dominates (0.12 s of CPU against 0.019 s for a Jacobian, OpenBLAS):
-!> `floquet_every` with `floquet_trend` is the control. Krylov (Arnoldi) eigenvalues are no substitute here: the
-!> monodromy is far from normal, and its Ritz values leave the unit circle where no multiplier does.
+!> the solves and the eigenvalue computations, with their wall-clock times. No state gets two `dgeev`: the
+!> multipliers of every point where they were computed are kept (`spectra`), for the stability checks and for
+!> `branch_multipliers`; the point the march stands on lends its Jacobian to the checks instead of a new one. Past
+!> the fold, once the stability is lost and `floquet_every` > 1, only the first and the last point get multipliers
+!> (the unstable part's ends). A crossing's secant needs the monodromy only (no tangent), and its corrector uses
+!> the bordered matrix of the secant's last iterate (nearer than the bracket's left end: no refresh). On the
+!> sine-Gordon chain (N = 200, d = 400) the full `dgeev` of the monodromy dominates (about 0.1 s of CPU against
+!> 0.010 s for a Jacobian, OpenBLAS): `floquet_every` with `floquet_trend` is the control. Krylov (Arnoldi)
+!> eigenvalues are no substitute here: the monodromy is far from normal, and its Ritz values leave the unit circle
+!> where no multiplier does.
 !>
 !> **Fold.** The fold (saddle-node) of the branch is where the tangent's A-component t_A changes sign. Between the
 !> two points it is located by a safeguarded secant (Illinois) on t_A as a function of the pseudo-arclength step
@@ -161,6 +167,14 @@ module supratrans_continuation
         real(wp) :: time_total = 0.0_wp
     end type continuation_stats
 
+    !> The Floquet multipliers of one branch point, as `dgeev` gave them (not allocated where they were not computed).
+    type, public :: point_spectrum
+        !> Real parts of the multipliers.
+        real(wp), allocatable :: wr(:)
+        !> Imaginary parts of the multipliers.
+        real(wp), allocatable :: wi(:)
+    end type point_spectrum
+
     !> The branch, its fold and its first loss of stability.
     type, public :: continuation_result
         !> `cont_fold_found`, `cont_no_fold`, `cont_newton_failed`, `cont_step_too_small`, `cont_max_points`.
@@ -214,6 +228,9 @@ module supratrans_continuation
         real(wp), allocatable :: states(:, :)
         !> Per point: the unit tangent (dx, dA) ((dim + 1) x n_points).
         real(wp), allocatable :: tangents(:, :)
+        !> Per point: the multipliers where they were computed (kept, so that no point's `dgeev` is done twice:
+        !> the stability checks and `branch_multipliers` read them).
+        type(point_spectrum), allocatable :: spectra(:)
         !> Where the work went.
         type(continuation_stats) :: stats
     end type continuation_result
@@ -288,7 +305,8 @@ contains
         end if
         call shoot(map, x, ctl%amplitude_start, shooting_controls(tol=ctl%newton_tol, max_iter=ctl%newton_max_iter), &
                    sres)
-        res%stats%jacobian_evaluations = size(sres%residuals)
+        res%stats%jacobian_evaluations = sres%jacobians
+        res%stats%map_evaluations = 1      ! shoot's first evaluation, of P alone
         res%stats%factorisations = sres%iterations
         if (sres%status /= shoot_converged) then
             res%status = cont_newton_failed
@@ -334,6 +352,8 @@ contains
             if (ok) then
                 ! multipliers due here: every `every` points, and right after the fold (appended or inserted)
                 due = mod(res%n_points, every) == 0 .or. (res%fold_index > 0 .and. res%fold_index >= res%n_points - 1)
+                ! past the fold with the stability already lost: only the first point after the fold
+                if (every > 1 .and. res%fold_index > 0 .and. lost) due = first_after_fold()
                 ! and wherever the trend of the largest moduli may reach the circle within this step
                 watch = every > 1 .and. ctl%floquet_trend .and. .not. lost .and. trend_due(cur%s + ds)
                 due = due .or. watch
@@ -402,6 +422,7 @@ contains
             have_mult = mod(res%n_points, every) == 0 .or. res%fold_index == res%n_points
             have_mult = have_mult .or. watch
             have_mult = trial%exact .and. (have_mult .or. (res%fold_index > 0 .and. res%fold_index == res%n_points - 1))
+            if (every > 1 .and. res%fold_index > 0 .and. lost) have_mult = trial%exact .and. first_after_fold()
             if (have_mult) then
                 call point_multipliers(trial, res%stats, wr, wi, info)
                 have_mult = info == 0
@@ -436,9 +457,23 @@ contains
                 exit march
             end if
         end do march
+        if (res%fold_index > 0 .and. lost .and. res%n_points > res%fold_index) then
+            ! the last point past the fold gets its multipliers (the end of the unstable part)
+            if (res%stable(res%n_points) < 0) then
+                call point_with_jacobian(res%n_points, prev, info)
+                if (info == 0) call point_multipliers(prev, res%stats, wr, wi, info)
+                if (info == 0) call keep_spectrum(res, res%n_points, wr, wi)
+            end if
+        end if
         call finish(res, t_start)
 
     contains
+
+        !> Whether no point past the fold has its multipliers yet (the next one recorded is then the first).
+        logical function first_after_fold()
+            first_after_fold = .true.
+            if (res%fold_index < res%n_points) first_after_fold = all(res%stable(res%fold_index + 1:res%n_points) < 0)
+        end function first_after_fold
 
         !> Keep the `trend_ranks` largest moduli of the multipliers at arclength s (and those of the point before).
         subroutine note_trend(s, wr, wi)
@@ -535,7 +570,7 @@ contains
             real(wp), allocatable :: lr(:), li(:)
             real(wp) :: shift, g_k, g_m, sigma_k
             complex(wp) :: mu_k
-            integer :: k, linfo, kind, m, jl
+            integer :: k, linfo, kind, m, jl, have_left
             logical :: inside
 
             if (lost) then
@@ -549,17 +584,24 @@ contains
             ! Unstable at i, stable at last_checked: find the first unstable point in between
             k = last_checked + 1
             do while (k < i)
-                if (res%stable(k) < 0) call fill_multipliers(map, res, k, linfo)
+                if (res%stable(k) < 0) then
+                    call point_with_jacobian(k, left, linfo)
+                    if (linfo == 0) call point_multipliers(left, res%stats, lr, li, linfo)
+                    if (linfo == 0) call keep_spectrum(res, k, lr, li)
+                end if
                 if (res%stable(k) == 0) exit
                 k = k + 1
             end do
             lost = .true.
             last_checked = i
-            ! Multipliers at k (recomputed when k is not the current point)
-            if (k == i) then
+            ! Multipliers at k (kept when computed; computed again otherwise)
+            if (allocated(res%spectra(k)%wr)) then
+                lr = res%spectra(k)%wr
+                li = res%spectra(k)%wi
+            else if (k == i) then
                 call point_multipliers(pt, res%stats, lr, li, linfo)
             else
-                call stored_point(map, res, k, left, res%stats, linfo)
+                call point_with_jacobian(k, left, linfo)
                 call point_multipliers(left, res%stats, lr, li, linfo)
             end if
             kind = leading_crossing(lr, li, ctl%crossing_tol)
@@ -578,11 +620,19 @@ contains
             ! unit circle (at most walk_back points), and |mu| = 1 located between it and the next point; where
             ! there is none (a multiplier that hugs the circle), |mu| = 1 + crossing_tol between k - 1 and k
             inside = .false.
+            have_left = 0
             do m = k - 1, max(1, k - walk_back), -1
-                call stored_point(map, res, m, left, res%stats, linfo)
-                if (linfo /= 0) return
-                call point_multipliers(left, res%stats, lr, li, linfo)
-                if (linfo /= 0) return
+                if (allocated(res%spectra(m)%wr)) then
+                    lr = res%spectra(m)%wr
+                    li = res%spectra(m)%wi
+                else
+                    call point_with_jacobian(m, left, linfo)
+                    if (linfo /= 0) return
+                    have_left = m
+                    call point_multipliers(left, res%stats, lr, li, linfo)
+                    if (linfo /= 0) return
+                    call keep_spectrum(res, m, lr, li)
+                end if
                 g_m = crossing_distance(lr, li, kind)
                 if (g_m < 0.0_wp) then
                     inside = .true.
@@ -595,7 +645,9 @@ contains
             else
                 shift = ctl%crossing_tol
                 jl = k - 1
-                call stored_point(map, res, jl, left, res%stats, linfo)
+            end if
+            if (have_left /= jl) then
+                call point_with_jacobian(jl, left, linfo)
                 if (linfo /= 0) return
             end if
             block
@@ -623,11 +675,39 @@ contains
             if (located) res%instability_amplitude = lost_pt%y(n1)
         end subroutine check_stability
 
+        !> Recorded point `i` with its Jacobian: `cur` when it is that point and has its own Jacobian (no
+        !> evaluation), else rebuilt from the stored state (`stored_point`).
+        subroutine point_with_jacobian(i, p, linfo)
+            integer, intent(in) :: i
+            type(branch_point), intent(inout) :: p
+            integer, intent(out) :: linfo
+            logical :: same
+
+            linfo = 0
+            same = .false.
+            if (cur%exact .and. allocated(cur%jac) .and. allocated(cur%y)) then
+                same = cur%y(n1) == res%amplitude(i) .and. cur%s == res%arclength(i)
+                if (same) same = all(cur%y(1:d) == res%states(:, i)) .and. all(cur%t == res%tangents(:, i))
+            end if
+            if (same) then
+                p%y = cur%y
+                p%t = cur%t
+                p%s = cur%s
+                p%iterations = cur%iterations
+                p%residual = cur%residual
+                p%exact = .true.
+                p%jac = cur%jac
+                p%dpda = cur%dpda
+            else
+                call stored_point(map, res, i, p, res%stats, linfo)
+            end if
+        end subroutine point_with_jacobian
+
     end subroutine continue_branch
 
-    !> The Floquet multipliers at branch point `i` of a computed branch, from its stored state (one Jacobian
-    !> evaluation and one `dgeev`): for the record of the spectrum at a few amplitudes. `info` /= 0 when the map or
-    !> LAPACK failed.
+    !> The Floquet multipliers at branch point `i` of a computed branch: those kept from the continuation where they
+    !> were computed, else from its stored state (one Jacobian evaluation and one `dgeev`): for the record of the
+    !> spectrum at a few amplitudes. `info` /= 0 when the map or LAPACK failed.
     subroutine branch_multipliers(map, res, i, wr, wi, info)
         !> The map the branch was computed with.
         class(fixed_point_map), intent(inout) :: map
@@ -646,6 +726,17 @@ contains
 
         info = 1
         if (i < 1 .or. i > res%n_points) return
+        if (allocated(res%spectra)) then
+            if (size(res%spectra) >= i) then
+                if (allocated(res%spectra(i)%wr)) then
+                    ! computed during the continuation, from the same state: the same multipliers, bit for bit
+                    wr = res%spectra(i)%wr
+                    wi = res%spectra(i)%wi
+                    info = 0
+                    return
+                end if
+            end if
+        end if
         allocate (px(map%dim), jac(map%dim, map%dim))
         call map%apply(res%states(:, i), res%amplitude(i), px, status, jac=jac)
         if (status /= map_ok) return
@@ -790,6 +881,24 @@ contains
         pt%exact = ok
     end subroutine complete_point
 
+    !> At a corrected point: the Jacobian only (dP/dx and dP/dA) and the residual; the tangent is not computed.
+    subroutine point_jacobian(map, pt, ok, stats)
+        class(fixed_point_map), intent(inout) :: map
+        type(branch_point), intent(inout) :: pt
+        logical, intent(out) :: ok
+        type(continuation_stats), intent(inout) :: stats
+        real(wp), allocatable :: px(:)
+        integer :: d, status
+
+        d = size(pt%y) - 1
+        if (.not. allocated(pt%jac)) allocate (pt%jac(d, d), pt%dpda(d))
+        allocate (px(d))
+        call evaluate(map, pt%y, px, status, stats, pt%jac, pt%dpda)
+        ok = status == map_ok
+        if (ok) pt%residual = maxval(abs(px - pt%y(1:d)))
+        pt%exact = .false.
+    end subroutine point_jacobian
+
     !> The unit tangent from a freshly factorised B = [[J - I, dP/dA]; [r0^T]]: z = B^{-1} e_{d+1}, t = z / |z|
     !> (oriented along r0: r0 . z = 1); the system is then changed (rank one) to have t as its last row.
     subroutine tangent(sys, t, info, stats)
@@ -909,7 +1018,8 @@ contains
         !> The crossing multiplier at a bracket end (kind /= 0): tracked by inverse iteration from there instead of
         !> a `dgeev` at every secant step (`dgeev` again whenever the tracking fails or leaves the class).
         complex(wp), intent(in), optional :: mu_guess
-        type(bordered_system) :: psys, fsys
+        type(bordered_system) :: psys, fsys, csys
+        logical :: have_csys
         complex(wp) :: mu_t
         complex(wp), allocatable :: vec(:)
         logical :: tracking
@@ -919,6 +1029,7 @@ contains
 
         n1 = size(bp%y)
         located = .false.
+        have_csys = .false.
         tracking = present(mu_guess) .and. kind /= 0
         if (tracking) then
             mu_t = mu_guess
@@ -989,9 +1100,23 @@ contains
                 pt = bp
                 okv = .true.
             else
-                call correct(map, bp, sys, sigma, ctl, pt, okv, stats, fsys)
+                if (have_csys) then
+                    call correct(map, bp, csys, sigma, ctl, pt, okv, stats, fsys)
+                else
+                    call correct(map, bp, sys, sigma, ctl, pt, okv, stats, fsys)
+                end if
                 if (.not. okv) return
-                call complete_point(map, pt, bp%t, psys, okv, stats)
+                if (kind == 0) then
+                    call complete_point(map, pt, bp%t, psys, okv, stats)
+                else
+                    ! a crossing needs the monodromy only (no tangent); the bordered matrix at this iterate, with
+                    ! bp's tangent as its last row, is the chord matrix of the next corrections (nearer than bp's)
+                    call point_jacobian(map, pt, okv, stats)
+                    if (okv) then
+                        call factor_bordered(pt%jac, pt%dpda, bp%t, csys, linfo, stats)
+                        have_csys = linfo == 0
+                    end if
+                end if
                 if (.not. okv) return
             end if
             pt%s = bp%s + sigma
@@ -1125,7 +1250,7 @@ contains
         real(wp), intent(in) :: wr(:), wi(:)
         logical, intent(in) :: have_mult
         integer, intent(in), optional :: position
-        integer :: i, d, n
+        integer :: i, d, n, k
 
         d = size(pt%y) - 1
         res%n_points = res%n_points + 1
@@ -1145,6 +1270,9 @@ contains
             res%exact_tangent(i + 1:n) = res%exact_tangent(i:n - 1)
             res%states(:, i + 1:n) = res%states(:, i:n - 1)
             res%tangents(:, i + 1:n) = res%tangents(:, i:n - 1)
+            do k = n, i + 1, -1
+                call move_spectrum(res%spectra(k - 1), res%spectra(k))
+            end do
         end if
         res%amplitude(i) = pt%y(d + 1)
         res%arclength(i) = pt%s
@@ -1157,11 +1285,32 @@ contains
         res%tangents(:, i) = pt%t
         res%max_multiplier(i) = ieee_value(1.0_wp, ieee_quiet_nan)
         res%stable(i) = -1
-        if (have_mult) then
-            res%max_multiplier(i) = largest_modulus(wr, wi)
-            res%stable(i) = merge(1, 0, is_stable(wr, wi, res%crossing_tol))
-        end if
+        if (allocated(res%spectra(i)%wr)) deallocate (res%spectra(i)%wr, res%spectra(i)%wi)
+        if (have_mult) call keep_spectrum(res, i, wr, wi)
     end subroutine record_point
+
+    !> Keep the multipliers of recorded point `i` (and its largest modulus and stability verdict).
+    subroutine keep_spectrum(res, i, wr, wi)
+        type(continuation_result), intent(inout) :: res
+        integer, intent(in) :: i
+        real(wp), intent(in) :: wr(:), wi(:)
+
+        res%spectra(i)%wr = wr
+        res%spectra(i)%wi = wi
+        res%max_multiplier(i) = largest_modulus(wr, wi)
+        res%stable(i) = merge(1, 0, is_stable(wr, wi, res%crossing_tol))
+    end subroutine keep_spectrum
+
+    !> Move a kept spectrum from one point's slot to another's.
+    subroutine move_spectrum(from, to)
+        type(point_spectrum), intent(inout) :: from, to
+
+        if (allocated(to%wr)) deallocate (to%wr, to%wi)
+        if (allocated(from%wr)) then
+            call move_alloc(from%wr, to%wr)
+            call move_alloc(from%wi, to%wi)
+        end if
+    end subroutine move_spectrum
 
     !> Replace the recorded tangent of point `i` by the exact one of `pt`.
     subroutine update_tangent(res, i, pt)
@@ -1173,23 +1322,6 @@ contains
         res%tangent_amplitude(i) = pt%t(size(pt%t))
         res%exact_tangent(i) = 1
     end subroutine update_tangent
-
-    !> Compute the multipliers of a recorded point whose multipliers were skipped (`floquet_every` > 1).
-    subroutine fill_multipliers(map, res, i, info)
-        class(fixed_point_map), intent(inout) :: map
-        type(continuation_result), intent(inout) :: res
-        integer, intent(in) :: i
-        integer, intent(out) :: info
-        type(branch_point) :: pt
-        real(wp), allocatable :: wr(:), wi(:)
-
-        call stored_point(map, res, i, pt, res%stats, info)
-        if (info /= 0) return
-        call point_multipliers(pt, res%stats, wr, wi, info)
-        if (info /= 0) return
-        res%max_multiplier(i) = largest_modulus(wr, wi)
-        res%stable(i) = merge(1, 0, is_stable(wr, wi, res%crossing_tol))
-    end subroutine fill_multipliers
 
     !> A recorded point rebuilt from its stored state and tangent, with its Jacobian evaluated again.
     subroutine stored_point(map, res, i, pt, stats, info)
@@ -1224,7 +1356,7 @@ contains
         allocate (res%amplitude(capacity), res%arclength(capacity), res%umax(capacity), res%energy(capacity), &
                   res%max_multiplier(capacity), res%residual(capacity), res%tangent_amplitude(capacity))
         allocate (res%stable(capacity), res%newton_iterations(capacity), res%exact_tangent(capacity))
-        allocate (res%states(d, capacity), res%tangents(d + 1, capacity))
+        allocate (res%states(d, capacity), res%tangents(d + 1, capacity), res%spectra(capacity))
         res%max_multiplier = nan
         res%stable = -1
     end subroutine allocate_branch
@@ -1258,6 +1390,7 @@ contains
         res%newton_iterations = res%newton_iterations(1:n)
         res%states = res%states(:, 1:n)
         res%tangents = res%tangents(:, 1:n)
+        res%spectra = res%spectra(1:n)
         res%stats%time_total = wall_clock() - t_start
     end subroutine finish
 

@@ -33,10 +33,13 @@ module supratrans_shooting
     type, public :: shooting_result
         !> `shoot_converged`, `shoot_max_iter`, `shoot_singular` or `shoot_map_failed`.
         integer :: status = shoot_max_iter
-        !> Newton steps taken (Jacobian evaluations minus one when converged).
+        !> Newton steps taken.
         integer :: iterations = 0
         !> max |P(x_k) - x_k| at the iterates k = 0 .. iterations (at indices 1 .. iterations + 1).
         real(wp), allocatable :: residuals(:)
+        !> Evaluations of P with its Jacobian (the first evaluation is of P alone when `monodromy` is not asked for:
+        !> a converged initial guess costs no Jacobian).
+        integer :: jacobians = 0
         !> max |dx_k| of the Newton steps k = 1 .. iterations.
         real(wp), allocatable :: steps(:)
     end type shooting_result
@@ -44,8 +47,9 @@ module supratrans_shooting
 contains
 
     !> Newton-shooting from the initial guess x (overwritten by the last iterate) at amplitude A. Every iterate
-    !> evaluates P with its Jacobian; the residual is tested before the step, so on convergence `monodromy` (when
-    !> present) holds dP/dx at the returned x.
+    !> evaluates P with its Jacobian (but for an initial guess that is already converged, when `monodromy` is not
+    !> asked for); the residual is tested before the step, so on convergence `monodromy` (when present) holds dP/dx
+    !> at the returned x.
     subroutine shoot(map, x, amplitude, controls, res, monodromy)
         !> The map P(x; A).
         class(fixed_point_map), intent(inout) :: map
@@ -65,8 +69,23 @@ contains
         d = map%dim
         allocate (px(d), jac(d, d), dx(d), history(0:controls%max_iter), steps(controls%max_iter))
         res%iterations = 0
+        res%jacobians = 0
+        if (.not. present(monodromy)) then
+            ! an initial guess that is already a fixed point (the chain at rest at A = 0) needs no Jacobian
+            call map%apply(x, amplitude, px, status)
+            if (status == map_ok .and. all(ieee_is_finite(px))) then
+                history(0) = maxval(abs(px - x))
+                if (history(0) <= controls%tol) then
+                    res%status = shoot_converged
+                    res%residuals = history(0:0)
+                    res%steps = steps(1:0)
+                    return
+                end if
+            end if
+        end if
         do
             call map%apply(x, amplitude, px, status, jac=jac)
+            res%jacobians = res%jacobians + 1
             if (status /= map_ok .or. .not. all(ieee_is_finite(px))) then
                 res%status = shoot_map_failed
                 exit
