@@ -200,11 +200,18 @@ contains
             real(wp), allocatable :: wr(:), wi(:)
             integer :: info, j, m
             integer, allocatable :: order(:)
+            logical :: kept
 
+            kept = .false.
+            if (allocated(res%spectra)) then
+                if (size(res%spectra) >= i) kept = allocated(res%spectra(i)%wr)
+            end if
             call branch_multipliers(map, res, i, wr, wi, info)
-            r%eigen_calls = r%eigen_calls + 1
-            r%jacobians = r%jacobians + 1
-            r%map_evaluations = r%map_evaluations + 1
+            if (.not. kept) then                    ! computed afresh: one Jacobian and one eigenvalue call
+                r%eigen_calls = r%eigen_calls + 1
+                r%jacobians = r%jacobians + 1
+                r%map_evaluations = r%map_evaluations + 1
+            end if
             if (info /= 0) return
             order = largest_first(hypot(wr, wi))
             m = min(kept_multipliers, size(order))
@@ -446,7 +453,8 @@ contains
         end do
     end function chain_length_given
 
-    !> The branch point whose amplitude is nearest `a` among those before the fold (0 when there is none).
+    !> The branch point whose amplitude is nearest `a` among those before the fold with multipliers (any, when none
+    !> has them; 0 when there is no point).
     pure function nearest_point(res, a) result(i)
         !> The branch.
         type(continuation_result), intent(in) :: res
@@ -458,7 +466,11 @@ contains
         if (ieee_is_nan(a) .or. res%n_points < 1) return
         last = res%n_points
         if (res%fold_index > 0) last = res%fold_index
-        i = minloc(abs(res%amplitude(1:last) - a), dim=1)
+        if (any(res%stable(1:last) /= -1)) then       ! prefer a point whose multipliers the continuation kept
+            i = minloc(abs(res%amplitude(1:last) - a), dim=1, mask=res%stable(1:last) /= -1)
+        else
+            i = minloc(abs(res%amplitude(1:last) - a), dim=1)
+        end if
     end function nearest_point
 
     !> Indices of x in order of decreasing value (a stable insertion sort: a handful of hundreds of values).

@@ -19,8 +19,8 @@ module supratrans_fold_record
         "energy", "multiplier_max", "stable", "newton_iterations", "residual"]
     !> Multipliers kept at each sampled point: the `kept_multipliers` of largest modulus.
     integer, parameter, public :: kept_multipliers = 8
-    !> Branch points at which the multipliers are kept: the first point, the point nearest half the fold, the fold
-    !> (the nearest point), the last point.
+    !> Branch points at which the multipliers are kept: the first point, the point with multipliers nearest half the
+    !> fold, the fold (the nearest point), the last point.
     integer, parameter, public :: multiplier_samples = 4
 
     !> The scalar fields of a record, in the order of `fold_fields`.
