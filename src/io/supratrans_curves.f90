@@ -3,7 +3,7 @@
 module supratrans_curves
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
-    use supratrans_config, only: input_config, run_config
+    use supratrans_config, only: input_config, run_config, vary_none, vary_gamma, vary_beta, vary_m2, vary_choices
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: band_gap_edge
     use supratrans_hdf5, only: h5_file, h5_write, h5_write_attr, h5_create_group
@@ -31,7 +31,7 @@ contains
         integer :: n
 
         n = 1
-        if (trim(cfg%scene%vary) /= "none" .and. allocated(cfg%scene%values)) n = max(1, size(cfg%scene%values))
+        if (cfg%scene%vary /= vary_none .and. allocated(cfg%scene%values)) n = max(1, size(cfg%scene%values))
     end function value_count
 
     !> Number of curves: potentials x values.
@@ -71,17 +71,17 @@ contains
         if (allocated(cfg%scene%potentials)) then
             if (size(cfg%scene%potentials) > 0) run%chain%potential = cfg%scene%potentials(ipot)
         end if
-        if (trim(cfg%scene%vary) == "none" .or. .not. allocated(cfg%scene%values)) return
+        if (cfg%scene%vary == vary_none .or. .not. allocated(cfg%scene%values)) return
         value = cfg%scene%values(ival)
-        select case (trim(cfg%scene%vary))
-        case ("gamma")
+        select case (cfg%scene%vary)
+        case (vary_gamma)
             run%chain%gamma = value
-        case ("beta")
+        case (vary_beta)
             run%chain%beta = value
-        case ("m2")
+        case (vary_m2)
             run%chain%m2 = value
         case default
-            continue                            ! 'none': validated by supratrans_input
+            continue                            ! vary_none: validated by supratrans_input
         end select
     end function curve_run
 
@@ -94,7 +94,7 @@ contains
         real(wp) :: value
         integer :: ipot, ival
 
-        if (trim(cfg%scene%vary) == "none" .or. .not. allocated(cfg%scene%values)) then
+        if (cfg%scene%vary == vary_none .or. .not. allocated(cfg%scene%values)) then
             value = ieee_value(1.0_wp, ieee_quiet_nan)
         else
             call curve_indices(cfg, icurve, ipot, ival)
@@ -126,17 +126,17 @@ contains
             beta(ic) = runs(ic)%chain%beta
             m2(ic) = runs(ic)%chain%m2
         end do
-        select case (trim(cfg%scene%vary))
-        case ("gamma", "beta")
+        select case (cfg%scene%vary)
+        case (vary_gamma, vary_beta)
             value_units = "1/time"
-        case ("m2")
+        case (vary_m2)
             value_units = "1/time^2"
         case default
             value_units = "1"
         end select
         call h5_create_group(file, "/curves", "One entry per curve: a potential and a value of the varied " &
                              // "parameter (attribute vary), the values fastest")
-        call h5_write_attr(file, "/curves", "vary", trim(cfg%scene%vary))
+        call h5_write_attr(file, "/curves", "vary", trim(vary_choices(cfg%scene%vary)))
         call h5_write(file, "/curves/potential", names, "1", "On-site potential of each curve", dims="curve")
         call h5_write(file, "/curves/value", values, value_units, "Value of the varied parameter (attribute vary " &
                       // "of /curves) of each curve; NaN when vary = 'none'", dims="curve")

@@ -143,8 +143,9 @@ module supratrans_schema
             range_text=">= omega_min", description="Upper end of the frequency axis"), &
         key_spec(group="scene", key="omega_step", value_type=kt_real, attribute="omega_step", units="1/time", has_min=.true., &
             min=0.0_wp, min_text="0", min_strict=.true., default_text="0.05", range_text="> 0", description="Frequency step"), &
-        key_spec(group="scene", key="vary", value_type=kt_name, attribute="vary", choices=choice_vary, default_text="'none'", &
-            range_text="'none', 'gamma', 'beta', 'm2'", description="Parameter that differs between curves"), &
+        key_spec(group="scene", key="vary", value_type=kt_name, attribute="vary", choices=choice_vary, ids=.true., &
+            default_text="'none'", range_text="'none', 'gamma', 'beta', 'm2'", &
+            description="Parameter that differs between curves"), &
         key_spec(group="scene", key="values", value_type=kt_real, max_values=max_curve_values, attribute="values", &
             default_text="unset (needed unless vary = 'none')", range_text="up to 16 values", &
             description="Values of the varied parameter, one curve each (in the units of that parameter)"), &
@@ -187,7 +188,7 @@ module supratrans_schema
             min=0.0_wp, min_text="0", min_strict=.true., default_text="0.01", range_text="> 0", &
             description="Bifurcation search: resolution of the threshold; stability scene: resolution of the boundary in dt"), &
         key_spec(group="scene", key="screen_method", value_type=kt_name, attribute="screen_method", choices=choice_screen, &
-            default_text="'linearized'", range_text="'none', 'newton', 'linearized', 'rk4', 'rk8'", &
+            ids=.true., default_text="'linearized'", range_text="'none', 'newton', 'linearized', 'rk4', 'rk8'", &
             description="Bifurcation search: integrator that screens amplitudes far from the threshold ('none': every run us" // &
             "es the &numerics method; README, ""Screening"")"), &
         key_spec(group="scene", key="screen_dt", value_type=kt_real, attribute="screen_dt", units="time", has_min=.true., &
@@ -365,7 +366,7 @@ contains
         case (key_scene_omega_min); v = real_value([cfg%scene%omega_min])
         case (key_scene_omega_max); v = real_value([cfg%scene%omega_max])
         case (key_scene_omega_step); v = real_value([cfg%scene%omega_step])
-        case (key_scene_vary); v = text_value([cfg%scene%vary])
+        case (key_scene_vary); v = int_value([cfg%scene%vary])
         case (key_scene_values); if (allocated(cfg%scene%values)) v = real_value(cfg%scene%values)
         case (key_scene_potentials); if (allocated(cfg%scene%potentials)) v = int_value(cfg%scene%potentials)
         case (key_scene_continuation_step); v = real_value([cfg%scene%continuation_step])
@@ -377,7 +378,7 @@ contains
         case (key_scene_fold_convergence); v = flag_value(cfg%scene%fold_convergence)
         case (key_scene_coarse_step); v = real_value([cfg%scene%coarse_step])
         case (key_scene_resolution); v = real_value([cfg%scene%resolution])
-        case (key_scene_screen_method); v = text_value([cfg%scene%screen_method])
+        case (key_scene_screen_method); v = int_value([cfg%scene%screen_method])
         case (key_scene_screen_dt); v = real_value([cfg%scene%screen_dt])
         case (key_scene_confirm_band); v = real_value([cfg%scene%confirm_band])
         case (key_scene_screen_margin); v = real_value([cfg%scene%screen_margin])
@@ -445,7 +446,7 @@ contains
         case (key_scene_omega_min); cfg%scene%omega_min = v%reals(1)
         case (key_scene_omega_max); cfg%scene%omega_max = v%reals(1)
         case (key_scene_omega_step); cfg%scene%omega_step = v%reals(1)
-        case (key_scene_vary); cfg%scene%vary = trim(v%texts(1))
+        case (key_scene_vary); cfg%scene%vary = v%ints(1)
         case (key_scene_values); call set_list(cfg%scene%values, v)
         case (key_scene_potentials); call set_list(cfg%scene%potentials, v)
         case (key_scene_continuation_step); cfg%scene%continuation_step = v%reals(1)
@@ -457,7 +458,7 @@ contains
         case (key_scene_fold_convergence); cfg%scene%fold_convergence = v%flag
         case (key_scene_coarse_step); cfg%scene%coarse_step = v%reals(1)
         case (key_scene_resolution); cfg%scene%resolution = v%reals(1)
-        case (key_scene_screen_method); cfg%scene%screen_method = trim(v%texts(1))
+        case (key_scene_screen_method); cfg%scene%screen_method = v%ints(1)
         case (key_scene_screen_dt); cfg%scene%screen_dt = v%reals(1)
         case (key_scene_confirm_band); cfg%scene%confirm_band = v%reals(1)
         case (key_scene_screen_margin); cfg%scene%screen_margin = v%reals(1)
