@@ -149,22 +149,19 @@ contains
         type(error_type), allocatable, intent(out) :: error
         integer :: hdferr
 
-        if (file%mode == h5_mode_closed) return
-        call h5fclose_f(file%id, hdferr)
+        hdferr = 0
+        if (file%mode /= h5_mode_closed) call h5fclose_f(file%id, hdferr)
         call check(hdferr, file, "close", "/", "h5fclose_f", error)
         file%id = -1
         file%mode = h5_mode_closed
     end subroutine h5_close
 
-
     !> Close the file, ignoring errors, without writing anything (use on error). The stuck error stays in `file`.
     subroutine h5_discard(file)
         !> The file; closed on return.
         type(h5_file), intent(inout) :: file
-        integer :: hdferr
 
-        if (file%mode == h5_mode_closed) return
-        call h5fclose_f(file%id, hdferr)
+        if (file%mode /= h5_mode_closed) call close_id(file%id)
         file%id = -1
         file%mode = h5_mode_closed
     end subroutine h5_discard
@@ -306,7 +303,7 @@ contains
             " failed)", err_io)
     end subroutine check
 
-    !> Error unless the file is open.
+    !> Error unless the file is open (and, for `check_writable`, open for writing).
     subroutine check_open(file, action, object, error)
         type(h5_file), intent(in) :: file
         character(len=*), intent(in) :: action, object
@@ -323,8 +320,8 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         call check_open(file, action, object, error)
-        if (.not. allocated(error) .and. file%mode == h5_mode_read) call fatal_error(error, disk_path(file)// &
-            ": file is open read-only, cannot "//action//" '"//object//"'", err_io)
+        if (file%mode == h5_mode_read) call fatal_error(error, disk_path(file)//": file is open read-only, cannot "// &
+            action//" '"//object//"'", err_io)
     end subroutine check_writable
 
     !> Error unless `names` holds `rank` comma-separated dimension names.
