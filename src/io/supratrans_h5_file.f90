@@ -1,18 +1,8 @@
 !> The HDF5 file of supratrans: its handle (`h5_file`), its life cycle, and the helpers the reading and writing
 !> modules share (types, identifiers, errors). Use `supratrans_hdf5`, which gathers the public interface and
-!> documents the layer: a writer is a plain sequence of writes with one check at the end (the first error sticks
-!> in `file%error`, every later write does nothing, `h5_commit` returns it and writes nothing).
-!>
-!> A new file is built in memory (HDF5's core driver, no backing store): HDF5 itself never writes to the disk, so a
-!> full disk cannot fail inside the library (which used to leave the library in a state that crashed at exit,
-!> SIGSEGV). `h5_commit` (`supratrans_h5_scales`) attaches the dimension scales of the datasets remembered here
-!> (`remember_dims`), takes the file's image and writes it with `write_bytes_atomic` (a fresh temporary created with
-!> `O_CREAT | O_EXCL | O_NOFOLLOW`, every write(2) checked, fsync, rename(2) onto `path`). An existing file is
-!> opened read-only with `h5_open` and closed with `h5_close`; reads return their own error.
-!>
-!> The library is initialised by `h5_create` and `h5_open`, every time: `h5open_f` may be called again, and the
-!> module keeps no state of its own, so any two threads' runs share nothing here. Serial HDF5 is not thread-safe
-!> all the same: call this layer from one thread at a time.
+!> documents the layer. A new file is built in memory (HDF5's core driver, no backing store), so that HDF5 never
+!> writes to the disk itself: a full disk cannot fail inside the library (which used to leave it in a state that
+!> crashed at exit); `h5_commit` (`supratrans_h5_scales`) writes the image.
 module supratrans_h5_file
     use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5eset_auto_f, h5kind_to_type, h5_real_kind, h5_integer_kind, &
         h5fcreate_f, h5fopen_f, h5fclose_f, h5f_acc_trunc_f, h5f_acc_rdonly_f, &

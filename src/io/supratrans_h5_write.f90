@@ -1,18 +1,7 @@
-!> Writing HDF5 datasets, attributes and groups: every dataset with the string attributes `units` and
-!> `description` (and `dimensions` when `dims` is given), every group with `description`.
-!>
-!> Object names are paths from the root group: "ledger/energy" and "/ledger/energy" are the same object; missing
-!> intermediate groups are created. `h5_write` replaces an existing dataset of the same name (HDF5 does not reclaim
-!> the space of the old one); `h5_write_attr` replaces an existing attribute. Arrays are stored as they are in
-!> memory: h5py lists the Fortran dimensions reversed, so `dims` names them in C/h5py order ("probe, time" for a
-!> Fortran array `a(ntime, nprobe)`). `real(wp)` is stored as IEEE 64-bit float, default integer as 32-bit signed
-!> integer, `integer(i8)` as 64-bit, character as fixed-length, null-padded ASCII (trailing blanks of the elements
-!> of a character array are padding and are not stored), logical attributes as integer 0 or 1.
-!>
-!> One routine a type takes data of every rank (assumed rank) and finds only the HDF5 types and the address of
-!> the data; one routine writes every dataset (`write_dataset`) and one every attribute (`write_attr`). Each is a
-!> chain of HDF5 calls, each made only while the previous ones succeeded, with one check at its end that names
-!> the step that failed.
+!> Writing HDF5 datasets, attributes and groups (the rules: `supratrans_hdf5`). One routine a type takes data of
+!> every rank (assumed rank) and finds only the HDF5 types and the address of the data; one routine writes every
+!> dataset (`write_dataset`) and one every attribute (`write_attr`). Each is a chain of HDF5 calls, each made only
+!> while the previous ones succeeded, with one check at its end.
 module supratrans_h5_write
     use, intrinsic :: iso_c_binding, only: c_ptr, c_null_ptr, c_loc, c_char, c_null_char
     use hdf5, only: hid_t, hsize_t, h5dcreate_f, h5dopen_f, h5dwrite_f, h5t_ieee_f64le, h5t_std_i64le, h5gcreate_f, &

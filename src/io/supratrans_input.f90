@@ -16,12 +16,12 @@
 !> `<file>: cannot open file (<reason>)`, `<file>: cannot read file (<reason>)`,
 !> `<file>: &<group>: <key> = '<name>': unknown <potential|method> (known: ...)`.
 module supratrans_input
-    use supratrans_kinds, only: name_len
+    use supratrans_kinds, only: name_len, path_len
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_strings, only: int_str, text_fingerprint, find_name
     use supratrans_system, only: path_kind, path_missing, path_directory, path_special, file_size
     use supratrans_config, only: input_config, default_probes
-    use supratrans_keys, only: key_value, kt_integer, kt_real, kt_logical, kt_name, input_error, joined
+    use supratrans_keys, only: key_value, kt_integer, kt_real, kt_logical, input_error, joined
     use supratrans_schema, only: key_table, set_key, choice_names, choice_noun, key_record_probes
     use supratrans_namelist, only: parse_namelist, parsed_input
     use supratrans_validate, only: validate_config
@@ -172,8 +172,9 @@ contains
                     end do
                 case (kt_logical)
                     v%flag = items(1)%s == ".true."
-                case (kt_name)
+                case default
                     if (spec%ids) then
+                        ! a named choice held as its number
                         names = choice_names(spec%choices)
                         allocate (v%ints(n))
                         do i = 1, n
@@ -188,16 +189,8 @@ contains
                             end if
                         end do
                     else
-                        allocate (v%texts(n))
-                        do i = 1, n
-                            v%texts(i) = items(i)%s
-                        end do
+                        v%texts = [character(len=path_len) :: (items(i)%s, i = 1, n)]
                     end if
-                case default
-                    allocate (v%texts(n))
-                    do i = 1, n
-                        v%texts(i) = items(i)%s
-                    end do
                 end select
                 if (ios /= 0) then
                     call input_error(error, path, trim(spec%group), "key '" // trim(spec%key) &
