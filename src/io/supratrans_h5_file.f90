@@ -76,13 +76,9 @@ contains
                 "or directory): supratrans replaces only regular files; remove it or choose another output file", err_io)
             return
         end if
-        call init_library(hdferr)
-        if (hdferr < 0) then
-            call fatal_error(file%error, path//": cannot initialise the HDF5 library", err_io)
-            return
-        end if
         fapl = -1
-        call h5pcreate_f(h5p_file_access_f, fapl, hdferr)
+        call init_library(hdferr)
+        if (hdferr >= 0) call h5pcreate_f(h5p_file_access_f, fapl, hdferr)
         if (hdferr >= 0) call h5pset_fapl_core_f(fapl, core_increment, .false., hdferr)
         ! the in-memory file is named like a temporary (random, never on disk): two files built at once for one path
         ! do not collide in HDF5's table of open files
@@ -90,8 +86,8 @@ contains
         call close_id(fapl)
         if (hdferr < 0) then
             file%id = -1
-            call fatal_error(file%error, path//": cannot create an HDF5 file in memory (h5fcreate_f failed: out of "// &
-                "memory?)", err_io)
+            call fatal_error(file%error, path//": cannot create an HDF5 file in memory (h5open_f/h5fcreate_f failed: "// &
+                "out of memory?)", err_io)
             return
         end if
         file%mode = h5_mode_create
@@ -116,15 +112,11 @@ contains
             return
         end if
         call init_library(hdferr)
-        if (hdferr < 0) then
-            call fatal_error(error, path//": cannot initialise the HDF5 library", err_io)
-            return
-        end if
-        call h5fopen_f(path, h5f_acc_rdonly_f, file%id, hdferr)
+        if (hdferr >= 0) call h5fopen_f(path, h5f_acc_rdonly_f, file%id, hdferr)
         if (hdferr < 0) then
             file%id = -1
-            call fatal_error(error, path//": cannot open as HDF5 file (h5fopen_f failed: not HDF5, or locked?)", &
-                err_io)
+            call fatal_error(error, path//": cannot open as HDF5 file (h5open_f/h5fopen_f failed: not HDF5, or "// &
+                "locked?)", err_io)
             return
         end if
         file%mode = h5_mode_read
