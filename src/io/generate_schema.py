@@ -359,7 +359,7 @@ def spec_constructor(s, k, indent):
             args.append("ids=.true.")
     for bound in ("min", "max"):
         if bound in k:
-            args += [f"has_{bound}=.true.", f"{bound}={freal(k[bound])}", f"{bound}_text={fstring(fmt(k[bound]))}"]
+            args += [f"{bound}={freal(k[bound])}", f"{bound}_text={fstring(fmt(k[bound]))}"]
             if k.get(f"{bound}_strict"):
                 args.append(f"{bound}_strict=.true.")
     if "unset_index" in k:

@@ -53,21 +53,17 @@ module supratrans_keys
         character(len=attribute_len) :: attribute = ""
         !> Units of the value ("1" for counts, flags, names and dimensionless numbers).
         character(len=units_len) :: units = "1"
-        !> Whether the value (each value of a list) has a lower bound.
-        logical :: has_min = .false.
         !> The lower bound is strict (value > min).
         logical :: min_strict = .false.
         !> Lower bound.
         real(wp) :: min = 0.0_wp
-        !> Lower bound as messages show it.
+        !> Lower bound as messages show it; blank when the value (each value of a list) has no lower bound.
         character(len=bound_len) :: min_text = ""
-        !> Whether the value has an upper bound.
-        logical :: has_max = .false.
         !> The upper bound is strict (value < max).
         logical :: max_strict = .false.
         !> Upper bound.
         real(wp) :: max = 0.0_wp
-        !> Upper bound as messages show it.
+        !> Upper bound as messages show it; blank when there is none.
         character(len=bound_len) :: max_text = ""
         !> Replaces "must be >= <min>" in the message of a value out of range (blank: the default text).
         character(len=text_len) :: message = ""

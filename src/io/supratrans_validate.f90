@@ -122,17 +122,20 @@ contains
         !> Allocated when the value is out of range.
         type(error_type), allocatable, intent(out) :: error
         character(len=:), allocatable :: problem
+        logical :: has_min, has_max
 
+        has_min = len_trim(spec%min_text) > 0
+        has_max = len_trim(spec%max_text) > 0
         problem = ""
         if (.not. (abs(x) <= huge(x))) then
             problem = "must be finite"
-        else if (spec%has_min .and. spec%min_strict .and. .not. (x > spec%min)) then
+        else if (has_min .and. spec%min_strict .and. .not. (x > spec%min)) then
             problem = "must be > " // trim(spec%min_text)
-        else if (spec%has_min .and. .not. spec%min_strict .and. .not. (x >= spec%min)) then
+        else if (has_min .and. .not. spec%min_strict .and. .not. (x >= spec%min)) then
             problem = "must be >= " // trim(spec%min_text)
-        else if (spec%has_max .and. spec%max_strict .and. .not. (x < spec%max)) then
+        else if (has_max .and. spec%max_strict .and. .not. (x < spec%max)) then
             problem = "must be < " // trim(spec%max_text)
-        else if (spec%has_max .and. .not. spec%max_strict .and. .not. (x <= spec%max)) then
+        else if (has_max .and. .not. spec%max_strict .and. .not. (x <= spec%max)) then
             problem = "must be <= " // trim(spec%max_text)
         end if
         if (len(problem) == 0) return
