@@ -109,7 +109,7 @@ contains
         integer :: hdferr
         type(c_ptr) :: buf      ! c_loc of a character array stored first (see `write_strings`)
 
-        call c_chars(value, chars)
+        call c_chars([value], .false., chars)
         call make_string_type(len(value), string_type, hdferr)
         buf = c_loc(chars)
         call write_attr(file, object, name, string_type, string_type, [integer(hsize_t) ::], buf, hdferr)
@@ -157,16 +157,23 @@ contains
         call write_attr_int(file, object, name, merge(1, 0, value))
     end subroutine write_attr_logical
 
-    !> The characters of a string, null-terminated buffer of at least one character.
-    pure subroutine c_chars(value, chars)
-        character(len=*), intent(in) :: value
+    !> The characters of strings, each in `max(len(data), 1)` bytes, null-padded (with `trim_each`, the trailing
+    !> blanks of each string are padding too): the buffer of a fixed-length string dataset or attribute.
+    pure subroutine c_chars(data, trim_each, chars)
+        character(len=*), intent(in) :: data(:)
+        logical, intent(in) :: trim_each
         character(kind=c_char, len=1), allocatable, intent(out) :: chars(:)
-        integer :: k
+        integer :: width, i, k, n
 
-        allocate (chars(max(len(value), 1)))
+        width = max(len(data), 1)
+        allocate (chars(width*max(size(data), 1)))
         chars = c_null_char
-        do k = 1, len(value)
-            chars(k) = value(k:k)
+        do i = 1, size(data)
+            n = len(data(i))
+            if (trim_each) n = len_trim(data(i))
+            do k = 1, n
+                chars((i - 1)*width + k) = data(i) (k:k)
+            end do
         end do
     end subroutine c_chars
 
@@ -202,7 +209,7 @@ contains
         type(c_ptr) :: buf      ! c_loc of a character array stored first (see `write_strings`)
 
         if (hdferr < 0) return
-        call c_chars(value, chars)
+        call c_chars([value], .false., chars)
         call make_string_type(len(value), string_type, hdferr)
         buf = c_loc(chars)
         call put_attr(obj, name, string_type, string_type, [integer(hsize_t) ::], buf, hdferr)
@@ -315,23 +322,14 @@ contains
         integer(hsize_t), allocatable :: dims(:)
         type(error_type), allocatable :: error
         integer(hid_t) :: string_type
-        integer :: hdferr, width, i, k, n
+        integer :: hdferr
         ! c_loc of a character array is stored first: passed directly, gfortran 12 adds a spurious hidden length.
         type(c_ptr) :: buf
 
-        width = max(len(data), 1)
-        allocate (chars(width*max(size(data), 1)))
-        chars = c_null_char
-        do i = 1, size(data)
-            n = len(data(i))
-            if (array) n = len_trim(data(i))
-            do k = 1, n
-                chars((i - 1)*width + k) = data(i) (k:k)
-            end do
-        end do
+        call c_chars(data, array, chars)
         allocate (dims(0))
         if (array) dims = [int(size(data), hsize_t)]
-        call make_string_type(width, string_type, hdferr)
+        call make_string_type(len(data), string_type, hdferr)
         call check(hdferr, file, "create string type for", name, "h5tset_size_f", error)
         call stick(file, error)
         buf = c_loc(chars)
