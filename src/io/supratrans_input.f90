@@ -85,7 +85,7 @@ contains
         if (allocated(error)) return
         call parse_namelist(text, path, parsed, error)
         if (allocated(error)) return
-        if (.not. has_group(text)) then
+        if (parsed%n_groups == 0) then
             call fatal_error(error, path // ": no namelist group in the file (an empty or comments-only input is " &
                              // "refused: write at least &output file = '...' /)", err_input)
             return
@@ -96,27 +96,6 @@ contains
         if (parsed%n_values(key_record_probes) == 0) cfg%run%record%probes = min(default_probes, cfg%run%chain%n)
         call validate_config(cfg, error, check_output)
     end subroutine read_input_text
-
-    !> Whether a namelist text opens a group: a line whose first character other than a blank is `&`.
-    pure function has_group(text) result(yes)
-        character(len=*), intent(in) :: text
-        logical :: yes
-        integer :: i
-        logical :: line_start
-
-        yes = .false.
-        line_start = .true.
-        do i = 1, len(text)
-            if (text(i:i) == new_line("a")) then
-                line_start = .true.
-            else if (line_start .and. text(i:i) == "&") then
-                yes = .true.
-                return
-            else if (text(i:i) /= " " .and. text(i:i) /= achar(9)) then
-                line_start = .false.
-            end if
-        end do
-    end function has_group
 
     !> Refuse a line longer than `max_line_length` characters (no namelist needs one; the parser's work grows with
     !> the number of tokens of a line, so a megabyte-long line would take seconds).
