@@ -1,5 +1,6 @@
 !> Writing HDF5 datasets, attributes and groups (the rules: `supratrans_hdf5`). One routine a type takes data of
-!> every rank (assumed rank) and finds only the HDF5 types and the address of the data; one routine writes every
+!> every rank (assumed rank, `data(..)`: Fortran 2018 / TS 29113, in gfortran since 4.9, the one feature of the
+!> code beyond Fortran 2008) and finds only the HDF5 types and the address of the data; one routine writes every
 !> dataset (`write_dataset`) and one every attribute (`write_attr`). Each is a chain of HDF5 calls, each made only
 !> while the previous ones succeeded, with one check at its end.
 module supratrans_h5_write
