@@ -11,7 +11,7 @@ module test_scene_bifurcation
     !$ use omp_lib, only: omp_get_max_threads, omp_set_num_threads
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type
-    use supratrans_config, only: input_config, run_config
+    use supratrans_config, only: input_config, run_config, vary_none, vary_gamma, screen_none, screen_linearized
     use supratrans_chain, only: threshold_as
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok
@@ -200,7 +200,7 @@ contains
         cfg = tiny_config()
         cfg%scene%omega_min = 0.8_wp
         cfg%scene%omega_max = 0.8_wp
-        cfg%scene%vary = "none"
+        cfg%scene%vary = vary_none
         deallocate (cfg%scene%values)
         call run_bifurcation(cfg, error)
         call assertFalse( &
@@ -478,7 +478,7 @@ contains
         type(error_type), allocatable :: error
         real(wp), allocatable :: t(:, :), w(:, :)
         integer, allocatable :: s(:, :), r(:, :), n(:, :)
-        character(len=*), parameter :: screens(2) = [character(len=10) :: "none", "linearized"]
+        integer, parameter :: screens(2) = [screen_none, screen_linearized]
         integer :: i
 
         do i = 1, size(screens)
@@ -533,7 +533,7 @@ contains
         logical :: ok
 
         cfg = tiny_config()
-        cfg%scene%screen_method = "none"
+        cfg%scene%screen_method = screen_none
         call run_bifurcation(cfg, error)
         call assertFalse( &
             allocated(error), &
@@ -543,7 +543,7 @@ contains
         call read_results(base // ".h5", t0, s0, r0, n, w)
         do i = 1, 2
             cfg = tiny_config()
-            cfg%scene%screen_method = "linearized"
+            cfg%scene%screen_method = screen_linearized
             cfg%scene%screen_dt = real(i, wp)*cfg%run%numerics%dt
             cfg%scene%certify = .true.
             call run_bifurcation(cfg, error)
@@ -658,7 +658,7 @@ contains
         cfg%scene%omega_min = 0.6_wp
         cfg%scene%omega_max = 1.1_wp
         cfg%scene%omega_step = 0.1_wp
-        cfg%scene%vary = "gamma"
+        cfg%scene%vary = vary_gamma
         cfg%scene%values = [0.0_wp, 0.05_wp]
         cfg%output%file = base // ".h5"
         cfg%output%overwrite = .true.

@@ -10,7 +10,7 @@ module test_scene_map
     !$ use omp_lib, only: omp_get_max_threads, omp_set_num_threads
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type
-    use supratrans_config, only: input_config, run_config
+    use supratrans_config, only: input_config, run_config, vary_m2
     use supratrans_potential, only: sine_gordon
     use supratrans_chain, only: threshold_as
     use supratrans_curves, only: curve_run
@@ -247,7 +247,7 @@ contains
         cfg%run%numerics%t_final = 20.0_wp
         cfg%scene%kind = "map"
         cfg%scene%potentials = [sine_gordon]
-        cfg%scene%vary = "m2"
+        cfg%scene%vary = vary_m2
         cfg%scene%values = [0.0_wp, 0.5_wp]
         cfg%scene%omega_min = 0.6_wp
         cfg%scene%omega_max = 1.2_wp

@@ -10,7 +10,7 @@ module test_scene_sweep
     !$ use omp_lib, only: omp_get_max_threads, omp_set_num_threads
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type
-    use supratrans_config, only: input_config
+    use supratrans_config, only: input_config, vary_none, vary_gamma
     use supratrans_potential, only: sine_gordon, klein_gordon
     use supratrans_h5_test, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr
     use supratrans_tasks, only: run_tasks, file_fingerprint
@@ -398,7 +398,7 @@ contains
 
         cfg = tiny_config("")
         deallocate (cfg%scene%potentials, cfg%scene%values)
-        cfg%scene%vary = "none"
+        cfg%scene%vary = vary_none
         cfg%scene%amplitude_min = 0.4_wp
         cfg%scene%amplitude_max = 2.0_wp
         cfg%scene%amplitude_step = 0.4_wp
@@ -626,7 +626,7 @@ contains
         cfg%run%numerics%t_final = 30.0_wp
         cfg%scene%kind = "amplitude_sweep"
         cfg%scene%potentials = [sine_gordon, klein_gordon]
-        cfg%scene%vary = "gamma"
+        cfg%scene%vary = vary_gamma
         cfg%scene%values = [0.0_wp, 0.05_wp]
         cfg%scene%amplitude_min = 0.5_wp
         cfg%scene%amplitude_max = 2.5_wp

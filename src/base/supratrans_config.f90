@@ -37,10 +37,28 @@ module supratrans_config
     character(len=*), parameter, public :: scene_choices(*) = [character(len=15) :: "timeseries", "amplitude_sweep", "map", &
         "bifurcation", "work_precision", "stability", "continuation", "hysteresis"]
 
-    !> Names of the screening methods (&scene screen_method).
+    !> No screening: every run of a bifurcation search uses the &numerics method.
+    integer, parameter, public :: screen_none = 1
+    !> Screening runs of the search with the Newton-solved scheme (method_newton).
+    integer, parameter, public :: screen_newton = 2
+    !> Screening runs of the search with the linearized scheme (method_linearized).
+    integer, parameter, public :: screen_linearized = 3
+    !> Screening runs of the search with classical fourth-order Runge-Kutta (method_rk4).
+    integer, parameter, public :: screen_rk4 = 4
+    !> Screening runs of the search with the eighth-order Runge-Kutta method (method_rk8).
+    integer, parameter, public :: screen_rk8 = 5
+    !> Names of the screening methods (&scene screen_method), in the order of their numbers.
     character(len=*), parameter, public :: screen_choices(*) = [character(len=10) :: "none", "newton", "linearized", "rk4", "rk8"]
 
-    !> Names of the parameters (&scene vary).
+    !> No parameter varies: one curve, the &chain of the input (or one per potential of `potentials`).
+    integer, parameter, public :: vary_none = 1
+    !> The curves differ in the external damping gamma (`values`).
+    integer, parameter, public :: vary_gamma = 2
+    !> The curves differ in the internal damping beta (`values`).
+    integer, parameter, public :: vary_beta = 3
+    !> The curves differ in the mass term m^2 (`values`).
+    integer, parameter, public :: vary_m2 = 4
+    !> Names of the parameters (&scene vary), in the order of their numbers.
     character(len=*), parameter, public :: vary_choices(*) = [character(len=5) :: "none", "gamma", "beta", "m2"]
 
     !> Largest number of curves a scene may vary over (`values`), and of `amplitudes` and `c_values`.
@@ -188,7 +206,7 @@ module supratrans_config
         !> Frequency step (&scene omega_step).
         real(wp) :: omega_step = 0.05_wp
         !> Parameter that differs between curves (&scene vary).
-        character(len=name_len) :: vary = "none"
+        integer :: vary = vary_none
         !> Values of the varied parameter, one curve each (in the units of that parameter) (&scene values).
         real(wp), allocatable :: values(:)
         !> Potentials, one panel (sweeps, maps) or set of curves each (&scene potentials).
@@ -218,7 +236,7 @@ module supratrans_config
         real(wp) :: resolution = 0.01_wp
         !> Bifurcation search: integrator that screens amplitudes far from the threshold ('none': every run uses the &numerics
         !> method; README, "Screening") (&scene screen_method).
-        character(len=name_len) :: screen_method = "linearized"
+        integer :: screen_method = screen_linearized
         !> Bifurcation search: time step of the screening runs (0: twice the &numerics dt where that meets the paper's stability
         !> condition, else dt) (&scene screen_dt).
         real(wp) :: screen_dt = 0.0_wp

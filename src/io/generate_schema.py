@@ -359,7 +359,7 @@ def spec_constructor(s, k, indent):
             args.append("ids=.true.")
     for bound in ("min", "max"):
         if bound in k:
-            args += [f"has_{bound}=.true.", f"{bound}={freal(k[bound])}", f"{bound}_text={fstring(fmt(k[bound]))}"]
+            args += [f"{bound}={freal(k[bound])}", f"{bound}_text={fstring(fmt(k[bound]))}"]
             if k.get(f"{bound}_strict"):
                 args.append(f"{bound}_strict=.true.")
     if "unset_index" in k:
@@ -438,7 +438,7 @@ def schema_module(s):
     used = ["input_config"] + [f"{c['name']}_choices" for c in s["choices"]] + [c["name"] for c in s["constant"]]
     out.append(continued("    use supratrans_config, only: ", used, "    "))
     out.append("    use supratrans_keys, only: key_spec, derived_spec, key_value, kt_integer, kt_real, kt_logical, "
-               "kt_name, kt_path, &\n        real_value, int_value, flag_value, text_value, set_list\n")
+               "kt_name, kt_path, &\n        set_list\n")
     out.append("    implicit none\n    private\n\n")
     out.append("    public :: get_key, set_key, choice_names, choice_noun\n\n")
     for c in s["choices"]:
@@ -510,13 +510,13 @@ def schema_module(s):
 """)
     for k in keys:
         ref = "cfg%" + "%".join(k["path"])
-        maker = value_maker(k)
+        part = value_source(k)[2:]
         if k["list"]:
-            stmt = f"if (allocated({ref})) v = {maker}({ref})"
+            stmt = f"if (allocated({ref})) v = key_value(size({ref}), {part}={ref})"
         elif k["type"] == "logical":
-            stmt = f"v = {maker}({ref})"
+            stmt = f"v = key_value(1, flag={ref})"
         else:
-            stmt = f"v = {maker}([{ref}])"
+            stmt = f"v = key_value(1, {part}=[{ref}])"
         out.append(case_line(k, stmt))
     out.append("""        case default; v%n = 0     ! not a key index: no value
         end select
@@ -559,13 +559,6 @@ def case_line(k, stmt):
     """`case (key_<id>); <stmt>` on one line, or on two when it does not fit."""
     line = f"        case (key_{k['id']}); {stmt}"
     return line + "\n" if len(line) <= WIDTH else f"        case (key_{k['id']})\n            {stmt}\n"
-
-
-def value_maker(k):
-    """The `key_value` constructor for a key's field."""
-    if k["type"] == "integer" or k["ids"]:
-        return "int_value"
-    return {"real": "real_value", "logical": "flag_value", "name": "text_value", "path": "text_value"}[k["type"]]
 
 
 def value_source(k):

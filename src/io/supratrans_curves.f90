@@ -3,44 +3,41 @@
 module supratrans_curves
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
-    use supratrans_config, only: input_config, run_config
+    use supratrans_config, only: input_config, run_config, vary_none, vary_gamma, vary_beta, vary_m2, vary_choices
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: band_gap_edge
     use supratrans_hdf5, only: h5_file, h5_write, h5_write_attr, h5_create_group
     implicit none
     private
 
-    public :: curve_count, potential_count, value_count, curve_run, curve_indices, curve_value, write_curves
+    public :: curve_count, curve_run, curve_indices, write_curves
 
 contains
 
-    !> Number of potentials of the scene (the &scene list, or the &chain potential alone).
-    pure function potential_count(cfg) result(n)
+    !> Whether the curves differ in a parameter (`vary` is not 'none' and `values` are given).
+    pure logical function varies(cfg)
         !> Validated input.
         type(input_config), intent(in) :: cfg
-        integer :: n
 
-        n = 1
-        if (allocated(cfg%scene%potentials)) n = max(1, size(cfg%scene%potentials))
-    end function potential_count
+        varies = cfg%scene%vary /= vary_none .and. allocated(cfg%scene%values)
+    end function varies
 
     !> Number of values of the varied parameter (1 when nothing varies).
-    pure function value_count(cfg) result(n)
+    pure integer function value_count(cfg)
         !> Validated input.
         type(input_config), intent(in) :: cfg
-        integer :: n
 
-        n = 1
-        if (trim(cfg%scene%vary) /= "none" .and. allocated(cfg%scene%values)) n = max(1, size(cfg%scene%values))
+        value_count = 1
+        if (varies(cfg)) value_count = max(1, size(cfg%scene%values))
     end function value_count
 
-    !> Number of curves: potentials x values.
-    pure function curve_count(cfg) result(n)
+    !> Number of curves: potentials (the &scene list, or the &chain potential alone) x values.
+    pure integer function curve_count(cfg)
         !> Validated input.
         type(input_config), intent(in) :: cfg
-        integer :: n
 
-        n = potential_count(cfg)*value_count(cfg)
+        curve_count = value_count(cfg)
+        if (allocated(cfg%scene%potentials)) curve_count = max(1, size(cfg%scene%potentials))*value_count(cfg)
     end function curve_count
 
     !> Potential index and value index of curve `icurve` (values vary fastest).
@@ -64,43 +61,24 @@ contains
         integer, intent(in) :: icurve
         type(run_config) :: run
         integer :: ipot, ival
-        real(wp) :: value
 
         run = cfg%run
         call curve_indices(cfg, icurve, ipot, ival)
         if (allocated(cfg%scene%potentials)) then
             if (size(cfg%scene%potentials) > 0) run%chain%potential = cfg%scene%potentials(ipot)
         end if
-        if (trim(cfg%scene%vary) == "none" .or. .not. allocated(cfg%scene%values)) return
-        value = cfg%scene%values(ival)
-        select case (trim(cfg%scene%vary))
-        case ("gamma")
-            run%chain%gamma = value
-        case ("beta")
-            run%chain%beta = value
-        case ("m2")
-            run%chain%m2 = value
+        if (.not. varies(cfg)) return
+        select case (cfg%scene%vary)
+        case (vary_gamma)
+            run%chain%gamma = cfg%scene%values(ival)
+        case (vary_beta)
+            run%chain%beta = cfg%scene%values(ival)
+        case (vary_m2)
+            run%chain%m2 = cfg%scene%values(ival)
         case default
-            continue                            ! 'none': validated by supratrans_input
+            continue                            ! vary_none: validated by supratrans_input
         end select
     end function curve_run
-
-    !> Value of the varied parameter (`&scene vary`) on curve `icurve`; NaN when nothing varies.
-    function curve_value(cfg, icurve) result(value)
-        !> Validated input.
-        type(input_config), intent(in) :: cfg
-        !> Curve index, 1..curve_count.
-        integer, intent(in) :: icurve
-        real(wp) :: value
-        integer :: ipot, ival
-
-        if (trim(cfg%scene%vary) == "none" .or. .not. allocated(cfg%scene%values)) then
-            value = ieee_value(1.0_wp, ieee_quiet_nan)
-        else
-            call curve_indices(cfg, icurve, ipot, ival)
-            value = cfg%scene%values(ival)
-        end if
-    end function curve_value
 
     !> Write `/curves`, the same in every scene: the group's attribute `vary`, and per curve its potential, the value
     !> of the varied parameter (in the units of that parameter: gamma and beta 1/time, m2 1/time^2; "1" and NaN when
@@ -116,27 +94,29 @@ contains
         character(len=16) :: names(size(runs))
         real(wp) :: values(size(runs)), edge(size(runs)), gamma(size(runs)), beta(size(runs)), m2(size(runs))
         character(len=:), allocatable :: value_units
-        integer :: ic
+        integer :: ic, ipot, ival
 
         do ic = 1, size(runs)
             names(ic) = potential_name(runs(ic)%chain%potential)
-            values(ic) = curve_value(cfg, ic)
+            values(ic) = ieee_value(1.0_wp, ieee_quiet_nan)       ! the value of the varied parameter, NaN if none
+            call curve_indices(cfg, ic, ipot, ival)
+            if (varies(cfg)) values(ic) = cfg%scene%values(ival)
             edge(ic) = band_gap_edge(runs(ic)%chain)
             gamma(ic) = runs(ic)%chain%gamma
             beta(ic) = runs(ic)%chain%beta
             m2(ic) = runs(ic)%chain%m2
         end do
-        select case (trim(cfg%scene%vary))
-        case ("gamma", "beta")
+        select case (cfg%scene%vary)
+        case (vary_gamma, vary_beta)
             value_units = "1/time"
-        case ("m2")
+        case (vary_m2)
             value_units = "1/time^2"
         case default
             value_units = "1"
         end select
         call h5_create_group(file, "/curves", "One entry per curve: a potential and a value of the varied " &
                              // "parameter (attribute vary), the values fastest")
-        call h5_write_attr(file, "/curves", "vary", trim(cfg%scene%vary))
+        call h5_write_attr(file, "/curves", "vary", trim(vary_choices(cfg%scene%vary)))
         call h5_write(file, "/curves/potential", names, "1", "On-site potential of each curve", dims="curve")
         call h5_write(file, "/curves/value", values, value_units, "Value of the varied parameter (attribute vary " &
                       // "of /curves) of each curve; NaN when vary = 'none'", dims="curve")

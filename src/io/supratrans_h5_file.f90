@@ -1,18 +1,8 @@
 !> The HDF5 file of supratrans: its handle (`h5_file`), its life cycle, and the helpers the reading and writing
 !> modules share (types, identifiers, errors). Use `supratrans_hdf5`, which gathers the public interface and
-!> documents the layer: a writer is a plain sequence of writes with one check at the end (the first error sticks
-!> in `file%error`, every later write does nothing, `h5_commit` returns it and writes nothing).
-!>
-!> A new file is built in memory (HDF5's core driver, no backing store): HDF5 itself never writes to the disk, so a
-!> full disk cannot fail inside the library (which used to leave the library in a state that crashed at exit,
-!> SIGSEGV). `h5_commit` (`supratrans_h5_scales`) attaches the dimension scales of the datasets remembered here
-!> (`remember_dims`), takes the file's image and writes it with `write_bytes_atomic` (a fresh temporary created with
-!> `O_CREAT | O_EXCL | O_NOFOLLOW`, every write(2) checked, fsync, rename(2) onto `path`). An existing file is
-!> opened read-only with `h5_open` and closed with `h5_close`; reads return their own error.
-!>
-!> The library is initialised by `h5_create` and `h5_open`, every time: `h5open_f` may be called again, and the
-!> module keeps no state of its own, so any two threads' runs share nothing here. Serial HDF5 is not thread-safe
-!> all the same: call this layer from one thread at a time.
+!> documents the layer. A new file is built in memory (HDF5's core driver, no backing store), so that HDF5 never
+!> writes to the disk itself: a full disk cannot fail inside the library (which used to leave it in a state that
+!> crashed at exit); `h5_commit` (`supratrans_h5_scales`) writes the image.
 module supratrans_h5_file
     use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5eset_auto_f, h5kind_to_type, h5_real_kind, h5_integer_kind, &
         h5fcreate_f, h5fopen_f, h5fclose_f, h5f_acc_trunc_f, h5f_acc_rdonly_f, &
@@ -86,13 +76,9 @@ contains
                 "or directory): supratrans replaces only regular files; remove it or choose another output file", err_io)
             return
         end if
-        call init_library(hdferr)
-        if (hdferr < 0) then
-            call fatal_error(file%error, path//": cannot initialise the HDF5 library", err_io)
-            return
-        end if
         fapl = -1
-        call h5pcreate_f(h5p_file_access_f, fapl, hdferr)
+        call init_library(hdferr)
+        if (hdferr >= 0) call h5pcreate_f(h5p_file_access_f, fapl, hdferr)
         if (hdferr >= 0) call h5pset_fapl_core_f(fapl, core_increment, .false., hdferr)
         ! the in-memory file is named like a temporary (random, never on disk): two files built at once for one path
         ! do not collide in HDF5's table of open files
@@ -100,8 +86,8 @@ contains
         call close_id(fapl)
         if (hdferr < 0) then
             file%id = -1
-            call fatal_error(file%error, path//": cannot create an HDF5 file in memory (h5fcreate_f failed: out of "// &
-                "memory?)", err_io)
+            call fatal_error(file%error, path//": cannot create an HDF5 file in memory (h5open_f/h5fcreate_f failed: "// &
+                "out of memory?)", err_io)
             return
         end if
         file%mode = h5_mode_create
@@ -126,15 +112,11 @@ contains
             return
         end if
         call init_library(hdferr)
-        if (hdferr < 0) then
-            call fatal_error(error, path//": cannot initialise the HDF5 library", err_io)
-            return
-        end if
-        call h5fopen_f(path, h5f_acc_rdonly_f, file%id, hdferr)
+        if (hdferr >= 0) call h5fopen_f(path, h5f_acc_rdonly_f, file%id, hdferr)
         if (hdferr < 0) then
             file%id = -1
-            call fatal_error(error, path//": cannot open as HDF5 file (h5fopen_f failed: not HDF5, or locked?)", &
-                err_io)
+            call fatal_error(error, path//": cannot open as HDF5 file (h5open_f/h5fopen_f failed: not HDF5, or "// &
+                "locked?)", err_io)
             return
         end if
         file%mode = h5_mode_read
@@ -149,22 +131,19 @@ contains
         type(error_type), allocatable, intent(out) :: error
         integer :: hdferr
 
-        if (file%mode == h5_mode_closed) return
-        call h5fclose_f(file%id, hdferr)
+        hdferr = 0
+        if (file%mode /= h5_mode_closed) call h5fclose_f(file%id, hdferr)
         call check(hdferr, file, "close", "/", "h5fclose_f", error)
         file%id = -1
         file%mode = h5_mode_closed
     end subroutine h5_close
 
-
     !> Close the file, ignoring errors, without writing anything (use on error). The stuck error stays in `file`.
     subroutine h5_discard(file)
         !> The file; closed on return.
         type(h5_file), intent(inout) :: file
-        integer :: hdferr
 
-        if (file%mode == h5_mode_closed) return
-        call h5fclose_f(file%id, hdferr)
+        if (file%mode /= h5_mode_closed) call close_id(file%id)
         file%id = -1
         file%mode = h5_mode_closed
     end subroutine h5_discard
@@ -306,7 +285,7 @@ contains
             " failed)", err_io)
     end subroutine check
 
-    !> Error unless the file is open.
+    !> Error unless the file is open (and, for `check_writable`, open for writing).
     subroutine check_open(file, action, object, error)
         type(h5_file), intent(in) :: file
         character(len=*), intent(in) :: action, object
@@ -323,8 +302,8 @@ contains
         type(error_type), allocatable, intent(out) :: error
 
         call check_open(file, action, object, error)
-        if (.not. allocated(error) .and. file%mode == h5_mode_read) call fatal_error(error, disk_path(file)// &
-            ": file is open read-only, cannot "//action//" '"//object//"'", err_io)
+        if (file%mode == h5_mode_read) call fatal_error(error, disk_path(file)//": file is open read-only, cannot "// &
+            action//" '"//object//"'", err_io)
     end subroutine check_writable
 
     !> Error unless `names` holds `rank` comma-separated dimension names.

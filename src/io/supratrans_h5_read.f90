@@ -3,7 +3,8 @@
 !> read the other types through test/supratrans_h5_test.f90, built on `h5_shape` and `h5_read_into`.
 !> Numeric types are converted by HDF5's rules; strings are read as this layer writes them, fixed-length (a
 !> variable-length string, h5py's default, is refused as "not a fixed-length string"). Arrays come back in their
-!> Fortran shape (the reverse of the h5py shape).
+!> Fortran shape (the reverse of the h5py shape). Each routine is a chain of HDF5 calls, each made only while the
+!> previous ones succeeded, with one check at its end.
 module supratrans_h5_read
     use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_null_char
     use hdf5, only: hid_t, hsize_t, size_t, h5dopen_f, h5dread_f, h5dget_space_f, h5dget_type_f, &
@@ -27,7 +28,7 @@ module supratrans_h5_read
     end interface h5_read
 
     !> Read an attribute: `call h5_read_attr(file, object, name, value, error)`. `value`: deferred-length allocatable
-    !> character or default integer scalar.
+    !> character, default integer or `real(wp)` scalar.
     interface h5_read_attr
         module procedure :: read_attr_char, read_attr_int_0d, read_attr_real_0d
     end interface h5_read_attr
@@ -121,8 +122,7 @@ contains
 
         value = 0
         call h5_shape(file, object, name, 0, dims, error)
-        if (allocated(error)) return
-        call h5_read_into(file, object, name, int_mem_type(), c_loc(value), error)
+        if (.not. allocated(error)) call h5_read_into(file, object, name, int_mem_type(), c_loc(value), error)
     end subroutine read_attr_int_0d
 
     subroutine read_attr_real_0d(file, object, name, value, error)
@@ -148,13 +148,8 @@ contains
         call h5_read_strings(file, object, attr, values%items, error)
         if (allocated(error)) return
         if (size(values%items) /= 1) then
-            if (len(attr) == 0) then
-                call fatal_error(error, disk_path(file)//": dataset '"//object//"' holds "// &
-                    int_str(size(values%items))//" strings, expected one", err_io)
-            else
-                call fatal_error(error, disk_path(file)//": attribute '"//attr//"' of '"//object//"' holds "// &
-                    int_str(size(values%items))//" strings, expected one", err_io)
-            end if
+            call fatal_error(error, disk_path(file)//": "//what(object, attr)//" holds "// &
+                int_str(size(values%items))//" strings, expected one", err_io)
             return
         end if
         value = values%items(1)
@@ -179,35 +174,27 @@ contains
         integer(hsize_t), allocatable :: maxdims(:)
         integer :: hdferr, n
 
-        space = -1
+        allocate (dims(0))
         call open_object(file, object, attr, id, error)
         if (allocated(error)) return
-        body: block
-            if (len(attr) == 0) then
-                call h5dget_space_f(id, space, hdferr)
-                call check(hdferr, file, "get dataspace of", object, "h5dget_space_f", error)
-            else
-                call h5aget_space_f(id, space, hdferr)
-                call check(hdferr, file, "get dataspace of"//of_attr(attr), object, "h5aget_space_f", error)
-            end if
-            if (allocated(error)) exit body
-            call h5sget_simple_extent_ndims_f(space, n, hdferr)
-            if (hdferr >= 0) then
-                allocate (dims(n), maxdims(n))
-                if (n > 0) call h5sget_simple_extent_dims_f(space, dims, maxdims, hdferr)
-            end if
-            call check(hdferr, file, "get dimensions of"//of_attr(attr), object, "h5sget_simple_extent_dims_f", error)
-            if (allocated(error) .or. rank < 0) exit body
-            if (rank == 0 .and. product(dims) /= 1) then
-                call fatal_error(error, disk_path(file)//": "//what(object, attr)//" holds "// &
-                    int_str(int(product(dims)))//" values, expected a scalar", err_io)
-            else if (rank > 0 .and. size(dims) /= rank) then
-                call fatal_error(error, disk_path(file)//": "//what(object, attr)//" has rank "//int_str(size(dims))// &
-                    ", expected "//int_str(rank), err_io)
-            end if
-        end block body
+        call get_space(id, len(attr) > 0, space, hdferr)
+        if (hdferr >= 0) call h5sget_simple_extent_ndims_f(space, n, hdferr)
+        if (hdferr >= 0) then
+            deallocate (dims)
+            allocate (dims(n), maxdims(n))
+            if (n > 0) call h5sget_simple_extent_dims_f(space, dims, maxdims, hdferr)
+        end if
         call close_id(space)
         call close_id(id)
+        call check(hdferr, file, "get the dimensions of"//of_attr(attr), object, "h5sget_simple_extent_dims_f", error)
+        if (allocated(error) .or. rank < 0) return
+        if (rank == 0 .and. product(dims) /= 1) then
+            call fatal_error(error, disk_path(file)//": "//what(object, attr)//" holds "// &
+                int_str(int(product(dims)))//" values, expected a scalar", err_io)
+        else if (rank > 0 .and. size(dims) /= rank) then
+            call fatal_error(error, disk_path(file)//": "//what(object, attr)//" has rank "//int_str(size(dims))// &
+                ", expected "//int_str(rank), err_io)
+        end if
     end subroutine h5_shape
 
     !> Read the whole dataset `object` (`attr` empty) or its attribute `attr` into the memory at `buf` (sized by the
@@ -233,12 +220,8 @@ contains
         call open_object(file, object, attr, id, error)
         if (allocated(error)) return
         call read_raw(id, len(attr) > 0, mem_type, dest, hdferr)
-        if (len(attr) == 0) then
-            call check(hdferr, file, "read dataset", object, "h5dread_f", error)
-        else
-            call check(hdferr, file, "read"//of_attr(attr), object, "h5aread_f", error)
-        end if
         call close_id(id)
+        call check(hdferr, file, "read"//of_attr(attr), object, "h5dread_f/h5aread_f", error)
     end subroutine h5_read_into
 
     !> Read the strings (fixed-length) of dataset `object` (`attr` empty) or of its attribute `attr`.
@@ -255,28 +238,27 @@ contains
         type(error_type), allocatable, intent(out) :: error
         integer(hid_t) :: id
         integer :: hdferr
-        character(len=:), allocatable :: action
 
-        action = "read dataset"
-        if (len(attr) > 0) action = "read"//of_attr(attr)
+        allocate (character(len=0) :: values(0))
         call open_object(file, object, attr, id, error)
         if (allocated(error)) return
         call read_string_values(id, len(attr) > 0, values, hdferr)
-        if (hdferr == -2) then
-            call fatal_error(error, disk_path(file)//": cannot "//action//" '"//object//"' as text: not a "// &
-                "fixed-length string", err_io)
-        else
-            call check(hdferr, file, action, object, "h5dread_f/h5aread_f", error)
-        end if
         call close_id(id)
+        if (hdferr == -2) then
+            call fatal_error(error, disk_path(file)//": cannot read"//of_attr(attr)//" '"//object//"' as text: "// &
+                "not a fixed-length string", err_io)
+        else
+            call check(hdferr, file, "read"//of_attr(attr), object, "h5dread_f/h5aread_f", error)
+        end if
     end subroutine h5_read_strings
 
-    !> " attribute 'NAME' of" for messages ("read attribute 'x' of '/y'").
+    !> " attribute 'NAME' of" for messages ("read attribute 'x' of '/y'"); " dataset" for a dataset.
     pure function of_attr(attr) result(s)
         character(len=*), intent(in) :: attr
         character(len=:), allocatable :: s
 
-        s = " attribute '"//attr//"' of"
+        s = " dataset"
+        if (len(attr) > 0) s = " attribute '"//attr//"' of"
     end function of_attr
 
     !> "dataset 'OBJECT'" or "attribute 'ATTR' of 'OBJECT'", for messages.
@@ -284,11 +266,8 @@ contains
         character(len=*), intent(in) :: object, attr
         character(len=:), allocatable :: s
 
-        if (len(attr) == 0) then
-            s = "dataset '"//object//"'"
-        else
-            s = "attribute '"//attr//"' of '"//object//"'"
-        end if
+        s = "dataset '"//object//"'"
+        if (len(attr) > 0) s = "attribute '"//attr//"' of '"//object//"'"
     end function what
 
     !> Open dataset `object` (`attr` empty) or its attribute `attr`, with a clear error if it is missing.
@@ -298,27 +277,26 @@ contains
         integer(hid_t), intent(out) :: id
         type(error_type), allocatable, intent(out) :: error
         integer :: hdferr
+        logical :: exists
 
         id = -1
+        call check_open(file, "read"//of_attr(attr), object, error)
+        if (allocated(error)) return
         if (len(attr) == 0) then
-            call check_open(file, "read dataset", object, error)
-            if (allocated(error)) return
-            if (.not. h5_exists(file, object)) then
-                call fatal_error(error, disk_path(file)//": no dataset '"//object//"'", err_io)
-                return
-            end if
-            call h5dopen_f(file%id, object, id, hdferr)
-            call check(hdferr, file, "open dataset", object, "h5dopen_f", error)
+            exists = h5_exists(file, object)
         else
-            call check_open(file, "read"//of_attr(attr), object, error)
-            if (allocated(error)) return
-            if (.not. h5_attr_exists(file, object, attr)) then
-                call fatal_error(error, disk_path(file)//": no "//what(object, attr), err_io)
-                return
-            end if
-            call h5aopen_by_name_f(file%id, root_if_empty(object), attr, id, hdferr)
-            call check(hdferr, file, "open"//of_attr(attr), object, "h5aopen_by_name_f", error)
+            exists = h5_attr_exists(file, object, attr)
         end if
+        if (.not. exists) then
+            call fatal_error(error, disk_path(file)//": no "//what(object, attr), err_io)
+            return
+        end if
+        if (len(attr) == 0) then
+            call h5dopen_f(file%id, object, id, hdferr)
+        else
+            call h5aopen_by_name_f(file%id, root_if_empty(object), attr, id, hdferr)
+        end if
+        call check(hdferr, file, "open"//of_attr(attr), object, "h5dopen_f/h5aopen_by_name_f", error)
         if (allocated(error)) id = -1
     end subroutine open_object
 
@@ -326,7 +304,7 @@ contains
     subroutine read_string_values(id, is_attr, values, hdferr)
         integer(hid_t), intent(in) :: id
         logical, intent(in) :: is_attr
-        character(len=:), allocatable, intent(out) :: values(:)
+        character(len=:), allocatable, intent(inout) :: values(:)
         integer, intent(out) :: hdferr
         integer(hid_t) :: file_type, space
         integer(hsize_t) :: npoints
@@ -339,37 +317,29 @@ contains
 
         file_type = -1
         space = -1
-        allocate (character(len=0) :: values(0))
-        body: block
-            if (is_attr) then
-                call h5aget_type_f(id, file_type, hdferr)
-            else
-                call h5dget_type_f(id, file_type, hdferr)
-            end if
-            if (hdferr < 0) exit body
-            call h5tget_class_f(file_type, type_class, hdferr)
-            if (hdferr < 0) exit body
-            if (type_class /= h5t_string_f) hdferr = -2
-            if (hdferr >= 0) call h5tis_variable_str_f(file_type, variable, hdferr)
-            if (hdferr >= 0 .and. variable) hdferr = -2    ! only fixed-length strings (what this layer writes)
-            if (hdferr < 0) exit body
-            if (is_attr) then
-                call h5aget_space_f(id, space, hdferr)
-            else
-                call h5dget_space_f(id, space, hdferr)
-            end if
-            if (hdferr >= 0) call h5sget_simple_extent_npoints_f(space, npoints, hdferr)
-            if (hdferr >= 0) call h5tget_size_f(file_type, width, hdferr)
-            if (hdferr >= 0) call h5tget_strpad_f(file_type, pad, hdferr)
-            if (hdferr < 0) exit body
+        if (is_attr) then
+            call h5aget_type_f(id, file_type, hdferr)
+        else
+            call h5dget_type_f(id, file_type, hdferr)
+        end if
+        if (hdferr >= 0) call h5tget_class_f(file_type, type_class, hdferr)
+        if (hdferr >= 0 .and. type_class /= h5t_string_f) hdferr = -2
+        if (hdferr >= 0) call h5tis_variable_str_f(file_type, variable, hdferr)
+        if (hdferr >= 0 .and. variable) hdferr = -2    ! only fixed-length strings (what this layer writes)
+        if (hdferr >= 0) call get_space(id, is_attr, space, hdferr)
+        if (hdferr >= 0) call h5sget_simple_extent_npoints_f(space, npoints, hdferr)
+        if (hdferr >= 0) call h5tget_size_f(file_type, width, hdferr)
+        if (hdferr >= 0) call h5tget_strpad_f(file_type, pad, hdferr)
+        if (hdferr >= 0) then
+            ! the raw characters, read with the file's own type; the padding stripped
             n = int(npoints)
             w = int(width)
-            ! the raw characters, read with the file's own type; the padding stripped
             allocate (chars(max(w*n, 1)), lengths(n))
             chars = c_null_char
             buf = c_loc(chars)
             if (n > 0) call read_raw(id, is_attr, file_type, buf, hdferr)
-            if (hdferr < 0) exit body
+        end if
+        if (hdferr >= 0) then
             do i = 1, n
                 lengths(i) = 0
                 do k = 1, w
@@ -386,10 +356,25 @@ contains
                 end do
                 if (pad == h5t_str_spacepad_f) values(i) = trim(values(i))
             end do
-        end block body
+        end if
         call close_id(space)
         call close_id(file_type)
     end subroutine read_string_values
+
+    !> The dataspace of an open dataset or attribute.
+    subroutine get_space(id, is_attr, space, hdferr)
+        integer(hid_t), intent(in) :: id
+        logical, intent(in) :: is_attr
+        integer(hid_t), intent(out) :: space
+        integer, intent(out) :: hdferr
+
+        space = -1
+        if (is_attr) then
+            call h5aget_space_f(id, space, hdferr)
+        else
+            call h5dget_space_f(id, space, hdferr)
+        end if
+    end subroutine get_space
 
     !> Read a whole dataset or attribute into `buf`.
     subroutine read_raw(id, is_attr, mem_type, buf, hdferr)

@@ -41,46 +41,39 @@ contains
         character(kind=c_char, len=1), allocatable, target :: image(:)
         integer(size_t) :: size
         type(c_ptr) :: buf
-        integer :: hdferr
+        integer :: hdferr, stat
 
-        if (allocated(file%error)) then
-            call h5_discard(file)
-            call move_alloc(file%error, error)
-            return
-        end if
-        call check_open(file, "commit", "/", error)
-        if (allocated(error)) return
-        if (file%mode == h5_mode_read) then
+        if (file%mode == h5_mode_read .and. .not. allocated(file%error)) then
             call h5_close(file, error)
             return
         end if
-        call attach_scales(file)
+        if (.not. allocated(file%error)) call check_open(file, "commit", "/", file%error)
+        if (.not. allocated(file%error)) call attach_scales(file)
+        if (.not. allocated(file%error)) then
+            ! the size of the image first, then the image
+            allocate (image(1))
+            buf = c_loc(image)
+            call h5fflush_f(file%id, h5f_scope_global_f, hdferr)
+            if (hdferr >= 0) call h5fget_file_image_f(file%id, buf, 0_size_t, hdferr, size)
+            stat = 0
+            if (hdferr >= 0) then
+                deallocate (image)
+                allocate (image(max(size, 1_size_t)), stat=stat)
+                if (stat /= 0) call fatal_error(file%error, file%path//": cannot allocate "// &
+                    int_str(int(min(size, 2000000000_size_t)))//" bytes for the file's image (out of memory)", err_io)
+            end if
+            if (hdferr >= 0 .and. stat == 0) then
+                buf = c_loc(image)
+                call h5fget_file_image_f(file%id, buf, size, hdferr)
+            end if
+            if (hdferr < 0) call check(hdferr, file, "take the image of", "/", "h5fflush_f/h5fget_file_image_f", &
+                file%error)
+        end if
+        call h5_discard(file)
         if (allocated(file%error)) then
-            call h5_discard(file)
             call move_alloc(file%error, error)
             return
         end if
-        call h5fflush_f(file%id, h5f_scope_global_f, hdferr)
-        call check(hdferr, file, "flush", "/", "h5fflush_f", error)
-        if (.not. allocated(error)) then
-            allocate (image(1))
-            buf = c_loc(image)
-            call h5fget_file_image_f(file%id, buf, 0_size_t, hdferr, size)
-            call check(hdferr, file, "take the image of", "/", "h5fget_file_image_f", error)
-        end if
-        if (.not. allocated(error)) then
-            deallocate (image)
-            allocate (image(max(size, 1_size_t)), stat=hdferr)
-            if (hdferr /= 0) call fatal_error(error, file%path//": cannot allocate "//int_str(int(min(size, 2000000000_size_t)))// &
-                                              " bytes for the file's image (out of memory)", err_io)
-        end if
-        if (.not. allocated(error)) then
-            buf = c_loc(image)
-            call h5fget_file_image_f(file%id, buf, size, hdferr)
-            call check(hdferr, file, "take the image of", "/", "h5fget_file_image_f", error)
-        end if
-        call h5_discard(file)
-        if (allocated(error)) return
         call write_bytes_atomic(file%path, image(1:size), error)
     end subroutine h5_commit
 
@@ -116,14 +109,11 @@ contains
         logical :: attached, is_scale
 
         call h5_shape(file, name, "", -1, shape, error)
-        if (.not. allocated(error)) then
-            call h5dopen_f(file%id, name, dset, hdferr)
-            call check(hdferr, file, "open dataset", name, "h5dopen_f", error)
-        end if
         if (allocated(error)) then
             call stick(file, error)
             return
         end if
+        call h5dopen_f(file%id, name, dset, hdferr)
         rank = size(shape)
         rest = names
         j = 0

@@ -16,12 +16,12 @@
 !> `<file>: cannot open file (<reason>)`, `<file>: cannot read file (<reason>)`,
 !> `<file>: &<group>: <key> = '<name>': unknown <potential|method> (known: ...)`.
 module supratrans_input
-    use supratrans_kinds, only: name_len
+    use supratrans_kinds, only: name_len, path_len
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_strings, only: int_str, text_fingerprint, find_name
     use supratrans_system, only: path_kind, path_missing, path_directory, path_special, file_size
     use supratrans_config, only: input_config, default_probes
-    use supratrans_keys, only: key_value, kt_integer, kt_real, kt_logical, kt_name, input_error, joined
+    use supratrans_keys, only: key_value, kt_integer, kt_real, kt_logical, input_error, joined
     use supratrans_schema, only: key_table, set_key, choice_names, choice_noun, key_record_probes
     use supratrans_namelist, only: parse_namelist, parsed_input
     use supratrans_validate, only: validate_config
@@ -85,7 +85,7 @@ contains
         if (allocated(error)) return
         call parse_namelist(text, path, parsed, error)
         if (allocated(error)) return
-        if (.not. has_group(text)) then
+        if (parsed%n_groups == 0) then
             call fatal_error(error, path // ": no namelist group in the file (an empty or comments-only input is " &
                              // "refused: write at least &output file = '...' /)", err_input)
             return
@@ -96,27 +96,6 @@ contains
         if (parsed%n_values(key_record_probes) == 0) cfg%run%record%probes = min(default_probes, cfg%run%chain%n)
         call validate_config(cfg, error, check_output)
     end subroutine read_input_text
-
-    !> Whether a namelist text opens a group: a line whose first character other than a blank is `&`.
-    pure function has_group(text) result(yes)
-        character(len=*), intent(in) :: text
-        logical :: yes
-        integer :: i
-        logical :: line_start
-
-        yes = .false.
-        line_start = .true.
-        do i = 1, len(text)
-            if (text(i:i) == new_line("a")) then
-                line_start = .true.
-            else if (line_start .and. text(i:i) == "&") then
-                yes = .true.
-                return
-            else if (text(i:i) /= " " .and. text(i:i) /= achar(9)) then
-                line_start = .false.
-            end if
-        end do
-    end function has_group
 
     !> Refuse a line longer than `max_line_length` characters (no namelist needs one; the parser's work grows with
     !> the number of tokens of a line, so a megabyte-long line would take seconds).
@@ -172,8 +151,9 @@ contains
                     end do
                 case (kt_logical)
                     v%flag = items(1)%s == ".true."
-                case (kt_name)
+                case default
                     if (spec%ids) then
+                        ! a named choice held as its number
                         names = choice_names(spec%choices)
                         allocate (v%ints(n))
                         do i = 1, n
@@ -188,16 +168,8 @@ contains
                             end if
                         end do
                     else
-                        allocate (v%texts(n))
-                        do i = 1, n
-                            v%texts(i) = items(i)%s
-                        end do
+                        v%texts = [character(len=path_len) :: (items(i)%s, i = 1, n)]
                     end if
-                case default
-                    allocate (v%texts(n))
-                    do i = 1, n
-                        v%texts(i) = items(i)%s
-                    end do
                 end select
                 if (ios /= 0) then
                     call input_error(error, path, trim(spec%group), "key '" // trim(spec%key) &

@@ -9,7 +9,7 @@ module supratrans_keys
     implicit none
     private
 
-    public :: real_value, int_value, flag_value, text_value, set_list, input_error, joined
+    public :: set_list, input_error, joined
 
     !> Value type of a key: an integer.
     integer, parameter, public :: kt_integer = 1
@@ -53,21 +53,17 @@ module supratrans_keys
         character(len=attribute_len) :: attribute = ""
         !> Units of the value ("1" for counts, flags, names and dimensionless numbers).
         character(len=units_len) :: units = "1"
-        !> Whether the value (each value of a list) has a lower bound.
-        logical :: has_min = .false.
         !> The lower bound is strict (value > min).
         logical :: min_strict = .false.
         !> Lower bound.
         real(wp) :: min = 0.0_wp
-        !> Lower bound as messages show it.
+        !> Lower bound as messages show it; blank when the value (each value of a list) has no lower bound.
         character(len=bound_len) :: min_text = ""
-        !> Whether the value has an upper bound.
-        logical :: has_max = .false.
         !> The upper bound is strict (value < max).
         logical :: max_strict = .false.
         !> Upper bound.
         real(wp) :: max = 0.0_wp
-        !> Upper bound as messages show it.
+        !> Upper bound as messages show it; blank when there is none.
         character(len=bound_len) :: max_text = ""
         !> Replaces "must be >= <min>" in the message of a value out of range (blank: the default text).
         character(len=text_len) :: message = ""
@@ -126,47 +122,6 @@ contains
 
         if (v%n > 0) list = v%ints(1:v%n)
     end subroutine set_int_list
-
-    !> A `key_value` holding reals.
-    pure function real_value(x) result(v)
-        !> The values.
-        real(wp), intent(in) :: x(:)
-        type(key_value) :: v
-
-        v%n = size(x)
-        allocate (v%reals, source=x)
-    end function real_value
-
-    !> A `key_value` holding integers (or numbers of choices).
-    pure function int_value(i) result(v)
-        !> The values.
-        integer, intent(in) :: i(:)
-        type(key_value) :: v
-
-        v%n = size(i)
-        allocate (v%ints, source=i)
-    end function int_value
-
-    !> A `key_value` holding one logical.
-    pure function flag_value(flag) result(v)
-        !> The value.
-        logical, intent(in) :: flag
-        type(key_value) :: v
-
-        v%n = 1
-        v%flag = flag
-    end function flag_value
-
-    !> A `key_value` holding names or paths.
-    pure function text_value(s) result(v)
-        !> The values.
-        character(len=*), intent(in) :: s(:)
-        type(key_value) :: v
-
-        v%n = size(s)
-        allocate (v%texts(size(s)))
-        v%texts = s
-    end function text_value
 
     !> The input error `<where>: &<group>: <detail>` (status `err_input`): one line naming the file, group and key.
     pure subroutine input_error(error, where, group, detail)

@@ -46,6 +46,8 @@ module supratrans_namelist
         integer, allocatable :: n_values(:)
         !> The values given for each entry of `key_table` (no items when absent).
         type(string_list), allocatable :: values(:)
+        !> Number of groups in the file (0 for an empty or comments-only file).
+        integer :: n_groups = 0
     end type parsed_input
 
 contains
@@ -102,6 +104,7 @@ contains
                 end select
             end associate
             seen(ig) = .true.
+            parsed%n_groups = parsed%n_groups + 1
             call parse_group(tokens, it, path, trim(groups(ig)), parsed, error)
             if (allocated(error)) return
         end do

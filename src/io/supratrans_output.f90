@@ -14,6 +14,15 @@ module supratrans_output
 
     public :: write_timeseries, write_parameters, write_root, write_outcome, timestamp
 
+    !> What each column of the energy ledger (`ledger_columns` of `supratrans_result`) is.
+    character(len=*), parameter :: ledger_description(*) = [character(len=96) :: &
+        "Stored discrete energy E_k (paper Sec. 3.2, sums over n = 1..N)", &
+        "Energy injected through the driven end up to t: sum dt [c^2 (u_0 - u_1) + beta (y_0 - y_1)] y_0", &
+        "Energy dissipated by the external damping gamma up to t", &
+        "Energy dissipated by the internal damping beta up to t", &
+        "Energy dissipated by the absorbing end gamma'(n) up to t", &
+        "Balance residual E_k - E_0 - (injected - dissipated): zero to roundoff for the Newton scheme"]
+
 contains
 
     !> Write the `timeseries` scene: one run's probes u_n(t), its energy ledger over time and its outcome.
@@ -43,32 +52,11 @@ contains
                       "Record times t_{k+1/2} (E_k is defined on levels k and k+1)", dims="time")
         do j = 1, size(ledger_columns)
             call h5_write(file, "/ledger/"//trim(ledger_columns(j)), result%ledger_series(1:nl, j), "energy", &
-                          ledger_description(j), dims="time")
+                          trim(ledger_description(j)), dims="time")
         end do
         call write_outcome(file, "/run", result)
         call h5_commit(file, error)
     end subroutine write_timeseries
-
-    !> Meaning of each ledger column.
-    pure function ledger_description(j) result(text)
-        integer, intent(in) :: j
-        character(len=:), allocatable :: text
-
-        select case (j)
-        case (1)
-            text = "Stored discrete energy E_k (paper Sec. 3.2, sums over n = 1..N)"
-        case (2)
-            text = "Energy injected through the driven end up to t: sum dt [c^2 (u_0 - u_1) + beta (y_0 - y_1)] y_0"
-        case (3)
-            text = "Energy dissipated by the external damping gamma up to t"
-        case (4)
-            text = "Energy dissipated by the internal damping beta up to t"
-        case (5)
-            text = "Energy dissipated by the absorbing end gamma'(n) up to t"
-        case default
-            text = "Balance residual E_k - E_0 - (injected - dissipated): zero to roundoff for the Newton scheme"
-        end select
-    end function ledger_description
 
     !> Root attributes shared by every scene (code, version, scene, description, input file, creation time) and the
     !> `/provenance` group.

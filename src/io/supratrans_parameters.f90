@@ -57,23 +57,18 @@ contains
         associate (spec => key_table(ik))
             v = get_key(cfg, ik)
             if (v%n == 0 .and. spec%unset > 0) v = get_key(cfg, spec%unset)
+            ! a list as an array (empty when unset), a scalar key as a scalar
             select case (spec%value_type)
             case (kt_real)
-                allocate (reals(v%n))
+                reals = [real(wp) ::]
                 if (v%n > 0) reals = v%reals(1:v%n)
-                if (spec%max_values > 1) then
-                    call h5_write_attr(file, group, name, reals)
-                else
-                    call h5_write_attr(file, group, name, reals(1))
-                end if
+                if (spec%max_values > 1) call h5_write_attr(file, group, name, reals)
+                if (spec%max_values == 1) call h5_write_attr(file, group, name, reals(1))
             case (kt_integer)
-                allocate (ints(v%n))
+                ints = [integer ::]
                 if (v%n > 0) ints = v%ints(1:v%n)
-                if (spec%max_values > 1) then
-                    call h5_write_attr(file, group, name, ints)
-                else
-                    call h5_write_attr(file, group, name, ints(1))
-                end if
+                if (spec%max_values > 1) call h5_write_attr(file, group, name, ints)
+                if (spec%max_values == 1) call h5_write_attr(file, group, name, ints(1))
             case (kt_logical)
                 call h5_write_attr(file, group, name, v%flag)
             case default

@@ -8,7 +8,7 @@ module supratrans_schema
     use supratrans_config, only: input_config, potential_choices, method_choices, scene_choices, screen_choices, vary_choices, &
         max_curve_values, max_probes, max_scene_methods, max_scene_dts
     use supratrans_keys, only: key_spec, derived_spec, key_value, kt_integer, kt_real, kt_logical, kt_name, kt_path, &
-        real_value, int_value, flag_value, text_value, set_list
+        set_list
     implicit none
     private
 
@@ -49,37 +49,36 @@ module supratrans_schema
         key_spec(group="chain", key="potential", value_type=kt_name, attribute="potential", choices=choice_potential, &
             ids=.true., default_text="'sine-gordon'", range_text="'sine-gordon', 'klein-gordon'", &
             description="On-site potential V(u): 'sine-gordon' (1 - cos u) or 'klein-gordon' (its phi^6 truncation)"), &
-        key_spec(group="chain", key="c", value_type=kt_real, attribute="c", units="1/time", has_min=.true., min=0.0_wp, &
-            min_text="0", min_strict=.true., has_max=.true., max=1000000.0_wp, max_text="1000000", default_text="4", &
-            range_text="> 0 and <= 1000000", description="Coupling coefficient c"), &
-        key_spec(group="chain", key="m2", value_type=kt_real, attribute="m2", units="1/time^2", has_min=.true., min=-1.0_wp, &
-            min_text="-1", min_strict=.true., &
-            message="need 1 + m2 > 0 (the band gap 0 < Omega < sqrt(1 + m^2) must not be empty)", default_text="0", &
-            range_text="> -1", description="Mass term m^2 (negative for an imaginary mass)"), &
-        key_spec(group="chain", key="gamma", value_type=kt_real, attribute="gamma", units="1/time", has_min=.true., &
-            min=0.0_wp, min_text="0", default_text="0", range_text=">= 0", description="External damping gamma"), &
-        key_spec(group="chain", key="beta", value_type=kt_real, attribute="beta", units="1/time", has_min=.true., min=0.0_wp, &
-            min_text="0", default_text="0", range_text=">= 0", description="Internal damping beta"), &
-        key_spec(group="chain", key="n", value_type=kt_integer, attribute="n", has_min=.true., min=2.0_wp, min_text="2", &
+        key_spec(group="chain", key="c", value_type=kt_real, attribute="c", units="1/time", min=0.0_wp, min_text="0", &
+            min_strict=.true., max=1000000.0_wp, max_text="1000000", default_text="4", range_text="> 0 and <= 1000000", &
+            description="Coupling coefficient c"), &
+        key_spec(group="chain", key="m2", value_type=kt_real, attribute="m2", units="1/time^2", min=-1.0_wp, min_text="-1", &
+            min_strict=.true., message="need 1 + m2 > 0 (the band gap 0 < Omega < sqrt(1 + m^2) must not be empty)", &
+            default_text="0", range_text="> -1", description="Mass term m^2 (negative for an imaginary mass)"), &
+        key_spec(group="chain", key="gamma", value_type=kt_real, attribute="gamma", units="1/time", min=0.0_wp, min_text="0", &
+            default_text="0", range_text=">= 0", description="External damping gamma"), &
+        key_spec(group="chain", key="beta", value_type=kt_real, attribute="beta", units="1/time", min=0.0_wp, min_text="0", &
+            default_text="0", range_text=">= 0", description="Internal damping beta"), &
+        key_spec(group="chain", key="n", value_type=kt_integer, attribute="n", min=2.0_wp, min_text="2", &
             message="need N >= 2", default_text="200", range_text=">= 2", description="Number of oscillators N"), &
         key_spec(group="chain", key="n0", value_type=kt_integer, attribute="n0", default_text="150", &
             range_text="0 <= N0 <= N", description="Last site before the absorber, N0 (the absorber acts on N0 < n <= N)"), &
-        key_spec(group="chain", key="kappa", value_type=kt_real, attribute="kappa", units="1/time", has_min=.true., &
-            min=0.0_wp, min_text="0", default_text="0.5", range_text=">= 0", &
+        key_spec(group="chain", key="kappa", value_type=kt_real, attribute="kappa", units="1/time", min=0.0_wp, min_text="0", &
+            default_text="0.5", range_text=">= 0", &
             description="Absorber strength kappa: gamma'(n) rises smoothly from 0 to 2 kappa"), &
-        key_spec(group="chain", key="sigma", value_type=kt_real, attribute="sigma", has_min=.true., min=0.0_wp, min_text="0", &
+        key_spec(group="chain", key="sigma", value_type=kt_real, attribute="sigma", min=0.0_wp, min_text="0", &
             min_strict=.true., default_text="3", range_text="> 0", description="Absorber width sigma (sites)")]
 
     !> The keys of &drive.
     type(key_spec), parameter :: drive_keys(*) = [ &
-        key_spec(group="drive", key="amplitude", value_type=kt_real, attribute="amplitude", units="rad", has_min=.true., &
-            min=0.0_wp, min_text="0", default_text="1.77", range_text=">= 0", description="Driving amplitude A"), &
-        key_spec(group="drive", key="omega", value_type=kt_real, attribute="omega", units="1/time", has_min=.true., &
-            min=0.0_wp, min_text="0", min_strict=.true., default_text="0.9", &
+        key_spec(group="drive", key="amplitude", value_type=kt_real, attribute="amplitude", units="rad", min=0.0_wp, &
+            min_text="0", default_text="1.77", range_text=">= 0", description="Driving amplitude A"), &
+        key_spec(group="drive", key="omega", value_type=kt_real, attribute="omega", units="1/time", min=0.0_wp, min_text="0", &
+            min_strict=.true., default_text="0.9", &
             range_text="> 0; inside the band gap, Omega < sqrt(1 + m^2), unless allow_outside_gap (timeseries, amplitude_sweep)", &
             description="Driving frequency Omega"), &
-        key_spec(group="drive", key="ramp_time", value_type=kt_real, attribute="ramp_time", units="time", has_min=.true., &
-            min=0.0_wp, min_text="0", default_text="50", range_text=">= 0", &
+        key_spec(group="drive", key="ramp_time", value_type=kt_real, attribute="ramp_time", units="time", min=0.0_wp, &
+            min_text="0", default_text="50", range_text=">= 0", &
             description="Length of the linear ramp of the drive amplitude (0: no ramp)"), &
         key_spec(group="drive", key="allow_outside_gap", value_type=kt_logical, attribute="allow_outside_gap", &
             default_text=".false.", range_text="", description="Allow a driving frequency outside the band gap")]
@@ -90,22 +89,21 @@ module supratrans_schema
             default_text="'newton'", range_text="'newton', 'linearized', 'rk4', 'rk8', 'avf4', 'avf8'", &
             description="Integrator: 'newton' (the paper's scheme), 'linearized', 'rk4', 'rk8', or the energy-preserving col" // &
             "location 'avf4' or 'avf8' (docs/method.md)"), &
-        key_spec(group="numerics", key="dt", value_type=kt_real, attribute="dt", units="time", has_min=.true., min=0.0_wp, &
-            min_text="0", min_strict=.true., default_text="0.05", &
+        key_spec(group="numerics", key="dt", value_type=kt_real, attribute="dt", units="time", min=0.0_wp, min_text="0", &
+            min_strict=.true., default_text="0.05", &
             range_text="> 0; the paper's necessary stability condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt, unless " // &
             "allow_unstable or an A-stable method (avf4, avf8)", description="Time step Delta t"), &
-        key_spec(group="numerics", key="t_final", value_type=kt_real, attribute="t_final", units="time", has_min=.true., &
-            min=0.0_wp, min_text="0", min_strict=.true., default_text="200", range_text="> 0; >= 2 dt", &
-            description="Final time T"), &
-        key_spec(group="numerics", key="newton_tol", value_type=kt_real, attribute="newton_tol", units="rad", has_min=.true., &
-            min=0.0_wp, min_text="0", min_strict=.true., default_text="1e-10", range_text="> 0", &
+        key_spec(group="numerics", key="t_final", value_type=kt_real, attribute="t_final", units="time", min=0.0_wp, &
+            min_text="0", min_strict=.true., default_text="200", range_text="> 0; >= 2 dt", description="Final time T"), &
+        key_spec(group="numerics", key="newton_tol", value_type=kt_real, attribute="newton_tol", units="rad", min=0.0_wp, &
+            min_text="0", min_strict=.true., default_text="1e-10", range_text="> 0", &
             description="Newton accepts a step when its proven error bound (quadratic convergence) is at most this and, in r" // &
             "uns that keep the energy ledger (all but search runs), the ledger closes to roundoff"), &
-        key_spec(group="numerics", key="newton_max_iter", value_type=kt_integer, attribute="newton_max_iter", has_min=.true., &
-            min=1.0_wp, min_text="1", default_text="20", range_text=">= 1", &
+        key_spec(group="numerics", key="newton_max_iter", value_type=kt_integer, attribute="newton_max_iter", min=1.0_wp, &
+            min_text="1", default_text="20", range_text=">= 1", &
             description="Newton iteration cap; reaching it without convergence fails the run"), &
         key_spec(group="numerics", key="blowup_threshold", value_type=kt_real, attribute="blowup_threshold", units="rad", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="1000", range_text="> 0", &
+            min=0.0_wp, min_text="0", min_strict=.true., default_text="1000", range_text="> 0", &
             description="A run whose |u_n| exceeds this is declared diverged (blown up)"), &
         key_spec(group="numerics", key="allow_unstable", value_type=kt_logical, attribute="allow_unstable", &
             default_text=".false.", range_text="", &
@@ -116,10 +114,10 @@ module supratrans_schema
         key_spec(group="record", key="probes", value_type=kt_integer, max_values=max_probes, attribute="probes", &
             default_text="60 (N if N < 60)", range_text="up to 64 values, each a site 1 .. N, none given twice", &
             description="Sites n whose u_n(t) is recorded"), &
-        key_spec(group="record", key="probe_every", value_type=kt_integer, attribute="probe_every", has_min=.true., &
-            min=1.0_wp, min_text="1", default_text="1", range_text=">= 1", description="Record probes every this many steps"), &
-        key_spec(group="record", key="ledger_every", value_type=kt_integer, attribute="ledger_every", has_min=.true., &
-            min=1.0_wp, min_text="1", default_text="20", range_text=">= 1", &
+        key_spec(group="record", key="probe_every", value_type=kt_integer, attribute="probe_every", min=1.0_wp, min_text="1", &
+            default_text="1", range_text=">= 1", description="Record probes every this many steps"), &
+        key_spec(group="record", key="ledger_every", value_type=kt_integer, attribute="ledger_every", min=1.0_wp, &
+            min_text="1", default_text="20", range_text=">= 1", &
             description="Evaluate the stored energy E_k and record the ledger every this many steps")]
 
     !> The keys of &scene.
@@ -128,23 +126,24 @@ module supratrans_schema
             default_text="'timeseries'", &
             range_text="'timeseries', 'amplitude_sweep', 'map', 'bifurcation', 'work_precision', 'stability', 'continuation'" // &
             ", 'hysteresis'", description="Scene: the study to run"), &
-        key_spec(group="scene", key="amplitude_min", value_type=kt_real, attribute="amplitude_min", units="rad", &
-            has_min=.true., min=0.0_wp, min_text="0", default_text="1", range_text=">= 0", &
+        key_spec(group="scene", key="amplitude_min", value_type=kt_real, attribute="amplitude_min", units="rad", min=0.0_wp, &
+            min_text="0", default_text="1", range_text=">= 0", &
             description="Amplitude axis of sweeps and maps, and the search range of the bifurcation scene: lower end"), &
         key_spec(group="scene", key="amplitude_max", value_type=kt_real, attribute="amplitude_max", units="rad", &
             default_text="3", range_text=">= amplitude_min", description="Upper end of the amplitude axis / search range"), &
-        key_spec(group="scene", key="amplitude_step", value_type=kt_real, attribute="amplitude_step", units="rad", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="0.01", range_text="> 0", &
+        key_spec(group="scene", key="amplitude_step", value_type=kt_real, attribute="amplitude_step", units="rad", min=0.0_wp, &
+            min_text="0", min_strict=.true., default_text="0.01", range_text="> 0", &
             description="Amplitude step of sweeps and maps"), &
-        key_spec(group="scene", key="omega_min", value_type=kt_real, attribute="omega_min", units="1/time", has_min=.true., &
-            min=0.0_wp, min_text="0", min_strict=.true., default_text="0.05", range_text="> 0", &
+        key_spec(group="scene", key="omega_min", value_type=kt_real, attribute="omega_min", units="1/time", min=0.0_wp, &
+            min_text="0", min_strict=.true., default_text="0.05", range_text="> 0", &
             description="Frequency axis of maps and bifurcation diagrams: lower end"), &
         key_spec(group="scene", key="omega_max", value_type=kt_real, attribute="omega_max", units="1/time", default_text="1", &
             range_text=">= omega_min", description="Upper end of the frequency axis"), &
-        key_spec(group="scene", key="omega_step", value_type=kt_real, attribute="omega_step", units="1/time", has_min=.true., &
-            min=0.0_wp, min_text="0", min_strict=.true., default_text="0.05", range_text="> 0", description="Frequency step"), &
-        key_spec(group="scene", key="vary", value_type=kt_name, attribute="vary", choices=choice_vary, default_text="'none'", &
-            range_text="'none', 'gamma', 'beta', 'm2'", description="Parameter that differs between curves"), &
+        key_spec(group="scene", key="omega_step", value_type=kt_real, attribute="omega_step", units="1/time", min=0.0_wp, &
+            min_text="0", min_strict=.true., default_text="0.05", range_text="> 0", description="Frequency step"), &
+        key_spec(group="scene", key="vary", value_type=kt_name, attribute="vary", choices=choice_vary, ids=.true., &
+            default_text="'none'", range_text="'none', 'gamma', 'beta', 'm2'", &
+            description="Parameter that differs between curves"), &
         key_spec(group="scene", key="values", value_type=kt_real, max_values=max_curve_values, attribute="values", &
             default_text="unset (needed unless vary = 'none')", range_text="up to 16 values", &
             description="Values of the varied parameter, one curve each (in the units of that parameter)"), &
@@ -153,28 +152,24 @@ module supratrans_schema
             range_text="up to 2 values, each 'sine-gordon', 'klein-gordon'", &
             description="Potentials, one panel (sweeps, maps) or set of curves each"), &
         key_spec(group="scene", key="continuation_step", value_type=kt_real, attribute="continuation_step", units="rad", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="0.05", &
-            range_text="> 0; <= continuation_step_max", &
+            min=0.0_wp, min_text="0", min_strict=.true., default_text="0.05", range_text="> 0; <= continuation_step_max", &
             description="Continuation: first pseudo-arclength step along the branch of driven periodic states (grows and shr" // &
             "inks with Newton's progress)"), &
         key_spec(group="scene", key="continuation_step_max", value_type=kt_real, attribute="continuation_step_max", &
-            units="rad", has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="0.2", range_text="> 0", &
+            units="rad", min=0.0_wp, min_text="0", min_strict=.true., default_text="0.2", range_text="> 0", &
             description="Continuation: largest pseudo-arclength step"), &
-        key_spec(group="scene", key="continuation_points", value_type=kt_integer, attribute="continuation_points", &
-            has_min=.true., min=3.0_wp, min_text="3", has_max=.true., max=150.0_wp, max_text="150", default_text="150", &
-            range_text=">= 3 and <= 150", &
+        key_spec(group="scene", key="continuation_points", value_type=kt_integer, attribute="continuation_points", min=3.0_wp, &
+            min_text="3", max=150.0_wp, max_text="150", default_text="150", range_text=">= 3 and <= 150", &
             description="Continuation: most points of a branch (the continuation stops there with status 'max_points')"), &
-        key_spec(group="scene", key="beyond_fold", value_type=kt_integer, attribute="beyond_fold", has_min=.true., min=0.0_wp, &
-            min_text="0", has_max=.true., max=100.0_wp, max_text="100", default_text="10", range_text=">= 0 and <= 100", &
+        key_spec(group="scene", key="beyond_fold", value_type=kt_integer, attribute="beyond_fold", min=0.0_wp, min_text="0", &
+            max=100.0_wp, max_text="100", default_text="10", range_text=">= 0 and <= 100", &
             description="Continuation: points followed along the unstable branch past the fold"), &
-        key_spec(group="scene", key="crossing_tol", value_type=kt_real, attribute="crossing_tol", has_min=.true., min=0.0_wp, &
-            min_text="0", min_strict=.true., has_max=.true., max=0.1_wp, max_text="0.1", default_text="1e-06", &
-            range_text="> 0 and <= 0.1", &
+        key_spec(group="scene", key="crossing_tol", value_type=kt_real, attribute="crossing_tol", min=0.0_wp, min_text="0", &
+            min_strict=.true., max=0.1_wp, max_text="0.1", default_text="1e-06", range_text="> 0 and <= 0.1", &
             description="Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + c" // &
             "rossing_tol"), &
-        key_spec(group="scene", key="floquet_every", value_type=kt_integer, attribute="floquet_every", has_min=.true., &
-            min=1.0_wp, min_text="1", has_max=.true., max=100.0_wp, max_text="100", default_text="4", &
-            range_text=">= 1 and <= 100", &
+        key_spec(group="scene", key="floquet_every", value_type=kt_integer, attribute="floquet_every", min=1.0_wp, &
+            min_text="1", max=100.0_wp, max_text="100", default_text="4", range_text=">= 1 and <= 100", &
             description="Continuation: multipliers at every this many branch points, and wherever the largest moduli's trend" // &
             " could reach the unit circle, at the fold and where the verdict changes (1: at every point)"), &
         key_spec(group="scene", key="fold_convergence", value_type=kt_logical, attribute="fold_convergence", &
@@ -183,25 +178,24 @@ module supratrans_schema
         key_spec(group="scene", key="coarse_step", value_type=kt_real, attribute="coarse_step", units="rad", &
             default_text="0.1", range_text=">= resolution", &
             description="Bifurcation search: coarse amplitude step of the upward scan"), &
-        key_spec(group="scene", key="resolution", value_type=kt_real, attribute="resolution", units="rad", has_min=.true., &
-            min=0.0_wp, min_text="0", min_strict=.true., default_text="0.01", range_text="> 0", &
+        key_spec(group="scene", key="resolution", value_type=kt_real, attribute="resolution", units="rad", min=0.0_wp, &
+            min_text="0", min_strict=.true., default_text="0.01", range_text="> 0", &
             description="Bifurcation search: resolution of the threshold; stability scene: resolution of the boundary in dt"), &
         key_spec(group="scene", key="screen_method", value_type=kt_name, attribute="screen_method", choices=choice_screen, &
-            default_text="'linearized'", range_text="'none', 'newton', 'linearized', 'rk4', 'rk8'", &
+            ids=.true., default_text="'linearized'", range_text="'none', 'newton', 'linearized', 'rk4', 'rk8'", &
             description="Bifurcation search: integrator that screens amplitudes far from the threshold ('none': every run us" // &
             "es the &numerics method; README, ""Screening"")"), &
-        key_spec(group="scene", key="screen_dt", value_type=kt_real, attribute="screen_dt", units="time", has_min=.true., &
-            min=0.0_wp, min_text="0", default_text="0 (2 dt, or dt where 2 dt breaks the stability condition)", &
+        key_spec(group="scene", key="screen_dt", value_type=kt_real, attribute="screen_dt", units="time", min=0.0_wp, &
+            min_text="0", default_text="0 (2 dt, or dt where 2 dt breaks the stability condition)", &
             range_text=">= 0; 0, or dt <= screen_dt <= t_final/2", &
             description="Bifurcation search: time step of the screening runs (0: twice the &numerics dt where that meets the" // &
             " paper's stability condition, else dt)"), &
-        key_spec(group="scene", key="confirm_band", value_type=kt_real, attribute="confirm_band", units="rad", has_min=.true., &
-            min=0.0_wp, min_text="0", default_text="0.05", range_text=">= 0", &
+        key_spec(group="scene", key="confirm_band", value_type=kt_real, attribute="confirm_band", units="rad", min=0.0_wp, &
+            min_text="0", default_text="0.05", range_text=">= 0", &
             description="Bifurcation search: every amplitude the search asks within this distance below its threshold (and a" // &
             "bove) is run with the &numerics method"), &
-        key_spec(group="scene", key="screen_margin", value_type=kt_real, attribute="screen_margin", has_min=.true., &
-            min=0.0_wp, min_text="0", has_max=.true., max=1.0_wp, max_text="1", default_text="0.5", &
-            range_text=">= 0 and <= 1", &
+        key_spec(group="scene", key="screen_margin", value_type=kt_real, attribute="screen_margin", min=0.0_wp, min_text="0", &
+            max=1.0_wp, max_text="1", default_text="0.5", range_text=">= 0 and <= 1", &
             description="Bifurcation search: a quiet screening run whose verdict margin (1 - max|u|/amplitude beyond the det" // &
             "ector) is below this is run again with the &numerics method"), &
         key_spec(group="scene", key="certify", value_type=kt_logical, attribute="certify", default_text=".false.", &
@@ -213,39 +207,39 @@ module supratrans_schema
             range_text="up to 8 values, each 'newton', 'linearized', 'rk4', 'rk8', 'avf4', 'avf8'", &
             description="Work-precision and stability scenes: the integrators compared"), &
         key_spec(group="scene", key="dts", value_type=kt_real, max_values=max_scene_dts, attribute="dts", units="time", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="the scene's list", &
+            min=0.0_wp, min_text="0", min_strict=.true., default_text="the scene's list", &
             range_text="up to 64 values, each > 0; <= t_final/2 (work_precision)", &
             description="Work-precision: the time steps (each method runs those >= its dt_smallest); stability: the dt axis"), &
         key_spec(group="scene", key="dt_smallest", value_type=kt_real, max_values=max_scene_methods, attribute="dt_smallest", &
-            units="time", has_min=.true., min=0.0_wp, min_text="0", default_text="0 for every method", &
+            units="time", min=0.0_wp, min_text="0", default_text="0 for every method", &
             range_text="up to 8 values, each >= 0; one value per entry of methods", &
             description="Work-precision: smallest dt run for each method, one per entry of methods (0: every dt of dts)"), &
         key_spec(group="scene", key="amplitudes", value_type=kt_real, max_values=max_curve_values, attribute="amplitudes", &
-            units="rad", has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="the &drive amplitude", &
+            units="rad", min=0.0_wp, min_text="0", min_strict=.true., default_text="the &drive amplitude", &
             range_text="up to 16 values, each > 0", description="Work-precision: the drive amplitudes (one set of runs each)"), &
         key_spec(group="scene", key="c_values", value_type=kt_real, max_values=max_curve_values, attribute="c_values", &
-            units="1/time", has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="the &chain c", &
+            units="1/time", min=0.0_wp, min_text="0", min_strict=.true., default_text="the &chain c", &
             range_text="up to 16 values, each > 0", description="Stability: the values of the coupling c (the c axis)"), &
-        key_spec(group="scene", key="repeats", value_type=kt_integer, attribute="repeats", has_min=.true., min=1.0_wp, &
-            min_text="1", default_text="3", range_text=">= 1", &
+        key_spec(group="scene", key="repeats", value_type=kt_integer, attribute="repeats", min=1.0_wp, min_text="1", &
+            default_text="3", range_text=">= 1", &
             description="Work-precision: timed repetitions of each run (the median wall time is recorded)"), &
-        key_spec(group="scene", key="reference_dt", value_type=kt_real, attribute="reference_dt", units="time", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="0.025", range_text="> 0; <= t_final/2", &
+        key_spec(group="scene", key="reference_dt", value_type=kt_real, attribute="reference_dt", units="time", min=0.0_wp, &
+            min_text="0", min_strict=.true., default_text="0.025", range_text="> 0; <= t_final/2", &
             description="Work-precision: step of the reference solution (rk8 at reference_dt/2, checked against reference_dt)"), &
         key_spec(group="scene", key="stair_times", value_type=kt_real, max_values=max_curve_values, attribute="stair_times", &
-            units="time", has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="400 (one stair length)", &
+            units="time", min=0.0_wp, min_text="0", min_strict=.true., default_text="400 (one stair length)", &
             range_text="up to 16 values, each > 0; >= 2 stair_ramp", &
             description="Hysteresis: the stair lengths (one run each per curve and Omega); the spread of the edges over them" // &
             " is the protocol's part"), &
-        key_spec(group="scene", key="stair_height", value_type=kt_real, attribute="stair_height", units="rad", has_min=.true., &
-            min=0.0_wp, min_text="0", min_strict=.true., default_text="0.02", range_text="> 0", &
+        key_spec(group="scene", key="stair_height", value_type=kt_real, attribute="stair_height", units="rad", min=0.0_wp, &
+            min_text="0", min_strict=.true., default_text="0.02", range_text="> 0", &
             description="Hysteresis: amplitude step between two stairs (levels amplitude_min + i stair_height <= amplitude_max)"), &
-        key_spec(group="scene", key="stair_ramp", value_type=kt_real, attribute="stair_ramp", units="time", has_min=.true., &
-            min=0.0_wp, min_text="0", default_text="10", range_text=">= 0; <= stair_times/2", &
+        key_spec(group="scene", key="stair_ramp", value_type=kt_real, attribute="stair_ramp", units="time", min=0.0_wp, &
+            min_text="0", default_text="10", range_text=">= 0; <= stair_times/2", &
             description="Hysteresis: length of the linear ramp between two stairs (at the start of each stair, so that the d" // &
             "rive stays continuous)"), &
         key_spec(group="scene", key="power_threshold", value_type=kt_real, attribute="power_threshold", units="energy/time", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="0.05", range_text="> 0", &
+            min=0.0_wp, min_text="0", min_strict=.true., default_text="0.05", range_text="> 0", &
             description="Hysteresis: a stair transmits when its mean power through the bond beyond the detector site exceeds" // &
             " this (transmitting stairs carry 0.3 - 4 here)")]
 
@@ -255,8 +249,8 @@ module supratrans_schema
             range_text="0 (automatic) <= site < N", &
             description="Detector site n_d; 0 chooses min(N0 - 10, max(20, ceiling(3/lambda))), where the evanescent wave ha" // &
             "s decayed to e^-3"), &
-        key_spec(group="detect", key="amplitude", value_type=kt_real, attribute="detect_amplitude", units="rad", &
-            has_min=.true., min=0.0_wp, min_text="0", min_strict=.true., default_text="pi", range_text="> 0", &
+        key_spec(group="detect", key="amplitude", value_type=kt_real, attribute="detect_amplitude", units="rad", min=0.0_wp, &
+            min_text="0", min_strict=.true., default_text="pi", range_text="> 0", &
             description="Displacement |u_n|, n > n_d, that makes the verdict 'transmitting'"), &
         key_spec(group="detect", key="stop_when_decided", value_type=kt_logical, attribute="stop_when_decided", &
             default_text=".false.", range_text="", &
@@ -270,7 +264,7 @@ module supratrans_schema
         key_spec(group="output", key="overwrite", value_type=kt_logical, attribute="overwrite", default_text=".false.", &
             range_text="", description="Replace an existing output file instead of refusing"), &
         key_spec(group="output", key="checkpoint_every", value_type=kt_real, attribute="checkpoint_every", units="s", &
-            has_min=.true., min=0.0_wp, min_text="0", default_text="300", range_text=">= 0", &
+            min=0.0_wp, min_text="0", default_text="300", range_text=">= 0", &
             description="Wall time between two mid-run checkpoints of a running task (also written at once on SIGTERM or SIG" // &
             "USR1, then the program exits 5 and resumes); 0: no checkpoints"), &
         key_spec(group="output", key="quiet", value_type=kt_logical, attribute="quiet", default_text=".false.", range_text="", &
@@ -335,71 +329,77 @@ contains
         type(key_value) :: v
 
         select case (ik)
-        case (key_chain_potential); v = int_value([cfg%run%chain%potential])
-        case (key_chain_c); v = real_value([cfg%run%chain%c])
-        case (key_chain_m2); v = real_value([cfg%run%chain%m2])
-        case (key_chain_gamma); v = real_value([cfg%run%chain%gamma])
-        case (key_chain_beta); v = real_value([cfg%run%chain%beta])
-        case (key_chain_n); v = int_value([cfg%run%chain%n])
-        case (key_chain_n0); v = int_value([cfg%run%chain%n0])
-        case (key_chain_kappa); v = real_value([cfg%run%chain%kappa])
-        case (key_chain_sigma); v = real_value([cfg%run%chain%sigma])
-        case (key_drive_amplitude); v = real_value([cfg%run%drive%amplitude])
-        case (key_drive_omega); v = real_value([cfg%run%drive%omega])
-        case (key_drive_ramp_time); v = real_value([cfg%run%drive%ramp_time])
-        case (key_drive_allow_outside_gap); v = flag_value(cfg%allow_outside_gap)
-        case (key_numerics_method); v = int_value([cfg%run%numerics%method])
-        case (key_numerics_dt); v = real_value([cfg%run%numerics%dt])
-        case (key_numerics_t_final); v = real_value([cfg%run%numerics%t_final])
-        case (key_numerics_newton_tol); v = real_value([cfg%run%numerics%newton_tol])
-        case (key_numerics_newton_max_iter); v = int_value([cfg%run%numerics%newton_max_iter])
-        case (key_numerics_blowup_threshold); v = real_value([cfg%run%numerics%blowup_threshold])
-        case (key_numerics_allow_unstable); v = flag_value(cfg%allow_unstable)
-        case (key_record_probes); if (allocated(cfg%run%record%probes)) v = int_value(cfg%run%record%probes)
-        case (key_record_probe_every); v = int_value([cfg%run%record%probe_every])
-        case (key_record_ledger_every); v = int_value([cfg%run%record%ledger_every])
-        case (key_scene_kind); v = text_value([cfg%scene%kind])
-        case (key_scene_amplitude_min); v = real_value([cfg%scene%amplitude_min])
-        case (key_scene_amplitude_max); v = real_value([cfg%scene%amplitude_max])
-        case (key_scene_amplitude_step); v = real_value([cfg%scene%amplitude_step])
-        case (key_scene_omega_min); v = real_value([cfg%scene%omega_min])
-        case (key_scene_omega_max); v = real_value([cfg%scene%omega_max])
-        case (key_scene_omega_step); v = real_value([cfg%scene%omega_step])
-        case (key_scene_vary); v = text_value([cfg%scene%vary])
-        case (key_scene_values); if (allocated(cfg%scene%values)) v = real_value(cfg%scene%values)
-        case (key_scene_potentials); if (allocated(cfg%scene%potentials)) v = int_value(cfg%scene%potentials)
-        case (key_scene_continuation_step); v = real_value([cfg%scene%continuation_step])
-        case (key_scene_continuation_step_max); v = real_value([cfg%scene%continuation_step_max])
-        case (key_scene_continuation_points); v = int_value([cfg%scene%continuation_points])
-        case (key_scene_beyond_fold); v = int_value([cfg%scene%beyond_fold])
-        case (key_scene_crossing_tol); v = real_value([cfg%scene%crossing_tol])
-        case (key_scene_floquet_every); v = int_value([cfg%scene%floquet_every])
-        case (key_scene_fold_convergence); v = flag_value(cfg%scene%fold_convergence)
-        case (key_scene_coarse_step); v = real_value([cfg%scene%coarse_step])
-        case (key_scene_resolution); v = real_value([cfg%scene%resolution])
-        case (key_scene_screen_method); v = text_value([cfg%scene%screen_method])
-        case (key_scene_screen_dt); v = real_value([cfg%scene%screen_dt])
-        case (key_scene_confirm_band); v = real_value([cfg%scene%confirm_band])
-        case (key_scene_screen_margin); v = real_value([cfg%scene%screen_margin])
-        case (key_scene_certify); v = flag_value(cfg%scene%certify)
-        case (key_scene_methods); if (allocated(cfg%scene%methods)) v = int_value(cfg%scene%methods)
-        case (key_scene_dts); if (allocated(cfg%scene%dts)) v = real_value(cfg%scene%dts)
-        case (key_scene_dt_smallest); if (allocated(cfg%scene%dt_smallest)) v = real_value(cfg%scene%dt_smallest)
-        case (key_scene_amplitudes); if (allocated(cfg%scene%amplitudes)) v = real_value(cfg%scene%amplitudes)
-        case (key_scene_c_values); if (allocated(cfg%scene%c_values)) v = real_value(cfg%scene%c_values)
-        case (key_scene_repeats); v = int_value([cfg%scene%repeats])
-        case (key_scene_reference_dt); v = real_value([cfg%scene%reference_dt])
-        case (key_scene_stair_times); if (allocated(cfg%scene%stair_times)) v = real_value(cfg%scene%stair_times)
-        case (key_scene_stair_height); v = real_value([cfg%scene%stair_height])
-        case (key_scene_stair_ramp); v = real_value([cfg%scene%stair_ramp])
-        case (key_scene_power_threshold); v = real_value([cfg%scene%power_threshold])
-        case (key_detect_site); v = int_value([cfg%run%detect%site])
-        case (key_detect_amplitude); v = real_value([cfg%run%detect%amplitude])
-        case (key_detect_stop_when_decided); v = flag_value(cfg%run%detect%stop_when_decided)
-        case (key_output_file); v = text_value([cfg%output%file])
-        case (key_output_overwrite); v = flag_value(cfg%output%overwrite)
-        case (key_output_checkpoint_every); v = real_value([cfg%output%checkpoint_every])
-        case (key_output_quiet); v = flag_value(cfg%output%quiet)
+        case (key_chain_potential); v = key_value(1, ints=[cfg%run%chain%potential])
+        case (key_chain_c); v = key_value(1, reals=[cfg%run%chain%c])
+        case (key_chain_m2); v = key_value(1, reals=[cfg%run%chain%m2])
+        case (key_chain_gamma); v = key_value(1, reals=[cfg%run%chain%gamma])
+        case (key_chain_beta); v = key_value(1, reals=[cfg%run%chain%beta])
+        case (key_chain_n); v = key_value(1, ints=[cfg%run%chain%n])
+        case (key_chain_n0); v = key_value(1, ints=[cfg%run%chain%n0])
+        case (key_chain_kappa); v = key_value(1, reals=[cfg%run%chain%kappa])
+        case (key_chain_sigma); v = key_value(1, reals=[cfg%run%chain%sigma])
+        case (key_drive_amplitude); v = key_value(1, reals=[cfg%run%drive%amplitude])
+        case (key_drive_omega); v = key_value(1, reals=[cfg%run%drive%omega])
+        case (key_drive_ramp_time); v = key_value(1, reals=[cfg%run%drive%ramp_time])
+        case (key_drive_allow_outside_gap); v = key_value(1, flag=cfg%allow_outside_gap)
+        case (key_numerics_method); v = key_value(1, ints=[cfg%run%numerics%method])
+        case (key_numerics_dt); v = key_value(1, reals=[cfg%run%numerics%dt])
+        case (key_numerics_t_final); v = key_value(1, reals=[cfg%run%numerics%t_final])
+        case (key_numerics_newton_tol); v = key_value(1, reals=[cfg%run%numerics%newton_tol])
+        case (key_numerics_newton_max_iter); v = key_value(1, ints=[cfg%run%numerics%newton_max_iter])
+        case (key_numerics_blowup_threshold); v = key_value(1, reals=[cfg%run%numerics%blowup_threshold])
+        case (key_numerics_allow_unstable); v = key_value(1, flag=cfg%allow_unstable)
+        case (key_record_probes)
+            if (allocated(cfg%run%record%probes)) v = key_value(size(cfg%run%record%probes), ints=cfg%run%record%probes)
+        case (key_record_probe_every); v = key_value(1, ints=[cfg%run%record%probe_every])
+        case (key_record_ledger_every); v = key_value(1, ints=[cfg%run%record%ledger_every])
+        case (key_scene_kind); v = key_value(1, texts=[cfg%scene%kind])
+        case (key_scene_amplitude_min); v = key_value(1, reals=[cfg%scene%amplitude_min])
+        case (key_scene_amplitude_max); v = key_value(1, reals=[cfg%scene%amplitude_max])
+        case (key_scene_amplitude_step); v = key_value(1, reals=[cfg%scene%amplitude_step])
+        case (key_scene_omega_min); v = key_value(1, reals=[cfg%scene%omega_min])
+        case (key_scene_omega_max); v = key_value(1, reals=[cfg%scene%omega_max])
+        case (key_scene_omega_step); v = key_value(1, reals=[cfg%scene%omega_step])
+        case (key_scene_vary); v = key_value(1, ints=[cfg%scene%vary])
+        case (key_scene_values); if (allocated(cfg%scene%values)) v = key_value(size(cfg%scene%values), reals=cfg%scene%values)
+        case (key_scene_potentials)
+            if (allocated(cfg%scene%potentials)) v = key_value(size(cfg%scene%potentials), ints=cfg%scene%potentials)
+        case (key_scene_continuation_step); v = key_value(1, reals=[cfg%scene%continuation_step])
+        case (key_scene_continuation_step_max); v = key_value(1, reals=[cfg%scene%continuation_step_max])
+        case (key_scene_continuation_points); v = key_value(1, ints=[cfg%scene%continuation_points])
+        case (key_scene_beyond_fold); v = key_value(1, ints=[cfg%scene%beyond_fold])
+        case (key_scene_crossing_tol); v = key_value(1, reals=[cfg%scene%crossing_tol])
+        case (key_scene_floquet_every); v = key_value(1, ints=[cfg%scene%floquet_every])
+        case (key_scene_fold_convergence); v = key_value(1, flag=cfg%scene%fold_convergence)
+        case (key_scene_coarse_step); v = key_value(1, reals=[cfg%scene%coarse_step])
+        case (key_scene_resolution); v = key_value(1, reals=[cfg%scene%resolution])
+        case (key_scene_screen_method); v = key_value(1, ints=[cfg%scene%screen_method])
+        case (key_scene_screen_dt); v = key_value(1, reals=[cfg%scene%screen_dt])
+        case (key_scene_confirm_band); v = key_value(1, reals=[cfg%scene%confirm_band])
+        case (key_scene_screen_margin); v = key_value(1, reals=[cfg%scene%screen_margin])
+        case (key_scene_certify); v = key_value(1, flag=cfg%scene%certify)
+        case (key_scene_methods); if (allocated(cfg%scene%methods)) v = key_value(size(cfg%scene%methods), ints=cfg%scene%methods)
+        case (key_scene_dts); if (allocated(cfg%scene%dts)) v = key_value(size(cfg%scene%dts), reals=cfg%scene%dts)
+        case (key_scene_dt_smallest)
+            if (allocated(cfg%scene%dt_smallest)) v = key_value(size(cfg%scene%dt_smallest), reals=cfg%scene%dt_smallest)
+        case (key_scene_amplitudes)
+            if (allocated(cfg%scene%amplitudes)) v = key_value(size(cfg%scene%amplitudes), reals=cfg%scene%amplitudes)
+        case (key_scene_c_values)
+            if (allocated(cfg%scene%c_values)) v = key_value(size(cfg%scene%c_values), reals=cfg%scene%c_values)
+        case (key_scene_repeats); v = key_value(1, ints=[cfg%scene%repeats])
+        case (key_scene_reference_dt); v = key_value(1, reals=[cfg%scene%reference_dt])
+        case (key_scene_stair_times)
+            if (allocated(cfg%scene%stair_times)) v = key_value(size(cfg%scene%stair_times), reals=cfg%scene%stair_times)
+        case (key_scene_stair_height); v = key_value(1, reals=[cfg%scene%stair_height])
+        case (key_scene_stair_ramp); v = key_value(1, reals=[cfg%scene%stair_ramp])
+        case (key_scene_power_threshold); v = key_value(1, reals=[cfg%scene%power_threshold])
+        case (key_detect_site); v = key_value(1, ints=[cfg%run%detect%site])
+        case (key_detect_amplitude); v = key_value(1, reals=[cfg%run%detect%amplitude])
+        case (key_detect_stop_when_decided); v = key_value(1, flag=cfg%run%detect%stop_when_decided)
+        case (key_output_file); v = key_value(1, texts=[cfg%output%file])
+        case (key_output_overwrite); v = key_value(1, flag=cfg%output%overwrite)
+        case (key_output_checkpoint_every); v = key_value(1, reals=[cfg%output%checkpoint_every])
+        case (key_output_quiet); v = key_value(1, flag=cfg%output%quiet)
         case default; v%n = 0     ! not a key index: no value
         end select
     end function get_key
@@ -445,7 +445,7 @@ contains
         case (key_scene_omega_min); cfg%scene%omega_min = v%reals(1)
         case (key_scene_omega_max); cfg%scene%omega_max = v%reals(1)
         case (key_scene_omega_step); cfg%scene%omega_step = v%reals(1)
-        case (key_scene_vary); cfg%scene%vary = trim(v%texts(1))
+        case (key_scene_vary); cfg%scene%vary = v%ints(1)
         case (key_scene_values); call set_list(cfg%scene%values, v)
         case (key_scene_potentials); call set_list(cfg%scene%potentials, v)
         case (key_scene_continuation_step); cfg%scene%continuation_step = v%reals(1)
@@ -457,7 +457,7 @@ contains
         case (key_scene_fold_convergence); cfg%scene%fold_convergence = v%flag
         case (key_scene_coarse_step); cfg%scene%coarse_step = v%reals(1)
         case (key_scene_resolution); cfg%scene%resolution = v%reals(1)
-        case (key_scene_screen_method); cfg%scene%screen_method = trim(v%texts(1))
+        case (key_scene_screen_method); cfg%scene%screen_method = v%ints(1)
         case (key_scene_screen_dt); cfg%scene%screen_dt = v%reals(1)
         case (key_scene_confirm_band); cfg%scene%confirm_band = v%reals(1)
         case (key_scene_screen_margin); cfg%scene%screen_margin = v%reals(1)

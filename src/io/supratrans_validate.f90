@@ -15,7 +15,7 @@ module supratrans_validate
     use supratrans_limits, only: check_limits
     use supratrans_system, only: path_kind, path_directory, link_kind, path_missing
     use supratrans_error, only: error_type
-    use supratrans_config, only: input_config, run_config, method_avf4, method_avf8
+    use supratrans_config, only: input_config, run_config, method_avf4, method_avf8, vary_none, vary_choices
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: band_gap_edge, stability_lhs, stability_rhs, stable_by_paper_condition, critical_dt
     use supratrans_curves, only: curve_count, curve_run
@@ -122,17 +122,20 @@ contains
         !> Allocated when the value is out of range.
         type(error_type), allocatable, intent(out) :: error
         character(len=:), allocatable :: problem
+        logical :: has_min, has_max
 
+        has_min = len_trim(spec%min_text) > 0
+        has_max = len_trim(spec%max_text) > 0
         problem = ""
         if (.not. (abs(x) <= huge(x))) then
             problem = "must be finite"
-        else if (spec%has_min .and. spec%min_strict .and. .not. (x > spec%min)) then
+        else if (has_min .and. spec%min_strict .and. .not. (x > spec%min)) then
             problem = "must be > " // trim(spec%min_text)
-        else if (spec%has_min .and. .not. spec%min_strict .and. .not. (x >= spec%min)) then
+        else if (has_min .and. .not. spec%min_strict .and. .not. (x >= spec%min)) then
             problem = "must be >= " // trim(spec%min_text)
-        else if (spec%has_max .and. spec%max_strict .and. .not. (x < spec%max)) then
+        else if (has_max .and. spec%max_strict .and. .not. (x < spec%max)) then
             problem = "must be < " // trim(spec%max_text)
-        else if (spec%has_max .and. .not. spec%max_strict .and. .not. (x <= spec%max)) then
+        else if (has_max .and. .not. spec%max_strict .and. .not. (x <= spec%max)) then
             problem = "must be <= " // trim(spec%max_text)
         end if
         if (len(problem) == 0) return
@@ -259,11 +262,12 @@ contains
         character(len=:), allocatable :: label
 
         associate (sc => cfg%scene)
-            if (trim(sc%vary) /= "none" .and. .not. allocated(sc%values)) then
-                call input_error(error, where, "scene", "vary = '" // trim(sc%vary) // "' needs a list of values")
+            if (sc%vary /= vary_none .and. .not. allocated(sc%values)) then
+                call input_error(error, where, "scene", "vary = '" // trim(vary_choices(sc%vary)) &
+                                 // "' needs a list of values")
                 return
             end if
-            if (trim(sc%vary) == "none" .and. allocated(sc%values)) then
+            if (sc%vary == vary_none .and. allocated(sc%values)) then
                 call input_error(error, where, "scene", &
                                  "values are given but vary = 'none' (say which parameter they set)")
                 return
@@ -296,7 +300,7 @@ contains
         do ic = 1, curve_count(cfg)
             run = curve_run(cfg, ic)
             label = "curve " // int_str(ic) // " (" // potential_name(run%chain%potential) // ", " &
-                    // trim(cfg%scene%vary) // ")"
+                    // trim(vary_choices(cfg%scene%vary)) // ")"
             if (run%chain%gamma < 0.0_wp .or. run%chain%beta < 0.0_wp .or. .not. (1.0_wp + run%chain%m2 > 0.0_wp)) then
                 call input_error(error, where, "scene", label // ": need gamma >= 0, beta >= 0 and 1 + m2 > 0")
                 return

@@ -28,7 +28,8 @@ module supratrans_scene_bifurcation
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_scene, only: scene_type, scene_budget
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
-    use supratrans_config, only: input_config, run_config, method_from_name
+    use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
+        screen_none, screen_newton, screen_linearized, screen_rk4, screen_rk8, screen_choices
     use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge, detector_site, stable_by_paper_condition
     use supratrans_potential, only: potential_name
@@ -181,11 +182,11 @@ contains
         do ic = 1, ncurve
             tasks%runs(ic) = search_run(curve_run(cfg, ic))
         end do
-        if (trim(cfg%scene%screen_method) /= "none") then
+        if (cfg%scene%screen_method /= screen_none) then
             allocate (tasks%screen_runs(ncurve))
             do ic = 1, ncurve
                 tasks%screen_runs(ic) = search_run(with_numerics(curve_run(cfg, ic), &
-                    method_from_name(trim(cfg%scene%screen_method)), screen_dt(cfg, curve_run(cfg, ic))))
+                    screen_integrator(cfg%scene%screen_method), screen_dt(cfg, curve_run(cfg, ic))))
             end do
         end if
         if (cfg%scene%certify) then
@@ -241,7 +242,8 @@ contains
         character(len=:), allocatable :: text
 
         text = ""
-        if (trim(cfg%scene%screen_method) /= "none") text = "; screened by " // trim(cfg%scene%screen_method) &
+        if (cfg%scene%screen_method /= screen_none) text = "; screened by " &
+            // trim(screen_choices(cfg%scene%screen_method)) &
             // " at dt = " // real_str(screen_dt(cfg, cfg%run), 6) &
             // ", confirmed within " // real_str(cfg%scene%confirm_band, 6) // " and below margin " &
             // real_str(cfg%scene%screen_margin, 6)
@@ -730,7 +732,7 @@ contains
         call h5_create_group(file, g, "Screening of each threshold search: amplitudes far below the threshold are " &
             // "answered by the screening method, every amplitude the search asked within [band_low, band_high] by " &
             // "the scene's &numerics method (README, Screening)")
-        call h5_write_attr(file, g, "screen_method", trim(cfg%scene%screen_method))
+        call h5_write_attr(file, g, "screen_method", trim(screen_choices(cfg%scene%screen_method)))
         call h5_write_attr(file, g, "screen_dt", screen_dt(cfg, cfg%run))
         call h5_write_attr(file, g, "confirm_band", cfg%scene%confirm_band)
         call h5_write_attr(file, g, "screen_margin", cfg%scene%screen_margin)
@@ -822,9 +824,26 @@ contains
         do ic = 1, size(tasks%runs)
             sdt(ic) = screen_dt(tasks%cfg, curve_run(tasks%cfg, ic))
         end do
-        if (trim(tasks%cfg%scene%screen_method) /= "none") call h5_write(file, &
+        if (tasks%cfg%scene%screen_method /= screen_none) call h5_write(file, &
             "/curves/screen_dt", sdt, "time", "Time step of each curve's screening runs (/screening)", dims="curve")
     end subroutine write_bifurcation_curves
+
+    !> The integrator (`method_*`) of a screening method (`screen_*` of &scene screen_method, not `screen_none`).
+    pure integer function screen_integrator(screen)
+        !> The screening method.
+        integer, intent(in) :: screen
+
+        select case (screen)
+        case (screen_newton)
+            screen_integrator = method_newton
+        case (screen_linearized)
+            screen_integrator = method_linearized
+        case (screen_rk4)
+            screen_integrator = method_rk4
+        case default
+            screen_integrator = method_rk8
+        end select
+    end function screen_integrator
 
     !> Time step of the screening runs of `run`: `screen_dt`, or when it is 0, twice the run's dt where that meets
     !> the paper's stability condition for the run's chain, else the run's dt.

@@ -41,7 +41,7 @@ module supratrans_scene_stability
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_strings, only: int_str, real_str
     use supratrans_scene, only: scene_type
-    use supratrans_config, only: input_config, run_config, chain_params, method_newton, method_linearized, &
+    use supratrans_config, only: input_config, run_config, vary_choices, chain_params, method_newton, method_linearized, &
                                  method_rk4, method_rk8, method_avf4, method_avf8, method_name
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: critical_dt, damping_profile
@@ -502,7 +502,7 @@ contains
                         // "boundaries next to the paper's necessary condition and linear stability theory")
         call write_parameters(file, cfg)
         call h5_create_group(file, "/scene", "Controls of the stability scene")
-        call h5_write_attr(file, "/scene", "vary", trim(cfg%scene%vary))
+        call h5_write_attr(file, "/scene", "vary", trim(vary_choices(cfg%scene%vary)))
         call h5_write_attr(file, "/scene", "resolution", tasks%resolution)
         call h5_write_attr(file, "/scene", "stable_means", "the run reaches T with " &
             // "every |u_n| <= blowup_threshold (status ok)")

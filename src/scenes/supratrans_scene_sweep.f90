@@ -35,7 +35,7 @@ module supratrans_scene_sweep
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_scene, only: scene_type, scene_budget
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
-    use supratrans_config, only: input_config, run_config
+    use supratrans_config, only: input_config, run_config, vary_none, vary_choices
     use supratrans_curves, only: curve_count, curve_run, curve_indices, write_curves
     use supratrans_validate, only: validate_config
     use supratrans_potential, only: potential_name
@@ -590,7 +590,7 @@ contains
         call tasks%task_position(index, ia, iw, ic)
         call curve_indices(tasks%cfg, ic, ipot, ival)
         text = "curve " // int_str(ic) // " (" // potential_name(tasks%curves(ic)%chain%potential)
-        if (trim(tasks%cfg%scene%vary) /= "none") text = text // ", " // trim(tasks%cfg%scene%vary) // " = " &
+        if (tasks%cfg%scene%vary /= vary_none) text = text // ", " // trim(vary_choices(tasks%cfg%scene%vary)) // " = " &
             // real_str(tasks%cfg%scene%values(ival), 6)
         text = text // "), A = " // real_str(tasks%amplitudes(ia), 6) // ", Omega = " // real_str(tasks%omegas(iw), 6) &
                // ": " // status_name(nint(values(iv_status))) // ", the run ended at t = " &
