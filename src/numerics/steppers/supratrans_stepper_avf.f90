@@ -157,6 +157,9 @@ module supratrans_stepper_avf
         real(wp), allocatable :: winv(:, :), cfac(:, :), rho(:, :)
         !> Work: sigma_u at the predictor's midpoint, the diagonal of the Newton matrix; the new level's v (size N).
         real(wp), allocatable :: sig(:), fq(:)
+        !> The coefficient rows the stage sums use, as contiguous columns (so that no sum copies a row): W(i, :)/h
+        !> and its negative (s x s), -qw(i, :) (nq x s), lag(q, 1:s) (s x nq), tin(p, :), tb(j, :), ext(i, :).
+        real(wp), allocatable :: wh(:, :), mwh(:, :), mqw(:, :), lagc(:, :), tinc(:, :), tbc(:, :), extc(:, :)
         !> psi and psi' at the stage times (size s).
         real(wp), allocatable :: psi_s(:), dpsi_s(:)
     contains
@@ -446,6 +449,13 @@ contains
         else
             call avf_make_tableau(s, avf_quadrature_per_stage*s, self%tab)
         end if
+        self%wh = transpose(self%tab%w)/self%dt
+        self%mwh = -self%wh
+        self%mqw = -transpose(self%tab%qw)
+        self%lagc = transpose(self%tab%lag(:, 1:s))
+        self%tinc = transpose(self%tab%tin)
+        self%tbc = transpose(self%tab%tb)
+        self%extc = transpose(self%tab%ext)
         self%tol = run%numerics%newton_tol
         self%max_iter = run%numerics%newton_max_iter
         if (allocated(self%uu)) deallocate (self%uu)
@@ -504,7 +514,7 @@ contains
                 if (self%steps == 0) then
                     self%uu(:, i) = (tab%c(i)*h)*v0
                 else
-                    call lincomb(self%uu(:, i), tab%ext(i, :), self%prev, .false.)
+                    call lincomb(self%uu(:, i), self%extc(:, i), self%prev, .false.)
                 end if
             end do
             scale = max(1.0_wp, maxval(abs(u0)))
@@ -562,7 +572,7 @@ contains
 
             ! the stage velocities of the accepted U, then the ledger of the step and the new level
             do i = 1, s
-                call lincomb(self%vv(:, i), tab%w(i, :)/h, self%uu, .false.)
+                call lincomb(self%vv(:, i), self%wh(:, i), self%uu, .false.)
             end do
             self%prev = self%uu
         end associate
@@ -775,13 +785,13 @@ contains
         m2 = self%chain%m2
         associate (tab => self%tab, uu => self%uu, vv => self%vv, rr => self%rr)
             do i = 1, s
-                call lincomb(vv(:, i), tab%w(i, :)/h, uu, .false.)
+                call lincomb(vv(:, i), self%wh(:, i), uu, .false.)
                 vv(:, i) = vv(:, i) - v0
             end do
             do q = 1, tab%nq
                 ! sigma_u(tau_q) = u0 + sum_j L_j(tau_q) Z_j (the basis sums to 1)
                 self%sigq(:, q) = u0
-                call lincomb(self%sigq(:, q), tab%lag(q, 1:s), uu, .true.)
+                call lincomb(self%sigq(:, q), self%lagc(:, q), uu, .true.)
                 call force_array(self%chain%potential, self%sigq(:, q), self%fqq(:, q))
             end do
             do i = 1, s
@@ -798,8 +808,8 @@ contains
                 end do
                 rr(n, i) = self%rbase(n, i) + c2*(-2.0_wp*uu(n, i) + uu(n - 1, i)) &
                            + beta*(-2.0_wp*vv(n, i) + vv(n - 1, i)) - self%alpha(n)*vv(n, i) - m2*uu(n, i)
-                call lincomb(rr(:, i), -tab%qw(i, :), self%fqq, .true.)
-                call lincomb(rr(:, i), -tab%w(i, :)/h, vv, .true.)
+                call lincomb(rr(:, i), self%mqw(:, i), self%fqq, .true.)
+                call lincomb(rr(:, i), self%mwh(:, i), vv, .true.)
             end do
         end associate
     end subroutine residual
@@ -821,7 +831,7 @@ contains
         s = self%tab%s
         associate (rho => self%rho, rr => self%rr, tab => self%tab, uu => self%uu, cf => self%cfac, wv => self%winv)
             do p = 1, s
-                call lincomb(rho(:, p), tab%tin(p, :), rr, .false.)
+                call lincomb(rho(:, p), self%tinc(:, p), rr, .false.)
             end do
             do k = 1, s/2
                 do m = 1, n
@@ -833,33 +843,86 @@ contains
                     rho(m, 2*k) = a*wi + b*wr
                 end do
             end do
-            do m = 2, n
-                do k = 1, s/2
-                    p = 2*k - 1
-                    a = rho(m - 1, p)
-                    b = rho(m - 1, p + 1)
-                    rho(m, p) = rho(m, p) - (cf(m, p)*a - cf(m, p + 1)*b)
-                    rho(m, p + 1) = rho(m, p + 1) - (cf(m, p)*b + cf(m, p + 1)*a)
-                end do
-            end do
-            do m = n - 1, 1, -1
-                do k = 1, s/2
-                    p = 2*k - 1
-                    a = rho(m + 1, p)
-                    b = rho(m + 1, p + 1)
-                    rho(m, p) = rho(m, p) - (cf(m, p)*a - cf(m, p + 1)*b)
-                    rho(m, p + 1) = rho(m, p + 1) - (cf(m, p)*b + cf(m, p + 1)*a)
-                end do
+            ! the recurrences, two pairs at a time (avf8) so that their latency chains overlap
+            do k = 1, s/2, 2
+                call recurrences(rho(:, 2*k - 1:min(2*k + 2, s)), cf(:, 2*k - 1:min(2*k + 2, s)))
             end do
             change = 0.0_wp
             do j = 1, s
-                call lincomb(rr(:, j), tab%tb(j, :), rho, .false.)
+                call lincomb(rr(:, j), self%tbc(:, j), rho, .false.)
                 uu(:, j) = uu(:, j) + rr(:, j)
                 change = max(change, maxval(abs(rr(:, j))))
                 if (any(ieee_is_nan(rr(:, j)))) change = ieee_value(change, ieee_quiet_nan)
             end do
         end associate
     end subroutine solve
+
+    !> The forward and back recurrences of Thomas for one or two complex tridiagonal systems (columns: real and
+    !> imaginary parts of each), the previous values carried in registers: y_m = t_m - f_m y_{m-1}, then
+    !> x_m = y_m - f_m x_{m+1}, f = e/w_m (`cfac`).
+    pure subroutine recurrences(rho, cf)
+        !> t (the right-hand sides over the pivots), overwritten by x (N x 2 or N x 4).
+        real(wp), intent(inout) :: rho(:, :)
+        !> f (N x 2 or N x 4).
+        real(wp), intent(in) :: cf(:, :)
+        integer :: n, m
+        real(wp) :: a1, b1, a2, b2, x1, y1, x2, y2
+
+        n = size(rho, 1)
+        if (size(rho, 2) == 4) then
+            a1 = rho(1, 1)
+            b1 = rho(1, 2)
+            a2 = rho(1, 3)
+            b2 = rho(1, 4)
+            do m = 2, n
+                x1 = rho(m, 1) - (cf(m, 1)*a1 - cf(m, 2)*b1)
+                y1 = rho(m, 2) - (cf(m, 1)*b1 + cf(m, 2)*a1)
+                x2 = rho(m, 3) - (cf(m, 3)*a2 - cf(m, 4)*b2)
+                y2 = rho(m, 4) - (cf(m, 3)*b2 + cf(m, 4)*a2)
+                rho(m, 1) = x1
+                rho(m, 2) = y1
+                rho(m, 3) = x2
+                rho(m, 4) = y2
+                a1 = x1
+                b1 = y1
+                a2 = x2
+                b2 = y2
+            end do
+            do m = n - 1, 1, -1
+                x1 = rho(m, 1) - (cf(m, 1)*a1 - cf(m, 2)*b1)
+                y1 = rho(m, 2) - (cf(m, 1)*b1 + cf(m, 2)*a1)
+                x2 = rho(m, 3) - (cf(m, 3)*a2 - cf(m, 4)*b2)
+                y2 = rho(m, 4) - (cf(m, 3)*b2 + cf(m, 4)*a2)
+                rho(m, 1) = x1
+                rho(m, 2) = y1
+                rho(m, 3) = x2
+                rho(m, 4) = y2
+                a1 = x1
+                b1 = y1
+                a2 = x2
+                b2 = y2
+            end do
+        else
+            a1 = rho(1, 1)
+            b1 = rho(1, 2)
+            do m = 2, n
+                x1 = rho(m, 1) - (cf(m, 1)*a1 - cf(m, 2)*b1)
+                y1 = rho(m, 2) - (cf(m, 1)*b1 + cf(m, 2)*a1)
+                rho(m, 1) = x1
+                rho(m, 2) = y1
+                a1 = x1
+                b1 = y1
+            end do
+            do m = n - 1, 1, -1
+                x1 = rho(m, 1) - (cf(m, 1)*a1 - cf(m, 2)*b1)
+                y1 = rho(m, 2) - (cf(m, 1)*b1 + cf(m, 2)*a1)
+                rho(m, 1) = x1
+                rho(m, 2) = y1
+                a1 = x1
+                b1 = y1
+            end do
+        end if
+    end subroutine recurrences
 
     !> Append the state y (u, v, the integrated energies) and the previous step's stage increments Z (the
     !> predictor's start, so that a resumed run iterates from the same guess and gives the same bits).
