@@ -531,7 +531,7 @@ contains
                 call residual_base(self, u0, v0)
                 do it = 1, self%max_iter
                     iters = it
-                    call residual(self, u0, v0)
+                    call residual(self, u0, v0, it == 1)
                     call solve(self, change)
                     if (.not. (change <= huge(change) .and. scale <= huge(scale))) then
                         status = step_breakdown
@@ -768,12 +768,16 @@ contains
     !> Minus the residual of the stage equations at the current Z, into `rr`: F_i(u0 + Z, V) - (W (V - v0))_i / h,
     !> with V = W Z / h (`vv` holds V - v0: formed before W acts on it, so that its roundoff is eps |V - v0|, not
     !> eps |V|) and Gbar averaged along sigma_u by the rule of `nq` nodes (sigma_u at the nodes
-    !> and V' there into `sigq`, `fqq`); the part fixed during the step comes from `rbase`.
-    pure subroutine residual(self, u0, v0)
+    !> and V' there into `sigq`, `fqq`); the part fixed during the step comes from `rbase`. With `nodal`, Gbar_i is
+    !> replaced by V'(U_i) (the rule of the s stage nodes: Gauss collocation's force), for the first iteration from
+    !> the predictor, whose error is far larger than the difference.
+    pure subroutine residual(self, u0, v0, nodal)
         !> The stepper.
         class(avf_stepper), intent(inout) :: self
         !> The old level.
         real(wp), intent(in) :: u0(:), v0(:)
+        !> V' at the stage nodes instead of the averaged V'.
+        logical, intent(in) :: nodal
         integer :: n, s, i, q, m
         real(wp) :: h, c2, beta, m2
 
@@ -788,12 +792,19 @@ contains
                 call lincomb(vv(:, i), self%wh(:, i), uu, .false.)
                 vv(:, i) = vv(:, i) - v0
             end do
-            do q = 1, tab%nq
-                ! sigma_u(tau_q) = u0 + sum_j L_j(tau_q) Z_j (the basis sums to 1)
-                self%sigq(:, q) = u0
-                call lincomb(self%sigq(:, q), self%lagc(:, q), uu, .true.)
-                call force_array(self%chain%potential, self%sigq(:, q), self%fqq(:, q))
-            end do
+            if (nodal) then
+                do i = 1, s
+                    self%sigq(:, i) = u0 + uu(:, i)
+                    call force_array(self%chain%potential, self%sigq(:, i), self%fqq(:, i))
+                end do
+            else
+                do q = 1, tab%nq
+                    ! sigma_u(tau_q) = u0 + sum_j L_j(tau_q) Z_j (the basis sums to 1)
+                    self%sigq(:, q) = u0
+                    call lincomb(self%sigq(:, q), self%lagc(:, q), uu, .true.)
+                    call force_array(self%chain%potential, self%sigq(:, q), self%fqq(:, q))
+                end do
+            end if
             do i = 1, s
                 ! rr_i = rbase_i + c^2 Delta Z_i - m^2 Z_i + beta Delta (V_i - v0) - alpha (V_i - v0) - Gbar_i
                 !        - (W (V - v0))_i / h
@@ -808,7 +819,11 @@ contains
                 end do
                 rr(n, i) = self%rbase(n, i) + c2*(-2.0_wp*uu(n, i) + uu(n - 1, i)) &
                            + beta*(-2.0_wp*vv(n, i) + vv(n - 1, i)) - self%alpha(n)*vv(n, i) - m2*uu(n, i)
-                call lincomb(rr(:, i), self%mqw(:, i), self%fqq, .true.)
+                if (nodal) then
+                    rr(:, i) = rr(:, i) - self%fqq(:, i)
+                else
+                    call lincomb(rr(:, i), self%mqw(:, i), self%fqq, .true.)
+                end if
                 call lincomb(rr(:, i), self%mwh(:, i), vv, .true.)
             end do
         end associate
