@@ -47,6 +47,7 @@ program benchmark
     use supratrans_config, only: scene_params
     use supratrans_fold_record, only: fold_record, empty_fold_record
     use supratrans_fold_line, only: trace_fold, shortest_chain
+    use bench_workprec, only: workprec_benchmark
     !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
     implicit none
     type(run_config) :: run
@@ -145,6 +146,7 @@ program benchmark
     write (*, "(a, f10.3, a, f10.3, a, f8.4)") "newton ", newton_ms, " ms, naive ", 1000.0_wp*median(times), &
         " ms, ratio ", newton_ms/(1000.0_wp*median(times))
 
+    call workprec_benchmark(repeats)
     if (runs_only) stop
     call sweep_benchmark()
     call bifurcation_benchmark("input/bif_undamped_sg.nml", 0.05_wp, 1.00_wp)

@@ -14,10 +14,13 @@
 !> H0 makes g_i the value at the node (the integrand has degree 2s - 1), so only the on-site force V' is averaged:
 !>     Gbar_{n,i} = (1/b_i) int_0^1 l_i(tau) V'(sigma_{u,n}(tau)) dtau,
 !> computed with a Gauss-Legendre rule of `nq` nodes. For Klein-Gordon (V' of degree 5, sigma_u of degree s) the
-!> integrand has degree 6s - 1 and the rule of 3s nodes is exact. For sine-Gordon the rule has 2s nodes and is not
-!> exact: its error (the integrand is analytic, sigma_u moves by about h |v| over a step) is the balance residual
-!> of a step, measured (test_avf, A = 1.9, dt = 0.1) at 2e-14 (avf4) and 2e-15 (avf8) of the energy scale, 1e-12
-!> for avf4 at dt = 0.5; the methods' own errors there are 5e-5 and 4e-10 relative (docs/method.md).
+!> integrand has degree 6s - 1 and the rule of 3s nodes is exact. For sine-Gordon the rule has s + 2 nodes (4 for
+!> avf4, 6 for avf8) and is not exact: its error (the integrand is analytic, sigma_u moves by about h |v| over a
+!> step) is the balance residual of a step, measured (test_avf, A = 1.9, dt = 0.1) at 2e-14 (avf4) and 1e-15 (avf8)
+!> of the energy scale, 1e-12 for avf4 at dt = 0.5; the methods' own errors there are 5e-5 and 4e-10 relative
+!> (docs/method.md). On the paper-default run at A = 1.9, avf8 (6 nodes): 4e-15 a step at dt = 0.1, 8e-14 at
+!> 0.3125, 1.3e-12 at 0.4, where the method's error of the injected energy is 4e-8 (8 nodes: 4e-15 throughout,
+!> and 13% more time).
 !> Everything else is s-stage Gauss collocation: U_i = u0 + h sum_j a_ij V_j, V_i = v0 + h sum_j a_ij F_i.
 !>
 !> The discrete energy balance. Since sigma' has degree s - 1 and the rule is exact for it,
@@ -45,10 +48,19 @@
 !> s = 4), i.e. for h <= 0.57 (avf4) and 0.79 (avf8) at c = 4; beyond, the real parts usually keep the pivots
 !> away from zero, and a zero or non-finite pivot is reported as a breakdown. The predictor
 !> extrapolates the previous step's collocation polynomial. The iteration stops when max |delta Z| <= 1e-14
-!> max(1, max |u0|), or when it stagnates at its roundoff floor below 1e-11 max(1, max |u0|); a run that keeps no
-!> ledger (`exact_energy` false) stops at &numerics newton_tol. The cap is &numerics newton_max_iter. Measured on
-!> the paper-default run at A = 1.9 (avf8, dt = 0.3125): 4.0 iterations a step, the first update 1e-4 .. 3e-2,
-!> contraction 3e-5 .. 7e-4 per iteration.
+!> max(1, max |u0|); or when the update is below 1e-12 max(1, max |u0|) after a contraction of at least 1e-3 (the
+!> next update would be below 1e-15 relative: a sweep at roundoff, which changes nothing, is not done); or when it
+!> stagnates at its roundoff floor below 1e-11 max(1, max |u0|). A run that keeps no ledger (`exact_energy`
+!> false) stops at &numerics newton_tol. The cap is &numerics newton_max_iter. Measured on the paper-default run at
+!> A = 1.9 (avf8, dt = 0.3125, T = 200): 3.7 iterations a step (4.0 without the second test), the first update
+!> 1e-4 .. 3e-2 relative, contraction 3e-5 .. 7e-4 per iteration.
+!>
+!> Cost of an iteration: N sigma_u values and sines per node of the rule, the residual's stencil, the two
+!> transforms to and from the eigenbasis of W (real combinations, vectorised) and the s/2 complex recurrences of
+!> Thomas (latency-bound: the only serial passes). The part of the residual fixed during a step (stencil of u0 and
+!> v0, drive) is formed once a step. The first iteration, from the predictor, takes V' at the stage nodes (s sines,
+!> no node sums): the difference from the average is far below the predictor's error (iterations a step unchanged,
+!> 3.72 -> 3.75 on that run), and every later iteration solves the method's own equations.
 !>
 !> Linear stability: the method reduces to Gauss collocation on a linear chain (V' linear), which is A-stable
 !> (its stability function is the (s, s) Pade approximant of exp, |R(z)| <= 1 for Re z <= 0): no step limit.
@@ -58,6 +70,7 @@
 !>
 !> The continuation scene has no one-period map for these methods and refuses them (`supratrans_period_map`).
 module supratrans_stepper_avf
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
     use supratrans_strings, only: int_fixed, real_fixed
     use supratrans_config, only: run_config, method_avf8
@@ -79,16 +92,21 @@ module supratrans_stepper_avf
     integer, parameter, public :: avf8_stages = 4
     !> Nodes of the rule that averages V' per stage node: exact for the Klein-Gordon potential.
     integer, parameter, public :: avf_quadrature_per_stage = 3
-    !> Nodes per stage of the averaging rule for sine-Gordon (not exact: its error, measured in test_avf and
-    !> reported in docs/method.md, is far below the method's error at the steps used; with s + 2 nodes for avf8
-    !> the balance was 6e-14 of the energy a step instead of 6e-16 and the run no faster: the sines are not its
-    !> bottleneck).
+    !> Nodes beyond the s stages of the averaging rule for sine-Gordon (s + 2 nodes: 4 for avf4, 6 for avf8). Not
+    !> exact: its error is the balance residual of a step, measured (module header) far below the method's error at
+    !> every step used. (2s = 8 nodes for avf8 left 1e-15 instead of 1e-12 at dt = 0.4 and cost 13% more.)
     integer, parameter, public :: avf_quadrature_sine_gordon = 2
     !> Relative size of the Newton update at which a step is accepted (the energy identity is then exact to
     !> roundoff).
     real(wp), parameter :: tight_tol = 1.0e-14_wp
     !> Below this relative update, an iteration that no longer shrinks the update 4-fold has reached roundoff.
     real(wp), parameter :: floor_tol = 1.0e-11_wp
+    !> An update below this relative size, after one that shrank it at least `settle_rate`-fold, is the last one:
+    !> the next would be below settle_tol settle_rate = 1e-15 relative, at roundoff (it would be a sweep that
+    !> changes nothing).
+    real(wp), parameter :: settle_tol = 1.0e-12_wp
+    !> The contraction that `settle_tol` asks to have been observed.
+    real(wp), parameter :: settle_rate = 1.0e-3_wp
 
     !> The coefficients of the s-stage energy-preserving collocation method on [0, 1].
     type, public :: avf_tableau
@@ -108,6 +126,9 @@ module supratrans_stepper_avf
         !> eigenvector for each (the columns of tf, s x s/2) and the matching rows of T^{-1} (tinvf, s/2 x s),
         !> T = [t_1, conj t_1, t_2, conj t_2, ...]: a real r is sum_k 2 Re(t_k (tinvf r)_k).
         complex(wp), allocatable :: lam(:), tf(:, :), tinvf(:, :)
+        !> The same as real matrices (s x s): row 2k - 1 and 2k of tin are the real and imaginary parts of row k of
+        !> tinvf; column 2k - 1 and 2k of tb are 2 Re and -2 Im of column k of tf (delta = tb (Re rho, Im rho)).
+        real(wp), allocatable :: tin(:, :), tb(:, :)
         !> mid(j) = L_j(1/2), j = 1..s: sigma_u(1/2) = u0 + sum_j mid(j) Z_j.
         real(wp), allocatable :: mid(:)
         !> ext(i, j) = L_j(1 + c_i) - bw_j, j = 1..s (L the Lagrange basis of lag): the predictor Z_i = sum_j ext(i, j)
@@ -124,17 +145,23 @@ module supratrans_stepper_avf
         !> Iteration cap (&numerics newton_max_iter).
         integer :: max_iter = 20
         !> Stage increments Z_i = U_i - u0 (the unknowns: small, so that their roundoff is eps |Z|, not eps |u|),
-        !> stage velocities V, averaged forces Gbar, residual / update (N x s).
-        real(wp), allocatable :: uu(:, :), vv(:, :), gg(:, :), rr(:, :)
+        !> stage velocities V, residual (N x s), and the part of the residual fixed during a step (`residual_base`).
+        real(wp), allocatable :: uu(:, :), vv(:, :), rr(:, :), rbase(:, :)
+        !> sigma_u at the averaging rule's nodes and V' there (N x nq).
+        real(wp), allocatable :: sigq(:, :), fqq(:, :)
         !> The previous step's increments Z, for the predictor (N x s).
         real(wp), allocatable :: prev(:, :)
-        !> Block Thomas factors: inverses of the pivot blocks and X_n = pivot^{-1} O (s x s x N).
         !> In the eigenbasis of W the simplified Newton matrix splits into s/2 complex tridiagonal matrices
         !> lambda_k^2/h^2 + K + (lambda_k/h) L (K, L the stiffness and damping matrices): the reciprocals of
-        !> their Thomas pivots and the multipliers e/pivot (N x s/2), and the right-hand sides / solutions.
-        complex(wp), allocatable :: winv(:, :), cfac(:, :), rho(:, :)
-        !> Work: sigma_u at one rule node, V' there (size N).
+        !> their Thomas pivots, the multipliers e/pivot, and the right-hand sides / solutions, each as real arrays
+        !> N x s whose columns 2k - 1 and 2k are the real and imaginary parts of pair k (so that every pass but the
+        !> two recurrences vectorises).
+        real(wp), allocatable :: winv(:, :), cfac(:, :), rho(:, :)
+        !> Work: sigma_u at the predictor's midpoint, the diagonal of the Newton matrix; the new level's v (size N).
         real(wp), allocatable :: sig(:), fq(:)
+        !> The coefficient rows the stage sums use, as contiguous columns (so that no sum copies a row): W(i, :)/h
+        !> and its negative (s x s), -qw(i, :) (nq x s), lag(q, 1:s) (s x nq), tin(p, :), tb(j, :), ext(i, :).
+        real(wp), allocatable :: wh(:, :), mwh(:, :), mqw(:, :), lagc(:, :), tinc(:, :), tbc(:, :), extc(:, :)
         !> psi and psi' at the stage times (size s).
         real(wp), allocatable :: psi_s(:), dpsi_s(:)
     contains
@@ -376,6 +403,13 @@ contains
         call invert(tab%a, tab%w, ok)
         tab%w2 = matmul(tab%w, tab%w)
         call eigen_pairs(tab%w, tab%lam, tab%tf, tab%tinvf)
+        allocate (tab%tin(s, s), tab%tb(s, s))
+        do k = 1, s/2
+            tab%tin(2*k - 1, :) = real(tab%tinvf(k, :), wp)
+            tab%tin(2*k, :) = aimag(tab%tinvf(k, :))
+            tab%tb(:, 2*k - 1) = 2.0_wp*real(tab%tf(:, k), wp)
+            tab%tb(:, 2*k) = -2.0_wp*aimag(tab%tf(:, k))
+        end do
         tab%bw = matmul(tab%b, tab%w)
         call gauss_legendre(nq, tq, wq)
         z(0) = 0.0_wp
@@ -411,17 +445,26 @@ contains
         n = run%chain%n
         call rk_init(self, run, s, 2*s)
         if (allocated(self%reason)) return
-        ! the averaging rule: exact for Klein-Gordon (3s nodes); for sine-Gordon 2s nodes (module header)
+        ! the averaging rule: exact for Klein-Gordon (3s nodes); for sine-Gordon s + 2 nodes (module header)
         if (run%chain%potential == sine_gordon) then
-            call avf_make_tableau(s, avf_quadrature_sine_gordon*s, self%tab)
+            call avf_make_tableau(s, s + avf_quadrature_sine_gordon, self%tab)
         else
             call avf_make_tableau(s, avf_quadrature_per_stage*s, self%tab)
         end if
+        self%wh = transpose(self%tab%w)/self%dt
+        self%mwh = -self%wh
+        self%mqw = -transpose(self%tab%qw)
+        self%lagc = transpose(self%tab%lag(:, 1:s))
+        self%tinc = transpose(self%tab%tin)
+        self%tbc = transpose(self%tab%tb)
+        self%extc = transpose(self%tab%ext)
         self%tol = run%numerics%newton_tol
         self%max_iter = run%numerics%newton_max_iter
         if (allocated(self%uu)) deallocate (self%uu)
         if (allocated(self%vv)) deallocate (self%vv)
-        if (allocated(self%gg)) deallocate (self%gg)
+        if (allocated(self%rbase)) deallocate (self%rbase)
+        if (allocated(self%sigq)) deallocate (self%sigq)
+        if (allocated(self%fqq)) deallocate (self%fqq)
         if (allocated(self%rr)) deallocate (self%rr)
         if (allocated(self%prev)) deallocate (self%prev)
         if (allocated(self%winv)) deallocate (self%winv)
@@ -433,12 +476,14 @@ contains
         if (allocated(self%dpsi_s)) deallocate (self%dpsi_s)
         allocate (self%uu(n, s), stat=st)
         if (st == 0) allocate (self%vv(n, s), stat=st)
-        if (st == 0) allocate (self%gg(n, s), stat=st)
+        if (st == 0) allocate (self%rbase(n, s), stat=st)
+        if (st == 0) allocate (self%sigq(n, self%tab%nq), stat=st)
+        if (st == 0) allocate (self%fqq(n, self%tab%nq), stat=st)
         if (st == 0) allocate (self%rr(n, s), stat=st)
         if (st == 0) allocate (self%prev(n, s), stat=st)
-        if (st == 0) allocate (self%winv(n, s/2), stat=st)
-        if (st == 0) allocate (self%cfac(n, s/2), stat=st)
-        if (st == 0) allocate (self%rho(n, s/2), stat=st)
+        if (st == 0) allocate (self%winv(n, s), stat=st)
+        if (st == 0) allocate (self%cfac(n, s), stat=st)
+        if (st == 0) allocate (self%rho(n, s), stat=st)
         if (st == 0) allocate (self%sig(n), stat=st)
         if (st == 0) allocate (self%fq(n), stat=st)
         if (st == 0) allocate (self%psi_s(s), stat=st)
@@ -453,7 +498,7 @@ contains
         class(avf_stepper), intent(inout) :: self
         !> `step_ok`, `step_not_converged` or `step_breakdown`.
         integer, intent(out) :: status
-        integer :: n, s, i, j, it, iters
+        integer :: n, s, i, it, iters
         real(wp) :: h, t0, change, change_prev, scale, theta
         logical :: ok, accepted
 
@@ -471,34 +516,25 @@ contains
                 if (self%steps == 0) then
                     self%uu(:, i) = (tab%c(i)*h)*v0
                 else
-                    self%uu(:, i) = tab%ext(i, 1)*self%prev(:, 1)
-                    do j = 2, s
-                        self%uu(:, i) = self%uu(:, i) + tab%ext(i, j)*self%prev(:, j)
-                    end do
+                    call lincomb(self%uu(:, i), self%extc(:, i), self%prev, .false.)
                 end if
             end do
             scale = max(1.0_wp, maxval(abs(u0)))
             ! V'' frozen at the predictor's midpoint sigma_u(1/2) = u0 + sum_j L_j(1/2) Z_j (its deviation along the
             ! step is half that from u0: a smaller contraction factor)
             self%sig = u0
-            do j = 1, s
-                self%sig = self%sig + tab%mid(j)*self%uu(:, j)
-            end do
+            call lincomb(self%sig, tab%mid, self%uu, .true.)
             call factorize(self, self%sig, ok)
             status = step_breakdown
             iters = 0
             accepted = .false.
             change_prev = huge(1.0_wp)
             if (ok) then
+                call residual_base(self, u0, v0)
                 do it = 1, self%max_iter
                     iters = it
-                    call residual(self, u0, v0)
-                    call solve(self)
-                    change = 0.0_wp
-                    do j = 1, s
-                        self%uu(:, j) = self%uu(:, j) + self%rr(:, j)
-                        change = max(change, maxval(abs(self%rr(:, j))))
-                    end do
+                    call residual(self, u0, v0, it == 1)
+                    call solve(self, change)
                     if (.not. (change <= huge(change) .and. scale <= huge(scale))) then
                         status = step_breakdown
                         exit
@@ -510,7 +546,8 @@ contains
                     theta = 1.0_wp
                     if (it > 1) theta = change/change_prev
                     if (self%exact_energy) then
-                        accepted = change <= tight_tol*scale .or. (change <= floor_tol*scale .and. theta > 0.25_wp)
+                        accepted = change <= tight_tol*scale .or. (change <= floor_tol*scale .and. theta > 0.25_wp) &
+                                   .or. (change <= settle_tol*scale .and. theta <= settle_rate)
                     else
                         accepted = change <= self%tol
                     end if
@@ -537,10 +574,7 @@ contains
 
             ! the stage velocities of the accepted U, then the ledger of the step and the new level
             do i = 1, s
-                self%vv(:, i) = 0.0_wp
-                do j = 1, s
-                    self%vv(:, i) = self%vv(:, i) + (tab%w(i, j)/h)*self%uu(:, j)
-                end do
+                call lincomb(self%vv(:, i), self%wh(:, i), self%uu, .false.)
             end do
             self%prev = self%uu
         end associate
@@ -612,42 +646,141 @@ contains
         !> False when a pivot is zero or not finite.
         logical, intent(out) :: ok
         integer :: n, k, m
-        real(wp) :: c2, beta
-        complex(wp) :: lam, e, w
+        real(wp) :: c2, beta, wre, wim, den
+        complex(wp) :: lam(self%tab%s/2), e(self%tab%s/2), d(self%tab%s/2), w, wi, cf
 
         n = self%n
         c2 = self%chain%c**2
         beta = self%chain%beta
         ok = .true.
-        do m = 1, n
-            self%fq(m) = 2.0_wp*c2 + self%chain%m2 + potential_d2v(self%chain%potential, u0(m))
-        end do
+        if (self%chain%potential == sine_gordon) then
+            self%fq = cos(u0)       ! the array form: libmvec's vector cos (the elemental call is a scalar cos)
+        else
+            self%fq = potential_d2v(self%chain%potential, u0)
+        end if
+        self%fq = self%fq + (2.0_wp*c2 + self%chain%m2)
         do k = 1, self%tab%s/2
-            lam = self%tab%lam(k)/self%dt
-            e = -c2 - lam*beta
-            do m = 1, n
-                w = lam*lam + self%fq(m) + lam*(self%alpha(m) + 2.0_wp*beta)
-                if (m > 1) w = w - e*self%cfac(m - 1, k)
-                if (.not. (abs(real(w, wp)) + abs(aimag(w)) > 0.0_wp &
-                           .and. abs(real(w, wp)) + abs(aimag(w)) <= huge(1.0_wp))) then
+            lam(k) = self%tab%lam(k)/self%dt
+            e(k) = -c2 - lam(k)*beta
+            d(k) = lam(k)*lam(k) + 2.0_wp*beta*lam(k)
+        end do
+        ! the s/2 recurrences interleaved (m outer): their latency chains overlap
+        do m = 1, n
+            do k = 1, self%tab%s/2
+                w = d(k) + self%fq(m) + lam(k)*self%alpha(m)
+                if (m > 1) w = w - e(k)*cmplx(self%cfac(m - 1, 2*k - 1), self%cfac(m - 1, 2*k), kind=wp)
+                wre = real(w, wp)
+                wim = aimag(w)
+                if (.not. (abs(wre) + abs(wim) > 0.0_wp .and. abs(wre) + abs(wim) <= huge(1.0_wp))) then
                     ok = .false.
                     return
                 end if
                 ! 1/w as conj(w)/|w|^2 (the library's scaled complex division is not needed: |w| ~ 1/h^2)
-                self%winv(m, k) = conjg(w)/(real(w, wp)**2 + aimag(w)**2)
-                self%cfac(m, k) = e*self%winv(m, k)
+                den = 1.0_wp/(wre*wre + wim*wim)
+                wi = cmplx(wre*den, -wim*den, kind=wp)
+                cf = e(k)*wi
+                self%winv(m, 2*k - 1) = real(wi, wp)
+                self%winv(m, 2*k) = aimag(wi)
+                self%cfac(m, 2*k - 1) = real(cf, wp)
+                self%cfac(m, 2*k) = aimag(cf)
             end do
         end do
     end subroutine factorize
 
-    !> Minus the residual of the stage equations at the current U, into `rr`: F_i(U, V) - (W (V - v0))_i / h, with
-    !> V = W (U - u0)/h and Gbar averaged along sigma_u by the rule of `nq` nodes.
-    pure subroutine residual(self, u0, v0)
+    !> The part of minus the residual that is fixed during a step, into `rbase` (N x s): for stage i,
+    !> c^2 (Delta u0)_n - m^2 u0_n + beta (Delta v0)_n - alpha_n v0_n, with the driven end's u_0 = psi(t_i) and
+    !> v_0 = psi'(t_i).
+    pure subroutine residual_base(self, u0, v0)
         !> The stepper.
         class(avf_stepper), intent(inout) :: self
         !> The old level.
         real(wp), intent(in) :: u0(:), v0(:)
-        integer :: n, s, i, j, q, m
+        integer :: n, s, i, m
+        real(wp) :: c2, beta, m2
+
+        n = self%n
+        s = self%tab%s
+        c2 = self%chain%c**2
+        beta = self%chain%beta
+        m2 = self%chain%m2
+        do i = 1, s
+            associate (rb => self%rbase(:, i))
+                rb(1) = c2*(u0(2) - 2.0_wp*u0(1) + self%psi_s(i)) - m2*u0(1) &
+                        + beta*(v0(2) - 2.0_wp*v0(1) + self%dpsi_s(i)) - self%alpha(1)*v0(1)
+                do m = 2, n - 1
+                    rb(m) = c2*(u0(m + 1) - 2.0_wp*u0(m) + u0(m - 1)) - m2*u0(m) &
+                            + beta*(v0(m + 1) - 2.0_wp*v0(m) + v0(m - 1)) - self%alpha(m)*v0(m)
+                end do
+                rb(n) = c2*(-2.0_wp*u0(n) + u0(n - 1)) - m2*u0(n) + beta*(-2.0_wp*v0(n) + v0(n - 1)) &
+                        - self%alpha(n)*v0(n)
+            end associate
+        end do
+    end subroutine residual_base
+
+    !> out = sum_j coef(j) z(:, j) (add: out + that), the columns taken four and two at a time (stage and rule node
+    !> counts are even), so that the accumulator is loaded and stored once per four terms, not once per term.
+    pure subroutine lincomb(out, coef, z, add)
+        !> The combination (size N).
+        real(wp), intent(inout), contiguous :: out(:)
+        !> Coefficients (size k).
+        real(wp), intent(in) :: coef(:)
+        !> Columns (N x k).
+        real(wp), intent(in), contiguous :: z(:, :)
+        !> Add to out instead of overwriting it.
+        logical, intent(in) :: add
+        integer :: k, j, m
+        real(wp) :: c1, c2, c3, c4
+
+        k = size(coef)
+        j = 1
+        if (.not. add) then
+            if (k >= 2) then
+                c1 = coef(1)
+                c2 = coef(2)
+                do m = 1, size(out)
+                    out(m) = c1*z(m, 1) + c2*z(m, 2)
+                end do
+                j = 3
+            else
+                out = coef(1)*z(:, 1)
+                j = 2
+            end if
+        end if
+        do while (j + 3 <= k)
+            c1 = coef(j)
+            c2 = coef(j + 1)
+            c3 = coef(j + 2)
+            c4 = coef(j + 3)
+            do m = 1, size(out)
+                out(m) = out(m) + ((c1*z(m, j) + c2*z(m, j + 1)) + (c3*z(m, j + 2) + c4*z(m, j + 3)))
+            end do
+            j = j + 4
+        end do
+        do while (j + 1 <= k)
+            c1 = coef(j)
+            c2 = coef(j + 1)
+            do m = 1, size(out)
+                out(m) = out(m) + (c1*z(m, j) + c2*z(m, j + 1))
+            end do
+            j = j + 2
+        end do
+        if (j == k) out = out + coef(k)*z(:, k)
+    end subroutine lincomb
+
+    !> Minus the residual of the stage equations at the current Z, into `rr`: F_i(u0 + Z, V) - (W (V - v0))_i / h,
+    !> with V = W Z / h (`vv` holds V - v0: formed before W acts on it, so that its roundoff is eps |V - v0|, not
+    !> eps |V|) and Gbar averaged along sigma_u by the rule of `nq` nodes (sigma_u at the nodes
+    !> and V' there into `sigq`, `fqq`); the part fixed during the step comes from `rbase`. With `nodal`, Gbar_i is
+    !> replaced by V'(U_i) (the rule of the s stage nodes: Gauss collocation's force), for the first iteration from
+    !> the predictor, whose error is far larger than the difference.
+    pure subroutine residual(self, u0, v0, nodal)
+        !> The stepper.
+        class(avf_stepper), intent(inout) :: self
+        !> The old level.
+        real(wp), intent(in) :: u0(:), v0(:)
+        !> V' at the stage nodes instead of the averaged V'.
+        logical, intent(in) :: nodal
+        integer :: n, s, i, q, m
         real(wp) :: h, c2, beta, m2
 
         n = self%n
@@ -656,93 +789,157 @@ contains
         c2 = self%chain%c**2
         beta = self%chain%beta
         m2 = self%chain%m2
-        associate (tab => self%tab, uu => self%uu, vv => self%vv, gg => self%gg, rr => self%rr)
+        associate (tab => self%tab, uu => self%uu, vv => self%vv, rr => self%rr)
             do i = 1, s
-                vv(:, i) = 0.0_wp
-                do j = 1, s
-                    vv(:, i) = vv(:, i) + (tab%w(i, j)/h)*uu(:, j)
-                end do
+                call lincomb(vv(:, i), self%wh(:, i), uu, .false.)
+                vv(:, i) = vv(:, i) - v0
             end do
-            gg = 0.0_wp
-            do q = 1, tab%nq
-                self%sig = u0            ! sigma_u(tau_q) = u0 + sum_j L_j(tau_q) Z_j (the basis sums to 1)
-                do j = 1, s
-                    self%sig = self%sig + tab%lag(q, j)*uu(:, j)
-                end do
-                call force_array(self%chain%potential, self%sig, self%fq)
+            if (nodal) then
                 do i = 1, s
-                    gg(:, i) = gg(:, i) + tab%qw(i, q)*self%fq
+                    self%sigq(:, i) = u0 + uu(:, i)
+                    call force_array(self%chain%potential, self%sigq(:, i), self%fqq(:, i))
                 end do
-            end do
+            else
+                do q = 1, tab%nq
+                    ! sigma_u(tau_q) = u0 + sum_j L_j(tau_q) Z_j (the basis sums to 1)
+                    self%sigq(:, q) = u0
+                    call lincomb(self%sigq(:, q), self%lagc(:, q), uu, .true.)
+                    call force_array(self%chain%potential, self%sigq(:, q), self%fqq(:, q))
+                end do
+            end if
             do i = 1, s
-                ! rr_i = - (W (V - v0))_i / h, then + F_i
-                rr(:, i) = 0.0_wp
-                do j = 1, s
-                    rr(:, i) = rr(:, i) - (tab%w(i, j)/h)*(vv(:, j) - v0)
-                end do
-                ! U = u0 + Z; the ends u_0 = psi(t_i), v_0 = psi'(t_i), u_{N+1} = v_{N+1} = 0 (end sites apart, so
-                ! that the interior loop vectorises)
-                do m = 1, n
-                    self%sig(m) = u0(m) + uu(m, i)
-                end do
-                rr(1, i) = rr(1, i) + c2*(self%sig(2) - 2.0_wp*self%sig(1) + self%psi_s(i)) &
-                           + beta*(vv(2, i) - 2.0_wp*vv(1, i) + self%dpsi_s(i)) - self%alpha(1)*vv(1, i) &
-                           - m2*self%sig(1) - gg(1, i)
+                ! rr_i = rbase_i + c^2 Delta Z_i - m^2 Z_i + beta Delta (V_i - v0) - alpha (V_i - v0) - Gbar_i
+                !        - (W (V - v0))_i / h
+                ! (the ends u_{N+1} = v_{N+1} = 0 and the drive's share in rbase; end sites apart, so that the
+                ! interior loop vectorises)
+                rr(1, i) = self%rbase(1, i) + c2*(uu(2, i) - 2.0_wp*uu(1, i)) + beta*(vv(2, i) - 2.0_wp*vv(1, i)) &
+                           - self%alpha(1)*vv(1, i) - m2*uu(1, i)
                 do m = 2, n - 1
-                    rr(m, i) = rr(m, i) + c2*(self%sig(m + 1) - 2.0_wp*self%sig(m) + self%sig(m - 1)) &
+                    rr(m, i) = self%rbase(m, i) + c2*(uu(m + 1, i) - 2.0_wp*uu(m, i) + uu(m - 1, i)) &
                                + beta*(vv(m + 1, i) - 2.0_wp*vv(m, i) + vv(m - 1, i)) - self%alpha(m)*vv(m, i) &
-                               - m2*self%sig(m) - gg(m, i)
+                               - m2*uu(m, i)
                 end do
-                rr(n, i) = rr(n, i) + c2*(-2.0_wp*self%sig(n) + self%sig(n - 1)) &
-                           + beta*(-2.0_wp*vv(n, i) + vv(n - 1, i)) - self%alpha(n)*vv(n, i) - m2*self%sig(n) - gg(n, i)
+                rr(n, i) = self%rbase(n, i) + c2*(-2.0_wp*uu(n, i) + uu(n - 1, i)) &
+                           + beta*(-2.0_wp*vv(n, i) + vv(n - 1, i)) - self%alpha(n)*vv(n, i) - m2*uu(n, i)
+                if (nodal) then
+                    rr(:, i) = rr(:, i) - self%fqq(:, i)
+                else
+                    call lincomb(rr(:, i), self%mqw(:, i), self%fqq, .true.)
+                end if
+                call lincomb(rr(:, i), self%mwh(:, i), vv, .true.)
             end do
         end associate
     end subroutine residual
 
-    !> Solve the factorised system in place: `rr` (right-hand side, N x s) becomes the update. To the eigenbasis
-    !> (rho_k = sum_j tinvf(k, j) r_j), s/2 complex tridiagonal solves, back (r_j = sum_k 2 Re(tf(j, k) rho_k)).
-    pure subroutine solve(self)
+    !> Solve the factorised system for the residual in `rr` (N x s) and add the update to Z (`uu`); change is its
+    !> largest magnitude. To the eigenbasis (rho_k = sum_j tinvf(k, j) r_j, real and imaginary parts as real
+    !> combinations), times the pivots' reciprocals, the s/2 complex recurrences of Thomas (forward
+    !> y_m = r_m/w_m - (e/w_m) y_{m-1}, back x_m = y_m - (e/w_m) x_{m+1}), back (delta_j = sum_k 2 Re(tf(j, k) rho_k)).
+    !> Only the recurrences are serial; every other pass vectorises.
+    pure subroutine solve(self, change)
         !> The stepper.
         class(avf_stepper), intent(inout) :: self
-        integer :: n, s, m, j, k
-        real(wp) :: c2, beta
-        complex(wp) :: e(self%tab%s/2)
+        !> max |delta Z| (NaN if an update is not finite).
+        real(wp), intent(out) :: change
+        integer :: n, s, m, j, k, p
+        real(wp) :: a, b, wr, wi
 
         n = self%n
         s = self%tab%s
-        c2 = self%chain%c**2
-        beta = self%chain%beta
-        associate (rho => self%rho, rr => self%rr, tab => self%tab)
+        associate (rho => self%rho, rr => self%rr, tab => self%tab, uu => self%uu, cf => self%cfac, wv => self%winv)
+            do p = 1, s
+                call lincomb(rho(:, p), self%tinc(:, p), rr, .false.)
+            end do
             do k = 1, s/2
-                rho(:, k) = tab%tinvf(k, 1)*rr(:, 1)
-                do j = 2, s
-                    rho(:, k) = rho(:, k) + tab%tinvf(k, j)*rr(:, j)
-                end do
-                e(k) = -c2 - (tab%lam(k)/self%dt)*beta
-            end do
-            ! forward: y_1 = r_1/w_1, y_m = (r_m - e y_{m-1})/w_m; back: x_m = y_m - (e/w_m) x_{m+1}; the s/2
-            ! independent recurrences interleaved (their latency chains overlap)
-            do k = 1, s/2
-                rho(1, k) = rho(1, k)*self%winv(1, k)
-            end do
-            do m = 2, n
-                do k = 1, s/2
-                    rho(m, k) = (rho(m, k) - e(k)*rho(m - 1, k))*self%winv(m, k)
+                do m = 1, n
+                    a = rho(m, 2*k - 1)
+                    b = rho(m, 2*k)
+                    wr = wv(m, 2*k - 1)
+                    wi = wv(m, 2*k)
+                    rho(m, 2*k - 1) = a*wr - b*wi
+                    rho(m, 2*k) = a*wi + b*wr
                 end do
             end do
-            do m = n - 1, 1, -1
-                do k = 1, s/2
-                    rho(m, k) = rho(m, k) - self%cfac(m, k)*rho(m + 1, k)
-                end do
+            ! the recurrences, two pairs at a time (avf8) so that their latency chains overlap
+            do k = 1, s/2, 2
+                call recurrences(rho(:, 2*k - 1:min(2*k + 2, s)), cf(:, 2*k - 1:min(2*k + 2, s)))
             end do
+            change = 0.0_wp
             do j = 1, s
-                rr(:, j) = 2.0_wp*real(tab%tf(j, 1)*rho(:, 1), wp)
-                do k = 2, s/2
-                    rr(:, j) = rr(:, j) + 2.0_wp*real(tab%tf(j, k)*rho(:, k), wp)
-                end do
+                call lincomb(rr(:, j), self%tbc(:, j), rho, .false.)
+                uu(:, j) = uu(:, j) + rr(:, j)
+                change = max(change, maxval(abs(rr(:, j))))
+                if (any(ieee_is_nan(rr(:, j)))) change = ieee_value(change, ieee_quiet_nan)
             end do
         end associate
     end subroutine solve
+
+    !> The forward and back recurrences of Thomas for one or two complex tridiagonal systems (columns: real and
+    !> imaginary parts of each), the previous values carried in registers: y_m = t_m - f_m y_{m-1}, then
+    !> x_m = y_m - f_m x_{m+1}, f = e/w_m (`cfac`).
+    pure subroutine recurrences(rho, cf)
+        !> t (the right-hand sides over the pivots), overwritten by x (N x 2 or N x 4).
+        real(wp), intent(inout) :: rho(:, :)
+        !> f (N x 2 or N x 4).
+        real(wp), intent(in) :: cf(:, :)
+        integer :: n, m
+        real(wp) :: a1, b1, a2, b2, x1, y1, x2, y2
+
+        n = size(rho, 1)
+        if (size(rho, 2) == 4) then
+            a1 = rho(1, 1)
+            b1 = rho(1, 2)
+            a2 = rho(1, 3)
+            b2 = rho(1, 4)
+            do m = 2, n
+                x1 = rho(m, 1) - (cf(m, 1)*a1 - cf(m, 2)*b1)
+                y1 = rho(m, 2) - (cf(m, 1)*b1 + cf(m, 2)*a1)
+                x2 = rho(m, 3) - (cf(m, 3)*a2 - cf(m, 4)*b2)
+                y2 = rho(m, 4) - (cf(m, 3)*b2 + cf(m, 4)*a2)
+                rho(m, 1) = x1
+                rho(m, 2) = y1
+                rho(m, 3) = x2
+                rho(m, 4) = y2
+                a1 = x1
+                b1 = y1
+                a2 = x2
+                b2 = y2
+            end do
+            do m = n - 1, 1, -1
+                x1 = rho(m, 1) - (cf(m, 1)*a1 - cf(m, 2)*b1)
+                y1 = rho(m, 2) - (cf(m, 1)*b1 + cf(m, 2)*a1)
+                x2 = rho(m, 3) - (cf(m, 3)*a2 - cf(m, 4)*b2)
+                y2 = rho(m, 4) - (cf(m, 3)*b2 + cf(m, 4)*a2)
+                rho(m, 1) = x1
+                rho(m, 2) = y1
+                rho(m, 3) = x2
+                rho(m, 4) = y2
+                a1 = x1
+                b1 = y1
+                a2 = x2
+                b2 = y2
+            end do
+        else
+            a1 = rho(1, 1)
+            b1 = rho(1, 2)
+            do m = 2, n
+                x1 = rho(m, 1) - (cf(m, 1)*a1 - cf(m, 2)*b1)
+                y1 = rho(m, 2) - (cf(m, 1)*b1 + cf(m, 2)*a1)
+                rho(m, 1) = x1
+                rho(m, 2) = y1
+                a1 = x1
+                b1 = y1
+            end do
+            do m = n - 1, 1, -1
+                x1 = rho(m, 1) - (cf(m, 1)*a1 - cf(m, 2)*b1)
+                y1 = rho(m, 2) - (cf(m, 1)*b1 + cf(m, 2)*a1)
+                rho(m, 1) = x1
+                rho(m, 2) = y1
+                a1 = x1
+                b1 = y1
+            end do
+        end if
+    end subroutine recurrences
 
     !> Append the state y (u, v, the integrated energies) and the previous step's stage increments Z (the
     !> predictor's start, so that a resumed run iterates from the same guess and gives the same bits).
