@@ -1,5 +1,6 @@
 !> The cost of a Newton site-step against the chain length N, next to what the memory system can deliver (issue 24,
-!> point 3): `fpm run --example benchmark --profile release -- repeats scaling` (this part alone) or any run of the
+!> point 3): `fpm run --example benchmark --profile release -- repeats scaling` (this part alone, after
+!> `floor_cpu_benchmark`) or any run of the
 !> benchmark without `fold` and `slices` (after the paper-default runs).
 !>
 !> 1. The machine's bandwidth: a STREAM-like triad a = b + s c on three arrays of 2^25 doubles (768 MiB in all,
@@ -22,6 +23,7 @@ module bench_scaling
     use supratrans_config, only: run_config, method_newton
     use supratrans_stepper_newton, only: newton_stepper
     use supratrans_scene_workprec, only: median
+    use bench_floor_cpu, only: floor_cpu_benchmark
     !$ use omp_lib, only: omp_set_num_threads
     implicit none
     private
@@ -39,7 +41,8 @@ module bench_scaling
 
 contains
 
-    !> `scaling_benchmark` alone, then stop, when the second argument of the benchmark is `scaling`.
+    !> `floor_cpu_benchmark` and `scaling_benchmark` alone, then stop, when the second argument of the benchmark is
+    !> `scaling`.
     subroutine scaling_alone(repeats)
         !> Timings per point (the medians are over these).
         integer, intent(in) :: repeats
@@ -48,6 +51,7 @@ contains
         if (command_argument_count() < 2) return
         call get_command_argument(2, arg)
         if (trim(arg) /= "scaling") return
+        call floor_cpu_benchmark(repeats)
         call scaling_benchmark(repeats)
         stop
     end subroutine scaling_alone

@@ -272,12 +272,7 @@ contains
         integer :: n
         real(wp) :: sc, dsc, s_old, se, ce
 
-        if (.not. rotate) then
-            do n = 1, size(a)
-                g(n) = 0.5_wp*(a(n) + b(n))        ! g holds s until G is formed
-            end do
-            call sin_cos_array(g, ss, cs)
-        end if
+        if (.not. rotate) call sin_cos_half_sum(a, b, ss, cs)
         if (h_max < h_series) then
             if (rotate) then
                 !$omp simd private(sc, dsc, s_old, se, ce)
@@ -357,33 +352,13 @@ contains
         real(wp), intent(in), contiguous :: x(:)
         !> sin(x_n) and cos(x_n).
         real(wp), intent(out), contiguous :: s(:), c(:)
-        integer :: n, m
-        real(wp) :: x_max
 
-        m = head_length(x, taylor_max)
-        x_max = 0.0_wp
-        !$omp simd reduction(max: x_max)
-        do n = 1, m
-            x_max = max(x_max, abs(x(n)))
-            call sin_cos_reduced(x(n), s(n), c(n))
-        end do
-        !$omp simd
-        do n = m + 1, size(x)
-            s(n) = sin_taylor(x(n))
-            c(n) = cos_taylor(x(n))
-        end do
-        if (x_max > trig_max) then
-            do n = 1, size(x)
-                s(n) = sin(x(n))
-            end do
-            do n = 1, size(x)
-                c(n) = cos(x(n))
-            end do
-        end if
+        call sin_cos_half_sum(x, x, s, c)     ! (x + x)/2 = x: one loop body, so that `sin_cos_reduced` is inlined
     end subroutine sin_cos_array
 
-    !> sin(s_n) and cos(s_n) of s_n = (a_n + b_n)/2 (the Newton scheme's mid value), the same bits as
-    !> `sin_cos_array` of an array holding s, without storing s: one pass that reads a and b and writes s and c.
+    !> sin(s_n) and cos(s_n) of s_n = (a_n + b_n)/2 (the Newton scheme's mid value) without storing s: one pass
+    !> that reads a and b and writes s and c (`sin_cos_array` is this with a = b = x: s_n = x_n exactly below the
+    !> overflow of x_n + x_n, and beyond `trig_max` the intrinsics take a_n/2 + b_n/2, also x_n exactly).
     pure subroutine sin_cos_half_sum(a, b, s, c)
         !> New and old values u^{k+1}, u^{k-1}.
         real(wp), intent(in), contiguous :: a(:), b(:)
@@ -410,10 +385,10 @@ contains
         end do
         if (x_max > trig_max) then
             do n = 1, size(a)
-                s(n) = sin(0.5_wp*(a(n) + b(n)))
+                s(n) = sin(0.5_wp*a(n) + 0.5_wp*b(n))
             end do
             do n = 1, size(a)
-                c(n) = cos(0.5_wp*(a(n) + b(n)))
+                c(n) = cos(0.5_wp*a(n) + 0.5_wp*b(n))
             end do
         end if
     end subroutine sin_cos_half_sum
@@ -508,7 +483,7 @@ contains
     end function head_length
 
     !> sin x and cos x, branch-free, for |x| <= `trig_max` (NaN or infinite x give NaN; called from
-    !> `sin_cos_array` only, so that it is inlined there and the loop vectorises): the reduction
+    !> `sin_cos_half_sum` only, so that it is inlined there and the loop vectorises): the reduction
     !> x = k pi/2 + r, |r| <= pi/4, with pi/2 in three parts (the first two of 33 bits, so that k times them is exact
     !> for |k| < 2^20), the Taylor polynomials of sin r (to degree 17) and cos r (to degree 18), whose truncation
     !> errors are below 1e-19, evaluated by Estrin's scheme (short dependency chains), and the quadrant k mod 4.
