@@ -182,42 +182,43 @@ program pf_driver
     use test_stepper_linearized, only: t165 => test_linearized_stepper_counters
     use test_stepper_linearized, only: t166 => test_linearized_singular_solve_reported
     use test_stepper_newton, only: t167 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t168 => test_newton_error_below_tol
-    use test_stepper_newton, only: t169 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t170 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t171 => test_newton_stepper_reports_failure
-    use test_strings, only: t172 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t173 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t174 => test_find_name_gives_the_first_index_or_zero
+    use test_stepper_newton, only: t168 => test_blocked_iteration_is_the_unblocked_one
+    use test_stepper_newton, only: t169 => test_newton_error_below_tol
+    use test_stepper_newton, only: t170 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t171 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t172 => test_newton_stepper_reports_failure
+    use test_strings, only: t173 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t174 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t175 => test_find_name_gives_the_first_index_or_zero
     use test_system, only: b27 => set_up
     use test_system, only: a27 => tear_down
-    use test_system, only: t175 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t176 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t177 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t178 => test_temporary_names_are_fresh
-    use test_system, only: t179 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t180 => test_monotone_step
-    use test_threshold, only: t181 => test_bisected_bracket
-    use test_threshold, only: t182 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t183 => test_two_transitions
-    use test_threshold, only: t184 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t185 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t186 => test_nothing_transmits
-    use test_threshold, only: t187 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t188 => test_lower_bound_transmits
-    use test_threshold, only: t189 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t190 => test_bad_arguments
-    use test_threshold, only: t191 => test_grid_helpers
+    use test_system, only: t176 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t177 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t178 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t179 => test_temporary_names_are_fresh
+    use test_system, only: t180 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t181 => test_monotone_step
+    use test_threshold, only: t182 => test_bisected_bracket
+    use test_threshold, only: t183 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t184 => test_two_transitions
+    use test_threshold, only: t185 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t186 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t187 => test_nothing_transmits
+    use test_threshold, only: t188 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t189 => test_lower_bound_transmits
+    use test_threshold, only: t190 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t191 => test_bad_arguments
+    use test_threshold, only: t192 => test_grid_helpers
     use test_workprec, only: b29 => set_up
     use test_workprec, only: a29 => tear_down
-    use test_workprec, only: t192 => test_rk8_eighth_order
-    use test_workprec, only: t193 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t194 => test_rk8_stability_polynomial
-    use test_workprec, only: t195 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t196 => test_unstable_runs_are_reported
-    use test_workprec, only: t197 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t198 => test_fitted_order
-    use test_workprec, only: t199 => test_step_kernels_timed
+    use test_workprec, only: t193 => test_rk8_eighth_order
+    use test_workprec, only: t194 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t195 => test_rk8_stability_polynomial
+    use test_workprec, only: t196 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t197 => test_unstable_runs_are_reported
+    use test_workprec, only: t198 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t199 => test_fitted_order
+    use test_workprec, only: t200 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -403,52 +404,53 @@ program pf_driver
     call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t165)
     call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t166)
     call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t167)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t168)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t169)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t170)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t171)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t172)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t173)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t174)
+    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t168)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t169)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t170)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t171)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t172)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t173)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t174)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t175)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t175, &
+        t176, &
         before=b27, &
         after=a27)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t176, before=b27, after=a27)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t177, before=b27, after=a27)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t177, &
+        t178, &
         before=b27, &
         after=a27)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t178, before=b27, after=a27)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t179, before=b27, after=a27)
-    call pf_run_test('test_threshold', 'test_monotone_step', t180)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t181)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t182)
-    call pf_run_test('test_threshold', 'test_two_transitions', t183)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t184)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t185)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t186)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t187)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t188)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t189)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t190)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t191)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t192, before=b29, after=a29)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t193, before=b29, after=a29)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t194, before=b29, after=a29)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t195, before=b29, after=a29)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t196, before=b29, after=a29)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t179, before=b27, after=a27)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t180, before=b27, after=a27)
+    call pf_run_test('test_threshold', 'test_monotone_step', t181)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t182)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t183)
+    call pf_run_test('test_threshold', 'test_two_transitions', t184)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t185)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t186)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t187)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t188)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t189)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t190)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t191)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t192)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t193, before=b29, after=a29)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t194, before=b29, after=a29)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t195, before=b29, after=a29)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t196, before=b29, after=a29)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t197, before=b29, after=a29)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t197, &
+        t198, &
         before=b29, &
         after=a29)
-    call pf_run_test('test_workprec', 'test_fitted_order', t198, before=b29, after=a29)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t199, before=b29, after=a29)
+    call pf_run_test('test_workprec', 'test_fitted_order', t199, before=b29, after=a29)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t200, before=b29, after=a29)
     call pf_driver_finish()
 end program pf_driver

@@ -21,7 +21,7 @@
 module bench_scaling
     use supratrans_kinds, only: wp, i8
     use supratrans_config, only: run_config, method_newton
-    use supratrans_stepper_newton, only: newton_stepper
+    use supratrans_stepper_newton, only: newton_stepper, newton_block
     use supratrans_scene_workprec, only: median
     use bench_floor_cpu, only: floor_cpu_benchmark
     !$ use omp_lib, only: omp_set_num_threads
@@ -42,7 +42,7 @@ module bench_scaling
 contains
 
     !> `floor_cpu_benchmark` and `scaling_benchmark` alone, then stop, when the second argument of the benchmark is
-    !> `scaling`.
+    !> `scaling`; `floor_cpu_benchmark` alone when it is `cpu`.
     subroutine scaling_alone(repeats)
         !> Timings per point (the medians are over these).
         integer, intent(in) :: repeats
@@ -50,24 +50,34 @@ contains
 
         if (command_argument_count() < 2) return
         call get_command_argument(2, arg)
-        if (trim(arg) /= "scaling") return
+        if (trim(arg) /= "scaling" .and. trim(arg) /= "cpu") return
         call floor_cpu_benchmark(repeats)
-        call scaling_benchmark(repeats)
+        if (trim(arg) == "scaling") call scaling_benchmark(repeats)
         stop
     end subroutine scaling_alone
 
     !> Bytes the Newton step's loops read and write per site (8 bytes per array element touched, each array counted
-    !> once per loop, as STREAM counts) for a step of `iterations` iterations, beta = 0, sine-Gordon: the first
-    !> iteration streams 22 arrays (the predictor with the right-hand side: 7 levels and e_n read, the new level
-    !> and the right-hand side written; sin and cos of s: 2 levels read, 2 written; the fused gradient and update:
-    !> b_n, right-hand side, 2 levels, sin, cos read, the new level and the update written), each later iteration
-    !> 11 (the update, sin, cos, 2 levels, b_n, right-hand side read; sin, cos, the new level, the update written).
-    pure function step_bytes(iterations) result(bytes)
+    !> once per loop, as STREAM counts) for a step of `iterations` iterations, beta = 0, sine-Gordon, on N sites.
+    !> Before the iterations, 13 arrays (the predictor: 7 levels read, the new level written; the right-hand side:
+    !> 2 levels, e_n and the new level read, the right-hand side written). Each iteration runs its loops block by
+    !> block (`newton_block` sites); within a block the arrays it writes and reads again stay in the cache, so that
+    !> through memory the first iteration streams 8 (2 levels, b_n and the right-hand side read; the new level, the
+    !> update, sin and cos written) and every later one 11 (the update, sin, cos, 2 levels, b_n and the right-hand
+    !> side read; sin, cos, the new level and the update written). On a chain of one block (N <= `newton_block`)
+    !> every loop runs over the whole chain, as counted here by the loops: 20 in the first iteration (s: 3; sin and
+    !> cos: 3; G and dG/da: 6; the update: 8) and 17 in each later one (G, dG/da and the rotation: 9; the update: 8).
+    pure function step_bytes(iterations, n) result(bytes)
         !> Newton iterations per step (a mean).
         real(wp), intent(in) :: iterations
+        !> Number of sites N.
+        integer, intent(in) :: n
         real(wp) :: bytes
 
-        bytes = 8.0_wp*(22.0_wp + 11.0_wp*max(iterations - 1.0_wp, 0.0_wp))
+        if (n <= newton_block) then
+            bytes = 8.0_wp*(13.0_wp + 20.0_wp + 17.0_wp*max(iterations - 1.0_wp, 0.0_wp))
+        else
+            bytes = 8.0_wp*(13.0_wp + 8.0_wp + 11.0_wp*max(iterations - 1.0_wp, 0.0_wp))
+        end if
     end function step_bytes
 
     !> The triad bandwidth, then the site-step cost at every N of `sizes`; printed and written to `scaling_csv`.
@@ -86,7 +96,7 @@ contains
             "B/site", "GB/s", "/triad", "/N=1e3"
         do k = 1, size(sizes)
             call site_step_cost(sizes(k), timings, ns(k), iters(k))
-            bytes = step_bytes(iters(k))
+            bytes = step_bytes(iters(k), sizes(k))
             gbs = bytes/ns(k)
             write (*, "(i10, 2x, f10.3, 2x, f10.4, 2x, f10.1, 2x, f10.2, 2x, f10.3, 2x, f10.3)") sizes(k), ns(k), &
                 iters(k), bytes, gbs, gbs/triad_gbs, ns(k)/ns(1)
@@ -98,8 +108,8 @@ contains
         end if
         write (unit, "(a)") "n,ns_per_site_step,iterations_per_step,bytes_per_site_step,gb_per_s,triad_gb_per_s"
         do k = 1, size(sizes)
-            write (unit, "(i0, 5(',', es14.6))") sizes(k), ns(k), iters(k), step_bytes(iters(k)), &
-                step_bytes(iters(k))/ns(k), triad_gbs
+            write (unit, "(i0, 5(',', es14.6))") sizes(k), ns(k), iters(k), step_bytes(iters(k), sizes(k)), &
+                step_bytes(iters(k), sizes(k))/ns(k), triad_gbs
         end do
         close (unit)
         write (*, "(a)") "# written to " // scaling_csv

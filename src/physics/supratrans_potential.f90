@@ -25,7 +25,7 @@ module supratrans_potential
     public :: potential_v, potential_dv, potential_d2v, discrete_gradient, discrete_gradient_da
     public :: gradient_and_slope, gradient_and_slope_array, gradient_and_slope_refine, potential_sum, force_array
     public :: potential_name, potential_from_name, is_potential, check_potential
-    public :: slope_lower_bound, curvature_bound, sin_cos_array, sin_cos_half_sum, sine_gordon_diagonal_newton
+    public :: slope_lower_bound, curvature_bound, sin_cos_array
 
     !> Not a potential: what `potential_from_name` returns for an unknown name.
     integer, parameter, public :: potential_unknown = 0
@@ -37,7 +37,7 @@ module supratrans_potential
     integer, parameter, public :: potential_ids(2) = [sine_gordon, klein_gordon]
 
     !> Below this |h| = |a - b|/2 the Taylor series of sinc and sinc' are used (truncation error < 3e-21).
-    real(wp), parameter, public :: h_series = 0.25_wp
+    real(wp), parameter :: h_series = 0.25_wp
     !> Largest |x| for which `sin_cos_array` uses its own reduction (k pi/2 exact in parts for |k| < 2^20).
     real(wp), parameter, public :: trig_max = 1.0e5_wp
     !> Largest |x| for which sin x and cos x are taken from their Taylor polynomials without a reduction (just
@@ -272,7 +272,12 @@ contains
         integer :: n
         real(wp) :: sc, dsc, s_old, se, ce
 
-        if (.not. rotate) call sin_cos_half_sum(a, b, ss, cs)
+        if (.not. rotate) then
+            do n = 1, size(a)
+                g(n) = 0.5_wp*(a(n) + b(n))        ! g holds s until G is formed
+            end do
+            call sin_cos_array(g, ss, cs)
+        end if
         if (h_max < h_series) then
             if (rotate) then
                 !$omp simd private(sc, dsc, s_old, se, ce)
@@ -352,120 +357,30 @@ contains
         real(wp), intent(in), contiguous :: x(:)
         !> sin(x_n) and cos(x_n).
         real(wp), intent(out), contiguous :: s(:), c(:)
-
-        call sin_cos_half_sum(x, x, s, c)     ! (x + x)/2 = x: one loop body, so that `sin_cos_reduced` is inlined
-    end subroutine sin_cos_array
-
-    !> sin(s_n) and cos(s_n) of s_n = (a_n + b_n)/2 (the Newton scheme's mid value) without storing s: one pass
-    !> that reads a and b and writes s and c (`sin_cos_array` is this with a = b = x: s_n = x_n exactly below the
-    !> overflow of x_n + x_n, and beyond `trig_max` the intrinsics take a_n/2 + b_n/2, also x_n exactly).
-    pure subroutine sin_cos_half_sum(a, b, s, c)
-        !> New and old values u^{k+1}, u^{k-1}.
-        real(wp), intent(in), contiguous :: a(:), b(:)
-        !> sin(s_n) and cos(s_n).
-        real(wp), intent(out), contiguous :: s(:), c(:)
         integer :: n, m
-        real(wp) :: x_max, x
+        real(wp) :: x_max
 
-        do m = size(a), 1, -1
-            if (abs(0.5_wp*(a(m) + b(m))) > taylor_max) exit
-        end do
+        m = head_length(x, taylor_max)
         x_max = 0.0_wp
-        !$omp simd private(x) reduction(max: x_max)
+        !$omp simd reduction(max: x_max)
         do n = 1, m
-            x = 0.5_wp*(a(n) + b(n))
-            x_max = max(x_max, abs(x))
-            call sin_cos_reduced(x, s(n), c(n))
+            x_max = max(x_max, abs(x(n)))
+            call sin_cos_reduced(x(n), s(n), c(n))
         end do
-        !$omp simd private(x)
-        do n = m + 1, size(a)
-            x = 0.5_wp*(a(n) + b(n))
-            s(n) = sin_taylor(x)
-            c(n) = cos_taylor(x)
+        !$omp simd
+        do n = m + 1, size(x)
+            s(n) = sin_taylor(x(n))
+            c(n) = cos_taylor(x(n))
         end do
         if (x_max > trig_max) then
-            do n = 1, size(a)
-                s(n) = sin(0.5_wp*a(n) + 0.5_wp*b(n))
+            do n = 1, size(x)
+                s(n) = sin(x(n))
             end do
-            do n = 1, size(a)
-                c(n) = cos(0.5_wp*a(n) + 0.5_wp*b(n))
-            end do
-        end if
-    end subroutine sin_cos_half_sum
-
-    !> One Newton iteration of the paper's scheme for sine-Gordon with a diagonal Jacobian (beta = 0) in one pass,
-    !> the kernel of `sine_gordon_kernel` (sinc series: the caller has checked max |h| < `h_series`) fused with
-    !> the update: sin(s_n), cos(s_n) advanced by delta_n/2 when `rotate` (as there), G and dG/da formed in
-    !> registers, r_n = rhs_n - b_n x_n - G_n, delta_n = r_n/(b_n + dG/da_n), x_n += delta_n, and the sums of the
-    !> stopping test: the same operations in the same order as the separate loops, so the same bits without
-    !> contraction (two arrays fewer streamed, one loop instead of two).
-    pure subroutine sine_gordon_diagonal_newton(rotate, bdiag, rhs, x_old, x, delta, ss, cs, change, defect, &
-                                                scale, h_max)
-        !> Advance sin(s), cos(s) by delta/2 (the previous update, read from `delta`) instead of taking them as given.
-        logical, intent(in) :: rotate
-        !> Diagonal b_n of A and the right-hand side of the step.
-        real(wp), intent(in), contiguous :: bdiag(:), rhs(:)
-        !> Level k-1 (the second argument of G).
-        real(wp), intent(in), contiguous :: x_old(:)
-        !> The iterate: in the current one, out the updated one.
-        real(wp), intent(inout), contiguous :: x(:)
-        !> In: the previous update (read when `rotate`); out: this update.
-        real(wp), intent(inout), contiguous :: delta(:)
-        !> sin(s_n), cos(s_n): in for the previous iterate when `rotate` (else for the current one), out for the
-        !> current one.
-        real(wp), intent(inout), contiguous :: ss(:), cs(:)
-        !> max |delta_n|, sum delta_n^2 |h_n|, sum b_n |x_n| |h_n| (h = (x - x_old)/2 after the update).
-        real(wp), intent(out) :: change, defect, scale
-        !> max |h_n| after the update.
-        real(wp), intent(out) :: h_max
-        integer :: j
-        real(wp) :: sc, dsc, s_old, se, ce, g, dg, d, xn, h, sn, cn
-
-        change = 0.0_wp
-        defect = 0.0_wp
-        scale = 0.0_wp
-        h_max = 0.0_wp
-        if (rotate) then
-            !$omp simd private(sc, dsc, s_old, se, ce, g, dg, d, xn, h, sn, cn) &
-            !$omp& reduction(max: change, h_max) reduction(+: defect, scale)
-            do j = 1, size(x)
-                call small_angle(0.5_wp*delta(j), se, ce)
-                s_old = ss(j)
-                sn = s_old*ce + cs(j)*se
-                cn = cs(j)*ce - s_old*se
-                ss(j) = sn
-                cs(j) = cn
-                call sinc_series(0.5_wp*(x(j) - x_old(j)), sc, dsc)
-                g = sn*sc
-                dg = 0.5_wp*(cn*sc + sn*dsc)
-                d = (rhs(j) - bdiag(j)*x(j) - g)/(bdiag(j) + dg)
-                xn = x(j) + d
-                h = 0.5_wp*abs(xn - x_old(j))
-                x(j) = xn
-                delta(j) = d
-                change = max(change, abs(d))
-                h_max = max(h_max, h)
-                defect = defect + d*d*h
-                scale = scale + bdiag(j)*abs(xn)*h
-            end do
-        else
-            !$omp simd private(sc, dsc, g, dg, d, xn, h) reduction(max: change, h_max) reduction(+: defect, scale)
-            do j = 1, size(x)
-                call sinc_series(0.5_wp*(x(j) - x_old(j)), sc, dsc)
-                g = ss(j)*sc
-                dg = 0.5_wp*(cs(j)*sc + ss(j)*dsc)
-                d = (rhs(j) - bdiag(j)*x(j) - g)/(bdiag(j) + dg)
-                xn = x(j) + d
-                h = 0.5_wp*abs(xn - x_old(j))
-                x(j) = xn
-                delta(j) = d
-                change = max(change, abs(d))
-                h_max = max(h_max, h)
-                defect = defect + d*d*h
-                scale = scale + bdiag(j)*abs(xn)*h
+            do n = 1, size(x)
+                c(n) = cos(x(n))
             end do
         end if
-    end subroutine sine_gordon_diagonal_newton
+    end subroutine sin_cos_array
 
     !> The number of leading elements of x up to the last with |x_n| > bound (0 when there is none): every later
     !> element is within the bound (or NaN, which the callers' polynomials carry through).
@@ -483,7 +398,7 @@ contains
     end function head_length
 
     !> sin x and cos x, branch-free, for |x| <= `trig_max` (NaN or infinite x give NaN; called from
-    !> `sin_cos_half_sum` only, so that it is inlined there and the loop vectorises): the reduction
+    !> `sin_cos_array` only, so that it is inlined there and the loop vectorises): the reduction
     !> x = k pi/2 + r, |r| <= pi/4, with pi/2 in three parts (the first two of 33 bits, so that k times them is exact
     !> for |k| < 2^20), the Taylor polynomials of sin r (to degree 17) and cos r (to degree 18), whose truncation
     !> errors are below 1e-19, evaluated by Estrin's scheme (short dependency chains), and the quadrant k mod 4.
