@@ -3,7 +3,8 @@
 !>
 !> Unknown x = u^{k+1}; residual F(x) = A x + G(x, u^{k-1}) - (B u^k + C u^{k-1} + v^k); Jacobian
 !> J = A + diag(dG/da(x, u^{k-1})), tridiagonal: one LAPACK `dgtsv` per iteration (N divisions when beta = 0, where
-!> J is diagonal, fused with the residual and the update in one loop). The stepper's predictor is the
+!> J is diagonal, fused with the residual and the update in one loop); on chains longer than `newton_block` sites that
+!> iteration runs block by block, so that its arrays stay in the cache, with the same bits). The stepper's predictor is the
 !> polynomial extrapolation of degree 6 from u^k .. u^{k-6} (`predictor_levels`; before t = 0 the chain is at
 !> rest): on smooth, sub-threshold runs it is close enough (|delta| ~ 1e-8) for the stopping test below to
 !> accept the first iteration; `newton_step` called alone extrapolates 3 u^k - 3 u^{k-1} + u^{k-2}. The first
@@ -295,8 +296,9 @@ contains
     !> the cache when its update reads them (the step streams 8 arrays through memory in the first iteration
     !> instead of 20, 11 in each later one instead of 17). Every block is given the whole chain's max |h| and
     !> max |delta| of the previous iteration, so that each site takes the branch it takes unblocked and has the same
-    !> bits; the maxima are combined exactly, the sums of the stopping test block by block (a roundoff-level change
-    !> of a test quantity, none for N <= `newton_block`, a single block).
+    !> bits (one exception: when some |s_n| > `trig_max`, only that block, not the chain, goes to the intrinsic sin
+    !> and cos, within 2 ulp of the reduction); the maxima are combined exactly, the sums of the stopping test block
+    !> by block (a roundoff-level change of a test quantity, none for N <= `newton_block`, a single block).
     pure subroutine diagonal_iteration(scheme, ws, it, x_old, x, change, defect, scale, h_max)
         !> Scheme coefficients.
         type(scheme_type), intent(in) :: scheme
