@@ -122,9 +122,14 @@ contains
         real(wp) :: gbs
         real(wp), allocatable :: a(:), b(:), c(:), t(:)
         real(wp) :: s
-        integer :: r, j
+        integer :: r, j, stat
 
-        allocate (a(triad_n), b(triad_n), c(triad_n), t(repeats))
+        allocate (a(triad_n), b(triad_n), c(triad_n), t(repeats), stat=stat)
+        if (stat /= 0) then
+            write (*, "(a)") "# triad: cannot allocate 768 MiB"
+            gbs = 0.0_wp
+            return
+        end if
         do j = 1, triad_n
             b(j) = real(j, wp)
             c(j) = 1.0_wp/real(j, wp)
