@@ -124,7 +124,10 @@ contains
         real(wp) :: s
         integer :: r, j, stat
 
-        allocate (a(triad_n), b(triad_n), c(triad_n), t(repeats), stat=stat)
+        allocate (t(repeats))
+        allocate (a(triad_n), stat=stat)
+        if (stat == 0) allocate (b(triad_n), stat=stat)
+        if (stat == 0) allocate (c(triad_n), stat=stat)
         if (stat /= 0) then
             write (*, "(a)") "# triad: cannot allocate 768 MiB"
             gbs = 0.0_wp
