@@ -185,42 +185,43 @@ program pf_driver
     use test_stepper_linearized, only: t168 => test_linearized_stepper_counters
     use test_stepper_linearized, only: t169 => test_linearized_singular_solve_reported
     use test_stepper_newton, only: t170 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t171 => test_newton_error_below_tol
-    use test_stepper_newton, only: t172 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t173 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t174 => test_newton_stepper_reports_failure
-    use test_strings, only: t175 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t176 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t177 => test_find_name_gives_the_first_index_or_zero
+    use test_stepper_newton, only: t171 => test_blocked_iteration_is_the_unblocked_one
+    use test_stepper_newton, only: t172 => test_newton_error_below_tol
+    use test_stepper_newton, only: t173 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t174 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t175 => test_newton_stepper_reports_failure
+    use test_strings, only: t176 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t177 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t178 => test_find_name_gives_the_first_index_or_zero
     use test_system, only: b28 => set_up
     use test_system, only: a28 => tear_down
-    use test_system, only: t178 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t179 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t180 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t181 => test_temporary_names_are_fresh
-    use test_system, only: t182 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t183 => test_monotone_step
-    use test_threshold, only: t184 => test_bisected_bracket
-    use test_threshold, only: t185 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t186 => test_two_transitions
-    use test_threshold, only: t187 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t188 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t189 => test_nothing_transmits
-    use test_threshold, only: t190 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t191 => test_lower_bound_transmits
-    use test_threshold, only: t192 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t193 => test_bad_arguments
-    use test_threshold, only: t194 => test_grid_helpers
+    use test_system, only: t179 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t180 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t181 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t182 => test_temporary_names_are_fresh
+    use test_system, only: t183 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t184 => test_monotone_step
+    use test_threshold, only: t185 => test_bisected_bracket
+    use test_threshold, only: t186 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t187 => test_two_transitions
+    use test_threshold, only: t188 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t189 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t190 => test_nothing_transmits
+    use test_threshold, only: t191 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t192 => test_lower_bound_transmits
+    use test_threshold, only: t193 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t194 => test_bad_arguments
+    use test_threshold, only: t195 => test_grid_helpers
     use test_workprec, only: b30 => set_up
     use test_workprec, only: a30 => tear_down
-    use test_workprec, only: t195 => test_rk8_eighth_order
-    use test_workprec, only: t196 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t197 => test_rk8_stability_polynomial
-    use test_workprec, only: t198 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t199 => test_unstable_runs_are_reported
-    use test_workprec, only: t200 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t201 => test_fitted_order
-    use test_workprec, only: t202 => test_step_kernels_timed
+    use test_workprec, only: t196 => test_rk8_eighth_order
+    use test_workprec, only: t197 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t198 => test_rk8_stability_polynomial
+    use test_workprec, only: t199 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t200 => test_unstable_runs_are_reported
+    use test_workprec, only: t201 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t202 => test_fitted_order
+    use test_workprec, only: t203 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -409,52 +410,53 @@ program pf_driver
     call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t168)
     call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t169)
     call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t170)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t171)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t172)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t173)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t174)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t175)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t176)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t177)
+    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t171)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t172)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t173)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t174)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t175)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t176)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t177)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t178)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t178, &
+        t179, &
         before=b28, &
         after=a28)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t179, before=b28, after=a28)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t180, before=b28, after=a28)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t180, &
+        t181, &
         before=b28, &
         after=a28)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t181, before=b28, after=a28)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t182, before=b28, after=a28)
-    call pf_run_test('test_threshold', 'test_monotone_step', t183)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t184)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t185)
-    call pf_run_test('test_threshold', 'test_two_transitions', t186)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t187)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t188)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t189)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t190)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t191)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t192)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t193)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t194)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t195, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t196, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t197, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t198, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t199, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t182, before=b28, after=a28)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t183, before=b28, after=a28)
+    call pf_run_test('test_threshold', 'test_monotone_step', t184)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t185)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t186)
+    call pf_run_test('test_threshold', 'test_two_transitions', t187)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t188)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t189)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t190)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t191)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t192)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t193)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t194)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t195)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t196, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t197, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t198, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t199, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t200, before=b30, after=a30)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t200, &
+        t201, &
         before=b30, &
         after=a30)
-    call pf_run_test('test_workprec', 'test_fitted_order', t201, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t202, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_fitted_order', t202, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t203, before=b30, after=a30)
     call pf_driver_finish()
 end program pf_driver

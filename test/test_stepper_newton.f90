@@ -12,7 +12,8 @@ module test_stepper_newton
     use supratrans_scheme, only: scheme_type, scheme_init
     use supratrans_ledger, only: ledger_type, ledger_close
     use supratrans_stepper, only: step_ok, step_not_converged
-    use supratrans_stepper_newton, only: newton_stepper, newton_work, newton_work_init, newton_step, newton_ok
+    use supratrans_stepper_newton, only: newton_stepper, newton_work, newton_work_init, newton_step, newton_ok, &
+                                         newton_block
     implicit none
 
     !> Sites of the small chain of the kernel tests.
@@ -100,51 +101,116 @@ contains
                 call assertEqual( &
                     newton_ok, &
                     status, &
-                    location=pf_source_location('test_stepper_newton.pf', 99, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 100, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertGreaterThanOrEqual( &
                     iterations, &
                     2, &
-                    location=pf_source_location('test_stepper_newton.pf', 100, 'assertGreaterThanOrEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 101, 'assertGreaterThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertLessThanOrEqual( &
                     iterations, &
                     6, &
-                    location=pf_source_location('test_stepper_newton.pf', 101, 'assertLessThanOrEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 102, 'assertLessThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     psi_new, &
                     u_new(0), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 102, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 103, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0.0_wp, &
                     u_new(nsite + 1), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 103, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 104, 'assertEqual'))
                 if (pf_any_failed()) return
                 call scheme_residual(chain, dt, u_old, u_cur, u_new, residual, scale)
                 call assertGreaterThan( &
                     scale, &
                     100.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 105, 'assertGreaterThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 106, 'assertGreaterThan'))
                 if (pf_any_failed()) return
                 call assertLessThan( &
                     residual, &
                     1.0e-14_wp*scale, &
-                    location=pf_source_location('test_stepper_newton.pf', 106, 'assertLessThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 107, 'assertLessThan'))
                 if (pf_any_failed()) return
                 ! the step moved the chain: the solution is not the predictor 3 u^k - 3 u^{k-1} + u^{k-2}
                 predictor = 3.0_wp*(u_cur(1:nsite) - u_old(1:nsite)) + u_older(1:nsite)
                 call assertGreaterThan( &
                     maxval(abs(u_new(1:nsite) - predictor)), &
                     1.0e-6_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 109, 'assertGreaterThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 110, 'assertGreaterThan'))
                 if (pf_any_failed()) return
             end do
         end do
     end subroutine test_newton_step_solves_the_scheme
+
+    !> With beta = 0 a long chain's Newton iteration runs block by block (`newton_block` sites): every site gets
+    !> the bits it gets on a chain of one block. A chain of two blocks and a bit, on a travelling wave of every
+    !> sign and size up to 1.5, is stepped with a zero tolerance (so that every chain runs the same 3 iterations);
+    !> its first and its second block of sites are each stepped alone as a chain of one block whose end cells hold
+    !> the long chain's values of the neighbouring sites (so that their right-hand sides are the same): the sites
+    !> agree exactly, for sine-Gordon and Klein-Gordon.
+    ! @test
+    subroutine test_blocked_iteration_is_the_unblocked_one()
+        integer, parameter :: nl = 2*newton_block + 37, ns = newton_block
+        type(chain_params) :: chain
+        type(scheme_type) :: long_scheme, short_scheme
+        type(newton_work) :: ws
+        real(wp), allocatable :: ul(:, :), us(:, :)
+        real(wp), parameter :: dt = 0.05_wp
+        integer :: ip, lev, j, kb, iterations, status
+
+        do ip = 1, 2
+            chain%potential = merge(sine_gordon, klein_gordon, ip == 1)
+            chain%n = nl
+            chain%n0 = nl
+            chain%gamma = 0.01_wp
+            call scheme_init(long_scheme, chain, dt)
+            chain%n = ns
+            chain%n0 = ns
+            call scheme_init(short_scheme, chain, dt)
+            allocate (ul(0:nl + 1, 4), us(0:ns + 1, 4))
+            do lev = 1, 3                                ! levels k-2, k-1, k of a wave u = 1.5 sin(0.3 n - 1.2 t)
+                do j = 0, nl + 1
+                    ul(j, lev) = 1.5_wp*sin(0.3_wp*real(j, wp) - 1.2_wp*dt*real(lev, wp))
+                end do
+            end do
+            ul(nl + 1, :) = 0.0_wp
+            ul(0, 4) = 1.5_wp*sin(-1.2_wp*dt*4.0_wp)
+            ul(nl + 1, 4) = 0.0_wp
+            call newton_work_init(ws, nl)
+            call newton_step(long_scheme, ws, ul(:, 1), ul(:, 2), ul(:, 3), ul(:, 4), 0.0_wp, 3, iterations, status)
+            call assertEqual(3, iterations, location=pf_source_location('test_stepper_newton.pf', 151, 'assertEqual'))
+            if (pf_any_failed()) return
+            call assertGreaterThan( &
+                maxval(abs(ul(1:nl, 4) - ul(1:nl, 3))), &
+                0.01_wp, &
+                location=pf_source_location('test_stepper_newton.pf', 152, 'assertGreaterThan'))
+            if (pf_any_failed()) return
+            call newton_work_init(ws, ns)
+            do kb = 0, 1                                 ! the long chain's sites kb ns + 1 .. kb ns + ns
+                us(0:ns + 1, 1:3) = ul(kb*ns:kb*ns + ns + 1, 1:3)
+                us(0, 4) = ul(kb*ns, 4)
+                us(ns + 1, 4) = ul(kb*ns + ns + 1, 4)
+                call newton_step(short_scheme, ws, us(:, 1), us(:, 2), us(:, 3), us(:, 4), 0.0_wp, 3, iterations, &
+                                 status)
+                call assertEqual( &
+                    3, &
+                    iterations, &
+                    location=pf_source_location('test_stepper_newton.pf', 160, 'assertEqual'))
+                if (pf_any_failed()) return
+                call assertEqual( &
+                    0, &
+                    count(ul(kb*ns + 1:kb*ns + ns, 4) /= us(1:ns, 4)), &
+                    location=pf_source_location('test_stepper_newton.pf', 161, 'assertEqual'))
+                if (pf_any_failed()) return
+            end do
+            deallocate (ul, us)
+        end do
+    end subroutine test_blocked_iteration_is_the_unblocked_one
 
     !> Newton's error stays below `newton_tol`: along a strongly driven run (every damping channel on, |u| > 2),
     !> each accepted step is compared with the fully converged solution of the same equation from the same levels
@@ -186,14 +252,14 @@ contains
                         call assertEqual( &
                             newton_ok, &
                             status, &
-                            location=pf_source_location('test_stepper_newton.pf', 151, 'assertEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 204, 'assertEqual'))
                         if (pf_any_failed()) return
                         call newton_step(scheme, ws, u(:, 1), u(:, 2), u(:, 3), u(:, 4), tols(it), 20, iterations, &
                                          status)
                         call assertEqual( &
                             newton_ok, &
                             status, &
-                            location=pf_source_location('test_stepper_newton.pf', 154, 'assertEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 207, 'assertEqual'))
                         if (pf_any_failed()) return
                         worst = max(worst, maxval(abs(u(:, 4) - exact)))
                         u = cshift(u, 1, dim=2)
@@ -201,13 +267,13 @@ contains
                     call assertLessThanOrEqual( &
                         worst, &
                         tols(it), &
-                        location=pf_source_location('test_stepper_newton.pf', 158, 'assertLessThanOrEqual'))
+                        location=pf_source_location('test_stepper_newton.pf', 211, 'assertLessThanOrEqual'))
                     if (pf_any_failed()) return
                     ! strongly nonlinear: |u| beyond 2 (sin u far from u) in the chain
                     call assertGreaterThan( &
                         maxval(abs(u(1:n, 3))), &
                         2.0_wp, &
-                        location=pf_source_location('test_stepper_newton.pf', 160, 'assertGreaterThan'))
+                        location=pf_source_location('test_stepper_newton.pf', 213, 'assertGreaterThan'))
                     if (pf_any_failed()) return
                 end do
             end do
@@ -256,26 +322,26 @@ contains
                             call assertEqual( &
                                 newton_ok, &
                                 status, &
-                                location=pf_source_location('test_stepper_newton.pf', 205, 'assertEqual'))
+                                location=pf_source_location('test_stepper_newton.pf', 258, 'assertEqual'))
                             if (pf_any_failed()) return
                             call newton%step(status)
                             call assertEqual( &
                                 step_ok, &
                                 status, &
-                                location=pf_source_location('test_stepper_newton.pf', 207, 'assertEqual'))
+                                location=pf_source_location('test_stepper_newton.pf', 260, 'assertEqual'))
                             if (pf_any_failed()) return
                             worst = max(worst, maxval(abs(newton%u(:, newton%ic) - exact)))
                         end do
                         call assertLessThanOrEqual( &
                             worst, &
                             run%numerics%newton_tol, &
-                            location=pf_source_location('test_stepper_newton.pf', 210, 'assertLessThanOrEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 263, 'assertLessThanOrEqual'))
                         if (pf_any_failed()) return
                         if (ia == 1) then
                             call assertLessThan( &
                                 real(newton%newton_iterations, wp), &
                                 1.5_wp*1500.0_wp, &
-                                location=pf_source_location('test_stepper_newton.pf', 212, 'assertLessThan'))
+                                location=pf_source_location('test_stepper_newton.pf', 265, 'assertLessThan'))
                             if (pf_any_failed()) return
                         end if
                         used(ie) = newton%newton_iterations
@@ -284,7 +350,7 @@ contains
                         call assertLessThan( &
                             real(used(2), wp), &
                             0.9_wp*real(used(1), wp), &
-                            location=pf_source_location('test_stepper_newton.pf', 217, 'assertLessThan'))
+                            location=pf_source_location('test_stepper_newton.pf', 270, 'assertLessThan'))
                         if (pf_any_failed()) return
                     end if
                 end do
@@ -313,20 +379,20 @@ contains
         call assertEqual( &
             2, &
             newton%initial_levels, &
-            location=pf_source_location('test_stepper_newton.pf', 242, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 295, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(2, newton%order, location=pf_source_location('test_stepper_newton.pf', 243, 'assertEqual'))
+        call assertEqual(2, newton%order, location=pf_source_location('test_stepper_newton.pf', 296, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             run%numerics%dt, &
             newton%level_time(), &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 244, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 297, 'assertEqual'))
         if (pf_any_failed()) return
         call ledger_close(ledger, newton%stored_energy())
         do k = 1, 1200
             call newton%step(status)
-            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_newton.pf', 248, 'assertEqual'))
+            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_newton.pf', 301, 'assertEqual'))
             if (pf_any_failed()) return
             call newton%account(ledger)
             call ledger_close(ledger, newton%stored_energy())
@@ -334,66 +400,66 @@ contains
         call assertEqual( &
             1200_i8, &
             newton%steps, &
-            location=pf_source_location('test_stepper_newton.pf', 252, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 305, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1201.0_wp*run%numerics%dt, &
             newton%level_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 253, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 306, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1200.5_wp*run%numerics%dt, &
             newton%energy_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 254, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 307, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             drive_psi(run%drive, newton%level_time()), &
             newton%displacement(0, 0), &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 255, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 308, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             newton%newton_iterations, &
             newton%tridiagonal_solves, &
-            location=pf_source_location('test_stepper_newton.pf', 256, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 309, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             newton%newton_iterations, &
             1200_i8, &
-            location=pf_source_location('test_stepper_newton.pf', 257, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 310, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0_i8, &
             newton%rhs_evaluations, &
-            location=pf_source_location('test_stepper_newton.pf', 258, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 311, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             newton%newton_max_iterations, &
             2, &
-            location=pf_source_location('test_stepper_newton.pf', 259, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 312, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         ! it transmits: far more energy goes in than an evanescent response takes
         call assertGreaterThan( &
             ledger%injected, &
             20.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 261, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 314, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             ledger%dissipated_beta, &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 262, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 315, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             ledger%dissipated_absorber, &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 263, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 316, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertLessThan( &
             ledger%max_step_residual, &
             1.0e-13_wp*ledger%energy_scale, &
-            location=pf_source_location('test_stepper_newton.pf', 264, 'assertLessThan'))
+            location=pf_source_location('test_stepper_newton.pf', 317, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_newton_stepper_counters_and_ledger
 
@@ -414,19 +480,19 @@ contains
         call assertEqual( &
             step_not_converged, &
             status, &
-            location=pf_source_location('test_stepper_newton.pf', 281, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 334, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 282, 'assertEqual'))
+        call assertEqual(0_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 335, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1_i8, &
             newton%newton_iterations, &
-            location=pf_source_location('test_stepper_newton.pf', 283, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 336, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "Newton did not converge in 1 iterations at t = 0.1", &
             newton%reason, &
-            location=pf_source_location('test_stepper_newton.pf', 284, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 337, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_newton_stepper_reports_failure
 

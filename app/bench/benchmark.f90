@@ -48,6 +48,8 @@ program benchmark
     use supratrans_fold_record, only: fold_record, empty_fold_record
     use supratrans_fold_line, only: trace_fold, shortest_chain
     use bench_workprec, only: workprec_benchmark
+    use bench_scaling, only: scaling_benchmark, scaling_alone
+    use bench_floor_cpu, only: floor_cpu_benchmark
     !$ use omp_lib, only: omp_set_num_threads, omp_get_max_threads
     implicit none
     type(run_config) :: run
@@ -86,6 +88,7 @@ program benchmark
         call slice_benchmark(trim(arg), [16, 64])
         stop
     end if
+    call scaling_alone(repeats)
     allocate (times(repeats), floor_times(repeats))
     run%drive%amplitude = 1.9_wp
     run%drive%omega = 0.9_wp
@@ -145,6 +148,8 @@ program benchmark
     write (*, "(a)") "# paper-default newton run against the naive kernel (app/naive), in this process"
     write (*, "(a, f10.3, a, f10.3, a, f8.4)") "newton ", newton_ms, " ms, naive ", 1000.0_wp*median(times), &
         " ms, ratio ", newton_ms/(1000.0_wp*median(times))
+    call floor_cpu_benchmark(repeats)
+    call scaling_benchmark(repeats)
 
     call workprec_benchmark(repeats)
     if (runs_only) stop

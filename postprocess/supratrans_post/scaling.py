@@ -3,6 +3,7 @@
     python3 postprocess/scaling.py                                   # release build; prints the table only
     python3 postprocess/scaling.py -o postprocess/figures/scaling.png   # and draws the chart there
     python3 postprocess/scaling.py --exe build/.../supratrans -o scaling.png   # this executable, no fpm
+    python3 postprocess/scaling.py --site-cost postprocess/data/site_cost.csv -o postprocess/figures/site_cost.png
 
 Each point is one whole process (the release executable on a namelist of its own, output to a scratch folder): wall
 time and peak resident memory from the kernel's accounting of that child (os.wait4). The paper-default run
@@ -10,12 +11,18 @@ time and peak resident memory from the kernel's accounting of that child (os.wai
 (N0 = 3N/4, one probe), T = 50 .. 800 at N = 200, and amplitude sweeps of 1 .. 100 runs at N = 200, T = 200.
 It takes minutes. Nothing is written but the chart, and only where -o says.
 
+With --site-cost nothing is run: the chart of the cost per site-step against N is drawn from the CSV file the
+benchmark writes (`fpm run --example benchmark --profile release -- 7 scaling`: Newton steps alone, one thread,
+processor time; columns n, ns_per_site_step, iterations_per_step, bytes_per_site_step, gb_per_s,
+triad_gb_per_s), with the bandwidth those bytes take against the machine's triad bandwidth, and its rows printed.
+
 Without --exe the executable is built with `fpm build --profile release` in the supratrans checkout (the one
 holding this package, else the working directory or one above it). A run that fails, or no checkout, gives one
 line `error: ...` and exit status 2.
 """
 from __future__ import annotations
 
+import csv
 import os
 import subprocess
 import sys
@@ -112,6 +119,72 @@ def draw(rows: list[tuple[str, int, float, float]]):
     return fig
 
 
+#: The columns of the benchmark's site-cost CSV (app/bench/bench_scaling.f90), in order.
+SITE_COST_COLUMNS = ("n", "ns_per_site_step", "iterations_per_step", "bytes_per_site_step", "gb_per_s",
+                     "triad_gb_per_s")
+
+
+def read_site_cost(path: Path) -> list[dict[str, float]]:
+    """The rows of the benchmark's site-cost CSV, sorted by N; PlotError when the file is missing, its header is not
+    SITE_COST_COLUMNS, a value is not a positive finite number, or it has no row."""
+    try:
+        with open(path, newline="") as f:
+            table = list(csv.reader(f))
+    except OSError as exc:
+        raise PlotError(path, f"cannot read ({exc.strerror or exc})") from None
+    if not table or tuple(c.strip() for c in table[0]) != SITE_COST_COLUMNS:
+        raise PlotError(path, f"not a site-cost table (header must be {','.join(SITE_COST_COLUMNS)})")
+    rows = []
+    for line, cells in enumerate(table[1:], start=2):
+        if not cells:
+            continue
+        try:
+            values = [float(c) for c in cells]
+        except ValueError:
+            raise PlotError(path, f"line {line}: not a number in {','.join(cells)}") from None
+        if len(values) != len(SITE_COST_COLUMNS) or not all(0.0 < v < float("inf") for v in values):
+            raise PlotError(path, f"line {line}: expected {len(SITE_COST_COLUMNS)} positive finite numbers")
+        rows.append(dict(zip(SITE_COST_COLUMNS, values)))
+    if not rows:
+        raise PlotError(path, "no rows")
+    return sorted(rows, key=lambda r: r["n"])
+
+
+def site_cost_table(rows: list[dict[str, float]]) -> list[str]:
+    """The rows as a Markdown table, with each cost relative to the smallest N's."""
+    first = rows[0]["ns_per_site_step"]
+    return ["| N | ns per site-step | relative to the smallest N | Newton iterations per step | bytes per site-step |"
+            " GB/s | of the triad's |", "| --- | --- | --- | --- | --- | --- | --- |",
+            *(f"| {int(r['n'])} | {r['ns_per_site_step']:.2f} | {r['ns_per_site_step'] / first:.3f} | "
+              f"{r['iterations_per_step']:.3f} | {r['bytes_per_site_step']:.0f} | {r['gb_per_s']:.2f} | "
+              f"{r['gb_per_s'] / r['triad_gb_per_s']:.2f} |" for r in rows)]
+
+
+@style.styled
+def draw_site_cost(rows: list[dict[str, float]]):
+    """The chart: ns per site-step against N (log N), the 1.2 times line of the smallest N's cost; beside it the
+    bandwidth the step's bytes take against the machine's triad bandwidth."""
+    fig, (ax, bw) = style.subplots(1, 2, figsize=(10, 3.6))
+    n = [r["n"] for r in rows]
+    cost = [r["ns_per_site_step"] for r in rows]
+    ax.semilogx(n, cost, "o-", label="Newton step (one thread)")
+    ax.axhline(1.2 * cost[0], color="0.5", ls="--", lw=1, label=f"1.2 x the cost at N = {int(n[0])}")
+    ax.set_ylim(0.0, 1.5 * max(cost))
+    ax.set_xlabel("oscillators N")
+    ax.set_ylabel("ns per site-step")
+    ax.legend()
+    bw.semilogx(n, [r["gb_per_s"] for r in rows], "o-", label="the step's bytes / its time")
+    bw.semilogx(n, [r["triad_gb_per_s"] for r in rows], "s--", label="triad (measured in the same run)")
+    bw.set_ylim(0.0, 1.2 * max(max(r["gb_per_s"], r["triad_gb_per_s"]) for r in rows))
+    bw.set_xlabel("oscillators N")
+    bw.set_ylabel("GB/s")
+    bw.legend()
+    for a in (ax, bw):
+        a.grid(True, which="both", alpha=0.3)
+    fig.suptitle("supratrans: cost per site-step against N (benchmark, processor time)")
+    return fig
+
+
 def main(argv: list[str] | None = None) -> int:
     """The command line of `scaling.py`; returns the exit status (0, or 2 with one line on stderr)."""
     ap = cli.parser("scaling.py", __doc__, argv)
@@ -119,10 +192,19 @@ def main(argv: list[str] | None = None) -> int:
                     help="draw the chart into this image (default: none, the table only)")
     ap.add_argument("--exe", help="the supratrans executable to time (default: fpm's release build)")
     ap.add_argument("--dpi", type=cli.dpi, default=110, help="resolution of the image (default 110)")
+    ap.add_argument("--site-cost", type=Path, metavar="CSV",
+                    help="run nothing: the cost per site-step against N from the benchmark's CSV")
     args = ap.parse_args(argv)
     try:
         if args.output:
             style.image_format(args.output)
+        if args.site_cost:
+            site = read_site_cost(args.site_cost)
+            print("\n".join(site_cost_table(site)))
+            if args.output:
+                path = style.save(draw_site_cost(site), args.output, dpi=args.dpi)
+                print(f"wrote {path}", file=sys.stderr)
+            return 0
         rows = measure_all(args.exe or executable())
         print("\n".join(table(rows)))
         if args.output:
