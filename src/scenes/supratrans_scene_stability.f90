@@ -160,6 +160,9 @@ contains
         if (.not. cfg%output%quiet) write (error_unit, "(a)") "stability: linear theory (spectra of " &
             // int_str(ncurve*nc) // " linearised chains)"
         allocate (linear(nc, nm, ncurve), paper(nc, ncurve), rk4_limit(nc, ncurve), rk4_undamped(nc, ncurve))
+        ! in a parallel region, so that LAPACK's dgeev runs on one thread whatever OMP_NUM_THREADS says (a threaded
+        ! BLAS splits its blocks by the thread count, and the last bits of the spectra then move with it)
+        !$omp parallel do collapse(2) schedule(static) default(shared) private(chain, re, im_part, im)
         do icurve = 1, ncurve
             do ic = 1, nc
                 chain = tasks%curves(icurve)%chain
@@ -179,6 +182,7 @@ contains
                 end do
             end do
         end do
+        !$omp end parallel do
         tasks%predicted = linear
 
         nbis = ncurve*nm*nc
