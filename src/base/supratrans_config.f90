@@ -274,6 +274,9 @@ module supratrans_config
         integer :: slice_index = 0
         !> Number of slices the scene's tasks are split into (0: not sliced).
         integer :: slice_count = 0
+        !> An earlier output of the same study whose measured per-task costs deal the slices (command line --costs FILE;
+        !> unallocated: the estimate).
+        character(len=:), allocatable :: slice_costs
         !> Compute nothing: write the partial snapshot of what the journal holds (merge --partial).
         logical :: snapshot_only = .false.
         !> For `merge`: the first part file, whose records the scene receives as its journal; the scene then computes nothing and

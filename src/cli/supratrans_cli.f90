@@ -3,6 +3,7 @@
 !>
 !>     supratrans FILE.nml                  run the study a namelist describes, write its HDF5 output
 !>     supratrans FILE.nml --slice I/N      run slice I of N of the scene's tasks, write a part file
+!>     supratrans FILE.nml --slice I/N --costs EARLIER.h5   the same, slices dealt by the costs measured there
 !>     supratrans merge [--partial] [-o OUT] [--overwrite] PART...   join part files into the scene's output
 !>     supratrans --check FILE.nml          read and validate only
 !>     supratrans --help | --version
@@ -45,7 +46,8 @@ module supratrans_cli
     public :: run_command, run_from_file, usage, printable
 
     !> Usage text of the program.
-    character(len=*), parameter :: usage = "usage: supratrans FILE.nml [--slice I/N] | supratrans merge [--partial] " &
+    character(len=*), parameter :: usage = "usage: supratrans FILE.nml [--slice I/N [--costs FILE]] | supratrans merge " &
+        // "[--partial] " &
         // "[-o OUT] [--overwrite] PART... | supratrans merge --slices N FILE.nml | supratrans --check FILE.nml | " &
         // "supratrans --help | supratrans --version"
 
@@ -55,6 +57,8 @@ module supratrans_cli
         // new_line("a") // &
         "  --slice I/N           run only slice I of N of the scene's tasks (largest-first by cost), write" // new_line("a") // &
         "                        <output stem>.part-I-of-N.h5; for Slurm job arrays (input/slurm/)" // new_line("a") // &
+        "    --costs FILE        deal the slices by the task costs measured in FILE, an earlier output of" // new_line("a") // &
+        "                        the same study (bifurcation: /cost/wall_time), not by the estimate" // new_line("a") // &
         "  merge PART...         join the part files of every slice into the scene's ordinary output" // new_line("a") // &
         "    --partial           accept missing slices: write <output>.partial.h5 from what is there" // new_line("a") // &
         "    -o OUT              output file (default: the parts' name without .part-I-of-N)" // new_line("a") // &
@@ -82,7 +86,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
         !> Text for standard output (empty unless help or version).
         character(len=:), allocatable, intent(out) :: text
-        character(len=:), allocatable :: file, output, parts(:)
+        character(len=:), allocatable :: file, output, parts(:), costs
         integer :: i, slice_index, slice_count, nparts, nchecked, worst
         logical :: check_only, partial, overwrite
 
@@ -185,6 +189,13 @@ contains
             select case (trim(args(i)))
             case ("--check")
                 check_only = .true.
+            case ("--costs")
+                if (i == size(args)) then
+                    call fail("--costs needs a file, an earlier output of the same study")
+                    return
+                end if
+                i = i + 1
+                costs = trim(args(i))
             case ("--slice")
                 if (i == size(args)) then
                     call fail("--slice needs I/N, e.g. --slice 3/16")
@@ -226,8 +237,10 @@ contains
             status = worst
         else if (check_only) then
             call check_file(file, status, error, report=.true.)
+        else if (allocated(costs) .and. slice_count == 0) then
+            call fail("--costs applies with --slice I/N (it deals the slices)")
         else
-            call run_from_file(file, status, error, slice_index, slice_count)
+            call run_from_file(file, status, error, slice_index, slice_count, costs)
         end if
 
     contains
@@ -424,7 +437,7 @@ contains
 
     !> Run the study described by namelist file `path` (or slice `slice_index` of `slice_count` of it). Returns exit
     !> status 0 on success; otherwise the error's status (2 for bad input) and `error` holds the one-line message.
-    subroutine run_from_file(path, status, error, slice_index, slice_count)
+    subroutine run_from_file(path, status, error, slice_index, slice_count, costs)
         !> Namelist file.
         character(len=*), intent(in) :: path
         !> Exit status for the program.
@@ -433,6 +446,8 @@ contains
         type(error_type), allocatable, intent(out) :: error
         !> Run only slice `slice_index` of `slice_count` (default: the whole scene).
         integer, intent(in), optional :: slice_index, slice_count
+        !> With a slice: deal the slices by the task costs measured in this earlier output (`--costs`).
+        character(len=*), intent(in), optional :: costs
         type(input_config) :: cfg
         type(part_set) :: done_part
         type(error_type), allocatable :: cause
@@ -463,6 +478,7 @@ contains
                 end if
                 cfg%slice_index = slice_index
                 cfg%slice_count = slice_count
+                if (present(costs)) cfg%slice_costs = costs
                 cfg%output%file = part_path(trim(cfg%output%file), slice_index, slice_count)
                 if (path_kind(trim(cfg%output%file)) /= path_missing) then
                     call read_parts([character(len=len_trim(cfg%output%file)) :: trim(cfg%output%file)], .true., &

@@ -44,7 +44,8 @@ module supratrans_scene_bifurcation
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only, run_work
     use supratrans_checkpoint, only: checkpoint_session, open_session, close_session
     use supratrans_system, only: remove_file
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group, h5_open, &
+                               h5_close, h5_read, h5_read_attr
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1, printable
     implicit none
@@ -112,6 +113,8 @@ module supratrans_scene_bifurcation
         procedure :: snapshot => write_snapshot
         !> Estimated cost of one search (slices of equal cost).
         procedure :: cost => search_cost
+        !> The searches' measured wall times in an earlier output of the same study (`--costs`).
+        procedure :: measured_costs => search_measured_costs
     end type bifurcation_tasks
 
     !> A dataset of `/screening` or `/certify`: one field of the search records written as a (curve, omega) grid.
@@ -473,6 +476,74 @@ contains
         r = from_values(values)
         yes = r%status /= bifurcation_pending
     end function search_finished
+
+    !> The measured cost of every search in `path`, an earlier output (or merged file) of the same study: its
+    !> `/cost/wall_time` (curve, omega), by task index. The file must be a bifurcation output with the same
+    !> frequencies (`/omega`) and curves (`/curves/gamma`, `beta`, `m2`), else it is refused in one line.
+    subroutine search_measured_costs(self, path, costs, error)
+        !> The tasks.
+        class(bifurcation_tasks), intent(in) :: self
+        !> The earlier output.
+        character(len=*), intent(in) :: path
+        !> Measured wall time of each search (s), by task index.
+        real(wp), allocatable, intent(out) :: costs(:)
+        !> Error: unreadable, of another study, or without costs.
+        type(error_type), allocatable, intent(out) :: error
+        type(h5_file) :: file
+        type(error_type), allocatable :: cause, ignored
+        character(len=:), allocatable :: kind
+        real(wp), allocatable :: grid(:, :), axis(:), gamma(:), beta(:), m2(:)
+        integer :: ic
+
+        call h5_open(file, path, cause)
+        if (allocated(cause)) then
+            call fatal_error(error, "--costs " // printable(path) // ": " // cause%message, err_input)
+            return
+        end if
+        call h5_read_attr(file, "/parameters", "kind", kind, cause)
+        if (.not. allocated(cause)) then
+            if (kind /= "bifurcation") then
+                call fatal_error(error, "--costs " // printable(path) // ": an output of a '" // printable(kind) &
+                                 // "' scene, not of this bifurcation study", err_input)
+            end if
+        end if
+        if (.not. allocated(cause) .and. .not. allocated(error)) call h5_read(file, "/omega", axis, cause)
+        if (.not. allocated(cause) .and. .not. allocated(error)) call h5_read(file, "/curves/gamma", gamma, cause)
+        if (.not. allocated(cause) .and. .not. allocated(error)) call h5_read(file, "/curves/beta", beta, cause)
+        if (.not. allocated(cause) .and. .not. allocated(error)) call h5_read(file, "/curves/m2", m2, cause)
+        if (.not. allocated(cause) .and. .not. allocated(error)) then
+            if (.not. same(axis, self%omegas) .or. .not. same(gamma, [(self%runs(ic)%chain%gamma, ic = 1, &
+                size(self%runs))]) .or. .not. same(beta, [(self%runs(ic)%chain%beta, ic = 1, size(self%runs))]) &
+                .or. .not. same(m2, [(self%runs(ic)%chain%m2, ic = 1, size(self%runs))])) then
+                call fatal_error(error, "--costs " // printable(path) // ": of another study (its frequencies or " &
+                                 // "curves are not this namelist's)", err_input)
+            end if
+        end if
+        if (.not. allocated(cause) .and. .not. allocated(error)) then
+            call h5_read(file, "/cost/wall_time", grid, cause)
+            if (allocated(cause)) call fatal_error(error, "--costs " // printable(path) // ": lacks the searches' " &
+                                                   // "measured costs (/cost/wall_time)", err_input)
+        end if
+        call h5_close(file, ignored)
+        if (allocated(error)) return
+        if (allocated(cause)) then
+            call fatal_error(error, "--costs " // printable(path) // ": not a bifurcation output (" &
+                             // cause%message // ")", err_input)
+            return
+        end if
+        costs = reshape(grid, [size(grid)])     ! (omega, curve) in Fortran order: task (curve - 1) nomega + iomega
+
+    contains
+
+        !> Equal lengths and values (to 1e-12 relative: the same namelist gives the same bits).
+        pure logical function same(a, b)
+            real(wp), intent(in) :: a(:), b(:)
+
+            same = size(a) == size(b)
+            if (same) same = all(abs(a - b) <= 1.0e-12_wp*max(1.0_wp, abs(b)))
+        end function same
+
+    end subroutine search_measured_costs
 
     !> Estimated cost of task `index`, for the largest-first slices (`supratrans_tasks::slice_owners`): the work of
     !> one run of its curve (`run_work`) x the expected runs of a search, half the coarse scan of the range and the

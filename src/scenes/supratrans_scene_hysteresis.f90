@@ -51,7 +51,7 @@ module supratrans_scene_hysteresis
     use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge, detector_site, profile_stairs, stair_count, stair_level, &
                                 stair_start
-    use supratrans_simulate, only: simulate
+    use supratrans_simulate, only: simulate_task
     use supratrans_result, only: run_result, run_ok
     use supratrans_status, only: status_outside_gap, status_not_run
     use supratrans_threshold, only: search_grid_size
@@ -103,9 +103,13 @@ module supratrans_scene_hysteresis
         integer :: top = 0
         !> Path of the partial output written by `snapshot`.
         character(len=:), allocatable :: partial_path
+        !> Mid-run checkpoints of task t: `<checkpoint_prefix><t>`, bound to `fingerprint` and t.
+        character(len=:), allocatable :: checkpoint_prefix, fingerprint
     contains
         !> One run up and down the stairs.
         procedure :: run => run_stairs_task
+        !> Whether a task's values are its result (not a run stopped by a signal at its checkpoint).
+        procedure :: finished => stairs_finished
         !> Write the partial output.
         procedure :: snapshot => write_snapshot
     end type hysteresis_tasks
@@ -160,6 +164,8 @@ contains
             tasks%runs(ic) = curve_run(cfg, ic)
         end do
         tasks%partial_path = output // ".partial.h5"
+        tasks%checkpoint_prefix = output // ".checkpoint-"
+        tasks%fingerprint = input_fingerprint(cfg)
         journal = output // ".journal"
         if (.not. cfg%output%quiet) then
             write (error_unit, "(a)") "supratrans: hysteresis from " // cfg%source // ": " // int_str(ncurve) &
@@ -298,6 +304,7 @@ contains
         integer(i8) :: clock_start, clock_end, clock_rate
         real(wp), allocatable :: power(:)
         real(wp) :: up, down, nan
+        character(len=12) :: task_text
 
         call system_clock(clock_start, clock_rate)
         nan = ieee_value(nan, ieee_quiet_nan)
@@ -323,7 +330,14 @@ contains
         run%record%probes = [nd, nd + 1]
         run%record%probe_every = 1
         run%record%ledger_every = int(min(huge(1)/2_i8, int(run%numerics%t_final/run%numerics%dt, i8) + 1_i8))
-        call simulate(run, result)
+        write (task_text, "(i0)") index
+        call simulate_task(run, result, self%checkpoint_prefix // trim(task_text), self%fingerprint // " task " &
+                           // trim(task_text), self%cfg%output%checkpoint_every, self%cfg%output%quiet)
+        if (result%interrupted) then
+            ! stopped by a signal at its checkpoint: no result (not journaled; a rerun resumes it)
+            values(1) = real(status_not_run, wp)
+            return
+        end if
         values(7) = real(result%steps, wp)
         if (result%status /= run_ok) then
             values(1) = real(hysteresis_failed, wp)
@@ -340,6 +354,17 @@ contains
         call system_clock(clock_end)
         values(8) = real(clock_end - clock_start, wp)/real(clock_rate, wp)
     end subroutine run_stairs_task
+
+    !> Whether a task's values are its result: a run stopped at its checkpoint by a signal has status not-run.
+    function stairs_finished(self, values) result(yes)
+        !> The tasks.
+        class(hysteresis_tasks), intent(in) :: self
+        !> The task's values (`task_fields`).
+        real(wp), intent(in) :: values(:)
+        logical :: yes
+
+        yes = nint(values(1)) /= status_not_run
+    end function stairs_finished
 
     !> Mean power through the bond (n_d, n_d + 1) on each stair of a run (see the module documentation): from the
     !> probes at n_d and n_d + 1 recorded every step, J_k = c^2 (u_{n_d} - u_{n_d+1}) v_{n_d+1} + beta (v_{n_d} -

@@ -40,7 +40,7 @@ module supratrans_scene_sweep
     use supratrans_validate, only: validate_config
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: band_gap_edge, threshold_as
-    use supratrans_simulate, only: simulate, number_of_levels
+    use supratrans_simulate, only: simulate_task, number_of_levels
     use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed, status_name
     use supratrans_status, only: status_not_run, status_outside_gap, run_status_codes
     use supratrans_run_record, only: run_value_names, run_values, not_run_values, nan, fields, field_spec, n_run_values, &
@@ -97,9 +97,13 @@ module supratrans_scene_sweep
         real(wp), allocatable :: amplitudes(:)
         !> The frequency is an axis of the data (map): datasets are (curve, omega, amplitude), not (curve, amplitude).
         logical :: omega_axis = .false.
+        !> Mid-run checkpoints of task t: `<checkpoint_prefix><t>`, bound to `fingerprint` and t.
+        character(len=:), allocatable :: checkpoint_prefix, fingerprint
     contains
         !> Run one task (thread-safe).
         procedure :: run => sweep_run
+        !> Whether a task's values are its result (not a run stopped by a signal at its checkpoint).
+        procedure :: finished => sweep_finished
         !> Write the partial file.
         procedure :: snapshot => sweep_snapshot
         !> Write the axes of the scene (the sweep: /amplitude, /curves; the map overrides it).
@@ -167,6 +171,8 @@ contains
         tasks%omegas = omegas
         tasks%omega_axis = omega_axis
         tasks%amplitudes = axis_grid(cfg%scene%amplitude_min, cfg%scene%amplitude_max, cfg%scene%amplitude_step)
+        tasks%checkpoint_prefix = trim(cfg%output%file) // ".checkpoint-"
+        tasks%fingerprint = input_fingerprint(cfg)
         if (allocated(tasks%curves)) deallocate (tasks%curves)
         allocate (tasks%curves(curve_count(cfg)))
         do ic = 1, size(tasks%curves)
@@ -451,6 +457,7 @@ contains
         type(run_config) :: run
         type(run_result) :: result
         integer :: ia, iw, ic
+        character(len=12) :: task_text
 
         call self%task_position(index, ia, iw, ic)
         if (.not. self%runnable(iw, ic)) then
@@ -461,9 +468,28 @@ contains
         run = self%curves(ic)
         run%drive%amplitude = self%amplitudes(ia)
         run%drive%omega = self%omegas(iw)
-        call simulate(run, result)
+        write (task_text, "(i0)") index
+        call simulate_task(run, result, self%checkpoint_prefix // trim(task_text), self%fingerprint // " task " &
+                           // trim(task_text), self%cfg%output%checkpoint_every, self%cfg%output%quiet)
+        if (result%interrupted) then
+            ! stopped by a signal at its checkpoint: no result (not journaled; a rerun resumes it)
+            values = nan()
+            values(iv_status) = real(status_not_run, wp)
+            return
+        end if
         values = run_values(result)
     end subroutine sweep_run
+
+    !> Whether a task's values are its result: a run stopped at its checkpoint by a signal has status not-run.
+    function sweep_finished(self, values) result(yes)
+        !> The task list.
+        class(sweep_tasks), intent(in) :: self
+        !> The task's values.
+        real(wp), intent(in) :: values(:)
+        logical :: yes
+
+        yes = nint(values(iv_status)) /= status_not_run
+    end function sweep_finished
 
     !> Write the partial file `<output file>.partial.h5` (called serially by the task engine). A failure to write it
     !> is reported on stderr (unless quiet) and does not stop the scene.

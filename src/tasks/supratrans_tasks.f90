@@ -24,6 +24,7 @@ module supratrans_tasks
     private
 
     public :: run_tasks, file_fingerprint, text_fingerprint, input_fingerprint, engine_only, slice_owners, slice_text, run_work
+    public :: slice_costs
 
     !> A scene's list of tasks; the scene extends it with what its tasks need (read-only during the run).
     type, abstract, public :: task_list
@@ -38,6 +39,9 @@ module supratrans_tasks
         !> Estimated cost of task `index` in any fixed unit (oscillators x time steps x work per step, times the
         !> expected number of runs of a search); only the ratios matter (`slice_owners`). Default: 1 (equal cost).
         procedure :: cost => equal_cost
+        !> The measured cost of every task in an earlier output of the same study (`--costs FILE`), for
+        !> `slice_owners`; default: refused (the scene keeps no per-task costs).
+        procedure :: measured_costs => no_measured_costs
     end type task_list
 
     abstract interface
@@ -89,6 +93,53 @@ contains
 
         cost = 1.0_wp
     end function equal_cost
+
+    !> Default `measured_costs`: the scene's outputs keep no per-task cost, so `--costs` is refused.
+    subroutine no_measured_costs(self, path, costs, error)
+        !> The task list.
+        class(task_list), intent(in) :: self
+        !> The earlier output.
+        character(len=*), intent(in) :: path
+        !> Measured cost of each task (unallocated on error).
+        real(wp), allocatable, intent(out) :: costs(:)
+        !> Error: always (one line).
+        type(error_type), allocatable, intent(out) :: error
+
+        call fatal_error(error, "--costs " // printable(path) // ": this scene's outputs keep no per-task costs " &
+                         // "(--costs applies to bifurcation studies)", err_input)
+    end subroutine no_measured_costs
+
+    !> The costs that deal the slices: the measured ones of `cfg%slice_costs` (`--costs`) when given, else the
+    !> estimates (`cost`). Every slice of an array computes the same ones (the same file, the same input).
+    subroutine slice_costs(tasks, ntask, cfg, costs, error)
+        !> The tasks.
+        class(task_list), intent(in) :: tasks
+        !> Number of tasks.
+        integer, intent(in) :: ntask
+        !> The input (its `slice_costs` file, if any).
+        type(input_config), intent(in) :: cfg
+        !> Cost of each task.
+        real(wp), allocatable, intent(out) :: costs(:)
+        !> Error: the file is unreadable, of another study, or lacks costs.
+        type(error_type), allocatable, intent(out) :: error
+        integer :: i
+
+        if (.not. allocated(cfg%slice_costs)) then
+            costs = [(tasks%cost(i), i = 1, ntask)]
+            return
+        end if
+        call tasks%measured_costs(cfg%slice_costs, costs, error)
+        if (allocated(error)) return
+        if (size(costs) /= ntask) then
+            call fatal_error(error, "--costs " // printable(cfg%slice_costs) // ": " // int_str(size(costs)) &
+                             // " task costs, but the scene has " // int_str(ntask) // " tasks (another study)", &
+                             err_input)
+        else if (.not. all(costs >= 0.0_wp .and. costs <= huge(1.0_wp))) then
+            call fatal_error(error, "--costs " // printable(cfg%slice_costs) // ": " // int_str(count(.not. (costs &
+                             >= 0.0_wp .and. costs <= huge(1.0_wp)))) // " task(s) without a measured cost (an " &
+                             // "incomplete output? use a complete one, or no --costs)", err_input)
+        end if
+    end subroutine slice_costs
 
     !> Estimated work of one run, for task costs: oscillators N x time steps T/dt x the method's work per step
     !> relative to a Newton step (measured by the benchmark on the paper-default run: a Newton step of about two
@@ -237,7 +288,8 @@ contains
     !> Run tasks 1..ntask (those not already in the journal), in parallel over OpenMP threads.
     !>
     !> With `cfg` given, its execution options apply: `--slice I/N` (`cfg%slice_count` > 0) runs only the tasks
-    !> `slice_owners` deals to slice I by their costs (`tasks%cost`) and, once they are all done, writes the part
+    !> `slice_owners` deals to slice I by their costs (`tasks%cost`, or with `--costs FILE` the costs measured in
+    !> that earlier output, `tasks%measured_costs`) and, once they are all done, writes the part
     !> file `cfg%output%file` for `merge`
     !> (then deletes the slice's journal and partial snapshot); `cfg%snapshot_only` computes nothing and writes the
     !> partial snapshot of what the journal holds. A stop signal (SIGTERM, SIGINT, SIGUSR1: see
@@ -274,6 +326,7 @@ contains
         integer(int64) :: clock_start, clock_rate, clock_now, binding
         real(wp) :: last_progress, last_snapshot, elapsed
         logical :: snapshot_only, write_failed, written, merging, lost
+        real(wp), allocatable :: costs(:)
         integer :: stop_after
         type(part_run) :: run_record
         character(len=16) :: knob
@@ -299,7 +352,11 @@ contains
         results = 0.0_wp
         done = .false.
         mine = .true.
-        if (slice_count > 0) mine = slice_owners([(tasks%cost(i), i = 1, ntask)], slice_count) == slice_index
+        if (slice_count > 0 .and. present(cfg)) then
+            call slice_costs(tasks, ntask, cfg, costs, error)
+            if (allocated(error)) return
+            mine = slice_owners(costs, slice_count) == slice_index
+        end if
         header = journal_header(ntask, fields, fingerprint)
         call read_journal(journal, header, results, done, dropped, error)
         merging = .false.
