@@ -177,6 +177,13 @@ def test_check_tells_a_submission_script_the_output_and_memory(exe, tmp_path):
     report = dict(line.split(" ", 1) for line in proc.stdout.splitlines())
     assert report["output"] == "out/study.h5" and report["overwrite"] == "0" and report["scene"] == "bifurcation"
     assert 60 * 100 < int(report["memory_per_thread_bytes"]) < 10**8          # some 160 bytes a site of N = 60
+    # the checkpoint's buffers (on by default) are part of it: twice the run's state
+    assert int(report["checkpoint_bytes"]) > 0
+    (tmp_path / "off.nml").write_text(BIF.replace("quiet = .true.", "quiet = .true., checkpoint_every = 0"))
+    off = dict(line.split(" ", 1) for line in sh(exe, "--check", "off.nml", cwd=tmp_path).stdout.splitlines())
+    assert off["checkpoint_bytes"] == "0"
+    assert int(report["memory_per_thread_bytes"]) == int(off["memory_per_thread_bytes"]) + int(
+        report["checkpoint_bytes"]) == 3 * int(off["memory_per_thread_bytes"])
 
 
 def test_merge_slices_names_every_missing_part(exe, parts):

@@ -381,11 +381,11 @@ contains
     !> What `--check` of one file says on stdout, one "key value" a line, for scripts (input/slurm/submit.sh): the
     !> output file (`output`), whether an existing one is replaced (`overwrite` 1/0), the scene (`scene`) and the
     !> memory one run needs (`memory_per_thread_bytes`: its state, and for a timeseries its records; a scene's
-    !> threads each hold one run).
+    !> threads each hold one run; with checkpoints on, the checkpoint's buffers too, `checkpoint_bytes`).
     subroutine check_report(cfg)
         !> The validated input.
         type(input_config), intent(in) :: cfg
-        real(wp) :: bytes
+        real(wp) :: bytes, checkpoint
         class(scene_type), allocatable :: scene
         type(error_type), allocatable :: error
         logical :: one_run
@@ -394,10 +394,15 @@ contains
         call new_scene(trim(cfg%scene%kind), scene, error)   ! validated: the kind is known
         if (.not. allocated(error)) one_run = scene%one_run()
         bytes = run_memory_bytes(cfg, one_run)   ! one run (a timeseries) holds its records too
+        ! a mid-run checkpoint assembles the run's state (its levels and records, at most what the run holds) in one
+        ! buffer and then the file's bytes in a second (supratrans_checkpoint); a resume reads it back the same way
+        checkpoint = 0.0_wp
+        if (cfg%output%checkpoint_every > 0.0_wp) checkpoint = 2.0_wp*bytes
         write (output_unit, "(a)") "output " // printable(trim(cfg%output%file))
         write (output_unit, "(a, i0)") "overwrite ", merge(1, 0, cfg%output%overwrite)
         write (output_unit, "(a)") "scene " // trim(cfg%scene%kind)
-        write (output_unit, "(a, i0)") "memory_per_thread_bytes ", nint(min(bytes, 9.0e18_wp), int64)
+        write (output_unit, "(a, i0)") "memory_per_thread_bytes ", nint(min(bytes + checkpoint, 9.0e18_wp), int64)
+        write (output_unit, "(a, i0)") "checkpoint_bytes ", nint(min(checkpoint, 9.0e18_wp), int64)
     end subroutine check_report
 
     !> `--check`: whether the output could be created where it is named: the nearest directory of its path that
