@@ -23,6 +23,8 @@
 !>    mean slice), and, from the same searches' measured times, what interleaved slices and a largest-first
 !>    assignment by the measured times would give (modelled). Then the same slices dealt by measured costs
 !>    (`--costs`: the searches' wall times of the first pass, merged into one earlier output), run and timed.
+!> 6. With the argument `checkpoint` (only this): the cost of mid-run checkpoints (`bench_checkpoint`): one long
+!>    timeseries with checkpoints off, at the default interval and at a short one; the overhead at the default.
 !> Scene outputs go to the system's temporary directory and are deleted. With beta = 0 (the paper default) the
 !> Jacobian is diagonal; a second block repeats the runs with beta = 0.1, where every Newton iteration is one
 !> LAPACK dgtsv.
@@ -40,6 +42,8 @@ program benchmark
     use supratrans_hdf5, only: h5_file, h5_open, h5_read, h5_close, h5_read_attr
     use supratrans_tasks, only: slice_owners
     use supratrans_cli, only: run_command
+    use supratrans_invocation, only: invocation_type
+    use bench_checkpoint, only: checkpoint_benchmark
     use supratrans_search_record, only: from_values, search_record
     use supratrans_system, only: remove_file
     use supratrans_scene_workprec, only: median
@@ -80,6 +84,14 @@ program benchmark
     if (folds) then
         call fold_benchmark()
         stop
+    end if
+    if (command_argument_count() >= 2) then
+        call get_command_argument(2, arg)
+        if (trim(arg) == "checkpoint") then
+            !$ call omp_set_num_threads(1)
+            call checkpoint_benchmark(repeats)
+            stop
+        end if
     end if
     if (slices) then
         arg = "input/bif1.nml"
@@ -577,6 +589,7 @@ contains
         logical, intent(in) :: keep
         real(wp), allocatable, intent(inout) :: task_time(:)
         type(input_config) :: cfg
+        type(invocation_type) :: inv
         type(error_type), allocatable :: error
         type(h5_file) :: file
         integer, allocatable :: tasks(:), owner(:)
@@ -593,15 +606,15 @@ contains
             if (allocated(error)) error stop "benchmark: " // error%message
             cfg%output%overwrite = .true.
             cfg%output%quiet = .true.
-            cfg%slice_index = i
-            cfg%slice_count = n
-            if (len(costs) > 0) cfg%slice_costs = costs
+            inv%slice_index = i
+            inv%slice_count = n
+            if (len(costs) > 0) inv%slice_costs = costs
             part = "/tmp/supratrans_bench_slices.part-" // itoa(i) // "-of-" // itoa(n) // ".h5"
             cfg%output%file = part
             call remove_file(part)
             call cpu_time(c0)
             t0 = wall_seconds()
-            call run_bifurcation(cfg, error)
+            call run_bifurcation(cfg, error, inv=inv)
             wall(i) = wall_seconds() - t0
             call cpu_time(c1)
             cpu(i) = c1 - c0

@@ -28,6 +28,7 @@ module supratrans_cli
     use supratrans_strings, only: int_str, printable, text_fingerprint
     use supratrans_error, only: error_type, fatal_error, err_input, err_io, err_interrupted
     use supratrans_config, only: input_config
+    use supratrans_invocation, only: invocation_type
     use, intrinsic :: iso_c_binding, only: c_null_char
     use supratrans_system, only: make_directories, path_kind, path_directory, path_missing, same_file, lock_file, &
                                  unlock_file, remove_file, catch_stop_signals, link_kind, path_link, path_special, &
@@ -454,6 +455,7 @@ contains
         !> With a slice: deal the slices by the task costs measured in this earlier output (`--costs`).
         character(len=*), intent(in), optional :: costs
         type(input_config) :: cfg
+        type(invocation_type) :: inv
         type(part_set) :: done_part
         type(error_type), allocatable :: cause
         class(scene_type), allocatable :: scene
@@ -481,9 +483,9 @@ contains
                     status = error%stat
                     return
                 end if
-                cfg%slice_index = slice_index
-                cfg%slice_count = slice_count
-                if (present(costs)) cfg%slice_costs = costs
+                inv%slice_index = slice_index
+                inv%slice_count = slice_count
+                if (present(costs)) inv%slice_costs = costs
                 cfg%output%file = part_path(trim(cfg%output%file), slice_index, slice_count)
                 if (path_kind(trim(cfg%output%file)) /= path_missing) then
                     call read_parts([character(len=len_trim(cfg%output%file)) :: trim(cfg%output%file)], .true., &
@@ -511,7 +513,7 @@ contains
             status = error%stat
             return
         end if
-        call with_lock(cfg, status, error)
+        call with_lock(cfg, inv, status, error)
     end subroutine run_from_file
 
     !> Whether the output is the finished result of this very input while its journal is still there (a run killed
@@ -585,9 +587,11 @@ contains
 
     !> Take the output's lock, (for a merge: write the joined records as the output's journal,) run the scene, release
     !> the lock. Nothing of the output is touched before the lock is held.
-    subroutine with_lock(cfg, status, error, set)
+    subroutine with_lock(cfg, inv, status, error, set)
         !> The validated input.
         type(input_config), intent(inout) :: cfg
+        !> How the engine is invoked (slice, merge).
+        type(invocation_type), intent(in) :: inv
         !> Exit status.
         integer, intent(out) :: status
         !> Error, allocated on failure.
@@ -611,10 +615,10 @@ contains
         end if
         if (.not. allocated(error)) then
             call catch_stop_signals()
-            call run_scene(cfg, error)
+            call run_scene(cfg, inv, error)
         end if
         ! the journal a merge wrote is the parts' records: gone once used, or refused
-        if (present(set) .and. cfg%snapshot_only) call remove_file(journal)
+        if (present(set) .and. inv%snapshot_only) call remove_file(journal)
         if (present(set) .and. allocated(error)) then
             if (error%stat == err_input) call remove_file(journal)
         end if
@@ -623,7 +627,7 @@ contains
             status = error%stat
             return
         end if
-        if (cfg%slice_count == 0 .and. .not. cfg%snapshot_only) call progress(cfg, "  wrote " // trim(cfg%output%file))
+        if (inv%slice_count == 0 .and. .not. inv%snapshot_only) call progress(cfg, "  wrote " // trim(cfg%output%file))
     end subroutine with_lock
 
     !> Take the lock `<output>.lock` (never through a link; the file stays when released), then delete the
@@ -670,9 +674,11 @@ contains
     end subroutine take_lock
 
     !> Run the scene of a validated input (`new_scene` makes it from &scene kind).
-    subroutine run_scene(cfg, error)
+    subroutine run_scene(cfg, inv, error)
         !> The validated input.
         type(input_config), intent(in) :: cfg
+        !> How the engine is invoked (slice, merge).
+        type(invocation_type), intent(in) :: inv
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
         class(scene_type), allocatable :: scene
@@ -682,7 +688,7 @@ contains
             error%message = cfg%source // ": " // error%message
             return
         end if
-        call scene%run(cfg, error)
+        call scene%run(cfg, error, inv)
     end subroutine run_scene
 
     !> Join part files into the scene's output (see `supratrans_parts`).
@@ -701,6 +707,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
         type(part_set) :: set
         type(input_config) :: cfg
+        type(invocation_type) :: inv
 
         status = 0
         ! from the start: a merge stopped by a signal ends with status 5 and writes nothing (the parts stay, the same
@@ -718,13 +725,13 @@ contains
             status = error%stat
             return
         end if
-        cfg%merge_part = set%first
-        cfg%merge_record = set%record
-        cfg%merge_wall_time = set%wall_time
+        inv%merge_part = set%first
+        inv%merge_record = set%record
+        inv%merge_wall_time = set%wall_time
         cfg%output%file = output
         if (len(output) == 0) cfg%output%file = merged_path(trim(paths(1)))
         if (overwrite) cfg%output%overwrite = .true.
-        cfg%snapshot_only = partial
+        inv%snapshot_only = partial
         if (.not. partial) call validate_config(cfg, error)
         if (.not. allocated(error)) call check_output_location(cfg, error)
         if (allocated(error)) then
@@ -739,7 +746,7 @@ contains
         call progress(cfg, "supratrans merge: " // int_str(count(set%done)) // " of " // int_str(size(set%done)) &
                       // " tasks from " // int_str(size(paths)) // " part(s) of " // int_str(set%slice_count) &
                       // " -> " // trim(cfg%output%file) // trim(merge(".partial.h5", "           ", partial)))
-        call with_lock(cfg, status, error, set)
+        call with_lock(cfg, inv, status, error, set)
     end subroutine merge_parts
 
     !> The error of a merge stopped by a signal before it wrote anything (status 5).

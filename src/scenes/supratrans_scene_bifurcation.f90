@@ -26,6 +26,7 @@ module supratrans_scene_bifurcation
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
+    use supratrans_invocation, only: invocation_type
     use supratrans_scene, only: scene_type, scene_budget
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config, run_config, method_from_name
@@ -92,6 +93,8 @@ module supratrans_scene_bifurcation
     type, extends(task_list) :: bifurcation_tasks
         !> The validated input.
         type(input_config) :: cfg
+        !> How the engine is invoked (slice, merge: `supratrans_invocation`).
+        type(invocation_type) :: inv
         !> Run of each curve, prepared for the search (early stop, nothing recorded).
         type(run_config), allocatable :: runs(:)
         !> The same with the screening method and step (allocated when the scene screens).
@@ -143,13 +146,15 @@ module supratrans_scene_bifurcation
 contains
 
     !> Run the bifurcation scene described by `cfg` and write `cfg%output%file` (see the module documentation).
-    subroutine run_bifurcation(cfg, error, keep_journal)
+    subroutine run_bifurcation(cfg, error, keep_journal, inv)
         !> The validated input (`&scene kind = 'bifurcation'`).
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure (output exists, journal of another input, unwritable files).
         type(error_type), allocatable, intent(out) :: error
         !> Keep the journal after a complete run (tests of the resume); default false.
         logical, intent(in), optional :: keep_journal
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
         type(bifurcation_tasks) :: tasks
         type(search_record), allocatable :: records(:)
         real(wp), allocatable :: results(:, :)
@@ -172,6 +177,7 @@ contains
         end if
 
         tasks%cfg = cfg
+        if (present(inv)) tasks%inv = inv
         tasks%omegas = bifurcation_omegas(cfg)
         ncurve = curve_count(cfg)
         nomega = size(tasks%omegas)
@@ -211,12 +217,12 @@ contains
         end if
 
         call run_tasks(tasks, ncurve*nomega, search_fields, journal, input_fingerprint(cfg), &
-                       "threshold searches", cfg%output%quiet, results, done, error, cfg)
-        if (allocated(error) .or. engine_only(cfg)) return
+                       "threshold searches", cfg%output%quiet, results, done, error, cfg, inv)
+        if (allocated(error) .or. engine_only(tasks%inv)) return
 
         call system_clock(clock_end)
         elapsed = real(clock_end - clock_start, wp)/real(clock_rate, wp)
-        if (cfg%merge_wall_time >= 0.0_wp) elapsed = cfg%merge_wall_time     ! a merge: the slices' cost
+        if (tasks%inv%merge_wall_time >= 0.0_wp) elapsed = tasks%inv%merge_wall_time     ! a merge: the slices' cost
         call write_bifurcation_file(tasks, output, results, done, .true., elapsed, error)
         if (allocated(error)) return
         if (.not. keep) call remove_file(journal)
@@ -705,7 +711,7 @@ contains
 
         call h5_create(file, path, .true.)
         call write_root(file, tasks%cfg, "bifurcation", "Supratransmission threshold (smallest transmitting driving " &
-                        // "amplitude) vs driving frequency, one curve per potential and varied value")
+                        // "amplitude) vs driving frequency, one curve per potential and varied value", tasks%inv)
         call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
         call h5_write_attr(file, "/", "tasks_done", count(done))
         call write_scene_parameters(file, tasks%cfg)
@@ -951,15 +957,17 @@ contains
 
 
     !> Run the scene (`run_bifurcation`).
-    subroutine bifurcation_scene_run(self, cfg, error)
+    subroutine bifurcation_scene_run(self, cfg, error, inv)
         !> The scene.
         class(bifurcation_scene), intent(in) :: self
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
 
-        call run_bifurcation(cfg, error)
+        call run_bifurcation(cfg, error, inv=inv)
     end subroutine bifurcation_scene_run
 
     !> The frequency axis, the search grid (amplitude_min..amplitude_max by resolution, coarse_step), then the

@@ -44,6 +44,7 @@ module supratrans_scene_hysteresis
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
+    use supratrans_invocation, only: invocation_type
     use supratrans_scene, only: scene_type, scene_budget
     use supratrans_limits, only: axis_points, check_axis, check_tasks, limit_error, threads_text, sci, max_steps, &
         run_memory_bytes
@@ -93,6 +94,8 @@ module supratrans_scene_hysteresis
     type, extends(task_list) :: hysteresis_tasks
         !> The validated input.
         type(input_config) :: cfg
+        !> How the engine is invoked (slice, merge: `supratrans_invocation`).
+        type(invocation_type) :: inv
         !> Run of each curve (chain, numerics; the drive's frequency and stairs are set per task).
         type(run_config), allocatable :: runs(:)
         !> The frequencies.
@@ -126,11 +129,13 @@ module supratrans_scene_hysteresis
 contains
 
     !> Run the hysteresis scene described by `cfg` and write `cfg%output%file` (see the module documentation).
-    subroutine run_hysteresis(cfg, error)
+    subroutine run_hysteresis(cfg, error, inv)
         !> The validated input (`&scene kind = 'hysteresis'`).
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure (bad stairs, output exists, journal of another input, unwritable files).
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
         type(hysteresis_tasks) :: tasks
         real(wp), allocatable :: results(:, :)
         logical, allocatable :: done(:)
@@ -148,6 +153,7 @@ contains
             return
         end if
         tasks%cfg = cfg
+        if (present(inv)) tasks%inv = inv
         tasks%omegas = bifurcation_omegas(cfg)
         tasks%stair_times = scene_stair_times(cfg)
         call check_stairs(cfg, tasks%stair_times, tasks%top, error)
@@ -176,12 +182,12 @@ contains
         end if
 
         call run_tasks(tasks, ncurve*nomega*nlen, task_fields(2*tasks%top + 1), journal, input_fingerprint(cfg), &
-                       "stair runs", cfg%output%quiet, results, done, error, cfg)
-        if (allocated(error) .or. engine_only(cfg)) return
+                       "stair runs", cfg%output%quiet, results, done, error, cfg, inv)
+        if (allocated(error) .or. engine_only(tasks%inv)) return
 
         call system_clock(clock_end)
         elapsed = real(clock_end - clock_start, wp)/real(clock_rate, wp)
-        if (cfg%merge_wall_time >= 0.0_wp) elapsed = cfg%merge_wall_time     ! a merge: the slices' cost
+        if (tasks%inv%merge_wall_time >= 0.0_wp) elapsed = tasks%inv%merge_wall_time     ! a merge: the slices' cost
         call write_hysteresis_file(tasks, output, results, done, .true., elapsed, error)
         if (allocated(error)) return
         call remove_file(journal)
@@ -549,7 +555,7 @@ contains
         call h5_create(file, path, .true.)
         call write_root(file, tasks%cfg, "hysteresis", "Hysteresis of supratransmission: the drive amplitude goes up " &
                         // "and down in slow stairs; the upward edge (where the transmitting state is born), the " &
-                        // "downward edge (where it dies) and the bistable window, per curve, Omega and stair length")
+                        // "downward edge (where it dies) and the bistable window, per curve, Omega and stair length", tasks%inv)
         call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
         call h5_write_attr(file, "/", "tasks_done", count(done))
         call write_parameters(file, tasks%cfg)
@@ -641,15 +647,17 @@ contains
     end function spread
 
     !> Run the scene (`run_hysteresis`).
-    subroutine hysteresis_scene_run(self, cfg, error)
+    subroutine hysteresis_scene_run(self, cfg, error, inv)
         !> The scene.
         class(hysteresis_scene), intent(in) :: self
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
 
-        call run_hysteresis(cfg, error)
+        call run_hysteresis(cfg, error, inv=inv)
     end subroutine hysteresis_scene_run
 
     !> The frequency axis and the stairs (levels, time steps and probe memory of each stair length), then the

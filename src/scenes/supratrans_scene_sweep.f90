@@ -33,6 +33,7 @@ module supratrans_scene_sweep
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp, i8, supratrans_version
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
+    use supratrans_invocation, only: invocation_type
     use supratrans_scene, only: scene_type, scene_budget
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config, run_config
@@ -85,6 +86,8 @@ module supratrans_scene_sweep
     type, extends(task_list), public :: sweep_tasks
         !> The validated input.
         type(input_config) :: cfg
+        !> How the engine is invoked (slice, merge: `supratrans_invocation`).
+        type(invocation_type) :: inv
         !> Scene name written to the file: 'amplitude_sweep' or 'map'.
         character(len=:), allocatable :: scene
         !> One-line description of the file written.
@@ -134,17 +137,20 @@ contains
     !> "Output"): for each curve (`curve_run`) and each amplitude of the &scene axis amplitude_min..amplitude_max
     !> by amplitude_step, one full run at the &drive frequency. Resumes from `<file>.journal` if a killed sweep
     !> left one.
-    subroutine run_amplitude_sweep(cfg, error)
+    subroutine run_amplitude_sweep(cfg, error, inv)
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure (bad configuration, journal of another input, unwritable files). Runs that
         !> diverge or whose Newton fails are not errors: they are recorded with their status.
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
         type(sweep_tasks) :: tasks
 
         call init_sweep_tasks(tasks, cfg, "amplitude_sweep", "Total energy injected vs driving amplitude: one " &
                               // "full run (0..T) per curve and amplitude (paper Figs. 2, 3, 3-and-a-half, 4)", &
                               [cfg%run%drive%omega], .false.)
+        if (present(inv)) tasks%inv = inv
         call run_grid_scene(tasks, error)
     end subroutine run_amplitude_sweep
 
@@ -233,8 +239,8 @@ contains
         end if
 
         call run_tasks(tasks, tasks%task_count(), run_value_names(), journal_path(tasks%cfg), &
-                       input_fingerprint(tasks%cfg), "runs", tasks%cfg%output%quiet, results, done, error, tasks%cfg)
-        if (allocated(error) .or. engine_only(tasks%cfg)) return
+                       input_fingerprint(tasks%cfg), "runs", tasks%cfg%output%quiet, results, done, error, tasks%cfg, tasks%inv)
+        if (allocated(error) .or. engine_only(tasks%inv)) return
         if (.not. all(done)) then
             call fatal_error(error, trim(tasks%cfg%output%file) // ": the task engine returned with runs missing", &
                              err_io)
@@ -284,7 +290,7 @@ contains
         type(h5_file) :: file
 
         call h5_create(file, path, overwrite)
-        call write_root(file, tasks%cfg, tasks%scene, tasks%description)
+        call write_root(file, tasks%cfg, tasks%scene, tasks%description, tasks%inv)
         call h5_write_attr(file, "/", "complete", merge(1, 0, all(done)))
         call h5_write_attr(file, "/", "runs_done", count(done))
         call h5_write_attr(file, "/", "runs_total", size(done))
@@ -656,15 +662,17 @@ contains
     end function to_int
 
     !> Run the scene (`run_amplitude_sweep`).
-    subroutine sweep_scene_run(self, cfg, error)
+    subroutine sweep_scene_run(self, cfg, error, inv)
         !> The scene.
         class(sweep_scene), intent(in) :: self
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
 
-        call run_amplitude_sweep(cfg, error)
+        call run_amplitude_sweep(cfg, error, inv=inv)
     end subroutine sweep_scene_run
 
     !> The amplitude axis, then the runs (curves x amplitudes) and their work.
