@@ -16,8 +16,9 @@
 !> would let a second instance lock a new file of the same name). On a file system that refuses locks (NFS without a
 !> lock manager, Lustre without `-o flock`) the run stops and says so; `SUPRATRANS_NO_LOCK=1` runs without the lock
 !> (and without HDF5's own file locking) for whoever is sure no two runs write one output. SIGTERM, SIGINT and
-!> SIGUSR1 stop a scene cleanly (exit status 5): the tasks running finish and are journaled (a threshold search with
-!> `checkpoint_every` > 0 writes its mid-run checkpoint instead and stops at once), a snapshot is written,
+!> SIGUSR1 stop a scene cleanly (exit status 5): the tasks running finish and are journaled (a threshold search, or
+!> the run of a sweep, map or hysteresis task, with `checkpoint_every` > 0 writes its mid-run checkpoint instead and
+!> stops at once), a snapshot is written,
 !> and the same command resumes. A timeseries (one run, no journal) stops within a time step and writes no output,
 !> only its mid-run checkpoint (`supratrans_checkpoint`, unless `checkpoint_every` = 0), from which it resumes; a
 !> merge catches them from its start and stops, writing nothing, unless it is writing the merged output already
