@@ -1,4 +1,5 @@
-"""Mid-run checkpoints (issue 23): a long timeseries and a threshold search, killed at random moments (SIGTERM: the
+"""Mid-run checkpoints (issue 23): a long timeseries, a threshold search, a hysteresis stair run and the runs of an
+amplitude sweep and of a map, killed at random moments (SIGTERM: the
 program checkpoints at once and exits 5; SIGKILL after a periodic checkpoint), resume from their checkpoint and end
 with every result dataset bit for bit that of an uninterrupted run, for every method. A damaged or foreign
 checkpoint is ignored with one line, never used; with checkpoint_every = 0 nothing is written.
@@ -35,7 +36,34 @@ SEARCH = """! {tag}
 &output file = 'out/{name}.h5', overwrite = .true., checkpoint_every = {every} /
 """
 
-TEMPLATES = {"timeseries": TIMESERIES, "search": SEARCH}
+# one long stair run per task (two stair lengths): each task checkpoints inside its run
+HYSTERESIS = """! {tag}
+&chain n = 60, n0 = 45 /
+&drive ramp_time = 20.0 /
+&numerics method = '{method}', dt = 0.05 /
+&scene kind = 'hysteresis', omega_min = 0.9, omega_max = 0.9, omega_step = 0.05, amplitude_min = 1.0,
+  amplitude_max = 2.0, stair_height = 0.1, stair_times = 60.0, 90.0, stair_ramp = 10.0 /
+&output file = 'out/{name}.h5', overwrite = .true., checkpoint_every = {every} /
+"""
+
+SWEEP = """! {tag}
+&chain n = 60, n0 = 45 /
+&drive omega = 0.9, ramp_time = 20.0 /
+&numerics method = '{method}', dt = 0.05, t_final = 1500.0 /
+&scene kind = 'amplitude_sweep', amplitude_min = 1.0, amplitude_max = 2.0, amplitude_step = 0.5 /
+&output file = 'out/{name}.h5', overwrite = .true., checkpoint_every = {every} /
+"""
+
+MAP = """! {tag}
+&chain n = 60, n0 = 45 /
+&drive ramp_time = 20.0 /
+&numerics method = '{method}', dt = 0.05, t_final = 1000.0 /
+&scene kind = 'map', omega_min = 0.8, omega_max = 0.9, omega_step = 0.1, amplitude_min = 1.5, amplitude_max = 2.0,
+  amplitude_step = 0.5 /
+&output file = 'out/{name}.h5', overwrite = .true., checkpoint_every = {every} /
+"""
+
+TEMPLATES = {"timeseries": TIMESERIES, "search": SEARCH, "hysteresis": HYSTERESIS, "sweep": SWEEP, "map": MAP}
 
 
 def write(tmp_path, scene, method, name, every=0.3, tag="", t_final=400.0):
@@ -134,6 +162,38 @@ def test_killed_run_resumes_bit_identical(exe, tmp_path, references, scene, meth
     print(f"seed {seed}")
     result, _ = kill_and_resume(exe, tmp_path, scene, method, seed)
     same_results(references(scene, method), result)
+
+
+@pytest.mark.parametrize("method", ["newton", "rk4"])
+@pytest.mark.parametrize("scene", ["hysteresis", "sweep", "map"])
+def test_killed_scene_run_resumes_bit_identical(exe, tmp_path, references, scene, method):
+    """The one run of a task of a hysteresis, sweep or map scene checkpoints inside itself: killed (SIGTERM, then
+    SIGKILL after a checkpoint) it resumes from its step, and the result datasets are bit for bit those of an
+    uninterrupted run."""
+    seed = random.randrange(1 << 30)
+    print(f"seed {seed}")
+    result, _ = kill_and_resume(exe, tmp_path, scene, method, seed)
+    same_results(references(scene, method), result)
+
+
+def test_stair_run_stopped_mid_run_resumes(exe, tmp_path, references):
+    """A SIGTERM once a stair run has checkpointed stops it there (exit 5, its checkpoint kept, nothing journaled
+    for it); the rerun resumes it from its step (not from t = 0) and ends bit-identical."""
+    nml = write(tmp_path, "hysteresis", "newton", "hy", every=0.2)
+    proc = start(exe, nml, tmp_path, threads=1)
+    started(proc)
+    deadline = time.time() + 120
+    while proc.poll() is None and not checkpoints(tmp_path, "hy") and time.time() < deadline:
+        time.sleep(0.02)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=600)
+    assert proc.returncode == 5, err
+    assert checkpoints(tmp_path, "hy"), err
+    again = run(exe, nml, tmp_path, threads=1)
+    assert again.returncode == 0, again.stderr
+    assert "resumed" in again.stderr, again.stderr
+    assert not checkpoints(tmp_path, "hy")
+    same_results(references("hysteresis", "newton"), tmp_path / "out" / "hy.h5")
 
 
 @pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGUSR1], ids=["SIGTERM", "SIGUSR1"])

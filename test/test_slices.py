@@ -90,6 +90,54 @@ def test_slices_are_dealt_by_cost(exe, tmp_path):
     identical(tmp_path / "whole.h5", tmp_path / "out" / "study.h5")
 
 
+def lpt(costs, n):
+    """The largest-first deal of supratrans_tasks::slice_owners, in Python: costs rounded to 9 digits of the
+    largest, decreasing (ties: lower task), each to the least loaded slice (ties: lower slice); 1-based slices."""
+    top = max(costs)
+    key = [int(round(1e9 * c / top)) for c in costs]
+    load = [0] * n
+    owner = [0] * len(costs)
+    for t in sorted(range(len(costs)), key=lambda t: (-key[t], t)):
+        s = min(range(n), key=lambda s: (load[s], s))
+        owner[t] = s + 1
+        load[s] += key[t]
+    return owner
+
+
+def test_slices_dealt_by_measured_costs(exe, tmp_path):
+    """--costs EARLIER.h5: the slices are dealt largest-first by the searches' wall times measured in an earlier
+    output of the same study; the merged file is still the single machine's. An output of another study, or a file
+    without costs, is refused in one line before any work."""
+    (tmp_path / "study.nml").write_text(BIF)
+    sh(exe, "study.nml", cwd=tmp_path)
+    (tmp_path / "out" / "study.h5").rename(tmp_path / "whole.h5")
+    with h5py.File(tmp_path / "whole.h5") as f:
+        wall = list(f["cost/wall_time"][()].ravel())      # (curve, omega): task order
+    owner = lpt(wall, 3)
+    for i in (1, 2, 3):
+        sh(exe, "study.nml", "--slice", f"{i}/3", "--costs", "whole.h5", cwd=tmp_path)
+        with h5py.File(tmp_path / "out" / f"study.part-{i}-of-3.h5") as f:
+            assert list(f["part/task"][()]) == [t + 1 for t in range(len(wall)) if owner[t] == i]
+    sh(exe, "merge", "--slices", "3", "study.nml", cwd=tmp_path)
+    identical(tmp_path / "whole.h5", tmp_path / "out" / "study.h5")
+    # refused: another study's output, a file that is not one, --costs without --slice
+    (tmp_path / "other.nml").write_text(BIF.replace("omega_max = 0.9", "omega_max = 0.8").replace("study.h5",
+                                                                                                  "other.h5"))
+    sh(exe, "other.nml", cwd=tmp_path)
+    (tmp_path / "sweep.nml").write_text(SWEEP.replace("study.h5", "sweep.h5"))
+    sh(exe, "sweep.nml", cwd=tmp_path)
+    (tmp_path / "out" / "study.h5").unlink()
+    for part in (tmp_path / "out").glob("study.part-*"):
+        part.unlink()
+    for costs, words in (("out/other.h5", "another study"), ("out/sweep.h5", "not of this bifurcation study"),
+                         ("study.nml", "--costs study.nml")):
+        proc = sh(exe, "study.nml", "--slice", "1/3", "--costs", costs, cwd=tmp_path, check=False)
+        lines = proc.stderr.strip().splitlines()
+        assert proc.returncode == 2 and len(lines) == 1 and words in lines[0], proc.stderr
+    proc = sh(exe, "study.nml", "--costs", "whole.h5", cwd=tmp_path, check=False)
+    assert proc.returncode == 2 and "--costs applies with --slice" in proc.stderr, proc.stderr
+
+
 def test_a_finished_slice_run_again_does_nothing(exe, tmp_path):
     (tmp_path / "study.nml").write_text(BIF)
     sh(exe, "study.nml", "--slice", "1/2", cwd=tmp_path)
@@ -129,6 +177,13 @@ def test_check_tells_a_submission_script_the_output_and_memory(exe, tmp_path):
     report = dict(line.split(" ", 1) for line in proc.stdout.splitlines())
     assert report["output"] == "out/study.h5" and report["overwrite"] == "0" and report["scene"] == "bifurcation"
     assert 60 * 100 < int(report["memory_per_thread_bytes"]) < 10**8          # some 160 bytes a site of N = 60
+    # the checkpoint's buffers (on by default) are part of it: twice the run's state
+    assert int(report["checkpoint_bytes"]) > 0
+    (tmp_path / "off.nml").write_text(BIF.replace("quiet = .true.", "quiet = .true., checkpoint_every = 0"))
+    off = dict(line.split(" ", 1) for line in sh(exe, "--check", "off.nml", cwd=tmp_path).stdout.splitlines())
+    assert off["checkpoint_bytes"] == "0"
+    assert int(report["memory_per_thread_bytes"]) == int(off["memory_per_thread_bytes"]) + int(
+        report["checkpoint_bytes"]) == 3 * int(off["memory_per_thread_bytes"])
 
 
 def test_merge_slices_names_every_missing_part(exe, parts):

@@ -16,6 +16,7 @@ import h5py
 import pytest
 
 import compare_results
+from test_slices import lpt
 
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPTS = ROOT / "input" / "slurm"
@@ -213,10 +214,11 @@ def field(cluster, job, name):
 def test_array_and_merge_equal_the_single_machine_file(cluster, release_exe, tmp_path):
     single_machine(release_exe, tmp_path, STUDY.format(t_final="40.0"))
     env = dict(cluster.env, SUPRATRANS=release_exe)
-    # a user's own dependency (a job that holds the study back) and NAMELIST N -- opts without THROTTLE
+    # a user's own dependency (a job that holds the study back) and NAMELIST N -- opts without THROTTLE; the
+    # slices dealt by the costs measured in the single-machine file (--costs, copied at submission)
     hold = cluster.run("sbatch", "--parsable", "--hold", "--wrap", "true", cwd=tmp_path).stdout.strip().split(";")[0]
-    proc = submit(cluster, tmp_path, "study.nml", "3", "--", "--cpus-per-task=1", f"--dependency=afterok:{hold}",
-                  env=env)
+    proc = submit(cluster, tmp_path, "study.nml", "3", "--costs", "whole.h5", "--", "--cpus-per-task=1",
+                  f"--dependency=afterok:{hold}", env=env)
     assert proc.returncode == 0, proc.stderr
     words = proc.stdout.split()
     array, merge = words[2], words[-1]
@@ -234,6 +236,11 @@ def test_array_and_merge_equal_the_single_machine_file(cluster, release_exe, tmp
     diffs, compared, _ = compare_results.compare(tmp_path / "whole.h5", tmp_path / "out" / "study.h5")
     assert compared > 5 and not diffs, diffs
     assert len(list((tmp_path / "out").glob("study.part-*-of-3.h5"))) == 3
+    with h5py.File(tmp_path / "whole.h5") as f:
+        owner = lpt(list(f["cost/wall_time"][()].ravel()), 3)
+    for i in (1, 2, 3):
+        with h5py.File(tmp_path / "out" / f"study.part-{i}-of-3.h5") as f:
+            assert list(f["part/task"][()]) == [t + 1 for t in range(len(owner)) if owner[t] == i]
     with h5py.File(tmp_path / "out" / "study.h5") as f:
         parts = f["provenance/parts"][()].decode().splitlines()      # where, when and how long each slice ran
         assert [p.split("\t")[0] for p in parts] == ["1", "2", "3"]

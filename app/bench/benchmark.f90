@@ -21,7 +21,10 @@
 !>    largest-first by estimated cost into 16 and into 64 slices, each slice run alone on one thread: the measured
 !>    wall (and CPU) time of the slowest slice over the mean, the bound the largest task sets (its time over the
 !>    mean slice), and, from the same searches' measured times, what interleaved slices and a largest-first
-!>    assignment by the measured times would give.
+!>    assignment by the measured times would give (modelled). Then the same slices dealt by measured costs
+!>    (`--costs`: the searches' wall times of the first pass, merged into one earlier output), run and timed.
+!> 6. With the argument `checkpoint` (only this): the cost of mid-run checkpoints (`bench_checkpoint`): one long
+!>    timeseries with checkpoints off, at the default interval and at a short one; the overhead at the default.
 !> Scene outputs go to the system's temporary directory and are deleted. With beta = 0 (the paper default) the
 !> Jacobian is diagonal; a second block repeats the runs with beta = 0.1, where every Newton iteration is one
 !> LAPACK dgtsv.
@@ -38,6 +41,9 @@ program benchmark
     use supratrans_scene_continuation, only: run_continuation
     use supratrans_hdf5, only: h5_file, h5_open, h5_read, h5_close, h5_read_attr
     use supratrans_tasks, only: slice_owners
+    use supratrans_cli, only: run_command
+    use supratrans_invocation, only: invocation_type
+    use bench_checkpoint, only: checkpoint_benchmark
     use supratrans_search_record, only: from_values, search_record
     use supratrans_system, only: remove_file
     use supratrans_scene_workprec, only: median
@@ -81,6 +87,14 @@ program benchmark
     if (folds) then
         call fold_benchmark()
         stop
+    end if
+    if (command_argument_count() >= 2) then
+        call get_command_argument(2, arg)
+        if (trim(arg) == "checkpoint") then
+            !$ call omp_set_num_threads(1)
+            call checkpoint_benchmark(repeats)
+            stop
+        end if
     end if
     if (slices) then
         arg = "input/bif1.nml"
@@ -557,72 +571,100 @@ contains
     subroutine slice_benchmark(input, counts)
         character(len=*), intent(in) :: input
         integer, intent(in) :: counts(:)
-        type(input_config) :: cfg
-        type(error_type), allocatable :: error
-        type(h5_file) :: file
-        integer, allocatable :: tasks(:), owner(:)
-        real(wp), allocatable :: values(:, :), wall(:), cpu(:), task_time(:), modelled(:)
-        real(wp) :: t0, c0, c1, mean
-        integer :: k, n, i, j
-        character(len=*), parameter :: out = "/tmp/supratrans_bench_slices.h5"
-        character(len=:), allocatable :: part
-        type(search_record) :: record
+        real(wp), allocatable :: task_time(:)
+        character(len=*), parameter :: earlier = "/tmp/supratrans_bench_costs.h5"
+        integer :: k
 
         !$ call omp_set_num_threads(1)
         write (*, "(a)") "# slices by cost: " // input // ", each slice alone on one thread; ratio = slowest / mean"
-        write (*, "(a6, 2x, a10, 2x, a10, 2x, a10, 2x, a10, 2x, a12, 2x, a12, 2x, a12)") "slices", "mean_s", "max_s", &
-            "wall_ratio", "cpu_ratio", "bound_1task", "interleaved", "lpt_measured"
+        write (*, "(a)") "# deal 'estimate': by the estimated costs; 'measured': --costs, by the searches' wall " &
+            // "times of the first estimate pass (merged into " // earlier // ")"
+        write (*, "(a6, 2x, a9, 2x, a10, 2x, a10, 2x, a10, 2x, a10, 2x, a12, 2x, a12, 2x, a12)") "slices", "deal", &
+            "mean_s", "max_s", "wall_ratio", "cpu_ratio", "bound_1task", "interleaved", "lpt_modelled"
         do k = 1, size(counts)
-            n = counts(k)
-            allocate (wall(n), cpu(n))
-            do i = 1, n
-                call read_input(input, cfg, error)
-                if (allocated(error)) error stop "benchmark: " // error%message
-                cfg%output%file = out
-                cfg%output%overwrite = .true.
-                cfg%output%quiet = .true.
-                cfg%slice_index = i
-                cfg%slice_count = n
-                part = "/tmp/supratrans_bench_slices.part-" // itoa(i) // "-of-" // itoa(n) // ".h5"
-                cfg%output%file = part
-                call remove_file(part)
-                call cpu_time(c0)
-                t0 = wall_seconds()
-                call run_bifurcation(cfg, error)
-                wall(i) = wall_seconds() - t0
-                call cpu_time(c1)
-                cpu(i) = c1 - c0
-                if (allocated(error)) error stop "benchmark: " // error%message
-                ! the searches' own measured times, by task index
-                call h5_open(file, part, error)
-                if (.not. allocated(error)) call h5_read(file, "part/task", tasks, error)
-                if (.not. allocated(error)) call h5_read(file, "part/values", values, error)
-                if (allocated(error)) error stop "benchmark: " // error%message
-                call h5_close(file, error)
-                if (i == 1) then
-                    if (allocated(task_time)) deallocate (task_time)
-                    allocate (task_time(tasks_total(part)))
-                    task_time = 0.0_wp
-                end if
-                do j = 1, size(tasks)
-                    record = from_values(values(:, j))
-                    task_time(tasks(j)) = record%wall_time
-                end do
-                call remove_file(part)
-            end do
-            mean = sum(wall)/real(n, wp)
-            owner = [(mod(j - 1, n) + 1, j = 1, size(task_time))]
-            modelled = slice_sums(task_time, owner, n)
-            t0 = maxval(modelled)/(sum(modelled)/real(n, wp))
-            owner = slice_owners(task_time, n)
-            modelled = slice_sums(task_time, owner, n)
-            write (*, "(i6, 2x, f10.3, 2x, f10.3, 2x, f10.3, 2x, f10.3, 2x, f12.3, 2x, f12.3, 2x, f12.3)") n, mean, &
-                maxval(wall), maxval(wall)/mean, maxval(cpu)/(sum(cpu)/real(n, wp)), &
-                max(1.0_wp, maxval(task_time)/(sum(task_time)/real(n, wp))), t0, &
-                maxval(modelled)/(sum(modelled)/real(n, wp))
-            deallocate (wall, cpu)
+            call slice_pass(input, counts(k), "", k == 1, task_time)
         end do
+        do k = 1, size(counts)
+            call slice_pass(input, counts(k), earlier, .false., task_time)
+        end do
+        call remove_file(earlier)
     end subroutine slice_benchmark
+
+    !> One pass of the slice benchmark: the `n` slices of `input`, dealt by the estimate (`costs` = "") or by the
+    !> measured costs of the file `costs`; prints one row. With `keep`, the parts are merged into the file the
+    !> measured pass reads. `task_time`: the searches' measured times of this pass, by task index.
+    subroutine slice_pass(input, n, costs, keep, task_time)
+        character(len=*), intent(in) :: input, costs
+        integer, intent(in) :: n
+        logical, intent(in) :: keep
+        real(wp), allocatable, intent(inout) :: task_time(:)
+        type(input_config) :: cfg
+        type(invocation_type) :: inv
+        type(error_type), allocatable :: error
+        type(h5_file) :: file
+        integer, allocatable :: tasks(:), owner(:)
+        real(wp), allocatable :: values(:, :), wall(:), cpu(:), modelled(:)
+        real(wp) :: t0, c0, c1, mean, interleaved
+        integer :: i, j, status
+        character(len=:), allocatable :: part, text
+        character(len=256), allocatable :: merge_args(:)
+        type(search_record) :: record
+
+        allocate (wall(n), cpu(n), merge_args(n + 4))
+        do i = 1, n
+            call read_input(input, cfg, error)
+            if (allocated(error)) error stop "benchmark: " // error%message
+            cfg%output%overwrite = .true.
+            cfg%output%quiet = .true.
+            inv%slice_index = i
+            inv%slice_count = n
+            if (len(costs) > 0) inv%slice_costs = costs
+            part = "/tmp/supratrans_bench_slices.part-" // itoa(i) // "-of-" // itoa(n) // ".h5"
+            cfg%output%file = part
+            call remove_file(part)
+            call cpu_time(c0)
+            t0 = wall_seconds()
+            call run_bifurcation(cfg, error, inv=inv)
+            wall(i) = wall_seconds() - t0
+            call cpu_time(c1)
+            cpu(i) = c1 - c0
+            if (allocated(error)) error stop "benchmark: " // error%message
+            ! the searches' own measured times, by task index
+            call h5_open(file, part, error)
+            if (.not. allocated(error)) call h5_read(file, "part/task", tasks, error)
+            if (.not. allocated(error)) call h5_read(file, "part/values", values, error)
+            if (allocated(error)) error stop "benchmark: " // error%message
+            call h5_close(file, error)
+            if (i == 1) then
+                if (allocated(task_time)) deallocate (task_time)
+                allocate (task_time(tasks_total(part)))
+                task_time = 0.0_wp
+            end if
+            do j = 1, size(tasks)
+                record = from_values(values(:, j))
+                task_time(tasks(j)) = record%wall_time
+            end do
+            merge_args(i + 4) = part
+        end do
+        if (keep) then
+            merge_args(1:4) = [character(len=256) :: "merge", "--overwrite", "-o", "/tmp/supratrans_bench_costs.h5"]
+            call run_command(merge_args, status, error, text)
+            if (allocated(error)) error stop "benchmark: merge: " // error%message
+        end if
+        do i = 1, n
+            call remove_file(trim(merge_args(i + 4)))
+        end do
+        mean = sum(wall)/real(n, wp)
+        owner = [(mod(j - 1, n) + 1, j = 1, size(task_time))]
+        modelled = slice_sums(task_time, owner, n)
+        interleaved = maxval(modelled)/(sum(modelled)/real(n, wp))
+        owner = slice_owners(task_time, n)
+        modelled = slice_sums(task_time, owner, n)
+        write (*, "(i6, 2x, a9, 2x, f10.3, 2x, f10.3, 2x, f10.3, 2x, f10.3, 2x, f12.3, 2x, f12.3, 2x, f12.3)") n, &
+            merge("estimate", "measured", len(costs) == 0), mean, maxval(wall), maxval(wall)/mean, &
+            maxval(cpu)/(sum(cpu)/real(n, wp)), max(1.0_wp, maxval(task_time)/(sum(task_time)/real(n, wp))), &
+            interleaved, maxval(modelled)/(sum(modelled)/real(n, wp))
+    end subroutine slice_pass
 
     !> The number of tasks of a part's scene (`tasks_total` of the part file).
     function tasks_total(part) result(total)

@@ -1,10 +1,12 @@
 #!/bin/bash
 # Submit a supratrans study to Slurm: a job array of N slices and a merge job that runs when all succeeded.
 #
-#   bash input/slurm/submit.sh NAMELIST N [THROTTLE] [-- sbatch options of the array job]
+#   bash input/slurm/submit.sh NAMELIST N [THROTTLE] [--costs EARLIER.h5] [-- sbatch options of the array job]
 #
 #   NAMELIST   the study (e.g. input/bif1.nml); its output path is relative to this directory
 #   N          number of slices (array tasks); THROTTLE: at most this many run at once (default: N)
+#   --costs    deal the slices by the task costs measured in EARLIER.h5, an earlier output (or merged file) of the
+#              same study, instead of the estimate (supratrans --costs; copied into the study's directory)
 #   -- ...     options for the array job (e.g. --time=04:00:00 --dependency=afterok:123 --account=x); the merge
 #              job gets only --account, --partition and --qos of them, and always afterok on the array
 #
@@ -23,7 +25,7 @@
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 usage() {
-    sed -n '2,23p' "${BASH_SOURCE[0]}" >&2
+    sed -n '2,24p' "${BASH_SOURCE[0]}" >&2
     exit 2
 }
 die() {
@@ -35,9 +37,16 @@ namelist=$1
 slices=$2
 shift 2
 throttle=${slices}
-if (($# > 0)) && [[ $1 != "--" ]]; then
+if (($# > 0)) && [[ $1 != "--" && $1 != "--costs" ]]; then
     throttle=$1
     shift
+fi
+costs=""
+if (($# > 0)) && [[ $1 == "--costs" ]]; then
+    (($# > 1)) || die "--costs needs a file (an earlier output of the same study)"
+    costs=$2
+    shift 2
+    [[ -f ${costs} && -r ${costs} ]] || die "--costs ${costs}: no such readable file"
 fi
 if (($# > 0)); then
     [[ $1 == "--" ]] || die "unexpected argument '$1' (sbatch options go after --)"
@@ -93,6 +102,16 @@ if [[ ! -f ${copy} ]] || ! cmp -s "${namelist}" "${copy}"; then
     cp "${namelist}" "${copy}.tmp.$$"
     mv -f "${copy}.tmp.$$" "${copy}"
 fi
+# the measured costs, copied too: every slice reads the same bytes (a later run may replace the original)
+costs_args=()
+if [[ -n ${costs} ]]; then
+    costs_copy=${study_dir}/costs-$(cksum <"${costs}" | cut -d ' ' -f 1).h5
+    if [[ ! -f ${costs_copy} ]] || ! cmp -s "${costs}" "${costs_copy}"; then
+        cp "${costs}" "${costs_copy}.tmp.$$"
+        mv -f "${costs_copy}.tmp.$$" "${costs_copy}"
+    fi
+    costs_args=("${costs_copy}")
+fi
 
 # options: the user's (after --) go to the array; the merge gets account, partition, qos; a user's --dependency
 # stays with the array and is combined with the merge's own afterok
@@ -133,7 +152,7 @@ fi
 
 array=$(sbatch --parsable --job-name="supratrans-${name}" --array="1-${slices}%${throttle}" \
     --output="${study_dir}/slice-%a.out" --open-mode=append "${mem_opts[@]}" "${array_opts[@]}" \
-    "${here}/supratrans-array.sbatch" "${copy}" "${slices}" "${exe}")
+    "${here}/supratrans-array.sbatch" "${copy}" "${slices}" "${exe}" "${costs_args[@]}")
 array=${array%%;*}
 dep="afterok:${array}"
 if [[ -n ${user_dep} && ${user_dep} != *"?"* ]]; then
@@ -143,5 +162,5 @@ merge=$(sbatch --parsable --job-name="supratrans-merge-${name}" --dependency="${
     --output="${study_dir}/merge.out" --open-mode=append "${merge_opts[@]}" \
     "${here}/supratrans-merge.sbatch" "${copy}" "${slices}" "${exe}")
 merge=${merge%%;*}
-echo "namelist copy ${copy}, executable ${exe}" >&2
+echo "namelist copy ${copy}, executable ${exe}${costs_args:+, costs ${costs_args[0]}}" >&2
 echo "array job ${array} (${slices} slices of ${namelist}), merge job ${merge}"

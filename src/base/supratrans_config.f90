@@ -288,21 +288,6 @@ module supratrans_config
         character(len=:), allocatable :: started
         !> Fingerprint of the namelist text (text_fingerprint): ties journals and part files to the input.
         character(len=:), allocatable :: fingerprint
-        !> Run only slice slice_index of slice_count of the scene's tasks (command line --slice I/N; 0: all).
-        integer :: slice_index = 0
-        !> Number of slices the scene's tasks are split into (0: not sliced).
-        integer :: slice_count = 0
-        !> Compute nothing: write the partial snapshot of what the journal holds (merge --partial).
-        logical :: snapshot_only = .false.
-        !> For `merge`: the first part file, whose records the scene receives as its journal; the scene then computes nothing and
-        !> refuses records that are not its own (unallocated: not a merge).
-        character(len=:), allocatable :: merge_part
-        !> For `merge`: one line per part (slice, host, start, end, wall time s, threads, commit), written to /provenance/parts of
-        !> the merged file.
-        character(len=:), allocatable :: merge_record
-        !> For `merge`: the summed wall time (s) of the slices, the merged file's cost in place of the merge's own (< 0: not a
-        !> merge).
-        real(wp) :: merge_wall_time = -1.0_wp
         !> The base run (the scene varies some of its parameters).
         type(run_config) :: run
         !> The scene.

@@ -3,6 +3,7 @@
 !>
 !>     supratrans FILE.nml                  run the study a namelist describes, write its HDF5 output
 !>     supratrans FILE.nml --slice I/N      run slice I of N of the scene's tasks, write a part file
+!>     supratrans FILE.nml --slice I/N --costs EARLIER.h5   the same, slices dealt by the costs measured there
 !>     supratrans merge [--partial] [-o OUT] [--overwrite] PART...   join part files into the scene's output
 !>     supratrans --check FILE.nml          read and validate only
 !>     supratrans --help | --version
@@ -15,8 +16,9 @@
 !> would let a second instance lock a new file of the same name). On a file system that refuses locks (NFS without a
 !> lock manager, Lustre without `-o flock`) the run stops and says so; `SUPRATRANS_NO_LOCK=1` runs without the lock
 !> (and without HDF5's own file locking) for whoever is sure no two runs write one output. SIGTERM, SIGINT and
-!> SIGUSR1 stop a scene cleanly (exit status 5): the tasks running finish and are journaled (a threshold search with
-!> `checkpoint_every` > 0 writes its mid-run checkpoint instead and stops at once), a snapshot is written,
+!> SIGUSR1 stop a scene cleanly (exit status 5): the tasks running finish and are journaled (a threshold search, or
+!> the run of a sweep, map or hysteresis task, with `checkpoint_every` > 0 writes its mid-run checkpoint instead and
+!> stops at once), a snapshot is written,
 !> and the same command resumes. A timeseries (one run, no journal) stops within a time step and writes no output,
 !> only its mid-run checkpoint (`supratrans_checkpoint`, unless `checkpoint_every` = 0), from which it resumes; a
 !> merge catches them from its start and stops, writing nothing, unless it is writing the merged output already
@@ -27,6 +29,7 @@ module supratrans_cli
     use supratrans_strings, only: int_str, printable, text_fingerprint
     use supratrans_error, only: error_type, fatal_error, err_input, err_io, err_interrupted
     use supratrans_config, only: input_config
+    use supratrans_invocation, only: invocation_type
     use, intrinsic :: iso_c_binding, only: c_null_char
     use supratrans_system, only: make_directories, path_kind, path_directory, path_missing, same_file, lock_file, &
                                  unlock_file, remove_file, catch_stop_signals, link_kind, path_link, path_special, &
@@ -45,7 +48,8 @@ module supratrans_cli
     public :: run_command, run_from_file, usage, printable
 
     !> Usage text of the program.
-    character(len=*), parameter :: usage = "usage: supratrans FILE.nml [--slice I/N] | supratrans merge [--partial] " &
+    character(len=*), parameter :: usage = "usage: supratrans FILE.nml [--slice I/N [--costs FILE]] | supratrans merge " &
+        // "[--partial] " &
         // "[-o OUT] [--overwrite] PART... | supratrans merge --slices N FILE.nml | supratrans --check FILE.nml | " &
         // "supratrans --help | supratrans --version"
 
@@ -55,6 +59,8 @@ module supratrans_cli
         // new_line("a") // &
         "  --slice I/N           run only slice I of N of the scene's tasks (largest-first by cost), write" // new_line("a") // &
         "                        <output stem>.part-I-of-N.h5; for Slurm job arrays (input/slurm/)" // new_line("a") // &
+        "    --costs FILE        deal the slices by the task costs measured in FILE, an earlier output of" // new_line("a") // &
+        "                        the same study (bifurcation: /cost/wall_time), not by the estimate" // new_line("a") // &
         "  merge PART...         join the part files of every slice into the scene's ordinary output" // new_line("a") // &
         "    --partial           accept missing slices: write <output>.partial.h5 from what is there" // new_line("a") // &
         "    -o OUT              output file (default: the parts' name without .part-I-of-N)" // new_line("a") // &
@@ -82,7 +88,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
         !> Text for standard output (empty unless help or version).
         character(len=:), allocatable, intent(out) :: text
-        character(len=:), allocatable :: file, output, parts(:)
+        character(len=:), allocatable :: file, output, parts(:), costs
         integer :: i, slice_index, slice_count, nparts, nchecked, worst
         logical :: check_only, partial, overwrite
 
@@ -185,6 +191,13 @@ contains
             select case (trim(args(i)))
             case ("--check")
                 check_only = .true.
+            case ("--costs")
+                if (i == size(args)) then
+                    call fail("--costs needs a file, an earlier output of the same study")
+                    return
+                end if
+                i = i + 1
+                costs = trim(args(i))
             case ("--slice")
                 if (i == size(args)) then
                     call fail("--slice needs I/N, e.g. --slice 3/16")
@@ -226,8 +239,10 @@ contains
             status = worst
         else if (check_only) then
             call check_file(file, status, error, report=.true.)
+        else if (allocated(costs) .and. slice_count == 0) then
+            call fail("--costs applies with --slice I/N (it deals the slices)")
         else
-            call run_from_file(file, status, error, slice_index, slice_count)
+            call run_from_file(file, status, error, slice_index, slice_count, costs)
         end if
 
     contains
@@ -368,11 +383,11 @@ contains
     !> What `--check` of one file says on stdout, one "key value" a line, for scripts (input/slurm/submit.sh): the
     !> output file (`output`), whether an existing one is replaced (`overwrite` 1/0), the scene (`scene`) and the
     !> memory one run needs (`memory_per_thread_bytes`: its state, and for a timeseries its records; a scene's
-    !> threads each hold one run).
+    !> threads each hold one run; with checkpoints on, the checkpoint's buffers too, `checkpoint_bytes`).
     subroutine check_report(cfg)
         !> The validated input.
         type(input_config), intent(in) :: cfg
-        real(wp) :: bytes
+        real(wp) :: bytes, checkpoint
         class(scene_type), allocatable :: scene
         type(error_type), allocatable :: error
         logical :: one_run
@@ -381,10 +396,15 @@ contains
         call new_scene(trim(cfg%scene%kind), scene, error)   ! validated: the kind is known
         if (.not. allocated(error)) one_run = scene%one_run()
         bytes = run_memory_bytes(cfg, one_run)   ! one run (a timeseries) holds its records too
+        ! a mid-run checkpoint assembles the run's state (its levels and records, at most what the run holds) in one
+        ! buffer and then the file's bytes in a second (supratrans_checkpoint); a resume reads it back the same way
+        checkpoint = 0.0_wp
+        if (cfg%output%checkpoint_every > 0.0_wp) checkpoint = 2.0_wp*bytes
         write (output_unit, "(a)") "output " // printable(trim(cfg%output%file))
         write (output_unit, "(a, i0)") "overwrite ", merge(1, 0, cfg%output%overwrite)
         write (output_unit, "(a)") "scene " // trim(cfg%scene%kind)
-        write (output_unit, "(a, i0)") "memory_per_thread_bytes ", nint(min(bytes, 9.0e18_wp), int64)
+        write (output_unit, "(a, i0)") "memory_per_thread_bytes ", nint(min(bytes + checkpoint, 9.0e18_wp), int64)
+        write (output_unit, "(a, i0)") "checkpoint_bytes ", nint(min(checkpoint, 9.0e18_wp), int64)
     end subroutine check_report
 
     !> `--check`: whether the output could be created where it is named: the nearest directory of its path that
@@ -424,7 +444,7 @@ contains
 
     !> Run the study described by namelist file `path` (or slice `slice_index` of `slice_count` of it). Returns exit
     !> status 0 on success; otherwise the error's status (2 for bad input) and `error` holds the one-line message.
-    subroutine run_from_file(path, status, error, slice_index, slice_count)
+    subroutine run_from_file(path, status, error, slice_index, slice_count, costs)
         !> Namelist file.
         character(len=*), intent(in) :: path
         !> Exit status for the program.
@@ -433,7 +453,10 @@ contains
         type(error_type), allocatable, intent(out) :: error
         !> Run only slice `slice_index` of `slice_count` (default: the whole scene).
         integer, intent(in), optional :: slice_index, slice_count
+        !> With a slice: deal the slices by the task costs measured in this earlier output (`--costs`).
+        character(len=*), intent(in), optional :: costs
         type(input_config) :: cfg
+        type(invocation_type) :: inv
         type(part_set) :: done_part
         type(error_type), allocatable :: cause
         class(scene_type), allocatable :: scene
@@ -461,8 +484,9 @@ contains
                     status = error%stat
                     return
                 end if
-                cfg%slice_index = slice_index
-                cfg%slice_count = slice_count
+                inv%slice_index = slice_index
+                inv%slice_count = slice_count
+                if (present(costs)) inv%slice_costs = costs
                 cfg%output%file = part_path(trim(cfg%output%file), slice_index, slice_count)
                 if (path_kind(trim(cfg%output%file)) /= path_missing) then
                     call read_parts([character(len=len_trim(cfg%output%file)) :: trim(cfg%output%file)], .true., &
@@ -490,7 +514,7 @@ contains
             status = error%stat
             return
         end if
-        call with_lock(cfg, status, error)
+        call with_lock(cfg, inv, status, error)
     end subroutine run_from_file
 
     !> Whether the output is the finished result of this very input while its journal is still there (a run killed
@@ -564,9 +588,11 @@ contains
 
     !> Take the output's lock, (for a merge: write the joined records as the output's journal,) run the scene, release
     !> the lock. Nothing of the output is touched before the lock is held.
-    subroutine with_lock(cfg, status, error, set)
+    subroutine with_lock(cfg, inv, status, error, set)
         !> The validated input.
         type(input_config), intent(inout) :: cfg
+        !> How the engine is invoked (slice, merge).
+        type(invocation_type), intent(in) :: inv
         !> Exit status.
         integer, intent(out) :: status
         !> Error, allocated on failure.
@@ -590,10 +616,10 @@ contains
         end if
         if (.not. allocated(error)) then
             call catch_stop_signals()
-            call run_scene(cfg, error)
+            call run_scene(cfg, inv, error)
         end if
         ! the journal a merge wrote is the parts' records: gone once used, or refused
-        if (present(set) .and. cfg%snapshot_only) call remove_file(journal)
+        if (present(set) .and. inv%snapshot_only) call remove_file(journal)
         if (present(set) .and. allocated(error)) then
             if (error%stat == err_input) call remove_file(journal)
         end if
@@ -602,7 +628,7 @@ contains
             status = error%stat
             return
         end if
-        if (cfg%slice_count == 0 .and. .not. cfg%snapshot_only) call progress(cfg, "  wrote " // trim(cfg%output%file))
+        if (inv%slice_count == 0 .and. .not. inv%snapshot_only) call progress(cfg, "  wrote " // trim(cfg%output%file))
     end subroutine with_lock
 
     !> Take the lock `<output>.lock` (never through a link; the file stays when released), then delete the
@@ -649,9 +675,11 @@ contains
     end subroutine take_lock
 
     !> Run the scene of a validated input (`new_scene` makes it from &scene kind).
-    subroutine run_scene(cfg, error)
+    subroutine run_scene(cfg, inv, error)
         !> The validated input.
         type(input_config), intent(in) :: cfg
+        !> How the engine is invoked (slice, merge).
+        type(invocation_type), intent(in) :: inv
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
         class(scene_type), allocatable :: scene
@@ -661,7 +689,7 @@ contains
             error%message = cfg%source // ": " // error%message
             return
         end if
-        call scene%run(cfg, error)
+        call scene%run(cfg, error, inv)
     end subroutine run_scene
 
     !> Join part files into the scene's output (see `supratrans_parts`).
@@ -680,6 +708,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
         type(part_set) :: set
         type(input_config) :: cfg
+        type(invocation_type) :: inv
 
         status = 0
         ! from the start: a merge stopped by a signal ends with status 5 and writes nothing (the parts stay, the same
@@ -697,13 +726,13 @@ contains
             status = error%stat
             return
         end if
-        cfg%merge_part = set%first
-        cfg%merge_record = set%record
-        cfg%merge_wall_time = set%wall_time
+        inv%merge_part = set%first
+        inv%merge_record = set%record
+        inv%merge_wall_time = set%wall_time
         cfg%output%file = output
         if (len(output) == 0) cfg%output%file = merged_path(trim(paths(1)))
         if (overwrite) cfg%output%overwrite = .true.
-        cfg%snapshot_only = partial
+        inv%snapshot_only = partial
         if (.not. partial) call validate_config(cfg, error)
         if (.not. allocated(error)) call check_output_location(cfg, error)
         if (allocated(error)) then
@@ -718,7 +747,7 @@ contains
         call progress(cfg, "supratrans merge: " // int_str(count(set%done)) // " of " // int_str(size(set%done)) &
                       // " tasks from " // int_str(size(paths)) // " part(s) of " // int_str(set%slice_count) &
                       // " -> " // trim(cfg%output%file) // trim(merge(".partial.h5", "           ", partial)))
-        call with_lock(cfg, status, error, set)
+        call with_lock(cfg, inv, status, error, set)
     end subroutine merge_parts
 
     !> The error of a merge stopped by a signal before it wrote anything (status 5).

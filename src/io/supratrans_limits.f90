@@ -151,7 +151,7 @@ contains
             return
         end if
         n = real(cfg%run%chain%n, wp)
-        slices = max(1.0_wp, real(cfg%slice_count, wp))
+        slices = 1.0_wp     ! (the study as read: a slice of it is validated as the whole)
         work = tasks*runs_per_task*steps*n/slices
         if (.not. (work <= max_site_steps)) then
             call limit_error(error, where, "scene", "about " // sci(work) // " oscillator-steps (" // sci(tasks/slices) &

@@ -9,6 +9,7 @@ module supratrans_output
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_parameters, only: write_parameters
     use supratrans_provenance, only: write_provenance, timestamp
+    use supratrans_invocation, only: invocation_type
     implicit none
     private
 
@@ -60,7 +61,7 @@ contains
 
     !> Root attributes shared by every scene (code, version, scene, description, input file, creation time) and the
     !> `/provenance` group.
-    subroutine write_root(file, cfg, scene, description)
+    subroutine write_root(file, cfg, scene, description, inv)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The validated input.
@@ -69,6 +70,8 @@ contains
         character(len=*), intent(in) :: scene
         !> One-line description of the file's contents.
         character(len=*), intent(in) :: description
+        !> How the engine was invoked (a merge records its parts); default: computed here.
+        type(invocation_type), intent(in), optional :: inv
 
         call h5_write_attr(file, "/", "code", "supratrans")
         call h5_write_attr(file, "/", "version", supratrans_version)
@@ -79,7 +82,7 @@ contains
         call h5_write_attr(file, "/", "reference", &
             "J. E. Macias-Diaz and A. Puri, An energy-based computational method in the analysis of the " // &
             "transmission of energy in a chain of coupled oscillators")
-        call write_provenance(file, cfg)
+        call write_provenance(file, cfg, inv)
     end subroutine write_root
 
     !> Outcome and statistics of one run as attributes of `group`.

@@ -13,6 +13,7 @@ module supratrans_provenance
     use supratrans_kinds, only: wp, supratrans_version
     use supratrans_strings, only: text_or
     use supratrans_config, only: input_config
+    use supratrans_invocation, only: invocation_type
     use supratrans_hdf5, only: h5_file, h5_create_group, h5_write_attr, h5_write
     implicit none
     private
@@ -77,11 +78,13 @@ contains
     !> Write `/provenance`: attributes `version`, `git_commit` and `git_dirty` (of the build: `build_commit`,
     !> `build_dirty`), `compiler`, `compiler_options`, `omp_max_threads`, `host`, `executable`, `working_directory`,
     !> `started`, `input_file`, and the dataset `/provenance/namelist`, the input file's text exactly as read.
-    subroutine write_provenance(file, cfg)
+    subroutine write_provenance(file, cfg, inv)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The input (its source, text and start time).
         type(input_config), intent(in) :: cfg
+        !> How the engine was invoked: a merge records its parts (default: computed here).
+        type(invocation_type), intent(in), optional :: inv
         character(len=*), parameter :: g = "/provenance"
         character(len=:), allocatable :: text
         integer :: threads
@@ -104,11 +107,12 @@ contains
         if (allocated(cfg%text)) text = cfg%text
         call h5_write(file, g // "/namelist", text, "1", "The namelist file exactly as " &
             // "read (empty for a configuration built in code)")
-        if (allocated(cfg%merge_record)) then
+        if (.not. present(inv)) return
+        if (allocated(inv%merge_record)) then
             ! a merged file: where, when and how long each slice ran (its part file's record)
-            call h5_write(file, g // "/parts", cfg%merge_record, "1", "Merged from part files, one line per part, " &
+            call h5_write(file, g // "/parts", inv%merge_record, "1", "Merged from part files, one line per part, " &
                 // "tab-separated: slice, host, start, end, wall time (s), OpenMP threads, git commit")
-            call h5_write_attr(file, g, "slices_wall_time_s", max(cfg%merge_wall_time, 0.0_wp))
+            call h5_write_attr(file, g, "slices_wall_time_s", max(inv%merge_wall_time, 0.0_wp))
         end if
     end subroutine write_provenance
 

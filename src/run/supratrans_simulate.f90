@@ -8,6 +8,7 @@
 !> Step counts are 64-bit: M is computed in real arithmetic and refused (status `run_invalid`, with a reason) when
 !> T/dt is not finite or exceeds `max_step_count` = huge(0_i8)/2 (about 4.6e18), so that no count ever wraps.
 module supratrans_simulate
+    use, intrinsic :: iso_fortran_env, only: error_unit
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_strings, only: real_str
@@ -16,7 +17,7 @@ module supratrans_simulate
     use supratrans_stepper, only: stepper, step_ok, step_not_converged, step_breakdown, save_counters, load_counters
     use supratrans_state_buffer, only: state_buffer
     use supratrans_checkpoint, only: checkpoint_session, session_active, checkpoint_due, write_checkpoint, &
-                                     clock_stride
+                                     clock_stride, open_session, close_session
     use supratrans_steppers, only: new_stepper
     use supratrans_system, only: stop_signal, note_out_of_memory
     use supratrans_observers, only: observer_item, standard_observers
@@ -25,7 +26,7 @@ module supratrans_simulate
     implicit none
     private
 
-    public :: simulate, number_of_levels, step_count
+    public :: simulate, simulate_task, number_of_levels, step_count
 
     !> Largest number of time steps M the engine counts: huge(0_i8)/2 = 2^62 - 1 (so that M + 1 and any step index
     !> plus a few levels stay far from overflow). Not the limit of an input: `max_steps` of `supratrans_limits`
@@ -71,6 +72,55 @@ contains
         levels = 0
         if (.not. allocated(error)) levels = m + 1
     end function number_of_levels
+
+    !> Simulate the one run of a task of a scene (a sweep or map point, a hysteresis stair run) with mid-run
+    !> checkpoints: `<path>` every `every` seconds of wall time and at once on a stop signal (`every` <= 0: none, a
+    !> plain `simulate`). A checkpoint of the same `binding` (the input's fingerprint and the task) left by a killed
+    !> run is resumed from its step; the result is bit-identical to an uninterrupted run. A run stopped by a signal
+    !> returns `result%interrupted` and keeps its checkpoint (its caller records no result: a rerun resumes it); a run
+    !> that ends deletes it. Notes (a checkpoint ignored, resumed or not written) go to stderr unless `quiet`.
+    subroutine simulate_task(run, result, path, binding, every, quiet)
+        !> Validated run configuration.
+        type(run_config), intent(in) :: run
+        !> Outcome, statistics, ledger and records.
+        type(run_result), intent(out) :: result
+        !> Checkpoint file of the task.
+        character(len=*), intent(in) :: path
+        !> Binding text: the input's fingerprint and the task.
+        character(len=*), intent(in) :: binding
+        !> Seconds of wall time between two checkpoints (<= 0: none).
+        real(wp), intent(in) :: every
+        !> No notes on stderr.
+        logical, intent(in) :: quiet
+        type(checkpoint_session) :: session
+
+        if (.not. (every > 0.0_wp)) then
+            call simulate(run, result)
+            return
+        end if
+        call open_session(session, path, binding, every)
+        session%log_runs = .false.        ! one run: nothing to replay
+        if (session%resumed .and. len_trim(session%note) == 0) session%note = "resumed: its run continues"
+        call note()
+        call simulate(run, result, session=session)
+        call note()
+        if (.not. result%interrupted) call close_session(session)
+
+    contains
+
+        !> The session's note, one line, then cleared.
+        subroutine note()
+            if (len_trim(session%note) == 0) return
+            if (.not. quiet) then
+                !$omp critical (supratrans_simulate_notes)
+                write (error_unit, "(a)") "  checkpoint " // path // " " // trim(session%note)
+                flush (error_unit)
+                !$omp end critical (supratrans_simulate_notes)
+            end if
+            session%note = ""
+        end subroutine note
+
+    end subroutine simulate_task
 
     !> Simulate one run: any method, the same observers (with `verdict_only`, those of the verdict alone: the
     !> ledger, the ramp energy and the records then stay empty, and the stepper need not keep the energy identity

@@ -16,6 +16,7 @@
 module supratrans_scene
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
+    use supratrans_invocation, only: invocation_type
     use supratrans_config, only: input_config
     implicit none
     private
@@ -48,14 +49,16 @@ module supratrans_scene
 
     abstract interface
         !> Run the scene `cfg` describes and write `cfg%output%file`.
-        subroutine run_interface(self, cfg, error)
-            import :: scene_type, input_config, error_type
+        subroutine run_interface(self, cfg, error, inv)
+            import :: scene_type, input_config, error_type, invocation_type
             !> The scene.
             class(scene_type), intent(in) :: self
             !> The validated input.
             type(input_config), intent(in) :: cfg
             !> Error, allocated on failure.
             type(error_type), allocatable, intent(out) :: error
+            !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+            type(invocation_type), intent(in), optional :: inv
         end subroutine run_interface
     end interface
 

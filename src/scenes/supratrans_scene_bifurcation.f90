@@ -26,6 +26,7 @@ module supratrans_scene_bifurcation
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
+    use supratrans_invocation, only: invocation_type
     use supratrans_scene, only: scene_type, scene_budget
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
@@ -45,7 +46,8 @@ module supratrans_scene_bifurcation
     use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only, run_work
     use supratrans_checkpoint, only: checkpoint_session, open_session, close_session
     use supratrans_system, only: remove_file
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group, h5_open, &
+                               h5_close, h5_read, h5_read_attr
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1, printable
     implicit none
@@ -92,6 +94,8 @@ module supratrans_scene_bifurcation
     type, extends(task_list) :: bifurcation_tasks
         !> The validated input.
         type(input_config) :: cfg
+        !> How the engine is invoked (slice, merge: `supratrans_invocation`).
+        type(invocation_type) :: inv
         !> Run of each curve, prepared for the search (early stop, nothing recorded).
         type(run_config), allocatable :: runs(:)
         !> The same with the screening method and step (allocated when the scene screens).
@@ -113,6 +117,8 @@ module supratrans_scene_bifurcation
         procedure :: snapshot => write_snapshot
         !> Estimated cost of one search (slices of equal cost).
         procedure :: cost => search_cost
+        !> The searches' measured wall times in an earlier output of the same study (`--costs`).
+        procedure :: measured_costs => search_measured_costs
     end type bifurcation_tasks
 
     !> A dataset of `/screening` or `/certify`: one field of the search records written as a (curve, omega) grid.
@@ -141,13 +147,15 @@ module supratrans_scene_bifurcation
 contains
 
     !> Run the bifurcation scene described by `cfg` and write `cfg%output%file` (see the module documentation).
-    subroutine run_bifurcation(cfg, error, keep_journal)
+    subroutine run_bifurcation(cfg, error, keep_journal, inv)
         !> The validated input (`&scene kind = 'bifurcation'`).
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure (output exists, journal of another input, unwritable files).
         type(error_type), allocatable, intent(out) :: error
         !> Keep the journal after a complete run (tests of the resume); default false.
         logical, intent(in), optional :: keep_journal
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
         type(bifurcation_tasks) :: tasks
         type(search_record), allocatable :: records(:)
         real(wp), allocatable :: results(:, :)
@@ -170,6 +178,7 @@ contains
         end if
 
         tasks%cfg = cfg
+        if (present(inv)) tasks%inv = inv
         tasks%omegas = bifurcation_omegas(cfg)
         ncurve = curve_count(cfg)
         nomega = size(tasks%omegas)
@@ -209,12 +218,12 @@ contains
         end if
 
         call run_tasks(tasks, ncurve*nomega, search_fields, journal, input_fingerprint(cfg), &
-                       "threshold searches", cfg%output%quiet, results, done, error, cfg)
-        if (allocated(error) .or. engine_only(cfg)) return
+                       "threshold searches", cfg%output%quiet, results, done, error, cfg, inv)
+        if (allocated(error) .or. engine_only(tasks%inv)) return
 
         call system_clock(clock_end)
         elapsed = real(clock_end - clock_start, wp)/real(clock_rate, wp)
-        if (cfg%merge_wall_time >= 0.0_wp) elapsed = cfg%merge_wall_time     ! a merge: the slices' cost
+        if (tasks%inv%merge_wall_time >= 0.0_wp) elapsed = tasks%inv%merge_wall_time     ! a merge: the slices' cost
         call write_bifurcation_file(tasks, output, results, done, .true., elapsed, error)
         if (allocated(error)) return
         if (.not. keep) call remove_file(journal)
@@ -476,6 +485,74 @@ contains
         yes = r%status /= bifurcation_pending
     end function search_finished
 
+    !> The measured cost of every search in `path`, an earlier output (or merged file) of the same study: its
+    !> `/cost/wall_time` (curve, omega), by task index. The file must be a bifurcation output with the same
+    !> frequencies (`/omega`) and curves (`/curves/gamma`, `beta`, `m2`), else it is refused in one line.
+    subroutine search_measured_costs(self, path, costs, error)
+        !> The tasks.
+        class(bifurcation_tasks), intent(in) :: self
+        !> The earlier output.
+        character(len=*), intent(in) :: path
+        !> Measured wall time of each search (s), by task index.
+        real(wp), allocatable, intent(out) :: costs(:)
+        !> Error: unreadable, of another study, or without costs.
+        type(error_type), allocatable, intent(out) :: error
+        type(h5_file) :: file
+        type(error_type), allocatable :: cause, ignored
+        character(len=:), allocatable :: kind
+        real(wp), allocatable :: grid(:, :), axis(:), gamma(:), beta(:), m2(:)
+        integer :: ic
+
+        call h5_open(file, path, cause)
+        if (allocated(cause)) then
+            call fatal_error(error, "--costs " // printable(path) // ": " // cause%message, err_input)
+            return
+        end if
+        call h5_read_attr(file, "/parameters", "kind", kind, cause)
+        if (.not. allocated(cause)) then
+            if (kind /= "bifurcation") then
+                call fatal_error(error, "--costs " // printable(path) // ": an output of a '" // printable(kind) &
+                                 // "' scene, not of this bifurcation study", err_input)
+            end if
+        end if
+        if (.not. allocated(cause) .and. .not. allocated(error)) call h5_read(file, "/omega", axis, cause)
+        if (.not. allocated(cause) .and. .not. allocated(error)) call h5_read(file, "/curves/gamma", gamma, cause)
+        if (.not. allocated(cause) .and. .not. allocated(error)) call h5_read(file, "/curves/beta", beta, cause)
+        if (.not. allocated(cause) .and. .not. allocated(error)) call h5_read(file, "/curves/m2", m2, cause)
+        if (.not. allocated(cause) .and. .not. allocated(error)) then
+            if (.not. same(axis, self%omegas) .or. .not. same(gamma, [(self%runs(ic)%chain%gamma, ic = 1, &
+                size(self%runs))]) .or. .not. same(beta, [(self%runs(ic)%chain%beta, ic = 1, size(self%runs))]) &
+                .or. .not. same(m2, [(self%runs(ic)%chain%m2, ic = 1, size(self%runs))])) then
+                call fatal_error(error, "--costs " // printable(path) // ": of another study (its frequencies or " &
+                                 // "curves are not this namelist's)", err_input)
+            end if
+        end if
+        if (.not. allocated(cause) .and. .not. allocated(error)) then
+            call h5_read(file, "/cost/wall_time", grid, cause)
+            if (allocated(cause)) call fatal_error(error, "--costs " // printable(path) // ": lacks the searches' " &
+                                                   // "measured costs (/cost/wall_time)", err_input)
+        end if
+        call h5_close(file, ignored)
+        if (allocated(error)) return
+        if (allocated(cause)) then
+            call fatal_error(error, "--costs " // printable(path) // ": not a bifurcation output (" &
+                             // cause%message // ")", err_input)
+            return
+        end if
+        costs = reshape(grid, [size(grid)])     ! (omega, curve) in Fortran order: task (curve - 1) nomega + iomega
+
+    contains
+
+        !> Equal lengths and values (to 1e-12 relative: the same namelist gives the same bits).
+        pure logical function same(a, b)
+            real(wp), intent(in) :: a(:), b(:)
+
+            same = size(a) == size(b)
+            if (same) same = all(abs(a - b) <= 1.0e-12_wp*max(1.0_wp, abs(b)))
+        end function same
+
+    end subroutine search_measured_costs
+
     !> Estimated cost of task `index`, for the largest-first slices (`supratrans_tasks::slice_owners`): the work of
     !> one run of its curve (`run_work`) x the expected runs of a search, half the coarse scan of the range and the
     !> scan of one bracket at the resolution; a screened search runs most of them with the screening method at its
@@ -636,7 +713,7 @@ contains
 
         call h5_create(file, path, .true.)
         call write_root(file, tasks%cfg, "bifurcation", "Supratransmission threshold (smallest transmitting driving " &
-                        // "amplitude) vs driving frequency, one curve per potential and varied value")
+                        // "amplitude) vs driving frequency, one curve per potential and varied value", tasks%inv)
         call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
         call h5_write_attr(file, "/", "tasks_done", count(done))
         call write_scene_parameters(file, tasks%cfg)
@@ -899,15 +976,17 @@ contains
 
 
     !> Run the scene (`run_bifurcation`).
-    subroutine bifurcation_scene_run(self, cfg, error)
+    subroutine bifurcation_scene_run(self, cfg, error, inv)
         !> The scene.
         class(bifurcation_scene), intent(in) :: self
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
 
-        call run_bifurcation(cfg, error)
+        call run_bifurcation(cfg, error, inv=inv)
     end subroutine bifurcation_scene_run
 
     !> The frequency axis, the search grid (amplitude_min..amplitude_max by resolution, coarse_step), then the

@@ -21,6 +21,7 @@ module supratrans_scene_continuation
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
+    use supratrans_invocation, only: invocation_type
     use supratrans_scene, only: scene_type, scene_budget
     use supratrans_limits, only: axis_points, check_axis, limit_error, threads_text, sci
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
@@ -52,6 +53,8 @@ module supratrans_scene_continuation
     type, extends(task_list) :: continuation_tasks
         !> The validated input.
         type(input_config) :: cfg
+        !> How the engine is invoked (slice, merge: `supratrans_invocation`).
+        type(invocation_type) :: inv
         !> Run of each curve (chain, numerics; the drive's frequency and amplitude are set per task).
         type(run_config), allocatable :: runs(:)
         !> The frequencies.
@@ -79,11 +82,13 @@ module supratrans_scene_continuation
 contains
 
     !> Run the continuation scene described by `cfg` and write `cfg%output%file` (see the module documentation).
-    subroutine run_continuation(cfg, error)
+    subroutine run_continuation(cfg, error, inv)
         !> The validated input (`&scene kind = 'continuation'`).
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure (output exists, journal of another input, unwritable files).
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
         type(continuation_tasks) :: tasks
         type(fold_record) :: r
         real(wp), allocatable :: results(:, :)
@@ -102,6 +107,7 @@ contains
             return
         end if
         tasks%cfg = cfg
+        if (present(inv)) tasks%inv = inv
         tasks%omegas = bifurcation_omegas(cfg)  ! the bifurcation scene's axis, so fold lines lie over diagrams
         ncurve = curve_count(cfg)
         nomega = size(tasks%omegas)
@@ -137,12 +143,12 @@ contains
         end if
 
         call run_tasks(tasks, ncurve*nomega, fold_fields(cfg%scene%continuation_points), journal, &
-                       input_fingerprint(cfg), "fold continuations", cfg%output%quiet, results, done, error, cfg)
-        if (allocated(error) .or. engine_only(cfg)) return
+                       input_fingerprint(cfg), "fold continuations", cfg%output%quiet, results, done, error, cfg, inv)
+        if (allocated(error) .or. engine_only(tasks%inv)) return
 
         call system_clock(clock_end)
         elapsed = real(clock_end - clock_start, wp)/real(clock_rate, wp)
-        if (cfg%merge_wall_time >= 0.0_wp) elapsed = cfg%merge_wall_time     ! a merge: the slices' cost
+        if (tasks%inv%merge_wall_time >= 0.0_wp) elapsed = tasks%inv%merge_wall_time     ! a merge: the slices' cost
         call write_continuation_file(tasks, output, results, done, .true., elapsed, error)
         if (allocated(error)) return
         call remove_file(journal)
@@ -307,7 +313,7 @@ contains
         call h5_create(file, path, .true.)
         call write_root(file, tasks%cfg, "continuation", "Fold (saddle-node) of the branch of driven periodic " &
                         // "states vs driving frequency: the supratransmission threshold of the model, one curve per " &
-                        // "potential and varied value, with Floquet stability and convergence")
+                        // "potential and varied value, with Floquet stability and convergence", tasks%inv)
         call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
         call h5_write_attr(file, "/", "tasks_done", count(done))
         call write_parameters(file, tasks%cfg)
@@ -546,15 +552,17 @@ contains
     end function branch_description
 
     !> Run the scene (`run_continuation`).
-    subroutine continuation_scene_run(self, cfg, error)
+    subroutine continuation_scene_run(self, cfg, error, inv)
         !> The scene.
         class(continuation_scene), intent(in) :: self
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
 
-        call run_continuation(cfg, error)
+        call run_continuation(cfg, error, inv=inv)
     end subroutine continuation_scene_run
 
     !> The frequency axis, then the dense 2N x (2N + 1) matrices of the shooting: the tangent, the shooting system,

@@ -44,6 +44,7 @@ module supratrans_scene_hysteresis
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
+    use supratrans_invocation, only: invocation_type
     use supratrans_scene, only: scene_type, scene_budget
     use supratrans_limits, only: axis_points, check_axis, check_tasks, limit_error, threads_text, sci, max_steps, &
         run_memory_bytes
@@ -51,7 +52,7 @@ module supratrans_scene_hysteresis
     use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge, detector_site, profile_stairs, stair_count, stair_level, &
                                 stair_start
-    use supratrans_simulate, only: simulate
+    use supratrans_simulate, only: simulate_task
     use supratrans_result, only: run_result, run_ok
     use supratrans_status, only: status_outside_gap, status_not_run
     use supratrans_threshold, only: search_grid_size
@@ -93,6 +94,8 @@ module supratrans_scene_hysteresis
     type, extends(task_list) :: hysteresis_tasks
         !> The validated input.
         type(input_config) :: cfg
+        !> How the engine is invoked (slice, merge: `supratrans_invocation`).
+        type(invocation_type) :: inv
         !> Run of each curve (chain, numerics; the drive's frequency and stairs are set per task).
         type(run_config), allocatable :: runs(:)
         !> The frequencies.
@@ -103,9 +106,13 @@ module supratrans_scene_hysteresis
         integer :: top = 0
         !> Path of the partial output written by `snapshot`.
         character(len=:), allocatable :: partial_path
+        !> Mid-run checkpoints of task t: `<checkpoint_prefix><t>`, bound to `fingerprint` and t.
+        character(len=:), allocatable :: checkpoint_prefix, fingerprint
     contains
         !> One run up and down the stairs.
         procedure :: run => run_stairs_task
+        !> Whether a task's values are its result (not a run stopped by a signal at its checkpoint).
+        procedure :: finished => stairs_finished
         !> Write the partial output.
         procedure :: snapshot => write_snapshot
     end type hysteresis_tasks
@@ -122,11 +129,13 @@ module supratrans_scene_hysteresis
 contains
 
     !> Run the hysteresis scene described by `cfg` and write `cfg%output%file` (see the module documentation).
-    subroutine run_hysteresis(cfg, error)
+    subroutine run_hysteresis(cfg, error, inv)
         !> The validated input (`&scene kind = 'hysteresis'`).
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure (bad stairs, output exists, journal of another input, unwritable files).
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
         type(hysteresis_tasks) :: tasks
         real(wp), allocatable :: results(:, :)
         logical, allocatable :: done(:)
@@ -144,6 +153,7 @@ contains
             return
         end if
         tasks%cfg = cfg
+        if (present(inv)) tasks%inv = inv
         tasks%omegas = bifurcation_omegas(cfg)
         tasks%stair_times = scene_stair_times(cfg)
         call check_stairs(cfg, tasks%stair_times, tasks%top, error)
@@ -160,6 +170,8 @@ contains
             tasks%runs(ic) = curve_run(cfg, ic)
         end do
         tasks%partial_path = output // ".partial.h5"
+        tasks%checkpoint_prefix = output // ".checkpoint-"
+        tasks%fingerprint = input_fingerprint(cfg)
         journal = output // ".journal"
         if (.not. cfg%output%quiet) then
             write (error_unit, "(a)") "supratrans: hysteresis from " // cfg%source // ": " // int_str(ncurve) &
@@ -170,12 +182,12 @@ contains
         end if
 
         call run_tasks(tasks, ncurve*nomega*nlen, task_fields(2*tasks%top + 1), journal, input_fingerprint(cfg), &
-                       "stair runs", cfg%output%quiet, results, done, error, cfg)
-        if (allocated(error) .or. engine_only(cfg)) return
+                       "stair runs", cfg%output%quiet, results, done, error, cfg, inv)
+        if (allocated(error) .or. engine_only(tasks%inv)) return
 
         call system_clock(clock_end)
         elapsed = real(clock_end - clock_start, wp)/real(clock_rate, wp)
-        if (cfg%merge_wall_time >= 0.0_wp) elapsed = cfg%merge_wall_time     ! a merge: the slices' cost
+        if (tasks%inv%merge_wall_time >= 0.0_wp) elapsed = tasks%inv%merge_wall_time     ! a merge: the slices' cost
         call write_hysteresis_file(tasks, output, results, done, .true., elapsed, error)
         if (allocated(error)) return
         call remove_file(journal)
@@ -298,6 +310,7 @@ contains
         integer(i8) :: clock_start, clock_end, clock_rate
         real(wp), allocatable :: power(:)
         real(wp) :: up, down, nan
+        character(len=12) :: task_text
 
         call system_clock(clock_start, clock_rate)
         nan = ieee_value(nan, ieee_quiet_nan)
@@ -323,7 +336,14 @@ contains
         run%record%probes = [nd, nd + 1]
         run%record%probe_every = 1
         run%record%ledger_every = int(min(huge(1)/2_i8, int(run%numerics%t_final/run%numerics%dt, i8) + 1_i8))
-        call simulate(run, result)
+        write (task_text, "(i0)") index
+        call simulate_task(run, result, self%checkpoint_prefix // trim(task_text), self%fingerprint // " task " &
+                           // trim(task_text), self%cfg%output%checkpoint_every, self%cfg%output%quiet)
+        if (result%interrupted) then
+            ! stopped by a signal at its checkpoint: no result (not journaled; a rerun resumes it)
+            values(1) = real(status_not_run, wp)
+            return
+        end if
         values(7) = real(result%steps, wp)
         if (result%status /= run_ok) then
             values(1) = real(hysteresis_failed, wp)
@@ -340,6 +360,17 @@ contains
         call system_clock(clock_end)
         values(8) = real(clock_end - clock_start, wp)/real(clock_rate, wp)
     end subroutine run_stairs_task
+
+    !> Whether a task's values are its result: a run stopped at its checkpoint by a signal has status not-run.
+    function stairs_finished(self, values) result(yes)
+        !> The tasks.
+        class(hysteresis_tasks), intent(in) :: self
+        !> The task's values (`task_fields`).
+        real(wp), intent(in) :: values(:)
+        logical :: yes
+
+        yes = nint(values(1)) /= status_not_run
+    end function stairs_finished
 
     !> Mean power through the bond (n_d, n_d + 1) on each stair of a run (see the module documentation): from the
     !> probes at n_d and n_d + 1 recorded every step, J_k = c^2 (u_{n_d} - u_{n_d+1}) v_{n_d+1} + beta (v_{n_d} -
@@ -524,7 +555,7 @@ contains
         call h5_create(file, path, .true.)
         call write_root(file, tasks%cfg, "hysteresis", "Hysteresis of supratransmission: the drive amplitude goes up " &
                         // "and down in slow stairs; the upward edge (where the transmitting state is born), the " &
-                        // "downward edge (where it dies) and the bistable window, per curve, Omega and stair length")
+                        // "downward edge (where it dies) and the bistable window, per curve, Omega and stair length", tasks%inv)
         call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
         call h5_write_attr(file, "/", "tasks_done", count(done))
         call write_parameters(file, tasks%cfg)
@@ -616,15 +647,17 @@ contains
     end function spread
 
     !> Run the scene (`run_hysteresis`).
-    subroutine hysteresis_scene_run(self, cfg, error)
+    subroutine hysteresis_scene_run(self, cfg, error, inv)
         !> The scene.
         class(hysteresis_scene), intent(in) :: self
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
 
-        call run_hysteresis(cfg, error)
+        call run_hysteresis(cfg, error, inv=inv)
     end subroutine hysteresis_scene_run
 
     !> The frequency axis and the stairs (levels, time steps and probe memory of each stair length), then the

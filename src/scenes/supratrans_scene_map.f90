@@ -14,6 +14,7 @@
 module supratrans_scene_map
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
+    use supratrans_invocation, only: invocation_type
     use supratrans_scene, only: scene_type, scene_budget
     use supratrans_curves, only: curve_count
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
@@ -49,17 +50,20 @@ contains
     !> curve, each frequency of the &scene axis omega_min..omega_max by omega_step inside the curve's band gap, and
     !> each amplitude of amplitude_min..amplitude_max by amplitude_step, one full run. Resumes from
     !> `<file>.journal` if a killed map left one.
-    subroutine run_map(cfg, error)
+    subroutine run_map(cfg, error, inv)
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure (bad configuration, journal of another input, unwritable files). Runs that
         !> diverge or whose Newton fails are not errors: they are recorded with their status.
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
         type(map_tasks) :: tasks
 
         call init_sweep_tasks(tasks, cfg, "map", "Total energy injected vs driving frequency and amplitude: one full " &
                               // "run (0..T) per curve, frequency and amplitude (paper Fig. 11)", &
                               axis_grid(cfg%scene%omega_min, cfg%scene%omega_max, cfg%scene%omega_step), .true.)
+        if (present(inv)) tasks%inv = inv
         call run_grid_scene(tasks, error)
     end subroutine run_map
 
@@ -90,15 +94,17 @@ contains
     end subroutine map_write_axes
 
     !> Run the scene (`run_map`).
-    subroutine map_scene_run(self, cfg, error)
+    subroutine map_scene_run(self, cfg, error, inv)
         !> The scene.
         class(map_scene), intent(in) :: self
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
 
-        call run_map(cfg, error)
+        call run_map(cfg, error, inv=inv)
     end subroutine map_scene_run
 
     !> The amplitude and frequency axes, then the runs (curves x frequencies x amplitudes) and their work.

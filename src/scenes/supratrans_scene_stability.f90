@@ -39,6 +39,7 @@ module supratrans_scene_stability
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type, fatal_error, err_input
+    use supratrans_invocation, only: invocation_type
     use supratrans_strings, only: int_str, real_str
     use supratrans_scene, only: scene_type
     use supratrans_config, only: input_config, run_config, vary_choices, chain_params, method_newton, method_linearized, &
@@ -108,11 +109,14 @@ contains
     end function default_stability_dts
 
     !> Run the scene `stability` described by `cfg` and write `cfg%output%file`.
-    subroutine run_stability(cfg, error)
+    subroutine run_stability(cfg, error, inv)
         !> Validated input (scene kind 'stability').
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure (bad scene keys, journal or output not writable).
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
+        type(invocation_type) :: how
         type(stability_tasks) :: tasks
         real(wp), allocatable :: results(:, :), linear(:, :, :), paper(:, :), rk4_limit(:, :), rk4_undamped(:, :)
         real(wp), allocatable :: re(:), im_part(:)
@@ -121,6 +125,7 @@ contains
         type(chain_params) :: chain
         integer :: ncurve, nm, nc, ndt, icurve, im, ic, ntask, nbis
 
+        if (present(inv)) how = inv
         where = "configuration"
         if (allocated(cfg%source)) where = cfg%source
         tasks%methods = [method_newton, method_linearized, method_rk4, method_rk8, method_avf4, method_avf8]
@@ -189,9 +194,9 @@ contains
         ntask = nbis + ncurve*nm*nc*ndt
         journal = trim(cfg%output%file) // ".journal"
         call run_tasks(tasks, ntask, value_names, journal, input_fingerprint(cfg), "stability runs and bisections", &
-                       cfg%output%quiet, results, done, error, cfg)
-        if (allocated(error) .or. engine_only(cfg)) return
-        call write_stability(cfg, tasks, results, linear, paper, rk4_limit, rk4_undamped, error)
+                       cfg%output%quiet, results, done, error, cfg, how)
+        if (allocated(error) .or. engine_only(how)) return
+        call write_stability(cfg, tasks, results, linear, paper, rk4_limit, rk4_undamped, error, inv=how)
         if (allocated(error)) return
         call remove_file(journal)
     end subroutine run_stability
@@ -469,12 +474,14 @@ contains
     end function rk_spectrum_dt
 
     !> Write the scene's HDF5 file.
-    subroutine write_stability(cfg, tasks, results, linear, paper, rk4_limit, rk4_undamped, error)
+    subroutine write_stability(cfg, tasks, results, linear, paper, rk4_limit, rk4_undamped, error, inv)
         type(input_config), intent(in) :: cfg
         type(stability_tasks), intent(in) :: tasks
         real(wp), intent(in), contiguous :: results(:, :), linear(:, :, :), paper(:, :), rk4_limit(:, :), &
                                             rk4_undamped(:, :)
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine was invoked (a merge records its parts).
+        type(invocation_type), intent(in), optional :: inv
         type(h5_file) :: file
         integer :: ncurve, nm, nc, ndt, nbis, icurve, im, ic, idt, itask
         integer, allocatable :: verdict(:, :, :)
@@ -503,7 +510,7 @@ contains
         end do
         call h5_create(file, trim(cfg%output%file), cfg%output%overwrite)
         call write_root(file, cfg, "stability", "Where each integrator blows up over a grid of (dt, c), observed " &
-                        // "boundaries next to the paper's necessary condition and linear stability theory")
+                        // "boundaries next to the paper's necessary condition and linear stability theory", inv)
         call write_parameters(file, cfg)
         call h5_create_group(file, "/scene", "Controls of the stability scene")
         call h5_write_attr(file, "/scene", "vary", trim(vary_choices(cfg%scene%vary)))
@@ -568,15 +575,17 @@ contains
     end subroutine write_stability
 
     !> Run the scene (`run_stability`).
-    subroutine stability_scene_run(self, cfg, error)
+    subroutine stability_scene_run(self, cfg, error, inv)
         !> The scene.
         class(stability_scene), intent(in) :: self
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
 
-        call run_stability(cfg, error)
+        call run_stability(cfg, error, inv=inv)
     end subroutine stability_scene_run
 
 end module supratrans_scene_stability

@@ -33,6 +33,7 @@ module supratrans_scene_sweep
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp, i8, supratrans_version
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
+    use supratrans_invocation, only: invocation_type
     use supratrans_scene, only: scene_type, scene_budget
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config, run_config, vary_none, vary_choices
@@ -40,7 +41,7 @@ module supratrans_scene_sweep
     use supratrans_validate, only: validate_config
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: band_gap_edge, threshold_as
-    use supratrans_simulate, only: simulate, number_of_levels
+    use supratrans_simulate, only: simulate_task, number_of_levels
     use supratrans_result, only: run_result, run_ok, run_diverged, run_newton_failed, run_solver_failed, status_name
     use supratrans_status, only: status_not_run, status_outside_gap, run_status_codes
     use supratrans_run_record, only: run_value_names, run_values, not_run_values, nan, fields, field_spec, n_run_values, &
@@ -85,6 +86,8 @@ module supratrans_scene_sweep
     type, extends(task_list), public :: sweep_tasks
         !> The validated input.
         type(input_config) :: cfg
+        !> How the engine is invoked (slice, merge: `supratrans_invocation`).
+        type(invocation_type) :: inv
         !> Scene name written to the file: 'amplitude_sweep' or 'map'.
         character(len=:), allocatable :: scene
         !> One-line description of the file written.
@@ -97,9 +100,13 @@ module supratrans_scene_sweep
         real(wp), allocatable :: amplitudes(:)
         !> The frequency is an axis of the data (map): datasets are (curve, omega, amplitude), not (curve, amplitude).
         logical :: omega_axis = .false.
+        !> Mid-run checkpoints of task t: `<checkpoint_prefix><t>`, bound to `fingerprint` and t.
+        character(len=:), allocatable :: checkpoint_prefix, fingerprint
     contains
         !> Run one task (thread-safe).
         procedure :: run => sweep_run
+        !> Whether a task's values are its result (not a run stopped by a signal at its checkpoint).
+        procedure :: finished => sweep_finished
         !> Write the partial file.
         procedure :: snapshot => sweep_snapshot
         !> Write the axes of the scene (the sweep: /amplitude, /curves; the map overrides it).
@@ -130,17 +137,20 @@ contains
     !> "Output"): for each curve (`curve_run`) and each amplitude of the &scene axis amplitude_min..amplitude_max
     !> by amplitude_step, one full run at the &drive frequency. Resumes from `<file>.journal` if a killed sweep
     !> left one.
-    subroutine run_amplitude_sweep(cfg, error)
+    subroutine run_amplitude_sweep(cfg, error, inv)
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure (bad configuration, journal of another input, unwritable files). Runs that
         !> diverge or whose Newton fails are not errors: they are recorded with their status.
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
         type(sweep_tasks) :: tasks
 
         call init_sweep_tasks(tasks, cfg, "amplitude_sweep", "Total energy injected vs driving amplitude: one " &
                               // "full run (0..T) per curve and amplitude (paper Figs. 2, 3, 3-and-a-half, 4)", &
                               [cfg%run%drive%omega], .false.)
+        if (present(inv)) tasks%inv = inv
         call run_grid_scene(tasks, error)
     end subroutine run_amplitude_sweep
 
@@ -167,6 +177,8 @@ contains
         tasks%omegas = omegas
         tasks%omega_axis = omega_axis
         tasks%amplitudes = axis_grid(cfg%scene%amplitude_min, cfg%scene%amplitude_max, cfg%scene%amplitude_step)
+        tasks%checkpoint_prefix = trim(cfg%output%file) // ".checkpoint-"
+        tasks%fingerprint = input_fingerprint(cfg)
         if (allocated(tasks%curves)) deallocate (tasks%curves)
         allocate (tasks%curves(curve_count(cfg)))
         do ic = 1, size(tasks%curves)
@@ -227,8 +239,8 @@ contains
         end if
 
         call run_tasks(tasks, tasks%task_count(), run_value_names(), journal_path(tasks%cfg), &
-                       input_fingerprint(tasks%cfg), "runs", tasks%cfg%output%quiet, results, done, error, tasks%cfg)
-        if (allocated(error) .or. engine_only(tasks%cfg)) return
+                       input_fingerprint(tasks%cfg), "runs", tasks%cfg%output%quiet, results, done, error, tasks%cfg, tasks%inv)
+        if (allocated(error) .or. engine_only(tasks%inv)) return
         if (.not. all(done)) then
             call fatal_error(error, trim(tasks%cfg%output%file) // ": the task engine returned with runs missing", &
                              err_io)
@@ -278,7 +290,7 @@ contains
         type(h5_file) :: file
 
         call h5_create(file, path, overwrite)
-        call write_root(file, tasks%cfg, tasks%scene, tasks%description)
+        call write_root(file, tasks%cfg, tasks%scene, tasks%description, tasks%inv)
         call h5_write_attr(file, "/", "complete", merge(1, 0, all(done)))
         call h5_write_attr(file, "/", "runs_done", count(done))
         call h5_write_attr(file, "/", "runs_total", size(done))
@@ -451,6 +463,7 @@ contains
         type(run_config) :: run
         type(run_result) :: result
         integer :: ia, iw, ic
+        character(len=12) :: task_text
 
         call self%task_position(index, ia, iw, ic)
         if (.not. self%runnable(iw, ic)) then
@@ -461,9 +474,28 @@ contains
         run = self%curves(ic)
         run%drive%amplitude = self%amplitudes(ia)
         run%drive%omega = self%omegas(iw)
-        call simulate(run, result)
+        write (task_text, "(i0)") index
+        call simulate_task(run, result, self%checkpoint_prefix // trim(task_text), self%fingerprint // " task " &
+                           // trim(task_text), self%cfg%output%checkpoint_every, self%cfg%output%quiet)
+        if (result%interrupted) then
+            ! stopped by a signal at its checkpoint: no result (not journaled; a rerun resumes it)
+            values = nan()
+            values(iv_status) = real(status_not_run, wp)
+            return
+        end if
         values = run_values(result)
     end subroutine sweep_run
+
+    !> Whether a task's values are its result: a run stopped at its checkpoint by a signal has status not-run.
+    function sweep_finished(self, values) result(yes)
+        !> The task list.
+        class(sweep_tasks), intent(in) :: self
+        !> The task's values.
+        real(wp), intent(in) :: values(:)
+        logical :: yes
+
+        yes = nint(values(iv_status)) /= status_not_run
+    end function sweep_finished
 
     !> Write the partial file `<output file>.partial.h5` (called serially by the task engine). A failure to write it
     !> is reported on stderr (unless quiet) and does not stop the scene.
@@ -630,15 +662,17 @@ contains
     end function to_int
 
     !> Run the scene (`run_amplitude_sweep`).
-    subroutine sweep_scene_run(self, cfg, error)
+    subroutine sweep_scene_run(self, cfg, error, inv)
         !> The scene.
         class(sweep_scene), intent(in) :: self
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
 
-        call run_amplitude_sweep(cfg, error)
+        call run_amplitude_sweep(cfg, error, inv=inv)
     end subroutine sweep_scene_run
 
     !> The amplitude axis, then the runs (curves x amplitudes) and their work.

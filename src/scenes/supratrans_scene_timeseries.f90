@@ -8,6 +8,7 @@ module supratrans_scene_timeseries
     use, intrinsic :: iso_fortran_env, only: error_unit
     use supratrans_kinds, only: supratrans_version
     use supratrans_error, only: error_type, fatal_error, err_input, err_interrupted
+    use supratrans_invocation, only: invocation_type
     use supratrans_config, only: input_config
     use supratrans_scene, only: scene_type
     use supratrans_simulate, only: simulate
@@ -95,13 +96,15 @@ contains
     end subroutine progress
 
     !> Run the scene (`run_timeseries`).
-    subroutine timeseries_run(self, cfg, error)
+    subroutine timeseries_run(self, cfg, error, inv)
         !> The scene.
         class(timeseries_scene), intent(in) :: self
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); a timeseries is one run: unused.
+        type(invocation_type), intent(in), optional :: inv
 
         call run_timeseries(cfg, error)
     end subroutine timeseries_run

@@ -42,6 +42,7 @@ module supratrans_scene_workprec
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp, i8, pi
     use supratrans_error, only: error_type, fatal_error, err_input, err_runtime
+    use supratrans_invocation, only: invocation_type
     use supratrans_strings, only: int_str, real_str, printable
     use supratrans_scene, only: scene_type
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
@@ -160,11 +161,14 @@ contains
     end function method_stages
 
     !> Run the scene `work_precision` described by `cfg` and write `cfg%output%file`.
-    subroutine run_work_precision(cfg, error)
+    subroutine run_work_precision(cfg, error, inv)
         !> Validated input (scene kind 'work_precision').
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure (bad scene keys, a failed reference run, output not writable).
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
+        type(invocation_type) :: how
         type(workprec_tasks) :: tasks
         real(wp), allocatable :: results(:, :)
         logical, allocatable :: done(:)
@@ -172,6 +176,7 @@ contains
         real(wp) :: t_sine, t_division, t_tridiag
         integer :: ntask
 
+        if (present(inv)) how = inv
         call setup_tasks(cfg, tasks, error)
         if (allocated(error)) return
         call progress(cfg, "work_precision: reference solutions (rk8 at dt = " // real_str(cfg%scene%reference_dt) &
@@ -182,11 +187,11 @@ contains
         ntask = size(tasks%amplitudes)*size(tasks%methods)*size(tasks%dts)
         journal = trim(cfg%output%file) // ".journal"
         call run_tasks(tasks, ntask, value_names, journal, input_fingerprint(cfg), "timed runs (one at a time)", &
-                       cfg%output%quiet, results, done, error, cfg)
-        if (allocated(error) .or. engine_only(cfg)) return
+                       cfg%output%quiet, results, done, error, cfg, how)
+        if (allocated(error) .or. engine_only(how)) return
 
         call measure_step_kernels(tasks%base%chain%n, maxval(tasks%amplitudes), t_sine, t_division, t_tridiag)
-        call write_work_precision(cfg, tasks, results, t_sine, t_division, t_tridiag, error)
+        call write_work_precision(cfg, tasks, results, t_sine, t_division, t_tridiag, error, inv=how)
         if (allocated(error)) return
         call remove_file(journal)
     end subroutine run_work_precision
@@ -574,12 +579,14 @@ contains
     end subroutine measure_step_kernels
 
     !> Write the scene's HDF5 file.
-    subroutine write_work_precision(cfg, tasks, results, t_sine, t_division, t_tridiag, error)
+    subroutine write_work_precision(cfg, tasks, results, t_sine, t_division, t_tridiag, error, inv)
         type(input_config), intent(in) :: cfg
         type(workprec_tasks), intent(in) :: tasks
         real(wp), intent(in) :: results(:, :)
         real(wp), intent(in) :: t_sine, t_division, t_tridiag
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine was invoked (a merge records its parts).
+        type(invocation_type), intent(in), optional :: inv
         type(h5_file) :: file
         integer :: ndt, nm, namp, ia, im, idt, itask
         real(wp), allocatable :: grid(:, :, :, :), dt(:, :), steps(:, :), order_e(:, :), order_u(:, :), lb(:, :, :)
@@ -631,7 +638,7 @@ contains
 
         call h5_create(file, trim(cfg%output%file), cfg%output%overwrite)
         call write_root(file, cfg, "work_precision", "Speed against accuracy: wall time, errors against a reference " &
-                        // "and ledger drift for each integrator, time step and drive amplitude")
+                        // "and ledger drift for each integrator, time step and drive amplitude", inv)
         call write_parameters(file, cfg)
         call h5_create_group(file, "/scene", "Controls of the work-precision scene")
         call h5_write_attr(file, "/scene", "repeats", tasks%repeats)
@@ -755,15 +762,17 @@ contains
     end subroutine progress
 
     !> Run the scene (`run_work_precision`).
-    subroutine workprec_scene_run(self, cfg, error)
+    subroutine workprec_scene_run(self, cfg, error, inv)
         !> The scene.
         class(workprec_scene), intent(in) :: self
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
 
-        call run_work_precision(cfg, error)
+        call run_work_precision(cfg, error, inv=inv)
     end subroutine workprec_scene_run
 
 end module supratrans_scene_workprec

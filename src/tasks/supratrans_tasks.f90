@@ -16,6 +16,7 @@ module supratrans_tasks
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
                                  method_avf4, method_avf8
     use supratrans_system, only: remove_file, stop_signal, out_of_memory
+    use supratrans_invocation, only: invocation_type, engine_only
     use supratrans_journal, only: journal_header, read_journal, write_journal, append_journal_line, record_binding
     use supratrans_parts, only: write_part, part_run
     use supratrans_provenance, only: timestamp, host_name, build_commit
@@ -24,6 +25,7 @@ module supratrans_tasks
     private
 
     public :: run_tasks, file_fingerprint, text_fingerprint, input_fingerprint, engine_only, slice_owners, slice_text, run_work
+    public :: slice_costs
 
     !> A scene's list of tasks; the scene extends it with what its tasks need (read-only during the run).
     type, abstract, public :: task_list
@@ -38,6 +40,9 @@ module supratrans_tasks
         !> Estimated cost of task `index` in any fixed unit (oscillators x time steps x work per step, times the
         !> expected number of runs of a search); only the ratios matter (`slice_owners`). Default: 1 (equal cost).
         procedure :: cost => equal_cost
+        !> The measured cost of every task in an earlier output of the same study (`--costs FILE`), for
+        !> `slice_owners`; default: refused (the scene keeps no per-task costs).
+        procedure :: measured_costs => no_measured_costs
     end type task_list
 
     abstract interface
@@ -89,6 +94,53 @@ contains
 
         cost = 1.0_wp
     end function equal_cost
+
+    !> Default `measured_costs`: the scene's outputs keep no per-task cost, so `--costs` is refused.
+    subroutine no_measured_costs(self, path, costs, error)
+        !> The task list.
+        class(task_list), intent(in) :: self
+        !> The earlier output.
+        character(len=*), intent(in) :: path
+        !> Measured cost of each task (unallocated on error).
+        real(wp), allocatable, intent(out) :: costs(:)
+        !> Error: always (one line).
+        type(error_type), allocatable, intent(out) :: error
+
+        call fatal_error(error, "--costs " // printable(path) // ": this scene's outputs keep no per-task costs " &
+                         // "(--costs applies to bifurcation studies)", err_input)
+    end subroutine no_measured_costs
+
+    !> The costs that deal the slices: the measured ones of `inv%slice_costs` (`--costs`) when given, else the
+    !> estimates (`cost`). Every slice of an array computes the same ones (the same file, the same input).
+    subroutine slice_costs(tasks, ntask, inv, costs, error)
+        !> The tasks.
+        class(task_list), intent(in) :: tasks
+        !> Number of tasks.
+        integer, intent(in) :: ntask
+        !> The invocation (its `slice_costs` file, if any).
+        type(invocation_type), intent(in) :: inv
+        !> Cost of each task.
+        real(wp), allocatable, intent(out) :: costs(:)
+        !> Error: the file is unreadable, of another study, or lacks costs.
+        type(error_type), allocatable, intent(out) :: error
+        integer :: i
+
+        if (.not. allocated(inv%slice_costs)) then
+            costs = [(tasks%cost(i), i = 1, ntask)]
+            return
+        end if
+        call tasks%measured_costs(inv%slice_costs, costs, error)
+        if (allocated(error)) return
+        if (size(costs) /= ntask) then
+            call fatal_error(error, "--costs " // printable(inv%slice_costs) // ": " // int_str(size(costs)) &
+                             // " task costs, but the scene has " // int_str(ntask) // " tasks (another study)", &
+                             err_input)
+        else if (.not. all(costs >= 0.0_wp .and. costs <= huge(1.0_wp))) then
+            call fatal_error(error, "--costs " // printable(inv%slice_costs) // ": " // int_str(count(.not. (costs &
+                             >= 0.0_wp .and. costs <= huge(1.0_wp)))) // " task(s) without a measured cost (an " &
+                             // "incomplete output? use a complete one, or no --costs)", err_input)
+        end if
+    end subroutine slice_costs
 
     !> Estimated work of one run, for task costs: oscillators N x time steps T/dt x the method's work per step
     !> relative to a Newton step (measured by the benchmark on the paper-default run: a Newton step of about two
@@ -236,15 +288,16 @@ contains
 
     !> Run tasks 1..ntask (those not already in the journal), in parallel over OpenMP threads.
     !>
-    !> With `cfg` given, its execution options apply: `--slice I/N` (`cfg%slice_count` > 0) runs only the tasks
-    !> `slice_owners` deals to slice I by their costs (`tasks%cost`) and, once they are all done, writes the part
+    !> With `inv` given, its options apply: `--slice I/N` (`inv%slice_count` > 0) runs only the tasks
+    !> `slice_owners` deals to slice I by their costs (`tasks%cost`, or with `--costs FILE` the costs measured in
+    !> that earlier output, `tasks%measured_costs`) and, once they are all done, writes the part
     !> file `cfg%output%file` for `merge`
-    !> (then deletes the slice's journal and partial snapshot); `cfg%snapshot_only` computes nothing and writes the
+    !> (then deletes the slice's journal and partial snapshot); `inv%snapshot_only` computes nothing and writes the
     !> partial snapshot of what the journal holds. A stop signal (SIGTERM, SIGINT, SIGUSR1: see
     !> `supratrans_system`) hands out no new task: the tasks running finish and are journaled (or, if they
     !> checkpoint, stop at their checkpoint and are not: `finished`), a snapshot is
     !> written, and `error` says so with status `err_interrupted`.
-    subroutine run_tasks(tasks, ntask, fields, journal, fingerprint, label, quiet, results, done, error, cfg)
+    subroutine run_tasks(tasks, ntask, fields, journal, fingerprint, label, quiet, results, done, error, cfg, inv)
         !> The tasks.
         class(task_list), intent(in) :: tasks
         !> Number of tasks.
@@ -265,8 +318,10 @@ contains
         logical, allocatable, intent(out) :: done(:)
         !> Error, allocated on failure (journal unreadable or from another input, or unwritable; interrupted).
         type(error_type), allocatable, intent(out) :: error
-        !> The input, for its execution options (slice, snapshot only) and the text a part file keeps.
+        !> The input, for the text a part file keeps.
         type(input_config), intent(in), optional :: cfg
+        !> How the engine was invoked (slice, costs, snapshot only, merge); default: the whole scene.
+        type(invocation_type), intent(in), optional :: inv
         character(len=:), allocatable :: header
         real(wp), allocatable :: values(:)
         logical, allocatable :: mine(:)
@@ -274,6 +329,7 @@ contains
         integer(int64) :: clock_start, clock_rate, clock_now, binding
         real(wp) :: last_progress, last_snapshot, elapsed
         logical :: snapshot_only, write_failed, written, merging, lost
+        real(wp), allocatable :: costs(:)
         integer :: stop_after
         type(part_run) :: run_record
         character(len=16) :: knob
@@ -282,10 +338,10 @@ contains
         slice_index = 0
         slice_count = 0
         snapshot_only = .false.
-        if (present(cfg)) then
-            slice_index = cfg%slice_index
-            slice_count = cfg%slice_count
-            snapshot_only = cfg%snapshot_only
+        if (present(inv)) then
+            slice_index = inv%slice_index
+            slice_count = inv%slice_count
+            snapshot_only = inv%snapshot_only
         end if
         allocate (results(nvalues, ntask), stat=ios)
         if (ios == 0) allocate (done(ntask), stat=ios)
@@ -299,21 +355,25 @@ contains
         results = 0.0_wp
         done = .false.
         mine = .true.
-        if (slice_count > 0) mine = slice_owners([(tasks%cost(i), i = 1, ntask)], slice_count) == slice_index
+        if (slice_count > 0 .and. present(inv)) then
+            call slice_costs(tasks, ntask, inv, costs, error)
+            if (allocated(error)) return
+            mine = slice_owners(costs, slice_count) == slice_index
+        end if
         header = journal_header(ntask, fields, fingerprint)
         call read_journal(journal, header, results, done, dropped, error)
         merging = .false.
-        if (present(cfg)) merging = allocated(cfg%merge_part)
-        if (merging) then
+        if (present(inv)) merging = allocated(inv%merge_part)
+        if (merging .and. present(cfg)) then
             ! the records of merged parts: the scene's own, every one (or, merge --partial, the ones there)
             if (allocated(error)) then
-                call fatal_error(error, cfg%merge_part // ": its records do not fit the scene '" // trim(cfg%scene%kind) &
+                call fatal_error(error, inv%merge_part // ": its records do not fit the scene '" // trim(cfg%scene%kind) &
                                  // "' of its namelist (fields or task count of another version of supratrans: the " &
                                  // "parts' journal header is not " // header // ")", err_input)
                 return
             end if
             if (.not. snapshot_only .and. (dropped > 0 .or. .not. all(done))) then
-                call fatal_error(error, cfg%merge_part // ": " // int_str(count(.not. done)) // " of " &
+                call fatal_error(error, inv%merge_part // ": " // int_str(count(.not. done)) // " of " &
                                  // int_str(ntask) // " task records missing or damaged: merge computes nothing", &
                                  err_input)
                 return
@@ -425,16 +485,6 @@ contains
                 // slice_text(slice_index, slice_count, ntodo, ntask)
         end if
     end subroutine run_tasks
-
-    !> Whether this invocation's output is written by the engine alone (a slice's part file, or a snapshot):
-    !> a scene returns right after `run_tasks` when this is true.
-    pure function engine_only(cfg) result(yes)
-        !> The input.
-        type(input_config), intent(in) :: cfg
-        logical :: yes
-
-        yes = cfg%slice_count > 0 .or. cfg%snapshot_only
-    end function engine_only
 
     !> The fingerprint that ties a journal to its input: that of the namelist text read, or of the file `source`,
     !> or "none" for a configuration built in code.
