@@ -8,6 +8,7 @@
 !> default interval: the polling ratio (CPU) plus one checkpoint's wall cost per 300 s of run.
 module bench_checkpoint
     use supratrans_kinds, only: wp, i8
+    use supratrans_strings, only: int_str
     use supratrans_config, only: run_config, method_newton
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result
@@ -51,7 +52,7 @@ contains
         per_checkpoint_cpu = max(minval(cpu_short) - minval(cpu_off), 0.0_wp)/max(median(written), 1.0_wp)
         polling = minval(cpu_default)/minval(cpu_off) - 1.0_wp
         write (*, "(a)") "# checkpoint overhead: newton timeseries N = 2000, T = 500 (10,000 steps, 3 probes every " &
-            // "step), one thread, " // itoa(repeats) // " runs of each setting in turn"
+            // "step), one thread, " // int_str(repeats) // " runs of each setting in turn"
         write (*, "(a10, 2x, a14, 2x, a12, 2x, a12, 2x, a16)") "every_s", "median_wall_s", "least_cpu_s", &
             "checkpoints", "cpu_ratio_to_off"
         write (*, "(f10.2, 2x, f14.3, 2x, f12.3, 2x, i12, 2x, f16.4)") 0.0_wp, median(off), minval(cpu_off), 0, 1.0_wp
@@ -94,14 +95,5 @@ contains
 
     end subroutine checkpoint_benchmark
 
-    !> An integer as text.
-    pure function itoa(i) result(text)
-        integer, intent(in) :: i
-        character(len=:), allocatable :: text
-        character(len=12) :: buffer
-
-        write (buffer, "(i0)") i
-        text = trim(buffer)
-    end function itoa
 
 end module bench_checkpoint

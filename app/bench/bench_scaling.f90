@@ -20,6 +20,7 @@
 !> The rows are also written as CSV (`scaling_csv`, read by `postprocess/site_cost.py` for the figure).
 module bench_scaling
     use supratrans_kinds, only: wp, i8
+    use supratrans_strings, only: int_str
     use supratrans_config, only: run_config, method_newton
     use supratrans_stepper_newton, only: newton_stepper, newton_block
     use supratrans_scene_workprec, only: median
@@ -175,7 +176,7 @@ contains
         run%chain%n0 = 3*(n/4)
         call newton%init(run)
         if (allocated(newton%reason)) then
-            write (*, "(a)") "# N = " // itoa(n) // ": " // newton%reason
+            write (*, "(a)") "# N = " // int_str(n) // ": " // newton%reason
             ns = huge(ns)
             iterations = 0.0_wp
             return
@@ -200,7 +201,7 @@ contains
             end do
             t(r) = cpu_seconds() - t(r)
             if (status /= 0) then
-                write (*, "(a)") "# N = " // itoa(n) // ": " // newton%reason
+                write (*, "(a)") "# N = " // int_str(n) // ": " // newton%reason
                 exit
             end if
         end do
@@ -208,16 +209,6 @@ contains
         iterations = real(newton%newton_iterations - iter0, wp)/real(max(newton%steps - steps0, 1_i8), wp)
     end subroutine site_step_cost
 
-    !> An integer as text.
-    pure function itoa(i) result(text)
-        !> The integer.
-        integer, intent(in) :: i
-        character(len=:), allocatable :: text
-        character(len=12) :: buffer
-
-        write (buffer, "(i0)") i
-        text = trim(buffer)
-    end function itoa
 
     !> Processor seconds of this process since an arbitrary origin (one thread runs here: unlike the wall clock,
     !> they do not count the time the shared machine gives to other jobs).

@@ -30,6 +30,7 @@
 !> LAPACK dgtsv.
 program benchmark
     use supratrans_kinds, only: wp, i8
+    use supratrans_strings, only: int_str
     use supratrans_config, only: run_config, method_newton, method_linearized, method_rk4, method_rk8
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result
@@ -619,7 +620,7 @@ contains
             inv%slice_index = i
             inv%slice_count = n
             if (len(costs) > 0) inv%slice_costs = costs
-            part = "/tmp/supratrans_bench_slices.part-" // itoa(i) // "-of-" // itoa(n) // ".h5"
+            part = "/tmp/supratrans_bench_slices.part-" // int_str(i) // "-of-" // int_str(n) // ".h5"
             cfg%output%file = part
             call remove_file(part)
             call cpu_time(c0)
@@ -693,15 +694,6 @@ contains
         end do
     end function slice_sums
 
-    !> An integer as text.
-    pure function itoa(i) result(text)
-        integer, intent(in) :: i
-        character(len=:), allocatable :: text
-        character(len=12) :: buffer
-
-        write (buffer, "(i0)") i
-        text = trim(buffer)
-    end function itoa
 
     !> Wall-clock seconds since an arbitrary origin.
     function wall_seconds() result(t)
