@@ -66,6 +66,11 @@ MAP = """! {tag}
 TEMPLATES = {"timeseries": TIMESERIES, "search": SEARCH, "hysteresis": HYSTERESIS, "sweep": SWEEP, "map": MAP}
 
 
+#: Length of the timeseries that a signal stops 0.4 s after its start: long enough that it is still running then
+#: on a quiet machine (t_final = 400 finished in under 0.4 s once the machine was idle).
+SIGNALLED_T = 4000.0
+
+
 def write(tmp_path, scene, method, name, every=0.3, tag="", t_final=400.0):
     (tmp_path / "out").mkdir(exist_ok=True)
     path = tmp_path / f"{name}.nml"
@@ -104,15 +109,15 @@ def references(exe, tmp_path_factory):
     made = {}
     root = tmp_path_factory.mktemp("reference")
 
-    def get(scene, method):
-        if (scene, method) not in made:
-            name = f"{scene}_{method}"
-            nml = write(root, scene, method, name, every=0)
+    def get(scene, method, t_final=400.0):
+        if (scene, method, t_final) not in made:
+            name = f"{scene}_{method}_{t_final:g}"
+            nml = write(root, scene, method, name, every=0, t_final=t_final)
             proc = run(exe, nml, root)
             assert proc.returncode == 0, proc.stderr
             assert not checkpoints(root, name)
-            made[scene, method] = root / "out" / f"{name}.h5"
-        return made[scene, method]
+            made[scene, method, t_final] = root / "out" / f"{name}.h5"
+        return made[scene, method, t_final]
 
     return get
 
@@ -200,7 +205,7 @@ def test_stair_run_stopped_mid_run_resumes(exe, tmp_path, references):
 def test_timeseries_resumes_from_its_checkpoint(exe, tmp_path, references, sig):
     """A SIGTERM (or Slurm's SIGUSR1) in the middle of a long timeseries writes its checkpoint; the rerun says it
     resumed (it does not start again from t = 0) and ends bit-identical."""
-    nml = write(tmp_path, "timeseries", "newton", "ts", every=300)
+    nml = write(tmp_path, "timeseries", "newton", "ts", every=300, t_final=SIGNALLED_T)
     proc = start(exe, nml, tmp_path)
     started(proc)
     time.sleep(0.4)
@@ -213,14 +218,14 @@ def test_timeseries_resumes_from_its_checkpoint(exe, tmp_path, references, sig):
     again = run(exe, nml, tmp_path)
     assert again.returncode == 0, again.stderr
     assert "resumed from its checkpoint" in again.stderr
-    same_results(references("timeseries", "newton"), tmp_path / "out" / "ts.h5")
+    same_results(references("timeseries", "newton", SIGNALLED_T), tmp_path / "out" / "ts.h5")
 
 
 @pytest.mark.parametrize("damage", ["flipped byte", "cut short", "other input"])
 def test_damaged_or_foreign_checkpoint_is_ignored(exe, tmp_path, references, damage):
     """A checkpoint that fails its checksum, is cut short, or belongs to another input is ignored with one line and
     the run starts afresh (and ends with the uninterrupted result)."""
-    nml = write(tmp_path, "timeseries", "newton", "ts", every=300)
+    nml = write(tmp_path, "timeseries", "newton", "ts", every=300, t_final=SIGNALLED_T)
     proc = start(exe, nml, tmp_path)
     started(proc)
     time.sleep(0.4)
@@ -235,13 +240,14 @@ def test_damaged_or_foreign_checkpoint_is_ignored(exe, tmp_path, references, dam
     elif damage == "cut short":
         ckpt.write_bytes(bytes(data[: len(data) - 100]))
     else:
-        write(tmp_path, "timeseries", "newton", "ts", every=300, tag="an edited namelist is another input")
+        write(tmp_path, "timeseries", "newton", "ts", every=300, tag="an edited namelist is another input",
+              t_final=SIGNALLED_T)
     again = run(exe, nml, tmp_path)
     assert again.returncode == 0, again.stderr
     lines = [line for line in again.stderr.splitlines() if "checkpoint" in line]
     assert len(lines) == 1 and "ignored" in lines[0], again.stderr
     assert "resumed" not in again.stderr
-    same_results(references("timeseries", "newton"), tmp_path / "out" / "ts.h5")
+    same_results(references("timeseries", "newton", SIGNALLED_T), tmp_path / "out" / "ts.h5")
 
 
 def test_no_checkpoint_when_off(exe, tmp_path):
