@@ -510,9 +510,9 @@ contains
         end if
         call h5_read_attr(file, "/parameters", "kind", kind, cause)
         if (.not. allocated(cause)) then
-            if (kind /= "bifurcation") then
+            if (kind /= trim(self%cfg%scene%kind)) then        ! the earlier output of another scene
                 call fatal_error(error, "--costs " // printable(path) // ": an output of a '" // printable(kind) &
-                                 // "' scene, not of this bifurcation study", err_input)
+                                 // "' scene, not of this " // trim(self%cfg%scene%kind) // " study", err_input)
             end if
         end if
         if (.not. allocated(cause) .and. .not. allocated(error)) call h5_read(file, "/omega", axis, cause)
