@@ -170,15 +170,7 @@ contains
                 call follow_to_transmission(map, run, ctl, settled, r%fold_amplitude*(1.0_wp + fate_push), r)
             end if
         end if
-        r%newton_iterations = sum(res%newton_iterations(1:res%n_points))
-        r%map_evaluations = res%stats%map_evaluations + res%stats%jacobian_evaluations
-        r%jacobians = res%stats%jacobian_evaluations
-        r%factorizations = res%stats%factorisations
-        r%eigen_calls = res%stats%eigen_calls
-        r%time_map = res%stats%time_map
-        r%time_tangent = res%stats%time_jacobian
-        r%time_lu = res%stats%time_lu
-        r%time_eigen = res%stats%time_eigen
+        call add_branch_cost(r, res)
         npts = min(res%n_points, size(r%branch, 2))
         r%points = npts
         do k = 1, npts
@@ -224,6 +216,24 @@ contains
 
     end subroutine trace_fold
 
+    !> Add what a continuation cost (its counts and times) to the record's costs.
+    pure subroutine add_branch_cost(r, res)
+        !> The record.
+        type(fold_record), intent(inout) :: r
+        !> The continuation.
+        type(continuation_result), intent(in) :: res
+
+        r%newton_iterations = r%newton_iterations + sum(res%newton_iterations(1:res%n_points))
+        r%map_evaluations = r%map_evaluations + res%stats%map_evaluations + res%stats%jacobian_evaluations
+        r%jacobians = r%jacobians + res%stats%jacobian_evaluations
+        r%factorizations = r%factorizations + res%stats%factorisations
+        r%eigen_calls = r%eigen_calls + res%stats%eigen_calls
+        r%time_map = r%time_map + res%stats%time_map
+        r%time_tangent = r%time_tangent + res%stats%time_jacobian
+        r%time_lu = r%time_lu + res%stats%time_lu
+        r%time_eigen = r%time_eigen + res%stats%time_eigen
+    end subroutine add_branch_cost
+
     !> Past a fold where the chain stays localized, the branch it settles on: from the `settled` state at amplitude
     !> `a` (Newton-shooting first), continued in A to its own fold, whose fate is tested in turn, up to
     !> `max_branches` branches in all. Fills `r%transmission_fold` (NaN when no branch ends in a fold that transmits)
@@ -260,15 +270,7 @@ contains
             next%amplitude_start = amplitude
             call continue_branch(map, next, res, x)
             r%branches = r%branches + 1
-            r%newton_iterations = r%newton_iterations + sum(res%newton_iterations(1:res%n_points))
-            r%map_evaluations = r%map_evaluations + res%stats%map_evaluations + res%stats%jacobian_evaluations
-            r%jacobians = r%jacobians + res%stats%jacobian_evaluations
-            r%factorizations = r%factorizations + res%stats%factorisations
-            r%eigen_calls = r%eigen_calls + res%stats%eigen_calls
-            r%time_map = r%time_map + res%stats%time_map
-            r%time_tangent = r%time_tangent + res%stats%time_jacobian
-            r%time_lu = r%time_lu + res%stats%time_lu
-            r%time_eigen = r%time_eigen + res%stats%time_eigen
+            call add_branch_cost(r, res)
             if (res%n_points >= 1) then
                 if (res%stable(1) == 0) then          ! Newton found a state the chain cannot have settled on
                     r%transmission_status = follow_unstable_start
