@@ -14,7 +14,7 @@ module test_continuation_fast
                                     short_absorber_sigma, short_chain_decay
     use supratrans_period_map, only: period_map, period_map_init
     use supratrans_continuation
-    use supratrans_floquet, only: crossing_name, track_multiplier, floquet_multipliers
+    use supratrans_floquet, only: crossing_name, track_multiplier, floquet_multipliers, crossing_none
     use supratrans_shooting, only: shoot, shooting_controls, shooting_result, shoot_converged
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     implicit none
@@ -96,6 +96,85 @@ contains
         if (pf_any_failed()) return
     end subroutine test_fast_floquet_same_verdicts
 
+    !> The fold alone (floquet_every = 0) on the same chain: the same fold as the full path to 1e-8, with one
+    !> eigenvalue computation (the fold's own multipliers, one of them +1 to the location error) and none along the
+    !> branch: no point but the fold has a verdict, and no first loss of stability is reported.
+    ! @test
+    subroutine test_fold_alone()
+        type(run_config) :: run
+        type(period_map) :: map
+        type(error_type), allocatable :: error
+        type(continuation_controls) :: ctl
+        type(continuation_result) :: full, alone
+
+        run%chain%n = 40
+        run%chain%n0 = 20
+        run%drive%omega = 0.9_wp
+        run%drive%ramp_time = 0.0_wp
+        run%numerics%method = method_newton
+        run%numerics%dt = 0.05_wp
+        call period_map_init(map, run, error)
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 76, 'assertFalse'))
+        if (pf_any_failed()) return
+        ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4)
+        call continue_branch(map, ctl, full)
+        ctl%floquet_every = 0
+        call continue_branch(map, ctl, alone)
+        call assertEqual( &
+            cont_fold_found, &
+            alone%status, &
+            location=pf_source_location('test_continuation_fast.pf', 81, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            full%fold_amplitude, &
+            alone%fold_amplitude, &
+            1.0e-8_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 82, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            1, &
+            alone%stats%eigen_calls, &
+            location=pf_source_location('test_continuation_fast.pf', 83, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertLessThan( &
+            alone%stats%jacobian_evaluations, &
+            full%stats%jacobian_evaluations, &
+            location=pf_source_location('test_continuation_fast.pf', 84, 'assertLessThan'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            ieee_is_nan(alone%instability_amplitude), &
+            location=pf_source_location('test_continuation_fast.pf', 85, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            crossing_none, &
+            alone%instability_type, &
+            location=pf_source_location('test_continuation_fast.pf', 86, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            1.0_wp, &
+            alone%fold_multiplier, &
+            1.0e-3_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 87, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            all(alone%stable(1:alone%fold_index - 1) == -1), &
+            location=pf_source_location('test_continuation_fast.pf', 88, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            all(alone%stable(alone%fold_index + 1:alone%n_points) == -1), &
+            location=pf_source_location('test_continuation_fast.pf', 89, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            allocated(alone%spectra(alone%fold_index)%wr), &
+            location=pf_source_location('test_continuation_fast.pf', 90, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            4, &
+            alone%points_beyond_fold, &
+            location=pf_source_location('test_continuation_fast.pf', 91, 'assertEqual'))
+        if (pf_any_failed()) return
+    end subroutine test_fold_alone
+
     !> The short chain: the input's chain length counts as given when &chain sets n, n0 or sigma (or the text is
     !> empty); at Omega = 0.9, dt = 0.05 the short chain has N - N0 = short_absorber_width, the smooth absorber's
     !> sigma, and the smallest N0 with lambda' N0 >= short_chain_decay, lambda' within 5e-3 (the scheme's O(dt^2))
@@ -109,35 +188,35 @@ contains
 
         call assertFalse( &
             chain_length_given("&chain" // nl // "  c = 4.0" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 69, 'assertFalse'))
+            location=pf_source_location('test_continuation_fast.pf', 105, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  n = 30" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 70, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 106, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  sigma = 3.0" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 71, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 107, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  n0 = 150" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 72, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 108, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given(""), &
-            location=pf_source_location('test_continuation_fast.pf', 73, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 109, 'assertTrue'))
         if (pf_any_failed()) return
         call shortest_chain(chain, 0.9_wp, 0.05_wp)
         call assertEqual( &
             short_absorber_width, &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 75, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 111, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             short_absorber_sigma, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 76, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 112, 'assertEqual'))
         if (pf_any_failed()) return
         dt_used = 2.0_wp*acos(-1.0_wp)/0.9_wp/140.0_wp
         lambda = scheme_decay_rate(chain, 0.9_wp, dt_used)
@@ -145,31 +224,31 @@ contains
             acosh(1.0_wp + (1.0_wp - 0.81_wp)/32.0_wp), &
             lambda, &
             5.0e-3_wp*lambda, &
-            location=pf_source_location('test_continuation_fast.pf', 79, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 115, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             lambda*chain%n0, &
             short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 80, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 116, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             lambda*(chain%n0 - 1), &
             short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 81, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 117, 'assertLessThan'))
         if (pf_any_failed()) return
         call shortest_chain(given, 1.2_wp, 0.05_wp)
-        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 83, 'assertEqual'))
+        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 119, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 84, 'assertEqual'))
+        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 120, 'assertEqual'))
         if (pf_any_failed()) return
         call shortest_chain(given, 0.1_wp, 0.05_wp)
-        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 86, 'assertEqual'))
+        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 122, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             3.0_wp, &
             given%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 87, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 123, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_short_chain
 
@@ -203,30 +282,30 @@ contains
         mu = exact + cmplx(1.0e-3_wp, -1.0e-3_wp, kind=wp)
         v = cmplx(1.0_wp, 0.5_wp, kind=wp)
         call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 120, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 156, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             abs(mu - exact), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 121, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 157, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp, &
             norm2(abs(v)), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 122, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 158, 'assertEqual'))
         if (pf_any_failed()) return
         mu = cmplx(-0.301_wp, 0.0_wp, kind=wp)
         v = cmplx(1.0_wp, 0.5_wp, kind=wp)
         call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 126, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 162, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             abs(mu - cmplx(-0.3_wp, 0.0_wp, kind=wp)), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 127, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 163, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_tracked_multiplier
 
@@ -253,42 +332,42 @@ contains
         run%numerics%method = method_newton
         run%numerics%dt = 0.05_wp
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 153, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 189, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4, floquet_every=4)
         call continue_branch(map, ctl, res)
         call assertEqual( &
             cont_fold_found, &
             res%status, &
-            location=pf_source_location('test_continuation_fast.pf', 156, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 192, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             res%stable(res%n_points) >= 0, &
             message="multipliers at the last point", &
-            location=pf_source_location('test_continuation_fast.pf', 157, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 193, 'assertTrue'))
         if (pf_any_failed()) return
         allocate (px(map%dim), jac(map%dim, map%dim))
         checked = 0
         do i = 1, res%n_points
             if (res%stable(i) < 0) cycle
             call branch_multipliers(map, res, i, wr, wi, info)
-            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 163, 'assertEqual'))
+            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 199, 'assertEqual'))
             if (pf_any_failed()) return
             call map%apply(res%states(:, i), res%amplitude(i), px, status, jac=jac)
             call floquet_multipliers(jac, fr, fi, info)
-            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 166, 'assertEqual'))
+            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 202, 'assertEqual'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(wr == fr) .and. all(wi == fi), &
                 message="kept multipliers = recomputed", &
-                location=pf_source_location('test_continuation_fast.pf', 167, 'assertTrue'))
+                location=pf_source_location('test_continuation_fast.pf', 203, 'assertTrue'))
             if (pf_any_failed()) return
             checked = checked + 1
         end do
         call assertGreaterThan( &
             checked, &
             3, &
-            location=pf_source_location('test_continuation_fast.pf', 170, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation_fast.pf', 206, 'assertGreaterThan'))
         if (pf_any_failed()) return
         allocate (x(map%dim))
         x = 0.0_wp
@@ -296,23 +375,23 @@ contains
         call assertEqual( &
             shoot_converged, &
             sres%status, &
-            location=pf_source_location('test_continuation_fast.pf', 174, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 210, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             sres%jacobians, &
-            location=pf_source_location('test_continuation_fast.pf', 175, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 211, 'assertEqual'))
         if (pf_any_failed()) return
         call shoot(map, x, 0.0_wp, shooting_controls(), sres, monodromy=jac)
         call assertEqual( &
             shoot_converged, &
             sres%status, &
-            location=pf_source_location('test_continuation_fast.pf', 177, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 213, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             sres%jacobians, &
-            location=pf_source_location('test_continuation_fast.pf', 178, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 214, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_kept_multipliers
 

@@ -85,6 +85,27 @@ def test_fold_line_is_the_same_for_two_threads_and_for_slices(exe, fold_line, tm
     assert compared > 10 and not diffs, diffs
 
 
+def test_the_fold_alone_is_the_same_fold_without_stability(exe, fold_line, tmp_path):
+    """floquet_every = 0: the same folds (to the location tolerance) and fates, no multipliers along the branch, no
+    first loss of stability: the threshold is the fold; one eigenvalue call a fold (the first branch's and those of
+    the branches followed past a fold where the chain stays localized), fewer than along the whole branch."""
+    (tmp_path / "fold.nml").write_text(FOLD.replace("fold_convergence", "floquet_every = 0, fold_convergence"))
+    sh(exe, "fold.nml", cwd=tmp_path)
+    with h5py.File(fold_line / "out" / "fold.h5") as full, h5py.File(tmp_path / "out" / "fold.h5") as alone:
+        assert (alone["status"][()] == 0).all()
+        np.testing.assert_allclose(alone["fold_amplitude"][()], full["fold_amplitude"][()], rtol=0, atol=1e-8)
+        np.testing.assert_array_equal(alone["fold_fate"][()], full["fold_fate"][()])
+        assert np.isnan(alone["instability_amplitude"][()]).all()
+        np.testing.assert_array_equal(alone["threshold"][()], alone["fold_amplitude"][()])
+        np.testing.assert_array_equal(alone["cost/eigen_calls"][()], alone["branches"][()])
+        assert (full["cost/eigen_calls"][()] > alone["cost/eigen_calls"][()]).all()
+        stable = alone["branch/stable"][()]
+        points = alone["branch/points"][()]
+        for c in range(2):
+            for w in range(2):
+                assert (stable[c, w, : points[c, w]] != 1).sum() == points[c, w]     # no point is called stable
+
+
 @pytest.mark.parametrize("old,new,words", [
     ("dt = 0.1", "method = 'rk4', dt = 0.4, allow_unstable = .true.", "linear stability limit"),
     ("omega_min = 0.7", "omega_min = 0.0", "omega_min"),

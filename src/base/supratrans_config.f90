@@ -224,8 +224,8 @@ module supratrans_config
         !> Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + crossing_tol (&scene
         !> crossing_tol).
         real(wp) :: crossing_tol = 1.0e-06_wp
-        !> Continuation: multipliers at every this many branch points, and wherever the largest moduli's trend could reach the unit
-        !> circle, at the fold and where the verdict changes (1: at every point) (&scene floquet_every).
+        !> Continuation: multipliers every this many branch points, where their trend could reach the unit circle, at the fold and
+        !> where the verdict changes (1: every point; 0: the fold only) (&scene floquet_every).
         integer :: floquet_every = 4
         !> Continuation: locate each fold again at dt/2 and on a chain twice as long, for its converged digits (&scene
         !> fold_convergence).

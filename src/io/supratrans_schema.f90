@@ -168,10 +168,10 @@ module supratrans_schema
             min_strict=.true., max=0.1_wp, max_text="0.1", default_text="1e-06", range_text="> 0 and <= 0.1", &
             description="Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + c" // &
             "rossing_tol"), &
-        key_spec(group="scene", key="floquet_every", value_type=kt_integer, attribute="floquet_every", min=1.0_wp, &
-            min_text="1", max=100.0_wp, max_text="100", default_text="4", range_text=">= 1 and <= 100", &
-            description="Continuation: multipliers at every this many branch points, and wherever the largest moduli's trend" // &
-            " could reach the unit circle, at the fold and where the verdict changes (1: at every point)"), &
+        key_spec(group="scene", key="floquet_every", value_type=kt_integer, attribute="floquet_every", min=0.0_wp, &
+            min_text="0", max=100.0_wp, max_text="100", default_text="4", range_text=">= 0 and <= 100", &
+            description="Continuation: multipliers every this many branch points, where their trend could reach the unit cir" // &
+            "cle, at the fold and where the verdict changes (1: every point; 0: the fold only)"), &
         key_spec(group="scene", key="fold_convergence", value_type=kt_logical, attribute="fold_convergence", &
             default_text=".true.", range_text="", &
             description="Continuation: locate each fold again at dt/2 and on a chain twice as long, for its converged digits"), &

@@ -98,7 +98,7 @@ contains
 
     !> Continue the branch of `run` (its drive frequency set; amplitude and ramp unused) with the scene's controls
     !> and fill `r`: fold, stability, branch, multipliers at four points (`keep_multipliers`), costs.
-    subroutine trace_fold(run, scene, r, keep_multipliers)
+    subroutine trace_fold(run, scene, r, keep_multipliers, fate)
         !> The run: chain, drive frequency, numerics.
         type(run_config), intent(in) :: run
         !> The scene's controls (amplitude_max, continuation_step, continuation_step_max, continuation_points,
@@ -108,6 +108,8 @@ contains
         type(fold_record), intent(inout) :: r
         !> Compute the multipliers at the sampled points (one Jacobian and one eigenvalue call each).
         logical, intent(in) :: keep_multipliers
+        !> Test the fold's fate and follow the chain past a localized fold (default: yes; no for a fold alone).
+        logical, intent(in), optional :: fate
         type(period_map) :: map
         type(continuation_controls) :: ctl
         type(continuation_result) :: res
@@ -115,6 +117,7 @@ contains
         integer :: npts, k, s, last
         integer :: samples(multiplier_samples)
         real(wp), allocatable :: settled(:)
+        logical :: test_fate
 
         call period_map_init(map, run, error)
         if (allocated(error)) then
@@ -157,7 +160,9 @@ contains
                                             mask=.not. ieee_is_nan(res%max_multiplier(1:last))) - 1.0_wp
             end if
         end if
-        if (res%fold_index > 0 .and. .not. ieee_is_nan(r%fold_amplitude)) then
+        test_fate = .true.
+        if (present(fate)) test_fate = fate
+        if (test_fate .and. res%fold_index > 0 .and. .not. ieee_is_nan(r%fold_amplitude)) then
             call fold_fate(map, run, res%states(:, res%fold_index), r%fold_amplitude*(1.0_wp + fate_push), &
                            r%fate, r%fate_time, settled)
             r%branches = 1
@@ -179,6 +184,8 @@ contains
         end do
         if (.not. keep_multipliers .or. res%n_points < 1) return
         samples = [1, nearest_point(res, 0.5_wp*r%fold_amplitude), res%fold_index, res%n_points]
+        ! the fold alone (floquet_every = 0): its own multipliers only, no spectra computed for the samples
+        if (scene%floquet_every == 0) samples = [0, 0, res%fold_index, 0]
         do s = 1, multiplier_samples
             if (samples(s) < 1) cycle
             call sample(samples(s), s)

@@ -24,8 +24,8 @@ module supratrans_scene_continuation
     use supratrans_invocation, only: invocation_type
     use supratrans_scene, only: scene_type, scene_budget
     use supratrans_limits, only: axis_points, check_axis, limit_error, threads_text, sci
-    use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
-                                 method_avf4, method_avf8, method_name
+    use supratrans_config, only: input_config, run_config, scene_params, method_newton, method_linearized, method_rk4, &
+                                 method_rk8, method_avf4, method_avf8, method_name
     use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge
     use supratrans_potential, only: potential_name
@@ -175,6 +175,7 @@ contains
         real(wp), intent(out) :: values(:)
         type(fold_record) :: r, check
         type(run_config) :: run, other
+        type(scene_params) :: fold_alone
         integer :: icurve, iomega, nomega, p
         integer(i8) :: clock_start, clock_end, clock_rate
 
@@ -195,17 +196,21 @@ contains
 
         call trace_fold(run, self%cfg%scene, r, .true.)
         if (self%cfg%scene%fold_convergence .and. r%status == fold_found) then
+            ! the checks need the fold alone: no multipliers along the branch, no points past it, no fate
+            fold_alone = self%cfg%scene
+            fold_alone%floquet_every = 0
+            fold_alone%beyond_fold = 0
             other = run
             other%numerics%dt = r%dt_used/2.0_wp
             check = empty_fold_record(self%cfg%scene%continuation_points)
-            call trace_fold(other, self%cfg%scene, check, .false.)
+            call trace_fold(other, fold_alone, check, .false., fate=.false.)
             r%fold_half_dt = check%fold_amplitude
             call add_cost(r, check)
             other = run
             other%chain%n0 = run%chain%n0 + run%chain%n
             other%chain%n = 2*run%chain%n
             check = empty_fold_record(self%cfg%scene%continuation_points)
-            call trace_fold(other, self%cfg%scene, check, .false.)
+            call trace_fold(other, fold_alone, check, .false., fate=.false.)
             r%fold_long_chain = check%fold_amplitude
             call add_cost(r, check)
             p = method_order(run%numerics%method)

@@ -126,7 +126,8 @@ module supratrans_continuation
         !> If > 0, the march past the fold also ends once the amplitude has fallen by this much below A_f
         !> (whichever of the two comes first).
         real(wp) :: beyond_fold_distance = 0.0_wp
-        !> Multipliers at every floquet_every-th point (1: all), at the fold, and where the verdict changes.
+        !> Multipliers at every floquet_every-th point (1: all), at the fold, and where the verdict changes; 0: at
+        !> the fold only (the fold alone, no stability along the branch: no first loss of stability is sought).
         integer :: floquet_every = 1
         !> With floquet_every > 1, also compute the multipliers (and the Jacobian) at a point that is not due when
         !> one of the `trend_ranks` largest moduli, extrapolated at twice its growth over the last two points with
@@ -277,7 +278,7 @@ contains
         real(wp), allocatable :: x(:), wr(:), wi(:), row(:)
         real(wp) :: ds, nan, t_start, sigma
         integer :: d, n1, info, last_checked, j, every, slack, n_trend
-        logical :: ok, have_mult, lost, located, past, due, watch
+        logical :: ok, have_mult, lost, located, past, due, watch, fold_only
         real(wp) :: top_last(trend_ranks), top_prev(trend_ranks), s_last, s_prev
 
         t_start = wall_clock()
@@ -324,7 +325,9 @@ contains
             call finish(res, t_start)
             return
         end if
-        call point_multipliers(cur, res%stats, wr, wi, info)
+        fold_only = ctl%floquet_every == 0
+        info = 1
+        if (.not. fold_only) call point_multipliers(cur, res%stats, wr, wi, info)
         call record_point(map, res, cur, wr, wi, info == 0)
         n_trend = 0
         s_last = 0.0_wp
@@ -342,6 +345,7 @@ contains
         ds = min(max(ctl%ds0, ctl%ds_min), ctl%ds_max)
         past = .false.
         every = max(1, ctl%floquet_every)
+        if (fold_only) every = huge(1)
         watch = .false.
         march: do
             if (res%n_points >= ctl%max_points) then
@@ -356,7 +360,8 @@ contains
                 if (every > 1 .and. res%fold_index > 0 .and. lost) due = first_after_fold()
                 ! and wherever the trend of the largest moduli may reach the circle within this step
                 watch = every > 1 .and. ctl%floquet_trend .and. .not. lost .and. trend_due(cur%s + ds)
-                due = due .or. watch
+                due = (due .or. watch) .and. .not. fold_only
+                watch = watch .and. .not. fold_only
                 if (due .or. .not. ctl%reuse_jacobian) then
                     call complete_point(map, trial, cur%t, next, ok, res%stats)
                 else
@@ -423,6 +428,7 @@ contains
             have_mult = have_mult .or. watch
             have_mult = trial%exact .and. (have_mult .or. (res%fold_index > 0 .and. res%fold_index == res%n_points - 1))
             if (every > 1 .and. res%fold_index > 0 .and. lost) have_mult = trial%exact .and. first_after_fold()
+            have_mult = have_mult .and. .not. fold_only
             if (have_mult) then
                 call point_multipliers(trial, res%stats, wr, wi, info)
                 have_mult = info == 0
@@ -548,7 +554,10 @@ contains
             end if
             call record_point(map, res, fold_pt, wr, wi, .true., pos)
             res%fold_index = pos
-            if (pos == res%n_points) then
+            if (fold_only) then
+                ! no stability along the branch: the fold's multipliers are its own record, no crossing is sought
+                if (pos < res%n_points .and. res%points_beyond_fold == 0) res%points_beyond_fold = 1
+            else if (pos == res%n_points) then
                 call check_stability(pos, fold_pt)
             else
                 ! inserted before the last point, which is past the fold
