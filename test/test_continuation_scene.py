@@ -101,9 +101,11 @@ def test_the_fold_alone_is_the_same_fold_without_stability(exe, fold_line, tmp_p
         assert (full["cost/eigen_calls"][()] > alone["cost/eigen_calls"][()]).all()
         stable = alone["branch/stable"][()]
         points = alone["branch/points"][()]
+        amp = alone["branch/amplitude"][()]
         for c in range(2):
             for w in range(2):
-                assert (stable[c, w, : points[c, w]] != 1).sum() == points[c, w]     # no point is called stable
+                verdict = stable[c, w, : points[c, w]] >= 0                  # only the fold point has a verdict
+                assert verdict.sum() == 1 and amp[c, w, : points[c, w]][verdict][0] == alone["fold_amplitude"][c, w]
 
 
 @pytest.mark.parametrize("old,new,words", [
