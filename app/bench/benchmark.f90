@@ -427,8 +427,10 @@ contains
     !>    multipliers at every point); then the short chain of fold lines: wall and CPU seconds, the CPU seconds
     !>    of the tangent (Jacobians), the maps, the LU and the eigenvalues, points, Jacobians, dgeev calls (the
     !>    scene's four multiplier samples included); the growth of the CPU time with N;
-    !> 2. the undamped fold line on the short chains (input without n) against the scan of input/bif_undamped_sg.nml
-    !>    on the same grid, both on 2 threads: wall seconds and the two thresholds at each Omega.
+    !>    the fold alone (floquet_every = 0) at N = 200, with the default steps and with larger ones;
+    !> 2. the undamped fold line on the short chains (input without n), with floquet_every = 4 and then the fold
+    !>    alone, against the scan of input/bif_undamped_sg.nml on the same grid, all on 2 threads: wall seconds and
+    !>    the thresholds at each Omega.
     subroutine fold_benchmark()
         type(run_config) :: frun
         type(scene_params) :: sc
@@ -436,6 +438,7 @@ contains
         real(wp) :: cpu(3)
         character(len=16) :: arg3
         logical :: paper_grid
+        character(len=*), parameter :: fold_alone = "floquet_every = 0, continuation_step_max = 0.5, beyond_fold = 0"
 
         paper_grid = .false.
         if (command_argument_count() >= 3) then
@@ -467,14 +470,24 @@ contains
         frun%chain%n0 = 150
         sc%floquet_every = 1
         call fold_row(frun, sc, cpu(3))
+        write (*, "(a)") "# the fold alone (floquet_every = 0: the fold's multipliers only), N = 200; then also with " &
+            // "continuation_step_max = 0.5 and beyond_fold = 0"
+        sc%floquet_every = 0
+        call fold_row(frun, sc, cpu(3))
+        sc%continuation_step_max = 0.5_wp
+        sc%beyond_fold = 0
+        call fold_row(frun, sc, cpu(3))
+        sc = scene_params(amplitude_max=sc%amplitude_max, continuation_points=sc%continuation_points)
         sc%floquet_every = 4
         call shortest_chain(frun%chain, frun%drive%omega, frun%numerics%dt)
         write (*, "(a)") "# the short chain of fold lines (N0 = ceil(7 / lambda'), smooth absorber of 60 sites, sigma 6)"
         call fold_row(frun, sc, cpu(1))
         if (paper_grid) then
-            call fold_line_against_scan(0.05_wp, 0.99_wp, 0.01_wp)
+            call fold_line_against_scan(0.05_wp, 0.99_wp, 0.01_wp, "floquet_every = 4")
+            call fold_line_against_scan(0.05_wp, 0.99_wp, 0.01_wp, fold_alone)
         else
-            call fold_line_against_scan(0.05_wp, 0.95_wp, 0.05_wp)
+            call fold_line_against_scan(0.05_wp, 0.95_wp, 0.05_wp, "floquet_every = 4")
+            call fold_line_against_scan(0.05_wp, 0.95_wp, 0.05_wp, fold_alone)
         end if
     end subroutine fold_benchmark
 
@@ -502,8 +515,10 @@ contains
 
     !> The undamped sine-Gordon fold line (short chains: the input gives no n) and the scan of
     !> input/bif_undamped_sg.nml on the grid omega_min .. omega_max step omega_step, 2 threads each.
-    subroutine fold_line_against_scan(omega_min, omega_max, omega_step)
+    subroutine fold_line_against_scan(omega_min, omega_max, omega_step, controls)
         real(wp), intent(in) :: omega_min, omega_max, omega_step
+        !> The continuation's controls in the namelist's words (e.g. "floquet_every = 4").
+        character(len=*), intent(in) :: controls
         type(input_config) :: cfg
         type(error_type), allocatable :: error
         type(h5_file) :: file
@@ -519,7 +534,7 @@ contains
         write (unit, "(a)") "&chain potential = 'sine-gordon' /", "&numerics method = 'newton', dt = 0.05 /"
         write (unit, "(a, f5.2, a, f5.2, a, f5.2, a)") "&scene kind = 'continuation', omega_min = ", omega_min, &
             ", omega_max = ", omega_max, ", omega_step = ", omega_step, &
-            ", amplitude_max = 7.0, floquet_every = 4, fold_convergence = .false. /"
+            ", amplitude_max = 7.0, " // controls // ", fold_convergence = .false. /"
         write (unit, "(a)") "&output file = '" // out // "', overwrite = .true., quiet = .true. /"
         close (unit)
         call read_input(nml, cfg, error)
@@ -555,7 +570,8 @@ contains
         if (allocated(error)) error stop "benchmark: " // error%message
         call h5_close(file, error)
         write (*, "(a, f5.2, a, f5.2, a, f5.2, a)") "# undamped sine-Gordon, Omega = ", omega_min, " ..", omega_max, &
-            " step", omega_step, ", 2 threads: the fold line (short chains) against the scan (N = 200, ramp 50)"
+            " step", omega_step, ", 2 threads: the fold line (short chains; " // controls // &
+            ") against the scan (N = 200, ramp 50)"
         write (*, "(a8, 1x, a6, 1x, a10, 1x, a6, 1x, a8, 1x, a8)") "Omega", "N", "A_f", "status", "scan", "task_s"
         do i = 1, size(omega)
             write (*, "(f8.3, 1x, i6, 1x, f10.5, 1x, i6, 1x, f8.3, 1x, f8.2)") omega(i), chain_n(i, 1), fold(i, 1), &
