@@ -25,7 +25,7 @@ module supratrans_input
     use supratrans_schema, only: key_table, set_key, choice_names, choice_noun, key_record_probes
     use supratrans_namelist, only: parse_namelist, parsed_input
     use supratrans_validate, only: validate_config
-    use supratrans_provenance, only: timestamp
+    use supratrans_host, only: timestamp
     implicit none
     private
 
