@@ -193,35 +193,37 @@ program pf_driver
     use test_strings, only: t176 => test_int_str_is_the_decimal_without_blanks
     use test_strings, only: t177 => test_text_or_gives_the_default_for_unset_or_empty_text
     use test_strings, only: t178 => test_find_name_gives_the_first_index_or_zero
+    use test_strings, only: t179 => test_joined_trims_each_name_and_prefixes_it
+    use test_strings, only: t180 => test_lower_changes_only_ascii_capitals
     use test_system, only: b28 => set_up
     use test_system, only: a28 => tear_down
-    use test_system, only: t179 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t180 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t181 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t182 => test_temporary_names_are_fresh
-    use test_system, only: t183 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t184 => test_monotone_step
-    use test_threshold, only: t185 => test_bisected_bracket
-    use test_threshold, only: t186 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t187 => test_two_transitions
-    use test_threshold, only: t188 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t189 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t190 => test_nothing_transmits
-    use test_threshold, only: t191 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t192 => test_lower_bound_transmits
-    use test_threshold, only: t193 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t194 => test_bad_arguments
-    use test_threshold, only: t195 => test_grid_helpers
+    use test_system, only: t181 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t182 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t183 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t184 => test_temporary_names_are_fresh
+    use test_system, only: t185 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t186 => test_monotone_step
+    use test_threshold, only: t187 => test_bisected_bracket
+    use test_threshold, only: t188 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t189 => test_two_transitions
+    use test_threshold, only: t190 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t191 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t192 => test_nothing_transmits
+    use test_threshold, only: t193 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t194 => test_lower_bound_transmits
+    use test_threshold, only: t195 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t196 => test_bad_arguments
+    use test_threshold, only: t197 => test_grid_helpers
     use test_workprec, only: b30 => set_up
     use test_workprec, only: a30 => tear_down
-    use test_workprec, only: t196 => test_rk8_eighth_order
-    use test_workprec, only: t197 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t198 => test_rk8_stability_polynomial
-    use test_workprec, only: t199 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t200 => test_unstable_runs_are_reported
-    use test_workprec, only: t201 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t202 => test_fitted_order
-    use test_workprec, only: t203 => test_step_kernels_timed
+    use test_workprec, only: t198 => test_rk8_eighth_order
+    use test_workprec, only: t199 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t200 => test_rk8_stability_polynomial
+    use test_workprec, only: t201 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t202 => test_unstable_runs_are_reported
+    use test_workprec, only: t203 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t204 => test_fitted_order
+    use test_workprec, only: t205 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -418,45 +420,47 @@ program pf_driver
     call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t176)
     call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t177)
     call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t178)
+    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t179)
+    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t180)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t179, &
-        before=b28, &
-        after=a28)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t180, before=b28, after=a28)
-    call pf_run_test( &
-        'test_system', &
-        'test_lock_is_exclusive_never_through_a_link_and_stays', &
         t181, &
         before=b28, &
         after=a28)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t182, before=b28, after=a28)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t183, before=b28, after=a28)
-    call pf_run_test('test_threshold', 'test_monotone_step', t184)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t185)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t186)
-    call pf_run_test('test_threshold', 'test_two_transitions', t187)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t188)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t189)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t190)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t191)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t192)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t193)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t194)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t195)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t196, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t197, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t198, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t199, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t200, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t182, before=b28, after=a28)
+    call pf_run_test( &
+        'test_system', &
+        'test_lock_is_exclusive_never_through_a_link_and_stays', &
+        t183, &
+        before=b28, &
+        after=a28)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t184, before=b28, after=a28)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t185, before=b28, after=a28)
+    call pf_run_test('test_threshold', 'test_monotone_step', t186)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t187)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t188)
+    call pf_run_test('test_threshold', 'test_two_transitions', t189)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t190)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t191)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t192)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t193)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t194)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t195)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t196)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t197)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t198, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t199, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t200, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t201, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t202, before=b30, after=a30)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t201, &
+        t203, &
         before=b30, &
         after=a30)
-    call pf_run_test('test_workprec', 'test_fitted_order', t202, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t203, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_fitted_order', t204, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t205, before=b30, after=a30)
     call pf_driver_finish()
 end program pf_driver
