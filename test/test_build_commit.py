@@ -1,4 +1,4 @@
-"""The commit in /provenance is fixed when the program is built (src/io/supratrans_build_info.c, `.ci/with_commit`).
+"""The commit in /provenance is fixed when the program is built (src/base/supratrans_build_info.c, `.ci/with_commit`).
 
 The sources as they are now are committed into a temporary repository and built there, once for the module (the
 first build compiles everything: marked slow); each test then sets the state it needs and rebuilds through

@@ -1,4 +1,5 @@
-!> Text formatting of numbers for messages and progress lines (shortest exact decimal forms).
+!> Text for messages and progress lines: numbers in their shortest exact decimal forms, names joined, looked up and
+!> lower-cased, texts made printable.
 !>
 !> gfortran 12 keeps the length of a deferred-length function result in a static variable of the caller, so two
 !> OpenMP threads calling `int_str` / `real_str` at once can corrupt each other's strings. Code that runs inside
@@ -10,6 +11,7 @@ module supratrans_strings
     private
 
     public :: int_str, real_str, fixed4, fixed1, int_fixed, real_fixed, text_fingerprint, text_or, printable, find_name
+    public :: joined, lower
 
 contains
 
@@ -201,5 +203,34 @@ contains
         end do
         i = 0
     end function find_name
+
+    !> Names joined by ", ", each with a prefix ("&chain, &drive").
+    pure function joined(names, prefix) result(s)
+        !> Names (trailing blanks ignored).
+        character(len=*), intent(in) :: names(:)
+        !> Prefix of each name.
+        character(len=*), intent(in) :: prefix
+        character(len=:), allocatable :: s
+        integer :: i
+
+        s = ""
+        do i = 1, size(names)
+            if (i > 1) s = s // ", "
+            s = s // prefix // trim(names(i))
+        end do
+    end function joined
+
+    !> Lower-case copy of an ASCII string.
+    pure function lower(s) result(t)
+        !> The string.
+        character(len=*), intent(in) :: s
+        character(len=len(s)) :: t
+        integer :: i
+
+        t = s
+        do i = 1, len(s)
+            if (s(i:i) >= "A" .and. s(i:i) <= "Z") t(i:i) = achar(iachar(s(i:i)) + 32)
+        end do
+    end function lower
 
 end module supratrans_strings

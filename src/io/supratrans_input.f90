@@ -18,14 +18,14 @@
 module supratrans_input
     use supratrans_kinds, only: name_len, path_len
     use supratrans_error, only: error_type, fatal_error, err_input
-    use supratrans_strings, only: int_str, text_fingerprint, find_name
+    use supratrans_strings, only: int_str, text_fingerprint, find_name, joined
     use supratrans_system, only: path_kind, path_missing, path_directory, path_special, file_size
     use supratrans_config, only: input_config, default_probes
-    use supratrans_keys, only: key_value, kt_integer, kt_real, kt_logical, input_error, joined
+    use supratrans_keys, only: key_value, kt_integer, kt_real, kt_logical, input_error
     use supratrans_schema, only: key_table, set_key, choice_names, choice_noun, key_record_probes
     use supratrans_namelist, only: parse_namelist, parsed_input
     use supratrans_validate, only: validate_config
-    use supratrans_provenance, only: timestamp
+    use supratrans_host, only: timestamp
     implicit none
     private
 

@@ -9,7 +9,7 @@ module supratrans_keys
     implicit none
     private
 
-    public :: set_list, input_error, joined
+    public :: set_list, input_error
 
     !> Value type of a key: an integer.
     integer, parameter, public :: kt_integer = 1
@@ -136,21 +136,5 @@ contains
 
         call fatal_error(error, where // ": &" // group // ": " // detail, err_input)
     end subroutine input_error
-
-    !> Names joined by ", ", each with a prefix ("&chain, &drive").
-    pure function joined(names, prefix) result(s)
-        !> Names (trailing blanks ignored).
-        character(len=*), intent(in) :: names(:)
-        !> Prefix of each name.
-        character(len=*), intent(in) :: prefix
-        character(len=:), allocatable :: s
-        integer :: i
-
-        s = ""
-        do i = 1, size(names)
-            if (i > 1) s = s // ", "
-            s = s // prefix // trim(names(i))
-        end do
-    end function joined
 
 end module supratrans_keys

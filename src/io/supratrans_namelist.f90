@@ -16,12 +16,12 @@
 module supratrans_namelist
     use supratrans_kinds, only: name_len, path_len
     use supratrans_error, only: error_type, fatal_error, err_input
-    use supratrans_strings, only: int_str, find_name
+    use supratrans_strings, only: int_str, find_name, joined, lower
     use supratrans_keys, only: key_spec, kt_integer, kt_real, kt_logical, kt_name, kt_path, group_len, key_len, &
-        input_error, joined
+        input_error
     use supratrans_schema, only: key_table
     use supratrans_namelist_tokens, only: token_t, tokenize, tk_eof, tk_group, tk_slash, tk_equals, tk_comma, &
-        tk_string, tk_word, describe, fail_line, is_identifier, is_integer, is_real, lower
+        tk_string, tk_word, describe, fail_line, is_identifier, is_integer, is_real
     implicit none
     private
 
@@ -177,7 +177,7 @@ contains
                            // "', got " // describe(tokens(it + 1)))
             return
         end if
-        ik = find_key(group, key)
+        ik = findloc(key_table%group == group .and. key_table%key == key, .true., 1)
         if (ik == 0) then
             call input_error(error, path, group, "unknown key '" // key // "' (" // key_hint(group, key) // "known: " &
                       // joined(group_keys(group), "") // ")")
@@ -325,30 +325,18 @@ contains
         keys = pack(key_table%key, key_table%group == group)
     end function group_keys
 
-    !> Index in `key_table` of a key of a group; 0 if there is none.
-    pure function find_key(group, key) result(ik)
-        character(len=*), intent(in) :: group, key
-        integer :: ik
-
-        do ik = 1, size(key_table)
-            if (key_table(ik)%group == group .and. key_table(ik)%key == key) return
-        end do
-        ik = 0
-    end function find_key
-
     !> Hint for an unknown key: the group it belongs to, or a close spelling; "" if neither.
     pure function key_hint(group, key) result(hint)
         character(len=*), intent(in) :: group, key
         character(len=:), allocatable :: hint
         integer :: i
 
-        do i = 1, size(key_table)
-            if (key_table(i)%key == key) then
-                hint = "it belongs in &" // trim(key_table(i)%group) // "; "
-                return
-            end if
-        end do
-        hint = suggestion(key, group_keys(group), "'", "'")
+        i = findloc(key_table%key == key, .true., 1)
+        if (i > 0) then
+            hint = "it belongs in &" // trim(key_table(i)%group) // "; "
+        else
+            hint = suggestion(key, group_keys(group), "'", "'")
+        end if
     end function key_hint
 
     !> "did you mean 'x'? " for the closest name within edit distance 2 (and less than the name's length); else "".

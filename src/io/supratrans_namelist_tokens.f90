@@ -3,11 +3,11 @@
 !> tests of literals (names, integers, reals) the parser applies to the words.
 module supratrans_namelist_tokens
     use supratrans_error, only: error_type, fatal_error, err_input
-    use supratrans_strings, only: int_str
+    use supratrans_strings, only: int_str, lower
     implicit none
     private
 
-    public :: tokenize, describe, fail_line, is_identifier, is_integer, is_real, lower, quoted
+    public :: tokenize, describe, fail_line, is_identifier, is_integer, is_real
 
     !> Token kinds of the namelist tokenizer.
     integer, parameter, public :: tk_eof = 0, tk_group = 1, tk_slash = 2, tk_equals = 3, tk_comma = 4, &
@@ -214,18 +214,6 @@ contains
         end if
         ok = i == len(s) + 1
     end function is_real
-
-    !> Lower-case copy of an ASCII string.
-    pure function lower(s) result(t)
-        character(len=*), intent(in) :: s
-        character(len=len(s)) :: t
-        integer :: i
-
-        t = s
-        do i = 1, len(s)
-            if (s(i:i) >= "A" .and. s(i:i) <= "Z") t(i:i) = achar(iachar(s(i:i)) + 32)
-        end do
-    end function lower
 
     !> A string between single quotes, inner quotes doubled (namelist form).
     pure function quoted(s) result(q)

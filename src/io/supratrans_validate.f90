@@ -19,8 +19,8 @@ module supratrans_validate
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: band_gap_edge, stability_lhs, stability_rhs, stable_by_paper_condition, critical_dt
     use supratrans_curves, only: curve_count, curve_run
-    use supratrans_strings, only: int_str, real_str, fixed4
-    use supratrans_keys, only: key_spec, key_value, kt_integer, kt_real, kt_name, input_error, joined
+    use supratrans_strings, only: int_str, real_str, fixed4, joined, find_name
+    use supratrans_keys, only: key_spec, key_value, kt_integer, kt_real, kt_name, input_error
     use supratrans_schema, only: key_table, get_key, choice_names, choice_noun
     use supratrans_scene, only: scene_type, new_scene
     implicit none
@@ -157,21 +157,19 @@ contains
         character(len=*), intent(in) :: name
         !> Allocated when the value is not among the choices.
         type(error_type), allocatable, intent(out) :: error
-        integer :: i
+        character(len=:), allocatable :: shown
 
         if (spec%choices == 0) return
         associate (names => choice_names(spec%choices))
             if (spec%ids) then
                 if (id >= 1 .and. id <= size(names)) return
-                call input_error(error, where, trim(spec%group), label // " = " // int_str(id) // ": unknown " &
-                                 // choice_noun(spec%choices) // " (known: " // joined(names, "") // ")")
+                shown = int_str(id)
             else
-                do i = 1, size(names)
-                    if (names(i) == name) return
-                end do
-                call input_error(error, where, trim(spec%group), label // " = '" // name // "': unknown " &
-                                 // choice_noun(spec%choices) // " (known: " // joined(names, "") // ")")
+                if (find_name(names, name) > 0) return
+                shown = "'" // name // "'"
             end if
+            call input_error(error, where, trim(spec%group), label // " = " // shown // ": unknown " &
+                             // choice_noun(spec%choices) // " (known: " // joined(names, "") // ")")
         end associate
     end subroutine check_choice
 

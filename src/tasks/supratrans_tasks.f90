@@ -19,7 +19,7 @@ module supratrans_tasks
     use supratrans_invocation, only: invocation_type, engine_only
     use supratrans_journal, only: journal_header, read_journal, write_journal, append_journal_line, record_binding
     use supratrans_parts, only: write_part, part_run
-    use supratrans_provenance, only: timestamp, host_name, build_commit
+    use supratrans_host, only: timestamp, host_name, build_commit
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
     private

@@ -1,6 +1,6 @@
 /* The git commit the program was built from and whether its tree had uncommitted changes, fixed when the program
  * is compiled: the program never reads `.git` when it runs, so a run from another directory or after a checkout
- * still records the commit of its build. Called through iso_c_binding by supratrans_provenance.f90.
+ * still records the commit of its build. Called through iso_c_binding by supratrans_host.f90.
  *
  * fpm cannot run git (no build scripts), so the build command passes both as C macros:
  *     sh .ci/with_commit fpm build       (also: fpm test, fpm run)
