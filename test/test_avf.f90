@@ -11,7 +11,7 @@ module test_avf
     use supratrans_potential, only: sine_gordon, klein_gordon
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok
-    use supratrans_stepper_avf, only: avf_tableau, avf_make_tableau, gauss_legendre
+    use supratrans_avf_tableau, only: avf_tableau, avf_make_tableau, gauss_legendre
     implicit none
 
 contains

@@ -13,7 +13,7 @@ module bench_checkpoint
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result
     use supratrans_checkpoint, only: checkpoint_session, open_session, close_session
-    use supratrans_scene_workprec, only: median
+    use supratrans_workprec_measure, only: median
     use supratrans_system, only: remove_file
     implicit none
     private

@@ -23,7 +23,7 @@ module bench_scaling
     use supratrans_strings, only: int_str
     use supratrans_config, only: run_config, method_newton
     use supratrans_stepper_newton, only: newton_stepper, newton_block
-    use supratrans_scene_workprec, only: median
+    use supratrans_workprec_measure, only: median
     use bench_floor_cpu, only: floor_cpu_benchmark
     !$ use omp_lib, only: omp_set_num_threads
     implicit none

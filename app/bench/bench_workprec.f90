@@ -12,7 +12,7 @@ module bench_workprec
     use supratrans_config, only: run_config, method_newton, method_linearized, method_rk8, method_avf4, method_avf8
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok
-    use supratrans_scene_workprec, only: median
+    use supratrans_workprec_measure, only: median
     implicit none
     private
 

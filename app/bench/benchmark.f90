@@ -47,7 +47,7 @@ program benchmark
     use bench_checkpoint, only: checkpoint_benchmark
     use supratrans_search_record, only: from_values, search_record
     use supratrans_system, only: remove_file
-    use supratrans_scene_workprec, only: median
+    use supratrans_workprec_measure, only: median
     use supratrans_tridiag, only: solve_tridiag
     use supratrans_stepper_newton, only: newton_stepper
     use supratrans_potential, only: sin_cos_array

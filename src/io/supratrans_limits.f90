@@ -9,13 +9,11 @@ module supratrans_limits
     use supratrans_scene, only: scene_type, scene_budget
     use supratrans_strings, only: int_str, real_str
     !$ use omp_lib, only: omp_get_max_threads
-    use supratrans_resources, only: available_memory_bytes, bound_threads
+    use supratrans_resources, only: available_memory_bytes
     implicit none
     private
 
     public :: check_limits, run_memory_bytes
-    ! the command line takes it from here (it moved to supratrans_resources; its `use` follows when it is split)
-    public :: bound_threads
     public :: axis_points, check_axis, check_tasks, threads_text, limit_error, sci
 
     !> Most time steps of one run (T/dt) an input may ask for: 10^9 steps of the paper's chain take about an hour

@@ -10,15 +10,18 @@
 !>
 !> dG/da, the diagonal added to the Newton Jacobian, is equally direct. All procedures are pure.
 !>
-!> The potentials form a closed enumeration (`sine_gordon`, `klein_gordon`): an identifier outside it is an error,
-!> never a silent choice of one of them. `check_potential` turns it into an error value (the run engine checks
-!> once per run); the kernels below, which cannot return errors, give NaN for it (V, V', G, dG/da, sums), so a
-!> caller that skipped the check sees a loud, non-finite result rather than another potential's numbers.
+!> The potentials form a closed enumeration (`sine_gordon`, `klein_gordon`; identifiers, names, `check_potential`
+!> and the bounds of Newton's stopping test are in `supratrans_potential_catalog`, re-exported here): an identifier
+!> outside it is an error, never a silent choice of one of them. `check_potential` turns it into an error value
+!> (the run engine checks once per run); the kernels below, which cannot return errors, give NaN for it (V, V', G,
+!> dG/da, sums), so a caller that skipped the check sees a loud, non-finite result rather than another potential's
+!> numbers.
 module supratrans_potential
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
-    use supratrans_error, only: error_type, fatal_error, err_input
-    use supratrans_strings, only: int_str
+    use supratrans_potential_catalog, only: potential_unknown, sine_gordon, klein_gordon, potential_ids, &
+                                            potential_name, potential_from_name, is_potential, check_potential, &
+                                            slope_lower_bound, curvature_bound
     implicit none
     private
 
@@ -27,14 +30,9 @@ module supratrans_potential
     public :: potential_name, potential_from_name, is_potential, check_potential
     public :: slope_lower_bound, curvature_bound, sin_cos_array
 
-    !> Not a potential: what `potential_from_name` returns for an unknown name.
-    integer, parameter, public :: potential_unknown = 0
-    !> Identifier of the sine-Gordon potential V(u) = 1 - cos u.
-    integer, parameter, public :: sine_gordon = 1
-    !> Identifier of the Klein-Gordon potential V(u) = u^2/2 - u^4/24 + u^6/720 (phi^6 truncation of 1 - cos u).
-    integer, parameter, public :: klein_gordon = 2
-    !> The enumeration: every valid potential identifier.
-    integer, parameter, public :: potential_ids(2) = [sine_gordon, klein_gordon]
+    !> The catalog (`supratrans_potential_catalog`): the enumeration's identifiers, names and check, and the bounds
+    !> of dG/da and d2G/da2 that Newton's stopping test uses.
+    public :: potential_unknown, sine_gordon, klein_gordon, potential_ids
 
     !> Below this |h| = |a - b|/2 the Taylor series of sinc and sinc' are used (truncation error < 3e-21).
     real(wp), parameter :: h_series = 0.25_wp
@@ -574,97 +572,5 @@ contains
             dsc = (cos(h) - sc)/h
         end if
     end subroutine sinc_and_slope
-
-    !> A lower bound of dG/da(a, b) over all a, b: dG/da = int_0^1 t V''(b + t (a - b)) dt >= min V''/2, with
-    !> min V'' = -1 (sine-Gordon, V'' = cos u) and -1/2 (Klein-Gordon, V'' = 1 - u^2/2 + u^4/24, at u^2 = 6).
-    !> Newton's stopping test uses it to bound the inverse Jacobian of the scheme. NaN for an unknown potential.
-    pure function slope_lower_bound(id) result(bound)
-        !> Potential identifier.
-        integer, intent(in) :: id
-        real(wp) :: bound
-
-        select case (id)
-        case (sine_gordon)
-            bound = -0.5_wp
-        case (klein_gordon)
-            bound = -0.25_wp
-        case default
-            bound = ieee_value(bound, ieee_quiet_nan)
-        end select
-    end function slope_lower_bound
-
-    !> An upper bound L of |d2G/da2(a, b)| for |a|, |b| <= `u_max`: d2G/da2 = int_0^1 t^2 V'''(b + t (a - b)) dt, so
-    !> L = max |V'''|/3 with |V'''| <= 1 (sine-Gordon) and <= u_max + u_max^3/6 (Klein-Gordon, V''' = u^3/6 - u).
-    !> NaN for an unknown potential.
-    pure function curvature_bound(id, u_max) result(bound)
-        !> Potential identifier.
-        integer, intent(in) :: id
-        !> Largest |u| of the arguments.
-        real(wp), intent(in) :: u_max
-        real(wp) :: bound
-
-        select case (id)
-        case (sine_gordon)
-            bound = 1.0_wp/3.0_wp
-        case (klein_gordon)
-            bound = (u_max + u_max**3/6.0_wp)/3.0_wp
-        case default
-            bound = ieee_value(bound, ieee_quiet_nan)
-        end select
-    end function curvature_bound
-
-    !> Name of a potential as used in the namelist and in output attributes.
-    pure function potential_name(id) result(name)
-        !> Potential identifier.
-        integer, intent(in) :: id
-        character(len=:), allocatable :: name
-
-        select case (id)
-        case (sine_gordon)
-            name = "sine-gordon"
-        case (klein_gordon)
-            name = "klein-gordon"
-        case default
-            name = "unknown"
-        end select
-    end function potential_name
-
-    !> Identifier of a potential from its name ('sine-gordon' or 'klein-gordon'); `potential_unknown` if unknown.
-    pure function potential_from_name(name) result(id)
-        !> Name as written in the namelist (case-sensitive, lower case).
-        character(len=*), intent(in) :: name
-        integer :: id
-
-        select case (trim(adjustl(name)))
-        case ("sine-gordon")
-            id = sine_gordon
-        case ("klein-gordon")
-            id = klein_gordon
-        case default
-            id = potential_unknown
-        end select
-    end function potential_from_name
-
-    !> True when `id` is one of the enumeration `potential_ids`.
-    elemental function is_potential(id) result(valid)
-        !> Potential identifier.
-        integer, intent(in) :: id
-        logical :: valid
-
-        valid = any(potential_ids == id)
-    end function is_potential
-
-    !> Validate a potential identifier: `error` is allocated (input class) when `id` is not a known potential.
-    pure subroutine check_potential(id, error)
-        !> Potential identifier.
-        integer, intent(in) :: id
-        !> Error, allocated when `id` is unknown.
-        type(error_type), allocatable, intent(out) :: error
-
-        if (is_potential(id)) return
-        call fatal_error(error, "unknown potential identifier " // int_str(id) // " (known: " &
-                         // int_str(sine_gordon) // " sine-gordon, " // int_str(klein_gordon) // " klein-gordon)", &
-                         err_input)
-    end subroutine check_potential
 
 end module supratrans_potential

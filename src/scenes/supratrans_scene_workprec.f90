@@ -39,86 +39,29 @@
 !> attributes.
 module supratrans_scene_workprec
     use, intrinsic :: iso_fortran_env, only: error_unit
-    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
-    use supratrans_kinds, only: wp, i8, pi
-    use supratrans_error, only: error_type, fatal_error, err_input, err_runtime
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+    use supratrans_kinds, only: wp
+    use supratrans_error, only: error_type
     use supratrans_invocation, only: invocation_type
-    use supratrans_strings, only: int_str, real_str, printable
+    use supratrans_strings, only: real_str, printable
     use supratrans_scene, only: scene_type
-    use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
-                                 method_avf4, method_avf8, method_name
-    use supratrans_simulate, only: simulate
-    use supratrans_result, only: run_result, run_ok, run_diverged, status_name
+    use supratrans_config, only: input_config, method_newton, method_linearized, method_name
     use supratrans_status, only: status_not_run
-    use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
+    use supratrans_tasks, only: run_tasks, input_fingerprint, engine_only
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
-    use supratrans_tridiag, only: solve_tridiag
-    use supratrans_stepper_rk8, only: rk8_stages
+    use supratrans_workprec_measure, only: fitted_order, method_stages, measure_step_kernels
+    use supratrans_workprec_tasks, only: workprec_tasks, setup_tasks, compute_references, drift_limit, value_names, &
+                                         nvalues, w_status, w_wall_time, w_wall_time_min, w_injected, w_error_energy, &
+                                         w_error_u, w_ledger_drift, w_rhs_evaluations, w_max_abs_u
     implicit none
     private
 
-    public :: run_work_precision, measure_step_kernels, default_methods, default_workprec_dts, fitted_order
-    public :: method_stages, median
+    public :: run_work_precision
 
     !> Status of a (method, dt) pair that was not run (dt below the method's `dt_smallest`): `supratrans_status`'s.
     public :: status_not_run
-    !> A run whose final ledger residual exceeds this fraction of its energy scale is declared diverged.
-    real(wp), parameter, public :: drift_limit = 0.5_wp
-    !> Errors above this are pre-asymptotic and left out of the fitted orders.
-    real(wp), parameter :: order_fit_ceiling = 1.0e-2_wp
-    !> The fitted orders use at most this many of the smallest time steps.
-    integer, parameter :: order_fit_points = 4
-
-    !> Positions of a task's values: status, median and minimum wall time, injected energy, relative error of the
-    !> injected energy, error in u at the probe, ledger drift, steps, right-hand sides / solves, max |u|.
-    integer, parameter :: w_status = 1, w_wall_time = 2, w_wall_time_min = 3, w_injected = 4, w_error_energy = 5, &
-                          w_error_u = 6, w_ledger_drift = 7, w_steps = 8, w_rhs_evaluations = 9, w_max_abs_u = 10
-    !> Number of values per task.
-    integer, parameter :: nvalues = 10
-    !> Names of a task's values in the order of their positions (the journal stores them by these names).
-    character(len=*), parameter :: value_names(nvalues) = [character(len=15) :: "status", "wall_time", &
-        "wall_time_min", "injected", "error_energy", "error_u", "ledger_drift", "steps", "rhs_evaluations", "max_abs_u"]
-
-    !> The reference solution of one amplitude: the fine run's records at every level j h, j = 0..M.
-    type :: reference_data
-        !> Level spacing h (reference_dt / 2).
-        real(wp) :: h = 0.0_wp
-        !> Injected energy at t = j h.
-        real(wp), allocatable :: injected(:)
-        !> u at the probe at t = j h.
-        real(wp), allocatable :: u(:)
-        !> Injected energy at T.
-        real(wp) :: injected_final = 0.0_wp
-        !> Estimated relative error of the injected energy (|coarse - fine| / |fine| at T).
-        real(wp) :: error_energy = 0.0_wp
-        !> Estimated error of u at the probe (max |coarse - fine| over the last drive period).
-        real(wp) :: error_u = 0.0_wp
-        !> max |u_ref| at the probe over the last drive period.
-        real(wp) :: u_scale = 0.0_wp
-        !> Wall time of the fine reference run (s).
-        real(wp) :: wall_time = 0.0_wp
-    end type reference_data
-
-    !> The runs of the scene: one task per (amplitude, method, dt), dt fastest.
-    type, extends(task_list) :: workprec_tasks
-        !> Base run (probe, ledger and detector already set for the scene).
-        type(run_config) :: base
-        !> Methods, time steps, smallest dt per method, amplitudes.
-        integer, allocatable :: methods(:)
-        real(wp), allocatable :: dts(:), dt_smallest(:), amplitudes(:)
-        !> Timed repetitions per run.
-        integer :: repeats = 1
-        !> Length of the window at the end of the run where u is compared (one drive period).
-        real(wp) :: window = 0.0_wp
-        !> The scene's reference_dt (the kept reference runs at half of it).
-        real(wp) :: reference_dt = 0.0_wp
-        !> One reference per amplitude.
-        type(reference_data), allocatable :: refs(:)
-    contains
-        procedure :: run => run_workprec_task
-    end type workprec_tasks
 
     !> The scene `work_precision`: timed runs per (method, dt) against a reference.
     type, extends(scene_type), public :: workprec_scene
@@ -128,37 +71,6 @@ module supratrans_scene_workprec
     end type workprec_scene
 
 contains
-
-    !> The default method list: every integrator.
-    pure function default_methods() result(methods)
-        integer, allocatable :: methods(:)
-
-        methods = [method_newton, method_linearized, method_rk4, method_rk8, method_avf4, method_avf8]
-    end function default_methods
-
-    !> Default time steps: ramp_time = 50 and T = 200 are multiples of each (the ramp's kink on a step boundary).
-    pure function default_workprec_dts() result(dts)
-        real(wp), allocatable :: dts(:)
-
-        dts = [0.4_wp, 0.3125_wp, 0.25_wp, 0.2_wp, 0.125_wp, 0.1_wp, 0.0625_wp, 0.05_wp, 0.025_wp, 0.0125_wp, &
-               0.00625_wp, 0.003125_wp]
-    end function default_workprec_dts
-
-    !> Right-hand-side evaluations (N-sine kernels) of one step: 1 for the leapfrog schemes, the stages of an RK.
-    pure function method_stages(method) result(stages)
-        !> Method identifier.
-        integer, intent(in) :: method
-        integer :: stages
-
-        select case (method)
-        case (method_rk4)
-            stages = 4
-        case (method_rk8)
-            stages = rk8_stages
-        case default
-            stages = 1
-        end select
-    end function method_stages
 
     !> Run the scene `work_precision` described by `cfg` and write `cfg%output%file`.
     subroutine run_work_precision(cfg, error, inv)
@@ -196,394 +108,17 @@ contains
         call remove_file(journal)
     end subroutine run_work_precision
 
-    !> Check the scene keys and fill the task list (base run, lists with their defaults).
-    subroutine setup_tasks(cfg, tasks, error)
-        type(input_config), intent(in) :: cfg
-        type(workprec_tasks), intent(out) :: tasks
-        type(error_type), allocatable, intent(out) :: error
-        character(len=:), allocatable :: where
-        integer :: i, probe
-
-        where = "configuration"
-        if (allocated(cfg%source)) where = cfg%source
-        tasks%methods = default_methods()
-        if (allocated(cfg%scene%methods)) then
-            if (size(cfg%scene%methods) > 0) tasks%methods = cfg%scene%methods
-        end if
-        tasks%dts = default_workprec_dts()
-        if (allocated(cfg%scene%dts)) then
-            if (size(cfg%scene%dts) > 0) tasks%dts = cfg%scene%dts
-        end if
-        allocate (tasks%dt_smallest(size(tasks%methods)), source=0.0_wp)
-        if (allocated(cfg%scene%dt_smallest)) then
-            if (size(cfg%scene%dt_smallest) /= size(tasks%methods)) then
-                call fatal_error(error, where // ": &scene: dt_smallest needs one value per method (" &
-                                 // int_str(size(tasks%methods)) // "), got " // int_str(size(cfg%scene%dt_smallest)), &
-                                 err_input)
-                return
-            end if
-            tasks%dt_smallest = cfg%scene%dt_smallest
-        end if
-        tasks%amplitudes = [cfg%run%drive%amplitude]
-        if (allocated(cfg%scene%amplitudes)) then
-            if (size(cfg%scene%amplitudes) > 0) tasks%amplitudes = cfg%scene%amplitudes
-        end if
-        do i = 1, size(tasks%dts)
-            if (.not. (tasks%dts(i) > 0.0_wp) .or. tasks%dts(i) > 0.5_wp*cfg%run%numerics%t_final) then
-                call fatal_error(error, where // ": &scene: dts(" // int_str(i) // ") = " // real_str(tasks%dts(i)) &
-                                 // ": need 0 < dt <= t_final/2", err_input)
-                return
-            end if
-        end do
-        if (any(.not. (tasks%amplitudes > 0.0_wp))) then
-            call fatal_error(error, where // ": &scene: amplitudes must be > 0", err_input)
-            return
-        end if
-        if (cfg%scene%repeats < 1) then
-            call fatal_error(error, where // ": &scene: repeats = " // int_str(cfg%scene%repeats) // ": must be >= 1", &
-                             err_input)
-            return
-        end if
-        if (.not. (cfg%scene%reference_dt > 0.0_wp) .or. cfg%scene%reference_dt > 0.5_wp*cfg%run%numerics%t_final) then
-            call fatal_error(error, where // ": &scene: reference_dt = " // real_str(cfg%scene%reference_dt) &
-                             // ": need 0 < reference_dt <= t_final/2", err_input)
-            return
-        end if
-        tasks%repeats = cfg%scene%repeats
-        tasks%reference_dt = cfg%scene%reference_dt
-
-        ! the base run: one probe, every level sampled, the ledger closed at the start and the end only
-        tasks%base = cfg%run
-        probe = 60
-        if (allocated(cfg%run%record%probes)) then
-            if (size(cfg%run%record%probes) > 0) probe = cfg%run%record%probes(1)
-        end if
-        probe = max(1, min(probe, cfg%run%chain%n))
-        tasks%base%record%probes = [probe]
-        tasks%base%record%probe_every = 1
-        tasks%base%detect%stop_when_decided = .false.
-        tasks%window = 2.0_wp*pi/cfg%run%drive%omega
-    end subroutine setup_tasks
-
-    !> The reference of each amplitude: rk8 at reference_dt/2 (kept) and reference_dt (its error estimate), all
-    !> runs in parallel.
-    subroutine compute_references(tasks, error)
-        type(workprec_tasks), intent(inout) :: tasks
-        type(error_type), allocatable, intent(out) :: error
-        type(run_result), allocatable :: res(:)
-        type(run_config) :: run
-        integer :: namp, i, ia, m, j, nfail
-        real(wp) :: h, t_final, t
-        character(len=:), allocatable :: message
-
-        namp = size(tasks%amplitudes)
-        allocate (res(2*namp), tasks%refs(namp))
-        t_final = tasks%base%numerics%t_final
-        !$omp parallel do schedule(dynamic, 1) default(shared) private(i, run)
-        do i = 1, 2*namp
-            run = tasks%base
-            run%drive%amplitude = tasks%amplitudes((i + 1)/2)
-            run%numerics%method = method_rk8
-            run%numerics%dt = reference_step(tasks, mod(i - 1, 2) == 0)
-            run%record%ledger_every = 1
-            call simulate(run, res(i))
-        end do
-        !$omp end parallel do
-
-        nfail = 0
-        message = ""
-        do i = 1, 2*namp
-            if (res(i)%status /= run_ok) then
-                nfail = nfail + 1
-                message = "reference run (rk8, A = " // real_str(tasks%amplitudes((i + 1)/2)) // ") ended: " &
-                          // status_name(res(i)%status) // " " // res(i)%reason
-            end if
-        end do
-        if (nfail > 0) then
-            call fatal_error(error, "work_precision: " // message, err_runtime)
-            return
-        end if
-
-        do ia = 1, namp
-            associate (fine => res(2*ia - 1), coarse => res(2*ia), ref => tasks%refs(ia))
-                h = reference_step(tasks, .true.)
-                m = int(fine%steps)
-                ref%h = h
-                ref%injected = fine%ledger_series(1:m + 1, 2)
-                ref%u = fine%probe_u(1:m + 1, 1)
-                ref%injected_final = fine%ledger%injected
-                ref%wall_time = fine%wall_time
-                ref%error_energy = abs(coarse%ledger%injected - fine%ledger%injected)/abs(fine%ledger%injected)
-                ref%error_u = 0.0_wp
-                ref%u_scale = 0.0_wp
-                do j = 0, int(coarse%steps)
-                    t = real(j, wp)*2.0_wp*h
-                    if (t < real(m, wp)*h - tasks%window - 1.0e-9_wp) cycle
-                    ref%error_u = max(ref%error_u, abs(coarse%probe_u(j + 1, 1) - fine%probe_u(2*j + 1, 1)))
-                end do
-                do j = 0, m
-                    if (real(j, wp)*h < real(m, wp)*h - tasks%window - 1.0e-9_wp) cycle
-                    ref%u_scale = max(ref%u_scale, abs(fine%probe_u(j + 1, 1)))
-                end do
-            end associate
-        end do
-    end subroutine compute_references
-
-    !> Step of the reference runs: reference_dt / 2 (fine, kept) or reference_dt (coarse, error estimate).
-    pure function reference_step(tasks, fine) result(h)
-        type(workprec_tasks), intent(in) :: tasks
-        logical, intent(in) :: fine
-        real(wp) :: h
-
-        h = tasks%reference_dt
-        if (fine) h = 0.5_wp*h
-    end function reference_step
-
-    !> Task `index` = (dt, method, amplitude), dt fastest: run it `repeats` times and measure it.
-    subroutine run_workprec_task(self, index, values)
-        !> The scene's tasks.
-        class(workprec_tasks), intent(in) :: self
-        !> Task index.
-        integer, intent(in) :: index
-        !> status, median wall time, min wall time, injected, error_energy, error_u, ledger_drift, steps, rhs, max|u|.
-        real(wp), intent(out) :: values(:)
-        type(run_config) :: run
-        type(run_result) :: res
-        real(wp), allocatable :: times(:)
-        real(wp) :: nan, dt, t_lo, t_hi, e_ref, err_u, drift
-        integer :: idt, im, ia, ndt, nm, r, i, status
-
-        ndt = size(self%dts)
-        nm = size(self%methods)
-        idt = mod(index - 1, ndt) + 1
-        im = mod((index - 1)/ndt, nm) + 1
-        ia = (index - 1)/(ndt*nm) + 1
-        nan = ieee_value(1.0_wp, ieee_quiet_nan)
-        values = nan
-        dt = self%dts(idt)
-        if (dt < self%dt_smallest(im)*(1.0_wp - 1.0e-12_wp)) then
-            values(w_status) = real(status_not_run, wp)
-            return
-        end if
-
-        run = self%base
-        run%drive%amplitude = self%amplitudes(ia)
-        run%numerics%method = self%methods(im)
-        run%numerics%dt = dt
-        run%record%ledger_every = nint(run%numerics%t_final/dt) + 1
-        allocate (times(self%repeats))
-        !$omp critical (supratrans_workprec_timing)
-        do r = 1, self%repeats
-            call simulate(run, res)
-            times(r) = res%wall_time
-            if (res%status /= run_ok) exit
-        end do
-        !$omp end critical (supratrans_workprec_timing)
-
-        status = res%status
-        drift = abs(res%ledger%residual)/max(res%ledger%energy_scale, tiny(1.0_wp))
-        if (status == run_ok .and. .not. (drift <= drift_limit)) status = run_diverged
-        values(w_status) = real(status, wp)
-        values(w_steps) = real(res%steps, wp)
-        values(w_rhs_evaluations) = real(res%tridiagonal_solves + res%rhs_evaluations, wp)   ! newton: = its Newton iterations
-        values(w_max_abs_u) = res%max_abs_u
-        if (status /= run_ok) return
-
-        values(w_wall_time) = median(times)
-        values(w_wall_time_min) = minval(times)
-        values(w_injected) = res%ledger%injected
-        ! the reference's energy over the window the method's ledger covers
-        if (run%numerics%method == method_newton .or. run%numerics%method == method_linearized) then
-            t_lo = 0.5_wp*dt
-            t_hi = res%t_end - 0.5_wp*dt
-        else
-            t_lo = 0.0_wp
-            t_hi = res%t_end
-        end if
-        associate (ref => self%refs(ia))
-            e_ref = interpolate(ref%injected, ref%h, t_hi) - interpolate(ref%injected, ref%h, t_lo)
-            values(w_error_energy) = abs(res%ledger%injected - e_ref)/abs(ref%injected_final)
-            err_u = 0.0_wp
-            do i = 1, res%n_probe_samples
-                if (res%probe_time(i) < res%t_end - self%window - 1.0e-9_wp) cycle
-                err_u = max(err_u, abs(res%probe_u(i, 1) - interpolate(ref%u, ref%h, res%probe_time(i))))
-            end do
-            values(w_error_u) = err_u
-        end associate
-        values(w_ledger_drift) = drift
-    end subroutine run_workprec_task
-
-    !> Value at time t of a series sampled at t_j = j h, j = 0..M (`samples(1)` is t = 0): the sample itself on a
-    !> level, else the 8-point Lagrange interpolant on the levels around t (one-sided near the ends).
-    pure function interpolate(samples, h, t) result(v)
-        !> Samples at t_j = j h.
-        real(wp), intent(in) :: samples(:)
-        !> Spacing.
-        real(wp), intent(in) :: h
-        !> Time, 0 <= t <= (size(samples) - 1) h.
-        real(wp), intent(in) :: t
-        real(wp) :: v
-        real(wp) :: x, w
-        integer :: m, j, j0, i, k
-
-        m = size(samples) - 1
-        x = t/h
-        j = nint(x)
-        if (abs(x - real(j, wp)) <= 1.0e-9_wp*max(1.0_wp, abs(x))) then
-            v = samples(max(0, min(j, m)) + 1)
-            return
-        end if
-        j0 = max(0, min(floor(x) - 3, m - 7))
-        v = 0.0_wp
-        do i = 0, min(7, m)
-            w = 1.0_wp
-            do k = 0, min(7, m)
-                if (k /= i) w = w*(x - real(j0 + k, wp))/real(i - k, wp)
-            end do
-            v = v + w*samples(j0 + i + 1)
-        end do
-    end function interpolate
-
-    !> Median of a small array.
-    pure function median(x) result(med)
-        !> Values.
-        real(wp), intent(in) :: x(:)
-        real(wp) :: med
-        real(wp) :: y(size(x)), t
-        integer :: i, j
-
-        y = x
-        do i = 2, size(y)
-            t = y(i)
-            j = i - 1
-            do while (j >= 1)
-                if (y(j) <= t) exit
-                y(j + 1) = y(j)
-                j = j - 1
-            end do
-            y(j + 1) = t
-        end do
-        med = y((size(y) + 1)/2)
-        if (mod(size(y), 2) == 0) med = 0.5_wp*(y(size(y)/2) + y(size(y)/2 + 1))
-    end function median
-
-    !> Observed order over the asymptotic range: the least-squares slope of log(error) against log(dt) over the
-    !> smallest time steps, taken in increasing dt from the smallest: errors at or below `floor` (the reference's
-    !> own error, roundoff) are skipped, the first error above 1e-2 (pre-asymptotic) ends the range, and at most
-    !> `order_fit_points` points are used. NaN with fewer than two points.
-    pure function fitted_order(dts, errors, floor) result(order)
-        !> Time steps (NaN where not run).
-        real(wp), intent(in) :: dts(:)
-        !> Errors (NaN where not measured).
-        real(wp), intent(in) :: errors(:)
-        !> Errors at or below this are not used.
-        real(wp), intent(in) :: floor
-        real(wp) :: order
-        real(wp) :: sx, sy, sxx, sxy, x, y, dt_min
-        logical :: visited(size(dts))
-        integer :: i, j, np
-
-        np = 0
-        sx = 0.0_wp
-        sy = 0.0_wp
-        sxx = 0.0_wp
-        sxy = 0.0_wp
-        visited = ieee_is_nan(dts) .or. ieee_is_nan(errors)
-        do
-            ! the smallest time step not visited yet
-            i = 0
-            dt_min = huge(1.0_wp)
-            do j = 1, size(dts)
-                if (.not. visited(j) .and. dts(j) < dt_min) then
-                    dt_min = dts(j)
-                    i = j
-                end if
-            end do
-            if (i == 0) exit
-            visited(i) = .true.
-            if (.not. (errors(i) > floor)) cycle
-            if (errors(i) > order_fit_ceiling) exit
-            x = log(dts(i))
-            y = log(errors(i))
-            np = np + 1
-            sx = sx + x
-            sy = sy + y
-            sxx = sxx + x*x
-            sxy = sxy + x*y
-            if (np == order_fit_points) exit
-        end do
-        order = ieee_value(1.0_wp, ieee_quiet_nan)
-        if (np < 2) return
-        if (real(np, wp)*sxx - sx*sx <= 0.0_wp) return
-        order = (real(np, wp)*sxy - sx*sy)/(real(np, wp)*sxx - sx*sx)
-    end function fitted_order
-
-    !> Time the kernels a step cannot avoid, on a chain of n sites (per call, seconds, best of 7 trials):
-    !> n sines of values spread over [-amplitude, amplitude]; n divisions; one tridiagonal solve (`dgtsv`, with
-    !> the copies of the matrix the Newton step makes).
-    subroutine measure_step_kernels(n, amplitude, t_sine, t_division, t_tridiag)
-        !> Number of sites N.
-        integer, intent(in) :: n
-        !> Spread of the sine arguments.
-        real(wp), intent(in) :: amplitude
-        !> Seconds for n sines, n divisions, one solve.
-        real(wp), intent(out) :: t_sine, t_division, t_tridiag
-        real(wp), allocatable :: u(:), f(:), b(:), dl(:), dd(:), du(:), rhs(:)
-        integer :: i, trial, rep, reps, info
-        integer(i8) :: c0, c1, rate
-        real(wp) :: check, t
-
-        allocate (u(n), f(n), b(n), dl(max(n - 1, 1)), dd(n), du(max(n - 1, 1)), rhs(n))
-        do i = 1, n
-            u(i) = amplitude*cos(real(i, wp)*2.399963229728653_wp)    ! golden-angle spread over [-A, A]
-            b(i) = 400.0_wp + real(mod(i, 7), wp)
-        end do
-        reps = max(1, 2000000/max(n, 1))
-        check = 0.0_wp
-        t_sine = huge(1.0_wp)
-        t_division = huge(1.0_wp)
-        t_tridiag = huge(1.0_wp)
-        do trial = 1, 7
-            call system_clock(c0, rate)
-            do rep = 1, reps
-                u(1) = u(1) + 1.0e-15_wp
-                f = sin(u)
-                check = check + f(n)
-            end do
-            call system_clock(c1)
-            t = real(c1 - c0, wp)/real(rate, wp)/real(reps, wp)
-            t_sine = min(t_sine, t)
-            call system_clock(c0)
-            do rep = 1, reps
-                u(1) = u(1) + 1.0e-15_wp
-                f = u/b
-                check = check + f(n)
-            end do
-            call system_clock(c1)
-            t = real(c1 - c0, wp)/real(rate, wp)/real(reps, wp)
-            t_division = min(t_division, t)
-            call system_clock(c0)
-            do rep = 1, reps/4 + 1
-                dd = b
-                dl = -1.0_wp
-                du = -1.0_wp
-                rhs = u
-                call solve_tridiag(dl, dd, du, rhs, info)
-                check = check + rhs(n)
-            end do
-            call system_clock(c1)
-            t = real(c1 - c0, wp)/real(rate, wp)/real(reps/4 + 1, wp)
-            t_tridiag = min(t_tridiag, t)
-        end do
-        if (ieee_is_nan(check)) t_sine = -1.0_wp      ! keeps the kernels from being optimised away
-    end subroutine measure_step_kernels
-
     !> Write the scene's HDF5 file.
     subroutine write_work_precision(cfg, tasks, results, t_sine, t_division, t_tridiag, error, inv)
+        !> Validated input.
         type(input_config), intent(in) :: cfg
+        !> The task list, references computed.
         type(workprec_tasks), intent(in) :: tasks
+        !> Every task's values (`w_*`, tasks).
         real(wp), intent(in) :: results(:, :)
+        !> Seconds of N sines, N divisions and one tridiagonal solve (`measure_step_kernels`).
         real(wp), intent(in) :: t_sine, t_division, t_tridiag
+        !> Error, allocated when the file cannot be written.
         type(error_type), allocatable, intent(out) :: error
         !> How the engine was invoked (a merge records its parts).
         type(invocation_type), intent(in), optional :: inv
@@ -755,7 +290,9 @@ contains
 
     !> Progress line on stderr unless the output is quiet.
     subroutine progress(cfg, line)
+        !> The input (for the quiet flag).
         type(input_config), intent(in) :: cfg
+        !> Text.
         character(len=*), intent(in) :: line
 
         if (.not. cfg%output%quiet) write (error_unit, "(a)") printable(line)

@@ -1,0 +1,106 @@
+!> The check command (`supratrans --check FILE.nml...`, `supratrans_cli`): read and validate a namelist, its output's
+!> location included and whether that directory can be written (access(2)), run nothing, write nothing; for one
+!> file, what the run would need on stdout.
+module supratrans_cli_check
+    use, intrinsic :: iso_fortran_env, only: output_unit, int64
+    use supratrans_kinds, only: wp
+    use supratrans_strings, only: printable
+    use supratrans_error, only: error_type, fatal_error, err_io
+    use supratrans_config, only: input_config
+    use supratrans_system, only: path_kind, path_directory, path_missing, directory_writable
+    use supratrans_input, only: read_input
+    use supratrans_limits, only: run_memory_bytes
+    use supratrans_scene, only: scene_type, new_scene
+    use supratrans_cli_output, only: check_output_location
+    implicit none
+    private
+
+    public :: check_file
+
+contains
+
+    !> `--check`: read and validate the namelist (output location included), run nothing, write nothing.
+    subroutine check_file(path, status, error, report)
+        !> Namelist file.
+        character(len=*), intent(in) :: path
+        !> Exit status.
+        integer, intent(out) :: status
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        !> Print the output, overwrite and memory estimate (`check_report`) when the file is fine; default false.
+        logical, intent(in), optional :: report
+        type(input_config) :: cfg
+
+        status = 0
+        call read_input(path, cfg, error)
+        if (.not. allocated(error)) call check_output_location(cfg, error, create=.false.)
+        if (.not. allocated(error)) call check_output_writable(cfg, error)
+        if (allocated(error)) status = error%stat
+        if (.not. allocated(error) .and. present(report)) then
+            if (report) call check_report(cfg)
+        end if
+    end subroutine check_file
+
+    !> What `--check` of one file says on stdout, one "key value" a line, for scripts (input/slurm/submit.sh): the
+    !> output file (`output`), whether an existing one is replaced (`overwrite` 1/0), the scene (`scene`) and the
+    !> memory one run needs (`memory_per_thread_bytes`: its state, and for a timeseries its records; a scene's
+    !> threads each hold one run; with checkpoints on, the checkpoint's buffers too, `checkpoint_bytes`).
+    subroutine check_report(cfg)
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        real(wp) :: bytes, checkpoint
+        class(scene_type), allocatable :: scene
+        type(error_type), allocatable :: error
+        logical :: one_run
+
+        one_run = .false.
+        call new_scene(trim(cfg%scene%kind), scene, error)   ! validated: the kind is known
+        if (.not. allocated(error)) one_run = scene%one_run()
+        bytes = run_memory_bytes(cfg, one_run)   ! one run (a timeseries) holds its records too
+        ! a mid-run checkpoint assembles the run's state (its levels and records, at most what the run holds) in one
+        ! buffer and then the file's bytes in a second (supratrans_checkpoint); a resume reads it back the same way
+        checkpoint = 0.0_wp
+        if (cfg%output%checkpoint_every > 0.0_wp) checkpoint = 2.0_wp*bytes
+        write (output_unit, "(a)") "output " // printable(trim(cfg%output%file))
+        write (output_unit, "(a, i0)") "overwrite ", merge(1, 0, cfg%output%overwrite)
+        write (output_unit, "(a)") "scene " // trim(cfg%scene%kind)
+        write (output_unit, "(a, i0)") "memory_per_thread_bytes ", nint(min(bytes + checkpoint, 9.0e18_wp), int64)
+        write (output_unit, "(a, i0)") "checkpoint_bytes ", nint(min(checkpoint, 9.0e18_wp), int64)
+    end subroutine check_report
+
+    !> `--check`: whether the output could be created where it is named: the nearest directory of its path that
+    !> exists (the others would be made in it) must let this process create files, asked with access(2) W_OK | X_OK,
+    !> which also sees a read-only mount. Nothing is created. Status 4 (as the run itself would end) when not.
+    subroutine check_output_writable(cfg, error)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> Error (status 4), allocated when the directory cannot be written.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=:), allocatable :: file, dir, reason
+        integer :: k
+
+        file = trim(cfg%output%file)
+        k = index(file, "/", back=.true.)
+        dir = "."
+        if (k == 1) dir = "/"
+        if (k > 1) dir = file(1:k - 1)
+        do while (path_kind(dir) == path_missing .and. dir /= "." .and. dir /= "/")
+            k = index(dir, "/", back=.true.)
+            if (k == 0) then
+                dir = "."
+            else if (k == 1) then
+                dir = "/"
+            else
+                dir = dir(1:k - 1)
+            end if
+        end do
+        if (path_kind(dir) /= path_directory) then
+            call fatal_error(error, cfg%source // ": &output: file = '" // file // "': '" // dir // "' is not a " &
+                             // "directory", err_io)
+        else if (.not. directory_writable(dir, reason)) then
+            call fatal_error(error, cfg%source // ": &output: file = '" // file // "': cannot create files in " &
+                             // "directory '" // dir // "' (access(2) W_OK: " // reason // ")", err_io)
+        end if
+    end subroutine check_output_writable
+
+end module supratrans_cli_check
