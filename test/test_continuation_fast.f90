@@ -10,8 +10,9 @@ module test_continuation_fast
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
     use supratrans_config, only: run_config, method_newton, chain_params
-    use supratrans_fold_line, only: shortest_chain, chain_length_given, scheme_decay_rate, short_absorber_width, &
-                                    short_absorber_sigma, short_chain_decay
+    use supratrans_fold_line, only: shortest_chain, chain_length_given, scheme_decay_rate, short_width_per_sigma, &
+                                    short_absorber_sigma, short_chain_decay, harmonic_wavenumber, &
+                                    short_absorber_sigma_max, short_absorber_sigma_q
     use supratrans_period_map, only: period_map, period_map_init
     use supratrans_continuation
     use supratrans_floquet, only: crossing_name, track_multiplier, floquet_multipliers, crossing_none
@@ -39,7 +40,7 @@ contains
         run%numerics%method = method_newton
         run%numerics%dt = 0.05_wp
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 41, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 42, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4)
         call continue_branch(map, ctl, full)
@@ -48,51 +49,51 @@ contains
         call assertEqual( &
             cont_fold_found, &
             full%status, &
-            location=pf_source_location('test_continuation_fast.pf', 46, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 47, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             cont_fold_found, &
             fast%status, &
-            location=pf_source_location('test_continuation_fast.pf', 47, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 48, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%fold_amplitude, &
             fast%fold_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 48, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 49, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%instability_type, &
             fast%instability_type, &
             message=crossing_name(fast%instability_type), &
-            location=pf_source_location('test_continuation_fast.pf', 49, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 50, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             ieee_is_nan(fast%instability_amplitude), &
-            location=pf_source_location('test_continuation_fast.pf', 50, 'assertFalse'))
+            location=pf_source_location('test_continuation_fast.pf', 51, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%instability_amplitude, &
             fast%instability_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 51, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 52, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             fast%stats%eigen_calls, &
             full%stats%eigen_calls, &
-            location=pf_source_location('test_continuation_fast.pf', 52, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 53, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             any(fast%stable == -1), &
-            location=pf_source_location('test_continuation_fast.pf', 53, 'assertTrue'))
-        if (pf_any_failed()) return
-        call assertTrue( &
-            all(full%stable(1:full%fold_index - 1) == 1), &
             location=pf_source_location('test_continuation_fast.pf', 54, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
-            all(fast%stable(1:fast%fold_index - 1) /= 0), &
+            all(full%stable(1:full%fold_index - 1) == 1), &
             location=pf_source_location('test_continuation_fast.pf', 55, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            all(fast%stable(1:fast%fold_index - 1) /= 0), &
+            location=pf_source_location('test_continuation_fast.pf', 56, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_fast_floquet_same_verdicts
 
@@ -114,7 +115,7 @@ contains
         run%numerics%method = method_newton
         run%numerics%dt = 0.05_wp
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 76, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 77, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4)
         call continue_branch(map, ctl, full)
@@ -123,100 +124,108 @@ contains
         call assertEqual( &
             cont_fold_found, &
             alone%status, &
-            location=pf_source_location('test_continuation_fast.pf', 81, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 82, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%fold_amplitude, &
             alone%fold_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 82, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 83, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             alone%stats%eigen_calls, &
-            location=pf_source_location('test_continuation_fast.pf', 83, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 84, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             alone%stats%jacobian_evaluations, &
             full%stats%jacobian_evaluations, &
-            location=pf_source_location('test_continuation_fast.pf', 84, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 85, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             ieee_is_nan(alone%instability_amplitude), &
-            location=pf_source_location('test_continuation_fast.pf', 85, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 86, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             crossing_none, &
             alone%instability_type, &
-            location=pf_source_location('test_continuation_fast.pf', 86, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 87, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp, &
             alone%fold_multiplier, &
             1.0e-3_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 87, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 88, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(alone%stable(1:alone%fold_index - 1) == -1), &
-            location=pf_source_location('test_continuation_fast.pf', 88, 'assertTrue'))
-        if (pf_any_failed()) return
-        call assertTrue( &
-            all(alone%stable(alone%fold_index + 1:alone%n_points) == -1), &
             location=pf_source_location('test_continuation_fast.pf', 89, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
-            allocated(alone%spectra(alone%fold_index)%wr), &
+            all(alone%stable(alone%fold_index + 1:alone%n_points) == -1), &
             location=pf_source_location('test_continuation_fast.pf', 90, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            allocated(alone%spectra(alone%fold_index)%wr), &
+            location=pf_source_location('test_continuation_fast.pf', 91, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             4, &
             alone%points_beyond_fold, &
-            location=pf_source_location('test_continuation_fast.pf', 91, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 92, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_fold_alone
 
     !> The short chain: the input's chain length counts as given when &chain sets n, n0 or sigma (or the text is
-    !> empty); at Omega = 0.9, dt = 0.05 the short chain has N - N0 = short_absorber_width, the smooth absorber's
-    !> sigma, and the smallest N0 with lambda' N0 >= short_chain_decay, lambda' within 5e-3 (the scheme's O(dt^2))
-    !> of the continuum's arccosh(1 + (1 - Omega^2) / (2 c^2)); outside the gap (Omega = 1.2) and below the range
-    !> measured (Omega = 0.1) the chain is kept.
+    !> empty); at Omega = 0.9, dt = 0.05 the short chain has the smallest N0 with lambda' N0 >= short_chain_decay,
+    !> lambda' within 5e-3 (the scheme's O(dt^2)) of the continuum's arccosh(1 + (1 - Omega^2) / (2 c^2)), and the
+    !> least absorber (sigma 6 over 60 sites: 3 Omega = 2.7 has q = 0.638, sigma_q / q = 5.3); at Omega = 0.5 the
+    !> absorber's sigma is sigma_q / q of 3 Omega = 1.5 (q = 2 asin(sqrt(1.25) / 8) = 0.2805); at Omega = 0.1 the
+    !> lowest odd harmonic in the band, 11 Omega = 1.1, is long (q = 0.115) and sigma is at its cap, as at Omega = 0.2
+    !> where 5 Omega sits at the band edge (q = 0); outside the gap (Omega = 1.2) the chain is kept.
     ! @test
     subroutine test_short_chain()
         type(chain_params) :: chain, given
         character(len=*), parameter :: nl = new_line("a")
-        real(wp) :: lambda, dt_used
+        real(wp) :: lambda, dt_used, q
 
         call assertFalse( &
             chain_length_given("&chain" // nl // "  c = 4.0" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 105, 'assertFalse'))
+            location=pf_source_location('test_continuation_fast.pf', 108, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  n = 30" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 106, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 109, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  sigma = 3.0" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 107, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 110, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  n0 = 150" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 108, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 111, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given(""), &
-            location=pf_source_location('test_continuation_fast.pf', 109, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 112, 'assertTrue'))
         if (pf_any_failed()) return
         call shortest_chain(chain, 0.9_wp, 0.05_wp)
         call assertEqual( &
-            short_absorber_width, &
+            60, &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 111, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 114, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             short_absorber_sigma, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 112, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 115, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            2.0_wp*asin(sqrt(2.7_wp**2 - 1.0_wp)/8.0_wp), &
+            harmonic_wavenumber(chain, 0.9_wp), &
+            1.0e-12_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 116, 'assertEqual'))
         if (pf_any_failed()) return
         dt_used = 2.0_wp*acos(-1.0_wp)/0.9_wp/140.0_wp
         lambda = scheme_decay_rate(chain, 0.9_wp, dt_used)
@@ -224,31 +233,75 @@ contains
             acosh(1.0_wp + (1.0_wp - 0.81_wp)/32.0_wp), &
             lambda, &
             5.0e-3_wp*lambda, &
-            location=pf_source_location('test_continuation_fast.pf', 115, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 119, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             lambda*chain%n0, &
             short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 116, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 120, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             lambda*(chain%n0 - 1), &
             short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 117, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 121, 'assertLessThan'))
+        if (pf_any_failed()) return
+        chain = chain_params()
+        call shortest_chain(chain, 0.5_wp, 0.05_wp)
+        q = 2.0_wp*asin(sqrt(1.25_wp)/8.0_wp)
+        call assertEqual( &
+            short_absorber_sigma_q/q, &
+            chain%sigma, &
+            1.0e-12_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 125, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            ceiling(short_width_per_sigma*chain%sigma), &
+            chain%n - chain%n0, &
+            location=pf_source_location('test_continuation_fast.pf', 126, 'assertEqual'))
+        if (pf_any_failed()) return
+        chain = chain_params()
+        call shortest_chain(chain, 0.1_wp, 0.05_wp)
+        call assertEqual( &
+            2.0_wp*asin(sqrt(1.1_wp**2 - 1.0_wp)/8.0_wp), &
+            harmonic_wavenumber(chain, 0.1_wp), &
+            1.0e-12_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 129, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            short_absorber_sigma_max, &
+            chain%sigma, &
+            0.0_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 130, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            ceiling(short_width_per_sigma*short_absorber_sigma_max), &
+            chain%n - chain%n0, &
+            location=pf_source_location('test_continuation_fast.pf', 131, 'assertEqual'))
+        if (pf_any_failed()) return
+        chain = chain_params()
+        call shortest_chain(chain, 0.2_wp, 0.05_wp)          ! 5 Omega = 1: at the band edge
+        call assertEqual( &
+            0.0_wp, &
+            harmonic_wavenumber(chain, 0.2_wp), &
+            0.0_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 134, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            short_absorber_sigma_max, &
+            chain%sigma, &
+            0.0_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 135, 'assertEqual'))
         if (pf_any_failed()) return
         call shortest_chain(given, 1.2_wp, 0.05_wp)
-        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 119, 'assertEqual'))
+        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 137, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 120, 'assertEqual'))
-        if (pf_any_failed()) return
-        call shortest_chain(given, 0.1_wp, 0.05_wp)
-        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 122, 'assertEqual'))
+        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 138, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             3.0_wp, &
             given%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 123, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 139, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_short_chain
 
@@ -282,30 +335,30 @@ contains
         mu = exact + cmplx(1.0e-3_wp, -1.0e-3_wp, kind=wp)
         v = cmplx(1.0_wp, 0.5_wp, kind=wp)
         call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 156, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 172, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             abs(mu - exact), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 157, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 173, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp, &
             norm2(abs(v)), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 158, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 174, 'assertEqual'))
         if (pf_any_failed()) return
         mu = cmplx(-0.301_wp, 0.0_wp, kind=wp)
         v = cmplx(1.0_wp, 0.5_wp, kind=wp)
         call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 162, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 178, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             abs(mu - cmplx(-0.3_wp, 0.0_wp, kind=wp)), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 163, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 179, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_tracked_multiplier
 
@@ -332,42 +385,42 @@ contains
         run%numerics%method = method_newton
         run%numerics%dt = 0.05_wp
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 189, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 205, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4, floquet_every=4)
         call continue_branch(map, ctl, res)
         call assertEqual( &
             cont_fold_found, &
             res%status, &
-            location=pf_source_location('test_continuation_fast.pf', 192, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 208, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             res%stable(res%n_points) >= 0, &
             message="multipliers at the last point", &
-            location=pf_source_location('test_continuation_fast.pf', 193, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 209, 'assertTrue'))
         if (pf_any_failed()) return
         allocate (px(map%dim), jac(map%dim, map%dim))
         checked = 0
         do i = 1, res%n_points
             if (res%stable(i) < 0) cycle
             call branch_multipliers(map, res, i, wr, wi, info)
-            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 199, 'assertEqual'))
+            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 215, 'assertEqual'))
             if (pf_any_failed()) return
             call map%apply(res%states(:, i), res%amplitude(i), px, status, jac=jac)
             call floquet_multipliers(jac, fr, fi, info)
-            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 202, 'assertEqual'))
+            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 218, 'assertEqual'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(wr == fr) .and. all(wi == fi), &
                 message="kept multipliers = recomputed", &
-                location=pf_source_location('test_continuation_fast.pf', 203, 'assertTrue'))
+                location=pf_source_location('test_continuation_fast.pf', 219, 'assertTrue'))
             if (pf_any_failed()) return
             checked = checked + 1
         end do
         call assertGreaterThan( &
             checked, &
             3, &
-            location=pf_source_location('test_continuation_fast.pf', 206, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation_fast.pf', 222, 'assertGreaterThan'))
         if (pf_any_failed()) return
         allocate (x(map%dim))
         x = 0.0_wp
@@ -375,23 +428,23 @@ contains
         call assertEqual( &
             shoot_converged, &
             sres%status, &
-            location=pf_source_location('test_continuation_fast.pf', 210, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 226, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             sres%jacobians, &
-            location=pf_source_location('test_continuation_fast.pf', 211, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 227, 'assertEqual'))
         if (pf_any_failed()) return
         call shoot(map, x, 0.0_wp, shooting_controls(), sres, monodromy=jac)
         call assertEqual( &
             shoot_converged, &
             sres%status, &
-            location=pf_source_location('test_continuation_fast.pf', 213, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 229, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             sres%jacobians, &
-            location=pf_source_location('test_continuation_fast.pf', 214, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 230, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_kept_multipliers
 
