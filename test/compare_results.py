@@ -5,7 +5,7 @@
 
 Every `*.h5` file of BEFORE_DIR is matched by name in AFTER_DIR; every dataset of the first must exist in the second
 with the same shape and the same values (NaN equal to NaN, bit for bit otherwise). Timings are not results and are
-skipped: datasets whose path contains `wall_time`, `lower_bound` or `clock`, /provenance (how the file was
+skipped: datasets whose path contains `wall_time`, `cpu_time`, `lower_bound` or `clock`, /provenance (how the file was
 made, not what it holds) and /parameters/schema (the table of every key the input could have: it grows with each
 new key; the values of the keys are in /parameters' attributes) with its row axis /parameter (the keys' names). Datasets that only AFTER has are listed
 as added. Exit status 0 when everything compared is identical, 1 otherwise.
@@ -18,7 +18,7 @@ from pathlib import Path
 import h5py
 import numpy as np
 
-SKIP = ("wall_time", "lower_bound", "clock", "provenance", "parameters/schema")
+SKIP = ("wall_time", "cpu_time", "lower_bound", "clock", "provenance", "parameters/schema")
 SKIP_EXACT = ("parameter",)   # the row axis (dimension scale) of /parameters/schema: one entry per possible key
 
 

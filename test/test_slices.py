@@ -105,14 +105,14 @@ def lpt(costs, n):
 
 
 def test_slices_dealt_by_measured_costs(exe, tmp_path):
-    """--costs EARLIER.h5: the slices are dealt largest-first by the searches' wall times measured in an earlier
+    """--costs EARLIER.h5: the slices are dealt largest-first by the searches' processor times measured in an earlier
     output of the same study; the merged file is still the single machine's. An output of another study, or a file
     without costs, is refused in one line before any work."""
     (tmp_path / "study.nml").write_text(BIF)
     sh(exe, "study.nml", cwd=tmp_path)
     (tmp_path / "out" / "study.h5").rename(tmp_path / "whole.h5")
     with h5py.File(tmp_path / "whole.h5") as f:
-        wall = list(f["cost/wall_time"][()].ravel())      # (curve, omega): task order
+        wall = list(f["cost/cpu_time"][()].ravel())       # (curve, omega): task order
     owner = lpt(wall, 3)
     for i in (1, 2, 3):
         sh(exe, "study.nml", "--slice", f"{i}/3", "--costs", "whole.h5", cwd=tmp_path)

@@ -237,7 +237,7 @@ def test_array_and_merge_equal_the_single_machine_file(cluster, release_exe, tmp
     assert compared > 5 and not diffs, diffs
     assert len(list((tmp_path / "out").glob("study.part-*-of-3.h5"))) == 3
     with h5py.File(tmp_path / "whole.h5") as f:
-        owner = lpt(list(f["cost/wall_time"][()].ravel()), 3)
+        owner = lpt(list(f["cost/cpu_time"][()].ravel()), 3)
     for i in (1, 2, 3):
         with h5py.File(tmp_path / "out" / f"study.part-{i}-of-3.h5") as f:
             assert list(f["part/task"][()]) == [t + 1 for t in range(len(owner)) if owner[t] == i]

@@ -22,7 +22,7 @@
 !>    wall (and CPU) time of the slowest slice over the mean, the bound the largest task sets (its time over the
 !>    mean slice), and, from the same searches' measured times, what interleaved slices and a largest-first
 !>    assignment by the measured times would give (modelled). Then the same slices dealt by measured costs
-!>    (`--costs`: the searches' wall times of the first pass, merged into one earlier output), run and timed.
+!>    (`--costs`: the searches' processor times of the first pass, merged into one earlier output), run and timed.
 !> 6. With the argument `checkpoint` (only this): the cost of mid-run checkpoints (`bench_checkpoint`): one long
 !>    timeseries with checkpoints off, at the default interval and at a short one; the overhead at the default.
 !> Scene outputs go to the system's temporary directory and are deleted. With beta = 0 (the paper default) the
@@ -594,7 +594,7 @@ contains
 
         !$ call omp_set_num_threads(1)
         write (*, "(a)") "# slices by cost: " // input // ", each slice alone on one thread; ratio = slowest / mean"
-        write (*, "(a)") "# deal 'estimate': by the estimated costs; 'measured': --costs, by the searches' wall " &
+        write (*, "(a)") "# deal 'estimate': by the estimated costs; 'measured': --costs, by the searches' processor " &
             // "times of the first estimate pass (merged into " // earlier // ")"
         write (*, "(a6, 2x, a9, 2x, a10, 2x, a10, 2x, a10, 2x, a10, 2x, a12, 2x, a12, 2x, a12)") "slices", "deal", &
             "mean_s", "max_s", "wall_ratio", "cpu_ratio", "bound_1task", "interleaved", "lpt_modelled"
@@ -609,7 +609,7 @@ contains
 
     !> One pass of the slice benchmark: the `n` slices of `input`, dealt by the estimate (`costs` = "") or by the
     !> measured costs of the file `costs`; prints one row. With `keep`, the parts are merged into the file the
-    !> measured pass reads. `task_time`: the searches' measured times of this pass, by task index.
+    !> measured pass reads. `task_time`: the searches' measured processor times of this pass, by task index.
     subroutine slice_pass(input, n, costs, keep, task_time)
         character(len=*), intent(in) :: input, costs
         integer, intent(in) :: n
@@ -659,7 +659,7 @@ contains
             end if
             do j = 1, size(tasks)
                 record = from_values(values(:, j))
-                task_time(tasks(j)) = record%wall_time
+                task_time(tasks(j)) = record%cpu_time
             end do
             merge_args(i + 4) = part
         end do

@@ -86,6 +86,7 @@ SCHEMA: dict[str, dict[str, tuple[tuple[str, ...], bool]]] = {
         "threshold": _req("curve", "omega"), "threshold_As": _req("curve", "omega"), "status": _req("curve", "omega"),
         "curves/m2": _opt("curve"), "curves/band_gap_edge": _opt("curve"), "cost/runs": _opt("curve", "omega"),
         "cost/wall_time": _opt("curve", "omega"),
+        "cost/cpu_time": _opt("curve", "omega"),
     },
     "continuation": {
         "omega": _req("omega"), "curves/potential": _req("curve"), "curves/value": _req("curve"),

@@ -193,6 +193,15 @@ int supratrans_usable_cpus(void)
     return n > 0 ? (int)n : 1;
 }
 
+/* Processor time of the calling thread, in seconds (CLOCK_THREAD_CPUTIME_ID): what one task cost on its thread,
+   whatever else the machine runs; -1 when the clock is not available. */
+double supratrans_thread_cpu_seconds(void)
+{
+    struct timespec ts;
+    if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts) != 0) return -1.0;
+    return (double)ts.tv_sec + 1.0e-9 * (double)ts.tv_nsec;
+}
+
 /* 0 if this process may create files in directory `path` (access(2) with W_OK | X_OK: the permission bits, ACLs and
  * a read-only mount, EROFS, all count), otherwise errno. */
 int supratrans_directory_writable(const char *path)

@@ -12,8 +12,9 @@
 !> a predictable name is ever written through. `remove_stale_temporaries` deletes what a killed run left, only regular
 !> files of this user, and only under the output's lock.
 module supratrans_system
-    use, intrinsic :: iso_c_binding, only: c_char, c_int, c_long_long, c_null_char
+    use, intrinsic :: iso_c_binding, only: c_char, c_int, c_long_long, c_null_char, c_double
     use supratrans_error, only: error_type, fatal_error, err_io
+    use supratrans_kinds, only: wp
     implicit none
     private
 
@@ -21,7 +22,7 @@ module supratrans_system
     public :: lock_file, unlock_file, catch_stop_signals, ignore_file_size_signal, stop_signal, same_file, append_bytes, link_kind
     public :: temp_name, write_file_atomic, write_bytes_atomic, commit_file, remove_stale_temporaries, os_error_text, &
         disable_hdf5_locking
-    public :: directory_writable, usable_cpus, note_out_of_memory, out_of_memory
+    public :: directory_writable, usable_cpus, note_out_of_memory, out_of_memory, thread_cpu_seconds
 
     !> `path_kind`: nothing at that path.
     integer, parameter, public :: path_missing = 0
@@ -149,6 +150,10 @@ module supratrans_system
             import :: c_int
             integer(c_int) :: n
         end function c_usable_cpus
+        function c_thread_cpu_seconds() bind(c, name="supratrans_thread_cpu_seconds") result(seconds)
+            import :: c_double
+            real(c_double) :: seconds
+        end function c_thread_cpu_seconds
         function c_same_file(a, b) bind(c, name="supratrans_same_file") result(same)
             import :: c_char, c_int
             character(kind=c_char), intent(in) :: a(*), b(*)
@@ -480,5 +485,14 @@ contains
 
         n = max(1, int(c_usable_cpus()))
     end function usable_cpus
+
+    !> Processor time of the calling thread so far (s): differences of two calls on one thread are what the work
+    !> between them cost, unlike wall time also on a machine that other processes share; -1 where the clock is
+    !> not available.
+    function thread_cpu_seconds() result(seconds)
+        real(wp) :: seconds
+
+        seconds = real(c_thread_cpu_seconds(), wp)
+    end function thread_cpu_seconds
 
 end module supratrans_system

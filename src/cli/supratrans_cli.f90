@@ -55,7 +55,7 @@ module supratrans_cli
         "  --slice I/N           run only slice I of N of the scene's tasks (largest-first by cost), write" // new_line("a") // &
         "                        <output stem>.part-I-of-N.h5; for Slurm job arrays (input/slurm/)" // new_line("a") // &
         "    --costs FILE        deal the slices by the task costs measured in FILE, an earlier output of" // new_line("a") // &
-        "                        the same study (bifurcation: /cost/wall_time), not by the estimate" // new_line("a") // &
+        "                        the same study (bifurcation: /cost/cpu_time), not by the estimate" // new_line("a") // &
         "  merge PART...         join the part files of every slice into the scene's ordinary output" // new_line("a") // &
         "    --partial           accept missing slices: write <output>.partial.h5 from what is there" // new_line("a") // &
         "    -o OUT              output file (default: the parts' name without .part-I-of-N)" // new_line("a") // &

@@ -160,7 +160,7 @@ module supratrans_scene_bifurcation
         end subroutine write_bifurcation_file
 
         !> The measured cost of every search in `path`, an earlier output (or merged file) of the same study: its
-        !> `/cost/wall_time` (curve, omega), by task index. The file must be a bifurcation output with the same
+        !> `/cost/cpu_time` (curve, omega), by task index. The file must be a bifurcation output with the same
         !> frequencies (`/omega`) and curves (`/curves/gamma`, `beta`, `m2`), else it is refused in one line.
         module subroutine search_measured_costs(self, path, costs, error)
             !> The tasks.

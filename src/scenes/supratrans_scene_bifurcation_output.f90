@@ -9,7 +9,7 @@ submodule(supratrans_scene_bifurcation) supratrans_scene_bifurcation_output
     use supratrans_threshold, only: search_status_codes
     use supratrans_search_record, only: to_values, certify_status_codes
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group, h5_open, &
-                               h5_close, h5_read, h5_read_attr
+                               h5_close, h5_read, h5_read_attr, h5_exists
     use supratrans_output, only: write_root, write_parameters
     use supratrans_bifurcation_runs, only: with_omega
     implicit none
@@ -107,6 +107,8 @@ contains
             "Time steps taken by all the search's simulations (transmitting runs stop when decided)", dims=dims)
         call h5_write(file, "/cost/wall_time", field_grid(vals, "wall_time", nomega), &
             "s", "Wall-clock time of the search (one thread)", dims=dims)
+        call h5_write(file, "/cost/cpu_time", field_grid(vals, "cpu_time", nomega), "s", "Processor time of the " &
+            // "search's thread: its cost whatever else the machine ran (--costs deals slices by it)", dims=dims)
         if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
         call h5_write(file, "/detector_site", nd, "1", &
             "Detector site n_d of the verdict (a run transmits once |u_n| > detect amplitude for some n > n_d)", &
@@ -121,14 +123,15 @@ contains
     end subroutine write_bifurcation_file
 
     !> The measured cost of every search in `path`, an earlier output (or merged file) of the same study: its
-    !> `/cost/wall_time` (curve, omega), by task index. The file must be a bifurcation output with the same
+    !> `/cost/cpu_time` (curve, omega), by task index (`/cost/wall_time` in a file written before it was recorded):
+    !> the processor time of a search repeats from run to run on a shared machine, its wall time does not. The file must be a bifurcation output with the same
     !> frequencies (`/omega`) and curves (`/curves/gamma`, `beta`, `m2`), else it is refused in one line.
     module subroutine search_measured_costs(self, path, costs, error)
         !> The tasks.
         class(bifurcation_tasks), intent(in) :: self
         !> The earlier output.
         character(len=*), intent(in) :: path
-        !> Measured wall time of each search (s), by task index.
+        !> Measured processor time (or wall time) of each search (s), by task index.
         real(wp), allocatable, intent(out) :: costs(:)
         !> Error: unreadable, of another study, or without costs.
         type(error_type), allocatable, intent(out) :: error
@@ -163,9 +166,13 @@ contains
             end if
         end if
         if (.not. allocated(cause) .and. .not. allocated(error)) then
-            call h5_read(file, "/cost/wall_time", grid, cause)
+            if (h5_exists(file, "/cost/cpu_time")) then
+                call h5_read(file, "/cost/cpu_time", grid, cause)
+            else
+                call h5_read(file, "/cost/wall_time", grid, cause)
+            end if
             if (allocated(cause)) call fatal_error(error, "--costs " // printable(path) // ": lacks the searches' " &
-                                                   // "measured costs (/cost/wall_time)", err_input)
+                                                   // "measured costs (/cost/cpu_time)", err_input)
         end if
         call h5_close(file, ignored)
         if (allocated(error)) return

@@ -11,6 +11,7 @@ submodule(supratrans_scene_bifurcation) supratrans_scene_bifurcation_search
     use supratrans_tasks, only: run_work
     use supratrans_checkpoint, only: checkpoint_session, open_session, close_session
     use supratrans_bifurcation_runs, only: simulation_oracle
+    use supratrans_system, only: thread_cpu_seconds
     implicit none
 
 contains
@@ -29,10 +30,11 @@ contains
         type(checkpoint_session), target :: session
         integer :: icurve, iomega, nomega
         integer(i8) :: clock_start, clock_end, clock_rate
-        real(wp) :: omega, nan
+        real(wp) :: omega, nan, cpu_start
         character(len=24) :: task_text
 
         call system_clock(clock_start, clock_rate)
+        cpu_start = thread_cpu_seconds()
         nan = ieee_value(nan, ieee_quiet_nan)
         nomega = size(self%omegas)
         icurve = (index - 1)/nomega + 1
@@ -95,6 +97,7 @@ contains
         call close_session(session)
         call system_clock(clock_end)
         r%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+        r%cpu_time = thread_cpu_seconds() - cpu_start
         values = to_values(r)
         if (r%status == search_failed .and. .not. self%cfg%output%quiet) then
             ! text only inside the critical section: deferred-length results are not thread-safe in gfortran 12

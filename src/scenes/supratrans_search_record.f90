@@ -57,13 +57,15 @@ module supratrans_search_record
         integer :: certify_runs = 0
         !> Their time steps.
         integer(i8) :: certify_steps = 0_i8
+        !> Processor time of the search's thread (s): its cost on any machine, shared or not (`--costs` deals by it).
+        real(wp) :: cpu_time = 0.0_wp
     end type search_record
 
     !> Names of the record's fields, in the order of `to_values` (the journal header lists them).
     character(len=*), parameter :: search_fields(*) = [character(len=21) :: "threshold", "threshold_as", "status", &
         "runs", "steps", "wall_time", "runs_screened", "runs_confirmed", "runs_doubtful", "steps_screened", &
         "steps_confirmed", "screen_threshold", "band_low", "band_high", "rounds", "disagreements", "farthest_disagreement", &
-        "certified_threshold", "certify_status", "certify_runs", "certify_steps"]
+        "certified_threshold", "certify_status", "certify_runs", "certify_steps", "cpu_time"]
 
 contains
 
@@ -77,7 +79,7 @@ contains
                   real(r%runs_screened, wp), real(r%runs_confirmed, wp), real(r%runs_doubtful, wp), &
                   real(r%steps_screened, wp), real(r%steps_confirmed, wp), r%screen_threshold, r%band_low, r%band_high, &
                   real(r%rounds, wp), real(r%disagreements, wp), r%farthest_disagreement, r%certified_threshold, &
-                  real(r%certify_status, wp), real(r%certify_runs, wp), real(r%certify_steps, wp)]
+                  real(r%certify_status, wp), real(r%certify_runs, wp), real(r%certify_steps, wp), r%cpu_time]
     end function to_values
 
     !> The record from values in the order of `search_fields`.
@@ -107,6 +109,7 @@ contains
         r%certify_status = nint(values(19))
         r%certify_runs = nint(values(20))
         r%certify_steps = nint(values(21), i8)
+        r%cpu_time = values(22)
     end function from_values
 
 
