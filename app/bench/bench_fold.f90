@@ -76,7 +76,8 @@ contains
         sc = scene_params(amplitude_max=sc%amplitude_max, continuation_points=sc%continuation_points)
         sc%floquet_every = 4
         call shortest_chain(frun%chain, frun%drive%omega, frun%numerics%dt)
-        write (*, "(a)") "# the short chain of fold lines (N0 = ceil(7 / lambda'), smooth absorber of 60 sites, sigma 6)"
+        write (*, "(a)") "# the short chain of fold lines (N0 = ceil(7 / lambda'), absorber sigma 3.4 / q in 6 .. 20 " &
+            // "over 10 sigma sites)"
         call fold_row(frun, sc, cpu(1))
         if (paper_grid) then
             call fold_line_against_scan(0.05_wp, 0.99_wp, 0.01_wp, "floquet_every = 4")

@@ -12,7 +12,7 @@ module supratrans_fold_record
     implicit none
     private
 
-    public :: fold_fields, fold_to_values, fold_from_values, empty_fold_record
+    public :: fold_fields, fold_to_values, fold_from_values, empty_fold_record, add_fold_cost
 
     !> Quantities recorded at each branch point, in this order (`fold_record%branch` rows, `/branch/<name>`).
     character(len=*), parameter, public :: branch_quantities(*) = [character(len=17) :: "amplitude", "umax", &
@@ -252,5 +252,23 @@ contains
             r%multiplier_amplitude(s) = v(i)
         end do
     end function fold_from_values
+
+    !> Add the cost counters of another record (a convergence check's) to a task's record.
+    pure subroutine add_fold_cost(r, check)
+        !> The task's record.
+        type(fold_record), intent(inout) :: r
+        !> The check's record.
+        type(fold_record), intent(in) :: check
+
+        r%newton_iterations = r%newton_iterations + check%newton_iterations
+        r%map_evaluations = r%map_evaluations + check%map_evaluations
+        r%jacobians = r%jacobians + check%jacobians
+        r%factorizations = r%factorizations + check%factorizations
+        r%eigen_calls = r%eigen_calls + check%eigen_calls
+        r%time_map = r%time_map + check%time_map
+        r%time_tangent = r%time_tangent + check%time_tangent
+        r%time_lu = r%time_lu + check%time_lu
+        r%time_eigen = r%time_eigen + check%time_eigen
+    end subroutine add_fold_cost
 
 end module supratrans_fold_record

@@ -31,7 +31,7 @@ module supratrans_scene_continuation
     use supratrans_potential, only: potential_name
     use supratrans_status, only: status_outside_gap, status_not_run
     use supratrans_fold_record, only: fold_record, fold_fields, fold_to_values, fold_from_values, empty_fold_record, &
-                                      branch_quantities, kept_multipliers, multiplier_samples
+                                      branch_quantities, kept_multipliers, multiplier_samples, add_fold_cost
     use supratrans_fold_line, only: trace_fold, fold_status_codes, instability_type_codes, fold_found, &
                                     shortest_chain, chain_length_given, fate_codes, &
                                     transmission_status_codes
@@ -205,14 +205,14 @@ contains
             check = empty_fold_record(self%cfg%scene%continuation_points)
             call trace_fold(other, fold_alone, check, .false., fate=.false.)
             r%fold_half_dt = check%fold_amplitude
-            call add_cost(r, check)
+            call add_fold_cost(r, check)
             other = run
             other%chain%n0 = run%chain%n0 + run%chain%n
             other%chain%n = 2*run%chain%n
             check = empty_fold_record(self%cfg%scene%continuation_points)
             call trace_fold(other, fold_alone, check, .false., fate=.false.)
             r%fold_long_chain = check%fold_amplitude
-            call add_cost(r, check)
+            call add_fold_cost(r, check)
             p = method_order(run%numerics%method)
             r%richardson = r%fold_half_dt + (r%fold_half_dt - r%fold_amplitude)/real(2**p - 1, wp)
             r%error_estimate = max(abs(r%fold_half_dt - r%fold_amplitude)/real(2**p - 1, wp), &
@@ -226,24 +226,6 @@ contains
         r%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
         values = fold_to_values(r)
     end subroutine run_fold_task
-
-    !> Add the cost counters of a convergence check to the task's record.
-    pure subroutine add_cost(r, check)
-        !> The task's record.
-        type(fold_record), intent(inout) :: r
-        !> The check's record.
-        type(fold_record), intent(in) :: check
-
-        r%newton_iterations = r%newton_iterations + check%newton_iterations
-        r%map_evaluations = r%map_evaluations + check%map_evaluations
-        r%jacobians = r%jacobians + check%jacobians
-        r%factorizations = r%factorizations + check%factorizations
-        r%eigen_calls = r%eigen_calls + check%eigen_calls
-        r%time_map = r%time_map + check%time_map
-        r%time_tangent = r%time_tangent + check%time_tangent
-        r%time_lu = r%time_lu + check%time_lu
-        r%time_eigen = r%time_eigen + check%time_eigen
-    end subroutine add_cost
 
     !> Order of accuracy in dt of a method (2 for the paper's schemes).
     pure function method_order(method) result(p)
