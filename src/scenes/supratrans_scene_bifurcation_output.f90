@@ -124,8 +124,9 @@ contains
 
     !> The measured cost of every search in `path`, an earlier output (or merged file) of the same study: its
     !> `/cost/cpu_time` (curve, omega), by task index (`/cost/wall_time` in a file written before it was recorded):
-    !> the processor time of a search repeats from run to run on a shared machine, its wall time does not. The file must be a bifurcation output with the same
-    !> frequencies (`/omega`) and curves (`/curves/gamma`, `beta`, `m2`), else it is refused in one line.
+    !> the processor time of a search repeats from run to run on a shared machine, its wall time does not. The file
+    !> must be a bifurcation output with the same frequencies (`/omega`) and curves (`/curves/gamma`, `beta`, `m2`),
+    !> else it is refused in one line.
     module subroutine search_measured_costs(self, path, costs, error)
         !> The tasks.
         class(bifurcation_tasks), intent(in) :: self
