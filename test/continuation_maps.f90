@@ -14,6 +14,7 @@
 !>   the circle only up to roundoff.
 module continuation_maps
     use supratrans_kinds, only: wp
+    use supratrans_config, only: run_config, method_newton
     use supratrans_fixed_point_map, only: fixed_point_map, map_ok, map_failed
     implicit none
     private
@@ -44,7 +45,7 @@ module continuation_maps
         procedure :: apply => model_apply
     end type model_map
 
-    public :: new_model_map
+    public :: new_model_map, short_test_chain
 
 contains
 
@@ -179,5 +180,18 @@ contains
         if (present(jac)) jac = matmul(q, matmul(jz, q))
         if (present(dpda)) dpda = self%h*q(:, 1)
     end subroutine crowded_apply
+
+    !> The physics run of the continuation tests on the paper's chain, made short: undamped sine-Gordon, Omega = 0.9,
+    !> c = 4, dt ~ 0.05 (newton), N = 40 with the absorber on N0 = 20 < n <= 40, the drive at full amplitude (no ramp).
+    pure function short_test_chain() result(run)
+        type(run_config) :: run
+
+        run%chain%n = 40
+        run%chain%n0 = 20
+        run%drive%omega = 0.9_wp
+        run%drive%ramp_time = 0.0_wp
+        run%numerics%method = method_newton
+        run%numerics%dt = 0.05_wp
+    end function short_test_chain
 
 end module continuation_maps

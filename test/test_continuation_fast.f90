@@ -9,11 +9,12 @@ module test_continuation_fast
     use pf_runtime
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
-    use supratrans_config, only: run_config, method_newton, chain_params
+    use supratrans_config, only: run_config, chain_params
     use supratrans_fold_line, only: shortest_chain, chain_length_given, scheme_decay_rate, short_width_per_sigma, &
                                     short_absorber_sigma, short_chain_decay, harmonic_wavenumber, &
                                     short_absorber_sigma_max, short_absorber_sigma_q
     use supratrans_period_map, only: period_map, period_map_init
+    use continuation_maps, only: short_test_chain
     use supratrans_continuation
     use supratrans_floquet, only: crossing_name, track_multiplier, floquet_multipliers, crossing_none
     use supratrans_shooting, only: shoot, shooting_controls, shooting_result, shoot_converged
@@ -33,14 +34,9 @@ contains
         type(continuation_controls) :: ctl
         type(continuation_result) :: full, fast
 
-        run%chain%n = 40
-        run%chain%n0 = 20
-        run%drive%omega = 0.9_wp
-        run%drive%ramp_time = 0.0_wp
-        run%numerics%method = method_newton
-        run%numerics%dt = 0.05_wp
+        run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 42, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 38, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4)
         call continue_branch(map, ctl, full)
@@ -49,51 +45,51 @@ contains
         call assertEqual( &
             cont_fold_found, &
             full%status, &
-            location=pf_source_location('test_continuation_fast.pf', 47, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 43, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             cont_fold_found, &
             fast%status, &
-            location=pf_source_location('test_continuation_fast.pf', 48, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 44, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%fold_amplitude, &
             fast%fold_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 49, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 45, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%instability_type, &
             fast%instability_type, &
             message=crossing_name(fast%instability_type), &
-            location=pf_source_location('test_continuation_fast.pf', 50, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 46, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             ieee_is_nan(fast%instability_amplitude), &
-            location=pf_source_location('test_continuation_fast.pf', 51, 'assertFalse'))
+            location=pf_source_location('test_continuation_fast.pf', 47, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%instability_amplitude, &
             fast%instability_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 52, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 48, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             fast%stats%eigen_calls, &
             full%stats%eigen_calls, &
-            location=pf_source_location('test_continuation_fast.pf', 53, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 49, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             any(fast%stable == -1), &
-            location=pf_source_location('test_continuation_fast.pf', 54, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 50, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(full%stable(1:full%fold_index - 1) == 1), &
-            location=pf_source_location('test_continuation_fast.pf', 55, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 51, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(fast%stable(1:fast%fold_index - 1) /= 0), &
-            location=pf_source_location('test_continuation_fast.pf', 56, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 52, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_fast_floquet_same_verdicts
 
@@ -108,14 +104,9 @@ contains
         type(continuation_controls) :: ctl
         type(continuation_result) :: full, alone
 
-        run%chain%n = 40
-        run%chain%n0 = 20
-        run%drive%omega = 0.9_wp
-        run%drive%ramp_time = 0.0_wp
-        run%numerics%method = method_newton
-        run%numerics%dt = 0.05_wp
+        run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 77, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 68, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4)
         call continue_branch(map, ctl, full)
@@ -124,55 +115,55 @@ contains
         call assertEqual( &
             cont_fold_found, &
             alone%status, &
-            location=pf_source_location('test_continuation_fast.pf', 82, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 73, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%fold_amplitude, &
             alone%fold_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 83, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 74, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             alone%stats%eigen_calls, &
-            location=pf_source_location('test_continuation_fast.pf', 84, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 75, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             alone%stats%jacobian_evaluations, &
             full%stats%jacobian_evaluations, &
-            location=pf_source_location('test_continuation_fast.pf', 85, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 76, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             ieee_is_nan(alone%instability_amplitude), &
-            location=pf_source_location('test_continuation_fast.pf', 86, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 77, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             crossing_none, &
             alone%instability_type, &
-            location=pf_source_location('test_continuation_fast.pf', 87, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 78, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp, &
             alone%fold_multiplier, &
             1.0e-3_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 88, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 79, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(alone%stable(1:alone%fold_index - 1) == -1), &
-            location=pf_source_location('test_continuation_fast.pf', 89, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 80, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(alone%stable(alone%fold_index + 1:alone%n_points) == -1), &
-            location=pf_source_location('test_continuation_fast.pf', 90, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 81, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             allocated(alone%spectra(alone%fold_index)%wr), &
-            location=pf_source_location('test_continuation_fast.pf', 91, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 82, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             4, &
             alone%points_beyond_fold, &
-            location=pf_source_location('test_continuation_fast.pf', 92, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 83, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_fold_alone
 
@@ -191,41 +182,41 @@ contains
 
         call assertFalse( &
             chain_length_given("&chain" // nl // "  c = 4.0" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 108, 'assertFalse'))
+            location=pf_source_location('test_continuation_fast.pf', 99, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  n = 30" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 109, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 100, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  sigma = 3.0" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 110, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 101, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  n0 = 150" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 111, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 102, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given(""), &
-            location=pf_source_location('test_continuation_fast.pf', 112, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 103, 'assertTrue'))
         if (pf_any_failed()) return
         call shortest_chain(chain, 0.9_wp, 0.05_wp)
         call assertEqual( &
             60, &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 114, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 105, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             short_absorber_sigma, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 115, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 106, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             2.0_wp*asin(sqrt(2.7_wp**2 - 1.0_wp)/8.0_wp), &
             harmonic_wavenumber(chain, 0.9_wp), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 116, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 107, 'assertEqual'))
         if (pf_any_failed()) return
         dt_used = 2.0_wp*acos(-1.0_wp)/0.9_wp/140.0_wp
         lambda = scheme_decay_rate(chain, 0.9_wp, dt_used)
@@ -233,17 +224,17 @@ contains
             acosh(1.0_wp + (1.0_wp - 0.81_wp)/32.0_wp), &
             lambda, &
             5.0e-3_wp*lambda, &
-            location=pf_source_location('test_continuation_fast.pf', 119, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 110, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             lambda*chain%n0, &
             short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 120, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 111, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             lambda*(chain%n0 - 1), &
             short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 121, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 112, 'assertLessThan'))
         if (pf_any_failed()) return
         chain = chain_params()
         call shortest_chain(chain, 0.5_wp, 0.05_wp)
@@ -252,12 +243,12 @@ contains
             short_absorber_sigma_q/q, &
             chain%sigma, &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 125, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 116, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             ceiling(short_width_per_sigma*chain%sigma), &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 126, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 117, 'assertEqual'))
         if (pf_any_failed()) return
         chain = chain_params()
         call shortest_chain(chain, 0.1_wp, 0.05_wp)
@@ -265,18 +256,18 @@ contains
             2.0_wp*asin(sqrt(1.1_wp**2 - 1.0_wp)/8.0_wp), &
             harmonic_wavenumber(chain, 0.1_wp), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 129, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 120, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             short_absorber_sigma_max, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 130, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 121, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             ceiling(short_width_per_sigma*short_absorber_sigma_max), &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 131, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 122, 'assertEqual'))
         if (pf_any_failed()) return
         chain = chain_params()
         call shortest_chain(chain, 0.2_wp, 0.05_wp)          ! 5 Omega = 1: at the band edge
@@ -284,24 +275,24 @@ contains
             0.0_wp, &
             harmonic_wavenumber(chain, 0.2_wp), &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 134, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 125, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             short_absorber_sigma_max, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 135, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 126, 'assertEqual'))
         if (pf_any_failed()) return
         call shortest_chain(given, 1.2_wp, 0.05_wp)
-        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 137, 'assertEqual'))
+        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 128, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 138, 'assertEqual'))
+        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 129, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             3.0_wp, &
             given%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 139, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 130, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_short_chain
 
@@ -335,30 +326,30 @@ contains
         mu = exact + cmplx(1.0e-3_wp, -1.0e-3_wp, kind=wp)
         v = cmplx(1.0_wp, 0.5_wp, kind=wp)
         call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 172, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 163, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             abs(mu - exact), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 173, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 164, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp, &
             norm2(abs(v)), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 174, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 165, 'assertEqual'))
         if (pf_any_failed()) return
         mu = cmplx(-0.301_wp, 0.0_wp, kind=wp)
         v = cmplx(1.0_wp, 0.5_wp, kind=wp)
         call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 178, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 169, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             abs(mu - cmplx(-0.3_wp, 0.0_wp, kind=wp)), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 179, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 170, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_tracked_multiplier
 
@@ -378,49 +369,44 @@ contains
         real(wp), allocatable :: wr(:), wi(:), fr(:), fi(:), px(:), jac(:, :), x(:)
         integer :: i, info, status, checked
 
-        run%chain%n = 40
-        run%chain%n0 = 20
-        run%drive%omega = 0.9_wp
-        run%drive%ramp_time = 0.0_wp
-        run%numerics%method = method_newton
-        run%numerics%dt = 0.05_wp
+        run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 205, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 191, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4, floquet_every=4)
         call continue_branch(map, ctl, res)
         call assertEqual( &
             cont_fold_found, &
             res%status, &
-            location=pf_source_location('test_continuation_fast.pf', 208, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 194, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             res%stable(res%n_points) >= 0, &
             message="multipliers at the last point", &
-            location=pf_source_location('test_continuation_fast.pf', 209, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 195, 'assertTrue'))
         if (pf_any_failed()) return
         allocate (px(map%dim), jac(map%dim, map%dim))
         checked = 0
         do i = 1, res%n_points
             if (res%stable(i) < 0) cycle
             call branch_multipliers(map, res, i, wr, wi, info)
-            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 215, 'assertEqual'))
+            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 201, 'assertEqual'))
             if (pf_any_failed()) return
             call map%apply(res%states(:, i), res%amplitude(i), px, status, jac=jac)
             call floquet_multipliers(jac, fr, fi, info)
-            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 218, 'assertEqual'))
+            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 204, 'assertEqual'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(wr == fr) .and. all(wi == fi), &
                 message="kept multipliers = recomputed", &
-                location=pf_source_location('test_continuation_fast.pf', 219, 'assertTrue'))
+                location=pf_source_location('test_continuation_fast.pf', 205, 'assertTrue'))
             if (pf_any_failed()) return
             checked = checked + 1
         end do
         call assertGreaterThan( &
             checked, &
             3, &
-            location=pf_source_location('test_continuation_fast.pf', 222, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation_fast.pf', 208, 'assertGreaterThan'))
         if (pf_any_failed()) return
         allocate (x(map%dim))
         x = 0.0_wp
@@ -428,23 +414,23 @@ contains
         call assertEqual( &
             shoot_converged, &
             sres%status, &
-            location=pf_source_location('test_continuation_fast.pf', 226, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 212, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             sres%jacobians, &
-            location=pf_source_location('test_continuation_fast.pf', 227, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 213, 'assertEqual'))
         if (pf_any_failed()) return
         call shoot(map, x, 0.0_wp, shooting_controls(), sres, monodromy=jac)
         call assertEqual( &
             shoot_converged, &
             sres%status, &
-            location=pf_source_location('test_continuation_fast.pf', 229, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 215, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             sres%jacobians, &
-            location=pf_source_location('test_continuation_fast.pf', 230, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 216, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_kept_multipliers
 

@@ -6,9 +6,10 @@ module test_fold_fate
     use pf_runtime
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
-    use supratrans_config, only: run_config, method_newton
+    use supratrans_config, only: run_config
     use supratrans_fold_line, only: fold_fate, fate_transmits, fate_localized, fate_push, fate_watch_time, fate_codes
     use supratrans_period_map, only: period_map, period_map_init
+    use continuation_maps, only: short_test_chain
     use supratrans_continuation, only: continue_branch, continuation_controls, continuation_result, cont_fold_found
     implicit none
 
@@ -27,55 +28,50 @@ contains
         integer :: fate, below
         real(wp) :: time
 
-        run%chain%n = 40
-        run%chain%n0 = 20
-        run%drive%omega = 0.9_wp
-        run%drive%ramp_time = 0.0_wp
-        run%numerics%method = method_newton
-        run%numerics%dt = 0.05_wp
+        run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 36, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 32, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=1, floquet_every=8)
         call continue_branch(map, ctl, res)
         call assertEqual( &
             cont_fold_found, &
             res%status, &
-            location=pf_source_location('test_fold_fate.pf', 39, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 35, 'assertEqual'))
         if (pf_any_failed()) return
 
         call fold_fate(map, run, res%states(:, res%fold_index), res%fold_amplitude*(1.0_wp + fate_push), fate, time)
-        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 42, 'assertEqual'))
+        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 38, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             time, &
             fate_watch_time, &
-            location=pf_source_location('test_fold_fate.pf', 43, 'assertLessThan'))
+            location=pf_source_location('test_fold_fate.pf', 39, 'assertLessThan'))
         if (pf_any_failed()) return
-        call assertGreaterThan(time, 0.0_wp, location=pf_source_location('test_fold_fate.pf', 44, 'assertGreaterThan'))
+        call assertGreaterThan(time, 0.0_wp, location=pf_source_location('test_fold_fate.pf', 40, 'assertGreaterThan'))
         if (pf_any_failed()) return
 
         below = minloc(abs(res%amplitude(1:res%fold_index) - 0.8_wp*res%fold_amplitude), dim=1)
         call assertLessThan( &
             res%amplitude(below), &
             0.9_wp*res%fold_amplitude, &
-            location=pf_source_location('test_fold_fate.pf', 47, 'assertLessThan'))
+            location=pf_source_location('test_fold_fate.pf', 43, 'assertLessThan'))
         if (pf_any_failed()) return
         call fold_fate(map, run, res%states(:, below), res%amplitude(below), fate, time)
-        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 49, 'assertEqual'))
+        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 45, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             time, &
             fate_watch_time, &
-            location=pf_source_location('test_fold_fate.pf', 50, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_fold_fate.pf', 46, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(fate_codes(), "transmits") > 0, &
-            location=pf_source_location('test_fold_fate.pf', 51, 'assertTrue'))
+            location=pf_source_location('test_fold_fate.pf', 47, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(fate_codes(), "localized") > 0, &
-            location=pf_source_location('test_fold_fate.pf', 52, 'assertTrue'))
+            location=pf_source_location('test_fold_fate.pf', 48, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_fold_transmits_and_stable_state_stays
 
