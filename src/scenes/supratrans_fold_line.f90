@@ -457,15 +457,14 @@ contains
         type(chain_params), intent(in) :: chain
         !> Driving frequency Omega (inside the gap).
         real(wp), intent(in) :: omega
-        real(wp) :: w2, edge
-        integer :: k
+        real(wp) :: w2, edge, k
 
         q = -1.0_wp
         edge = 1.0_wp + chain%m2
-        k = 3
-        do while ((k*omega)**2 <= edge*(1.0_wp - band_edge_margin))
-            k = k + 2
-        end do
+        ! the smallest odd k >= 3 with (k Omega)^2 > edge (1 - band_edge_margin), in reals (no loop, no overflow)
+        k = sqrt(max(edge*(1.0_wp - band_edge_margin), 0.0_wp))/omega
+        k = max(3.0_wp, 2.0_wp*real(floor((k - 1.0_wp)/2.0_wp), wp) + 3.0_wp)
+        if ((k*omega)**2 <= edge*(1.0_wp - band_edge_margin)) k = k + 2.0_wp
         w2 = (k*omega)**2
         if (w2 >= edge + 4.0_wp*chain%c**2) return
         q = 0.0_wp
