@@ -144,22 +144,12 @@ contains
         !> The bound.
         character(len=*), intent(in) :: bound
         real(wp) :: limit
-        integer :: blank
 
         meets = .true.
         if (len_trim(bound) == 0) return
-        blank = index(bound, " ")
-        read (bound(blank + 1:), *) limit
-        select case (bound(1:blank - 1))
-        case (">")
-            meets = x > limit
-        case (">=")
-            meets = x >= limit
-        case ("<")
-            meets = x < limit
-        case default
-            meets = x <= limit
-        end select
+        read (bound(index(bound, " ") + 1:), *) limit
+        meets = (bound(1:1) == ">" .and. x > limit) .or. (bound(1:1) == "<" .and. x < limit) &
+                .or. (bound(2:2) == "=" .and. x == limit)
     end function meets
 
     !> A name (or the number of a named choice) against the choices of its key.
