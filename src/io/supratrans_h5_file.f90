@@ -19,7 +19,7 @@ module supratrans_h5_file
     implicit none
     private
 
-    public :: h5_create, h5_open, h5_close, h5_discard, h5_failed, h5_exists, h5_attr_exists, stick, fail, &
+    public :: h5_create, h5_open, h5_close, h5_discard, h5_exists, h5_attr_exists, stick, fail, &
         real_mem_type, int_mem_type, int_file_type, i8_mem_type, disk_path, root_if_empty, check, failed_call, &
         check_open, check_writable, check_dim_names, close_id, make_space, make_lcpl, make_string_type, remember_dims
 
@@ -147,14 +147,6 @@ contains
         file%id = -1
         file%mode = h5_mode_closed
     end subroutine h5_discard
-
-    !> Whether an error stuck in the file (then every write does nothing and `h5_commit` refuses).
-    pure logical function h5_failed(file)
-        !> The file.
-        type(h5_file), intent(in) :: file
-
-        h5_failed = allocated(file%error)
-    end function h5_failed
 
     !> Keep `error` (if allocated) as the file's error, unless an earlier one stuck already.
     subroutine stick(file, error)
