@@ -19,9 +19,9 @@ module supratrans_h5_file
     implicit none
     private
 
-    public :: h5_create, h5_open, h5_close, h5_discard, h5_exists, h5_attr_exists, stick, fail, &
+    public :: h5_create, h5_open, h5_close, h5_discard, h5_exists, h5_attr_exists, fail, &
         real_mem_type, int_mem_type, int_file_type, i8_mem_type, disk_path, root_if_empty, check, failed_call, &
-        check_open, check_writable, check_dim_names, close_id, make_space, make_lcpl, make_string_type, remember_dims
+        check_writable, check_dim_names, close_id, make_space, make_lcpl, make_string_type, remember_dims
 
     !> File state: not open.
     integer, parameter, public :: h5_mode_closed = 0
@@ -147,21 +147,6 @@ contains
         file%id = -1
         file%mode = h5_mode_closed
     end subroutine h5_discard
-
-    !> Keep `error` (if allocated) as the file's error, unless an earlier one stuck already.
-    subroutine stick(file, error)
-        !> The file.
-        type(h5_file), intent(inout) :: file
-        !> The error of a write; deallocated on return.
-        type(error_type), allocatable, intent(inout) :: error
-
-        if (.not. allocated(error)) return
-        if (allocated(file%error)) then
-            deallocate (error)
-        else
-            call move_alloc(error, file%error)
-        end if
-    end subroutine stick
 
     !> Remember that dataset `name` has the dimensions `dims` (C/h5py order), for `attach_scales` at commit.
     pure subroutine remember_dims(file, name, dims)
@@ -291,16 +276,6 @@ contains
 
         if (hdferr < 0) call fatal_error(error, disk_path(file)//": "//failed_call(action, object, routine), err_io)
     end subroutine check
-
-    !> Error unless the file is open.
-    subroutine check_open(file, action, object, error)
-        type(h5_file), intent(in) :: file
-        character(len=*), intent(in) :: action, object
-        type(error_type), allocatable, intent(out) :: error
-
-        if (file%mode == h5_mode_closed) call fatal_error(error, disk_path(file)//": file is not open, cannot "// &
-            action//" '"//object//"'", err_io)
-    end subroutine check_open
 
     !> Stick an error in the file unless it is open for writing.
     subroutine check_writable(file, action, object)

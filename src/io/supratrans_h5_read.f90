@@ -15,7 +15,7 @@ module supratrans_h5_read
     use supratrans_error, only: error_type, fatal_error, err_io
     use supratrans_strings, only: int_str
     use supratrans_h5_file, only: h5_exists, h5_attr_exists, real_mem_type, int_mem_type, disk_path, &
-        root_if_empty, check, check_open, close_id, h5_file
+        root_if_empty, check, close_id, h5_file, h5_mode_closed
     implicit none
     private
 
@@ -280,8 +280,11 @@ contains
         logical :: exists
 
         id = -1
-        call check_open(file, "read"//of_attr(attr), object, error)
-        if (allocated(error)) return
+        if (file%mode == h5_mode_closed) then
+            call fatal_error(error, disk_path(file)//": file is not open, cannot read"//of_attr(attr)//" '"//object//"'", &
+                err_io)
+            return
+        end if
         if (len(attr) == 0) then
             exists = h5_exists(file, object)
         else

@@ -19,8 +19,8 @@ module supratrans_h5_scales
     use supratrans_error, only: error_type
     use supratrans_strings, only: int_str
     use supratrans_system, only: write_bytes_atomic
-    use supratrans_h5_file, only: h5_file, h5_mode_read, h5_discard, h5_close, h5_exists, stick, fail, failed_call, &
-        check_open, close_id
+    use supratrans_h5_file, only: h5_file, h5_mode_read, h5_mode_closed, h5_discard, h5_close, h5_exists, fail, &
+        failed_call, close_id
     use supratrans_h5_write, only: h5_write
     use supratrans_h5_read, only: h5_shape
     implicit none
@@ -45,8 +45,7 @@ contains
             call h5_close(file, error)
             return
         end if
-        call check_open(file, "commit", "/", error)
-        call stick(file, error)
+        if (file%mode == h5_mode_closed) call fail(file, "file is not open, cannot commit '/'")
         call attach_scales(file)
         if (.not. allocated(file%error)) call file_image(file, image, size)
         call h5_discard(file)
@@ -117,8 +116,10 @@ contains
         logical :: attached, is_scale
 
         call h5_shape(file, name, "", -1, shape, error)
-        call stick(file, error)
-        if (allocated(file%error)) return
+        if (allocated(error)) then
+            call move_alloc(error, file%error)      ! attach_scales runs only while no error stuck
+            return
+        end if
         call h5dopen_f(file%id, name, dset, hdferr)
         rank = size(shape)
         rest = names
