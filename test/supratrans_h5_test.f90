@@ -1,13 +1,14 @@
-!> The HDF5 layer as the tests see it: everything of `supratrans_hdf5`, with `h5_read` and `h5_read_attr` extended by
-!> the types only the tests read back (the program reads just what `merge`, `--check` and the benchmark need).
-!> Built on `h5_shape` and `h5_read_into` of `supratrans_h5_read`, with its messages.
+!> The HDF5 layer as the tests see it: everything of `supratrans_hdf5`, `h5_discard` and `h5_failed` (a file dropped
+!> unwritten, whether an error stuck: only the tests ask), and `h5_read` and `h5_read_attr` extended by the types only
+!> the tests read back (the program reads just what `merge`, `--check` and the benchmark need). Built on `h5_shape`
+!> and `h5_read_into` of `supratrans_h5_read`, with its messages.
 module supratrans_h5_test
     use, intrinsic :: iso_c_binding, only: c_loc
     use hdf5, only: hsize_t
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type
     use supratrans_hdf5
-    use supratrans_h5_file, only: real_mem_type, int_mem_type, i8_mem_type
+    use supratrans_h5_file, only: h5_discard, real_mem_type, int_mem_type, i8_mem_type
     use supratrans_h5_read, only: h5_shape, h5_read_into, h5_read_strings
     implicit none
     private
@@ -29,6 +30,14 @@ module supratrans_h5_test
     end interface h5_read_attr
 
 contains
+
+    !> Whether an error stuck in the file (then every write does nothing and `h5_commit` refuses).
+    pure logical function h5_failed(file)
+        !> The file.
+        type(h5_file), intent(in) :: file
+
+        h5_failed = allocated(file%error)
+    end function h5_failed
 
     subroutine read_real_0d(file, name, data, error)
         type(h5_file), intent(in) :: file

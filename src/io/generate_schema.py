@@ -344,42 +344,47 @@ def choice_keys(s, c):
 
 
 def spec_constructor(s, k, indent):
-    """`key_spec(group=..., ...)` of one key, its arguments packed into lines within the line width."""
+    """`key_spec(...)` of one key: the eight leading components in order, the others by name (those left at their
+    default omitted), packed into lines within the line width; a long text is split into `"..." // &` pieces."""
     kt = {"integer": "kt_integer", "real": "kt_real", "logical": "kt_logical", "name": "kt_name",
           "path": "kt_path"}[k["type"]]
-    args = [f"group={fstring(k['group'])}", f"key={fstring(k['name'])}", f"value_type={kt}"]
-    if k["list"]:   # the defaults of key_spec (one value, units "1") are left out
+    args = [fstring(k["group"]), fstring(k["name"]), kt, fstring(k["attribute"]), fstring(k["units"]),
+            fstring(default_text(s, k)), fstring(range_text(s, k)), fstring(k["description"])]
+    if k["list"]:
         args.append(f"max_values={k['count_name'] or k['count']}")
-    args.append(f"attribute={fstring(k['attribute'])}")
-    if k["units"] != "1":
-        args.append(f"units={fstring(k['units'])}")
     if "choices" in k:
         args.append(f"choices=choice_{k['choices']}")
         if k["ids"]:
             args.append("ids=.true.")
     for bound in ("min", "max"):
         if bound in k:
-            args += [f"{bound}={freal(k[bound])}", f"{bound}_text={fstring(fmt(k[bound]))}"]
-            if k.get(f"{bound}_strict"):
-                args.append(f"{bound}_strict=.true.")
+            args.append(("lower=" if bound == "min" else "upper=") + fstring(bound_text(k, bound)))
+    if "message" in k:
+        args.append(f"message={fstring(k['message'])}")
     if "unset_index" in k:
         args.append(f"unset={k['unset_index']}")
-    texts = [("default_text", default_text(s, k)), ("range_text", range_text(s, k)),
-             ("description", k["description"])]
-    if "message" in k:
-        texts.insert(0, ("message", k["message"]))
-    room = WIDTH - len(indent) - 8
-    for name, text in texts:
-        item = f"{name}={fstring(text)}"
-        if len(item) > room:    # split into `"..." // &` pieces: the first after `name=`, the others alone
-            inner, pieces, first = indent + "    ", [], WIDTH - len(indent) - len(name) - 14
-            while text:
-                n = first if not pieces else WIDTH - len(inner) - 10
-                pieces.append(text[:n])
-                text = text[n:]
-            item = f"{name}=" + (" // &\n" + inner).join(fstring(p) for p in pieces)
-        args.append(item)
-    return continued(indent + "key_spec(", args, indent, width=WIDTH - 3).rstrip("\n")[len(indent):] + ")"
+    inner = indent + "    "
+    lines, line = [], indent + "key_spec("
+    for n, arg in enumerate(args):
+        piece = arg + (", " if n < len(args) - 1 else ")")
+        if len(line) + len(piece) + 4 > WIDTH and line.strip() != "key_spec(":
+            lines.append(line.rstrip() + " &")
+            line = inner
+        while len(line) + len(piece) + 4 > WIDTH:     # a text too long for any line: split it
+            cut = WIDTH - len(line) - 9
+            if piece[cut - 1] == '"':
+                cut -= 1
+            lines.append(line + piece[:cut] + '" // &')
+            line, piece = inner, '"' + piece[cut:]
+        line += piece
+    lines.append(line)
+    return "\n".join(lines)[len(indent):]
+
+
+def bound_text(k, bound):
+    """A bound with its relation, as the messages show it: "> 0", "<= 100"."""
+    relation = {"min": ">", "max": "<"}[bound] + ("" if k.get(f"{bound}_strict") else "=")
+    return f"{relation} {fmt(k[bound])}"
 
 
 def fmt(x):
@@ -413,11 +418,7 @@ def range_text(s, k):
     parts = []
     if "choices" in k:
         parts.append(", ".join(f"'{v}'" for v in s["choices_by_name"][k["choices"]]["values"]))
-    bounds = []
-    if "min" in k:
-        bounds.append(("> " if k.get("min_strict") else ">= ") + fmt(k["min"]))
-    if "max" in k:
-        bounds.append(("< " if k.get("max_strict") else "<= ") + fmt(k["max"]))
+    bounds = [bound_text(k, bound) for bound in ("min", "max") if bound in k]
     if bounds:
         parts.append(" and ".join(bounds))
     if "range" in k:
@@ -438,7 +439,7 @@ def schema_module(s):
     used = ["input_config"] + [f"{c['name']}_choices" for c in s["choices"]] + [c["name"] for c in s["constant"]]
     out.append(continued("    use supratrans_config, only: ", used, "    "))
     out.append("    use supratrans_keys, only: key_spec, derived_spec, key_value, kt_integer, kt_real, kt_logical, "
-               "kt_name, kt_path, &\n        set_list\n")
+               "kt_name, kt_path, &\n        set_list, list_value\n")
     out.append("    implicit none\n    private\n\n")
     out.append("    public :: get_key, set_key, choice_names, choice_noun\n\n")
     for c in s["choices"]:
@@ -475,13 +476,11 @@ def schema_module(s):
         integer, intent(in) :: set
         character(len=name_len), allocatable :: names(:)
 
-        select case (set)
+        allocate (names(0))
 """)
     for c in s["choices"]:
-        out.append(f"        case (choice_{c['name']}); names = {c['name']}_choices\n")
-    out.append("""        case default; allocate (names(0))
-        end select
-    end function choice_names
+        out.append(f"        if (set == choice_{c['name']}) names = {c['name']}_choices\n")
+    out.append("""    end function choice_names
 
     !> What the names of a choice set are, for messages ("unknown method").
     pure function choice_noun(set) result(noun)
@@ -489,13 +488,11 @@ def schema_module(s):
         integer, intent(in) :: set
         character(len=:), allocatable :: noun
 
-        select case (set)
+        noun = "value"
 """)
     for c in s["choices"]:
-        out.append(f"        case (choice_{c['name']}); noun = {fstring(c['noun'])}\n")
-    out.append("""        case default; noun = "value"
-        end select
-    end function choice_noun
+        out.append(f"        if (set == choice_{c['name']}) noun = {fstring(c['noun'])}\n")
+    out.append("""    end function choice_noun
 
     !> The value of key `ik` of `key_table` in a configuration (`n = 0` for a list that is not set). Named
     !> choices held as numbers are given as numbers (`ints`).
@@ -506,21 +503,19 @@ def schema_module(s):
         integer, intent(in) :: ik
         type(key_value) :: v
 
-        select case (ik)
+        v%n = 0     ! not a key index: no value
 """)
     for k in keys:
         ref = "cfg%" + "%".join(k["path"])
         part = value_source(k)[2:]
         if k["list"]:
-            stmt = f"if (allocated({ref})) v = key_value(size({ref}), {part}={ref})"
+            stmt = f"if (ik == key_{k['id']}) v = list_value({ref})"
         elif k["type"] == "logical":
-            stmt = f"v = key_value(1, flag={ref})"
+            stmt = f"if (ik == key_{k['id']}) v = key_value(1, flag={ref})"
         else:
-            stmt = f"v = key_value(1, {part}=[{ref}])"
-        out.append(case_line(k, stmt))
-    out.append("""        case default; v%n = 0     ! not a key index: no value
-        end select
-    end function get_key
+            stmt = f"if (ik == key_{k['id']}) v = key_value(1, {part}=[{ref}])"
+        out.append(if_line(stmt))
+    out.append("""    end function get_key
 
     !> Set key `ik` of `key_table` in a configuration from a value of its type (named choices held as numbers
     !> from `ints`); `n = 0` unsets a list.
@@ -532,7 +527,6 @@ def schema_module(s):
         !> The value.
         type(key_value), intent(in) :: v
 
-        select case (ik)
 """)
     for k in keys:
         ref = "cfg%" + "%".join(k["path"])
@@ -545,20 +539,20 @@ def schema_module(s):
             stmt = f"{ref} = trim({src}(1))"
         else:
             stmt = f"{ref} = {src}(1)"
-        out.append(case_line(k, stmt))
-    out.append("""        case default; continue    ! not a key index: nothing to set
-        end select
-    end subroutine set_key
+        out.append(if_line(f"if (ik == key_{k['id']}) {stmt}"))
+    out.append("""    end subroutine set_key
 
 end module supratrans_schema
 """)
     return "".join(out)
 
 
-def case_line(k, stmt):
-    """`case (key_<id>); <stmt>` on one line, or on two when it does not fit."""
-    line = f"        case (key_{k['id']}); {stmt}"
-    return line + "\n" if len(line) <= WIDTH else f"        case (key_{k['id']})\n            {stmt}\n"
+def if_line(stmt):
+    """One `if (...) statement` of get_key or set_key."""
+    line = f"        {stmt}"
+    if len(line) > WIDTH:
+        raise SchemaError(f"line longer than {WIDTH} characters: {stmt}")
+    return line + "\n"
 
 
 def value_source(k):

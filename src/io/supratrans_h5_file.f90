@@ -19,8 +19,8 @@ module supratrans_h5_file
     implicit none
     private
 
-    public :: h5_create, h5_open, h5_close, h5_discard, h5_failed, h5_exists, h5_attr_exists, stick, &
-        real_mem_type, int_mem_type, int_file_type, i8_mem_type, disk_path, root_if_empty, check, check_open, &
+    public :: h5_create, h5_open, h5_close, h5_discard, h5_exists, h5_attr_exists, fail, &
+        real_mem_type, int_mem_type, int_file_type, i8_mem_type, disk_path, root_if_empty, check, failed_call, &
         check_writable, check_dim_names, close_id, make_space, make_lcpl, make_string_type, remember_dims
 
     !> File state: not open.
@@ -148,29 +148,6 @@ contains
         file%mode = h5_mode_closed
     end subroutine h5_discard
 
-    !> Whether an error stuck in the file (then every write does nothing and `h5_commit` refuses).
-    pure logical function h5_failed(file)
-        !> The file.
-        type(h5_file), intent(in) :: file
-
-        h5_failed = allocated(file%error)
-    end function h5_failed
-
-    !> Keep `error` (if allocated) as the file's error, unless an earlier one stuck already.
-    subroutine stick(file, error)
-        !> The file.
-        type(h5_file), intent(inout) :: file
-        !> The error of a write; deallocated on return.
-        type(error_type), allocatable, intent(inout) :: error
-
-        if (.not. allocated(error)) return
-        if (allocated(file%error)) then
-            deallocate (error)
-        else
-            call move_alloc(error, file%error)
-        end if
-    end subroutine stick
-
     !> Remember that dataset `name` has the dimensions `dims` (C/h5py order), for `attach_scales` at commit.
     pure subroutine remember_dims(file, name, dims)
         type(h5_file), intent(inout) :: file
@@ -274,6 +251,22 @@ contains
         if (len_trim(object) == 0) path = "/"
     end function root_if_empty
 
+    !> Stick the error "<file>: <message>" (status `err_io`) in the file, unless an earlier one stuck.
+    subroutine fail(file, message)
+        type(h5_file), intent(inout) :: file
+        character(len=*), intent(in) :: message
+
+        if (.not. allocated(file%error)) call fatal_error(file%error, disk_path(file)//": "//message, err_io)
+    end subroutine fail
+
+    !> "cannot <action> '<object>' (<routine> failed)": the message of a failed HDF5 call.
+    pure function failed_call(action, object, routine) result(text)
+        character(len=*), intent(in) :: action, object, routine
+        character(len=:), allocatable :: text
+
+        text = "cannot "//action//" '"//object//"' ("//routine//" failed)"
+    end function failed_call
+
     !> Turn a negative HDF5 status into an `err_io` error "<file>: cannot <action> '<object>' (<routine> failed)".
     subroutine check(hdferr, file, action, object, routine, error)
         integer, intent(in) :: hdferr
@@ -281,45 +274,28 @@ contains
         character(len=*), intent(in) :: action, object, routine
         type(error_type), allocatable, intent(out) :: error
 
-        if (hdferr < 0) call fatal_error(error, disk_path(file)//": cannot "//action//" '"//object//"' ("//routine// &
-            " failed)", err_io)
+        if (hdferr < 0) call fatal_error(error, disk_path(file)//": "//failed_call(action, object, routine), err_io)
     end subroutine check
 
-    !> Error unless the file is open (and, for `check_writable`, open for writing).
-    subroutine check_open(file, action, object, error)
-        type(h5_file), intent(in) :: file
+    !> Stick an error in the file unless it is open for writing.
+    subroutine check_writable(file, action, object)
+        type(h5_file), intent(inout) :: file
         character(len=*), intent(in) :: action, object
-        type(error_type), allocatable, intent(out) :: error
 
-        if (file%mode == h5_mode_closed) call fatal_error(error, disk_path(file)//": file is not open, cannot "// &
-            action//" '"//object//"'", err_io)
-    end subroutine check_open
-
-    !> Error unless the file is open for writing.
-    subroutine check_writable(file, action, object, error)
-        type(h5_file), intent(in) :: file
-        character(len=*), intent(in) :: action, object
-        type(error_type), allocatable, intent(out) :: error
-
-        call check_open(file, action, object, error)
-        if (file%mode == h5_mode_read) call fatal_error(error, disk_path(file)//": file is open read-only, cannot "// &
-            action//" '"//object//"'", err_io)
+        if (file%mode == h5_mode_closed) call fail(file, "file is not open, cannot "//action//" '"//object//"'")
+        if (file%mode == h5_mode_read) call fail(file, "file is open read-only, cannot "//action//" '"//object//"'")
     end subroutine check_writable
 
-    !> Error unless `names` holds `rank` comma-separated dimension names.
-    subroutine check_dim_names(file, name, names, rank, error)
-        type(h5_file), intent(in) :: file
+    !> Stick an error in the file unless `names` holds `rank` comma-separated dimension names.
+    subroutine check_dim_names(file, name, names, rank)
+        type(h5_file), intent(inout) :: file
         character(len=*), intent(in) :: name, names
         integer, intent(in) :: rank
-        type(error_type), allocatable, intent(out) :: error
-        integer :: count, k
+        integer :: n, k
 
-        count = 1
-        do k = 1, len(names)
-            if (names(k:k) == ",") count = count + 1
-        end do
-        if (count /= rank .or. len_trim(names) == 0) call fatal_error(error, disk_path(file)//": dims = '"//names// &
-            "' names "//int_str(count)//" dimensions, dataset '"//name//"' has rank "//int_str(rank), err_io)
+        n = 1 + count([(names(k:k) == ",", k = 1, len(names))])
+        if (n /= rank .or. len_trim(names) == 0) call fail(file, "dims = '"//names//"' names "//int_str(n)// &
+            " dimensions, dataset '"//name//"' has rank "//int_str(rank))
     end subroutine check_dim_names
 
     !> Close any HDF5 identifier (file, group, dataset, datatype, dataspace, attribute, property list) and set it to

@@ -9,13 +9,13 @@ module supratrans_h5_read
     use, intrinsic :: iso_c_binding, only: c_ptr, c_loc, c_char, c_null_char
     use hdf5, only: hid_t, hsize_t, size_t, h5dopen_f, h5dread_f, h5dget_space_f, h5dget_type_f, &
         h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, h5sget_simple_extent_npoints_f, &
-        h5tget_size_f, h5tget_strpad_f, h5tget_class_f, h5tis_variable_str_f, h5t_string_f, h5t_str_spacepad_f, &
+        h5tget_size_f, h5tget_class_f, h5tis_variable_str_f, h5t_string_f, &
         h5aopen_by_name_f, h5aread_f, h5aget_space_f, h5aget_type_f
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type, fatal_error, err_io
     use supratrans_strings, only: int_str
     use supratrans_h5_file, only: h5_exists, h5_attr_exists, real_mem_type, int_mem_type, disk_path, &
-        root_if_empty, check, check_open, close_id, h5_file
+        root_if_empty, check, close_id, h5_file, h5_mode_closed
     implicit none
     private
 
@@ -280,8 +280,11 @@ contains
         logical :: exists
 
         id = -1
-        call check_open(file, "read"//of_attr(attr), object, error)
-        if (allocated(error)) return
+        if (file%mode == h5_mode_closed) then
+            call fatal_error(error, disk_path(file)//": file is not open, cannot read"//of_attr(attr)//" '"//object//"'", &
+                err_io)
+            return
+        end if
         if (len(attr) == 0) then
             exists = h5_exists(file, object)
         else
@@ -300,7 +303,8 @@ contains
         if (allocated(error)) id = -1
     end subroutine open_object
 
-    !> Read all strings of an open dataset or attribute (fixed length). Status -2: not a fixed-length string type.
+    !> Read all strings of an open dataset or attribute (fixed length), each to its first null. Status -2: not a
+    !> fixed-length string type.
     subroutine read_string_values(id, is_attr, values, hdferr)
         integer(hid_t), intent(in) :: id
         logical, intent(in) :: is_attr
@@ -309,10 +313,10 @@ contains
         integer(hid_t) :: file_type, space
         integer(hsize_t) :: npoints
         integer(size_t) :: width
-        integer :: type_class, pad, n, i, k, w
+        integer :: type_class, n, i, k
         integer, allocatable :: lengths(:)
         logical :: variable
-        character(kind=c_char, len=1), allocatable, target :: chars(:)
+        character(kind=c_char, len=1), allocatable, target :: chars(:, :)
         type(c_ptr) :: buf
 
         file_type = -1
@@ -329,32 +333,25 @@ contains
         if (hdferr >= 0) call get_space(id, is_attr, space, hdferr)
         if (hdferr >= 0) call h5sget_simple_extent_npoints_f(space, npoints, hdferr)
         if (hdferr >= 0) call h5tget_size_f(file_type, width, hdferr)
-        if (hdferr >= 0) call h5tget_strpad_f(file_type, pad, hdferr)
         if (hdferr >= 0) then
-            ! the raw characters, read with the file's own type; the padding stripped
+            ! the raw characters, read with the file's own type: one column a string
             n = int(npoints)
-            w = int(width)
-            allocate (chars(max(w*n, 1)), lengths(n))
-            chars = c_null_char
+            allocate (chars(int(width), max(n, 1)), source=c_null_char)
             buf = c_loc(chars)
             if (n > 0) call read_raw(id, is_attr, file_type, buf, hdferr)
         end if
         if (hdferr >= 0) then
+            allocate (lengths(n))
             do i = 1, n
-                lengths(i) = 0
-                do k = 1, w
-                    if (chars((i - 1)*w + k) == c_null_char) exit
-                    lengths(i) = k
-                end do
+                lengths(i) = findloc([chars(:, i), c_null_char], c_null_char, 1) - 1
             end do
             deallocate (values)
             allocate (character(len=maxval([0, lengths])) :: values(n))
+            values = ""
             do i = 1, n
-                values(i) = ""
                 do k = 1, lengths(i)
-                    values(i) (k:k) = chars((i - 1)*w + k)
+                    values(i) (k:k) = chars(k, i)
                 end do
-                if (pad == h5t_str_spacepad_f) values(i) = trim(values(i))
             end do
         end if
         call close_id(space)

@@ -16,11 +16,11 @@ module supratrans_h5_scales
     use, intrinsic :: iso_c_binding, only: c_char, c_loc, c_ptr
     use hdf5, only: hid_t, hsize_t, size_t, h5fflush_f, h5f_scope_global_f, h5fget_file_image_f, h5dopen_f
     use h5ds, only: h5dsset_scale_f, h5dsis_scale_f, h5dsattach_scale_f, h5dsis_attached_f, h5dsset_label_f
-    use supratrans_error, only: error_type, fatal_error, err_io
+    use supratrans_error, only: error_type
     use supratrans_strings, only: int_str
     use supratrans_system, only: write_bytes_atomic
-    use supratrans_h5_file, only: h5_file, h5_mode_read, h5_discard, h5_close, h5_exists, stick, check, check_open, &
-        close_id
+    use supratrans_h5_file, only: h5_file, h5_mode_read, h5_mode_closed, h5_discard, h5_close, h5_exists, fail, &
+        failed_call, close_id
     use supratrans_h5_write, only: h5_write
     use supratrans_h5_read, only: h5_shape
     implicit none
@@ -40,35 +40,14 @@ contains
         type(error_type), allocatable, intent(out) :: error
         character(kind=c_char, len=1), allocatable, target :: image(:)
         integer(size_t) :: size
-        type(c_ptr) :: buf
-        integer :: hdferr, stat
 
         if (file%mode == h5_mode_read .and. .not. allocated(file%error)) then
             call h5_close(file, error)
             return
         end if
-        if (.not. allocated(file%error)) call check_open(file, "commit", "/", file%error)
-        if (.not. allocated(file%error)) call attach_scales(file)
-        if (.not. allocated(file%error)) then
-            ! the size of the image first, then the image
-            allocate (image(1))
-            buf = c_loc(image)
-            call h5fflush_f(file%id, h5f_scope_global_f, hdferr)
-            if (hdferr >= 0) call h5fget_file_image_f(file%id, buf, 0_size_t, hdferr, size)
-            stat = 0
-            if (hdferr >= 0) then
-                deallocate (image)
-                allocate (image(max(size, 1_size_t)), stat=stat)
-                if (stat /= 0) call fatal_error(file%error, file%path//": cannot allocate "// &
-                    int_str(int(min(size, 2000000000_size_t)))//" bytes for the file's image (out of memory)", err_io)
-            end if
-            if (hdferr >= 0 .and. stat == 0) then
-                buf = c_loc(image)
-                call h5fget_file_image_f(file%id, buf, size, hdferr)
-            end if
-            if (hdferr < 0) call check(hdferr, file, "take the image of", "/", "h5fflush_f/h5fget_file_image_f", &
-                file%error)
-        end if
+        if (file%mode == h5_mode_closed) call fail(file, "file is not open, cannot commit '/'")
+        call attach_scales(file)
+        if (.not. allocated(file%error)) call file_image(file, image, size)
         call h5_discard(file)
         if (allocated(file%error)) then
             call move_alloc(file%error, error)
@@ -76,6 +55,34 @@ contains
         end if
         call write_bytes_atomic(file%path, image(1:size), error)
     end subroutine h5_commit
+
+    !> The image of an open file built in memory (`size` bytes of `image`); a failure sticks in `file`.
+    subroutine file_image(file, image, size)
+        type(h5_file), intent(inout) :: file
+        character(kind=c_char, len=1), allocatable, target, intent(out) :: image(:)
+        integer(size_t), intent(out) :: size
+        type(c_ptr) :: buf
+        integer :: hdferr, stat
+
+        ! the size of the image first, then the image
+        allocate (image(1))
+        buf = c_loc(image)
+        size = 0
+        call h5fflush_f(file%id, h5f_scope_global_f, hdferr)
+        if (hdferr >= 0) call h5fget_file_image_f(file%id, buf, 0_size_t, hdferr, size)
+        if (hdferr >= 0) then
+            deallocate (image)
+            allocate (image(max(size, 1_size_t)), stat=stat)
+            if (stat /= 0) then
+                call fail(file, "cannot allocate "//int_str(int(min(size, 2000000000_size_t)))// &
+                    " bytes for the file's image (out of memory)")
+                return
+            end if
+            buf = c_loc(image)
+            call h5fget_file_image_f(file%id, buf, size, hdferr)
+        end if
+        if (hdferr < 0) call fail(file, failed_call("take the image of", "/", "h5fflush_f/h5fget_file_image_f"))
+    end subroutine file_image
 
     !> Label every remembered dimension with its name and attach its coordinate dataset as dimension scale (see
     !> the module's documentation for how a name finds its dataset). A failure sticks in `file`.
@@ -110,7 +117,7 @@ contains
 
         call h5_shape(file, name, "", -1, shape, error)
         if (allocated(error)) then
-            call stick(file, error)
+            call move_alloc(error, file%error)      ! attach_scales runs only while no error stuck
             return
         end if
         call h5dopen_f(file%id, name, dset, hdferr)
@@ -144,9 +151,8 @@ contains
             if (hdferr >= 0 .and. .not. attached) call h5dsattach_scale_f(dset, scale, idx, hdferr)
             call close_id(scale)
         end do
-        call check(hdferr, file, "attach the dimension scales of", name, "h5dsattach_scale_f", error)
         call close_id(dset)
-        call stick(file, error)
+        if (hdferr < 0) call fail(file, failed_call("attach the dimension scales of", name, "h5dsattach_scale_f"))
     end subroutine attach_dataset_scales
 
     !> The coordinate dataset of dimension `dim` (of length `length`) of dataset `name`: the first of `G/dim` for

@@ -8,10 +8,9 @@ module supratrans_h5_write
     use hdf5, only: hid_t, hsize_t, h5dcreate_f, h5dopen_f, h5dwrite_f, h5t_ieee_f64le, h5t_std_i64le, h5gcreate_f, &
         h5oopen_f, h5ldelete_f, h5aexists_f, h5adelete_f, h5acreate_f, h5awrite_f
     use supratrans_kinds, only: wp, i8
-    use supratrans_error, only: error_type, fatal_error, err_io
     use supratrans_h5_file, only: h5_file, h5_exists, real_mem_type, int_mem_type, int_file_type, i8_mem_type, &
-        disk_path, root_if_empty, check, check_writable, check_dim_names, close_id, make_space, make_lcpl, &
-        make_string_type, stick, remember_dims
+        root_if_empty, fail, failed_call, check_writable, check_dim_names, close_id, make_space, make_lcpl, &
+        make_string_type, remember_dims
     implicit none
     private
 
@@ -178,47 +177,9 @@ contains
         end do
     end subroutine c_chars
 
-    !> Create or replace an attribute of the open object `obj` and write it from `buf` (`hdferr` must come in >= 0).
-    subroutine put_attr(obj, name, mem_type, file_type, dims, buf, hdferr)
-        integer(hid_t), intent(in) :: obj, mem_type, file_type
-        character(len=*), intent(in) :: name
-        integer(hsize_t), intent(in) :: dims(:)
-        type(c_ptr), intent(in) :: buf
-        integer, intent(inout) :: hdferr
-        integer(hid_t) :: space, attr
-        logical :: exists
-
-        space = -1
-        attr = -1
-        exists = .false.
-        if (hdferr >= 0) call h5aexists_f(obj, name, exists, hdferr)
-        if (hdferr >= 0 .and. exists) call h5adelete_f(obj, name, hdferr)
-        if (hdferr >= 0) call make_space(dims, space, hdferr)
-        if (hdferr >= 0) call h5acreate_f(obj, name, file_type, space, attr, hdferr)
-        if (hdferr >= 0 .and. product(dims) > 0) call h5awrite_f(attr, mem_type, buf, hdferr)
-        call close_id(attr)
-        call close_id(space)
-    end subroutine put_attr
-
-    !> Create or replace a scalar string attribute of the open object `obj` (`hdferr` must come in >= 0).
-    subroutine put_string_attr(obj, name, value, hdferr)
-        integer(hid_t), intent(in) :: obj
-        character(len=*), intent(in) :: name, value
-        integer, intent(inout) :: hdferr
-        character(kind=c_char, len=1), allocatable, target :: chars(:)
-        integer(hid_t) :: string_type
-        type(c_ptr) :: buf      ! c_loc of a character array stored first (see `write_strings`)
-
-        if (hdferr < 0) return
-        call c_chars([value], .false., chars)
-        call make_string_type(len(value), string_type, hdferr)
-        buf = c_loc(chars)
-        call put_attr(obj, name, string_type, string_type, [integer(hsize_t) ::], buf, hdferr)
-        call close_id(string_type)
-    end subroutine put_string_attr
-
     !> Write the attribute `name` of the object `object` (a missing object is created as a group, with
-    !> intermediate groups) from `buf`; `hdferr` is the status of making its types (negative: nothing written).
+    !> intermediate groups; an existing attribute is replaced) from `buf`; `hdferr` is the status of making its types
+    !> (negative: nothing written).
     subroutine write_attr(file, object, name, mem_type, file_type, dims, buf, hdferr)
         type(h5_file), intent(inout) :: file
         character(len=*), intent(in) :: object, name
@@ -226,20 +187,17 @@ contains
         integer(hsize_t), intent(in) :: dims(:)
         type(c_ptr), intent(in) :: buf
         integer, intent(in) :: hdferr
-        type(error_type), allocatable :: error
-        integer(hid_t) :: obj, lcpl
+        integer(hid_t) :: obj, lcpl, space, attr
         integer :: status
+        logical :: exists
 
+        call check_writable(file, "write to", object)
+        if (len_trim(name) == 0) call fail(file, "empty attribute name for '"//object//"'")
         if (allocated(file%error)) return
-        call check_writable(file, "write to", object, error)
-        if (.not. allocated(error) .and. len_trim(name) == 0) call fatal_error(error, disk_path(file)// &
-            ": empty attribute name for '"//object//"'", err_io)
-        if (allocated(error)) then
-            call stick(file, error)
-            return
-        end if
         obj = -1
         lcpl = -1
+        space = -1
+        attr = -1
         status = hdferr
         if (status >= 0 .and. h5_exists(file, object)) then
             call h5oopen_f(file%id, root_if_empty(object), obj, status)
@@ -247,11 +205,16 @@ contains
             call make_lcpl(lcpl, status)
             if (status >= 0) call h5gcreate_f(file%id, object, obj, status, lcpl_id=lcpl)
         end if
-        call put_attr(obj, name, mem_type, file_type, dims, buf, status)
+        if (status >= 0) call h5aexists_f(obj, name, exists, status)
+        if (status >= 0 .and. exists) call h5adelete_f(obj, name, status)
+        if (status >= 0) call make_space(dims, space, status)
+        if (status >= 0) call h5acreate_f(obj, name, file_type, space, attr, status)
+        if (status >= 0 .and. product(dims) > 0) call h5awrite_f(attr, mem_type, buf, status)
+        call close_id(attr)
+        call close_id(space)
         call close_id(obj)
         call close_id(lcpl)
-        call check(status, file, "write attribute '"//name//"' of", object, "h5awrite_f", error)
-        call stick(file, error)
+        if (status < 0) call fail(file, failed_call("write attribute '"//name//"' of", object, "h5awrite_f"))
     end subroutine write_attr
 
     !> Create dataset `name` (replacing an existing dataset), write it from `buf` and describe it: the attributes
@@ -263,53 +226,47 @@ contains
         integer(hsize_t), intent(in) :: dims(:)
         type(c_ptr), intent(in) :: buf
         character(len=*), intent(in), optional :: dim_names
-        type(error_type), allocatable :: error
         integer(hid_t) :: space, lcpl, dset
-        integer :: hdferr
+        integer :: status
 
+        call check_writable(file, "write dataset", name)
+        if (present(dim_names)) call check_dim_names(file, name, dim_names, size(dims))
         if (allocated(file%error)) return
-        call check_writable(file, "write dataset", name, error)
-        if (present(dim_names) .and. .not. allocated(error)) call check_dim_names(file, name, dim_names, size(dims), error)
-        if (.not. allocated(error) .and. h5_exists(file, name)) call remove_dataset(file, name, error)
-        if (allocated(error)) then
-            call stick(file, error)
-            return
-        end if
+        if (h5_exists(file, name)) call remove_dataset(file, name)
+        if (allocated(file%error)) return
         space = -1
         lcpl = -1
         dset = -1
-        call make_space(dims, space, hdferr)
-        if (hdferr >= 0) call make_lcpl(lcpl, hdferr)
-        if (hdferr >= 0) call h5dcreate_f(file%id, name, file_type, space, dset, hdferr, lcpl_id=lcpl)
-        if (hdferr >= 0 .and. product(dims) > 0) call h5dwrite_f(dset, mem_type, buf, hdferr)
-        call put_string_attr(dset, "units", units, hdferr)
-        call put_string_attr(dset, "description", description, hdferr)
-        if (present(dim_names)) call put_string_attr(dset, "dimensions", dim_names, hdferr)
+        call make_space(dims, space, status)
+        if (status >= 0) call make_lcpl(lcpl, status)
+        if (status >= 0) call h5dcreate_f(file%id, name, file_type, space, dset, status, lcpl_id=lcpl)
+        if (status >= 0 .and. product(dims) > 0) call h5dwrite_f(dset, mem_type, buf, status)
         call close_id(dset)
         call close_id(lcpl)
         call close_id(space)
-        call check(hdferr, file, "write dataset", name, "h5dcreate_f/h5dwrite_f/h5awrite_f", error)
-        if (hdferr >= 0 .and. present(dim_names)) call remember_dims(file, name, dim_names)
-        call stick(file, error)
+        if (status < 0) call fail(file, failed_call("write dataset", name, "h5dcreate_f/h5dwrite_f"))
+        call write_attr_char(file, name, "units", units)
+        call write_attr_char(file, name, "description", description)
+        if (.not. present(dim_names)) return
+        call write_attr_char(file, name, "dimensions", dim_names)
+        if (.not. allocated(file%error)) call remember_dims(file, name, dim_names)
     end subroutine write_dataset
 
     !> Remove the existing object `name`, which must be a dataset (`h5_write` replaces a dataset, nothing else).
-    subroutine remove_dataset(file, name, error)
-        type(h5_file), intent(in) :: file
+    subroutine remove_dataset(file, name)
+        type(h5_file), intent(inout) :: file
         character(len=*), intent(in) :: name
-        type(error_type), allocatable, intent(out) :: error
         integer(hid_t) :: dset
         integer :: hdferr
 
         call h5dopen_f(file%id, name, dset, hdferr)
         if (hdferr < 0) then
-            call fatal_error(error, disk_path(file)//": cannot write dataset '"//name// &
-                "': an object of that name exists and is not a dataset", err_io)
+            call fail(file, "cannot write dataset '"//name//"': an object of that name exists and is not a dataset")
             return
         end if
         call close_id(dset)
         call h5ldelete_f(file%id, name, hdferr)
-        call check(hdferr, file, "replace dataset", name, "h5ldelete_f", error)
+        if (hdferr < 0) call fail(file, failed_call("replace dataset", name, "h5ldelete_f"))
     end subroutine remove_dataset
 
     !> Write strings as a fixed-length string dataset: scalar (`array` false, one string, stored as given) or rank 1
@@ -321,7 +278,6 @@ contains
         character(len=*), intent(in), optional :: dim_names
         character(kind=c_char, len=1), allocatable, target :: chars(:)
         integer(hsize_t), allocatable :: dims(:)
-        type(error_type), allocatable :: error
         integer(hid_t) :: string_type
         integer :: hdferr
         ! c_loc of a character array is stored first: passed directly, gfortran 12 adds a spurious hidden length.
@@ -331,8 +287,7 @@ contains
         allocate (dims(0))
         if (array) dims = [int(size(data), hsize_t)]
         call make_string_type(len(data), string_type, hdferr)
-        call check(hdferr, file, "create string type for", name, "h5tset_size_f", error)
-        call stick(file, error)
+        if (hdferr < 0) call fail(file, failed_call("create string type for", name, "h5tset_size_f"))
         buf = c_loc(chars)
         call write_dataset(file, name, string_type, string_type, dims, buf, units, description, dim_names)
         call close_id(string_type)

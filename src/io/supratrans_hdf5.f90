@@ -10,12 +10,12 @@
 !>     call h5_write(file, "/energy/injected", injected, "energy", "...", dims="curve, omega, amplitude")
 !>     call h5_commit(file, error)
 !>
-!> The first error (of `h5_create` or of any write) sticks in the file (`file%error`, `h5_failed(file)`); every
-!> later write does nothing, and `h5_commit` returns that error and writes nothing. A new file is built in memory
-!> and `h5_commit` writes it in one checked write to a fresh `<path>.tmp-XXXXXX` (created with
-!> `O_CREAT | O_EXCL | O_NOFOLLOW`), fsyncs it and renames it onto `path`: a file found under its final name is
-!> complete, a full disk or a file size limit is one error naming the file and the system's reason ("No space left
-!> on device"), and nothing is left behind. `h5_discard` drops a file without writing it.
+!> The first error (of `h5_create` or of any write) sticks in the file (`file%error`); every later write does
+!> nothing, and `h5_commit` returns that error and writes nothing. A new file is built in memory and `h5_commit`
+!> writes it in one checked write to a fresh `<path>.tmp-XXXXXX` (created with `O_CREAT | O_EXCL | O_NOFOLLOW`),
+!> fsyncs it and renames it onto `path`: a file found under its final name is complete, a full disk or a file size
+!> limit is one error naming the file and the system's reason ("No space left on device"), and nothing is left
+!> behind.
 !>
 !> ## Objects and self-description
 !> Object names are paths from the root group: "ledger/energy" and "/ledger/energy" are the same object; missing
@@ -48,8 +48,7 @@
 !> are `error_type`s with status `err_io` and a message naming the file and the object. No routine stops the
 !> program.
 module supratrans_hdf5
-    use supratrans_h5_file, only: h5_file, h5_create, h5_discard, h5_failed, h5_open, h5_close, h5_exists, &
-        h5_attr_exists
+    use supratrans_h5_file, only: h5_file, h5_create, h5_open, h5_close, h5_exists, h5_attr_exists
     use supratrans_h5_scales, only: h5_commit
     use supratrans_h5_write, only: h5_write, h5_write_attr, h5_create_group
     use supratrans_h5_read, only: h5_read, h5_read_attr
@@ -57,7 +56,7 @@ module supratrans_hdf5
     private
 
     public :: h5_file
-    public :: h5_create, h5_commit, h5_discard, h5_failed, h5_open, h5_close
+    public :: h5_create, h5_commit, h5_open, h5_close
     public :: h5_write, h5_write_attr, h5_create_group
     public :: h5_exists, h5_attr_exists, h5_read, h5_read_attr
 

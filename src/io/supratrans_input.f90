@@ -6,23 +6,20 @@
 !> group and the key:
 !>
 !> 1. `parse_namelist` (`supratrans_namelist`) checks the syntax, group names, key names, value counts and value
-!>    types against the key table of the schema, and gives each key's values as text;
-!> 2. each value is converted to its type and stored by `set_key`, in the order of the table; names of choices
-!>    held as numbers (potential, method) are looked up here;
+!>    types against the key table of the schema, and gives each key's values converted to its type (names of
+!>    choices held as numbers, potential and method, looked up);
+!> 2. `set_key` stores each key given, in the order of the table;
 !> 3. `validate_config` (`supratrans_validate`) checks the ranges, the rules between keys, and that the output file
 !>    is not replaced by accident.
 !>
 !> Error messages (status `err_input`), one line each, besides those of the parser and of the validation:
-!> `<file>: cannot open file (<reason>)`, `<file>: cannot read file (<reason>)`,
-!> `<file>: &<group>: <key> = '<name>': unknown <potential|method> (known: ...)`.
+!> `<file>: cannot open file (<reason>)`, `<file>: cannot read file (<reason>)`.
 module supratrans_input
-    use supratrans_kinds, only: name_len, path_len
     use supratrans_error, only: error_type, fatal_error, err_input
-    use supratrans_strings, only: int_str, text_fingerprint, find_name, joined
+    use supratrans_strings, only: int_str, text_fingerprint
     use supratrans_system, only: path_kind, path_missing, path_directory, path_special, file_size
     use supratrans_config, only: input_config, default_probes
-    use supratrans_keys, only: key_value, kt_integer, kt_real, kt_logical, input_error
-    use supratrans_schema, only: key_table, set_key, choice_names, choice_noun, key_record_probes
+    use supratrans_schema, only: key_table, set_key, key_record_probes
     use supratrans_namelist, only: parse_namelist, parsed_input
     use supratrans_validate, only: validate_config
     use supratrans_host, only: timestamp
@@ -75,6 +72,7 @@ contains
         !> Check the output file too (`validate_config`); default true.
         logical, intent(in), optional :: check_output
         type(parsed_input) :: parsed
+        integer :: ik
 
         cfg%source = path
         cfg%started = timestamp()
@@ -90,8 +88,9 @@ contains
                              // "refused: write at least &output file = '...' /)", err_input)
             return
         end if
-        call convert_keys(parsed, path, cfg, error)
-        if (allocated(error)) return
+        do ik = 1, size(key_table)
+            if (parsed%n_values(ik) > 0) call set_key(cfg, ik, parsed%values(ik))
+        end do
         ! the default probe (the paper's site 60) moves to the last site of a shorter chain
         if (parsed%n_values(key_record_probes) == 0) cfg%run%record%probes = min(default_probes, cfg%run%chain%n)
         call validate_config(cfg, error, check_output)
@@ -120,66 +119,6 @@ contains
             if (start > len(text)) exit
         end do
     end subroutine check_line_lengths
-
-    !> Convert the values of every key given into `cfg`, in the order of `key_table`.
-    pure subroutine convert_keys(parsed, path, cfg, error)
-        type(parsed_input), intent(in) :: parsed
-        character(len=*), intent(in) :: path
-        type(input_config), intent(inout) :: cfg
-        type(error_type), allocatable, intent(out) :: error
-        type(key_value) :: v
-        character(len=name_len), allocatable :: names(:)
-        character(len=:), allocatable :: label
-        integer :: ik, i, n, ios
-
-        do ik = 1, size(key_table)
-            n = parsed%n_values(ik)
-            if (n == 0) cycle
-            associate (spec => key_table(ik), items => parsed%values(ik)%items)
-                v = key_value(n=n)
-                ios = 0
-                select case (spec%value_type)
-                case (kt_integer)
-                    allocate (v%ints(n))
-                    do i = 1, n
-                        if (ios == 0) read (items(i)%s, *, iostat=ios) v%ints(i)
-                    end do
-                case (kt_real)
-                    allocate (v%reals(n))
-                    do i = 1, n
-                        if (ios == 0) read (items(i)%s, *, iostat=ios) v%reals(i)
-                    end do
-                case (kt_logical)
-                    v%flag = items(1)%s == ".true."
-                case default
-                    if (spec%ids) then
-                        ! a named choice held as its number
-                        names = choice_names(spec%choices)
-                        allocate (v%ints(n))
-                        do i = 1, n
-                            v%ints(i) = find_name(names, items(i)%s)
-                            if (v%ints(i) == 0) then
-                                label = trim(spec%key)
-                                if (spec%max_values > 1) label = label // "(" // int_str(i) // ")"
-                                call input_error(error, path, trim(spec%group), label // " = '" // items(i)%s &
-                                                 // "': unknown " // choice_noun(spec%choices) // " (known: " &
-                                                 // joined(names, "") // ")")
-                                return
-                            end if
-                        end do
-                    else
-                        v%texts = [character(len=path_len) :: (items(i)%s, i = 1, n)]
-                    end if
-                end select
-                if (ios /= 0) then
-                    call input_error(error, path, trim(spec%group), "key '" // trim(spec%key) &
-                                     // "': cannot convert its value")
-                    return
-                end if
-                call set_key(cfg, ik, v)
-            end associate
-        end do
-    end subroutine convert_keys
 
     !> The whole contents of a text file, newlines included.
     subroutine read_text_file(path, text, error)

@@ -9,7 +9,7 @@ module supratrans_keys
     implicit none
     private
 
-    public :: set_list, input_error
+    public :: set_list, list_value, input_error
 
     !> Value type of a key: an integer.
     integer, parameter, public :: kt_integer = 1
@@ -35,7 +35,9 @@ module supratrans_keys
     !> Length of descriptions and other texts of the table.
     integer, parameter :: text_len = 200
 
-    !> One key of the input: where it is given, its type and count, its range, how it is stored and what it is.
+    !> One key of the input: where it is given, its type and count, its range, how it is stored and what it is. The
+    !> table gives the first eight components in order (group, key, type, attribute, units, default, range,
+    !> description), the others by name.
     type, public :: key_spec
         !> Group name, lower case, without the '&'.
         character(len=group_len) :: group = ""
@@ -43,38 +45,30 @@ module supratrans_keys
         character(len=key_len) :: key = ""
         !> Value type: `kt_integer`, `kt_real`, `kt_logical`, `kt_name` or `kt_path`.
         integer :: value_type = kt_real
-        !> Largest number of values (1 for a scalar key).
-        integer :: max_values = 1
-        !> Choice set of the allowed names (`choice_*` of `supratrans_schema`); 0 for any value.
-        integer :: choices = 0
-        !> The configuration holds the number of the choice, not its name.
-        logical :: ids = .false.
         !> Name of the attribute of `/parameters` that stores the key.
         character(len=attribute_len) :: attribute = ""
         !> Units of the value ("1" for counts, flags, names and dimensionless numbers).
         character(len=units_len) :: units = "1"
-        !> The lower bound is strict (value > min).
-        logical :: min_strict = .false.
-        !> Lower bound.
-        real(wp) :: min = 0.0_wp
-        !> Lower bound as messages show it; blank when the value (each value of a list) has no lower bound.
-        character(len=bound_len) :: min_text = ""
-        !> The upper bound is strict (value < max).
-        logical :: max_strict = .false.
-        !> Upper bound.
-        real(wp) :: max = 0.0_wp
-        !> Upper bound as messages show it; blank when there is none.
-        character(len=bound_len) :: max_text = ""
-        !> Replaces "must be >= <min>" in the message of a value out of range (blank: the default text).
-        character(len=text_len) :: message = ""
-        !> For a list: index of the key whose value an unset list stands for (0: none; stored empty).
-        integer :: unset = 0
         !> The default, as the documentation shows it.
         character(len=text_len) :: default_text = ""
         !> The values allowed, in words (bounds, choices and the rules checked elsewhere).
         character(len=text_len) :: range_text = ""
         !> What the key is.
         character(len=text_len) :: description = ""
+        !> Largest number of values (1 for a scalar key).
+        integer :: max_values = 1
+        !> Choice set of the allowed names (`choice_*` of `supratrans_schema`); 0 for any value.
+        integer :: choices = 0
+        !> The configuration holds the number of the choice, not its name.
+        logical :: ids = .false.
+        !> Lower bound of each value as messages show it, with its relation: "> 0", ">= 1"; blank for none.
+        character(len=bound_len) :: lower = ""
+        !> Upper bound, as `lower`: "<= 100"; blank for none.
+        character(len=bound_len) :: upper = ""
+        !> Replaces "must be >= <min>" in the message of a value out of range (blank: the default text).
+        character(len=text_len) :: message = ""
+        !> For a list: index of the key whose value an unset list stands for (0: none; stored empty).
+        integer :: unset = 0
     end type key_spec
 
     !> A value derived from the keys that `/parameters` stores next to them (linear theory of the base run).
@@ -107,6 +101,12 @@ module supratrans_keys
         module procedure :: set_real_list, set_int_list
     end interface set_list
 
+    !> The `key_value` of a list key of a configuration (`n = 0` when the list is not set): `v = list_value(list)`
+    !> for a `real(wp)` or default-integer allocatable list.
+    interface list_value
+        module procedure :: real_list_value, int_list_value
+    end interface list_value
+
 contains
 
     pure subroutine set_real_list(list, v)
@@ -122,6 +122,18 @@ contains
 
         if (v%n > 0) list = v%ints(1:v%n)
     end subroutine set_int_list
+
+    pure type(key_value) function real_list_value(list) result(v)
+        real(wp), allocatable, intent(in) :: list(:)
+
+        if (allocated(list)) v = key_value(size(list), reals=list)
+    end function real_list_value
+
+    pure type(key_value) function int_list_value(list) result(v)
+        integer, allocatable, intent(in) :: list(:)
+
+        if (allocated(list)) v = key_value(size(list), ints=list)
+    end function int_list_value
 
     !> The input error `<where>: &<group>: <detail>` (status `err_input`): one line naming the file, group and key.
     pure subroutine input_error(error, where, group, detail)

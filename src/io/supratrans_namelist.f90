@@ -1,5 +1,5 @@
 !> The namelist syntax: a small parser (over the tokens of `supratrans_namelist_tokens`) that checks a namelist file
-!> against the key table of the schema (`key_table` of `supratrans_schema`) and gives the values of each key as text.
+!> against the key table of the schema (`key_table` of `supratrans_schema`) and gives the values of each key, converted.
 !>
 !> Syntax: `&group ... /` (or `&end`), `key = value`, `key = v1, v2, ...` (lists), separators are commas, blanks and
 !> newlines, strings in '...' or "..." (the quote doubled inside), `!` comments, logicals `.true.`, `.false.`,
@@ -12,14 +12,15 @@
 !>
 !> * `<file>: line <l>: <syntax problem>`, `<file>: line <l>: &<group>: <syntax problem>`;
 !> * `<file>: unknown group &<group> (known: &chain, ...)`, `<file>: group &<group> is given twice`;
-!> * `<file>: &<group>: unknown key '<key>' (known: ...)`, `... key '<key>' expects an integer, got '<value>'`.
+!> * `<file>: &<group>: unknown key '<key>' (known: ...)`, `... key '<key>' expects an integer, got '<value>'`,
+!>   `<file>: &<group>: <key> = '<name>': unknown <potential|method> (known: ...)`.
 module supratrans_namelist
-    use supratrans_kinds, only: name_len, path_len
+    use supratrans_kinds, only: wp, name_len, path_len
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_strings, only: int_str, find_name, joined, lower
-    use supratrans_keys, only: key_spec, kt_integer, kt_real, kt_logical, kt_name, kt_path, group_len, key_len, &
-        input_error
-    use supratrans_schema, only: key_table
+    use supratrans_keys, only: key_spec, key_value, kt_integer, kt_real, kt_logical, kt_name, kt_path, group_len, &
+        key_len, input_error
+    use supratrans_schema, only: key_table, choice_names, choice_noun
     use supratrans_namelist_tokens, only: token_t, tokenize, tk_eof, tk_group, tk_slash, tk_equals, tk_comma, &
         tk_string, tk_word, describe, fail_line, is_identifier, is_integer, is_real
     implicit none
@@ -27,25 +28,13 @@ module supratrans_namelist
 
     public :: parse_namelist
 
-    !> A string of any length, for arrays of strings.
-    type, public :: string_t
-        !> The characters.
-        character(len=:), allocatable :: s
-    end type string_t
-
-    !> The values given for one key, as text.
-    type, public :: string_list
-        !> One string per value: integers and reals as written, logicals `.true.`/`.false.`, names in lower case,
-        !> paths as written.
-        type(string_t), allocatable :: items(:)
-    end type string_list
-
-    !> The checked contents of a namelist file, before conversion.
+    !> The checked contents of a namelist file.
     type, public :: parsed_input
         !> Number of values given for each entry of `key_table` (0 when the key is absent).
         integer, allocatable :: n_values(:)
-        !> The values given for each entry of `key_table` (no items when absent).
-        type(string_list), allocatable :: values(:)
+        !> The values given for each entry of `key_table` (`n = 0` when absent): numbers converted, logicals, names
+        !> in lower case (named choices as their numbers), paths as written.
+        type(key_value), allocatable :: values(:)
         !> Number of groups in the file (0 for an empty or comments-only file).
         integer :: n_groups = 0
     end type parsed_input
@@ -54,7 +43,7 @@ contains
 
     ! Parser: groups, keys, value counts and value types against key_table
 
-    !> Tokenize and check namelist text against `key_table`; gives the values of every key present, as text.
+    !> Tokenize and check namelist text against `key_table`; gives the values of every key present, converted.
     pure subroutine parse_namelist(text, path, parsed, error)
         !> The file contents.
         character(len=*), intent(in) :: text
@@ -157,8 +146,8 @@ contains
         character(len=*), intent(in) :: path, group
         type(parsed_input), intent(inout) :: parsed
         type(error_type), allocatable, intent(out) :: error
-        character(len=:), allocatable :: key, canonical
-        type(string_t), allocatable :: values(:)
+        character(len=:), allocatable :: key
+        type(key_value) :: values
         integer :: ik, nval, previous, line
 
         key = lower(tokens(it)%text)
@@ -190,16 +179,15 @@ contains
         it = it + 2
         nval = 0
         previous = tk_equals
-        allocate (values(0))
+        allocate (values%ints(0), values%reals(0), values%texts(0))
         do
             associate (tok => tokens(it))
                 select case (tok%kind)
                 case (tk_word, tk_string)
                     if (tok%kind == tk_word .and. tokens(it + 1)%kind == tk_equals) exit
-                    call check_value(key_table(ik), tok, path, canonical, error)
-                    if (allocated(error)) return
                     nval = nval + 1
-                    values = [values, string_t(canonical)]
+                    call check_value(key_table(ik), tok, path, nval, values, error)
+                    if (allocated(error)) return
                     previous = tk_word
                     it = it + 1
                 case (tk_comma)
@@ -232,19 +220,22 @@ contains
             return
         end if
         parsed%n_values(ik) = nval
-        call move_alloc(values, parsed%values(ik)%items)
+        values%n = nval
+        parsed%values(ik) = values
     end subroutine parse_assignment
 
-    !> Check one value against the type of its key and give it in canonical form: numbers as written, logicals
-    !> `.true.`/`.false.`, names in lower case, paths as written.
-    pure subroutine check_value(spec, tok, path, canonical, error)
+    !> Check value number `i` of a key against the key's type and append it to `v`: integers and reals converted,
+    !> logicals, names in lower case (named choices as their numbers, looked up), paths as written.
+    pure subroutine check_value(spec, tok, path, i, v, error)
         type(key_spec), intent(in) :: spec
         type(token_t), intent(in) :: tok
         character(len=*), intent(in) :: path
-        character(len=:), allocatable, intent(out) :: canonical
+        integer, intent(in) :: i
+        type(key_value), intent(inout) :: v
         type(error_type), allocatable, intent(out) :: error
-        character(len=:), allocatable :: group, key, expected
+        character(len=:), allocatable :: group, key, expected, name, label
         integer :: ival, ios
+        real(wp) :: x
 
         group = trim(spec%group)
         key = trim(spec%key)
@@ -259,7 +250,7 @@ contains
             if (tok%kind == tk_word .and. is_integer(tok%text)) then
                 read (tok%text, *, iostat=ios) ival
                 if (ios == 0) then
-                    canonical = tok%text
+                    v%ints = [v%ints, ival]
                     return
                 end if
                 expected = "an integer in range"
@@ -267,7 +258,9 @@ contains
         case (kt_real)
             expected = "a real number"
             if (tok%kind == tk_word .and. is_real(tok%text)) then
-                canonical = tok%text
+                read (tok%text, *, iostat=ios) x
+                if (ios /= 0) call input_error(error, path, group, "key '" // key // "': cannot convert its value")
+                v%reals = [v%reals, x]
                 return
             end if
         case (kt_logical)
@@ -275,10 +268,10 @@ contains
             if (tok%kind == tk_word) then
                 select case (lower(tok%text))
                 case (".true.", ".t.", "t", "true")
-                    canonical = ".true."
+                    v%flag = .true.
                     return
                 case (".false.", ".f.", "f", "false")
-                    canonical = ".false."
+                    v%flag = .false.
                     return
                 case default
                     continue    ! not a logical: the message below
@@ -290,7 +283,19 @@ contains
                           // " characters")
                 return
             end if
-            canonical = lower(tok%text)
+            name = lower(tok%text)
+            if (.not. spec%ids) then
+                v%texts = [character(len=path_len) :: v%texts, name]
+                return
+            end if
+            ! a named choice, held as its number
+            ival = find_name(choice_names(spec%choices), name)
+            v%ints = [v%ints, ival]
+            if (ival > 0) return
+            label = key
+            if (spec%max_values > 1) label = label // "(" // int_str(i) // ")"
+            call input_error(error, path, group, label // " = '" // name // "': unknown " // choice_noun(spec%choices) &
+                             // " (known: " // joined(choice_names(spec%choices), "") // ")")
             return
         case default
             if (len(tok%text) > path_len) then
@@ -298,7 +303,7 @@ contains
                           // " characters")
                 return
             end if
-            canonical = tok%text
+            v%texts = [character(len=path_len) :: v%texts, tok%text]
             return
         end select
         call input_error(error, path, group, "key '" // key // "' expects " // expected // ", got " // describe(tok))

@@ -160,60 +160,33 @@ contains
         if (len(s) > 0) ok = verify(s(1:1), name_chars(11:62)) == 0 .and. verify(s, name_chars) == 0
     end function is_identifier
 
-    !> Number of decimal digits at the start of `s`.
-    pure function count_digits(s) result(n)
-        character(len=*), intent(in) :: s
-        integer :: n
-
-        n = verify(s, name_chars(1:10)) - 1
-        if (n < 0) n = len(s)
-    end function count_digits
-
     !> True for an optionally signed string of decimal digits.
-    pure function is_integer(s) result(ok)
+    pure logical function is_integer(s)
         character(len=*), intent(in) :: s
-        logical :: ok
-        integer :: i
 
-        i = 1
-        if (len(s) > 0) then
-            if (s(1:1) == "+" .or. s(1:1) == "-") i = 2
-        end if
-        ok = len(s) >= i .and. count_digits(s(i:)) == len(s) - i + 1
+        is_integer = len(s) > signed(s) .and. verify(s(signed(s) + 1:), name_chars(1:10)) == 0
     end function is_integer
 
     !> True for a real literal: [sign] (digits [. [digits]] | . digits) [(e|d) [sign] digits].
-    pure function is_real(s) result(ok)
+    pure logical function is_real(s)
         character(len=*), intent(in) :: s
-        logical :: ok
-        integer :: i, nint, nfrac, nexp
+        integer :: first, e, k
 
-        ok = .false.
-        i = 1
-        if (len(s) == 0) return
-        if (s(1:1) == "+" .or. s(1:1) == "-") i = 2
-        nint = count_digits(s(i:))
-        i = i + nint
-        nfrac = 0
-        if (i <= len(s)) then
-            if (s(i:i) == ".") then
-                nfrac = count_digits(s(i + 1:))
-                i = i + 1 + nfrac
-            end if
-        end if
-        if (nint + nfrac == 0) return
-        if (i <= len(s)) then
-            if (index("eEdD", s(i:i)) == 0) return
-            i = i + 1
-            if (i <= len(s)) then
-                if (s(i:i) == "+" .or. s(i:i) == "-") i = i + 1
-            end if
-            nexp = count_digits(s(i:))
-            if (nexp == 0) return
-            i = i + nexp
-        end if
-        ok = i == len(s) + 1
+        first = signed(s) + 1
+        e = scan(s, "eEdD")
+        if (e == 0) e = len(s) + 1
+        is_real = verify(s(first:e - 1), name_chars(1:10) // ".") == 0 .and. scan(s(first:e - 1), name_chars(1:10)) > 0 &
+                  .and. count([(s(k:k) == ".", k = first, e - 1)]) <= 1
+        if (e <= len(s)) is_real = is_real .and. is_integer(s(e + 1:))
     end function is_real
+
+    !> 1 when `s` starts with a sign, else 0.
+    pure integer function signed(s)
+        character(len=*), intent(in) :: s
+
+        signed = 0
+        if (len(s) > 0) signed = merge(1, 0, s(1:1) == "+" .or. s(1:1) == "-")
+    end function signed
 
     !> A string between single quotes, inner quotes doubled (namelist form).
     pure function quoted(s) result(q)

@@ -135,46 +135,34 @@ contains
     subroutine write_schema_table(file)
         type(h5_file), intent(inout) :: file
         character(len=*), parameter :: g = group // "/schema", dims = "parameter"
-        character(len=len(key_table%description)), allocatable :: name(:), key(:), kind(:), units(:), default(:), &
-            allowed(:), description(:)
-        integer :: nk, nd, i
+        integer, parameter :: nk = size(key_table), n = nk + size(derived_table)
+        character(len=len(key_table%description)) :: key(n), kind(n), default(n), allowed(n)
+        integer :: i
 
-        nk = size(key_table)
-        nd = size(derived_table)
-        allocate (name(nk + nd), key(nk + nd), kind(nk + nd), units(nk + nd), default(nk + nd), allowed(nk + nd), &
-                  description(nk + nd))
+        key = ""
+        kind = "real (derived)"
+        default = ""
+        allowed = ""
         do i = 1, nk
-            associate (spec => key_table(i))
-                name(i) = spec%attribute
-                key(i) = "&" // trim(spec%group) // " " // spec%key
-                kind(i) = type_names(spec%value_type)
-                if (spec%max_values > 1) kind(i) = trim(kind(i)) // " list"
-                units(i) = spec%units
-                default(i) = spec%default_text
-                allowed(i) = spec%range_text
-                description(i) = spec%description
-            end associate
-        end do
-        do i = 1, nd
-            name(nk + i) = derived_table(i)%name
-            key(nk + i) = ""
-            kind(nk + i) = "real (derived)"
-            units(nk + i) = derived_table(i)%units
-            default(nk + i) = ""
-            allowed(nk + i) = ""
-            description(nk + i) = derived_table(i)%description
+            key(i) = "&" // trim(key_table(i)%group) // " " // key_table(i)%key
+            kind(i) = type_names(key_table(i)%value_type)
+            if (key_table(i)%max_values > 1) kind(i) = trim(kind(i)) // " list"
+            default(i) = key_table(i)%default_text
+            allowed(i) = key_table(i)%range_text
         end do
         call h5_create_group(file, g, "The schema of the attributes of /parameters, one row each (src/io/schema.toml)")
-        call h5_write(file, g // "/name", name, "1", "Attribute of /parameters", dims)
-        call h5_write(file, g // "/key", key, "1", &
-            "The namelist group and key it comes from (empty for a derived value)", dims)
+        call h5_write(file, g // "/name", [character(len=len(key)) :: key_table%attribute, derived_table%name], "1", &
+            "Attribute of /parameters", dims)
+        call h5_write(file, g // "/key", key, "1", "The namelist group and key it comes from (empty for a derived value)", &
+            dims)
         call h5_write(file, g // "/type", kind, "1", &
             "Value type: integer, real, logical, name (stored as text), path (text); lists are arrays", dims)
-        call h5_write(file, g // "/units", units, "1", "Units of the value", dims)
+        call h5_write(file, g // "/units", [character(len=len(key)) :: key_table%units, derived_table%units], "1", &
+            "Units of the value", dims)
         call h5_write(file, g // "/default", default, "1", "Default of the key", dims)
-        call h5_write(file, g // "/allowed", allowed, "1", &
-            "Values allowed: range, choices, and the rules checked between keys", dims)
-        call h5_write(file, g // "/description", description, "1", "What it is", dims)
+        call h5_write(file, g // "/allowed", allowed, "1", "Values allowed: range, choices, and the rules checked between keys", &
+            dims)
+        call h5_write(file, g // "/description", [key_table%description, derived_table%description], "1", "What it is", dims)
     end subroutine write_schema_table
 
 end module supratrans_parameters

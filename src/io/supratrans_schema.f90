@@ -8,7 +8,7 @@ module supratrans_schema
     use supratrans_config, only: input_config, potential_choices, method_choices, scene_choices, screen_choices, vary_choices, &
         max_curve_values, max_probes, max_scene_methods, max_scene_dts
     use supratrans_keys, only: key_spec, derived_spec, key_value, kt_integer, kt_real, kt_logical, kt_name, kt_path, &
-        set_list
+        set_list, list_value
     implicit none
     private
 
@@ -46,229 +46,178 @@ module supratrans_schema
 
     !> The keys of &chain.
     type(key_spec), parameter :: chain_keys(*) = [ &
-        key_spec(group="chain", key="potential", value_type=kt_name, attribute="potential", choices=choice_potential, &
-            ids=.true., default_text="'sine-gordon'", range_text="'sine-gordon', 'klein-gordon'", &
-            description="On-site potential V(u): 'sine-gordon' (1 - cos u) or 'klein-gordon' (its phi^6 truncation)"), &
-        key_spec(group="chain", key="c", value_type=kt_real, attribute="c", units="1/time", min=0.0_wp, min_text="0", &
-            min_strict=.true., max=1000000.0_wp, max_text="1000000", default_text="4", range_text="> 0 and <= 1000000", &
-            description="Coupling coefficient c"), &
-        key_spec(group="chain", key="m2", value_type=kt_real, attribute="m2", units="1/time^2", min=-1.0_wp, min_text="-1", &
-            min_strict=.true., message="need 1 + m2 > 0 (the band gap 0 < Omega < sqrt(1 + m^2) must not be empty)", &
-            default_text="0", range_text="> -1", description="Mass term m^2 (negative for an imaginary mass)"), &
-        key_spec(group="chain", key="gamma", value_type=kt_real, attribute="gamma", units="1/time", min=0.0_wp, min_text="0", &
-            default_text="0", range_text=">= 0", description="External damping gamma"), &
-        key_spec(group="chain", key="beta", value_type=kt_real, attribute="beta", units="1/time", min=0.0_wp, min_text="0", &
-            default_text="0", range_text=">= 0", description="Internal damping beta"), &
-        key_spec(group="chain", key="n", value_type=kt_integer, attribute="n", min=2.0_wp, min_text="2", &
-            message="need N >= 2", default_text="200", range_text=">= 2", description="Number of oscillators N"), &
-        key_spec(group="chain", key="n0", value_type=kt_integer, attribute="n0", default_text="150", &
-            range_text="0 <= N0 <= N", description="Last site before the absorber, N0 (the absorber acts on N0 < n <= N)"), &
-        key_spec(group="chain", key="kappa", value_type=kt_real, attribute="kappa", units="1/time", min=0.0_wp, min_text="0", &
-            default_text="0.5", range_text=">= 0", &
-            description="Absorber strength kappa: gamma'(n) rises smoothly from 0 to 2 kappa"), &
-        key_spec(group="chain", key="sigma", value_type=kt_real, attribute="sigma", min=0.0_wp, min_text="0", &
-            min_strict=.true., default_text="3", range_text="> 0", description="Absorber width sigma (sites)")]
+        key_spec("chain", "potential", kt_name, "potential", "1", "'sine-gordon'", "'sine-gordon', 'klein-gordon'", &
+            "On-site potential V(u): 'sine-gordon' (1 - cos u) or 'klein-gordon' (its phi^6 truncation)", &
+            choices=choice_potential, ids=.true.), &
+        key_spec("chain", "c", kt_real, "c", "1/time", "4", "> 0 and <= 1000000", "Coupling coefficient c", lower="> 0", &
+            upper="<= 1000000"), &
+        key_spec("chain", "m2", kt_real, "m2", "1/time^2", "0", "> -1", "Mass term m^2 (negative for an imaginary mass)", &
+            lower="> -1", message="need 1 + m2 > 0 (the band gap 0 < Omega < sqrt(1 + m^2) must not be empty)"), &
+        key_spec("chain", "gamma", kt_real, "gamma", "1/time", "0", ">= 0", "External damping gamma", lower=">= 0"), &
+        key_spec("chain", "beta", kt_real, "beta", "1/time", "0", ">= 0", "Internal damping beta", lower=">= 0"), &
+        key_spec("chain", "n", kt_integer, "n", "1", "200", ">= 2", "Number of oscillators N", lower=">= 2", &
+            message="need N >= 2"), &
+        key_spec("chain", "n0", kt_integer, "n0", "1", "150", "0 <= N0 <= N", &
+            "Last site before the absorber, N0 (the absorber acts on N0 < n <= N)"), &
+        key_spec("chain", "kappa", kt_real, "kappa", "1/time", "0.5", ">= 0", &
+            "Absorber strength kappa: gamma'(n) rises smoothly from 0 to 2 kappa", lower=">= 0"), &
+        key_spec("chain", "sigma", kt_real, "sigma", "1", "3", "> 0", "Absorber width sigma (sites)", lower="> 0")]
 
     !> The keys of &drive.
     type(key_spec), parameter :: drive_keys(*) = [ &
-        key_spec(group="drive", key="amplitude", value_type=kt_real, attribute="amplitude", units="rad", min=0.0_wp, &
-            min_text="0", default_text="1.77", range_text=">= 0", description="Driving amplitude A"), &
-        key_spec(group="drive", key="omega", value_type=kt_real, attribute="omega", units="1/time", min=0.0_wp, min_text="0", &
-            min_strict=.true., default_text="0.9", &
-            range_text="> 0; inside the band gap, Omega < sqrt(1 + m^2), unless allow_outside_gap (timeseries, amplitude_sweep)", &
-            description="Driving frequency Omega"), &
-        key_spec(group="drive", key="ramp_time", value_type=kt_real, attribute="ramp_time", units="time", min=0.0_wp, &
-            min_text="0", default_text="50", range_text=">= 0", &
-            description="Length of the linear ramp of the drive amplitude (0: no ramp)"), &
-        key_spec(group="drive", key="allow_outside_gap", value_type=kt_logical, attribute="allow_outside_gap", &
-            default_text=".false.", range_text="", description="Allow a driving frequency outside the band gap")]
+        key_spec("drive", "amplitude", kt_real, "amplitude", "rad", "1.77", ">= 0", "Driving amplitude A", lower=">= 0"), &
+        key_spec("drive", "omega", kt_real, "omega", "1/time", "0.9", &
+            "> 0; inside the band gap, Omega < sqrt(1 + m^2), unless allow_outside_gap (timeseries, amplitude_sweep)", &
+            "Driving frequency Omega", lower="> 0"), &
+        key_spec("drive", "ramp_time", kt_real, "ramp_time", "time", "50", ">= 0", &
+            "Length of the linear ramp of the drive amplitude (0: no ramp)", lower=">= 0"), &
+        key_spec("drive", "allow_outside_gap", kt_logical, "allow_outside_gap", "1", ".false.", "", &
+            "Allow a driving frequency outside the band gap")]
 
     !> The keys of &numerics.
     type(key_spec), parameter :: numerics_keys(*) = [ &
-        key_spec(group="numerics", key="method", value_type=kt_name, attribute="method", choices=choice_method, ids=.true., &
-            default_text="'newton'", range_text="'newton', 'linearized', 'rk4', 'rk8', 'avf4', 'avf8'", &
-            description="Integrator: 'newton' (the paper's scheme), 'linearized', 'rk4', 'rk8', or the energy-preserving col" // &
-            "location 'avf4' or 'avf8' (docs/method.md)"), &
-        key_spec(group="numerics", key="dt", value_type=kt_real, attribute="dt", units="time", min=0.0_wp, min_text="0", &
-            min_strict=.true., default_text="0.05", &
-            range_text="> 0; the paper's necessary stability condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt, unless " // &
-            "allow_unstable or an A-stable method (avf4, avf8)", description="Time step Delta t"), &
-        key_spec(group="numerics", key="t_final", value_type=kt_real, attribute="t_final", units="time", min=0.0_wp, &
-            min_text="0", min_strict=.true., default_text="200", range_text="> 0; >= 2 dt", description="Final time T"), &
-        key_spec(group="numerics", key="newton_tol", value_type=kt_real, attribute="newton_tol", units="rad", min=0.0_wp, &
-            min_text="0", min_strict=.true., default_text="1e-10", range_text="> 0", &
-            description="Newton accepts a step when its proven error bound (quadratic convergence) is at most this and, in r" // &
-            "uns that keep the energy ledger (all but search runs), the ledger closes to roundoff"), &
-        key_spec(group="numerics", key="newton_max_iter", value_type=kt_integer, attribute="newton_max_iter", min=1.0_wp, &
-            min_text="1", default_text="20", range_text=">= 1", &
-            description="Newton iteration cap; reaching it without convergence fails the run"), &
-        key_spec(group="numerics", key="blowup_threshold", value_type=kt_real, attribute="blowup_threshold", units="rad", &
-            min=0.0_wp, min_text="0", min_strict=.true., default_text="1000", range_text="> 0", &
-            description="A run whose |u_n| exceeds this is declared diverged (blown up)"), &
-        key_spec(group="numerics", key="allow_unstable", value_type=kt_logical, attribute="allow_unstable", &
-            default_text=".false.", range_text="", &
-            description="Allow parameters that violate the paper's necessary stability condition")]
+        key_spec("numerics", "method", kt_name, "method", "1", "'newton'", &
+            "'newton', 'linearized', 'rk4', 'rk8', 'avf4', 'avf8'", &
+            "Integrator: 'newton' (the paper's scheme), 'linearized', 'rk4', 'rk8', or the energy-preserving collocation 'a" // &
+            "vf4' or 'avf8' (docs/method.md)", choices=choice_method, ids=.true.), &
+        key_spec("numerics", "dt", kt_real, "dt", "time", "0.05", &
+            "> 0; the paper's necessary stability condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt, unless allow_unst" // &
+            "able or an A-stable method (avf4, avf8)", "Time step Delta t", lower="> 0"), &
+        key_spec("numerics", "t_final", kt_real, "t_final", "time", "200", "> 0; >= 2 dt", "Final time T", lower="> 0"), &
+        key_spec("numerics", "newton_tol", kt_real, "newton_tol", "rad", "1e-10", "> 0", &
+            "Newton accepts a step when its proven error bound (quadratic convergence) is at most this and, in runs that ke" // &
+            "ep the energy ledger (all but search runs), the ledger closes to roundoff", lower="> 0"), &
+        key_spec("numerics", "newton_max_iter", kt_integer, "newton_max_iter", "1", "20", ">= 1", &
+            "Newton iteration cap; reaching it without convergence fails the run", lower=">= 1"), &
+        key_spec("numerics", "blowup_threshold", kt_real, "blowup_threshold", "rad", "1000", "> 0", &
+            "A run whose |u_n| exceeds this is declared diverged (blown up)", lower="> 0"), &
+        key_spec("numerics", "allow_unstable", kt_logical, "allow_unstable", "1", ".false.", "", &
+            "Allow parameters that violate the paper's necessary stability condition")]
 
     !> The keys of &record.
     type(key_spec), parameter :: record_keys(*) = [ &
-        key_spec(group="record", key="probes", value_type=kt_integer, max_values=max_probes, attribute="probes", &
-            default_text="60 (N if N < 60)", range_text="up to 64 values, each a site 1 .. N, none given twice", &
-            description="Sites n whose u_n(t) is recorded"), &
-        key_spec(group="record", key="probe_every", value_type=kt_integer, attribute="probe_every", min=1.0_wp, min_text="1", &
-            default_text="1", range_text=">= 1", description="Record probes every this many steps"), &
-        key_spec(group="record", key="ledger_every", value_type=kt_integer, attribute="ledger_every", min=1.0_wp, &
-            min_text="1", default_text="20", range_text=">= 1", &
-            description="Evaluate the stored energy E_k and record the ledger every this many steps")]
+        key_spec("record", "probes", kt_integer, "probes", "1", "60 (N if N < 60)", &
+            "up to 64 values, each a site 1 .. N, none given twice", "Sites n whose u_n(t) is recorded", max_values=max_probes), &
+        key_spec("record", "probe_every", kt_integer, "probe_every", "1", "1", ">= 1", "Record probes every this many steps", &
+            lower=">= 1"), &
+        key_spec("record", "ledger_every", kt_integer, "ledger_every", "1", "20", ">= 1", &
+            "Evaluate the stored energy E_k and record the ledger every this many steps", lower=">= 1")]
 
     !> The keys of &scene.
     type(key_spec), parameter :: scene_keys(*) = [ &
-        key_spec(group="scene", key="kind", value_type=kt_name, attribute="kind", choices=choice_scene, &
-            default_text="'timeseries'", &
-            range_text="'timeseries', 'amplitude_sweep', 'map', 'bifurcation', 'work_precision', 'stability', 'continuation'" // &
-            ", 'hysteresis'", description="Scene: the study to run"), &
-        key_spec(group="scene", key="amplitude_min", value_type=kt_real, attribute="amplitude_min", units="rad", min=0.0_wp, &
-            min_text="0", default_text="1", range_text=">= 0", &
-            description="Amplitude axis of sweeps and maps, and the search range of the bifurcation scene: lower end"), &
-        key_spec(group="scene", key="amplitude_max", value_type=kt_real, attribute="amplitude_max", units="rad", &
-            default_text="3", range_text=">= amplitude_min", description="Upper end of the amplitude axis / search range"), &
-        key_spec(group="scene", key="amplitude_step", value_type=kt_real, attribute="amplitude_step", units="rad", min=0.0_wp, &
-            min_text="0", min_strict=.true., default_text="0.01", range_text="> 0", &
-            description="Amplitude step of sweeps and maps"), &
-        key_spec(group="scene", key="omega_min", value_type=kt_real, attribute="omega_min", units="1/time", min=0.0_wp, &
-            min_text="0", min_strict=.true., default_text="0.05", range_text="> 0", &
-            description="Frequency axis of maps and bifurcation diagrams: lower end"), &
-        key_spec(group="scene", key="omega_max", value_type=kt_real, attribute="omega_max", units="1/time", default_text="1", &
-            range_text=">= omega_min", description="Upper end of the frequency axis"), &
-        key_spec(group="scene", key="omega_step", value_type=kt_real, attribute="omega_step", units="1/time", min=0.0_wp, &
-            min_text="0", min_strict=.true., default_text="0.05", range_text="> 0", description="Frequency step"), &
-        key_spec(group="scene", key="vary", value_type=kt_name, attribute="vary", choices=choice_vary, ids=.true., &
-            default_text="'none'", range_text="'none', 'gamma', 'beta', 'm2'", &
-            description="Parameter that differs between curves"), &
-        key_spec(group="scene", key="values", value_type=kt_real, max_values=max_curve_values, attribute="values", &
-            default_text="unset (needed unless vary = 'none')", range_text="up to 16 values", &
-            description="Values of the varied parameter, one curve each (in the units of that parameter)"), &
-        key_spec(group="scene", key="potentials", value_type=kt_name, max_values=2, attribute="potentials", &
-            choices=choice_potential, ids=.true., unset=1, default_text="the &chain potential", &
-            range_text="up to 2 values, each 'sine-gordon', 'klein-gordon'", &
-            description="Potentials, one panel (sweeps, maps) or set of curves each"), &
-        key_spec(group="scene", key="continuation_step", value_type=kt_real, attribute="continuation_step", units="rad", &
-            min=0.0_wp, min_text="0", min_strict=.true., default_text="0.05", range_text="> 0; <= continuation_step_max", &
-            description="Continuation: first pseudo-arclength step along the branch of driven periodic states (grows and shr" // &
-            "inks with Newton's progress)"), &
-        key_spec(group="scene", key="continuation_step_max", value_type=kt_real, attribute="continuation_step_max", &
-            units="rad", min=0.0_wp, min_text="0", min_strict=.true., default_text="0.2", range_text="> 0", &
-            description="Continuation: largest pseudo-arclength step"), &
-        key_spec(group="scene", key="continuation_points", value_type=kt_integer, attribute="continuation_points", min=3.0_wp, &
-            min_text="3", max=150.0_wp, max_text="150", default_text="150", range_text=">= 3 and <= 150", &
-            description="Continuation: most points of a branch (the continuation stops there with status 'max_points')"), &
-        key_spec(group="scene", key="beyond_fold", value_type=kt_integer, attribute="beyond_fold", min=0.0_wp, min_text="0", &
-            max=100.0_wp, max_text="100", default_text="10", range_text=">= 0 and <= 100", &
-            description="Continuation: points followed along the unstable branch past the fold"), &
-        key_spec(group="scene", key="crossing_tol", value_type=kt_real, attribute="crossing_tol", min=0.0_wp, min_text="0", &
-            min_strict=.true., max=0.1_wp, max_text="0.1", default_text="1e-06", range_text="> 0 and <= 0.1", &
-            description="Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + c" // &
-            "rossing_tol"), &
-        key_spec(group="scene", key="floquet_every", value_type=kt_integer, attribute="floquet_every", min=0.0_wp, &
-            min_text="0", max=100.0_wp, max_text="100", default_text="4", range_text=">= 0 and <= 100", &
-            description="Continuation: multipliers every this many branch points, where their trend could reach the unit cir" // &
-            "cle, at the fold and where the verdict changes (1: every point; 0: the fold only)"), &
-        key_spec(group="scene", key="fold_convergence", value_type=kt_logical, attribute="fold_convergence", &
-            default_text=".true.", range_text="", &
-            description="Continuation: locate each fold again at dt/2 and on a chain twice as long, for its converged digits"), &
-        key_spec(group="scene", key="coarse_step", value_type=kt_real, attribute="coarse_step", units="rad", &
-            default_text="0.1", range_text=">= resolution", &
-            description="Bifurcation search: coarse amplitude step of the upward scan"), &
-        key_spec(group="scene", key="resolution", value_type=kt_real, attribute="resolution", units="rad", min=0.0_wp, &
-            min_text="0", min_strict=.true., default_text="0.01", range_text="> 0", &
-            description="Bifurcation search: resolution of the threshold; stability scene: resolution of the boundary in dt"), &
-        key_spec(group="scene", key="screen_method", value_type=kt_name, attribute="screen_method", choices=choice_screen, &
-            ids=.true., default_text="'linearized'", range_text="'none', 'newton', 'linearized', 'rk4', 'rk8'", &
-            description="Bifurcation search: integrator that screens amplitudes far from the threshold ('none': every run us" // &
-            "es the &numerics method; README, ""Screening"")"), &
-        key_spec(group="scene", key="screen_dt", value_type=kt_real, attribute="screen_dt", units="time", min=0.0_wp, &
-            min_text="0", default_text="0 (2 dt, or dt where 2 dt breaks the stability condition)", &
-            range_text=">= 0; 0, or dt <= screen_dt <= t_final/2", &
-            description="Bifurcation search: time step of the screening runs (0: twice the &numerics dt where that meets the" // &
-            " paper's stability condition, else dt)"), &
-        key_spec(group="scene", key="confirm_band", value_type=kt_real, attribute="confirm_band", units="rad", min=0.0_wp, &
-            min_text="0", default_text="0.05", range_text=">= 0", &
-            description="Bifurcation search: every amplitude the search asks within this distance below its threshold (and a" // &
-            "bove) is run with the &numerics method"), &
-        key_spec(group="scene", key="screen_margin", value_type=kt_real, attribute="screen_margin", min=0.0_wp, min_text="0", &
-            max=1.0_wp, max_text="1", default_text="0.5", range_text=">= 0 and <= 1", &
-            description="Bifurcation search: a quiet screening run whose verdict margin (1 - max|u|/amplitude beyond the det" // &
-            "ector) is below this is run again with the &numerics method"), &
-        key_spec(group="scene", key="certify", value_type=kt_logical, attribute="certify", default_text=".false.", &
-            range_text="", &
-            description="Bifurcation search: recheck each threshold with the &numerics method at dt/2 and flag it if it move" // &
-            "s more than the resolution"), &
-        key_spec(group="scene", key="methods", value_type=kt_name, max_values=max_scene_methods, attribute="methods", &
-            choices=choice_method, ids=.true., default_text="all", &
-            range_text="up to 8 values, each 'newton', 'linearized', 'rk4', 'rk8', 'avf4', 'avf8'", &
-            description="Work-precision and stability scenes: the integrators compared"), &
-        key_spec(group="scene", key="dts", value_type=kt_real, max_values=max_scene_dts, attribute="dts", units="time", &
-            min=0.0_wp, min_text="0", min_strict=.true., default_text="the scene's list", &
-            range_text="up to 64 values, each > 0; <= t_final/2 (work_precision)", &
-            description="Work-precision: the time steps (each method runs those >= its dt_smallest); stability: the dt axis"), &
-        key_spec(group="scene", key="dt_smallest", value_type=kt_real, max_values=max_scene_methods, attribute="dt_smallest", &
-            units="time", min=0.0_wp, min_text="0", default_text="0 for every method", &
-            range_text="up to 8 values, each >= 0; one value per entry of methods", &
-            description="Work-precision: smallest dt run for each method, one per entry of methods (0: every dt of dts)"), &
-        key_spec(group="scene", key="amplitudes", value_type=kt_real, max_values=max_curve_values, attribute="amplitudes", &
-            units="rad", min=0.0_wp, min_text="0", min_strict=.true., default_text="the &drive amplitude", &
-            range_text="up to 16 values, each > 0", description="Work-precision: the drive amplitudes (one set of runs each)"), &
-        key_spec(group="scene", key="c_values", value_type=kt_real, max_values=max_curve_values, attribute="c_values", &
-            units="1/time", min=0.0_wp, min_text="0", min_strict=.true., default_text="the &chain c", &
-            range_text="up to 16 values, each > 0", description="Stability: the values of the coupling c (the c axis)"), &
-        key_spec(group="scene", key="repeats", value_type=kt_integer, attribute="repeats", min=1.0_wp, min_text="1", &
-            default_text="3", range_text=">= 1", &
-            description="Work-precision: timed repetitions of each run (the median wall time is recorded)"), &
-        key_spec(group="scene", key="reference_dt", value_type=kt_real, attribute="reference_dt", units="time", min=0.0_wp, &
-            min_text="0", min_strict=.true., default_text="0.025", range_text="> 0; <= t_final/2", &
-            description="Work-precision: step of the reference solution (rk8 at reference_dt/2, checked against reference_dt)"), &
-        key_spec(group="scene", key="stair_times", value_type=kt_real, max_values=max_curve_values, attribute="stair_times", &
-            units="time", min=0.0_wp, min_text="0", min_strict=.true., default_text="400 (one stair length)", &
-            range_text="up to 16 values, each > 0; >= 2 stair_ramp", &
-            description="Hysteresis: the stair lengths (one run each per curve and Omega); the spread of the edges over them" // &
-            " is the protocol's part"), &
-        key_spec(group="scene", key="stair_height", value_type=kt_real, attribute="stair_height", units="rad", min=0.0_wp, &
-            min_text="0", min_strict=.true., default_text="0.02", range_text="> 0", &
-            description="Hysteresis: amplitude step between two stairs (levels amplitude_min + i stair_height <= amplitude_max)"), &
-        key_spec(group="scene", key="stair_ramp", value_type=kt_real, attribute="stair_ramp", units="time", min=0.0_wp, &
-            min_text="0", default_text="10", range_text=">= 0; <= stair_times/2", &
-            description="Hysteresis: length of the linear ramp between two stairs (at the start of each stair, so that the d" // &
-            "rive stays continuous)"), &
-        key_spec(group="scene", key="power_threshold", value_type=kt_real, attribute="power_threshold", units="energy/time", &
-            min=0.0_wp, min_text="0", min_strict=.true., default_text="0.05", range_text="> 0", &
-            description="Hysteresis: a stair transmits when its mean power through the bond beyond the detector site exceeds" // &
-            " this (transmitting stairs carry 0.3 - 4 here)")]
+        key_spec("scene", "kind", kt_name, "kind", "1", "'timeseries'", &
+            "'timeseries', 'amplitude_sweep', 'map', 'bifurcation', 'work_precision', 'stability', 'continuation', 'hystere" // &
+            "sis'", "Scene: the study to run", choices=choice_scene), &
+        key_spec("scene", "amplitude_min", kt_real, "amplitude_min", "rad", "1", ">= 0", &
+            "Amplitude axis of sweeps and maps, and the search range of the bifurcation scene: lower end", lower=">= 0"), &
+        key_spec("scene", "amplitude_max", kt_real, "amplitude_max", "rad", "3", ">= amplitude_min", &
+            "Upper end of the amplitude axis / search range"), &
+        key_spec("scene", "amplitude_step", kt_real, "amplitude_step", "rad", "0.01", "> 0", &
+            "Amplitude step of sweeps and maps", lower="> 0"), &
+        key_spec("scene", "omega_min", kt_real, "omega_min", "1/time", "0.05", "> 0", &
+            "Frequency axis of maps and bifurcation diagrams: lower end", lower="> 0"), &
+        key_spec("scene", "omega_max", kt_real, "omega_max", "1/time", "1", ">= omega_min", "Upper end of the frequency axis"), &
+        key_spec("scene", "omega_step", kt_real, "omega_step", "1/time", "0.05", "> 0", "Frequency step", lower="> 0"), &
+        key_spec("scene", "vary", kt_name, "vary", "1", "'none'", "'none', 'gamma', 'beta', 'm2'", &
+            "Parameter that differs between curves", choices=choice_vary, ids=.true.), &
+        key_spec("scene", "values", kt_real, "values", "1", "unset (needed unless vary = 'none')", "up to 16 values", &
+            "Values of the varied parameter, one curve each (in the units of that parameter)", max_values=max_curve_values), &
+        key_spec("scene", "potentials", kt_name, "potentials", "1", "the &chain potential", &
+            "up to 2 values, each 'sine-gordon', 'klein-gordon'", "Potentials, one panel (sweeps, maps) or set of curves each", &
+            max_values=2, choices=choice_potential, ids=.true., unset=1), &
+        key_spec("scene", "continuation_step", kt_real, "continuation_step", "rad", "0.05", "> 0; <= continuation_step_max", &
+            "Continuation: first pseudo-arclength step along the branch of driven periodic states (grows and shrinks with N" // &
+            "ewton's progress)", lower="> 0"), &
+        key_spec("scene", "continuation_step_max", kt_real, "continuation_step_max", "rad", "0.2", "> 0", &
+            "Continuation: largest pseudo-arclength step", lower="> 0"), &
+        key_spec("scene", "continuation_points", kt_integer, "continuation_points", "1", "150", ">= 3 and <= 150", &
+            "Continuation: most points of a branch (the continuation stops there with status 'max_points')", lower=">= 3", &
+            upper="<= 150"), &
+        key_spec("scene", "beyond_fold", kt_integer, "beyond_fold", "1", "10", ">= 0 and <= 100", &
+            "Continuation: points followed along the unstable branch past the fold", lower=">= 0", upper="<= 100"), &
+        key_spec("scene", "crossing_tol", kt_real, "crossing_tol", "1", "1e-06", "> 0 and <= 0.1", &
+            "Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + crossing_tol", &
+            lower="> 0", upper="<= 0.1"), &
+        key_spec("scene", "floquet_every", kt_integer, "floquet_every", "1", "4", ">= 0 and <= 100", &
+            "Continuation: multipliers every this many branch points, where their trend could reach the unit circle, at the" // &
+            " fold and where the verdict changes (1: every point; 0: the fold only)", lower=">= 0", upper="<= 100"), &
+        key_spec("scene", "fold_convergence", kt_logical, "fold_convergence", "1", ".true.", "", &
+            "Continuation: locate each fold again at dt/2 and on a chain twice as long, for its converged digits"), &
+        key_spec("scene", "coarse_step", kt_real, "coarse_step", "rad", "0.1", ">= resolution", &
+            "Bifurcation search: coarse amplitude step of the upward scan"), &
+        key_spec("scene", "resolution", kt_real, "resolution", "rad", "0.01", "> 0", &
+            "Bifurcation search: resolution of the threshold; stability scene: resolution of the boundary in dt", lower="> 0"), &
+        key_spec("scene", "screen_method", kt_name, "screen_method", "1", "'linearized'", &
+            "'none', 'newton', 'linearized', 'rk4', 'rk8'", &
+            "Bifurcation search: integrator that screens amplitudes far from the threshold ('none': every run uses the &num" // &
+            "erics method; README, ""Screening"")", choices=choice_screen, ids=.true.), &
+        key_spec("scene", "screen_dt", kt_real, "screen_dt", "time", &
+            "0 (2 dt, or dt where 2 dt breaks the stability condition)", ">= 0; 0, or dt <= screen_dt <= t_final/2", &
+            "Bifurcation search: time step of the screening runs (0: twice the &numerics dt where that meets the paper's st" // &
+            "ability condition, else dt)", lower=">= 0"), &
+        key_spec("scene", "confirm_band", kt_real, "confirm_band", "rad", "0.05", ">= 0", &
+            "Bifurcation search: every amplitude the search asks within this distance below its threshold (and above) is ru" // &
+            "n with the &numerics method", lower=">= 0"), &
+        key_spec("scene", "screen_margin", kt_real, "screen_margin", "1", "0.5", ">= 0 and <= 1", &
+            "Bifurcation search: a quiet screening run whose verdict margin (1 - max|u|/amplitude beyond the detector) is b" // &
+            "elow this is run again with the &numerics method", lower=">= 0", upper="<= 1"), &
+        key_spec("scene", "certify", kt_logical, "certify", "1", ".false.", "", &
+            "Bifurcation search: recheck each threshold with the &numerics method at dt/2 and flag it if it moves more than" // &
+            " the resolution"), &
+        key_spec("scene", "methods", kt_name, "methods", "1", "all", &
+            "up to 8 values, each 'newton', 'linearized', 'rk4', 'rk8', 'avf4', 'avf8'", &
+            "Work-precision and stability scenes: the integrators compared", max_values=max_scene_methods, &
+            choices=choice_method, ids=.true.), &
+        key_spec("scene", "dts", kt_real, "dts", "time", "the scene's list", &
+            "up to 64 values, each > 0; <= t_final/2 (work_precision)", &
+            "Work-precision: the time steps (each method runs those >= its dt_smallest); stability: the dt axis", &
+            max_values=max_scene_dts, lower="> 0"), &
+        key_spec("scene", "dt_smallest", kt_real, "dt_smallest", "time", "0 for every method", &
+            "up to 8 values, each >= 0; one value per entry of methods", &
+            "Work-precision: smallest dt run for each method, one per entry of methods (0: every dt of dts)", &
+            max_values=max_scene_methods, lower=">= 0"), &
+        key_spec("scene", "amplitudes", kt_real, "amplitudes", "rad", "the &drive amplitude", "up to 16 values, each > 0", &
+            "Work-precision: the drive amplitudes (one set of runs each)", max_values=max_curve_values, lower="> 0"), &
+        key_spec("scene", "c_values", kt_real, "c_values", "1/time", "the &chain c", "up to 16 values, each > 0", &
+            "Stability: the values of the coupling c (the c axis)", max_values=max_curve_values, lower="> 0"), &
+        key_spec("scene", "repeats", kt_integer, "repeats", "1", "3", ">= 1", &
+            "Work-precision: timed repetitions of each run (the median wall time is recorded)", lower=">= 1"), &
+        key_spec("scene", "reference_dt", kt_real, "reference_dt", "time", "0.025", "> 0; <= t_final/2", &
+            "Work-precision: step of the reference solution (rk8 at reference_dt/2, checked against reference_dt)", lower="> 0"), &
+        key_spec("scene", "stair_times", kt_real, "stair_times", "time", "400 (one stair length)", &
+            "up to 16 values, each > 0; >= 2 stair_ramp", &
+            "Hysteresis: the stair lengths (one run each per curve and Omega); the spread of the edges over them is the pro" // &
+            "tocol's part", max_values=max_curve_values, lower="> 0"), &
+        key_spec("scene", "stair_height", kt_real, "stair_height", "rad", "0.02", "> 0", &
+            "Hysteresis: amplitude step between two stairs (levels amplitude_min + i stair_height <= amplitude_max)", &
+            lower="> 0"), &
+        key_spec("scene", "stair_ramp", kt_real, "stair_ramp", "time", "10", ">= 0; <= stair_times/2", &
+            "Hysteresis: length of the linear ramp between two stairs (at the start of each stair, so that the drive stays " // &
+            "continuous)", lower=">= 0"), &
+        key_spec("scene", "power_threshold", kt_real, "power_threshold", "energy/time", "0.05", "> 0", &
+            "Hysteresis: a stair transmits when its mean power through the bond beyond the detector site exceeds this (tran" // &
+            "smitting stairs carry 0.3 - 4 here)", lower="> 0")]
 
     !> The keys of &detect.
     type(key_spec), parameter :: detect_keys(*) = [ &
-        key_spec(group="detect", key="site", value_type=kt_integer, attribute="detect_site", default_text="0", &
-            range_text="0 (automatic) <= site < N", &
-            description="Detector site n_d; 0 chooses min(N0 - 10, max(20, ceiling(3/lambda))), where the evanescent wave ha" // &
-            "s decayed to e^-3"), &
-        key_spec(group="detect", key="amplitude", value_type=kt_real, attribute="detect_amplitude", units="rad", min=0.0_wp, &
-            min_text="0", min_strict=.true., default_text="pi", range_text="> 0", &
-            description="Displacement |u_n|, n > n_d, that makes the verdict 'transmitting'"), &
-        key_spec(group="detect", key="stop_when_decided", value_type=kt_logical, attribute="stop_when_decided", &
-            default_text=".false.", range_text="", &
-            description="Stop a run as soon as it is found transmitting (its energy totals then end at that time)")]
+        key_spec("detect", "site", kt_integer, "detect_site", "1", "0", "0 (automatic) <= site < N", &
+            "Detector site n_d; 0 chooses min(N0 - 10, max(20, ceiling(3/lambda))), where the evanescent wave has decayed t" // &
+            "o e^-3"), &
+        key_spec("detect", "amplitude", kt_real, "detect_amplitude", "rad", "pi", "> 0", &
+            "Displacement |u_n|, n > n_d, that makes the verdict 'transmitting'", lower="> 0"), &
+        key_spec("detect", "stop_when_decided", kt_logical, "stop_when_decided", "1", ".false.", "", &
+            "Stop a run as soon as it is found transmitting (its energy totals then end at that time)")]
 
     !> The keys of &output.
     type(key_spec), parameter :: output_keys(*) = [ &
-        key_spec(group="output", key="file", value_type=kt_path, attribute="file", default_text="'supratrans.h5'", &
-            range_text="not empty; must not exist unless overwrite", &
-            description="Output HDF5 file (missing directories are created)"), &
-        key_spec(group="output", key="overwrite", value_type=kt_logical, attribute="overwrite", default_text=".false.", &
-            range_text="", description="Replace an existing output file instead of refusing"), &
-        key_spec(group="output", key="checkpoint_every", value_type=kt_real, attribute="checkpoint_every", units="s", &
-            min=0.0_wp, min_text="0", default_text="300", range_text=">= 0", &
-            description="Wall time between two mid-run checkpoints of a running task (also written at once on SIGTERM or SIG" // &
-            "USR1, then the program exits 5 and resumes); 0: no checkpoints"), &
-        key_spec(group="output", key="quiet", value_type=kt_logical, attribute="quiet", default_text=".false.", range_text="", &
-            description="Suppress progress messages on stderr")]
+        key_spec("output", "file", kt_path, "file", "1", "'supratrans.h5'", "not empty; must not exist unless overwrite", &
+            "Output HDF5 file (missing directories are created)"), &
+        key_spec("output", "overwrite", kt_logical, "overwrite", "1", ".false.", "", &
+            "Replace an existing output file instead of refusing"), &
+        key_spec("output", "checkpoint_every", kt_real, "checkpoint_every", "s", "300", ">= 0", &
+            "Wall time between two mid-run checkpoints of a running task (also written at once on SIGTERM or SIGUSR1, then " // &
+            "the program exits 5 and resumes); 0: no checkpoints", lower=">= 0"), &
+        key_spec("output", "quiet", kt_logical, "quiet", "1", ".false.", "", "Suppress progress messages on stderr")]
 
     !> Every key of the input, grouped; the order of the groups is the order in which they are converted and checked.
     type(key_spec), parameter, public :: key_table(*) = [chain_keys, drive_keys, numerics_keys, record_keys, scene_keys, &
@@ -293,14 +242,12 @@ contains
         integer, intent(in) :: set
         character(len=name_len), allocatable :: names(:)
 
-        select case (set)
-        case (choice_potential); names = potential_choices
-        case (choice_method); names = method_choices
-        case (choice_scene); names = scene_choices
-        case (choice_screen); names = screen_choices
-        case (choice_vary); names = vary_choices
-        case default; allocate (names(0))
-        end select
+        allocate (names(0))
+        if (set == choice_potential) names = potential_choices
+        if (set == choice_method) names = method_choices
+        if (set == choice_scene) names = scene_choices
+        if (set == choice_screen) names = screen_choices
+        if (set == choice_vary) names = vary_choices
     end function choice_names
 
     !> What the names of a choice set are, for messages ("unknown method").
@@ -309,14 +256,12 @@ contains
         integer, intent(in) :: set
         character(len=:), allocatable :: noun
 
-        select case (set)
-        case (choice_potential); noun = "potential"
-        case (choice_method); noun = "method"
-        case (choice_scene); noun = "scene"
-        case (choice_screen); noun = "screening method"
-        case (choice_vary); noun = "parameter"
-        case default; noun = "value"
-        end select
+        noun = "value"
+        if (set == choice_potential) noun = "potential"
+        if (set == choice_method) noun = "method"
+        if (set == choice_scene) noun = "scene"
+        if (set == choice_screen) noun = "screening method"
+        if (set == choice_vary) noun = "parameter"
     end function choice_noun
 
     !> The value of key `ik` of `key_table` in a configuration (`n = 0` for a list that is not set). Named
@@ -328,80 +273,72 @@ contains
         integer, intent(in) :: ik
         type(key_value) :: v
 
-        select case (ik)
-        case (key_chain_potential); v = key_value(1, ints=[cfg%run%chain%potential])
-        case (key_chain_c); v = key_value(1, reals=[cfg%run%chain%c])
-        case (key_chain_m2); v = key_value(1, reals=[cfg%run%chain%m2])
-        case (key_chain_gamma); v = key_value(1, reals=[cfg%run%chain%gamma])
-        case (key_chain_beta); v = key_value(1, reals=[cfg%run%chain%beta])
-        case (key_chain_n); v = key_value(1, ints=[cfg%run%chain%n])
-        case (key_chain_n0); v = key_value(1, ints=[cfg%run%chain%n0])
-        case (key_chain_kappa); v = key_value(1, reals=[cfg%run%chain%kappa])
-        case (key_chain_sigma); v = key_value(1, reals=[cfg%run%chain%sigma])
-        case (key_drive_amplitude); v = key_value(1, reals=[cfg%run%drive%amplitude])
-        case (key_drive_omega); v = key_value(1, reals=[cfg%run%drive%omega])
-        case (key_drive_ramp_time); v = key_value(1, reals=[cfg%run%drive%ramp_time])
-        case (key_drive_allow_outside_gap); v = key_value(1, flag=cfg%allow_outside_gap)
-        case (key_numerics_method); v = key_value(1, ints=[cfg%run%numerics%method])
-        case (key_numerics_dt); v = key_value(1, reals=[cfg%run%numerics%dt])
-        case (key_numerics_t_final); v = key_value(1, reals=[cfg%run%numerics%t_final])
-        case (key_numerics_newton_tol); v = key_value(1, reals=[cfg%run%numerics%newton_tol])
-        case (key_numerics_newton_max_iter); v = key_value(1, ints=[cfg%run%numerics%newton_max_iter])
-        case (key_numerics_blowup_threshold); v = key_value(1, reals=[cfg%run%numerics%blowup_threshold])
-        case (key_numerics_allow_unstable); v = key_value(1, flag=cfg%allow_unstable)
-        case (key_record_probes)
-            if (allocated(cfg%run%record%probes)) v = key_value(size(cfg%run%record%probes), ints=cfg%run%record%probes)
-        case (key_record_probe_every); v = key_value(1, ints=[cfg%run%record%probe_every])
-        case (key_record_ledger_every); v = key_value(1, ints=[cfg%run%record%ledger_every])
-        case (key_scene_kind); v = key_value(1, texts=[cfg%scene%kind])
-        case (key_scene_amplitude_min); v = key_value(1, reals=[cfg%scene%amplitude_min])
-        case (key_scene_amplitude_max); v = key_value(1, reals=[cfg%scene%amplitude_max])
-        case (key_scene_amplitude_step); v = key_value(1, reals=[cfg%scene%amplitude_step])
-        case (key_scene_omega_min); v = key_value(1, reals=[cfg%scene%omega_min])
-        case (key_scene_omega_max); v = key_value(1, reals=[cfg%scene%omega_max])
-        case (key_scene_omega_step); v = key_value(1, reals=[cfg%scene%omega_step])
-        case (key_scene_vary); v = key_value(1, ints=[cfg%scene%vary])
-        case (key_scene_values); if (allocated(cfg%scene%values)) v = key_value(size(cfg%scene%values), reals=cfg%scene%values)
-        case (key_scene_potentials)
-            if (allocated(cfg%scene%potentials)) v = key_value(size(cfg%scene%potentials), ints=cfg%scene%potentials)
-        case (key_scene_continuation_step); v = key_value(1, reals=[cfg%scene%continuation_step])
-        case (key_scene_continuation_step_max); v = key_value(1, reals=[cfg%scene%continuation_step_max])
-        case (key_scene_continuation_points); v = key_value(1, ints=[cfg%scene%continuation_points])
-        case (key_scene_beyond_fold); v = key_value(1, ints=[cfg%scene%beyond_fold])
-        case (key_scene_crossing_tol); v = key_value(1, reals=[cfg%scene%crossing_tol])
-        case (key_scene_floquet_every); v = key_value(1, ints=[cfg%scene%floquet_every])
-        case (key_scene_fold_convergence); v = key_value(1, flag=cfg%scene%fold_convergence)
-        case (key_scene_coarse_step); v = key_value(1, reals=[cfg%scene%coarse_step])
-        case (key_scene_resolution); v = key_value(1, reals=[cfg%scene%resolution])
-        case (key_scene_screen_method); v = key_value(1, ints=[cfg%scene%screen_method])
-        case (key_scene_screen_dt); v = key_value(1, reals=[cfg%scene%screen_dt])
-        case (key_scene_confirm_band); v = key_value(1, reals=[cfg%scene%confirm_band])
-        case (key_scene_screen_margin); v = key_value(1, reals=[cfg%scene%screen_margin])
-        case (key_scene_certify); v = key_value(1, flag=cfg%scene%certify)
-        case (key_scene_methods); if (allocated(cfg%scene%methods)) v = key_value(size(cfg%scene%methods), ints=cfg%scene%methods)
-        case (key_scene_dts); if (allocated(cfg%scene%dts)) v = key_value(size(cfg%scene%dts), reals=cfg%scene%dts)
-        case (key_scene_dt_smallest)
-            if (allocated(cfg%scene%dt_smallest)) v = key_value(size(cfg%scene%dt_smallest), reals=cfg%scene%dt_smallest)
-        case (key_scene_amplitudes)
-            if (allocated(cfg%scene%amplitudes)) v = key_value(size(cfg%scene%amplitudes), reals=cfg%scene%amplitudes)
-        case (key_scene_c_values)
-            if (allocated(cfg%scene%c_values)) v = key_value(size(cfg%scene%c_values), reals=cfg%scene%c_values)
-        case (key_scene_repeats); v = key_value(1, ints=[cfg%scene%repeats])
-        case (key_scene_reference_dt); v = key_value(1, reals=[cfg%scene%reference_dt])
-        case (key_scene_stair_times)
-            if (allocated(cfg%scene%stair_times)) v = key_value(size(cfg%scene%stair_times), reals=cfg%scene%stair_times)
-        case (key_scene_stair_height); v = key_value(1, reals=[cfg%scene%stair_height])
-        case (key_scene_stair_ramp); v = key_value(1, reals=[cfg%scene%stair_ramp])
-        case (key_scene_power_threshold); v = key_value(1, reals=[cfg%scene%power_threshold])
-        case (key_detect_site); v = key_value(1, ints=[cfg%run%detect%site])
-        case (key_detect_amplitude); v = key_value(1, reals=[cfg%run%detect%amplitude])
-        case (key_detect_stop_when_decided); v = key_value(1, flag=cfg%run%detect%stop_when_decided)
-        case (key_output_file); v = key_value(1, texts=[cfg%output%file])
-        case (key_output_overwrite); v = key_value(1, flag=cfg%output%overwrite)
-        case (key_output_checkpoint_every); v = key_value(1, reals=[cfg%output%checkpoint_every])
-        case (key_output_quiet); v = key_value(1, flag=cfg%output%quiet)
-        case default; v%n = 0     ! not a key index: no value
-        end select
+        v%n = 0     ! not a key index: no value
+        if (ik == key_chain_potential) v = key_value(1, ints=[cfg%run%chain%potential])
+        if (ik == key_chain_c) v = key_value(1, reals=[cfg%run%chain%c])
+        if (ik == key_chain_m2) v = key_value(1, reals=[cfg%run%chain%m2])
+        if (ik == key_chain_gamma) v = key_value(1, reals=[cfg%run%chain%gamma])
+        if (ik == key_chain_beta) v = key_value(1, reals=[cfg%run%chain%beta])
+        if (ik == key_chain_n) v = key_value(1, ints=[cfg%run%chain%n])
+        if (ik == key_chain_n0) v = key_value(1, ints=[cfg%run%chain%n0])
+        if (ik == key_chain_kappa) v = key_value(1, reals=[cfg%run%chain%kappa])
+        if (ik == key_chain_sigma) v = key_value(1, reals=[cfg%run%chain%sigma])
+        if (ik == key_drive_amplitude) v = key_value(1, reals=[cfg%run%drive%amplitude])
+        if (ik == key_drive_omega) v = key_value(1, reals=[cfg%run%drive%omega])
+        if (ik == key_drive_ramp_time) v = key_value(1, reals=[cfg%run%drive%ramp_time])
+        if (ik == key_drive_allow_outside_gap) v = key_value(1, flag=cfg%allow_outside_gap)
+        if (ik == key_numerics_method) v = key_value(1, ints=[cfg%run%numerics%method])
+        if (ik == key_numerics_dt) v = key_value(1, reals=[cfg%run%numerics%dt])
+        if (ik == key_numerics_t_final) v = key_value(1, reals=[cfg%run%numerics%t_final])
+        if (ik == key_numerics_newton_tol) v = key_value(1, reals=[cfg%run%numerics%newton_tol])
+        if (ik == key_numerics_newton_max_iter) v = key_value(1, ints=[cfg%run%numerics%newton_max_iter])
+        if (ik == key_numerics_blowup_threshold) v = key_value(1, reals=[cfg%run%numerics%blowup_threshold])
+        if (ik == key_numerics_allow_unstable) v = key_value(1, flag=cfg%allow_unstable)
+        if (ik == key_record_probes) v = list_value(cfg%run%record%probes)
+        if (ik == key_record_probe_every) v = key_value(1, ints=[cfg%run%record%probe_every])
+        if (ik == key_record_ledger_every) v = key_value(1, ints=[cfg%run%record%ledger_every])
+        if (ik == key_scene_kind) v = key_value(1, texts=[cfg%scene%kind])
+        if (ik == key_scene_amplitude_min) v = key_value(1, reals=[cfg%scene%amplitude_min])
+        if (ik == key_scene_amplitude_max) v = key_value(1, reals=[cfg%scene%amplitude_max])
+        if (ik == key_scene_amplitude_step) v = key_value(1, reals=[cfg%scene%amplitude_step])
+        if (ik == key_scene_omega_min) v = key_value(1, reals=[cfg%scene%omega_min])
+        if (ik == key_scene_omega_max) v = key_value(1, reals=[cfg%scene%omega_max])
+        if (ik == key_scene_omega_step) v = key_value(1, reals=[cfg%scene%omega_step])
+        if (ik == key_scene_vary) v = key_value(1, ints=[cfg%scene%vary])
+        if (ik == key_scene_values) v = list_value(cfg%scene%values)
+        if (ik == key_scene_potentials) v = list_value(cfg%scene%potentials)
+        if (ik == key_scene_continuation_step) v = key_value(1, reals=[cfg%scene%continuation_step])
+        if (ik == key_scene_continuation_step_max) v = key_value(1, reals=[cfg%scene%continuation_step_max])
+        if (ik == key_scene_continuation_points) v = key_value(1, ints=[cfg%scene%continuation_points])
+        if (ik == key_scene_beyond_fold) v = key_value(1, ints=[cfg%scene%beyond_fold])
+        if (ik == key_scene_crossing_tol) v = key_value(1, reals=[cfg%scene%crossing_tol])
+        if (ik == key_scene_floquet_every) v = key_value(1, ints=[cfg%scene%floquet_every])
+        if (ik == key_scene_fold_convergence) v = key_value(1, flag=cfg%scene%fold_convergence)
+        if (ik == key_scene_coarse_step) v = key_value(1, reals=[cfg%scene%coarse_step])
+        if (ik == key_scene_resolution) v = key_value(1, reals=[cfg%scene%resolution])
+        if (ik == key_scene_screen_method) v = key_value(1, ints=[cfg%scene%screen_method])
+        if (ik == key_scene_screen_dt) v = key_value(1, reals=[cfg%scene%screen_dt])
+        if (ik == key_scene_confirm_band) v = key_value(1, reals=[cfg%scene%confirm_band])
+        if (ik == key_scene_screen_margin) v = key_value(1, reals=[cfg%scene%screen_margin])
+        if (ik == key_scene_certify) v = key_value(1, flag=cfg%scene%certify)
+        if (ik == key_scene_methods) v = list_value(cfg%scene%methods)
+        if (ik == key_scene_dts) v = list_value(cfg%scene%dts)
+        if (ik == key_scene_dt_smallest) v = list_value(cfg%scene%dt_smallest)
+        if (ik == key_scene_amplitudes) v = list_value(cfg%scene%amplitudes)
+        if (ik == key_scene_c_values) v = list_value(cfg%scene%c_values)
+        if (ik == key_scene_repeats) v = key_value(1, ints=[cfg%scene%repeats])
+        if (ik == key_scene_reference_dt) v = key_value(1, reals=[cfg%scene%reference_dt])
+        if (ik == key_scene_stair_times) v = list_value(cfg%scene%stair_times)
+        if (ik == key_scene_stair_height) v = key_value(1, reals=[cfg%scene%stair_height])
+        if (ik == key_scene_stair_ramp) v = key_value(1, reals=[cfg%scene%stair_ramp])
+        if (ik == key_scene_power_threshold) v = key_value(1, reals=[cfg%scene%power_threshold])
+        if (ik == key_detect_site) v = key_value(1, ints=[cfg%run%detect%site])
+        if (ik == key_detect_amplitude) v = key_value(1, reals=[cfg%run%detect%amplitude])
+        if (ik == key_detect_stop_when_decided) v = key_value(1, flag=cfg%run%detect%stop_when_decided)
+        if (ik == key_output_file) v = key_value(1, texts=[cfg%output%file])
+        if (ik == key_output_overwrite) v = key_value(1, flag=cfg%output%overwrite)
+        if (ik == key_output_checkpoint_every) v = key_value(1, reals=[cfg%output%checkpoint_every])
+        if (ik == key_output_quiet) v = key_value(1, flag=cfg%output%quiet)
     end function get_key
 
     !> Set key `ik` of `key_table` in a configuration from a value of its type (named choices held as numbers
@@ -414,74 +351,71 @@ contains
         !> The value.
         type(key_value), intent(in) :: v
 
-        select case (ik)
-        case (key_chain_potential); cfg%run%chain%potential = v%ints(1)
-        case (key_chain_c); cfg%run%chain%c = v%reals(1)
-        case (key_chain_m2); cfg%run%chain%m2 = v%reals(1)
-        case (key_chain_gamma); cfg%run%chain%gamma = v%reals(1)
-        case (key_chain_beta); cfg%run%chain%beta = v%reals(1)
-        case (key_chain_n); cfg%run%chain%n = v%ints(1)
-        case (key_chain_n0); cfg%run%chain%n0 = v%ints(1)
-        case (key_chain_kappa); cfg%run%chain%kappa = v%reals(1)
-        case (key_chain_sigma); cfg%run%chain%sigma = v%reals(1)
-        case (key_drive_amplitude); cfg%run%drive%amplitude = v%reals(1)
-        case (key_drive_omega); cfg%run%drive%omega = v%reals(1)
-        case (key_drive_ramp_time); cfg%run%drive%ramp_time = v%reals(1)
-        case (key_drive_allow_outside_gap); cfg%allow_outside_gap = v%flag
-        case (key_numerics_method); cfg%run%numerics%method = v%ints(1)
-        case (key_numerics_dt); cfg%run%numerics%dt = v%reals(1)
-        case (key_numerics_t_final); cfg%run%numerics%t_final = v%reals(1)
-        case (key_numerics_newton_tol); cfg%run%numerics%newton_tol = v%reals(1)
-        case (key_numerics_newton_max_iter); cfg%run%numerics%newton_max_iter = v%ints(1)
-        case (key_numerics_blowup_threshold); cfg%run%numerics%blowup_threshold = v%reals(1)
-        case (key_numerics_allow_unstable); cfg%allow_unstable = v%flag
-        case (key_record_probes); call set_list(cfg%run%record%probes, v)
-        case (key_record_probe_every); cfg%run%record%probe_every = v%ints(1)
-        case (key_record_ledger_every); cfg%run%record%ledger_every = v%ints(1)
-        case (key_scene_kind); cfg%scene%kind = trim(v%texts(1))
-        case (key_scene_amplitude_min); cfg%scene%amplitude_min = v%reals(1)
-        case (key_scene_amplitude_max); cfg%scene%amplitude_max = v%reals(1)
-        case (key_scene_amplitude_step); cfg%scene%amplitude_step = v%reals(1)
-        case (key_scene_omega_min); cfg%scene%omega_min = v%reals(1)
-        case (key_scene_omega_max); cfg%scene%omega_max = v%reals(1)
-        case (key_scene_omega_step); cfg%scene%omega_step = v%reals(1)
-        case (key_scene_vary); cfg%scene%vary = v%ints(1)
-        case (key_scene_values); call set_list(cfg%scene%values, v)
-        case (key_scene_potentials); call set_list(cfg%scene%potentials, v)
-        case (key_scene_continuation_step); cfg%scene%continuation_step = v%reals(1)
-        case (key_scene_continuation_step_max); cfg%scene%continuation_step_max = v%reals(1)
-        case (key_scene_continuation_points); cfg%scene%continuation_points = v%ints(1)
-        case (key_scene_beyond_fold); cfg%scene%beyond_fold = v%ints(1)
-        case (key_scene_crossing_tol); cfg%scene%crossing_tol = v%reals(1)
-        case (key_scene_floquet_every); cfg%scene%floquet_every = v%ints(1)
-        case (key_scene_fold_convergence); cfg%scene%fold_convergence = v%flag
-        case (key_scene_coarse_step); cfg%scene%coarse_step = v%reals(1)
-        case (key_scene_resolution); cfg%scene%resolution = v%reals(1)
-        case (key_scene_screen_method); cfg%scene%screen_method = v%ints(1)
-        case (key_scene_screen_dt); cfg%scene%screen_dt = v%reals(1)
-        case (key_scene_confirm_band); cfg%scene%confirm_band = v%reals(1)
-        case (key_scene_screen_margin); cfg%scene%screen_margin = v%reals(1)
-        case (key_scene_certify); cfg%scene%certify = v%flag
-        case (key_scene_methods); call set_list(cfg%scene%methods, v)
-        case (key_scene_dts); call set_list(cfg%scene%dts, v)
-        case (key_scene_dt_smallest); call set_list(cfg%scene%dt_smallest, v)
-        case (key_scene_amplitudes); call set_list(cfg%scene%amplitudes, v)
-        case (key_scene_c_values); call set_list(cfg%scene%c_values, v)
-        case (key_scene_repeats); cfg%scene%repeats = v%ints(1)
-        case (key_scene_reference_dt); cfg%scene%reference_dt = v%reals(1)
-        case (key_scene_stair_times); call set_list(cfg%scene%stair_times, v)
-        case (key_scene_stair_height); cfg%scene%stair_height = v%reals(1)
-        case (key_scene_stair_ramp); cfg%scene%stair_ramp = v%reals(1)
-        case (key_scene_power_threshold); cfg%scene%power_threshold = v%reals(1)
-        case (key_detect_site); cfg%run%detect%site = v%ints(1)
-        case (key_detect_amplitude); cfg%run%detect%amplitude = v%reals(1)
-        case (key_detect_stop_when_decided); cfg%run%detect%stop_when_decided = v%flag
-        case (key_output_file); cfg%output%file = trim(v%texts(1))
-        case (key_output_overwrite); cfg%output%overwrite = v%flag
-        case (key_output_checkpoint_every); cfg%output%checkpoint_every = v%reals(1)
-        case (key_output_quiet); cfg%output%quiet = v%flag
-        case default; continue    ! not a key index: nothing to set
-        end select
+        if (ik == key_chain_potential) cfg%run%chain%potential = v%ints(1)
+        if (ik == key_chain_c) cfg%run%chain%c = v%reals(1)
+        if (ik == key_chain_m2) cfg%run%chain%m2 = v%reals(1)
+        if (ik == key_chain_gamma) cfg%run%chain%gamma = v%reals(1)
+        if (ik == key_chain_beta) cfg%run%chain%beta = v%reals(1)
+        if (ik == key_chain_n) cfg%run%chain%n = v%ints(1)
+        if (ik == key_chain_n0) cfg%run%chain%n0 = v%ints(1)
+        if (ik == key_chain_kappa) cfg%run%chain%kappa = v%reals(1)
+        if (ik == key_chain_sigma) cfg%run%chain%sigma = v%reals(1)
+        if (ik == key_drive_amplitude) cfg%run%drive%amplitude = v%reals(1)
+        if (ik == key_drive_omega) cfg%run%drive%omega = v%reals(1)
+        if (ik == key_drive_ramp_time) cfg%run%drive%ramp_time = v%reals(1)
+        if (ik == key_drive_allow_outside_gap) cfg%allow_outside_gap = v%flag
+        if (ik == key_numerics_method) cfg%run%numerics%method = v%ints(1)
+        if (ik == key_numerics_dt) cfg%run%numerics%dt = v%reals(1)
+        if (ik == key_numerics_t_final) cfg%run%numerics%t_final = v%reals(1)
+        if (ik == key_numerics_newton_tol) cfg%run%numerics%newton_tol = v%reals(1)
+        if (ik == key_numerics_newton_max_iter) cfg%run%numerics%newton_max_iter = v%ints(1)
+        if (ik == key_numerics_blowup_threshold) cfg%run%numerics%blowup_threshold = v%reals(1)
+        if (ik == key_numerics_allow_unstable) cfg%allow_unstable = v%flag
+        if (ik == key_record_probes) call set_list(cfg%run%record%probes, v)
+        if (ik == key_record_probe_every) cfg%run%record%probe_every = v%ints(1)
+        if (ik == key_record_ledger_every) cfg%run%record%ledger_every = v%ints(1)
+        if (ik == key_scene_kind) cfg%scene%kind = trim(v%texts(1))
+        if (ik == key_scene_amplitude_min) cfg%scene%amplitude_min = v%reals(1)
+        if (ik == key_scene_amplitude_max) cfg%scene%amplitude_max = v%reals(1)
+        if (ik == key_scene_amplitude_step) cfg%scene%amplitude_step = v%reals(1)
+        if (ik == key_scene_omega_min) cfg%scene%omega_min = v%reals(1)
+        if (ik == key_scene_omega_max) cfg%scene%omega_max = v%reals(1)
+        if (ik == key_scene_omega_step) cfg%scene%omega_step = v%reals(1)
+        if (ik == key_scene_vary) cfg%scene%vary = v%ints(1)
+        if (ik == key_scene_values) call set_list(cfg%scene%values, v)
+        if (ik == key_scene_potentials) call set_list(cfg%scene%potentials, v)
+        if (ik == key_scene_continuation_step) cfg%scene%continuation_step = v%reals(1)
+        if (ik == key_scene_continuation_step_max) cfg%scene%continuation_step_max = v%reals(1)
+        if (ik == key_scene_continuation_points) cfg%scene%continuation_points = v%ints(1)
+        if (ik == key_scene_beyond_fold) cfg%scene%beyond_fold = v%ints(1)
+        if (ik == key_scene_crossing_tol) cfg%scene%crossing_tol = v%reals(1)
+        if (ik == key_scene_floquet_every) cfg%scene%floquet_every = v%ints(1)
+        if (ik == key_scene_fold_convergence) cfg%scene%fold_convergence = v%flag
+        if (ik == key_scene_coarse_step) cfg%scene%coarse_step = v%reals(1)
+        if (ik == key_scene_resolution) cfg%scene%resolution = v%reals(1)
+        if (ik == key_scene_screen_method) cfg%scene%screen_method = v%ints(1)
+        if (ik == key_scene_screen_dt) cfg%scene%screen_dt = v%reals(1)
+        if (ik == key_scene_confirm_band) cfg%scene%confirm_band = v%reals(1)
+        if (ik == key_scene_screen_margin) cfg%scene%screen_margin = v%reals(1)
+        if (ik == key_scene_certify) cfg%scene%certify = v%flag
+        if (ik == key_scene_methods) call set_list(cfg%scene%methods, v)
+        if (ik == key_scene_dts) call set_list(cfg%scene%dts, v)
+        if (ik == key_scene_dt_smallest) call set_list(cfg%scene%dt_smallest, v)
+        if (ik == key_scene_amplitudes) call set_list(cfg%scene%amplitudes, v)
+        if (ik == key_scene_c_values) call set_list(cfg%scene%c_values, v)
+        if (ik == key_scene_repeats) cfg%scene%repeats = v%ints(1)
+        if (ik == key_scene_reference_dt) cfg%scene%reference_dt = v%reals(1)
+        if (ik == key_scene_stair_times) call set_list(cfg%scene%stair_times, v)
+        if (ik == key_scene_stair_height) cfg%scene%stair_height = v%reals(1)
+        if (ik == key_scene_stair_ramp) cfg%scene%stair_ramp = v%reals(1)
+        if (ik == key_scene_power_threshold) cfg%scene%power_threshold = v%reals(1)
+        if (ik == key_detect_site) cfg%run%detect%site = v%ints(1)
+        if (ik == key_detect_amplitude) cfg%run%detect%amplitude = v%reals(1)
+        if (ik == key_detect_stop_when_decided) cfg%run%detect%stop_when_decided = v%flag
+        if (ik == key_output_file) cfg%output%file = trim(v%texts(1))
+        if (ik == key_output_overwrite) cfg%output%overwrite = v%flag
+        if (ik == key_output_checkpoint_every) cfg%output%checkpoint_every = v%reals(1)
+        if (ik == key_output_quiet) cfg%output%quiet = v%flag
     end subroutine set_key
 
 end module supratrans_schema

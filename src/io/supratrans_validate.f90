@@ -122,26 +122,35 @@ contains
         !> Allocated when the value is out of range.
         type(error_type), allocatable, intent(out) :: error
         character(len=:), allocatable :: problem
-        logical :: has_min, has_max
 
-        has_min = len_trim(spec%min_text) > 0
-        has_max = len_trim(spec%max_text) > 0
         problem = ""
         if (.not. (abs(x) <= huge(x))) then
             problem = "must be finite"
-        else if (has_min .and. spec%min_strict .and. .not. (x > spec%min)) then
-            problem = "must be > " // trim(spec%min_text)
-        else if (has_min .and. .not. spec%min_strict .and. .not. (x >= spec%min)) then
-            problem = "must be >= " // trim(spec%min_text)
-        else if (has_max .and. spec%max_strict .and. .not. (x < spec%max)) then
-            problem = "must be < " // trim(spec%max_text)
-        else if (has_max .and. .not. spec%max_strict .and. .not. (x <= spec%max)) then
-            problem = "must be <= " // trim(spec%max_text)
+        else if (.not. meets(x, spec%lower)) then
+            problem = "must be " // trim(spec%lower)
+        else if (.not. meets(x, spec%upper)) then
+            problem = "must be " // trim(spec%upper)
         end if
         if (len(problem) == 0) return
         if (len_trim(spec%message) > 0 .and. problem /= "must be finite") problem = trim(spec%message)
         call input_error(error, where, trim(spec%group), label // " = " // shown // ": " // problem)
     end subroutine check_number
+
+    !> Whether `x` meets a bound of the key table ("> 0", "<= 100": the relation, a blank, the number); a blank
+    !> bound is met by every value.
+    pure logical function meets(x, bound)
+        !> The value.
+        real(wp), intent(in) :: x
+        !> The bound.
+        character(len=*), intent(in) :: bound
+        real(wp) :: limit
+
+        meets = .true.
+        if (len_trim(bound) == 0) return
+        read (bound(index(bound, " ") + 1:), *) limit
+        meets = (bound(1:1) == ">" .and. x > limit) .or. (bound(1:1) == "<" .and. x < limit) &
+                .or. (bound(2:2) == "=" .and. x == limit)
+    end function meets
 
     !> A name (or the number of a named choice) against the choices of its key.
     pure subroutine check_choice(spec, where, label, id, name, error)

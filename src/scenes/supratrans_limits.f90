@@ -1,7 +1,8 @@
 !> Limits checked before any work: counts of time steps, grid points, runs and search depths, computed in real
 !> arithmetic (so that nothing can overflow before it is checked), and the memory a run needs against the memory
-!> the machine has (`supratrans_resources`). Each limit is documented in the README ("Limits"); a configuration
-!> beyond one is refused with one line naming the key and the estimate.
+!> the machine has (`supratrans_resources`). Each limit is documented in docs/input.md ("Limits"); a configuration
+!> beyond one is refused with one line naming the key and the estimate. The budget of a scene's work and memory
+!> (`scene_budget`), beside the scenes that check theirs: arithmetic on a configuration, no file read or written.
 module supratrans_limits
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type, fatal_error, err_input
