@@ -283,7 +283,7 @@ contains
         integer, intent(in) :: first
         real(wp) :: umax
 
-        if (first <= 1 .and. self%u_max_known) then
+        if (first == 1 .and. self%u_max_known) then
             umax = self%u_max
         else
             umax = leapfrog_max_abs_u(self, first)
