@@ -191,40 +191,42 @@ program pf_driver
     use test_stepper_newton, only: t174 => test_newton_stepper_error_below_tol
     use test_stepper_newton, only: t175 => test_newton_stepper_counters_and_ledger
     use test_stepper_newton, only: t176 => test_newton_stepper_reports_failure
-    use test_strings, only: t177 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t178 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t179 => test_find_name_gives_the_first_index_or_zero
-    use test_strings, only: t180 => test_joined_trims_each_name_and_prefixes_it
-    use test_strings, only: t181 => test_lower_changes_only_ascii_capitals
+    use test_stepper_newton, only: t177 => test_blowup_measure_is_the_level_maximum
+    use test_stepper_newton, only: t178 => test_step_powers_without_bulk_damping
+    use test_strings, only: t179 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t180 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t181 => test_find_name_gives_the_first_index_or_zero
+    use test_strings, only: t182 => test_joined_trims_each_name_and_prefixes_it
+    use test_strings, only: t183 => test_lower_changes_only_ascii_capitals
     use test_system, only: b28 => set_up
     use test_system, only: a28 => tear_down
-    use test_system, only: t182 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t183 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t184 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t185 => test_temporary_names_are_fresh
-    use test_system, only: t186 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t187 => test_monotone_step
-    use test_threshold, only: t188 => test_bisected_bracket
-    use test_threshold, only: t189 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t190 => test_two_transitions
-    use test_threshold, only: t191 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t192 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t193 => test_nothing_transmits
-    use test_threshold, only: t194 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t195 => test_lower_bound_transmits
-    use test_threshold, only: t196 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t197 => test_bad_arguments
-    use test_threshold, only: t198 => test_grid_helpers
+    use test_system, only: t184 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t185 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t186 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t187 => test_temporary_names_are_fresh
+    use test_system, only: t188 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t189 => test_monotone_step
+    use test_threshold, only: t190 => test_bisected_bracket
+    use test_threshold, only: t191 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t192 => test_two_transitions
+    use test_threshold, only: t193 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t194 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t195 => test_nothing_transmits
+    use test_threshold, only: t196 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t197 => test_lower_bound_transmits
+    use test_threshold, only: t198 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t199 => test_bad_arguments
+    use test_threshold, only: t200 => test_grid_helpers
     use test_workprec, only: b30 => set_up
     use test_workprec, only: a30 => tear_down
-    use test_workprec, only: t199 => test_rk8_eighth_order
-    use test_workprec, only: t200 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t201 => test_rk8_stability_polynomial
-    use test_workprec, only: t202 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t203 => test_unstable_runs_are_reported
-    use test_workprec, only: t204 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t205 => test_fitted_order
-    use test_workprec, only: t206 => test_step_kernels_timed
+    use test_workprec, only: t201 => test_rk8_eighth_order
+    use test_workprec, only: t202 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t203 => test_rk8_stability_polynomial
+    use test_workprec, only: t204 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t205 => test_unstable_runs_are_reported
+    use test_workprec, only: t206 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t207 => test_fitted_order
+    use test_workprec, only: t208 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -419,50 +421,52 @@ program pf_driver
     call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t174)
     call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t175)
     call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t176)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t177)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t178)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t179)
-    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t180)
-    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t181)
+    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t177)
+    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t178)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t179)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t180)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t181)
+    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t182)
+    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t183)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t182, &
-        before=b28, &
-        after=a28)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t183, before=b28, after=a28)
-    call pf_run_test( &
-        'test_system', &
-        'test_lock_is_exclusive_never_through_a_link_and_stays', &
         t184, &
         before=b28, &
         after=a28)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t185, before=b28, after=a28)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t186, before=b28, after=a28)
-    call pf_run_test('test_threshold', 'test_monotone_step', t187)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t188)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t189)
-    call pf_run_test('test_threshold', 'test_two_transitions', t190)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t191)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t192)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t193)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t194)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t195)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t196)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t197)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t198)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t199, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t200, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t201, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t202, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t203, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t185, before=b28, after=a28)
+    call pf_run_test( &
+        'test_system', &
+        'test_lock_is_exclusive_never_through_a_link_and_stays', &
+        t186, &
+        before=b28, &
+        after=a28)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t187, before=b28, after=a28)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t188, before=b28, after=a28)
+    call pf_run_test('test_threshold', 'test_monotone_step', t189)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t190)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t191)
+    call pf_run_test('test_threshold', 'test_two_transitions', t192)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t193)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t194)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t195)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t196)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t197)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t198)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t199)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t200)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t201, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t202, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t203, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t204, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t205, before=b30, after=a30)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t204, &
+        t206, &
         before=b30, &
         after=a30)
-    call pf_run_test('test_workprec', 'test_fitted_order', t205, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t206, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_fitted_order', t207, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t208, before=b30, after=a30)
     call pf_driver_finish()
 end program pf_driver

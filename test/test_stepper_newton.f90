@@ -5,12 +5,13 @@
 ! stepper's counters, its failure report, and its discrete energy ledger closing at every step.
 module test_stepper_newton
     use pf_runtime
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_config
     use supratrans_potential, only: sine_gordon, klein_gordon, discrete_gradient
     use supratrans_chain, only: absorber_profile, drive_psi
     use supratrans_scheme, only: scheme_type, scheme_init
-    use supratrans_ledger, only: ledger_type, ledger_close
+    use supratrans_ledger, only: ledger_type, ledger_close, step_powers
     use supratrans_stepper, only: step_ok, step_not_converged
     use supratrans_stepper_newton, only: newton_stepper, newton_work, newton_work_init, newton_step, newton_ok, &
                                          newton_block
@@ -101,47 +102,47 @@ contains
                 call assertEqual( &
                     newton_ok, &
                     status, &
-                    location=pf_source_location('test_stepper_newton.pf', 100, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 101, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertGreaterThanOrEqual( &
                     iterations, &
                     2, &
-                    location=pf_source_location('test_stepper_newton.pf', 101, 'assertGreaterThanOrEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 102, 'assertGreaterThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertLessThanOrEqual( &
                     iterations, &
                     6, &
-                    location=pf_source_location('test_stepper_newton.pf', 102, 'assertLessThanOrEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 103, 'assertLessThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     psi_new, &
                     u_new(0), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 103, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 104, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0.0_wp, &
                     u_new(nsite + 1), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 104, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 105, 'assertEqual'))
                 if (pf_any_failed()) return
                 call scheme_residual(chain, dt, u_old, u_cur, u_new, residual, scale)
                 call assertGreaterThan( &
                     scale, &
                     100.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 106, 'assertGreaterThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 107, 'assertGreaterThan'))
                 if (pf_any_failed()) return
                 call assertLessThan( &
                     residual, &
                     1.0e-14_wp*scale, &
-                    location=pf_source_location('test_stepper_newton.pf', 107, 'assertLessThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 108, 'assertLessThan'))
                 if (pf_any_failed()) return
                 ! the step moved the chain: the solution is not the predictor 3 u^k - 3 u^{k-1} + u^{k-2}
                 predictor = 3.0_wp*(u_cur(1:nsite) - u_old(1:nsite)) + u_older(1:nsite)
                 call assertGreaterThan( &
                     maxval(abs(u_new(1:nsite) - predictor)), &
                     1.0e-6_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 110, 'assertGreaterThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 111, 'assertGreaterThan'))
                 if (pf_any_failed()) return
             end do
         end do
@@ -183,12 +184,12 @@ contains
             ul(nl + 1, 4) = 0.0_wp
             call newton_work_init(ws, nl)
             call newton_step(long_scheme, ws, ul(:, 1), ul(:, 2), ul(:, 3), ul(:, 4), 0.0_wp, 3, iterations, status)
-            call assertEqual(3, iterations, location=pf_source_location('test_stepper_newton.pf', 151, 'assertEqual'))
+            call assertEqual(3, iterations, location=pf_source_location('test_stepper_newton.pf', 152, 'assertEqual'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 maxval(abs(ul(1:nl, 4) - ul(1:nl, 3))), &
                 0.01_wp, &
-                location=pf_source_location('test_stepper_newton.pf', 152, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_newton.pf', 153, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call newton_work_init(ws, ns)
             do kb = 0, 1                                 ! the long chain's sites kb ns + 1 .. kb ns + ns
@@ -200,12 +201,12 @@ contains
                 call assertEqual( &
                     3, &
                     iterations, &
-                    location=pf_source_location('test_stepper_newton.pf', 160, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 161, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0, &
                     count(ul(kb*ns + 1:kb*ns + ns, 4) /= us(1:ns, 4)), &
-                    location=pf_source_location('test_stepper_newton.pf', 161, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 162, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             deallocate (ul, us)
@@ -252,14 +253,14 @@ contains
                         call assertEqual( &
                             newton_ok, &
                             status, &
-                            location=pf_source_location('test_stepper_newton.pf', 204, 'assertEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 205, 'assertEqual'))
                         if (pf_any_failed()) return
                         call newton_step(scheme, ws, u(:, 1), u(:, 2), u(:, 3), u(:, 4), tols(it), 20, iterations, &
                                          status)
                         call assertEqual( &
                             newton_ok, &
                             status, &
-                            location=pf_source_location('test_stepper_newton.pf', 207, 'assertEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 208, 'assertEqual'))
                         if (pf_any_failed()) return
                         worst = max(worst, maxval(abs(u(:, 4) - exact)))
                         u = cshift(u, 1, dim=2)
@@ -267,13 +268,13 @@ contains
                     call assertLessThanOrEqual( &
                         worst, &
                         tols(it), &
-                        location=pf_source_location('test_stepper_newton.pf', 211, 'assertLessThanOrEqual'))
+                        location=pf_source_location('test_stepper_newton.pf', 212, 'assertLessThanOrEqual'))
                     if (pf_any_failed()) return
                     ! strongly nonlinear: |u| beyond 2 (sin u far from u) in the chain
                     call assertGreaterThan( &
                         maxval(abs(u(1:n, 3))), &
                         2.0_wp, &
-                        location=pf_source_location('test_stepper_newton.pf', 213, 'assertGreaterThan'))
+                        location=pf_source_location('test_stepper_newton.pf', 214, 'assertGreaterThan'))
                     if (pf_any_failed()) return
                 end do
             end do
@@ -322,26 +323,26 @@ contains
                             call assertEqual( &
                                 newton_ok, &
                                 status, &
-                                location=pf_source_location('test_stepper_newton.pf', 258, 'assertEqual'))
+                                location=pf_source_location('test_stepper_newton.pf', 259, 'assertEqual'))
                             if (pf_any_failed()) return
                             call newton%step(status)
                             call assertEqual( &
                                 step_ok, &
                                 status, &
-                                location=pf_source_location('test_stepper_newton.pf', 260, 'assertEqual'))
+                                location=pf_source_location('test_stepper_newton.pf', 261, 'assertEqual'))
                             if (pf_any_failed()) return
                             worst = max(worst, maxval(abs(newton%u(:, newton%ic) - exact)))
                         end do
                         call assertLessThanOrEqual( &
                             worst, &
                             run%numerics%newton_tol, &
-                            location=pf_source_location('test_stepper_newton.pf', 263, 'assertLessThanOrEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 264, 'assertLessThanOrEqual'))
                         if (pf_any_failed()) return
                         if (ia == 1) then
                             call assertLessThan( &
                                 real(newton%newton_iterations, wp), &
                                 1.5_wp*1500.0_wp, &
-                                location=pf_source_location('test_stepper_newton.pf', 265, 'assertLessThan'))
+                                location=pf_source_location('test_stepper_newton.pf', 266, 'assertLessThan'))
                             if (pf_any_failed()) return
                         end if
                         used(ie) = newton%newton_iterations
@@ -350,7 +351,7 @@ contains
                         call assertLessThan( &
                             real(used(2), wp), &
                             0.9_wp*real(used(1), wp), &
-                            location=pf_source_location('test_stepper_newton.pf', 270, 'assertLessThan'))
+                            location=pf_source_location('test_stepper_newton.pf', 271, 'assertLessThan'))
                         if (pf_any_failed()) return
                     end if
                 end do
@@ -379,20 +380,20 @@ contains
         call assertEqual( &
             2, &
             newton%initial_levels, &
-            location=pf_source_location('test_stepper_newton.pf', 295, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 296, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(2, newton%order, location=pf_source_location('test_stepper_newton.pf', 296, 'assertEqual'))
+        call assertEqual(2, newton%order, location=pf_source_location('test_stepper_newton.pf', 297, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             run%numerics%dt, &
             newton%level_time(), &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 297, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 298, 'assertEqual'))
         if (pf_any_failed()) return
         call ledger_close(ledger, newton%stored_energy())
         do k = 1, 1200
             call newton%step(status)
-            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_newton.pf', 301, 'assertEqual'))
+            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_newton.pf', 302, 'assertEqual'))
             if (pf_any_failed()) return
             call newton%account(ledger)
             call ledger_close(ledger, newton%stored_energy())
@@ -400,66 +401,66 @@ contains
         call assertEqual( &
             1200_i8, &
             newton%steps, &
-            location=pf_source_location('test_stepper_newton.pf', 305, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 306, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1201.0_wp*run%numerics%dt, &
             newton%level_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 306, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 307, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1200.5_wp*run%numerics%dt, &
             newton%energy_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 307, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 308, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             drive_psi(run%drive, newton%level_time()), &
             newton%displacement(0, 0), &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 308, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 309, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             newton%newton_iterations, &
             newton%tridiagonal_solves, &
-            location=pf_source_location('test_stepper_newton.pf', 309, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 310, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             newton%newton_iterations, &
             1200_i8, &
-            location=pf_source_location('test_stepper_newton.pf', 310, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 311, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0_i8, &
             newton%rhs_evaluations, &
-            location=pf_source_location('test_stepper_newton.pf', 311, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 312, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             newton%newton_max_iterations, &
             2, &
-            location=pf_source_location('test_stepper_newton.pf', 312, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 313, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         ! it transmits: far more energy goes in than an evanescent response takes
         call assertGreaterThan( &
             ledger%injected, &
             20.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 314, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 315, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             ledger%dissipated_beta, &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 315, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 316, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             ledger%dissipated_absorber, &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 316, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 317, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertLessThan( &
             ledger%max_step_residual, &
             1.0e-13_wp*ledger%energy_scale, &
-            location=pf_source_location('test_stepper_newton.pf', 317, 'assertLessThan'))
+            location=pf_source_location('test_stepper_newton.pf', 318, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_newton_stepper_counters_and_ledger
 
@@ -480,20 +481,174 @@ contains
         call assertEqual( &
             step_not_converged, &
             status, &
-            location=pf_source_location('test_stepper_newton.pf', 334, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 335, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 335, 'assertEqual'))
+        call assertEqual(0_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 336, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1_i8, &
             newton%newton_iterations, &
-            location=pf_source_location('test_stepper_newton.pf', 336, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 337, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "Newton did not converge in 1 iterations at t = 0.1", &
             newton%reason, &
-            location=pf_source_location('test_stepper_newton.pf', 337, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 338, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_newton_stepper_reports_failure
+
+    !> The blow-up measure the stepper takes from its accepted update (`max_abs_u(1)`, `verdict_measures`) is
+    !> max |u_n| of the newest level, exactly, at every step of a transmitting run, for both Jacobians (beta = 0
+    !> and beta > 0), and the detector's range is still measured over the level.
+    ! @test
+    subroutine test_blowup_measure_is_the_level_maximum()
+        type(run_config) :: run
+        type(newton_stepper) :: newton
+        integer :: k, status, ib
+        real(wp) :: blowup, beyond
+
+        do ib = 1, 2
+            run%chain%n = 60
+            run%chain%n0 = 45
+            run%chain%beta = merge(0.0_wp, 0.1_wp, ib == 1)
+            run%drive%amplitude = 2.5_wp
+            run%drive%ramp_time = 5.0_wp
+            call newton%init(run)
+            do k = 1, 600
+                call newton%step(status)
+                call assertEqual( &
+                    step_ok, &
+                    status, &
+                    location=pf_source_location('test_stepper_newton.pf', 360, 'assertEqual'))
+                if (pf_any_failed()) return
+                call assertEqual( &
+                    maxval(abs(newton%u(1:60, newton%ic))), &
+                    newton%max_abs_u(1), &
+                    0.0_wp, &
+                    location=pf_source_location('test_stepper_newton.pf', 361, 'assertEqual'))
+                if (pf_any_failed()) return
+                call assertEqual( &
+                    maxval(abs(newton%u(20:60, newton%ic))), &
+                    newton%max_abs_u(20), &
+                    0.0_wp, &
+                    location=pf_source_location('test_stepper_newton.pf', 362, 'assertEqual'))
+                if (pf_any_failed()) return
+                call newton%verdict_measures(20, blowup, beyond)
+                call assertEqual( &
+                    maxval(abs(newton%u(1:60, newton%ic))), &
+                    blowup, &
+                    0.0_wp, &
+                    location=pf_source_location('test_stepper_newton.pf', 364, 'assertEqual'))
+                if (pf_any_failed()) return
+                call assertEqual( &
+                    maxval(abs(newton%u(20:60, newton%ic))), &
+                    beyond, &
+                    0.0_wp, &
+                    location=pf_source_location('test_stepper_newton.pf', 365, 'assertEqual'))
+                if (pf_any_failed()) return
+            end do
+            ! it moved
+            call assertGreaterThan( &
+                newton%max_abs_u(1), &
+                1.0_wp, &
+                location=pf_source_location('test_stepper_newton.pf', 368, 'assertGreaterThan'))
+            if (pf_any_failed()) return
+        end do
+    end subroutine test_blowup_measure_is_the_level_maximum
+
+    !> `step_powers` without bulk damping (gamma = beta = 0: only the absorber's sum, from its first site) gives the
+    !> bits of the full loop over every site, and so do its fallbacks (|y_n| above 1e100, NaN), with the absorber
+    !> on sites 36..50 and with none.
+    ! @test
+    subroutine test_step_powers_without_bulk_damping()
+        type(chain_params) :: chain
+        type(scheme_type) :: scheme
+        real(wp) :: u_old(0:51), u_cur(0:51), u_new(0:51)
+        real(wp) :: p_in, d_gamma, d_beta, d_abs, r_p, r_gamma, r_beta, r_abs
+        integer :: n, ia, iy
+
+        chain%n = 50
+        do ia = 1, 2
+            chain%n0 = merge(35, 50, ia == 1)
+            call scheme_init(scheme, chain, 0.05_wp)
+            call assertEqual( &
+                chain%n0 + 1, &
+                scheme%absorber_first, &
+                location=pf_source_location('test_stepper_newton.pf', 387, 'assertEqual'))
+            if (pf_any_failed()) return
+            do iy = 1, 3
+                do n = 0, 51
+                    u_old(n) = 0.7_wp*sin(0.3_wp*n)
+                    u_cur(n) = 0.7_wp*sin(0.3_wp*n + 0.04_wp)
+                    u_new(n) = 0.7_wp*sin(0.31_wp*n + 0.08_wp)
+                end do
+                u_old(51) = 0.0_wp
+                u_cur(51) = 0.0_wp
+                u_new(51) = 0.0_wp
+                if (iy == 2) u_new(40) = 1.0e102_wp
+                if (iy == 3) u_new(7) = ieee_value(1.0_wp, ieee_quiet_nan)
+                call step_powers(scheme, 0.0_wp, 0.0_wp, u_old, u_cur, u_new, p_in, d_gamma, d_beta, d_abs)
+                call full_loop(r_p, r_gamma, r_beta, r_abs)
+                call assertTrue( &
+                    same_bits(r_p, p_in), &
+                    location=pf_source_location('test_stepper_newton.pf', 401, 'assertTrue'))
+                if (pf_any_failed()) return
+                call assertTrue( &
+                    same_bits(r_gamma, d_gamma), &
+                    location=pf_source_location('test_stepper_newton.pf', 402, 'assertTrue'))
+                if (pf_any_failed()) return
+                call assertTrue( &
+                    same_bits(r_beta, d_beta), &
+                    location=pf_source_location('test_stepper_newton.pf', 403, 'assertTrue'))
+                if (pf_any_failed()) return
+                call assertTrue( &
+                    same_bits(r_abs, d_abs), &
+                    location=pf_source_location('test_stepper_newton.pf', 404, 'assertTrue'))
+                if (pf_any_failed()) return
+                if (iy == 1 .and. ia == 1) then
+                    call assertGreaterThan( &
+                        d_abs, &
+                        0.0_wp, &
+                        location=pf_source_location('test_stepper_newton.pf', 406, 'assertGreaterThan'))
+                    if (pf_any_failed()) return
+                end if
+            end do
+        end do
+
+    contains
+
+        !> The full loop of `step_powers` (every site, in site order).
+        subroutine full_loop(p, dgam, dbet, dabs)
+            real(wp), intent(out) :: p, dgam, dbet, dabs
+            real(wp) :: y, y_prev, inv2dt, s_y2, s_abs, s_dy2
+            integer :: j
+
+            inv2dt = 0.5_wp/scheme%dt
+            y_prev = (u_new(0) - u_old(0))*inv2dt
+            p = scheme%c2*(u_cur(0) - u_cur(1))*y_prev + 0.0_wp*(y_prev - (u_new(1) - u_old(1))*inv2dt)*y_prev
+            s_y2 = 0.0_wp
+            s_abs = 0.0_wp
+            s_dy2 = 0.0_wp
+            do j = 1, chain%n
+                y = (u_new(j) - u_old(j))*inv2dt
+                y_prev = (u_new(j - 1) - u_old(j - 1))*inv2dt
+                s_y2 = s_y2 + y*y
+                s_abs = s_abs + (scheme%alpha(j) - 0.0_wp)*y*y
+                s_dy2 = s_dy2 + (y - y_prev)**2
+            end do
+            y = (u_new(chain%n) - u_old(chain%n))*inv2dt
+            s_dy2 = s_dy2 + y**2
+            dgam = 0.0_wp*s_y2
+            dabs = s_abs
+            dbet = 0.0_wp*s_dy2
+        end subroutine full_loop
+
+        !> Equal bit patterns (NaN equal to NaN).
+        logical function same_bits(x, y)
+            real(wp), intent(in) :: x, y
+
+            same_bits = transfer(x, 1_i8) == transfer(y, 1_i8) .or. (x /= x .and. y /= y)
+        end function same_bits
+    end subroutine test_step_powers_without_bulk_damping
 
 end module test_stepper_newton

@@ -65,6 +65,13 @@ contains
     end function stored_energy
 
     !> Powers of step k: injected P_k and the dissipation rates D^gamma, D^beta, D^abs.
+    !>
+    !> The three sums run in one scalar loop in site order. Without damping in the bulk (gamma = beta = 0, as in most
+    !> of the paper's runs) only the absorber's sum is needed, and only from its first site (`absorber_first`): once a
+    !> vectorised pass has shown every y_n finite and below 1e100, the other sums are finite (so gamma times its sum
+    !> is gamma, exactly, and so for beta) and every earlier term of the absorber's sum is an exact zero, which
+    !> leaves the running sum unchanged; the results have the same bits as the full loop's, at a quarter of its cost
+    !> on the paper's chain.
     pure subroutine step_powers(scheme, gamma, beta, u_old, u_cur, u_new, p_in, d_gamma, d_beta, d_abs)
         !> Scheme (N, dt, c^2, alpha_n).
         type(scheme_type), intent(in) :: scheme
@@ -78,12 +85,35 @@ contains
         real(wp), intent(out) :: p_in
         !> Dissipation rates.
         real(wp), intent(out) :: d_gamma, d_beta, d_abs
-        real(wp) :: y, y_prev, inv2dt, sum_y2, sum_abs, sum_dy2
+        !> Largest |y_n| for which the sums of the bulk are known to be finite without forming them.
+        real(wp), parameter :: y_safe = 1.0e100_wp
+        real(wp) :: y, y_prev, inv2dt, sum_y2, sum_abs, sum_dy2, y_max, nan_probe
         integer :: n
 
         inv2dt = 0.5_wp/scheme%dt
         y_prev = (u_new(0) - u_old(0))*inv2dt
         p_in = scheme%c2*(u_cur(0) - u_cur(1))*y_prev + beta*(y_prev - (u_new(1) - u_old(1))*inv2dt)*y_prev
+        if (gamma == 0.0_wp .and. beta == 0.0_wp .and. gamma == scheme%gamma) then
+            y_max = 0.0_wp
+            nan_probe = 0.0_wp
+            !$omp simd private(y) reduction(max: y_max) reduction(+: nan_probe)
+            do n = 0, scheme%n
+                y = (u_new(n) - u_old(n))*inv2dt
+                y_max = max(y_max, abs(y))
+                nan_probe = nan_probe + 0.0_wp*y          ! NaN when some y is NaN or infinite
+            end do
+            if (nan_probe == 0.0_wp .and. y_max <= y_safe) then
+                sum_abs = 0.0_wp
+                do n = scheme%absorber_first, scheme%n
+                    y = (u_new(n) - u_old(n))*inv2dt
+                    sum_abs = sum_abs + (scheme%alpha(n) - gamma)*y*y
+                end do
+                d_gamma = gamma
+                d_abs = sum_abs
+                d_beta = beta
+                return
+            end if
+        end if
         sum_y2 = 0.0_wp
         sum_abs = 0.0_wp
         sum_dy2 = 0.0_wp

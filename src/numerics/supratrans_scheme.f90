@@ -41,6 +41,11 @@ module supratrans_scheme
         real(wp), allocatable :: e(:)
         !> Site damping alpha_n = gamma + gamma'(n), size N.
         real(wp), allocatable :: alpha(:)
+        !> The external damping gamma that `alpha` was built from.
+        real(wp) :: gamma = 0.0_wp
+        !> First site whose alpha_n differs from gamma (the absorber's first site; N + 1 when there is none): the
+        !> terms of the absorber's dissipation before it are exactly zero (`step_powers`).
+        integer :: absorber_first = 1
     end type scheme_type
 
 contains
@@ -66,6 +71,12 @@ contains
         scheme%b = (scheme%alpha + 2.0_wp*chain%beta)/(2.0_wp*dt) + chain%m2/2.0_wp + 1.0_wp/dt**2
         scheme%b_min = minval(scheme%b)
         scheme%e = (scheme%alpha + 2.0_wp*chain%beta)/(2.0_wp*dt) - chain%m2/2.0_wp - 1.0_wp/dt**2
+        scheme%gamma = chain%gamma
+        scheme%absorber_first = 1
+        do while (scheme%absorber_first <= n)
+            if (scheme%alpha(scheme%absorber_first) /= chain%gamma) exit
+            scheme%absorber_first = scheme%absorber_first + 1
+        end do
     end subroutine scheme_init
 
     !> Form rhs = B u^k + C u^{k-1} + (the u_0^k, u_0^{k-1} parts of v^k).

@@ -19,7 +19,7 @@ module supratrans_stepper_leapfrog
     implicit none
     private
 
-    public :: leapfrog_init
+    public :: leapfrog_init, leapfrog_max_abs_u, leapfrog_verdict_measures, leapfrog_load_levels
 
     !> A two-level scheme of the paper: the levels u^{k-2}, u^{k-1}, u^k, u^{k+1} and the scheme's matrices.
     type, abstract, extends(stepper), public :: leapfrog_stepper

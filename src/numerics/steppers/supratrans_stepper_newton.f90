@@ -36,7 +36,9 @@ module supratrans_stepper_newton
     use supratrans_scheme, only: scheme_type, scheme_rhs_and_predictor, scheme_apply_a
     use supratrans_tridiag, only: solve_tridiag
     use supratrans_stepper, only: step_ok, step_not_converged, step_breakdown
-    use supratrans_stepper_leapfrog, only: leapfrog_stepper, leapfrog_init
+    use supratrans_stepper_leapfrog, only: leapfrog_stepper, leapfrog_init, leapfrog_max_abs_u, leapfrog_verdict_measures, &
+                                           leapfrog_load_levels
+    use supratrans_state_buffer, only: state_buffer
     implicit none
     private
 
@@ -82,11 +84,22 @@ module supratrans_stepper_newton
         integer :: max_iter = 20
         !> Work arrays.
         type(newton_work) :: work
+        !> max |u_n| over the newest level, formed by the accepted Newton update (valid while `u_max_known`).
+        real(wp) :: u_max = 0.0_wp
+        !> Whether `u_max` belongs to the newest level (set by a successful step, cleared by `init`, a failed
+        !> step and `load_levels`).
+        logical :: u_max_known = .false.
     contains
         !> Set up a run.
         procedure :: init => newton_init
         !> One step of the scheme.
         procedure :: step => newton_stepper_step
+        !> max |u_n| over sites first..N of the newest level (over the whole chain: the step's own maximum).
+        procedure :: max_abs_u => newton_max_abs_u
+        !> The blow-up measure (the step's own maximum) and max |u_n| over sites first..N.
+        procedure :: verdict_measures => newton_verdict_measures
+        !> Restore the levels (the step's maximum is then unknown).
+        procedure :: load_levels => newton_load_levels
     end type newton_stepper
 
 contains
@@ -123,6 +136,7 @@ contains
 
         integer :: stat
 
+        self%u_max_known = .false.
         call leapfrog_init(self, run, levels=predictor_levels + 1)
         if (allocated(self%reason)) return
         self%tol = run%numerics%newton_tol
@@ -142,15 +156,17 @@ contains
         real(wp) :: t_new
 
         t_new = self%begin_step()
+        self%u_max_known = .false.
         call extrapolate(self%u, self%col(1:predictor_levels), self%u(1:self%n, self%inew))
         call newton_step(self%scheme, self%work, self%u(:, self%io2), self%u(:, self%io), self%u(:, self%ic), &
                          self%u(:, self%inew), self%tol, self%max_iter, iters, status, predicted=.true., &
-                         exact_energy=self%exact_energy)
+                         exact_energy=self%exact_energy, u_max=self%u_max)
         self%newton_iterations = self%newton_iterations + iters
         self%tridiagonal_solves = self%tridiagonal_solves + iters
         self%newton_max_iterations = max(self%newton_max_iterations, iters)
         if (status == step_ok) then
             call self%end_step()
+            self%u_max_known = .true.
         else if (status == step_not_converged) then
             self%reason = "Newton did not converge in " // trim(int_fixed(iters)) // " iterations at t = " &
                           // trim(real_fixed(t_new))
@@ -162,7 +178,7 @@ contains
     !> Advance one step: compute u^{k+1} (into `u_new(1:N)`) from u^k and u^{k-1}.
     !> `u_new(0)` must already hold the boundary value psi(t_{k+1}) and `u_new(N+1)` zero.
     pure subroutine newton_step(scheme, ws, u_older, u_old, u_cur, u_new, tol, max_iter, iterations, status, &
-                                predicted, exact_energy)
+                                predicted, exact_energy, u_max)
         !> Scheme coefficients.
         type(scheme_type), intent(in) :: scheme
         !> Work arrays (`newton_work_init`).
@@ -187,8 +203,10 @@ contains
         logical, intent(in), optional :: predicted
         !> Keep the discrete energy identity exact to roundoff: condition (ii) of the stopping test (default true).
         logical, intent(in), optional :: exact_energy
+        !> max |u_new(1:N)| of the accepted iterate (set when `status` is `newton_ok`; a finite value then).
+        real(wp), intent(out), optional :: u_max
         integer :: n, j, it, info
-        real(wp) :: change, defect, scale, u_max, h_max, mu, curvature
+        real(wp) :: change, defect, scale, x_max, u_bound, h_max, mu, curvature
         logical :: exact
 
         n = scheme%n
@@ -207,7 +225,7 @@ contains
         do it = 1, max_iter
             iterations = it
             if (scheme%a == 0.0_wp) then
-                call diagonal_iteration(scheme, ws, it, u_old(1:n), u_new(1:n), change, defect, scale, h_max)
+                call diagonal_iteration(scheme, ws, it, u_old(1:n), u_new(1:n), change, defect, scale, h_max, x_max)
                 info = 0
             else
                 if (it == 1) then
@@ -226,32 +244,82 @@ contains
                 ws%du = scheme%a
                 call solve_tridiag(ws%dl, ws%dd, ws%du, ws%work, info)
                 if (info == 0) call apply_update(scheme%b, u_old(1:n), u_new(1:n), ws%work, change, defect, scale, &
-                                                 h_max)
+                                                 h_max, x_max)
             end if
             if (info /= 0 .or. .not. (change <= huge(change)) .or. .not. (defect <= huge(defect))) then
                 status = newton_breakdown
                 return
             end if
             if (mu > 0.0_wp) then
-                u_max = 0.0_wp
+                u_bound = 0.0_wp
                 if (scheme%potential /= sine_gordon) then      ! the bound of V''' grows with |u|
                     do j = 1, n
-                        u_max = max(u_max, abs(u_new(j)), abs(u_old(j)))
+                        u_bound = max(u_bound, abs(u_new(j)), abs(u_old(j)))
                     end do
-                    u_max = u_max + change                     ! the previous iterate is within `change`
+                    u_bound = u_bound + change                 ! the previous iterate is within `change`
                 end if
-                curvature = curvature_bound(scheme%potential, u_max)
+                curvature = curvature_bound(scheme%potential, u_bound)
                 if (curvature/(2.0_wp*mu)*change**2 <= tol &
                     .and. (.not. exact .or. 0.5_wp*curvature*defect <= epsilon(1.0_wp)/16.0_wp*scale)) then
                     status = newton_ok
+                    if (present(u_max)) u_max = x_max
                     return
                 end if
             else if (change <= tol) then
                 status = newton_ok
+                if (present(u_max)) u_max = x_max
                 return
             end if
         end do
     end subroutine newton_step
+
+    !> max |u_n| over sites first..N of the newest level: over the whole chain (first = 1, the blow-up measure) the
+    !> maximum the accepted Newton update formed, without another pass (the same value: a maximum is exact in any
+    !> order, and an accepted iterate is finite, so no NaN is lost); else a pass over the level.
+    pure function newton_max_abs_u(self, first) result(umax)
+        !> The stepper.
+        class(newton_stepper), intent(in) :: self
+        !> First site.
+        integer, intent(in) :: first
+        real(wp) :: umax
+
+        if (first == 1 .and. self%u_max_known) then
+            umax = self%u_max
+        else
+            umax = leapfrog_max_abs_u(self, first)
+        end if
+    end function newton_max_abs_u
+
+    !> The blow-up measure (the step's own maximum when known, as `newton_max_abs_u`) and max |u_n| over sites
+    !> first..N, with one pass over the detector's range only.
+    pure subroutine newton_verdict_measures(self, first, blowup, beyond)
+        !> The stepper.
+        class(newton_stepper), intent(in) :: self
+        !> First site of the second range.
+        integer, intent(in) :: first
+        !> max |u_n| over 1..N.
+        real(wp), intent(out) :: blowup
+        !> max |u_n| over first..N.
+        real(wp), intent(out) :: beyond
+
+        if (self%u_max_known) then
+            blowup = self%u_max
+            beyond = leapfrog_max_abs_u(self, max(first, 1))
+        else
+            call leapfrog_verdict_measures(self, first, blowup, beyond)
+        end if
+    end subroutine newton_verdict_measures
+
+    !> Restore the levels and their column order (`leapfrog_stepper`'s); the step's maximum is then unknown.
+    pure subroutine newton_load_levels(self, buf)
+        !> The stepper.
+        class(newton_stepper), intent(inout) :: self
+        !> The saved state.
+        type(state_buffer), intent(inout) :: buf
+
+        call leapfrog_load_levels(self, buf)
+        self%u_max_known = .false.
+    end subroutine newton_load_levels
 
     !> The predictor x(1:N) = sum_j w_j u(1:N, columns(j)), columns of the levels k, k-1, ... (`predictor_weights`),
     !> unless it differs from the cubic extrapolation 3 u^k - 3 u^{k-1} + u^{k-2} by more than `predictor_trust`
@@ -299,7 +367,7 @@ contains
     !> bits (one exception: when some |s_n| > `trig_max`, only that block, not the chain, goes to the intrinsic sin
     !> and cos, within 2 ulp of the reduction); the maxima are combined exactly, the sums of the stopping test block
     !> by block (a roundoff-level change of a test quantity, none for N <= `newton_block`, a single block).
-    pure subroutine diagonal_iteration(scheme, ws, it, x_old, x, change, defect, scale, h_max)
+    pure subroutine diagonal_iteration(scheme, ws, it, x_old, x, change, defect, scale, h_max, x_max)
         !> Scheme coefficients.
         type(scheme_type), intent(in) :: scheme
         !> Work arrays: rhs set; the update of the previous iteration in `work` (when `it` > 1).
@@ -317,8 +385,10 @@ contains
         real(wp), intent(out) :: defect, scale
         !> In: max |h| of the current iterate; out: after the update.
         real(wp), intent(inout) :: h_max
+        !> max |x_n| after the update.
+        real(wp), intent(out) :: x_max
         integer :: lo, hi
-        real(wp) :: c_in, h_in, c_b, d_b, s_b, h_b
+        real(wp) :: c_in, h_in, c_b, d_b, s_b, h_b, x_b
 
         c_in = change
         h_in = h_max
@@ -326,6 +396,7 @@ contains
         defect = 0.0_wp
         scale = 0.0_wp
         h_max = 0.0_wp
+        x_max = 0.0_wp
         do lo = 1, size(x), newton_block
             hi = min(size(x), lo + newton_block - 1)
             if (it == 1) then
@@ -337,15 +408,17 @@ contains
                                                delta_max=c_in, h_max=h_in)
             end if
             call diagonal_update(scheme%b(lo:hi), ws%rhs(lo:hi), ws%g(lo:hi), ws%dg(lo:hi), x_old(lo:hi), x(lo:hi), &
-                                 ws%work(lo:hi), c_b, d_b, s_b, h_b)
+                                 ws%work(lo:hi), c_b, d_b, s_b, h_b, x_b)
             if (lo == 1) then
                 change = c_b
                 defect = d_b
                 scale = s_b
                 h_max = h_b
+                x_max = x_b
             else
                 if (c_b /= c_b .or. c_b > change) change = c_b      ! a NaN is kept
                 if (h_b /= h_b .or. h_b > h_max) h_max = h_b
+                if (x_b /= x_b .or. x_b > x_max) x_max = x_b
                 defect = defect + d_b
                 scale = scale + s_b
             end if
@@ -354,7 +427,7 @@ contains
 
     !> One Newton iteration with a diagonal Jacobian (beta = 0), fused: residual r_n = rhs_n - b_n x_n - G_n,
     !> update delta_n = r_n/(b_n + dG/da_n), x_n += delta_n, and the sums of the stopping test.
-    pure subroutine diagonal_update(b, rhs, g, dg, x_old, x, delta, change, defect, scale, h_max)
+    pure subroutine diagonal_update(b, rhs, g, dg, x_old, x, delta, change, defect, scale, h_max, x_max)
         !> Diagonal b_n of A, right-hand side, G and dG/da at the current iterate.
         real(wp), intent(in), contiguous :: b(:), rhs(:), g(:), dg(:)
         !> Level k-1 (the second argument of G).
@@ -367,6 +440,8 @@ contains
         real(wp), intent(out) :: change, defect, scale
         !> max |h_n| after the update.
         real(wp), intent(out) :: h_max
+        !> max |x_n| after the update (the blow-up measure of an accepted step: its x is finite).
+        real(wp), intent(out) :: x_max
         integer :: j
         real(wp) :: d, xn, h
 
@@ -374,7 +449,8 @@ contains
         defect = 0.0_wp
         scale = 0.0_wp
         h_max = 0.0_wp
-        !$omp simd private(d, xn, h) reduction(max: change, h_max) reduction(+: defect, scale)
+        x_max = 0.0_wp
+        !$omp simd private(d, xn, h) reduction(max: change, h_max, x_max) reduction(+: defect, scale)
         do j = 1, size(x)
             d = (rhs(j) - b(j)*x(j) - g(j))/(b(j) + dg(j))
             xn = x(j) + d
@@ -383,13 +459,14 @@ contains
             delta(j) = d
             change = max(change, abs(d))
             h_max = max(h_max, h)
+            x_max = max(x_max, abs(xn))
             defect = defect + d*d*h
             scale = scale + b(j)*abs(xn)*h
         end do
     end subroutine diagonal_update
 
     !> Apply a Newton update (tridiagonal case) and form the sums of the stopping test (as `diagonal_update`).
-    pure subroutine apply_update(b, x_old, x, delta, change, defect, scale, h_max)
+    pure subroutine apply_update(b, x_old, x, delta, change, defect, scale, h_max, x_max)
         !> Diagonal b_n of A.
         real(wp), intent(in), contiguous :: b(:)
         !> Level k-1.
@@ -399,7 +476,7 @@ contains
         !> The update.
         real(wp), intent(in), contiguous :: delta(:)
         !> As in `diagonal_update`.
-        real(wp), intent(out) :: change, defect, scale, h_max
+        real(wp), intent(out) :: change, defect, scale, h_max, x_max
         integer :: j
         real(wp) :: d, xn, h
 
@@ -407,7 +484,8 @@ contains
         defect = 0.0_wp
         scale = 0.0_wp
         h_max = 0.0_wp
-        !$omp simd private(d, xn, h) reduction(max: change, h_max) reduction(+: defect, scale)
+        x_max = 0.0_wp
+        !$omp simd private(d, xn, h) reduction(max: change, h_max, x_max) reduction(+: defect, scale)
         do j = 1, size(x)
             d = delta(j)
             xn = x(j) + d
@@ -415,6 +493,7 @@ contains
             x(j) = xn
             change = max(change, abs(d))
             h_max = max(h_max, h)
+            x_max = max(x_max, abs(xn))
             defect = defect + d*d*h
             scale = scale + b(j)*abs(xn)*h
         end do
