@@ -41,7 +41,7 @@ module supratrans_scene_continuation
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1
     use supratrans_scene_bifurcation, only: bifurcation_omegas
-    use supratrans_scene_stability, only: linear_stability_dt
+    use supratrans_linear_stability, only: linear_stability_dt
     use supratrans_stepper_rk4, only: rk4_order
     use supratrans_stepper_rk8, only: rk8_order
     implicit none
