@@ -128,105 +128,106 @@ program pf_driver
     use test_scene_factory, only: t117 => test_the_input_check_words_an_unknown_kind_as_before
     use test_scene_factory, only: t118 => test_only_a_timeseries_is_one_run
     use test_scene_factory, only: t119 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
+    use test_scene_factory, only: t120 => test_task_scenes_refuse_an_existing_output_first
     use test_scene_map, only: b17 => set_up
     use test_scene_map, only: a17 => tear_down
-    use test_scene_map, only: t120 => test_skips_outside_gap_and_stores_as
-    use test_scene_map, only: t121 => test_map_independent_of_thread_count
+    use test_scene_map, only: t121 => test_skips_outside_gap_and_stores_as
+    use test_scene_map, only: t122 => test_map_independent_of_thread_count
     use test_scene_sweep, only: b18 => set_up
     use test_scene_sweep, only: a18 => tear_down
-    use test_scene_sweep, only: t122 => test_axis_grid_exact
-    use test_scene_sweep, only: t123 => test_independent_of_thread_count
-    use test_scene_sweep, only: t124 => test_layout_and_physics
-    use test_scene_sweep, only: t125 => test_resume_after_kill
-    use test_scene_sweep, only: t126 => test_diverging_runs_flagged
-    use test_scene_sweep, only: t127 => test_partial_snapshot
-    use test_scene_sweep, only: t128 => test_refuses_existing_output
-    use test_schema, only: t129 => test_table_is_complete
-    use test_schema, only: t130 => test_each_key_sets_its_own_field
-    use test_schema, only: t131 => test_defaults_are_the_papers
-    use test_schema, only: t132 => test_choices_agree_with_the_physics
-    use test_schema, only: t133 => test_parameters_hold_every_key
-    use test_scheme, only: t134 => test_ledger_closes_every_step
-    use test_scheme, only: t135 => test_linearized_ledger_does_not_close
-    use test_scheme, only: t136 => test_evanescent_wave
-    use test_scheme, only: t137 => test_second_order_in_dt
-    use test_scheme, only: t138 => test_stability_boundary
-    use test_scheme, only: t139 => test_newton_failure_reported
-    use test_scheme, only: t140 => test_two_runs_in_two_threads
-    use test_scheme, only: t141 => test_verdict_across_the_gap
-    use test_screened_search, only: t142 => test_cheap_right_saves_exact_runs
-    use test_screened_search, only: t143 => test_cheap_too_high_within_band
-    use test_screened_search, only: t144 => test_cheap_too_high_walks_down
-    use test_screened_search, only: t145 => test_cheap_window_far_below
-    use test_screened_search, only: t146 => test_doubtful_quiet_answers_go_to_the_exact_oracle
-    use test_screened_search, only: t147 => test_random_patterns_with_margins
-    use test_screened_search, only: t148 => test_random_patterns_false_alarms
-    use test_screened_search, only: t149 => test_cheap_finds_none
-    use test_screened_search, only: t150 => test_none_transmits_confirms_the_top
-    use test_screened_search, only: t151 => test_exact_failure_is_reported
-    use test_screened_search, only: t152 => test_cheap_failure_falls_back_to_exact
-    use test_slice_costs, only: t153 => test_equal_costs_deal_round_robin
-    use test_slice_costs, only: t154 => test_every_task_in_one_slice_and_deterministic
-    use test_slice_costs, only: t155 => test_largest_first_is_balanced_within_the_largest_task
-    use test_slice_costs, only: t156 => test_slice_text_counts_the_slice
+    use test_scene_sweep, only: t123 => test_axis_grid_exact
+    use test_scene_sweep, only: t124 => test_independent_of_thread_count
+    use test_scene_sweep, only: t125 => test_layout_and_physics
+    use test_scene_sweep, only: t126 => test_resume_after_kill
+    use test_scene_sweep, only: t127 => test_diverging_runs_flagged
+    use test_scene_sweep, only: t128 => test_partial_snapshot
+    use test_scene_sweep, only: t129 => test_refuses_existing_output
+    use test_schema, only: t130 => test_table_is_complete
+    use test_schema, only: t131 => test_each_key_sets_its_own_field
+    use test_schema, only: t132 => test_defaults_are_the_papers
+    use test_schema, only: t133 => test_choices_agree_with_the_physics
+    use test_schema, only: t134 => test_parameters_hold_every_key
+    use test_scheme, only: t135 => test_ledger_closes_every_step
+    use test_scheme, only: t136 => test_linearized_ledger_does_not_close
+    use test_scheme, only: t137 => test_evanescent_wave
+    use test_scheme, only: t138 => test_second_order_in_dt
+    use test_scheme, only: t139 => test_stability_boundary
+    use test_scheme, only: t140 => test_newton_failure_reported
+    use test_scheme, only: t141 => test_two_runs_in_two_threads
+    use test_scheme, only: t142 => test_verdict_across_the_gap
+    use test_screened_search, only: t143 => test_cheap_right_saves_exact_runs
+    use test_screened_search, only: t144 => test_cheap_too_high_within_band
+    use test_screened_search, only: t145 => test_cheap_too_high_walks_down
+    use test_screened_search, only: t146 => test_cheap_window_far_below
+    use test_screened_search, only: t147 => test_doubtful_quiet_answers_go_to_the_exact_oracle
+    use test_screened_search, only: t148 => test_random_patterns_with_margins
+    use test_screened_search, only: t149 => test_random_patterns_false_alarms
+    use test_screened_search, only: t150 => test_cheap_finds_none
+    use test_screened_search, only: t151 => test_none_transmits_confirms_the_top
+    use test_screened_search, only: t152 => test_exact_failure_is_reported
+    use test_screened_search, only: t153 => test_cheap_failure_falls_back_to_exact
+    use test_slice_costs, only: t154 => test_equal_costs_deal_round_robin
+    use test_slice_costs, only: t155 => test_every_task_in_one_slice_and_deterministic
+    use test_slice_costs, only: t156 => test_largest_first_is_balanced_within_the_largest_task
+    use test_slice_costs, only: t157 => test_slice_text_counts_the_slice
     use test_stability, only: b23 => set_up
     use test_stability, only: a23 => tear_down
-    use test_stability, only: t157 => test_linear_limits
-    use test_stability, only: t158 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t159 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t160 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t161 => test_stepper_contract_order
-    use test_stepper_contract, only: t162 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t163 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t164 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t165 => test_engine_counts_steps_in_64_bits
-    use test_stepper_contract, only: t166 => test_stepper_contract_checkpoint
-    use test_stepper_linearized, only: t167 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t168 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t169 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t170 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t171 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t172 => test_blocked_iteration_is_the_unblocked_one
-    use test_stepper_newton, only: t173 => test_newton_error_below_tol
-    use test_stepper_newton, only: t174 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t175 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t176 => test_newton_stepper_reports_failure
-    use test_stepper_newton, only: t177 => test_blowup_measure_is_the_level_maximum
-    use test_stepper_newton, only: t178 => test_step_powers_without_bulk_damping
-    use test_strings, only: t179 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t180 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t181 => test_find_name_gives_the_first_index_or_zero
-    use test_strings, only: t182 => test_joined_trims_each_name_and_prefixes_it
-    use test_strings, only: t183 => test_lower_changes_only_ascii_capitals
+    use test_stability, only: t158 => test_linear_limits
+    use test_stability, only: t159 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t160 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t161 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t162 => test_stepper_contract_order
+    use test_stepper_contract, only: t163 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t164 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t165 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t166 => test_engine_counts_steps_in_64_bits
+    use test_stepper_contract, only: t167 => test_stepper_contract_checkpoint
+    use test_stepper_linearized, only: t168 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t169 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t170 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t171 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t172 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t173 => test_blocked_iteration_is_the_unblocked_one
+    use test_stepper_newton, only: t174 => test_newton_error_below_tol
+    use test_stepper_newton, only: t175 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t176 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t177 => test_newton_stepper_reports_failure
+    use test_stepper_newton, only: t178 => test_blowup_measure_is_the_level_maximum
+    use test_stepper_newton, only: t179 => test_step_powers_without_bulk_damping
+    use test_strings, only: t180 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t181 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t182 => test_find_name_gives_the_first_index_or_zero
+    use test_strings, only: t183 => test_joined_trims_each_name_and_prefixes_it
+    use test_strings, only: t184 => test_lower_changes_only_ascii_capitals
     use test_system, only: b28 => set_up
     use test_system, only: a28 => tear_down
-    use test_system, only: t184 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t185 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t186 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t187 => test_temporary_names_are_fresh
-    use test_system, only: t188 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t189 => test_monotone_step
-    use test_threshold, only: t190 => test_bisected_bracket
-    use test_threshold, only: t191 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t192 => test_two_transitions
-    use test_threshold, only: t193 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t194 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t195 => test_nothing_transmits
-    use test_threshold, only: t196 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t197 => test_lower_bound_transmits
-    use test_threshold, only: t198 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t199 => test_bad_arguments
-    use test_threshold, only: t200 => test_grid_helpers
+    use test_system, only: t185 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t186 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t187 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t188 => test_temporary_names_are_fresh
+    use test_system, only: t189 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t190 => test_monotone_step
+    use test_threshold, only: t191 => test_bisected_bracket
+    use test_threshold, only: t192 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t193 => test_two_transitions
+    use test_threshold, only: t194 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t195 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t196 => test_nothing_transmits
+    use test_threshold, only: t197 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t198 => test_lower_bound_transmits
+    use test_threshold, only: t199 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t200 => test_bad_arguments
+    use test_threshold, only: t201 => test_grid_helpers
     use test_workprec, only: b30 => set_up
     use test_workprec, only: a30 => tear_down
-    use test_workprec, only: t201 => test_rk8_eighth_order
-    use test_workprec, only: t202 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t203 => test_rk8_stability_polynomial
-    use test_workprec, only: t204 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t205 => test_unstable_runs_are_reported
-    use test_workprec, only: t206 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t207 => test_fitted_order
-    use test_workprec, only: t208 => test_step_kernels_timed
+    use test_workprec, only: t202 => test_rk8_eighth_order
+    use test_workprec, only: t203 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t204 => test_rk8_stability_polynomial
+    use test_workprec, only: t205 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t206 => test_unstable_runs_are_reported
+    use test_workprec, only: t207 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t208 => test_fitted_order
+    use test_workprec, only: t209 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -364,109 +365,110 @@ program pf_driver
     call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t117)
     call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t118)
     call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t119)
-    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t120, before=b17, after=a17)
-    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t121, before=b17, after=a17)
-    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t122, before=b18, after=a18)
-    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t123, before=b18, after=a18)
-    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t124, before=b18, after=a18)
-    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t125, before=b18, after=a18)
-    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t126, before=b18, after=a18)
-    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t127, before=b18, after=a18)
-    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t128, before=b18, after=a18)
-    call pf_run_test('test_schema', 'test_table_is_complete', t129)
-    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t130)
-    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t131)
-    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t132)
-    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t133)
-    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t134)
-    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t135)
-    call pf_run_test('test_scheme', 'test_evanescent_wave', t136)
-    call pf_run_test('test_scheme', 'test_second_order_in_dt', t137)
-    call pf_run_test('test_scheme', 'test_stability_boundary', t138)
-    call pf_run_test('test_scheme', 'test_newton_failure_reported', t139)
-    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t140)
-    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t141)
-    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t142)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t143)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t144)
-    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t145)
-    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t146)
-    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t147)
-    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t148)
-    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t149)
-    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t150)
-    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t151)
-    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t152)
-    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t153)
-    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t154)
-    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t155)
-    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t156)
-    call pf_run_test('test_stability', 'test_linear_limits', t157, before=b23, after=a23)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t158, before=b23, after=a23)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t159, before=b23, after=a23)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t160)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t161)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t162)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t163)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t164)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t165)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t166)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t167)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t168)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t169)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t170)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t171)
-    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t172)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t173)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t174)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t175)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t176)
-    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t177)
-    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t178)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t179)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t180)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t181)
-    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t182)
-    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t183)
+    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t120)
+    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t121, before=b17, after=a17)
+    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t122, before=b17, after=a17)
+    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t123, before=b18, after=a18)
+    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t124, before=b18, after=a18)
+    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t125, before=b18, after=a18)
+    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t126, before=b18, after=a18)
+    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t127, before=b18, after=a18)
+    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t128, before=b18, after=a18)
+    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t129, before=b18, after=a18)
+    call pf_run_test('test_schema', 'test_table_is_complete', t130)
+    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t131)
+    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t132)
+    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t133)
+    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t134)
+    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t135)
+    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t136)
+    call pf_run_test('test_scheme', 'test_evanescent_wave', t137)
+    call pf_run_test('test_scheme', 'test_second_order_in_dt', t138)
+    call pf_run_test('test_scheme', 'test_stability_boundary', t139)
+    call pf_run_test('test_scheme', 'test_newton_failure_reported', t140)
+    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t141)
+    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t142)
+    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t143)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t144)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t145)
+    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t146)
+    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t147)
+    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t148)
+    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t149)
+    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t150)
+    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t151)
+    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t152)
+    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t153)
+    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t154)
+    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t155)
+    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t156)
+    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t157)
+    call pf_run_test('test_stability', 'test_linear_limits', t158, before=b23, after=a23)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t159, before=b23, after=a23)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t160, before=b23, after=a23)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t161)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t162)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t163)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t164)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t165)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t166)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t167)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t168)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t169)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t170)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t171)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t172)
+    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t173)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t174)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t175)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t176)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t177)
+    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t178)
+    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t179)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t180)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t181)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t182)
+    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t183)
+    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t184)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t184, &
+        t185, &
         before=b28, &
         after=a28)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t185, before=b28, after=a28)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t186, before=b28, after=a28)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t186, &
+        t187, &
         before=b28, &
         after=a28)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t187, before=b28, after=a28)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t188, before=b28, after=a28)
-    call pf_run_test('test_threshold', 'test_monotone_step', t189)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t190)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t191)
-    call pf_run_test('test_threshold', 'test_two_transitions', t192)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t193)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t194)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t195)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t196)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t197)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t198)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t199)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t200)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t201, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t202, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t203, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t204, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t205, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t188, before=b28, after=a28)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t189, before=b28, after=a28)
+    call pf_run_test('test_threshold', 'test_monotone_step', t190)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t191)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t192)
+    call pf_run_test('test_threshold', 'test_two_transitions', t193)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t194)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t195)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t196)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t197)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t198)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t199)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t200)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t201)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t202, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t203, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t204, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t205, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t206, before=b30, after=a30)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t206, &
+        t207, &
         before=b30, &
         after=a30)
-    call pf_run_test('test_workprec', 'test_fitted_order', t207, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t208, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_fitted_order', t208, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t209, before=b30, after=a30)
     call pf_driver_finish()
 end program pf_driver

@@ -8,7 +8,7 @@ module bench_fold
     use supratrans_error, only: error_type
     use supratrans_input, only: read_input
     use supratrans_scene_bifurcation, only: run_bifurcation
-    use supratrans_scene_continuation, only: run_continuation
+    use supratrans_scene_continuation, only: continuation_scene
     use supratrans_hdf5, only: h5_file, h5_open, h5_read, h5_close
     use supratrans_system, only: remove_file
     use supratrans_fold_record, only: fold_record, empty_fold_record
@@ -123,6 +123,7 @@ contains
         type(input_config) :: cfg
         type(error_type), allocatable :: error
         type(h5_file) :: file
+        type(continuation_scene) :: fold_line
         character(len=*), parameter :: nml = "/tmp/supratrans_bench_fold_line.nml"
         character(len=*), parameter :: out = "/tmp/supratrans_bench_fold_line.h5"
         character(len=*), parameter :: scan_out = "/tmp/supratrans_bench_fold_scan.h5"
@@ -142,7 +143,7 @@ contains
         if (allocated(error)) error stop "benchmark: " // error%message
         !$ call omp_set_num_threads(2)
         seconds_fold = wall_seconds()
-        call run_continuation(cfg, error)
+        call fold_line%run(cfg, error)
         seconds_fold = wall_seconds() - seconds_fold
         if (allocated(error)) error stop "benchmark: " // error%message
         call h5_open(file, out, error)

@@ -2,26 +2,40 @@
 !> bifurcation diagram of the threshold A_th(Omega), ...), behind one abstract type.
 !>
 !> What the rest of the program asks a scene, and nothing else:
-!> - `run`: make its tasks, run them on the task engine (`supratrans_tasks`; one run for a timeseries), gather their
-!>   records and write the output file;
+!> - `run`: run it and write its output file. One driver for every scene (`run_scene`, the submodule
+!>   `supratrans_scene_driver`), not overridden: it refuses an existing output (unless overwrite), asks the scene to
+!>   `make_tasks`, prints the scene's first line, runs the tasks on the task engine (`supratrans_tasks`: journal
+!>   `<output>.journal`, OpenMP threads, slices, merge), has the scene `write_output` from the records gathered,
+!>   deletes the journal and the partial file `<output>.partial.h5`, and prints the scene's `summary`. A scene that
+!>   is one run (a timeseries) is run by its own `run_one` instead;
 !> - `one_run`: whether it is one run rather than a task list (no `--slice`, no journal; it keeps its records, so
 !>   its memory estimate counts them);
 !> - `gap_rule`: whether the drive's Omega must lie inside the band gap 0 < Omega < sqrt(1 + m^2) (unless
 !>   allow_outside_gap): scenes at one frequency; scenes over a frequency axis skip the points outside instead;
 !> - `check_limits`: its own sizes (axes, task count, work, memory) against the limits of `supratrans_limits`.
 !>
+!> A scene of tasks implements three phases: `make_tasks` (its extension of `task_list`, which runs one task and
+!> writes the partial snapshot, with the names of a task's values, what the progress lines call the tasks and its
+!> first line), `write_output` (its file from the records, which tasks are done and the wall time) and, if it has
+!> one, `summary`. A one-run scene implements `run_one`.
+!>
 !> `new_scene` (implemented in the submodule `supratrans_scene_factory`) is the only place that maps a kind's name
-!> to a module: adding a scene is one module extending `scene_type` and one line there. The submodule keeps the
-!> modules that validate an input (which ask the scene) free of the scene modules (which use them).
+!> to a module: adding a scene is one module extending `scene_type` and one line there. The submodules keep the
+!> modules that validate an input (which ask the scene) free of the scene modules and the task engine (which use
+!> them).
 module supratrans_scene
     use supratrans_kinds, only: wp
-    use supratrans_error, only: error_type
+    use supratrans_error, only: error_type, fatal_error, err_runtime
     use supratrans_invocation, only: invocation_type
     use supratrans_config, only: input_config
+    use supratrans_task_list, only: task_list
     implicit none
     private
 
-    public :: scene_type, scene_budget, new_scene
+    public :: scene_type, scene_budget, scene_tasks, new_scene, wrong_tasks
+
+    !> Longest name of a field of a task's record.
+    integer, parameter, public :: field_name_length = 64
 
     !> What the machine gives a scene, for the memory estimates of `check_limits`.
     type :: scene_budget
@@ -33,11 +47,43 @@ module supratrans_scene
         character(len=:), allocatable :: source
     end type scene_budget
 
+    !> The tasks of one run of a scene and what the task engine gathers of them: made by the scene's `make_tasks`,
+    !> run by the driver, read by the scene's `write_output` and `summary`.
+    type :: scene_tasks
+        !> The tasks: the scene's extension of `task_list`.
+        class(task_list), allocatable :: list
+        !> Number of tasks.
+        integer :: count = 0
+        !> Names of the values of a task's record, in their order (the journal's header names them).
+        character(len=field_name_length), allocatable :: fields(:)
+        !> What the progress lines call the tasks (e.g. "runs").
+        character(len=:), allocatable :: label
+        !> The scene's first progress line, printed before the tasks run unless the output is quiet (unallocated:
+        !> none).
+        character(len=:), allocatable :: header
+        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); set before `make_tasks`.
+        type(invocation_type) :: inv
+        !> The tasks' records, (values, tasks), set by the engine.
+        real(wp), allocatable :: results(:, :)
+        !> Which tasks are done (every one when the output is written).
+        logical, allocatable :: done(:)
+        !> Wall time of the scene (s): this invocation's, or for a merge the slices' summed wall time.
+        real(wp) :: elapsed = -1.0_wp
+    end type scene_tasks
+
     !> A scene: a study made of runs (or threshold searches) of the chain, written to one HDF5 file.
     type, abstract :: scene_type
     contains
-        !> Run the scene of a validated input and write its output file.
-        procedure(run_interface), deferred :: run
+        !> Run the scene of a validated input and write its output file (the driver `run_scene`).
+        procedure, non_overridable :: run => run_scene
+        !> Make the scene's tasks (a scene of tasks overrides it).
+        procedure :: make_tasks
+        !> Write the output file from the tasks' records (a scene of tasks overrides it).
+        procedure :: write_output
+        !> The lines printed once the output is written (default: none).
+        procedure :: summary
+        !> Run a one-run scene and write its output (a one-run scene overrides it).
+        procedure :: run_one
         !> Check the scene's own sizes (axes, tasks, work, memory) against the limits (default: nothing beyond the
         !> limits of one run).
         procedure :: check_limits
@@ -46,21 +92,6 @@ module supratrans_scene
         !> Whether the drive's Omega must lie inside the band gap (default: no).
         procedure :: gap_rule
     end type scene_type
-
-    abstract interface
-        !> Run the scene `cfg` describes and write `cfg%output%file`.
-        subroutine run_interface(self, cfg, error, inv)
-            import :: scene_type, input_config, error_type, invocation_type
-            !> The scene.
-            class(scene_type), intent(in) :: self
-            !> The validated input.
-            type(input_config), intent(in) :: cfg
-            !> Error, allocated on failure.
-            type(error_type), allocatable, intent(out) :: error
-            !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
-            type(invocation_type), intent(in), optional :: inv
-        end subroutine run_interface
-    end interface
 
     interface
         !> The scene of kind `kind` (a name of `scene_choices`); an error of status `err_input` naming the known
@@ -73,9 +104,89 @@ module supratrans_scene
             !> Error, allocated when the kind is unknown.
             type(error_type), allocatable, intent(out) :: error
         end subroutine new_scene
+
+        !> Run the scene `cfg` describes and write `cfg%output%file`: the skeleton every scene of tasks shares (see
+        !> the module documentation), or the one-run scene's `run_one`.
+        module subroutine run_scene(self, cfg, error, inv, keep_journal)
+            !> The scene.
+            class(scene_type), intent(in) :: self
+            !> The validated input.
+            type(input_config), intent(in) :: cfg
+            !> Error, allocated on failure (output exists, bad scene keys, journal of another input, stopped by a
+            !> signal, unwritable files). Runs that fail are no error: the scene records them.
+            type(error_type), allocatable, intent(out) :: error
+            !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
+            type(invocation_type), intent(in), optional :: inv
+            !> Keep the journal after a complete run (tests of the resume); default false.
+            logical, intent(in), optional :: keep_journal
+        end subroutine run_scene
     end interface
 
 contains
+
+    !> Make the tasks of the scene `cfg` describes (`tasks%inv` set): a scene of tasks overrides it; here, an error.
+    subroutine make_tasks(self, cfg, tasks, error)
+        !> The scene.
+        class(scene_type), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Its tasks: on return `list`, `count`, `fields`, `label`, `header`.
+        type(scene_tasks), intent(inout) :: tasks
+        !> Error, allocated when the scene's keys do not make a task list.
+        type(error_type), allocatable, intent(out) :: error
+
+        call fatal_error(error, trim(cfg%scene%kind) // ": this scene makes no task list", err_runtime)
+    end subroutine make_tasks
+
+    !> Write `cfg%output%file` from the records of every task: a scene of tasks overrides it; here, an error.
+    subroutine write_output(self, cfg, tasks, error)
+        !> The scene.
+        class(scene_type), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The tasks, their records and the wall time.
+        type(scene_tasks), intent(in) :: tasks
+        !> Error, allocated when the file is not written (nothing is then left under its name).
+        type(error_type), allocatable, intent(out) :: error
+
+        call fatal_error(error, trim(cfg%scene%kind) // ": this scene writes no file of task records", err_runtime)
+    end subroutine write_output
+
+    !> The lines printed once the output is written (joined by new lines; "": none). Default: none.
+    function summary(self, cfg, tasks) result(text)
+        !> The scene.
+        class(scene_type), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The tasks, their records and the wall time.
+        type(scene_tasks), intent(in) :: tasks
+        character(len=:), allocatable :: text
+
+        text = ""
+    end function summary
+
+    !> Run a one-run scene and write its output: a one-run scene overrides it; here, an error.
+    subroutine run_one(self, cfg, error)
+        !> The scene.
+        class(scene_type), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+
+        call fatal_error(error, trim(cfg%scene%kind) // ": this scene is not one run", err_runtime)
+    end subroutine run_one
+
+    !> The error of a scene's phase handed a task list of another kind than the `expected` one its `make_tasks`
+    !> makes (a defect of the program, not of the input).
+    pure subroutine wrong_tasks(error, expected)
+        !> The error, allocated.
+        type(error_type), allocatable, intent(out) :: error
+        !> The kind of task list the phase expected.
+        character(len=*), intent(in) :: expected
+
+        call fatal_error(error, "scene: a task list that is not a " // expected // " handed to its phases", err_runtime)
+    end subroutine wrong_tasks
 
     !> The scene's own sizes against the limits: none by default (a scene of a few runs, each bounded by the limits
     !> of one run that `check_limits` of `supratrans_limits` checks for every scene).

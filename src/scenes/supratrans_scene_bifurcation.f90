@@ -9,11 +9,12 @@
 !> non-transmitting one runs to T. Frequencies outside the curve's band gap, Omega >= sqrt(1 + m^2), are skipped
 !> (threshold NaN, status `bifurcation_outside_gap`) unless `allow_outside_gap` is set.
 !>
-!> The tasks (curves x frequencies) run on OpenMP threads through `supratrans_tasks` (dynamic scheduling, journal
-!> `<output>.journal` tied to the namelist by `file_fingerprint`, partial output `<output>.partial.h5` with root
-!> attribute `complete = 0` now and then). Each task is one sequential search and results are stored by task index,
-!> so the thresholds are bit-for-bit identical for any number of threads. The final file is written as
-!> `<output>.tmp-XXXXXX` and renamed when complete (`complete = 1`); the journal and the partial file are then deleted.
+!> The tasks (curves x frequencies) run on OpenMP threads through `supratrans_tasks`, driven by the scene driver
+!> of `supratrans_scene` (dynamic scheduling, journal `<output>.journal` tied to the namelist by
+!> `file_fingerprint`, partial output `<output>.partial.h5` with root attribute `complete = 0` now and then). Each
+!> task is one sequential search and results are stored by task index, so the thresholds are bit-for-bit identical
+!> for any number of threads. The final file is written as `<output>.tmp-XXXXXX` and renamed when complete
+!> (`complete = 1`); the journal and the partial file are then deleted.
 !>
 !> Where the verdict is not monotone in A on the scale of the resolution (undamped sine-Gordon below Omega ~ 0.5,
 !> the paper's "discrepancy region": e.g. at Omega = 0.05, A = 5.96 and 5.97 transmit, 5.98 .. 6.00 do not, 6.01
@@ -30,7 +31,7 @@ module supratrans_scene_bifurcation
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget
+    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config, run_config, screen_none, screen_choices
     use supratrans_curves, only: curve_count, curve_run
@@ -38,8 +39,7 @@ module supratrans_scene_bifurcation
     use supratrans_status, only: bifurcation_outside_gap => status_outside_gap, bifurcation_pending => status_not_run
     use supratrans_search_record, only: search_record, search_fields, from_values, certify_unchanged, &
                                         certify_moved_within, certify_moved
-    use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
-    use supratrans_system, only: remove_file
+    use supratrans_tasks, only: task_list, input_fingerprint
     use supratrans_strings, only: int_str, real_str, fixed1, printable
     use supratrans_bifurcation_runs, only: search_run, with_numerics, screen_integrator, screen_dt
     implicit none
@@ -85,8 +85,12 @@ module supratrans_scene_bifurcation
     !> The scene `bifurcation`: one threshold search A_th per (curve, frequency).
     type, extends(scene_type), public :: bifurcation_scene
     contains
-        !> Run it and write its output (`run_bifurcation`).
-        procedure :: run => bifurcation_scene_run
+        !> Its tasks: one threshold search per (curve, frequency).
+        procedure :: make_tasks => bifurcation_make_tasks
+        !> Its file (`write_bifurcation_file`).
+        procedure :: write_output => bifurcation_write_output
+        !> The runs, time steps and wall time of the searches, and the certified thresholds.
+        procedure :: summary => bifurcation_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => bifurcation_scene_limits
     end type bifurcation_scene
@@ -176,7 +180,8 @@ module supratrans_scene_bifurcation
 
 contains
 
-    !> Run the bifurcation scene described by `cfg` and write `cfg%output%file` (see the module documentation).
+    !> Run the bifurcation scene described by `cfg` and write `cfg%output%file` (see the module documentation): the
+    !> scene's `run` (`supratrans_scene`), under the name the tests and the benchmark call.
     subroutine run_bifurcation(cfg, error, keep_journal, inv)
         !> The validated input (`&scene kind = 'bifurcation'`).
         type(input_config), intent(in) :: cfg
@@ -186,93 +191,116 @@ contains
         logical, intent(in), optional :: keep_journal
         !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
         type(invocation_type), intent(in), optional :: inv
-        type(bifurcation_tasks) :: tasks
-        type(search_record), allocatable :: records(:)
-        real(wp), allocatable :: results(:, :)
-        logical, allocatable :: done(:)
-        character(len=:), allocatable :: output, journal
+        type(bifurcation_scene) :: scene
+
+        call scene%run(cfg, error, inv, keep_journal)
+    end subroutine run_bifurcation
+
+    !> The searches of the scene: the frequency axis and, per curve, its run prepared for the search (with the
+    !> screening method, at dt/2 when certifying).
+    subroutine bifurcation_make_tasks(self, cfg, tasks, error)
+        !> The scene.
+        class(bifurcation_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Its tasks: a `bifurcation_tasks`, (curve - 1) nomega + iomega.
+        type(scene_tasks), intent(inout) :: tasks
+        !> Error, allocated when the frequency axis is empty.
+        type(error_type), allocatable, intent(out) :: error
+        type(bifurcation_tasks), allocatable :: list
+        character(len=:), allocatable :: output
         integer :: ncurve, nomega, ic
-        integer(i8) :: clock_start, clock_end, clock_rate
-        logical :: exists, keep
-        real(wp) :: elapsed
-        character(len=24) :: steps_text
 
-        call system_clock(clock_start, clock_rate)
-        keep = .false.
-        if (present(keep_journal)) keep = keep_journal
+        allocate (list)
         output = trim(cfg%output%file)
-        inquire (file=output, exist=exists)
-        if (exists .and. .not. cfg%output%overwrite) then
-            call fatal_error(error, output // ": output file exists (set overwrite = .true. to replace it)", err_input)
-            return
-        end if
-
-        tasks%cfg = cfg
-        if (present(inv)) tasks%inv = inv
-        tasks%omegas = bifurcation_omegas(cfg)
+        list%cfg = cfg
+        list%inv = tasks%inv
+        list%omegas = bifurcation_omegas(cfg)
         ncurve = curve_count(cfg)
-        nomega = size(tasks%omegas)
+        nomega = size(list%omegas)
         if (nomega < 1) then
             call fatal_error(error, source_name(cfg) // ": &scene: the frequency axis omega_min .. omega_max is empty", &
                              err_input)
             return
         end if
-        allocate (tasks%runs(ncurve))
+        allocate (list%runs(ncurve))
         do ic = 1, ncurve
-            tasks%runs(ic) = search_run(curve_run(cfg, ic))
+            list%runs(ic) = search_run(curve_run(cfg, ic))
         end do
         if (cfg%scene%screen_method /= screen_none) then
-            allocate (tasks%screen_runs(ncurve))
+            allocate (list%screen_runs(ncurve))
             do ic = 1, ncurve
-                tasks%screen_runs(ic) = search_run(with_numerics(curve_run(cfg, ic), &
+                list%screen_runs(ic) = search_run(with_numerics(curve_run(cfg, ic), &
                     screen_integrator(cfg%scene%screen_method), screen_dt(cfg, curve_run(cfg, ic))))
             end do
         end if
         if (cfg%scene%certify) then
-            allocate (tasks%half_runs(ncurve))
+            allocate (list%half_runs(ncurve))
             do ic = 1, ncurve
-                tasks%half_runs(ic) = search_run(with_numerics(curve_run(cfg, ic), cfg%run%numerics%method, &
-                                                               cfg%run%numerics%dt/2.0_wp))
+                list%half_runs(ic) = search_run(with_numerics(curve_run(cfg, ic), cfg%run%numerics%method, &
+                                                              cfg%run%numerics%dt/2.0_wp))
             end do
         end if
-        tasks%partial_path = output // ".partial.h5"
-        tasks%checkpoint_prefix = output // ".checkpoint-"
-        tasks%fingerprint = input_fingerprint(cfg)
-        journal = output // ".journal"
-        if (.not. cfg%output%quiet) then
-            write (error_unit, "(a)") "supratrans: bifurcation from " // printable(source_name(cfg)) // ": " // int_str(ncurve) &
-                // " curve(s) x " // int_str(nomega) // " frequencies, amplitudes " // real_str(cfg%scene%amplitude_min, 6) &
-                // " .. " // real_str(cfg%scene%amplitude_max, 6) // " (coarse step " &
-                // real_str(effective_coarse_step(cfg%scene%coarse_step, cfg%scene%resolution), 6) // ", resolution " &
-                // real_str(cfg%scene%resolution, 6) // ")" // trim(screening_text(cfg))
-        end if
+        list%partial_path = output // ".partial.h5"
+        list%checkpoint_prefix = output // ".checkpoint-"
+        list%fingerprint = input_fingerprint(cfg)
+        tasks%header = "supratrans: bifurcation from " // printable(source_name(cfg)) // ": " // int_str(ncurve) &
+            // " curve(s) x " // int_str(nomega) // " frequencies, amplitudes " // real_str(cfg%scene%amplitude_min, 6) &
+            // " .. " // real_str(cfg%scene%amplitude_max, 6) // " (coarse step " &
+            // real_str(effective_coarse_step(cfg%scene%coarse_step, cfg%scene%resolution), 6) // ", resolution " &
+            // real_str(cfg%scene%resolution, 6) // ")" // trim(screening_text(cfg))
+        tasks%count = ncurve*nomega
+        tasks%fields = search_fields
+        tasks%label = "threshold searches"
+        call move_alloc(list, tasks%list)
+    end subroutine bifurcation_make_tasks
 
-        call run_tasks(tasks, ncurve*nomega, search_fields, journal, input_fingerprint(cfg), &
-                       "threshold searches", cfg%output%quiet, results, done, error, cfg, inv)
-        if (allocated(error) .or. engine_only(tasks%inv)) return
+    !> Write the scene's file, complete, with the scene's wall time (`write_bifurcation_file`).
+    subroutine bifurcation_write_output(self, cfg, tasks, error)
+        !> The scene.
+        class(bifurcation_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The tasks (a `bifurcation_tasks`), their records and the wall time.
+        type(scene_tasks), intent(in) :: tasks
+        !> Error, allocated on failure (the file is then not created).
+        type(error_type), allocatable, intent(out) :: error
 
-        call system_clock(clock_end)
-        elapsed = real(clock_end - clock_start, wp)/real(clock_rate, wp)
-        if (tasks%inv%merge_wall_time >= 0.0_wp) elapsed = tasks%inv%merge_wall_time     ! a merge: the slices' cost
-        call write_bifurcation_file(tasks, output, results, done, .true., elapsed, error)
-        if (allocated(error)) return
-        if (.not. keep) call remove_file(journal)
-        call remove_file(tasks%partial_path)
-        if (.not. cfg%output%quiet) then
-            allocate (records(size(done)))
-            do ic = 1, size(done)
-                records(ic) = from_values(results(:, ic))
-            end do
-            write (steps_text, "(i0)") sum(records%steps)
-            write (error_unit, "(a)") "  " // int_str(sum(records%runs)) // " runs (" &
-                // int_str(sum(records%runs_screened)) // " screened), " // trim(steps_text) // " time steps, " &
-                // fixed1(elapsed) // " s"
-            if (cfg%scene%certify) write (error_unit, "(a)") "  certified at dt/2: " &
-                // int_str(count(records%certify_status == certify_unchanged .or. records%certify_status &
-                                 == certify_moved_within)) // " thresholds stand, " &
-                // int_str(count(records%certify_status >= certify_moved)) // " flagged"
-        end if
-    end subroutine run_bifurcation
+        select type (list => tasks%list)
+        type is (bifurcation_tasks)
+            call write_bifurcation_file(list, trim(cfg%output%file), tasks%results, tasks%done, .true., tasks%elapsed, &
+                                        error)
+        class default
+            call wrong_tasks(error, "bifurcation_tasks")
+        end select
+    end subroutine bifurcation_write_output
+
+    !> The runs (screened), time steps and wall time of the searches; with `certify`, the thresholds that stand at
+    !> dt/2 and those flagged.
+    function bifurcation_summary(self, cfg, tasks) result(text)
+        !> The scene.
+        class(bifurcation_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The tasks' records and the wall time.
+        type(scene_tasks), intent(in) :: tasks
+        character(len=:), allocatable :: text
+        type(search_record), allocatable :: records(:)
+        character(len=24) :: steps_text
+        integer :: i
+
+        allocate (records(size(tasks%done)))
+        do i = 1, size(tasks%done)
+            records(i) = from_values(tasks%results(:, i))
+        end do
+        write (steps_text, "(i0)") sum(records%steps)
+        text = "  " // int_str(sum(records%runs)) // " runs (" // int_str(sum(records%runs_screened)) // " screened), " &
+               // trim(steps_text) // " time steps, " // fixed1(tasks%elapsed) // " s"
+        if (cfg%scene%certify) text = text // new_line("a") // "  certified at dt/2: " &
+            // int_str(count(records%certify_status == certify_unchanged .or. records%certify_status &
+                             == certify_moved_within)) // " thresholds stand, " &
+            // int_str(count(records%certify_status >= certify_moved)) // " flagged"
+    end function bifurcation_summary
 
     !> The screening and certification settings, for the progress line ("" when neither is on).
     function screening_text(cfg) result(text)
@@ -313,20 +341,6 @@ contains
         name = "configuration"
         if (allocated(cfg%source)) name = cfg%source
     end function source_name
-
-    !> Run the scene (`run_bifurcation`).
-    subroutine bifurcation_scene_run(self, cfg, error, inv)
-        !> The scene.
-        class(bifurcation_scene), intent(in) :: self
-        !> The validated input.
-        type(input_config), intent(in) :: cfg
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
-        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
-        type(invocation_type), intent(in), optional :: inv
-
-        call run_bifurcation(cfg, error, inv=inv)
-    end subroutine bifurcation_scene_run
 
     !> The frequency axis, the search grid (amplitude_min..amplitude_max by resolution, coarse_step), then the
     !> searches (curves x frequencies) and their work: a search asks about (range)/coarse_step coarse amplitudes

@@ -14,15 +14,15 @@
 !>
 !> Frequencies outside the curve's band gap are not computed (status -2) unless `allow_outside_gap`, when they are
 !> computed and flagged (`/outside_gap`): no fold is expected there. The tasks run on OpenMP threads through
-!> `supratrans_tasks` (journal, resume, `--slice`), results stored by task index: identical for any number of
-!> threads and slices.
+!> `supratrans_tasks` (journal, resume, `--slice`), driven by the scene driver of `supratrans_scene`, results stored
+!> by task index: identical for any number of threads and slices.
 module supratrans_scene_continuation
     use, intrinsic :: iso_fortran_env, only: error_unit
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget
+    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks
     use supratrans_limits, only: axis_points, check_axis, limit_error, threads_text, sci
     use supratrans_config, only: input_config, run_config, scene_params, method_newton, method_linearized, method_rk4, &
                                  method_rk8, method_avf4, method_avf8, method_name
@@ -35,19 +35,17 @@ module supratrans_scene_continuation
     use supratrans_fold_line, only: trace_fold, fold_status_codes, instability_type_codes, fold_found, &
                                     shortest_chain, chain_length_given, fate_codes, &
                                     transmission_status_codes
-    use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
+    use supratrans_tasks, only: task_list
     use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1
     use supratrans_scene_bifurcation, only: bifurcation_omegas
-    use supratrans_scene_stability, only: linear_stability_dt
+    use supratrans_linear_stability, only: linear_stability_dt
     use supratrans_stepper_rk4, only: rk4_order
     use supratrans_stepper_rk8, only: rk8_order
     implicit none
     private
-
-    public :: run_continuation
 
     !> The tasks of a continuation scene: task t = (curve - 1) nomega + iomega traces one branch to its fold.
     type, extends(task_list) :: continuation_tasks
@@ -73,44 +71,39 @@ module supratrans_scene_continuation
     !> The scene `continuation`: the fold line of the periodic states over the frequency axis, per curve.
     type, extends(scene_type), public :: continuation_scene
     contains
-        !> Run it and write its output (`run_continuation`).
-        procedure :: run => continuation_scene_run
+        !> Its tasks: one branch traced to its fold per (curve, frequency).
+        procedure :: make_tasks => continuation_make_tasks
+        !> Its file (`write_continuation_file`).
+        procedure :: write_output => continuation_write_output
+        !> The folds found and the wall time.
+        procedure :: summary => continuation_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => continuation_scene_limits
     end type continuation_scene
 
 contains
 
-    !> Run the continuation scene described by `cfg` and write `cfg%output%file` (see the module documentation).
-    subroutine run_continuation(cfg, error, inv)
-        !> The validated input (`&scene kind = 'continuation'`).
+    !> The continuations of the scene: the frequency axis (the bifurcation scene's) and each curve's run, driven at
+    !> full amplitude from the start; refused for a method without a one-period map or a dt beyond its linear
+    !> stability limit.
+    subroutine continuation_make_tasks(self, cfg, tasks, error)
+        !> The scene.
+        class(continuation_scene), intent(in) :: self
+        !> The validated input.
         type(input_config), intent(in) :: cfg
-        !> Error, allocated on failure (output exists, journal of another input, unwritable files).
+        !> Its tasks: a `continuation_tasks`, (curve - 1) nomega + iomega.
+        type(scene_tasks), intent(inout) :: tasks
+        !> Error, allocated when the axis is empty or the method or dt has no periodic state to continue.
         type(error_type), allocatable, intent(out) :: error
-        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
-        type(invocation_type), intent(in), optional :: inv
-        type(continuation_tasks) :: tasks
-        type(fold_record) :: r
-        real(wp), allocatable :: results(:, :)
-        logical, allocatable :: done(:)
-        character(len=:), allocatable :: output, journal
-        integer :: ncurve, nomega, ic, found
-        integer(i8) :: clock_start, clock_end, clock_rate
-        logical :: exists
-        real(wp) :: elapsed
+        type(continuation_tasks), allocatable :: list
+        integer :: ncurve, nomega, ic
 
-        call system_clock(clock_start, clock_rate)
-        output = trim(cfg%output%file)
-        inquire (file=output, exist=exists)
-        if (exists .and. .not. cfg%output%overwrite) then
-            call fatal_error(error, output // ": output file exists (set overwrite = .true. to replace it)", err_input)
-            return
-        end if
-        tasks%cfg = cfg
-        if (present(inv)) tasks%inv = inv
-        tasks%omegas = bifurcation_omegas(cfg)  ! the bifurcation scene's axis, so fold lines lie over diagrams
+        allocate (list)
+        list%cfg = cfg
+        list%inv = tasks%inv
+        list%omegas = bifurcation_omegas(cfg)  ! the bifurcation scene's axis, so fold lines lie over diagrams
         ncurve = curve_count(cfg)
-        nomega = size(tasks%omegas)
+        nomega = size(list%omegas)
         if (nomega < 1) then
             call fatal_error(error, cfg%source // ": &scene: the frequency axis omega_min .. omega_max is empty", err_input)
             return
@@ -120,50 +113,72 @@ contains
                 // "' has no one-period map: continue folds with 'newton', 'linearized', 'rk4' or 'rk8'", err_input)
             return
         end if
-        allocate (tasks%runs(ncurve))
+        allocate (list%runs(ncurve))
         do ic = 1, ncurve
-            tasks%runs(ic) = curve_run(cfg, ic)
-            tasks%runs(ic)%drive%ramp_time = 0.0_wp
+            list%runs(ic) = curve_run(cfg, ic)
+            list%runs(ic)%drive%ramp_time = 0.0_wp
             ! a periodic state needs a stable scheme: dt within the method's linear stability limit for the chain
-            if (cfg%run%numerics%dt >= linear_stability_dt(tasks%runs(ic)%chain, cfg%run%numerics%method)) then
+            if (cfg%run%numerics%dt >= linear_stability_dt(list%runs(ic)%chain, cfg%run%numerics%method)) then
                 call fatal_error(error, cfg%source // ": &numerics: dt = " // real_str(cfg%run%numerics%dt, 6) &
-                    // " is beyond the linear stability limit " // real_str(linear_stability_dt(tasks%runs(ic)%chain, &
+                    // " is beyond the linear stability limit " // real_str(linear_stability_dt(list%runs(ic)%chain, &
                     cfg%run%numerics%method), 6) // " of method '" // method_name(cfg%run%numerics%method) &
                     // "' for curve " // int_str(ic) // ": the scheme has no periodic state to continue", err_input)
                 return
             end if
         end do
-        tasks%partial_path = output // ".partial.h5"
-        if (allocated(cfg%text)) tasks%short_chain = .not. chain_length_given(cfg%text)
-        journal = output // ".journal"
-        if (.not. cfg%output%quiet) then
-            write (error_unit, "(a)") "supratrans: continuation from " // cfg%source // ": " // int_str(ncurve) &
-                // " curve(s) x " // int_str(nomega) // " frequencies, method " // method_name(cfg%run%numerics%method) &
-                // ", N = " // int_str(cfg%run%chain%n) // ", branches up to A = " // real_str(cfg%scene%amplitude_max, 6)
-        end if
+        list%partial_path = trim(cfg%output%file) // ".partial.h5"
+        if (allocated(cfg%text)) list%short_chain = .not. chain_length_given(cfg%text)
+        tasks%header = "supratrans: continuation from " // cfg%source // ": " // int_str(ncurve) // " curve(s) x " &
+            // int_str(nomega) // " frequencies, method " // method_name(cfg%run%numerics%method) // ", N = " &
+            // int_str(cfg%run%chain%n) // ", branches up to A = " // real_str(cfg%scene%amplitude_max, 6)
+        tasks%count = ncurve*nomega
+        tasks%fields = fold_fields(cfg%scene%continuation_points)
+        tasks%label = "fold continuations"
+        call move_alloc(list, tasks%list)
+    end subroutine continuation_make_tasks
 
-        call run_tasks(tasks, ncurve*nomega, fold_fields(cfg%scene%continuation_points), journal, &
-                       input_fingerprint(cfg), "fold continuations", cfg%output%quiet, results, done, error, cfg, inv)
-        if (allocated(error) .or. engine_only(tasks%inv)) return
+    !> Write the scene's file, complete, with the scene's wall time (`write_continuation_file`); then delete the
+    !> temporary name of an earlier partial file.
+    subroutine continuation_write_output(self, cfg, tasks, error)
+        !> The scene.
+        class(continuation_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The tasks (a `continuation_tasks`), their records and the wall time.
+        type(scene_tasks), intent(in) :: tasks
+        !> Error, allocated on failure (the file is then not created).
+        type(error_type), allocatable, intent(out) :: error
 
-        call system_clock(clock_end)
-        elapsed = real(clock_end - clock_start, wp)/real(clock_rate, wp)
-        if (tasks%inv%merge_wall_time >= 0.0_wp) elapsed = tasks%inv%merge_wall_time     ! a merge: the slices' cost
-        call write_continuation_file(tasks, output, results, done, .true., elapsed, error)
-        if (allocated(error)) return
-        call remove_file(journal)
-        call remove_file(tasks%partial_path)
-        call remove_file(tasks%partial_path // ".tmp")
-        if (.not. cfg%output%quiet) then
-            found = 0
-            do ic = 1, size(done)
-                r = fold_from_values(results(:, ic), cfg%scene%continuation_points)
-                if (r%status == fold_found) found = found + 1
-            end do
-            write (error_unit, "(a)") "  " // int_str(found) // " of " // int_str(size(done)) // " folds found, " &
-                // fixed1(elapsed) // " s"
-        end if
-    end subroutine run_continuation
+        select type (list => tasks%list)
+        type is (continuation_tasks)
+            call write_continuation_file(list, trim(cfg%output%file), tasks%results, tasks%done, .true., &
+                                         tasks%elapsed, error)
+            if (.not. allocated(error)) call remove_file(list%partial_path // ".tmp")
+        class default
+            call wrong_tasks(error, "continuation_tasks")
+        end select
+    end subroutine continuation_write_output
+
+    !> The folds found of the tasks, and the wall time.
+    function continuation_summary(self, cfg, tasks) result(text)
+        !> The scene.
+        class(continuation_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The tasks' records and the wall time.
+        type(scene_tasks), intent(in) :: tasks
+        character(len=:), allocatable :: text
+        type(fold_record) :: r
+        integer :: i, found
+
+        found = 0
+        do i = 1, size(tasks%done)
+            r = fold_from_values(tasks%results(:, i), cfg%scene%continuation_points)
+            if (r%status == fold_found) found = found + 1
+        end do
+        text = "  " // int_str(found) // " of " // int_str(size(tasks%done)) // " folds found, " &
+               // fixed1(tasks%elapsed) // " s"
+    end function continuation_summary
 
     !> Trace the branch of task `index` to its fold (thread-safe: everything it changes is local).
     subroutine run_fold_task(self, index, values)
@@ -537,20 +552,6 @@ contains
             text = "max-norm of the shooting residual P(x) - x at the point"
         end select
     end function branch_description
-
-    !> Run the scene (`run_continuation`).
-    subroutine continuation_scene_run(self, cfg, error, inv)
-        !> The scene.
-        class(continuation_scene), intent(in) :: self
-        !> The validated input.
-        type(input_config), intent(in) :: cfg
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
-        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
-        type(invocation_type), intent(in), optional :: inv
-
-        call run_continuation(cfg, error, inv=inv)
-    end subroutine continuation_scene_run
 
     !> The frequency axis, then the dense 2N x (2N + 1) matrices of the shooting: the tangent, the shooting system,
     !> its LU and the eigenvalue copy (x 4 on the chain of 2N sites of the convergence check), per thread.

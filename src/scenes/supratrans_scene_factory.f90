@@ -19,13 +19,7 @@ submodule(supratrans_scene) supratrans_scene_factory
 contains
 
     !> The scene of kind `kind`; an error of status `err_input` naming the known kinds when there is none.
-    module subroutine new_scene(kind, scene, error)
-        !> The scene's name (&scene kind).
-        character(len=*), intent(in) :: kind
-        !> The scene, allocated on success.
-        class(scene_type), allocatable, intent(out) :: scene
-        !> Error, allocated when the kind is unknown.
-        type(error_type), allocatable, intent(out) :: error
+    module procedure new_scene
         character(len=:), allocatable :: known
         integer :: i
 
@@ -53,6 +47,6 @@ contains
             end do
             call fatal_error(error, "&scene: kind = '" // kind // "': unknown scene (known: " // known // ")", err_input)
         end select
-    end subroutine new_scene
+    end procedure new_scene
 
 end submodule supratrans_scene_factory

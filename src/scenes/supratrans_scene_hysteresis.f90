@@ -14,15 +14,15 @@
 !> beyond the detector site, over the last whole drive periods of each stair's second half; the upward edge, where
 !> the transmitting state is born, the downward edge, where it dies, and the window between them).
 !>
-!> Tasks run on OpenMP threads through `supratrans_tasks` (journal, resume, `--slice`), results stored by task
-!> index: identical for any number of threads and slices.
+!> Tasks run on OpenMP threads through `supratrans_tasks` (journal, resume, `--slice`), driven by the scene driver
+!> of `supratrans_scene`, results stored by task index: identical for any number of threads and slices.
 module supratrans_scene_hysteresis
     use, intrinsic :: iso_fortran_env, only: error_unit
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget
+    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks
     use supratrans_limits, only: axis_points, check_axis, check_tasks, limit_error, threads_text, sci, max_steps, &
         run_memory_bytes
     use supratrans_config, only: input_config, run_config, method_name
@@ -32,8 +32,7 @@ module supratrans_scene_hysteresis
     use supratrans_result, only: run_result, run_ok
     use supratrans_status, only: status_outside_gap, status_not_run
     use supratrans_threshold, only: search_grid_size
-    use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
-    use supratrans_system, only: remove_file
+    use supratrans_tasks, only: task_list, input_fingerprint
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1
@@ -42,8 +41,6 @@ module supratrans_scene_hysteresis
                                             hysteresis_found, hysteresis_failed
     implicit none
     private
-
-    public :: run_hysteresis
 
     !> Most levels above the bottom one, K (2K + 1 stairs): a task's journal line holds every stair's mean power.
     integer, parameter, public :: max_stair_top = 1000
@@ -85,84 +82,98 @@ module supratrans_scene_hysteresis
     !> The scene `hysteresis`: the stairs up and down of the amplitude per (curve, frequency, stair length).
     type, extends(scene_type), public :: hysteresis_scene
     contains
-        !> Run it and write its output (`run_hysteresis`).
-        procedure :: run => hysteresis_scene_run
+        !> Its tasks: one run up and down the stairs per (curve, frequency, stair length).
+        procedure :: make_tasks => hysteresis_make_tasks
+        !> Its file (`write_hysteresis_file`).
+        procedure :: write_output => hysteresis_write_output
+        !> The runs that found both edges, and the wall time.
+        procedure :: summary => hysteresis_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => hysteresis_scene_limits
     end type hysteresis_scene
 
 contains
 
-    !> Run the hysteresis scene described by `cfg` and write `cfg%output%file` (see the module documentation).
-    subroutine run_hysteresis(cfg, error, inv)
+    !> The runs of the scene: the frequency axis, the stair lengths and levels (checked), each curve's run.
+    subroutine hysteresis_make_tasks(self, cfg, tasks, error)
+        !> The scene.
+        class(hysteresis_scene), intent(in) :: self
         !> The validated input (`&scene kind = 'hysteresis'`).
         type(input_config), intent(in) :: cfg
-        !> Error, allocated on failure (bad stairs, output exists, journal of another input, unwritable files).
+        !> Its tasks: a `hysteresis_tasks`, ((curve - 1) nomega + iomega - 1) nlength + ilength.
+        type(scene_tasks), intent(inout) :: tasks
+        !> Error, allocated when the stairs are not valid or the frequency axis is empty.
         type(error_type), allocatable, intent(out) :: error
-        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
-        type(invocation_type), intent(in), optional :: inv
-        type(hysteresis_tasks) :: tasks
-        real(wp), allocatable :: results(:, :)
-        logical, allocatable :: done(:)
-        character(len=:), allocatable :: output, journal
-        integer :: ncurve, nomega, nlen, ic, found
-        integer(i8) :: clock_start, clock_end, clock_rate
-        logical :: exists
-        real(wp) :: elapsed
+        type(hysteresis_tasks), allocatable :: list
+        character(len=:), allocatable :: output
+        integer :: ncurve, nomega, nlen, ic
 
-        call system_clock(clock_start, clock_rate)
+        allocate (list)
         output = trim(cfg%output%file)
-        inquire (file=output, exist=exists)
-        if (exists .and. .not. cfg%output%overwrite) then
-            call fatal_error(error, output // ": output file exists (set overwrite = .true. to replace it)", err_input)
-            return
-        end if
-        tasks%cfg = cfg
-        if (present(inv)) tasks%inv = inv
-        tasks%omegas = bifurcation_omegas(cfg)
-        tasks%stair_times = scene_stair_times(cfg)
-        call check_stairs(cfg, tasks%stair_times, tasks%top, error)
+        list%cfg = cfg
+        list%inv = tasks%inv
+        list%omegas = bifurcation_omegas(cfg)
+        list%stair_times = scene_stair_times(cfg)
+        call check_stairs(cfg, list%stair_times, list%top, error)
         if (allocated(error)) return
         ncurve = curve_count(cfg)
-        nomega = size(tasks%omegas)
-        nlen = size(tasks%stair_times)
+        nomega = size(list%omegas)
+        nlen = size(list%stair_times)
         if (nomega < 1) then
             call fatal_error(error, cfg%source // ": &scene: the frequency axis omega_min .. omega_max is empty", err_input)
             return
         end if
-        allocate (tasks%runs(ncurve))
+        allocate (list%runs(ncurve))
         do ic = 1, ncurve
-            tasks%runs(ic) = curve_run(cfg, ic)
+            list%runs(ic) = curve_run(cfg, ic)
         end do
-        tasks%partial_path = output // ".partial.h5"
-        tasks%checkpoint_prefix = output // ".checkpoint-"
-        tasks%fingerprint = input_fingerprint(cfg)
-        journal = output // ".journal"
-        if (.not. cfg%output%quiet) then
-            write (error_unit, "(a)") "supratrans: hysteresis from " // cfg%source // ": " // int_str(ncurve) &
-                // " curve(s) x " // int_str(nomega) // " frequencies x " // int_str(nlen) // " stair length(s), " &
-                // int_str(2*tasks%top + 1) // " stairs " // real_str(cfg%scene%amplitude_min, 6) // " .. " &
-                // real_str(cfg%scene%amplitude_min + real(tasks%top, wp)*cfg%scene%stair_height, 6) // " and back, " &
-                // "method " // method_name(cfg%run%numerics%method)
-        end if
+        list%partial_path = output // ".partial.h5"
+        list%checkpoint_prefix = output // ".checkpoint-"
+        list%fingerprint = input_fingerprint(cfg)
+        tasks%header = "supratrans: hysteresis from " // cfg%source // ": " // int_str(ncurve) // " curve(s) x " &
+            // int_str(nomega) // " frequencies x " // int_str(nlen) // " stair length(s), " &
+            // int_str(2*list%top + 1) // " stairs " // real_str(cfg%scene%amplitude_min, 6) // " .. " &
+            // real_str(cfg%scene%amplitude_min + real(list%top, wp)*cfg%scene%stair_height, 6) // " and back, " &
+            // "method " // method_name(cfg%run%numerics%method)
+        tasks%count = ncurve*nomega*nlen
+        tasks%fields = task_fields(2*list%top + 1)
+        tasks%label = "stair runs"
+        call move_alloc(list, tasks%list)
+    end subroutine hysteresis_make_tasks
 
-        call run_tasks(tasks, ncurve*nomega*nlen, task_fields(2*tasks%top + 1), journal, input_fingerprint(cfg), &
-                       "stair runs", cfg%output%quiet, results, done, error, cfg, inv)
-        if (allocated(error) .or. engine_only(tasks%inv)) return
+    !> Write the scene's file, complete, with the scene's wall time (`write_hysteresis_file`).
+    subroutine hysteresis_write_output(self, cfg, tasks, error)
+        !> The scene.
+        class(hysteresis_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The tasks (a `hysteresis_tasks`), their records and the wall time.
+        type(scene_tasks), intent(in) :: tasks
+        !> Error, allocated on failure (the file is then not created).
+        type(error_type), allocatable, intent(out) :: error
 
-        call system_clock(clock_end)
-        elapsed = real(clock_end - clock_start, wp)/real(clock_rate, wp)
-        if (tasks%inv%merge_wall_time >= 0.0_wp) elapsed = tasks%inv%merge_wall_time     ! a merge: the slices' cost
-        call write_hysteresis_file(tasks, output, results, done, .true., elapsed, error)
-        if (allocated(error)) return
-        call remove_file(journal)
-        call remove_file(tasks%partial_path)
-        if (.not. cfg%output%quiet) then
-            found = count(nint(results(1, :)) == hysteresis_found)
-            write (error_unit, "(a)") "  " // int_str(found) // " of " // int_str(size(done)) // " runs with both " &
-                // "edges, " // fixed1(elapsed) // " s"
-        end if
-    end subroutine run_hysteresis
+        select type (list => tasks%list)
+        type is (hysteresis_tasks)
+            call write_hysteresis_file(list, trim(cfg%output%file), tasks%results, tasks%done, .true., tasks%elapsed, &
+                                       error)
+        class default
+            call wrong_tasks(error, "hysteresis_tasks")
+        end select
+    end subroutine hysteresis_write_output
+
+    !> The runs that found both edges, and the wall time.
+    function hysteresis_summary(self, cfg, tasks) result(text)
+        !> The scene.
+        class(hysteresis_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The tasks' records and the wall time.
+        type(scene_tasks), intent(in) :: tasks
+        character(len=:), allocatable :: text
+
+        text = "  " // int_str(count(nint(tasks%results(1, :)) == hysteresis_found)) // " of " &
+               // int_str(size(tasks%done)) // " runs with both edges, " // fixed1(tasks%elapsed) // " s"
+    end function hysteresis_summary
 
     !> The stair lengths of the scene: `stair_times`, or `default_stair_time` when unset.
     pure function scene_stair_times(cfg) result(times)
@@ -476,20 +487,6 @@ contains
             s = maxval(x, mask=ok) - minval(x, mask=ok)
         end if
     end function spread
-
-    !> Run the scene (`run_hysteresis`).
-    subroutine hysteresis_scene_run(self, cfg, error, inv)
-        !> The scene.
-        class(hysteresis_scene), intent(in) :: self
-        !> The validated input.
-        type(input_config), intent(in) :: cfg
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
-        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
-        type(invocation_type), intent(in), optional :: inv
-
-        call run_hysteresis(cfg, error, inv=inv)
-    end subroutine hysteresis_scene_run
 
     !> The frequency axis and the stairs (levels, time steps and probe memory of each stair length), then the
     !> runs (curves x frequencies) and their work: one run per (curve, Omega, stair length) of ramp_time +

@@ -3,8 +3,8 @@
 !> threshold A_s(Omega) for comparison.
 !>
 !> The map is the amplitude sweep of `supratrans_scene_sweep` over a second axis, the frequency
-!> omega_min..omega_max by omega_step: it uses that module's task list, engine driver, journal, partial file and
-!> per-run datasets, and adds only its axes (`/omega`, `/threshold_As`). A (curve, frequency) outside the curve's
+!> omega_min..omega_max by omega_step: it uses that module's task list, file, summary, partial file and per-run
+!> datasets (a `grid_scene`), and adds only its axes (`/omega`, `/threshold_As`). A (curve, frequency) outside the curve's
 !> band gap, Omega >= sqrt(1 + m^2), is not run (unless allow_outside_gap): its entries are NaN with status
 !> `status_outside_gap` (-2) and its A_s is NaN.
 !>
@@ -15,13 +15,14 @@ module supratrans_scene_map
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget
+    use supratrans_scene, only: scene_budget, scene_tasks
     use supratrans_curves, only: curve_count
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config
     use supratrans_hdf5, only: h5_file, h5_write, h5_write_attr
     use supratrans_chain, only: band_gap_edge, threshold_as
-    use supratrans_scene_sweep, only: sweep_tasks, init_sweep_tasks, run_grid_scene, write_common_axes, axis_grid
+    use supratrans_scene_sweep, only: grid_scene, sweep_tasks, init_sweep_tasks, make_grid_tasks, write_common_axes, &
+                                      axis_grid
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     implicit none
     private
@@ -36,10 +37,10 @@ module supratrans_scene_map
     end type map_tasks
 
     !> The scene `map`: one full run per (curve, frequency, amplitude).
-    type, extends(scene_type), public :: map_scene
+    type, extends(grid_scene), public :: map_scene
     contains
-        !> Run it and write its output (`run_map`).
-        procedure :: run => map_scene_run
+        !> Its tasks: curves x frequencies x amplitudes.
+        procedure :: make_tasks => map_make_tasks
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => map_scene_limits
     end type map_scene
@@ -49,7 +50,8 @@ contains
     !> Run the scene `map` described by `cfg` and write `cfg%output%file` (layout in README.md, "Output"): for each
     !> curve, each frequency of the &scene axis omega_min..omega_max by omega_step inside the curve's band gap, and
     !> each amplitude of amplitude_min..amplitude_max by amplitude_step, one full run. Resumes from
-    !> `<file>.journal` if a killed map left one.
+    !> `<file>.journal` if a killed map left one. The scene's `run` (`supratrans_scene`), under the name the tests
+    !> call.
     subroutine run_map(cfg, error, inv)
         !> The validated input.
         type(input_config), intent(in) :: cfg
@@ -58,14 +60,29 @@ contains
         type(error_type), allocatable, intent(out) :: error
         !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
         type(invocation_type), intent(in), optional :: inv
-        type(map_tasks) :: tasks
+        type(map_scene) :: scene
 
-        call init_sweep_tasks(tasks, cfg, "map", "Total energy injected vs driving frequency and amplitude: one full " &
+        call scene%run(cfg, error, inv)
+    end subroutine run_map
+
+    !> The tasks of the map: a sweep's over the frequency axis, with the map's axes.
+    subroutine map_make_tasks(self, cfg, tasks, error)
+        !> The scene.
+        class(map_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Its tasks (`make_grid_tasks`).
+        type(scene_tasks), intent(inout) :: tasks
+        !> Error, allocated when the configuration is not valid or makes too many runs.
+        type(error_type), allocatable, intent(out) :: error
+        class(sweep_tasks), allocatable :: list
+
+        allocate (map_tasks :: list)
+        call init_sweep_tasks(list, cfg, "map", "Total energy injected vs driving frequency and amplitude: one full " &
                               // "run (0..T) per curve, frequency and amplitude (paper Fig. 11)", &
                               axis_grid(cfg%scene%omega_min, cfg%scene%omega_max, cfg%scene%omega_step), .true.)
-        if (present(inv)) tasks%inv = inv
-        call run_grid_scene(tasks, error)
-    end subroutine run_map
+        call make_grid_tasks(list, tasks, error)
+    end subroutine map_make_tasks
 
     !> The axes of the map: those shared with the sweep, `/omega` and `/threshold_As` (ncurve, nomega in h5py).
     subroutine map_write_axes(self, file)
@@ -92,20 +109,6 @@ contains
                       // "4 arctan(lambda c / Omega) of each curve (massless, undamped theory); NaN outside the " &
                       // "curve's band gap", dims="curve, omega")
     end subroutine map_write_axes
-
-    !> Run the scene (`run_map`).
-    subroutine map_scene_run(self, cfg, error, inv)
-        !> The scene.
-        class(map_scene), intent(in) :: self
-        !> The validated input.
-        type(input_config), intent(in) :: cfg
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
-        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
-        type(invocation_type), intent(in), optional :: inv
-
-        call run_map(cfg, error, inv=inv)
-    end subroutine map_scene_run
 
     !> The amplitude and frequency axes, then the runs (curves x frequencies x amplitudes) and their work.
     pure subroutine map_scene_limits(self, cfg, where, budget, error)

@@ -12,21 +12,12 @@
 !>   the boundary grows slowly, so the observed boundary is the boundary *for this T*, at or above the linear one;
 !> * the paper's necessary condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt as its critical dt
 !>   (`critical_dt` of `supratrans_chain`);
-!> * linear stability theory of each method for the chain linearised at rest (V''(0) = 1 for both potentials),
-!>   Dirichlet modes with sin^2(theta/2), theta = k pi/(N+1), k = 1..N, the largest s^2 = sin^2(N pi/(2(N+1)))):
-!>   - newton (energy-conserving): the discrete energy is positive definite, hence the scheme stable, iff
-!>     4 c^2 s^2 dt^2 < 4 + (1 + m^2) dt^2; damping (gamma, beta, absorber) only dissipates and does not move this
-!>     bound (per mode, the characteristic roots of a z^2 - b z + c' = 0 stay inside the unit circle iff
-!>     |b| <= a + c', independent of the damping). So where the paper's condition allows a larger dt
-!>     (gamma > 0 or beta > 0), it is necessary but not sufficient;
-!>   - linearized (V'(u^k) explicit): (4 c^2 s^2 + 1 - m^2) dt^2 < 4, again independent of the damping;
-!>   - rk4, rk8: the largest dt with |R(dt lambda)| <= 1 for every eigenvalue lambda of the linearised system
-!>     u' = v, v' = -(c^2 L + (1 + m^2)) u - (diag(alpha_n) + beta L) v (L the Dirichlet Laplacian, absorber
-!>     included), computed with LAPACK `dgeev`; R is the method's stability polynomial. Undamped: 2 sqrt(2) /
-!>     omega_max for RK4, 3.0018 / omega_max for rk8, omega_max^2 = 1 + m^2 + 4 c^2 s^2.
+!> * linear stability theory of each method for the chain linearised at rest (`supratrans_linear_stability`); where
+!>   the paper's condition allows a larger dt than the newton scheme's linear limit (gamma > 0 or beta > 0), it is
+!>   necessary but not sufficient.
 !>
-!> Tasks (task engine: OpenMP threads, resumable journal `<output>.journal`): first one bisection per (curve,
-!> method, c), then one run per grid point.
+!> Tasks (task engine: OpenMP threads, resumable journal `<output>.journal`, driven by the scene driver of
+!> `supratrans_scene`): first one bisection per (curve, method, c), then one run per grid point.
 !>
 !> HDF5 layout (h5py shapes): `/methods` (method), `/c` (c), `/dt` (dt), `/curves/value` (curve),
 !> `/curves/potential` (curve), `/verdict/<method>` (curve, c, dt: 0 stable, 1 diverged, 2 newton_failed,
@@ -36,26 +27,24 @@
 !> `/boundary/grid_consistent` (curve, method, c), `/boundary/bisection_runs` (curve, method, c).
 module supratrans_scene_stability
     use, intrinsic :: iso_fortran_env, only: error_unit
-    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
     use supratrans_strings, only: int_str, real_str
-    use supratrans_scene, only: scene_type
+    use supratrans_scene, only: scene_type, scene_tasks, wrong_tasks
     use supratrans_config, only: input_config, run_config, vary_choices, chain_params, method_newton, method_linearized, &
                                  method_rk4, method_rk8, method_avf4, method_avf8, method_name
     use supratrans_potential, only: potential_name
-    use supratrans_chain, only: critical_dt, damping_profile
+    use supratrans_chain, only: critical_dt
     use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok
     use supratrans_status, only: run_status_codes
-    use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
-    use supratrans_system, only: remove_file
+    use supratrans_tasks, only: task_list
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
-    use supratrans_stepper_rk8, only: rk8_stability_coefficients, rk8_stages
-    use supratrans_eigen, only: general_eigenvalues
+    use supratrans_linear_stability, only: linear_stability_dt, rk_spectrum_dt, chain_spectrum, stability_polynomial
     implicit none
     private
 
@@ -85,6 +74,8 @@ module supratrans_scene_stability
         real(wp), allocatable :: c(:), dts(:)
         !> Linear-theory prediction of each (curve, method, c): the bisection's starting point. (nc, nmethod, ncurve)
         real(wp), allocatable :: predicted(:, :, :)
+        !> Critical dt of the paper's condition, RK4's linear limit and its undamped band-top value per (c, curve).
+        real(wp), allocatable :: paper(:, :), rk4_limit(:, :), rk4_undamped(:, :)
         !> Bisection resolution in dt.
         real(wp) :: resolution = 1.0e-3_wp
     contains
@@ -94,8 +85,10 @@ module supratrans_scene_stability
     !> The scene `stability`: the largest stable dt per (curve, method), measured and predicted.
     type, extends(scene_type), public :: stability_scene
     contains
-        !> Run it and write its output (`run_stability`).
-        procedure :: run => stability_scene_run
+        !> Its tasks: the bisections, then the grid runs (and the linear theory they start from).
+        procedure :: make_tasks => stability_make_tasks
+        !> Its file (`write_stability`).
+        procedure :: write_output => stability_write_output
     end type stability_scene
 
 contains
@@ -108,7 +101,8 @@ contains
         dts = [(0.05_wp*30.0_wp**(real(i, wp)/23.0_wp), i = 0, 23)]
     end function default_stability_dts
 
-    !> Run the scene `stability` described by `cfg` and write `cfg%output%file`.
+    !> Run the scene `stability` described by `cfg` and write `cfg%output%file`: the scene's `run`
+    !> (`supratrans_scene`), under the name the tests call.
     subroutine run_stability(cfg, error, inv)
         !> Validated input (scene kind 'stability').
         type(input_config), intent(in) :: cfg
@@ -116,49 +110,63 @@ contains
         type(error_type), allocatable, intent(out) :: error
         !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
         type(invocation_type), intent(in), optional :: inv
-        type(invocation_type) :: how
-        type(stability_tasks) :: tasks
-        real(wp), allocatable :: results(:, :), linear(:, :, :), paper(:, :), rk4_limit(:, :), rk4_undamped(:, :)
-        real(wp), allocatable :: re(:), im_part(:)
-        logical, allocatable :: done(:)
-        character(len=:), allocatable :: journal, where
-        type(chain_params) :: chain
-        integer :: ncurve, nm, nc, ndt, icurve, im, ic, ntask, nbis
+        type(stability_scene) :: scene
 
-        if (present(inv)) how = inv
+        call scene%run(cfg, error, inv)
+    end subroutine run_stability
+
+    !> The tasks of the scene: its methods, c and dt axes (checked), each curve's run, and the linear theory of
+    !> every (curve, c): the paper's condition and each method's linear limit, the bisections' starting points.
+    subroutine stability_make_tasks(self, cfg, tasks, error)
+        !> The scene.
+        class(stability_scene), intent(in) :: self
+        !> Validated input (scene kind 'stability').
+        type(input_config), intent(in) :: cfg
+        !> Its tasks: a `stability_tasks`, the bisections then the grid runs.
+        type(scene_tasks), intent(inout) :: tasks
+        !> Error, allocated when a scene key is not valid.
+        type(error_type), allocatable, intent(out) :: error
+        type(stability_tasks), allocatable :: list
+        real(wp), allocatable :: linear(:, :, :), paper(:, :), rk4_limit(:, :), rk4_undamped(:, :)
+        real(wp), allocatable :: re(:), im_part(:)
+        character(len=:), allocatable :: where
+        type(chain_params) :: chain
+        integer :: ncurve, nm, nc, ndt, icurve, im, ic
+
+        allocate (list)
         where = "configuration"
         if (allocated(cfg%source)) where = cfg%source
-        tasks%methods = [method_newton, method_linearized, method_rk4, method_rk8, method_avf4, method_avf8]
+        list%methods = [method_newton, method_linearized, method_rk4, method_rk8, method_avf4, method_avf8]
         if (allocated(cfg%scene%methods)) then
-            if (size(cfg%scene%methods) > 0) tasks%methods = cfg%scene%methods
+            if (size(cfg%scene%methods) > 0) list%methods = cfg%scene%methods
         end if
-        tasks%dts = default_stability_dts()
+        list%dts = default_stability_dts()
         if (allocated(cfg%scene%dts)) then
-            if (size(cfg%scene%dts) > 0) tasks%dts = cfg%scene%dts
+            if (size(cfg%scene%dts) > 0) list%dts = cfg%scene%dts
         end if
-        tasks%c = [cfg%run%chain%c]
+        list%c = [cfg%run%chain%c]
         if (allocated(cfg%scene%c_values)) then
-            if (size(cfg%scene%c_values) > 0) tasks%c = cfg%scene%c_values
+            if (size(cfg%scene%c_values) > 0) list%c = cfg%scene%c_values
         end if
-        if (any(.not. (tasks%dts > 0.0_wp))) then
+        if (any(.not. (list%dts > 0.0_wp))) then
             call fatal_error(error, where // ": &scene: dts must be > 0", err_input)
             return
         end if
-        if (any(.not. (tasks%c > 0.0_wp))) then
+        if (any(.not. (list%c > 0.0_wp))) then
             call fatal_error(error, where // ": &scene: c_values must be > 0", err_input)
             return
         end if
-        tasks%resolution = cfg%scene%resolution
+        list%resolution = cfg%scene%resolution
         ncurve = curve_count(cfg)
-        nm = size(tasks%methods)
-        nc = size(tasks%c)
-        ndt = size(tasks%dts)
-        allocate (tasks%curves(ncurve))
+        nm = size(list%methods)
+        nc = size(list%c)
+        ndt = size(list%dts)
+        allocate (list%curves(ncurve))
         do icurve = 1, ncurve
-            tasks%curves(icurve) = curve_run(cfg, icurve)
-            tasks%curves(icurve)%record%probes = [integer ::]
-            tasks%curves(icurve)%record%ledger_every = huge(1) - 1
-            tasks%curves(icurve)%detect%stop_when_decided = .false.
+            list%curves(icurve) = curve_run(cfg, icurve)
+            list%curves(icurve)%record%probes = [integer ::]
+            list%curves(icurve)%record%ledger_every = huge(1) - 1
+            list%curves(icurve)%detect%stop_when_decided = .false.
         end do
 
         ! linear theory: the paper's condition, each method's linear limit
@@ -170,36 +178,53 @@ contains
         !$omp parallel do collapse(2) schedule(static) default(shared) private(chain, re, im_part, im)
         do icurve = 1, ncurve
             do ic = 1, nc
-                chain = tasks%curves(icurve)%chain
-                chain%c = tasks%c(ic)
+                chain = list%curves(icurve)%chain
+                chain%c = list%c(ic)
                 paper(ic, icurve) = critical_dt(chain)
                 call chain_spectrum(chain, re, im_part)
                 rk4_limit(ic, icurve) = rk_spectrum_dt(stability_polynomial(method_rk4), re, im_part)
                 rk4_undamped(ic, icurve) = 2.0_wp*sqrt(2.0_wp)/sqrt(max(1.0_wp + chain%m2 + 4.0_wp*chain%c**2, &
                                                                         tiny(1.0_wp)))
                 do im = 1, nm
-                    select case (tasks%methods(im))
+                    select case (list%methods(im))
                     case (method_rk4, method_rk8)
-                        linear(ic, im, icurve) = rk_spectrum_dt(stability_polynomial(tasks%methods(im)), re, im_part)
+                        linear(ic, im, icurve) = rk_spectrum_dt(stability_polynomial(list%methods(im)), re, im_part)
                     case default
-                        linear(ic, im, icurve) = linear_stability_dt(chain, tasks%methods(im))
+                        linear(ic, im, icurve) = linear_stability_dt(chain, list%methods(im))
                     end select
                 end do
             end do
         end do
         !$omp end parallel do
-        tasks%predicted = linear
 
-        nbis = ncurve*nm*nc
-        ntask = nbis + ncurve*nm*nc*ndt
-        journal = trim(cfg%output%file) // ".journal"
-        call run_tasks(tasks, ntask, value_names, journal, input_fingerprint(cfg), "stability runs and bisections", &
-                       cfg%output%quiet, results, done, error, cfg, how)
-        if (allocated(error) .or. engine_only(how)) return
-        call write_stability(cfg, tasks, results, linear, paper, rk4_limit, rk4_undamped, error, inv=how)
-        if (allocated(error)) return
-        call remove_file(journal)
-    end subroutine run_stability
+        list%predicted = linear
+        list%paper = paper
+        list%rk4_limit = rk4_limit
+        list%rk4_undamped = rk4_undamped
+        tasks%count = ncurve*nm*nc + ncurve*nm*nc*ndt
+        tasks%fields = value_names
+        tasks%label = "stability runs and bisections"
+        call move_alloc(list, tasks%list)
+    end subroutine stability_make_tasks
+
+    !> Write the scene's file (`write_stability`).
+    subroutine stability_write_output(self, cfg, tasks, error)
+        !> The scene.
+        class(stability_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The tasks (a `stability_tasks`) and their records.
+        type(scene_tasks), intent(in) :: tasks
+        !> Error, allocated when the file is not written.
+        type(error_type), allocatable, intent(out) :: error
+
+        select type (list => tasks%list)
+        type is (stability_tasks)
+            call write_stability(cfg, list, tasks%results, error, inv=tasks%inv)
+        class default
+            call wrong_tasks(error, "stability_tasks")
+        end select
+    end subroutine stability_write_output
 
     !> Task `index`: 1..nbis bisections (c fastest, then method, then curve), then grid runs (dt fastest, then c,
     !> method, curve).
@@ -331,154 +356,15 @@ contains
         stable = res%status == run_ok
     end function run_is_stable
 
-    !> Linear-stability limit of `method` for `chain` linearised at rest (see the module documentation):
-    !> closed forms for the leapfrog schemes, the spectrum and the stability polynomial for the Runge-Kutta
-    !> methods. huge() when no dt is too large.
-    function linear_stability_dt(chain, method) result(dt)
-        !> Chain parameters (c, m^2, gamma, beta, absorber, N).
-        type(chain_params), intent(in) :: chain
-        !> Method identifier.
-        integer, intent(in) :: method
-        real(wp) :: dt
-        real(wp) :: s2, q
-        real(wp), allocatable :: re(:), im(:)
-
-        s2 = sin(0.5_wp*acos(-1.0_wp)*real(chain%n, wp)/real(chain%n + 1, wp))**2
-        select case (method)
-        case (method_avf4, method_avf8)   ! Gauss collocation on the linear chain: A-stable (supratrans_stepper_avf)
-            dt = huge(1.0_wp)
-        case (method_newton)
-            q = 4.0_wp*chain%c**2*s2 - (1.0_wp + chain%m2)
-            dt = huge(1.0_wp)
-            if (q > 0.0_wp) dt = 2.0_wp/sqrt(q)
-        case (method_linearized)
-            q = 4.0_wp*chain%c**2*s2 + 1.0_wp - chain%m2
-            dt = huge(1.0_wp)
-            if (q > 0.0_wp) dt = 2.0_wp/sqrt(q)
-        case default
-            call chain_spectrum(chain, re, im)
-            dt = rk_spectrum_dt(stability_polynomial(method), re, im)
-        end select
-    end function linear_stability_dt
-
-    !> Coefficients g_0.. of the stability polynomial R(z) = sum g_j z^j of an explicit Runge-Kutta method.
-    pure function stability_polynomial(method) result(g)
-        !> `method_rk4` or `method_rk8`.
-        integer, intent(in) :: method
-        real(wp), allocatable :: g(:)
-
-        select case (method)
-        case (method_rk8)
-            g = rk8_stability_coefficients()
-        case default
-            g = [1.0_wp, 1.0_wp, 0.5_wp, 1.0_wp/6.0_wp, 1.0_wp/24.0_wp]
-        end select
-    end function stability_polynomial
-
-    !> Eigenvalues of the chain linearised at rest, as a first-order system of size 2N:
-    !> u' = v, v' = -(c^2 L + (1 + m^2) I) u - (diag(alpha_n) + beta L) v, L = tridiag(-1, 2, -1) (Dirichlet ends).
-    subroutine chain_spectrum(chain, re, im)
-        !> Chain parameters.
-        type(chain_params), intent(in) :: chain
-        !> Real and imaginary parts of the 2N eigenvalues.
-        real(wp), allocatable, intent(out) :: re(:), im(:)
-        real(wp), allocatable :: a(:, :), alpha(:)
-        integer :: n, i, info
-
-        n = chain%n
-        allocate (alpha(n))
-        alpha = damping_profile(chain)
-        allocate (a(2*n, 2*n), source=0.0_wp)
-        allocate (re(2*n), im(2*n))
-        do i = 1, n
-            a(i, n + i) = 1.0_wp
-            a(n + i, i) = -(2.0_wp*chain%c**2 + 1.0_wp + chain%m2)
-            a(n + i, n + i) = -(alpha(i) + 2.0_wp*chain%beta)
-            if (i > 1) then
-                a(n + i, i - 1) = chain%c**2
-                a(n + i, n + i - 1) = chain%beta
-            end if
-            if (i < n) then
-                a(n + i, i + 1) = chain%c**2
-                a(n + i, n + i + 1) = chain%beta
-            end if
-        end do
-        call general_eigenvalues(a, re, im, info)
-        if (info /= 0) then
-            re = ieee_value(1.0_wp, ieee_quiet_nan)
-            im = re
-        end if
-    end subroutine chain_spectrum
-
-    !> Largest dt with |R(dt lambda)| <= 1 (to 1e-9) for every eigenvalue lambda = re + i im: along each
-    !> eigenvalue's ray the first exit from the stability region, found by a scan of |z| in steps of 1/512 up to 8
-    !> and bisection; the smallest over the eigenvalues. huge() if none exits.
-    pure function rk_spectrum_dt(g, re, im) result(dt)
-        !> Stability polynomial coefficients g_0, g_1, ...
-        real(wp), intent(in) :: g(:)
-        !> Eigenvalues.
-        real(wp), intent(in) :: re(:), im(:)
-        real(wp) :: dt
-        real(wp) :: r, tau, tau_lo, tau_hi, radius_max, step
-        integer :: i, j, k
-
-        dt = huge(1.0_wp)
-        radius_max = 8.0_wp
-        step = 1.0_wp/512.0_wp
-        do i = 1, size(re)
-            if (ieee_is_nan(re(i)) .or. ieee_is_nan(im(i))) then
-                dt = ieee_value(1.0_wp, ieee_quiet_nan)
-                return
-            end if
-            r = hypot(re(i), im(i))
-            if (.not. (r > 0.0_wp)) cycle
-            ! scan tau |lambda| = j step up to min(radius_max, dt |lambda|)
-            tau_hi = -1.0_wp
-            do j = 1, nint(radius_max/step)
-                tau = real(j, wp)*step/r
-                if (tau >= dt) exit
-                if (outside(tau)) then
-                    tau_hi = tau
-                    exit
-                end if
-            end do
-            if (tau_hi < 0.0_wp) cycle
-            tau_lo = tau_hi - step/r
-            do k = 1, 60
-                tau = 0.5_wp*(tau_lo + tau_hi)
-                if (outside(tau)) then
-                    tau_hi = tau
-                else
-                    tau_lo = tau
-                end if
-            end do
-            dt = min(dt, tau_lo)
-        end do
-
-    contains
-
-        !> |R(tau lambda_i)| > 1 + 1e-9?
-        pure logical function outside(tau)
-            real(wp), intent(in) :: tau
-            complex(wp) :: z, p
-            integer :: jj
-
-            z = cmplx(tau*re(i), tau*im(i), kind=wp)
-            p = cmplx(g(size(g)), 0.0_wp, kind=wp)
-            do jj = size(g) - 1, 1, -1
-                p = p*z + g(jj)
-            end do
-            outside = abs(p) > 1.0_wp + 1.0e-9_wp
-        end function outside
-
-    end function rk_spectrum_dt
-
-    !> Write the scene's HDF5 file.
-    subroutine write_stability(cfg, tasks, results, linear, paper, rk4_limit, rk4_undamped, error, inv)
+    !> Write the scene's HDF5 file: the grid's verdicts, the observed boundaries and the linear theory of `tasks`.
+    subroutine write_stability(cfg, tasks, results, error, inv)
+        !> Validated input.
         type(input_config), intent(in) :: cfg
+        !> The tasks, with their linear theory.
         type(stability_tasks), intent(in) :: tasks
-        real(wp), intent(in), contiguous :: results(:, :), linear(:, :, :), paper(:, :), rk4_limit(:, :), &
-                                            rk4_undamped(:, :)
+        !> Every task's values (`s_*`, tasks).
+        real(wp), intent(in), contiguous :: results(:, :)
+        !> Error, allocated when the file cannot be written.
         type(error_type), allocatable, intent(out) :: error
         !> How the engine was invoked (a merge records its parts).
         type(invocation_type), intent(in), optional :: inv
@@ -556,15 +442,15 @@ contains
         call h5_write(file, "/boundary/observed_unstable", observed_hi, "time", &
             "Smallest dt found unstable by bisection (NaN: none found); the boundary lies between", &
             dims="curve, method, c")
-        call h5_write(file, "/boundary/linear", linear, "time", &
+        call h5_write(file, "/boundary/linear", tasks%predicted, "time", &
             "Linear-stability limit of each method (chain linearised at rest; see the module documentation)", &
             dims="curve, method, c")
-        call h5_write(file, "/boundary/paper", paper, "time", &
+        call h5_write(file, "/boundary/paper", tasks%paper, "time", &
             "Critical dt of the paper's necessary condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt", &
             dims="curve, c")
-        call h5_write(file, "/boundary/rk4", rk4_limit, "time", &
+        call h5_write(file, "/boundary/rk4", tasks%rk4_limit, "time", &
             "RK4's linear limit: largest dt with |R(dt lambda)| <= 1 over the spectrum of the linearised chain", dims="curve, c")
-        call h5_write(file, "/boundary/rk4_undamped", rk4_undamped, "time", &
+        call h5_write(file, "/boundary/rk4_undamped", tasks%rk4_undamped, "time", &
             "2 sqrt(2) / sqrt(1 + m^2 + 4 c^2): RK4's limit for the undamped chain's band top", dims="curve, c")
         call h5_write(file, "/boundary/grid_consistent", consistent, "1", &
             "1 when every grid verdict agrees with the bisection (stable below, unstable above), else 0", &
@@ -573,19 +459,5 @@ contains
             "Runs made by the bisection", dims="curve, method, c")
         call h5_commit(file, error)
     end subroutine write_stability
-
-    !> Run the scene (`run_stability`).
-    subroutine stability_scene_run(self, cfg, error, inv)
-        !> The scene.
-        class(stability_scene), intent(in) :: self
-        !> The validated input.
-        type(input_config), intent(in) :: cfg
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
-        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
-        type(invocation_type), intent(in), optional :: inv
-
-        call run_stability(cfg, error, inv=inv)
-    end subroutine stability_scene_run
 
 end module supratrans_scene_stability

@@ -10,8 +10,9 @@
 !>
 !> The machinery is shared with the scene `map` (`supratrans_scene_map`, paper Fig. 11), which is the same sweep
 !> over a second axis, the driving frequency: `sweep_tasks` holds a grid of curves x frequencies x amplitudes
-!> (one frequency, the &drive omega, for the sweep), `run_grid_scene` runs it and writes the file, and the map
-!> extends `sweep_tasks` only to write its own axes (`write_axes`).
+!> (one frequency, the &drive omega, for the sweep), `make_grid_tasks` checks it and hands it to the scene driver
+!> (`supratrans_scene`), both scenes extend `grid_scene` (the file and the summary), and the map extends
+!> `sweep_tasks` only to write its own axes (`write_axes`).
 !>
 !> ## Runs that fail
 !> A run that diverges or whose Newton iteration fails does not stop the sweep: it is recorded with its status
@@ -34,9 +35,9 @@
 module supratrans_scene_sweep
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
     use supratrans_kinds, only: wp, i8, supratrans_version
-    use supratrans_error, only: error_type, fatal_error, err_input, err_io
+    use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget
+    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config, run_config
     use supratrans_curves, only: curve_count, curve_run
@@ -50,8 +51,7 @@ module supratrans_scene_sweep
         iv_status, iv_transmitting, iv_t_decided, iv_steps, iv_newton_iterations, iv_wall_time, iv_t_end, &
         iv_max_abs_u, iv_injected_after_ramp, iv_u_beyond_max, iv_detect_site, iv_tridiagonal_solves, &
         iv_rhs_evaluations, iv_verdict_margin, iv_thin_verdict
-    use supratrans_tasks, only: task_list, run_tasks, input_fingerprint, engine_only
-    use supratrans_system, only: remove_file
+    use supratrans_tasks, only: task_list, input_fingerprint
     use supratrans_hdf5, only: h5_file
     use supratrans_strings, only: int_str, printable
     implicit none
@@ -64,7 +64,7 @@ module supratrans_scene_sweep
               iv_max_abs_u, iv_injected_after_ramp, iv_u_beyond_max, iv_detect_site, iv_tridiagonal_solves, &
               iv_rhs_evaluations, iv_verdict_margin, iv_thin_verdict
     public :: run_amplitude_sweep
-    public :: sweep_tasks, init_sweep_tasks, run_grid_scene, write_common_axes, write_grid_file
+    public :: sweep_tasks, init_sweep_tasks, make_grid_tasks, write_common_axes, write_grid_file
     public :: axis_grid, journal_path, partial_path, status_codes_text
 
     !> Status of a run not computed (yet), and of a grid point outside the curve's band gap: the task codes of
@@ -117,11 +117,20 @@ module supratrans_scene_sweep
         procedure :: runnable
     end type sweep_tasks
 
-    !> The scene `amplitude_sweep`: one full run per (curve, amplitude) at the &drive frequency.
-    type, extends(scene_type), public :: sweep_scene
+    !> The scenes of a grid of full runs (`sweep_tasks`): the amplitude sweep and the map. Their file and summary.
+    type, abstract, extends(scene_type), public :: grid_scene
     contains
-        !> Run it and write its output (`run_amplitude_sweep`).
-        procedure :: run => sweep_scene_run
+        !> Write the file (`write_grid_file`).
+        procedure :: write_output => grid_write_output
+        !> How many runs ended ok, transmitting, failed; a warning for thin or unbacked verdicts.
+        procedure :: summary => grid_summary
+    end type grid_scene
+
+    !> The scene `amplitude_sweep`: one full run per (curve, amplitude) at the &drive frequency.
+    type, extends(grid_scene), public :: sweep_scene
+    contains
+        !> Its tasks: curves x amplitudes at the &drive frequency.
+        procedure :: make_tasks => sweep_make_tasks
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => sweep_scene_limits
         !> At one frequency: inside the band gap.
@@ -145,7 +154,7 @@ module supratrans_scene_sweep
             logical, intent(in) :: done(:)
             !> Error, allocated on failure (nothing is then left under `path`).
             type(error_type), allocatable, intent(out) :: error
-            !> Wall-clock time of the scene (this invocation, s), written as the root attribute `wall_time_s`.
+            !> Wall time of the scene (s; of a merge, the slices' summed wall time), the root attribute `wall_time_s`.
             real(wp), intent(in), optional :: wall_time
         end subroutine write_grid_file
 
@@ -185,7 +194,7 @@ contains
     !> Run the scene `amplitude_sweep` described by `cfg` and write `cfg%output%file` (layout in README.md,
     !> "Output"): for each curve (`curve_run`) and each amplitude of the &scene axis amplitude_min..amplitude_max
     !> by amplitude_step, one full run at the &drive frequency. Resumes from `<file>.journal` if a killed sweep
-    !> left one.
+    !> left one. The scene's `run` (`supratrans_scene`), under the name the tests and the benchmark call.
     subroutine run_amplitude_sweep(cfg, error, inv)
         !> The validated input.
         type(input_config), intent(in) :: cfg
@@ -194,14 +203,29 @@ contains
         type(error_type), allocatable, intent(out) :: error
         !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
         type(invocation_type), intent(in), optional :: inv
-        type(sweep_tasks) :: tasks
+        type(sweep_scene) :: scene
 
-        call init_sweep_tasks(tasks, cfg, "amplitude_sweep", "Total energy injected vs driving amplitude: one " &
+        call scene%run(cfg, error, inv)
+    end subroutine run_amplitude_sweep
+
+    !> The tasks of the sweep: every curve's runs over the amplitude axis at the &drive frequency.
+    subroutine sweep_make_tasks(self, cfg, tasks, error)
+        !> The scene.
+        class(sweep_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Its tasks (`make_grid_tasks`).
+        type(scene_tasks), intent(inout) :: tasks
+        !> Error, allocated when the configuration is not valid or makes too many runs.
+        type(error_type), allocatable, intent(out) :: error
+        class(sweep_tasks), allocatable :: list
+
+        allocate (sweep_tasks :: list)
+        call init_sweep_tasks(list, cfg, "amplitude_sweep", "Total energy injected vs driving amplitude: one " &
                               // "full run (0..T) per curve and amplitude (paper Figs. 2, 3, 3-and-a-half, 4)", &
                               [cfg%run%drive%omega], .false.)
-        if (present(inv)) tasks%inv = inv
-        call run_grid_scene(tasks, error)
-    end subroutine run_amplitude_sweep
+        call make_grid_tasks(list, tasks, error)
+    end subroutine sweep_make_tasks
 
     !> Fill a task list: the input, the scene's name and description, the frequencies, the amplitude axis of the
     !> &scene group and the run of every curve, prepared for the sweep.
@@ -241,82 +265,102 @@ contains
         end do
     end subroutine init_sweep_tasks
 
-    !> Run the tasks of a sweep or map (resuming from the journal), write the output file atomically, then delete
-    !> the journal and the partial file. Prints a first line naming the scene and the number of runs, and the
-    !> engine's progress, unless `quiet`.
-    subroutine run_grid_scene(tasks, error)
-        !> The task list, filled by `init_sweep_tasks`.
-        class(sweep_tasks), intent(in) :: tasks
-        !> Error, allocated on failure.
+    !> Hand a filled task list of a sweep or map to the scene driver: validate its input, bound its number of runs,
+    !> and name its records' fields, its tasks ("runs") and its first line (the scene, the grid, the output file).
+    subroutine make_grid_tasks(list, tasks, error)
+        !> The task list, filled by `init_sweep_tasks`; moved into `tasks%list`.
+        class(sweep_tasks), allocatable, intent(inout) :: list
+        !> The scene's tasks (`inv` set).
+        type(scene_tasks), intent(inout) :: tasks
+        !> Error, allocated when the configuration is not valid or makes too many runs.
         type(error_type), allocatable, intent(out) :: error
-        real(wp), allocatable :: results(:, :)
-        logical, allocatable :: done(:)
-        character(len=:), allocatable :: line
-        integer(int64) :: ntask, clock_start, clock_end, clock_rate
-        integer :: nskip, nfail, ntrans, i, nthin, nflat
-        real(wp), allocatable :: jump(:)
-        integer, allocatable :: change(:)
+        integer(int64) :: ntask
+        integer :: nskip, i
 
-        call system_clock(clock_start, clock_rate)
-        call validate_config(tasks%cfg, error)
+        list%inv = tasks%inv
+        call validate_config(list%cfg, error)
         if (allocated(error)) return
-        if (.not. allocated(tasks%cfg%source)) then
+        if (.not. allocated(list%cfg%source)) then
             call fatal_error(error, "configuration: cfg%source must name the input file (it fingerprints the " &
                              // "journal)", err_input)
             return
         end if
-        ntask = int(size(tasks%amplitudes), int64)*int(size(tasks%omegas), int64)*int(size(tasks%curves), int64)
+        ntask = int(size(list%amplitudes), int64)*int(size(list%omegas), int64)*int(size(list%curves), int64)
         if (ntask > max_tasks) then
-            call fatal_error(error, tasks%cfg%source // ": &scene: " // int_str(int(min(ntask, 2000000000_int64))) &
+            call fatal_error(error, list%cfg%source // ": &scene: " // int_str(int(min(ntask, 2000000000_int64))) &
                              // " runs is more than the limit " // int_str(max_tasks) // " (check the steps)", err_input)
             return
         end if
 
-        if (.not. tasks%cfg%output%quiet) then
-            line = "supratrans " // supratrans_version // ": " // tasks%scene // " from " // tasks%cfg%source // ": " &
-                   // int_str(size(tasks%curves)) // " curve(s) x "
-            if (tasks%omega_axis) line = line // int_str(size(tasks%omegas)) // " frequencies x "
-            line = line // int_str(size(tasks%amplitudes)) // " amplitudes = " // int_str(tasks%task_count()) &
-                   // " runs -> " // trim(tasks%cfg%output%file)
-            nskip = 0
-            do i = 1, tasks%task_count()
-                if (.not. task_is_runnable(tasks, i)) nskip = nskip + 1
-            end do
-            if (nskip > 0) line = line // " (" // int_str(nskip) // " outside the band gap, not run)"
-            write (error_unit, "(a)") printable(line)
-            flush (error_unit)
-        end if
+        tasks%header = "supratrans " // supratrans_version // ": " // list%scene // " from " // list%cfg%source &
+                       // ": " // int_str(size(list%curves)) // " curve(s) x "
+        if (list%omega_axis) tasks%header = tasks%header // int_str(size(list%omegas)) // " frequencies x "
+        tasks%header = tasks%header // int_str(size(list%amplitudes)) // " amplitudes = " // int_str(list%task_count()) &
+                       // " runs -> " // trim(list%cfg%output%file)
+        nskip = 0
+        do i = 1, list%task_count()
+            if (.not. task_is_runnable(list, i)) nskip = nskip + 1
+        end do
+        if (nskip > 0) tasks%header = tasks%header // " (" // int_str(nskip) // " outside the band gap, not run)"
+        tasks%header = printable(tasks%header)
+        tasks%count = list%task_count()
+        tasks%fields = run_value_names()
+        tasks%label = "runs"
+        call move_alloc(list, tasks%list)
+    end subroutine make_grid_tasks
 
-        call run_tasks(tasks, tasks%task_count(), run_value_names(), journal_path(tasks%cfg), &
-                       input_fingerprint(tasks%cfg), "runs", tasks%cfg%output%quiet, results, done, error, tasks%cfg, tasks%inv)
-        if (allocated(error) .or. engine_only(tasks%inv)) return
-        if (.not. all(done)) then
-            call fatal_error(error, trim(tasks%cfg%output%file) // ": the task engine returned with runs missing", &
-                             err_io)
-            return
-        end if
+    !> Write the file of a sweep or map (`write_grid_file`, atomically) with the scene's wall time.
+    subroutine grid_write_output(self, cfg, tasks, error)
+        !> The scene.
+        class(grid_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The tasks (a `sweep_tasks`), their records and the wall time.
+        type(scene_tasks), intent(in) :: tasks
+        !> Error, allocated on failure (nothing is then left under the output's name).
+        type(error_type), allocatable, intent(out) :: error
 
-        call system_clock(clock_end)
-        call write_grid_file(tasks, trim(tasks%cfg%output%file), tasks%cfg%output%overwrite, results, done, error, &
-                             real(clock_end - clock_start, wp)/real(clock_rate, wp))
-        if (allocated(error)) return
-        call remove_file(journal_path(tasks%cfg))
-        call remove_file(partial_path(tasks%cfg))
+        select type (list => tasks%list)
+        class is (sweep_tasks)
+            call write_grid_file(list, trim(cfg%output%file), cfg%output%overwrite, tasks%results, tasks%done, error, &
+                                 tasks%elapsed)
+        class default
+            call wrong_tasks(error, "sweep_tasks")
+        end select
+    end subroutine grid_write_output
 
-        if (.not. tasks%cfg%output%quiet) then
-            nfail = count(nint(results(iv_status, :)) > 0)
-            ntrans = count(nint(results(iv_status, :)) == run_ok .and. nint(results(iv_transmitting, :)) == 1)
-            write (error_unit, "(a)") "  " // int_str(count(nint(results(iv_status, :)) == run_ok)) // " runs ok (" &
-                // int_str(ntrans) // " transmitting), " // int_str(nfail) // " failed (see /runs/failures)"
-            nthin = count(nint(results(iv_thin_verdict, :)) == 1)
-            call jumps_along_amplitude(results, size(tasks%amplitudes), jump, change)
-            nflat = count(change == 1 .and. .not. (jump >= min_energy_jump .or. jump <= 1.0_wp/min_energy_jump))
-            if (nthin > 0 .or. nflat > 0) write (error_unit, "(a)") "  warning: " // int_str(nthin) &
-                // " verdict(s) with a thin margin (/runs/thin_verdict), " // int_str(nflat) // " verdict change(s) " &
-                // "without an energy jump (/runs/energy_jump): check them"
-            flush (error_unit)
-        end if
-    end subroutine run_grid_scene
+    !> The runs ok (transmitting) and failed, and a warning when verdicts have a thin margin or change along the
+    !> amplitude axis without a jump of the energy.
+    function grid_summary(self, cfg, tasks) result(text)
+        !> The scene.
+        class(grid_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The tasks (a `sweep_tasks`), their records.
+        type(scene_tasks), intent(in) :: tasks
+        character(len=:), allocatable :: text
+        integer :: nfail, ntrans, nthin, nflat, namp
+        real(wp), allocatable :: jump(:)
+        integer, allocatable :: change(:)
+
+        associate (status => nint(tasks%results(iv_status, :)))
+            nfail = count(status > 0)
+            ntrans = count(status == run_ok .and. nint(tasks%results(iv_transmitting, :)) == 1)
+            text = "  " // int_str(count(status == run_ok)) // " runs ok (" // int_str(ntrans) // " transmitting), " &
+                   // int_str(nfail) // " failed (see /runs/failures)"
+        end associate
+        namp = 1
+        select type (list => tasks%list)
+        class is (sweep_tasks)
+            namp = size(list%amplitudes)
+        end select
+        nthin = count(nint(tasks%results(iv_thin_verdict, :)) == 1)
+        call jumps_along_amplitude(tasks%results, namp, jump, change)
+        nflat = count(change == 1 .and. .not. (jump >= min_energy_jump .or. jump <= 1.0_wp/min_energy_jump))
+        if (nthin > 0 .or. nflat > 0) text = text // new_line("a") // "  warning: " // int_str(nthin) &
+            // " verdict(s) with a thin margin (/runs/thin_verdict), " // int_str(nflat) // " verdict change(s) " &
+            // "without an energy jump (/runs/energy_jump): check them"
+    end function grid_summary
 
     !> Run one task: the curve's run at the task's frequency and amplitude, reduced to `run_values`; a point
     !> outside the curve's band gap is not run (status `status_outside_gap`).
@@ -474,20 +518,6 @@ contains
 
         text = run_status_codes(outside_gap=.true., not_run=.true.)
     end function status_codes_text
-
-    !> Run the scene (`run_amplitude_sweep`).
-    subroutine sweep_scene_run(self, cfg, error, inv)
-        !> The scene.
-        class(sweep_scene), intent(in) :: self
-        !> The validated input.
-        type(input_config), intent(in) :: cfg
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
-        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
-        type(invocation_type), intent(in), optional :: inv
-
-        call run_amplitude_sweep(cfg, error, inv=inv)
-    end subroutine sweep_scene_run
 
     !> The amplitude axis, then the runs (curves x amplitudes) and their work.
     pure subroutine sweep_scene_limits(self, cfg, where, budget, error)

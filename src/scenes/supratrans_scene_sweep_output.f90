@@ -33,7 +33,7 @@ contains
         logical, intent(in) :: done(:)
         !> Error, allocated on failure (nothing is then left under `path`).
         type(error_type), allocatable, intent(out) :: error
-        !> Wall-clock time of the scene (this invocation, s), written as the root attribute `wall_time_s`.
+        !> Wall time of the scene (s; of a merge, the slices' summed wall time), the root attribute `wall_time_s`.
         real(wp), intent(in), optional :: wall_time
         type(h5_file) :: file
 

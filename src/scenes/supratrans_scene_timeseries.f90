@@ -9,7 +9,6 @@ module supratrans_scene_timeseries
     use, intrinsic :: iso_fortran_env, only: error_unit
     use supratrans_kinds, only: wp, supratrans_version
     use supratrans_error, only: error_type, fatal_error, err_input, err_interrupted
-    use supratrans_invocation, only: invocation_type
     use supratrans_config, only: input_config
     use supratrans_scene, only: scene_type
     use supratrans_simulate, only: simulate
@@ -38,7 +37,7 @@ module supratrans_scene_timeseries
     type, extends(scene_type), public :: timeseries_scene
     contains
         !> Run it and write its output (`run_timeseries`).
-        procedure :: run => timeseries_run
+        procedure :: run_one => timeseries_run_one
         !> One run.
         procedure :: one_run => timeseries_one_run
         !> At one frequency: inside the band gap.
@@ -177,19 +176,17 @@ contains
         if (.not. cfg%output%quiet) write (error_unit, "(a)") printable(line)
     end subroutine progress
 
-    !> Run the scene (`run_timeseries`).
-    subroutine timeseries_run(self, cfg, error, inv)
+    !> Run the scene (`run_timeseries`): its own run phase, called by the scene driver (`supratrans_scene`).
+    subroutine timeseries_run_one(self, cfg, error)
         !> The scene.
         class(timeseries_scene), intent(in) :: self
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
-        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); a timeseries is one run: unused.
-        type(invocation_type), intent(in), optional :: inv
 
         call run_timeseries(cfg, error)
-    end subroutine timeseries_run
+    end subroutine timeseries_run_one
 
     !> A timeseries is one run.
     pure function timeseries_one_run(self) result(yes)

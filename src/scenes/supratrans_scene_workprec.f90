@@ -44,11 +44,9 @@ module supratrans_scene_workprec
     use supratrans_error, only: error_type
     use supratrans_invocation, only: invocation_type
     use supratrans_strings, only: real_str, printable
-    use supratrans_scene, only: scene_type
+    use supratrans_scene, only: scene_type, scene_tasks, wrong_tasks
     use supratrans_config, only: input_config, method_newton, method_linearized, method_name
     use supratrans_status, only: status_not_run
-    use supratrans_tasks, only: run_tasks, input_fingerprint, engine_only
-    use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_workprec_measure, only: fitted_order, method_stages, measure_step_kernels
@@ -66,13 +64,16 @@ module supratrans_scene_workprec
     !> The scene `work_precision`: timed runs per (method, dt) against a reference.
     type, extends(scene_type), public :: workprec_scene
     contains
-        !> Run it and write its output (`run_work_precision`).
-        procedure :: run => workprec_scene_run
+        !> Its tasks: the references computed, one timed task per (amplitude, method, dt).
+        procedure :: make_tasks => workprec_make_tasks
+        !> Its file, with the step's kernels timed (`write_work_precision`).
+        procedure :: write_output => workprec_write_output
     end type workprec_scene
 
 contains
 
-    !> Run the scene `work_precision` described by `cfg` and write `cfg%output%file`.
+    !> Run the scene `work_precision` described by `cfg` and write `cfg%output%file`: the scene's `run`
+    !> (`supratrans_scene`), under the name the tests call.
     subroutine run_work_precision(cfg, error, inv)
         !> Validated input (scene kind 'work_precision').
         type(input_config), intent(in) :: cfg
@@ -80,33 +81,56 @@ contains
         type(error_type), allocatable, intent(out) :: error
         !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
         type(invocation_type), intent(in), optional :: inv
-        type(invocation_type) :: how
-        type(workprec_tasks) :: tasks
-        real(wp), allocatable :: results(:, :)
-        logical, allocatable :: done(:)
-        character(len=:), allocatable :: journal
-        real(wp) :: t_sine, t_division, t_tridiag
-        integer :: ntask
+        type(workprec_scene) :: scene
 
-        if (present(inv)) how = inv
-        call setup_tasks(cfg, tasks, error)
+        call scene%run(cfg, error, inv)
+    end subroutine run_work_precision
+
+    !> The timed runs of the scene (`setup_tasks`), after the reference solution of each amplitude.
+    subroutine workprec_make_tasks(self, cfg, tasks, error)
+        !> The scene.
+        class(workprec_scene), intent(in) :: self
+        !> Validated input (scene kind 'work_precision').
+        type(input_config), intent(in) :: cfg
+        !> Its tasks: a `workprec_tasks`, (dt, method, amplitude), dt fastest.
+        type(scene_tasks), intent(inout) :: tasks
+        !> Error, allocated when a scene key is not valid or a reference run fails.
+        type(error_type), allocatable, intent(out) :: error
+        type(workprec_tasks), allocatable :: list
+
+        allocate (list)
+        call setup_tasks(cfg, list, error)
         if (allocated(error)) return
         call progress(cfg, "work_precision: reference solutions (rk8 at dt = " // real_str(cfg%scene%reference_dt) &
                       // " and " // real_str(0.5_wp*cfg%scene%reference_dt) // ")")
-        call compute_references(tasks, error)
+        call compute_references(list, error)
         if (allocated(error)) return
+        tasks%count = size(list%amplitudes)*size(list%methods)*size(list%dts)
+        tasks%fields = value_names
+        tasks%label = "timed runs (one at a time)"
+        call move_alloc(list, tasks%list)
+    end subroutine workprec_make_tasks
 
-        ntask = size(tasks%amplitudes)*size(tasks%methods)*size(tasks%dts)
-        journal = trim(cfg%output%file) // ".journal"
-        call run_tasks(tasks, ntask, value_names, journal, input_fingerprint(cfg), "timed runs (one at a time)", &
-                       cfg%output%quiet, results, done, error, cfg, how)
-        if (allocated(error) .or. engine_only(how)) return
+    !> Time the kernels of a step (the lower bound) and write the scene's file (`write_work_precision`).
+    subroutine workprec_write_output(self, cfg, tasks, error)
+        !> The scene.
+        class(workprec_scene), intent(in) :: self
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The tasks (a `workprec_tasks`) and their records.
+        type(scene_tasks), intent(in) :: tasks
+        !> Error, allocated when the file is not written.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp) :: t_sine, t_division, t_tridiag
 
-        call measure_step_kernels(tasks%base%chain%n, maxval(tasks%amplitudes), t_sine, t_division, t_tridiag)
-        call write_work_precision(cfg, tasks, results, t_sine, t_division, t_tridiag, error, inv=how)
-        if (allocated(error)) return
-        call remove_file(journal)
-    end subroutine run_work_precision
+        select type (list => tasks%list)
+        type is (workprec_tasks)
+            call measure_step_kernels(list%base%chain%n, maxval(list%amplitudes), t_sine, t_division, t_tridiag)
+            call write_work_precision(cfg, list, tasks%results, t_sine, t_division, t_tridiag, error, inv=tasks%inv)
+        class default
+            call wrong_tasks(error, "workprec_tasks")
+        end select
+    end subroutine workprec_write_output
 
     !> Write the scene's HDF5 file.
     subroutine write_work_precision(cfg, tasks, results, t_sine, t_division, t_tridiag, error, inv)
@@ -297,19 +321,5 @@ contains
 
         if (.not. cfg%output%quiet) write (error_unit, "(a)") printable(line)
     end subroutine progress
-
-    !> Run the scene (`run_work_precision`).
-    subroutine workprec_scene_run(self, cfg, error, inv)
-        !> The scene.
-        class(workprec_scene), intent(in) :: self
-        !> The validated input.
-        type(input_config), intent(in) :: cfg
-        !> Error, allocated on failure.
-        type(error_type), allocatable, intent(out) :: error
-        !> How the engine is invoked (a slice, a merge: `supratrans_invocation`); default: the whole scene.
-        type(invocation_type), intent(in), optional :: inv
-
-        call run_work_precision(cfg, error, inv=inv)
-    end subroutine workprec_scene_run
 
 end module supratrans_scene_workprec

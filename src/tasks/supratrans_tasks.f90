@@ -19,96 +19,19 @@ module supratrans_tasks
     use supratrans_invocation, only: invocation_type, engine_only
     use supratrans_journal, only: journal_header, read_journal, write_journal, append_journal_line, record_binding
     use supratrans_parts, only: write_part, part_run
+    use supratrans_task_list, only: task_list
     use supratrans_host, only: timestamp, host_name, build_commit
     !$ use omp_lib, only: omp_get_max_threads
     implicit none
     private
 
     public :: run_tasks, file_fingerprint, text_fingerprint, input_fingerprint, engine_only, slice_owners, slice_text, run_work
-    public :: slice_costs
-
-    !> A scene's list of tasks; the scene extends it with what its tasks need (read-only during the run).
-    type, abstract, public :: task_list
-    contains
-        !> Compute task `index`, writing its results into `values`. Must be thread-safe (no shared mutable state).
-        procedure(run_task_interface), deferred :: run
-        !> Called now and then, serially, with the results so far (write a partial output); default: nothing.
-        procedure :: snapshot => no_snapshot
-        !> Whether a task's values are its result; false for a task stopped by a signal at its mid-run
-        !> checkpoint (not journaled: a rerun resumes it). Default: always.
-        procedure :: finished => always_finished
-        !> Estimated cost of task `index` in any fixed unit (oscillators x time steps x work per step, times the
-        !> expected number of runs of a search); only the ratios matter (`slice_owners`). Default: 1 (equal cost).
-        procedure :: cost => equal_cost
-        !> The measured cost of every task in an earlier output of the same study (`--costs FILE`), for
-        !> `slice_owners`; default: refused (the scene keeps no per-task costs).
-        procedure :: measured_costs => no_measured_costs
-    end type task_list
-
-    abstract interface
-        !> Compute one task.
-        subroutine run_task_interface(self, index, values)
-            import :: task_list, wp
-            !> The task list.
-            class(task_list), intent(in) :: self
-            !> Task index.
-            integer, intent(in) :: index
-            !> The task's results.
-            real(wp), intent(out) :: values(:)
-        end subroutine run_task_interface
-    end interface
+    public :: slice_costs, task_list
 
     !> Seconds between two progress lines, and between two snapshots.
     real(wp), parameter :: progress_interval = 2.0_wp, snapshot_interval = 10.0_wp
 
 contains
-
-    !> Default `finished`: every task that returns has its result.
-    function always_finished(self, values) result(yes)
-        !> The task list.
-        class(task_list), intent(in) :: self
-        !> The task's values.
-        real(wp), intent(in) :: values(:)
-        logical :: yes
-
-        yes = .true.
-    end function always_finished
-
-    !> Default snapshot: nothing.
-    subroutine no_snapshot(self, results, done)
-        !> The task list.
-        class(task_list), intent(in) :: self
-        !> Results so far, (values, tasks).
-        real(wp), intent(in) :: results(:, :)
-        !> Which tasks are done.
-        logical, intent(in) :: done(:)
-    end subroutine no_snapshot
-
-    !> Default cost of a task: 1, every task alike.
-    pure function equal_cost(self, index) result(cost)
-        !> The task list.
-        class(task_list), intent(in) :: self
-        !> Task index.
-        integer, intent(in) :: index
-        real(wp) :: cost
-
-        cost = 1.0_wp
-    end function equal_cost
-
-    !> Default `measured_costs`: the scene's outputs keep no per-task cost, so `--costs` is refused.
-    subroutine no_measured_costs(self, path, costs, error)
-        !> The task list.
-        class(task_list), intent(in) :: self
-        !> The earlier output.
-        character(len=*), intent(in) :: path
-        !> Measured cost of each task (unallocated on error).
-        real(wp), allocatable, intent(out) :: costs(:)
-        !> Error: always (one line).
-        type(error_type), allocatable, intent(out) :: error
-
-        call fatal_error(error, "--costs " // printable(path) // ": this scene's outputs keep no per-task costs " &
-                         // "(--costs applies to bifurcation studies)", err_input)
-    end subroutine no_measured_costs
 
     !> The costs that deal the slices: the measured ones of `inv%slice_costs` (`--costs`) when given, else the
     !> estimates (`cost`). Every slice of an array computes the same ones (the same file, the same input).
