@@ -23,6 +23,11 @@
 !>    mean slice), and, from the same searches' measured times, what interleaved slices and a largest-first
 !>    assignment by the measured times would give (modelled). Then the same slices dealt by measured costs
 !>    (`--costs`: the searches' processor times of the first pass, merged into one earlier output), run and timed.
+!>    Each row also splits the measured ratio: `dealt`, the deal's ratio by the costs it was dealt by; `searches`,
+!>    by this pass's own search times (what the slices' processor times would give without their time outside the
+!>    searches, `outside_ms`); `repeat_sd`, how far the searches' times of this pass stray from the earlier file's
+!>    (sd of the log of their ratio). With `repeats` > 1 each slice runs that many times, in turn forwards and
+!>    backwards, and its fastest run counts (a load that changes during the pass then weighs less).
 !> 6. With the argument `checkpoint` (only this): the cost of mid-run checkpoints (`bench_checkpoint`): one long
 !>    timeseries with checkpoints off, at the default interval and at a short one; the overhead at the default.
 !> 7. With the argument `fold` (only this; a third argument `paper` for the paper's grid of Omega): the cost of the
@@ -101,7 +106,7 @@ program benchmark
     if (slices) then
         arg = "input/bif1.nml"
         if (command_argument_count() >= 3) call get_command_argument(3, arg)
-        call slice_benchmark(trim(arg), [16, 64])
+        call slice_benchmark(trim(arg), [16, 64], repeats)
         stop
     end if
     call scaling_alone(repeats)
@@ -421,85 +426,133 @@ contains
         call remove_file(out)
     end subroutine bifurcation_benchmark
 
-    !> The slices of `input` by cost: each of `counts(k)` slices run alone on one thread (see the program's header).
-    subroutine slice_benchmark(input, counts)
+    !> The slices of `input` by cost: each of `counts(k)` slices run alone on one thread (see the program's header),
+    !> each `repeats` times (the fastest run of a slice counts).
+    subroutine slice_benchmark(input, counts, repeats)
         character(len=*), intent(in) :: input
-        integer, intent(in) :: counts(:)
-        real(wp), allocatable :: task_time(:)
+        integer, intent(in) :: counts(:), repeats
+        real(wp), allocatable :: task_time(:), earlier_time(:), grid(:, :)
         character(len=*), parameter :: earlier = "/tmp/supratrans_bench_costs.h5"
+        type(h5_file) :: file
+        type(error_type), allocatable :: error
         integer :: k
 
         !$ call omp_set_num_threads(1)
-        write (*, "(a)") "# slices by cost: " // input // ", each slice alone on one thread; ratio = slowest / mean"
+        write (*, "(a)") "# slices by cost: " // input // ", each slice alone on one thread, the fastest of " &
+            // int_str(repeats) // " run(s) of it; ratio = slowest / mean"
         write (*, "(a)") "# deal 'estimate': by the estimated costs; 'measured': --costs, by the searches' processor " &
             // "times of the first estimate pass (merged into " // earlier // ")"
-        write (*, "(a6, 2x, a9, 2x, a10, 2x, a10, 2x, a10, 2x, a10, 2x, a12, 2x, a12, 2x, a12)") "slices", "deal", &
-            "mean_s", "max_s", "wall_ratio", "cpu_ratio", "bound_1task", "interleaved", "lpt_modelled"
+        write (*, "(a)") "# dealt: the deal's ratio by the costs it was dealt by; searches: by this pass's own search " &
+            // "times; outside_ms: a slice's processor time outside its searches (mean); repeat_sd: sd of " &
+            // "log(search time / its time in " // earlier // ")"
+        write (*, "(a6, 2x, a9, 2x, a10, 2x, a10, 2x, a10, 2x, a10, 2x, a12, 2x, a12, 2x, a12, 4(2x, a10))") &
+            "slices", "deal", "mean_s", "max_s", "wall_ratio", "cpu_ratio", "bound_1task", "interleaved", &
+            "lpt_modelled", "dealt", "searches", "outside_ms", "repeat_sd"
         do k = 1, size(counts)
-            call slice_pass(input, counts(k), "", k == 1, task_time)
+            call slice_pass(input, counts(k), "", k == 1, repeats, task_time, earlier_time)
+            if (k == 1) then
+                ! the costs the measured deal reads: /cost/cpu_time (omega, curve) of the merged file, by task index
+                call h5_open(file, earlier, error)
+                if (.not. allocated(error)) call h5_read(file, "/cost/cpu_time", grid, error)
+                if (allocated(error)) error stop "benchmark: " // error%message
+                call h5_close(file, error)
+                earlier_time = reshape(grid, [size(grid)])
+            end if
         end do
         do k = 1, size(counts)
-            call slice_pass(input, counts(k), earlier, .false., task_time)
+            call slice_pass(input, counts(k), earlier, .false., repeats, task_time, earlier_time)
         end do
         call remove_file(earlier)
     end subroutine slice_benchmark
 
     !> One pass of the slice benchmark: the `n` slices of `input`, dealt by the estimate (`costs` = "") or by the
-    !> measured costs of the file `costs`; prints one row. With `keep`, the parts are merged into the file the
-    !> measured pass reads. `task_time`: the searches' measured processor times of this pass, by task index.
-    subroutine slice_pass(input, n, costs, keep, task_time)
+    !> measured costs of the file `costs`, each slice run `repeats` times (in turn forwards and backwards, so that a
+    !> change of the machine's load does not fall on the same slices each time; the run of least processor time
+    !> counts, the least wall time likewise); prints one row. With `keep`, the parts (of the last round) are merged
+    !> into the file the measured pass reads. `task_time`: the searches' processor times of this pass (of each
+    !> slice's counted run), by task index; `earlier_time`: those of the earlier file, when read (else unallocated).
+    !> With the environment variable SUPRATRANS_BENCH_SLICES_DETAIL set to a file name, every run's slices and
+    !> searches are appended to it ("slice N DEAL I TASKS WALL CPU", "task N DEAL I J TASK CPU WALL RUNS").
+    subroutine slice_pass(input, n, costs, keep, repeats, task_time, earlier_time)
         character(len=*), intent(in) :: input, costs
-        integer, intent(in) :: n
+        integer, intent(in) :: n, repeats
         logical, intent(in) :: keep
         real(wp), allocatable, intent(inout) :: task_time(:)
+        real(wp), allocatable, intent(in) :: earlier_time(:)
         type(input_config) :: cfg
         type(invocation_type) :: inv
         type(error_type), allocatable :: error
         type(h5_file) :: file
-        integer, allocatable :: tasks(:), owner(:)
-        real(wp), allocatable :: values(:, :), wall(:), cpu(:), modelled(:)
-        real(wp) :: t0, c0, c1, mean, interleaved
-        integer :: i, j, status
-        character(len=:), allocatable :: part, text
+        integer, allocatable :: tasks(:), owner(:), slice_of(:)
+        real(wp), allocatable :: values(:, :), wall(:), cpu(:), modelled(:), run_time(:), own(:)
+        real(wp) :: t0, c0, c1, mean, interleaved, run_wall, run_cpu
+        integer :: i, j, k, status, round, unit, ios
+        character(len=:), allocatable :: part, text, deal
         character(len=256), allocatable :: merge_args(:)
+        character(len=512) :: detail
+        character(len=10) :: dealt_text, repeat_text
         type(search_record) :: record
+        logical :: detailed
 
+        call get_environment_variable("SUPRATRANS_BENCH_SLICES_DETAIL", detail, status=ios)
+        detailed = ios == 0 .and. len_trim(detail) > 0
+        if (detailed) then
+            open (newunit=unit, file=trim(detail), position="append", action="write", iostat=ios)
+            detailed = ios == 0
+        end if
+        deal = merge("estimate", "measured", len(costs) == 0)
         allocate (wall(n), cpu(n), merge_args(n + 4))
-        do i = 1, n
-            call read_input(input, cfg, error)
-            if (allocated(error)) error stop "benchmark: " // error%message
-            cfg%output%overwrite = .true.
-            cfg%output%quiet = .true.
-            inv%slice_index = i
-            inv%slice_count = n
-            if (len(costs) > 0) inv%slice_costs = costs
-            part = "/tmp/supratrans_bench_slices.part-" // int_str(i) // "-of-" // int_str(n) // ".h5"
-            cfg%output%file = part
-            call remove_file(part)
-            call cpu_time(c0)
-            t0 = wall_seconds()
-            call run_bifurcation(cfg, error, inv=inv)
-            wall(i) = wall_seconds() - t0
-            call cpu_time(c1)
-            cpu(i) = c1 - c0
-            if (allocated(error)) error stop "benchmark: " // error%message
-            ! the searches' own measured times, by task index
-            call h5_open(file, part, error)
-            if (.not. allocated(error)) call h5_read(file, "part/task", tasks, error)
-            if (.not. allocated(error)) call h5_read(file, "part/values", values, error)
-            if (allocated(error)) error stop "benchmark: " // error%message
-            call h5_close(file, error)
-            if (i == 1) then
-                if (allocated(task_time)) deallocate (task_time)
-                allocate (task_time(tasks_total(part)))
-                task_time = 0.0_wp
-            end if
-            do j = 1, size(tasks)
-                record = from_values(values(:, j))
-                task_time(tasks(j)) = record%cpu_time
+        do round = 1, max(repeats, 1)
+            do k = 1, n
+                i = merge(k, n + 1 - k, mod(round, 2) == 1)
+                call read_input(input, cfg, error)
+                if (allocated(error)) error stop "benchmark: " // error%message
+                cfg%output%overwrite = .true.
+                cfg%output%quiet = .true.
+                inv%slice_index = i
+                inv%slice_count = n
+                if (len(costs) > 0) inv%slice_costs = costs
+                part = "/tmp/supratrans_bench_slices.part-" // int_str(i) // "-of-" // int_str(n) // ".h5"
+                cfg%output%file = part
+                call remove_file(part)
+                call cpu_time(c0)
+                t0 = wall_seconds()
+                call run_bifurcation(cfg, error, inv=inv)
+                run_wall = wall_seconds() - t0
+                call cpu_time(c1)
+                run_cpu = c1 - c0
+                if (allocated(error)) error stop "benchmark: " // error%message
+                ! the searches' own measured times, by task index
+                call h5_open(file, part, error)
+                if (.not. allocated(error)) call h5_read(file, "part/task", tasks, error)
+                if (.not. allocated(error)) call h5_read(file, "part/values", values, error)
+                if (allocated(error)) error stop "benchmark: " // error%message
+                call h5_close(file, error)
+                if (round == 1 .and. k == 1) then
+                    if (allocated(task_time)) deallocate (task_time)
+                    allocate (task_time(tasks_total(part)), slice_of(tasks_total(part)))
+                    task_time = 0.0_wp
+                    slice_of = 0
+                end if
+                if (round == 1) then
+                    wall(i) = run_wall
+                    cpu(i) = huge(1.0_wp)
+                end if
+                wall(i) = min(wall(i), run_wall)
+                do j = 1, size(tasks)
+                    record = from_values(values(:, j))
+                    if (run_cpu < cpu(i)) task_time(tasks(j)) = record%cpu_time
+                    slice_of(tasks(j)) = i
+                    if (detailed) write (unit, "(a, 1x, i0, 1x, a, 1x, i0, 1x, i0, 1x, i0, 3(1x, es14.6))") "task", &
+                        n, deal, i, j, tasks(j), record%cpu_time, record%wall_time, real(record%runs, wp)
+                end do
+                cpu(i) = min(cpu(i), run_cpu)
+                if (detailed) write (unit, "(a, 1x, i0, 1x, a, 1x, i0, 1x, i0, 2(1x, es14.6))") "slice", n, deal, i, &
+                    size(tasks), run_wall, run_cpu
+                merge_args(i + 4) = part
             end do
-            merge_args(i + 4) = part
         end do
+        if (detailed) close (unit)
         if (keep) then
             merge_args(1:4) = [character(len=256) :: "merge", "--overwrite", "-o", "/tmp/supratrans_bench_costs.h5"]
             call run_command(merge_args, status, error, text)
@@ -514,11 +567,33 @@ contains
         interleaved = maxval(modelled)/(sum(modelled)/real(n, wp))
         owner = slice_owners(task_time, n)
         modelled = slice_sums(task_time, owner, n)
-        write (*, "(i6, 2x, a9, 2x, f10.3, 2x, f10.3, 2x, f10.3, 2x, f10.3, 2x, f12.3, 2x, f12.3, 2x, f12.3)") n, &
-            merge("estimate", "measured", len(costs) == 0), mean, maxval(wall), maxval(wall)/mean, &
+        own = slice_sums(task_time, slice_of, n)       ! the deal run, by this pass's own search times
+        dealt_text = "-"
+        repeat_text = "-"
+        if (allocated(earlier_time)) then
+            if (len(costs) > 0) then
+                run_time = slice_sums(earlier_time, slice_of, n)
+                write (dealt_text, "(f10.3)") maxval(run_time)/(sum(run_time)/real(n, wp))
+            end if
+            write (repeat_text, "(f10.3)") log_spread(task_time, earlier_time)
+        end if
+        write (*, "(i6, 2x, a9, 2x, f10.3, 2x, f10.3, 2x, f10.3, 2x, f10.3, 2x, f12.3, 2x, f12.3, 2x, f12.3, 2x, " &
+               // "a10, 2x, f10.3, 2x, f10.1, 2x, a10)") n, deal, mean, maxval(wall), maxval(wall)/mean, &
             maxval(cpu)/(sum(cpu)/real(n, wp)), max(1.0_wp, maxval(task_time)/(sum(task_time)/real(n, wp))), &
-            interleaved, maxval(modelled)/(sum(modelled)/real(n, wp))
+            interleaved, maxval(modelled)/(sum(modelled)/real(n, wp)), adjustr(dealt_text), &
+            maxval(own)/(sum(own)/real(n, wp)), 1000.0_wp*sum(cpu - own)/real(n, wp), adjustr(repeat_text)
     end subroutine slice_pass
+
+    !> The standard deviation of log(a/b) over the tasks where both are positive (how well a search's time repeats).
+    pure function log_spread(a, b) result(sd)
+        real(wp), intent(in) :: a(:), b(:)
+        real(wp) :: sd
+        real(wp), allocatable :: r(:)
+
+        r = pack(log(max(a, tiny(1.0_wp))/max(b, tiny(1.0_wp))), a > 0.0_wp .and. b > 0.0_wp)
+        sd = 0.0_wp
+        if (size(r) > 1) sd = sqrt(sum((r - sum(r)/size(r))**2)/real(size(r) - 1, wp))
+    end function log_spread
 
     !> The number of tasks of a part's scene (`tasks_total` of the part file).
     function tasks_total(part) result(total)
