@@ -14,7 +14,7 @@ module test_continuation_fast
                                     short_absorber_sigma, short_chain_decay, harmonic_wavenumber, &
                                     short_absorber_sigma_max, short_absorber_sigma_q
     use supratrans_period_map, only: period_map, period_map_init
-    use continuation_maps, only: short_test_chain
+    use continuation_maps, only: short_test_chain, model_map, new_model_map, mode_doubling
     use supratrans_continuation
     use supratrans_floquet, only: crossing_name, track_multiplier, floquet_multipliers, crossing_none
     use supratrans_shooting, only: shoot, shooting_controls, shooting_result, shoot_converged
@@ -167,6 +167,82 @@ contains
         if (pf_any_failed()) return
     end subroutine test_fold_alone
 
+    !> `stop_at_unstable_start` (what a fold line sets for the branches it follows past a fold where the chain
+    !> stays localized): on the model map whose multiplier 1/2 - 5 A passes -1 at A = 3/10, a start at A = 0.35 is
+    !> unstable, and the continuation ends at its first point, with its verdict and multipliers and the status
+    !> `cont_unstable_start`; without the control the same start is continued as before (its first point the
+    !> same bits), and a stable start (A = 0.1) is continued with or without it.
+    ! @test
+    subroutine test_stop_at_unstable_start()
+        type(model_map) :: map
+        type(continuation_controls) :: ctl
+        type(continuation_result) :: stopped, continued, stable
+
+        map = new_model_map(mode_doubling, 0.5_wp, 1.0_wp)
+        ctl = continuation_controls(ds0=0.02_wp, ds_max=0.05_wp, amplitude_max=0.6_wp, amplitude_start=0.35_wp, &
+                                    max_points=40)
+        ctl%stop_at_unstable_start = .true.
+        call continue_branch(map, ctl, stopped, [0.0_wp, 0.0_wp])
+        call assertEqual( &
+            cont_unstable_start, &
+            stopped%status, &
+            location=pf_source_location('test_continuation_fast.pf', 102, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            "unstable_start", &
+            continuation_status_name(stopped%status), &
+            location=pf_source_location('test_continuation_fast.pf', 103, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            1, &
+            stopped%n_points, &
+            location=pf_source_location('test_continuation_fast.pf', 104, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0, &
+            stopped%stable(1), &
+            location=pf_source_location('test_continuation_fast.pf', 105, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            1, &
+            stopped%stats%eigen_calls, &
+            location=pf_source_location('test_continuation_fast.pf', 106, 'assertEqual'))
+        if (pf_any_failed()) return
+        ctl%stop_at_unstable_start = .false.
+        call continue_branch(map, ctl, continued, [0.0_wp, 0.0_wp])
+        call assertGreaterThan( &
+            continued%n_points, &
+            1, &
+            location=pf_source_location('test_continuation_fast.pf', 109, 'assertGreaterThan'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0, &
+            continued%stable(1), &
+            location=pf_source_location('test_continuation_fast.pf', 110, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            all(continued%states(:, 1) == stopped%states(:, 1)), &
+            location=pf_source_location('test_continuation_fast.pf', 111, 'assertTrue'))
+        if (pf_any_failed()) return
+        ctl%stop_at_unstable_start = .true.
+        ctl%amplitude_start = 0.1_wp
+        call continue_branch(map, ctl, stable, [0.0_wp, 0.0_wp])
+        call assertEqual( &
+            1, &
+            stable%stable(1), &
+            location=pf_source_location('test_continuation_fast.pf', 115, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertGreaterThan( &
+            stable%n_points, &
+            1, &
+            location=pf_source_location('test_continuation_fast.pf', 116, 'assertGreaterThan'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            stable%status /= cont_unstable_start, &
+            location=pf_source_location('test_continuation_fast.pf', 117, 'assertTrue'))
+        if (pf_any_failed()) return
+    end subroutine test_stop_at_unstable_start
+
     !> The short chain: the input's chain length counts as given when &chain sets n, n0 or sigma (or the text is
     !> empty); at Omega = 0.9, dt = 0.05 the short chain has the smallest N0 with lambda' N0 >= short_chain_decay,
     !> lambda' within 5e-3 (the scheme's O(dt^2)) of the continuum's arccosh(1 + (1 - Omega^2) / (2 c^2)), and the
@@ -182,41 +258,41 @@ contains
 
         call assertFalse( &
             chain_length_given("&chain" // nl // "  c = 4.0" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 99, 'assertFalse'))
+            location=pf_source_location('test_continuation_fast.pf', 133, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  n = 30" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 100, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 134, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  sigma = 3.0" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 101, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 135, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  n0 = 150" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 102, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 136, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given(""), &
-            location=pf_source_location('test_continuation_fast.pf', 103, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 137, 'assertTrue'))
         if (pf_any_failed()) return
         call shortest_chain(chain, 0.9_wp, 0.05_wp)
         call assertEqual( &
             60, &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 105, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 139, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             short_absorber_sigma, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 106, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 140, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             2.0_wp*asin(sqrt(2.7_wp**2 - 1.0_wp)/8.0_wp), &
             harmonic_wavenumber(chain, 0.9_wp), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 107, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 141, 'assertEqual'))
         if (pf_any_failed()) return
         dt_used = 2.0_wp*acos(-1.0_wp)/0.9_wp/140.0_wp
         lambda = scheme_decay_rate(chain, 0.9_wp, dt_used)
@@ -224,17 +300,17 @@ contains
             acosh(1.0_wp + (1.0_wp - 0.81_wp)/32.0_wp), &
             lambda, &
             5.0e-3_wp*lambda, &
-            location=pf_source_location('test_continuation_fast.pf', 110, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 144, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             lambda*chain%n0, &
             short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 111, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 145, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             lambda*(chain%n0 - 1), &
             short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 112, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 146, 'assertLessThan'))
         if (pf_any_failed()) return
         chain = chain_params()
         call shortest_chain(chain, 0.5_wp, 0.05_wp)
@@ -243,12 +319,12 @@ contains
             short_absorber_sigma_q/q, &
             chain%sigma, &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 116, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 150, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             ceiling(short_width_per_sigma*chain%sigma), &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 117, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 151, 'assertEqual'))
         if (pf_any_failed()) return
         chain = chain_params()
         call shortest_chain(chain, 0.1_wp, 0.05_wp)
@@ -256,18 +332,18 @@ contains
             2.0_wp*asin(sqrt(1.1_wp**2 - 1.0_wp)/8.0_wp), &
             harmonic_wavenumber(chain, 0.1_wp), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 120, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 154, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             short_absorber_sigma_max, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 121, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 155, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             ceiling(short_width_per_sigma*short_absorber_sigma_max), &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 122, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 156, 'assertEqual'))
         if (pf_any_failed()) return
         chain = chain_params()
         call shortest_chain(chain, 0.2_wp, 0.05_wp)          ! 5 Omega = 1: at the band edge
@@ -275,24 +351,24 @@ contains
             0.0_wp, &
             harmonic_wavenumber(chain, 0.2_wp), &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 125, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 159, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             short_absorber_sigma_max, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 126, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 160, 'assertEqual'))
         if (pf_any_failed()) return
         call shortest_chain(given, 1.2_wp, 0.05_wp)
-        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 128, 'assertEqual'))
+        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 162, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 129, 'assertEqual'))
+        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 163, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             3.0_wp, &
             given%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 130, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 164, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_short_chain
 
@@ -326,30 +402,30 @@ contains
         mu = exact + cmplx(1.0e-3_wp, -1.0e-3_wp, kind=wp)
         v = cmplx(1.0_wp, 0.5_wp, kind=wp)
         call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 163, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 197, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             abs(mu - exact), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 164, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 198, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp, &
             norm2(abs(v)), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 165, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 199, 'assertEqual'))
         if (pf_any_failed()) return
         mu = cmplx(-0.301_wp, 0.0_wp, kind=wp)
         v = cmplx(1.0_wp, 0.5_wp, kind=wp)
         call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 169, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 203, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             abs(mu - cmplx(-0.3_wp, 0.0_wp, kind=wp)), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 170, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 204, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_tracked_multiplier
 
@@ -371,42 +447,42 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 191, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 225, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4, floquet_every=4)
         call continue_branch(map, ctl, res)
         call assertEqual( &
             cont_fold_found, &
             res%status, &
-            location=pf_source_location('test_continuation_fast.pf', 194, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 228, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             res%stable(res%n_points) >= 0, &
             message="multipliers at the last point", &
-            location=pf_source_location('test_continuation_fast.pf', 195, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 229, 'assertTrue'))
         if (pf_any_failed()) return
         allocate (px(map%dim), jac(map%dim, map%dim))
         checked = 0
         do i = 1, res%n_points
             if (res%stable(i) < 0) cycle
             call branch_multipliers(map, res, i, wr, wi, info)
-            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 201, 'assertEqual'))
+            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 235, 'assertEqual'))
             if (pf_any_failed()) return
             call map%apply(res%states(:, i), res%amplitude(i), px, status, jac=jac)
             call floquet_multipliers(jac, fr, fi, info)
-            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 204, 'assertEqual'))
+            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 238, 'assertEqual'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(wr == fr) .and. all(wi == fi), &
                 message="kept multipliers = recomputed", &
-                location=pf_source_location('test_continuation_fast.pf', 205, 'assertTrue'))
+                location=pf_source_location('test_continuation_fast.pf', 239, 'assertTrue'))
             if (pf_any_failed()) return
             checked = checked + 1
         end do
         call assertGreaterThan( &
             checked, &
             3, &
-            location=pf_source_location('test_continuation_fast.pf', 208, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation_fast.pf', 242, 'assertGreaterThan'))
         if (pf_any_failed()) return
         allocate (x(map%dim))
         x = 0.0_wp
@@ -414,23 +490,23 @@ contains
         call assertEqual( &
             shoot_converged, &
             sres%status, &
-            location=pf_source_location('test_continuation_fast.pf', 212, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 246, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             sres%jacobians, &
-            location=pf_source_location('test_continuation_fast.pf', 213, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 247, 'assertEqual'))
         if (pf_any_failed()) return
         call shoot(map, x, 0.0_wp, shooting_controls(), sres, monodromy=jac)
         call assertEqual( &
             shoot_converged, &
             sres%status, &
-            location=pf_source_location('test_continuation_fast.pf', 215, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 249, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             sres%jacobians, &
-            location=pf_source_location('test_continuation_fast.pf', 216, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 250, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_kept_multipliers
 

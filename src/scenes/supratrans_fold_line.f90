@@ -280,6 +280,8 @@ contains
         next%floquet_trend = .false.
         next%newton_max_iter = 40
         next%max_points = 4*ctl%max_points
+        ! a settled state that is not stable ends the following at its first point (below), not after its branch
+        next%stop_at_unstable_start = .true.
         do while (r%branches < max_branches)
             call damped_shooting(map, x, amplitude)
             next%amplitude_start = amplitude

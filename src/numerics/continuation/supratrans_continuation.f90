@@ -65,7 +65,7 @@ module supratrans_continuation
     use supratrans_continuation_types, only: continuation_controls, continuation_stats, point_spectrum, &
                                              continuation_result, continuation_status_name, wall_clock, &
                                              cont_fold_found, cont_no_fold, cont_newton_failed, cont_step_too_small, &
-                                             cont_max_points
+                                             cont_max_points, cont_unstable_start
     use supratrans_bordered_system, only: bordered_system, factor_bordered, tangent, set_row, move_system
     use supratrans_continuation_corrector, only: branch_point, correct, complete_point, point_multipliers, &
                                                  stored_point, move_point
@@ -80,7 +80,8 @@ module supratrans_continuation
     ! the interface of the continuation, defined with the branch's record and re-exported here
     public :: continuation_controls, continuation_stats, point_spectrum, continuation_result, branch_multipliers, &
               continuation_status_name
-    public :: cont_fold_found, cont_no_fold, cont_newton_failed, cont_step_too_small, cont_max_points
+    public :: cont_fold_found, cont_no_fold, cont_newton_failed, cont_step_too_small, cont_max_points, &
+              cont_unstable_start
 
     !> Most points examined backwards from the first unstable one for a bracket of the crossing |mu| = 1.
     integer, parameter :: walk_back = 10
@@ -172,6 +173,11 @@ contains
         if (lost) then
             res%instability_amplitude = ctl%amplitude_start
             res%instability_type = leading_crossing(wr, wi, ctl%crossing_tol)
+            if (ctl%stop_at_unstable_start) then
+                call set_stop(res, cont_unstable_start)
+                call finish(res, t_start)
+                return
+            end if
         end if
 
         ds = min(max(ctl%ds0, ctl%ds_min), ctl%ds_max)

@@ -19,6 +19,8 @@ module supratrans_continuation_types
     integer, parameter, public :: cont_step_too_small = 3
     !> Status: `max_points` points computed before any fold and below `amplitude_max`.
     integer, parameter, public :: cont_max_points = 4
+    !> Status: the starting state is not stable and `stop_at_unstable_start` asked for no branch from it.
+    integer, parameter, public :: cont_unstable_start = 6
 
     !> Controls of the continuation, with their defaults.
     type, public :: continuation_controls
@@ -67,6 +69,9 @@ module supratrans_continuation_types
         logical :: reuse_jacobian = .true.
         !> Accuracy in A of the located fold and of the located loss of stability.
         real(wp) :: fold_tol = 1.0e-10_wp
+        !> End the continuation at its first point when that point has multipliers and is not stable
+        !> (`cont_unstable_start`): a state the chain cannot have settled on has no branch worth following.
+        logical :: stop_at_unstable_start = .false.
     end type continuation_controls
 
     !> Where the work went: counts and wall-clock seconds.
@@ -165,7 +170,8 @@ module supratrans_continuation_types
 
 contains
 
-    !> The name of a continuation status: "fold_found", "no_fold", "newton_failed", "step_too_small", "max_points".
+    !> The name of a continuation status: "fold_found", "no_fold", "newton_failed", "step_too_small", "max_points",
+    !> "unstable_start".
     pure function continuation_status_name(status) result(name)
         !> The status.
         integer, intent(in) :: status
@@ -182,6 +188,8 @@ contains
             name = "step_too_small"
         case (cont_max_points)
             name = "max_points"
+        case (cont_unstable_start)
+            name = "unstable_start"
         case default
             name = "unknown"
         end select
