@@ -36,7 +36,6 @@ module supratrans_scene_continuation
                                     shortest_chain, chain_length_given, fate_codes, &
                                     transmission_status_codes
     use supratrans_tasks, only: task_list
-    use supratrans_system, only: remove_file
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1
@@ -137,8 +136,7 @@ contains
         call move_alloc(list, tasks%list)
     end subroutine continuation_make_tasks
 
-    !> Write the scene's file, complete, with the scene's wall time (`write_continuation_file`); then delete the
-    !> temporary name of an earlier partial file.
+    !> Write the scene's file, complete, with the scene's wall time (`write_continuation_file`).
     subroutine continuation_write_output(self, cfg, tasks, error)
         !> The scene.
         class(continuation_scene), intent(in) :: self
@@ -153,7 +151,6 @@ contains
         type is (continuation_tasks)
             call write_continuation_file(list, trim(cfg%output%file), tasks%results, tasks%done, .true., &
                                          tasks%elapsed, error)
-            if (.not. allocated(error)) call remove_file(list%partial_path // ".tmp")
         class default
             call wrong_tasks(error, "continuation_tasks")
         end select

@@ -22,8 +22,6 @@ module supratrans_scene_timeseries
     implicit none
     private
 
-    public :: run_timeseries, write_timeseries
-
     !> What each column of the energy ledger (`ledger_columns` of `supratrans_result`) is.
     character(len=*), parameter :: ledger_description(*) = [character(len=96) :: &
         "Stored discrete energy E_k (paper Sec. 3.2, sums over n = 1..N)", &
