@@ -170,65 +170,67 @@ program pf_driver
     use test_slice_costs, only: t155 => test_equal_costs_deal_round_robin
     use test_slice_costs, only: t156 => test_every_task_in_one_slice_and_deterministic
     use test_slice_costs, only: t157 => test_largest_first_is_balanced_within_the_largest_task
-    use test_slice_costs, only: t158 => test_slice_text_counts_the_slice
+    use test_slice_costs, only: t158 => test_run_order_is_largest_first
+    use test_slice_costs, only: t159 => test_fold_tasks_cost_more_at_low_omega
+    use test_slice_costs, only: t160 => test_slice_text_counts_the_slice
     use test_stability, only: b23 => set_up
     use test_stability, only: a23 => tear_down
-    use test_stability, only: t159 => test_linear_limits
-    use test_stability, only: t160 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t161 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t162 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t163 => test_stepper_contract_order
-    use test_stepper_contract, only: t164 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t165 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t166 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t167 => test_engine_counts_steps_in_64_bits
-    use test_stepper_contract, only: t168 => test_stepper_contract_checkpoint
-    use test_stepper_linearized, only: t169 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t170 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t171 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t172 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t173 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t174 => test_blocked_iteration_is_the_unblocked_one
-    use test_stepper_newton, only: t175 => test_newton_error_below_tol
-    use test_stepper_newton, only: t176 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t177 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t178 => test_newton_stepper_reports_failure
-    use test_stepper_newton, only: t179 => test_blowup_measure_is_the_level_maximum
-    use test_stepper_newton, only: t180 => test_step_powers_without_bulk_damping
-    use test_strings, only: t181 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t182 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t183 => test_find_name_gives_the_first_index_or_zero
-    use test_strings, only: t184 => test_joined_trims_each_name_and_prefixes_it
-    use test_strings, only: t185 => test_lower_changes_only_ascii_capitals
+    use test_stability, only: t161 => test_linear_limits
+    use test_stability, only: t162 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t163 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t164 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t165 => test_stepper_contract_order
+    use test_stepper_contract, only: t166 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t167 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t168 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t169 => test_engine_counts_steps_in_64_bits
+    use test_stepper_contract, only: t170 => test_stepper_contract_checkpoint
+    use test_stepper_linearized, only: t171 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t172 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t173 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t174 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t175 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t176 => test_blocked_iteration_is_the_unblocked_one
+    use test_stepper_newton, only: t177 => test_newton_error_below_tol
+    use test_stepper_newton, only: t178 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t179 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t180 => test_newton_stepper_reports_failure
+    use test_stepper_newton, only: t181 => test_blowup_measure_is_the_level_maximum
+    use test_stepper_newton, only: t182 => test_step_powers_without_bulk_damping
+    use test_strings, only: t183 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t184 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t185 => test_find_name_gives_the_first_index_or_zero
+    use test_strings, only: t186 => test_joined_trims_each_name_and_prefixes_it
+    use test_strings, only: t187 => test_lower_changes_only_ascii_capitals
     use test_system, only: b28 => set_up
     use test_system, only: a28 => tear_down
-    use test_system, only: t186 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t187 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t188 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t189 => test_temporary_names_are_fresh
-    use test_system, only: t190 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t191 => test_monotone_step
-    use test_threshold, only: t192 => test_bisected_bracket
-    use test_threshold, only: t193 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t194 => test_two_transitions
-    use test_threshold, only: t195 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t196 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t197 => test_nothing_transmits
-    use test_threshold, only: t198 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t199 => test_lower_bound_transmits
-    use test_threshold, only: t200 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t201 => test_bad_arguments
-    use test_threshold, only: t202 => test_grid_helpers
+    use test_system, only: t188 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t189 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t190 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t191 => test_temporary_names_are_fresh
+    use test_system, only: t192 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t193 => test_monotone_step
+    use test_threshold, only: t194 => test_bisected_bracket
+    use test_threshold, only: t195 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t196 => test_two_transitions
+    use test_threshold, only: t197 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t198 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t199 => test_nothing_transmits
+    use test_threshold, only: t200 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t201 => test_lower_bound_transmits
+    use test_threshold, only: t202 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t203 => test_bad_arguments
+    use test_threshold, only: t204 => test_grid_helpers
     use test_workprec, only: b30 => set_up
     use test_workprec, only: a30 => tear_down
-    use test_workprec, only: t203 => test_rk8_eighth_order
-    use test_workprec, only: t204 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t205 => test_rk8_stability_polynomial
-    use test_workprec, only: t206 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t207 => test_unstable_runs_are_reported
-    use test_workprec, only: t208 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t209 => test_fitted_order
-    use test_workprec, only: t210 => test_step_kernels_timed
+    use test_workprec, only: t205 => test_rk8_eighth_order
+    use test_workprec, only: t206 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t207 => test_rk8_stability_polynomial
+    use test_workprec, only: t208 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t209 => test_unstable_runs_are_reported
+    use test_workprec, only: t210 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t211 => test_fitted_order
+    use test_workprec, only: t212 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -404,73 +406,75 @@ program pf_driver
     call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t155)
     call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t156)
     call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t157)
-    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t158)
-    call pf_run_test('test_stability', 'test_linear_limits', t159, before=b23, after=a23)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t160, before=b23, after=a23)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t161, before=b23, after=a23)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t162)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t163)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t164)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t165)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t166)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t167)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t168)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t169)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t170)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t171)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t172)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t173)
-    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t174)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t175)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t176)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t177)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t178)
-    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t179)
-    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t180)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t181)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t182)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t183)
-    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t184)
-    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t185)
+    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t158)
+    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t159)
+    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t160)
+    call pf_run_test('test_stability', 'test_linear_limits', t161, before=b23, after=a23)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t162, before=b23, after=a23)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t163, before=b23, after=a23)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t164)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t165)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t166)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t167)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t168)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t169)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t170)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t171)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t172)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t173)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t174)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t175)
+    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t176)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t177)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t178)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t179)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t180)
+    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t181)
+    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t182)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t183)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t184)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t185)
+    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t186)
+    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t187)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t186, &
-        before=b28, &
-        after=a28)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t187, before=b28, after=a28)
-    call pf_run_test( &
-        'test_system', &
-        'test_lock_is_exclusive_never_through_a_link_and_stays', &
         t188, &
         before=b28, &
         after=a28)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t189, before=b28, after=a28)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t190, before=b28, after=a28)
-    call pf_run_test('test_threshold', 'test_monotone_step', t191)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t192)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t193)
-    call pf_run_test('test_threshold', 'test_two_transitions', t194)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t195)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t196)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t197)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t198)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t199)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t200)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t201)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t202)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t203, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t204, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t205, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t206, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t207, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t189, before=b28, after=a28)
+    call pf_run_test( &
+        'test_system', &
+        'test_lock_is_exclusive_never_through_a_link_and_stays', &
+        t190, &
+        before=b28, &
+        after=a28)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t191, before=b28, after=a28)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t192, before=b28, after=a28)
+    call pf_run_test('test_threshold', 'test_monotone_step', t193)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t194)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t195)
+    call pf_run_test('test_threshold', 'test_two_transitions', t196)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t197)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t198)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t199)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t200)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t201)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t202)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t203)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t204)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t205, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t206, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t207, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t208, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t209, before=b30, after=a30)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t208, &
+        t210, &
         before=b30, &
         after=a30)
-    call pf_run_test('test_workprec', 'test_fitted_order', t209, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t210, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_fitted_order', t211, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t212, before=b30, after=a30)
     call pf_driver_finish()
 end program pf_driver

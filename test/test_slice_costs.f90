@@ -6,7 +6,12 @@ module test_slice_costs
     use pf_runtime
     use, intrinsic :: iso_fortran_env, only: int64
     use supratrans_kinds, only: wp
-    use supratrans_tasks, only: slice_owners, slice_text
+    use supratrans_tasks, only: slice_owners, slice_text, run_order
+    use supratrans_config, only: input_config
+    use supratrans_error, only: error_type
+    use supratrans_input, only: read_input_text
+    use supratrans_scene, only: scene_tasks
+    use supratrans_scene_continuation, only: continuation_scene
     implicit none
 
 contains
@@ -46,7 +51,7 @@ contains
         call assertEqual( &
             [(mod(i - 1, 7) + 1, i = 1, 100)], &
             owner, &
-            location=pf_source_location('test_slice_costs.pf', 45, 'assertEqual'))
+            location=pf_source_location('test_slice_costs.pf', 50, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_equal_costs_deal_round_robin
 
@@ -58,19 +63,19 @@ contains
         costs = spread_costs(380)
         owner = slice_owners(costs, 16)
         again = slice_owners(costs, 16)
-        call assertEqual(owner, again, location=pf_source_location('test_slice_costs.pf', 56, 'assertEqual'))
+        call assertEqual(owner, again, location=pf_source_location('test_slice_costs.pf', 61, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(owner >= 1 .and. owner <= 16), &
-            location=pf_source_location('test_slice_costs.pf', 57, 'assertTrue'))
+            location=pf_source_location('test_slice_costs.pf', 62, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(loads(costs, owner, 16) > 0.0_wp), &
-            location=pf_source_location('test_slice_costs.pf', 58, 'assertTrue'))
+            location=pf_source_location('test_slice_costs.pf', 63, 'assertTrue'))
         if (pf_any_failed()) return
         ! the last bits of an estimate do not move a task
         again = slice_owners(costs*(1.0_wp + 1.0e-13_wp), 16)
-        call assertEqual(owner, again, location=pf_source_location('test_slice_costs.pf', 61, 'assertEqual'))
+        call assertEqual(owner, again, location=pf_source_location('test_slice_costs.pf', 66, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_every_task_in_one_slice_and_deterministic
 
@@ -88,12 +93,12 @@ contains
             ! list scheduling: the busiest slice exceeds the least busy by at most one task
             call assertTrue( &
                 maxval(load(1:n)) - minval(load(1:n)) <= maxval(costs)*(1.0_wp + 1.0e-9_wp), &
-                location=pf_source_location('test_slice_costs.pf', 76, 'assertTrue'))
+                location=pf_source_location('test_slice_costs.pf', 81, 'assertTrue'))
             if (pf_any_failed()) return
             interleaved(1:n) = loads(costs, [(mod(i - 1, n) + 1, i = 1, 380)], n)
             call assertTrue( &
                 maxval(load(1:n)) <= maxval(interleaved(1:n)), &
-                location=pf_source_location('test_slice_costs.pf', 78, 'assertTrue'))
+                location=pf_source_location('test_slice_costs.pf', 83, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         ! at 4 slices of 95 tasks each the busiest is within 1% of the mean
@@ -101,9 +106,71 @@ contains
         load(1:4) = loads(costs, owner, 4)
         call assertTrue( &
             maxval(load(1:4)) <= 1.01_wp*sum(costs)/4.0_wp, &
-            location=pf_source_location('test_slice_costs.pf', 83, 'assertTrue'))
+            location=pf_source_location('test_slice_costs.pf', 88, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_largest_first_is_balanced_within_the_largest_task
+
+    ! @test
+    subroutine test_run_order_is_largest_first()
+        ! a permutation of the tasks, costs not increasing along it, equal costs in index order
+        real(wp) :: costs(380)
+        integer, allocatable :: order(:)
+        integer :: i
+
+        costs = spread_costs(380)
+        order = run_order(costs)
+        call assertEqual(380, size(order), location=pf_source_location('test_slice_costs.pf', 100, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            all([(count(order == i) == 1, i = 1, 380)]), &
+            location=pf_source_location('test_slice_costs.pf', 101, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            all(costs(order(1:379)) >= costs(order(2:380))), &
+            location=pf_source_location('test_slice_costs.pf', 102, 'assertTrue'))
+        if (pf_any_failed()) return
+        order = run_order([1.0_wp, 3.0_wp, 1.0_wp, 3.0_wp, 2.0_wp, 1.0_wp])
+        call assertEqual( &
+            [2, 4, 5, 1, 3, 6], &
+            order, &
+            location=pf_source_location('test_slice_costs.pf', 104, 'assertEqual'))
+        if (pf_any_failed()) return
+        order = run_order([(1.0_wp, i = 1, 7)])
+        call assertEqual([(i, i = 1, 7)], order, location=pf_source_location('test_slice_costs.pf', 106, 'assertEqual'))
+        if (pf_any_failed()) return
+    end subroutine test_run_order_is_largest_first
+
+    ! @test
+    subroutine test_fold_tasks_cost_more_at_low_omega()
+        ! a fold line's task costs a Jacobian of its period map: more steps a period at low Omega, a longer short
+        ! chain there, nothing outside the gap (not computed)
+        type(input_config) :: cfg
+        type(error_type), allocatable :: error
+        type(continuation_scene) :: scene
+        type(scene_tasks) :: tasks
+        real(wp) :: cost(4)
+        integer :: i
+
+        call read_input_text("&chain potential = 'sine-gordon' / &numerics dt = 0.05 / &scene kind = 'continuation', " &
+                             // "omega_min = 0.1, omega_max = 1.3, omega_step = 0.4 / &output file = 'unused.h5' /", &
+                             "cost.nml", cfg, error, check_output=.false.)
+        call assertFalse(allocated(error), location=pf_source_location('test_slice_costs.pf', 123, 'assertFalse'))
+        if (pf_any_failed()) return
+        call scene%make_tasks(cfg, tasks, error)
+        call assertFalse(allocated(error), location=pf_source_location('test_slice_costs.pf', 125, 'assertFalse'))
+        if (pf_any_failed()) return
+        call assertEqual(4, tasks%count, location=pf_source_location('test_slice_costs.pf', 126, 'assertEqual'))
+        if (pf_any_failed()) return
+        cost = [(tasks%list%cost(i), i = 1, 4)]     ! Omega = 0.1, 0.5, 0.9, 1.3 (outside the gap 0 < Omega < 1)
+        call assertTrue(cost(1) > 4.0_wp*cost(2), location=pf_source_location('test_slice_costs.pf', 128, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue(cost(2) > cost(3), location=pf_source_location('test_slice_costs.pf', 129, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue(cost(3) > 0.0_wp, location=pf_source_location('test_slice_costs.pf', 130, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertEqual(0.0_wp, cost(4), location=pf_source_location('test_slice_costs.pf', 131, 'assertEqual'))
+        if (pf_any_failed()) return
+    end subroutine test_fold_tasks_cost_more_at_low_omega
 
     ! @test
     subroutine test_slice_text_counts_the_slice()
@@ -111,12 +178,12 @@ contains
         call assertEqual( &
             " (slice 100 of 100: 0 of 95 tasks)", &
             slice_text(100, 100, 0, 95), &
-            location=pf_source_location('test_slice_costs.pf', 89, 'assertEqual'))
+            location=pf_source_location('test_slice_costs.pf', 137, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "", &
             slice_text(0, 0, 5, 5), &
-            location=pf_source_location('test_slice_costs.pf', 90, 'assertEqual'))
+            location=pf_source_location('test_slice_costs.pf', 138, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_slice_text_counts_the_slice
 

@@ -19,7 +19,7 @@
 module supratrans_scene_continuation
     use, intrinsic :: iso_fortran_env, only: error_unit
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
-    use supratrans_kinds, only: wp, i8
+    use supratrans_kinds, only: wp, i8, pi
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
     use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks
@@ -35,7 +35,7 @@ module supratrans_scene_continuation
     use supratrans_fold_line, only: trace_fold, fold_status_codes, instability_type_codes, fold_found, &
                                     shortest_chain, chain_length_given, fate_codes, &
                                     transmission_status_codes
-    use supratrans_tasks, only: task_list
+    use supratrans_tasks, only: task_list, run_work
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1
@@ -65,6 +65,8 @@ module supratrans_scene_continuation
         procedure :: run => run_fold_task
         !> Write the partial output.
         procedure :: snapshot => write_snapshot
+        !> Estimated cost of one task (a Jacobian of its one-period map).
+        procedure :: cost => fold_task_cost
     end type continuation_tasks
 
     !> The scene `continuation`: the fold line of the periodic states over the frequency axis, per curve.
@@ -238,6 +240,31 @@ contains
         r%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
         values = fold_to_values(r)
     end subroutine run_fold_task
+
+    !> Estimated cost of task `index`: what one Jacobian of its one-period map costs, 2N tangent columns of N sites
+    !> through the M = period / dt steps of a period (`run_work` of one period, times 2N), with the chain the task
+    !> runs (the short chain of its Omega when the input gives none); 0 for a frequency outside the gap that is not
+    !> computed. A branch takes some tens of Jacobians wherever it is, so their cost sets the ratios: at Omega = 0.05
+    !> the tasks cost about 40 times those at 0.5 (a longer chain, ten times the steps). The engine runs the tasks
+    !> largest first and deals slices by it.
+    pure function fold_task_cost(self, index) result(cost)
+        !> The tasks.
+        class(continuation_tasks), intent(in) :: self
+        !> Task index: (curve - 1) nomega + iomega.
+        integer, intent(in) :: index
+        real(wp) :: cost
+        type(run_config) :: run
+        integer :: nomega
+
+        nomega = size(self%omegas)
+        run = self%runs((index - 1)/nomega + 1)
+        run%drive%omega = self%omegas(mod(index - 1, nomega) + 1)
+        cost = 0.0_wp
+        if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. self%cfg%allow_outside_gap) return
+        if (self%short_chain) call shortest_chain(run%chain, run%drive%omega, run%numerics%dt)
+        run%numerics%t_final = 2.0_wp*pi/run%drive%omega
+        cost = 2.0_wp*real(run%chain%n, wp)*run_work(run)
+    end function fold_task_cost
 
     !> Order of accuracy in dt of a method (2 for the paper's schemes).
     pure function method_order(method) result(p)

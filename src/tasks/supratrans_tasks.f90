@@ -7,7 +7,9 @@
 !> that prove whole, and runs only what is missing. Results are stored by task index, whatever thread computed them,
 !> so they are identical for any thread count. A scene can be split into slices (`--slice I/N`, one per job of a
 !> Slurm array), each writing a part file that `merge` joins (`supratrans_parts`): the tasks are dealt to the slices
-!> largest-first by their estimated cost (`slice_owners`), so that the slices of an array end together.
+!> largest-first by their estimated cost (`slice_owners`), so that the slices of an array end together. Within a
+!> process the tasks are handed to the threads in the same order, largest first (`run_order`), so that the threads
+!> end together too.
 module supratrans_tasks
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
     use supratrans_kinds, only: wp
@@ -26,7 +28,7 @@ module supratrans_tasks
     private
 
     public :: run_tasks, file_fingerprint, text_fingerprint, input_fingerprint, engine_only, slice_owners, slice_text, run_work
-    public :: slice_costs, task_list
+    public :: slice_costs, task_list, run_order
 
     !> Seconds between two progress lines, and between two snapshots.
     real(wp), parameter :: progress_interval = 2.0_wp, snapshot_interval = 10.0_wp
@@ -107,21 +109,10 @@ contains
         integer :: owner(size(costs))
         integer(int64), allocatable :: key(:), load(:)
         integer, allocatable :: order(:), heap(:)
-        real(wp) :: top
         integer :: i, t, n
 
         n = size(costs)
-        allocate (key(n))
-        top = 0.0_wp
-        do i = 1, n
-            if (costs(i) > top .and. costs(i) <= huge(1.0_wp)) top = costs(i)
-        end do
-        do i = 1, n
-            key(i) = 0
-            if (top > 0.0_wp .and. costs(i) > 0.0_wp .and. costs(i) <= huge(1.0_wp)) then
-                key(i) = nint(1.0e9_wp*costs(i)/top, int64)
-            end if
-        end do
+        key = cost_keys(costs)
         order = sorted_by_key(key)
         allocate (load(slice_count), heap(slice_count))
         load = 0
@@ -134,6 +125,38 @@ contains
         end do
 
     end function slice_owners
+
+    !> The order in which a process runs its tasks: largest estimated cost first (the keys of `slice_owners`; ties:
+    !> lower task index first), so that the longest tasks do not start last and leave one thread working alone at
+    !> the end (with equal costs: the tasks in index order). Results do not depend on it: each is stored by index.
+    pure function run_order(costs) result(order)
+        !> Estimated (or measured) cost of each task.
+        real(wp), intent(in) :: costs(:)
+        integer, allocatable :: order(:)
+
+        order = sorted_by_key(cost_keys(costs))
+    end function run_order
+
+    !> Costs as integer keys: rounded to 9 significant digits relative to the largest, so that the last bits of an
+    !> estimate move no task; negative or non-finite costs count as 0.
+    pure function cost_keys(costs) result(key)
+        !> The costs.
+        real(wp), intent(in) :: costs(:)
+        integer(int64) :: key(size(costs))
+        real(wp) :: top
+        integer :: i
+
+        top = 0.0_wp
+        do i = 1, size(costs)
+            if (costs(i) > top .and. costs(i) <= huge(1.0_wp)) top = costs(i)
+        end do
+        do i = 1, size(costs)
+            key(i) = 0
+            if (top > 0.0_wp .and. costs(i) > 0.0_wp .and. costs(i) <= huge(1.0_wp)) then
+                key(i) = nint(1.0e9_wp*costs(i)/top, int64)
+            end if
+        end do
+    end function cost_keys
 
     !> Restore the heap order of `heap` (slices, least load first; ties: lower index) after its top grew.
     pure subroutine sift_down(heap, load)
@@ -253,7 +276,8 @@ contains
         real(wp) :: last_progress, last_snapshot, elapsed
         logical :: snapshot_only, write_failed, written, merging, lost
         real(wp), allocatable :: costs(:)
-        integer :: stop_after
+        integer, allocatable :: order(:)
+        integer :: stop_after, k
         type(part_run) :: run_record
         character(len=16) :: knob
 
@@ -282,7 +306,10 @@ contains
             call slice_costs(tasks, ntask, inv, costs, error)
             if (allocated(error)) return
             mine = slice_owners(costs, slice_count) == slice_index
+        else
+            costs = [(tasks%cost(i), i = 1, ntask)]
         end if
+        order = run_order(costs)
         header = journal_header(ntask, fields, fingerprint)
         call read_journal(journal, header, results, done, dropped, error)
         merging = .false.
@@ -336,8 +363,9 @@ contains
             flush (error_unit)
         end if
 
-        !$omp parallel do schedule(dynamic, 1) default(shared) private(i, values, clock_now, elapsed, written, lost)
-        do i = 1, ntask
+        !$omp parallel do schedule(dynamic, 1) default(shared) private(k, i, values, clock_now, elapsed, written, lost)
+        do k = 1, ntask
+            i = order(k)
             if (done(i) .or. .not. mine(i)) cycle
             if (stop_signal() /= 0 .or. ndone - ndone_start >= stop_after .or. write_failed .or. out_of_memory()) cycle
             allocate (values(nvalues))
