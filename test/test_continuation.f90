@@ -7,7 +7,7 @@
 module test_continuation
     use pf_runtime
     use supratrans_kinds, only: wp
-    use supratrans_shooting, only: shoot, shooting_controls, shooting_result, shoot_converged
+    use supratrans_shooting, only: shoot, shooting_controls, shooting_result, shoot_converged, shoot_diverged
     use supratrans_floquet
     use supratrans_continuation
     use continuation_maps, only: model_map, new_model_map, mode_fold, mode_doubling, mode_torus, mode_crowded
@@ -88,6 +88,59 @@ contains
         if (pf_any_failed()) return
     end subroutine test_shooting_quadratic
 
+    !> Newton-shooting from outside its basin: on the fold map past its fold (A = 1 > A_f), from x = (0.1, 0), the
+    !> iterates wander for 25 steps (the residual up to 1e2) and then converge on the one fixed point there, far
+    !> from the guess (x = -1.3247); with `growth_limit` = 10 the shooting gives up at the first residual above ten
+    !> times its first one (step 3), status `shoot_diverged`, with the guess's neighbourhood long left.
+    ! @test
+    subroutine test_shooting_gives_up_when_the_residual_grows()
+        type(model_map) :: map
+        type(shooting_result) :: res
+        real(wp) :: x(2)
+
+        map = new_model_map(mode_fold, 0.5_wp, 1.0_wp)
+        x = [0.1_wp, 0.0_wp]
+        call shoot(map, x, 1.0_wp, shooting_controls(max_iter=40), res)
+        call assertEqual( &
+            shoot_converged, &
+            res%status, &
+            location=pf_source_location('test_continuation.pf', 76, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertGreaterThan( &
+            res%iterations, &
+            20, &
+            location=pf_source_location('test_continuation.pf', 77, 'assertGreaterThan'))
+        if (pf_any_failed()) return
+        call assertGreaterThan( &
+            maxval(res%residuals), &
+            10.0_wp*res%residuals(1), &
+            location=pf_source_location('test_continuation.pf', 78, 'assertGreaterThan'))
+        if (pf_any_failed()) return
+        call assertLessThan( &
+            abs(x(1) + 1.3247179572_wp), &
+            1.0e-8_wp, &
+            location=pf_source_location('test_continuation.pf', 79, 'assertLessThan'))
+        if (pf_any_failed()) return
+        x = [0.1_wp, 0.0_wp]
+        call shoot(map, x, 1.0_wp, shooting_controls(max_iter=40, growth_limit=10.0_wp), res)
+        call assertEqual( &
+            shoot_diverged, &
+            res%status, &
+            location=pf_source_location('test_continuation.pf', 82, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual(3, res%iterations, location=pf_source_location('test_continuation.pf', 83, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertGreaterThan( &
+            res%residuals(4), &
+            10.0_wp*res%residuals(1), &
+            location=pf_source_location('test_continuation.pf', 84, 'assertGreaterThan'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            all(res%residuals(1:3) <= 10.0_wp*res%residuals(1)), &
+            location=pf_source_location('test_continuation.pf', 85, 'assertTrue'))
+        if (pf_any_failed()) return
+    end subroutine test_shooting_gives_up_when_the_residual_grows
+
     !> Classification of hand-made spectra: inside the circle none; a real multiplier 1.1 a fold, -1.2 a period
     !> doubling, a pair of modulus 1.05 a torus; the tolerance decides whether 1 + 1e-8 counts.
     ! @test
@@ -103,38 +156,38 @@ contains
         m(2, 3) = -0.8_wp*sin(0.3_wp)
         m(3, 2) = -m(2, 3)
         call floquet_multipliers(m, wr, wi, info)
-        call assertEqual(0, info, location=pf_source_location('test_continuation.pf', 78, 'assertEqual'))
+        call assertEqual(0, info, location=pf_source_location('test_continuation.pf', 103, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.8_wp, &
             largest_modulus(wr, wi), &
             1.0e-14_wp, &
-            location=pf_source_location('test_continuation.pf', 79, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 104, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             crossing_none, &
             leading_crossing(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 80, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 105, 'assertEqual'))
         if (pf_any_failed()) return
         m(1, 1) = 1.1_wp
         call floquet_multipliers(m, wr, wi, info)
         call assertEqual( &
             crossing_fold, &
             leading_crossing(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 83, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 108, 'assertEqual'))
         if (pf_any_failed()) return
         m(1, 1) = -1.2_wp
         call floquet_multipliers(m, wr, wi, info)
         call assertEqual( &
             crossing_period_doubling, &
             leading_crossing(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 86, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 111, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.2_wp, &
             crossing_distance(wr, wi, crossing_period_doubling), &
             1.0e-14_wp, &
-            location=pf_source_location('test_continuation.pf', 87, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 112, 'assertEqual'))
         if (pf_any_failed()) return
         m(1, 1) = 0.5_wp
         m(2:3, 2:3) = m(2:3, 2:3)*(1.05_wp/0.8_wp)
@@ -142,29 +195,29 @@ contains
         call assertEqual( &
             crossing_torus, &
             leading_crossing(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 91, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 116, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.05_wp, &
             crossing_distance(wr, wi, crossing_torus), &
             1.0e-14_wp, &
-            location=pf_source_location('test_continuation.pf', 92, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 117, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             nearest_multiplier(wr, wi, 1.0_wp), &
             message="0.5 nearer +1 than 1.05 exp(+-0.3 i)", &
-            location=pf_source_location('test_continuation.pf', 93, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 118, 'assertEqual'))
         if (pf_any_failed()) return
         m(2:3, 2:3) = m(2:3, 2:3)*((1.0_wp + 1.0e-8_wp)/1.05_wp)
         call floquet_multipliers(m, wr, wi, info)
         call assertTrue( &
             is_stable(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 96, 'assertTrue'))
+            location=pf_source_location('test_continuation.pf', 121, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             is_stable(wr, wi, 1.0e-10_wp), &
-            location=pf_source_location('test_continuation.pf', 97, 'assertFalse'))
+            location=pf_source_location('test_continuation.pf', 122, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_floquet_classification
 
@@ -195,156 +248,156 @@ contains
                 cont_fold_found, &
                 res%status, &
                 message=continuation_status_name(res%status), &
-                location=pf_source_location('test_continuation.pf', 123, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 148, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 cont_fold_found, &
                 res%stop_reason, &
-                location=pf_source_location('test_continuation.pf', 124, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 149, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 af, &
                 res%fold_amplitude, &
                 1.0e-8_wp, &
                 message="A_f", &
-                location=pf_source_location('test_continuation.pf', 125, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 150, 'assertEqual'))
             if (pf_any_failed()) return
             call assertLessThanOrEqual( &
                 res%fold_residual, &
                 1.0e-10_wp, &
-                location=pf_source_location('test_continuation.pf', 126, 'assertLessThanOrEqual'))
+                location=pf_source_location('test_continuation.pf', 151, 'assertLessThanOrEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 1.0_wp, &
                 res%fold_multiplier, &
                 1.0e-4_wp, &
                 message="multiplier +1 at the fold", &
-                location=pf_source_location('test_continuation.pf', 127, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 152, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.0_wp, &
                 res%fold_multiplier_imag, &
                 0.0_wp, &
-                location=pf_source_location('test_continuation.pf', 128, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 153, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 crossing_fold, &
                 res%instability_type, &
-                location=pf_source_location('test_continuation.pf', 129, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 154, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 af, &
                 res%instability_amplitude, &
                 1.0e-8_wp, &
-                location=pf_source_location('test_continuation.pf', 130, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 155, 'assertEqual'))
             if (pf_any_failed()) return
             f = res%fold_index
-            call assertGreaterThan(f, 3, location=pf_source_location('test_continuation.pf', 132, 'assertGreaterThan'))
+            call assertGreaterThan(f, 3, location=pf_source_location('test_continuation.pf', 157, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertEqual( &
                 8, &
                 res%points_beyond_fold, &
-                location=pf_source_location('test_continuation.pf', 133, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 158, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 f + 8, &
                 res%n_points, &
-                location=pf_source_location('test_continuation.pf', 134, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 159, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 xf, &
                 res%states(1, f), &
                 1.0e-4_wp, &
-                location=pf_source_location('test_continuation.pf', 135, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 160, 'assertEqual'))
             if (pf_any_failed()) return
             do i = 1, res%n_points
                 call assertEqual( &
                     res%states(1, i) - res%states(1, i)**3, &
                     res%amplitude(i), &
                     1.0e-9_wp, &
-                    location=pf_source_location('test_continuation.pf', 137, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 162, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     2.0_wp*res%states(1, i)**2, &
                     res%states(2, i), &
                     1.0e-9_wp, &
-                    location=pf_source_location('test_continuation.pf', 138, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 163, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertLessThanOrEqual( &
                     res%residual(i), &
                     1.0e-10_wp, &
-                    location=pf_source_location('test_continuation.pf', 139, 'assertLessThanOrEqual'))
+                    location=pf_source_location('test_continuation.pf', 164, 'assertLessThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertLessThanOrEqual( &
                     res%amplitude(i), &
                     af + 1.0e-9_wp, &
-                    location=pf_source_location('test_continuation.pf', 140, 'assertLessThanOrEqual'))
+                    location=pf_source_location('test_continuation.pf', 165, 'assertLessThanOrEqual'))
                 if (pf_any_failed()) return
             end do
             call assertTrue( &
                 all(res%stable(1:f - 1) /= 0), &
                 message="stable before the fold", &
-                location=pf_source_location('test_continuation.pf', 142, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 167, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(res%stable(f + 1:) /= 1), &
                 message="unstable after the fold", &
-                location=pf_source_location('test_continuation.pf', 143, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 168, 'assertTrue'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 count(res%stable(1:f - 1) == 1), &
                 1, &
-                location=pf_source_location('test_continuation.pf', 144, 'assertGreaterThan'))
+                location=pf_source_location('test_continuation.pf', 169, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 count(res%stable(f + 1:) == 0), &
                 1, &
-                location=pf_source_location('test_continuation.pf', 145, 'assertGreaterThan'))
+                location=pf_source_location('test_continuation.pf', 170, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(res%states(1, f + 1:) > xf), &
                 message="past the fold on the unstable side", &
-                location=pf_source_location('test_continuation.pf', 146, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 171, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(res%tangent_amplitude(1:f - 1) > 0.0_wp), &
-                location=pf_source_location('test_continuation.pf', 147, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 172, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(res%tangent_amplitude(f + 1:) < 0.0_wp), &
-                location=pf_source_location('test_continuation.pf', 148, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 173, 'assertTrue'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 res%stats%map_evaluations, &
                 0, &
-                location=pf_source_location('test_continuation.pf', 149, 'assertGreaterThan'))
+                location=pf_source_location('test_continuation.pf', 174, 'assertGreaterThan'))
             if (pf_any_failed()) return
             if (every == 1) then
                 call assertTrue( &
                     all(res%stable >= 0), &
                     message="multipliers everywhere", &
-                    location=pf_source_location('test_continuation.pf', 151, 'assertTrue'))
+                    location=pf_source_location('test_continuation.pf', 176, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertGreaterThanOrEqual( &
                     res%stats%jacobian_evaluations, &
                     res%n_points, &
-                    location=pf_source_location('test_continuation.pf', 152, 'assertGreaterThanOrEqual'))
+                    location=pf_source_location('test_continuation.pf', 177, 'assertGreaterThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertGreaterThanOrEqual( &
                     res%stats%eigen_calls, &
                     res%n_points, &
-                    location=pf_source_location('test_continuation.pf', 153, 'assertGreaterThanOrEqual'))
+                    location=pf_source_location('test_continuation.pf', 178, 'assertGreaterThanOrEqual'))
                 if (pf_any_failed()) return
             else
                 call assertTrue( &
                     any(res%exact_tangent == 0), &
                     message="secant points with a reused Jacobian", &
-                    location=pf_source_location('test_continuation.pf', 155, 'assertTrue'))
+                    location=pf_source_location('test_continuation.pf', 180, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertLessThan( &
                     res%stats%eigen_calls, &
                     res%n_points, &
-                    location=pf_source_location('test_continuation.pf', 156, 'assertLessThan'))
+                    location=pf_source_location('test_continuation.pf', 181, 'assertLessThan'))
                 if (pf_any_failed()) return
             end if
         end do
@@ -354,17 +407,17 @@ contains
         call assertEqual( &
             cont_fold_found, &
             res%stop_reason, &
-            location=pf_source_location('test_continuation.pf', 162, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 187, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             res%amplitude(res%n_points), &
             res%fold_amplitude - 0.1_wp, &
-            location=pf_source_location('test_continuation.pf', 163, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_continuation.pf', 188, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%amplitude(res%n_points - 1), &
             res%fold_amplitude - 0.1_wp, &
-            location=pf_source_location('test_continuation.pf', 164, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 189, 'assertGreaterThan'))
         if (pf_any_failed()) return
     end subroutine test_fold_located
 
@@ -386,50 +439,50 @@ contains
             call assertEqual( &
                 cont_fold_found, &
                 res%status, &
-                location=pf_source_location('test_continuation.pf', 182, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 207, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 crossing_period_doubling, &
                 res%instability_type, &
                 message=crossing_name(res%instability_type), &
-                location=pf_source_location('test_continuation.pf', 183, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 208, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.3_wp, &
                 res%instability_amplitude, &
                 1.0e-6_wp, &
-                location=pf_source_location('test_continuation.pf', 184, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 209, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 2.0_wp/(3.0_wp*sqrt(3.0_wp)), &
                 res%fold_amplitude, &
                 1.0e-8_wp, &
-                location=pf_source_location('test_continuation.pf', 185, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 210, 'assertEqual'))
             if (pf_any_failed()) return
             f = res%fold_index
             call assertTrue( &
                 all(pack(res%stable(:f), res%amplitude(:f) < 0.3_wp .and. res%stable(:f) >= 0) == 1), &
-                location=pf_source_location('test_continuation.pf', 187, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 212, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(pack(res%stable(:f), res%amplitude(:f) > 0.3_wp .and. res%stable(:f) >= 0) == 0), &
-                location=pf_source_location('test_continuation.pf', 188, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 213, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(pack(res%stable(f + 1:), res%stable(f + 1:) >= 0) == 0), &
-                location=pf_source_location('test_continuation.pf', 189, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 214, 'assertTrue'))
             if (pf_any_failed()) return
             if (every == 1) calls_all = res%stats%eigen_calls
         end do
         call assertLessThan( &
             res%stats%eigen_calls, &
             calls_all, &
-            location=pf_source_location('test_continuation.pf', 192, 'assertLessThan'))
+            location=pf_source_location('test_continuation.pf', 217, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             any(res%stable < 0), &
             message="some points without multipliers", &
-            location=pf_source_location('test_continuation.pf', 193, 'assertTrue'))
+            location=pf_source_location('test_continuation.pf', 218, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_period_doubling
 
@@ -452,38 +505,38 @@ contains
             call assertEqual( &
                 cont_fold_found, &
                 res%status, &
-                location=pf_source_location('test_continuation.pf', 212, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 237, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 crossing_torus, &
                 res%instability_type, &
                 message=crossing_name(res%instability_type), &
-                location=pf_source_location('test_continuation.pf', 213, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 238, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.2_wp, &
                 res%instability_amplitude, &
                 1.0e-6_wp, &
-                location=pf_source_location('test_continuation.pf', 214, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 239, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         i = res%n_points
         call branch_multipliers(map, res, i, wr, wi, info)
-        call assertEqual(0, info, location=pf_source_location('test_continuation.pf', 218, 'assertEqual'))
+        call assertEqual(0, info, location=pf_source_location('test_continuation.pf', 243, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(3, size(wr), location=pf_source_location('test_continuation.pf', 219, 'assertEqual'))
+        call assertEqual(3, size(wr), location=pf_source_location('test_continuation.pf', 244, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             res%max_multiplier(i), &
             largest_modulus(wr, wi), &
             1.0e-14_wp, &
-            location=pf_source_location('test_continuation.pf', 220, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 245, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.6_wp + 2.0_wp*res%amplitude(i), &
             maxval(hypot(wr, wi), mask=wi /= 0.0_wp), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation.pf', 221, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 246, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_torus
 
@@ -507,36 +560,36 @@ contains
             call assertEqual( &
                 cont_fold_found, &
                 res%status, &
-                location=pf_source_location('test_continuation.pf', 241, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 266, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 2.0_wp/(3.0_wp*sqrt(3.0_wp)), &
                 res%fold_amplitude, &
                 1.0e-8_wp, &
-                location=pf_source_location('test_continuation.pf', 242, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 267, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 crossing_fold, &
                 res%instability_type, &
                 message=crossing_name(res%instability_type), &
-                location=pf_source_location('test_continuation.pf', 243, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 268, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 res%fold_amplitude, &
                 res%instability_amplitude, &
                 0.0_wp, &
-                location=pf_source_location('test_continuation.pf', 244, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 269, 'assertEqual'))
             if (pf_any_failed()) return
             f = res%fold_index
             call assertTrue( &
                 all(res%stable(:f - 1) == 1), &
-                location=pf_source_location('test_continuation.pf', 246, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 271, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 1.0_wp, &
                 res%max_multiplier(:f - 1), &
                 1.0e-12_wp, &
-                location=pf_source_location('test_continuation.pf', 247, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 272, 'assertEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_crowded_unit_circle
@@ -567,35 +620,35 @@ contains
                     call assertEqual( &
                         cont_fold_found, &
                         res%status, &
-                        location=pf_source_location('test_continuation.pf', 274, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 299, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         2.0_wp/(3.0_wp*sqrt(3.0_wp)), &
                         res%fold_amplitude, &
                         1.0e-8_wp, &
-                        location=pf_source_location('test_continuation.pf', 275, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 300, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         1.0_wp, &
                         res%fold_multiplier, &
                         1.0e-4_wp, &
-                        location=pf_source_location('test_continuation.pf', 276, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 301, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         kinds(mode), &
                         res%instability_type, &
-                        location=pf_source_location('test_continuation.pf', 277, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 302, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         expected(mode), &
                         res%instability_amplitude, &
                         1.0e-6_wp, &
-                        location=pf_source_location('test_continuation.pf', 278, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 303, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertTrue( &
                         all(res%arclength(2:n) > res%arclength(1:n - 1)), &
                         message="ordered by arclength", &
-                        location=pf_source_location('test_continuation.pf', 279, 'assertTrue'))
+                        location=pf_source_location('test_continuation.pf', 304, 'assertTrue'))
                     if (pf_any_failed()) return
                 end do
             end do
@@ -617,33 +670,33 @@ contains
             cont_no_fold, &
             res%status, &
             message=continuation_status_name(res%status), &
-            location=pf_source_location('test_continuation.pf', 296, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 321, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 297, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 322, 'assertIsNaN'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_residual, location=pf_source_location('test_continuation.pf', 298, 'assertIsNaN'))
+        call assertIsNaN(res%fold_residual, location=pf_source_location('test_continuation.pf', 323, 'assertIsNaN'))
         if (pf_any_failed()) return
         call assertIsNaN( &
             res%instability_amplitude, &
-            location=pf_source_location('test_continuation.pf', 299, 'assertIsNaN'))
+            location=pf_source_location('test_continuation.pf', 324, 'assertIsNaN'))
         if (pf_any_failed()) return
         call assertEqual( &
             crossing_none, &
             res%instability_type, &
-            location=pf_source_location('test_continuation.pf', 300, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 325, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, res%fold_index, location=pf_source_location('test_continuation.pf', 301, 'assertEqual'))
+        call assertEqual(0, res%fold_index, location=pf_source_location('test_continuation.pf', 326, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%amplitude(res%n_points), &
             2.0_wp, &
-            location=pf_source_location('test_continuation.pf', 302, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 327, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertTrue(all(res%stable == 1), location=pf_source_location('test_continuation.pf', 303, 'assertTrue'))
+        call assertTrue(all(res%stable == 1), location=pf_source_location('test_continuation.pf', 328, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(res%tangent_amplitude > 0.0_wp), &
-            location=pf_source_location('test_continuation.pf', 304, 'assertTrue'))
+            location=pf_source_location('test_continuation.pf', 329, 'assertTrue'))
         if (pf_any_failed()) return
         ! a point budget too small to reach amplitude_max
         ctl%max_points = 5
@@ -651,11 +704,11 @@ contains
         call assertEqual( &
             cont_max_points, &
             res%status, &
-            location=pf_source_location('test_continuation.pf', 308, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 333, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(5, res%n_points, location=pf_source_location('test_continuation.pf', 309, 'assertEqual'))
+        call assertEqual(5, res%n_points, location=pf_source_location('test_continuation.pf', 334, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 310, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 335, 'assertIsNaN'))
         if (pf_any_failed()) return
     end subroutine test_no_fold
 
@@ -684,14 +737,14 @@ contains
                 call assertEqual( &
                     shoot_converged, &
                     sres%status, &
-                    location=pf_source_location('test_continuation.pf', 335, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 360, 'assertEqual'))
                 if (pf_any_failed()) return
                 xm = res%states(:, i)
                 call shoot(map, xm, res%amplitude(i) - delta, shooting_controls(tol=1.0e-14_wp), sres)
                 call assertEqual( &
                     shoot_converged, &
                     sres%status, &
-                    location=pf_source_location('test_continuation.pf', 338, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 363, 'assertEqual'))
                 if (pf_any_failed()) return
                 fd = (xp - xm)/(2.0_wp*delta)
                 tx = res%tangents(1:2, i)/res%tangents(3, i)
@@ -699,20 +752,20 @@ contains
                     fd, &
                     tx, &
                     1.0e-6_wp*maxval(abs(fd)), &
-                    location=pf_source_location('test_continuation.pf', 341, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 366, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     1.0_wp, &
                     norm2(res%tangents(:, i)), &
                     1.0e-12_wp, &
-                    location=pf_source_location('test_continuation.pf', 342, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 367, 'assertEqual'))
                 if (pf_any_failed()) return
                 checked = checked + 1
             end do
             call assertGreaterThanOrEqual( &
                 checked, &
                 merge(3, 2, every == 1), &
-                location=pf_source_location('test_continuation.pf', 345, 'assertGreaterThanOrEqual'))
+                location=pf_source_location('test_continuation.pf', 370, 'assertGreaterThanOrEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_tangent_finite_difference
@@ -734,11 +787,11 @@ contains
             cont_newton_failed, &
             res%status, &
             message=continuation_status_name(res%status), &
-            location=pf_source_location('test_continuation.pf', 362, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 387, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, res%n_points, location=pf_source_location('test_continuation.pf', 363, 'assertEqual'))
+        call assertEqual(0, res%n_points, location=pf_source_location('test_continuation.pf', 388, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 364, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 389, 'assertIsNaN'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds_min=1.0e-6_wp)
         call continue_branch(map, ctl, res)
@@ -746,25 +799,25 @@ contains
             cont_step_too_small, &
             res%status, &
             message=continuation_status_name(res%status), &
-            location=pf_source_location('test_continuation.pf', 367, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 392, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             res%amplitude(res%n_points), &
             0.2_wp, &
-            location=pf_source_location('test_continuation.pf', 368, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_continuation.pf', 393, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%amplitude(res%n_points), &
             0.19_wp, &
-            location=pf_source_location('test_continuation.pf', 369, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 394, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 370, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 395, 'assertIsNaN'))
         if (pf_any_failed()) return
         call continue_branch(map, continuation_controls(), res, x0=[0.0_wp])
         call assertEqual( &
             cont_newton_failed, &
             res%status, &
-            location=pf_source_location('test_continuation.pf', 372, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 397, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_failures_reported
 
@@ -793,23 +846,23 @@ contains
                         cont_fold_found, &
                         res%status, &
                         message=continuation_status_name(res%status), &
-                        location=pf_source_location('test_continuation.pf', 396, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 421, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         af, &
                         res%fold_amplitude, &
                         1.0e-8_wp, &
-                        location=pf_source_location('test_continuation.pf', 397, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 422, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         crossing_fold, &
                         res%instability_type, &
-                        location=pf_source_location('test_continuation.pf', 398, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 423, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertTrue( &
                         all(res%arclength(2:n) > res%arclength(1:n - 1)), &
                         message="ordered by arclength", &
-                        location=pf_source_location('test_continuation.pf', 399, 'assertTrue'))
+                        location=pf_source_location('test_continuation.pf', 424, 'assertTrue'))
                     if (pf_any_failed()) return
                 end do
             end do

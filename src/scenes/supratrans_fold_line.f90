@@ -101,6 +101,8 @@ module supratrans_fold_line
     integer, parameter :: settle_iterations = 30
     !> max |P(x) - x| at which `damped_shooting` stops (the continuation's own shooting polishes to newton_tol).
     real(wp), parameter :: settle_tol = 1.0e-9_wp
+    !> The Newton-shooting of a followed branch gives up when its residual grows this many times its first value.
+    real(wp), parameter :: follow_growth_limit = 10.0_wp
 
 contains
 
@@ -276,9 +278,14 @@ contains
         amplitude = a
         next = ctl
         next%beyond_fold = 0
-        next%floquet_every = huge(1)
+        ! the fold alone: what is asked of a followed branch is its fold and that fold's fate; no loss of stability
+        ! is sought along it (its multipliers at the first point, for stop_at_unstable_start, and at the fold only)
+        next%floquet_every = 0
         next%floquet_trend = .false.
         next%newton_max_iter = 40
+        ! from a settled state that damped_shooting could not bring to a periodic state, the undamped Newton gives
+        ! up once it has left its basin (on the paper's grid it then wandered through all its 40 Jacobians, 7 of 7)
+        next%start_growth_limit = follow_growth_limit
         next%max_points = 4*ctl%max_points
         ! a settled state that is not stable ends the following at its first point (below), not after its branch
         next%stop_at_unstable_start = .true.
@@ -319,7 +326,7 @@ contains
     !> is halved (down to 1/64) until it lowers max |P(x) - x|, so that the first steps, made large by the
     !> multipliers near +1, do not throw x far away. At most `settle_iterations` steps; `x` is the periodic state
     !> when max |P(x) - x| <= `settle_tol` was reached, else left as it came (the continuation's own, undamped
-    !> shooting then has its try: measured, each of the two converges where the other does not).
+    !> shooting then has its try, and gives up once its residual has grown tenfold: `follow_growth_limit`).
     subroutine damped_shooting(map, x, amplitude)
         !> The one-period map.
         type(period_map), intent(inout) :: map

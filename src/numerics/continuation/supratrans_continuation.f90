@@ -137,8 +137,8 @@ contains
             end if
             x = x0
         end if
-        call shoot(map, x, ctl%amplitude_start, shooting_controls(tol=ctl%newton_tol, max_iter=ctl%newton_max_iter), &
-                   sres)
+        call shoot(map, x, ctl%amplitude_start, shooting_controls(tol=ctl%newton_tol, max_iter=ctl%newton_max_iter, &
+                   growth_limit=ctl%start_growth_limit), sres)
         res%stats%jacobian_evaluations = sres%jacobians
         res%stats%map_evaluations = 1      ! shoot's first evaluation, of P alone
         res%stats%factorisations = sres%iterations
@@ -160,7 +160,8 @@ contains
         end if
         fold_only = ctl%floquet_every == 0
         info = 1
-        if (.not. fold_only) call point_multipliers(cur, res%stats, wr, wi, info)
+        ! (the fold alone computes none but the fold's, and the first point's when its stability may end the branch)
+        if (.not. fold_only .or. ctl%stop_at_unstable_start) call point_multipliers(cur, res%stats, wr, wi, info)
         call record_point(map, res, cur, wr, wi, info == 0)
         n_trend = 0
         s_last = 0.0_wp

@@ -36,6 +36,9 @@ module supratrans_continuation_types
         integer :: newton_slow = 7
         !> Amplitude at which the branch starts (from the given state, or x = 0: the chain at rest at A = 0).
         real(wp) :: amplitude_start = 0.0_wp
+        !> The Newton-shooting at the start gives up (`cont_newton_failed`) once its residual exceeds this multiple
+        !> of its first value (`shooting_controls%growth_limit`); default: never.
+        real(wp) :: start_growth_limit = huge(1.0_wp)
         !> First pseudo-arclength step (in the Euclidean norm of (x, A)).
         real(wp) :: ds0 = 0.05_wp
         !> Smallest step: below it the continuation stops (`cont_step_too_small`).
@@ -70,7 +73,8 @@ module supratrans_continuation_types
         !> Accuracy in A of the located fold and of the located loss of stability.
         real(wp) :: fold_tol = 1.0e-10_wp
         !> End the continuation at its first point when that point has multipliers and is not stable
-        !> (`cont_unstable_start`): a state the chain cannot have settled on has no branch worth following.
+        !> (`cont_unstable_start`): a state the chain cannot have settled on has no branch worth following. The
+        !> first point gets its multipliers for this also when `floquet_every` = 0.
         logical :: stop_at_unstable_start = .false.
     end type continuation_controls
 

@@ -20,6 +20,8 @@ module supratrans_shooting
     integer, parameter, public :: shoot_singular = 2
     !> The map could not be evaluated (or gave a non-finite value) at some iterate.
     integer, parameter, public :: shoot_map_failed = 3
+    !> Given up: the residual grew beyond `growth_limit` times its first value.
+    integer, parameter, public :: shoot_diverged = 4
 
     !> Controls of Newton-shooting.
     type, public :: shooting_controls
@@ -27,11 +29,15 @@ module supratrans_shooting
         real(wp) :: tol = 1.0e-10_wp
         !> Largest number of Newton steps.
         integer :: max_iter = 20
+        !> Give up (`shoot_diverged`) once max |P(x) - x| exceeds this multiple of its value at the initial guess:
+        !> Newton with the exact Jacobian shrinks the residual inside its basin, and iterates that have left it
+        !> wander, to converge (if ever) on a state far from the guess. Default: never.
+        real(wp) :: growth_limit = huge(1.0_wp)
     end type shooting_controls
 
     !> What Newton-shooting did.
     type, public :: shooting_result
-        !> `shoot_converged`, `shoot_max_iter`, `shoot_singular` or `shoot_map_failed`.
+        !> `shoot_converged`, `shoot_max_iter`, `shoot_singular`, `shoot_map_failed` or `shoot_diverged`.
         integer :: status = shoot_max_iter
         !> Newton steps taken.
         integer :: iterations = 0
@@ -99,6 +105,10 @@ contains
             end if
             if (res%iterations >= controls%max_iter) then
                 res%status = shoot_max_iter
+                exit
+            end if
+            if (res%iterations > 0 .and. history(res%iterations)/controls%growth_limit > history(0)) then
+                res%status = shoot_diverged
                 exit
             end if
             do i = 1, d
