@@ -7,7 +7,8 @@ module supratrans_h5_test
     use hdf5, only: hsize_t
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type
-    use supratrans_hdf5
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_open, h5_close, h5_write, h5_write_attr, &
+        h5_create_group, h5_exists, h5_attr_exists, h5_read, h5_read_attr
     use supratrans_h5_file, only: h5_discard, real_mem_type, int_mem_type, i8_mem_type
     use supratrans_h5_read, only: h5_shape, h5_read_into, h5_read_strings
     implicit none
