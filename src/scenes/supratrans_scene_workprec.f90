@@ -35,7 +35,7 @@
 !> `/methods` (method), `/amplitude` (amp), `/dt` (method, dt: NaN where not run), `/steps` (method, dt),
 !> `/status` (amp, method, dt: -1 not run, 0 ok, 1 diverged, 2 newton_failed, 3 solver_failed), `/wall_time`,
 !> `/wall_time_min`, `/injected`, `/error_energy`, `/error_u`, `/ledger_drift`, `/rhs_evaluations` (amp, method,
-!> dt), `/order_energy`, `/order_u` (amp, method), `/reference/*`, `/lower_bound/*`, `/parameters` and `/scene`
+!> dt), `/order_energy`, `/order_u` (amp, method), the groups `/reference` and `/lower_bound`, `/parameters` and `/scene`
 !> attributes.
 module supratrans_scene_workprec
     use, intrinsic :: iso_fortran_env, only: error_unit
