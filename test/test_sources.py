@@ -1,0 +1,29 @@
+"""Rules every Fortran source must keep so that each way of building it works: the CMake build with the Ninja
+generator runs every source through the C preprocessor (`gfortran -cpp -E`) for its dependency scan, where a `/*`
+anywhere, even in a `!` comment, opens a C comment that never ends and stops the build ("unterminated comment")."""
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def fortran_sources():
+    """Every Fortran source a build compiles: src/, app/ and the tests (pFUnit's .pf and their translations)."""
+    paths = []
+    for folder in ("src", "app", "test"):
+        for pattern in ("*.f90", "*.F90", "*.pf"):
+            paths += sorted((ROOT / folder).rglob(pattern))
+    return paths
+
+
+def test_the_sources_are_found():
+    names = {p.name for p in fortran_sources()}
+    assert "supratrans_scene_workprec.f90" in names and "test_continuation.pf" in names
+
+
+def test_no_source_opens_a_c_comment():
+    found = []
+    for path in fortran_sources():
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            if "/*" in line:
+                found.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
+    assert not found, "'/*' breaks the preprocessed (CMake + Ninja) build:\n" + "\n".join(found)
