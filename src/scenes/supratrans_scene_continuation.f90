@@ -190,16 +190,11 @@ contains
         type(fold_record) :: r, check
         type(run_config) :: run, other
         type(scene_params) :: fold_alone
-        integer :: icurve, iomega, nomega, p
+        integer :: p
         integer(i8) :: clock_start, clock_end, clock_rate
 
         call system_clock(clock_start, clock_rate)
-        nomega = size(self%omegas)
-        icurve = (index - 1)/nomega + 1
-        iomega = mod(index - 1, nomega) + 1
-        run = self%runs(icurve)
-        run%drive%omega = self%omegas(iomega)
-        if (self%short_chain) call shortest_chain(run%chain, run%drive%omega, run%numerics%dt)
+        run = task_run(self, index)
         r = empty_fold_record(self%cfg%scene%continuation_points)
         if (run%drive%omega < band_gap_edge(run%chain)) r%threshold_as = threshold_as(run%chain, run%drive%omega)
         if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. self%cfg%allow_outside_gap) then
@@ -241,6 +236,22 @@ contains
         values = fold_to_values(r)
     end subroutine run_fold_task
 
+    !> The run of task `index`: its curve's run at its frequency, on the short chain of that frequency when the input
+    !> gives no chain length.
+    pure function task_run(self, index) result(run)
+        !> The tasks.
+        class(continuation_tasks), intent(in) :: self
+        !> Task index: (curve - 1) nomega + iomega.
+        integer, intent(in) :: index
+        type(run_config) :: run
+        integer :: nomega
+
+        nomega = size(self%omegas)
+        run = self%runs((index - 1)/nomega + 1)
+        run%drive%omega = self%omegas(mod(index - 1, nomega) + 1)
+        if (self%short_chain) call shortest_chain(run%chain, run%drive%omega, run%numerics%dt)
+    end function task_run
+
     !> Estimated cost of task `index`: what one Jacobian of its one-period map costs, 2N tangent columns of N sites
     !> through the M = period / dt steps of a period (`run_work` of one period, times 2N), with the chain the task
     !> runs (the short chain of its Omega when the input gives none); 0 for a frequency outside the gap that is not
@@ -254,14 +265,10 @@ contains
         integer, intent(in) :: index
         real(wp) :: cost
         type(run_config) :: run
-        integer :: nomega
 
-        nomega = size(self%omegas)
-        run = self%runs((index - 1)/nomega + 1)
-        run%drive%omega = self%omegas(mod(index - 1, nomega) + 1)
+        run = task_run(self, index)
         cost = 0.0_wp
         if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. self%cfg%allow_outside_gap) return
-        if (self%short_chain) call shortest_chain(run%chain, run%drive%omega, run%numerics%dt)
         run%numerics%t_final = 2.0_wp*pi/run%drive%omega
         cost = 2.0_wp*real(run%chain%n, wp)*run_work(run)
     end function fold_task_cost
