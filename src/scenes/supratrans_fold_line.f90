@@ -41,7 +41,8 @@ module supratrans_fold_line
     use supratrans_chain, only: detector_site
     use supratrans_continuation, only: continue_branch, branch_multipliers, continuation_controls, &
                                        continuation_result, cont_fold_found, cont_no_fold, cont_newton_failed, &
-                                       cont_step_too_small, cont_max_points, continuation_status_name
+                                       cont_step_too_small, cont_max_points, cont_unstable_start, &
+                                       continuation_status_name
     use supratrans_floquet, only: crossing_none, crossing_fold, crossing_period_doubling, crossing_torus, &
                                   crossing_name
     use supratrans_fold_record, only: fold_record, branch_quantities, kept_multipliers, multiplier_samples
@@ -92,7 +93,7 @@ module supratrans_fold_line
     integer, parameter, public :: max_branches = 4
     !> Why no transmission fold (beside the continuation's statuses of the last branch followed): the state Newton
     !> found where the chain settled is unstable.
-    integer, parameter, public :: follow_unstable_start = 6
+    integer, parameter, public :: follow_unstable_start = cont_unstable_start
     !> Why no transmission fold: the chain stayed localized past the folds of `max_branches` branches.
     integer, parameter, public :: follow_too_many = 7
     !> Why no transmission fold: the scheme failed while the fate of a fold was watched.
@@ -281,7 +282,6 @@ contains
         ! the fold alone: what is asked of a followed branch is its fold and that fold's fate; no loss of stability
         ! is sought along it (its multipliers at the first point, for stop_at_unstable_start, and at the fold only)
         next%floquet_every = 0
-        next%floquet_trend = .false.
         next%newton_max_iter = 40
         ! from a settled state that damped_shooting could not bring to a periodic state, the undamped Newton gives
         ! up once it has left its basin (on the paper's grid it then wandered through all its 40 Jacobians, 7 of 7)
@@ -295,12 +295,7 @@ contains
             call continue_branch(map, next, res, x)
             r%branches = r%branches + 1
             call add_branch_cost(r, res)
-            if (res%n_points >= 1) then
-                if (res%stable(1) == 0) then          ! Newton found a state the chain cannot have settled on
-                    r%transmission_status = follow_unstable_start
-                    return
-                end if
-            end if
+            ! (a state Newton found where the chain cannot have settled, not stable, stops it: cont_unstable_start)
             if (res%status /= cont_fold_found .or. res%fold_index < 1) then
                 r%transmission_status = res%status
                 return
