@@ -4,7 +4,8 @@
 !> multipliers, by `dgeev`, at every point) on the one-period map of the paper's scheme: the same fold to 1e-8, the
 !> same first loss of stability (type, and amplitude to 1e-8), with fewer eigenvalue computations. The short chain
 !> of fold lines (`supratrans_fold_line`): used only when the input gives no n, n0, sigma; N0 the smallest with
-!> e^{-lambda' N0} <= e^{-7}. The inverse iteration that tracks one multiplier on a matrix of known spectrum.
+!> e^{-lambda' N0} <= e^{-7}. The inverse iteration that tracks one multiplier on a matrix of known spectrum. The
+!> transposed LU solve (left null vectors of the bordered systems, `bench_fold_omega`).
 module test_continuation_fast
     use pf_runtime
     use supratrans_kinds, only: wp
@@ -18,10 +19,49 @@ module test_continuation_fast
     use supratrans_continuation
     use supratrans_floquet, only: crossing_name, track_multiplier, floquet_multipliers, crossing_none
     use supratrans_shooting, only: shoot, shooting_controls, shooting_result, shoot_converged
+    use supratrans_dense, only: lu_factor, lu_solve, lu_solve_transposed
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     implicit none
 
 contains
+
+    !> lu_solve_transposed solves A^T x = b with the factors of A (a non-symmetric 4 x 4 matrix that needs pivoting):
+    !> A^T x = b to roundoff, and x differs from the solution of A x = b.
+    ! @test
+    subroutine test_lu_solve_transposed()
+        real(wp) :: a(4, 4), lu(4, 4), b(4), xt(4), xn(4)
+        integer :: ipiv(4), info
+
+        a = reshape([0.0_wp, 2.0_wp, 1.0_wp, -1.0_wp, 3.0_wp, 1.0_wp, 0.5_wp, 2.0_wp, &
+                     -2.0_wp, 4.0_wp, 1.0_wp, 0.0_wp, 1.0_wp, -1.0_wp, 3.0_wp, 2.0_wp], [4, 4])
+        b = [1.0_wp, -2.0_wp, 0.5_wp, 3.0_wp]
+        lu = a
+        call lu_factor(lu, ipiv, info)
+        call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 39, 'assertEqual'))
+        if (pf_any_failed()) return
+        xt = b
+        call lu_solve_transposed(lu, ipiv, xt, info)
+        call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 42, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            b, &
+            matmul(transpose(a), xt), &
+            tolerance=1.0e-13_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 43, 'assertEqual'))
+        if (pf_any_failed()) return
+        xn = b
+        call lu_solve(lu, ipiv, xn, info)
+        call assertEqual( &
+            b, &
+            matmul(a, xn), &
+            tolerance=1.0e-13_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 46, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            maxval(abs(xt - xn)) > 1.0e-3_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 47, 'assertTrue'))
+        if (pf_any_failed()) return
+    end subroutine test_lu_solve_transposed
 
     !> Undamped sine-Gordon, Omega = 0.9, c = 4, dt ~ 0.05, N = 40 with the absorber on N0 = 20 < n <= 40: the
     !> fold and the first loss of stability with floquet_every = 1 (full) and floquet_every = 4 with the trend
@@ -36,7 +76,7 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 38, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 63, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4)
         call continue_branch(map, ctl, full)
@@ -45,51 +85,51 @@ contains
         call assertEqual( &
             cont_fold_found, &
             full%status, &
-            location=pf_source_location('test_continuation_fast.pf', 43, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 68, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             cont_fold_found, &
             fast%status, &
-            location=pf_source_location('test_continuation_fast.pf', 44, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 69, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%fold_amplitude, &
             fast%fold_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 45, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 70, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%instability_type, &
             fast%instability_type, &
             message=crossing_name(fast%instability_type), &
-            location=pf_source_location('test_continuation_fast.pf', 46, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 71, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             ieee_is_nan(fast%instability_amplitude), &
-            location=pf_source_location('test_continuation_fast.pf', 47, 'assertFalse'))
+            location=pf_source_location('test_continuation_fast.pf', 72, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%instability_amplitude, &
             fast%instability_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 48, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 73, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             fast%stats%eigen_calls, &
             full%stats%eigen_calls, &
-            location=pf_source_location('test_continuation_fast.pf', 49, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 74, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             any(fast%stable == -1), &
-            location=pf_source_location('test_continuation_fast.pf', 50, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 75, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(full%stable(1:full%fold_index - 1) == 1), &
-            location=pf_source_location('test_continuation_fast.pf', 51, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 76, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(fast%stable(1:fast%fold_index - 1) /= 0), &
-            location=pf_source_location('test_continuation_fast.pf', 52, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 77, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_fast_floquet_same_verdicts
 
@@ -106,7 +146,7 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 68, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 93, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4)
         call continue_branch(map, ctl, full)
@@ -115,55 +155,55 @@ contains
         call assertEqual( &
             cont_fold_found, &
             alone%status, &
-            location=pf_source_location('test_continuation_fast.pf', 73, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 98, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%fold_amplitude, &
             alone%fold_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 74, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 99, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             alone%stats%eigen_calls, &
-            location=pf_source_location('test_continuation_fast.pf', 75, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 100, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             alone%stats%jacobian_evaluations, &
             full%stats%jacobian_evaluations, &
-            location=pf_source_location('test_continuation_fast.pf', 76, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 101, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             ieee_is_nan(alone%instability_amplitude), &
-            location=pf_source_location('test_continuation_fast.pf', 77, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 102, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             crossing_none, &
             alone%instability_type, &
-            location=pf_source_location('test_continuation_fast.pf', 78, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 103, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp, &
             alone%fold_multiplier, &
             1.0e-3_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 79, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 104, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(alone%stable(1:alone%fold_index - 1) == -1), &
-            location=pf_source_location('test_continuation_fast.pf', 80, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 105, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(alone%stable(alone%fold_index + 1:alone%n_points) == -1), &
-            location=pf_source_location('test_continuation_fast.pf', 81, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 106, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             allocated(alone%spectra(alone%fold_index)%wr), &
-            location=pf_source_location('test_continuation_fast.pf', 82, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 107, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             4, &
             alone%points_beyond_fold, &
-            location=pf_source_location('test_continuation_fast.pf', 83, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 108, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_fold_alone
 
@@ -186,43 +226,43 @@ contains
         call assertEqual( &
             cont_unstable_start, &
             stopped%status, &
-            location=pf_source_location('test_continuation_fast.pf', 102, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 127, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "unstable_start", &
             continuation_status_name(stopped%status), &
-            location=pf_source_location('test_continuation_fast.pf', 103, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 128, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             stopped%n_points, &
-            location=pf_source_location('test_continuation_fast.pf', 104, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 129, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             stopped%stable(1), &
-            location=pf_source_location('test_continuation_fast.pf', 105, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 130, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             stopped%stats%eigen_calls, &
-            location=pf_source_location('test_continuation_fast.pf', 106, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 131, 'assertEqual'))
         if (pf_any_failed()) return
         ctl%stop_at_unstable_start = .false.
         call continue_branch(map, ctl, continued, [0.0_wp, 0.0_wp])
         call assertGreaterThan( &
             continued%n_points, &
             1, &
-            location=pf_source_location('test_continuation_fast.pf', 109, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation_fast.pf', 134, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             continued%stable(1), &
-            location=pf_source_location('test_continuation_fast.pf', 110, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 135, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(continued%states(:, 1) == stopped%states(:, 1)), &
-            location=pf_source_location('test_continuation_fast.pf', 111, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 136, 'assertTrue'))
         if (pf_any_failed()) return
         ctl%stop_at_unstable_start = .true.
         ctl%amplitude_start = 0.1_wp
@@ -230,16 +270,16 @@ contains
         call assertEqual( &
             1, &
             stable%stable(1), &
-            location=pf_source_location('test_continuation_fast.pf', 115, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 140, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             stable%n_points, &
             1, &
-            location=pf_source_location('test_continuation_fast.pf', 116, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation_fast.pf', 141, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             stable%status /= cont_unstable_start, &
-            location=pf_source_location('test_continuation_fast.pf', 117, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 142, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_stop_at_unstable_start
 
@@ -258,41 +298,41 @@ contains
 
         call assertFalse( &
             chain_length_given("&chain" // nl // "  c = 4.0" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 133, 'assertFalse'))
+            location=pf_source_location('test_continuation_fast.pf', 158, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  n = 30" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 134, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 159, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  sigma = 3.0" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 135, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 160, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  n0 = 150" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 136, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 161, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given(""), &
-            location=pf_source_location('test_continuation_fast.pf', 137, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 162, 'assertTrue'))
         if (pf_any_failed()) return
         call shortest_chain(chain, 0.9_wp, 0.05_wp)
         call assertEqual( &
             60, &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 139, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 164, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             short_absorber_sigma, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 140, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 165, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             2.0_wp*asin(sqrt(2.7_wp**2 - 1.0_wp)/8.0_wp), &
             harmonic_wavenumber(chain, 0.9_wp), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 141, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 166, 'assertEqual'))
         if (pf_any_failed()) return
         dt_used = 2.0_wp*acos(-1.0_wp)/0.9_wp/140.0_wp
         lambda = scheme_decay_rate(chain, 0.9_wp, dt_used)
@@ -300,17 +340,17 @@ contains
             acosh(1.0_wp + (1.0_wp - 0.81_wp)/32.0_wp), &
             lambda, &
             5.0e-3_wp*lambda, &
-            location=pf_source_location('test_continuation_fast.pf', 144, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 169, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             lambda*chain%n0, &
             short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 145, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 170, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             lambda*(chain%n0 - 1), &
             short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 146, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 171, 'assertLessThan'))
         if (pf_any_failed()) return
         chain = chain_params()
         call shortest_chain(chain, 0.5_wp, 0.05_wp)
@@ -319,12 +359,12 @@ contains
             short_absorber_sigma_q/q, &
             chain%sigma, &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 150, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 175, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             ceiling(short_width_per_sigma*chain%sigma), &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 151, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 176, 'assertEqual'))
         if (pf_any_failed()) return
         chain = chain_params()
         call shortest_chain(chain, 0.1_wp, 0.05_wp)
@@ -332,18 +372,18 @@ contains
             2.0_wp*asin(sqrt(1.1_wp**2 - 1.0_wp)/8.0_wp), &
             harmonic_wavenumber(chain, 0.1_wp), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 154, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 179, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             short_absorber_sigma_max, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 155, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 180, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             ceiling(short_width_per_sigma*short_absorber_sigma_max), &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 156, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 181, 'assertEqual'))
         if (pf_any_failed()) return
         chain = chain_params()
         call shortest_chain(chain, 0.2_wp, 0.05_wp)          ! 5 Omega = 1: at the band edge
@@ -351,24 +391,24 @@ contains
             0.0_wp, &
             harmonic_wavenumber(chain, 0.2_wp), &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 159, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 184, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             short_absorber_sigma_max, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 160, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 185, 'assertEqual'))
         if (pf_any_failed()) return
         call shortest_chain(given, 1.2_wp, 0.05_wp)
-        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 162, 'assertEqual'))
+        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 187, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 163, 'assertEqual'))
+        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 188, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             3.0_wp, &
             given%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 164, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 189, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_short_chain
 
@@ -402,30 +442,30 @@ contains
         mu = exact + cmplx(1.0e-3_wp, -1.0e-3_wp, kind=wp)
         v = cmplx(1.0_wp, 0.5_wp, kind=wp)
         call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 197, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 222, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             abs(mu - exact), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 198, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 223, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp, &
             norm2(abs(v)), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 199, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 224, 'assertEqual'))
         if (pf_any_failed()) return
         mu = cmplx(-0.301_wp, 0.0_wp, kind=wp)
         v = cmplx(1.0_wp, 0.5_wp, kind=wp)
         call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 203, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 228, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             abs(mu - cmplx(-0.3_wp, 0.0_wp, kind=wp)), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 204, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 229, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_tracked_multiplier
 
@@ -447,42 +487,42 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 225, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 250, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4, floquet_every=4)
         call continue_branch(map, ctl, res)
         call assertEqual( &
             cont_fold_found, &
             res%status, &
-            location=pf_source_location('test_continuation_fast.pf', 228, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 253, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             res%stable(res%n_points) >= 0, &
             message="multipliers at the last point", &
-            location=pf_source_location('test_continuation_fast.pf', 229, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 254, 'assertTrue'))
         if (pf_any_failed()) return
         allocate (px(map%dim), jac(map%dim, map%dim))
         checked = 0
         do i = 1, res%n_points
             if (res%stable(i) < 0) cycle
             call branch_multipliers(map, res, i, wr, wi, info)
-            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 235, 'assertEqual'))
+            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 260, 'assertEqual'))
             if (pf_any_failed()) return
             call map%apply(res%states(:, i), res%amplitude(i), px, status, jac=jac)
             call floquet_multipliers(jac, fr, fi, info)
-            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 238, 'assertEqual'))
+            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 263, 'assertEqual'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(wr == fr) .and. all(wi == fi), &
                 message="kept multipliers = recomputed", &
-                location=pf_source_location('test_continuation_fast.pf', 239, 'assertTrue'))
+                location=pf_source_location('test_continuation_fast.pf', 264, 'assertTrue'))
             if (pf_any_failed()) return
             checked = checked + 1
         end do
         call assertGreaterThan( &
             checked, &
             3, &
-            location=pf_source_location('test_continuation_fast.pf', 242, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation_fast.pf', 267, 'assertGreaterThan'))
         if (pf_any_failed()) return
         allocate (x(map%dim))
         x = 0.0_wp
@@ -490,23 +530,23 @@ contains
         call assertEqual( &
             shoot_converged, &
             sres%status, &
-            location=pf_source_location('test_continuation_fast.pf', 246, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 271, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             sres%jacobians, &
-            location=pf_source_location('test_continuation_fast.pf', 247, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 272, 'assertEqual'))
         if (pf_any_failed()) return
         call shoot(map, x, 0.0_wp, shooting_controls(), sres, monodromy=jac)
         call assertEqual( &
             shoot_converged, &
             sres%status, &
-            location=pf_source_location('test_continuation_fast.pf', 249, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 274, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             sres%jacobians, &
-            location=pf_source_location('test_continuation_fast.pf', 250, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 275, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_kept_multipliers
 

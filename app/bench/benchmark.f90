@@ -32,6 +32,8 @@
 !>    timeseries with checkpoints off, at the default interval and at a short one; the overhead at the default.
 !> 7. With the argument `fold` (only this; a third argument `paper` for the paper's grid of Omega): the cost of the
 !>    continuation scene (`bench_fold`): one fold for several chains and controls, the fold line against the scan.
+!>    With `fold omega [FROM TO]`: the fold continued in Omega against the fold from rest at each frequency
+!>    (`bench_fold_omega`; default 0.99 .. 0.05), one thread.
 !> Scene outputs go to the system's temporary directory and are deleted. With beta = 0 (the paper default) the
 !> Jacobian is diagonal; a second block repeats the runs with beta = 0.1, where every Newton iteration is one
 !> LAPACK dgtsv.
@@ -52,6 +54,7 @@ program benchmark
     use supratrans_invocation, only: invocation_type
     use bench_checkpoint, only: checkpoint_benchmark
     use bench_fold, only: fold_benchmark
+    use bench_fold_omega, only: fold_omega_benchmark
     use supratrans_search_record, only: from_values, search_record
     use supratrans_system, only: remove_file
     use supratrans_workprec_measure, only: median
@@ -71,7 +74,7 @@ program benchmark
     character(len=*), parameter :: names(2) = [character(len=10) :: "newton", "linearized"]
     integer, parameter :: methods(2) = [method_newton, method_linearized]
     real(wp), allocatable :: times(:), floor_times(:)
-    real(wp) :: floor_ms, newton_ms
+    real(wp) :: floor_ms, newton_ms, omega_range(2)
 
     repeats = 21
     if (command_argument_count() >= 1) then
@@ -92,6 +95,17 @@ program benchmark
     if (folds) then
         arg = ""
         if (command_argument_count() >= 3) call get_command_argument(3, arg)
+        if (trim(arg) == "omega") then
+            omega_range = [0.99_wp, 0.05_wp]
+            do i = 1, 2
+                if (command_argument_count() < 3 + i) exit
+                call get_command_argument(3 + i, arg)
+                read (arg, *) omega_range(i)
+            end do
+            !$ call omp_set_num_threads(1)
+            call fold_omega_benchmark(omega_range(1), omega_range(2))
+            stop
+        end if
         call fold_benchmark(trim(arg) == "paper")
         stop
     end if
