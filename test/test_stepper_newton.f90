@@ -2,7 +2,8 @@
 ! Unit tests of the Newton stepper (supratrans_stepper_newton): one step on a known state solves the scheme's
 ! equation A x + G(x, u^{k-1}) = B u^k + C u^{k-1} + v^k to roundoff (residual formed here from the paper's
 ! coefficients), with a diagonal (beta = 0) and a tridiagonal (beta > 0) Jacobian, for both potentials; the
-! stepper's counters, its failure report, and its discrete energy ledger closing at every step.
+! stepper's counters, its failure report, and its discrete energy ledger closing at every step; the predictor and
+! right-hand side formed from the stepper's levels (in one pass on a long chain) give the bits of the two-loop path.
 module test_stepper_newton
     use pf_runtime
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
@@ -14,7 +15,7 @@ module test_stepper_newton
     use supratrans_ledger, only: ledger_type, ledger_close, step_powers
     use supratrans_stepper, only: step_ok, step_not_converged
     use supratrans_stepper_newton, only: newton_stepper, newton_work, newton_work_init, newton_step, newton_ok, &
-                                         newton_block
+                                         newton_block, predictor_levels
     implicit none
 
     !> Sites of the small chain of the kernel tests.
@@ -102,47 +103,47 @@ contains
                 call assertEqual( &
                     newton_ok, &
                     status, &
-                    location=pf_source_location('test_stepper_newton.pf', 101, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 102, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertGreaterThanOrEqual( &
                     iterations, &
                     2, &
-                    location=pf_source_location('test_stepper_newton.pf', 102, 'assertGreaterThanOrEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 103, 'assertGreaterThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertLessThanOrEqual( &
                     iterations, &
                     6, &
-                    location=pf_source_location('test_stepper_newton.pf', 103, 'assertLessThanOrEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 104, 'assertLessThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     psi_new, &
                     u_new(0), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 104, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 105, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0.0_wp, &
                     u_new(nsite + 1), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 105, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 106, 'assertEqual'))
                 if (pf_any_failed()) return
                 call scheme_residual(chain, dt, u_old, u_cur, u_new, residual, scale)
                 call assertGreaterThan( &
                     scale, &
                     100.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 107, 'assertGreaterThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 108, 'assertGreaterThan'))
                 if (pf_any_failed()) return
                 call assertLessThan( &
                     residual, &
                     1.0e-14_wp*scale, &
-                    location=pf_source_location('test_stepper_newton.pf', 108, 'assertLessThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 109, 'assertLessThan'))
                 if (pf_any_failed()) return
                 ! the step moved the chain: the solution is not the predictor 3 u^k - 3 u^{k-1} + u^{k-2}
                 predictor = 3.0_wp*(u_cur(1:nsite) - u_old(1:nsite)) + u_older(1:nsite)
                 call assertGreaterThan( &
                     maxval(abs(u_new(1:nsite) - predictor)), &
                     1.0e-6_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 111, 'assertGreaterThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 112, 'assertGreaterThan'))
                 if (pf_any_failed()) return
             end do
         end do
@@ -184,12 +185,12 @@ contains
             ul(nl + 1, 4) = 0.0_wp
             call newton_work_init(ws, nl)
             call newton_step(long_scheme, ws, ul(:, 1), ul(:, 2), ul(:, 3), ul(:, 4), 0.0_wp, 3, iterations, status)
-            call assertEqual(3, iterations, location=pf_source_location('test_stepper_newton.pf', 152, 'assertEqual'))
+            call assertEqual(3, iterations, location=pf_source_location('test_stepper_newton.pf', 153, 'assertEqual'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 maxval(abs(ul(1:nl, 4) - ul(1:nl, 3))), &
                 0.01_wp, &
-                location=pf_source_location('test_stepper_newton.pf', 153, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_newton.pf', 154, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call newton_work_init(ws, ns)
             do kb = 0, 1                                 ! the long chain's sites kb ns + 1 .. kb ns + ns
@@ -201,17 +202,91 @@ contains
                 call assertEqual( &
                     3, &
                     iterations, &
-                    location=pf_source_location('test_stepper_newton.pf', 161, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 162, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0, &
                     count(ul(kb*ns + 1:kb*ns + ns, 4) /= us(1:ns, 4)), &
-                    location=pf_source_location('test_stepper_newton.pf', 162, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 163, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             deallocate (ul, us)
         end do
     end subroutine test_blocked_iteration_is_the_unblocked_one
+
+    !> `newton_step` given the stepper's levels (`levels`, `columns`: the predictor of degree 6 and the right-hand side
+    !> formed inside, in one pass on a chain longer than `newton_block`) against the same step given the predictor
+    !> written here (`predicted`: the right-hand side by `scheme_rhs_and_predictor`): the same bits after 3
+    !> iterations, on a long and a short chain, for both potentials, with a smooth wave (degree 6 used) and with a
+    !> kink (the cubic extrapolation used).
+    ! @test
+    subroutine test_levels_predictor_is_the_two_loop_one()
+        integer, parameter :: lengths(2) = [2*newton_block + 37, 50]
+        real(wp), parameter :: dt = 0.05_wp
+        real(wp), parameter :: w(predictor_levels) = [7.0_wp, -21.0_wp, 35.0_wp, -35.0_wp, 21.0_wp, -7.0_wp, 1.0_wp]
+        type(chain_params) :: chain
+        type(scheme_type) :: scheme
+        type(newton_work) :: ws
+        real(wp), allocatable :: ua(:, :), ub(:, :)
+        integer :: il, ip, kink, lev, j, n, it_a, it_b, st_a, st_b
+        integer :: cols(predictor_levels)
+
+        cols = [(lev, lev=1, predictor_levels)]          ! column lev holds level k + 1 - lev
+        do il = 1, size(lengths)
+            n = lengths(il)
+            do ip = 1, 2
+                do kink = 0, 1
+                    chain%potential = merge(sine_gordon, klein_gordon, ip == 1)
+                    chain%n = n
+                    chain%n0 = n
+                    chain%gamma = 0.01_wp
+                    call scheme_init(scheme, chain, dt)
+                    allocate (ua(0:n + 1, predictor_levels + 1))
+                    do lev = 1, predictor_levels
+                        do j = 0, n + 1
+                            ua(j, lev) = 1.5_wp*sin(0.3_wp*real(j, wp) + 1.2_wp*dt*real(lev, wp))
+                        end do
+                    end do
+                    if (kink == 1) ua(n/2, 1) = ua(n/2, 1) + 0.5_wp   ! degree 6 and cubic differ by more than 0.05
+                    ua(n + 1, :) = 0.0_wp
+                    ua(0, predictor_levels + 1) = 1.5_wp*sin(-1.2_wp*dt)
+                    ub = ua
+                    call newton_work_init(ws, n)
+                    call newton_step(scheme, ws, ua(:, 3), ua(:, 2), ua(:, 1), ua(:, predictor_levels + 1), 0.0_wp, 3, &
+                                     it_a, st_a, levels=ua, columns=cols)
+                    do j = 1, n
+                        if (kink == 0) then
+                            ub(j, predictor_levels + 1) = w(1)*ub(j, 1) + w(2)*ub(j, 2) + w(3)*ub(j, 3) + w(4)*ub(j, 4) &
+                                                          + w(5)*ub(j, 5) + w(6)*ub(j, 6) + w(7)*ub(j, 7)
+                        else
+                            ub(j, predictor_levels + 1) = 3.0_wp*(ub(j, 1) - ub(j, 2)) + ub(j, 3)
+                        end if
+                    end do
+                    call newton_work_init(ws, n)
+                    call newton_step(scheme, ws, ub(:, 3), ub(:, 2), ub(:, 1), ub(:, predictor_levels + 1), 0.0_wp, 3, &
+                                     it_b, st_b, predicted=.true.)
+                    call assertEqual(3, it_a, location=pf_source_location('test_stepper_newton.pf', 220, 'assertEqual'))
+                    if (pf_any_failed()) return
+                    call assertEqual( &
+                        it_b, &
+                        it_a, &
+                        location=pf_source_location('test_stepper_newton.pf', 221, 'assertEqual'))
+                    if (pf_any_failed()) return
+                    call assertGreaterThan( &
+                        maxval(abs(ua(1:n, predictor_levels + 1) - ua(1:n, 1))), &
+                        0.01_wp, &
+                        location=pf_source_location('test_stepper_newton.pf', 222, 'assertGreaterThan'))
+                    if (pf_any_failed()) return
+                    call assertEqual( &
+                        0, &
+                        count(ua(1:n, predictor_levels + 1) /= ub(1:n, predictor_levels + 1)), &
+                        location=pf_source_location('test_stepper_newton.pf', 223, 'assertEqual'))
+                    if (pf_any_failed()) return
+                    deallocate (ua, ub)
+                end do
+            end do
+        end do
+    end subroutine test_levels_predictor_is_the_two_loop_one
 
     !> Newton's error stays below `newton_tol`: along a strongly driven run (every damping channel on, |u| > 2),
     !> each accepted step is compared with the fully converged solution of the same equation from the same levels
@@ -253,14 +328,14 @@ contains
                         call assertEqual( &
                             newton_ok, &
                             status, &
-                            location=pf_source_location('test_stepper_newton.pf', 205, 'assertEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 267, 'assertEqual'))
                         if (pf_any_failed()) return
                         call newton_step(scheme, ws, u(:, 1), u(:, 2), u(:, 3), u(:, 4), tols(it), 20, iterations, &
                                          status)
                         call assertEqual( &
                             newton_ok, &
                             status, &
-                            location=pf_source_location('test_stepper_newton.pf', 208, 'assertEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 270, 'assertEqual'))
                         if (pf_any_failed()) return
                         worst = max(worst, maxval(abs(u(:, 4) - exact)))
                         u = cshift(u, 1, dim=2)
@@ -268,13 +343,13 @@ contains
                     call assertLessThanOrEqual( &
                         worst, &
                         tols(it), &
-                        location=pf_source_location('test_stepper_newton.pf', 212, 'assertLessThanOrEqual'))
+                        location=pf_source_location('test_stepper_newton.pf', 274, 'assertLessThanOrEqual'))
                     if (pf_any_failed()) return
                     ! strongly nonlinear: |u| beyond 2 (sin u far from u) in the chain
                     call assertGreaterThan( &
                         maxval(abs(u(1:n, 3))), &
                         2.0_wp, &
-                        location=pf_source_location('test_stepper_newton.pf', 214, 'assertGreaterThan'))
+                        location=pf_source_location('test_stepper_newton.pf', 276, 'assertGreaterThan'))
                     if (pf_any_failed()) return
                 end do
             end do
@@ -323,26 +398,26 @@ contains
                             call assertEqual( &
                                 newton_ok, &
                                 status, &
-                                location=pf_source_location('test_stepper_newton.pf', 259, 'assertEqual'))
+                                location=pf_source_location('test_stepper_newton.pf', 321, 'assertEqual'))
                             if (pf_any_failed()) return
                             call newton%step(status)
                             call assertEqual( &
                                 step_ok, &
                                 status, &
-                                location=pf_source_location('test_stepper_newton.pf', 261, 'assertEqual'))
+                                location=pf_source_location('test_stepper_newton.pf', 323, 'assertEqual'))
                             if (pf_any_failed()) return
                             worst = max(worst, maxval(abs(newton%u(:, newton%ic) - exact)))
                         end do
                         call assertLessThanOrEqual( &
                             worst, &
                             run%numerics%newton_tol, &
-                            location=pf_source_location('test_stepper_newton.pf', 264, 'assertLessThanOrEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 326, 'assertLessThanOrEqual'))
                         if (pf_any_failed()) return
                         if (ia == 1) then
                             call assertLessThan( &
                                 real(newton%newton_iterations, wp), &
                                 1.5_wp*1500.0_wp, &
-                                location=pf_source_location('test_stepper_newton.pf', 266, 'assertLessThan'))
+                                location=pf_source_location('test_stepper_newton.pf', 328, 'assertLessThan'))
                             if (pf_any_failed()) return
                         end if
                         used(ie) = newton%newton_iterations
@@ -351,7 +426,7 @@ contains
                         call assertLessThan( &
                             real(used(2), wp), &
                             0.9_wp*real(used(1), wp), &
-                            location=pf_source_location('test_stepper_newton.pf', 271, 'assertLessThan'))
+                            location=pf_source_location('test_stepper_newton.pf', 333, 'assertLessThan'))
                         if (pf_any_failed()) return
                     end if
                 end do
@@ -380,20 +455,20 @@ contains
         call assertEqual( &
             2, &
             newton%initial_levels, &
-            location=pf_source_location('test_stepper_newton.pf', 296, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 358, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(2, newton%order, location=pf_source_location('test_stepper_newton.pf', 297, 'assertEqual'))
+        call assertEqual(2, newton%order, location=pf_source_location('test_stepper_newton.pf', 359, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             run%numerics%dt, &
             newton%level_time(), &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 298, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 360, 'assertEqual'))
         if (pf_any_failed()) return
         call ledger_close(ledger, newton%stored_energy())
         do k = 1, 1200
             call newton%step(status)
-            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_newton.pf', 302, 'assertEqual'))
+            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_newton.pf', 364, 'assertEqual'))
             if (pf_any_failed()) return
             call newton%account(ledger)
             call ledger_close(ledger, newton%stored_energy())
@@ -401,66 +476,66 @@ contains
         call assertEqual( &
             1200_i8, &
             newton%steps, &
-            location=pf_source_location('test_stepper_newton.pf', 306, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 368, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1201.0_wp*run%numerics%dt, &
             newton%level_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 307, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 369, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1200.5_wp*run%numerics%dt, &
             newton%energy_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 308, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 370, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             drive_psi(run%drive, newton%level_time()), &
             newton%displacement(0, 0), &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 309, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 371, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             newton%newton_iterations, &
             newton%tridiagonal_solves, &
-            location=pf_source_location('test_stepper_newton.pf', 310, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 372, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             newton%newton_iterations, &
             1200_i8, &
-            location=pf_source_location('test_stepper_newton.pf', 311, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 373, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0_i8, &
             newton%rhs_evaluations, &
-            location=pf_source_location('test_stepper_newton.pf', 312, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 374, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             newton%newton_max_iterations, &
             2, &
-            location=pf_source_location('test_stepper_newton.pf', 313, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 375, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         ! it transmits: far more energy goes in than an evanescent response takes
         call assertGreaterThan( &
             ledger%injected, &
             20.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 315, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 377, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             ledger%dissipated_beta, &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 316, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 378, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             ledger%dissipated_absorber, &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 317, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 379, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertLessThan( &
             ledger%max_step_residual, &
             1.0e-13_wp*ledger%energy_scale, &
-            location=pf_source_location('test_stepper_newton.pf', 318, 'assertLessThan'))
+            location=pf_source_location('test_stepper_newton.pf', 380, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_newton_stepper_counters_and_ledger
 
@@ -481,19 +556,19 @@ contains
         call assertEqual( &
             step_not_converged, &
             status, &
-            location=pf_source_location('test_stepper_newton.pf', 335, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 397, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 336, 'assertEqual'))
+        call assertEqual(0_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 398, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1_i8, &
             newton%newton_iterations, &
-            location=pf_source_location('test_stepper_newton.pf', 337, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 399, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "Newton did not converge in 1 iterations at t = 0.1", &
             newton%reason, &
-            location=pf_source_location('test_stepper_newton.pf', 338, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 400, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_newton_stepper_reports_failure
 
@@ -519,39 +594,39 @@ contains
                 call assertEqual( &
                     step_ok, &
                     status, &
-                    location=pf_source_location('test_stepper_newton.pf', 360, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 422, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     maxval(abs(newton%u(1:60, newton%ic))), &
                     newton%max_abs_u(1), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 361, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 423, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     maxval(abs(newton%u(20:60, newton%ic))), &
                     newton%max_abs_u(20), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 362, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 424, 'assertEqual'))
                 if (pf_any_failed()) return
                 call newton%verdict_measures(20, blowup, beyond)
                 call assertEqual( &
                     maxval(abs(newton%u(1:60, newton%ic))), &
                     blowup, &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 364, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 426, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     maxval(abs(newton%u(20:60, newton%ic))), &
                     beyond, &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 365, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 427, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             ! it moved
             call assertGreaterThan( &
                 newton%max_abs_u(1), &
                 1.0_wp, &
-                location=pf_source_location('test_stepper_newton.pf', 368, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_newton.pf', 430, 'assertGreaterThan'))
             if (pf_any_failed()) return
         end do
     end subroutine test_blowup_measure_is_the_level_maximum
@@ -574,7 +649,7 @@ contains
             call assertEqual( &
                 chain%n0 + 1, &
                 scheme%absorber_first, &
-                location=pf_source_location('test_stepper_newton.pf', 387, 'assertEqual'))
+                location=pf_source_location('test_stepper_newton.pf', 449, 'assertEqual'))
             if (pf_any_failed()) return
             do iy = 1, 3
                 do n = 0, 51
@@ -591,25 +666,25 @@ contains
                 call full_loop(r_p, r_gamma, r_beta, r_abs)
                 call assertTrue( &
                     same_bits(r_p, p_in), &
-                    location=pf_source_location('test_stepper_newton.pf', 401, 'assertTrue'))
+                    location=pf_source_location('test_stepper_newton.pf', 463, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     same_bits(r_gamma, d_gamma), &
-                    location=pf_source_location('test_stepper_newton.pf', 402, 'assertTrue'))
+                    location=pf_source_location('test_stepper_newton.pf', 464, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     same_bits(r_beta, d_beta), &
-                    location=pf_source_location('test_stepper_newton.pf', 403, 'assertTrue'))
+                    location=pf_source_location('test_stepper_newton.pf', 465, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     same_bits(r_abs, d_abs), &
-                    location=pf_source_location('test_stepper_newton.pf', 404, 'assertTrue'))
+                    location=pf_source_location('test_stepper_newton.pf', 466, 'assertTrue'))
                 if (pf_any_failed()) return
                 if (iy == 1 .and. ia == 1) then
                     call assertGreaterThan( &
                         d_abs, &
                         0.0_wp, &
-                        location=pf_source_location('test_stepper_newton.pf', 406, 'assertGreaterThan'))
+                        location=pf_source_location('test_stepper_newton.pf', 468, 'assertGreaterThan'))
                     if (pf_any_failed()) return
                 end if
             end do

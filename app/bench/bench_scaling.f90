@@ -59,8 +59,10 @@ contains
 
     !> Bytes the Newton step's loops read and write per site (8 bytes per array element touched, each array counted
     !> once per loop, as STREAM counts) for a step of `iterations` iterations, beta = 0, sine-Gordon, on N sites.
-    !> Before the iterations, 13 arrays (the predictor: 7 levels read, the new level written; the right-hand side:
-    !> 2 levels, e_n and the new level read, the right-hand side written). Each iteration runs its loops block by
+    !> Before the iterations, on a chain of one block, 13 arrays (the predictor: 7 levels read, the new level
+    !> written; the right-hand side: 2 levels, e_n and the new level read, the right-hand side written); on a longer
+    !> chain 10, in one pass (`predict_with_rhs`: 7 levels and e_n read, the new level and the right-hand side
+    !> written; the right-hand side's 2 levels are among the 7). Each iteration runs its loops block by
     !> block (`newton_block` sites); within a block the arrays it writes and reads again stay in the cache, so that
     !> through memory the first iteration streams 8 (2 levels, b_n and the right-hand side read; the new level, the
     !> update, sin and cos written) and every later one 11 (the update, sin, cos, 2 levels, b_n and the right-hand
@@ -77,7 +79,7 @@ contains
         if (n <= newton_block) then
             bytes = 8.0_wp*(13.0_wp + 20.0_wp + 17.0_wp*max(iterations - 1.0_wp, 0.0_wp))
         else
-            bytes = 8.0_wp*(13.0_wp + 8.0_wp + 11.0_wp*max(iterations - 1.0_wp, 0.0_wp))
+            bytes = 8.0_wp*(10.0_wp + 8.0_wp + 11.0_wp*max(iterations - 1.0_wp, 0.0_wp))
         end if
     end function step_bytes
 

@@ -6,8 +6,10 @@
 !> J is diagonal, fused with the residual and the update in one loop); on chains longer than `newton_block` sites that
 !> iteration runs block by block, so that its arrays stay in the cache, with the same bits). The stepper's predictor is the
 !> polynomial extrapolation of degree 6 from u^k .. u^{k-6} (`predictor_levels`; before t = 0 the chain is at
-!> rest): on smooth, sub-threshold runs it is close enough (|delta| ~ 1e-8) for the stopping test below to
-!> accept the first iteration; `newton_step` called alone extrapolates 3 u^k - 3 u^{k-1} + u^{k-2}. The first
+!> rest), on chains longer than `newton_block` formed in one pass with the right-hand side (`predict_with_rhs`: the
+!> levels then stream from memory once a step): on smooth, sub-threshold runs it is close enough (|delta| ~ 1e-8) for
+!> the stopping test below to accept the first iteration; `newton_step` called alone extrapolates
+!> 3 u^k - 3 u^{k-1} + u^{k-2}. The first
 !> iteration evaluates sin and cos of s = (x + u^{k-1})/2 in one vectorised loop (`sin_cos_array`); later ones
 !> advance them by angle addition (`gradient_and_slope_refine`), without transcendentals.
 !>
@@ -157,10 +159,10 @@ contains
 
         t_new = self%begin_step()
         self%u_max_known = .false.
-        call extrapolate(self%u, self%col(1:predictor_levels), self%u(1:self%n, self%inew))
         call newton_step(self%scheme, self%work, self%u(:, self%io2), self%u(:, self%io), self%u(:, self%ic), &
-                         self%u(:, self%inew), self%tol, self%max_iter, iters, status, predicted=.true., &
-                         exact_energy=self%exact_energy, u_max=self%u_max)
+                         self%u(:, self%inew), self%tol, self%max_iter, iters, status, &
+                         exact_energy=self%exact_energy, u_max=self%u_max, levels=self%u, &
+                         columns=self%col(1:predictor_levels))
         self%newton_iterations = self%newton_iterations + iters
         self%tridiagonal_solves = self%tridiagonal_solves + iters
         self%newton_max_iterations = max(self%newton_max_iterations, iters)
@@ -178,7 +180,7 @@ contains
     !> Advance one step: compute u^{k+1} (into `u_new(1:N)`) from u^k and u^{k-1}.
     !> `u_new(0)` must already hold the boundary value psi(t_{k+1}) and `u_new(N+1)` zero.
     pure subroutine newton_step(scheme, ws, u_older, u_old, u_cur, u_new, tol, max_iter, iterations, status, &
-                                predicted, exact_energy, u_max)
+                                predicted, exact_energy, u_max, levels, columns)
         !> Scheme coefficients.
         type(scheme_type), intent(in) :: scheme
         !> Work arrays (`newton_work_init`).
@@ -205,12 +207,27 @@ contains
         logical, intent(in), optional :: exact_energy
         !> max |u_new(1:N)| of the accepted iterate (set when `status` is `newton_ok`; a finite value then).
         real(wp), intent(out), optional :: u_max
+        !> With `columns`: the stepper's time levels u(0:N+1, L) (u_new, u_old, u_cur among them), from which the
+        !> predictor of degree 6 (`extrapolate`) and the right-hand side are formed here, in one pass on a chain of
+        !> more than `newton_block` sites (`predict_chain`; `predicted` is then not used).
+        real(wp), intent(in), contiguous, optional :: levels(0:, :)
+        !> Columns of u^k, u^{k-1}, ..., u^{k-6} in `levels`.
+        integer, intent(in), optional :: columns(predictor_levels)
         integer :: n, j, it, info
         real(wp) :: change, defect, scale, x_max, u_bound, h_max, mu, curvature
         logical :: exact
 
         n = scheme%n
-        if (present(predicted)) then
+        if (present(levels) .and. present(columns)) then
+            if (n > newton_block) then
+                ! a long chain: the predictor and the right-hand side in one pass through memory
+                call predict_chain(scheme, levels, columns, u_new(1:n), ws%rhs, h_max)
+            else
+                ! in the cache, two simpler loops are faster (the same bits)
+                call extrapolate(levels, columns, u_new(1:n))
+                call scheme_rhs_and_predictor(scheme, u_older, u_old, u_cur, ws%rhs, u_new, h_max, extrapolate=.false.)
+            end if
+        else if (present(predicted)) then
             call scheme_rhs_and_predictor(scheme, u_older, u_old, u_cur, ws%rhs, u_new, h_max, &
                                           extrapolate=.not. predicted)
         else
@@ -357,6 +374,78 @@ contains
             end do
         end if
     end subroutine extrapolate
+
+    !> The stepper's predictor and right-hand side on the whole chain (`predict_with_rhs`): the extrapolation of
+    !> degree 6, unless it differs from the cubic one 3 u^k - 3 u^{k-1} + u^{k-2} by more than `predictor_trust`
+    !> somewhere: then the motion is not smooth on the scale of dt (a kink, or a numerically unstable dt, whose
+    !> growing sawtooth the degree-6 extrapolation amplifies 128 times), and the cubic one is used.
+    pure subroutine predict_chain(scheme, u, columns, x, rhs, h_max)
+        !> Scheme coefficients.
+        type(scheme_type), intent(in) :: scheme
+        !> Time levels u(0:N+1, L).
+        real(wp), intent(in), contiguous :: u(0:, :)
+        !> Columns of u^k, u^{k-1}, ..., u^{k-6}.
+        integer, intent(in) :: columns(predictor_levels)
+        !> The predictor and the right-hand side, size N.
+        real(wp), intent(out), contiguous :: x(:), rhs(:)
+        !> max_n |x_n - u^{k-1}_n|/2.
+        real(wp), intent(out) :: h_max
+        real(wp) :: gap
+        integer :: j
+
+        call predict_with_rhs(scheme, scheme%e, u, columns, x, rhs, h_max, gap)
+        if (.not. (gap <= predictor_trust)) then
+            h_max = 0.0_wp
+            do j = 1, size(x)
+                x(j) = 3.0_wp*(u(j, columns(1)) - u(j, columns(2))) + u(j, columns(3))
+                h_max = max(h_max, 0.5_wp*abs(x(j) - u(j, columns(2))))
+            end do
+        end if
+    end subroutine predict_chain
+
+    !> The predictor x = sum_j w_j u(1:N, columns(j)) of degree 6 (`predictor_weights`), its largest difference from
+    !> the cubic extrapolation (`gap`), the right-hand side B u^k + C u^{k-1} (`scheme_rhs_and_predictor`'s, term for
+    !> term) and max |x_n - u^{k-1}_n|/2, in one pass, so that on a long chain the levels stream from memory once a
+    !> step.
+    pure subroutine predict_with_rhs(scheme, e, u, columns, x, rhs, h_max, gap)
+        !> Scheme coefficients.
+        type(scheme_type), intent(in) :: scheme
+        !> The scheme's e_n (`scheme%e`, passed as an array of its own: the loop then vectorises without a run-time
+        !> check of overlap with x and rhs).
+        real(wp), intent(in), contiguous :: e(:)
+        !> Time levels u(0:N+1, L).
+        real(wp), intent(in), contiguous :: u(0:, :)
+        !> Columns of u^k, u^{k-1}, ..., u^{k-6} (the first two, with their boundary cells, also give the right-hand
+        !> side).
+        integer, intent(in) :: columns(predictor_levels)
+        !> The predictor and the right-hand side, size N.
+        real(wp), intent(out), contiguous :: x(:), rhs(:)
+        !> max_n |x_n - u^{k-1}_n|/2 and max_n |x_n - cubic_n|.
+        real(wp), intent(out) :: h_max, gap
+        integer :: j, c1, c2, c3, c4, c5, c6, c7
+        real(wp) :: high
+
+        c1 = columns(1)
+        c2 = columns(2)
+        c3 = columns(3)
+        c4 = columns(4)
+        c5 = columns(5)
+        c6 = columns(6)
+        c7 = columns(7)
+        gap = 0.0_wp
+        h_max = 0.0_wp
+        !$omp simd private(high) reduction(max: gap, h_max)
+        do j = 1, size(x)
+            high = predictor_weights(1)*u(j, c1) + predictor_weights(2)*u(j, c2) + predictor_weights(3)*u(j, c3) &
+                   + predictor_weights(4)*u(j, c4) + predictor_weights(5)*u(j, c5) + predictor_weights(6)*u(j, c6) &
+                   + predictor_weights(7)*u(j, c7)
+            x(j) = high
+            gap = max(gap, abs(high - (3.0_wp*(u(j, c1) - u(j, c2)) + u(j, c3))))
+            rhs(j) = scheme%d*u(j, c1) + scheme%c2*(u(j - 1, c1) + u(j + 1, c1)) &
+                     + e(j)*u(j, c2) + scheme%a*(u(j - 1, c2) + u(j + 1, c2))
+            h_max = max(h_max, 0.5_wp*abs(high - u(j, c2)))
+        end do
+    end subroutine predict_with_rhs
 
     !> One Newton iteration with a diagonal Jacobian (beta = 0): G and dG/da at the iterate (first iteration:
     !> `gradient_and_slope_array`; later ones: `gradient_and_slope_refine`), then `diagonal_update`, taken block by
