@@ -194,46 +194,47 @@ program pf_driver
     use test_stepper_newton, only: t177 => test_newton_step_solves_the_scheme
     use test_stepper_newton, only: t178 => test_blocked_iteration_is_the_unblocked_one
     use test_stepper_newton, only: t179 => test_levels_predictor_is_the_two_loop_one
-    use test_stepper_newton, only: t180 => test_newton_error_below_tol
-    use test_stepper_newton, only: t181 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t182 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t183 => test_newton_stepper_reports_failure
-    use test_stepper_newton, only: t184 => test_blowup_measure_is_the_level_maximum
-    use test_stepper_newton, only: t185 => test_step_powers_without_bulk_damping
-    use test_strings, only: t186 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t187 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t188 => test_find_name_gives_the_first_index_or_zero
-    use test_strings, only: t189 => test_joined_trims_each_name_and_prefixes_it
-    use test_strings, only: t190 => test_lower_changes_only_ascii_capitals
+    use test_stepper_newton, only: t180 => test_uniform_loops_are_the_general_ones
+    use test_stepper_newton, only: t181 => test_newton_error_below_tol
+    use test_stepper_newton, only: t182 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t183 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t184 => test_newton_stepper_reports_failure
+    use test_stepper_newton, only: t185 => test_blowup_measure_is_the_level_maximum
+    use test_stepper_newton, only: t186 => test_step_powers_without_bulk_damping
+    use test_strings, only: t187 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t188 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t189 => test_find_name_gives_the_first_index_or_zero
+    use test_strings, only: t190 => test_joined_trims_each_name_and_prefixes_it
+    use test_strings, only: t191 => test_lower_changes_only_ascii_capitals
     use test_system, only: b28 => set_up
     use test_system, only: a28 => tear_down
-    use test_system, only: t191 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t192 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t193 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t194 => test_temporary_names_are_fresh
-    use test_system, only: t195 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t196 => test_monotone_step
-    use test_threshold, only: t197 => test_bisected_bracket
-    use test_threshold, only: t198 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t199 => test_two_transitions
-    use test_threshold, only: t200 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t201 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t202 => test_nothing_transmits
-    use test_threshold, only: t203 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t204 => test_lower_bound_transmits
-    use test_threshold, only: t205 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t206 => test_bad_arguments
-    use test_threshold, only: t207 => test_grid_helpers
+    use test_system, only: t192 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t193 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t194 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t195 => test_temporary_names_are_fresh
+    use test_system, only: t196 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t197 => test_monotone_step
+    use test_threshold, only: t198 => test_bisected_bracket
+    use test_threshold, only: t199 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t200 => test_two_transitions
+    use test_threshold, only: t201 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t202 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t203 => test_nothing_transmits
+    use test_threshold, only: t204 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t205 => test_lower_bound_transmits
+    use test_threshold, only: t206 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t207 => test_bad_arguments
+    use test_threshold, only: t208 => test_grid_helpers
     use test_workprec, only: b30 => set_up
     use test_workprec, only: a30 => tear_down
-    use test_workprec, only: t208 => test_rk8_eighth_order
-    use test_workprec, only: t209 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t210 => test_rk8_stability_polynomial
-    use test_workprec, only: t211 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t212 => test_unstable_runs_are_reported
-    use test_workprec, only: t213 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t214 => test_fitted_order
-    use test_workprec, only: t215 => test_step_kernels_timed
+    use test_workprec, only: t209 => test_rk8_eighth_order
+    use test_workprec, only: t210 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t211 => test_rk8_stability_polynomial
+    use test_workprec, only: t212 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t213 => test_unstable_runs_are_reported
+    use test_workprec, only: t214 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t215 => test_fitted_order
+    use test_workprec, only: t216 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -431,56 +432,57 @@ program pf_driver
     call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t177)
     call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t178)
     call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t179)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t180)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t181)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t182)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t183)
-    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t184)
-    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t185)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t186)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t187)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t188)
-    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t189)
-    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t190)
+    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t180)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t181)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t182)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t183)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t184)
+    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t185)
+    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t186)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t187)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t188)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t189)
+    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t190)
+    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t191)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t191, &
+        t192, &
         before=b28, &
         after=a28)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t192, before=b28, after=a28)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t193, before=b28, after=a28)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t193, &
+        t194, &
         before=b28, &
         after=a28)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t194, before=b28, after=a28)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t195, before=b28, after=a28)
-    call pf_run_test('test_threshold', 'test_monotone_step', t196)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t197)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t198)
-    call pf_run_test('test_threshold', 'test_two_transitions', t199)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t200)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t201)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t202)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t203)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t204)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t205)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t206)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t207)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t208, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t209, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t210, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t211, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t212, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t195, before=b28, after=a28)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t196, before=b28, after=a28)
+    call pf_run_test('test_threshold', 'test_monotone_step', t197)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t198)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t199)
+    call pf_run_test('test_threshold', 'test_two_transitions', t200)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t201)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t202)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t203)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t204)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t205)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t206)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t207)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t208)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t209, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t210, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t211, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t212, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t213, before=b30, after=a30)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t213, &
+        t214, &
         before=b30, &
         after=a30)
-    call pf_run_test('test_workprec', 'test_fitted_order', t214, before=b30, after=a30)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t215, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_fitted_order', t215, before=b30, after=a30)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t216, before=b30, after=a30)
     call pf_driver_finish()
 end program pf_driver

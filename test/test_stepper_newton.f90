@@ -288,6 +288,74 @@ contains
         end do
     end subroutine test_levels_predictor_is_the_two_loop_one
 
+    !> Before the absorber every b_n and e_n is the first one, and the stepper's loops take them from a register there:
+    !> a chain of three blocks with its absorber in the last (gamma > 0), stepped from the stepper's levels, against
+    !> the same step with `absorber_first` = 1 (every loop with the arrays): the same bits after 3 iterations, for
+    !> both potentials.
+    ! @test
+    subroutine test_uniform_loops_are_the_general_ones()
+        integer, parameter :: n = 3*newton_block - 100
+        real(wp), parameter :: dt = 0.05_wp
+        type(chain_params) :: chain
+        type(scheme_type) :: scheme, general
+        type(newton_work) :: ws
+        real(wp), allocatable :: ua(:, :), ub(:, :)
+        integer :: ip, lev, j, it_a, it_b, st_a, st_b
+        integer :: cols(predictor_levels)
+
+        cols = [(lev, lev=1, predictor_levels)]
+        do ip = 1, 2
+            chain%potential = merge(sine_gordon, klein_gordon, ip == 1)
+            chain%n = n
+            chain%n0 = 2*newton_block + 10
+            chain%gamma = 0.02_wp
+            call scheme_init(scheme, chain, dt)
+            ! two whole blocks before the absorber, whose first nonzero gamma'(n) is in the third
+            call assertGreaterThan( &
+                scheme%absorber_first, &
+                2*newton_block, &
+                location=pf_source_location('test_stepper_newton.pf', 253, 'assertGreaterThan'))
+            if (pf_any_failed()) return
+            call assertLessThan( &
+                scheme%absorber_first, &
+                n + 1, &
+                location=pf_source_location('test_stepper_newton.pf', 254, 'assertLessThan'))
+            if (pf_any_failed()) return
+            general = scheme
+            general%absorber_first = 1
+            allocate (ua(0:n + 1, predictor_levels + 1))
+            do lev = 1, predictor_levels
+                do j = 0, n + 1
+                    ua(j, lev) = 1.5_wp*sin(0.3_wp*real(j, wp) + 1.2_wp*dt*real(lev, wp))
+                end do
+            end do
+            ua(n + 1, :) = 0.0_wp
+            ua(0, predictor_levels + 1) = 1.5_wp*sin(-1.2_wp*dt)
+            ub = ua
+            call newton_work_init(ws, n)
+            call newton_step(scheme, ws, ua(:, 3), ua(:, 2), ua(:, 1), ua(:, predictor_levels + 1), 0.0_wp, 3, it_a, &
+                             st_a, levels=ua, columns=cols)
+            call newton_work_init(ws, n)
+            call newton_step(general, ws, ub(:, 3), ub(:, 2), ub(:, 1), ub(:, predictor_levels + 1), 0.0_wp, 3, it_b, &
+                             st_b, levels=ub, columns=cols)
+            call assertEqual(3, it_a, location=pf_source_location('test_stepper_newton.pf', 272, 'assertEqual'))
+            if (pf_any_failed()) return
+            call assertEqual(3, it_b, location=pf_source_location('test_stepper_newton.pf', 273, 'assertEqual'))
+            if (pf_any_failed()) return
+            call assertGreaterThan( &
+                maxval(abs(ua(1:n, predictor_levels + 1) - ua(1:n, 1))), &
+                0.01_wp, &
+                location=pf_source_location('test_stepper_newton.pf', 274, 'assertGreaterThan'))
+            if (pf_any_failed()) return
+            call assertEqual( &
+                0, &
+                count(ua(1:n, predictor_levels + 1) /= ub(1:n, predictor_levels + 1)), &
+                location=pf_source_location('test_stepper_newton.pf', 275, 'assertEqual'))
+            if (pf_any_failed()) return
+            deallocate (ua, ub)
+        end do
+    end subroutine test_uniform_loops_are_the_general_ones
+
     !> Newton's error stays below `newton_tol`: along a strongly driven run (every damping channel on, |u| > 2),
     !> each accepted step is compared with the fully converged solution of the same equation from the same levels
     !> (tolerance 1e-30, up to 50 iterations); the difference is at most the tolerance (1e-10 and 1e-6), for both
@@ -328,14 +396,14 @@ contains
                         call assertEqual( &
                             newton_ok, &
                             status, &
-                            location=pf_source_location('test_stepper_newton.pf', 267, 'assertEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 317, 'assertEqual'))
                         if (pf_any_failed()) return
                         call newton_step(scheme, ws, u(:, 1), u(:, 2), u(:, 3), u(:, 4), tols(it), 20, iterations, &
                                          status)
                         call assertEqual( &
                             newton_ok, &
                             status, &
-                            location=pf_source_location('test_stepper_newton.pf', 270, 'assertEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 320, 'assertEqual'))
                         if (pf_any_failed()) return
                         worst = max(worst, maxval(abs(u(:, 4) - exact)))
                         u = cshift(u, 1, dim=2)
@@ -343,13 +411,13 @@ contains
                     call assertLessThanOrEqual( &
                         worst, &
                         tols(it), &
-                        location=pf_source_location('test_stepper_newton.pf', 274, 'assertLessThanOrEqual'))
+                        location=pf_source_location('test_stepper_newton.pf', 324, 'assertLessThanOrEqual'))
                     if (pf_any_failed()) return
                     ! strongly nonlinear: |u| beyond 2 (sin u far from u) in the chain
                     call assertGreaterThan( &
                         maxval(abs(u(1:n, 3))), &
                         2.0_wp, &
-                        location=pf_source_location('test_stepper_newton.pf', 276, 'assertGreaterThan'))
+                        location=pf_source_location('test_stepper_newton.pf', 326, 'assertGreaterThan'))
                     if (pf_any_failed()) return
                 end do
             end do
@@ -398,26 +466,26 @@ contains
                             call assertEqual( &
                                 newton_ok, &
                                 status, &
-                                location=pf_source_location('test_stepper_newton.pf', 321, 'assertEqual'))
+                                location=pf_source_location('test_stepper_newton.pf', 371, 'assertEqual'))
                             if (pf_any_failed()) return
                             call newton%step(status)
                             call assertEqual( &
                                 step_ok, &
                                 status, &
-                                location=pf_source_location('test_stepper_newton.pf', 323, 'assertEqual'))
+                                location=pf_source_location('test_stepper_newton.pf', 373, 'assertEqual'))
                             if (pf_any_failed()) return
                             worst = max(worst, maxval(abs(newton%u(:, newton%ic) - exact)))
                         end do
                         call assertLessThanOrEqual( &
                             worst, &
                             run%numerics%newton_tol, &
-                            location=pf_source_location('test_stepper_newton.pf', 326, 'assertLessThanOrEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 376, 'assertLessThanOrEqual'))
                         if (pf_any_failed()) return
                         if (ia == 1) then
                             call assertLessThan( &
                                 real(newton%newton_iterations, wp), &
                                 1.5_wp*1500.0_wp, &
-                                location=pf_source_location('test_stepper_newton.pf', 328, 'assertLessThan'))
+                                location=pf_source_location('test_stepper_newton.pf', 378, 'assertLessThan'))
                             if (pf_any_failed()) return
                         end if
                         used(ie) = newton%newton_iterations
@@ -426,7 +494,7 @@ contains
                         call assertLessThan( &
                             real(used(2), wp), &
                             0.9_wp*real(used(1), wp), &
-                            location=pf_source_location('test_stepper_newton.pf', 333, 'assertLessThan'))
+                            location=pf_source_location('test_stepper_newton.pf', 383, 'assertLessThan'))
                         if (pf_any_failed()) return
                     end if
                 end do
@@ -455,20 +523,20 @@ contains
         call assertEqual( &
             2, &
             newton%initial_levels, &
-            location=pf_source_location('test_stepper_newton.pf', 358, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 408, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(2, newton%order, location=pf_source_location('test_stepper_newton.pf', 359, 'assertEqual'))
+        call assertEqual(2, newton%order, location=pf_source_location('test_stepper_newton.pf', 409, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             run%numerics%dt, &
             newton%level_time(), &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 360, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 410, 'assertEqual'))
         if (pf_any_failed()) return
         call ledger_close(ledger, newton%stored_energy())
         do k = 1, 1200
             call newton%step(status)
-            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_newton.pf', 364, 'assertEqual'))
+            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_newton.pf', 414, 'assertEqual'))
             if (pf_any_failed()) return
             call newton%account(ledger)
             call ledger_close(ledger, newton%stored_energy())
@@ -476,66 +544,66 @@ contains
         call assertEqual( &
             1200_i8, &
             newton%steps, &
-            location=pf_source_location('test_stepper_newton.pf', 368, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 418, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1201.0_wp*run%numerics%dt, &
             newton%level_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 369, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 419, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1200.5_wp*run%numerics%dt, &
             newton%energy_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 370, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 420, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             drive_psi(run%drive, newton%level_time()), &
             newton%displacement(0, 0), &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 371, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 421, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             newton%newton_iterations, &
             newton%tridiagonal_solves, &
-            location=pf_source_location('test_stepper_newton.pf', 372, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 422, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             newton%newton_iterations, &
             1200_i8, &
-            location=pf_source_location('test_stepper_newton.pf', 373, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 423, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0_i8, &
             newton%rhs_evaluations, &
-            location=pf_source_location('test_stepper_newton.pf', 374, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 424, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             newton%newton_max_iterations, &
             2, &
-            location=pf_source_location('test_stepper_newton.pf', 375, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 425, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         ! it transmits: far more energy goes in than an evanescent response takes
         call assertGreaterThan( &
             ledger%injected, &
             20.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 377, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 427, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             ledger%dissipated_beta, &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 378, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 428, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             ledger%dissipated_absorber, &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 379, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 429, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertLessThan( &
             ledger%max_step_residual, &
             1.0e-13_wp*ledger%energy_scale, &
-            location=pf_source_location('test_stepper_newton.pf', 380, 'assertLessThan'))
+            location=pf_source_location('test_stepper_newton.pf', 430, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_newton_stepper_counters_and_ledger
 
@@ -556,19 +624,19 @@ contains
         call assertEqual( &
             step_not_converged, &
             status, &
-            location=pf_source_location('test_stepper_newton.pf', 397, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 447, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 398, 'assertEqual'))
+        call assertEqual(0_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 448, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1_i8, &
             newton%newton_iterations, &
-            location=pf_source_location('test_stepper_newton.pf', 399, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 449, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "Newton did not converge in 1 iterations at t = 0.1", &
             newton%reason, &
-            location=pf_source_location('test_stepper_newton.pf', 400, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 450, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_newton_stepper_reports_failure
 
@@ -594,39 +662,39 @@ contains
                 call assertEqual( &
                     step_ok, &
                     status, &
-                    location=pf_source_location('test_stepper_newton.pf', 422, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 472, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     maxval(abs(newton%u(1:60, newton%ic))), &
                     newton%max_abs_u(1), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 423, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 473, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     maxval(abs(newton%u(20:60, newton%ic))), &
                     newton%max_abs_u(20), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 424, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 474, 'assertEqual'))
                 if (pf_any_failed()) return
                 call newton%verdict_measures(20, blowup, beyond)
                 call assertEqual( &
                     maxval(abs(newton%u(1:60, newton%ic))), &
                     blowup, &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 426, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 476, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     maxval(abs(newton%u(20:60, newton%ic))), &
                     beyond, &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 427, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 477, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             ! it moved
             call assertGreaterThan( &
                 newton%max_abs_u(1), &
                 1.0_wp, &
-                location=pf_source_location('test_stepper_newton.pf', 430, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_newton.pf', 480, 'assertGreaterThan'))
             if (pf_any_failed()) return
         end do
     end subroutine test_blowup_measure_is_the_level_maximum
@@ -649,7 +717,7 @@ contains
             call assertEqual( &
                 chain%n0 + 1, &
                 scheme%absorber_first, &
-                location=pf_source_location('test_stepper_newton.pf', 449, 'assertEqual'))
+                location=pf_source_location('test_stepper_newton.pf', 499, 'assertEqual'))
             if (pf_any_failed()) return
             do iy = 1, 3
                 do n = 0, 51
@@ -666,25 +734,25 @@ contains
                 call full_loop(r_p, r_gamma, r_beta, r_abs)
                 call assertTrue( &
                     same_bits(r_p, p_in), &
-                    location=pf_source_location('test_stepper_newton.pf', 463, 'assertTrue'))
+                    location=pf_source_location('test_stepper_newton.pf', 513, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     same_bits(r_gamma, d_gamma), &
-                    location=pf_source_location('test_stepper_newton.pf', 464, 'assertTrue'))
+                    location=pf_source_location('test_stepper_newton.pf', 514, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     same_bits(r_beta, d_beta), &
-                    location=pf_source_location('test_stepper_newton.pf', 465, 'assertTrue'))
+                    location=pf_source_location('test_stepper_newton.pf', 515, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     same_bits(r_abs, d_abs), &
-                    location=pf_source_location('test_stepper_newton.pf', 466, 'assertTrue'))
+                    location=pf_source_location('test_stepper_newton.pf', 516, 'assertTrue'))
                 if (pf_any_failed()) return
                 if (iy == 1 .and. ia == 1) then
                     call assertGreaterThan( &
                         d_abs, &
                         0.0_wp, &
-                        location=pf_source_location('test_stepper_newton.pf', 468, 'assertGreaterThan'))
+                        location=pf_source_location('test_stepper_newton.pf', 518, 'assertGreaterThan'))
                     if (pf_any_failed()) return
                 end if
             end do

@@ -7,7 +7,8 @@
 !> iteration runs block by block, so that its arrays stay in the cache, with the same bits). The stepper's predictor is the
 !> polynomial extrapolation of degree 6 from u^k .. u^{k-6} (`predictor_levels`; before t = 0 the chain is at
 !> rest), on chains longer than `newton_block` formed in one pass with the right-hand side (`predict_with_rhs`: the
-!> levels then stream from memory once a step): on smooth, sub-threshold runs it is close enough (|delta| ~ 1e-8) for
+!> levels then stream from memory once a step; before the absorber, where b_n and e_n are exactly b_1 and e_1, the
+!> loops take them from a register): on smooth, sub-threshold runs it is close enough (|delta| ~ 1e-8) for
 !> the stopping test below to accept the first iteration; `newton_step` called alone extrapolates
 !> 3 u^k - 3 u^{k-1} + u^{k-2}. The first
 !> iteration evaluates sin and cos of s = (x + u^{k-1})/2 in one vectorised loop (`sin_cos_array`); later ones
@@ -422,8 +423,8 @@ contains
         real(wp), intent(out), contiguous :: x(:), rhs(:)
         !> max_n |x_n - u^{k-1}_n|/2 and max_n |x_n - cubic_n|.
         real(wp), intent(out) :: h_max, gap
-        integer :: j, c1, c2, c3, c4, c5, c6, c7
-        real(wp) :: high
+        integer :: j, m, c1, c2, c3, c4, c5, c6, c7
+        real(wp) :: high, e1
 
         c1 = columns(1)
         c2 = columns(2)
@@ -434,8 +435,22 @@ contains
         c7 = columns(7)
         gap = 0.0_wp
         h_max = 0.0_wp
+        ! before the absorber every e_n is e_1 (alpha_n = gamma exactly): one stream less
+        m = min(size(x), scheme%absorber_first - 1)
+        e1 = e(1)
         !$omp simd private(high) reduction(max: gap, h_max)
-        do j = 1, size(x)
+        do j = 1, m
+            high = predictor_weights(1)*u(j, c1) + predictor_weights(2)*u(j, c2) + predictor_weights(3)*u(j, c3) &
+                   + predictor_weights(4)*u(j, c4) + predictor_weights(5)*u(j, c5) + predictor_weights(6)*u(j, c6) &
+                   + predictor_weights(7)*u(j, c7)
+            x(j) = high
+            gap = max(gap, abs(high - (3.0_wp*(u(j, c1) - u(j, c2)) + u(j, c3))))
+            rhs(j) = scheme%d*u(j, c1) + scheme%c2*(u(j - 1, c1) + u(j + 1, c1)) &
+                     + e1*u(j, c2) + scheme%a*(u(j - 1, c2) + u(j + 1, c2))
+            h_max = max(h_max, 0.5_wp*abs(high - u(j, c2)))
+        end do
+        !$omp simd private(high) reduction(max: gap, h_max)
+        do j = m + 1, size(x)
             high = predictor_weights(1)*u(j, c1) + predictor_weights(2)*u(j, c2) + predictor_weights(3)*u(j, c3) &
                    + predictor_weights(4)*u(j, c4) + predictor_weights(5)*u(j, c5) + predictor_weights(6)*u(j, c6) &
                    + predictor_weights(7)*u(j, c7)
@@ -496,8 +511,13 @@ contains
                                                ws%g(lo:hi), ws%dg(lo:hi), ws%sin_s(lo:hi), ws%cos_s(lo:hi), &
                                                delta_max=c_in, h_max=h_in)
             end if
-            call diagonal_update(scheme%b(lo:hi), ws%rhs(lo:hi), ws%g(lo:hi), ws%dg(lo:hi), x_old(lo:hi), x(lo:hi), &
-                                 ws%work(lo:hi), c_b, d_b, s_b, h_b, x_b)
+            if (hi < scheme%absorber_first) then
+                call diagonal_update_uniform(scheme%b(1), ws%rhs(lo:hi), ws%g(lo:hi), ws%dg(lo:hi), x_old(lo:hi), &
+                                             x(lo:hi), ws%work(lo:hi), c_b, d_b, s_b, h_b, x_b)
+            else
+                call diagonal_update(scheme%b(lo:hi), ws%rhs(lo:hi), ws%g(lo:hi), ws%dg(lo:hi), x_old(lo:hi), &
+                                     x(lo:hi), ws%work(lo:hi), c_b, d_b, s_b, h_b, x_b)
+            end if
             if (lo == 1) then
                 change = c_b
                 defect = d_b
@@ -553,6 +573,44 @@ contains
             scale = scale + b(j)*abs(xn)*h
         end do
     end subroutine diagonal_update
+
+    !> `diagonal_update` on sites before the absorber, where every b_n is b_1 (alpha_n = gamma exactly): the same
+    !> loop with b_1 in a register (one stream less through memory on a long chain).
+    pure subroutine diagonal_update_uniform(b1, rhs, g, dg, x_old, x, delta, change, defect, scale, h_max, x_max)
+        !> The common diagonal b_1 of A.
+        real(wp), intent(in) :: b1
+        !> Right-hand side, G and dG/da at the current iterate.
+        real(wp), intent(in), contiguous :: rhs(:), g(:), dg(:)
+        !> Level k-1 (the second argument of G).
+        real(wp), intent(in), contiguous :: x_old(:)
+        !> The iterate: in the current one, out the updated one.
+        real(wp), intent(inout), contiguous :: x(:)
+        !> The update.
+        real(wp), intent(out), contiguous :: delta(:)
+        !> As in `diagonal_update`.
+        real(wp), intent(out) :: change, defect, scale, h_max, x_max
+        integer :: j
+        real(wp) :: d, xn, h
+
+        change = 0.0_wp
+        defect = 0.0_wp
+        scale = 0.0_wp
+        h_max = 0.0_wp
+        x_max = 0.0_wp
+        !$omp simd private(d, xn, h) reduction(max: change, h_max, x_max) reduction(+: defect, scale)
+        do j = 1, size(x)
+            d = (rhs(j) - b1*x(j) - g(j))/(b1 + dg(j))
+            xn = x(j) + d
+            h = 0.5_wp*abs(xn - x_old(j))
+            x(j) = xn
+            delta(j) = d
+            change = max(change, abs(d))
+            h_max = max(h_max, h)
+            x_max = max(x_max, abs(xn))
+            defect = defect + d*d*h
+            scale = scale + b1*abs(xn)*h
+        end do
+    end subroutine diagonal_update_uniform
 
     !> Apply a Newton update (tridiagonal case) and form the sums of the stopping test (as `diagonal_update`).
     pure subroutine apply_update(b, x_old, x, delta, change, defect, scale, h_max, x_max)
