@@ -39,6 +39,24 @@ contains
         chain%m2 = 0.01_wp
     end subroutine small_chain
 
+    !> The stepper's levels for the predictor tests: columns 1 .. `predictor_levels` hold u^k, u^{k-1}, ... of the
+    !> wave u = 1.5 sin(0.3 n + 1.2 t) at t = -dt, -2 dt, ... (right ends 0), the last column the next level's driven
+    !> end.
+    subroutine wave_levels(n, dt, u)
+        integer, intent(in) :: n
+        real(wp), intent(in) :: dt
+        real(wp), allocatable, intent(out) :: u(:, :)
+        integer :: lev, j
+
+        allocate (u(0:n + 1, predictor_levels + 1), source=0.0_wp)
+        do lev = 1, predictor_levels
+            do j = 0, n
+                u(j, lev) = 1.5_wp*sin(0.3_wp*real(j, wp) + 1.2_wp*dt*real(lev, wp))
+            end do
+        end do
+        u(0, predictor_levels + 1) = 1.5_wp*sin(-1.2_wp*dt)
+    end subroutine wave_levels
+
     !> Known levels u^{k-2}, u^{k-1}, u^k (a travelling hump, with their driven ends) and the boundary cells of u^{k+1}.
     subroutine known_levels(u_older, u_old, u_cur, u_new)
         real(wp), intent(out) :: u_older(0:nsite + 1), u_old(0:nsite + 1), u_cur(0:nsite + 1), u_new(0:nsite + 1)
@@ -103,47 +121,47 @@ contains
                 call assertEqual( &
                     newton_ok, &
                     status, &
-                    location=pf_source_location('test_stepper_newton.pf', 102, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 120, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertGreaterThanOrEqual( &
                     iterations, &
                     2, &
-                    location=pf_source_location('test_stepper_newton.pf', 103, 'assertGreaterThanOrEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 121, 'assertGreaterThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertLessThanOrEqual( &
                     iterations, &
                     6, &
-                    location=pf_source_location('test_stepper_newton.pf', 104, 'assertLessThanOrEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 122, 'assertLessThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     psi_new, &
                     u_new(0), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 105, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 123, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0.0_wp, &
                     u_new(nsite + 1), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 106, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 124, 'assertEqual'))
                 if (pf_any_failed()) return
                 call scheme_residual(chain, dt, u_old, u_cur, u_new, residual, scale)
                 call assertGreaterThan( &
                     scale, &
                     100.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 108, 'assertGreaterThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 126, 'assertGreaterThan'))
                 if (pf_any_failed()) return
                 call assertLessThan( &
                     residual, &
                     1.0e-14_wp*scale, &
-                    location=pf_source_location('test_stepper_newton.pf', 109, 'assertLessThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 127, 'assertLessThan'))
                 if (pf_any_failed()) return
                 ! the step moved the chain: the solution is not the predictor 3 u^k - 3 u^{k-1} + u^{k-2}
                 predictor = 3.0_wp*(u_cur(1:nsite) - u_old(1:nsite)) + u_older(1:nsite)
                 call assertGreaterThan( &
                     maxval(abs(u_new(1:nsite) - predictor)), &
                     1.0e-6_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 112, 'assertGreaterThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 130, 'assertGreaterThan'))
                 if (pf_any_failed()) return
             end do
         end do
@@ -185,12 +203,12 @@ contains
             ul(nl + 1, 4) = 0.0_wp
             call newton_work_init(ws, nl)
             call newton_step(long_scheme, ws, ul(:, 1), ul(:, 2), ul(:, 3), ul(:, 4), 0.0_wp, 3, iterations, status)
-            call assertEqual(3, iterations, location=pf_source_location('test_stepper_newton.pf', 153, 'assertEqual'))
+            call assertEqual(3, iterations, location=pf_source_location('test_stepper_newton.pf', 171, 'assertEqual'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 maxval(abs(ul(1:nl, 4) - ul(1:nl, 3))), &
                 0.01_wp, &
-                location=pf_source_location('test_stepper_newton.pf', 154, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_newton.pf', 172, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call newton_work_init(ws, ns)
             do kb = 0, 1                                 ! the long chain's sites kb ns + 1 .. kb ns + ns
@@ -202,12 +220,12 @@ contains
                 call assertEqual( &
                     3, &
                     iterations, &
-                    location=pf_source_location('test_stepper_newton.pf', 162, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 180, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0, &
                     count(ul(kb*ns + 1:kb*ns + ns, 4) /= us(1:ns, 4)), &
-                    location=pf_source_location('test_stepper_newton.pf', 163, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 181, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             deallocate (ul, us)
@@ -241,15 +259,8 @@ contains
                     chain%n0 = n
                     chain%gamma = 0.01_wp
                     call scheme_init(scheme, chain, dt)
-                    allocate (ua(0:n + 1, predictor_levels + 1))
-                    do lev = 1, predictor_levels
-                        do j = 0, n + 1
-                            ua(j, lev) = 1.5_wp*sin(0.3_wp*real(j, wp) + 1.2_wp*dt*real(lev, wp))
-                        end do
-                    end do
+                    call wave_levels(n, dt, ua)
                     if (kink == 1) ua(n/2, 1) = ua(n/2, 1) + 0.5_wp   ! degree 6 and cubic differ by more than 0.05
-                    ua(n + 1, :) = 0.0_wp
-                    ua(0, predictor_levels + 1) = 1.5_wp*sin(-1.2_wp*dt)
                     ub = ua
                     call newton_work_init(ws, n)
                     call newton_step(scheme, ws, ua(:, 3), ua(:, 2), ua(:, 1), ua(:, predictor_levels + 1), 0.0_wp, 3, &
@@ -265,22 +276,22 @@ contains
                     call newton_work_init(ws, n)
                     call newton_step(scheme, ws, ub(:, 3), ub(:, 2), ub(:, 1), ub(:, predictor_levels + 1), 0.0_wp, 3, &
                                      it_b, st_b, predicted=.true.)
-                    call assertEqual(3, it_a, location=pf_source_location('test_stepper_newton.pf', 220, 'assertEqual'))
+                    call assertEqual(3, it_a, location=pf_source_location('test_stepper_newton.pf', 231, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         it_b, &
                         it_a, &
-                        location=pf_source_location('test_stepper_newton.pf', 221, 'assertEqual'))
+                        location=pf_source_location('test_stepper_newton.pf', 232, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertGreaterThan( &
                         maxval(abs(ua(1:n, predictor_levels + 1) - ua(1:n, 1))), &
                         0.01_wp, &
-                        location=pf_source_location('test_stepper_newton.pf', 222, 'assertGreaterThan'))
+                        location=pf_source_location('test_stepper_newton.pf', 233, 'assertGreaterThan'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         0, &
                         count(ua(1:n, predictor_levels + 1) /= ub(1:n, predictor_levels + 1)), &
-                        location=pf_source_location('test_stepper_newton.pf', 223, 'assertEqual'))
+                        location=pf_source_location('test_stepper_newton.pf', 234, 'assertEqual'))
                     if (pf_any_failed()) return
                     deallocate (ua, ub)
                 end do
@@ -300,7 +311,7 @@ contains
         type(scheme_type) :: scheme, general
         type(newton_work) :: ws
         real(wp), allocatable :: ua(:, :), ub(:, :)
-        integer :: ip, lev, j, it_a, it_b, st_a, st_b
+        integer :: ip, lev, it_a, it_b, st_a, st_b
         integer :: cols(predictor_levels)
 
         cols = [(lev, lev=1, predictor_levels)]
@@ -314,23 +325,16 @@ contains
             call assertGreaterThan( &
                 scheme%absorber_first, &
                 2*newton_block, &
-                location=pf_source_location('test_stepper_newton.pf', 253, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_newton.pf', 264, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertLessThan( &
                 scheme%absorber_first, &
                 n + 1, &
-                location=pf_source_location('test_stepper_newton.pf', 254, 'assertLessThan'))
+                location=pf_source_location('test_stepper_newton.pf', 265, 'assertLessThan'))
             if (pf_any_failed()) return
             general = scheme
             general%absorber_first = 1
-            allocate (ua(0:n + 1, predictor_levels + 1))
-            do lev = 1, predictor_levels
-                do j = 0, n + 1
-                    ua(j, lev) = 1.5_wp*sin(0.3_wp*real(j, wp) + 1.2_wp*dt*real(lev, wp))
-                end do
-            end do
-            ua(n + 1, :) = 0.0_wp
-            ua(0, predictor_levels + 1) = 1.5_wp*sin(-1.2_wp*dt)
+            call wave_levels(n, dt, ua)
             ub = ua
             call newton_work_init(ws, n)
             call newton_step(scheme, ws, ua(:, 3), ua(:, 2), ua(:, 1), ua(:, predictor_levels + 1), 0.0_wp, 3, it_a, &
@@ -338,19 +342,19 @@ contains
             call newton_work_init(ws, n)
             call newton_step(general, ws, ub(:, 3), ub(:, 2), ub(:, 1), ub(:, predictor_levels + 1), 0.0_wp, 3, it_b, &
                              st_b, levels=ub, columns=cols)
-            call assertEqual(3, it_a, location=pf_source_location('test_stepper_newton.pf', 272, 'assertEqual'))
+            call assertEqual(3, it_a, location=pf_source_location('test_stepper_newton.pf', 276, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertEqual(3, it_b, location=pf_source_location('test_stepper_newton.pf', 273, 'assertEqual'))
+            call assertEqual(3, it_b, location=pf_source_location('test_stepper_newton.pf', 277, 'assertEqual'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 maxval(abs(ua(1:n, predictor_levels + 1) - ua(1:n, 1))), &
                 0.01_wp, &
-                location=pf_source_location('test_stepper_newton.pf', 274, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_newton.pf', 278, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0, &
                 count(ua(1:n, predictor_levels + 1) /= ub(1:n, predictor_levels + 1)), &
-                location=pf_source_location('test_stepper_newton.pf', 275, 'assertEqual'))
+                location=pf_source_location('test_stepper_newton.pf', 279, 'assertEqual'))
             if (pf_any_failed()) return
             deallocate (ua, ub)
         end do
@@ -396,14 +400,14 @@ contains
                         call assertEqual( &
                             newton_ok, &
                             status, &
-                            location=pf_source_location('test_stepper_newton.pf', 317, 'assertEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 321, 'assertEqual'))
                         if (pf_any_failed()) return
                         call newton_step(scheme, ws, u(:, 1), u(:, 2), u(:, 3), u(:, 4), tols(it), 20, iterations, &
                                          status)
                         call assertEqual( &
                             newton_ok, &
                             status, &
-                            location=pf_source_location('test_stepper_newton.pf', 320, 'assertEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 324, 'assertEqual'))
                         if (pf_any_failed()) return
                         worst = max(worst, maxval(abs(u(:, 4) - exact)))
                         u = cshift(u, 1, dim=2)
@@ -411,13 +415,13 @@ contains
                     call assertLessThanOrEqual( &
                         worst, &
                         tols(it), &
-                        location=pf_source_location('test_stepper_newton.pf', 324, 'assertLessThanOrEqual'))
+                        location=pf_source_location('test_stepper_newton.pf', 328, 'assertLessThanOrEqual'))
                     if (pf_any_failed()) return
                     ! strongly nonlinear: |u| beyond 2 (sin u far from u) in the chain
                     call assertGreaterThan( &
                         maxval(abs(u(1:n, 3))), &
                         2.0_wp, &
-                        location=pf_source_location('test_stepper_newton.pf', 326, 'assertGreaterThan'))
+                        location=pf_source_location('test_stepper_newton.pf', 330, 'assertGreaterThan'))
                     if (pf_any_failed()) return
                 end do
             end do
@@ -466,26 +470,26 @@ contains
                             call assertEqual( &
                                 newton_ok, &
                                 status, &
-                                location=pf_source_location('test_stepper_newton.pf', 371, 'assertEqual'))
+                                location=pf_source_location('test_stepper_newton.pf', 375, 'assertEqual'))
                             if (pf_any_failed()) return
                             call newton%step(status)
                             call assertEqual( &
                                 step_ok, &
                                 status, &
-                                location=pf_source_location('test_stepper_newton.pf', 373, 'assertEqual'))
+                                location=pf_source_location('test_stepper_newton.pf', 377, 'assertEqual'))
                             if (pf_any_failed()) return
                             worst = max(worst, maxval(abs(newton%u(:, newton%ic) - exact)))
                         end do
                         call assertLessThanOrEqual( &
                             worst, &
                             run%numerics%newton_tol, &
-                            location=pf_source_location('test_stepper_newton.pf', 376, 'assertLessThanOrEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 380, 'assertLessThanOrEqual'))
                         if (pf_any_failed()) return
                         if (ia == 1) then
                             call assertLessThan( &
                                 real(newton%newton_iterations, wp), &
                                 1.5_wp*1500.0_wp, &
-                                location=pf_source_location('test_stepper_newton.pf', 378, 'assertLessThan'))
+                                location=pf_source_location('test_stepper_newton.pf', 382, 'assertLessThan'))
                             if (pf_any_failed()) return
                         end if
                         used(ie) = newton%newton_iterations
@@ -494,7 +498,7 @@ contains
                         call assertLessThan( &
                             real(used(2), wp), &
                             0.9_wp*real(used(1), wp), &
-                            location=pf_source_location('test_stepper_newton.pf', 383, 'assertLessThan'))
+                            location=pf_source_location('test_stepper_newton.pf', 387, 'assertLessThan'))
                         if (pf_any_failed()) return
                     end if
                 end do
@@ -523,20 +527,20 @@ contains
         call assertEqual( &
             2, &
             newton%initial_levels, &
-            location=pf_source_location('test_stepper_newton.pf', 408, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 412, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(2, newton%order, location=pf_source_location('test_stepper_newton.pf', 409, 'assertEqual'))
+        call assertEqual(2, newton%order, location=pf_source_location('test_stepper_newton.pf', 413, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             run%numerics%dt, &
             newton%level_time(), &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 410, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 414, 'assertEqual'))
         if (pf_any_failed()) return
         call ledger_close(ledger, newton%stored_energy())
         do k = 1, 1200
             call newton%step(status)
-            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_newton.pf', 414, 'assertEqual'))
+            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_newton.pf', 418, 'assertEqual'))
             if (pf_any_failed()) return
             call newton%account(ledger)
             call ledger_close(ledger, newton%stored_energy())
@@ -544,66 +548,66 @@ contains
         call assertEqual( &
             1200_i8, &
             newton%steps, &
-            location=pf_source_location('test_stepper_newton.pf', 418, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 422, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1201.0_wp*run%numerics%dt, &
             newton%level_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 419, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 423, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1200.5_wp*run%numerics%dt, &
             newton%energy_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 420, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 424, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             drive_psi(run%drive, newton%level_time()), &
             newton%displacement(0, 0), &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 421, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 425, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             newton%newton_iterations, &
             newton%tridiagonal_solves, &
-            location=pf_source_location('test_stepper_newton.pf', 422, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 426, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             newton%newton_iterations, &
             1200_i8, &
-            location=pf_source_location('test_stepper_newton.pf', 423, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 427, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0_i8, &
             newton%rhs_evaluations, &
-            location=pf_source_location('test_stepper_newton.pf', 424, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 428, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             newton%newton_max_iterations, &
             2, &
-            location=pf_source_location('test_stepper_newton.pf', 425, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 429, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         ! it transmits: far more energy goes in than an evanescent response takes
         call assertGreaterThan( &
             ledger%injected, &
             20.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 427, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 431, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             ledger%dissipated_beta, &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 428, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 432, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             ledger%dissipated_absorber, &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 429, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 433, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertLessThan( &
             ledger%max_step_residual, &
             1.0e-13_wp*ledger%energy_scale, &
-            location=pf_source_location('test_stepper_newton.pf', 430, 'assertLessThan'))
+            location=pf_source_location('test_stepper_newton.pf', 434, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_newton_stepper_counters_and_ledger
 
@@ -624,19 +628,19 @@ contains
         call assertEqual( &
             step_not_converged, &
             status, &
-            location=pf_source_location('test_stepper_newton.pf', 447, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 451, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 448, 'assertEqual'))
+        call assertEqual(0_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 452, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1_i8, &
             newton%newton_iterations, &
-            location=pf_source_location('test_stepper_newton.pf', 449, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 453, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "Newton did not converge in 1 iterations at t = 0.1", &
             newton%reason, &
-            location=pf_source_location('test_stepper_newton.pf', 450, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 454, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_newton_stepper_reports_failure
 
@@ -662,39 +666,39 @@ contains
                 call assertEqual( &
                     step_ok, &
                     status, &
-                    location=pf_source_location('test_stepper_newton.pf', 472, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 476, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     maxval(abs(newton%u(1:60, newton%ic))), &
                     newton%max_abs_u(1), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 473, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 477, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     maxval(abs(newton%u(20:60, newton%ic))), &
                     newton%max_abs_u(20), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 474, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 478, 'assertEqual'))
                 if (pf_any_failed()) return
                 call newton%verdict_measures(20, blowup, beyond)
                 call assertEqual( &
                     maxval(abs(newton%u(1:60, newton%ic))), &
                     blowup, &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 476, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 480, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     maxval(abs(newton%u(20:60, newton%ic))), &
                     beyond, &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 477, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 481, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             ! it moved
             call assertGreaterThan( &
                 newton%max_abs_u(1), &
                 1.0_wp, &
-                location=pf_source_location('test_stepper_newton.pf', 480, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_newton.pf', 484, 'assertGreaterThan'))
             if (pf_any_failed()) return
         end do
     end subroutine test_blowup_measure_is_the_level_maximum
@@ -717,7 +721,7 @@ contains
             call assertEqual( &
                 chain%n0 + 1, &
                 scheme%absorber_first, &
-                location=pf_source_location('test_stepper_newton.pf', 499, 'assertEqual'))
+                location=pf_source_location('test_stepper_newton.pf', 503, 'assertEqual'))
             if (pf_any_failed()) return
             do iy = 1, 3
                 do n = 0, 51
@@ -734,25 +738,25 @@ contains
                 call full_loop(r_p, r_gamma, r_beta, r_abs)
                 call assertTrue( &
                     same_bits(r_p, p_in), &
-                    location=pf_source_location('test_stepper_newton.pf', 513, 'assertTrue'))
+                    location=pf_source_location('test_stepper_newton.pf', 517, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     same_bits(r_gamma, d_gamma), &
-                    location=pf_source_location('test_stepper_newton.pf', 514, 'assertTrue'))
+                    location=pf_source_location('test_stepper_newton.pf', 518, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     same_bits(r_beta, d_beta), &
-                    location=pf_source_location('test_stepper_newton.pf', 515, 'assertTrue'))
+                    location=pf_source_location('test_stepper_newton.pf', 519, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     same_bits(r_abs, d_abs), &
-                    location=pf_source_location('test_stepper_newton.pf', 516, 'assertTrue'))
+                    location=pf_source_location('test_stepper_newton.pf', 520, 'assertTrue'))
                 if (pf_any_failed()) return
                 if (iy == 1 .and. ia == 1) then
                     call assertGreaterThan( &
                         d_abs, &
                         0.0_wp, &
-                        location=pf_source_location('test_stepper_newton.pf', 518, 'assertGreaterThan'))
+                        location=pf_source_location('test_stepper_newton.pf', 522, 'assertGreaterThan'))
                     if (pf_any_failed()) return
                 end if
             end do
