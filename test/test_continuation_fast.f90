@@ -5,7 +5,7 @@
 !> same first loss of stability (type, and amplitude to 1e-8), with fewer eigenvalue computations. The short chain
 !> of fold lines (`supratrans_fold_line`): used only when the input gives no n, n0, sigma; N0 the smallest with
 !> e^{-lambda' N0} <= e^{-7}. The inverse iteration that tracks one multiplier on a matrix of known spectrum. The
-!> transposed LU solve (left null vectors of the bordered systems, `bench_fold_omega`).
+!> transposed LU solve (`lu_solve` with `transposed`: left null vectors of the bordered systems, `bench_fold_omega`).
 module test_continuation_fast
     use pf_runtime
     use supratrans_kinds, only: wp
@@ -19,13 +19,13 @@ module test_continuation_fast
     use supratrans_continuation
     use supratrans_floquet, only: crossing_name, track_multiplier, floquet_multipliers, crossing_none
     use supratrans_shooting, only: shoot, shooting_controls, shooting_result, shoot_converged
-    use supratrans_dense, only: lu_factor, lu_solve, lu_solve_transposed
+    use supratrans_dense, only: lu_factor, lu_solve
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     implicit none
 
 contains
 
-    !> lu_solve_transposed solves A^T x = b with the factors of A (a non-symmetric 4 x 4 matrix that needs pivoting):
+    !> lu_solve with `transposed` solves A^T x = b with the factors of A (a non-symmetric 4 x 4 matrix that needs pivoting):
     !> A^T x = b to roundoff, and x differs from the solution of A x = b.
     ! @test
     subroutine test_lu_solve_transposed()
@@ -40,7 +40,7 @@ contains
         call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 39, 'assertEqual'))
         if (pf_any_failed()) return
         xt = b
-        call lu_solve_transposed(lu, ipiv, xt, info)
+        call lu_solve(lu, ipiv, xt, info, transposed=.true.)
         call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 42, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &

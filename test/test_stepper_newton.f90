@@ -299,7 +299,7 @@ contains
         end do
     end subroutine test_levels_predictor_is_the_two_loop_one
 
-    !> Before the absorber every b_n and e_n is the first one, and the stepper's loops take them from a register there:
+    !> Before the absorber every b_n is the first one, and the stepper's update takes it from a register there:
     !> a chain of three blocks with its absorber in the last (gamma > 0), stepped from the stepper's levels, against
     !> the same step with `absorber_first` = 1 (every loop with the arrays): the same bits after 3 iterations, for
     !> both potentials.

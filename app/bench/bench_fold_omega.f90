@@ -25,7 +25,7 @@ module bench_fold_omega
     use supratrans_config, only: run_config, method_newton
     use supratrans_period_map, only: period_map, period_map_init
     use supratrans_fixed_point_map, only: map_ok
-    use supratrans_dense, only: lu_factor, lu_solve, lu_solve_transposed
+    use supratrans_dense, only: lu_factor, lu_solve
     use supratrans_continuation, only: continue_branch, continuation_controls, continuation_result, cont_fold_found
     use supratrans_fold_line, only: shortest_chain
     implicit none
@@ -239,7 +239,7 @@ contains
             call lu_solve(kmat, ipiv, tv, info)
             g = tv(d + 1)
             y = [(0.0_wp, i=1, d), 1.0_wp]
-            call lu_solve_transposed(kmat, ipiv, y, info)
+            call lu_solve(kmat, ipiv, y, info, transposed=.true.)
             z = [x - px, 0.0_wp]
             call lu_solve(kmat, ipiv, z, info)
             tnorm = norm2(tv)

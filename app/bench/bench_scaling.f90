@@ -72,7 +72,7 @@ contains
     !> every loop runs over the whole chain, as counted here by the loops: 20 in the first iteration (s: 3; sin and
     !> cos: 3; G and dG/da: 6; the update: 8) and 17 in each later one (G, dG/da and the rotation: 9; the update: 8).
     !> On a longer chain, the whole blocks before the absorber (`absorber_first`; here the chain's first 3/4 at least)
-    !> take b_n and e_n from a register: one array less in the first pass and in every iteration there.
+    !> take b_n from a register: one array less in every iteration there.
     pure function step_bytes(iterations, n) result(bytes)
         !> Newton iterations per step (a mean).
         real(wp), intent(in) :: iterations
@@ -84,7 +84,7 @@ contains
             bytes = 8.0_wp*(13.0_wp + 20.0_wp + 17.0_wp*max(iterations - 1.0_wp, 0.0_wp))
         else
             bytes = 8.0_wp*(10.0_wp + 8.0_wp + 11.0_wp*max(iterations - 1.0_wp, 0.0_wp) &
-                            - uniform_share*(2.0_wp + max(iterations - 1.0_wp, 0.0_wp)))
+                            - uniform_share*max(iterations, 1.0_wp))
         end if
     end function step_bytes
 

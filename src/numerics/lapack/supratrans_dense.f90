@@ -8,7 +8,7 @@ module supratrans_dense
     implicit none
     private
 
-    public :: lu_factor, lu_solve, lu_solve_transposed, dense_solve, complex_lu_factor, complex_lu_solve
+    public :: lu_factor, lu_solve, dense_solve, complex_lu_factor, complex_lu_solve
 
     !> Solve with the LU factors of `lu_factor`, for one right-hand side (a vector) or several (a matrix).
     interface lu_solve
@@ -80,8 +80,9 @@ contains
         call dgetrf(size(a, 1), size(a, 2), a, size(a, 1), ipiv, info)
     end subroutine lu_factor
 
-    !> Solve A x = b with the factors of `lu_factor`; `b` is overwritten by x.
-    pure subroutine lu_solve_vector(lu, ipiv, b, info)
+    !> Solve A x = b (or A^T x = b with `transposed`: a left null vector's system) with the factors of `lu_factor`;
+    !> `b` is overwritten by x.
+    pure subroutine lu_solve_vector(lu, ipiv, b, info, transposed)
         !> LU factors from `lu_factor`, n x n.
         real(wp), intent(in) :: lu(:, :)
         !> Pivot indices from `lu_factor`.
@@ -90,23 +91,16 @@ contains
         real(wp), intent(inout) :: b(:)
         !> LAPACK status.
         integer, intent(out) :: info
+        !> Solve with A^T instead (default false).
+        logical, intent(in), optional :: transposed
+        character(len=1) :: trans
 
-        call dgetrs("N", size(lu, 1), 1, lu, size(lu, 1), ipiv, b, size(b), info)
+        trans = "N"
+        if (present(transposed)) then
+            if (transposed) trans = "T"
+        end if
+        call dgetrs(trans, size(lu, 1), 1, lu, size(lu, 1), ipiv, b, size(b), info)
     end subroutine lu_solve_vector
-
-    !> Solve A^T x = b with the factors of `lu_factor` (a left null vector's system); `b` is overwritten by x.
-    pure subroutine lu_solve_transposed(lu, ipiv, b, info)
-        !> LU factors of A from `lu_factor`, n x n.
-        real(wp), intent(in) :: lu(:, :)
-        !> Pivot indices from `lu_factor`.
-        integer, intent(in) :: ipiv(:)
-        !> Right-hand side on entry, solution on exit, size n.
-        real(wp), intent(inout) :: b(:)
-        !> LAPACK status.
-        integer, intent(out) :: info
-
-        call dgetrs("T", size(lu, 1), 1, lu, size(lu, 1), ipiv, b, size(b), info)
-    end subroutine lu_solve_transposed
 
     !> Solve A X = B with the factors of `lu_factor`; `b` (n x nrhs) is overwritten by X.
     pure subroutine lu_solve_matrix(lu, ipiv, b, info)

@@ -7,8 +7,8 @@
 !> iteration runs block by block, so that its arrays stay in the cache, with the same bits). The stepper's predictor is the
 !> polynomial extrapolation of degree 6 from u^k .. u^{k-6} (`predictor_levels`; before t = 0 the chain is at
 !> rest), on chains longer than `newton_block` formed in one pass with the right-hand side (`predict_with_rhs`: the
-!> levels then stream from memory once a step; before the absorber, where b_n and e_n are exactly b_1 and e_1, the
-!> loops take them from a register): on smooth, sub-threshold runs it is close enough (|delta| ~ 1e-8) for
+!> levels then stream from memory once a step; before the absorber, where b_n is exactly b_1, the update takes it
+!> from a register): on smooth, sub-threshold runs it is close enough (|delta| ~ 1e-8) for
 !> the stopping test below to accept the first iteration; `newton_step` called alone extrapolates
 !> 3 u^k - 3 u^{k-1} + u^{k-2}. The first
 !> iteration evaluates sin and cos of s = (x + u^{k-1})/2 in one vectorised loop (`sin_cos_array`); later ones
@@ -210,19 +210,23 @@ contains
         real(wp), intent(out), optional :: u_max
         !> With `columns`: the stepper's time levels u(0:N+1, L) (u_new, u_old, u_cur among them), from which the
         !> predictor of degree 6 (`extrapolate`) and the right-hand side are formed here, in one pass on a chain of
-        !> more than `newton_block` sites (`predict_chain`; `predicted` is then not used).
+        !> more than `newton_block` sites (`predict_with_rhs`; `predicted` is then not used).
         real(wp), intent(in), contiguous, optional :: levels(0:, :)
         !> Columns of u^k, u^{k-1}, ..., u^{k-6} in `levels`.
         integer, intent(in), optional :: columns(predictor_levels)
         integer :: n, j, it, info
-        real(wp) :: change, defect, scale, x_max, u_bound, h_max, mu, curvature
+        real(wp) :: change, defect, scale, x_max, u_bound, h_max, mu, curvature, gap
         logical :: exact
 
         n = scheme%n
         if (present(levels) .and. present(columns)) then
             if (n > newton_block) then
-                ! a long chain: the predictor and the right-hand side in one pass through memory
-                call predict_chain(scheme, levels, columns, u_new(1:n), ws%rhs, h_max)
+                ! a long chain: the predictor and the right-hand side in one pass through memory; where the motion
+                ! is not smooth (as `extrapolate` decides), the cubic extrapolation and the right-hand side afresh
+                call predict_with_rhs(scheme, scheme%e, levels, columns, u_new(1:n), ws%rhs, h_max, gap)
+                if (.not. (gap <= predictor_trust)) then
+                    call scheme_rhs_and_predictor(scheme, u_older, u_old, u_cur, ws%rhs, u_new, h_max)
+                end if
             else
                 ! in the cache, two simpler loops are faster (the same bits)
                 call extrapolate(levels, columns, u_new(1:n))
@@ -376,34 +380,6 @@ contains
         end if
     end subroutine extrapolate
 
-    !> The stepper's predictor and right-hand side on the whole chain (`predict_with_rhs`): the extrapolation of
-    !> degree 6, unless it differs from the cubic one 3 u^k - 3 u^{k-1} + u^{k-2} by more than `predictor_trust`
-    !> somewhere: then the motion is not smooth on the scale of dt (a kink, or a numerically unstable dt, whose
-    !> growing sawtooth the degree-6 extrapolation amplifies 128 times), and the cubic one is used.
-    pure subroutine predict_chain(scheme, u, columns, x, rhs, h_max)
-        !> Scheme coefficients.
-        type(scheme_type), intent(in) :: scheme
-        !> Time levels u(0:N+1, L).
-        real(wp), intent(in), contiguous :: u(0:, :)
-        !> Columns of u^k, u^{k-1}, ..., u^{k-6}.
-        integer, intent(in) :: columns(predictor_levels)
-        !> The predictor and the right-hand side, size N.
-        real(wp), intent(out), contiguous :: x(:), rhs(:)
-        !> max_n |x_n - u^{k-1}_n|/2.
-        real(wp), intent(out) :: h_max
-        real(wp) :: gap
-        integer :: j
-
-        call predict_with_rhs(scheme, scheme%e, u, columns, x, rhs, h_max, gap)
-        if (.not. (gap <= predictor_trust)) then
-            h_max = 0.0_wp
-            do j = 1, size(x)
-                x(j) = 3.0_wp*(u(j, columns(1)) - u(j, columns(2))) + u(j, columns(3))
-                h_max = max(h_max, 0.5_wp*abs(x(j) - u(j, columns(2))))
-            end do
-        end if
-    end subroutine predict_chain
-
     !> The predictor x = sum_j w_j u(1:N, columns(j)) of degree 6 (`predictor_weights`), its largest difference from
     !> the cubic extrapolation (`gap`), the right-hand side B u^k + C u^{k-1} (`scheme_rhs_and_predictor`'s, term for
     !> term) and max |x_n - u^{k-1}_n|/2, in one pass, so that on a long chain the levels stream from memory once a
@@ -423,8 +399,8 @@ contains
         real(wp), intent(out), contiguous :: x(:), rhs(:)
         !> max_n |x_n - u^{k-1}_n|/2 and max_n |x_n - cubic_n|.
         real(wp), intent(out) :: h_max, gap
-        integer :: j, m, c1, c2, c3, c4, c5, c6, c7
-        real(wp) :: high, e1
+        integer :: j, c1, c2, c3, c4, c5, c6, c7
+        real(wp) :: high
 
         c1 = columns(1)
         c2 = columns(2)
@@ -435,22 +411,8 @@ contains
         c7 = columns(7)
         gap = 0.0_wp
         h_max = 0.0_wp
-        ! before the absorber every e_n is e_1 (alpha_n = gamma exactly): one stream less
-        m = min(size(x), scheme%absorber_first - 1)
-        e1 = e(1)
         !$omp simd private(high) reduction(max: gap, h_max)
-        do j = 1, m
-            high = predictor_weights(1)*u(j, c1) + predictor_weights(2)*u(j, c2) + predictor_weights(3)*u(j, c3) &
-                   + predictor_weights(4)*u(j, c4) + predictor_weights(5)*u(j, c5) + predictor_weights(6)*u(j, c6) &
-                   + predictor_weights(7)*u(j, c7)
-            x(j) = high
-            gap = max(gap, abs(high - (3.0_wp*(u(j, c1) - u(j, c2)) + u(j, c3))))
-            rhs(j) = scheme%d*u(j, c1) + scheme%c2*(u(j - 1, c1) + u(j + 1, c1)) &
-                     + e1*u(j, c2) + scheme%a*(u(j - 1, c2) + u(j + 1, c2))
-            h_max = max(h_max, 0.5_wp*abs(high - u(j, c2)))
-        end do
-        !$omp simd private(high) reduction(max: gap, h_max)
-        do j = m + 1, size(x)
+        do j = 1, size(x)
             high = predictor_weights(1)*u(j, c1) + predictor_weights(2)*u(j, c2) + predictor_weights(3)*u(j, c3) &
                    + predictor_weights(4)*u(j, c4) + predictor_weights(5)*u(j, c5) + predictor_weights(6)*u(j, c6) &
                    + predictor_weights(7)*u(j, c7)
