@@ -141,6 +141,49 @@ contains
         if (pf_any_failed()) return
     end subroutine test_shooting_gives_up_when_the_residual_grows
 
+    !> The shooting at the start of a branch has its own iteration cap (`start_max_iter`), apart from the
+    !> corrector's `newton_max_iter`: on the fold map past its fold (A = 1), from x = (0.1, 0), shooting needs more
+    !> than 20 iterations, so the default cap (newton_max_iter = 12) fails the start, and start_max_iter = 40 lets
+    !> the branch start there, on the fixed point x = -1.3247, with the corrector's cap unchanged.
+    ! @test
+    subroutine test_start_iterations_apart_from_the_corrector()
+        type(model_map) :: map
+        type(continuation_controls) :: ctl
+        type(continuation_result) :: res
+
+        map = new_model_map(mode_fold, 0.5_wp, 1.0_wp)
+        ctl = continuation_controls(amplitude_start=1.0_wp, max_points=5)
+        call continue_branch(map, ctl, res, x0=[0.1_wp, 0.0_wp])
+        call assertEqual( &
+            cont_newton_failed, &
+            res%status, &
+            message=continuation_status_name(res%status), &
+            location=pf_source_location('test_continuation.pf', 101, 'assertEqual'))
+        if (pf_any_failed()) return
+        ctl%start_max_iter = 40
+        call continue_branch(map, ctl, res, x0=[0.1_wp, 0.0_wp])
+        call assertTrue( &
+            res%status /= cont_newton_failed, &
+            message=continuation_status_name(res%status), &
+            location=pf_source_location('test_continuation.pf', 104, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            1.0_wp, &
+            res%amplitude(1), &
+            location=pf_source_location('test_continuation.pf', 105, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertLessThan( &
+            abs(res%states(1, 1) + 1.3247179572_wp), &
+            1.0e-8_wp, &
+            location=pf_source_location('test_continuation.pf', 106, 'assertLessThan'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            12, &
+            ctl%newton_max_iter, &
+            location=pf_source_location('test_continuation.pf', 107, 'assertEqual'))
+        if (pf_any_failed()) return
+    end subroutine test_start_iterations_apart_from_the_corrector
+
     !> Classification of hand-made spectra: inside the circle none; a real multiplier 1.1 a fold, -1.2 a period
     !> doubling, a pair of modulus 1.05 a torus; the tolerance decides whether 1 + 1e-8 counts.
     ! @test
@@ -156,38 +199,38 @@ contains
         m(2, 3) = -0.8_wp*sin(0.3_wp)
         m(3, 2) = -m(2, 3)
         call floquet_multipliers(m, wr, wi, info)
-        call assertEqual(0, info, location=pf_source_location('test_continuation.pf', 103, 'assertEqual'))
+        call assertEqual(0, info, location=pf_source_location('test_continuation.pf', 125, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.8_wp, &
             largest_modulus(wr, wi), &
             1.0e-14_wp, &
-            location=pf_source_location('test_continuation.pf', 104, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 126, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             crossing_none, &
             leading_crossing(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 105, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 127, 'assertEqual'))
         if (pf_any_failed()) return
         m(1, 1) = 1.1_wp
         call floquet_multipliers(m, wr, wi, info)
         call assertEqual( &
             crossing_fold, &
             leading_crossing(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 108, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 130, 'assertEqual'))
         if (pf_any_failed()) return
         m(1, 1) = -1.2_wp
         call floquet_multipliers(m, wr, wi, info)
         call assertEqual( &
             crossing_period_doubling, &
             leading_crossing(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 111, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 133, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.2_wp, &
             crossing_distance(wr, wi, crossing_period_doubling), &
             1.0e-14_wp, &
-            location=pf_source_location('test_continuation.pf', 112, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 134, 'assertEqual'))
         if (pf_any_failed()) return
         m(1, 1) = 0.5_wp
         m(2:3, 2:3) = m(2:3, 2:3)*(1.05_wp/0.8_wp)
@@ -195,29 +238,29 @@ contains
         call assertEqual( &
             crossing_torus, &
             leading_crossing(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 116, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 138, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.05_wp, &
             crossing_distance(wr, wi, crossing_torus), &
             1.0e-14_wp, &
-            location=pf_source_location('test_continuation.pf', 117, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 139, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             nearest_multiplier(wr, wi, 1.0_wp), &
             message="0.5 nearer +1 than 1.05 exp(+-0.3 i)", &
-            location=pf_source_location('test_continuation.pf', 118, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 140, 'assertEqual'))
         if (pf_any_failed()) return
         m(2:3, 2:3) = m(2:3, 2:3)*((1.0_wp + 1.0e-8_wp)/1.05_wp)
         call floquet_multipliers(m, wr, wi, info)
         call assertTrue( &
             is_stable(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 121, 'assertTrue'))
+            location=pf_source_location('test_continuation.pf', 143, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             is_stable(wr, wi, 1.0e-10_wp), &
-            location=pf_source_location('test_continuation.pf', 122, 'assertFalse'))
+            location=pf_source_location('test_continuation.pf', 144, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_floquet_classification
 
@@ -248,156 +291,156 @@ contains
                 cont_fold_found, &
                 res%status, &
                 message=continuation_status_name(res%status), &
-                location=pf_source_location('test_continuation.pf', 148, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 170, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 cont_fold_found, &
                 res%stop_reason, &
-                location=pf_source_location('test_continuation.pf', 149, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 171, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 af, &
                 res%fold_amplitude, &
                 1.0e-8_wp, &
                 message="A_f", &
-                location=pf_source_location('test_continuation.pf', 150, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 172, 'assertEqual'))
             if (pf_any_failed()) return
             call assertLessThanOrEqual( &
                 res%fold_residual, &
                 1.0e-10_wp, &
-                location=pf_source_location('test_continuation.pf', 151, 'assertLessThanOrEqual'))
+                location=pf_source_location('test_continuation.pf', 173, 'assertLessThanOrEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 1.0_wp, &
                 res%fold_multiplier, &
                 1.0e-4_wp, &
                 message="multiplier +1 at the fold", &
-                location=pf_source_location('test_continuation.pf', 152, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 174, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.0_wp, &
                 res%fold_multiplier_imag, &
                 0.0_wp, &
-                location=pf_source_location('test_continuation.pf', 153, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 175, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 crossing_fold, &
                 res%instability_type, &
-                location=pf_source_location('test_continuation.pf', 154, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 176, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 af, &
                 res%instability_amplitude, &
                 1.0e-8_wp, &
-                location=pf_source_location('test_continuation.pf', 155, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 177, 'assertEqual'))
             if (pf_any_failed()) return
             f = res%fold_index
-            call assertGreaterThan(f, 3, location=pf_source_location('test_continuation.pf', 157, 'assertGreaterThan'))
+            call assertGreaterThan(f, 3, location=pf_source_location('test_continuation.pf', 179, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertEqual( &
                 8, &
                 res%points_beyond_fold, &
-                location=pf_source_location('test_continuation.pf', 158, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 180, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 f + 8, &
                 res%n_points, &
-                location=pf_source_location('test_continuation.pf', 159, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 181, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 xf, &
                 res%states(1, f), &
                 1.0e-4_wp, &
-                location=pf_source_location('test_continuation.pf', 160, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 182, 'assertEqual'))
             if (pf_any_failed()) return
             do i = 1, res%n_points
                 call assertEqual( &
                     res%states(1, i) - res%states(1, i)**3, &
                     res%amplitude(i), &
                     1.0e-9_wp, &
-                    location=pf_source_location('test_continuation.pf', 162, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 184, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     2.0_wp*res%states(1, i)**2, &
                     res%states(2, i), &
                     1.0e-9_wp, &
-                    location=pf_source_location('test_continuation.pf', 163, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 185, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertLessThanOrEqual( &
                     res%residual(i), &
                     1.0e-10_wp, &
-                    location=pf_source_location('test_continuation.pf', 164, 'assertLessThanOrEqual'))
+                    location=pf_source_location('test_continuation.pf', 186, 'assertLessThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertLessThanOrEqual( &
                     res%amplitude(i), &
                     af + 1.0e-9_wp, &
-                    location=pf_source_location('test_continuation.pf', 165, 'assertLessThanOrEqual'))
+                    location=pf_source_location('test_continuation.pf', 187, 'assertLessThanOrEqual'))
                 if (pf_any_failed()) return
             end do
             call assertTrue( &
                 all(res%stable(1:f - 1) /= 0), &
                 message="stable before the fold", &
-                location=pf_source_location('test_continuation.pf', 167, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 189, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(res%stable(f + 1:) /= 1), &
                 message="unstable after the fold", &
-                location=pf_source_location('test_continuation.pf', 168, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 190, 'assertTrue'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 count(res%stable(1:f - 1) == 1), &
                 1, &
-                location=pf_source_location('test_continuation.pf', 169, 'assertGreaterThan'))
+                location=pf_source_location('test_continuation.pf', 191, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 count(res%stable(f + 1:) == 0), &
                 1, &
-                location=pf_source_location('test_continuation.pf', 170, 'assertGreaterThan'))
+                location=pf_source_location('test_continuation.pf', 192, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(res%states(1, f + 1:) > xf), &
                 message="past the fold on the unstable side", &
-                location=pf_source_location('test_continuation.pf', 171, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 193, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(res%tangent_amplitude(1:f - 1) > 0.0_wp), &
-                location=pf_source_location('test_continuation.pf', 172, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 194, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(res%tangent_amplitude(f + 1:) < 0.0_wp), &
-                location=pf_source_location('test_continuation.pf', 173, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 195, 'assertTrue'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 res%stats%map_evaluations, &
                 0, &
-                location=pf_source_location('test_continuation.pf', 174, 'assertGreaterThan'))
+                location=pf_source_location('test_continuation.pf', 196, 'assertGreaterThan'))
             if (pf_any_failed()) return
             if (every == 1) then
                 call assertTrue( &
                     all(res%stable >= 0), &
                     message="multipliers everywhere", &
-                    location=pf_source_location('test_continuation.pf', 176, 'assertTrue'))
+                    location=pf_source_location('test_continuation.pf', 198, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertGreaterThanOrEqual( &
                     res%stats%jacobian_evaluations, &
                     res%n_points, &
-                    location=pf_source_location('test_continuation.pf', 177, 'assertGreaterThanOrEqual'))
+                    location=pf_source_location('test_continuation.pf', 199, 'assertGreaterThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertGreaterThanOrEqual( &
                     res%stats%eigen_calls, &
                     res%n_points, &
-                    location=pf_source_location('test_continuation.pf', 178, 'assertGreaterThanOrEqual'))
+                    location=pf_source_location('test_continuation.pf', 200, 'assertGreaterThanOrEqual'))
                 if (pf_any_failed()) return
             else
                 call assertTrue( &
                     any(res%exact_tangent == 0), &
                     message="secant points with a reused Jacobian", &
-                    location=pf_source_location('test_continuation.pf', 180, 'assertTrue'))
+                    location=pf_source_location('test_continuation.pf', 202, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertLessThan( &
                     res%stats%eigen_calls, &
                     res%n_points, &
-                    location=pf_source_location('test_continuation.pf', 181, 'assertLessThan'))
+                    location=pf_source_location('test_continuation.pf', 203, 'assertLessThan'))
                 if (pf_any_failed()) return
             end if
         end do
@@ -407,17 +450,17 @@ contains
         call assertEqual( &
             cont_fold_found, &
             res%stop_reason, &
-            location=pf_source_location('test_continuation.pf', 187, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 209, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             res%amplitude(res%n_points), &
             res%fold_amplitude - 0.1_wp, &
-            location=pf_source_location('test_continuation.pf', 188, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_continuation.pf', 210, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%amplitude(res%n_points - 1), &
             res%fold_amplitude - 0.1_wp, &
-            location=pf_source_location('test_continuation.pf', 189, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 211, 'assertGreaterThan'))
         if (pf_any_failed()) return
     end subroutine test_fold_located
 
@@ -439,50 +482,50 @@ contains
             call assertEqual( &
                 cont_fold_found, &
                 res%status, &
-                location=pf_source_location('test_continuation.pf', 207, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 229, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 crossing_period_doubling, &
                 res%instability_type, &
                 message=crossing_name(res%instability_type), &
-                location=pf_source_location('test_continuation.pf', 208, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 230, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.3_wp, &
                 res%instability_amplitude, &
                 1.0e-6_wp, &
-                location=pf_source_location('test_continuation.pf', 209, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 231, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 2.0_wp/(3.0_wp*sqrt(3.0_wp)), &
                 res%fold_amplitude, &
                 1.0e-8_wp, &
-                location=pf_source_location('test_continuation.pf', 210, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 232, 'assertEqual'))
             if (pf_any_failed()) return
             f = res%fold_index
             call assertTrue( &
                 all(pack(res%stable(:f), res%amplitude(:f) < 0.3_wp .and. res%stable(:f) >= 0) == 1), &
-                location=pf_source_location('test_continuation.pf', 212, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 234, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(pack(res%stable(:f), res%amplitude(:f) > 0.3_wp .and. res%stable(:f) >= 0) == 0), &
-                location=pf_source_location('test_continuation.pf', 213, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 235, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(pack(res%stable(f + 1:), res%stable(f + 1:) >= 0) == 0), &
-                location=pf_source_location('test_continuation.pf', 214, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 236, 'assertTrue'))
             if (pf_any_failed()) return
             if (every == 1) calls_all = res%stats%eigen_calls
         end do
         call assertLessThan( &
             res%stats%eigen_calls, &
             calls_all, &
-            location=pf_source_location('test_continuation.pf', 217, 'assertLessThan'))
+            location=pf_source_location('test_continuation.pf', 239, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             any(res%stable < 0), &
             message="some points without multipliers", &
-            location=pf_source_location('test_continuation.pf', 218, 'assertTrue'))
+            location=pf_source_location('test_continuation.pf', 240, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_period_doubling
 
@@ -505,38 +548,38 @@ contains
             call assertEqual( &
                 cont_fold_found, &
                 res%status, &
-                location=pf_source_location('test_continuation.pf', 237, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 259, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 crossing_torus, &
                 res%instability_type, &
                 message=crossing_name(res%instability_type), &
-                location=pf_source_location('test_continuation.pf', 238, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 260, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.2_wp, &
                 res%instability_amplitude, &
                 1.0e-6_wp, &
-                location=pf_source_location('test_continuation.pf', 239, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 261, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         i = res%n_points
         call branch_multipliers(map, res, i, wr, wi, info)
-        call assertEqual(0, info, location=pf_source_location('test_continuation.pf', 243, 'assertEqual'))
+        call assertEqual(0, info, location=pf_source_location('test_continuation.pf', 265, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(3, size(wr), location=pf_source_location('test_continuation.pf', 244, 'assertEqual'))
+        call assertEqual(3, size(wr), location=pf_source_location('test_continuation.pf', 266, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             res%max_multiplier(i), &
             largest_modulus(wr, wi), &
             1.0e-14_wp, &
-            location=pf_source_location('test_continuation.pf', 245, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 267, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.6_wp + 2.0_wp*res%amplitude(i), &
             maxval(hypot(wr, wi), mask=wi /= 0.0_wp), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation.pf', 246, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 268, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_torus
 
@@ -560,36 +603,36 @@ contains
             call assertEqual( &
                 cont_fold_found, &
                 res%status, &
-                location=pf_source_location('test_continuation.pf', 266, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 288, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 2.0_wp/(3.0_wp*sqrt(3.0_wp)), &
                 res%fold_amplitude, &
                 1.0e-8_wp, &
-                location=pf_source_location('test_continuation.pf', 267, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 289, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 crossing_fold, &
                 res%instability_type, &
                 message=crossing_name(res%instability_type), &
-                location=pf_source_location('test_continuation.pf', 268, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 290, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 res%fold_amplitude, &
                 res%instability_amplitude, &
                 0.0_wp, &
-                location=pf_source_location('test_continuation.pf', 269, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 291, 'assertEqual'))
             if (pf_any_failed()) return
             f = res%fold_index
             call assertTrue( &
                 all(res%stable(:f - 1) == 1), &
-                location=pf_source_location('test_continuation.pf', 271, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 293, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 1.0_wp, &
                 res%max_multiplier(:f - 1), &
                 1.0e-12_wp, &
-                location=pf_source_location('test_continuation.pf', 272, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 294, 'assertEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_crowded_unit_circle
@@ -620,35 +663,35 @@ contains
                     call assertEqual( &
                         cont_fold_found, &
                         res%status, &
-                        location=pf_source_location('test_continuation.pf', 299, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 321, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         2.0_wp/(3.0_wp*sqrt(3.0_wp)), &
                         res%fold_amplitude, &
                         1.0e-8_wp, &
-                        location=pf_source_location('test_continuation.pf', 300, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 322, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         1.0_wp, &
                         res%fold_multiplier, &
                         1.0e-4_wp, &
-                        location=pf_source_location('test_continuation.pf', 301, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 323, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         kinds(mode), &
                         res%instability_type, &
-                        location=pf_source_location('test_continuation.pf', 302, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 324, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         expected(mode), &
                         res%instability_amplitude, &
                         1.0e-6_wp, &
-                        location=pf_source_location('test_continuation.pf', 303, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 325, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertTrue( &
                         all(res%arclength(2:n) > res%arclength(1:n - 1)), &
                         message="ordered by arclength", &
-                        location=pf_source_location('test_continuation.pf', 304, 'assertTrue'))
+                        location=pf_source_location('test_continuation.pf', 326, 'assertTrue'))
                     if (pf_any_failed()) return
                 end do
             end do
@@ -670,33 +713,33 @@ contains
             cont_no_fold, &
             res%status, &
             message=continuation_status_name(res%status), &
-            location=pf_source_location('test_continuation.pf', 321, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 343, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 322, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 344, 'assertIsNaN'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_residual, location=pf_source_location('test_continuation.pf', 323, 'assertIsNaN'))
+        call assertIsNaN(res%fold_residual, location=pf_source_location('test_continuation.pf', 345, 'assertIsNaN'))
         if (pf_any_failed()) return
         call assertIsNaN( &
             res%instability_amplitude, &
-            location=pf_source_location('test_continuation.pf', 324, 'assertIsNaN'))
+            location=pf_source_location('test_continuation.pf', 346, 'assertIsNaN'))
         if (pf_any_failed()) return
         call assertEqual( &
             crossing_none, &
             res%instability_type, &
-            location=pf_source_location('test_continuation.pf', 325, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 347, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, res%fold_index, location=pf_source_location('test_continuation.pf', 326, 'assertEqual'))
+        call assertEqual(0, res%fold_index, location=pf_source_location('test_continuation.pf', 348, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%amplitude(res%n_points), &
             2.0_wp, &
-            location=pf_source_location('test_continuation.pf', 327, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 349, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertTrue(all(res%stable == 1), location=pf_source_location('test_continuation.pf', 328, 'assertTrue'))
+        call assertTrue(all(res%stable == 1), location=pf_source_location('test_continuation.pf', 350, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(res%tangent_amplitude > 0.0_wp), &
-            location=pf_source_location('test_continuation.pf', 329, 'assertTrue'))
+            location=pf_source_location('test_continuation.pf', 351, 'assertTrue'))
         if (pf_any_failed()) return
         ! a point budget too small to reach amplitude_max
         ctl%max_points = 5
@@ -704,11 +747,11 @@ contains
         call assertEqual( &
             cont_max_points, &
             res%status, &
-            location=pf_source_location('test_continuation.pf', 333, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 355, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(5, res%n_points, location=pf_source_location('test_continuation.pf', 334, 'assertEqual'))
+        call assertEqual(5, res%n_points, location=pf_source_location('test_continuation.pf', 356, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 335, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 357, 'assertIsNaN'))
         if (pf_any_failed()) return
     end subroutine test_no_fold
 
@@ -737,14 +780,14 @@ contains
                 call assertEqual( &
                     shoot_converged, &
                     sres%status, &
-                    location=pf_source_location('test_continuation.pf', 360, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 382, 'assertEqual'))
                 if (pf_any_failed()) return
                 xm = res%states(:, i)
                 call shoot(map, xm, res%amplitude(i) - delta, shooting_controls(tol=1.0e-14_wp), sres)
                 call assertEqual( &
                     shoot_converged, &
                     sres%status, &
-                    location=pf_source_location('test_continuation.pf', 363, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 385, 'assertEqual'))
                 if (pf_any_failed()) return
                 fd = (xp - xm)/(2.0_wp*delta)
                 tx = res%tangents(1:2, i)/res%tangents(3, i)
@@ -752,20 +795,20 @@ contains
                     fd, &
                     tx, &
                     1.0e-6_wp*maxval(abs(fd)), &
-                    location=pf_source_location('test_continuation.pf', 366, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 388, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     1.0_wp, &
                     norm2(res%tangents(:, i)), &
                     1.0e-12_wp, &
-                    location=pf_source_location('test_continuation.pf', 367, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 389, 'assertEqual'))
                 if (pf_any_failed()) return
                 checked = checked + 1
             end do
             call assertGreaterThanOrEqual( &
                 checked, &
                 merge(3, 2, every == 1), &
-                location=pf_source_location('test_continuation.pf', 370, 'assertGreaterThanOrEqual'))
+                location=pf_source_location('test_continuation.pf', 392, 'assertGreaterThanOrEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_tangent_finite_difference
@@ -787,11 +830,11 @@ contains
             cont_newton_failed, &
             res%status, &
             message=continuation_status_name(res%status), &
-            location=pf_source_location('test_continuation.pf', 387, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 409, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, res%n_points, location=pf_source_location('test_continuation.pf', 388, 'assertEqual'))
+        call assertEqual(0, res%n_points, location=pf_source_location('test_continuation.pf', 410, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 389, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 411, 'assertIsNaN'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds_min=1.0e-6_wp)
         call continue_branch(map, ctl, res)
@@ -799,25 +842,25 @@ contains
             cont_step_too_small, &
             res%status, &
             message=continuation_status_name(res%status), &
-            location=pf_source_location('test_continuation.pf', 392, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 414, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             res%amplitude(res%n_points), &
             0.2_wp, &
-            location=pf_source_location('test_continuation.pf', 393, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_continuation.pf', 415, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%amplitude(res%n_points), &
             0.19_wp, &
-            location=pf_source_location('test_continuation.pf', 394, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 416, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 395, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 417, 'assertIsNaN'))
         if (pf_any_failed()) return
         call continue_branch(map, continuation_controls(), res, x0=[0.0_wp])
         call assertEqual( &
             cont_newton_failed, &
             res%status, &
-            location=pf_source_location('test_continuation.pf', 397, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 419, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_failures_reported
 
@@ -846,23 +889,23 @@ contains
                         cont_fold_found, &
                         res%status, &
                         message=continuation_status_name(res%status), &
-                        location=pf_source_location('test_continuation.pf', 421, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 443, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         af, &
                         res%fold_amplitude, &
                         1.0e-8_wp, &
-                        location=pf_source_location('test_continuation.pf', 422, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 444, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         crossing_fold, &
                         res%instability_type, &
-                        location=pf_source_location('test_continuation.pf', 423, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 445, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertTrue( &
                         all(res%arclength(2:n) > res%arclength(1:n - 1)), &
                         message="ordered by arclength", &
-                        location=pf_source_location('test_continuation.pf', 424, 'assertTrue'))
+                        location=pf_source_location('test_continuation.pf', 446, 'assertTrue'))
                     if (pf_any_failed()) return
                 end do
             end do

@@ -282,7 +282,7 @@ contains
         ! the fold alone: what is asked of a followed branch is its fold and that fold's fate; no loss of stability
         ! is sought along it (its multipliers at the first point, for stop_at_unstable_start, and at the fold only)
         next%floquet_every = 0
-        next%newton_max_iter = 40
+        next%start_max_iter = 40
         ! from a settled state that damped_shooting could not bring to a periodic state, the undamped Newton gives
         ! up once it has left its basin (on the paper's grid it then wandered through all its 40 Jacobians, 7 of 7)
         next%start_growth_limit = follow_growth_limit

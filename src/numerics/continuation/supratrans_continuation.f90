@@ -137,7 +137,8 @@ contains
             end if
             x = x0
         end if
-        call shoot(map, x, ctl%amplitude_start, shooting_controls(tol=ctl%newton_tol, max_iter=ctl%newton_max_iter, &
+        call shoot(map, x, ctl%amplitude_start, shooting_controls(tol=ctl%newton_tol, &
+                   max_iter=merge(ctl%start_max_iter, ctl%newton_max_iter, ctl%start_max_iter > 0), &
                    growth_limit=ctl%start_growth_limit), sres)
         res%stats%jacobian_evaluations = sres%jacobians
         res%stats%map_evaluations = 1      ! shoot's first evaluation, of P alone

@@ -36,6 +36,9 @@ module supratrans_continuation_types
         integer :: newton_slow = 7
         !> Amplitude at which the branch starts (from the given state, or x = 0: the chain at rest at A = 0).
         real(wp) :: amplitude_start = 0.0_wp
+        !> Most iterations of the Newton-shooting at the start; 0: `newton_max_iter` (a start far from its periodic
+        !> state may need more than a corrector, which refreshes its Jacobian sooner when it has fewer).
+        integer :: start_max_iter = 0
         !> The Newton-shooting at the start gives up (`cont_newton_failed`) once its residual exceeds this multiple
         !> of its first value (`shooting_controls%growth_limit`); default: never.
         real(wp) :: start_growth_limit = huge(1.0_wp)
