@@ -38,7 +38,7 @@ module supratrans_scene_continuation
     use supratrans_tasks, only: task_list, run_work
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
-    use supratrans_strings, only: int_str, real_str, fixed1
+    use supratrans_strings, only: int_str, real_str, fixed1, printable
     use supratrans_scene_bifurcation, only: bifurcation_omegas
     use supratrans_linear_stability, only: linear_stability_dt
     use supratrans_stepper_rk4, only: rk4_order

@@ -20,7 +20,7 @@ contains
 
         call write_continuation_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
         if (allocated(error) .and. .not. self%cfg%output%quiet) then
-            write (error_unit, "(a)") "  warning: partial output not written: " // error%message
+            write (error_unit, "(a)") "  warning: partial output not written: " // printable(error%message)
         end if
     end subroutine write_snapshot
 

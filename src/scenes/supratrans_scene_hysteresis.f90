@@ -35,7 +35,7 @@ module supratrans_scene_hysteresis
     use supratrans_tasks, only: task_list, input_fingerprint
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
-    use supratrans_strings, only: int_str, real_str, fixed1
+    use supratrans_strings, only: int_str, real_str, fixed1, printable
     use supratrans_scene_bifurcation, only: bifurcation_omegas
     use supratrans_hysteresis_stairs, only: hysteresis_drive, stair_powers, hysteresis_edges, hysteresis_status_codes, &
                                             hysteresis_found, hysteresis_failed
@@ -333,7 +333,7 @@ contains
 
         call write_hysteresis_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
         if (allocated(error) .and. .not. self%cfg%output%quiet) then
-            write (error_unit, "(a)") "  warning: partial output not written: " // error%message
+            write (error_unit, "(a)") "  warning: partial output not written: " // printable(error%message)
         end if
     end subroutine write_snapshot
 

@@ -421,7 +421,7 @@ contains
 
         call write_grid_file(self, partial_path(self%cfg), .true., results, done, error)
         if (allocated(error) .and. .not. self%cfg%output%quiet) then
-            write (error_unit, "(a)") "  warning: partial file not written: " // printable(error%message)
+            write (error_unit, "(a)") "  warning: partial output not written: " // printable(error%message)
         end if
     end subroutine sweep_snapshot
 
