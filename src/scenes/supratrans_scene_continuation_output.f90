@@ -7,40 +7,19 @@ submodule(supratrans_scene_continuation) supratrans_scene_continuation_output
 
 contains
 
-    !> Write the results so far to `<output>.partial.h5` (root attribute `complete = 0`); failures are ignored (the
-    !> journal, not this file, is what a resumed run reads).
-    module subroutine write_snapshot(self, results, done)
-        !> The tasks.
-        class(continuation_tasks), intent(in) :: self
-        !> Results so far, (values, tasks).
-        real(wp), intent(in) :: results(:, :)
-        !> Which tasks are done.
-        logical, intent(in) :: done(:)
+    !> (the interface, with its arguments, is in the parent module)
+    module procedure write_snapshot
         type(error_type), allocatable :: error
 
         call write_continuation_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
         if (allocated(error) .and. .not. self%cfg%output%quiet) then
             write (error_unit, "(a)") "  warning: partial output not written: " // printable(error%message)
         end if
-    end subroutine write_snapshot
+    end procedure write_snapshot
 
-    !> Write the scene's file `path` (as a temporary file, renamed when complete): tasks not done get NaN and status
-    !> -1 (pending).
-    module subroutine write_continuation_file(tasks, path, results, done, complete, elapsed, error)
-        !> The tasks.
-        type(continuation_tasks), intent(in) :: tasks
-        !> Final path of the file.
-        character(len=*), intent(in) :: path
-        !> Results, (values, tasks).
-        real(wp), intent(in) :: results(:, :)
-        !> Which tasks are done.
-        logical, intent(in) :: done(:)
-        !> Whether this is the complete result (root attribute `complete`).
-        logical, intent(in) :: complete
-        !> Wall time of the scene (s); negative when unknown (partial files).
-        real(wp), intent(in) :: elapsed
-        !> Error, allocated on failure (the file is then not created).
-        type(error_type), allocatable, intent(out) :: error
+    !> Tasks not done get NaN and status -1 (pending); the file is built in memory and written atomically (the
+    !> interface, with its arguments, is in the parent module).
+    module procedure write_continuation_file
         type(h5_file) :: file
         type(fold_record), allocatable :: recs(:)
         real(wp), allocatable :: branch(:, :, :), mult(:, :, :)
@@ -177,7 +156,7 @@ contains
             g = task_igrid(x, nomega)
         end function igrid
 
-    end subroutine write_continuation_file
+    end procedure write_continuation_file
 
     !> A per-task real (task = (curve - 1) nomega + omega) as an (omega, curve) grid: h5py (curve, omega).
     pure function task_grid(x, nomega) result(g)
