@@ -24,7 +24,9 @@
 !> modules that validate an input (which ask the scene) free of the scene modules and the task engine (which use
 !> them).
 module supratrans_scene
+    use, intrinsic :: iso_fortran_env, only: error_unit
     use supratrans_kinds, only: wp
+    use supratrans_strings, only: printable
     use supratrans_error, only: error_type, fatal_error, err_runtime
     use supratrans_invocation, only: invocation_type
     use supratrans_config, only: input_config
@@ -32,7 +34,7 @@ module supratrans_scene
     implicit none
     private
 
-    public :: scene_type, scene_budget, scene_tasks, new_scene, wrong_tasks
+    public :: scene_type, scene_budget, scene_tasks, new_scene, wrong_tasks, warn_partial
 
     !> Longest name of a field of a task's record.
     integer, parameter, public :: field_name_length = 64
@@ -187,6 +189,19 @@ contains
 
         call fatal_error(error, "scene: a task list that is not a " // expected // " handed to its phases", err_runtime)
     end subroutine wrong_tasks
+
+    !> The one warning of a snapshot whose partial output could not be written (on stderr, unless `quiet`): a
+    !> snapshot's failure is not the run's, since the journal, not that file, is what a resumed run reads.
+    subroutine warn_partial(error, quiet)
+        !> The snapshot's error (nothing is said when it is not allocated).
+        type(error_type), allocatable, intent(in) :: error
+        !> &output quiet.
+        logical, intent(in) :: quiet
+
+        if (allocated(error) .and. .not. quiet) then
+            write (error_unit, "(a)") "  warning: partial output not written: " // printable(error%message)
+        end if
+    end subroutine warn_partial
 
     !> The scene's own sizes against the limits: none by default (a scene of a few runs, each bounded by the limits
     !> of one run that `check_limits` of `supratrans_limits` checks for every scene).

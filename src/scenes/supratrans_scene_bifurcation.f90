@@ -31,7 +31,7 @@ module supratrans_scene_bifurcation
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks
+    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks, warn_partial
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config, run_config, screen_none, screen_choices
     use supratrans_curves, only: curve_count, curve_run

@@ -42,9 +42,7 @@ contains
         type(error_type), allocatable :: error
 
         call write_bifurcation_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
-        if (allocated(error) .and. .not. self%cfg%output%quiet) then
-            write (error_unit, "(a)") "  warning: partial output not written: " // printable(error%message)
-        end if
+        call warn_partial(error, self%cfg%output%quiet)
     end subroutine write_snapshot
 
     !> Write the scene's file `path` (built in memory, written atomically): tasks not done get NaN and status

@@ -17,12 +17,11 @@
 !> `supratrans_tasks` (journal, resume, `--slice`), driven by the scene driver of `supratrans_scene`, results stored
 !> by task index: identical for any number of threads and slices.
 module supratrans_scene_continuation
-    use, intrinsic :: iso_fortran_env, only: error_unit
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp, i8, pi
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks
+    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks, warn_partial
     use supratrans_limits, only: axis_points, check_axis, limit_error, threads_text, sci
     use supratrans_config, only: input_config, run_config, scene_params, method_newton, method_linearized, method_rk4, &
                                  method_rk8, method_avf4, method_avf8, method_name
@@ -38,7 +37,7 @@ module supratrans_scene_continuation
     use supratrans_tasks, only: task_list, run_work
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
-    use supratrans_strings, only: int_str, real_str, fixed1, printable
+    use supratrans_strings, only: int_str, real_str, fixed1
     use supratrans_scene_bifurcation, only: bifurcation_omegas
     use supratrans_linear_stability, only: linear_stability_dt
     use supratrans_stepper_rk4, only: rk4_order

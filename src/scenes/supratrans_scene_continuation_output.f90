@@ -12,9 +12,7 @@ contains
         type(error_type), allocatable :: error
 
         call write_continuation_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
-        if (allocated(error) .and. .not. self%cfg%output%quiet) then
-            write (error_unit, "(a)") "  warning: partial output not written: " // printable(error%message)
-        end if
+        call warn_partial(error, self%cfg%output%quiet)
     end procedure write_snapshot
 
     !> Tasks not done get NaN and status -1 (pending); the file is built in memory and written atomically (the

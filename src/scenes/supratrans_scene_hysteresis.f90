@@ -17,12 +17,11 @@
 !> Tasks run on OpenMP threads through `supratrans_tasks` (journal, resume, `--slice`), driven by the scene driver
 !> of `supratrans_scene`, results stored by task index: identical for any number of threads and slices.
 module supratrans_scene_hysteresis
-    use, intrinsic :: iso_fortran_env, only: error_unit
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks
+    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks, warn_partial
     use supratrans_limits, only: axis_points, check_axis, check_tasks, limit_error, threads_text, sci, max_steps, &
         run_memory_bytes
     use supratrans_config, only: input_config, run_config, method_name
@@ -35,7 +34,7 @@ module supratrans_scene_hysteresis
     use supratrans_tasks, only: task_list, input_fingerprint
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
-    use supratrans_strings, only: int_str, real_str, fixed1, printable
+    use supratrans_strings, only: int_str, real_str, fixed1
     use supratrans_scene_bifurcation, only: bifurcation_omegas
     use supratrans_hysteresis_stairs, only: hysteresis_drive, stair_powers, hysteresis_edges, hysteresis_status_codes, &
                                             hysteresis_found, hysteresis_failed
@@ -332,9 +331,7 @@ contains
         type(error_type), allocatable :: error
 
         call write_hysteresis_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
-        if (allocated(error) .and. .not. self%cfg%output%quiet) then
-            write (error_unit, "(a)") "  warning: partial output not written: " // printable(error%message)
-        end if
+        call warn_partial(error, self%cfg%output%quiet)
     end subroutine write_snapshot
 
     !> Write the scene's file `path` (as a temporary file, renamed when complete): tasks not done get NaN and status

@@ -33,11 +33,11 @@
 !> The file (`write_grid_file`, the axes, the per-run datasets) is written by the submodule
 !> `supratrans_scene_sweep_output.f90`.
 module supratrans_scene_sweep
-    use, intrinsic :: iso_fortran_env, only: error_unit, int64
+    use, intrinsic :: iso_fortran_env, only: int64
     use supratrans_kinds, only: wp, i8, supratrans_version
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks
+    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks, warn_partial
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config, run_config
     use supratrans_curves, only: curve_count, curve_run
@@ -420,9 +420,7 @@ contains
         type(error_type), allocatable :: error
 
         call write_grid_file(self, partial_path(self%cfg), .true., results, done, error)
-        if (allocated(error) .and. .not. self%cfg%output%quiet) then
-            write (error_unit, "(a)") "  warning: partial output not written: " // printable(error%message)
-        end if
+        call warn_partial(error, self%cfg%output%quiet)
     end subroutine sweep_snapshot
 
     !> Number of tasks: amplitudes x frequencies x curves.
