@@ -25,8 +25,10 @@ module bench_fold_omega
     use supratrans_config, only: run_config, method_newton
     use supratrans_period_map, only: period_map, period_map_init
     use supratrans_fixed_point_map, only: map_ok
-    use supratrans_dense, only: lu_factor, lu_solve
-    use supratrans_continuation, only: continue_branch, continuation_controls, continuation_result, cont_fold_found
+    use supratrans_dense, only: lu_solve
+    use supratrans_bordered_system, only: bordered_system, factor_bordered
+    use supratrans_continuation, only: continue_branch, continuation_controls, continuation_result, cont_fold_found, &
+        continuation_stats
     use supratrans_fold_line, only: shortest_chain
     implicit none
     private
@@ -205,14 +207,15 @@ contains
         integer, intent(out) :: steps
         !> Jacobians and maps evaluated (added to).
         integer, intent(inout) :: jac_count, map_count
-        real(wp), allocatable :: kmat(:, :), jac(:, :), dpda(:), px(:), tv(:), y(:), z(:), tn(:), zn(:), d2(:), pp(:, :)
-        integer, allocatable :: ipiv(:)
+        real(wp), allocatable :: jac(:, :), dpda(:), px(:), tv(:), y(:), z(:), tn(:), zn(:), d2(:), pp(:, :)
+        type(bordered_system) :: ksys
+        type(continuation_stats) :: stats
         integer :: d, it, st, info, i
         real(wp) :: g, dg_t, dg_z, alpha, tnorm, znorm, res0, resk, da, da_prev, e2
         logical :: quadratic
 
         d = size(x)
-        allocate (kmat(d + 1, d + 1), jac(d, d), dpda(d), px(d), ipiv(d + 1), pp(d, 4))
+        allocate (jac(d, d), dpda(d), px(d), pp(d, 4))
         ok = .false.
         steps = 0
         res0 = -1.0_wp
@@ -226,22 +229,16 @@ contains
             resk = maxval(abs(px - x))
             if (res0 < 0.0_wp) res0 = resk
             if (resk > 10.0_wp*max(res0, 1.0e-6_wp)) return
-            kmat(1:d, 1:d) = jac
-            do i = 1, d
-                kmat(i, i) = kmat(i, i) - 1.0_wp
-            end do
-            kmat(1:d, d + 1) = dpda
-            kmat(d + 1, 1:d) = c
-            kmat(d + 1, d + 1) = 0.0_wp
-            call lu_factor(kmat, ipiv, info)
+            ! K = [[J - I, dP/dA]; [c^T, 0]], the continuation's bordered matrix with c as its last row
+            call factor_bordered(jac, dpda, [c, 0.0_wp], ksys, info, stats)
             if (info /= 0) return
             tv = [(0.0_wp, i=1, d), 1.0_wp]
-            call lu_solve(kmat, ipiv, tv, info)
+            call lu_solve(ksys%lu, ksys%ipiv, tv, info)
             g = tv(d + 1)
             y = [(0.0_wp, i=1, d), 1.0_wp]
-            call lu_solve(kmat, ipiv, y, info, transposed=.true.)
+            call lu_solve(ksys%lu, ksys%ipiv, y, info, transposed=.true.)
             z = [x - px, 0.0_wp]
-            call lu_solve(kmat, ipiv, z, info)
+            call lu_solve(ksys%lu, ksys%ipiv, z, info)
             tnorm = norm2(tv)
             tn = tv/tnorm
             znorm = norm2(z)
