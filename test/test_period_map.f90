@@ -15,7 +15,7 @@ module test_period_map
     use supratrans_stepper_newton, only: newton_stepper
     use supratrans_stepper_rk4, only: rk4_stepper
     use supratrans_fixed_point_map, only: map_ok
-    use supratrans_period_map, only: period_map, period_map_init
+    use supratrans_period_map, only: period_map, period_map_init, set_half_period
     implicit none
 
     interface
@@ -569,5 +569,110 @@ contains
         call assertTrue(allocated(error), location=pf_source_location('test_period_map.pf', 423, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_steps_and_bad_input
+
+    !> The half-period map G (`set_half_period`): P = G o G for every state, its Jacobian dP/dx = dG/dx(G(x))
+    !> dG/dx(x) and dP/dA = dG/dx(G(x)) dG/dA(x) + dG/dA(G(x)) (the chain rule), for the four methods, both
+    !> potentials, with and without gamma, beta, m^2 (the odd symmetry of the equations), at a non-trivial state and
+    !> A = 1.1 (M = 140); with M odd the map stays P.
+    ! @test
+    subroutine test_half_period_map()
+        integer, parameter :: methods(4) = [method_newton, method_linearized, method_rk4, method_rk8]
+        integer, parameter :: potentials(2) = [sine_gordon, klein_gordon]
+        type(period_map) :: map
+        type(run_config) :: run
+        type(error_type), allocatable :: error
+        real(wp), allocatable :: x(:), px(:), jac(:, :), dpda(:), y(:), gx(:), jx(:, :), ax(:), gy(:), jy(:, :), ay(:)
+        real(wp) :: a
+        integer :: i, p, case, d, status
+        logical :: ok
+
+        a = 1.1_wp
+        do i = 1, size(methods)
+            do p = 1, size(potentials)
+                do case = 1, 2
+                    call period_map_init(map, short_run(methods(i), potentials(p), case == 2), error)
+                    call assertFalse( &
+                        allocated(error), &
+                        location=pf_source_location('test_period_map.pf', 447, 'assertFalse'))
+                    if (pf_any_failed()) return
+                    call assertEqual( &
+                        0, &
+                        mod(map%steps, 2), &
+                        location=pf_source_location('test_period_map.pf', 448, 'assertEqual'))
+                    if (pf_any_failed()) return
+                    d = map%dim
+                    x = some_state(map%n)
+                    allocate (px(d), jac(d, d), dpda(d), gx(d), jx(d, d), ax(d), gy(d), jy(d, d), ay(d))
+                    call map%apply(x, a, px, status, jac, dpda)
+                    call assertEqual( &
+                        map_ok, &
+                        status, &
+                        location=pf_source_location('test_period_map.pf', 453, 'assertEqual'))
+                    if (pf_any_failed()) return
+                    call set_half_period(map, .true., ok)
+                    call assertTrue(ok, location=pf_source_location('test_period_map.pf', 455, 'assertTrue'))
+                    if (pf_any_failed()) return
+                    call map%apply(x, a, gx, status, jx, ax)
+                    call assertEqual( &
+                        map_ok, &
+                        status, &
+                        location=pf_source_location('test_period_map.pf', 457, 'assertEqual'))
+                    if (pf_any_failed()) return
+                    y = gx
+                    call map%apply(y, a, gy, status, jy, ay)
+                    call assertEqual( &
+                        map_ok, &
+                        status, &
+                        location=pf_source_location('test_period_map.pf', 460, 'assertEqual'))
+                    if (pf_any_failed()) return
+                    ! G is not P (nor -P) at this state: a half period is not a period
+                    call assertGreaterThan( &
+                        maxval(abs(gx - px)), &
+                        1.0e-3_wp, &
+                        location=pf_source_location('test_period_map.pf', 462, 'assertGreaterThan'))
+                    if (pf_any_failed()) return
+                    call assertEqual( &
+                        px, &
+                        gy, &
+                        1.0e-11_wp*maxval(abs(px)), &
+                        location=pf_source_location('test_period_map.pf', 463, 'assertEqual'))
+                    if (pf_any_failed()) return
+                    call assertLessThan( &
+                        maxval(abs(jac - matmul(jy, jx))), &
+                        1.0e-10_wp*maxval(abs(jac)), &
+                        location=pf_source_location('test_period_map.pf', 464, 'assertLessThan'))
+                    if (pf_any_failed()) return
+                    call assertEqual( &
+                        dpda, &
+                        matmul(jy, ax) + ay, &
+                        1.0e-10_wp*maxval(abs(dpda)), &
+                        location=pf_source_location('test_period_map.pf', 465, 'assertEqual'))
+                    if (pf_any_failed()) return
+                    call set_half_period(map, .false., ok)
+                    call assertTrue(ok, location=pf_source_location('test_period_map.pf', 467, 'assertTrue'))
+                    if (pf_any_failed()) return
+                    call map%apply(x, a, gx, status)
+                    call assertTrue(all(gx == px), location=pf_source_location('test_period_map.pf', 469, 'assertTrue'))
+                    if (pf_any_failed()) return
+                    deallocate (px, jac, dpda, gx, jx, ax, gy, jy, ay)
+                end do
+            end do
+        end do
+        run = short_run(method_newton, sine_gordon, .false.)
+        run%numerics%dt = 0.0503_wp
+        call period_map_init(map, run, error)
+        call assertEqual(1, mod(map%steps, 2), location=pf_source_location('test_period_map.pf', 477, 'assertEqual'))
+        if (pf_any_failed()) return
+        call set_half_period(map, .true., ok)
+        call assertFalse(ok, location=pf_source_location('test_period_map.pf', 479, 'assertFalse'))
+        if (pf_any_failed()) return
+        call assertFalse(map%half, location=pf_source_location('test_period_map.pf', 480, 'assertFalse'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            map%steps, &
+            map%run_steps, &
+            location=pf_source_location('test_period_map.pf', 481, 'assertEqual'))
+        if (pf_any_failed()) return
+    end subroutine test_half_period_map
 
 end module test_period_map

@@ -14,6 +14,12 @@
 !> A_f (1 + `fate_push`) at full amplitude for `fate_watch_time` (at least `fate_min_periods` periods) with the
 !> one-period map of the same scheme, and it transmits when, at the end of a period, an oscillator beyond the
 !> run's detector site (`detector_site`, the scan's own) has |u_n| > the detector amplitude (pi by default).
+!>
+!> **The branch from rest on half a period.** For the fold alone (`floquet_every = 0`) with M even, the branch from
+!> rest is continued on the half-period map G of `supratrans_period_map` (P = G o G; the branch from rest is made of
+!> G's fixed points), at half the cost of every map and Jacobian; the fold's state is a fixed point of P, its residual
+!> is P's, its multipliers are P's (the squares of G's), and its fate and the branches followed past it use P. The
+!> fold is G's, which is P's (to the location tolerance; docs/continuation.md gives the paper grid both ways).
 module supratrans_fold_line
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp
@@ -23,7 +29,7 @@ module supratrans_fold_line
         short_width_per_sigma, short_absorber_sigma, short_absorber_sigma_max, short_absorber_sigma_q, band_edge_margin, &
         short_chain_decay, short_n0_min
     use supratrans_strings, only: int_str, real_str
-    use supratrans_period_map, only: period_map, period_map_init
+    use supratrans_period_map, only: period_map, period_map_init, set_half_period
     use supratrans_fixed_point_map, only: map_ok
     use supratrans_dense, only: dense_solve
     use supratrans_chain, only: detector_site
@@ -101,7 +107,7 @@ contains
         integer :: npts, k, s, last
         integer :: samples(multiplier_samples)
         real(wp), allocatable :: settled(:)
-        logical :: test_fate
+        logical :: test_fate, half
 
         call period_map_init(map, run, error)
         if (allocated(error)) then
@@ -121,7 +127,11 @@ contains
         ctl%crossing_tol = scene%crossing_tol
         ctl%beyond_fold = scene%beyond_fold
         ctl%floquet_every = scene%floquet_every
+        ! the fold alone, with M even: the branch from rest on the half-period map G (P = G o G; module docs)
+        call set_half_period(map, scene%floquet_every == 0, half)
+        half = half .and. scene%floquet_every == 0
         call continue_branch(map, ctl, res)
+        if (half) call back_to_period(map, res)
 
         r%status = res%status
         r%fold_amplitude = res%fold_amplitude
@@ -183,13 +193,19 @@ contains
             real(wp), allocatable :: wr(:), wi(:)
             integer :: info, j, m
             integer, allocatable :: order(:)
-            logical :: kept
+            logical :: kept, switched
 
             kept = .false.
             if (allocated(res%spectra)) then
                 if (size(res%spectra) >= i) kept = allocated(res%spectra(i)%wr)
             end if
+            if (half) call set_half_period(map, .true., switched)
             call branch_multipliers(map, res, i, wr, wi, info)
+            if (half) then
+                call set_half_period(map, .false., switched)
+                ! P's multipliers at a fixed point of G are the squares of G's
+                call square_multipliers(wr, wi)
+            end if
             if (.not. kept) then                    ! computed afresh: one Jacobian and one eigenvalue call
                 r%eigen_calls = r%eigen_calls + 1
                 r%jacobians = r%jacobians + 1
@@ -206,6 +222,38 @@ contains
         end subroutine sample
 
     end subroutine trace_fold
+
+    !> After a branch continued on the half-period map G: `map` made P again, the fold's residual taken as P's
+    !> (|P(x) - x| <= (1 + |dG/dx|) |G(x) - x|: the periodic state's, not G's), and the largest multipliers' moduli
+    !> squared (P's).
+    subroutine back_to_period(map, res)
+        !> The map (G on entry, P on exit).
+        type(period_map), intent(inout) :: map
+        !> The branch.
+        type(continuation_result), intent(inout) :: res
+        real(wp), allocatable :: px(:)
+        integer :: status
+        logical :: ok
+
+        call set_half_period(map, .false., ok)
+        res%max_multiplier(1:res%n_points) = res%max_multiplier(1:res%n_points)**2
+        if (res%fold_index < 1) return
+        allocate (px(map%dim))
+        call map%apply(res%states(:, res%fold_index), res%fold_amplitude, px, status)
+        res%stats%map_evaluations = res%stats%map_evaluations + 1
+        if (status == map_ok) res%fold_residual = maxval(abs(px - res%states(:, res%fold_index)))
+    end subroutine back_to_period
+
+    !> The squares of the complex numbers wr + i wi, in place.
+    pure subroutine square_multipliers(wr, wi)
+        !> Real and imaginary parts.
+        real(wp), intent(inout) :: wr(:), wi(:)
+        real(wp), allocatable :: re(:)
+
+        re = wr**2 - wi**2
+        wi = 2.0_wp*wr*wi
+        wr = re
+    end subroutine square_multipliers
 
     !> Add what a continuation cost (its counts and times) to the record's costs.
     pure subroutine add_branch_cost(r, res)

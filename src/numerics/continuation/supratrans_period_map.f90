@@ -23,6 +23,14 @@
 !> stored energy: the scheme's E_k (`stored_energy`, k = 0..M-1) for the three-level schemes, H of the
 !> method-of-lines system (`chain_energy`, levels 0..M-1) for Runge-Kutta.
 !>
+!> **The half-period map** (`set_half_period`). Both potentials have an odd V' and every other term of the
+!> equations is linear, and the drive changes sign over half a period: u(t) solves them if and only if -u(t + T/2)
+!> does. So with M even, the map over M/2 steps negated, G(x) = -(state after M/2 steps), gives P = G o G for every
+!> x, and a fixed point of G is a fixed point of P (a periodic state with u(t + T/2) = -u(t), as the branch from
+!> rest is). At such a state dP/dx = (dG/dx)^2, so P's multipliers are the squares of G's, a fold of G's branch is
+!> a fold of P's, and max |u_n| and the mean energy over half a period are those over the period. With `half` set,
+!> `apply` and `measures` are those of G: half the work.
+!>
 !> Every work array is allocated once, by `period_map_init`; `apply` allocates nothing. One object per thread.
 module supratrans_period_map
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
@@ -41,7 +49,7 @@ module supratrans_period_map
     implicit none
     private
 
-    public :: period_map_init
+    public :: period_map_init, set_half_period
 
     !> Whether every element is finite.
     interface all_finite
@@ -72,6 +80,10 @@ module supratrans_period_map
         !> Tangent columns propagated together by the three-level schemes (0: `block_entries` / N, so that their
         !> three levels stay in cache; the results do not depend on it).
         integer :: block_columns = 0
+        !> Whether `apply` and `measures` are those of the half-period map G (`set_half_period`; M even).
+        logical :: half = .false.
+        !> Steps of one `apply`: M, or M / 2 for the half-period map.
+        integer :: run_steps = 0
         !> Newton iterations of the implicit steps in the last `apply` or `measures` (Newton scheme; 0 otherwise).
         integer :: newton_iterations = 0
         !> Chain parameters (c, beta, gamma, m^2, potential, absorber).
@@ -228,6 +240,7 @@ contains
         ! T / dt an integer up to roundoff is that integer (not one step more)
         map%steps = max(1, ceiling(ratio*(1.0_wp - 1.0e-12_wp)))
         map%dt_used = map%period/real(map%steps, wp)
+        map%run_steps = map%steps
         ncol = 2*n + 1
         allocate (map%px_work(2*n))
 
@@ -325,6 +338,11 @@ contains
                 call rk_run(self, x, amplitude, c_first, c_last, .false., px, status, umax, energy, jac, dpda)
             end select
         end if
+        if (status == map_ok .and. self%half) then
+            px = -px
+            if (present(jac)) jac = -jac
+            if (present(dpda)) dpda = -dpda
+        end if
         if (status == map_ok) then
             if (.not. all_finite(px)) status = map_failed
         end if
@@ -340,6 +358,20 @@ contains
             if (present(dpda)) dpda = ieee_value(1.0_wp, ieee_quiet_nan)
         end if
     end subroutine period_map_apply
+
+    !> Make `map` the half-period map G (`on`, where M is even: `ok`) or the one-period map P again (`on` false).
+    pure subroutine set_half_period(map, on, ok)
+        !> The map.
+        type(period_map), intent(inout) :: map
+        !> Whether G is wanted.
+        logical, intent(in) :: on
+        !> Whether the map is now what was asked for (false for G when M is odd: it stays P).
+        logical, intent(out) :: ok
+
+        ok = .not. on .or. mod(map%steps, 2) == 0
+        map%half = on .and. ok
+        map%run_steps = merge(map%steps/2, map%steps, map%half)
+    end subroutine set_half_period
 
     !> max |u_n| (n = 1..N) over the levels 0..M of the period through x, and the mean over the period of the
     !> stored energy (see the module's description); NaN for both when the map fails at x.

@@ -55,7 +55,7 @@ contains
         real(wp) :: energy_sum
 
         n = self%n
-        m = self%steps
+        m = self%run_steps
         status = map_ok
         umax = 0.0_wp
         energy = 0.0_wp
@@ -301,7 +301,7 @@ contains
             self%tangent(j - n, j, tm) = 1.0_wp
         end do
         associate (s => self%scheme)
-            do step = 1, self%steps
+            do step = 1, self%run_steps
                 ! levels k - 1, k, k + 1 = step - 1, step, step + 1
                 lo = max(1, site_lo - step)
                 hi = min(n, site_hi + step)
