@@ -18,8 +18,10 @@
 !> **The branch from rest on half a period.** For the fold alone (`floquet_every = 0`) with M even, the branch from
 !> rest is continued on the half-period map G of `supratrans_period_map` (P = G o G; the branch from rest is made of
 !> G's fixed points), at half the cost of every map and Jacobian; the fold's state is a fixed point of P, its residual
-!> is P's, its multipliers are P's (the squares of G's), and its fate and the branches followed past it use P. The
-!> fold is G's, which is P's (to the location tolerance; docs/continuation.md gives the paper grid both ways).
+!> is P's, its multipliers are P's (the squares of G's), and its fate is tested with P. The fold is G's, which is
+!> P's (to the location tolerance; docs/continuation.md gives the paper grid both ways). A branch followed past a
+!> localized fold goes on G too when the periodic state the chain settled on has the symmetry (G(x) = x to
+!> `symmetric_tol`; the chain may settle on one without it), and on P otherwise.
 module supratrans_fold_line
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp
@@ -45,6 +47,7 @@ module supratrans_fold_line
 
     public :: trace_fold, fold_status_codes, instability_type_codes, shortest_chain, chain_length_given
     public :: scheme_decay_rate, harmonic_wavenumber, fate_codes, fold_fate, transmission_status_codes
+    public :: half_period_symmetric
     public :: short_width_per_sigma, short_absorber_sigma, short_absorber_sigma_max, short_absorber_sigma_q
     public :: band_edge_margin, short_chain_decay, short_n0_min
 
@@ -81,6 +84,8 @@ module supratrans_fold_line
     integer, parameter :: settle_iterations = 30
     !> max |P(x) - x| at which `damped_shooting` stops (the continuation's own shooting polishes to newton_tol).
     real(wp), parameter :: settle_tol = 1.0e-9_wp
+    !> max |G(x) - x| below which a settled periodic state counts as symmetric (its branch then continued on G).
+    real(wp), parameter, public :: symmetric_tol = 1.0e-8_wp
     !> The Newton-shooting of a followed branch gives up when its residual grows this many times its first value.
     real(wp), parameter :: follow_growth_limit = 10.0_wp
 
@@ -295,6 +300,7 @@ contains
         real(wp), allocatable :: x(:)
         real(wp) :: amplitude, time
         integer :: fate
+        logical :: half
 
         x = settled
         amplitude = a
@@ -313,7 +319,11 @@ contains
         do while (r%branches < max_branches)
             call damped_shooting(map, x, amplitude)
             next%amplitude_start = amplitude
+            ! a settled periodic state with the half-period symmetry: its branch on G too (half the cost)
+            half = half_period_symmetric(map, x, amplitude)
+            if (mod(map%steps, 2) == 0) r%map_evaluations = r%map_evaluations + 1
             call continue_branch(map, next, res, x)
+            if (half) call set_half_period(map, .false., half)
             r%branches = r%branches + 1
             call add_branch_cost(r, res)
             ! (a state Newton found where the chain cannot have settled, not stable, stops it: cont_unstable_start)
@@ -336,6 +346,29 @@ contains
         end do
         r%transmission_status = follow_too_many
     end subroutine follow_to_transmission
+
+    !> Whether x is a periodic state with the half-period symmetry, G(x) = x to `symmetric_tol` (M even); if so,
+    !> `map` is left as the half-period map G, else as P.
+    function half_period_symmetric(map, x, amplitude) result(yes)
+        !> The one-period map (P on entry).
+        type(period_map), intent(inout) :: map
+        !> The state.
+        real(wp), intent(in) :: x(:)
+        !> Drive amplitude.
+        real(wp), intent(in) :: amplitude
+        logical :: yes
+        real(wp), allocatable :: gx(:)
+        integer :: status
+
+        call set_half_period(map, .true., yes)
+        if (.not. yes) return
+        allocate (gx(size(x)))
+        call map%apply(x, amplitude, gx, status)
+        yes = status == map_ok
+        if (yes) yes = maxval(abs(gx - x)) <= symmetric_tol
+        if (.not. yes) call set_half_period(map, .false., yes)
+        yes = map%half
+    end function half_period_symmetric
 
     !> Newton-shooting with backtracking from where the chain settled (`x`, not yet periodic: the modes trapped
     !> between the drive and the absorber ring for long) towards the periodic state nearby: each full Newton step
