@@ -5,7 +5,8 @@ ODE of a short chain (test/auto/mol.f90.in: the ODE of src/numerics/supratrans_m
 the oscillator whose limit cycle is (sin Omega t, cos Omega t)) by orthogonal collocation from A = 0 to its first
 fold (LP), with test/auto/run_mol.py in a temporary folder. The scene then has to find the same fold:
 
-- with `method = 'rk8'` at dt ~ 0.05 (its eighth-order error is ~1e-11 there) to 1e-5;
+- with `method = 'rk8'` at dt ~ 0.05 (its eighth-order error is ~1e-11 there) to 1e-5, with the Floquet stability
+  along the branch and for the fold alone (`floquet_every = 0`, M = 140 even: the branch on the half-period map);
 - with the paper's Newton scheme, second order in dt: its folds at dt = 0.05 and dt/2 (the scene's own
   `/convergence/fold_half_dt`) approach AUTO's with the observed order 2, and their Richardson extrapolation (the
   scene's `/convergence/richardson`) removes that dt^2 error down to its O(dt^4) remainder. That remainder, relative
@@ -50,7 +51,7 @@ SCENE = """&chain potential = 'sine-gordon', n = {n}, n0 = {n0}, c = {c}, kappa 
 &drive omega = {omega} /
 &numerics method = '{method}', dt = {dt} /
 &scene kind = 'continuation', omega_min = {omega}, omega_max = {omega}, omega_step = 0.1, amplitude_max = 4.0,
-  fold_convergence = {convergence}, potentials = 'sine-gordon' /
+  fold_convergence = {convergence}, potentials = 'sine-gordon', floquet_every = {floquet_every} /
 &output file = 'fold.h5', quiet = .true. /
 """
 #: The Newton scheme's dt (dt/2 is the scene's own convergence run).
@@ -92,11 +93,13 @@ def auto_fold(case: dict, tmp_path_factory: pytest.TempPathFactory) -> dict:
     return result
 
 
-def scene_fold(exe: str, folder: Path, case: dict, method: str, dt: float, convergence: bool) -> h5py.File:
-    """The continuation scene's file for `case` with `method` at `dt` (fold_convergence as asked), opened."""
+def scene_fold(exe: str, folder: Path, case: dict, method: str, dt: float, convergence: bool,
+               floquet_every: int = 4) -> h5py.File:
+    """The continuation scene's file for `case` with `method` at `dt` (fold_convergence and floquet_every as asked),
+    opened."""
     folder.mkdir(parents=True, exist_ok=True)
     chain = {"gamma": 0.0, "beta": 0.0, "m2": 0.0} | case
-    (folder / "case.nml").write_text(SCENE.format(method=method, dt=dt, **chain,
+    (folder / "case.nml").write_text(SCENE.format(method=method, dt=dt, **chain, floquet_every=floquet_every,
                                                   convergence=".true." if convergence else ".false."))
     proc = subprocess.run([exe, "case.nml"], cwd=folder, capture_output=True, text=True, timeout=600,
                           env=dict(os.environ, OMP_NUM_THREADS="1"))
@@ -121,6 +124,17 @@ def test_rk8_scene_finds_autos_fold(case, auto_fold, exe, tmp_path):
         assert fold == pytest.approx(auto_fold["amplitude"], abs=1e-5)
         # the fold is where the branch turns (the scene's verdict: a real multiplier through +1)
         assert f["instability_type"][0, 0] == 1
+
+
+def test_rk8_fold_alone_on_half_a_period_finds_autos_fold(case, auto_fold, exe, tmp_path):
+    # the fold alone with M even: the branch from rest continued on the half-period map (P = G o G)
+    with scene_fold(exe, tmp_path, case, "rk8", 0.05, False, floquet_every=0) as f:
+        assert int(f["steps_per_period"][0, 0]) % 2 == 0
+        fold = float(f["fold_amplitude"][0, 0])
+        print(f"rk8 scene, fold alone on half a period: A_f = {fold!r}, AUTO - rk8 = {auto_fold['amplitude'] - fold:.2e}")
+        assert fold == pytest.approx(auto_fold["amplitude"], abs=1e-5)
+        # the multiplier through +1 at the fold is P's (the square of the half-period map's)
+        assert abs(float(f["multipliers/real"][0, 2, 0]) - 1.0) < 1e-3
 
 
 def test_newton_folds_extrapolate_to_autos_fold(case, auto_fold, exe, tmp_path):
