@@ -1,5 +1,5 @@
 """The continuation scene as a user drives it: a fold line identical for 1 and 2 threads and for a sliced run
-merged, the statuses and codes of its file, and one clear line (exit 2, nothing written) for each input that has no
+merged (with the Floquet stability along the branch, and for the fold alone), the statuses and codes of its file, and one clear line (exit 2, nothing written) for each input that has no
 periodic state to continue."""
 import os
 import subprocess
@@ -83,6 +83,27 @@ def test_fold_line_is_the_same_for_two_threads_and_for_slices(exe, fold_line, tm
     sh(exe, "merge", *parts, cwd=tmp_path)
     diffs, compared, _ = compare_results.compare(fold_line / "out" / "fold.h5", tmp_path / "out" / "fold.h5")
     assert compared > 10 and not diffs, diffs
+
+
+def test_the_fold_alone_is_the_same_for_two_threads_and_for_slices(exe, tmp_path):
+    """floquet_every = 0, where a period of an even number of steps (Omega = 0.7: M = 90; 0.8: M = 79) has its
+    branch from rest continued on the half-period map: the same file for 1 and 2 threads and for a sliced run."""
+    text = FOLD.replace("fold_convergence", "floquet_every = 0, fold_convergence")
+    one, two, sliced = (tmp_path / name for name in ("one", "two", "sliced"))
+    for folder, threads in ((one, 1), (two, 2)):
+        folder.mkdir()
+        (folder / "fold.nml").write_text(text)
+        sh(exe, "fold.nml", cwd=folder, threads=threads)
+    with h5py.File(one / "out" / "fold.h5") as f:
+        assert sorted(f["steps_per_period"][0, :] % 2) == [0, 1]
+    sliced.mkdir()
+    (sliced / "fold.nml").write_text(text)
+    for i in (1, 2, 3):
+        sh(exe, "fold.nml", "--slice", f"{i}/3", cwd=sliced)
+    sh(exe, "merge", *sorted((sliced / "out").glob("fold.part-*.h5")), cwd=sliced)
+    for other in (two, sliced):
+        diffs, compared, _ = compare_results.compare(one / "out" / "fold.h5", other / "out" / "fold.h5")
+        assert compared > 10 and not diffs, diffs
 
 
 def test_the_fold_alone_is_the_same_fold_without_stability(exe, fold_line, tmp_path):
