@@ -19,7 +19,8 @@
 !> rest is continued on the half-period map G of `supratrans_period_map` (P = G o G; the branch from rest is made of
 !> G's fixed points), at half the cost of every map and Jacobian; the fold's state is a fixed point of P, its residual
 !> is P's, its multipliers are P's (the squares of G's), and its fate is tested with P. The fold is G's, which is
-!> P's (to the location tolerance; docs/continuation.md gives the paper grid both ways). A branch followed past a
+!> P's (to the location tolerance) unless P's continuation leaves the symmetric branch at a branch point, which G
+!> cannot (docs/continuation.md gives the paper grid both ways). A branch followed past a
 !> localized fold goes on G too when the periodic state the chain settled on has the symmetry (G(x) = x to
 !> `symmetric_tol`; the chain may settle on one without it), and on P otherwise.
 module supratrans_fold_line
