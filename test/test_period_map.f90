@@ -670,7 +670,7 @@ contains
         if (pf_any_failed()) return
         call assertEqual( &
             map%steps, &
-            map%run_steps, &
+            map%run_steps(), &
             location=pf_source_location('test_period_map.pf', 481, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_half_period_map

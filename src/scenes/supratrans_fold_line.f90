@@ -134,8 +134,8 @@ contains
         ctl%beyond_fold = scene%beyond_fold
         ctl%floquet_every = scene%floquet_every
         ! the fold alone, with M even: the branch from rest on the half-period map G (P = G o G; module docs)
-        call set_half_period(map, scene%floquet_every == 0, half)
-        half = half .and. scene%floquet_every == 0
+        half = .false.
+        if (scene%floquet_every == 0) call set_half_period(map, .true., half)
         call continue_branch(map, ctl, res)
         if (half) call back_to_period(map, res)
 
@@ -199,19 +199,13 @@ contains
             real(wp), allocatable :: wr(:), wi(:)
             integer :: info, j, m
             integer, allocatable :: order(:)
-            logical :: kept, switched
+            logical :: kept
 
             kept = .false.
             if (allocated(res%spectra)) then
                 if (size(res%spectra) >= i) kept = allocated(res%spectra(i)%wr)
             end if
-            if (half) call set_half_period(map, .true., switched)
             call branch_multipliers(map, res, i, wr, wi, info)
-            if (half) then
-                call set_half_period(map, .false., switched)
-                ! P's multipliers at a fixed point of G are the squares of G's
-                call square_multipliers(wr, wi)
-            end if
             if (.not. kept) then                    ! computed afresh: one Jacobian and one eigenvalue call
                 r%eigen_calls = r%eigen_calls + 1
                 r%jacobians = r%jacobians + 1
@@ -230,19 +224,24 @@ contains
     end subroutine trace_fold
 
     !> After a branch continued on the half-period map G: `map` made P again, the fold's residual taken as P's
-    !> (|P(x) - x| <= (1 + |dG/dx|) |G(x) - x|: the periodic state's, not G's), and the largest multipliers' moduli
-    !> squared (P's).
+    !> (|P(x) - x| <= (1 + |dG/dx|) |G(x) - x|: the periodic state's, not G's), and the multipliers kept with the
+    !> branch and their largest moduli squared (P's multipliers at a fixed point of G are the squares of G's).
     subroutine back_to_period(map, res)
         !> The map (G on entry, P on exit).
         type(period_map), intent(inout) :: map
         !> The branch.
         type(continuation_result), intent(inout) :: res
         real(wp), allocatable :: px(:)
-        integer :: status
+        integer :: status, i
         logical :: ok
 
         call set_half_period(map, .false., ok)
         res%max_multiplier(1:res%n_points) = res%max_multiplier(1:res%n_points)**2
+        if (allocated(res%spectra)) then
+            do i = 1, min(res%n_points, size(res%spectra))
+                if (allocated(res%spectra(i)%wr)) call square_multipliers(res%spectra(i)%wr, res%spectra(i)%wi)
+            end do
+        end if
         if (res%fold_index < 1) return
         allocate (px(map%dim))
         call map%apply(res%states(:, res%fold_index), res%fold_amplitude, px, status)

@@ -82,8 +82,6 @@ module supratrans_period_map
         integer :: block_columns = 0
         !> Whether `apply` and `measures` are those of the half-period map G (`set_half_period`; M even).
         logical :: half = .false.
-        !> Steps of one `apply`: M, or M / 2 for the half-period map.
-        integer :: run_steps = 0
         !> Newton iterations of the implicit steps in the last `apply` or `measures` (Newton scheme; 0 otherwise).
         integer :: newton_iterations = 0
         !> Chain parameters (c, beta, gamma, m^2, potential, absorber).
@@ -136,6 +134,8 @@ module supratrans_period_map
         procedure :: apply => period_map_apply
         !> max |u_n| over one period and the mean stored energy.
         procedure :: measures => period_map_measures
+        !> Steps of one `apply`: M, or M / 2 for the half-period map.
+        procedure :: run_steps => period_map_run_steps
     end type period_map
 
     interface
@@ -240,7 +240,6 @@ contains
         ! T / dt an integer up to roundoff is that integer (not one step more)
         map%steps = max(1, ceiling(ratio*(1.0_wp - 1.0e-12_wp)))
         map%dt_used = map%period/real(map%steps, wp)
-        map%run_steps = map%steps
         ncol = 2*n + 1
         allocate (map%px_work(2*n))
 
@@ -370,8 +369,15 @@ contains
 
         ok = .not. on .or. mod(map%steps, 2) == 0
         map%half = on .and. ok
-        map%run_steps = merge(map%steps/2, map%steps, map%half)
     end subroutine set_half_period
+
+    !> Steps of one `apply`: M, or M / 2 for the half-period map.
+    pure integer function period_map_run_steps(self) result(m)
+        !> The map.
+        class(period_map), intent(in) :: self
+
+        m = merge(self%steps/2, self%steps, self%half)
+    end function period_map_run_steps
 
     !> max |u_n| (n = 1..N) over the levels 0..M of the period through x, and the mean over the period of the
     !> stored energy (see the module's description); NaN for both when the map fails at x.

@@ -55,7 +55,7 @@ contains
         real(wp) :: energy_sum
 
         n = self%n
-        m = self%run_steps
+        m = self%run_steps()
         status = map_ok
         umax = 0.0_wp
         energy = 0.0_wp
@@ -266,11 +266,12 @@ contains
         integer, intent(out) :: tm1, tm
         !> `map_ok` or `map_failed`.
         integer, intent(out) :: status
-        integer :: n, j, step, tn, swap, forced, info, site_lo, site_hi, lo, hi
+        integer :: n, j, step, tn, swap, forced, info, site_lo, site_hi, lo, hi, nsteps
         real(wp) :: boundary
         logical :: newton
 
         n = self%n
+        nsteps = self%run_steps()
         status = map_ok
         newton = self%method == method_newton
         forced = 0
@@ -301,7 +302,7 @@ contains
             self%tangent(j - n, j, tm) = 1.0_wp
         end do
         associate (s => self%scheme)
-            do step = 1, self%run_steps
+            do step = 1, nsteps
                 ! levels k - 1, k, k + 1 = step - 1, step, step + 1
                 lo = max(1, site_lo - step)
                 hi = min(n, site_hi + step)

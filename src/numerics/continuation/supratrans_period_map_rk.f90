@@ -44,7 +44,7 @@ contains
         logical :: tangent
 
         n = self%n
-        m = self%run_steps
+        m = self%run_steps()
         dt = self%dt_used
         tangent = c_first <= c_last
         status = map_ok
