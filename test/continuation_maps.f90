@@ -5,6 +5,8 @@
 !> components (`mode`):
 !> - `mode_fold`: y -> y/2 + x^2 (contracting, fixed at y = 2 x^2; a 2-D branch with a known shape),
 !> - `mode_doubling`: y -> (1/2 - 5 A) y + y^3 (fixed at y = 0, multiplier 1/2 - 5 A through -1 at A = 3/10),
+!> - `mode_pitchfork`: y -> (1/2 + 2 A) y - y^3 (fixed at y = 0, multiplier 1/2 + 2 A through +1 at A = 1/4: a branch
+!>   point, where the branches y^2 = 2 A - 1/2 leave the branch y = 0, which does not turn there),
 !> - `mode_torus`: (y1, y2) -> (3/5 + 2 A) R(1) (y1, y2) - |y|^2 (y1, y2) / 10 (R(1) the rotation by 1 rad; a
 !>   Neimark-Sacker normal form: fixed at y = 0, a complex pair of modulus 3/5 + 2 A through the unit circle at
 !>   A = 1/5),
@@ -27,6 +29,8 @@ module continuation_maps
     integer, parameter, public :: mode_torus = 2
     !> The fold map with rotations whose multipliers lie on the unit circle, in dense coordinates.
     integer, parameter, public :: mode_crowded = 3
+    !> Second component with a multiplier through +1 at A = 1/4 (a branch point of a symmetric pitchfork).
+    integer, parameter, public :: mode_pitchfork = 4
 
     !> The test map; see the module's documentation.
     type, extends(fixed_point_map), public :: model_map
@@ -119,6 +123,11 @@ contains
             px(2) = q*x(2) + x(2)**3
             if (present(jac)) jac(2, 2) = q + 3.0_wp*x(2)**2
             if (present(dpda)) dpda(2) = -5.0_wp*x(2)
+        case (mode_pitchfork)
+            q = 0.5_wp + 2.0_wp*amplitude
+            px(2) = q*x(2) - x(2)**3
+            if (present(jac)) jac(2, 2) = q - 3.0_wp*x(2)**2
+            if (present(dpda)) dpda(2) = 2.0_wp*x(2)
         case default  ! mode_torus
             r = 0.6_wp + 2.0_wp*amplitude
             cs = cos(1.0_wp)

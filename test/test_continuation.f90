@@ -10,7 +10,11 @@ module test_continuation
     use supratrans_shooting, only: shoot, shooting_controls, shooting_result, shoot_converged, shoot_diverged
     use supratrans_floquet
     use supratrans_continuation
-    use continuation_maps, only: model_map, new_model_map, mode_fold, mode_doubling, mode_torus, mode_crowded
+    use continuation_maps, only: model_map, new_model_map, mode_fold, mode_doubling, mode_torus, mode_crowded, &
+                                 mode_pitchfork
+    use supratrans_continuation_corrector, only: branch_point, complete_point
+    use supratrans_continuation_locate, only: bisect_sign
+    use supratrans_bordered_system, only: bordered_system
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     implicit none
 
@@ -46,7 +50,7 @@ contains
         call assertGreaterThan( &
             e(0), &
             1.0e-2_wp, &
-            location=pf_source_location('test_continuation.pf', 45, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 49, 'assertGreaterThan'))
         if (pf_any_failed()) return
         c = 0.0_wp
         k = 0
@@ -59,32 +63,32 @@ contains
             k, &
             3, &
             message="enough iterates above roundoff to see the order", &
-            location=pf_source_location('test_continuation.pf', 53, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_continuation.pf', 57, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             c, &
             5.0_wp, &
             message="e_{k+1} <= C e_k^2", &
-            location=pf_source_location('test_continuation.pf', 54, 'assertLessThan'))
+            location=pf_source_location('test_continuation.pf', 58, 'assertLessThan'))
         if (pf_any_failed()) return
-        call assertLessThan(e(6), 1.0e-14_wp, location=pf_source_location('test_continuation.pf', 55, 'assertLessThan'))
+        call assertLessThan(e(6), 1.0e-14_wp, location=pf_source_location('test_continuation.pf', 59, 'assertLessThan'))
         if (pf_any_failed()) return
         x = [0.5_wp, 0.0_wp]
         call shoot(map, x, 0.2_wp, shooting_controls(), res)
         call assertEqual( &
             shoot_converged, &
             res%status, &
-            location=pf_source_location('test_continuation.pf', 58, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 62, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             res%residuals(res%iterations + 1), &
             1.0e-10_wp, &
-            location=pf_source_location('test_continuation.pf', 59, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_continuation.pf', 63, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             res%iterations + 1, &
             size(res%residuals), &
-            location=pf_source_location('test_continuation.pf', 60, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 64, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_shooting_quadratic
 
@@ -104,40 +108,40 @@ contains
         call assertEqual( &
             shoot_converged, &
             res%status, &
-            location=pf_source_location('test_continuation.pf', 76, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 80, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%iterations, &
             20, &
-            location=pf_source_location('test_continuation.pf', 77, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 81, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             maxval(res%residuals), &
             10.0_wp*res%residuals(1), &
-            location=pf_source_location('test_continuation.pf', 78, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 82, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertLessThan( &
             abs(x(1) + 1.3247179572_wp), &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation.pf', 79, 'assertLessThan'))
+            location=pf_source_location('test_continuation.pf', 83, 'assertLessThan'))
         if (pf_any_failed()) return
         x = [0.1_wp, 0.0_wp]
         call shoot(map, x, 1.0_wp, shooting_controls(max_iter=40, growth_limit=10.0_wp), res)
         call assertEqual( &
             shoot_diverged, &
             res%status, &
-            location=pf_source_location('test_continuation.pf', 82, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 86, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(3, res%iterations, location=pf_source_location('test_continuation.pf', 83, 'assertEqual'))
+        call assertEqual(3, res%iterations, location=pf_source_location('test_continuation.pf', 87, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%residuals(4), &
             10.0_wp*res%residuals(1), &
-            location=pf_source_location('test_continuation.pf', 84, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 88, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(res%residuals(1:3) <= 10.0_wp*res%residuals(1)), &
-            location=pf_source_location('test_continuation.pf', 85, 'assertTrue'))
+            location=pf_source_location('test_continuation.pf', 89, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_shooting_gives_up_when_the_residual_grows
 
@@ -158,29 +162,29 @@ contains
             cont_newton_failed, &
             res%status, &
             message=continuation_status_name(res%status), &
-            location=pf_source_location('test_continuation.pf', 101, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 105, 'assertEqual'))
         if (pf_any_failed()) return
         ctl%start_max_iter = 40
         call continue_branch(map, ctl, res, x0=[0.1_wp, 0.0_wp])
         call assertTrue( &
             res%status /= cont_newton_failed, &
             message=continuation_status_name(res%status), &
-            location=pf_source_location('test_continuation.pf', 104, 'assertTrue'))
+            location=pf_source_location('test_continuation.pf', 108, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp, &
             res%amplitude(1), &
-            location=pf_source_location('test_continuation.pf', 105, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 109, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             abs(res%states(1, 1) + 1.3247179572_wp), &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation.pf', 106, 'assertLessThan'))
+            location=pf_source_location('test_continuation.pf', 110, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertEqual( &
             12, &
             ctl%newton_max_iter, &
-            location=pf_source_location('test_continuation.pf', 107, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 111, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_start_iterations_apart_from_the_corrector
 
@@ -199,38 +203,38 @@ contains
         m(2, 3) = -0.8_wp*sin(0.3_wp)
         m(3, 2) = -m(2, 3)
         call floquet_multipliers(m, wr, wi, info)
-        call assertEqual(0, info, location=pf_source_location('test_continuation.pf', 125, 'assertEqual'))
+        call assertEqual(0, info, location=pf_source_location('test_continuation.pf', 129, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.8_wp, &
             largest_modulus(wr, wi), &
             1.0e-14_wp, &
-            location=pf_source_location('test_continuation.pf', 126, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 130, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             crossing_none, &
             leading_crossing(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 127, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 131, 'assertEqual'))
         if (pf_any_failed()) return
         m(1, 1) = 1.1_wp
         call floquet_multipliers(m, wr, wi, info)
         call assertEqual( &
             crossing_fold, &
             leading_crossing(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 130, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 134, 'assertEqual'))
         if (pf_any_failed()) return
         m(1, 1) = -1.2_wp
         call floquet_multipliers(m, wr, wi, info)
         call assertEqual( &
             crossing_period_doubling, &
             leading_crossing(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 133, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 137, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.2_wp, &
             crossing_distance(wr, wi, crossing_period_doubling), &
             1.0e-14_wp, &
-            location=pf_source_location('test_continuation.pf', 134, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 138, 'assertEqual'))
         if (pf_any_failed()) return
         m(1, 1) = 0.5_wp
         m(2:3, 2:3) = m(2:3, 2:3)*(1.05_wp/0.8_wp)
@@ -238,29 +242,29 @@ contains
         call assertEqual( &
             crossing_torus, &
             leading_crossing(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 138, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 142, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.05_wp, &
             crossing_distance(wr, wi, crossing_torus), &
             1.0e-14_wp, &
-            location=pf_source_location('test_continuation.pf', 139, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 143, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             nearest_multiplier(wr, wi, 1.0_wp), &
             message="0.5 nearer +1 than 1.05 exp(+-0.3 i)", &
-            location=pf_source_location('test_continuation.pf', 140, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 144, 'assertEqual'))
         if (pf_any_failed()) return
         m(2:3, 2:3) = m(2:3, 2:3)*((1.0_wp + 1.0e-8_wp)/1.05_wp)
         call floquet_multipliers(m, wr, wi, info)
         call assertTrue( &
             is_stable(wr, wi, 1.0e-6_wp), &
-            location=pf_source_location('test_continuation.pf', 143, 'assertTrue'))
+            location=pf_source_location('test_continuation.pf', 147, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             is_stable(wr, wi, 1.0e-10_wp), &
-            location=pf_source_location('test_continuation.pf', 144, 'assertFalse'))
+            location=pf_source_location('test_continuation.pf', 148, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_floquet_classification
 
@@ -291,156 +295,156 @@ contains
                 cont_fold_found, &
                 res%status, &
                 message=continuation_status_name(res%status), &
-                location=pf_source_location('test_continuation.pf', 170, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 174, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 cont_fold_found, &
                 res%stop_reason, &
-                location=pf_source_location('test_continuation.pf', 171, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 175, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 af, &
                 res%fold_amplitude, &
                 1.0e-8_wp, &
                 message="A_f", &
-                location=pf_source_location('test_continuation.pf', 172, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 176, 'assertEqual'))
             if (pf_any_failed()) return
             call assertLessThanOrEqual( &
                 res%fold_residual, &
                 1.0e-10_wp, &
-                location=pf_source_location('test_continuation.pf', 173, 'assertLessThanOrEqual'))
+                location=pf_source_location('test_continuation.pf', 177, 'assertLessThanOrEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 1.0_wp, &
                 res%fold_multiplier, &
                 1.0e-4_wp, &
                 message="multiplier +1 at the fold", &
-                location=pf_source_location('test_continuation.pf', 174, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 178, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.0_wp, &
                 res%fold_multiplier_imag, &
                 0.0_wp, &
-                location=pf_source_location('test_continuation.pf', 175, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 179, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 crossing_fold, &
                 res%instability_type, &
-                location=pf_source_location('test_continuation.pf', 176, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 180, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 af, &
                 res%instability_amplitude, &
                 1.0e-8_wp, &
-                location=pf_source_location('test_continuation.pf', 177, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 181, 'assertEqual'))
             if (pf_any_failed()) return
             f = res%fold_index
-            call assertGreaterThan(f, 3, location=pf_source_location('test_continuation.pf', 179, 'assertGreaterThan'))
+            call assertGreaterThan(f, 3, location=pf_source_location('test_continuation.pf', 183, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertEqual( &
                 8, &
                 res%points_beyond_fold, &
-                location=pf_source_location('test_continuation.pf', 180, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 184, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 f + 8, &
                 res%n_points, &
-                location=pf_source_location('test_continuation.pf', 181, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 185, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 xf, &
                 res%states(1, f), &
                 1.0e-4_wp, &
-                location=pf_source_location('test_continuation.pf', 182, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 186, 'assertEqual'))
             if (pf_any_failed()) return
             do i = 1, res%n_points
                 call assertEqual( &
                     res%states(1, i) - res%states(1, i)**3, &
                     res%amplitude(i), &
                     1.0e-9_wp, &
-                    location=pf_source_location('test_continuation.pf', 184, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 188, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     2.0_wp*res%states(1, i)**2, &
                     res%states(2, i), &
                     1.0e-9_wp, &
-                    location=pf_source_location('test_continuation.pf', 185, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 189, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertLessThanOrEqual( &
                     res%residual(i), &
                     1.0e-10_wp, &
-                    location=pf_source_location('test_continuation.pf', 186, 'assertLessThanOrEqual'))
+                    location=pf_source_location('test_continuation.pf', 190, 'assertLessThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertLessThanOrEqual( &
                     res%amplitude(i), &
                     af + 1.0e-9_wp, &
-                    location=pf_source_location('test_continuation.pf', 187, 'assertLessThanOrEqual'))
+                    location=pf_source_location('test_continuation.pf', 191, 'assertLessThanOrEqual'))
                 if (pf_any_failed()) return
             end do
             call assertTrue( &
                 all(res%stable(1:f - 1) /= 0), &
                 message="stable before the fold", &
-                location=pf_source_location('test_continuation.pf', 189, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 193, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(res%stable(f + 1:) /= 1), &
                 message="unstable after the fold", &
-                location=pf_source_location('test_continuation.pf', 190, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 194, 'assertTrue'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 count(res%stable(1:f - 1) == 1), &
                 1, &
-                location=pf_source_location('test_continuation.pf', 191, 'assertGreaterThan'))
+                location=pf_source_location('test_continuation.pf', 195, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 count(res%stable(f + 1:) == 0), &
                 1, &
-                location=pf_source_location('test_continuation.pf', 192, 'assertGreaterThan'))
+                location=pf_source_location('test_continuation.pf', 196, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(res%states(1, f + 1:) > xf), &
                 message="past the fold on the unstable side", &
-                location=pf_source_location('test_continuation.pf', 193, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 197, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(res%tangent_amplitude(1:f - 1) > 0.0_wp), &
-                location=pf_source_location('test_continuation.pf', 194, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 198, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(res%tangent_amplitude(f + 1:) < 0.0_wp), &
-                location=pf_source_location('test_continuation.pf', 195, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 199, 'assertTrue'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 res%stats%map_evaluations, &
                 0, &
-                location=pf_source_location('test_continuation.pf', 196, 'assertGreaterThan'))
+                location=pf_source_location('test_continuation.pf', 200, 'assertGreaterThan'))
             if (pf_any_failed()) return
             if (every == 1) then
                 call assertTrue( &
                     all(res%stable >= 0), &
                     message="multipliers everywhere", &
-                    location=pf_source_location('test_continuation.pf', 198, 'assertTrue'))
+                    location=pf_source_location('test_continuation.pf', 202, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertGreaterThanOrEqual( &
                     res%stats%jacobian_evaluations, &
                     res%n_points, &
-                    location=pf_source_location('test_continuation.pf', 199, 'assertGreaterThanOrEqual'))
+                    location=pf_source_location('test_continuation.pf', 203, 'assertGreaterThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertGreaterThanOrEqual( &
                     res%stats%eigen_calls, &
                     res%n_points, &
-                    location=pf_source_location('test_continuation.pf', 200, 'assertGreaterThanOrEqual'))
+                    location=pf_source_location('test_continuation.pf', 204, 'assertGreaterThanOrEqual'))
                 if (pf_any_failed()) return
             else
                 call assertTrue( &
                     any(res%exact_tangent == 0), &
                     message="secant points with a reused Jacobian", &
-                    location=pf_source_location('test_continuation.pf', 202, 'assertTrue'))
+                    location=pf_source_location('test_continuation.pf', 206, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertLessThan( &
                     res%stats%eigen_calls, &
                     res%n_points, &
-                    location=pf_source_location('test_continuation.pf', 203, 'assertLessThan'))
+                    location=pf_source_location('test_continuation.pf', 207, 'assertLessThan'))
                 if (pf_any_failed()) return
             end if
         end do
@@ -450,17 +454,17 @@ contains
         call assertEqual( &
             cont_fold_found, &
             res%stop_reason, &
-            location=pf_source_location('test_continuation.pf', 209, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 213, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             res%amplitude(res%n_points), &
             res%fold_amplitude - 0.1_wp, &
-            location=pf_source_location('test_continuation.pf', 210, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_continuation.pf', 214, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%amplitude(res%n_points - 1), &
             res%fold_amplitude - 0.1_wp, &
-            location=pf_source_location('test_continuation.pf', 211, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 215, 'assertGreaterThan'))
         if (pf_any_failed()) return
     end subroutine test_fold_located
 
@@ -482,52 +486,296 @@ contains
             call assertEqual( &
                 cont_fold_found, &
                 res%status, &
-                location=pf_source_location('test_continuation.pf', 229, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 233, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 crossing_period_doubling, &
                 res%instability_type, &
                 message=crossing_name(res%instability_type), &
-                location=pf_source_location('test_continuation.pf', 230, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 234, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.3_wp, &
                 res%instability_amplitude, &
                 1.0e-6_wp, &
-                location=pf_source_location('test_continuation.pf', 231, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 235, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 2.0_wp/(3.0_wp*sqrt(3.0_wp)), &
                 res%fold_amplitude, &
                 1.0e-8_wp, &
-                location=pf_source_location('test_continuation.pf', 232, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 236, 'assertEqual'))
             if (pf_any_failed()) return
             f = res%fold_index
             call assertTrue( &
                 all(pack(res%stable(:f), res%amplitude(:f) < 0.3_wp .and. res%stable(:f) >= 0) == 1), &
-                location=pf_source_location('test_continuation.pf', 234, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 238, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(pack(res%stable(:f), res%amplitude(:f) > 0.3_wp .and. res%stable(:f) >= 0) == 0), &
-                location=pf_source_location('test_continuation.pf', 235, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 239, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(pack(res%stable(f + 1:), res%stable(f + 1:) >= 0) == 0), &
-                location=pf_source_location('test_continuation.pf', 236, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 240, 'assertTrue'))
             if (pf_any_failed()) return
             if (every == 1) calls_all = res%stats%eigen_calls
         end do
         call assertLessThan( &
             res%stats%eigen_calls, &
             calls_all, &
-            location=pf_source_location('test_continuation.pf', 239, 'assertLessThan'))
+            location=pf_source_location('test_continuation.pf', 243, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             any(res%stable < 0), &
             message="some points without multipliers", &
-            location=pf_source_location('test_continuation.pf', 240, 'assertTrue'))
+            location=pf_source_location('test_continuation.pf', 244, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_period_doubling
+
+    !> The sign of det(J + I) (`flip_sign`) on dense matrices S D S^-1 with known spectra: a real multiplier
+    !> through -1 flips it, the other classes do not (a complex pair of any modulus, a multiplier through +1).
+    ! @test
+    subroutine test_flip_sign()
+        real(wp) :: d(4, 4), s(4, 4), sinv(4, 4)
+        integer :: i, j
+
+        do j = 1, 4
+            do i = 1, 4
+                s(i, j) = 1.0_wp/real(i + j - 1, wp) + merge(1.0_wp, 0.0_wp, i == j)
+            end do
+        end do
+        sinv = s
+        call invert(sinv)
+        d = 0.0_wp
+        d(1, 1) = 0.5_wp
+        d(2, 2) = -0.9_wp
+        d(3:4, 3:4) = reshape([0.3_wp, -1.7_wp, 1.7_wp, 0.3_wp], [2, 2])   ! |mu| = 1.73, a pair
+        call assertEqual( &
+            1, &
+            flip_sign(matmul(s, matmul(d, sinv))), &
+            location=pf_source_location('test_continuation.pf', 265, 'assertEqual'))
+        if (pf_any_failed()) return
+        d(2, 2) = -1.1_wp
+        call assertEqual( &
+            -1, &
+            flip_sign(matmul(s, matmul(d, sinv))), &
+            message="-0.9 -> -1.1", &
+            location=pf_source_location('test_continuation.pf', 267, 'assertEqual'))
+        if (pf_any_failed()) return
+        d(1, 1) = 1.5_wp
+        call assertEqual( &
+            -1, &
+            flip_sign(matmul(s, matmul(d, sinv))), &
+            message="and 0.5 -> 1.5: no change", &
+            location=pf_source_location('test_continuation.pf', 269, 'assertEqual'))
+        if (pf_any_failed()) return
+        d(1, 1) = -3.0_wp
+        call assertEqual( &
+            1, &
+            flip_sign(matmul(s, matmul(d, sinv))), &
+            message="two real multipliers below -1", &
+            location=pf_source_location('test_continuation.pf', 271, 'assertEqual'))
+        if (pf_any_failed()) return
+        d(1, 1) = -1.0_wp
+        call assertEqual( &
+            0, &
+            flip_sign(d), &
+            message="a multiplier -1: J + I singular", &
+            location=pf_source_location('test_continuation.pf', 273, 'assertEqual'))
+        if (pf_any_failed()) return
+
+    contains
+
+        subroutine invert(a)
+            real(wp), intent(inout) :: a(:, :)
+            real(wp) :: b(size(a, 1), size(a, 1))
+            integer :: k
+
+            b = 0.0_wp
+            do k = 1, size(a, 1)
+                b(k, k) = 1.0_wp
+            end do
+            do k = 1, size(a, 1)           ! Gauss-Jordan without pivoting (s is diagonally dominant)
+                b(k, :) = b(k, :)/a(k, k)
+                a(k, :) = a(k, :)/a(k, k)
+                do i = 1, size(a, 1)
+                    if (i == k) cycle
+                    b(i, :) = b(i, :) - a(i, k)*b(k, :)
+                    a(i, :) = a(i, :) - a(i, k)*a(k, :)
+                end do
+            end do
+            a = b
+        end subroutine invert
+    end subroutine test_flip_sign
+
+    !> The fold alone (floquet_every = 0) sees the period doubling at A = 3/10 through the sign of det(J + I) alone
+    !> (`flip_watch`), and locates it as the full path does (1e-6), with a few eigenvalue computations instead of
+    !> one every point; the fold is the same. Without `flip_watch` no loss of stability is reported, and a torus (a
+    !> complex pair, which the signs do not see) is not either: the fold alone reports what it watched. The branch
+    !> point at A = 1/4 (a real multiplier through +1, the branch not turning) is seen by the sign of the bordered
+    !> matrix's determinant, and located where the full path locates it.
+    ! @test
+    subroutine test_fold_alone_watches_real_crossings()
+        type(model_map) :: map
+        type(continuation_controls) :: ctl
+        type(continuation_result) :: res
+
+        integer :: calls_all
+
+        map = new_model_map(mode_doubling, 0.5_wp, 1.0_wp)
+        ctl = continuation_controls(ds0=0.05_wp, ds_max=0.1_wp, floquet_every=1)
+        call continue_branch(map, ctl, res)
+        calls_all = res%stats%eigen_calls
+        ctl%floquet_every = 0
+        call continue_branch(map, ctl, res)
+        call assertEqual( &
+            cont_fold_found, &
+            res%status, &
+            location=pf_source_location('test_continuation.pf', 319, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            crossing_period_doubling, &
+            res%instability_type, &
+            message=crossing_name(res%instability_type), &
+            location=pf_source_location('test_continuation.pf', 320, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0.3_wp, &
+            res%instability_amplitude, &
+            1.0e-6_wp, &
+            location=pf_source_location('test_continuation.pf', 321, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            2.0_wp/(3.0_wp*sqrt(3.0_wp)), &
+            res%fold_amplitude, &
+            1.0e-8_wp, &
+            location=pf_source_location('test_continuation.pf', 322, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertLessThan( &
+            2*res%stats%eigen_calls, &
+            calls_all, &
+            location=pf_source_location('test_continuation.pf', 323, 'assertLessThan'))
+        if (pf_any_failed()) return
+        ctl%flip_watch = .false.
+        call continue_branch(map, ctl, res)
+        call assertEqual( &
+            cont_fold_found, &
+            res%status, &
+            location=pf_source_location('test_continuation.pf', 326, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            ieee_is_nan(res%instability_amplitude), &
+            location=pf_source_location('test_continuation.pf', 327, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            crossing_none, &
+            res%instability_type, &
+            location=pf_source_location('test_continuation.pf', 328, 'assertEqual'))
+        if (pf_any_failed()) return
+        map = new_model_map(mode_torus, 0.5_wp, 1.0_wp)
+        ctl%flip_watch = .true.
+        call continue_branch(map, ctl, res)
+        call assertEqual( &
+            cont_fold_found, &
+            res%status, &
+            location=pf_source_location('test_continuation.pf', 332, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            ieee_is_nan(res%instability_amplitude), &
+            message="a torus is not watched", &
+            location=pf_source_location('test_continuation.pf', 333, 'assertTrue'))
+        if (pf_any_failed()) return
+        ! a real multiplier through +1 where the branch does not turn (a branch point): the bordered determinant's sign
+        map = new_model_map(mode_pitchfork, 0.5_wp, 1.0_wp)
+        call continue_branch(map, ctl, res)
+        call assertEqual( &
+            cont_fold_found, &
+            res%status, &
+            location=pf_source_location('test_continuation.pf', 337, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            crossing_fold, &
+            res%instability_type, &
+            message=crossing_name(res%instability_type), &
+            location=pf_source_location('test_continuation.pf', 338, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0.25_wp, &
+            res%instability_amplitude, &
+            1.0e-6_wp, &
+            location=pf_source_location('test_continuation.pf', 339, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            2.0_wp/(3.0_wp*sqrt(3.0_wp)), &
+            res%fold_amplitude, &
+            1.0e-8_wp, &
+            location=pf_source_location('test_continuation.pf', 340, 'assertEqual'))
+        if (pf_any_failed()) return
+        ctl%floquet_every = 1
+        call continue_branch(map, ctl, res)
+        call assertEqual( &
+            0.25_wp, &
+            res%instability_amplitude, &
+            1.0e-6_wp, &
+            message="the full path: the same crossing", &
+            location=pf_source_location('test_continuation.pf', 343, 'assertEqual'))
+        if (pf_any_failed()) return
+    end subroutine test_fold_alone_watches_real_crossings
+
+    !> `bisect_sign` from the branch point at A = 0.2 along its tangent: the pitchfork's branch point (a real
+    !> multiplier through +1, the sign of the bordered determinant) at A = 1/4 and the period doubling (through -1,
+    !> the sign of det(J + I)) at A = 3/10, each to the location tolerance; no bracket where the sign does not change.
+    ! @test
+    subroutine test_bisect_sign()
+        type(model_map) :: map
+        type(continuation_controls) :: ctl
+        type(continuation_stats) :: stats
+        type(branch_point) :: bp, pt
+        type(bordered_system) :: sys
+        real(wp) :: x
+        integer :: it, mode, kind
+        logical :: ok, located, narrowed
+
+        x = 0.2_wp
+        do it = 1, 50                          ! the branch from rest at A = 0.2: 0.2 = x - x^3
+            x = x - (x - x**3 - 0.2_wp)/(1.0_wp - 3.0_wp*x**2)
+        end do
+        ctl = continuation_controls(fold_tol=1.0e-10_wp)
+        do mode = 1, 2
+            if (mode == 1) map = new_model_map(mode_pitchfork, 0.5_wp, 1.0_wp)
+            if (mode == 2) map = new_model_map(mode_doubling, 0.5_wp, 1.0_wp)
+            kind = merge(crossing_fold, crossing_period_doubling, mode == 1)
+            bp%y = [x, 0.0_wp, 0.2_wp]
+            call complete_point(map, bp, [0.0_wp, 0.0_wp, 1.0_wp], sys, ok, stats)
+            call assertTrue(ok, location=pf_source_location('test_continuation.pf', 371, 'assertTrue'))
+            if (pf_any_failed()) return
+            call bisect_sign(map, bp, sys, 0.25_wp, kind, ctl, pt, located, narrowed, stats)
+            call assertTrue( &
+                located, &
+                message=crossing_name(kind), &
+                location=pf_source_location('test_continuation.pf', 373, 'assertTrue'))
+            if (pf_any_failed()) return
+            call assertEqual( &
+                merge(0.25_wp, 0.3_wp, mode == 1), &
+                pt%y(3), &
+                2.0e-10_wp, &
+                message=crossing_name(kind), &
+                location=pf_source_location('test_continuation.pf', 374, 'assertEqual'))
+            if (pf_any_failed()) return
+            call assertTrue( &
+                pt%y(3) >= merge(0.25_wp, 0.3_wp, mode == 1) - 1.0e-12_wp, &
+                message="past the crossing", &
+                location=pf_source_location('test_continuation.pf', 375, 'assertTrue'))
+            if (pf_any_failed()) return
+            call bisect_sign(map, bp, sys, 0.02_wp, kind, ctl, pt, located, narrowed, stats)
+            call assertFalse( &
+                located .or. narrowed, &
+                message="no crossing within 0.02", &
+                location=pf_source_location('test_continuation.pf', 377, 'assertFalse'))
+            if (pf_any_failed()) return
+        end do
+    end subroutine test_bisect_sign
 
     !> A complex pair of modulus 3/5 + 2 A leaves the unit circle at A = 1/5: a torus, located to 1e-6, whatever
     !> the crossing tolerance (1e-9, 1e-6, 1e-3); the multipliers at a branch point are available afterwards.
@@ -548,38 +796,38 @@ contains
             call assertEqual( &
                 cont_fold_found, &
                 res%status, &
-                location=pf_source_location('test_continuation.pf', 259, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 397, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 crossing_torus, &
                 res%instability_type, &
                 message=crossing_name(res%instability_type), &
-                location=pf_source_location('test_continuation.pf', 260, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 398, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.2_wp, &
                 res%instability_amplitude, &
                 1.0e-6_wp, &
-                location=pf_source_location('test_continuation.pf', 261, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 399, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         i = res%n_points
         call branch_multipliers(map, res, i, wr, wi, info)
-        call assertEqual(0, info, location=pf_source_location('test_continuation.pf', 265, 'assertEqual'))
+        call assertEqual(0, info, location=pf_source_location('test_continuation.pf', 403, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(3, size(wr), location=pf_source_location('test_continuation.pf', 266, 'assertEqual'))
+        call assertEqual(3, size(wr), location=pf_source_location('test_continuation.pf', 404, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             res%max_multiplier(i), &
             largest_modulus(wr, wi), &
             1.0e-14_wp, &
-            location=pf_source_location('test_continuation.pf', 267, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 405, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.6_wp + 2.0_wp*res%amplitude(i), &
             maxval(hypot(wr, wi), mask=wi /= 0.0_wp), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation.pf', 268, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 406, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_torus
 
@@ -603,36 +851,36 @@ contains
             call assertEqual( &
                 cont_fold_found, &
                 res%status, &
-                location=pf_source_location('test_continuation.pf', 288, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 426, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 2.0_wp/(3.0_wp*sqrt(3.0_wp)), &
                 res%fold_amplitude, &
                 1.0e-8_wp, &
-                location=pf_source_location('test_continuation.pf', 289, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 427, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 crossing_fold, &
                 res%instability_type, &
                 message=crossing_name(res%instability_type), &
-                location=pf_source_location('test_continuation.pf', 290, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 428, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 res%fold_amplitude, &
                 res%instability_amplitude, &
                 0.0_wp, &
-                location=pf_source_location('test_continuation.pf', 291, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 429, 'assertEqual'))
             if (pf_any_failed()) return
             f = res%fold_index
             call assertTrue( &
                 all(res%stable(:f - 1) == 1), &
-                location=pf_source_location('test_continuation.pf', 293, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 431, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 1.0_wp, &
                 res%max_multiplier(:f - 1), &
                 1.0e-12_wp, &
-                location=pf_source_location('test_continuation.pf', 294, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 432, 'assertEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_crowded_unit_circle
@@ -663,35 +911,35 @@ contains
                     call assertEqual( &
                         cont_fold_found, &
                         res%status, &
-                        location=pf_source_location('test_continuation.pf', 321, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 459, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         2.0_wp/(3.0_wp*sqrt(3.0_wp)), &
                         res%fold_amplitude, &
                         1.0e-8_wp, &
-                        location=pf_source_location('test_continuation.pf', 322, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 460, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         1.0_wp, &
                         res%fold_multiplier, &
                         1.0e-4_wp, &
-                        location=pf_source_location('test_continuation.pf', 323, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 461, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         kinds(mode), &
                         res%instability_type, &
-                        location=pf_source_location('test_continuation.pf', 324, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 462, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         expected(mode), &
                         res%instability_amplitude, &
                         1.0e-6_wp, &
-                        location=pf_source_location('test_continuation.pf', 325, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 463, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertTrue( &
                         all(res%arclength(2:n) > res%arclength(1:n - 1)), &
                         message="ordered by arclength", &
-                        location=pf_source_location('test_continuation.pf', 326, 'assertTrue'))
+                        location=pf_source_location('test_continuation.pf', 464, 'assertTrue'))
                     if (pf_any_failed()) return
                 end do
             end do
@@ -713,33 +961,33 @@ contains
             cont_no_fold, &
             res%status, &
             message=continuation_status_name(res%status), &
-            location=pf_source_location('test_continuation.pf', 343, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 481, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 344, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 482, 'assertIsNaN'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_residual, location=pf_source_location('test_continuation.pf', 345, 'assertIsNaN'))
+        call assertIsNaN(res%fold_residual, location=pf_source_location('test_continuation.pf', 483, 'assertIsNaN'))
         if (pf_any_failed()) return
         call assertIsNaN( &
             res%instability_amplitude, &
-            location=pf_source_location('test_continuation.pf', 346, 'assertIsNaN'))
+            location=pf_source_location('test_continuation.pf', 484, 'assertIsNaN'))
         if (pf_any_failed()) return
         call assertEqual( &
             crossing_none, &
             res%instability_type, &
-            location=pf_source_location('test_continuation.pf', 347, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 485, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, res%fold_index, location=pf_source_location('test_continuation.pf', 348, 'assertEqual'))
+        call assertEqual(0, res%fold_index, location=pf_source_location('test_continuation.pf', 486, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%amplitude(res%n_points), &
             2.0_wp, &
-            location=pf_source_location('test_continuation.pf', 349, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 487, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertTrue(all(res%stable == 1), location=pf_source_location('test_continuation.pf', 350, 'assertTrue'))
+        call assertTrue(all(res%stable == 1), location=pf_source_location('test_continuation.pf', 488, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(res%tangent_amplitude > 0.0_wp), &
-            location=pf_source_location('test_continuation.pf', 351, 'assertTrue'))
+            location=pf_source_location('test_continuation.pf', 489, 'assertTrue'))
         if (pf_any_failed()) return
         ! a point budget too small to reach amplitude_max
         ctl%max_points = 5
@@ -747,11 +995,11 @@ contains
         call assertEqual( &
             cont_max_points, &
             res%status, &
-            location=pf_source_location('test_continuation.pf', 355, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 493, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(5, res%n_points, location=pf_source_location('test_continuation.pf', 356, 'assertEqual'))
+        call assertEqual(5, res%n_points, location=pf_source_location('test_continuation.pf', 494, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 357, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 495, 'assertIsNaN'))
         if (pf_any_failed()) return
     end subroutine test_no_fold
 
@@ -780,14 +1028,14 @@ contains
                 call assertEqual( &
                     shoot_converged, &
                     sres%status, &
-                    location=pf_source_location('test_continuation.pf', 382, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 520, 'assertEqual'))
                 if (pf_any_failed()) return
                 xm = res%states(:, i)
                 call shoot(map, xm, res%amplitude(i) - delta, shooting_controls(tol=1.0e-14_wp), sres)
                 call assertEqual( &
                     shoot_converged, &
                     sres%status, &
-                    location=pf_source_location('test_continuation.pf', 385, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 523, 'assertEqual'))
                 if (pf_any_failed()) return
                 fd = (xp - xm)/(2.0_wp*delta)
                 tx = res%tangents(1:2, i)/res%tangents(3, i)
@@ -795,20 +1043,20 @@ contains
                     fd, &
                     tx, &
                     1.0e-6_wp*maxval(abs(fd)), &
-                    location=pf_source_location('test_continuation.pf', 388, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 526, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     1.0_wp, &
                     norm2(res%tangents(:, i)), &
                     1.0e-12_wp, &
-                    location=pf_source_location('test_continuation.pf', 389, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 527, 'assertEqual'))
                 if (pf_any_failed()) return
                 checked = checked + 1
             end do
             call assertGreaterThanOrEqual( &
                 checked, &
                 merge(3, 2, every == 1), &
-                location=pf_source_location('test_continuation.pf', 392, 'assertGreaterThanOrEqual'))
+                location=pf_source_location('test_continuation.pf', 530, 'assertGreaterThanOrEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_tangent_finite_difference
@@ -830,11 +1078,11 @@ contains
             cont_newton_failed, &
             res%status, &
             message=continuation_status_name(res%status), &
-            location=pf_source_location('test_continuation.pf', 409, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 547, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, res%n_points, location=pf_source_location('test_continuation.pf', 410, 'assertEqual'))
+        call assertEqual(0, res%n_points, location=pf_source_location('test_continuation.pf', 548, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 411, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 549, 'assertIsNaN'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds_min=1.0e-6_wp)
         call continue_branch(map, ctl, res)
@@ -842,25 +1090,25 @@ contains
             cont_step_too_small, &
             res%status, &
             message=continuation_status_name(res%status), &
-            location=pf_source_location('test_continuation.pf', 414, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 552, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             res%amplitude(res%n_points), &
             0.2_wp, &
-            location=pf_source_location('test_continuation.pf', 415, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_continuation.pf', 553, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%amplitude(res%n_points), &
             0.19_wp, &
-            location=pf_source_location('test_continuation.pf', 416, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 554, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 417, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 555, 'assertIsNaN'))
         if (pf_any_failed()) return
         call continue_branch(map, continuation_controls(), res, x0=[0.0_wp])
         call assertEqual( &
             cont_newton_failed, &
             res%status, &
-            location=pf_source_location('test_continuation.pf', 419, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 557, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_failures_reported
 
@@ -889,23 +1137,23 @@ contains
                         cont_fold_found, &
                         res%status, &
                         message=continuation_status_name(res%status), &
-                        location=pf_source_location('test_continuation.pf', 443, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 581, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         af, &
                         res%fold_amplitude, &
                         1.0e-8_wp, &
-                        location=pf_source_location('test_continuation.pf', 444, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 582, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         crossing_fold, &
                         res%instability_type, &
-                        location=pf_source_location('test_continuation.pf', 445, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 583, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertTrue( &
                         all(res%arclength(2:n) > res%arclength(1:n - 1)), &
                         message="ordered by arclength", &
-                        location=pf_source_location('test_continuation.pf', 446, 'assertTrue'))
+                        location=pf_source_location('test_continuation.pf', 584, 'assertTrue'))
                     if (pf_any_failed()) return
                 end do
             end do

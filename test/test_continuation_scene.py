@@ -107,9 +107,10 @@ def test_the_fold_alone_is_the_same_for_two_threads_and_for_slices(exe, tmp_path
 
 
 def test_the_fold_alone_is_the_same_fold_without_stability(exe, fold_line, tmp_path):
-    """floquet_every = 0: the same folds (to the location tolerance) and fates, no multipliers along the branch, no
-    first loss of stability: the threshold is the fold; one eigenvalue call a fold (the first branch's and those of
-    the branches followed past a fold where the chain stays localized), fewer than along the whole branch."""
+    """floquet_every = 0: the same folds (to the location tolerance) and fates, no multipliers along the branch; the
+    sign of det(J + I) watched along it does not change (no real multiplier through -1), so no first loss of
+    stability: the threshold is the fold; one eigenvalue call a fold (the first branch's and those of the branches
+    followed past a fold where the chain stays localized), fewer than along the whole branch."""
     (tmp_path / "fold.nml").write_text(FOLD.replace("fold_convergence", "floquet_every = 0, fold_convergence"))
     sh(exe, "fold.nml", cwd=tmp_path)
     with h5py.File(fold_line / "out" / "fold.h5") as full, h5py.File(tmp_path / "out" / "fold.h5") as alone:
@@ -127,6 +128,45 @@ def test_the_fold_alone_is_the_same_fold_without_stability(exe, fold_line, tmp_p
             for w in range(2):
                 verdict = stable[c, w, : points[c, w]] >= 0                  # only the fold point has a verdict
                 assert verdict.sum() == 1 and amp[c, w, : points[c, w]][verdict][0] == alone["fold_amplitude"][c, w]
+
+
+SYMMETRY = """&chain c = 2, n = 30, n0 = 20, sigma = 2 /
+&numerics dt = 0.1 /
+&scene kind = 'continuation', omega_min = 0.4, omega_max = 0.5, omega_step = 0.05, amplitude_max = 7,
+  floquet_every = 0, continuation_step_max = 0.5, beyond_fold = 0, fold_convergence = .false. /
+&output file = 'out/fold.h5', quiet = .true. /
+"""
+
+
+def test_the_fold_alone_sees_the_symmetry_break_before_the_fold(exe, tmp_path):
+    """On this short chain (M = 158, 140, 126: all even, the branch on the half-period map G) the symmetric branch
+    loses its stability before its fold: a real multiplier of G through -1, which is P's through +1 where the branch
+    does not turn (the half-period symmetry breaks). The fold alone sees it by the sign of det(J + I) and locates it;
+    the full Floquet path on P (multipliers at every point, an independent computation) puts the same loss between
+    its last stable and first unstable points and locates it at the same amplitude, and the threshold is that loss,
+    called a real multiplier through +1."""
+    for name, text in (("alone", SYMMETRY), ("full", SYMMETRY.replace("floquet_every = 0", "floquet_every = 1"))):
+        (tmp_path / name).mkdir()
+        (tmp_path / name / "fold.nml").write_text(text)
+        sh(exe, "fold.nml", cwd=tmp_path / name)
+    with h5py.File(tmp_path / "alone/out/fold.h5") as alone, h5py.File(tmp_path / "full/out/fold.h5") as full:
+        assert (alone["steps_per_period"][()] % 2 == 0).all()
+        assert (alone["status"][()] == 0).all()
+        inst = alone["instability_amplitude"][0]
+        assert (alone["instability_type"][()] == 1).all() and (full["instability_type"][()] == 1).all()
+        assert (inst < alone["fold_amplitude"][0] - 0.5).all()
+        np.testing.assert_array_equal(alone["threshold"][0], inst)
+        np.testing.assert_array_equal(alone["threshold_kind"][0], [1, 1, 1])
+        for w in range(3):
+            n = full["branch/points"][0, w]
+            amp = full["branch/amplitude"][0, w, :n]
+            stable = full["branch/stable"][0, w, :n]
+            first = np.argmax(stable == 0)
+            assert first > 0 and (stable[:first] == 1).all()
+            assert amp[first - 1] < inst[w] <= amp[first] + 1e-9, (w, amp[first - 1], inst[w], amp[first])
+        # both locate it (the full path by its secant on the multipliers, or at 0.45, where that fails at the branch
+        # point, by bisection on the bordered determinant's sign): the same crossing
+        np.testing.assert_allclose(inst, full["instability_amplitude"][0], rtol=0, atol=1e-6)
 
 
 @pytest.mark.parametrize("old,new,words", [

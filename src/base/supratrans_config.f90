@@ -225,7 +225,7 @@ module supratrans_config
         !> crossing_tol).
         real(wp) :: crossing_tol = 1.0e-06_wp
         !> Continuation: multipliers every this many branch points, where their trend could reach the unit circle, at the fold and
-        !> where the verdict changes (1: every point; 0: the fold only) (&scene floquet_every).
+        !> where the verdict changes (1: every point; 0: the fold, and where one passes -1) (&scene floquet_every).
         integer :: floquet_every = 4
         !> Continuation: locate each fold again at dt/2 and on a chain twice as long, for its converged digits (&scene
         !> fold_convergence).

@@ -140,7 +140,8 @@ module supratrans_schema
             lower="> 0", upper="<= 0.1"), &
         key_spec("scene", "floquet_every", kt_integer, "floquet_every", "1", "4", ">= 0 and <= 100", &
             "Continuation: multipliers every this many branch points, where their trend could reach the unit circle, at the" // &
-            " fold and where the verdict changes (1: every point; 0: the fold only)", lower=">= 0", upper="<= 100"), &
+            " fold and where the verdict changes (1: every point; 0: the fold, and where one passes -1)", lower=">= 0", &
+            upper="<= 100"), &
         key_spec("scene", "fold_convergence", kt_logical, "fold_convergence", "1", ".true.", "", &
             "Continuation: locate each fold again at dt/2 and on a chain twice as long, for its converged digits"), &
         key_spec("scene", "coarse_step", kt_real, "coarse_step", "rad", "0.1", ">= resolution", &

@@ -20,7 +20,11 @@
 !> G's fixed points), at half the cost of every map and Jacobian; the fold's state is a fixed point of P, its residual
 !> is P's, its multipliers are P's (the squares of G's), and its fate is tested with P. The fold is G's, which is
 !> P's (to the location tolerance) unless P's continuation leaves the symmetric branch at a branch point, which G
-!> cannot (docs/continuation.md gives the paper grid both ways). A branch followed past a
+!> cannot (docs/continuation.md gives the paper grid both ways). Such a branch point is where a real multiplier of G
+!> passes -1 (P's passes +1 and the half-period symmetry breaks): the fold alone watches for it (`flip_watch` of the
+!> continuation, which also sees P's real multipliers through +1 where M is odd) and reports it as the first loss
+!> of stability, type 1 (a real multiplier through +1 where the branch does not turn), below the symmetric branch's
+!> fold. A branch followed past a
 !> localized fold goes on G too when the periodic state the chain settled on has the symmetry (G(x) = x to
 !> `symmetric_tol`; the chain may settle on one without it), and on P otherwise.
 module supratrans_fold_line
@@ -133,6 +137,11 @@ contains
         ctl%crossing_tol = scene%crossing_tol
         ctl%beyond_fold = scene%beyond_fold
         ctl%floquet_every = scene%floquet_every
+        test_fate = .true.
+        if (present(fate)) test_fate = fate
+        ! the fold alone watches the sign of det(J + I) for a loss of stability before the fold; the fold of a
+        ! convergence check (no fate) is all that is asked of it
+        ctl%flip_watch = test_fate
         ! the fold alone, with M even: the branch from rest on the half-period map G (P = G o G; module docs)
         half = .false.
         if (scene%floquet_every == 0) call set_half_period(map, .true., half)
@@ -160,8 +169,6 @@ contains
                                             mask=.not. ieee_is_nan(res%max_multiplier(1:last))) - 1.0_wp
             end if
         end if
-        test_fate = .true.
-        if (present(fate)) test_fate = fate
         if (test_fate .and. res%fold_index > 0 .and. .not. ieee_is_nan(r%fold_amplitude)) then
             call fold_fate(map, run, res%states(:, res%fold_index), r%fold_amplitude*(1.0_wp + fate_push), &
                            r%fate, r%fate_time, settled)
@@ -236,6 +243,9 @@ contains
         logical :: ok
 
         call set_half_period(map, .false., ok)
+        ! G's real multiplier through -1 is P's through +1 (mu_P = mu_G^2) where the branch does not turn: a branch
+        ! point of P at which the half-period symmetry breaks, not a period doubling of the state
+        if (res%instability_type == crossing_period_doubling) res%instability_type = crossing_fold
         res%max_multiplier(1:res%n_points) = res%max_multiplier(1:res%n_points)**2
         if (allocated(res%spectra)) then
             do i = 1, min(res%n_points, size(res%spectra))
@@ -309,6 +319,7 @@ contains
         ! the fold alone: what is asked of a followed branch is its fold and that fold's fate; no loss of stability
         ! is sought along it (its multipliers at the first point, for stop_at_unstable_start, and at the fold only)
         next%floquet_every = 0
+        next%flip_watch = .false.
         next%start_max_iter = 40
         ! from a settled state that damped_shooting could not bring to a periodic state, the undamped Newton gives
         ! up once it has left its basin (on the paper's grid it then wandered through all its 40 Jacobians, 7 of 7)

@@ -71,7 +71,8 @@ contains
         call h5_write_attr(file, "/transmission_status", "codes", transmission_status_codes())
         call h5_write(file, "/instability_amplitude", grid(recs%instability_amplitude), &
             "rad", "First amplitude along the branch where a Floquet multiplier leaves the unit circle; NaN when " &
-            // "the branch stays stable up to its fold", dims=dims)
+            // "the branch stays stable up to its fold (the fold alone, floquet_every = 0, looks only where a real " &
+            // "multiplier passes -1)", dims=dims)
         call h5_write(file, "/instability_size", grid(recs%instability_size), "1", &
             "How far the Floquet multipliers leave the unit circle before the fold: max |mu| - 1 over the branch up " &
             // "to it (a weak instability has a small size: compare it with crossing_tol)", dims=dims)

@@ -13,7 +13,7 @@ module supratrans_bordered_system
     implicit none
     private
 
-    public :: factor_bordered, bordered_solve, tangent, set_row, move_system
+    public :: factor_bordered, bordered_solve, tangent, set_row, move_system, det_sign
 
     !> A factorised bordered matrix B = [[J - I, dP/dA]; [r0^T]], with an optional rank-one change of its last row to
     !> r0 + w (Sherman-Morrison: K^{-1} b = v - z (w . v) / denom, v = B^{-1} b, z = B^{-1} e_{d+1},
@@ -145,6 +145,23 @@ contains
         sys%updated = .true.
         if (abs(sys%denom) <= 1.0e-3_wp*norm2(sys%z)*norm2(row)) info = 1
     end subroutine set_row
+
+    !> The sign of det B of the factorised matrix B = [[J - I, dP/dA]; [r0^T]] (without its rank-one change), from
+    !> its LU factors. Along a branch whose rows r0 follow the tangent (r0 . t > 0) it changes sign where a real
+    !> multiplier passes +1 while the branch does not turn (a branch point), not at a fold.
+    pure integer function det_sign(sys)
+        !> The factorised system.
+        type(bordered_system), intent(in) :: sys
+        integer :: i
+
+        det_sign = 1
+        do i = 1, size(sys%ipiv)
+            if (sys%ipiv(i) /= i) det_sign = -det_sign
+            if (sys%lu(i, i) < 0.0_wp) det_sign = -det_sign
+            if (sys%lu(i, i) == 0.0_wp) det_sign = 0
+            if (det_sign == 0) return
+        end do
+    end function det_sign
 
     !> Move a system's factors and rank-one change to another (no copy; `from`'s arrays are deallocated).
     subroutine move_system(from, to)

@@ -55,12 +55,23 @@
 !> branch that regains stability before its fold (a weak instability bubble) shows it in `stable` and
 !> `max_multiplier`.
 !>
+!> **The fold alone** (`floquet_every` = 0) computes no multipliers along the branch, but with `flip_watch` it
+!> keeps two signs at every Jacobian it evaluates before the fold (in the corrector's refreshes, the Jacobian of an
+!> iterate near the point; `supratrans_continuation_watch`): of det(J + I) (`flip_sign`, one more LU), which changes
+!> where an odd number of real multipliers pass -1, and of the bordered matrix's determinant (from its LU), which
+!> changes where a real multiplier passes +1 while the branch does not turn (a branch point), neither at a fold.
+!> Where one changes, the multipliers of the two points say whether the stability was lost in between, and if so
+!> that loss is located and classified as above (from the first point when the earlier one is already unstable:
+!> the walk then finds what came first, a complex pair included). A complex pair that leaves the circle with no
+!> real multiplier through +-1 after it is not seen: that needs `floquet_every` > 0.
+!>
 !> An implementation of `fixed_point_map` holds its own work arrays: one map and one call per thread; this module
 !> has no state of its own.
 module supratrans_continuation
     use supratrans_kinds, only: wp
     use supratrans_fixed_point_map, only: fixed_point_map
-    use supratrans_floquet, only: leading_crossing, crossing_distance, nearest_multiplier, crossing_fold
+    use supratrans_floquet, only: leading_crossing, crossing_distance, nearest_multiplier, crossing_fold, &
+                                  crossing_period_doubling
     use supratrans_shooting, only: shoot, shooting_controls, shooting_result, shoot_converged
     use supratrans_continuation_types, only: continuation_controls, continuation_stats, point_spectrum, &
                                              continuation_result, continuation_status_name, wall_clock, &
@@ -69,7 +80,8 @@ module supratrans_continuation
     use supratrans_bordered_system, only: bordered_system, factor_bordered, tangent, set_row, move_system
     use supratrans_continuation_corrector, only: branch_point, correct, complete_point, point_multipliers, &
                                                  stored_point, move_point
-    use supratrans_continuation_locate, only: locate, class_max
+    use supratrans_continuation_locate, only: locate, class_max, bisect_sign
+    use supratrans_continuation_watch, only: moduli_trend, note_trend, trend_due, sign_watch, note_signs
     use supratrans_continuation_branch, only: branch_multipliers, allocate_branch, record_point, keep_spectrum, &
                                               update_tangent, set_stop, finish
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
@@ -87,10 +99,6 @@ module supratrans_continuation
     integer, parameter :: walk_back = 10
     !> Corrector iterations more that the step control allows when the corrector started from a reused Jacobian.
     integer, parameter :: reuse_slack = 3
-    !> Number of largest multiplier moduli whose trend decides extra multiplier checks (`floquet_trend`).
-    integer, parameter :: trend_ranks = 8
-    !> Safety factor on the extrapolated growth of those moduli.
-    real(wp), parameter :: trend_safety = 2.0_wp
 
 contains
 
@@ -110,9 +118,12 @@ contains
         type(shooting_result) :: sres
         real(wp), allocatable :: x(:), wr(:), wi(:), row(:)
         real(wp) :: ds, nan, t_start, sigma
-        integer :: d, n1, info, last_checked, j, every, slack, n_trend
+        integer :: d, n1, info, last_checked, j, every, slack, from
         logical :: ok, have_mult, lost, located, past, due, watch, fold_only
-        real(wp) :: top_last(trend_ranks), top_prev(trend_ranks), s_last, s_prev
+        type(moduli_trend) :: trend
+        type(sign_watch) :: signs
+        type(continuation_controls) :: march_ctl
+        logical :: watch_flips
 
         t_start = wall_clock()
         nan = ieee_value(1.0_wp, ieee_quiet_nan)
@@ -164,12 +175,7 @@ contains
         ! (the fold alone computes none but the fold's, and the first point's when its stability may end the branch)
         if (.not. fold_only .or. ctl%stop_at_unstable_start) call point_multipliers(cur, res%stats, wr, wi, info)
         call record_point(map, res, cur, wr, wi, info == 0)
-        n_trend = 0
-        s_last = 0.0_wp
-        s_prev = 0.0_wp
-        top_last = 0.0_wp
-        top_prev = 0.0_wp
-        if (info == 0) call note_trend(cur%s, wr, wi)
+        if (info == 0) call note_trend(trend, cur%s, wr, wi)
         last_checked = 1
         lost = res%stable(1) == 0
         if (lost) then
@@ -182,6 +188,11 @@ contains
             end if
         end if
 
+        ! the fold alone: the sign of det(J + I) watched along the branch (a real multiplier through -1)
+        watch_flips = fold_only .and. ctl%flip_watch
+        march_ctl = ctl
+        march_ctl%flip_watch = watch_flips
+        if (watch_flips) call note_signs(signs, cur, base, 1, res%stats, from)
         ds = min(max(ctl%ds0, ctl%ds_min), ctl%ds_max)
         past = .false.
         every = max(1, ctl%floquet_every)
@@ -192,14 +203,15 @@ contains
                 call set_stop(res, cont_max_points)
                 exit march
             end if
-            call correct(map, cur, base, ds, ctl, trial, ok, res%stats, fresh)
+            call correct(map, cur, base, ds, march_ctl, trial, ok, res%stats, fresh)
             if (ok) then
                 ! multipliers due here: every `every` points, and right after the fold (appended or inserted)
                 due = mod(res%n_points, every) == 0 .or. (res%fold_index > 0 .and. res%fold_index >= res%n_points - 1)
                 ! past the fold with the stability already lost: only the first point after the fold
                 if (every > 1 .and. res%fold_index > 0 .and. lost) due = first_after_fold()
                 ! and wherever the trend of the largest moduli may reach the circle within this step
-                watch = every > 1 .and. ctl%floquet_trend .and. .not. lost .and. trend_due(cur%s + ds)
+                watch = every > 1 .and. ctl%floquet_trend .and. .not. lost
+                watch = watch .and. trend_due(trend, cur%s + ds, ctl%crossing_tol)
                 due = (due .or. watch) .and. .not. fold_only
                 watch = watch .and. .not. fold_only
                 if (due .or. .not. ctl%reuse_jacobian) then
@@ -272,10 +284,17 @@ contains
             if (have_mult) then
                 call point_multipliers(trial, res%stats, wr, wi, info)
                 have_mult = info == 0
-                if (have_mult) call note_trend(trial%s, wr, wi)
+                if (have_mult) call note_trend(trend, trial%s, wr, wi)
             end if
             call record_point(map, res, trial, wr, wi, have_mult)
             if (have_mult) call check_stability(res%n_points, trial)
+            if (watch_flips) then
+                ! the fold alone: a real multiplier through -1 or +1 since the last signs, before the fold
+                call note_signs(signs, trial, next, res%n_points, res%stats, from)
+                if (from > 0 .and. .not. lost .and. (res%fold_index == 0 .or. from < res%fold_index)) then
+                    call flip_crossing(from, res%n_points)
+                end if
+            end if
             if (res%fold_index > 0) res%points_beyond_fold = res%points_beyond_fold + 1
 
             ! Step control (a corrector that started from a reused Jacobian is allowed `reuse_slack` more steps)
@@ -303,7 +322,7 @@ contains
                 exit march
             end if
         end do march
-        if (res%fold_index > 0 .and. lost .and. res%n_points > res%fold_index) then
+        if (res%fold_index > 0 .and. lost .and. res%n_points > res%fold_index .and. .not. fold_only) then
             ! the last point past the fold gets its multipliers (the end of the unstable part)
             if (res%stable(res%n_points) < 0) then
                 call point_with_jacobian(res%n_points, prev, info)
@@ -320,39 +339,6 @@ contains
             first_after_fold = .true.
             if (res%fold_index < res%n_points) first_after_fold = all(res%stable(res%fold_index + 1:res%n_points) < 0)
         end function first_after_fold
-
-        !> Keep the `trend_ranks` largest moduli of the multipliers at arclength s (and those of the point before).
-        subroutine note_trend(s, wr, wi)
-            real(wp), intent(in) :: s
-            real(wp), intent(in) :: wr(:), wi(:)
-            real(wp), allocatable :: modulus(:)
-            integer :: r, k
-
-            top_prev = top_last
-            s_prev = s_last
-            modulus = hypot(wr, wi)
-            top_last = 0.0_wp
-            do r = 1, min(trend_ranks, size(modulus))
-                k = maxloc(modulus, dim=1)
-                top_last(r) = modulus(k)
-                modulus(k) = -1.0_wp
-            end do
-            s_last = s
-            n_trend = min(n_trend + 1, 2)
-        end subroutine note_trend
-
-        !> Whether the multipliers are needed at arclength s_next although not due: the r-th largest modulus
-        !> (r = 1..trend_ranks), extrapolated from the last two points with multipliers at twice its rate of
-        !> growth, would pass 1 + crossing_tol by s_next (or fewer than two points are known).
-        logical function trend_due(s_next)
-            real(wp), intent(in) :: s_next
-            real(wp) :: rate(trend_ranks)
-
-            trend_due = .true.
-            if (n_trend < 2 .or. .not. (s_last > s_prev)) return
-            rate = max((top_last - top_prev)/(s_last - s_prev), 0.0_wp)
-            trend_due = any(top_last + trend_safety*rate*max(s_next - s_last, 0.0_wp) > 1.0_wp + ctl%crossing_tol)
-        end function trend_due
 
         !> The fold between the previous recorded point and cur (the last one): the exact tangent at the previous
         !> point, the secant on t_A from there, the fold point inserted before cur.
@@ -420,7 +406,7 @@ contains
             real(wp) :: shift, g_k, g_m, sigma_k
             complex(wp) :: mu_k
             integer :: k, linfo, kind, m, jl, have_left
-            logical :: inside
+            logical :: inside, narrowed
 
             if (lost) then
                 last_checked = i
@@ -520,9 +506,54 @@ contains
                     call locate(map, left, sys, res%arclength(jl + 1) - res%arclength(jl), kind, shift, ctl, lost_pt, &
                                 lr, li, located, res%stats)
                 end if
+                if (.not. located .and. (kind == crossing_fold .or. kind == crossing_period_doubling)) then
+                    ! a real multiplier through +-1 that the secant on the multipliers did not locate (a branch
+                    ! point): bisection on the sign it changes, from the last point before k
+                    sigma_k = dot_product(left%t, [res%states(:, k), res%amplitude(k)] - left%y)
+                    if (sigma_k > 0.0_wp) then
+                        call bisect_sign(map, left, sys, sigma_k, kind, ctl, lost_pt, located, narrowed, res%stats)
+                        if (narrowed) res%instability_amplitude = lost_pt%y(n1)
+                    end if
+                end if
             end block
             if (located) res%instability_amplitude = lost_pt%y(n1)
         end subroutine check_stability
+
+        !> A change of the watched signs between the recorded points a and b: their multipliers say whether the
+        !> branch lost its stability in between (a stable, b not); that loss is then located and classified like
+        !> every first loss (`check_stability`, from a). A branch already unstable at a lost its stability before
+        !> it (a complex pair, which the signs do not see): the first loss is then sought from the first point.
+        subroutine flip_crossing(a, b)
+            integer, intent(in) :: a, b
+            type(branch_point) :: unused
+            integer :: linfo
+
+            call spectrum_at(b, linfo)
+            if (linfo /= 0 .or. res%stable(b) /= 0) return
+            call spectrum_at(a, linfo)
+            if (linfo /= 0) return
+            last_checked = a
+            if (res%stable(a) /= 1) then
+                call spectrum_at(1, linfo)
+                if (linfo /= 0 .or. res%stable(1) /= 1) return
+                last_checked = 1
+            end if
+            call check_stability(b, unused)          ! (b's multipliers are kept: `unused` is not read)
+        end subroutine flip_crossing
+
+        !> The multipliers of recorded point i kept with the branch (computed unless they are).
+        subroutine spectrum_at(i, linfo)
+            integer, intent(in) :: i
+            integer, intent(out) :: linfo
+            type(branch_point) :: p
+            real(wp), allocatable :: lr(:), li(:)
+
+            linfo = 0
+            if (allocated(res%spectra(i)%wr)) return
+            call point_with_jacobian(i, p, linfo)
+            if (linfo == 0) call point_multipliers(p, res%stats, lr, li, linfo)
+            if (linfo == 0) call keep_spectrum(res, i, lr, li)
+        end subroutine spectrum_at
 
         !> Recorded point `i` with its Jacobian: `cur` when it is that point and has its own Jacobian (no
         !> evaluation), else rebuilt from the stored state (`stored_point`).

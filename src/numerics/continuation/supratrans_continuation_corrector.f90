@@ -5,14 +5,14 @@
 module supratrans_continuation_corrector
     use supratrans_kinds, only: wp
     use supratrans_fixed_point_map, only: fixed_point_map, map_ok
-    use supratrans_floquet, only: floquet_multipliers
+    use supratrans_floquet, only: floquet_multipliers, flip_sign
     use supratrans_continuation_types, only: continuation_controls, continuation_stats, continuation_result, wall_clock
-    use supratrans_bordered_system, only: bordered_system, factor_bordered, bordered_solve, tangent
+    use supratrans_bordered_system, only: bordered_system, factor_bordered, bordered_solve, tangent, det_sign
     use, intrinsic :: ieee_arithmetic, only: ieee_is_finite
     implicit none
     private
 
-    public :: correct, complete_point, point_jacobian, point_multipliers, stored_point, move_point
+    public :: correct, complete_point, point_jacobian, point_multipliers, stored_point, move_point, flip_test
 
     !> Most Jacobian refreshes in one corrector attempt.
     integer, parameter :: max_refreshes = 3
@@ -35,6 +35,11 @@ module supratrans_continuation_corrector
         integer :: refreshes = 0
         !> Whether `t` was computed from the Jacobian at y.
         logical :: exact = .false.
+        !> With `flip_watch`: the sign of det(J + I) of the last Jacobian its corrector evaluated (at an iterate
+        !> near y; `flip_sign`); 0 when none was.
+        integer :: flip = 0
+        !> With `flip_watch`: the sign of the determinant of that Jacobian's bordered matrix (`det_sign`); 0 when none.
+        integer :: bordered = 0
     end type branch_point
 
 contains
@@ -77,6 +82,8 @@ contains
         dn_prev = huge(1.0_wp)
         pt%iterations = 0
         pt%refreshes = 0
+        pt%flip = 0
+        pt%bordered = 0
         loops = 0
         do
             loops = loops + 1
@@ -98,6 +105,8 @@ contains
                 if (pt%refreshes >= max_refreshes) return
                 call factor_bordered(jac, dpda, bp%t, fresh_sys, info, stats)
                 if (info /= 0) return
+                if (ctl%flip_watch) call flip_test(jac, pt%flip, stats)
+                if (ctl%flip_watch) pt%bordered = det_sign(fresh_sys)
                 use_fresh = .true.
                 want_jac = .false.
                 pt%refreshes = pt%refreshes + 1
@@ -166,6 +175,22 @@ contains
         ok = info == 0
         pt%exact = ok
     end subroutine complete_point
+
+    !> `flip_sign` of a Jacobian, counted and timed as a factorisation.
+    subroutine flip_test(jac, flip, stats)
+        !> dP/dx.
+        real(wp), intent(in) :: jac(:, :)
+        !> The sign of det(J + I) (0: singular).
+        integer, intent(out) :: flip
+        !> Counts and times.
+        type(continuation_stats), intent(inout) :: stats
+        real(wp) :: t0
+
+        t0 = wall_clock()
+        flip = flip_sign(jac)
+        stats%factorisations = stats%factorisations + 1
+        stats%time_lu = stats%time_lu + wall_clock() - t0
+    end subroutine flip_test
 
     !> At a corrected point: the Jacobian only (dP/dx and dP/dA) and the residual; the tangent is not computed.
     subroutine point_jacobian(map, pt, ok, stats)
@@ -281,6 +306,8 @@ contains
         to%iterations = from%iterations
         to%refreshes = from%refreshes
         to%exact = from%exact
+        to%flip = from%flip
+        to%bordered = from%bordered
     end subroutine move_point
 
 end module supratrans_continuation_corrector

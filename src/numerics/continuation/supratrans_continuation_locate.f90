@@ -9,13 +9,13 @@ module supratrans_continuation_locate
     use supratrans_floquet, only: crossing_distance, crossing_fold, track_multiplier, crossing_torus, &
                                   crossing_period_doubling
     use supratrans_continuation_types, only: continuation_controls, continuation_stats, wall_clock
-    use supratrans_bordered_system, only: bordered_system, factor_bordered
+    use supratrans_bordered_system, only: bordered_system, factor_bordered, det_sign
     use supratrans_continuation_corrector, only: branch_point, correct, complete_point, point_jacobian, &
-                                                 point_multipliers
+                                                 point_multipliers, flip_test
     implicit none
     private
 
-    public :: locate, class_max
+    public :: locate, class_max, bisect_sign
 
 contains
 
@@ -206,6 +206,101 @@ contains
         end subroutine tracked_distance
 
     end subroutine locate
+
+    !> A real multiplier through +1 (`crossing_fold`: the sign of the bordered matrix's determinant, rows bp's
+    !> tangent) or -1 (`crossing_period_doubling`: the sign of det(J + I)) between bp (sigma = 0) and sigma_hi, by
+    !> bisection on that sign, each point corrected along bp's tangent. Where `locate`'s secant on the multipliers
+    !> fails, at a branch point (the multipliers' distance to the circle is no smooth function there, and the
+    !> corrector's matrix is singular at the crossing itself). Ends when the bracket is within `fold_tol` in A
+    !> (`located`), or when a correction fails near the crossing: `pt` is then the bracket's end past the crossing,
+    !> and `narrowed` says whether that bracket is tighter than the one given (the crossing lies below pt's A).
+    subroutine bisect_sign(map, bp, sys, sigma_hi, kind, ctl, pt, located, narrowed, stats)
+        !> The map P(x; A).
+        class(fixed_point_map), intent(inout) :: map
+        !> The bracket's left end (sigma = 0), with its Jacobian and tangent.
+        type(branch_point), intent(in) :: bp
+        !> The bordered system factorised at bp (last row bp's tangent).
+        type(bordered_system), intent(in) :: sys
+        !> The bracket's right end.
+        real(wp), intent(in) :: sigma_hi
+        !> `crossing_fold` or `crossing_period_doubling`.
+        integer, intent(in) :: kind
+        !> Controls (`fold_tol`, the corrector's).
+        type(continuation_controls), intent(in) :: ctl
+        !> The corrected point at the bracket's right end.
+        type(branch_point), intent(inout) :: pt
+        !> Whether the bracket reached `fold_tol`, and whether it was narrowed at all.
+        logical, intent(out) :: located, narrowed
+        !> Counts and times.
+        type(continuation_stats), intent(inout) :: stats
+        type(branch_point) :: trial
+        type(bordered_system) :: fsys
+        real(wp) :: lo, hi, c, a_lo, a_hi
+        integer :: s0, s, iter, n1
+        logical :: ok
+
+        n1 = size(bp%y)
+        located = .false.
+        narrowed = .false.
+        s0 = sign_at(bp)
+        if (s0 == 0) return
+        lo = 0.0_wp
+        hi = sigma_hi
+        a_lo = bp%y(n1)
+        call corrected(hi, ok, s)
+        if (.not. ok .or. s == s0 .or. s == 0) return
+        a_hi = trial%y(n1)
+        pt = trial
+        do iter = 1, 60
+            if (abs(a_hi - a_lo) <= ctl%fold_tol) then
+                located = .true.
+                return
+            end if
+            c = 0.5_wp*(lo + hi)
+            call corrected(c, ok, s)
+            if (.not. ok .or. s == 0) return
+            if (s == s0) then
+                lo = c
+                a_lo = trial%y(n1)
+            else
+                hi = c
+                a_hi = trial%y(n1)
+                pt = trial
+                pt%s = bp%s + c
+                narrowed = .true.
+            end if
+        end do
+
+    contains
+
+        !> The point corrected at step sigma along bp's tangent, and the sign watched there.
+        subroutine corrected(sigma, okc, sg)
+            real(wp), intent(in) :: sigma
+            logical, intent(out) :: okc
+            integer, intent(out) :: sg
+
+            sg = 0
+            call correct(map, bp, sys, sigma, ctl, trial, okc, stats, fsys)
+            if (okc) call point_jacobian(map, trial, okc, stats)
+            if (okc) sg = sign_at(trial)
+        end subroutine corrected
+
+        !> The sign watched at a point with its Jacobian.
+        integer function sign_at(p)
+            type(branch_point), intent(in) :: p
+            type(bordered_system) :: psys
+            integer :: linfo
+
+            sign_at = 0
+            if (kind == crossing_period_doubling) then
+                call flip_test(p%jac, sign_at, stats)
+            else
+                call factor_bordered(p%jac, p%dpda, bp%t, psys, linfo, stats)
+                if (linfo == 0) sign_at = det_sign(psys)
+            end if
+        end function sign_at
+
+    end subroutine bisect_sign
 
     !> Index of the multiplier of largest modulus in a class (`crossing_torus`: complex, `crossing_fold`: real >= 0,
     !> `crossing_period_doubling`: real < 0); 0 when the class is empty.

@@ -62,7 +62,8 @@ module supratrans_continuation_types
         !> (whichever of the two comes first).
         real(wp) :: beyond_fold_distance = 0.0_wp
         !> Multipliers at every floquet_every-th point (1: all), at the fold, and where the verdict changes; 0: at
-        !> the fold only (the fold alone, no stability along the branch: no first loss of stability is sought).
+        !> the fold only (the fold alone: no multipliers along the branch; a loss of stability is sought only where
+        !> `flip_watch` sees a real multiplier pass -1 or +1).
         integer :: floquet_every = 1
         !> With floquet_every > 1, also compute the multipliers (and the Jacobian) at a point that is not due when
         !> one of the `trend_ranks` largest moduli, extrapolated at twice its growth over the last two points with
@@ -79,6 +80,12 @@ module supratrans_continuation_types
         !> (`cont_unstable_start`): a state the chain cannot have settled on has no branch worth following. The
         !> first point gets its multipliers for this also when `floquet_every` = 0.
         logical :: stop_at_unstable_start = .false.
+        !> With `floquet_every` = 0 (the fold alone), watch the signs of det(J + I) and of the bordered matrix's
+        !> determinant at every Jacobian of the branch before its fold (`supratrans_continuation_watch`): where one
+        !> changes, a real multiplier has passed -1 or +1, and the multipliers of the two points around it say whether
+        !> the branch lost its stability there (located like every crossing). A complex pair leaving the unit circle
+        !> is not seen this way: that needs the multipliers along the branch.
+        logical :: flip_watch = .true.
     end type continuation_controls
 
     !> Where the work went: counts and wall-clock seconds.

@@ -16,12 +16,12 @@
 module supratrans_floquet
     use supratrans_kinds, only: wp
     use supratrans_eigen, only: general_eigenvalues
-    use supratrans_dense, only: complex_lu_factor, complex_lu_solve
+    use supratrans_dense, only: complex_lu_factor, complex_lu_solve, lu_factor
     implicit none
     private
 
     public :: floquet_multipliers, largest_modulus, is_stable, leading_crossing, crossing_distance, crossing_name
-    public :: nearest_multiplier, track_multiplier
+    public :: nearest_multiplier, track_multiplier, flip_sign
 
     !> No multiplier beyond the unit circle (by more than crossing_tol).
     integer, parameter, public :: crossing_none = 0
@@ -51,6 +51,32 @@ contains
         allocate (wr(size(a, 1)), wi(size(a, 1)))
         call general_eigenvalues(a, wr, wi, info)
     end subroutine floquet_multipliers
+
+    !> The sign of det(J + I) = prod (mu + 1) over the multipliers mu of J (a complex pair gives |mu + 1|^2 > 0): it
+    !> changes exactly when an odd number of real multipliers pass through -1, which is how a branch meets a period
+    !> doubling of its map without any eigenvalue computed (one LU, a third of the cost of factorising the bordered
+    !> system, against the full `dgeev`). 0 when J + I is singular.
+    pure integer function flip_sign(monodromy)
+        !> Monodromy matrix dP/dx, d x d.
+        real(wp), intent(in) :: monodromy(:, :)
+        real(wp), allocatable :: a(:, :)
+        integer, allocatable :: ipiv(:)
+        integer :: i, info
+
+        a = monodromy
+        do i = 1, size(a, 1)
+            a(i, i) = a(i, i) + 1.0_wp
+        end do
+        allocate (ipiv(size(a, 1)))
+        call lu_factor(a, ipiv, info)
+        flip_sign = 0
+        if (info /= 0) return
+        flip_sign = 1
+        do i = 1, size(a, 1)
+            if (ipiv(i) /= i) flip_sign = -flip_sign
+            if (a(i, i) < 0.0_wp) flip_sign = -flip_sign
+        end do
+    end function flip_sign
 
     !> The largest modulus of the multipliers, max |mu| (0 for an empty list).
     pure real(wp) function largest_modulus(wr, wi)
