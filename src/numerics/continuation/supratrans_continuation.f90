@@ -122,7 +122,7 @@ contains
         logical :: ok, have_mult, lost, located, past, due, watch, fold_only
         type(moduli_trend) :: trend
         type(sign_watch) :: signs
-        type(continuation_controls) :: march_ctl
+        type(continuation_controls) :: march_ctl, side_ctl
         logical :: watch_flips
 
         t_start = wall_clock()
@@ -192,6 +192,9 @@ contains
         watch_flips = fold_only .and. ctl%flip_watch
         march_ctl = ctl
         march_ctl%flip_watch = watch_flips
+        ! (the points a secant or a bisection corrects are not the branch's: no signs watched there)
+        side_ctl = ctl
+        side_ctl%flip_watch = .false.
         if (watch_flips) call note_signs(signs, cur, base, 1, res%stats, from)
         ds = min(max(ctl%ds0, ctl%ds_min), ctl%ds_max)
         past = .false.
@@ -262,7 +265,7 @@ contains
                     ! the bracket is trial's step along cur's (now exact) tangent; the fold's arclength lies
                     ! between theirs in proportion
                     sigma = max(dot_product(cur%t, trial%y - cur%y), tiny(1.0_wp))
-                    call locate(map, cur, base, sigma, 0, 0.0_wp, ctl, fold_pt, wr, wi, located, res%stats, trial)
+                    call locate(map, cur, base, sigma, 0, 0.0_wp, side_ctl, fold_pt, wr, wi, located, res%stats, trial)
                     if (.not. located) then
                         fold_pt = trial
                         call point_multipliers(fold_pt, res%stats, wr, wi, info)
@@ -355,7 +358,7 @@ contains
             if (prev%t(n1)*cur%t(n1) >= 0.0_wp) return
             sig = dot_product(prev%t, cur%y - prev%y)
             if (sig <= 0.0_wp) return
-            call locate(map, prev, psys, sig, 0, 0.0_wp, ctl, fold_pt, wr, wi, located, res%stats, cur)
+            call locate(map, prev, psys, sig, 0, 0.0_wp, side_ctl, fold_pt, wr, wi, located, res%stats, cur)
             if (.not. located) then
                 fold_pt = cur
                 call point_multipliers(fold_pt, res%stats, wr, wi, linfo)
@@ -493,17 +496,17 @@ contains
                     ! both ends known: the bracket is point k's step along left's tangent
                     sigma_k = dot_product(left%t, [res%states(:, k), res%amplitude(k)] - left%y)
                     if (sigma_k > 0.0_wp) then
-                        call locate(map, left, sys, sigma_k, kind, shift, ctl, lost_pt, lr, li, located, res%stats, &
+                        call locate(map, left, sys, sigma_k, kind, shift, side_ctl, lost_pt, lr, li, located, res%stats, &
                                     g_lo=g_m, g_hi=g_k, mu_guess=mu_k)
                     else
-                        call locate(map, left, sys, res%arclength(jl + 1) - res%arclength(jl), kind, shift, ctl, &
+                        call locate(map, left, sys, res%arclength(jl + 1) - res%arclength(jl), kind, shift, side_ctl, &
                                     lost_pt, lr, li, located, res%stats, g_lo=g_m)
                     end if
                 else if (inside) then
-                    call locate(map, left, sys, res%arclength(jl + 1) - res%arclength(jl), kind, shift, ctl, lost_pt, &
+                    call locate(map, left, sys, res%arclength(jl + 1) - res%arclength(jl), kind, shift, side_ctl, lost_pt, &
                                 lr, li, located, res%stats, g_lo=g_m)
                 else
-                    call locate(map, left, sys, res%arclength(jl + 1) - res%arclength(jl), kind, shift, ctl, lost_pt, &
+                    call locate(map, left, sys, res%arclength(jl + 1) - res%arclength(jl), kind, shift, side_ctl, lost_pt, &
                                 lr, li, located, res%stats)
                 end if
                 if (.not. located .and. (kind == crossing_fold .or. kind == crossing_period_doubling)) then
@@ -511,7 +514,7 @@ contains
                     ! point): bisection on the sign it changes, from the last point before k
                     sigma_k = dot_product(left%t, [res%states(:, k), res%amplitude(k)] - left%y)
                     if (sigma_k > 0.0_wp) then
-                        call bisect_sign(map, left, sys, sigma_k, kind, ctl, lost_pt, located, narrowed, res%stats)
+                        call bisect_sign(map, left, sys, sigma_k, kind, side_ctl, lost_pt, located, narrowed, res%stats)
                         if (narrowed) res%instability_amplitude = lost_pt%y(n1)
                     end if
                 end if
