@@ -188,7 +188,8 @@ contains
             end if
         end if
 
-        ! the fold alone: the sign of det(J + I) watched along the branch (a real multiplier through -1)
+        ! the fold alone: the signs of det(J + I) and of the bordered matrix watched along the branch (a real
+        ! multiplier through -1 or +1)
         watch_flips = fold_only .and. ctl%flip_watch
         march_ctl = ctl
         march_ctl%flip_watch = watch_flips
