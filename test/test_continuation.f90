@@ -725,7 +725,8 @@ contains
 
     !> `bisect_sign` from the branch point at A = 0.2 along its tangent: the pitchfork's branch point (a real
     !> multiplier through +1, the sign of the bordered determinant) at A = 1/4 and the period doubling (through -1,
-    !> the sign of det(J + I)) at A = 3/10, each to the location tolerance; no bracket where the sign does not change.
+    !> the sign of det(J + I)) at A = 3/10, each to the location tolerance, the crossing between the bracket's two
+    !> ends; no bracket where the sign does not change.
     ! @test
     subroutine test_bisect_sign()
         type(model_map) :: map
@@ -733,7 +734,7 @@ contains
         type(continuation_stats) :: stats
         type(branch_point) :: bp, pt
         type(bordered_system) :: sys
-        real(wp) :: x
+        real(wp) :: x, lower
         integer :: it, mode, kind
         logical :: ok, located, narrowed
 
@@ -748,31 +749,41 @@ contains
             kind = merge(crossing_fold, crossing_period_doubling, mode == 1)
             bp%y = [x, 0.0_wp, 0.2_wp]
             call complete_point(map, bp, [0.0_wp, 0.0_wp, 1.0_wp], sys, ok, stats)
-            call assertTrue(ok, location=pf_source_location('test_continuation.pf', 371, 'assertTrue'))
+            call assertTrue(ok, location=pf_source_location('test_continuation.pf', 372, 'assertTrue'))
             if (pf_any_failed()) return
-            call bisect_sign(map, bp, sys, 0.25_wp, kind, ctl, pt, located, narrowed, stats)
+            call bisect_sign(map, bp, sys, 0.25_wp, kind, ctl, pt, located, narrowed, lower, stats)
             call assertTrue( &
                 located, &
                 message=crossing_name(kind), &
-                location=pf_source_location('test_continuation.pf', 373, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 374, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 merge(0.25_wp, 0.3_wp, mode == 1), &
                 pt%y(3), &
                 2.0e-10_wp, &
                 message=crossing_name(kind), &
-                location=pf_source_location('test_continuation.pf', 374, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 375, 'assertEqual'))
             if (pf_any_failed()) return
             call assertTrue( &
                 pt%y(3) >= merge(0.25_wp, 0.3_wp, mode == 1) - 1.0e-12_wp, &
                 message="past the crossing", &
-                location=pf_source_location('test_continuation.pf', 375, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 376, 'assertTrue'))
             if (pf_any_failed()) return
-            call bisect_sign(map, bp, sys, 0.02_wp, kind, ctl, pt, located, narrowed, stats)
+            call assertTrue( &
+                lower <= merge(0.25_wp, 0.3_wp, mode == 1) + 1.0e-12_wp, &
+                message="the bracket's other end", &
+                location=pf_source_location('test_continuation.pf', 377, 'assertTrue'))
+            if (pf_any_failed()) return
+            call assertLessThan( &
+                pt%y(3) - lower, &
+                1.0e-10_wp, &
+                location=pf_source_location('test_continuation.pf', 378, 'assertLessThan'))
+            if (pf_any_failed()) return
+            call bisect_sign(map, bp, sys, 0.02_wp, kind, ctl, pt, located, narrowed, lower, stats)
             call assertFalse( &
                 located .or. narrowed, &
                 message="no crossing within 0.02", &
-                location=pf_source_location('test_continuation.pf', 377, 'assertFalse'))
+                location=pf_source_location('test_continuation.pf', 380, 'assertFalse'))
             if (pf_any_failed()) return
         end do
     end subroutine test_bisect_sign
@@ -796,38 +807,38 @@ contains
             call assertEqual( &
                 cont_fold_found, &
                 res%status, &
-                location=pf_source_location('test_continuation.pf', 397, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 400, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 crossing_torus, &
                 res%instability_type, &
                 message=crossing_name(res%instability_type), &
-                location=pf_source_location('test_continuation.pf', 398, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 401, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.2_wp, &
                 res%instability_amplitude, &
                 1.0e-6_wp, &
-                location=pf_source_location('test_continuation.pf', 399, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 402, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         i = res%n_points
         call branch_multipliers(map, res, i, wr, wi, info)
-        call assertEqual(0, info, location=pf_source_location('test_continuation.pf', 403, 'assertEqual'))
+        call assertEqual(0, info, location=pf_source_location('test_continuation.pf', 406, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(3, size(wr), location=pf_source_location('test_continuation.pf', 404, 'assertEqual'))
+        call assertEqual(3, size(wr), location=pf_source_location('test_continuation.pf', 407, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             res%max_multiplier(i), &
             largest_modulus(wr, wi), &
             1.0e-14_wp, &
-            location=pf_source_location('test_continuation.pf', 405, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 408, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.6_wp + 2.0_wp*res%amplitude(i), &
             maxval(hypot(wr, wi), mask=wi /= 0.0_wp), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation.pf', 406, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 409, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_torus
 
@@ -851,36 +862,36 @@ contains
             call assertEqual( &
                 cont_fold_found, &
                 res%status, &
-                location=pf_source_location('test_continuation.pf', 426, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 429, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 2.0_wp/(3.0_wp*sqrt(3.0_wp)), &
                 res%fold_amplitude, &
                 1.0e-8_wp, &
-                location=pf_source_location('test_continuation.pf', 427, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 430, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 crossing_fold, &
                 res%instability_type, &
                 message=crossing_name(res%instability_type), &
-                location=pf_source_location('test_continuation.pf', 428, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 431, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 res%fold_amplitude, &
                 res%instability_amplitude, &
                 0.0_wp, &
-                location=pf_source_location('test_continuation.pf', 429, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 432, 'assertEqual'))
             if (pf_any_failed()) return
             f = res%fold_index
             call assertTrue( &
                 all(res%stable(:f - 1) == 1), &
-                location=pf_source_location('test_continuation.pf', 431, 'assertTrue'))
+                location=pf_source_location('test_continuation.pf', 434, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 1.0_wp, &
                 res%max_multiplier(:f - 1), &
                 1.0e-12_wp, &
-                location=pf_source_location('test_continuation.pf', 432, 'assertEqual'))
+                location=pf_source_location('test_continuation.pf', 435, 'assertEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_crowded_unit_circle
@@ -911,35 +922,35 @@ contains
                     call assertEqual( &
                         cont_fold_found, &
                         res%status, &
-                        location=pf_source_location('test_continuation.pf', 459, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 462, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         2.0_wp/(3.0_wp*sqrt(3.0_wp)), &
                         res%fold_amplitude, &
                         1.0e-8_wp, &
-                        location=pf_source_location('test_continuation.pf', 460, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 463, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         1.0_wp, &
                         res%fold_multiplier, &
                         1.0e-4_wp, &
-                        location=pf_source_location('test_continuation.pf', 461, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 464, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         kinds(mode), &
                         res%instability_type, &
-                        location=pf_source_location('test_continuation.pf', 462, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 465, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         expected(mode), &
                         res%instability_amplitude, &
                         1.0e-6_wp, &
-                        location=pf_source_location('test_continuation.pf', 463, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 466, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertTrue( &
                         all(res%arclength(2:n) > res%arclength(1:n - 1)), &
                         message="ordered by arclength", &
-                        location=pf_source_location('test_continuation.pf', 464, 'assertTrue'))
+                        location=pf_source_location('test_continuation.pf', 467, 'assertTrue'))
                     if (pf_any_failed()) return
                 end do
             end do
@@ -961,33 +972,33 @@ contains
             cont_no_fold, &
             res%status, &
             message=continuation_status_name(res%status), &
-            location=pf_source_location('test_continuation.pf', 481, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 484, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 482, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 485, 'assertIsNaN'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_residual, location=pf_source_location('test_continuation.pf', 483, 'assertIsNaN'))
+        call assertIsNaN(res%fold_residual, location=pf_source_location('test_continuation.pf', 486, 'assertIsNaN'))
         if (pf_any_failed()) return
         call assertIsNaN( &
             res%instability_amplitude, &
-            location=pf_source_location('test_continuation.pf', 484, 'assertIsNaN'))
+            location=pf_source_location('test_continuation.pf', 487, 'assertIsNaN'))
         if (pf_any_failed()) return
         call assertEqual( &
             crossing_none, &
             res%instability_type, &
-            location=pf_source_location('test_continuation.pf', 485, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 488, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, res%fold_index, location=pf_source_location('test_continuation.pf', 486, 'assertEqual'))
+        call assertEqual(0, res%fold_index, location=pf_source_location('test_continuation.pf', 489, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%amplitude(res%n_points), &
             2.0_wp, &
-            location=pf_source_location('test_continuation.pf', 487, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 490, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertTrue(all(res%stable == 1), location=pf_source_location('test_continuation.pf', 488, 'assertTrue'))
+        call assertTrue(all(res%stable == 1), location=pf_source_location('test_continuation.pf', 491, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(res%tangent_amplitude > 0.0_wp), &
-            location=pf_source_location('test_continuation.pf', 489, 'assertTrue'))
+            location=pf_source_location('test_continuation.pf', 492, 'assertTrue'))
         if (pf_any_failed()) return
         ! a point budget too small to reach amplitude_max
         ctl%max_points = 5
@@ -995,11 +1006,11 @@ contains
         call assertEqual( &
             cont_max_points, &
             res%status, &
-            location=pf_source_location('test_continuation.pf', 493, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 496, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(5, res%n_points, location=pf_source_location('test_continuation.pf', 494, 'assertEqual'))
+        call assertEqual(5, res%n_points, location=pf_source_location('test_continuation.pf', 497, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 495, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 498, 'assertIsNaN'))
         if (pf_any_failed()) return
     end subroutine test_no_fold
 
@@ -1028,14 +1039,14 @@ contains
                 call assertEqual( &
                     shoot_converged, &
                     sres%status, &
-                    location=pf_source_location('test_continuation.pf', 520, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 523, 'assertEqual'))
                 if (pf_any_failed()) return
                 xm = res%states(:, i)
                 call shoot(map, xm, res%amplitude(i) - delta, shooting_controls(tol=1.0e-14_wp), sres)
                 call assertEqual( &
                     shoot_converged, &
                     sres%status, &
-                    location=pf_source_location('test_continuation.pf', 523, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 526, 'assertEqual'))
                 if (pf_any_failed()) return
                 fd = (xp - xm)/(2.0_wp*delta)
                 tx = res%tangents(1:2, i)/res%tangents(3, i)
@@ -1043,20 +1054,20 @@ contains
                     fd, &
                     tx, &
                     1.0e-6_wp*maxval(abs(fd)), &
-                    location=pf_source_location('test_continuation.pf', 526, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 529, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     1.0_wp, &
                     norm2(res%tangents(:, i)), &
                     1.0e-12_wp, &
-                    location=pf_source_location('test_continuation.pf', 527, 'assertEqual'))
+                    location=pf_source_location('test_continuation.pf', 530, 'assertEqual'))
                 if (pf_any_failed()) return
                 checked = checked + 1
             end do
             call assertGreaterThanOrEqual( &
                 checked, &
                 merge(3, 2, every == 1), &
-                location=pf_source_location('test_continuation.pf', 530, 'assertGreaterThanOrEqual'))
+                location=pf_source_location('test_continuation.pf', 533, 'assertGreaterThanOrEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_tangent_finite_difference
@@ -1078,11 +1089,11 @@ contains
             cont_newton_failed, &
             res%status, &
             message=continuation_status_name(res%status), &
-            location=pf_source_location('test_continuation.pf', 547, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 550, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, res%n_points, location=pf_source_location('test_continuation.pf', 548, 'assertEqual'))
+        call assertEqual(0, res%n_points, location=pf_source_location('test_continuation.pf', 551, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 549, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 552, 'assertIsNaN'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds_min=1.0e-6_wp)
         call continue_branch(map, ctl, res)
@@ -1090,25 +1101,25 @@ contains
             cont_step_too_small, &
             res%status, &
             message=continuation_status_name(res%status), &
-            location=pf_source_location('test_continuation.pf', 552, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 555, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             res%amplitude(res%n_points), &
             0.2_wp, &
-            location=pf_source_location('test_continuation.pf', 553, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_continuation.pf', 556, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%amplitude(res%n_points), &
             0.19_wp, &
-            location=pf_source_location('test_continuation.pf', 554, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation.pf', 557, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 555, 'assertIsNaN'))
+        call assertIsNaN(res%fold_amplitude, location=pf_source_location('test_continuation.pf', 558, 'assertIsNaN'))
         if (pf_any_failed()) return
         call continue_branch(map, continuation_controls(), res, x0=[0.0_wp])
         call assertEqual( &
             cont_newton_failed, &
             res%status, &
-            location=pf_source_location('test_continuation.pf', 557, 'assertEqual'))
+            location=pf_source_location('test_continuation.pf', 560, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_failures_reported
 
@@ -1137,23 +1148,23 @@ contains
                         cont_fold_found, &
                         res%status, &
                         message=continuation_status_name(res%status), &
-                        location=pf_source_location('test_continuation.pf', 581, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 584, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         af, &
                         res%fold_amplitude, &
                         1.0e-8_wp, &
-                        location=pf_source_location('test_continuation.pf', 582, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 585, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         crossing_fold, &
                         res%instability_type, &
-                        location=pf_source_location('test_continuation.pf', 583, 'assertEqual'))
+                        location=pf_source_location('test_continuation.pf', 586, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertTrue( &
                         all(res%arclength(2:n) > res%arclength(1:n - 1)), &
                         message="ordered by arclength", &
-                        location=pf_source_location('test_continuation.pf', 584, 'assertTrue'))
+                        location=pf_source_location('test_continuation.pf', 587, 'assertTrue'))
                     if (pf_any_failed()) return
                 end do
             end do

@@ -117,7 +117,7 @@ def test_the_fold_alone_is_the_same_fold_without_stability(exe, fold_line, tmp_p
         assert (alone["status"][()] == 0).all()
         np.testing.assert_allclose(alone["fold_amplitude"][()], full["fold_amplitude"][()], rtol=0, atol=1e-8)
         np.testing.assert_array_equal(alone["fold_fate"][()], full["fold_fate"][()])
-        assert np.isnan(alone["instability_amplitude"][()]).all()
+        assert np.isnan(alone["instability_amplitude"][()]).all() and np.isnan(alone["instability_lower"][()]).all()
         np.testing.assert_array_equal(alone["threshold"][()], alone["fold_amplitude"][()])
         np.testing.assert_array_equal(alone["cost/eigen_calls"][()], alone["branches"][()])
         assert (full["cost/eigen_calls"][()] > alone["cost/eigen_calls"][()]).all()
@@ -167,6 +167,9 @@ def test_the_fold_alone_sees_the_symmetry_break_before_the_fold(exe, tmp_path):
         # both locate it (the full path by its secant on the multipliers, or at 0.45, where that fails at the branch
         # point, by bisection on the bordered determinant's sign): the same crossing
         np.testing.assert_allclose(inst, full["instability_amplitude"][0], rtol=0, atol=1e-6)
+        # located: the bracket's lower end is the loss itself
+        for f in (alone, full):
+            np.testing.assert_allclose(f["instability_lower"][0], f["instability_amplitude"][0], rtol=0, atol=1e-9)
 
 
 @pytest.mark.parametrize("old,new,words", [

@@ -152,6 +152,7 @@ contains
         r%fold_amplitude = res%fold_amplitude
         r%fold_residual = res%fold_residual
         r%instability_amplitude = res%instability_amplitude
+        r%instability_lower = res%instability_lower
         r%instability_type = res%instability_type
         r%threshold = r%fold_amplitude
         r%threshold_kind = merge(crossing_fold, crossing_none, .not. ieee_is_nan(r%fold_amplitude))

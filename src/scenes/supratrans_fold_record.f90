@@ -30,7 +30,7 @@ module supratrans_fold_record
         "factorizations", "eigen_calls", "wall_time", "time_map", "time_tangent", "time_lu", "time_eigen", &
         "fold_half_dt", "fold_long_chain", "richardson", &
         "error_estimate", "digits", "chain_n", "chain_n0", "chain_sigma", "fate", "fate_time", &
-        "transmission_fold", "branches", "transmission_status"]
+        "transmission_fold", "branches", "transmission_status", "instability_lower"]
 
     !> One (curve, Omega) task: the fold and stability of its branch, their convergence, the branch.
     type, public :: fold_record
@@ -42,6 +42,9 @@ module supratrans_fold_record
         integer :: status = 0
         !> Amplitude of the first loss of Floquet stability along the branch; NaN when the branch stays stable.
         real(wp) :: instability_amplitude = 0.0_wp
+        !> Lower end of the bracket of that loss: the same amplitude where it was located, else the last amplitude
+        !> known stable below it; NaN with it.
+        real(wp) :: instability_lower = 0.0_wp
         !> Type of that loss: 0 none, 1 real multiplier through +1 (fold), 2 through -1 (period doubling), 3 complex
         !> pair (torus).
         integer :: instability_type = 0
@@ -157,6 +160,7 @@ contains
         r%fold_amplitude = nan
         r%fold_residual = nan
         r%instability_amplitude = nan
+        r%instability_lower = nan
         r%instability_size = nan
         r%threshold = nan
         r%threshold_as = nan
@@ -190,7 +194,7 @@ contains
              r%wall_time, r%time_map, r%time_tangent, r%time_lu, r%time_eigen, r%fold_half_dt, r%fold_long_chain, &
              r%richardson, r%error_estimate, r%digits, real(r%chain_n, wp), real(r%chain_n0, wp), r%chain_sigma, &
              real(r%fate, wp), r%fate_time, r%transmission_fold, real(r%branches, wp), &
-             real(r%transmission_status, wp), reshape(r%branch, [size(r%branch)])]
+             real(r%transmission_status, wp), r%instability_lower, reshape(r%branch, [size(r%branch)])]
         do s = 1, multiplier_samples
             v = [v, reshape(transpose(reshape([r%multiplier_re(:, s), r%multiplier_im(:, s)], &
                                               [kept_multipliers, 2])), [2*kept_multipliers]), r%multiplier_amplitude(s)]
@@ -241,6 +245,7 @@ contains
         r%transmission_fold = v(33)
         r%branches = nint(v(34))
         r%transmission_status = nint(v(35))
+        r%instability_lower = v(36)
         i = size(scalar_fields)
         nb = size(branch_quantities)*points_max
         r%branch = reshape(v(i + 1:i + nb), [size(branch_quantities), points_max])

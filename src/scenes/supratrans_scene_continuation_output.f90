@@ -73,6 +73,9 @@ contains
             "rad", "First amplitude along the branch where a Floquet multiplier leaves the unit circle; NaN when " &
             // "the branch stays stable up to its fold (the fold alone, floquet_every = 0, looks only where a real " &
             // "multiplier passes -1)", dims=dims)
+        call h5_write(file, "/instability_lower", grid(recs%instability_lower), "rad", "Lower end of the bracket " &
+            // "of the first loss of stability: /instability_amplitude itself where that loss was located (to 1e-10), " &
+            // "else the last amplitude known stable below it (the loss lies between the two); NaN with it", dims=dims)
         call h5_write(file, "/instability_size", grid(recs%instability_size), "1", &
             "How far the Floquet multipliers leave the unit circle before the fold: max |mu| - 1 over the branch up " &
             // "to it (a weak instability has a small size: compare it with crossing_tol)", dims=dims)

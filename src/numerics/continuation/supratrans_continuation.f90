@@ -134,6 +134,7 @@ contains
         res%fold_multiplier = nan
         res%fold_multiplier_imag = nan
         res%instability_amplitude = nan
+        res%instability_lower = nan
         res%crossing_tol = ctl%crossing_tol
         call allocate_branch(res, d, ctl%max_points + 1)
 
@@ -180,6 +181,7 @@ contains
         lost = res%stable(1) == 0
         if (lost) then
             res%instability_amplitude = ctl%amplitude_start
+            res%instability_lower = ctl%amplitude_start
             res%instability_type = leading_crossing(wr, wi, ctl%crossing_tol)
             if (ctl%stop_at_unstable_start) then
                 call set_stop(res, cont_unstable_start)
@@ -407,7 +409,7 @@ contains
             type(branch_point), intent(in) :: pt
             type(branch_point) :: left
             real(wp), allocatable :: lr(:), li(:)
-            real(wp) :: shift, g_k, g_m, sigma_k
+            real(wp) :: shift, g_k, g_m, sigma_k, lower
             complex(wp) :: mu_k
             integer :: k, linfo, kind, m, jl, have_left
             logical :: inside, narrowed
@@ -450,11 +452,13 @@ contains
             if (kind == crossing_fold .and. res%fold_index > 0 .and. k >= res%fold_index - 1) then
                 ! A real multiplier through +1 after the fold: the fold itself
                 res%instability_amplitude = res%fold_amplitude
+                res%instability_lower = res%fold_amplitude
                 res%instability_type = crossing_fold
                 return
             end if
             res%instability_type = kind
             res%instability_amplitude = res%amplitude(k)
+            res%instability_lower = res%amplitude(max(k - 1, 1))
             ! The bracket: back from k - 1 to the last point whose multipliers of this kind are strictly inside the
             ! unit circle (at most walk_back points), and |mu| = 1 located between it and the next point; where
             ! there is none (a multiplier that hugs the circle), |mu| = 1 + crossing_tol between k - 1 and k
@@ -515,12 +519,15 @@ contains
                     ! point): bisection on the sign it changes, from the last point before k
                     sigma_k = dot_product(left%t, [res%states(:, k), res%amplitude(k)] - left%y)
                     if (sigma_k > 0.0_wp) then
-                        call bisect_sign(map, left, sys, sigma_k, kind, side_ctl, lost_pt, located, narrowed, res%stats)
+                        call bisect_sign(map, left, sys, sigma_k, kind, side_ctl, lost_pt, located, narrowed, lower, &
+                                         res%stats)
                         if (narrowed) res%instability_amplitude = lost_pt%y(n1)
+                        if (narrowed) res%instability_lower = lower
                     end if
                 end if
             end block
             if (located) res%instability_amplitude = lost_pt%y(n1)
+            if (located) res%instability_lower = res%instability_amplitude
         end subroutine check_stability
 
         !> A change of the watched signs between the recorded points a and b: their multipliers say whether the

@@ -213,8 +213,9 @@ contains
     !> fails, at a branch point (the multipliers' distance to the circle is no smooth function there, and the
     !> corrector's matrix is singular at the crossing itself). Ends when the bracket is within `fold_tol` in A
     !> (`located`), or when a correction fails near the crossing: `pt` is then the bracket's end past the crossing,
-    !> and `narrowed` says whether that bracket is tighter than the one given (the crossing lies below pt's A).
-    subroutine bisect_sign(map, bp, sys, sigma_hi, kind, ctl, pt, located, narrowed, stats)
+    !> and `narrowed` says whether that bracket is tighter than the one given (the crossing lies between `lower`
+    !> and pt's A).
+    subroutine bisect_sign(map, bp, sys, sigma_hi, kind, ctl, pt, located, narrowed, lower, stats)
         !> The map P(x; A).
         class(fixed_point_map), intent(inout) :: map
         !> The bracket's left end (sigma = 0), with its Jacobian and tangent.
@@ -231,6 +232,8 @@ contains
         type(branch_point), intent(inout) :: pt
         !> Whether the bracket reached `fold_tol`, and whether it was narrowed at all.
         logical, intent(out) :: located, narrowed
+        !> A at the bracket's other end (before the crossing).
+        real(wp), intent(out) :: lower
         !> Counts and times.
         type(continuation_stats), intent(inout) :: stats
         type(branch_point) :: trial
@@ -242,6 +245,7 @@ contains
         n1 = size(bp%y)
         located = .false.
         narrowed = .false.
+        lower = bp%y(n1)
         s0 = sign_at(bp)
         if (s0 == 0) return
         lo = 0.0_wp
@@ -262,6 +266,7 @@ contains
             if (s == s0) then
                 lo = c
                 a_lo = trial%y(n1)
+                lower = a_lo
             else
                 hi = c
                 a_hi = trial%y(n1)

@@ -143,6 +143,9 @@ module supratrans_continuation_types
         integer :: points_beyond_fold = 0
         !> Amplitude where the branch first loses stability (NaN when it stays stable as far as computed).
         real(wp) :: instability_amplitude = 0.0_wp
+        !> Lower end of the bracket of that loss: `instability_amplitude` where it was located (to `fold_tol`), else
+        !> the last amplitude known stable below it (the loss lies between the two); NaN with it.
+        real(wp) :: instability_lower = 0.0_wp
         !> Kind of that loss (`supratrans_floquet`: crossing_none, crossing_fold, crossing_period_doubling,
         !> crossing_torus).
         integer :: instability_type = crossing_none
