@@ -54,8 +54,8 @@ contains
 
     !> The sign of det(J + I) = prod (mu + 1) over the multipliers mu of J (a complex pair gives |mu + 1|^2 > 0): it
     !> changes exactly when an odd number of real multipliers pass through -1, which is how a branch meets a period
-    !> doubling of its map without any eigenvalue computed (one LU, a third of the cost of factorising the bordered
-    !> system, against the full `dgeev`). 0 when J + I is singular.
+    !> doubling of its map without any eigenvalue computed (one LU, as costly as factorising the bordered system
+    !> and a small part of a `dgeev`). 0 when J + I is singular.
     pure integer function flip_sign(monodromy)
         !> Monodromy matrix dP/dx, d x d.
         real(wp), intent(in) :: monodromy(:, :)
