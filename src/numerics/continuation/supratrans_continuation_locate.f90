@@ -213,8 +213,7 @@ contains
     !> fails, at a branch point (the multipliers' distance to the circle is no smooth function there, and the
     !> corrector's matrix is singular at the crossing itself). Ends when the bracket is within `fold_tol` in A
     !> (`located`), or when a correction fails near the crossing: `pt` is then the bracket's end past the crossing,
-    !> and `narrowed` says whether that bracket is tighter than the one given (the crossing lies between `lower`
-    !> and pt's A).
+    !> and `narrowed` says whether either end of that bracket moved (the crossing lies between `lower` and pt's A).
     subroutine bisect_sign(map, bp, sys, sigma_hi, kind, ctl, pt, located, narrowed, lower, stats)
         !> The map P(x; A).
         class(fixed_point_map), intent(inout) :: map
@@ -263,6 +262,7 @@ contains
             c = 0.5_wp*(lo + hi)
             call corrected(c, ok, s)
             if (.not. ok .or. s == 0) return
+            narrowed = .true.
             if (s == s0) then
                 lo = c
                 a_lo = trial%y(n1)
@@ -272,7 +272,6 @@ contains
                 a_hi = trial%y(n1)
                 pt = trial
                 pt%s = bp%s + c
-                narrowed = .true.
             end if
         end do
 
