@@ -24,9 +24,8 @@
 !> passes -1 (P's passes +1 and the half-period symmetry breaks): the fold alone watches for it (`flip_watch` of the
 !> continuation, which also sees P's real multipliers through +1 where M is odd) and reports it as the first loss
 !> of stability, type 1 (a real multiplier through +1 where the branch does not turn), below the symmetric branch's
-!> fold. A branch followed past a
-!> localized fold goes on G too when the periodic state the chain settled on has the symmetry (G(x) = x to
-!> `symmetric_tol`; the chain may settle on one without it), and on P otherwise.
+!> fold. A branch followed past a localized fold goes on G too when the periodic state the chain settled on has the
+!> symmetry (G(x) = x to `symmetric_tol`; the chain may settle on one without it), and on P otherwise.
 module supratrans_fold_line
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp
@@ -371,6 +370,7 @@ contains
         logical :: yes
         real(wp), allocatable :: gx(:)
         integer :: status
+        logical :: ok
 
         call set_half_period(map, .true., yes)
         if (.not. yes) return
@@ -378,8 +378,7 @@ contains
         call map%apply(x, amplitude, gx, status)
         yes = status == map_ok
         if (yes) yes = maxval(abs(gx - x)) <= symmetric_tol
-        if (.not. yes) call set_half_period(map, .false., yes)
-        yes = map%half
+        if (.not. yes) call set_half_period(map, .false., ok)
     end function half_period_symmetric
 
     !> Newton-shooting with backtracking from where the chain settled (`x`, not yet periodic: the modes trapped
