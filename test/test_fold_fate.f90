@@ -8,7 +8,7 @@ module test_fold_fate
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
     use supratrans_config, only: run_config
-    use supratrans_fold_line, only: fold_fate, fate_transmits, fate_localized, fate_push, fate_watch_time, fate_codes, &
+    use supratrans_fold_fate, only: fold_fate, fate_transmits, fate_localized, fate_push, fate_watch_time, fate_codes, &
                                     half_period_symmetric
     use supratrans_period_map, only: period_map, period_map_init, set_half_period
     use continuation_maps, only: short_test_chain

@@ -1,0 +1,301 @@
+!> The fate of a fold of a fold line (`supratrans_fold_line`), and the branches the chain is followed to past a fold
+!> where it stays localized (`follow_to_transmission`), up to the fold past which it transmits.
+!>
+!> **The fold's fate** (`fold_fate`). A fold is the supratransmission threshold only if the chain, driven just past
+!> it, transmits. Near Omega = 1/(2k + 1), where an odd harmonic of the drive sits at the lower edge of the phonon
+!> band, the branch can fold far below the scan's threshold (e.g. A_f = 1.78 at Omega = 0.34 on the paper's chain,
+!> where the scan gives 4.66): such a fold depends on the chain's length and absorber (docs/continuation.md) and the
+!> state beyond it need not transmit. So each fold is tested: the periodic state at the fold is driven at
+!> A_f (1 + `fate_push`) at full amplitude for `fate_watch_time` (at least `fate_min_periods` periods) with the
+!> one-period map of the same scheme, and it transmits when, at the end of a period, an oscillator beyond the
+!> run's detector site (`detector_site`, the scan's own) has |u_n| > the detector amplitude (pi by default).
+!>
+!> **Following the chain past a localized fold.** The state it settled on is brought to a periodic state by
+!> Newton-shooting with backtracking (`damped_shooting`), its branch is continued in A to its own fold (on the
+!> half-period map when that state has the half-period symmetry, `half_period_symmetric`), and that fold's fate is
+!> tested in turn, up to `max_branches` branches.
+module supratrans_fold_fate
+    use supratrans_kinds, only: wp
+    use supratrans_config, only: run_config
+    use supratrans_strings, only: int_str, real_str
+    use supratrans_period_map, only: period_map, set_half_period
+    use supratrans_fixed_point_map, only: map_ok
+    use supratrans_dense, only: dense_solve
+    use supratrans_chain, only: detector_site
+    use supratrans_continuation, only: continue_branch, continuation_controls, continuation_result, cont_fold_found, &
+                                       cont_no_fold, cont_newton_failed, cont_step_too_small, cont_max_points, &
+                                       cont_unstable_start
+    use supratrans_fold_record, only: fold_record
+    implicit none
+    private
+
+    public :: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, follow_to_transmission, &
+              add_branch_cost
+
+    !> Fate of a fold: not computed (no fold).
+    integer, parameter, public :: fate_not_computed = 0
+    !> Fate of a fold: driven just past it, the chain transmits (the fold is the supratransmission threshold).
+    integer, parameter, public :: fate_transmits = 1
+    !> Fate of a fold: driven just past it for `fate_watch_time`, the chain stays localized (it settles on another
+    !> state: the fold is not where transmission starts).
+    integer, parameter, public :: fate_localized = 2
+    !> Fate of a fold: the one-period map failed while watching (its implicit steps did not converge).
+    integer, parameter, public :: fate_failed = 3
+    !> Relative push past the fold: the fate is watched at A_f (1 + fate_push).
+    real(wp), parameter, public :: fate_push = 1.0e-2_wp
+    !> Time the pushed state is watched (in units of the model's time).
+    real(wp), parameter, public :: fate_watch_time = 1000.0_wp
+    !> Fewest drive periods the pushed state is watched.
+    integer, parameter, public :: fate_min_periods = 20
+    !> Most branches followed from rest to the fold past which the chain transmits (`follow_to_transmission`).
+    integer, parameter, public :: max_branches = 4
+    !> Why no transmission fold (beside the continuation's statuses of the last branch followed): the state Newton
+    !> found where the chain settled is unstable.
+    integer, parameter, public :: follow_unstable_start = cont_unstable_start
+    !> Why no transmission fold: the chain stayed localized past the folds of `max_branches` branches.
+    integer, parameter, public :: follow_too_many = 7
+    !> Why no transmission fold: the scheme failed while the fate of a fold was watched.
+    integer, parameter, public :: follow_fate_failed = 8
+    !> Most damped Newton-shooting steps from where the chain settled (`damped_shooting`).
+    integer, parameter :: settle_iterations = 30
+    !> max |P(x) - x| at which `damped_shooting` stops (the continuation's own shooting polishes to newton_tol).
+    real(wp), parameter :: settle_tol = 1.0e-9_wp
+    !> max |G(x) - x| below which a settled periodic state counts as symmetric (its branch then continued on G).
+    real(wp), parameter, public :: symmetric_tol = 1.0e-8_wp
+    !> The Newton-shooting of a followed branch gives up when its residual grows this many times its first value.
+    real(wp), parameter :: follow_growth_limit = 10.0_wp
+
+contains
+
+    !> Add what a continuation cost (its counts and times) to the record's costs.
+    pure subroutine add_branch_cost(r, res)
+        !> The record.
+        type(fold_record), intent(inout) :: r
+        !> The continuation.
+        type(continuation_result), intent(in) :: res
+
+        r%newton_iterations = r%newton_iterations + sum(res%newton_iterations(1:res%n_points))
+        r%map_evaluations = r%map_evaluations + res%stats%map_evaluations + res%stats%jacobian_evaluations
+        r%jacobians = r%jacobians + res%stats%jacobian_evaluations
+        r%factorizations = r%factorizations + res%stats%factorisations
+        r%eigen_calls = r%eigen_calls + res%stats%eigen_calls
+        r%time_map = r%time_map + res%stats%time_map
+        r%time_tangent = r%time_tangent + res%stats%time_jacobian
+        r%time_lu = r%time_lu + res%stats%time_lu
+        r%time_eigen = r%time_eigen + res%stats%time_eigen
+    end subroutine add_branch_cost
+
+    !> Past a fold where the chain stays localized, the branch it settles on: from the `settled` state at amplitude
+    !> `a` (Newton-shooting first), continued in A to its own fold, whose fate is tested in turn, up to
+    !> `max_branches` branches in all. Fills `r%transmission_fold` (NaN when no branch ends in a fold that transmits)
+    !> and `r%branches`; the costs of these continuations are added to the record's.
+    subroutine follow_to_transmission(map, run, ctl, settled, a, r)
+        !> The one-period map.
+        type(period_map), intent(inout) :: map
+        !> The run (detector).
+        type(run_config), intent(in) :: run
+        !> The continuation controls of the first branch.
+        type(continuation_controls), intent(in) :: ctl
+        !> Where the chain settled past the first fold.
+        real(wp), intent(in) :: settled(:)
+        !> The amplitude it settled at.
+        real(wp), intent(in) :: a
+        !> The record.
+        type(fold_record), intent(inout) :: r
+        type(continuation_controls) :: next
+        type(continuation_result) :: res
+        real(wp), allocatable :: x(:)
+        real(wp) :: amplitude, time
+        integer :: fate
+        logical :: half
+
+        x = settled
+        amplitude = a
+        next = ctl
+        next%beyond_fold = 0
+        ! the fold alone: what is asked of a followed branch is its fold and that fold's fate; no loss of stability
+        ! is sought along it (its multipliers at the first point, for stop_at_unstable_start, and at the fold only)
+        next%floquet_every = 0
+        next%flip_watch = .false.
+        next%start_max_iter = 40
+        ! from a settled state that damped_shooting could not bring to a periodic state, the undamped Newton gives
+        ! up once it has left its basin (on the paper's grid it then wandered through all its 40 Jacobians, 7 of 7)
+        next%start_growth_limit = follow_growth_limit
+        next%max_points = 4*ctl%max_points
+        ! a settled state that is not stable ends the following at its first point (below), not after its branch
+        next%stop_at_unstable_start = .true.
+        do while (r%branches < max_branches)
+            call damped_shooting(map, x, amplitude)
+            next%amplitude_start = amplitude
+            ! a settled periodic state with the half-period symmetry: its branch on G too (half the cost)
+            half = half_period_symmetric(map, x, amplitude)
+            if (mod(map%steps, 2) == 0) r%map_evaluations = r%map_evaluations + 1
+            call continue_branch(map, next, res, x)
+            if (half) call set_half_period(map, .false., half)
+            r%branches = r%branches + 1
+            call add_branch_cost(r, res)
+            ! (a state Newton found where the chain cannot have settled, not stable, stops it: cont_unstable_start)
+            if (res%status /= cont_fold_found .or. res%fold_index < 1) then
+                r%transmission_status = res%status
+                return
+            end if
+            call fold_fate(map, run, res%states(:, res%fold_index), res%fold_amplitude*(1.0_wp + fate_push), fate, &
+                           time, x)
+            if (fate == fate_transmits) then
+                r%transmission_fold = res%fold_amplitude
+                r%transmission_status = cont_fold_found
+                return
+            end if
+            if (fate /= fate_localized) then
+                r%transmission_status = follow_fate_failed
+                return
+            end if
+            amplitude = res%fold_amplitude*(1.0_wp + fate_push)
+        end do
+        r%transmission_status = follow_too_many
+    end subroutine follow_to_transmission
+
+    !> Whether x is a periodic state with the half-period symmetry, G(x) = x to `symmetric_tol` (M even); if so,
+    !> `map` is left as the half-period map G, else as P.
+    function half_period_symmetric(map, x, amplitude) result(yes)
+        !> The one-period map (P on entry).
+        type(period_map), intent(inout) :: map
+        !> The state.
+        real(wp), intent(in) :: x(:)
+        !> Drive amplitude.
+        real(wp), intent(in) :: amplitude
+        logical :: yes
+        real(wp), allocatable :: gx(:)
+        integer :: status
+        logical :: ok
+
+        call set_half_period(map, .true., yes)
+        if (.not. yes) return
+        allocate (gx(size(x)))
+        call map%apply(x, amplitude, gx, status)
+        yes = status == map_ok
+        if (yes) yes = maxval(abs(gx - x)) <= symmetric_tol
+        if (.not. yes) call set_half_period(map, .false., ok)
+    end function half_period_symmetric
+
+    !> Newton-shooting with backtracking from where the chain settled (`x`, not yet periodic: the modes trapped
+    !> between the drive and the absorber ring for long) towards the periodic state nearby: each full Newton step
+    !> is halved (down to 1/64) until it lowers max |P(x) - x|, so that the first steps, made large by the
+    !> multipliers near +1, do not throw x far away. At most `settle_iterations` steps; `x` is the periodic state
+    !> when max |P(x) - x| <= `settle_tol` was reached, else left as it came (the continuation's own, undamped
+    !> shooting then has its try, and gives up once its residual has grown tenfold: `follow_growth_limit`).
+    subroutine damped_shooting(map, x, amplitude)
+        !> The one-period map.
+        type(period_map), intent(inout) :: map
+        !> The state: in, where the chain settled; out, the best iterate.
+        real(wp), intent(inout) :: x(:)
+        !> Drive amplitude.
+        real(wp), intent(in) :: amplitude
+        real(wp), allocatable :: px(:), jac(:, :), dx(:), trial(:), y(:)
+        real(wp) :: residual, t, r_trial
+        integer :: it, i, status, info
+
+        allocate (px(size(x)), jac(size(x), size(x)), trial(size(x)))
+        y = x
+        call map%apply(y, amplitude, px, status)
+        if (status /= map_ok) return
+        residual = maxval(abs(px - y))
+        do it = 1, settle_iterations
+            if (residual <= settle_tol) then
+                x = y
+                return
+            end if
+            call map%apply(y, amplitude, px, status, jac=jac)
+            if (status /= map_ok) return
+            do i = 1, size(y)
+                jac(i, i) = jac(i, i) - 1.0_wp
+            end do
+            dx = y - px
+            call dense_solve(jac, dx, info)
+            if (info /= 0) return
+            t = 1.0_wp
+            do
+                trial = y + t*dx
+                call map%apply(trial, amplitude, px, status)
+                r_trial = huge(1.0_wp)
+                if (status == map_ok) r_trial = maxval(abs(px - trial))
+                if (r_trial < residual .or. t <= 1.0_wp/64.0_wp) exit
+                t = 0.5_wp*t
+            end do
+            if (.not. (r_trial < residual)) return
+            y = trial
+            residual = r_trial
+        end do
+        if (residual <= settle_tol) x = y
+    end subroutine damped_shooting
+
+    !> The fate of a fold (see the module's documentation): from the periodic state `x` at the fold, the drive at
+    !> `amplitude` (just past the fold), one period at a time, until an oscillator beyond the detector site swings
+    !> past the detector amplitude (`fate_transmits`, `time` = the end of that period) or `fate_watch_time` has
+    !> passed (`fate_localized`, `time` = the time watched).
+    subroutine fold_fate(map, run, x, amplitude, fate, time, last)
+        !> The one-period map of the branch (its work arrays change).
+        type(period_map), intent(inout) :: map
+        !> The run (detector site and amplitude).
+        type(run_config), intent(in) :: run
+        !> The state at the fold (u_n at t = 0 first, n = 1..N).
+        real(wp), intent(in) :: x(:)
+        !> Drive amplitude just past the fold.
+        real(wp), intent(in) :: amplitude
+        !> `fate_transmits`, `fate_localized` or `fate_failed`.
+        integer, intent(out) :: fate
+        !> Time of the first transmission, or the time watched.
+        real(wp), intent(out) :: time
+        !> The state at the end of the watch (where the chain has settled when it stays localized).
+        real(wp), allocatable, intent(out), optional :: last(:)
+        real(wp), allocatable :: y(:), py(:)
+        integer :: k, periods, nd, status
+
+        nd = detector_site(run)
+        periods = max(fate_min_periods, ceiling(fate_watch_time/map%period))
+        y = x
+        allocate (py(size(x)))
+        do k = 1, periods
+            call map%apply(y, amplitude, py, status)
+            time = real(k, wp)*map%period
+            if (status /= map_ok) then
+                fate = fate_failed
+                return
+            end if
+            if (maxval(abs(py(nd + 1:map%n))) > run%detect%amplitude) then
+                fate = fate_transmits
+                return
+            end if
+            y = py
+        end do
+        fate = fate_localized
+        if (present(last)) last = y
+    end subroutine fold_fate
+
+    !> The fates of a fold as "code name: meaning" clauses (the `codes` attribute of /fold_fate).
+    pure function fate_codes() result(text)
+        character(len=:), allocatable :: text
+
+        text = int_str(fate_not_computed) // " none: no fold; " // int_str(fate_transmits) // " transmits: driven " &
+            // "at A_f (1 + " // real_str(fate_push, 3) // ") from the fold's state, an oscillator beyond the " &
+            // "detector site passes the detector amplitude (the fold is the supratransmission threshold); " &
+            // int_str(fate_localized) // " localized: no transmission within /fold_fate_time (the chain " &
+            // "settles on another state: the fold is not where transmission starts); " // int_str(fate_failed) &
+            // " failed: the scheme's implicit step did not converge"
+    end function fate_codes
+
+    !> The codes of /transmission_status as "code: meaning" clauses.
+    pure function transmission_status_codes() result(text)
+        character(len=:), allocatable :: text
+
+        text = "-1: no fold on the first branch (see /status); " // int_str(cont_fold_found) // ": found; " &
+            // int_str(cont_no_fold) // ", " // int_str(cont_newton_failed) // ", " // int_str(cont_step_too_small) &
+            // ", " // int_str(cont_max_points) // ": the last branch followed ended as /status says of the first " &
+            // "(no fold below amplitude_max, Newton-shooting failed from the settled state, step too small, " &
+            // "points exhausted); " // int_str(follow_unstable_start) // ": the state found where the chain settled " &
+            // "is unstable; " // int_str(follow_too_many) // ": still localized past the folds of " &
+            // int_str(max_branches) // " branches; " // int_str(follow_fate_failed) // ": the scheme failed " &
+            // "while a fold's fate was watched"
+    end function transmission_status_codes
+
+end module supratrans_fold_fate
