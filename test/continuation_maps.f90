@@ -6,7 +6,8 @@
 !> - `mode_fold`: y -> y/2 + x^2 (contracting, fixed at y = 2 x^2; a 2-D branch with a known shape),
 !> - `mode_doubling`: y -> (1/2 - 5 A) y + y^3 (fixed at y = 0, multiplier 1/2 - 5 A through -1 at A = 3/10),
 !> - `mode_pitchfork`: y -> (1/2 + 2 A) y - y^3 (fixed at y = 0, multiplier 1/2 + 2 A through +1 at A = 1/4: a branch
-!>   point, where the branches y^2 = 2 A - 1/2 leave the branch y = 0, which does not turn there),
+!>   point, where the branches y^2 = 2 A - 1/2 leave the branch y = 0, which does not turn there; with `c2` = +1,
+!>   y -> (1/2 + 2 A) y + y^3, the branches y^2 = 1/2 - 2 A leave it below A = 1/4),
 !> - `mode_torus`: (y1, y2) -> (3/5 + 2 A) R(1) (y1, y2) - |y|^2 (y1, y2) / 10 (R(1) the rotation by 1 rad; a
 !>   Neimark-Sacker normal form: fixed at y = 0, a complex pair of modulus 3/5 + 2 A through the unit circle at
 !>   A = 1/5),
@@ -38,6 +39,9 @@ module continuation_maps
         real(wp) :: h = 0.5_wp
         !> Coefficient c of the cubic term: +1 a fold, -1 none.
         real(wp) :: c = 1.0_wp
+        !> Coefficient of the cubic term of `mode_pitchfork`'s second component: -1 supercritical (the branches
+        !> y^2 = 2 A - 1/2 above A = 1/4, stable), +1 subcritical (y^2 = 1/2 - 2 A below it, unstable).
+        real(wp) :: c2 = -1.0_wp
         !> `mode_fold`, `mode_doubling` or `mode_torus`.
         integer :: mode = mode_fold
         !> Number of rotation pairs of `mode_crowded`.
@@ -125,8 +129,8 @@ contains
             if (present(dpda)) dpda(2) = -5.0_wp*x(2)
         case (mode_pitchfork)
             q = 0.5_wp + 2.0_wp*amplitude
-            px(2) = q*x(2) - x(2)**3
-            if (present(jac)) jac(2, 2) = q - 3.0_wp*x(2)**2
+            px(2) = q*x(2) + self%c2*x(2)**3
+            if (present(jac)) jac(2, 2) = q + 3.0_wp*self%c2*x(2)**2
             if (present(dpda)) dpda(2) = 2.0_wp*x(2)
         case default  ! mode_torus
             r = 0.6_wp + 2.0_wp*amplitude

@@ -22,15 +22,17 @@ module supratrans_fold_fate
     use supratrans_fixed_point_map, only: map_ok
     use supratrans_dense, only: dense_solve
     use supratrans_chain, only: detector_site
-    use supratrans_continuation, only: continue_branch, continuation_controls, continuation_result, cont_fold_found, &
-                                       cont_no_fold, cont_newton_failed, cont_step_too_small, cont_max_points, &
-                                       cont_unstable_start
+    use supratrans_continuation, only: continue_branch, continuation_controls, continuation_result, continuation_stats, &
+                                       cont_fold_found, cont_no_fold, cont_newton_failed, cont_step_too_small, &
+                                       cont_max_points, cont_unstable_start
     use supratrans_fold_record, only: fold_record
+    use supratrans_continuation_corrector, only: branch_point
+    use supratrans_branch_switch, only: switch_branch
     implicit none
     private
 
     public :: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, follow_to_transmission, &
-              add_branch_cost
+              add_branch_cost, past_branch_point, branch_switch_codes
 
     !> Fate of a fold: not computed (no fold).
     integer, parameter, public :: fate_not_computed = 0
@@ -64,6 +66,19 @@ module supratrans_fold_fate
     real(wp), parameter, public :: symmetric_tol = 1.0e-8_wp
     !> The Newton-shooting of a followed branch gives up when its residual grows this many times its first value.
     real(wp), parameter :: follow_growth_limit = 10.0_wp
+    !> Branch switching (/branch_switch): no branch point below the fold.
+    integer, parameter, public :: switch_none = 0
+    !> Branch switching: the other branch leaves the branch point above it (followed to its fold).
+    integer, parameter, public :: switch_supercritical = 1
+    !> Branch switching: the other branch leaves the branch point below it (the chain driven past the branch point).
+    integer, parameter, public :: switch_subcritical = 2
+    !> Branch switching: the other branch was not found.
+    integer, parameter, public :: switch_failed = 3
+    !> Distance (Euclidean norm of (x, A)) of the other branch's first point from the branch point.
+    real(wp), parameter, public :: switch_step = 5.0e-2_wp
+    !> Past a subcritical branch point the chain is driven from the branch point's state moved this far along the
+    !> other branch's direction (a small asymmetry, as a slow ramp leaves the symmetric state with one).
+    real(wp), parameter, public :: switch_seed = 1.0e-3_wp
 
 contains
 
@@ -75,15 +90,93 @@ contains
         type(continuation_result), intent(in) :: res
 
         r%newton_iterations = r%newton_iterations + sum(res%newton_iterations(1:res%n_points))
-        r%map_evaluations = r%map_evaluations + res%stats%map_evaluations + res%stats%jacobian_evaluations
-        r%jacobians = r%jacobians + res%stats%jacobian_evaluations
-        r%factorizations = r%factorizations + res%stats%factorisations
-        r%eigen_calls = r%eigen_calls + res%stats%eigen_calls
-        r%time_map = r%time_map + res%stats%time_map
-        r%time_tangent = r%time_tangent + res%stats%time_jacobian
-        r%time_lu = r%time_lu + res%stats%time_lu
-        r%time_eigen = r%time_eigen + res%stats%time_eigen
+        call add_stats(r, res%stats)
     end subroutine add_branch_cost
+
+    !> Add counts and times to the record's costs.
+    pure subroutine add_stats(r, stats)
+        !> The record.
+        type(fold_record), intent(inout) :: r
+        !> The counts and times.
+        type(continuation_stats), intent(in) :: stats
+
+        r%map_evaluations = r%map_evaluations + stats%map_evaluations + stats%jacobian_evaluations
+        r%jacobians = r%jacobians + stats%jacobian_evaluations
+        r%factorizations = r%factorizations + stats%factorisations
+        r%eigen_calls = r%eigen_calls + stats%eigen_calls
+        r%time_map = r%time_map + stats%time_map
+        r%time_tangent = r%time_tangent + stats%time_jacobian
+        r%time_lu = r%time_lu + stats%time_lu
+        r%time_eigen = r%time_eigen + stats%time_eigen
+    end subroutine add_stats
+
+    !> Past a branch point below the fold (the first loss of stability of the branch from rest, a real multiplier
+    !> through +1 where the branch does not turn; its point and the tangent next to it in `res`), where a slow ramp
+    !> goes: the other branch is found (`switch_branch`, `switch_step` away). Where it leaves above the branch point
+    !> (supercritical) the ramp follows it: it is continued to its fold, whose fate is tested, and so on
+    !> (`follow_to_transmission`). Where it leaves below (subcritical) nothing is near to follow: the chain is driven
+    !> at A_b (1 + `fate_push`) from the branch point's state moved by `switch_seed` along the other branch's
+    !> direction, and A_b is the transmission threshold when it transmits; where it stays localized, the chain is
+    !> followed from where it settled. (Driven from the other branch's first point instead, the chain stayed
+    !> localized at Omega = 0.44 on the paper's grid, where a slow ramp transmits just past the branch point.) Fills
+    !> `r%branch_switch`, and `r%transmission_fold`, `r%branches`, `r%transmission_status`.
+    subroutine past_branch_point(map, run, ctl, res, r)
+        !> The one-period map P.
+        type(period_map), intent(inout) :: map
+        !> The run (detector).
+        type(run_config), intent(in) :: run
+        !> The continuation controls of the branch from rest.
+        type(continuation_controls), intent(in) :: ctl
+        !> The branch from rest, with `instability_point` and `instability_tangent`.
+        type(continuation_result), intent(in) :: res
+        !> The record.
+        type(fold_record), intent(inout) :: r
+        type(continuation_stats) :: stats
+        type(branch_point) :: pt
+        real(wp), allocatable :: e(:), settled(:)
+        real(wp) :: a_b, time
+        integer :: d, fate
+        logical :: ok
+
+        d = map%dim
+        a_b = res%instability_point(d + 1)
+        allocate (e(d + 1))
+        r%branches = 1
+        r%transmission_status = follow_fate_failed
+        call switch_branch(map, res%instability_point, res%instability_tangent, switch_step, ctl, pt, e, ok, stats)
+        call add_stats(r, stats)
+        r%newton_iterations = r%newton_iterations + pt%iterations
+        if (.not. ok) then
+            r%branch_switch = switch_failed
+            r%transmission_status = cont_newton_failed
+            return
+        end if
+        if (pt%y(d + 1) > a_b) then
+            r%branch_switch = switch_supercritical
+            call follow_to_transmission(map, run, ctl, pt%y(1:d), pt%y(d + 1), r)
+            return
+        end if
+        r%branch_switch = switch_subcritical
+        call fold_fate(map, run, res%instability_point(1:d) + switch_seed*e(1:d), a_b*(1.0_wp + fate_push), fate, time, settled)
+        if (fate == fate_transmits) then
+            r%transmission_fold = a_b
+            r%transmission_status = cont_fold_found
+        else if (fate == fate_localized) then
+            call follow_to_transmission(map, run, ctl, settled, a_b*(1.0_wp + fate_push), r)
+        end if
+    end subroutine past_branch_point
+
+    !> The codes of /branch_switch as "code name: meaning" clauses.
+    pure function branch_switch_codes() result(text)
+        character(len=:), allocatable :: text
+
+        text = int_str(switch_none) // " none: no branch point below the fold (or no fate asked); " &
+            // int_str(switch_supercritical) // " supercritical: the other branch leaves above the branch point and " &
+            // "is followed (/transmission_fold is its fold, or a later one); " // int_str(switch_subcritical) &
+            // " subcritical: it leaves below; driven 1% past the branch point, the chain transmits " &
+            // "(/transmission_fold is the branch point) or settles and is followed; " // int_str(switch_failed) &
+            // " failed: the other branch was not found"
+    end function branch_switch_codes
 
     !> Past a fold where the chain stays localized, the branch it settles on: from the `settled` state at amplitude
     !> `a` (Newton-shooting first), continued in A to its own fold, whose fate is tested in turn, up to

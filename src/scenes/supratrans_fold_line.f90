@@ -40,12 +40,12 @@ module supratrans_fold_line
     use supratrans_fold_record, only: fold_record, branch_quantities, kept_multipliers, multiplier_samples
     use supratrans_fold_fate, only: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, &
                                     follow_to_transmission, add_branch_cost, fate_push, fate_transmits, fate_localized, &
-                                    follow_fate_failed
+                                    follow_fate_failed, past_branch_point, branch_switch_codes
     implicit none
     private
 
     public :: trace_fold, fold_status_codes, instability_type_codes, shortest_chain, chain_length_given
-    public :: scheme_decay_rate, harmonic_wavenumber, fate_codes, fold_fate, transmission_status_codes
+    public :: scheme_decay_rate, harmonic_wavenumber, fate_codes, fold_fate, transmission_status_codes, branch_switch_codes
     public :: half_period_symmetric
     public :: short_width_per_sigma, short_absorber_sigma, short_absorber_sigma_max, short_absorber_sigma_q
     public :: band_edge_margin, short_chain_decay, short_n0_min
@@ -78,7 +78,7 @@ contains
         integer :: npts, k, s, last
         integer :: samples(multiplier_samples)
         real(wp), allocatable :: settled(:)
-        logical :: test_fate, half
+        logical :: test_fate, half, switch
 
         call period_map_init(map, run, error)
         if (allocated(error)) then
@@ -131,9 +131,16 @@ contains
                                             mask=.not. ieee_is_nan(res%max_multiplier(1:last))) - 1.0_wp
             end if
         end if
+        ! a branch point below the fold (a real multiplier through +1, the branch not turning): a slow ramp leaves
+        ! the branch from rest there, for the other branch or for what the chain does past it
+        switch = test_fate .and. r%threshold_kind == crossing_fold .and. allocated(res%instability_point)
+        if (switch) switch = .not. (r%threshold >= r%fold_amplitude)
+        if (switch) call past_branch_point(map, run, ctl, res, r)
         if (test_fate .and. res%fold_index > 0 .and. .not. ieee_is_nan(r%fold_amplitude)) then
             call fold_fate(map, run, res%states(:, res%fold_index), r%fold_amplitude*(1.0_wp + fate_push), &
                            r%fate, r%fate_time, settled)
+        end if
+        if (test_fate .and. res%fold_index > 0 .and. .not. ieee_is_nan(r%fold_amplitude) .and. .not. switch) then
             r%branches = 1
             r%transmission_status = follow_fate_failed
             if (r%fate == fate_transmits) then

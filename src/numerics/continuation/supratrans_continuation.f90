@@ -20,29 +20,27 @@
 !> (<= `newton_fast` iterations, no refresh; 3 more allowed after a reused Jacobian), shrinks (x0.6) after a slow
 !> one, and is halved and retried when the corrector fails or the tangent turns by more than `max_angle`.
 !>
-!> **Cost.** `continuation_stats` counts the evaluations of P alone and with its Jacobian, the LU factorisations,
-!> the solves and the eigenvalue computations, with their wall-clock times. No state gets two `dgeev`: the
-!> multipliers of every point where they were computed are kept (`spectra`), for the stability checks and for
-!> `branch_multipliers`; the point the march stands on lends its Jacobian to the checks instead of a new one. Past
-!> the fold, once the stability is lost and `floquet_every` > 1, only the first and the last point get multipliers
-!> (the unstable part's ends). A crossing's secant needs the monodromy only (no tangent), and its corrector uses
-!> the bordered matrix of the secant's last iterate (nearer than the bracket's left end: no refresh). On the
-!> sine-Gordon chain (N = 200, d = 400) the full `dgeev` of the monodromy dominates (about 0.1 s of CPU against
-!> 0.010 s for a Jacobian, OpenBLAS): `floquet_every` with `floquet_trend` is the control. Krylov (Arnoldi)
-!> eigenvalues are no substitute here: the monodromy is far from normal, and its Ritz values leave the unit circle
-!> where no multiplier does.
+!> **Cost.** `continuation_stats` counts the evaluations of P alone and with its Jacobian, the LU factorisations, the
+!> solves and the eigenvalue computations, with their wall-clock times. No state gets two `dgeev`: the multipliers of
+!> every point where they were computed are kept (`spectra`), for the stability checks and for `branch_multipliers`; the
+!> point the march stands on lends its Jacobian to the checks instead of a new one. Past the fold, once the stability is
+!> lost and `floquet_every` > 1, only the first and the last point get multipliers (the unstable part's ends). A
+!> crossing's secant needs the monodromy only (no tangent), and its corrector uses the bordered matrix of the secant's
+!> last iterate (nearer than the bracket's left end: no refresh). On the sine-Gordon chain (N = 200, d = 400) the full
+!> `dgeev` of the monodromy dominates (about 0.1 s of CPU against 0.010 s for a Jacobian, OpenBLAS): `floquet_every`
+!> with `floquet_trend` is the control. Krylov (Arnoldi) eigenvalues are no substitute here: the monodromy is far from
+!> normal, and its Ritz values leave the unit circle where no multiplier does.
 !>
-!> **Fold.** The fold (saddle-node) of the branch is where the tangent's A-component t_A changes sign. Between the
-!> two points it is located by a safeguarded secant (Illinois) on t_A as a function of the pseudo-arclength step
-!> from the point before it; each evaluation is a corrected point with its own tangent. Near the fold
-!> A(s) = A_f - kappa (s - s_f)^2 / 2 and t_A = -kappa (s - s_f), so the located point is within t_A^2 / (2 kappa)
-!> of A_f; the secant stops when that is below `fold_tol` (default 1e-10). The fold point is inserted in the
-!> branch, with its Newton residual and its multipliers (one of them is +1 up to the location error). Between
-!> points with reused Jacobians the sign change is first seen on the secants; both neighbours then get their exact
-!> tangents, and when the exact tangent of the current point shows the fold already behind it, the fold is located
-!> between the previous point and the current one and inserted there. The accuracy of A_f is also bounded by
-!> the residual: near the fold dA ~ |P(x) - x| / |l . dP/dA| (l the left null vector of J - I), so
-!> `newton_tol` = 1e-10 leaves A_f good to ~1e-10 on the test maps.
+!> **Fold.** The fold (saddle-node) of the branch is where the tangent's A-component t_A changes sign. Between the two
+!> points it is located by a safeguarded secant (Illinois) on t_A as a function of the pseudo-arclength step from the
+!> point before it; each evaluation is a corrected point with its own tangent. Near the fold A(s) = A_f - kappa (s -
+!> s_f)^2 / 2 and t_A = -kappa (s - s_f), so the located point is within t_A^2 / (2 kappa) of A_f; the secant stops when
+!> that is below `fold_tol` (default 1e-10). The fold point is inserted in the branch, with its Newton residual and its
+!> multipliers (one of them is +1 up to the location error). Between points with reused Jacobians the sign change is
+!> first seen on the secants; both neighbours then get their exact tangents, and when the exact tangent of the current
+!> point shows the fold already behind it, the fold is located between the previous point and the current one and
+!> inserted there. The accuracy of A_f is also bounded by the residual: near the fold dA ~ |P(x) - x| / |l . dP/dA| (l
+!> the left null vector of J - I), so `newton_tol` = 1e-10 leaves A_f good to ~1e-10 on the test maps.
 !>
 !> **Stability.** The Floquet multipliers are the eigenvalues of J = dP/dx at each point (every point, or every
 !> `floquet_every`-th point; the points in between are examined when the verdict changes). The first point that is
@@ -342,8 +340,7 @@ contains
 
         !> Whether no point past the fold has its multipliers yet (the next one recorded is then the first).
         logical function first_after_fold()
-            first_after_fold = .true.
-            if (res%fold_index < res%n_points) first_after_fold = all(res%stable(res%fold_index + 1:res%n_points) < 0)
+            first_after_fold = all(res%stable(res%fold_index + 1:res%n_points) < 0)     ! (true when none is past it)
         end function first_after_fold
 
         !> The fold between the previous recorded point and cur (the last one): the exact tangent at the previous
@@ -493,6 +490,7 @@ contains
                 call point_with_jacobian(jl, left, linfo)
                 if (linfo /= 0) return
             end if
+            narrowed = .false.
             block
                 type(bordered_system) :: sys
                 call factor_bordered(left%jac, left%dpda, left%t, sys, linfo, res%stats)
@@ -528,6 +526,8 @@ contains
             end block
             if (located) res%instability_amplitude = lost_pt%y(n1)
             if (located) res%instability_lower = res%instability_amplitude
+            if (located .or. narrowed) res%instability_point = lost_pt%y
+            if (located .or. narrowed) res%instability_tangent = left%t
         end subroutine check_stability
 
         !> A change of the watched signs between the recorded points a and b: their multipliers say whether the

@@ -149,6 +149,11 @@ module supratrans_continuation_types
         !> Kind of that loss (`supratrans_floquet`: crossing_none, crossing_fold, crossing_period_doubling,
         !> crossing_torus).
         integer :: instability_type = crossing_none
+        !> The point (x, A) reported as that loss where it is a corrected point (located, or the unstable end of a
+        !> narrowed bisection): where a branch point is, for `switch_branch`. Not allocated otherwise.
+        real(wp), allocatable :: instability_point(:)
+        !> With `instability_point`: the unit tangent of the branch at the last point before that loss.
+        real(wp), allocatable :: instability_tangent(:)
         !> The crossing tolerance used for the stability verdicts.
         real(wp) :: crossing_tol = 0.0_wp
         !> Number of branch points.
