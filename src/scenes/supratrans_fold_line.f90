@@ -18,8 +18,10 @@
 !> passes -1 (P's passes +1 and the half-period symmetry breaks): the fold alone watches for it (`flip_watch` of the
 !> continuation, which also sees P's real multipliers through +1 where M is odd) and reports it as the first loss
 !> of stability, type 1 (a real multiplier through +1 where the branch does not turn), below the symmetric branch's
-!> fold. A branch followed past a localized fold goes on G too when the periodic state the chain settled on has the
-!> symmetry (G(x) = x to `symmetric_tol`; the chain may settle on one without it), and on P otherwise.
+!> fold. A slow ramp never reaches that fold: where the transmission is asked for (`fate`), the scene switches there
+!> to the branch of states without the symmetry (`past_branch_point` of `supratrans_fold_fate`, on P). A branch
+!> followed past a localized fold goes on G too when the periodic state the chain settled on has the symmetry
+!> (G(x) = x to `symmetric_tol`; the chain may settle on one without it), and on P otherwise.
 module supratrans_fold_line
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp
