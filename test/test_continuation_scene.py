@@ -175,33 +175,39 @@ def test_the_fold_alone_sees_the_symmetry_break_before_the_fold(exe, tmp_path):
 SLOW_RAMP = """&chain c = 2, n = 30, n0 = 20, sigma = 2 /
 &drive ramp_time = 2000.0 /
 &numerics dt = 0.1, t_final = 3000.0 /
-&scene kind = 'bifurcation', omega_min = 0.4, omega_max = 0.45, omega_step = 0.05, amplitude_min = 3.0,
+&scene kind = 'bifurcation', omega_min = 0.38, omega_max = 0.42, omega_step = 0.02, amplitude_min = 3.0,
   amplitude_max = 6.0, coarse_step = 0.1, resolution = 0.01, screen_method = 'none' /
 &output file = 'out/scan.h5', quiet = .true. /
 """
 
 
-def test_past_a_subcritical_branch_point_the_chain_transmits_where_a_slow_ramp_does(exe, tmp_path):
+def test_past_a_branch_point_the_chain_transmits_where_a_slow_ramp_does(exe, tmp_path):
     """On the chain of SYMMETRY the half-period symmetry breaks at a branch point below the symmetric branch's fold
-    (0.6 .. 0.8 below it). The other branch leaves it below its amplitude (subcritical: /branch_switch 2), and driven
-    1% past it the chain transmits, so /transmission_fold is the branch point, not the fold. Checked against an
-    independent protocol, the scan with a slow ramp (2000 time units, 1000 more at full amplitude): its threshold
-    is the branch point to its resolution (the first amplitude at or above it that transmits in that time), and
-    0.6 below the fold the fold line gave before the branch was switched."""
-    (tmp_path / "fold.nml").write_text(SYMMETRY.replace("0.5, omega_step", "0.45, omega_step"))
+    (0.6 .. 0.8 below it). At Omega = 0.38 the other branch leaves it above its amplitude (supercritical:
+    /branch_switch 1) and folds just above it; there the chain transmits (/transmission_fold, a second branch). At
+    0.40 and 0.42 it leaves below (subcritical: 2), and driven 1% past the branch point the chain transmits, so
+    /transmission_fold is the branch point. Checked against an independent protocol, the scan with a slow ramp
+    (2000 time units, 1000 more at full amplitude): its threshold is /transmission_fold to its resolution (the first
+    amplitude at or above it that transmits in that time), 0.6 below the symmetric fold the fold line gave before
+    the branch was switched."""
+    (tmp_path / "fold.nml").write_text(SYMMETRY.replace("omega_min = 0.4, omega_max = 0.5, omega_step = 0.05",
+                                                        "omega_min = 0.38, omega_max = 0.42, omega_step = 0.02"))
     (tmp_path / "scan.nml").write_text(SLOW_RAMP)
     sh(exe, "fold.nml", cwd=tmp_path)
     sh(exe, "scan.nml", cwd=tmp_path)
     with h5py.File(tmp_path / "out/fold.h5") as fold, h5py.File(tmp_path / "out/scan.h5") as scan:
-        np.testing.assert_array_equal(fold["omega"][()], scan["omega"][()])
-        np.testing.assert_array_equal(fold["branch_switch"][0], [2, 2])
+        np.testing.assert_allclose(fold["omega"][()], scan["omega"][()], rtol=0, atol=1e-12)
+        np.testing.assert_array_equal(fold["branch_switch"][0], [1, 2, 2])
         assert b"subcritical" in fold["branch_switch"].attrs["codes"]
-        np.testing.assert_array_equal(fold["threshold_kind"][0], [1, 1])
-        assert (fold["threshold"][0] < fold["fold_amplitude"][0] - 0.5).all()
-        np.testing.assert_array_equal(fold["transmission_status"][0], [0, 0])
-        np.testing.assert_array_equal(fold["transmission_fold"][0], fold["threshold"][0])
+        np.testing.assert_array_equal(fold["threshold_kind"][0], [1, 1, 1])
+        threshold, transmission = fold["threshold"][0], fold["transmission_fold"][0]
+        assert (threshold < fold["fold_amplitude"][0] - 0.5).all()
+        np.testing.assert_array_equal(fold["transmission_status"][0], [0, 0, 0])
+        # supercritical: the other branch's fold, above the branch point and far below the symmetric fold
+        assert threshold[0] < transmission[0] < threshold[0] + 0.01 and fold["branches"][0, 0] >= 2
+        np.testing.assert_array_equal(transmission[1:], threshold[1:])
         ramp = scan["threshold"][0]
-        assert ((fold["transmission_fold"][0] <= ramp) & (ramp <= fold["transmission_fold"][0] + 0.02)).all(), ramp
+        assert ((transmission <= ramp) & (ramp <= transmission + 0.02)).all(), (ramp, transmission)
 
 
 @pytest.mark.parametrize("old,new,words", [
