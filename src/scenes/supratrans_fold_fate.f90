@@ -112,9 +112,12 @@ contains
 
     !> Past a branch point below the fold (the first loss of stability of the branch from rest, a real multiplier
     !> through +1 where the branch does not turn; its point and the tangent next to it in `res`), where a slow ramp
-    !> goes: the other branch is found (`switch_branch`, `switch_step` away). Where it leaves above the branch point
+    !> goes: the other branch is found (`switch_branch`, `switch_step` away; 4 `switch_step` when that fails, as from
+    !> a branch point known only to its bracket it may). Where it leaves above the branch point
     !> (supercritical) the ramp follows it: it is continued to its fold, whose fate is tested, and so on
-    !> (`follow_to_transmission`). Where it leaves below (subcritical) nothing is near to follow: the chain is driven
+    !> (`follow_to_transmission`). Where it leaves below (subcritical; also where it does not leave above a branch
+    !> point known only to its bracket, whose upper end A_b is: the label may then be wrong, the protocol holds for
+    !> both kinds) nothing is near to follow: the chain is driven
     !> at A_b (1 + `fate_push`) from the branch point's state moved by `switch_seed` along the other branch's
     !> direction, and A_b is the transmission threshold when it transmits; where it stays localized, the chain is
     !> followed from where it settled. (Driven from the other branch's first point instead, the chain stayed
@@ -144,6 +147,9 @@ contains
         r%branches = 1
         r%transmission_status = follow_fate_failed
         call switch_branch(map, res%instability_point, res%instability_tangent, switch_step, ctl, pt, e, ok, stats)
+        ! from a branch point only bracketed, a longer step leaves the bracket's width less weight
+        if (.not. ok) call switch_branch(map, res%instability_point, res%instability_tangent, 4.0_wp*switch_step, ctl, &
+                                         pt, e, ok, stats)
         call add_stats(r, stats)
         r%newton_iterations = r%newton_iterations + pt%iterations
         if (.not. ok) then
@@ -173,7 +179,8 @@ contains
         text = int_str(switch_none) // " none: no branch point below the fold (or no fate asked); " &
             // int_str(switch_supercritical) // " supercritical: the other branch leaves above the branch point and " &
             // "is followed (/transmission_fold is its fold, or a later one); " // int_str(switch_subcritical) &
-            // " subcritical: it leaves below; driven 1% past the branch point, the chain transmits " &
+            // " subcritical: it leaves below (or not above a branch point known only to its bracket, " &
+            // "/instability_lower); driven 1% past the branch point, the chain transmits " &
             // "(/transmission_fold is the branch point) or settles and is followed; " // int_str(switch_failed) &
             // " failed: the other branch was not found"
     end function branch_switch_codes
