@@ -233,4 +233,18 @@ def later_transmission(fold, curve: int) -> np.ndarray:
     trans, branches = fold.data.get("transmission_fold"), fold.data.get("branches")
     if trans is None or branches is None:
         return np.full(omega.shape, np.nan)
-    return np.where(np.asarray(branches)[curve] > 1, np.asarray(trans, dtype=float)[curve], np.nan)
+    later = np.asarray(branches)[curve] > 1
+    switch = fold.data.get("branch_switch")
+    if switch is not None:
+        later &= np.asarray(switch)[curve] == 0
+    return np.where(later, np.asarray(trans, dtype=float)[curve], np.nan)
+
+
+def transmission_past_loss(fold, curve: int) -> np.ndarray:
+    """Where the chain of `curve` transmits past a branch point below the fold (/branch_switch > 0: the other
+    branch's fold, a later one, or the branch point itself), NaN elsewhere and for files without /branch_switch."""
+    omega = np.asarray(fold.data["omega"], dtype=float)
+    trans, switch = fold.data.get("transmission_fold"), fold.data.get("branch_switch")
+    if trans is None or switch is None:
+        return np.full(omega.shape, np.nan)
+    return np.where(np.asarray(switch)[curve] > 0, np.asarray(trans, dtype=float)[curve], np.nan)

@@ -19,7 +19,8 @@ import numpy as np
 
 from ..reader import PlotError, Scene
 from ..style import fmt, styled, subplots
-from .common import COLOURS, PANEL, conditions, curve_name, later_transmission, localized_folds, vary_of
+from .common import (COLOURS, PANEL, conditions, curve_name, later_transmission, localized_folds,
+                     transmission_past_loss, vary_of)
 from .continuation import KINDS
 
 #: Width (in Omega) of the shaded window of a hysteresis file at a single frequency, as a fraction of the chart's
@@ -131,6 +132,10 @@ def draw_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene | 
             if before.any():
                 a.plot(omega[before], inst[c][before], "o", ms=4, mfc="none", color=color, zorder=4,
                        label=lab(f"first loss of Floquet stability{name}"))
+            past = transmission_past_loss(fold, c)
+            if np.isfinite(past).any():
+                a.plot(omega, past, "^", ms=5, color="tab:green", zorder=5,
+                       label=lab(f"where the chain transmits past a branch point{name}"))
             stays = localized_folds(fold, c)
             if stays.any():
                 a.plot(omega[stays], fold_a[c][stays], "D", ms=5, mfc="none", mec="tab:red", zorder=5,
