@@ -294,3 +294,6 @@ def test_transmission_past_a_branch_point_is_marked(tmp_path):
         np.testing.assert_array_equal(line.get_ydata(), [3.5, np.nan, np.nan])
     (star,) = [ln for ln in figures.draw_thresholds(fold).get_axes()[0].get_lines() if "later branch" in ln.get_label()]
     np.testing.assert_array_equal(star.get_ydata(), [np.nan, 3.9, np.nan])
+    text = "\n".join(figures.summary(fold, full=True))
+    assert "transmits at 3.5 past the branch point (subcritical)" in text
+    assert text.count("past the branch point") == 1

@@ -174,7 +174,22 @@ def summary_continuation(s: Scene, full: bool = False) -> list[str]:
             kind = int(s.data["instability_type"][c, w])
             inst = float(s.data["instability_amplitude"][c, w])
             extra = f", unstable from {fmt(inst, 6)} ({KINDS.get(kind, kind)})" if math.isfinite(inst) else ""
+            extra += _past_branch_point(s, c, w)
             parts.append(f"Omega {fmt(omega[w], 3)}: A_f = {fmt(float(s.data['fold_amplitude'][c, w]), 8)}{d}"
                          f"{extra}, A_s = {fmt(float(s.data['threshold_As'][c, w]), 4)}")
         lines.append(f"  {curve_name(pots[c], vary, values[c])}: " + "; ".join(parts))
     return lines
+
+
+SWITCHES = {1: "supercritical", 2: "subcritical"}
+
+
+def _past_branch_point(s: Scene, c: int, w: int) -> str:
+    """", transmits at A past the branch point (its kind)" where the file switched branch there (/branch_switch)."""
+    switch = s.data.get("branch_switch")
+    if switch is None or int(switch[c, w]) <= 0:
+        return ""
+    trans = float(s.data["transmission_fold"][c, w]) if "transmission_fold" in s.data else float("nan")
+    kind = SWITCHES.get(int(switch[c, w]), "other branch not found")
+    where = f"transmits at {fmt(trans, 6)}" if math.isfinite(trans) else "no transmission found"
+    return f", {where} past the branch point ({kind})"
