@@ -89,13 +89,27 @@ def test_the_fold_alone_is_the_same_for_two_threads_and_for_slices(exe, tmp_path
     """floquet_every = 0, where a period of an even number of steps (Omega = 0.7: M = 90; 0.8: M = 79) has its
     branch from rest continued on the half-period map: the same file for 1 and 2 threads and for a sliced run."""
     text = FOLD.replace("fold_convergence", "floquet_every = 0, fold_convergence")
+    one = _same_for_threads_and_slices(exe, tmp_path, text)
+    with h5py.File(one) as f:
+        assert sorted(f["steps_per_period"][0, :] % 2) == [0, 1]
+
+
+def test_the_switch_past_a_branch_point_is_the_same_for_two_threads_and_for_slices(exe, tmp_path):
+    """The chain of SYMMETRY at Omega = 0.38, 0.40, 0.42, where the fold line switches branch at a branch point
+    below the fold (once supercritical, twice subcritical): the same file for 1 and 2 threads and for a sliced run."""
+    one = _same_for_threads_and_slices(exe, tmp_path, SYMMETRY.replace(
+        "omega_min = 0.4, omega_max = 0.5, omega_step = 0.05", "omega_min = 0.38, omega_max = 0.42, omega_step = 0.02"))
+    with h5py.File(one) as f:
+        np.testing.assert_array_equal(f["branch_switch"][0], [1, 2, 2])
+
+
+def _same_for_threads_and_slices(exe, tmp_path, text):
+    """The fold line of `text` with 1 and 2 threads and in 3 slices merged: the same file (its path returned)."""
     one, two, sliced = (tmp_path / name for name in ("one", "two", "sliced"))
     for folder, threads in ((one, 1), (two, 2)):
         folder.mkdir()
         (folder / "fold.nml").write_text(text)
         sh(exe, "fold.nml", cwd=folder, threads=threads)
-    with h5py.File(one / "out" / "fold.h5") as f:
-        assert sorted(f["steps_per_period"][0, :] % 2) == [0, 1]
     sliced.mkdir()
     (sliced / "fold.nml").write_text(text)
     for i in (1, 2, 3):
@@ -104,6 +118,7 @@ def test_the_fold_alone_is_the_same_for_two_threads_and_for_slices(exe, tmp_path
     for other in (two, sliced):
         diffs, compared, _ = compare_results.compare(one / "out" / "fold.h5", other / "out" / "fold.h5")
         assert compared > 10 and not diffs, diffs
+    return one / "out" / "fold.h5"
 
 
 def test_the_fold_alone_is_the_same_fold_without_stability(exe, fold_line, tmp_path):
