@@ -64,7 +64,7 @@ contains
             if (pf_any_failed()) return
             do ih = 1, 2
                 h = merge(0.05_wp, 0.01_wp, ih == 1)
-                call switch_branch(map, res%instability_point, res%instability_tangent, h, ctl, pt, e, ok, stats)
+                call switch_branch(map, res%instability_point, res%instability_tangent, [h], ctl, pt, e, ok, stats)
                 call assertTrue(ok, location=pf_source_location('test_branch_switch.pf', 45, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertEqual( &
@@ -133,7 +133,7 @@ contains
             map%c2 = merge(-1.0_wp, 1.0_wp, kind == 1)
             ctl = continuation_controls(ds0=0.05_wp, ds_max=0.1_wp, beyond_fold=1)
             call continue_branch(map, ctl, res)
-            call switch_branch(map, res%instability_point, res%instability_tangent, 0.05_wp, ctl, pt, e, ok, stats)
+            call switch_branch(map, res%instability_point, res%instability_tangent, [0.05_wp], ctl, pt, e, ok, stats)
             call assertTrue(ok, location=pf_source_location('test_branch_switch.pf', 81, 'assertTrue'))
             if (pf_any_failed()) return
             ctl%amplitude_start = pt%y(3)

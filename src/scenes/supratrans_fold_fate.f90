@@ -32,7 +32,7 @@ module supratrans_fold_fate
     private
 
     public :: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, follow_to_transmission, &
-              add_branch_cost, past_branch_point, branch_switch_codes
+              add_branch_cost, past_branch_point, branch_switch_codes, transmission_after
 
     !> Fate of a fold: not computed (no fold).
     integer, parameter, public :: fate_not_computed = 0
@@ -146,10 +146,9 @@ contains
         allocate (e(d + 1))
         r%branches = 1
         r%transmission_status = follow_fate_failed
-        call switch_branch(map, res%instability_point, res%instability_tangent, switch_step, ctl, pt, e, ok, stats)
-        ! from a branch point only bracketed, a longer step leaves the bracket's width less weight
-        if (.not. ok) call switch_branch(map, res%instability_point, res%instability_tangent, 4.0_wp*switch_step, ctl, &
-                                         pt, e, ok, stats)
+        ! (from a branch point only bracketed, a longer step leaves the bracket's width less weight)
+        call switch_branch(map, res%instability_point, res%instability_tangent, [switch_step, 4.0_wp*switch_step], ctl, &
+                           pt, e, ok, stats)
         call add_stats(r, stats)
         r%newton_iterations = r%newton_iterations + pt%iterations
         if (.not. ok) then
@@ -164,13 +163,35 @@ contains
         end if
         r%branch_switch = switch_subcritical
         call fold_fate(map, run, res%instability_point(1:d) + switch_seed*e(1:d), a_b*(1.0_wp + fate_push), fate, time, settled)
+        call transmission_after(map, run, ctl, a_b, fate, settled, r)
+    end subroutine past_branch_point
+
+    !> Where the chain transmits, from the fate of a drive just past the amplitude `a` (a fold, or a branch point):
+    !> `a` itself when it transmits; the fold of the branch it settled on, or a later one (`follow_to_transmission`),
+    !> when it stays localized; nothing when the watch failed (the caller's status stands).
+    subroutine transmission_after(map, run, ctl, a, fate, settled, r)
+        !> The one-period map.
+        type(period_map), intent(inout) :: map
+        !> The run (detector).
+        type(run_config), intent(in) :: run
+        !> The continuation controls of the branch from rest.
+        type(continuation_controls), intent(in) :: ctl
+        !> The amplitude driven just past (by `fate_push`).
+        real(wp), intent(in) :: a
+        !> The fate (`fold_fate`) of that drive.
+        integer, intent(in) :: fate
+        !> Where the chain was at the end of the watch (allocated where it stayed localized).
+        real(wp), allocatable, intent(in) :: settled(:)
+        !> The record.
+        type(fold_record), intent(inout) :: r
+
         if (fate == fate_transmits) then
-            r%transmission_fold = a_b
+            r%transmission_fold = a
             r%transmission_status = cont_fold_found
         else if (fate == fate_localized) then
-            call follow_to_transmission(map, run, ctl, settled, a_b*(1.0_wp + fate_push), r)
+            call follow_to_transmission(map, run, ctl, settled, a*(1.0_wp + fate_push), r)
         end if
-    end subroutine past_branch_point
+    end subroutine transmission_after
 
     !> The codes of /branch_switch as "code name: meaning" clauses.
     pure function branch_switch_codes() result(text)

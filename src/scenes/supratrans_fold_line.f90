@@ -41,8 +41,8 @@ module supratrans_fold_line
                                   crossing_name
     use supratrans_fold_record, only: fold_record, branch_quantities, kept_multipliers, multiplier_samples
     use supratrans_fold_fate, only: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, &
-                                    follow_to_transmission, add_branch_cost, fate_push, fate_transmits, fate_localized, &
-                                    follow_fate_failed, past_branch_point, branch_switch_codes
+                                    transmission_after, add_branch_cost, fate_push, follow_fate_failed, &
+                                    past_branch_point, branch_switch_codes
     implicit none
     private
 
@@ -138,19 +138,14 @@ contains
         switch = test_fate .and. r%threshold_kind == crossing_fold .and. allocated(res%instability_point)
         if (switch) switch = .not. (r%threshold >= r%fold_amplitude)
         if (switch) call past_branch_point(map, run, ctl, res, r)
+        ! the fold's fate (and, where no branch point came first, where the chain transmits past it)
         if (test_fate .and. res%fold_index > 0 .and. .not. ieee_is_nan(r%fold_amplitude)) then
             call fold_fate(map, run, res%states(:, res%fold_index), r%fold_amplitude*(1.0_wp + fate_push), &
                            r%fate, r%fate_time, settled)
-        end if
-        if (test_fate .and. res%fold_index > 0 .and. .not. ieee_is_nan(r%fold_amplitude) .and. .not. switch) then
-            r%branches = 1
-            r%transmission_status = follow_fate_failed
-            if (r%fate == fate_transmits) then
-                r%transmission_fold = r%fold_amplitude
-                r%transmission_status = cont_fold_found
-            end if
-            if (r%fate == fate_localized) then
-                call follow_to_transmission(map, run, ctl, settled, r%fold_amplitude*(1.0_wp + fate_push), r)
+            if (.not. switch) then
+                r%branches = 1
+                r%transmission_status = follow_fate_failed
+                call transmission_after(map, run, ctl, r%fold_amplitude, r%fate, settled, r)
             end if
         end if
         call add_branch_cost(r, res)

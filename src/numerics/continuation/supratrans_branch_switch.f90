@@ -28,18 +28,19 @@ module supratrans_branch_switch
 contains
 
     !> The first point of the branch that crosses the followed one at the branch point `y_b` (tangent `t_b` of the
-    !> followed branch there, or next to it): corrected at the distance `h` along the other branch's direction `e`.
-    !> `ok` is false when the map fails, K cannot be factorised, or the corrector does not converge within h of its
-    !> predictor (it would have left for another branch).
-    subroutine switch_branch(map, y_b, t_b, h, ctl, pt, e, ok, stats)
+    !> followed branch there, or next to it): corrected at the distance h along the other branch's direction `e`, for
+    !> each h of `hs` in turn until one gives it (e is computed once). `ok` is false when the map fails, K cannot be
+    !> factorised, or for every h the corrector does not converge within h of its predictor (it would have left for
+    !> another branch).
+    subroutine switch_branch(map, y_b, t_b, hs, ctl, pt, e, ok, stats)
         !> The map P(x; A).
         class(fixed_point_map), intent(inout) :: map
         !> The branch point (x, A), size d + 1.
         real(wp), intent(in) :: y_b(:)
         !> Unit tangent of the followed branch at y_b (size d + 1).
         real(wp), intent(in) :: t_b(:)
-        !> Distance of the first point from y_b along e (in the Euclidean norm of (x, A)).
-        real(wp), intent(in) :: h
+        !> Distances of the first point from y_b along e to try, in order (in the Euclidean norm of (x, A)).
+        real(wp), intent(in) :: hs(:)
         !> Controls of the corrector (tolerance, iterations, chord rate); `flip_watch` is not used.
         type(continuation_controls), intent(in) :: ctl
         !> The corrected point on the other branch: y, residual, iterations (no Jacobian kept).
@@ -54,7 +55,7 @@ contains
         type(bordered_system) :: sys, fresh
         type(continuation_controls) :: plain
         real(wp), allocatable :: z(:)
-        integer :: n1, i, info, it
+        integer :: n1, i, info, it, k
 
         n1 = size(y_b)
         e = 0.0_wp
@@ -79,16 +80,19 @@ contains
         ! the corrector from y_b + h e on the hyperplane e . (y - y_b) = h, its first matrix at the predictor
         start%y = y_b
         start%t = e
-        b%y = y_b + h*e
-        call point_jacobian(map, b, ok, stats)
-        if (.not. ok) return
-        call factor_bordered(b%jac, b%dpda, e, sys, info, stats)
-        ok = info == 0
-        if (.not. ok) return
         plain = ctl
         plain%flip_watch = .false.
-        call correct(map, start, sys, h, plain, pt, ok, stats, fresh)
-        if (ok) ok = norm2(pt%y - b%y) <= h
+        do k = 1, size(hs)
+            b%y = y_b + hs(k)*e
+            call point_jacobian(map, b, ok, stats)
+            if (.not. ok) return
+            call factor_bordered(b%jac, b%dpda, e, sys, info, stats)
+            if (info /= 0) cycle
+            call correct(map, start, sys, hs(k), plain, pt, ok, stats, fresh)
+            if (ok) ok = norm2(pt%y - b%y) <= hs(k)
+            if (ok) return
+        end do
+        ok = .false.
     end subroutine switch_branch
 
 end module supratrans_branch_switch
