@@ -225,6 +225,51 @@ def test_past_a_branch_point_the_chain_transmits_where_a_slow_ramp_does(exe, tmp
         assert ((transmission <= ramp) & (ramp <= transmission + 0.02)).all(), (ramp, transmission)
 
 
+TORUS = """&chain c = 4, n = 90, n0 = 30, sigma = 10 /
+&numerics dt = 0.05 /
+&scene kind = 'continuation', omega_min = 0.35, omega_max = 0.35, omega_step = 0.01, amplitude_max = 7,
+  floquet_every = 0, continuation_step_max = 0.5, beyond_fold = 0, fold_convergence = .false. /
+&output file = 'out/fold.h5', quiet = .true. /
+"""
+
+TORUS_RAMP = """&chain c = 4, n = 90, n0 = 30, sigma = 10 /
+&drive ramp_time = 2000.0 /
+&numerics dt = 0.05, t_final = 3000.0 /
+&scene kind = 'bifurcation', omega_min = 0.35, omega_max = 0.35, omega_step = 0.01, amplitude_min = 4.5,
+  amplitude_max = 5.5, coarse_step = 0.1, resolution = 0.01, screen_method = 'none' /
+&output file = 'out/scan.h5', quiet = .true. /
+"""
+
+
+def test_past_a_torus_the_chain_transmits_where_a_slow_ramp_does(exe, tmp_path):
+    """On a 90-site chain at Omega = 0.35 the branch from rest loses its stability to a torus (a complex pair of
+    multipliers leaves the unit circle) 0.8 below its fold. No branch of periodic states leaves there; the chain,
+    driven up in stairs from the torus's state (/branch_switch 4), transmits on a stair between the two, and the
+    scan with a slow ramp (2000 time units from rest, 1000 more at full amplitude), an independent protocol, gives
+    that amplitude to within its resolution and the stair's height. (The fold's own fate is to transmit: before the
+    stairs, /transmission_fold was the fold, 0.76 above the ramp.)"""
+    (tmp_path / "fold.nml").write_text(TORUS)
+    (tmp_path / "scan.nml").write_text(TORUS_RAMP)
+    sh(exe, "fold.nml", cwd=tmp_path)
+    sh(exe, "scan.nml", cwd=tmp_path)
+    with h5py.File(tmp_path / "out/fold.h5") as fold, h5py.File(tmp_path / "out/scan.h5") as scan:
+        assert fold["threshold_kind"][0, 0] == 3 and fold["branch_switch"][0, 0] == 4
+        assert b"stairs" in fold["branch_switch"].attrs["codes"]
+        torus, top, transmission = (fold[name][0, 0] for name in ("threshold", "fold_amplitude", "transmission_fold"))
+        assert fold["transmission_status"][0, 0] == 0 and fold["fold_fate"][0, 0] == 1
+        assert torus < transmission < top - 0.5, (torus, transmission, top)
+        ramp = scan["threshold"][0, 0]
+        assert abs(ramp - transmission) <= 0.02, (ramp, transmission)
+
+
+def test_the_stairs_past_a_torus_are_the_same_for_two_threads_and_for_slices(exe, tmp_path):
+    """The chain of TORUS at Omega = 0.35 (stairs past a torus) and 0.36 (a branch point): the same file for 1 and 2
+    threads and for a sliced run."""
+    one = _same_for_threads_and_slices(exe, tmp_path, TORUS.replace("omega_max = 0.35", "omega_max = 0.36"))
+    with h5py.File(one) as f:
+        np.testing.assert_array_equal(f["branch_switch"][0], [4, 1])
+
+
 @pytest.mark.parametrize("old,new,words", [
     ("dt = 0.1", "method = 'rk4', dt = 0.4, allow_unstable = .true.", "linear stability limit"),
     ("omega_min = 0.7", "omega_min = 0.0", "omega_min"),

@@ -276,24 +276,25 @@ def test_folds_past_which_the_chain_stays_localized_are_marked(tmp_path):
     np.testing.assert_array_equal(star.get_ydata(), [np.nan, 3.9, np.nan])
 
 
-def test_transmission_past_a_branch_point_is_marked(tmp_path):
-    """A fold line with /branch_switch: where the chain transmits past a branch point below the fold (switch > 0) is
-    marked at /transmission_fold on both fold-line charts, and not taken for a later branch's fold; a file without
-    /branch_switch marks none."""
+def test_transmission_past_a_loss_of_stability_is_marked(tmp_path):
+    """A fold line with /branch_switch: where the chain transmits past a loss of stability below the fold (switch >
+    0: past a branch point, or on stairs past a torus) is marked at /transmission_fold on both fold-line charts,
+    and not taken for a later branch's fold; a file without /branch_switch marks none."""
     path = fold_file(tmp_path / "fold.h5")
-    assert not any("past a branch point" in ln.get_label()
+    assert not any("past a loss of stability" in ln.get_label()
                    for ln in figures.draw_thresholds(reader.open_scene(path)).get_axes()[0].get_lines())
     with h5py.File(path, "a") as h:
         h.create_dataset("fold_fate", data=np.array([[1, 2, 1]], dtype=np.int32))
-        h.create_dataset("transmission_fold", data=np.array([[3.5, 3.9, FOLD[0, 2]]]))
+        h.create_dataset("transmission_fold", data=np.array([[3.5, 3.9, FOLD[0, 2] - 0.3]]))
         h.create_dataset("branches", data=np.array([[3, 2, 1]], dtype=np.int32))
-        h.create_dataset("branch_switch", data=np.array([[2, 0, 0]], dtype=np.int32))
+        h.create_dataset("branch_switch", data=np.array([[2, 0, 4]], dtype=np.int32))
     fold = reader.open_scene(path)
     for fig in (figures.draw_thresholds(fold), figures.draw_continuation(fold, None)):
-        (line,) = [ln for ln in fig.get_axes()[0].get_lines() if "past a branch point" in ln.get_label()]
-        np.testing.assert_array_equal(line.get_ydata(), [3.5, np.nan, np.nan])
+        (line,) = [ln for ln in fig.get_axes()[0].get_lines() if "past a loss of stability" in ln.get_label()]
+        np.testing.assert_array_equal(line.get_ydata(), [3.5, np.nan, FOLD[0, 2] - 0.3])
     (star,) = [ln for ln in figures.draw_thresholds(fold).get_axes()[0].get_lines() if "later branch" in ln.get_label()]
     np.testing.assert_array_equal(star.get_ydata(), [np.nan, 3.9, np.nan])
     text = "\n".join(figures.summary(fold, full=True))
     assert "transmits at 3.5 past the branch point (subcritical)" in text
     assert text.count("past the branch point") == 1
+    assert text.count("on stairs past the loss") == 1

@@ -15,6 +15,7 @@
 !> half-period map when that state has the half-period symmetry, `half_period_symmetric`), and that fold's fate is
 !> tested in turn, up to `max_branches` branches.
 module supratrans_fold_fate
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp
     use supratrans_config, only: run_config
     use supratrans_strings, only: int_str, real_str
@@ -32,7 +33,7 @@ module supratrans_fold_fate
     private
 
     public :: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, follow_to_transmission, &
-              add_branch_cost, past_branch_point, branch_switch_codes, transmission_after
+              add_branch_cost, past_branch_point, branch_switch_codes, transmission_after, past_oscillatory_loss
 
     !> Fate of a fold: not computed (no fold).
     integer, parameter, public :: fate_not_computed = 0
@@ -74,6 +75,13 @@ module supratrans_fold_fate
     integer, parameter, public :: switch_subcritical = 2
     !> Branch switching: the other branch was not found.
     integer, parameter, public :: switch_failed = 3
+    !> Past a torus or a period doubling below the fold (no branch of periodic states to switch to): the chain driven
+    !> from the loss's state up in stairs (`past_oscillatory_loss`).
+    integer, parameter, public :: switch_stairs = 4
+    !> Stairs past a torus or a period doubling: the amplitude step between two stairs (the scan's resolution).
+    real(wp), parameter, public :: stair_height = 1.0e-2_wp
+    !> Stairs past a torus or a period doubling: the time the chain is driven on each stair.
+    real(wp), parameter, public :: stair_time = 200.0_wp
     !> Distance (Euclidean norm of (x, A)) of the other branch's first point from the branch point.
     real(wp), parameter, public :: switch_step = 5.0e-2_wp
     !> Past a subcritical branch point the chain is driven from the branch point's state moved this far along the
@@ -166,6 +174,79 @@ contains
         call transmission_after(map, run, ctl, a_b, fate, settled, r)
     end subroutine past_branch_point
 
+    !> Past a torus or a period doubling below the fold (the first loss of stability of the branch from rest, located:
+    !> `res%instability_point`), where a slow ramp goes: no branch of periodic states leaves there to be followed,
+    !> the chain goes onto a quasi-periodic (or period-2T) state, and how far it goes on it before it transmits is
+    !> found by driving it. From the loss's state, moved by `switch_seed` (a fixed direction), the drive goes up in
+    !> stairs a_k = A_t + k `stair_height` below the fold, each held `stair_time` (whole periods, `fold_fate` with the
+    !> detector); `/transmission_fold` is the first stair where the chain transmits. Where none does, the chain is
+    !> driven 1% past the fold from the last stair's state (`transmission_after`: the fold, or followed; NaN, status
+    !> `cont_no_fold`, where the branch has no fold below amplitude_max, which bounds the stairs then). No stair
+    !> lies below the fold (`done` false: the caller tests the fold's fate as without the loss) where the loss is
+    !> less than `stair_height` below it. (On the paper's grid at Omega = 0.35 .. 0.38 the stairs of the hysteresis
+    !> scene, 200 .. 800 time units long, transmit within 0.04 of each other: docs/continuation.md.)
+    subroutine past_oscillatory_loss(map, run, ctl, res, fold, r, done)
+        !> The one-period map P.
+        type(period_map), intent(inout) :: map
+        !> The run (detector).
+        type(run_config), intent(in) :: run
+        !> The continuation controls of the branch from rest.
+        type(continuation_controls), intent(in) :: ctl
+        !> The branch from rest, with `instability_point`.
+        type(continuation_result), intent(in) :: res
+        !> The fold of the branch from rest (NaN: none below amplitude_max, which then bounds the stairs).
+        real(wp), intent(in) :: fold
+        !> The record.
+        type(fold_record), intent(inout) :: r
+        !> Whether the stairs ran (and filled `r%transmission_fold`, `r%branches`, `r%transmission_status`).
+        logical, intent(out) :: done
+        real(wp), allocatable :: y(:), last(:)
+        real(wp) :: a_t, top, a, time
+        integer :: d, k, fate
+
+        d = map%dim
+        a_t = res%instability_point(d + 1)
+        top = fold
+        if (ieee_is_nan(top)) top = ctl%amplitude_max
+        done = a_t + stair_height < top
+        if (.not. done) return
+        r%branch_switch = switch_stairs
+        r%branches = 1
+        r%transmission_status = follow_fate_failed
+        y = seeded(res%instability_point(1:d))
+        k = 1
+        do
+            a = a_t + real(k, wp)*stair_height
+            if (a >= top) exit
+            call fold_fate(map, run, y, a, fate, time, last, watch=stair_time)
+            if (fate /= fate_localized) then
+                if (fate == fate_transmits) r%transmission_fold = a
+                if (fate == fate_transmits) r%transmission_status = cont_fold_found
+                return
+            end if
+            call move_alloc(last, y)
+            k = k + 1
+        end do
+        if (ieee_is_nan(fold)) then
+            r%transmission_status = cont_no_fold
+            return
+        end if
+        call fold_fate(map, run, y, top*(1.0_wp + fate_push), fate, time, last)
+        call transmission_after(map, run, ctl, top, fate, last, r)
+    end subroutine past_oscillatory_loss
+
+    !> x moved by `switch_seed` along the fixed unit direction (sin i)_i: the small asymmetry a slow ramp leaves.
+    pure function seeded(x) result(y)
+        !> The state.
+        real(wp), intent(in) :: x(:)
+        real(wp), allocatable :: y(:)
+        real(wp), allocatable :: s(:)
+        integer :: i
+
+        s = [(sin(real(i, wp)), i=1, size(x))]
+        y = x + (switch_seed/norm2(s))*s
+    end function seeded
+
     !> Where the chain transmits, from the fate of a drive just past the amplitude `a` (a fold, or a branch point):
     !> `a` itself when it transmits; the fold of the branch it settled on, or a later one (`follow_to_transmission`),
     !> when it stays localized; nothing when the watch failed (the caller's status stands).
@@ -203,7 +284,12 @@ contains
             // " subcritical: it leaves below (or not above a branch point known only to its bracket, " &
             // "/instability_lower); driven 1% past the branch point, the chain transmits " &
             // "(/transmission_fold is the branch point) or settles and is followed; " // int_str(switch_failed) &
-            // " failed: the other branch was not found"
+            // " failed: the other branch was not found; " // int_str(switch_stairs) // " stairs: past a torus or " &
+            // "a period doubling below the fold (no branch of periodic states to switch to), the chain is driven " &
+            // "from the loss's state (moved by " // real_str(switch_seed, 3) // ") up in stairs of " &
+            // real_str(stair_height, 3) // " held " // real_str(stair_time, 4) // " time units each; " &
+            // "/transmission_fold is the first stair where it transmits (the one below it did not), or where " &
+            // "none does below the fold, as past the fold from the last stair's state"
     end function branch_switch_codes
 
     !> Past a fold where the chain stays localized, the branch it settles on: from the `settled` state at amplitude
@@ -353,8 +439,8 @@ contains
     !> The fate of a fold (see the module's documentation): from the periodic state `x` at the fold, the drive at
     !> `amplitude` (just past the fold), one period at a time, until an oscillator beyond the detector site swings
     !> past the detector amplitude (`fate_transmits`, `time` = the end of that period) or `fate_watch_time` has
-    !> passed (`fate_localized`, `time` = the time watched).
-    subroutine fold_fate(map, run, x, amplitude, fate, time, last)
+    !> passed (`fate_localized`, `time` = the time watched), or `watch` (whole periods, at least one) when given.
+    subroutine fold_fate(map, run, x, amplitude, fate, time, last, watch)
         !> The one-period map of the branch (its work arrays change).
         type(period_map), intent(inout) :: map
         !> The run (detector site and amplitude).
@@ -369,11 +455,14 @@ contains
         real(wp), intent(out) :: time
         !> The state at the end of the watch (where the chain has settled when it stays localized).
         real(wp), allocatable, intent(out), optional :: last(:)
+        !> Time to watch instead of `fate_watch_time` (and no fewest periods but one).
+        real(wp), intent(in), optional :: watch
         real(wp), allocatable :: y(:), py(:)
         integer :: k, periods, nd, status
 
         nd = detector_site(run)
         periods = max(fate_min_periods, ceiling(fate_watch_time/map%period))
+        if (present(watch)) periods = max(1, ceiling(watch/map%period))
         y = x
         allocate (py(size(x)))
         do k = 1, periods

@@ -42,7 +42,7 @@ module supratrans_fold_line
     use supratrans_fold_record, only: fold_record, branch_quantities, kept_multipliers, multiplier_samples
     use supratrans_fold_fate, only: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, &
                                     transmission_after, add_branch_cost, fate_push, follow_fate_failed, &
-                                    past_branch_point, branch_switch_codes
+                                    past_branch_point, branch_switch_codes, past_oscillatory_loss
     implicit none
     private
 
@@ -133,12 +133,19 @@ contains
                                             mask=.not. ieee_is_nan(res%max_multiplier(1:last))) - 1.0_wp
             end if
         end if
-        ! a branch point below the fold (a real multiplier through +1, the branch not turning): a slow ramp leaves
-        ! the branch from rest there, for the other branch or for what the chain does past it
-        switch = test_fate .and. r%threshold_kind == crossing_fold .and. allocated(res%instability_point)
+        ! a loss of stability below the fold: a slow ramp leaves the branch from rest there, at a branch point (a
+        ! real multiplier through +1, the branch not turning) for the other branch or for what the chain does past it
+        switch = test_fate .and. r%threshold_kind /= crossing_none .and. allocated(res%instability_point)
         if (switch) switch = .not. (r%threshold >= r%fold_amplitude)
-        if (switch) call past_branch_point(map, run, ctl, res, r)
-        ! the fold's fate (and, where no branch point came first, where the chain transmits past it)
+        if (switch) then
+            if (r%threshold_kind == crossing_fold) then
+                call past_branch_point(map, run, ctl, res, r)
+            else
+                ! a torus or a period doubling: no branch to switch to, the chain is driven up in stairs
+                call past_oscillatory_loss(map, run, ctl, res, r%fold_amplitude, r, switch)
+            end if
+        end if
+        ! the fold's fate (and, where no loss of stability below it was followed, where the chain transmits past it)
         if (test_fate .and. res%fold_index > 0 .and. .not. ieee_is_nan(r%fold_amplitude)) then
             call fold_fate(map, run, res%states(:, res%fold_index), r%fold_amplitude*(1.0_wp + fate_push), &
                            r%fate, r%fate_time, settled)

@@ -63,16 +63,18 @@ contains
         call h5_write(file, "/transmission_fold", grid(recs%transmission_fold), "rad", &
             "The fold past which the chain transmits: /fold_amplitude when its fate is to transmit; else the fold of " &
             // "the branch the chain settles on past it, and so on (/branches); past a branch point below the fold, " &
-            // "the fold of the other branch, or the branch point (/branch_switch); NaN when none was found", dims=dims)
+            // "the fold of the other branch, or the branch point; past a torus or a period doubling below it, the " &
+            // "stair where the chain transmits (/branch_switch); NaN when none was found", dims=dims)
         call h5_write(file, "/branches", igrid(recs%branches), "1", &
             "Branches of periodic states followed from rest to /transmission_fold (1: the first fold transmits)", &
             dims=dims)
         call h5_write(file, "/transmission_status", igrid(recs%transmission_status), "1", &
             "Whether /transmission_fold was found, and if not why (codes in attribute 'codes')", dims=dims)
         call h5_write_attr(file, "/transmission_status", "codes", transmission_status_codes())
-        call h5_write(file, "/branch_switch", igrid(recs%branch_switch), "1", "Past a branch point below the fold " &
-            // "(/threshold_kind 1 below /fold_amplitude), the other branch: where it leaves (codes in attribute " &
-            // "'codes'); 0 where there is no such branch point", dims=dims)
+        call h5_write(file, "/branch_switch", igrid(recs%branch_switch), "1", "Past a loss of stability below the " &
+            // "fold (/threshold below /fold_amplitude): at a branch point (/threshold_kind 1) where the other branch " &
+            // "leaves, past a torus or a period doubling the stairs (codes in attribute 'codes'); 0 where there is " &
+            // "no such loss (or the stairs would start above the fold)", dims=dims)
         call h5_write_attr(file, "/branch_switch", "codes", branch_switch_codes())
         call h5_write(file, "/instability_amplitude", grid(recs%instability_amplitude), &
             "rad", "First amplitude along the branch where a Floquet multiplier leaves the unit circle; NaN when " &

@@ -241,8 +241,9 @@ def later_transmission(fold, curve: int) -> np.ndarray:
 
 
 def transmission_past_loss(fold, curve: int) -> np.ndarray:
-    """Where the chain of `curve` transmits past a branch point below the fold (/branch_switch > 0: the other
-    branch's fold, a later one, or the branch point itself), NaN elsewhere and for files without /branch_switch."""
+    """Where the chain of `curve` transmits past a loss of stability below the fold (/branch_switch > 0: past a
+    branch point the other branch's fold, a later one, or the branch point itself; past a torus or a period
+    doubling the stair where it transmits), NaN elsewhere and for files without /branch_switch."""
     omega = np.asarray(fold.data["omega"], dtype=float)
     trans, switch = fold.data.get("transmission_fold"), fold.data.get("branch_switch")
     if trans is None or switch is None:

@@ -137,7 +137,7 @@ def _draw_fold_line(s: Scene, scan: Scene | None):
         past = transmission_past_loss(s, c)
         if np.isfinite(past).any():
             ax.plot(omega, past, "^", ms=5, color="tab:green",
-                    label=f"where the chain transmits past a branch point, {name}")
+                    label=f"where the chain transmits past a loss of stability, {name}")
         stays = localized_folds(s, c)
         if stays.any():
             ax.plot(omega[stays], fold[c][stays], "D", ms=5, mfc="none", mec="tab:red",
@@ -181,15 +181,19 @@ def summary_continuation(s: Scene, full: bool = False) -> list[str]:
     return lines
 
 
-SWITCHES = {1: "supercritical", 2: "subcritical"}
+SWITCHES = {1: "supercritical", 2: "subcritical", 3: "other branch not found"}
+STAIRS = 4
 
 
 def _past_branch_point(s: Scene, c: int, w: int) -> str:
-    """", transmits at A past the branch point (its kind)" where the file switched branch there (/branch_switch)."""
+    """", transmits at A past the branch point (its kind)" where the file switched branch there (/branch_switch
+    1 .. 3), ", transmits at A on stairs past the loss" where it drove the chain up in stairs past a torus or a
+    period doubling (4)."""
     switch = s.data.get("branch_switch")
     if switch is None or int(switch[c, w]) <= 0:
         return ""
     trans = float(s.data["transmission_fold"][c, w]) if "transmission_fold" in s.data else float("nan")
-    kind = SWITCHES.get(int(switch[c, w]), "other branch not found")
     where = f"transmits at {fmt(trans, 6)}" if math.isfinite(trans) else "no transmission found"
-    return f", {where} past the branch point ({kind})"
+    if int(switch[c, w]) == STAIRS:
+        return f", {where} on stairs past the loss"
+    return f", {where} past the branch point ({SWITCHES.get(int(switch[c, w]), 'unknown')})"

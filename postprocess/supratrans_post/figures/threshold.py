@@ -135,7 +135,7 @@ def draw_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene | 
             past = transmission_past_loss(fold, c)
             if np.isfinite(past).any():
                 a.plot(omega, past, "^", ms=5, color="tab:green", zorder=5,
-                       label=lab(f"where the chain transmits past a branch point{name}"))
+                       label=lab(f"where the chain transmits past a loss of stability{name}"))
             stays = localized_folds(fold, c)
             if stays.any():
                 a.plot(omega[stays], fold_a[c][stays], "D", ms=5, mfc="none", mec="tab:red", zorder=5,
