@@ -23,6 +23,7 @@ module supratrans_fold_fate
     use supratrans_fixed_point_map, only: map_ok
     use supratrans_dense, only: dense_solve
     use supratrans_chain, only: detector_site
+    use supratrans_continuation_types, only: wall_clock
     use supratrans_continuation, only: continue_branch, continuation_controls, continuation_result, continuation_stats, &
                                        cont_fold_found, cont_no_fold, cont_newton_failed, cont_step_too_small, &
                                        cont_max_points, cont_unstable_start
@@ -33,7 +34,7 @@ module supratrans_fold_fate
     private
 
     public :: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, follow_to_transmission, &
-              add_branch_cost, past_branch_point, branch_switch_codes, transmission_after, past_oscillatory_loss
+              add_branch_cost, add_stats, past_branch_point, branch_switch_codes, transmission_after, past_oscillatory_loss
 
     !> Fate of a fold: not computed (no fold).
     integer, parameter, public :: fate_not_computed = 0
@@ -170,7 +171,10 @@ contains
             return
         end if
         r%branch_switch = switch_subcritical
-        call fold_fate(map, run, res%instability_point(1:d) + switch_seed*e(1:d), a_b*(1.0_wp + fate_push), fate, time, settled)
+        stats = continuation_stats()
+        call fold_fate(map, run, res%instability_point(1:d) + switch_seed*e(1:d), a_b*(1.0_wp + fate_push), fate, time, &
+                       settled, stats=stats)
+        call add_stats(r, stats)
         call transmission_after(map, run, ctl, a_b, fate, settled, r)
     end subroutine past_branch_point
 
@@ -200,6 +204,7 @@ contains
         type(fold_record), intent(inout) :: r
         !> Whether the stairs ran (and filled `r%transmission_fold`, `r%branches`, `r%transmission_status`).
         logical, intent(out) :: done
+        type(continuation_stats) :: watched
         real(wp), allocatable :: y(:), last(:)
         real(wp) :: a_t, top, a, time
         integer :: d, k, fate
@@ -218,8 +223,9 @@ contains
         do
             a = a_t + real(k, wp)*stair_height
             if (a >= top) exit
-            call fold_fate(map, run, y, a, fate, time, last, watch=stair_time)
+            call fold_fate(map, run, y, a, fate, time, last, watch=stair_time, stats=watched)
             if (fate /= fate_localized) then
+                call add_stats(r, watched)
                 if (fate == fate_transmits) r%transmission_fold = a
                 if (fate == fate_transmits) r%transmission_status = cont_fold_found
                 return
@@ -228,10 +234,12 @@ contains
             k = k + 1
         end do
         if (ieee_is_nan(fold)) then
+            call add_stats(r, watched)
             r%transmission_status = cont_no_fold
             return
         end if
-        call fold_fate(map, run, y, top*(1.0_wp + fate_push), fate, time, last)
+        call fold_fate(map, run, y, top*(1.0_wp + fate_push), fate, time, last, stats=watched)
+        call add_stats(r, watched)
         call transmission_after(map, run, ctl, top, fate, last, r)
     end subroutine past_oscillatory_loss
 
@@ -311,6 +319,7 @@ contains
         type(fold_record), intent(inout) :: r
         type(continuation_controls) :: next
         type(continuation_result) :: res
+        type(continuation_stats) :: watched
         real(wp), allocatable :: x(:)
         real(wp) :: amplitude, time
         integer :: fate
@@ -332,7 +341,9 @@ contains
         ! a settled state that is not stable ends the following at its first point (below), not after its branch
         next%stop_at_unstable_start = .true.
         do while (r%branches < max_branches)
-            call damped_shooting(map, x, amplitude)
+            watched = continuation_stats()
+            call damped_shooting(map, x, amplitude, watched)
+            call add_stats(r, watched)
             next%amplitude_start = amplitude
             ! a settled periodic state with the half-period symmetry: its branch on G too (half the cost)
             half = half_period_symmetric(map, x, amplitude)
@@ -346,8 +357,10 @@ contains
                 r%transmission_status = res%status
                 return
             end if
+            watched = continuation_stats()
             call fold_fate(map, run, res%states(:, res%fold_index), res%fold_amplitude*(1.0_wp + fate_push), fate, &
-                           time, x)
+                           time, x, stats=watched)
+            call add_stats(r, watched)
             if (fate == fate_transmits) then
                 r%transmission_fold = res%fold_amplitude
                 r%transmission_status = cont_fold_found
@@ -391,20 +404,22 @@ contains
     !> multipliers near +1, do not throw x far away. At most `settle_iterations` steps; `x` is the periodic state
     !> when max |P(x) - x| <= `settle_tol` was reached, else left as it came (the continuation's own, undamped
     !> shooting then has its try, and gives up once its residual has grown tenfold: `follow_growth_limit`).
-    subroutine damped_shooting(map, x, amplitude)
+    subroutine damped_shooting(map, x, amplitude, stats)
         !> The one-period map.
         type(period_map), intent(inout) :: map
         !> The state: in, where the chain settled; out, the best iterate.
         real(wp), intent(inout) :: x(:)
         !> Drive amplitude.
         real(wp), intent(in) :: amplitude
+        !> Counts and times: its maps, Jacobians and factorisations are added.
+        type(continuation_stats), intent(inout) :: stats
         real(wp), allocatable :: px(:), jac(:, :), dx(:), trial(:), y(:)
-        real(wp) :: residual, t, r_trial
+        real(wp) :: residual, t, r_trial, t0
         integer :: it, i, status, info
 
         allocate (px(size(x)), jac(size(x), size(x)), trial(size(x)))
         y = x
-        call map%apply(y, amplitude, px, status)
+        call apply(y, status)
         if (status /= map_ok) return
         residual = maxval(abs(px - y))
         do it = 1, settle_iterations
@@ -412,18 +427,24 @@ contains
                 x = y
                 return
             end if
+            t0 = wall_clock()
             call map%apply(y, amplitude, px, status, jac=jac)
+            stats%jacobian_evaluations = stats%jacobian_evaluations + 1
+            stats%time_jacobian = stats%time_jacobian + wall_clock() - t0
             if (status /= map_ok) return
             do i = 1, size(y)
                 jac(i, i) = jac(i, i) - 1.0_wp
             end do
             dx = y - px
+            t0 = wall_clock()
             call dense_solve(jac, dx, info)
+            stats%factorisations = stats%factorisations + 1
+            stats%time_lu = stats%time_lu + wall_clock() - t0
             if (info /= 0) return
             t = 1.0_wp
             do
                 trial = y + t*dx
-                call map%apply(trial, amplitude, px, status)
+                call apply(trial, status)
                 r_trial = huge(1.0_wp)
                 if (status == map_ok) r_trial = maxval(abs(px - trial))
                 if (r_trial < residual .or. t <= 1.0_wp/64.0_wp) exit
@@ -434,13 +455,28 @@ contains
             residual = r_trial
         end do
         if (residual <= settle_tol) x = y
+
+    contains
+
+        !> px = P(z), counted.
+        subroutine apply(z, status)
+            real(wp), intent(in) :: z(:)
+            integer, intent(out) :: status
+            real(wp) :: t1
+
+            t1 = wall_clock()
+            call map%apply(z, amplitude, px, status)
+            stats%map_evaluations = stats%map_evaluations + 1
+            stats%time_map = stats%time_map + wall_clock() - t1
+        end subroutine apply
+
     end subroutine damped_shooting
 
     !> The fate of a fold (see the module's documentation): from the periodic state `x` at the fold, the drive at
     !> `amplitude` (just past the fold), one period at a time, until an oscillator beyond the detector site swings
     !> past the detector amplitude (`fate_transmits`, `time` = the end of that period) or `fate_watch_time` has
     !> passed (`fate_localized`, `time` = the time watched), or `watch` (whole periods, at least one) when given.
-    subroutine fold_fate(map, run, x, amplitude, fate, time, last, watch)
+    subroutine fold_fate(map, run, x, amplitude, fate, time, last, watch, stats)
         !> The one-period map of the branch (its work arrays change).
         type(period_map), intent(inout) :: map
         !> The run (detector site and amplitude).
@@ -457,29 +493,37 @@ contains
         real(wp), allocatable, intent(out), optional :: last(:)
         !> Time to watch instead of `fate_watch_time` (and no fewest periods but one).
         real(wp), intent(in), optional :: watch
+        !> Counts and times: the maps applied and their time are added.
+        type(continuation_stats), intent(inout), optional :: stats
         real(wp), allocatable :: y(:), py(:)
+        real(wp) :: t0
         integer :: k, periods, nd, status
 
+        t0 = wall_clock()
         nd = detector_site(run)
         periods = max(fate_min_periods, ceiling(fate_watch_time/map%period))
         if (present(watch)) periods = max(1, ceiling(watch/map%period))
         y = x
         allocate (py(size(x)))
+        fate = fate_localized
         do k = 1, periods
             call map%apply(y, amplitude, py, status)
             time = real(k, wp)*map%period
             if (status /= map_ok) then
                 fate = fate_failed
-                return
+                exit
             end if
             if (maxval(abs(py(nd + 1:map%n))) > run%detect%amplitude) then
                 fate = fate_transmits
-                return
+                exit
             end if
             y = py
         end do
-        fate = fate_localized
-        if (present(last)) last = y
+        if (present(stats)) then
+            stats%map_evaluations = stats%map_evaluations + min(k, periods)
+            stats%time_map = stats%time_map + wall_clock() - t0
+        end if
+        if (fate == fate_localized .and. present(last)) last = y
     end subroutine fold_fate
 
     !> The fates of a fold as "code name: meaning" clauses (the `codes` attribute of /fold_fate).

@@ -231,8 +231,9 @@ contains
             nomega), "1", "Newton-shooting iterations", dims=dims)
         call h5_write(file, g // "map_evaluations", task_igrid(recs%map_evaluations, &
             nomega), "1", "Evaluations of the map continued: the one-period map P, or for the branch from rest " &
-            // "of the fold alone (floquet_every = 0) with /steps_per_period even the half-period map G (P = G o G)", &
-            dims=dims)
+            // "of the fold alone (floquet_every = 0) with /steps_per_period even the half-period map G (P = G o G); " &
+            // "with the periods of P the fates watched (past a fold, a branch point, on the stairs past a torus) " &
+            // "and the damped Newton-shooting from where the chain settled", dims=dims)
         call h5_write(file, g // "jacobians", task_igrid(recs%jacobians, nomega), "1", &
             "Of those, with the tangent (2N + 1 columns)", dims=dims)
         call h5_write(file, g // "factorizations", task_igrid(recs%factorizations, &
