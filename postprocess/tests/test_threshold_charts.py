@@ -298,3 +298,24 @@ def test_transmission_past_a_loss_of_stability_is_marked(tmp_path):
     assert "transmits at 3.5 past the branch point (subcritical)" in text
     assert text.count("past the branch point") == 1
     assert text.count("on stairs past the loss") == 1
+
+
+def test_a_stair_from_where_the_chain_settled_is_marked_apart(tmp_path):
+    """/transmission_stairs 1 with no loss below the fold (/branch_switch 0): the chain settled past a localized fold
+    on no stable periodic state and transmitted on a stair from there. That is marked as a stair, not as a later
+    branch's fold, and the summary says so."""
+    path = fold_file(tmp_path / "fold.h5")
+    with h5py.File(path, "a") as h:
+        h.create_dataset("fold_fate", data=np.array([[2, 2, 1]], dtype=np.int32))
+        h.create_dataset("transmission_fold", data=np.array([[4.2, 3.9, FOLD[0, 2]]]))
+        h.create_dataset("branches", data=np.array([[2, 2, 1]], dtype=np.int32))
+        h.create_dataset("branch_switch", data=np.array([[0, 0, 0]], dtype=np.int32))
+        h.create_dataset("transmission_stairs", data=np.array([[1, 0, 0]], dtype=np.int32))
+    fold = reader.open_scene(path)
+    lines = figures.draw_thresholds(fold).get_axes()[0].get_lines()
+    (stair,) = [ln for ln in lines if "stair on which" in ln.get_label()]
+    np.testing.assert_array_equal(stair.get_ydata(), [4.2, np.nan, np.nan])
+    (star,) = [ln for ln in lines if "later branch" in ln.get_label()]
+    np.testing.assert_array_equal(star.get_ydata(), [np.nan, 3.9, np.nan])
+    text = "\n".join(figures.summary(fold, full=True))
+    assert text.count("transmits at 4.2 on stairs from where the chain settled") == 1

@@ -1,29 +1,23 @@
-!> The fate of a fold of a fold line (`supratrans_fold_line`), and the branches the chain is followed to past a fold
-!> where it stays localized (`follow_to_transmission`), up to the fold past which it transmits.
+!> Where the chain of a fold line (`supratrans_fold_line`) transmits, from the fate of its fold and what it does past
+!> it (the watches and stairs of `supratrans_chain_watch`, re-exported here).
 !>
-!> **The fold's fate** (`fold_fate`). A fold is the supratransmission threshold only if the chain, driven just past
-!> it, transmits. Near Omega = 1/(2k + 1), where an odd harmonic of the drive sits at the lower edge of the phonon
-!> band, the branch can fold far below the scan's threshold (e.g. A_f = 1.78 at Omega = 0.34 on the paper's chain,
-!> where the scan gives 4.66): such a fold depends on the chain's length and absorber (docs/continuation.md) and the
-!> state beyond it need not transmit. So each fold is tested: the periodic state at the fold is driven at
-!> A_f (1 + `fate_push`) at full amplitude for `fate_watch_time` (at least `fate_min_periods` periods) with the
-!> one-period map of the same scheme, and it transmits when, at the end of a period, an oscillator beyond the
-!> run's detector site (`detector_site`, the scan's own) has |u_n| > the detector amplitude (pi by default).
+!> **Following the chain past a localized fold** (`follow_to_transmission`). The state it settled on is brought to a
+!> periodic state by Newton-shooting with backtracking (`damped_shooting`), its branch is continued in A to its own
+!> fold (on the half-period map when that state has the half-period symmetry, `half_period_symmetric`), and that
+!> fold's fate is tested in turn, up to `max_branches` branches; where the chain settled on no stable periodic
+!> state, it is driven up in stairs from there.
 !>
-!> **Following the chain past a localized fold.** The state it settled on is brought to a periodic state by
-!> Newton-shooting with backtracking (`damped_shooting`), its branch is continued in A to its own fold (on the
-!> half-period map when that state has the half-period symmetry, `half_period_symmetric`), and that fold's fate is
-!> tested in turn, up to `max_branches` branches.
+!> **Past a loss of stability below the fold**: at a branch point the other branch (`past_branch_point`), past a
+!> torus or a period doubling the stairs (`past_oscillatory_loss`).
 module supratrans_fold_fate
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp
     use supratrans_config, only: run_config
     use supratrans_strings, only: int_str, real_str
     use supratrans_period_map, only: period_map, set_half_period
-    use supratrans_fixed_point_map, only: map_ok
-    use supratrans_dense, only: dense_solve
-    use supratrans_chain, only: detector_site
-    use supratrans_continuation_types, only: wall_clock
+    use supratrans_chain_watch, only: fold_fate, fate_codes, climb_stairs, damped_shooting, half_period_symmetric, &
+                                      fate_not_computed, fate_transmits, fate_localized, fate_failed, fate_push, &
+                                      fate_watch_time, fate_min_periods, symmetric_tol, stair_height, stair_time
     use supratrans_continuation, only: continue_branch, continuation_controls, continuation_result, continuation_stats, &
                                        cont_fold_found, cont_no_fold, cont_newton_failed, cont_step_too_small, &
                                        cont_max_points, cont_unstable_start
@@ -35,22 +29,9 @@ module supratrans_fold_fate
 
     public :: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, follow_to_transmission, &
               add_branch_cost, add_stats, past_branch_point, branch_switch_codes, transmission_after, past_oscillatory_loss
+    public :: fate_not_computed, fate_transmits, fate_localized, fate_failed, fate_push, fate_watch_time, &
+              fate_min_periods, symmetric_tol, stair_height, stair_time
 
-    !> Fate of a fold: not computed (no fold).
-    integer, parameter, public :: fate_not_computed = 0
-    !> Fate of a fold: driven just past it, the chain transmits (the fold is the supratransmission threshold).
-    integer, parameter, public :: fate_transmits = 1
-    !> Fate of a fold: driven just past it for `fate_watch_time`, the chain stays localized (it settles on another
-    !> state: the fold is not where transmission starts).
-    integer, parameter, public :: fate_localized = 2
-    !> Fate of a fold: the one-period map failed while watching (its implicit steps did not converge).
-    integer, parameter, public :: fate_failed = 3
-    !> Relative push past the fold: the fate is watched at A_f (1 + fate_push).
-    real(wp), parameter, public :: fate_push = 1.0e-2_wp
-    !> Time the pushed state is watched (in units of the model's time).
-    real(wp), parameter, public :: fate_watch_time = 1000.0_wp
-    !> Fewest drive periods the pushed state is watched.
-    integer, parameter, public :: fate_min_periods = 20
     !> Most branches followed from rest to the fold past which the chain transmits (`follow_to_transmission`).
     integer, parameter, public :: max_branches = 4
     !> Why no transmission fold (beside the continuation's statuses of the last branch followed): the state Newton
@@ -60,12 +41,6 @@ module supratrans_fold_fate
     integer, parameter, public :: follow_too_many = 7
     !> Why no transmission fold: the scheme failed while the fate of a fold was watched.
     integer, parameter, public :: follow_fate_failed = 8
-    !> Most damped Newton-shooting steps from where the chain settled (`damped_shooting`).
-    integer, parameter :: settle_iterations = 30
-    !> max |P(x) - x| at which `damped_shooting` stops (the continuation's own shooting polishes to newton_tol).
-    real(wp), parameter :: settle_tol = 1.0e-9_wp
-    !> max |G(x) - x| below which a settled periodic state counts as symmetric (its branch then continued on G).
-    real(wp), parameter, public :: symmetric_tol = 1.0e-8_wp
     !> The Newton-shooting of a followed branch gives up when its residual grows this many times its first value.
     real(wp), parameter :: follow_growth_limit = 10.0_wp
     !> Branch switching (/branch_switch): no branch point below the fold.
@@ -79,10 +54,6 @@ module supratrans_fold_fate
     !> Past a torus or a period doubling below the fold (no branch of periodic states to switch to): the chain driven
     !> from the loss's state up in stairs (`past_oscillatory_loss`).
     integer, parameter, public :: switch_stairs = 4
-    !> Stairs past a torus or a period doubling: the amplitude step between two stairs (the scan's resolution).
-    real(wp), parameter, public :: stair_height = 1.0e-2_wp
-    !> Stairs past a torus or a period doubling: the time the chain is driven on each stair.
-    real(wp), parameter, public :: stair_time = 200.0_wp
     !> Distance (Euclidean norm of (x, A)) of the other branch's first point from the branch point.
     real(wp), parameter, public :: switch_step = 5.0e-2_wp
     !> Past a subcritical branch point the chain is driven from the branch point's state moved this far along the
@@ -207,7 +178,7 @@ contains
         type(continuation_stats) :: watched
         real(wp), allocatable :: y(:), last(:)
         real(wp) :: a_t, top, a, time
-        integer :: d, k, fate
+        integer :: d, fate
 
         d = map%dim
         a_t = res%instability_point(d + 1)
@@ -219,29 +190,31 @@ contains
         r%branches = 1
         r%transmission_status = follow_fate_failed
         y = seeded(res%instability_point(1:d))
-        k = 1
-        do
-            a = a_t + real(k, wp)*stair_height
-            if (a >= top) exit
-            call fold_fate(map, run, y, a, fate, time, last, watch=stair_time, stats=watched)
-            if (fate /= fate_localized) then
-                call add_stats(r, watched)
-                if (fate == fate_transmits) r%transmission_fold = a
-                if (fate == fate_transmits) r%transmission_status = cont_fold_found
-                return
-            end if
-            call move_alloc(last, y)
-            k = k + 1
-        end do
+        call climb_stairs(map, run, y, a_t, top, a, fate, watched)
+        call add_stats(r, watched)
+        if (fate == fate_transmits) call on_stairs(r, a)
+        if (fate /= fate_localized) return
         if (ieee_is_nan(fold)) then
-            call add_stats(r, watched)
             r%transmission_status = cont_no_fold
             return
         end if
+        watched = continuation_stats()
         call fold_fate(map, run, y, top*(1.0_wp + fate_push), fate, time, last, stats=watched)
         call add_stats(r, watched)
         call transmission_after(map, run, ctl, top, fate, last, r)
     end subroutine past_oscillatory_loss
+
+    !> `a`, a stair on which the chain transmitted, as the record's transmission.
+    pure subroutine on_stairs(r, a)
+        !> The record.
+        type(fold_record), intent(inout) :: r
+        !> The stair's amplitude.
+        real(wp), intent(in) :: a
+
+        r%transmission_fold = a
+        r%transmission_status = cont_fold_found
+        r%transmission_stairs = 1
+    end subroutine on_stairs
 
     !> x moved by `switch_seed` along the fixed unit direction (sin i)_i: the small asymmetry a slow ramp leaves.
     pure function seeded(x) result(y)
@@ -302,8 +275,11 @@ contains
 
     !> Past a fold where the chain stays localized, the branch it settles on: from the `settled` state at amplitude
     !> `a` (Newton-shooting first), continued in A to its own fold, whose fate is tested in turn, up to
-    !> `max_branches` branches in all. Fills `r%transmission_fold` (NaN when no branch ends in a fold that transmits)
-    !> and `r%branches`; the costs of these continuations are added to the record's.
+    !> `max_branches` branches in all. Where the chain settled on no stable periodic state (Newton-shooting from
+    !> there finds an unstable one, or none), the chain itself is driven up in stairs from there (`climb_stairs`, to
+    !> amplitude_max), as a slow ramp would go on. Fills `r%transmission_fold` (NaN when no branch ends in a fold
+    !> that transmits and no stair does) and `r%branches`; the costs of these continuations are added to the
+    !> record's.
     subroutine follow_to_transmission(map, run, ctl, settled, a, r)
         !> The one-period map.
         type(period_map), intent(inout) :: map
@@ -320,8 +296,8 @@ contains
         type(continuation_controls) :: next
         type(continuation_result) :: res
         type(continuation_stats) :: watched
-        real(wp), allocatable :: x(:)
-        real(wp) :: amplitude, time
+        real(wp), allocatable :: x(:), chain(:)
+        real(wp) :: amplitude, time, a_stair
         integer :: fate
         logical :: half
 
@@ -341,6 +317,7 @@ contains
         ! a settled state that is not stable ends the following at its first point (below), not after its branch
         next%stop_at_unstable_start = .true.
         do while (r%branches < max_branches)
+            chain = x
             watched = continuation_stats()
             call damped_shooting(map, x, amplitude, watched)
             call add_stats(r, watched)
@@ -355,6 +332,14 @@ contains
             ! (a state Newton found where the chain cannot have settled, not stable, stops it: cont_unstable_start)
             if (res%status /= cont_fold_found .or. res%fold_index < 1) then
                 r%transmission_status = res%status
+                ! no stable periodic state where the chain settled (Newton-shooting found an unstable one, or none):
+                ! the chain itself is driven up in stairs from there
+                if (res%status == cont_unstable_start .or. res%n_points == 0) then
+                    watched = continuation_stats()
+                    call climb_stairs(map, run, chain, amplitude, ctl%amplitude_max, a_stair, fate, watched)
+                    call add_stats(r, watched)
+                    if (fate == fate_transmits) call on_stairs(r, a_stair)
+                end if
                 return
             end if
             watched = continuation_stats()
@@ -374,169 +359,6 @@ contains
         end do
         r%transmission_status = follow_too_many
     end subroutine follow_to_transmission
-
-    !> Whether x is a periodic state with the half-period symmetry, G(x) = x to `symmetric_tol` (M even); if so,
-    !> `map` is left as the half-period map G, else as P.
-    function half_period_symmetric(map, x, amplitude) result(yes)
-        !> The one-period map (P on entry).
-        type(period_map), intent(inout) :: map
-        !> The state.
-        real(wp), intent(in) :: x(:)
-        !> Drive amplitude.
-        real(wp), intent(in) :: amplitude
-        logical :: yes
-        real(wp), allocatable :: gx(:)
-        integer :: status
-        logical :: ok
-
-        call set_half_period(map, .true., yes)
-        if (.not. yes) return
-        allocate (gx(size(x)))
-        call map%apply(x, amplitude, gx, status)
-        yes = status == map_ok
-        if (yes) yes = maxval(abs(gx - x)) <= symmetric_tol
-        if (.not. yes) call set_half_period(map, .false., ok)
-    end function half_period_symmetric
-
-    !> Newton-shooting with backtracking from where the chain settled (`x`, not yet periodic: the modes trapped
-    !> between the drive and the absorber ring for long) towards the periodic state nearby: each full Newton step
-    !> is halved (down to 1/64) until it lowers max |P(x) - x|, so that the first steps, made large by the
-    !> multipliers near +1, do not throw x far away. At most `settle_iterations` steps; `x` is the periodic state
-    !> when max |P(x) - x| <= `settle_tol` was reached, else left as it came (the continuation's own, undamped
-    !> shooting then has its try, and gives up once its residual has grown tenfold: `follow_growth_limit`).
-    subroutine damped_shooting(map, x, amplitude, stats)
-        !> The one-period map.
-        type(period_map), intent(inout) :: map
-        !> The state: in, where the chain settled; out, the best iterate.
-        real(wp), intent(inout) :: x(:)
-        !> Drive amplitude.
-        real(wp), intent(in) :: amplitude
-        !> Counts and times: its maps, Jacobians and factorisations are added.
-        type(continuation_stats), intent(inout) :: stats
-        real(wp), allocatable :: px(:), jac(:, :), dx(:), trial(:), y(:)
-        real(wp) :: residual, t, r_trial, t0
-        integer :: it, i, status, info
-
-        allocate (px(size(x)), jac(size(x), size(x)), trial(size(x)))
-        y = x
-        call apply(y, status)
-        if (status /= map_ok) return
-        residual = maxval(abs(px - y))
-        do it = 1, settle_iterations
-            if (residual <= settle_tol) then
-                x = y
-                return
-            end if
-            t0 = wall_clock()
-            call map%apply(y, amplitude, px, status, jac=jac)
-            stats%jacobian_evaluations = stats%jacobian_evaluations + 1
-            stats%time_jacobian = stats%time_jacobian + wall_clock() - t0
-            if (status /= map_ok) return
-            do i = 1, size(y)
-                jac(i, i) = jac(i, i) - 1.0_wp
-            end do
-            dx = y - px
-            t0 = wall_clock()
-            call dense_solve(jac, dx, info)
-            stats%factorisations = stats%factorisations + 1
-            stats%time_lu = stats%time_lu + wall_clock() - t0
-            if (info /= 0) return
-            t = 1.0_wp
-            do
-                trial = y + t*dx
-                call apply(trial, status)
-                r_trial = huge(1.0_wp)
-                if (status == map_ok) r_trial = maxval(abs(px - trial))
-                if (r_trial < residual .or. t <= 1.0_wp/64.0_wp) exit
-                t = 0.5_wp*t
-            end do
-            if (.not. (r_trial < residual)) return
-            y = trial
-            residual = r_trial
-        end do
-        if (residual <= settle_tol) x = y
-
-    contains
-
-        !> px = P(z), counted.
-        subroutine apply(z, status)
-            real(wp), intent(in) :: z(:)
-            integer, intent(out) :: status
-            real(wp) :: t1
-
-            t1 = wall_clock()
-            call map%apply(z, amplitude, px, status)
-            stats%map_evaluations = stats%map_evaluations + 1
-            stats%time_map = stats%time_map + wall_clock() - t1
-        end subroutine apply
-
-    end subroutine damped_shooting
-
-    !> The fate of a fold (see the module's documentation): from the periodic state `x` at the fold, the drive at
-    !> `amplitude` (just past the fold), one period at a time, until an oscillator beyond the detector site swings
-    !> past the detector amplitude (`fate_transmits`, `time` = the end of that period) or `fate_watch_time` has
-    !> passed (`fate_localized`, `time` = the time watched), or `watch` (whole periods, at least one) when given.
-    subroutine fold_fate(map, run, x, amplitude, fate, time, last, watch, stats)
-        !> The one-period map of the branch (its work arrays change).
-        type(period_map), intent(inout) :: map
-        !> The run (detector site and amplitude).
-        type(run_config), intent(in) :: run
-        !> The state at the fold (u_n at t = 0 first, n = 1..N).
-        real(wp), intent(in) :: x(:)
-        !> Drive amplitude just past the fold.
-        real(wp), intent(in) :: amplitude
-        !> `fate_transmits`, `fate_localized` or `fate_failed`.
-        integer, intent(out) :: fate
-        !> Time of the first transmission, or the time watched.
-        real(wp), intent(out) :: time
-        !> The state at the end of the watch (where the chain has settled when it stays localized).
-        real(wp), allocatable, intent(out), optional :: last(:)
-        !> Time to watch instead of `fate_watch_time` (and no fewest periods but one).
-        real(wp), intent(in), optional :: watch
-        !> Counts and times: the maps applied and their time are added.
-        type(continuation_stats), intent(inout), optional :: stats
-        real(wp), allocatable :: y(:), py(:)
-        real(wp) :: t0
-        integer :: k, periods, nd, status
-
-        t0 = wall_clock()
-        nd = detector_site(run)
-        periods = max(fate_min_periods, ceiling(fate_watch_time/map%period))
-        if (present(watch)) periods = max(1, ceiling(watch/map%period))
-        y = x
-        allocate (py(size(x)))
-        fate = fate_localized
-        do k = 1, periods
-            call map%apply(y, amplitude, py, status)
-            time = real(k, wp)*map%period
-            if (status /= map_ok) then
-                fate = fate_failed
-                exit
-            end if
-            if (maxval(abs(py(nd + 1:map%n))) > run%detect%amplitude) then
-                fate = fate_transmits
-                exit
-            end if
-            y = py
-        end do
-        if (present(stats)) then
-            stats%map_evaluations = stats%map_evaluations + min(k, periods)
-            stats%time_map = stats%time_map + wall_clock() - t0
-        end if
-        if (fate == fate_localized .and. present(last)) last = y
-    end subroutine fold_fate
-
-    !> The fates of a fold as "code name: meaning" clauses (the `codes` attribute of /fold_fate).
-    pure function fate_codes() result(text)
-        character(len=:), allocatable :: text
-
-        text = int_str(fate_not_computed) // " none: no fold; " // int_str(fate_transmits) // " transmits: driven " &
-            // "at A_f (1 + " // real_str(fate_push, 3) // ") from the fold's state, an oscillator beyond the " &
-            // "detector site passes the detector amplitude (the fold is the supratransmission threshold); " &
-            // int_str(fate_localized) // " localized: no transmission within /fold_fate_time (the chain " &
-            // "settles on another state: the fold is not where transmission starts); " // int_str(fate_failed) &
-            // " failed: the scheme's implicit step did not converge"
-    end function fate_codes
 
     !> The codes of /transmission_status as "code: meaning" clauses.
     pure function transmission_status_codes() result(text)

@@ -30,7 +30,8 @@ module supratrans_fold_record
         "factorizations", "eigen_calls", "wall_time", "time_map", "time_tangent", "time_lu", "time_eigen", &
         "fold_half_dt", "fold_long_chain", "richardson", &
         "error_estimate", "digits", "chain_n", "chain_n0", "chain_sigma", "fate", "fate_time", &
-        "transmission_fold", "branches", "transmission_status", "instability_lower", "branch_switch"]
+        "transmission_fold", "branches", "transmission_status", "instability_lower", "branch_switch", &
+        "transmission_stairs"]
 
     !> One (curve, Omega) task: the fold and stability of its branch, their convergence, the branch.
     type, public :: fold_record
@@ -107,9 +108,12 @@ module supratrans_fold_record
         integer :: branches = 0
         !> Why `transmission_fold` is what it is (`supratrans_fold_line`: 0 found, -1 no first fold, else the reason).
         integer :: transmission_status = -1
-        !> What was found past a branch point below the fold (`supratrans_fold_fate`: 0 none, 1 supercritical,
-        !> 2 subcritical, 3 the other branch not found).
+        !> What was done past a loss of stability below the fold (`supratrans_fold_fate`: 0 none, 1 supercritical,
+        !> 2 subcritical, 3 the other branch not found, 4 stairs past a torus or a period doubling).
         integer :: branch_switch = 0
+        !> 1 where `transmission_fold` is the stair on which the chain, driven up in stairs, transmitted; 0 where it
+        !> is a fold or a branch point (or NaN).
+        integer :: transmission_stairs = 0
         !> The branch: `branch_quantities` (rows) at each point (columns), NaN past `points`.
         real(wp), allocatable :: branch(:, :)
         !> Real and imaginary parts of the kept multipliers (`kept_multipliers`, `multiplier_samples`); NaN when not
@@ -197,7 +201,8 @@ contains
              r%wall_time, r%time_map, r%time_tangent, r%time_lu, r%time_eigen, r%fold_half_dt, r%fold_long_chain, &
              r%richardson, r%error_estimate, r%digits, real(r%chain_n, wp), real(r%chain_n0, wp), r%chain_sigma, &
              real(r%fate, wp), r%fate_time, r%transmission_fold, real(r%branches, wp), &
-             real(r%transmission_status, wp), r%instability_lower, real(r%branch_switch, wp), reshape(r%branch, [size(r%branch)])]
+             real(r%transmission_status, wp), r%instability_lower, real(r%branch_switch, wp), &
+             real(r%transmission_stairs, wp), reshape(r%branch, [size(r%branch)])]
         do s = 1, multiplier_samples
             v = [v, reshape(transpose(reshape([r%multiplier_re(:, s), r%multiplier_im(:, s)], &
                                               [kept_multipliers, 2])), [2*kept_multipliers]), r%multiplier_amplitude(s)]
@@ -250,6 +255,7 @@ contains
         r%transmission_status = nint(v(35))
         r%instability_lower = v(36)
         r%branch_switch = nint(v(37))
+        r%transmission_stairs = nint(v(38))
         i = size(scalar_fields)
         nb = size(branch_quantities)*points_max
         r%branch = reshape(v(i + 1:i + nb), [size(branch_quantities), points_max])

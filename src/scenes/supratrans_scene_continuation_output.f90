@@ -76,6 +76,11 @@ contains
             // "leaves, past a torus or a period doubling the stairs (codes in attribute 'codes'); 0 where there is " &
             // "no such loss (or the stairs would start above the fold)", dims=dims)
         call h5_write_attr(file, "/branch_switch", "codes", branch_switch_codes())
+        call h5_write(file, "/transmission_stairs", igrid(recs%transmission_stairs), "1", "1 where " &
+            // "/transmission_fold is the stair on which the chain, driven up in stairs of " // real_str(stair_height, 3) &
+            // " held " // real_str(stair_time, 4) // " time units each, transmitted (the one below it did not): past " &
+            // "a torus or a period doubling below the fold (/branch_switch 4), or from where the chain settled on " &
+            // "no stable periodic state past a fold; 0 where it is a fold or a branch point, or NaN", dims=dims)
         call h5_write(file, "/instability_amplitude", grid(recs%instability_amplitude), &
             "rad", "First amplitude along the branch where a Floquet multiplier leaves the unit circle; NaN when " &
             // "the branch stays stable up to its fold (the fold alone, floquet_every = 0, looks only where a real " &

@@ -234,10 +234,27 @@ def later_transmission(fold, curve: int) -> np.ndarray:
     if trans is None or branches is None:
         return np.full(omega.shape, np.nan)
     later = np.asarray(branches)[curve] > 1
-    switch = fold.data.get("branch_switch")
+    switch, stairs = fold.data.get("branch_switch"), fold.data.get("transmission_stairs")
     if switch is not None:
         later &= np.asarray(switch)[curve] == 0
+    if stairs is not None:
+        later &= np.asarray(stairs)[curve] == 0
     return np.where(later, np.asarray(trans, dtype=float)[curve], np.nan)
+
+
+def transmission_on_stairs(fold, curve: int) -> np.ndarray:
+    """Where the chain of `curve`, settled past a fold on no stable periodic state, transmits when driven up in
+    stairs from there (/transmission_stairs 1 with no loss of stability below the fold, /branch_switch 0), NaN
+    elsewhere and for files without /transmission_stairs."""
+    omega = np.asarray(fold.data["omega"], dtype=float)
+    trans, stairs = fold.data.get("transmission_fold"), fold.data.get("transmission_stairs")
+    if trans is None or stairs is None:
+        return np.full(omega.shape, np.nan)
+    on = np.asarray(stairs)[curve] == 1
+    switch = fold.data.get("branch_switch")
+    if switch is not None:
+        on &= np.asarray(switch)[curve] == 0
+    return np.where(on, np.asarray(trans, dtype=float)[curve], np.nan)
 
 
 def transmission_past_loss(fold, curve: int) -> np.ndarray:

@@ -20,7 +20,7 @@ import numpy as np
 from ..reader import PlotError, Scene
 from ..style import fmt, styled, subplots
 from .common import (COLOURS, PANEL, conditions, curve_name, later_transmission, localized_folds,
-                     transmission_past_loss, vary_of)
+                     transmission_past_loss, transmission_on_stairs, vary_of)
 from .continuation import KINDS
 
 #: Width (in Omega) of the shaded window of a hysteresis file at a single frequency, as a fraction of the chart's
@@ -144,6 +144,10 @@ def draw_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene | 
                 if np.isfinite(later).any():
                     a.plot(omega, later, "*", ms=7, color="tab:red", zorder=5,
                            label=lab(f"fold of a later branch, past which the chain transmits{name}"))
+                climbed = transmission_on_stairs(fold, c)
+                if np.isfinite(climbed).any():
+                    a.plot(omega, climbed, "v", ms=5, color="tab:red", zorder=5,
+                           label=lab(f"stair on which the chain, settled on no stable periodic state, transmits{name}"))
             if scan is not None:
                 i = _match(scan, key, vary)
                 if i is not None:
