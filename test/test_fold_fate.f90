@@ -2,17 +2,21 @@
 !> The fate of a fold (`fold_fate` of `supratrans_fold_line`): the state at the fold, driven just past it, transmits
 !> on the paper's chain at Omega = 0.9 (where the fold is the supratransmission threshold); a stable periodic state
 !> below the fold, driven at its own amplitude, stays localized for the whole watch; the codes are named. Which
-!> periodic states have the half-period symmetry (a followed branch is then continued on the half-period map).
+!> periodic states have the half-period symmetry (a followed branch is then continued on the half-period map). The
+!> stairs (`climb_stairs`): none below their top, none run; from a stable state they follow its branch and the chain
+!> transmits on the stair just past its fold.
 module test_fold_fate
     use pf_runtime
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
     use supratrans_config, only: run_config
     use supratrans_fold_fate, only: fold_fate, fate_transmits, fate_localized, fate_push, fate_watch_time, fate_codes, &
-                                    half_period_symmetric
+                                    half_period_symmetric, stair_height, stair_time
+    use supratrans_chain_watch, only: climb_stairs
     use supratrans_period_map, only: period_map, period_map_init, set_half_period
     use continuation_maps, only: short_test_chain
-    use supratrans_continuation, only: continue_branch, continuation_controls, continuation_result, cont_fold_found
+    use supratrans_continuation, only: continue_branch, continuation_controls, continuation_result, cont_fold_found, &
+                                       continuation_stats
     implicit none
 
 contains
@@ -32,48 +36,48 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 34, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 38, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=1, floquet_every=8)
         call continue_branch(map, ctl, res)
         call assertEqual( &
             cont_fold_found, &
             res%status, &
-            location=pf_source_location('test_fold_fate.pf', 37, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 41, 'assertEqual'))
         if (pf_any_failed()) return
 
         call fold_fate(map, run, res%states(:, res%fold_index), res%fold_amplitude*(1.0_wp + fate_push), fate, time)
-        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 40, 'assertEqual'))
+        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 44, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             time, &
             fate_watch_time, &
-            location=pf_source_location('test_fold_fate.pf', 41, 'assertLessThan'))
+            location=pf_source_location('test_fold_fate.pf', 45, 'assertLessThan'))
         if (pf_any_failed()) return
-        call assertGreaterThan(time, 0.0_wp, location=pf_source_location('test_fold_fate.pf', 42, 'assertGreaterThan'))
+        call assertGreaterThan(time, 0.0_wp, location=pf_source_location('test_fold_fate.pf', 46, 'assertGreaterThan'))
         if (pf_any_failed()) return
 
         below = minloc(abs(res%amplitude(1:res%fold_index) - 0.8_wp*res%fold_amplitude), dim=1)
         call assertLessThan( &
             res%amplitude(below), &
             0.9_wp*res%fold_amplitude, &
-            location=pf_source_location('test_fold_fate.pf', 45, 'assertLessThan'))
+            location=pf_source_location('test_fold_fate.pf', 49, 'assertLessThan'))
         if (pf_any_failed()) return
         call fold_fate(map, run, res%states(:, below), res%amplitude(below), fate, time)
-        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 47, 'assertEqual'))
+        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 51, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             time, &
             fate_watch_time, &
-            location=pf_source_location('test_fold_fate.pf', 48, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_fold_fate.pf', 52, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(fate_codes(), "transmits") > 0, &
-            location=pf_source_location('test_fold_fate.pf', 49, 'assertTrue'))
+            location=pf_source_location('test_fold_fate.pf', 53, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(fate_codes(), "localized") > 0, &
-            location=pf_source_location('test_fold_fate.pf', 50, 'assertTrue'))
+            location=pf_source_location('test_fold_fate.pf', 54, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_fold_transmits_and_stable_state_stays
 
@@ -93,56 +97,130 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 69, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 73, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 70, 'assertEqual'))
+        call assertEqual(0, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 74, 'assertEqual'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=1.0_wp, floquet_every=0)
         call continue_branch(map, ctl, res)
         call assertGreaterThan( &
             res%n_points, &
             3, &
-            location=pf_source_location('test_fold_fate.pf', 73, 'assertGreaterThan'))
+            location=pf_source_location('test_fold_fate.pf', 77, 'assertGreaterThan'))
         if (pf_any_failed()) return
         i = res%n_points
         call assertGreaterThan( &
             res%amplitude(i), &
             0.9_wp, &
-            location=pf_source_location('test_fold_fate.pf', 75, 'assertGreaterThan'))
+            location=pf_source_location('test_fold_fate.pf', 79, 'assertGreaterThan'))
         if (pf_any_failed()) return
         x = res%states(:, i)
         call assertTrue( &
             half_period_symmetric(map, x, res%amplitude(i)), &
-            location=pf_source_location('test_fold_fate.pf', 77, 'assertTrue'))
+            location=pf_source_location('test_fold_fate.pf', 81, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(map%half, location=pf_source_location('test_fold_fate.pf', 78, 'assertTrue'))
+        call assertTrue(map%half, location=pf_source_location('test_fold_fate.pf', 82, 'assertTrue'))
         if (pf_any_failed()) return
         call set_half_period(map, .false., ok)
-        call assertTrue(ok, location=pf_source_location('test_fold_fate.pf', 80, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_fold_fate.pf', 84, 'assertTrue'))
         if (pf_any_failed()) return
         x(size(x)) = x(size(x)) + 1.0e-6_wp
         call assertFalse( &
             half_period_symmetric(map, x, res%amplitude(i)), &
-            location=pf_source_location('test_fold_fate.pf', 82, 'assertFalse'))
+            location=pf_source_location('test_fold_fate.pf', 86, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 83, 'assertFalse'))
+        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 87, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             half_period_symmetric(map, 0.1_wp*res%states(:, i), res%amplitude(i)), &
-            location=pf_source_location('test_fold_fate.pf', 84, 'assertFalse'))
+            location=pf_source_location('test_fold_fate.pf', 88, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 85, 'assertFalse'))
+        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 89, 'assertFalse'))
         if (pf_any_failed()) return
         run%numerics%dt = 0.0503_wp
         call period_map_init(map, run, error)
-        call assertEqual(1, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 88, 'assertEqual'))
+        call assertEqual(1, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 92, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             half_period_symmetric(map, 0.0_wp*x, 0.0_wp), &
-            location=pf_source_location('test_fold_fate.pf', 89, 'assertFalse'))
+            location=pf_source_location('test_fold_fate.pf', 93, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 90, 'assertFalse'))
+        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 94, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_half_period_symmetry
+
+    !> `climb_stairs` on the 40-site chain at Omega = 0.9, from the stable periodic state at about 0.8 A_f: with the
+    !> top less than a stair above the start no stair is run (the state, the amplitude and the counts unchanged);
+    !> with the top above the fold the chain follows its branch up the stairs and transmits on the first stair past
+    !> the fold (a slow ramp meets the fold from below), after whole stairs of ceiling(stair_time / period) periods.
+    ! @test
+    subroutine test_stairs_transmit_just_past_the_fold()
+        type(run_config) :: run
+        type(period_map) :: map
+        type(error_type), allocatable :: error
+        type(continuation_controls) :: ctl
+        type(continuation_result) :: res
+        type(continuation_stats) :: stats
+        real(wp), allocatable :: y(:)
+        real(wp) :: a, a0
+        integer :: fate, below, stairs, per_stair
+
+        run = short_test_chain()
+        call period_map_init(map, run, error)
+        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 115, 'assertFalse'))
+        if (pf_any_failed()) return
+        ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=1, floquet_every=8)
+        call continue_branch(map, ctl, res)
+        call assertEqual( &
+            cont_fold_found, &
+            res%status, &
+            location=pf_source_location('test_fold_fate.pf', 118, 'assertEqual'))
+        if (pf_any_failed()) return
+        below = minloc(abs(res%amplitude(1:res%fold_index) - 0.8_wp*res%fold_amplitude), dim=1)
+        a0 = res%amplitude(below)
+
+        y = res%states(:, below)
+        call climb_stairs(map, run, y, a0, a0 + 0.5_wp*stair_height, a, fate, stats)
+        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 124, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual(a0, a, location=pf_source_location('test_fold_fate.pf', 125, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual(res%states(:, below), y, location=pf_source_location('test_fold_fate.pf', 126, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual(0, stats%map_evaluations, location=pf_source_location('test_fold_fate.pf', 127, 'assertEqual'))
+        if (pf_any_failed()) return
+
+        call climb_stairs(map, run, y, a0, res%fold_amplitude + 0.5_wp, a, fate, stats)
+        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 130, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertGreaterThanOrEqual( &
+            a, &
+            res%fold_amplitude, &
+            location=pf_source_location('test_fold_fate.pf', 131, 'assertGreaterThanOrEqual'))
+        if (pf_any_failed()) return
+        call assertLessThan( &
+            a, &
+            res%fold_amplitude + stair_height, &
+            location=pf_source_location('test_fold_fate.pf', 132, 'assertLessThan'))
+        if (pf_any_failed()) return
+        stairs = nint((a - a0)/stair_height)
+        call assertEqual( &
+            a0 + real(stairs, wp)*stair_height, &
+            a, &
+            tolerance=1.0e-12_wp, &
+            location=pf_source_location('test_fold_fate.pf', 134, 'assertEqual'))
+        if (pf_any_failed()) return
+        per_stair = ceiling(stair_time/map%period)
+        call assertGreaterThan( &
+            stats%map_evaluations, &
+            (stairs - 1)*per_stair, &
+            location=pf_source_location('test_fold_fate.pf', 136, 'assertGreaterThan'))
+        if (pf_any_failed()) return
+        call assertLessThanOrEqual( &
+            stats%map_evaluations, &
+            stairs*per_stair, &
+            location=pf_source_location('test_fold_fate.pf', 137, 'assertLessThanOrEqual'))
+        if (pf_any_failed()) return
+    end subroutine test_stairs_transmit_just_past_the_fold
 
 end module test_fold_fate
