@@ -84,6 +84,11 @@ module supratrans_period_map
         logical :: half = .false.
         !> Newton iterations of the implicit steps in the last `apply` or `measures` (Newton scheme; 0 otherwise).
         integer :: newton_iterations = 0
+        !> When positive, `apply` also keeps `beyond_max`, the largest |u_n| over the sites n > `watch_site` and every
+        !> level of the period (a detector that sees every step, as a run's does, not only the period's end).
+        integer :: watch_site = 0
+        !> max |u_n|, n > `watch_site`, over the levels 0..M of the last `apply` (when `watch_site` > 0).
+        real(wp) :: beyond_max = 0.0_wp
         !> Chain parameters (c, beta, gamma, m^2, potential, absorber).
         type(chain_params) :: chain
         !> Work: P(x; A) of `measures`, size 2N.

@@ -74,6 +74,9 @@ contains
         self%u(0, lc) = amplitude*self%sin_t(1)
         ! the predictor's level -1: its first prediction is the linear extrapolation 2 u^1 - u^0
         self%u(:, lm2) = 2.0_wp*self%u(:, lm1) - self%u(:, lc)
+        self%beyond_max = 0.0_wp
+        if (self%watch_site > 0) self%beyond_max = max(maxval(abs(self%u(self%watch_site + 1:n, lm1))), &
+                                                       maxval(abs(self%u(self%watch_site + 1:n, lc))))
         if (measure) then
             umax = max(maxval(abs(self%u(1:n, lm1))), maxval(abs(self%u(1:n, lc))))
             energy_sum = stored_energy(self%scheme, self%chain%m2, self%u(:, lc), self%u(:, lm1))
@@ -93,6 +96,8 @@ contains
                 call store_tangent_step(self, step, lm1, lc, ln, status)
                 if (status /= map_ok) return
             end if
+            if (self%watch_site > 0 .and. step <= m - 1) &
+                self%beyond_max = max(self%beyond_max, maxval(abs(self%u(self%watch_site + 1:n, ln))))
             if (measure) then
                 if (step <= m - 1) then
                     ! E_k of levels k = step and k + 1

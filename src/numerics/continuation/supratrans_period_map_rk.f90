@@ -62,6 +62,8 @@ contains
                 self%ty(j, j) = 1.0_wp
             end do
         end if
+        self%beyond_max = 0.0_wp
+        if (self%watch_site > 0) self%beyond_max = maxval(abs(self%y(self%watch_site + 1:n)))
         if (measure) then
             umax = maxval(abs(self%y(1:n)))
             energy_sum = chain_energy(self%chain, amplitude*sin(self%omega*0.0_wp), self%y)
@@ -91,6 +93,7 @@ contains
                     call rk_tangent_step(self, dt, j == 2*n + 1, self%ty(:, j))
                 end do
             end if
+            if (self%watch_site > 0) self%beyond_max = max(self%beyond_max, maxval(abs(self%y(self%watch_site + 1:n))))
             if (measure .and. step <= m - 1) then
                 umax = max(umax, maxval(abs(self%y(1:n))))
                 energy_sum = energy_sum + chain_energy(self%chain, amplitude*sin(self%omega*real(step, wp)*dt), self%y)
