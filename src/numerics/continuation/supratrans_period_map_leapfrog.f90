@@ -96,8 +96,9 @@ contains
                 call store_tangent_step(self, step, lm1, lc, ln, status)
                 if (status /= map_ok) return
             end if
-            if (self%watch_site > 0 .and. step <= m - 1) &
+            if (self%watch_site > 0 .and. step <= m - 1) then
                 self%beyond_max = max(self%beyond_max, maxval(abs(self%u(self%watch_site + 1:n, ln))))
+            end if
             if (measure) then
                 if (step <= m - 1) then
                     ! E_k of levels k = step and k + 1
