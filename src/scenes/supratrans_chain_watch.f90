@@ -238,7 +238,8 @@ contains
                 fate = fate_failed
                 exit
             end if
-            if (max(map%beyond_max, maxval(abs(py(nd + 1:map%n)))) > run%detect%amplitude) then
+            ! (beyond_max covers the levels 0..M, the end state's u = py(1:N) among them)
+            if (map%beyond_max > run%detect%amplitude) then
                 fate = fate_transmits
                 exit
             end if

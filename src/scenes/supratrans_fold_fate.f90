@@ -28,7 +28,8 @@ module supratrans_fold_fate
     private
 
     public :: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, follow_to_transmission, &
-              add_branch_cost, add_stats, past_branch_point, branch_switch_codes, transmission_after, past_oscillatory_loss
+              add_branch_cost, add_stats, counted_fate, past_branch_point, branch_switch_codes, transmission_after, &
+              past_oscillatory_loss
     public :: fate_not_computed, fate_transmits, fate_localized, fate_failed, fate_push, fate_watch_time, &
               fate_min_periods, symmetric_tol, stair_height, stair_time
 
@@ -142,10 +143,8 @@ contains
             return
         end if
         r%branch_switch = switch_subcritical
-        stats = continuation_stats()
-        call fold_fate(map, run, res%instability_point(1:d) + switch_seed*e(1:d), a_b*(1.0_wp + fate_push), fate, time, &
-                       settled, stats=stats)
-        call add_stats(r, stats)
+        call counted_fate(map, run, res%instability_point(1:d) + switch_seed*e(1:d), a_b*(1.0_wp + fate_push), r, fate, &
+                          time, settled)
         call transmission_after(map, run, ctl, a_b, fate, settled, r)
     end subroutine past_branch_point
 
@@ -175,9 +174,8 @@ contains
         type(fold_record), intent(inout) :: r
         !> Whether the stairs ran (and filled `r%transmission_fold`, `r%branches`, `r%transmission_status`).
         logical, intent(out) :: done
-        type(continuation_stats) :: watched
         real(wp), allocatable :: y(:), last(:)
-        real(wp) :: a_t, top, a, time
+        real(wp) :: a_t, top, time
         integer :: d, fate
 
         d = map%dim
@@ -190,31 +188,67 @@ contains
         r%branches = 1
         r%transmission_status = follow_fate_failed
         y = seeded(res%instability_point(1:d))
-        call climb_stairs(map, run, y, a_t, top, a, fate, watched)
-        call add_stats(r, watched)
-        if (fate == fate_transmits) call on_stairs(r, a)
+        call counted_stairs(map, run, y, a_t, top, r, fate)
         if (fate /= fate_localized) return
         if (ieee_is_nan(fold)) then
             r%transmission_status = cont_no_fold
             return
         end if
-        watched = continuation_stats()
-        call fold_fate(map, run, y, top*(1.0_wp + fate_push), fate, time, last, stats=watched)
-        call add_stats(r, watched)
+        call counted_fate(map, run, y, top*(1.0_wp + fate_push), r, fate, time, last)
         call transmission_after(map, run, ctl, top, fate, last, r)
     end subroutine past_oscillatory_loss
 
-    !> `a`, a stair on which the chain transmitted, as the record's transmission.
-    pure subroutine on_stairs(r, a)
+    !> `fold_fate` from `x` at `amplitude`, its maps and their time added to the record's costs.
+    subroutine counted_fate(map, run, x, amplitude, r, fate, time, last)
+        !> The one-period map P.
+        type(period_map), intent(inout) :: map
+        !> The run (detector).
+        type(run_config), intent(in) :: run
+        !> The chain's state at the start.
+        real(wp), intent(in) :: x(:)
+        !> Drive amplitude.
+        real(wp), intent(in) :: amplitude
+        !> The record (its costs).
+        type(fold_record), intent(inout) :: r
+        !> `fate_transmits`, `fate_localized` or `fate_failed`.
+        integer, intent(out) :: fate
+        !> Time of the first transmission, or the time watched.
+        real(wp), intent(out) :: time
+        !> The state at the end of the watch (where the chain stays localized).
+        real(wp), allocatable, intent(out) :: last(:)
+        type(continuation_stats) :: stats
+
+        call fold_fate(map, run, x, amplitude, fate, time, last, stats=stats)
+        call add_stats(r, stats)
+    end subroutine counted_fate
+
+    !> `climb_stairs` from `y` at `a0` below `top`, its maps and their time added to the record's costs; the stair
+    !> on which the chain transmits, when it does, is the record's transmission (`transmission_stairs` 1).
+    subroutine counted_stairs(map, run, y, a0, top, r, fate)
+        !> The one-period map P.
+        type(period_map), intent(inout) :: map
+        !> The run (detector).
+        type(run_config), intent(in) :: run
+        !> The chain's state: in, at the start; out, at the end of the last stair held without transmission.
+        real(wp), allocatable, intent(inout) :: y(:)
+        !> The amplitude the chain was driven at before (the stairs start one step above it).
+        real(wp), intent(in) :: a0
+        !> The stairs stay below it.
+        real(wp), intent(in) :: top
         !> The record.
         type(fold_record), intent(inout) :: r
-        !> The stair's amplitude.
-        real(wp), intent(in) :: a
+        !> `fate_transmits`, `fate_localized` or `fate_failed` (`climb_stairs`).
+        integer, intent(out) :: fate
+        type(continuation_stats) :: stats
+        real(wp) :: a
 
+        call climb_stairs(map, run, y, a0, top, a, fate, stats)
+        call add_stats(r, stats)
+        if (fate /= fate_transmits) return
         r%transmission_fold = a
         r%transmission_status = cont_fold_found
         r%transmission_stairs = 1
-    end subroutine on_stairs
+    end subroutine counted_stairs
 
     !> x moved by `switch_seed` along the fixed unit direction (sin i)_i: the small asymmetry a slow ramp leaves.
     pure function seeded(x) result(y)
@@ -297,7 +331,7 @@ contains
         type(continuation_result) :: res
         type(continuation_stats) :: watched
         real(wp), allocatable :: x(:), chain(:)
-        real(wp) :: amplitude, time, a_stair
+        real(wp) :: amplitude, time
         integer :: fate
         logical :: half
 
@@ -335,17 +369,12 @@ contains
                 ! no stable periodic state where the chain settled (Newton-shooting found an unstable one, or none):
                 ! the chain itself is driven up in stairs from there
                 if (res%status == cont_unstable_start .or. res%n_points == 0) then
-                    watched = continuation_stats()
-                    call climb_stairs(map, run, chain, amplitude, ctl%amplitude_max, a_stair, fate, watched)
-                    call add_stats(r, watched)
-                    if (fate == fate_transmits) call on_stairs(r, a_stair)
+                    call counted_stairs(map, run, chain, amplitude, ctl%amplitude_max, r, fate)
                 end if
                 return
             end if
-            watched = continuation_stats()
-            call fold_fate(map, run, res%states(:, res%fold_index), res%fold_amplitude*(1.0_wp + fate_push), fate, &
-                           time, x, stats=watched)
-            call add_stats(r, watched)
+            call counted_fate(map, run, res%states(:, res%fold_index), res%fold_amplitude*(1.0_wp + fate_push), r, &
+                              fate, time, x)
             if (fate == fate_transmits) then
                 r%transmission_fold = res%fold_amplitude
                 r%transmission_status = cont_fold_found

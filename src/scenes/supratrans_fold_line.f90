@@ -34,14 +34,14 @@ module supratrans_fold_line
     use supratrans_period_map, only: period_map, period_map_init, set_half_period
     use supratrans_fixed_point_map, only: map_ok
     use supratrans_continuation, only: continue_branch, branch_multipliers, continuation_controls, &
-                                       continuation_result, continuation_stats, cont_fold_found, cont_no_fold, &
+                                       continuation_result, cont_fold_found, cont_no_fold, &
                                        cont_newton_failed, cont_step_too_small, cont_max_points, cont_unstable_start, &
                                        continuation_status_name
     use supratrans_floquet, only: crossing_none, crossing_fold, crossing_period_doubling, crossing_torus, &
                                   crossing_name
     use supratrans_fold_record, only: fold_record, branch_quantities, kept_multipliers, multiplier_samples
     use supratrans_fold_fate, only: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, &
-                                    transmission_after, add_branch_cost, add_stats, fate_push, follow_fate_failed, &
+                                    transmission_after, add_branch_cost, counted_fate, fate_push, follow_fate_failed, &
                                     past_branch_point, branch_switch_codes, past_oscillatory_loss
     implicit none
     private
@@ -76,9 +76,9 @@ contains
         type(period_map) :: map
         type(continuation_controls) :: ctl
         type(continuation_result) :: res
-        type(continuation_stats) :: watched
         type(error_type), allocatable :: error
-        integer :: npts, k, s, last
+        integer :: npts, k, s, last, fate_code
+        real(wp) :: fate_time
         integer :: samples(multiplier_samples)
         real(wp), allocatable :: settled(:)
         logical :: test_fate, half, switch
@@ -148,13 +148,14 @@ contains
         end if
         ! the fold's fate (and, where no loss of stability below it was followed, where the chain transmits past it)
         if (test_fate .and. res%fold_index > 0 .and. .not. ieee_is_nan(r%fold_amplitude)) then
-            call fold_fate(map, run, res%states(:, res%fold_index), r%fold_amplitude*(1.0_wp + fate_push), &
-                           r%fate, r%fate_time, settled, stats=watched)
-            call add_stats(r, watched)
+            call counted_fate(map, run, res%states(:, res%fold_index), res%fold_amplitude*(1.0_wp + fate_push), r, &
+                              fate_code, fate_time, settled)
+            r%fate = fate_code
+            r%fate_time = fate_time
             if (.not. switch) then
                 r%branches = 1
                 r%transmission_status = follow_fate_failed
-                call transmission_after(map, run, ctl, r%fold_amplitude, r%fate, settled, r)
+                call transmission_after(map, run, ctl, res%fold_amplitude, fate_code, settled, r)
             end if
         end if
         call add_branch_cost(r, res)
