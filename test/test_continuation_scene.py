@@ -261,6 +261,15 @@ def test_past_a_torus_the_chain_transmits_where_a_slow_ramp_does(exe, tmp_path):
         assert torus < transmission < top - 0.5, (torus, transmission, top)
         ramp = scan["threshold"][0, 0]
         assert abs(ramp - transmission) <= 0.02, (ramp, transmission)
+        _check_spread(fold["transmission_spread"][0, 0], transmission, torus)
+
+
+def _check_spread(spread, transmission, start):
+    """A stair's spread: a whole number of stairs (both climbs stand on the grid start + k 0.01), at most as far as
+    the first climb went above its start plus one stair (the second climb's bound)."""
+    stairs = spread / 0.01
+    assert np.isfinite(spread) and abs(stairs - round(stairs)) < 1e-6, spread
+    assert 0.0 <= spread <= transmission - start + 0.01 + 1e-9, (spread, transmission, start)
 
 
 def test_the_stairs_past_a_torus_are_the_same_for_two_threads_and_for_slices(exe, tmp_path):
@@ -269,6 +278,7 @@ def test_the_stairs_past_a_torus_are_the_same_for_two_threads_and_for_slices(exe
     one = _same_for_threads_and_slices(exe, tmp_path, TORUS.replace("omega_max = 0.35", "omega_max = 0.36"))
     with h5py.File(one) as f:
         np.testing.assert_array_equal(f["branch_switch"][0], [4, 1])
+        assert np.isfinite(f["transmission_spread"][0, 0]) and np.isnan(f["transmission_spread"][0, 1])
 
 
 @pytest.mark.parametrize("old,new,words", [
@@ -323,4 +333,5 @@ def test_a_fold_at_a_harmonic_resonance_is_not_called_the_transmission_threshold
         assert f["branch_switch"][0, 0] == 0
         transmission = f["transmission_fold"][0, 0]
         assert transmission > f["fold_amplitude"][0, 0] + 1.0
+        _check_spread(f["transmission_spread"][0, 0], transmission, f["fold_amplitude"][0, 0])
         assert abs(scan["threshold"][0, 0] - transmission) <= 0.05, (scan["threshold"][0, 0], transmission)

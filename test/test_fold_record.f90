@@ -50,13 +50,22 @@ contains
         r%chain_n = 124
         r%chain_n0 = 64
         r%chain_sigma = 6.0_wp
+        r%fate = 2
+        r%fate_time = 1000.5_wp
+        r%transmission_fold = 4.25_wp
+        r%branches = 3
+        r%transmission_status = 6
+        r%instability_lower = 1.2_wp
+        r%branch_switch = 4
+        r%transmission_stairs = 1
+        r%transmission_spread = 0.0625_wp
         r%branch = reshape([(real(i, wp), i=1, size(r%branch))], shape(r%branch))
         r%multiplier_re = reshape([(0.5_wp + i, i=1, size(r%multiplier_re))], shape(r%multiplier_re))
         r%multiplier_im = reshape([(-0.25_wp - i, i=1, size(r%multiplier_im))], shape(r%multiplier_im))
         r%multiplier_amplitude = [(0.125_wp*i, i=1, multiplier_samples)]
         v = fold_to_values(r)
         names = fold_fields(5)
-        call assertEqual(size(names), size(v), location=pf_source_location('test_fold_record.pf', 58, 'assertEqual'))
+        call assertEqual(size(names), size(v), location=pf_source_location('test_fold_record.pf', 67, 'assertEqual'))
         if (pf_any_failed()) return
         do i = 1, size(names) - 1
             do j = i + 1, size(names)
@@ -64,7 +73,7 @@ contains
                     call assertTrue( &
                         .false., &
                         message="field named twice: " // trim(names(i)), &
-                        location=pf_source_location('test_fold_record.pf', 62, 'assertTrue'))
+                        location=pf_source_location('test_fold_record.pf', 71, 'assertTrue'))
                     if (pf_any_failed()) return
                 end if
             end do
@@ -73,152 +82,209 @@ contains
         call assertEqual( &
             r%fold_amplitude, &
             back%fold_amplitude, &
-            location=pf_source_location('test_fold_record.pf', 67, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 76, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%fold_residual, &
             back%fold_residual, &
-            location=pf_source_location('test_fold_record.pf', 68, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 77, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(r%status, back%status, location=pf_source_location('test_fold_record.pf', 69, 'assertEqual'))
+        call assertEqual(r%status, back%status, location=pf_source_location('test_fold_record.pf', 78, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%instability_amplitude, &
             back%instability_amplitude, &
-            location=pf_source_location('test_fold_record.pf', 70, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 79, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%instability_type, &
             back%instability_type, &
-            location=pf_source_location('test_fold_record.pf', 71, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 80, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%instability_size, &
             back%instability_size, &
-            location=pf_source_location('test_fold_record.pf', 72, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 81, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%threshold, &
             back%threshold, &
-            location=pf_source_location('test_fold_record.pf', 73, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 82, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%threshold_kind, &
             back%threshold_kind, &
-            location=pf_source_location('test_fold_record.pf', 74, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 83, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%threshold_as, &
             back%threshold_as, &
-            location=pf_source_location('test_fold_record.pf', 75, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 84, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(r%dt_used, back%dt_used, location=pf_source_location('test_fold_record.pf', 76, 'assertEqual'))
+        call assertEqual(r%dt_used, back%dt_used, location=pf_source_location('test_fold_record.pf', 85, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%steps_per_period, &
             back%steps_per_period, &
-            location=pf_source_location('test_fold_record.pf', 77, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 86, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(r%points, back%points, location=pf_source_location('test_fold_record.pf', 78, 'assertEqual'))
+        call assertEqual(r%points, back%points, location=pf_source_location('test_fold_record.pf', 87, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%newton_iterations, &
             back%newton_iterations, &
-            location=pf_source_location('test_fold_record.pf', 79, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 88, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%map_evaluations, &
             back%map_evaluations, &
-            location=pf_source_location('test_fold_record.pf', 80, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 89, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%jacobians, &
             back%jacobians, &
-            location=pf_source_location('test_fold_record.pf', 81, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 90, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%factorizations, &
             back%factorizations, &
-            location=pf_source_location('test_fold_record.pf', 82, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 91, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%eigen_calls, &
             back%eigen_calls, &
-            location=pf_source_location('test_fold_record.pf', 83, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 92, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%wall_time, &
             back%wall_time, &
-            location=pf_source_location('test_fold_record.pf', 84, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 93, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%time_map, &
             back%time_map, &
-            location=pf_source_location('test_fold_record.pf', 85, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 94, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%time_tangent, &
             back%time_tangent, &
-            location=pf_source_location('test_fold_record.pf', 86, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 95, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(r%time_lu, back%time_lu, location=pf_source_location('test_fold_record.pf', 87, 'assertEqual'))
+        call assertEqual(r%time_lu, back%time_lu, location=pf_source_location('test_fold_record.pf', 96, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%time_eigen, &
             back%time_eigen, &
-            location=pf_source_location('test_fold_record.pf', 88, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 97, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%fold_half_dt, &
             back%fold_half_dt, &
-            location=pf_source_location('test_fold_record.pf', 89, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 98, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%fold_long_chain, &
             back%fold_long_chain, &
-            location=pf_source_location('test_fold_record.pf', 90, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 99, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%richardson, &
             back%richardson, &
-            location=pf_source_location('test_fold_record.pf', 91, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 100, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%error_estimate, &
             back%error_estimate, &
-            location=pf_source_location('test_fold_record.pf', 92, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 101, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(r%digits, back%digits, location=pf_source_location('test_fold_record.pf', 93, 'assertEqual'))
+        call assertEqual(r%digits, back%digits, location=pf_source_location('test_fold_record.pf', 102, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            r%chain_n, &
+            back%chain_n, &
+            location=pf_source_location('test_fold_record.pf', 103, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            r%chain_n0, &
+            back%chain_n0, &
+            location=pf_source_location('test_fold_record.pf', 104, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            r%chain_sigma, &
+            back%chain_sigma, &
+            location=pf_source_location('test_fold_record.pf', 105, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual(r%fate, back%fate, location=pf_source_location('test_fold_record.pf', 106, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            r%fate_time, &
+            back%fate_time, &
+            location=pf_source_location('test_fold_record.pf', 107, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            r%transmission_fold, &
+            back%transmission_fold, &
+            location=pf_source_location('test_fold_record.pf', 108, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            r%branches, &
+            back%branches, &
+            location=pf_source_location('test_fold_record.pf', 109, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            r%transmission_status, &
+            back%transmission_status, &
+            location=pf_source_location('test_fold_record.pf', 110, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            r%instability_lower, &
+            back%instability_lower, &
+            location=pf_source_location('test_fold_record.pf', 111, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            r%branch_switch, &
+            back%branch_switch, &
+            location=pf_source_location('test_fold_record.pf', 112, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            r%transmission_stairs, &
+            back%transmission_stairs, &
+            location=pf_source_location('test_fold_record.pf', 113, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            r%transmission_spread, &
+            back%transmission_spread, &
+            location=pf_source_location('test_fold_record.pf', 114, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             size(branch_quantities), &
             size(back%branch, 1), &
-            location=pf_source_location('test_fold_record.pf', 94, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 115, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             reshape(r%branch, [size(r%branch)]), &
             reshape(back%branch, [size(back%branch)]), &
-            location=pf_source_location('test_fold_record.pf', 95, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 116, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             reshape(r%multiplier_re, [size(r%multiplier_re)]), &
             reshape(back%multiplier_re, [size(back%multiplier_re)]), &
-            location=pf_source_location('test_fold_record.pf', 96, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 117, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             reshape(r%multiplier_im, [size(r%multiplier_im)]), &
             reshape(back%multiplier_im, [size(back%multiplier_im)]), &
-            location=pf_source_location('test_fold_record.pf', 97, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 118, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             r%multiplier_amplitude, &
             back%multiplier_amplitude, &
-            location=pf_source_location('test_fold_record.pf', 98, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 119, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             kept_multipliers, &
             size(back%multiplier_re, 1), &
-            location=pf_source_location('test_fold_record.pf', 99, 'assertEqual'))
+            location=pf_source_location('test_fold_record.pf', 120, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_round_trip
 

@@ -101,7 +101,7 @@ SCHEMA: dict[str, dict[str, tuple[tuple[str, ...], bool]]] = {
         "convergence/digits": _opt("curve", "omega"), "convergence/error_estimate": _opt("curve", "omega"),
         "fold_fate": _opt("curve", "omega"), "transmission_fold": _opt("curve", "omega"),
         "branches": _opt("curve", "omega"), "branch_switch": _opt("curve", "omega"),
-        "transmission_stairs": _opt("curve", "omega"),
+        "transmission_stairs": _opt("curve", "omega"), "transmission_spread": _opt("curve", "omega"),
     },
     "hysteresis": {
         "omega": _req("omega"), "stair_time": _req("stair_length"), "stair_amplitude": _req("stair"),

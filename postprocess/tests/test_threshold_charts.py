@@ -319,3 +319,23 @@ def test_a_stair_from_where_the_chain_settled_is_marked_apart(tmp_path):
     np.testing.assert_array_equal(star.get_ydata(), [np.nan, 3.9, np.nan])
     text = "\n".join(figures.summary(fold, full=True))
     assert text.count("transmits at 4.2 on stairs from where the chain settled") == 1
+
+
+def test_a_stair_is_drawn_with_the_spread_of_a_second_climb(tmp_path):
+    """/transmission_spread where /transmission_fold is a stair: an error bar of that half-height at the stair, none
+    elsewhere, and the summary gives the spread beside the stair."""
+    path = fold_file(tmp_path / "fold.h5")
+    with h5py.File(path, "a") as h:
+        h.create_dataset("fold_fate", data=np.array([[2, 1, 1]], dtype=np.int32))
+        h.create_dataset("transmission_fold", data=np.array([[4.2, FOLD[0, 1], FOLD[0, 2]]]))
+        h.create_dataset("branches", data=np.array([[2, 1, 1]], dtype=np.int32))
+        h.create_dataset("branch_switch", data=np.array([[0, 0, 0]], dtype=np.int32))
+        h.create_dataset("transmission_stairs", data=np.array([[1, 0, 0]], dtype=np.int32))
+        h.create_dataset("transmission_spread", data=np.array([[0.03, np.nan, np.nan]]))
+    fold = reader.open_scene(path)
+    ax = figures.draw_thresholds(fold).get_axes()[0]
+    (bars,) = [c for c in ax.containers if "spread of two climbs" in str(c.get_label())]
+    (segment,) = [s for s in bars.lines[2][0].get_segments() if s.size and np.all(np.isfinite(s))]
+    np.testing.assert_allclose(segment[:, 1], [4.17, 4.23])
+    text = "\n".join(figures.summary(fold, full=True))
+    assert text.count("transmits at 4.2 (a second climb: 0.03 away) on stairs from where the chain settled") == 1

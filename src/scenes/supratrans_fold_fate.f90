@@ -187,7 +187,7 @@ contains
         r%branch_switch = switch_stairs
         r%branches = 1
         r%transmission_status = follow_fate_failed
-        y = seeded(res%instability_point(1:d))
+        y = seeded(res%instability_point(1:d), 1)
         call counted_stairs(map, run, y, a_t, top, r, fate)
         if (fate /= fate_localized) return
         if (ieee_is_nan(fold)) then
@@ -223,7 +223,10 @@ contains
     end subroutine counted_fate
 
     !> `climb_stairs` from `y` at `a0` below `top`, its maps and their time added to the record's costs; the stair
-    !> on which the chain transmits, when it does, is the record's transmission (`transmission_stairs` 1).
+    !> on which the chain transmits, when it does, is the record's transmission (`transmission_stairs` 1), and a second
+    !> climb from the start moved by `switch_seed` along another fixed direction gives its spread: where the chain is
+    !> intermittent, a change of 1e-17 in Omega can move the stair by 0.1 (docs/continuation.md). The second climb
+    !> goes at most as far above the first's stair as that went above `a0` (it costs no more than the first).
     subroutine counted_stairs(map, run, y, a0, top, r, fate)
         !> The one-period map P.
         type(period_map), intent(inout) :: map
@@ -240,9 +243,17 @@ contains
         !> `fate_transmits`, `fate_localized` or `fate_failed` (`climb_stairs`).
         integer, intent(out) :: fate
         type(continuation_stats) :: stats
-        real(wp) :: a
+        real(wp), allocatable :: other(:)
+        real(wp) :: a, a2
+        integer :: fate2
 
+        other = seeded(y, 2)
         call climb_stairs(map, run, y, a0, top, a, fate, stats)
+        if (fate == fate_transmits) then
+            call climb_stairs(map, run, other, a0, min(top, 2*a - a0 + stair_height/2), a2, fate2, stats)
+            if (fate2 == fate_localized) a2 = a2 + stair_height
+            if (fate2 /= fate_failed) r%transmission_spread = abs(a2 - a)
+        end if
         call add_stats(r, stats)
         if (fate /= fate_transmits) return
         r%transmission_fold = a
@@ -250,15 +261,18 @@ contains
         r%transmission_stairs = 1
     end subroutine counted_stairs
 
-    !> x moved by `switch_seed` along the fixed unit direction (sin i)_i: the small asymmetry a slow ramp leaves.
-    pure function seeded(x) result(y)
+    !> x moved by `switch_seed` along the fixed unit direction (sin k i)_i (k = 1: the small asymmetry a slow ramp
+    !> leaves; k = 2 another of the same size).
+    pure function seeded(x, k) result(y)
         !> The state.
         real(wp), intent(in) :: x(:)
+        !> Which direction.
+        integer, intent(in) :: k
         real(wp), allocatable :: y(:)
         real(wp), allocatable :: s(:)
         integer :: i
 
-        s = [(sin(real(i, wp)), i=1, size(x))]
+        s = [(sin(real(k*i, wp)), i=1, size(x))]
         y = x + (switch_seed/norm2(s))*s
     end function seeded
 

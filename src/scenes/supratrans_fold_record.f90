@@ -31,7 +31,7 @@ module supratrans_fold_record
         "fold_half_dt", "fold_long_chain", "richardson", &
         "error_estimate", "digits", "chain_n", "chain_n0", "chain_sigma", "fate", "fate_time", &
         "transmission_fold", "branches", "transmission_status", "instability_lower", "branch_switch", &
-        "transmission_stairs"]
+        "transmission_stairs", "transmission_spread"]
 
     !> One (curve, Omega) task: the fold and stability of its branch, their convergence, the branch.
     type, public :: fold_record
@@ -114,6 +114,10 @@ module supratrans_fold_record
         !> 1 where `transmission_fold` is the stair on which the chain, driven up in stairs, transmitted; 0 where it
         !> is a fold or a branch point (or NaN).
         integer :: transmission_stairs = 0
+        !> Where `transmission_fold` is a stair: how far a second climb, from a start moved differently by the same
+        !> small amount, transmits from it (|A_2 - A_1|; where the second climb reached its top without transmitting,
+        !> its top - A_1, a lower bound). NaN where `transmission_fold` is not a stair.
+        real(wp) :: transmission_spread = 0.0_wp
         !> The branch: `branch_quantities` (rows) at each point (columns), NaN past `points`.
         real(wp), allocatable :: branch(:, :)
         !> Real and imaginary parts of the kept multipliers (`kept_multipliers`, `multiplier_samples`); NaN when not
@@ -181,6 +185,7 @@ contains
         r%chain_sigma = nan
         r%fate_time = nan
         r%transmission_fold = nan
+        r%transmission_spread = nan
         allocate (r%branch(size(branch_quantities), points_max), source=nan)
         r%multiplier_re = nan
         r%multiplier_im = nan
@@ -202,7 +207,7 @@ contains
              r%richardson, r%error_estimate, r%digits, real(r%chain_n, wp), real(r%chain_n0, wp), r%chain_sigma, &
              real(r%fate, wp), r%fate_time, r%transmission_fold, real(r%branches, wp), &
              real(r%transmission_status, wp), r%instability_lower, real(r%branch_switch, wp), &
-             real(r%transmission_stairs, wp), reshape(r%branch, [size(r%branch)])]
+             real(r%transmission_stairs, wp), r%transmission_spread, reshape(r%branch, [size(r%branch)])]
         do s = 1, multiplier_samples
             v = [v, reshape(transpose(reshape([r%multiplier_re(:, s), r%multiplier_im(:, s)], &
                                               [kept_multipliers, 2])), [2*kept_multipliers]), r%multiplier_amplitude(s)]
@@ -256,6 +261,7 @@ contains
         r%instability_lower = v(36)
         r%branch_switch = nint(v(37))
         r%transmission_stairs = nint(v(38))
+        r%transmission_spread = v(39)
         i = size(scalar_fields)
         nb = size(branch_quantities)*points_max
         r%branch = reshape(v(i + 1:i + nb), [size(branch_quantities), points_max])

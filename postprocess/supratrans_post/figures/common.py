@@ -257,6 +257,16 @@ def transmission_on_stairs(fold, curve: int) -> np.ndarray:
     return np.where(on, np.asarray(trans, dtype=float)[curve], np.nan)
 
 
+def transmission_spread(fold, curve: int) -> np.ndarray:
+    """How far a second climb of stairs transmits from the first (/transmission_spread: where /transmission_fold is
+    a stair, the chain intermittent), NaN elsewhere and for files without it."""
+    omega = np.asarray(fold.data["omega"], dtype=float)
+    spread = fold.data.get("transmission_spread")
+    if spread is None:
+        return np.full(omega.shape, np.nan)
+    return np.asarray(spread, dtype=float)[curve]
+
+
 def transmission_past_loss(fold, curve: int) -> np.ndarray:
     """Where the chain of `curve` transmits past a loss of stability below the fold (/branch_switch > 0: past a
     branch point the other branch's fold, a later one, or the branch point itself; past a torus or a period

@@ -189,14 +189,17 @@ def _past_branch_point(s: Scene, c: int, w: int) -> str:
     """", transmits at A past the branch point (its kind)" where the file switched branch there (/branch_switch
     1 .. 3), ", transmits at A on stairs past the loss" where it drove the chain up in stairs past a torus or a
     period doubling (4), ", transmits at A on stairs from where the chain settled" where it did so past a fold from
-    where the chain settled on no stable periodic state (/transmission_stairs 1, /branch_switch 0)."""
+    where the chain settled on no stable periodic state (/transmission_stairs 1, /branch_switch 0); a stair's
+    number with the spread of a second climb (/transmission_spread) where the file has it."""
     switch, stairs = s.data.get("branch_switch"), s.data.get("transmission_stairs")
     trans = float(s.data["transmission_fold"][c, w]) if "transmission_fold" in s.data else float("nan")
+    spread = float(s.data["transmission_spread"][c, w]) if "transmission_spread" in s.data else float("nan")
+    at = f"{fmt(trans, 6)} (a second climb: {fmt(spread, 2)} away)" if math.isfinite(spread) else fmt(trans, 6)
     if (switch is None or int(switch[c, w]) <= 0) and stairs is not None and int(stairs[c, w]) == 1:
-        return f", transmits at {fmt(trans, 6)} on stairs from where the chain settled"
+        return f", transmits at {at} on stairs from where the chain settled"
     if switch is None or int(switch[c, w]) <= 0:
         return ""
-    where = f"transmits at {fmt(trans, 6)}" if math.isfinite(trans) else "no transmission found"
+    where = f"transmits at {at}" if math.isfinite(trans) else "no transmission found"
     if int(switch[c, w]) == STAIRS:
         return f", {where} on stairs past the loss"
     return f", {where} past the branch point ({SWITCHES.get(int(switch[c, w]), 'unknown')})"

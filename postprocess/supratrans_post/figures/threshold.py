@@ -20,7 +20,7 @@ import numpy as np
 from ..reader import PlotError, Scene
 from ..style import fmt, styled, subplots
 from .common import (COLOURS, PANEL, conditions, curve_name, later_transmission, localized_folds,
-                     transmission_past_loss, transmission_on_stairs, vary_of)
+                     transmission_past_loss, transmission_on_stairs, transmission_spread, vary_of)
 from .continuation import KINDS
 
 #: Width (in Omega) of the shaded window of a hysteresis file at a single frequency, as a fraction of the chart's
@@ -136,6 +136,12 @@ def draw_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene | 
             if np.isfinite(past).any():
                 a.plot(omega, past, "^", ms=5, color="tab:green", zorder=5,
                        label=lab(f"where the chain transmits past a loss of stability{name}"))
+            spread = transmission_spread(fold, c)
+            if np.isfinite(spread).any():
+                trans = np.asarray(fold.data["transmission_fold"], dtype=float)[c]
+                a.errorbar(omega, np.where(np.isfinite(spread), trans, np.nan), yerr=np.nan_to_num(spread), fmt="none",
+                           ecolor="0.35", elinewidth=0.8, capsize=2, zorder=5,
+                           label=lab(f"spread of two climbs of stairs{name}"))
             stays = localized_folds(fold, c)
             if stays.any():
                 a.plot(omega[stays], fold_a[c][stays], "D", ms=5, mfc="none", mec="tab:red", zorder=5,
