@@ -339,3 +339,18 @@ def test_a_stair_is_drawn_with_the_spread_of_a_second_climb(tmp_path):
     np.testing.assert_allclose(segment[:, 1], [4.17, 4.23])
     text = "\n".join(figures.summary(fold, full=True))
     assert text.count("transmits at 4.2 (a second climb: 0.03 away) on stairs from where the chain settled") == 1
+
+
+def test_past_a_torus_where_no_stair_transmits_the_summary_names_the_fold(tmp_path):
+    """/branch_switch 4 with /transmission_stairs 0: the stairs from the loss reached the fold without transmitting
+    and the number is the fold's (input/fold_sg_050.nml); the summary says so and does not call it a stair."""
+    path = fold_file(tmp_path / "fold.h5")
+    with h5py.File(path, "a") as h:
+        h.create_dataset("fold_fate", data=np.array([[1, 1, 1]], dtype=np.int32))
+        h.create_dataset("transmission_fold", data=FOLD)
+        h.create_dataset("branches", data=np.array([[1, 1, 1]], dtype=np.int32))
+        h.create_dataset("branch_switch", data=np.array([[4, 0, 0]], dtype=np.int32))
+        h.create_dataset("transmission_stairs", data=np.array([[0, 0, 0]], dtype=np.int32))
+    text = "\n".join(figures.summary(reader.open_scene(path), full=True))
+    assert text.count("past the fold (the stairs from the loss did not transmit below it)") == 1
+    assert "on stairs" not in text

@@ -188,7 +188,8 @@ STAIRS = 4
 def _past_branch_point(s: Scene, c: int, w: int) -> str:
     """", transmits at A past the branch point (its kind)" where the file switched branch there (/branch_switch
     1 .. 3), ", transmits at A on stairs past the loss" where it drove the chain up in stairs past a torus or a
-    period doubling (4), ", transmits at A on stairs from where the chain settled" where it did so past a fold from
+    period doubling (4; ", transmits at A past the fold" where no stair did and the fold's fate transmits),
+    ", transmits at A on stairs from where the chain settled" where it did so past a fold from
     where the chain settled on no stable periodic state (/transmission_stairs 1, /branch_switch 0); a stair's
     number with the spread of a second climb (/transmission_spread) where the file has it."""
     switch, stairs = s.data.get("branch_switch"), s.data.get("transmission_stairs")
@@ -201,5 +202,7 @@ def _past_branch_point(s: Scene, c: int, w: int) -> str:
         return ""
     where = f"transmits at {at}" if math.isfinite(trans) else "no transmission found"
     if int(switch[c, w]) == STAIRS:
+        if stairs is not None and int(stairs[c, w]) == 0 and math.isfinite(trans):
+            return f", {where} past the fold (the stairs from the loss did not transmit below it)"
         return f", {where} on stairs past the loss"
     return f", {where} past the branch point ({SWITCHES.get(int(switch[c, w]), 'unknown')})"
