@@ -321,7 +321,7 @@ def test_a_stair_from_where_the_chain_settled_is_marked_apart(tmp_path):
     assert text.count("transmits at 4.2 on stairs from where the chain settled") == 1
 
 
-def test_a_stair_is_drawn_with_the_spread_of_a_second_climb(tmp_path):
+def test_a_stair_is_drawn_with_the_spread_of_its_climbs(tmp_path):
     """/transmission_spread where /transmission_fold is a stair: an error bar of that half-height at the stair, none
     elsewhere, and the summary gives the spread beside the stair."""
     path = fold_file(tmp_path / "fold.h5")
@@ -334,11 +334,11 @@ def test_a_stair_is_drawn_with_the_spread_of_a_second_climb(tmp_path):
         h.create_dataset("transmission_spread", data=np.array([[0.03, np.nan, np.nan]]))
     fold = reader.open_scene(path)
     ax = figures.draw_thresholds(fold).get_axes()[0]
-    (bars,) = [c for c in ax.containers if "spread of two climbs" in str(c.get_label())]
+    (bars,) = [c for c in ax.containers if "spread of the climbs" in str(c.get_label())]
     (segment,) = [s for s in bars.lines[2][0].get_segments() if s.size and np.all(np.isfinite(s))]
     np.testing.assert_allclose(segment[:, 1], [4.17, 4.23])
     text = "\n".join(figures.summary(fold, full=True))
-    assert text.count("transmits at 4.2 (a second climb: 0.03 away) on stairs from where the chain settled") == 1
+    assert text.count("transmits at 4.2 (climbs spread by 0.03) on stairs from where the chain settled") == 1
 
 
 def test_past_a_torus_where_no_stair_transmits_the_summary_names_the_fold(tmp_path):

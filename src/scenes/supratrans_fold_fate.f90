@@ -60,6 +60,9 @@ module supratrans_fold_fate
     !> Past a subcritical branch point the chain is driven from the branch point's state moved this far along the
     !> other branch's direction (a small asymmetry, as a slow ramp leaves the symmetric state with one).
     real(wp), parameter, public :: switch_seed = 1.0e-3_wp
+    !> The climbs of stairs besides the first, from the first's start moved by `switch_seed` along (sin k i)_i,
+    !> k = 2, 3, ...: how far from the first's stair they transmit is its spread (`transmission_spread`).
+    integer, parameter, public :: other_climbs = 2
 
 contains
 
@@ -223,10 +226,11 @@ contains
     end subroutine counted_fate
 
     !> `climb_stairs` from `y` at `a0` below `top`, its maps and their time added to the record's costs; the stair
-    !> on which the chain transmits, when it does, is the record's transmission (`transmission_stairs` 1), and a second
-    !> climb from the start moved by `switch_seed` along another fixed direction gives its spread: where the chain is
-    !> intermittent, a change of 1e-17 in Omega can move the stair by 0.1 (docs/continuation.md). The second climb
-    !> goes at most as far above the first's stair as that went above `a0` (it costs no more than the first).
+    !> on which the chain transmits, when it does, is the record's transmission (`transmission_stairs` 1), and
+    !> `other_climbs` more climbs from the start moved by `switch_seed` along other fixed directions give its spread,
+    !> the farthest of their stairs from it: where the chain is intermittent, a change of 1e-17 in Omega can move the
+    !> stair by 0.1 (docs/continuation.md). Each goes at most as far above the first's stair as that went above `a0`
+    !> (it costs no more than the first).
     subroutine counted_stairs(map, run, y, a0, top, r, fate)
         !> The one-period map P.
         type(period_map), intent(inout) :: map
@@ -243,16 +247,22 @@ contains
         !> `fate_transmits`, `fate_localized` or `fate_failed` (`climb_stairs`).
         integer, intent(out) :: fate
         type(continuation_stats) :: stats
-        real(wp), allocatable :: other(:)
-        real(wp) :: a, a2
-        integer :: fate2
+        real(wp), allocatable :: start(:), other(:)
+        real(wp) :: a, ak, spread
+        integer :: fate_k, k
 
-        other = seeded(y, 2)
+        start = y
         call climb_stairs(map, run, y, a0, top, a, fate, stats)
         if (fate == fate_transmits) then
-            call climb_stairs(map, run, other, a0, min(top, 2*a - a0 + stair_height/2), a2, fate2, stats)
-            if (fate2 == fate_localized) a2 = a2 + stair_height
-            if (fate2 /= fate_failed) r%transmission_spread = abs(a2 - a)
+            spread = -1.0_wp
+            do k = 2, 1 + other_climbs
+                other = seeded(start, k)
+                call climb_stairs(map, run, other, a0, min(top, 2*a - a0 + stair_height/2), ak, fate_k, stats)
+                ! (not transmitted within its bound: its next stair, a lower bound of where it would)
+                if (fate_k == fate_localized) ak = ak + stair_height
+                if (fate_k /= fate_failed) spread = max(spread, abs(ak - a))
+            end do
+            if (spread >= 0.0_wp) r%transmission_spread = spread
         end if
         call add_stats(r, stats)
         if (fate /= fate_transmits) return

@@ -82,12 +82,12 @@ contains
             // "a torus or a period doubling below the fold (/branch_switch 4), or from where the chain settled on " &
             // "no stable periodic state past a fold; 0 where it is a fold or a branch point, or NaN", dims=dims)
         call h5_write(file, "/transmission_spread", grid(recs%transmission_spread), "rad", "Where " &
-            // "/transmission_fold is a stair (/transmission_stairs 1): |A_2 - A_1|, A_2 the stair on which a second " &
-            // "climb transmits, from the same start moved by " // real_str(switch_seed, 3) // " along another fixed " &
-            // "direction (the chain is intermittent there: the spread of two climbs says how reproducible the stair " &
-            // "is); where the second climb, which goes at most as far above A_1 as the first went above its start, " &
-            // "did not transmit, the distance from A_1 to its next stair (a lower bound); NaN where " &
-            // "/transmission_fold is not a stair", dims=dims)
+            // "/transmission_fold is a stair (/transmission_stairs 1): max |A_k - A_1| over " &
+            // int_str(other_climbs) // " more climbs of the same stairs, each from the first's start moved by " &
+            // real_str(switch_seed, 3) // " along another fixed direction (the chain is intermittent there: how " &
+            // "reproducible the stair is; a lower bound of its uncertainty). A climb, which goes at most as far " &
+            // "above A_1 as the first went above its start, that did not transmit counts at its next stair; NaN " &
+            // "where /transmission_fold is not a stair", dims=dims)
         call h5_write(file, "/instability_amplitude", grid(recs%instability_amplitude), &
             "rad", "First amplitude along the branch where a Floquet multiplier leaves the unit circle; NaN when " &
             // "the branch stays stable up to its fold (the fold alone, floquet_every = 0, looks only where a real " &

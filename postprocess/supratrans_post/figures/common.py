@@ -258,7 +258,7 @@ def transmission_on_stairs(fold, curve: int) -> np.ndarray:
 
 
 def transmission_spread(fold, curve: int) -> np.ndarray:
-    """How far a second climb of stairs transmits from the first (/transmission_spread: where /transmission_fold is
+    """How far more climbs of stairs transmit from the first (/transmission_spread: where /transmission_fold is
     a stair, the chain intermittent), NaN elsewhere and for files without it."""
     omega = np.asarray(fold.data["omega"], dtype=float)
     spread = fold.data.get("transmission_spread")

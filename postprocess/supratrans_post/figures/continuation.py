@@ -191,11 +191,11 @@ def _past_branch_point(s: Scene, c: int, w: int) -> str:
     period doubling (4; ", transmits at A past the fold" where no stair did and the fold's fate transmits),
     ", transmits at A on stairs from where the chain settled" where it did so past a fold from
     where the chain settled on no stable periodic state (/transmission_stairs 1, /branch_switch 0); a stair's
-    number with the spread of a second climb (/transmission_spread) where the file has it."""
+    number with the spread of the climbs (/transmission_spread) where the file has it."""
     switch, stairs = s.data.get("branch_switch"), s.data.get("transmission_stairs")
     trans = float(s.data["transmission_fold"][c, w]) if "transmission_fold" in s.data else float("nan")
     spread = float(s.data["transmission_spread"][c, w]) if "transmission_spread" in s.data else float("nan")
-    at = f"{fmt(trans, 6)} (a second climb: {fmt(spread, 2)} away)" if math.isfinite(spread) else fmt(trans, 6)
+    at = f"{fmt(trans, 6)} (climbs spread by {fmt(spread, 2)})" if math.isfinite(spread) else fmt(trans, 6)
     if (switch is None or int(switch[c, w]) <= 0) and stairs is not None and int(stairs[c, w]) == 1:
         return f", transmits at {at} on stairs from where the chain settled"
     if switch is None or int(switch[c, w]) <= 0:

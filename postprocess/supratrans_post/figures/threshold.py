@@ -141,7 +141,7 @@ def draw_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene | 
                 trans = np.asarray(fold.data["transmission_fold"], dtype=float)[c]
                 a.errorbar(omega, np.where(np.isfinite(spread), trans, np.nan), yerr=np.nan_to_num(spread), fmt="none",
                            ecolor="0.35", elinewidth=0.8, capsize=2, zorder=5,
-                           label=lab(f"spread of two climbs of stairs{name}"))
+                           label=lab(f"spread of the climbs of stairs{name}"))
             stays = localized_folds(fold, c)
             if stays.any():
                 a.plot(omega[stays], fold_a[c][stays], "D", ms=5, mfc="none", mec="tab:red", zorder=5,
