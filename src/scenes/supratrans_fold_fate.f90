@@ -272,7 +272,7 @@ contains
     end subroutine counted_stairs
 
     !> x moved by `switch_seed` along the fixed unit direction (sin k i)_i (k = 1: the small asymmetry a slow ramp
-    !> leaves; k = 2 another of the same size).
+    !> leaves; k = 2, 3, ...: others of the same size, for the stairs' other climbs).
     pure function seeded(x, k) result(y)
         !> The state.
         real(wp), intent(in) :: x(:)
