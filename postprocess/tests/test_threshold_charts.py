@@ -271,9 +271,10 @@ def test_folds_past_which_the_chain_stays_localized_are_marked(tmp_path):
         (line,) = [ln for ln in fig.get_axes()[0].get_lines() if "stays localized" in ln.get_label()]
         np.testing.assert_array_equal(line.get_xdata(), [OMEGA[1]])
         np.testing.assert_array_equal(line.get_ydata(), [FOLD[0, 1]])
-    # the fold of the later branch past which the chain transmits, only where it is not the first fold
-    (star,) = [ln for ln in figures.draw_thresholds(fold).get_axes()[0].get_lines() if "later branch" in ln.get_label()]
-    np.testing.assert_array_equal(star.get_ydata(), [np.nan, 3.9, np.nan])
+    # the fold of the later branch past which the chain transmits, only where it is not the first fold (both charts)
+    for fig in (figures.draw_thresholds(fold), figures.draw_continuation(fold, None)):
+        (star,) = [ln for ln in fig.get_axes()[0].get_lines() if "later branch" in ln.get_label()]
+        np.testing.assert_array_equal(star.get_ydata(), [np.nan, 3.9, np.nan])
 
 
 def test_transmission_past_a_loss_of_stability_is_marked(tmp_path):
@@ -312,18 +313,19 @@ def test_a_stair_from_where_the_chain_settled_is_marked_apart(tmp_path):
         h.create_dataset("branch_switch", data=np.array([[0, 0, 0]], dtype=np.int32))
         h.create_dataset("transmission_stairs", data=np.array([[1, 0, 0]], dtype=np.int32))
     fold = reader.open_scene(path)
-    lines = figures.draw_thresholds(fold).get_axes()[0].get_lines()
-    (stair,) = [ln for ln in lines if "stair on which" in ln.get_label()]
-    np.testing.assert_array_equal(stair.get_ydata(), [4.2, np.nan, np.nan])
-    (star,) = [ln for ln in lines if "later branch" in ln.get_label()]
-    np.testing.assert_array_equal(star.get_ydata(), [np.nan, 3.9, np.nan])
+    for fig in (figures.draw_thresholds(fold), figures.draw_continuation(fold, None)):
+        lines = fig.get_axes()[0].get_lines()
+        (stair,) = [ln for ln in lines if "stair on which" in ln.get_label()]
+        np.testing.assert_array_equal(stair.get_ydata(), [4.2, np.nan, np.nan])
+        (star,) = [ln for ln in lines if "later branch" in ln.get_label()]
+        np.testing.assert_array_equal(star.get_ydata(), [np.nan, 3.9, np.nan])
     text = "\n".join(figures.summary(fold, full=True))
     assert text.count("transmits at 4.2 on stairs from where the chain settled") == 1
 
 
 def test_a_stair_is_drawn_with_the_spread_of_its_climbs(tmp_path):
     """/transmission_spread where /transmission_fold is a stair: an error bar of that half-height at the stair, none
-    elsewhere, and the summary gives the spread beside the stair."""
+    elsewhere, on both fold-line charts, and the summary gives the spread beside the stair."""
     path = fold_file(tmp_path / "fold.h5")
     with h5py.File(path, "a") as h:
         h.create_dataset("fold_fate", data=np.array([[2, 1, 1]], dtype=np.int32))
@@ -333,10 +335,10 @@ def test_a_stair_is_drawn_with_the_spread_of_its_climbs(tmp_path):
         h.create_dataset("transmission_stairs", data=np.array([[1, 0, 0]], dtype=np.int32))
         h.create_dataset("transmission_spread", data=np.array([[0.03, np.nan, np.nan]]))
     fold = reader.open_scene(path)
-    ax = figures.draw_thresholds(fold).get_axes()[0]
-    (bars,) = [c for c in ax.containers if "spread of the climbs" in str(c.get_label())]
-    (segment,) = [s for s in bars.lines[2][0].get_segments() if s.size and np.all(np.isfinite(s))]
-    np.testing.assert_allclose(segment[:, 1], [4.17, 4.23])
+    for fig in (figures.draw_thresholds(fold), figures.draw_continuation(fold, None)):
+        (bars,) = [c for c in fig.get_axes()[0].containers if "spread of the climbs" in str(c.get_label())]
+        (segment,) = [s for s in bars.lines[2][0].get_segments() if s.size and np.all(np.isfinite(s))]
+        np.testing.assert_allclose(segment[:, 1], [4.17, 4.23])
     text = "\n".join(figures.summary(fold, full=True))
     assert text.count("transmits at 4.2 (climbs spread by 0.03) on stairs from where the chain settled") == 1
 

@@ -276,3 +276,38 @@ def transmission_past_loss(fold, curve: int) -> np.ndarray:
     if trans is None or switch is None:
         return np.full(omega.shape, np.nan)
     return np.where(np.asarray(switch)[curve] > 0, np.asarray(trans, dtype=float)[curve], np.nan)
+
+
+def draw_transmission_marks(ax, fold, curve: int, suffix: str = "", legend: bool = True) -> None:
+    """On `ax`, where the chain of `curve` transmits when that is not its first fold: past a loss of stability
+    (green triangles), the folds past which it stays localized (red open diamonds) with a later branch's fold
+    (red stars) or the stair from where it settled (red v), and a stair's spread over its climbs (grey error bars).
+    `suffix` ends each legend label (", curve name"); `legend` False leaves them out (an inset's marks)."""
+    omega = np.asarray(fold.data["omega"], dtype=float)
+    fold_a = np.asarray(fold.data["fold_amplitude"], dtype=float)[curve]
+
+    def lab(text: str) -> str | None:
+        return text + suffix if legend else None
+
+    past = transmission_past_loss(fold, curve)
+    if np.isfinite(past).any():
+        ax.plot(omega, past, "^", ms=5, color="tab:green", zorder=5,
+                label=lab("where the chain transmits past a loss of stability"))
+    spread = transmission_spread(fold, curve)
+    if np.isfinite(spread).any():
+        trans = np.asarray(fold.data["transmission_fold"], dtype=float)[curve]
+        ax.errorbar(omega, np.where(np.isfinite(spread), trans, np.nan), yerr=np.nan_to_num(spread), fmt="none",
+                    ecolor="0.35", elinewidth=0.8, capsize=2, zorder=5, label=lab("spread of the climbs of stairs"))
+    stays = localized_folds(fold, curve)
+    if not stays.any():
+        return
+    ax.plot(omega[stays], fold_a[stays], "D", ms=5, mfc="none", mec="tab:red", zorder=5,
+            label=lab("fold past which the chain stays localized"))
+    later = later_transmission(fold, curve)
+    if np.isfinite(later).any():
+        ax.plot(omega, later, "*", ms=7, color="tab:red", zorder=5,
+                label=lab("fold of a later branch, past which the chain transmits"))
+    climbed = transmission_on_stairs(fold, curve)
+    if np.isfinite(climbed).any():
+        ax.plot(omega, climbed, "v", ms=5, color="tab:red", zorder=5,
+                label=lab("stair on which the chain, settled on no stable periodic state, transmits"))

@@ -15,7 +15,7 @@ import numpy as np
 
 from ..reader import Scene
 from ..style import fmt, styled, subplots
-from .common import PANEL, conditions, curve_name, localized_folds, styles, title, transmission_past_loss, vary_of
+from .common import PANEL, conditions, curve_name, draw_transmission_marks, styles, title, vary_of
 
 #: Names of the instability types (the file's /instability_type codes).
 KINDS = {0: "stable to the fold", 1: "multiplier +1", 2: "period doubling (-1)", 3: "torus (complex pair)"}
@@ -134,14 +134,7 @@ def _draw_fold_line(s: Scene, scan: Scene | None):
         if before.any():
             ax.plot(omega[before], inst[c][before], "v", ms=4, mfc="none", color=line.get_color(),
                     label=f"first loss of stability, {name}")
-        past = transmission_past_loss(s, c)
-        if np.isfinite(past).any():
-            ax.plot(omega, past, "^", ms=5, color="tab:green",
-                    label=f"where the chain transmits past a loss of stability, {name}")
-        stays = localized_folds(s, c)
-        if stays.any():
-            ax.plot(omega[stays], fold[c][stays], "D", ms=5, mfc="none", mec="tab:red",
-                    label=f"fold past which the chain stays localized, {name}")
+        draw_transmission_marks(ax, s, c, f", {name}")
     a_s = np.asarray(s.data["threshold_As"], dtype=float)
     if np.isfinite(a_s).any():
         ax.plot(omega, a_s[0], "x", color="black", ms=4, label=r"$A_s = 4\arctan(\lambda c/\Omega)$")

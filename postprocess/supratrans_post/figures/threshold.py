@@ -19,8 +19,7 @@ import numpy as np
 
 from ..reader import PlotError, Scene
 from ..style import fmt, styled, subplots
-from .common import (COLOURS, PANEL, conditions, curve_name, later_transmission, localized_folds,
-                     transmission_past_loss, transmission_on_stairs, transmission_spread, vary_of)
+from .common import COLOURS, PANEL, conditions, curve_name, draw_transmission_marks, vary_of
 from .continuation import KINDS
 
 #: Width (in Omega) of the shaded window of a hysteresis file at a single frequency, as a fraction of the chart's
@@ -132,28 +131,7 @@ def draw_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene | 
             if before.any():
                 a.plot(omega[before], inst[c][before], "o", ms=4, mfc="none", color=color, zorder=4,
                        label=lab(f"first loss of Floquet stability{name}"))
-            past = transmission_past_loss(fold, c)
-            if np.isfinite(past).any():
-                a.plot(omega, past, "^", ms=5, color="tab:green", zorder=5,
-                       label=lab(f"where the chain transmits past a loss of stability{name}"))
-            spread = transmission_spread(fold, c)
-            if np.isfinite(spread).any():
-                trans = np.asarray(fold.data["transmission_fold"], dtype=float)[c]
-                a.errorbar(omega, np.where(np.isfinite(spread), trans, np.nan), yerr=np.nan_to_num(spread), fmt="none",
-                           ecolor="0.35", elinewidth=0.8, capsize=2, zorder=5,
-                           label=lab(f"spread of the climbs of stairs{name}"))
-            stays = localized_folds(fold, c)
-            if stays.any():
-                a.plot(omega[stays], fold_a[c][stays], "D", ms=5, mfc="none", mec="tab:red", zorder=5,
-                       label=lab(f"fold past which the chain stays localized{name}"))
-                later = later_transmission(fold, c)
-                if np.isfinite(later).any():
-                    a.plot(omega, later, "*", ms=7, color="tab:red", zorder=5,
-                           label=lab(f"fold of a later branch, past which the chain transmits{name}"))
-                climbed = transmission_on_stairs(fold, c)
-                if np.isfinite(climbed).any():
-                    a.plot(omega, climbed, "v", ms=5, color="tab:red", zorder=5,
-                           label=lab(f"stair on which the chain, settled on no stable periodic state, transmits{name}"))
+            draw_transmission_marks(a, fold, c, name, legend=k == 0)
             if scan is not None:
                 i = _match(scan, key, vary)
                 if i is not None:
