@@ -28,7 +28,7 @@ module supratrans_fold_fate
     private
 
     public :: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, follow_to_transmission, &
-              add_branch_cost, add_stats, counted_fate, past_branch_point, branch_switch_codes, transmission_after, &
+              add_branch_cost, counted_fate, past_branch_point, branch_switch_codes, transmission_after, &
               past_oscillatory_loss
     public :: fate_not_computed, fate_transmits, fate_localized, fate_failed, fate_push, fate_watch_time, &
               fate_min_periods, symmetric_tol, stair_height, stair_time

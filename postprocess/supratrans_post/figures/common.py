@@ -289,10 +289,12 @@ def draw_transmission_marks(ax, fold, curve: int, suffix: str = "", legend: bool
     def lab(text: str) -> str | None:
         return text + suffix if legend else None
 
-    past = transmission_past_loss(fold, curve)
-    if np.isfinite(past).any():
-        ax.plot(omega, past, "^", ms=5, color="tab:green", zorder=5,
-                label=lab("where the chain transmits past a loss of stability"))
+    def mark(values: np.ndarray, marker: str, ms: int, text: str, **style) -> None:
+        if np.isfinite(values).any():
+            ax.plot(omega, values, marker, ms=ms, zorder=5, label=lab(text), **style)
+
+    mark(transmission_past_loss(fold, curve), "^", 5, "where the chain transmits past a loss of stability",
+         color="tab:green")
     spread = transmission_spread(fold, curve)
     if np.isfinite(spread).any():
         trans = np.asarray(fold.data["transmission_fold"], dtype=float)[curve]
@@ -303,11 +305,7 @@ def draw_transmission_marks(ax, fold, curve: int, suffix: str = "", legend: bool
         return
     ax.plot(omega[stays], fold_a[stays], "D", ms=5, mfc="none", mec="tab:red", zorder=5,
             label=lab("fold past which the chain stays localized"))
-    later = later_transmission(fold, curve)
-    if np.isfinite(later).any():
-        ax.plot(omega, later, "*", ms=7, color="tab:red", zorder=5,
-                label=lab("fold of a later branch, past which the chain transmits"))
-    climbed = transmission_on_stairs(fold, curve)
-    if np.isfinite(climbed).any():
-        ax.plot(omega, climbed, "v", ms=5, color="tab:red", zorder=5,
-                label=lab("stair on which the chain, settled on no stable periodic state, transmits"))
+    mark(later_transmission(fold, curve), "*", 7, "fold of a later branch, past which the chain transmits",
+         color="tab:red")
+    mark(transmission_on_stairs(fold, curve), "v", 5,
+         "stair on which the chain, settled on no stable periodic state, transmits", color="tab:red")
