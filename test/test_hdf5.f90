@@ -10,6 +10,7 @@ module test_hdf5
     use supratrans_kinds, only: wp, i8
     use supratrans_h5_test
     use supratrans_error
+    use supratrans_test_files, only: unique_tmp, path_exists, delete_file, error_text
     implicit none
 
     !> Path prefix of the files of the current test, unique per test.
@@ -21,7 +22,7 @@ contains
 
     ! @before
     subroutine set_up()
-        base = tmp_base()
+        base = unique_tmp("supratrans_test_hdf5_")
         leftover = ""
     end subroutine set_up
 
@@ -48,139 +49,139 @@ contains
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 47, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 48, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "scalars/x", [1.0_wp, 2.0_wp], "s", "replaced below")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 49, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 50, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "scalars/x", 3.25_wp, "m", "a length")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 51, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 52, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "arrays/v", v0, "s", "a vector", dims="time")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 53, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 54, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "arrays/m", m0, "1", "a matrix", dims="probe, time")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 55, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 56, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "arrays/c", c0, "J", "a cube")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 57, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 58, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 59, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 60, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 62, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 63, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "scalars/x", x, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 64, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 65, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(3.25_wp, x, 0.0_wp, location=pf_source_location('test_hdf5.pf', 65, 'assertEqual'))
+        call assertEqual(3.25_wp, x, 0.0_wp, location=pf_source_location('test_hdf5.pf', 66, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "arrays/v", v, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 67, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 68, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(v0, v, 0.0_wp, location=pf_source_location('test_hdf5.pf', 68, 'assertEqual'))
+        call assertEqual(v0, v, 0.0_wp, location=pf_source_location('test_hdf5.pf', 69, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "arrays/m", m, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 70, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 71, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([2, 3], shape(m), location=pf_source_location('test_hdf5.pf', 71, 'assertEqual'))
+        call assertEqual([2, 3], shape(m), location=pf_source_location('test_hdf5.pf', 72, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(m0, .true.), &
             pack(m, .true.), &
             0.0_wp, &
-            location=pf_source_location('test_hdf5.pf', 72, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 73, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/arrays/c", c, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 74, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 75, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([2, 3, 4], shape(c), location=pf_source_location('test_hdf5.pf', 75, 'assertEqual'))
+        call assertEqual([2, 3, 4], shape(c), location=pf_source_location('test_hdf5.pf', 76, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(c0, .true.), &
             pack(c, .true.), &
             0.0_wp, &
-            location=pf_source_location('test_hdf5.pf', 76, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 77, 'assertEqual'))
         if (pf_any_failed()) return
 
         call h5_read_attr(file, "scalars/x", "units", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 79, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 80, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("m", text, location=pf_source_location('test_hdf5.pf', 80, 'assertEqual'))
+        call assertEqual("m", text, location=pf_source_location('test_hdf5.pf', 81, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "scalars/x", "description", text, error)
-        call assertEqual("a length", text, location=pf_source_location('test_hdf5.pf', 82, 'assertEqual'))
+        call assertEqual("a length", text, location=pf_source_location('test_hdf5.pf', 83, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "arrays/m", "units", text, error)
-        call assertEqual("1", text, location=pf_source_location('test_hdf5.pf', 84, 'assertEqual'))
+        call assertEqual("1", text, location=pf_source_location('test_hdf5.pf', 85, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "arrays/m", "description", text, error)
-        call assertEqual("a matrix", text, location=pf_source_location('test_hdf5.pf', 86, 'assertEqual'))
+        call assertEqual("a matrix", text, location=pf_source_location('test_hdf5.pf', 87, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "arrays/m", "dimensions", text, error)
-        call assertEqual("probe, time", text, location=pf_source_location('test_hdf5.pf', 88, 'assertEqual'))
+        call assertEqual("probe, time", text, location=pf_source_location('test_hdf5.pf', 89, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "arrays/v", "dimensions", text, error)
-        call assertEqual("time", text, location=pf_source_location('test_hdf5.pf', 90, 'assertEqual'))
+        call assertEqual("time", text, location=pf_source_location('test_hdf5.pf', 91, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_attr_exists(file, "arrays/c", "units"), &
             message="units of arrays/c", &
-            location=pf_source_location('test_hdf5.pf', 91, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 92, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_attr_exists(file, "arrays/c", "description"), &
             message="description", &
-            location=pf_source_location('test_hdf5.pf', 92, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 93, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_attr_exists(file, "arrays/c", "dimensions"), &
             message="no dimensions", &
-            location=pf_source_location('test_hdf5.pf', 93, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 94, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 95, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 96, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_roundtrip_real
 
@@ -199,118 +200,118 @@ contains
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 110, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 111, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "n", 42, "1", "an integer")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 112, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 113, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ints/k", [5, 6, 7], "1", "integers", dims="site")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 114, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 115, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ints/k2", k0, "1", "an integer matrix", dims="column, row")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 116, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 117, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ints/big", 2_i8**40 + 1_i8, "1", "a 64-bit integer")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 118, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 119, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "ints/bigs", [-(2_i8**50), 3_i8], "1", "64-bit integers")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 120, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 121, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 122, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 123, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 125, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 126, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "n", n, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 127, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 128, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(42, n, location=pf_source_location('test_hdf5.pf', 128, 'assertEqual'))
+        call assertEqual(42, n, location=pf_source_location('test_hdf5.pf', 129, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "ints/k", k, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 130, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 131, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([5, 6, 7], k, location=pf_source_location('test_hdf5.pf', 131, 'assertEqual'))
+        call assertEqual([5, 6, 7], k, location=pf_source_location('test_hdf5.pf', 132, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "ints/k2", k2, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 133, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 134, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([2, 2], shape(k2), location=pf_source_location('test_hdf5.pf', 134, 'assertEqual'))
+        call assertEqual([2, 2], shape(k2), location=pf_source_location('test_hdf5.pf', 135, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(k0, .true.), &
             pack(k2, .true.), &
-            location=pf_source_location('test_hdf5.pf', 135, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 136, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "ints/big", big, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 137, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 138, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             big == 2_i8**40 + 1_i8, &
             message="64-bit scalar round trip", &
-            location=pf_source_location('test_hdf5.pf', 138, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 139, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read(file, "ints/bigs", bigs, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 140, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 141, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(bigs == [-(2_i8**50), 3_i8]), &
             message="64-bit array round trip", &
-            location=pf_source_location('test_hdf5.pf', 141, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 142, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "ints/k2", "dimensions", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 143, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 144, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("column, row", text, location=pf_source_location('test_hdf5.pf', 144, 'assertEqual'))
+        call assertEqual("column, row", text, location=pf_source_location('test_hdf5.pf', 145, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "n", "description", text, error)
-        call assertEqual("an integer", text, location=pf_source_location('test_hdf5.pf', 146, 'assertEqual'))
+        call assertEqual("an integer", text, location=pf_source_location('test_hdf5.pf', 147, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 148, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 149, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_roundtrip_integer
 
@@ -326,95 +327,95 @@ contains
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 160, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 161, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "model", "sine-Gordon", "", "name of the potential")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 162, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 163, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "empty", "", "", "an empty string")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 164, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 165, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "lists/names", names, "", "names of the potentials", dims="potential")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 166, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 167, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 168, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 169, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 171, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 172, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "model", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 173, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 174, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("sine-Gordon", text, location=pf_source_location('test_hdf5.pf', 174, 'assertEqual'))
+        call assertEqual("sine-Gordon", text, location=pf_source_location('test_hdf5.pf', 175, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(11, len(text), location=pf_source_location('test_hdf5.pf', 175, 'assertEqual'))
+        call assertEqual(11, len(text), location=pf_source_location('test_hdf5.pf', 176, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "empty", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 177, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 178, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0, len(text), location=pf_source_location('test_hdf5.pf', 178, 'assertEqual'))
+        call assertEqual(0, len(text), location=pf_source_location('test_hdf5.pf', 179, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "lists/names", texts, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 180, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 181, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(3, size(texts), location=pf_source_location('test_hdf5.pf', 181, 'assertEqual'))
+        call assertEqual(3, size(texts), location=pf_source_location('test_hdf5.pf', 182, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("sg", trim(texts(1)), location=pf_source_location('test_hdf5.pf', 182, 'assertEqual'))
+        call assertEqual("sg", trim(texts(1)), location=pf_source_location('test_hdf5.pf', 183, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("phi4", trim(texts(2)), location=pf_source_location('test_hdf5.pf', 183, 'assertEqual'))
+        call assertEqual("phi4", trim(texts(2)), location=pf_source_location('test_hdf5.pf', 184, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("dsg", trim(texts(3)), location=pf_source_location('test_hdf5.pf', 184, 'assertEqual'))
+        call assertEqual("dsg", trim(texts(3)), location=pf_source_location('test_hdf5.pf', 185, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "lists/names", "description", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 186, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 187, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             "names of the potentials", &
             text, &
-            location=pf_source_location('test_hdf5.pf', 187, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 188, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "model", "units", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 189, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 190, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("", text, location=pf_source_location('test_hdf5.pf', 190, 'assertEqual'))
+        call assertEqual("", text, location=pf_source_location('test_hdf5.pf', 191, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 192, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 193, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_roundtrip_character
 
@@ -434,179 +435,179 @@ contains
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 208, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 209, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "code", "supratrans")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 210, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 211, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "dt", 0.05_wp)
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 212, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 213, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "probes", [1.0_wp, 2.0_wp, 4.0_wp])
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 214, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 215, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "nsites", 200)
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 216, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 217, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "sites", [10, 20])
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 218, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 219, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "steps", 2_i8**35)
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 220, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 221, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "params/chain", "absorber", .true.)
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 222, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 223, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "params/chain", "periodic", .false.)
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 224, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 225, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write_attr(file, "/", "nsites", "replaced by a string")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 226, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 227, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_create_group(file, "params", "run parameters")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 228, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 229, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 230, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 231, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base//".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 233, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 234, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "code", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 235, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 236, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("supratrans", text, location=pf_source_location('test_hdf5.pf', 236, 'assertEqual'))
+        call assertEqual("supratrans", text, location=pf_source_location('test_hdf5.pf', 237, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "dt", x, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 238, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 239, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0.05_wp, x, 0.0_wp, location=pf_source_location('test_hdf5.pf', 239, 'assertEqual'))
+        call assertEqual(0.05_wp, x, 0.0_wp, location=pf_source_location('test_hdf5.pf', 240, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "probes", xs, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 241, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 242, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             [1.0_wp, 2.0_wp, 4.0_wp], &
             xs, &
             0.0_wp, &
-            location=pf_source_location('test_hdf5.pf', 242, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 243, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "nsites", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 244, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 245, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("replaced by a string", text, location=pf_source_location('test_hdf5.pf', 245, 'assertEqual'))
+        call assertEqual("replaced by a string", text, location=pf_source_location('test_hdf5.pf', 246, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "sites", ns, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 247, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 248, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual([10, 20], ns, location=pf_source_location('test_hdf5.pf', 248, 'assertEqual'))
+        call assertEqual([10, 20], ns, location=pf_source_location('test_hdf5.pf', 249, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "steps", big, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 250, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 251, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             big == 2_i8**35, &
             message="64-bit attribute round trip", &
-            location=pf_source_location('test_hdf5.pf', 251, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 252, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "params/chain", "absorber", flag, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 253, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 254, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             flag, &
             message="logical attribute true", &
-            location=pf_source_location('test_hdf5.pf', 254, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 255, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "params/chain", "periodic", flag, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 256, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 257, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             flag, &
             message="logical attribute false", &
-            location=pf_source_location('test_hdf5.pf', 257, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 258, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "params/chain", "absorber", n, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 259, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 260, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(1, n, location=pf_source_location('test_hdf5.pf', 260, 'assertEqual'))
+        call assertEqual(1, n, location=pf_source_location('test_hdf5.pf', 261, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "params", "description", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 262, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 263, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual("run parameters", text, location=pf_source_location('test_hdf5.pf', 263, 'assertEqual'))
+        call assertEqual("run parameters", text, location=pf_source_location('test_hdf5.pf', 264, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 265, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 266, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_roundtrip_attributes
 
@@ -622,38 +623,38 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 277, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 278, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_create(file, base//".h5", .false.)
         call assertTrue( &
             h5_failed(file), &
             message="creating over an existing file must fail", &
-            location=pf_source_location('test_hdf5.pf', 280, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 281, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_write(file, "n", 3, "1", "ignored: the refusal stuck")
         call h5_commit(file, error)
         call assertTrue( &
             allocated(error), &
             message="the commit returns the refusal", &
-            location=pf_source_location('test_hdf5.pf', 283, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 284, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 284, 'assertEqual'))
+        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 285, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "output file exists") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 285, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 286, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, base//".h5") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 286, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 287, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             writable(file), &
             message="no file is open after the refusal", &
-            location=pf_source_location('test_hdf5.pf', 287, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 288, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_create(file, base//".h5", .true.)
@@ -662,21 +663,21 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 292, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 293, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_open(file, base//".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 294, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 295, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "n", n, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 296, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 297, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(2, n, location=pf_source_location('test_hdf5.pf', 297, 'assertEqual'))
+        call assertEqual(2, n, location=pf_source_location('test_hdf5.pf', 298, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
     end subroutine test_refuses_to_overwrite
@@ -691,45 +692,45 @@ contains
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 308, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 309, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "x", 1.0_wp, "1", "a value")
         call assertFalse( &
             path_exists(base//".h5"), &
             message="no final file before commit: the file is built in memory", &
-            location=pf_source_location('test_hdf5.pf', 310, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 311, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_create(second, base//".h5", .false.)
         call assertFalse( &
             h5_failed(second), &
             message="two files being built under one name do not collide", &
-            location=pf_source_location('test_hdf5.pf', 312, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 313, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_discard(second)
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 315, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 316, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             path_exists(base//".h5"), &
             message="the final file exists after commit", &
-            location=pf_source_location('test_hdf5.pf', 316, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 317, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             writable(file), &
             message="commit closes the file", &
-            location=pf_source_location('test_hdf5.pf', 317, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 318, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_open(file, base//".h5", error)
         call h5_read(file, "x", x, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 320, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 321, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(1.0_wp, x, 0.0_wp, location=pf_source_location('test_hdf5.pf', 321, 'assertEqual'))
+        call assertEqual(1.0_wp, x, 0.0_wp, location=pf_source_location('test_hdf5.pf', 322, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
     end subroutine test_nothing_on_disk_before_commit
@@ -744,12 +745,12 @@ contains
         call assertFalse( &
             path_exists(base//".h5"), &
             message="no final file after discard", &
-            location=pf_source_location('test_hdf5.pf', 332, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 333, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             writable(file), &
             message="discard closes the file", &
-            location=pf_source_location('test_hdf5.pf', 333, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 334, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_discard_leaves_nothing
 
@@ -762,94 +763,94 @@ contains
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 342, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 343, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "a"), &
             message="a before writing", &
-            location=pf_source_location('test_hdf5.pf', 343, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 344, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "a/b/c", 1, "1", "a nested value")
         call assertFalse( &
             h5_failed(file), &
             message=file_error(file), &
-            location=pf_source_location('test_hdf5.pf', 345, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 346, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_exists(file, "/"), &
             message="/", &
-            location=pf_source_location('test_hdf5.pf', 346, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 347, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_exists(file, "a"), &
             message="a", &
-            location=pf_source_location('test_hdf5.pf', 347, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 348, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_exists(file, "a/b"), &
             message="a/b", &
-            location=pf_source_location('test_hdf5.pf', 348, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 349, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_exists(file, "a/b/c"), &
             message="a/b/c", &
-            location=pf_source_location('test_hdf5.pf', 349, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 350, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_exists(file, "/a/b/c"), &
             message="/a/b/c", &
-            location=pf_source_location('test_hdf5.pf', 350, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 351, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_exists(file, "a/b/"), &
             message="a/b/", &
-            location=pf_source_location('test_hdf5.pf', 351, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 352, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "a/x"), &
             message="a/x", &
-            location=pf_source_location('test_hdf5.pf', 352, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 353, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "a/x/c"), &
             message="a/x/c", &
-            location=pf_source_location('test_hdf5.pf', 353, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 354, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "x/b/c"), &
             message="x/b/c", &
-            location=pf_source_location('test_hdf5.pf', 354, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 355, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "a/b/c/d"), &
             message="a/b/c/d", &
-            location=pf_source_location('test_hdf5.pf', 355, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 356, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_attr_exists(file, "a/b/c", "units"), &
             message="units of a/b/c", &
-            location=pf_source_location('test_hdf5.pf', 356, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 357, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_attr_exists(file, "a/b/c", "colour"), &
             message="colour of a/b/c", &
-            location=pf_source_location('test_hdf5.pf', 357, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 358, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_attr_exists(file, "a/x", "units"), &
             message="units of a/x", &
-            location=pf_source_location('test_hdf5.pf', 358, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 359, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 360, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 361, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_exists(file, "a"), &
             message="nothing exists in a closed file", &
-            location=pf_source_location('test_hdf5.pf', 361, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 362, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_exists_nested
 
@@ -866,42 +867,42 @@ contains
         call assertTrue( &
             h5_failed(file), &
             message="1 dimension name for rank 2 must be refused", &
-            location=pf_source_location('test_hdf5.pf', 374, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 375, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_write(file, "fields/n", 1, "1", "a value written after the error")
         call assertFalse( &
             h5_exists(file, "fields/n"), &
             message="a write after the first error does nothing", &
-            location=pf_source_location('test_hdf5.pf', 376, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 377, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_write(file, "fields", 1, "1", "a second error, not kept")
         call h5_commit(file, error)
         call assertTrue( &
             allocated(error), &
             message="the commit refuses a file whose write failed", &
-            location=pf_source_location('test_hdf5.pf', 379, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 380, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 380, 'assertEqual'))
+        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 381, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "fields/m") > 0, &
             message="the first error is kept: "//error%message, &
-            location=pf_source_location('test_hdf5.pf', 381, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 382, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "rank 2") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 382, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 383, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base//".h5"), &
             message="nothing is written under the name of a refused file", &
-            location=pf_source_location('test_hdf5.pf', 383, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 384, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             writable(file), &
             message="a refused commit closes the file", &
-            location=pf_source_location('test_hdf5.pf', 384, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 385, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_first_error_sticks
 
@@ -921,70 +922,70 @@ contains
         call assertFalse( &
             h5_exists(file, "/z"), &
             message="index scales are made at commit, not before", &
-            location=pf_source_location('test_hdf5.pf', 400, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 401, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 402, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 403, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_open(file, base//".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 404, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 405, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/x", "CLASS", text, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 406, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 407, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             "DIMENSION_SCALE", &
             text, &
             message="the axis /x is a dimension scale", &
-            location=pf_source_location('test_hdf5.pf', 407, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 408, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/x", "NAME", text, error)
         call assertEqual( &
             "x", &
             text, &
             message="named after its dimension", &
-            location=pf_source_location('test_hdf5.pf', 409, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 410, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_attr_exists(file, "g/y", "DIMENSION_LIST"), &
             message="g/y has its scales attached", &
-            location=pf_source_location('test_hdf5.pf', 410, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 411, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_attr_exists(file, "g/y", "DIMENSION_LABELS"), &
             message="g/y has its dimensions labelled", &
-            location=pf_source_location('test_hdf5.pf', 411, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 412, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_attr_exists(file, "/x", "REFERENCE_LIST"), &
             message="/x knows it is attached to g/y", &
-            location=pf_source_location('test_hdf5.pf', 412, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 413, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read(file, "/z", index, error)
         call assertFalse( &
             allocated(error), &
             message="the index scale /z: "//error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 414, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 415, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             [0, 1, 2], &
             index, &
             message="the index of the 3 z", &
-            location=pf_source_location('test_hdf5.pf', 415, 'assertEqual'))
+            location=pf_source_location('test_hdf5.pf', 416, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_attr_exists(file, "/z", "REFERENCE_LIST"), &
             message="/z is attached", &
-            location=pf_source_location('test_hdf5.pf', 416, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 417, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_close(file, error)
     end subroutine test_dimension_scales_attached
@@ -1002,27 +1003,27 @@ contains
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 430, 'assertFalse'))
+                location=pf_source_location('test_hdf5.pf', 431, 'assertFalse'))
             if (pf_any_failed()) return
             call h5_open(file, base//".h5", error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 432, 'assertFalse'))
+                location=pf_source_location('test_hdf5.pf', 433, 'assertFalse'))
             if (pf_any_failed()) return
             call h5_read(file, "i", n, error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 434, 'assertFalse'))
+                location=pf_source_location('test_hdf5.pf', 435, 'assertFalse'))
             if (pf_any_failed()) return
-            call assertEqual(i, n, location=pf_source_location('test_hdf5.pf', 435, 'assertEqual'))
+            call assertEqual(i, n, location=pf_source_location('test_hdf5.pf', 436, 'assertEqual'))
             if (pf_any_failed()) return
             call h5_close(file, error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_hdf5.pf', 437, 'assertFalse'))
+                location=pf_source_location('test_hdf5.pf', 438, 'assertFalse'))
             if (pf_any_failed()) return
         end do
     end subroutine test_many_files_in_one_process
@@ -1039,14 +1040,14 @@ contains
         call assertTrue( &
             allocated(error), &
             message="opening a missing file must fail", &
-            location=pf_source_location('test_hdf5.pf', 450, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 451, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 451, 'assertEqual'))
+        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 452, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, base//"_b.h5") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 452, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 453, 'assertTrue'))
         if (pf_any_failed()) return
 
         call h5_create(file, base//".h5", .false.)
@@ -1055,17 +1056,17 @@ contains
         call assertTrue( &
             h5_failed(file), &
             message="a dataset must not replace a group", &
-            location=pf_source_location('test_hdf5.pf', 457, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 458, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(file%error%message, "'fields'") > 0, &
             message=file%error%message, &
-            location=pf_source_location('test_hdf5.pf', 458, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 459, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(file%error%message, base//".h5") > 0, &
             message=file%error%message, &
-            location=pf_source_location('test_hdf5.pf', 459, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 460, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_discard(file)
 
@@ -1075,75 +1076,61 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 465, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 466, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_open(file, base//".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 467, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 468, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "fields/missing", v, error)
         call assertTrue( &
             allocated(error), &
             message="reading a missing dataset must fail", &
-            location=pf_source_location('test_hdf5.pf', 469, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 470, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 470, 'assertEqual'))
+        call assertEqual(err_io, error%stat, location=pf_source_location('test_hdf5.pf', 471, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "fields/missing") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 471, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 472, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, base//".h5") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 472, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 473, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read(file, "fields/m", v, error)
         call assertTrue( &
             allocated(error), &
             message="reading a rank-2 dataset as rank 1 must fail", &
-            location=pf_source_location('test_hdf5.pf', 474, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 475, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "rank") > 0, &
             message=error%message, &
-            location=pf_source_location('test_hdf5.pf', 475, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 476, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_write(file, "fields/n", 1, "1", "a value")
         call assertTrue( &
             h5_failed(file), &
             message="writing to a read-only file must fail", &
-            location=pf_source_location('test_hdf5.pf', 477, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 478, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(file%error%message, "read-only") > 0, &
             message=file%error%message, &
-            location=pf_source_location('test_hdf5.pf', 478, 'assertTrue'))
+            location=pf_source_location('test_hdf5.pf', 479, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_hdf5.pf', 480, 'assertFalse'))
+            location=pf_source_location('test_hdf5.pf', 481, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_errors_name_file_and_object
-
-    !> A unique path prefix under /tmp for the files of one test.
-    function tmp_base() result(path)
-        character(len=:), allocatable :: path
-        character(len=16) :: tag
-        real(wp) :: r
-        integer(i8) :: count
-
-        call random_seed()
-        call random_number(r)
-        call system_clock(count)
-        write (tag, "(z0.8, z0.8)") int(r*2.0_wp**31, i8), int(modulo(count, 2_i8**31), i8)
-        path = "/tmp/supratrans_test_hdf5_"//trim(tag)
-    end function tmp_base
 
     !> Whether a file handle is open (false once it is committed, discarded or closed).
     pure function writable(file) result(yes)
@@ -1164,35 +1151,5 @@ contains
             text = "no error"
         end if
     end function file_error
-
-    !> Delete a file if it exists.
-    subroutine delete_file(path)
-        character(len=*), intent(in) :: path
-        integer :: unit, stat
-
-        if (.not. path_exists(path)) return
-        open (newunit=unit, file=path, status="old", iostat=stat)
-        if (stat == 0) close (unit, status="delete", iostat=stat)
-    end subroutine delete_file
-
-    !> Whether a file exists.
-    function path_exists(path) result(exists)
-        character(len=*), intent(in) :: path
-        logical :: exists
-
-        inquire (file=path, exist=exists)
-    end function path_exists
-
-    !> The message of an error, for assertion messages.
-    function error_text(error) result(text)
-        type(error_type), allocatable, intent(in) :: error
-        character(len=:), allocatable :: text
-
-        if (allocated(error)) then
-            text = error%message
-        else
-            text = "no error"
-        end if
-    end function error_text
 
 end module test_hdf5

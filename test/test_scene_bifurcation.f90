@@ -9,7 +9,7 @@ module test_scene_bifurcation
     use pf_runtime
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     !$ use omp_lib, only: omp_get_max_threads, omp_set_num_threads
-    use supratrans_kinds, only: wp, i8
+    use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
     use supratrans_config, only: input_config, run_config, vary_none, vary_gamma, screen_none, screen_linearized
     use supratrans_chain, only: threshold_as
@@ -21,6 +21,7 @@ module test_scene_bifurcation
     use supratrans_journal, only: journal_line
     use supratrans_search_record, only: search_record, search_fields, to_values, from_values, certify_unchanged, &
                                         certify_moved_within, certify_not_checked
+    use supratrans_test_files, only: unique_tmp, path_exists, delete_file, error_text
     implicit none
 
     !> Path prefix of the files of the current test, unique per test.
@@ -30,7 +31,7 @@ contains
 
     ! @before
     subroutine set_up()
-        base = tmp_base()
+        base = unique_tmp("supratrans_test_bif_")
     end subroutine set_up
 
     ! @after
@@ -69,47 +70,47 @@ contains
                 call assertEqual( &
                     run_ok, &
                     full%status, &
-                    location=pf_source_location('test_scene_bifurcation.pf', 68, 'assertEqual'))
+                    location=pf_source_location('test_scene_bifurcation.pf', 69, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     run_ok, &
                     early%status, &
-                    location=pf_source_location('test_scene_bifurcation.pf', 69, 'assertEqual'))
+                    location=pf_source_location('test_scene_bifurcation.pf', 70, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     full%transmitting .eqv. early%transmitting, &
                     message="early stop changed the verdict", &
-                    location=pf_source_location('test_scene_bifurcation.pf', 70, 'assertTrue'))
+                    location=pf_source_location('test_scene_bifurcation.pf', 71, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertFalse( &
                     full%stopped_early, &
                     message="full-length run stopped early", &
-                    location=pf_source_location('test_scene_bifurcation.pf', 71, 'assertFalse'))
+                    location=pf_source_location('test_scene_bifurcation.pf', 72, 'assertFalse'))
                 if (pf_any_failed()) return
                 if (full%transmitting) then
                     ntrans = ntrans + 1
                     call assertTrue( &
                         early%stopped_early, &
                         message="transmitting run not stopped early", &
-                        location=pf_source_location('test_scene_bifurcation.pf', 74, 'assertTrue'))
+                        location=pf_source_location('test_scene_bifurcation.pf', 75, 'assertTrue'))
                     if (pf_any_failed()) return
                     call assertLessThan( &
                         early%steps, &
                         full%steps, &
-                        location=pf_source_location('test_scene_bifurcation.pf', 75, 'assertLessThan'))
+                        location=pf_source_location('test_scene_bifurcation.pf', 76, 'assertLessThan'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         full%t_decided, &
                         early%t_decided, &
                         0.0_wp, &
-                        location=pf_source_location('test_scene_bifurcation.pf', 76, 'assertEqual'))
+                        location=pf_source_location('test_scene_bifurcation.pf', 77, 'assertEqual'))
                     if (pf_any_failed()) return
                 else
                     nquiet = nquiet + 1
                     call assertEqual( &
                         full%steps, &
                         early%steps, &
-                        location=pf_source_location('test_scene_bifurcation.pf', 79, 'assertEqual'))
+                        location=pf_source_location('test_scene_bifurcation.pf', 80, 'assertEqual'))
                     if (pf_any_failed()) return
                 end if
             end do
@@ -118,12 +119,12 @@ contains
         call assertGreaterThanOrEqual( &
             ntrans, &
             4, &
-            location=pf_source_location('test_scene_bifurcation.pf', 84, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 85, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             nquiet, &
             4, &
-            location=pf_source_location('test_scene_bifurcation.pf', 85, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 86, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
     end subroutine test_early_stop_keeps_verdict
 
@@ -144,7 +145,7 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 102, 'assertFalse'))
+            location=pf_source_location('test_scene_bifurcation.pf', 103, 'assertFalse'))
         if (pf_any_failed()) return
         call read_results(base // ".h5", t1, s1, r1, n1, w)
         !$ call omp_set_num_threads(2)
@@ -153,38 +154,38 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 107, 'assertFalse'))
+            location=pf_source_location('test_scene_bifurcation.pf', 108, 'assertFalse'))
         if (pf_any_failed()) return
         call read_results(base // ".h5", t2, s2, r2, n2, w)
         call assertEqual( &
             [6, 2], &
             shape(t1), &
-            location=pf_source_location('test_scene_bifurcation.pf', 109, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 110, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(same_real(t1, t2)), &
             message="thresholds differ between 1 and 2 threads", &
-            location=pf_source_location('test_scene_bifurcation.pf', 110, 'assertTrue'))
+            location=pf_source_location('test_scene_bifurcation.pf', 111, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(s1, .true.), &
             pack(s2, .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 111, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 112, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(r1, .true.), &
             pack(r2, .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 112, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 113, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(n1, .true.), &
             pack(n2, .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 113, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 114, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             search_found, &
             pack(s1(1:4, :), .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 114, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 115, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_threads_give_identical_thresholds
 
@@ -206,17 +207,17 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 132, 'assertFalse'))
+            location=pf_source_location('test_scene_bifurcation.pf', 133, 'assertFalse'))
         if (pf_any_failed()) return
         call read_results(base // ".h5", t, s, r, n, w)
-        call assertEqual([1, 1], shape(t), location=pf_source_location('test_scene_bifurcation.pf', 134, 'assertEqual'))
+        call assertEqual([1, 1], shape(t), location=pf_source_location('test_scene_bifurcation.pf', 135, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             search_found, &
             s(1, 1), &
-            location=pf_source_location('test_scene_bifurcation.pf', 135, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 136, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertIsFinite(t(1, 1), location=pf_source_location('test_scene_bifurcation.pf', 136, 'assertIsFinite'))
+        call assertIsFinite(t(1, 1), location=pf_source_location('test_scene_bifurcation.pf', 137, 'assertIsFinite'))
         if (pf_any_failed()) return
         run = cfg%run
         run%drive%omega = 0.8_wp
@@ -228,17 +229,17 @@ contains
         call assertTrue( &
             at%transmitting, &
             message="the threshold found does not transmit", &
-            location=pf_source_location('test_scene_bifurcation.pf', 144, 'assertTrue'))
+            location=pf_source_location('test_scene_bifurcation.pf', 145, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             below%transmitting, &
             message="threshold - resolution transmits", &
-            location=pf_source_location('test_scene_bifurcation.pf', 145, 'assertFalse'))
+            location=pf_source_location('test_scene_bifurcation.pf', 146, 'assertFalse'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             t(1, 1), &
             cfg%scene%amplitude_min, &
-            location=pf_source_location('test_scene_bifurcation.pf', 146, 'assertGreaterThan'))
+            location=pf_source_location('test_scene_bifurcation.pf', 147, 'assertGreaterThan'))
         if (pf_any_failed()) return
     end subroutine test_threshold_transmits_and_one_step_below_does_not
 
@@ -262,18 +263,18 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 166, 'assertFalse'))
+            location=pf_source_location('test_scene_bifurcation.pf', 167, 'assertFalse'))
         if (pf_any_failed()) return
         call read_results(base // ".h5", t1, s1, r1, n1, w1)
         call assertTrue( &
             path_exists(base // ".h5.journal"), &
             message="journal kept", &
-            location=pf_source_location('test_scene_bifurcation.pf', 168, 'assertTrue'))
+            location=pf_source_location('test_scene_bifurcation.pf', 169, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5.partial.h5"), &
             message="partial file left behind", &
-            location=pf_source_location('test_scene_bifurcation.pf', 169, 'assertFalse'))
+            location=pf_source_location('test_scene_bifurcation.pf', 170, 'assertFalse'))
         if (pf_any_failed()) return
 
         ! read the journal: header and one line per task
@@ -287,7 +288,7 @@ contains
             lines(nlines) = line
         end do
         close (unit)
-        call assertEqual(1 + 12, nlines, location=pf_source_location('test_scene_bifurcation.pf', 182, 'assertEqual'))
+        call assertEqual(1 + 12, nlines, location=pf_source_location('test_scene_bifurcation.pf', 183, 'assertEqual'))
         if (pf_any_failed()) return
         ! line 2 (first task line): replace its wall time by the sentinel
         allocate (values(size(search_fields)))
@@ -310,39 +311,39 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 201, 'assertFalse'))
+            location=pf_source_location('test_scene_bifurcation.pf', 202, 'assertFalse'))
         if (pf_any_failed()) return
         call read_results(base // ".h5", t2, s2, r2, n2, w2)
         call assertTrue( &
             all(same_real(t1, t2)), &
             message="thresholds differ after the resume", &
-            location=pf_source_location('test_scene_bifurcation.pf', 203, 'assertTrue'))
+            location=pf_source_location('test_scene_bifurcation.pf', 204, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(s1, .true.), &
             pack(s2, .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 204, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 205, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(r1, .true.), &
             pack(r2, .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 205, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 206, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             pack(n1, .true.), &
             pack(n2, .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 206, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 207, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             sentinel, &
             w2(mod(task - 1, 6) + 1, (task - 1)/6 + 1), &
             0.0_wp, &
-            location=pf_source_location('test_scene_bifurcation.pf', 207, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 208, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5.journal"), &
             message="journal not deleted at the end", &
-            location=pf_source_location('test_scene_bifurcation.pf', 208, 'assertFalse'))
+            location=pf_source_location('test_scene_bifurcation.pf', 209, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_resume_after_kill
 
@@ -363,71 +364,71 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 225, 'assertFalse'))
+            location=pf_source_location('test_scene_bifurcation.pf', 226, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5.journal"), &
             message="journal not deleted at the end", &
-            location=pf_source_location('test_scene_bifurcation.pf', 226, 'assertFalse'))
+            location=pf_source_location('test_scene_bifurcation.pf', 227, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5.partial.h5"), &
             message="partial file left behind", &
-            location=pf_source_location('test_scene_bifurcation.pf', 227, 'assertFalse'))
+            location=pf_source_location('test_scene_bifurcation.pf', 228, 'assertFalse'))
         if (pf_any_failed()) return
         call read_results(base // ".h5", t, s, r, n, w)
         ! Omega = 0.6, 0.7, 0.8, 0.9, 1.0, 1.1: the last two are outside the massless gap
         call assertEqual( &
             bifurcation_outside_gap, &
             pack(s(5:6, :), .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 230, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 231, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(ieee_is_nan(t(5:6, :))), &
             message="threshold outside the gap is not NaN", &
-            location=pf_source_location('test_scene_bifurcation.pf', 231, 'assertTrue'))
+            location=pf_source_location('test_scene_bifurcation.pf', 232, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             pack(r(5:6, :), .true.), &
-            location=pf_source_location('test_scene_bifurcation.pf', 232, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 233, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(r(1:4, :) > 0), &
             message="a search inside the gap ran nothing", &
-            location=pf_source_location('test_scene_bifurcation.pf', 233, 'assertTrue'))
+            location=pf_source_location('test_scene_bifurcation.pf', 234, 'assertTrue'))
         if (pf_any_failed()) return
 
         call h5_open(file, base // ".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 236, 'assertFalse'))
+            location=pf_source_location('test_scene_bifurcation.pf', 237, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "scene", text, error)
         call assertEqual( &
             "bifurcation", &
             text, &
-            location=pf_source_location('test_scene_bifurcation.pf', 238, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 239, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "complete", complete, error)
-        call assertEqual(1, complete, location=pf_source_location('test_scene_bifurcation.pf', 240, 'assertEqual'))
+        call assertEqual(1, complete, location=pf_source_location('test_scene_bifurcation.pf', 241, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/omega", omega, error)
         call assertEqual( &
             bifurcation_omegas(cfg), &
             omega, &
             0.0_wp, &
-            location=pf_source_location('test_scene_bifurcation.pf', 242, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 243, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(6, size(omega), location=pf_source_location('test_scene_bifurcation.pf', 243, 'assertEqual'))
+        call assertEqual(6, size(omega), location=pf_source_location('test_scene_bifurcation.pf', 244, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/curves/value", value, error)
         call assertEqual( &
             [0.0_wp, 0.05_wp], &
             value, &
             0.0_wp, &
-            location=pf_source_location('test_scene_bifurcation.pf', 245, 'assertEqual'))
+            location=pf_source_location('test_scene_bifurcation.pf', 246, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/threshold_As", as, error)
         do j = 1, 2
@@ -436,7 +437,7 @@ contains
                     threshold_as(cfg%run%chain, omega(i)), &
                     as(i, j), &
                     1.0e-14_wp, &
-                    location=pf_source_location('test_scene_bifurcation.pf', 249, 'assertEqual'))
+                    location=pf_source_location('test_scene_bifurcation.pf', 250, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
         end do
@@ -444,28 +445,28 @@ contains
             call assertTrue( &
                 h5_attr_exists(file, trim(datasets(i)), "units"), &
                 message=trim(datasets(i)) // ": no units", &
-                location=pf_source_location('test_scene_bifurcation.pf', 253, 'assertTrue'))
+                location=pf_source_location('test_scene_bifurcation.pf', 254, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 h5_attr_exists(file, trim(datasets(i)), "description"), &
                 message=trim(datasets(i)), &
-                location=pf_source_location('test_scene_bifurcation.pf', 254, 'assertTrue'))
+                location=pf_source_location('test_scene_bifurcation.pf', 255, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         call assertTrue( &
             h5_attr_exists(file, "/status", "codes"), &
             message="/status: no codes", &
-            location=pf_source_location('test_scene_bifurcation.pf', 256, 'assertTrue'))
+            location=pf_source_location('test_scene_bifurcation.pf', 257, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/parameters", "vary", text, error)
-        call assertEqual("gamma", text, location=pf_source_location('test_scene_bifurcation.pf', 258, 'assertEqual'))
+        call assertEqual("gamma", text, location=pf_source_location('test_scene_bifurcation.pf', 259, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         ! damping raises the threshold (paper Fig. Bif1) where both were found
         call assertTrue( &
             all(t(1:4, 2) >= t(1:4, 1)), &
             message="gamma = 0.05 lowered a threshold", &
-            location=pf_source_location('test_scene_bifurcation.pf', 261, 'assertTrue'))
+            location=pf_source_location('test_scene_bifurcation.pf', 262, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_file_layout
 
@@ -490,30 +491,30 @@ contains
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_scene_bifurcation.pf', 282, 'assertFalse'))
+                location=pf_source_location('test_scene_bifurcation.pf', 283, 'assertFalse'))
             if (pf_any_failed()) return
             call read_results(base // ".h5", t, s, r, n, w)
             call assertEqual( &
                 search_failed, &
                 pack(s(1:4, :), .true.), &
-                location=pf_source_location('test_scene_bifurcation.pf', 284, 'assertEqual'))
+                location=pf_source_location('test_scene_bifurcation.pf', 285, 'assertEqual'))
             if (pf_any_failed()) return
             if (i == 1) then
                 call assertEqual( &
                     1, &
                     pack(r(1:4, :), .true.), &
-                    location=pf_source_location('test_scene_bifurcation.pf', 286, 'assertEqual'))
+                    location=pf_source_location('test_scene_bifurcation.pf', 287, 'assertEqual'))
                 if (pf_any_failed()) return
             end if
             call assertTrue( &
                 all(ieee_is_nan(t)), &
                 message="a failed search gave a threshold", &
-                location=pf_source_location('test_scene_bifurcation.pf', 288, 'assertTrue'))
+                location=pf_source_location('test_scene_bifurcation.pf', 289, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 bifurcation_outside_gap, &
                 pack(s(5:6, :), .true.), &
-                location=pf_source_location('test_scene_bifurcation.pf', 289, 'assertEqual'))
+                location=pf_source_location('test_scene_bifurcation.pf', 290, 'assertEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_failed_runs_give_status_run_failed
@@ -538,7 +539,7 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_bifurcation.pf', 310, 'assertFalse'))
+            location=pf_source_location('test_scene_bifurcation.pf', 311, 'assertFalse'))
         if (pf_any_failed()) return
         call read_results(base // ".h5", t0, s0, r0, n, w)
         do i = 1, 2
@@ -550,24 +551,24 @@ contains
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_scene_bifurcation.pf', 318, 'assertFalse'))
+                location=pf_source_location('test_scene_bifurcation.pf', 319, 'assertFalse'))
             if (pf_any_failed()) return
             call read_results(base // ".h5", t1, s1, r1, n, w)
             call assertTrue( &
                 all(same_real(t0, t1)), &
                 message="screening changed a threshold", &
-                location=pf_source_location('test_scene_bifurcation.pf', 320, 'assertTrue'))
+                location=pf_source_location('test_scene_bifurcation.pf', 321, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 pack(s0, .true.), &
                 pack(s1, .true.), &
-                location=pf_source_location('test_scene_bifurcation.pf', 321, 'assertEqual'))
+                location=pf_source_location('test_scene_bifurcation.pf', 322, 'assertEqual'))
             if (pf_any_failed()) return
             call h5_open(file, base // ".h5", error)
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_scene_bifurcation.pf', 323, 'assertFalse'))
+                location=pf_source_location('test_scene_bifurcation.pf', 324, 'assertFalse'))
             if (pf_any_failed()) return
             call h5_read(file, "/screening/runs_screened", screened, error)
             call h5_read(file, "/screening/runs_confirmed", confirmed, error)
@@ -580,48 +581,48 @@ contains
             call assertFalse( &
                 allocated(error), &
                 message=error_text(error), &
-                location=pf_source_location('test_scene_bifurcation.pf', 332, 'assertFalse'))
+                location=pf_source_location('test_scene_bifurcation.pf', 333, 'assertFalse'))
             if (pf_any_failed()) return
             call h5_close(file, error)
             call assertEqual( &
                 pack(r1, .true.), &
                 pack(screened + confirmed, .true.), &
-                location=pf_source_location('test_scene_bifurcation.pf', 334, 'assertEqual'))
+                location=pf_source_location('test_scene_bifurcation.pf', 335, 'assertEqual'))
             if (pf_any_failed()) return
             ok = all(doubtful >= 0 .and. doubtful <= screened .and. doubtful <= confirmed)
             call assertTrue( &
                 ok, &
                 message="doubtful runs are screening runs that the scene's method ran again", &
-                location=pf_source_location('test_scene_bifurcation.pf', 336, 'assertTrue'))
+                location=pf_source_location('test_scene_bifurcation.pf', 337, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 sum(confirmed) < sum(r0), &
                 message="no saving of runs of the scene's method", &
-                location=pf_source_location('test_scene_bifurcation.pf', 337, 'assertTrue'))
+                location=pf_source_location('test_scene_bifurcation.pf', 338, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(pack(low <= t1 .and. t1 <= high, s1 == search_found)), &
                 message="threshold outside band", &
-                location=pf_source_location('test_scene_bifurcation.pf', 338, 'assertTrue'))
+                location=pf_source_location('test_scene_bifurcation.pf', 339, 'assertTrue'))
             if (pf_any_failed()) return
             ok = all(pack(cstatus >= certify_unchanged .and. cruns >= 2, s1 == search_found))
             call assertTrue( &
                 ok, &
                 message="a found threshold was not certified", &
-                location=pf_source_location('test_scene_bifurcation.pf', 340, 'assertTrue'))
+                location=pf_source_location('test_scene_bifurcation.pf', 341, 'assertTrue'))
             if (pf_any_failed()) return
             ok = all(pack(cstatus == certify_not_checked .and. cruns == 0, s1 /= search_found))
             call assertTrue( &
                 ok, &
                 message="a search without threshold was certified", &
-                location=pf_source_location('test_scene_bifurcation.pf', 342, 'assertTrue'))
+                location=pf_source_location('test_scene_bifurcation.pf', 343, 'assertTrue'))
             if (pf_any_failed()) return
             ok = all(pack(abs(certified - t1) <= 1.5_wp*cfg%scene%resolution, cstatus <= certify_moved_within &
                           .and. s1 == search_found))
             call assertTrue( &
                 ok, &
                 message="certified threshold inconsistent with status", &
-                location=pf_source_location('test_scene_bifurcation.pf', 345, 'assertTrue'))
+                location=pf_source_location('test_scene_bifurcation.pf', 346, 'assertTrue'))
             if (pf_any_failed()) return
         end do
     end subroutine test_screening_changes_no_threshold
@@ -690,48 +691,5 @@ contains
 
         same = a == b .or. (ieee_is_nan(a) .and. ieee_is_nan(b))
     end function same_real
-
-    function tmp_base() result(path)
-        character(len=:), allocatable :: path
-        character(len=16) :: tag
-        real(wp) :: r
-        integer(i8) :: count
-
-        call random_seed()
-        call random_number(r)
-        call system_clock(count)
-        write (tag, "(z0.8, z0.8)") int(r*2.0_wp**31, i8), int(modulo(count, 2_i8**31), i8)
-        path = "/tmp/supratrans_test_bif_" // trim(tag)
-    end function tmp_base
-
-    !> Delete a file if it exists.
-    subroutine delete_file(path)
-        character(len=*), intent(in) :: path
-        integer :: unit, stat
-
-        if (.not. path_exists(path)) return
-        open (newunit=unit, file=path, status="old", iostat=stat)
-        if (stat == 0) close (unit, status="delete", iostat=stat)
-    end subroutine delete_file
-
-    !> Whether a file exists.
-    function path_exists(path) result(exists)
-        character(len=*), intent(in) :: path
-        logical :: exists
-
-        inquire (file=path, exist=exists)
-    end function path_exists
-
-    !> The message of an error, for assertion messages.
-    function error_text(error) result(text)
-        type(error_type), allocatable, intent(in) :: error
-        character(len=:), allocatable :: text
-
-        if (allocated(error)) then
-            text = error%message
-        else
-            text = ""
-        end if
-    end function error_text
 
 end module test_scene_bifurcation

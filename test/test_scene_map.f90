@@ -8,7 +8,7 @@ module test_scene_map
     use pf_runtime
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite
     !$ use omp_lib, only: omp_get_max_threads, omp_set_num_threads
-    use supratrans_kinds, only: wp, i8
+    use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
     use supratrans_config, only: input_config, run_config, vary_m2
     use supratrans_potential, only: sine_gordon
@@ -17,6 +17,7 @@ module test_scene_map
     use supratrans_h5_test, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr
     use supratrans_scene_sweep, only: status_outside_gap
     use supratrans_scene_map, only: run_map
+    use supratrans_test_files, only: unique_tmp, path_exists, delete_file, error_text
     implicit none
 
     !> Path prefix of the files of the current test, unique per test.
@@ -26,7 +27,7 @@ contains
 
     ! @before
     subroutine set_up()
-        base = tmp_base()
+        base = unique_tmp("supratrans_test_map_")
     end subroutine set_up
 
     ! @after
@@ -60,20 +61,20 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_map.pf', 59, 'assertFalse'))
+            location=pf_source_location('test_scene_map.pf', 60, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base // ".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_map.pf', 62, 'assertFalse'))
+            location=pf_source_location('test_scene_map.pf', 63, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "scene", text, error)
-        call assertEqual("map", text, location=pf_source_location('test_scene_map.pf', 64, 'assertEqual'))
+        call assertEqual("map", text, location=pf_source_location('test_scene_map.pf', 65, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "complete", complete, error)
-        call assertEqual(1, complete, location=pf_source_location('test_scene_map.pf', 66, 'assertEqual'))
+        call assertEqual(1, complete, location=pf_source_location('test_scene_map.pf', 67, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/omega", omega, error)
         call h5_read(file, "/amplitude", amplitude, error)
@@ -85,16 +86,16 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_map.pf', 74, 'assertFalse'))
+            location=pf_source_location('test_scene_map.pf', 75, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/runs/status", "dimensions", text, error)
         call assertEqual( &
             "curve, omega, amplitude", &
             text, &
-            location=pf_source_location('test_scene_map.pf', 76, 'assertEqual'))
+            location=pf_source_location('test_scene_map.pf', 77, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/threshold_As", "dimensions", text, error)
-        call assertEqual("curve, omega", text, location=pf_source_location('test_scene_map.pf', 78, 'assertEqual'))
+        call assertEqual("curve, omega", text, location=pf_source_location('test_scene_map.pf', 79, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
 
@@ -102,22 +103,22 @@ contains
             [0.6_wp, 0.9_wp, 1.2_wp], &
             omega, &
             1.0e-12_wp, &
-            location=pf_source_location('test_scene_map.pf', 81, 'assertEqual'))
+            location=pf_source_location('test_scene_map.pf', 82, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             [0.5_wp, 1.0_wp], &
             amplitude, &
             0.0_wp, &
-            location=pf_source_location('test_scene_map.pf', 82, 'assertEqual'))
+            location=pf_source_location('test_scene_map.pf', 83, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual([3, 2], shape(as), location=pf_source_location('test_scene_map.pf', 83, 'assertEqual'))
+        call assertEqual([3, 2], shape(as), location=pf_source_location('test_scene_map.pf', 84, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             [2, 3, 2], &
             shape(injected), &
-            location=pf_source_location('test_scene_map.pf', 84, 'assertEqual'))
+            location=pf_source_location('test_scene_map.pf', 85, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual([2, 3, 2], shape(status), location=pf_source_location('test_scene_map.pf', 85, 'assertEqual'))
+        call assertEqual([2, 3, 2], shape(status), location=pf_source_location('test_scene_map.pf', 86, 'assertEqual'))
         if (pf_any_failed()) return
         ! curve 1 (m2 = 0, gap edge 1): Omega = 1.2 is outside; curve 2 (m2 = 0.5, edge 1.22) runs it
         do ic = 1, 2
@@ -127,56 +128,56 @@ contains
                         real(status_outside_gap, wp), &
                         status(:, iw, ic), &
                         0.0_wp, &
-                        location=pf_source_location('test_scene_map.pf', 90, 'assertEqual'))
+                        location=pf_source_location('test_scene_map.pf', 91, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         -1.0_wp, &
                         transmitting(:, iw, ic), &
                         0.0_wp, &
-                        location=pf_source_location('test_scene_map.pf', 91, 'assertEqual'))
+                        location=pf_source_location('test_scene_map.pf', 92, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         -1.0_wp, &
                         steps(:, iw, ic), &
                         0.0_wp, &
-                        location=pf_source_location('test_scene_map.pf', 92, 'assertEqual'))
+                        location=pf_source_location('test_scene_map.pf', 93, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertTrue( &
                         all(ieee_is_nan(injected(:, iw, ic))), &
                         message="outside the gap: NaN", &
-                        location=pf_source_location('test_scene_map.pf', 93, 'assertTrue'))
+                        location=pf_source_location('test_scene_map.pf', 94, 'assertTrue'))
                     if (pf_any_failed()) return
-                    call assertIsNaN(as(iw, ic), location=pf_source_location('test_scene_map.pf', 94, 'assertIsNaN'))
+                    call assertIsNaN(as(iw, ic), location=pf_source_location('test_scene_map.pf', 95, 'assertIsNaN'))
                     if (pf_any_failed()) return
                 else
                     call assertEqual( &
                         0.0_wp, &
                         status(:, iw, ic), &
                         0.0_wp, &
-                        location=pf_source_location('test_scene_map.pf', 96, 'assertEqual'))
+                        location=pf_source_location('test_scene_map.pf', 97, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         399.0_wp, &
                         steps(:, iw, ic), &
                         0.0_wp, &
-                        location=pf_source_location('test_scene_map.pf', 97, 'assertEqual'))
+                        location=pf_source_location('test_scene_map.pf', 98, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertTrue( &
                         all(ieee_is_finite(injected(:, iw, ic))), &
                         message="inside the gap: run", &
-                        location=pf_source_location('test_scene_map.pf', 98, 'assertTrue'))
+                        location=pf_source_location('test_scene_map.pf', 99, 'assertTrue'))
                     if (pf_any_failed()) return
                     call assertTrue( &
                         injected(2, iw, ic) > injected(1, iw, ic), &
                         message="energy grows with A", &
-                        location=pf_source_location('test_scene_map.pf', 99, 'assertTrue'))
+                        location=pf_source_location('test_scene_map.pf', 100, 'assertTrue'))
                     if (pf_any_failed()) return
                     run = curve_run(cfg, ic)
                     call assertEqual( &
                         threshold_as(run%chain, omega(iw)), &
                         as(iw, ic), &
                         0.0_wp, &
-                        location=pf_source_location('test_scene_map.pf', 101, 'assertEqual'))
+                        location=pf_source_location('test_scene_map.pf', 102, 'assertEqual'))
                     if (pf_any_failed()) return
                 end if
             end do
@@ -200,7 +201,7 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_map.pf', 121, 'assertFalse'))
+            location=pf_source_location('test_scene_map.pf', 122, 'assertFalse'))
         if (pf_any_failed()) return
         cfg = tiny_map("_b")
         !$ call omp_set_num_threads(2)
@@ -209,19 +210,19 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_map.pf', 126, 'assertFalse'))
+            location=pf_source_location('test_scene_map.pf', 127, 'assertFalse'))
         if (pf_any_failed()) return
         do i = 1, size(names)
             call assertTrue( &
                 same_dataset(base // "_a.h5", base // "_b.h5", trim(names(i))), &
                 message=trim(names(i)), &
-                location=pf_source_location('test_scene_map.pf', 128, 'assertTrue'))
+                location=pf_source_location('test_scene_map.pf', 129, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         call assertFalse( &
             path_exists(base // "_b.h5.journal"), &
             message="journal deleted at the end", &
-            location=pf_source_location('test_scene_map.pf', 130, 'assertFalse'))
+            location=pf_source_location('test_scene_map.pf', 131, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_map_independent_of_thread_count
 
@@ -292,49 +293,5 @@ contains
         end if
         call h5_close(file, error)
     end function read_flat
-
-    !> A unique path prefix in /tmp.
-    function tmp_base() result(path)
-        character(len=:), allocatable :: path
-        character(len=16) :: tag
-        real(wp) :: r
-        integer(i8) :: count
-
-        call random_seed()
-        call random_number(r)
-        call system_clock(count)
-        write (tag, "(z0.8, z0.8)") int(r*2.0_wp**31, i8), int(modulo(count, 2_i8**31), i8)
-        path = "/tmp/supratrans_test_map_" // trim(tag)
-    end function tmp_base
-
-    !> Delete a file if it exists.
-    subroutine delete_file(path)
-        character(len=*), intent(in) :: path
-        integer :: unit, stat
-
-        if (.not. path_exists(path)) return
-        open (newunit=unit, file=path, status="old", iostat=stat)
-        if (stat == 0) close (unit, status="delete", iostat=stat)
-    end subroutine delete_file
-
-    !> Whether a file exists.
-    function path_exists(path) result(exists)
-        character(len=*), intent(in) :: path
-        logical :: exists
-
-        inquire (file=path, exist=exists)
-    end function path_exists
-
-    !> The message of an error, for assertion messages.
-    function error_text(error) result(text)
-        type(error_type), allocatable, intent(in) :: error
-        character(len=:), allocatable :: text
-
-        if (allocated(error)) then
-            text = error%message
-        else
-            text = "no error"
-        end if
-    end function error_text
 
 end module test_scene_map

@@ -8,7 +8,7 @@ module test_scene_sweep
     use pf_runtime
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite
     !$ use omp_lib, only: omp_get_max_threads, omp_set_num_threads
-    use supratrans_kinds, only: wp, i8
+    use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
     use supratrans_config, only: input_config, vary_none, vary_gamma
     use supratrans_potential, only: sine_gordon, klein_gordon
@@ -16,6 +16,7 @@ module test_scene_sweep
     use supratrans_tasks, only: run_tasks, file_fingerprint
     use supratrans_journal, only: journal_line
     use supratrans_scene_sweep
+    use supratrans_test_files, only: unique_tmp, path_exists, delete_file, error_text
     implicit none
 
     !> Path prefix of the files of the current test, unique per test.
@@ -31,7 +32,7 @@ contains
 
     ! @before
     subroutine set_up()
-        base = tmp_base()
+        base = unique_tmp("supratrans_test_sweep_")
     end subroutine set_up
 
     ! @after
@@ -55,31 +56,31 @@ contains
         real(wp), allocatable :: a(:)
 
         a = axis_grid(1.0_wp, 3.0_wp, 0.02_wp)
-        call assertEqual(101, size(a), location=pf_source_location('test_scene_sweep.pf', 57, 'assertEqual'))
+        call assertEqual(101, size(a), location=pf_source_location('test_scene_sweep.pf', 58, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp + 100*0.02_wp, &
             a(101), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 58, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 59, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp + 37*0.02_wp, &
             a(38), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 59, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 60, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.1_wp, 4.0_wp, 0.1_wp)
-        call assertEqual(40, size(a), location=pf_source_location('test_scene_sweep.pf', 61, 'assertEqual'))
+        call assertEqual(40, size(a), location=pf_source_location('test_scene_sweep.pf', 62, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.05_wp, 0.95_wp, 0.05_wp)
-        call assertEqual(19, size(a), location=pf_source_location('test_scene_sweep.pf', 63, 'assertEqual'))
+        call assertEqual(19, size(a), location=pf_source_location('test_scene_sweep.pf', 64, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.5_wp, 0.5_wp, 0.1_wp)
-        call assertEqual(1, size(a), location=pf_source_location('test_scene_sweep.pf', 65, 'assertEqual'))
+        call assertEqual(1, size(a), location=pf_source_location('test_scene_sweep.pf', 66, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.0_wp, 0.99_wp, 0.1_wp)
-        call assertEqual(10, size(a), location=pf_source_location('test_scene_sweep.pf', 67, 'assertEqual'))
+        call assertEqual(10, size(a), location=pf_source_location('test_scene_sweep.pf', 68, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_axis_grid_exact
 
@@ -97,7 +98,7 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 81, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 82, 'assertFalse'))
         if (pf_any_failed()) return
         cfg = tiny_config("_b")
         !$ call omp_set_num_threads(2)
@@ -106,37 +107,37 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 86, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 87, 'assertFalse'))
         if (pf_any_failed()) return
 
         do i = 1, size(result_names)
             call assertTrue( &
                 same_dataset(base // "_a.h5", base // "_b.h5", trim(result_names(i))), &
                 message=trim(result_names(i)), &
-                location=pf_source_location('test_scene_sweep.pf', 89, 'assertTrue'))
+                location=pf_source_location('test_scene_sweep.pf', 90, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         call read_root_counts(base // "_b.h5", complete, done, total)
-        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 92, 'assertEqual'))
+        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 93, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, done, location=pf_source_location('test_scene_sweep.pf', 93, 'assertEqual'))
+        call assertEqual(20, done, location=pf_source_location('test_scene_sweep.pf', 94, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 94, 'assertEqual'))
+        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 95, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // "_b.h5.journal"), &
             message="journal deleted at the end", &
-            location=pf_source_location('test_scene_sweep.pf', 95, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 96, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // "_b.h5.partial.h5"), &
             message="partial file deleted at the end", &
-            location=pf_source_location('test_scene_sweep.pf', 96, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 97, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // "_b.h5.tmp"), &
             message="no temporary file left", &
-            location=pf_source_location('test_scene_sweep.pf', 97, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 98, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_independent_of_thread_count
 
@@ -156,64 +157,64 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 113, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 114, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_open(file, base // ".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 115, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 116, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "scene", text, error)
         call assertEqual( &
             "amplitude_sweep", &
             text, &
-            location=pf_source_location('test_scene_sweep.pf', 117, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 118, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/amplitude", amplitude, error)
         call assertEqual( &
             [0.5_wp, 1.0_wp, 1.5_wp, 2.0_wp, 2.5_wp], &
             amplitude, &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 119, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 120, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/curves/value", value, error)
         call assertEqual( &
             [0.0_wp, 0.05_wp, 0.0_wp, 0.05_wp], &
             value, &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 121, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 122, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/energy/injected", injected, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 123, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 124, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             [5, 4], &
             shape(injected), &
-            location=pf_source_location('test_scene_sweep.pf', 124, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 125, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/energy/injected", "dimensions", text, error)
         call assertEqual( &
             "curve, amplitude", &
             text, &
-            location=pf_source_location('test_scene_sweep.pf', 126, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 127, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/energy/injected", "units", text, error)
-        call assertEqual("energy", text, location=pf_source_location('test_scene_sweep.pf', 128, 'assertEqual'))
+        call assertEqual("energy", text, location=pf_source_location('test_scene_sweep.pf', 129, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/runs", "status_codes", text, error)
         call assertTrue( &
             index(text, "-2 outside_gap") > 0, &
             message=text, &
-            location=pf_source_location('test_scene_sweep.pf', 130, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 131, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(text, "1 diverged") > 0, &
             message=text, &
-            location=pf_source_location('test_scene_sweep.pf', 131, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 132, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read(file, "/energy/stored", stored, error)
         call h5_read(file, "/energy/dissipated_gamma", d_gamma, error)
@@ -225,63 +226,63 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 139, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 140, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
 
         call assertEqual( &
             0, &
             pack(status, .true.), &
-            location=pf_source_location('test_scene_sweep.pf', 142, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 143, 'assertEqual'))
         if (pf_any_failed()) return
         ! the ledger closes: injected = stored + dissipated (E_0 = 0), to roundoff
         call assertEqual( &
             pack(injected, .true.), &
             pack(stored + d_gamma + d_beta + d_abs, .true.), &
             1.0e-9_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 144, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 145, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             maxval(abs(res)), &
             1.0e-9_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 145, 'assertLessThan'))
+            location=pf_source_location('test_scene_sweep.pf', 146, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             pack(d_beta, .true.), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 146, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 147, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             d_gamma(:, 1), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 147, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 148, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             d_gamma(:, 3), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 148, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 149, 'assertEqual'))
         if (pf_any_failed()) return
         do ic = 1, 4
             ! the energy grows with the amplitude, and the smallest amplitude does not transmit
             call assertTrue( &
                 all(injected(2:, ic) > injected(:4, ic)), &
                 message="injected energy increases with A", &
-                location=pf_source_location('test_scene_sweep.pf', 151, 'assertTrue'))
+                location=pf_source_location('test_scene_sweep.pf', 152, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0, &
                 transmitting(1, ic), &
-                location=pf_source_location('test_scene_sweep.pf', 152, 'assertEqual'))
+                location=pf_source_location('test_scene_sweep.pf', 153, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         ! damping lowers the energy left in the chain
         call assertTrue( &
             all(stored(1:2, 2) < stored(1:2, 1)), &
             message="gamma = 0.05 stores less than gamma = 0", &
-            location=pf_source_location('test_scene_sweep.pf', 155, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 156, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_layout_and_physics
 
@@ -302,7 +303,7 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 172, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 173, 'assertFalse'))
         if (pf_any_failed()) return
 
         ! a sweep killed after a few runs: the journal holds its header, 3 complete lines and half a line
@@ -314,15 +315,15 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 180, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 181, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5"), &
             message="the engine alone writes no output file", &
-            location=pf_source_location('test_scene_sweep.pf', 181, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 182, 'assertFalse'))
         if (pf_any_failed()) return
         lines = read_lines(journal)
-        call assertEqual(21, size(lines), location=pf_source_location('test_scene_sweep.pf', 183, 'assertEqual'))
+        call assertEqual(21, size(lines), location=pf_source_location('test_scene_sweep.pf', 184, 'assertEqual'))
         if (pf_any_failed()) return
         kept = 3
         ! mark one kept line, to see that the resumed sweep takes it from the journal instead of recomputing it
@@ -338,17 +339,17 @@ contains
         call assertTrue( &
             allocated(error), &
             message="journal of another input accepted", &
-            location=pf_source_location('test_scene_sweep.pf', 195, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 196, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "journal of a different input") > 0, &
             message=error%message, &
-            location=pf_source_location('test_scene_sweep.pf', 196, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 197, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5"), &
             message="output written despite the error", &
-            location=pf_source_location('test_scene_sweep.pf', 197, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 198, 'assertFalse'))
         if (pf_any_failed()) return
         deallocate (error)
 
@@ -356,13 +357,13 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 201, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 202, 'assertFalse'))
         if (pf_any_failed()) return
         do i = 1, size(result_names)
             call assertTrue( &
                 same_dataset(base // "_ref.h5", base // ".h5", trim(result_names(i))), &
                 message=trim(result_names(i)), &
-                location=pf_source_location('test_scene_sweep.pf', 203, 'assertTrue'))
+                location=pf_source_location('test_scene_sweep.pf', 204, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         wall = read_real_2d(base // ".h5", "/runs/wall_time")
@@ -372,17 +373,17 @@ contains
             12345.0_wp, &
             wall(ia, ic), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 208, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 209, 'assertEqual'))
         if (pf_any_failed()) return
         call read_root_counts(base // ".h5", complete, ndone, total)
-        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 210, 'assertEqual'))
+        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 211, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 211, 'assertEqual'))
+        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 212, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(journal), &
             message="journal deleted at the end", &
-            location=pf_source_location('test_scene_sweep.pf', 212, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 213, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_resume_after_kill
 
@@ -407,14 +408,14 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 233, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 234, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base // ".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 236, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 237, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "/amplitude", amplitude, error)
         call h5_read(file, "/runs/status", status, error)
@@ -425,63 +426,63 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 243, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 244, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/runs", "failed", nfailed, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 245, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 246, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
 
-        call assertEqual([5, 1], shape(status), location=pf_source_location('test_scene_sweep.pf', 248, 'assertEqual'))
+        call assertEqual([5, 1], shape(status), location=pf_source_location('test_scene_sweep.pf', 249, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, status(1:2, 1), location=pf_source_location('test_scene_sweep.pf', 249, 'assertEqual'))
+        call assertEqual(0, status(1:2, 1), location=pf_source_location('test_scene_sweep.pf', 250, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1, status(4:5, 1), location=pf_source_location('test_scene_sweep.pf', 250, 'assertEqual'))
+        call assertEqual(1, status(4:5, 1), location=pf_source_location('test_scene_sweep.pf', 251, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             count(status /= 0), &
             nfailed, &
-            location=pf_source_location('test_scene_sweep.pf', 251, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 252, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             nfailed, &
             size(failures), &
-            location=pf_source_location('test_scene_sweep.pf', 252, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 253, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(failures(1), "diverged") > 0, &
             message=failures(1), &
-            location=pf_source_location('test_scene_sweep.pf', 253, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 254, 'assertTrue'))
         if (pf_any_failed()) return
         do ia = 1, 5
             if (status(ia, 1) == 0) then
                 call assertIsFinite( &
                     injected(ia, 1), &
-                    location=pf_source_location('test_scene_sweep.pf', 256, 'assertIsFinite'))
+                    location=pf_source_location('test_scene_sweep.pf', 257, 'assertIsFinite'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     30.0_wp, &
                     t_end(ia, 1), &
                     1.0e-9_wp, &
-                    location=pf_source_location('test_scene_sweep.pf', 257, 'assertEqual'))
+                    location=pf_source_location('test_scene_sweep.pf', 258, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     599, &
                     steps(ia, 1), &
-                    location=pf_source_location('test_scene_sweep.pf', 258, 'assertEqual'))
+                    location=pf_source_location('test_scene_sweep.pf', 259, 'assertEqual'))
                 if (pf_any_failed()) return
             else
                 call assertIsNaN( &
                     injected(ia, 1), &
-                    location=pf_source_location('test_scene_sweep.pf', 260, 'assertIsNaN'))
+                    location=pf_source_location('test_scene_sweep.pf', 261, 'assertIsNaN'))
                 if (pf_any_failed()) return
                 call assertLessThan( &
                     t_end(ia, 1), &
                     30.0_wp, &
-                    location=pf_source_location('test_scene_sweep.pf', 261, 'assertLessThan'))
+                    location=pf_source_location('test_scene_sweep.pf', 262, 'assertLessThan'))
                 if (pf_any_failed()) return
             end if
         end do
@@ -510,63 +511,63 @@ contains
         call assertTrue( &
             path_exists(partial_path(cfg)), &
             message="no partial file", &
-            location=pf_source_location('test_scene_sweep.pf', 286, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 287, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(partial_path(cfg) // ".tmp"), &
             message="temporary partial file left", &
-            location=pf_source_location('test_scene_sweep.pf', 287, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 288, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5"), &
             message="the snapshot wrote the final file", &
-            location=pf_source_location('test_scene_sweep.pf', 288, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 289, 'assertFalse'))
         if (pf_any_failed()) return
 
         call read_root_counts(partial_path(cfg), complete, ndone, total)
-        call assertEqual(0, complete, location=pf_source_location('test_scene_sweep.pf', 291, 'assertEqual'))
+        call assertEqual(0, complete, location=pf_source_location('test_scene_sweep.pf', 292, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(7, ndone, location=pf_source_location('test_scene_sweep.pf', 292, 'assertEqual'))
+        call assertEqual(7, ndone, location=pf_source_location('test_scene_sweep.pf', 293, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 293, 'assertEqual'))
+        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 294, 'assertEqual'))
         if (pf_any_failed()) return
         injected = reshape(read_real_2d(partial_path(cfg), "/energy/injected"), [20])
         t_decided = read_real_2d(partial_path(cfg), "/runs/t_decided")
         status = nint(read_real_2d(partial_path(cfg), "/runs/status"))
         transmitting = nint(read_real_2d(partial_path(cfg), "/runs/transmitting"))
-        call assertEqual([5, 4], shape(status), location=pf_source_location('test_scene_sweep.pf', 298, 'assertEqual'))
+        call assertEqual([5, 4], shape(status), location=pf_source_location('test_scene_sweep.pf', 299, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             results(iv_injected, 1:7), &
             injected(1:7), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 299, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 300, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, status(:, 1), location=pf_source_location('test_scene_sweep.pf', 300, 'assertEqual'))
+        call assertEqual(0, status(:, 1), location=pf_source_location('test_scene_sweep.pf', 301, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, status(1:2, 2), location=pf_source_location('test_scene_sweep.pf', 301, 'assertEqual'))
+        call assertEqual(0, status(1:2, 2), location=pf_source_location('test_scene_sweep.pf', 302, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             status_not_run, &
             status(3:, 2), &
-            location=pf_source_location('test_scene_sweep.pf', 302, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 303, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             status_not_run, &
             pack(status(:, 3:), .true.), &
-            location=pf_source_location('test_scene_sweep.pf', 303, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 304, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(-1, transmitting(:, 4), location=pf_source_location('test_scene_sweep.pf', 304, 'assertEqual'))
+        call assertEqual(-1, transmitting(:, 4), location=pf_source_location('test_scene_sweep.pf', 305, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(ieee_is_nan(injected(8:))), &
             message="missing runs are NaN", &
-            location=pf_source_location('test_scene_sweep.pf', 305, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 306, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(ieee_is_nan(t_decided(:, 3:))), &
             message="missing runs are NaN", &
-            location=pf_source_location('test_scene_sweep.pf', 306, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 307, 'assertTrue'))
         if (pf_any_failed()) return
 
         ! a later snapshot replaces it
@@ -576,7 +577,7 @@ contains
         end do
         call tasks%snapshot(results, done)
         call read_root_counts(partial_path(cfg), complete, ndone, total)
-        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 315, 'assertEqual'))
+        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 316, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_partial_snapshot
 
@@ -592,17 +593,17 @@ contains
         call assertTrue( &
             allocated(error), &
             message="existing output replaced without overwrite", &
-            location=pf_source_location('test_scene_sweep.pf', 327, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 328, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "exists") > 0, &
             message=error%message, &
-            location=pf_source_location('test_scene_sweep.pf', 328, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 329, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5.journal"), &
             message="work started despite the error", &
-            location=pf_source_location('test_scene_sweep.pf', 329, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 330, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_refuses_existing_output
 
@@ -749,49 +750,5 @@ contains
             if (text(n:n) == new_line("a")) text = text(1:n - 1)
         end if
     end function read_whole
-
-    !> A unique path prefix in /tmp.
-    function tmp_base() result(path)
-        character(len=:), allocatable :: path
-        character(len=16) :: tag
-        real(wp) :: r
-        integer(i8) :: count
-
-        call random_seed()
-        call random_number(r)
-        call system_clock(count)
-        write (tag, "(z0.8, z0.8)") int(r*2.0_wp**31, i8), int(modulo(count, 2_i8**31), i8)
-        path = "/tmp/supratrans_test_sweep_" // trim(tag)
-    end function tmp_base
-
-    !> Delete a file if it exists.
-    subroutine delete_file(path)
-        character(len=*), intent(in) :: path
-        integer :: unit, stat
-
-        if (.not. path_exists(path)) return
-        open (newunit=unit, file=path, status="old", iostat=stat)
-        if (stat == 0) close (unit, status="delete", iostat=stat)
-    end subroutine delete_file
-
-    !> Whether a file exists.
-    function path_exists(path) result(exists)
-        character(len=*), intent(in) :: path
-        logical :: exists
-
-        inquire (file=path, exist=exists)
-    end function path_exists
-
-    !> The message of an error, for assertion messages.
-    function error_text(error) result(text)
-        type(error_type), allocatable, intent(in) :: error
-        character(len=:), allocatable :: text
-
-        if (allocated(error)) then
-            text = error%message
-        else
-            text = "no error"
-        end if
-    end function error_text
 
 end module test_scene_sweep

@@ -5,7 +5,7 @@
 !> each test.
 module test_stability
     use pf_runtime
-    use supratrans_kinds, only: wp, i8
+    use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
     use supratrans_config
     use supratrans_chain, only: critical_dt, stable_by_paper_condition
@@ -14,6 +14,7 @@ module test_stability
     use supratrans_stepper_rk8, only: rk8_imaginary_limit
     use supratrans_scene_stability, only: run_stability, linear_stability_dt
     use supratrans_h5_test, only: h5_file, h5_open, h5_close, h5_read
+    use supratrans_test_files, only: unique_tmp, delete_file, error_text
     implicit none
 
     !> Output path of the current test.
@@ -23,7 +24,7 @@ contains
 
     ! @before
     subroutine set_up()
-        path = tmp_path()
+        path = unique_tmp("supratrans_test_stability_") // ".h5"
     end subroutine set_up
 
     ! @after
@@ -49,37 +50,37 @@ contains
             2.0_wp*sqrt(2.0_wp)/omega_max, &
             linear_stability_dt(chain, method_rk4), &
             1.0e-6_wp, &
-            location=pf_source_location('test_stability.pf', 47, 'assertEqual'))
+            location=pf_source_location('test_stability.pf', 48, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             rk8_imaginary_limit/omega_max, &
             linear_stability_dt(chain, method_rk8), &
             1.0e-4_wp, &
-            location=pf_source_location('test_stability.pf', 48, 'assertEqual'))
+            location=pf_source_location('test_stability.pf', 49, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             2.0_wp/sqrt(64.0_wp*s2 - 1.0_wp), &
             linear_stability_dt(chain, method_newton), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stability.pf', 49, 'assertEqual'))
+            location=pf_source_location('test_stability.pf', 50, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             2.0_wp/sqrt(64.0_wp*s2 + 1.0_wp), &
             linear_stability_dt(chain, method_linearized), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stability.pf', 50, 'assertEqual'))
+            location=pf_source_location('test_stability.pf', 51, 'assertEqual'))
         if (pf_any_failed()) return
         chain%beta = 1.0_wp
         call assertEqual( &
             2.0_wp/sqrt(64.0_wp*s2 - 1.0_wp), &
             linear_stability_dt(chain, method_newton), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stability.pf', 52, 'assertEqual'))
+            location=pf_source_location('test_stability.pf', 53, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             abs(linear_stability_dt(chain, method_rk4) - 2.0_wp*sqrt(2.0_wp)/omega_max), &
             1.0e-3_wp, &
-            location=pf_source_location('test_stability.pf', 53, 'assertGreaterThan'))
+            location=pf_source_location('test_stability.pf', 54, 'assertGreaterThan'))
         if (pf_any_failed()) return
     end subroutine test_linear_limits
 
@@ -113,14 +114,14 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_stability.pf', 83, 'assertFalse'))
+            location=pf_source_location('test_stability.pf', 84, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, path, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_stability.pf', 86, 'assertFalse'))
+            location=pf_source_location('test_stability.pf', 87, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "/boundary/observed", observed, error)
         call h5_read(file, "/boundary/rk4", rk4, error)
@@ -131,7 +132,7 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_stability.pf', 93, 'assertFalse'))
+            location=pf_source_location('test_stability.pf', 94, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
 
@@ -142,45 +143,45 @@ contains
             0.25_wp, &
             paper(1, 1), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stability.pf', 99, 'assertEqual'))
+            location=pf_source_location('test_stability.pf', 100, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             limit, &
             rk4(1, 1), &
             1.0e-6_wp, &
-            location=pf_source_location('test_stability.pf', 100, 'assertEqual'))
+            location=pf_source_location('test_stability.pf', 101, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.25_wp, &
             observed(1, 1, 1), &
             0.05_wp*0.25_wp, &
             message="energy-conserving scheme's boundary", &
-            location=pf_source_location('test_stability.pf', 101, 'assertEqual'))
+            location=pf_source_location('test_stability.pf', 102, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             limit, &
             observed(1, 2, 1), &
             0.05_wp*limit, &
             message="RK4's boundary", &
-            location=pf_source_location('test_stability.pf', 102, 'assertEqual'))
+            location=pf_source_location('test_stability.pf', 103, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             [0.0_wp, 1.0_wp, 1.0_wp], &
             newton(:, 1, 1), &
             0.0_wp, &
-            location=pf_source_location('test_stability.pf', 103, 'assertEqual'))
+            location=pf_source_location('test_stability.pf', 104, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             [0.0_wp, 0.0_wp, 1.0_wp], &
             runge(:, 1, 1), &
             0.0_wp, &
-            location=pf_source_location('test_stability.pf', 104, 'assertEqual'))
+            location=pf_source_location('test_stability.pf', 105, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             [1.0_wp, 1.0_wp], &
             consistent(1, :, 1), &
             0.0_wp, &
-            location=pf_source_location('test_stability.pf', 105, 'assertEqual'))
+            location=pf_source_location('test_stability.pf', 106, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_scene_boundaries_undamped_chain
 
@@ -203,28 +204,28 @@ contains
             0.2832_wp, &
             critical_dt(run%chain), &
             1.0e-4_wp, &
-            location=pf_source_location('test_stability.pf', 123, 'assertEqual'))
+            location=pf_source_location('test_stability.pf', 124, 'assertEqual'))
         if (pf_any_failed()) return
         run%numerics%dt = 0.27_wp
         call assertTrue( &
             stable_by_paper_condition(run%chain, run%numerics%dt), &
             message="the paper's condition holds", &
-            location=pf_source_location('test_stability.pf', 125, 'assertTrue'))
+            location=pf_source_location('test_stability.pf', 126, 'assertTrue'))
         if (pf_any_failed()) return
         call simulate(run, res)
         call assertTrue( &
             res%status /= run_ok, &
             message="yet the scheme is unstable", &
-            location=pf_source_location('test_stability.pf', 127, 'assertTrue'))
+            location=pf_source_location('test_stability.pf', 128, 'assertTrue'))
         if (pf_any_failed()) return
         run%numerics%dt = 0.24_wp
         call simulate(run, res)
-        call assertEqual(run_ok, res%status, location=pf_source_location('test_stability.pf', 130, 'assertEqual'))
+        call assertEqual(run_ok, res%status, location=pf_source_location('test_stability.pf', 131, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             res%max_abs_u, &
             1.0_wp, &
-            location=pf_source_location('test_stability.pf', 131, 'assertLessThan'))
+            location=pf_source_location('test_stability.pf', 132, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_paper_condition_not_sufficient_with_damping
 
@@ -244,43 +245,5 @@ contains
         chain%beta = 0.0_wp
         chain%m2 = 0.0_wp
     end function undamped_chain
-
-    !> A unique path under /tmp for the output of one test.
-    function tmp_path() result(p)
-        character(len=:), allocatable :: p
-        character(len=16) :: tag
-        real(wp) :: r
-        integer(i8) :: count
-
-        call random_seed()
-        call random_number(r)
-        call system_clock(count)
-        write (tag, "(z0.8, z0.8)") int(r*2.0_wp**31, i8), int(modulo(count, 2_i8**31), i8)
-        p = "/tmp/supratrans_test_stability_" // trim(tag) // ".h5"
-    end function tmp_path
-
-    !> Delete a file if it exists.
-    subroutine delete_file(name)
-        character(len=*), intent(in) :: name
-        integer :: unit, stat
-        logical :: exists
-
-        inquire (file=name, exist=exists)
-        if (.not. exists) return
-        open (newunit=unit, file=name, status="old", iostat=stat)
-        if (stat == 0) close (unit, status="delete", iostat=stat)
-    end subroutine delete_file
-
-    !> The message of an error, for assertion messages.
-    function error_text(error) result(text)
-        type(error_type), allocatable, intent(in) :: error
-        character(len=:), allocatable :: text
-
-        if (allocated(error)) then
-            text = error%message
-        else
-            text = "no error"
-        end if
-    end function error_text
 
 end module test_stability

@@ -16,6 +16,7 @@ module test_workprec
     use supratrans_scene_workprec, only: run_work_precision, status_not_run
     use supratrans_workprec_measure, only: fitted_order, measure_step_kernels
     use supratrans_h5_test, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr
+    use supratrans_test_files, only: unique_tmp, delete_file, error_text
     implicit none
 
     !> Output path of the current test.
@@ -25,7 +26,7 @@ contains
 
     ! @before
     subroutine set_up()
-        path = tmp_path()
+        path = unique_tmp("supratrans_test_workprec_") // ".h5"
     end subroutine set_up
 
     ! @after
@@ -56,18 +57,18 @@ contains
         do k = 1, 3
             run%numerics%dt = 0.1_wp/2**(k - 1)
             call simulate(run, res)
-            call assertEqual(run_ok, res%status, location=pf_source_location('test_workprec.pf', 58, 'assertEqual'))
+            call assertEqual(run_ok, res%status, location=pf_source_location('test_workprec.pf', 59, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 60.0_wp, &
                 res%probe_time(res%n_probe_samples), &
                 1.0e-9_wp, &
-                location=pf_source_location('test_workprec.pf', 59, 'assertEqual'))
+                location=pf_source_location('test_workprec.pf', 60, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 int(rk8_stages, i8)*res%steps, &
                 res%rhs_evaluations, &
-                location=pf_source_location('test_workprec.pf', 60, 'assertEqual'))
+                location=pf_source_location('test_workprec.pf', 61, 'assertEqual'))
             if (pf_any_failed()) return
             u(k) = res%probe_u(res%n_probe_samples, 1)
         end do
@@ -75,12 +76,12 @@ contains
         call assertGreaterThanOrEqual( &
             order, &
             7.5_wp, &
-            location=pf_source_location('test_workprec.pf', 64, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_workprec.pf', 65, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             order, &
             8.5_wp, &
-            location=pf_source_location('test_workprec.pf', 65, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_workprec.pf', 66, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
     end subroutine test_rk8_eighth_order
 
@@ -108,7 +109,7 @@ contains
             u(k) = res%probe_u(res%n_probe_samples, 1)
         end do
         order = log(abs(u(1) - u(2))/abs(u(2) - u(3)))/log(2.0_wp)
-        call assertLessThan(order, 2.0_wp, location=pf_source_location('test_workprec.pf', 92, 'assertLessThan'))
+        call assertLessThan(order, 2.0_wp, location=pf_source_location('test_workprec.pf', 93, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_rk8_order_collapses_at_off_grid_kink
 
@@ -127,33 +128,33 @@ contains
                 1.0_wp/factorial, &
                 g(j), &
                 1.0e-13_wp/factorial, &
-                location=pf_source_location('test_workprec.pf', 106, 'assertEqual'))
+                location=pf_source_location('test_workprec.pf', 107, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         call assertGreaterThan( &
             abs(g(9) - 1.0_wp/(factorial*9.0_wp)), &
             1.0e-7_wp, &
-            location=pf_source_location('test_workprec.pf', 108, 'assertGreaterThan'))
+            location=pf_source_location('test_workprec.pf', 109, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             abs_r(g, 0.5_wp), &
             1.0_wp, &
-            location=pf_source_location('test_workprec.pf', 109, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_workprec.pf', 110, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             abs_r(g, 2.0_wp), &
             1.0_wp, &
-            location=pf_source_location('test_workprec.pf', 110, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_workprec.pf', 111, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             abs_r(g, rk8_imaginary_limit - 1.0e-4_wp), &
             1.0_wp, &
-            location=pf_source_location('test_workprec.pf', 111, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_workprec.pf', 112, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             abs_r(g, rk8_imaginary_limit + 1.0e-3_wp), &
             1.0_wp, &
-            location=pf_source_location('test_workprec.pf', 112, 'assertGreaterThan'))
+            location=pf_source_location('test_workprec.pf', 113, 'assertGreaterThan'))
         if (pf_any_failed()) return
     end subroutine test_rk8_stability_polynomial
 
@@ -177,32 +178,32 @@ contains
         run%record%ledger_every = 1
         run%numerics%method = method_newton
         call simulate(run, res)
-        call assertEqual(run_ok, res%status, location=pf_source_location('test_workprec.pf', 135, 'assertEqual'))
+        call assertEqual(run_ok, res%status, location=pf_source_location('test_workprec.pf', 136, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%ledger%injected, &
             10.0_wp, &
-            location=pf_source_location('test_workprec.pf', 136, 'assertGreaterThan'))
+            location=pf_source_location('test_workprec.pf', 137, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             res%ledger%max_step_residual, &
             1.0e-12_wp*res%ledger%energy_scale, &
-            location=pf_source_location('test_workprec.pf', 137, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_workprec.pf', 138, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             abs(res%ledger%residual), &
             1.0e-11_wp*res%ledger%energy_scale, &
-            location=pf_source_location('test_workprec.pf', 138, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_workprec.pf', 139, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         run%numerics%method = method_rk4
         call simulate(run, res)
-        call assertEqual(run_ok, res%status, location=pf_source_location('test_workprec.pf', 141, 'assertEqual'))
+        call assertEqual(run_ok, res%status, location=pf_source_location('test_workprec.pf', 142, 'assertEqual'))
         if (pf_any_failed()) return
         rk4_drift = maxval(abs(res%ledger_series(1:res%n_ledger_samples, 6)))
         call assertGreaterThan( &
             rk4_drift, &
             1.0e-9_wp*res%ledger%energy_scale, &
-            location=pf_source_location('test_workprec.pf', 143, 'assertGreaterThan'))
+            location=pf_source_location('test_workprec.pf', 144, 'assertGreaterThan'))
         if (pf_any_failed()) return
     end subroutine test_newton_ledger_closes_where_rk4_drifts
 
@@ -226,17 +227,17 @@ contains
             call assertTrue( &
                 res%status == run_diverged .or. res%status == run_newton_failed, &
                 message="method unstable", &
-                location=pf_source_location('test_workprec.pf', 163, 'assertTrue'))
+                location=pf_source_location('test_workprec.pf', 164, 'assertTrue'))
             if (pf_any_failed()) return
             call assertTrue( &
                 len(res%reason) > 0, &
                 message="a reason is given", &
-                location=pf_source_location('test_workprec.pf', 164, 'assertTrue'))
+                location=pf_source_location('test_workprec.pf', 165, 'assertTrue'))
             if (pf_any_failed()) return
             call assertLessThan( &
                 res%t_end, &
                 run%numerics%t_final, &
-                location=pf_source_location('test_workprec.pf', 165, 'assertLessThan'))
+                location=pf_source_location('test_workprec.pf', 166, 'assertLessThan'))
             if (pf_any_failed()) return
         end do
     end subroutine test_unstable_runs_are_reported
@@ -274,14 +275,14 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_workprec.pf', 199, 'assertFalse'))
+            location=pf_source_location('test_workprec.pf', 200, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, path, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_workprec.pf', 202, 'assertFalse'))
+            location=pf_source_location('test_workprec.pf', 203, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "/status", status, error)
         call h5_read(file, "/error_energy", err_e, error)
@@ -293,61 +294,61 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_workprec.pf', 210, 'assertFalse'))
+            location=pf_source_location('test_workprec.pf', 211, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         ! Fortran shapes (dt, method, amplitude) and (dt, method); /status is an integer dataset, read as real
-        call assertEqual([3, 3, 1], shape(status), location=pf_source_location('test_workprec.pf', 213, 'assertEqual'))
+        call assertEqual([3, 3, 1], shape(status), location=pf_source_location('test_workprec.pf', 214, 'assertEqual'))
         if (pf_any_failed()) return
         do im = 1, 3
             call assertEqual( &
                 1.0_wp, &
                 status(1, im, 1), &
                 message="dt = 0.4 is reported diverged", &
-                location=pf_source_location('test_workprec.pf', 215, 'assertEqual'))
+                location=pf_source_location('test_workprec.pf', 216, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertIsNaN(err_e(1, im, 1), location=pf_source_location('test_workprec.pf', 216, 'assertIsNaN'))
+            call assertIsNaN(err_e(1, im, 1), location=pf_source_location('test_workprec.pf', 217, 'assertIsNaN'))
             if (pf_any_failed()) return
-            call assertIsNaN(err_u(1, im, 1), location=pf_source_location('test_workprec.pf', 217, 'assertIsNaN'))
+            call assertIsNaN(err_u(1, im, 1), location=pf_source_location('test_workprec.pf', 218, 'assertIsNaN'))
             if (pf_any_failed()) return
-            call assertIsNaN(wall(1, im, 1), location=pf_source_location('test_workprec.pf', 218, 'assertIsNaN'))
+            call assertIsNaN(wall(1, im, 1), location=pf_source_location('test_workprec.pf', 219, 'assertIsNaN'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0.0_wp, &
                 status(2, im, 1), &
                 message="dt = 0.1 runs", &
-                location=pf_source_location('test_workprec.pf', 219, 'assertEqual'))
+                location=pf_source_location('test_workprec.pf', 220, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertIsFinite(err_e(2, im, 1), location=pf_source_location('test_workprec.pf', 220, 'assertIsFinite'))
+            call assertIsFinite(err_e(2, im, 1), location=pf_source_location('test_workprec.pf', 221, 'assertIsFinite'))
             if (pf_any_failed()) return
-            call assertIsFinite(err_u(2, im, 1), location=pf_source_location('test_workprec.pf', 221, 'assertIsFinite'))
+            call assertIsFinite(err_u(2, im, 1), location=pf_source_location('test_workprec.pf', 222, 'assertIsFinite'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 wall(2, im, 1), &
                 0.0_wp, &
-                location=pf_source_location('test_workprec.pf', 222, 'assertGreaterThan'))
+                location=pf_source_location('test_workprec.pf', 223, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertEqual( &
                 real(status_not_run, wp), &
                 status(3, im, 1), &
                 message="dt = 0.05 < dt_smallest", &
-                location=pf_source_location('test_workprec.pf', 223, 'assertEqual'))
+                location=pf_source_location('test_workprec.pf', 224, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertIsNaN(dt(3, im), location=pf_source_location('test_workprec.pf', 224, 'assertIsNaN'))
+            call assertIsNaN(dt(3, im), location=pf_source_location('test_workprec.pf', 225, 'assertIsNaN'))
             if (pf_any_failed()) return
-            call assertIsNaN(err_e(3, im, 1), location=pf_source_location('test_workprec.pf', 225, 'assertIsNaN'))
+            call assertIsNaN(err_e(3, im, 1), location=pf_source_location('test_workprec.pf', 226, 'assertIsNaN'))
             if (pf_any_failed()) return
         end do
-        call assertEqual(0.1_wp, dt(2, 1), 0.0_wp, location=pf_source_location('test_workprec.pf', 227, 'assertEqual'))
+        call assertEqual(0.1_wp, dt(2, 1), 0.0_wp, location=pf_source_location('test_workprec.pf', 228, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             err_e(2, 3, 1), &
             1.0e-3_wp*err_e(2, 1, 1), &
-            location=pf_source_location('test_workprec.pf', 228, 'assertLessThan'))
+            location=pf_source_location('test_workprec.pf', 229, 'assertLessThan'))
         if (pf_any_failed()) return
-        call assertLessThan(ref(1), 1.0e-10_wp, location=pf_source_location('test_workprec.pf', 229, 'assertLessThan'))
+        call assertLessThan(ref(1), 1.0e-10_wp, location=pf_source_location('test_workprec.pf', 230, 'assertLessThan'))
         if (pf_any_failed()) return
-        call assertEqual([3, 1], shape(order), location=pf_source_location('test_workprec.pf', 230, 'assertEqual'))
+        call assertEqual([3, 1], shape(order), location=pf_source_location('test_workprec.pf', 231, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_scene_writes_status_not_numbers_for_unstable_runs
 
@@ -369,12 +370,12 @@ contains
             4.0_wp, &
             fitted_order(dts, err, 1.0e-13_wp), &
             1.0e-12_wp, &
-            location=pf_source_location('test_workprec.pf', 247, 'assertEqual'))
+            location=pf_source_location('test_workprec.pf', 248, 'assertEqual'))
         if (pf_any_failed()) return
         err(4:7) = nan
         call assertIsNaN( &
             fitted_order(dts, err, 1.0e-13_wp), &
-            location=pf_source_location('test_workprec.pf', 249, 'assertIsNaN'))
+            location=pf_source_location('test_workprec.pf', 250, 'assertIsNaN'))
         if (pf_any_failed()) return
     end subroutine test_fitted_order
 
@@ -387,24 +388,24 @@ contains
         call assertGreaterThan( &
             t_sine, &
             0.0_wp, &
-            location=pf_source_location('test_workprec.pf', 258, 'assertGreaterThan'))
+            location=pf_source_location('test_workprec.pf', 259, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             t_division, &
             0.0_wp, &
-            location=pf_source_location('test_workprec.pf', 259, 'assertGreaterThan'))
+            location=pf_source_location('test_workprec.pf', 260, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             t_tridiag, &
             0.0_wp, &
-            location=pf_source_location('test_workprec.pf', 260, 'assertGreaterThan'))
+            location=pf_source_location('test_workprec.pf', 261, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertLessThan(t_sine, 1.0e-3_wp, location=pf_source_location('test_workprec.pf', 261, 'assertLessThan'))
+        call assertLessThan(t_sine, 1.0e-3_wp, location=pf_source_location('test_workprec.pf', 262, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             t_sine, &
             t_division, &
-            location=pf_source_location('test_workprec.pf', 262, 'assertGreaterThan'))
+            location=pf_source_location('test_workprec.pf', 263, 'assertGreaterThan'))
         if (pf_any_failed()) return
     end subroutine test_step_kernels_timed
 
@@ -435,43 +436,5 @@ contains
         end do
         r = abs(p)
     end function abs_r
-
-    !> A unique path under /tmp for the output of one test.
-    function tmp_path() result(p)
-        character(len=:), allocatable :: p
-        character(len=16) :: tag
-        real(wp) :: r
-        integer(i8) :: count
-
-        call random_seed()
-        call random_number(r)
-        call system_clock(count)
-        write (tag, "(z0.8, z0.8)") int(r*2.0_wp**31, i8), int(modulo(count, 2_i8**31), i8)
-        p = "/tmp/supratrans_test_workprec_" // trim(tag) // ".h5"
-    end function tmp_path
-
-    !> Delete a file if it exists.
-    subroutine delete_file(name)
-        character(len=*), intent(in) :: name
-        integer :: unit, stat
-        logical :: exists
-
-        inquire (file=name, exist=exists)
-        if (.not. exists) return
-        open (newunit=unit, file=name, status="old", iostat=stat)
-        if (stat == 0) close (unit, status="delete", iostat=stat)
-    end subroutine delete_file
-
-    !> The message of an error, for assertion messages.
-    function error_text(error) result(text)
-        type(error_type), allocatable, intent(in) :: error
-        character(len=:), allocatable :: text
-
-        if (allocated(error)) then
-            text = error%message
-        else
-            text = "no error"
-        end if
-    end function error_text
 
 end module test_workprec
