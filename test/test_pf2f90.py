@@ -479,3 +479,16 @@ def test_warns_when_output_cannot_see_the_runtime(tmp_path, capsys):
     (tmp_path / "pf_runtime.f90").write_text("module pf_runtime\nend module pf_runtime\n")
     assert pf2f90.main(["-o", str(tmp_path / "generated")]) == 0
     assert "fpm will not let" in capsys.readouterr().err
+
+
+def test_cmake_builds_every_shared_test_module():
+    """The CMake/pFUnit build links each test against ``supratrans_test_lib``: every test/*.f90 that is neither a
+    translation of a .pf (test_*.f90, pf_driver.f90) nor the stand-in runtime must be in it, or the tests that use
+    it fail to compile there (``fpm test`` finds them by itself, so only this check sees one missing)."""
+    cmake = (HERE.parent / "CMakeLists.txt").read_text()
+    start = cmake.index("set(supratrans_test_helpers")
+    listed = set(cmake[start:cmake.index(")", start)].split()[1:])
+    generated = {f"{p.stem}.f90" for p in HERE.glob("test_*.pf")} | {"pf_driver.f90", "pf_runtime.f90"}
+    shared = {f"test/{p.name}" for p in HERE.glob("*.f90") if p.name not in generated}
+    assert shared, "no shared test module found"
+    assert listed == shared, f"CMakeLists.txt lists {sorted(listed)}, test/ has {sorted(shared)}"
