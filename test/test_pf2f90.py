@@ -486,7 +486,7 @@ def test_cmake_builds_every_shared_test_module():
     translation of a .pf (test_*.f90, pf_driver.f90) nor the stand-in runtime must be in it, or the tests that use
     it fail to compile there (``fpm test`` finds them by itself, so only this check sees one missing)."""
     cmake = (HERE.parent / "CMakeLists.txt").read_text()
-    start = cmake.index("set(supratrans_test_helpers")
+    start = cmake.index("set(shared_test_modules")
     listed = set(cmake[start:cmake.index(")", start)].split()[1:])
     generated = {f"{p.stem}.f90" for p in HERE.glob("test_*.pf")} | {"pf_driver.f90", "pf_runtime.f90"}
     shared = {f"test/{p.name}" for p in HERE.glob("*.f90") if p.name not in generated}
