@@ -4,14 +4,17 @@
 !> below the fold, driven at its own amplitude, stays localized for the whole watch; the codes are named. Which
 !> periodic states have the half-period symmetry (a followed branch is then continued on the half-period map). The
 !> stairs (`climb_stairs`): none below their top, none run; from a stable state they follow its branch and the chain
-!> transmits on the stair just past its fold.
+!> transmits on the stair just past its fold. On which side of a branch point, located or bracketed, the other branch
+!> leaves (`switch_side`).
 module test_fold_fate
     use pf_runtime
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
     use supratrans_config, only: run_config
     use supratrans_fold_fate, only: fold_fate, fate_transmits, fate_localized, fate_push, fate_watch_time, fate_codes, &
-                                    half_period_symmetric, stair_height, stair_time
+                                    half_period_symmetric, stair_height, stair_time, switch_side, branch_switch_codes, &
+                                    switch_supercritical, switch_subcritical, switch_side_unknown
     use supratrans_chain_watch, only: climb_stairs
     use supratrans_period_map, only: period_map, period_map_init, set_half_period
     use continuation_maps, only: short_test_chain
@@ -20,6 +23,64 @@ module test_fold_fate
     implicit none
 
 contains
+
+    !> The side of a branch point (`switch_side`): the other branch's first point above the branch point (the upper
+    !> end of its bracket) is supercritical, below it subcritical when the branch point is located (lower end equal,
+    !> or NaN), and inside an open bracket its side is unknown; below an open bracket it is subcritical. The codes
+    !> attribute names code 5.
+    ! @test
+    subroutine test_switch_side_of_a_bracketed_branch_point()
+        real(wp) :: nan
+
+        nan = ieee_value(1.0_wp, ieee_quiet_nan)
+        ! located: lower end = upper end
+        call assertEqual( &
+            switch_supercritical, &
+            switch_side(5.2_wp, 5.1_wp, 5.1_wp), &
+            location=pf_source_location('test_fold_fate.pf', 36, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            switch_subcritical, &
+            switch_side(5.0_wp, 5.1_wp, 5.1_wp), &
+            location=pf_source_location('test_fold_fate.pf', 37, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            switch_subcritical, &
+            switch_side(5.0_wp, nan, 5.1_wp), &
+            location=pf_source_location('test_fold_fate.pf', 38, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            switch_supercritical, &
+            switch_side(5.2_wp, nan, 5.1_wp), &
+            location=pf_source_location('test_fold_fate.pf', 39, 'assertEqual'))
+        if (pf_any_failed()) return
+        ! bracketed [5.12790, 5.13750] (Omega = 0.18 of the paper's grid, M = 699; the first point 5.13154)
+        call assertEqual( &
+            switch_side_unknown, &
+            switch_side(5.13154_wp, 5.12790_wp, 5.13750_wp), &
+            location=pf_source_location('test_fold_fate.pf', 41, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            switch_side_unknown, &
+            switch_side(5.12790_wp, 5.12790_wp, 5.13750_wp), &
+            location=pf_source_location('test_fold_fate.pf', 42, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            switch_supercritical, &
+            switch_side(5.13760_wp, 5.12790_wp, 5.13750_wp), &
+            location=pf_source_location('test_fold_fate.pf', 43, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            switch_subcritical, &
+            switch_side(5.12780_wp, 5.12790_wp, 5.13750_wp), &
+            location=pf_source_location('test_fold_fate.pf', 44, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            index(branch_switch_codes(), "5 side unknown") > 0, &
+            message=branch_switch_codes(), &
+            location=pf_source_location('test_fold_fate.pf', 45, 'assertTrue'))
+        if (pf_any_failed()) return
+    end subroutine test_switch_side_of_a_bracketed_branch_point
 
     !> Undamped sine-Gordon, Omega = 0.9, c = 4, dt ~ 0.05, N = 40 with the absorber on N0 = 20 < n <= 40 (detector
     !> site 10): pushed 1% past its fold, the state at the fold sends an oscillator beyond the detector past pi
@@ -36,48 +97,48 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 38, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 63, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=1, floquet_every=8)
         call continue_branch(map, ctl, res)
         call assertEqual( &
             cont_fold_found, &
             res%status, &
-            location=pf_source_location('test_fold_fate.pf', 41, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 66, 'assertEqual'))
         if (pf_any_failed()) return
 
         call fold_fate(map, run, res%states(:, res%fold_index), res%fold_amplitude*(1.0_wp + fate_push), fate, time)
-        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 44, 'assertEqual'))
+        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 69, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             time, &
             fate_watch_time, &
-            location=pf_source_location('test_fold_fate.pf', 45, 'assertLessThan'))
+            location=pf_source_location('test_fold_fate.pf', 70, 'assertLessThan'))
         if (pf_any_failed()) return
-        call assertGreaterThan(time, 0.0_wp, location=pf_source_location('test_fold_fate.pf', 46, 'assertGreaterThan'))
+        call assertGreaterThan(time, 0.0_wp, location=pf_source_location('test_fold_fate.pf', 71, 'assertGreaterThan'))
         if (pf_any_failed()) return
 
         below = minloc(abs(res%amplitude(1:res%fold_index) - 0.8_wp*res%fold_amplitude), dim=1)
         call assertLessThan( &
             res%amplitude(below), &
             0.9_wp*res%fold_amplitude, &
-            location=pf_source_location('test_fold_fate.pf', 49, 'assertLessThan'))
+            location=pf_source_location('test_fold_fate.pf', 74, 'assertLessThan'))
         if (pf_any_failed()) return
         call fold_fate(map, run, res%states(:, below), res%amplitude(below), fate, time)
-        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 51, 'assertEqual'))
+        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 76, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             time, &
             fate_watch_time, &
-            location=pf_source_location('test_fold_fate.pf', 52, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_fold_fate.pf', 77, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(fate_codes(), "transmits") > 0, &
-            location=pf_source_location('test_fold_fate.pf', 53, 'assertTrue'))
+            location=pf_source_location('test_fold_fate.pf', 78, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(fate_codes(), "localized") > 0, &
-            location=pf_source_location('test_fold_fate.pf', 54, 'assertTrue'))
+            location=pf_source_location('test_fold_fate.pf', 79, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_fold_transmits_and_stable_state_stays
 
@@ -97,55 +158,55 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 73, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 98, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 74, 'assertEqual'))
+        call assertEqual(0, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 99, 'assertEqual'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=1.0_wp, floquet_every=0)
         call continue_branch(map, ctl, res)
         call assertGreaterThan( &
             res%n_points, &
             3, &
-            location=pf_source_location('test_fold_fate.pf', 77, 'assertGreaterThan'))
+            location=pf_source_location('test_fold_fate.pf', 102, 'assertGreaterThan'))
         if (pf_any_failed()) return
         i = res%n_points
         call assertGreaterThan( &
             res%amplitude(i), &
             0.9_wp, &
-            location=pf_source_location('test_fold_fate.pf', 79, 'assertGreaterThan'))
+            location=pf_source_location('test_fold_fate.pf', 104, 'assertGreaterThan'))
         if (pf_any_failed()) return
         x = res%states(:, i)
         call assertTrue( &
             half_period_symmetric(map, x, res%amplitude(i)), &
-            location=pf_source_location('test_fold_fate.pf', 81, 'assertTrue'))
+            location=pf_source_location('test_fold_fate.pf', 106, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(map%half, location=pf_source_location('test_fold_fate.pf', 82, 'assertTrue'))
+        call assertTrue(map%half, location=pf_source_location('test_fold_fate.pf', 107, 'assertTrue'))
         if (pf_any_failed()) return
         call set_half_period(map, .false., ok)
-        call assertTrue(ok, location=pf_source_location('test_fold_fate.pf', 84, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_fold_fate.pf', 109, 'assertTrue'))
         if (pf_any_failed()) return
         x(size(x)) = x(size(x)) + 1.0e-6_wp
         call assertFalse( &
             half_period_symmetric(map, x, res%amplitude(i)), &
-            location=pf_source_location('test_fold_fate.pf', 86, 'assertFalse'))
+            location=pf_source_location('test_fold_fate.pf', 111, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 87, 'assertFalse'))
+        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 112, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             half_period_symmetric(map, 0.1_wp*res%states(:, i), res%amplitude(i)), &
-            location=pf_source_location('test_fold_fate.pf', 88, 'assertFalse'))
+            location=pf_source_location('test_fold_fate.pf', 113, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 89, 'assertFalse'))
+        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 114, 'assertFalse'))
         if (pf_any_failed()) return
         run%numerics%dt = 0.0503_wp
         call period_map_init(map, run, error)
-        call assertEqual(1, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 92, 'assertEqual'))
+        call assertEqual(1, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 117, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             half_period_symmetric(map, 0.0_wp*x, 0.0_wp), &
-            location=pf_source_location('test_fold_fate.pf', 93, 'assertFalse'))
+            location=pf_source_location('test_fold_fate.pf', 118, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 94, 'assertFalse'))
+        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 119, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_half_period_symmetry
 
@@ -167,59 +228,59 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 115, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 140, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=1, floquet_every=8)
         call continue_branch(map, ctl, res)
         call assertEqual( &
             cont_fold_found, &
             res%status, &
-            location=pf_source_location('test_fold_fate.pf', 118, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 143, 'assertEqual'))
         if (pf_any_failed()) return
         below = minloc(abs(res%amplitude(1:res%fold_index) - 0.8_wp*res%fold_amplitude), dim=1)
         a0 = res%amplitude(below)
 
         y = res%states(:, below)
         call climb_stairs(map, run, y, a0, a0 + 0.5_wp*stair_height, a, fate, stats)
-        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 124, 'assertEqual'))
+        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 149, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(a0, a, location=pf_source_location('test_fold_fate.pf', 125, 'assertEqual'))
+        call assertEqual(a0, a, location=pf_source_location('test_fold_fate.pf', 150, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(res%states(:, below), y, location=pf_source_location('test_fold_fate.pf', 126, 'assertEqual'))
+        call assertEqual(res%states(:, below), y, location=pf_source_location('test_fold_fate.pf', 151, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, stats%map_evaluations, location=pf_source_location('test_fold_fate.pf', 127, 'assertEqual'))
+        call assertEqual(0, stats%map_evaluations, location=pf_source_location('test_fold_fate.pf', 152, 'assertEqual'))
         if (pf_any_failed()) return
 
         call climb_stairs(map, run, y, a0, res%fold_amplitude + 0.5_wp, a, fate, stats)
-        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 130, 'assertEqual'))
+        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 155, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             a, &
             res%fold_amplitude, &
-            location=pf_source_location('test_fold_fate.pf', 131, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_fold_fate.pf', 156, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             a, &
             res%fold_amplitude + stair_height, &
-            location=pf_source_location('test_fold_fate.pf', 132, 'assertLessThan'))
+            location=pf_source_location('test_fold_fate.pf', 157, 'assertLessThan'))
         if (pf_any_failed()) return
         stairs = nint((a - a0)/stair_height)
         call assertEqual( &
             a0 + real(stairs, wp)*stair_height, &
             a, &
             tolerance=1.0e-12_wp, &
-            location=pf_source_location('test_fold_fate.pf', 134, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 159, 'assertEqual'))
         if (pf_any_failed()) return
         per_stair = ceiling(stair_time/map%period)
         call assertGreaterThan( &
             stats%map_evaluations, &
             (stairs - 1)*per_stair, &
-            location=pf_source_location('test_fold_fate.pf', 136, 'assertGreaterThan'))
+            location=pf_source_location('test_fold_fate.pf', 161, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             stats%map_evaluations, &
             stairs*per_stair, &
-            location=pf_source_location('test_fold_fate.pf', 137, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_fold_fate.pf', 162, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
     end subroutine test_stairs_transmit_just_past_the_fold
 

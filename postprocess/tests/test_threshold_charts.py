@@ -299,6 +299,14 @@ def test_transmission_past_a_loss_of_stability_is_marked(tmp_path):
     assert "transmits at 3.5 past the branch point (subcritical)" in text
     assert text.count("past the branch point") == 1
     assert text.count("on stairs past the loss") == 1
+    with h5py.File(path, "a") as h:
+        h["branch_switch"][0, 0] = 5    # a branch point known only to its bracket, the other branch inside it
+    fold = reader.open_scene(path)
+    (line,) = [ln for ln in figures.draw_thresholds(fold).get_axes()[0].get_lines()
+               if "past a loss of stability" in ln.get_label()]
+    np.testing.assert_array_equal(line.get_ydata(), [3.5, np.nan, FOLD[0, 2] - 0.3])
+    assert "transmits at 3.5 past the branch point (side unknown: only bracketed)" in "\n".join(
+        figures.summary(fold, full=True))
 
 
 def test_a_stair_from_where_the_chain_settled_is_marked_apart(tmp_path):

@@ -29,7 +29,7 @@ module supratrans_fold_fate
 
     public :: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, follow_to_transmission, &
               add_branch_cost, counted_fate, past_branch_point, branch_switch_codes, transmission_after, &
-              past_oscillatory_loss
+              past_oscillatory_loss, switch_side
     public :: fate_not_computed, fate_transmits, fate_localized, fate_failed, fate_push, fate_watch_time, &
               fate_min_periods, symmetric_tol, stair_height, stair_time
 
@@ -55,6 +55,9 @@ module supratrans_fold_fate
     !> Past a torus or a period doubling below the fold (no branch of periodic states to switch to): the chain driven
     !> from the loss's state up in stairs (`past_oscillatory_loss`).
     integer, parameter, public :: switch_stairs = 4
+    !> Branch switching: the other branch's first point lies inside the bracket of a branch point known only to its
+    !> bracket, so its side is not known (the chain driven past the bracket's upper end, as past a subcritical one).
+    integer, parameter, public :: switch_side_unknown = 5
     !> Distance (Euclidean norm of (x, A)) of the other branch's first point from the branch point.
     real(wp), parameter, public :: switch_step = 5.0e-2_wp
     !> Past a subcritical branch point the chain is driven from the branch point's state moved this far along the
@@ -99,9 +102,9 @@ contains
     !> goes: the other branch is found (`switch_branch`, `switch_step` away; 4 `switch_step` when that fails, as from
     !> a branch point known only to its bracket it may). Where it leaves above the branch point
     !> (supercritical) the ramp follows it: it is continued to its fold, whose fate is tested, and so on
-    !> (`follow_to_transmission`). Where it leaves below (subcritical; also where it does not leave above a branch
-    !> point known only to its bracket, whose upper end A_b is: the label may then be wrong, the protocol holds for
-    !> both kinds) nothing is near to follow: the chain is driven
+    !> (`follow_to_transmission`). Where it leaves below (subcritical), or inside the bracket of a branch point known
+    !> only to its bracket, whose upper end A_b is (side unknown: the protocol holds for both kinds), nothing is
+    !> near to follow: the chain is driven
     !> at A_b (1 + `fate_push`) from the branch point's state moved by `switch_seed` along the other branch's
     !> direction, and A_b is the transmission threshold when it transmits; where it stays localized, the chain is
     !> followed from where it settled. (Driven from the other branch's first point instead, the chain stayed
@@ -140,16 +143,36 @@ contains
             r%transmission_status = cont_newton_failed
             return
         end if
-        if (pt%y(d + 1) > a_b) then
-            r%branch_switch = switch_supercritical
+        r%branch_switch = switch_side(pt%y(d + 1), r%instability_lower, a_b)
+        if (r%branch_switch == switch_supercritical) then
             call follow_to_transmission(map, run, ctl, pt%y(1:d), pt%y(d + 1), r)
             return
         end if
-        r%branch_switch = switch_subcritical
         call counted_fate(map, run, res%instability_point(1:d) + switch_seed*e(1:d), a_b*(1.0_wp + fate_push), r, fate, &
                           time, settled)
         call transmission_after(map, run, ctl, a_b, fate, settled, r)
     end subroutine past_branch_point
+
+    !> On which side of a branch point the other branch leaves (`/branch_switch`): above the branch point (its
+    !> bracket's upper end `a_b`) supercritical; inside the bracket [`a_lower`, `a_b`] of a branch point known only
+    !> to its bracket side unknown (with M odd the pitchfork is an imperfect one, and the branch point may lie
+    !> anywhere in the bracket); below it subcritical. A located branch point has `a_lower` = `a_b` (or NaN).
+    pure integer function switch_side(a_first, a_lower, a_b)
+        !> Amplitude of the other branch's first point.
+        real(wp), intent(in) :: a_first
+        !> Lower end of the branch point's bracket.
+        real(wp), intent(in) :: a_lower
+        !> The branch point (its bracket's upper end).
+        real(wp), intent(in) :: a_b
+
+        if (a_first > a_b) then
+            switch_side = switch_supercritical
+        else if (a_lower < a_b .and. a_first >= a_lower) then
+            switch_side = switch_side_unknown
+        else
+            switch_side = switch_subcritical
+        end if
+    end function switch_side
 
     !> Past a torus or a period doubling below the fold (the first loss of stability of the branch from rest, located:
     !> `res%instability_point`), where a slow ramp goes: no branch of periodic states leaves there to be followed,
@@ -320,15 +343,17 @@ contains
         text = int_str(switch_none) // " none: no branch point below the fold (or no fate asked); " &
             // int_str(switch_supercritical) // " supercritical: the other branch leaves above the branch point and " &
             // "is followed (/transmission_fold is its fold, or a later one); " // int_str(switch_subcritical) &
-            // " subcritical: it leaves below (or not above a branch point known only to its bracket, " &
-            // "/instability_lower); driven 1% past the branch point, the chain transmits " &
+            // " subcritical: it leaves below; driven 1% past the branch point, the chain transmits " &
             // "(/transmission_fold is the branch point) or settles and is followed; " // int_str(switch_failed) &
             // " failed: the other branch was not found; " // int_str(switch_stairs) // " stairs: past a torus or " &
             // "a period doubling below the fold (no branch of periodic states to switch to), the chain is driven " &
             // "from the loss's state (moved by " // real_str(switch_seed, 3) // ") up in stairs of " &
             // real_str(stair_height, 3) // " held " // real_str(stair_time, 4) // " time units each; " &
             // "/transmission_fold is the first stair where it transmits (the one below it did not), or where " &
-            // "none does below the fold, as past the fold from the last stair's state"
+            // "none does below the fold, as past the fold from the last stair's state; " &
+            // int_str(switch_side_unknown) // " side unknown: the branch point is known only to its bracket " &
+            // "(/instability_lower .. /instability_amplitude) and the other branch's first point lies inside it; " &
+            // "the chain is driven 1% past the bracket's upper end, as past a subcritical one"
     end function branch_switch_codes
 
     !> Past a fold where the chain stays localized, the branch it settles on: from the `settled` state at amplitude

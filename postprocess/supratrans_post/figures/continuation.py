@@ -174,13 +174,13 @@ def summary_continuation(s: Scene, full: bool = False) -> list[str]:
     return lines
 
 
-SWITCHES = {1: "supercritical", 2: "subcritical", 3: "other branch not found"}
+SWITCHES = {1: "supercritical", 2: "subcritical", 3: "other branch not found", 5: "side unknown: only bracketed"}
 STAIRS = 4
 
 
 def _past_branch_point(s: Scene, c: int, w: int) -> str:
     """", transmits at A past the branch point (its kind)" where the file switched branch there (/branch_switch
-    1 .. 3), ", transmits at A on stairs past the loss" where it drove the chain up in stairs past a torus or a
+    1 .. 3, 5), ", transmits at A on stairs past the loss" where it drove the chain up in stairs past a torus or a
     period doubling (4; ", transmits at A past the fold" where no stair did and the fold's fate transmits),
     ", transmits at A on stairs from where the chain settled" where it did so past a fold from
     where the chain settled on no stable periodic state (/transmission_stairs 1, /branch_switch 0); a stair's
