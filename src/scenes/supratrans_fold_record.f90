@@ -114,9 +114,10 @@ module supratrans_fold_record
         !> 1 where `transmission_fold` is the stair on which the chain, driven up in stairs, transmitted; 0 where it
         !> is a fold or a branch point (or NaN).
         integer :: transmission_stairs = 0
-        !> Where `transmission_fold` is a stair: how far from it two more climbs, from the first's start moved by 1e-3
-        !> along other fixed directions, transmit (max |A_k - A_1|; a climb that did not transmit within its bound
-        !> counts at its next stair, a lower bound). NaN where `transmission_fold` is not a stair.
+        !> Where `transmission_fold` is a stair: how far from it the other climbs (`other_climbs` of
+        !> `supratrans_fold_fate`, from the first's start moved by `switch_seed` along other fixed directions) transmit
+        !> (max |A_k - A_1|; a climb that did not transmit within its bound counts at its next stair, a lower bound).
+        !> NaN where `transmission_fold` is not a stair.
         real(wp) :: transmission_spread = 0.0_wp
         !> The branch: `branch_quantities` (rows) at each point (columns), NaN past `points`.
         real(wp), allocatable :: branch(:, :)
