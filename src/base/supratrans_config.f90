@@ -50,6 +50,22 @@ module supratrans_config
     !> Names of the screening methods (&scene screen_method), in the order of their numbers.
     character(len=*), parameter, public :: screen_choices(*) = [character(len=10) :: "none", "newton", "linearized", "rk4", "rk8"]
 
+    !> Newton-shooting on the one-period map of the &numerics method: the scheme's fold at its dt, with Floquet stability, the
+    !> fold's fate and the convergence in dt and N.
+    integer, parameter, public :: solver_shooting = 1
+    !> Harmonic balance of the ODE (eq. (1)): the fold of the driven periodic state as Fourier coefficients per site, converged in
+    !> the number of harmonics, with no dt.
+    integer, parameter, public :: solver_harmonic_balance = 2
+    !> Names of the continuation solvers (&scene solver), in the order of their numbers.
+    character(len=*), parameter, public :: solver_choices(*) = [character(len=16) :: "shooting", "harmonic_balance"]
+
+    !> The chain as the paper closes it: u_{N+1} = 0 behind the absorber.
+    integer, parameter, public :: closure_absorber = 1
+    !> The exact linear radiation condition per harmonic at site N, U_{N+1} = z U_N (harmonic balance only).
+    integer, parameter, public :: closure_radiation = 2
+    !> Names of the closures (&scene closure), in the order of their numbers.
+    character(len=*), parameter, public :: closure_choices(*) = [character(len=9) :: "absorber", "radiation"]
+
     !> No parameter varies: one curve, the &chain of the input (or one per potential of `potentials`).
     integer, parameter, public :: vary_none = 1
     !> The curves differ in the external damping gamma (`values`).
@@ -224,6 +240,24 @@ module supratrans_config
         !> Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + crossing_tol (&scene
         !> crossing_tol).
         real(wp) :: crossing_tol = 1.0e-06_wp
+        !> Continuation: how the periodic state is computed ('shooting': the &numerics method's one-period map; 'harmonic_balance':
+        !> Fourier coefficients per site, no dt) (&scene solver).
+        integer :: solver = solver_shooting
+        !> Continuation with harmonic_balance: odd harmonics K to start from (0: ceiling(3 / Omega), at least 3); K grows until the
+        !> fold moves by less than harmonics_tol (&scene harmonics).
+        integer :: harmonics = 0
+        !> Continuation with harmonic_balance: most odd harmonics K (the fold's truncation estimate says when it was not enough)
+        !> (&scene harmonics_max).
+        integer :: harmonics_max = 64
+        !> Continuation with harmonic_balance: K grows (by half, at least 2) until the fold moves by at most this (&scene
+        !> harmonics_tol).
+        real(wp) :: harmonics_tol = 1.0e-09_wp
+        !> Continuation with harmonic_balance: the end at site N ('absorber': u_{N+1} = 0 behind the paper's absorber; 'radiation':
+        !> the linear radiation condition per harmonic) (&scene closure).
+        integer :: closure = closure_absorber
+        !> Continuation with harmonic_balance: each fold again with absorbers 2, 4, .. 2^absorber_family times as long and wide,
+        !> and on the core N0 with radiation closure (0: none) (&scene absorber_family).
+        integer :: absorber_family = 0
         !> Continuation: multipliers every this many branch points, where their trend could reach the unit circle, at the fold and
         !> where the verdict changes (1: every point; 0: the fold, and where one passes -1) (&scene floquet_every).
         integer :: floquet_every = 4
@@ -257,7 +291,8 @@ module supratrans_config
         real(wp), allocatable :: dt_smallest(:)
         !> Work-precision: the drive amplitudes (one set of runs each) (&scene amplitudes).
         real(wp), allocatable :: amplitudes(:)
-        !> Stability: the values of the coupling c (the c axis) (&scene c_values).
+        !> Stability: the values of the coupling c (the c axis); continuation with harmonic_balance: the couplings of the continuum
+        !> limit (N, N0, sigma scaled with c) (&scene c_values).
         real(wp), allocatable :: c_values(:)
         !> Work-precision: timed repetitions of each run (the median wall time is recorded) (&scene repeats).
         integer :: repeats = 3

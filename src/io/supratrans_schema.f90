@@ -5,8 +5,8 @@
 !> configuration field of each key.
 module supratrans_schema
     use supratrans_kinds, only: wp, name_len
-    use supratrans_config, only: input_config, potential_choices, method_choices, scene_choices, screen_choices, vary_choices, &
-        max_curve_values, max_probes, max_scene_methods, max_scene_dts
+    use supratrans_config, only: input_config, potential_choices, method_choices, scene_choices, screen_choices, solver_choices, &
+        closure_choices, vary_choices, max_curve_values, max_probes, max_scene_methods, max_scene_dts
     use supratrans_keys, only: key_spec, derived_spec, key_value, kt_integer, kt_real, kt_logical, kt_name, kt_path, &
         set_list, list_value
     implicit none
@@ -22,8 +22,12 @@ module supratrans_schema
     integer, parameter, public :: choice_scene = 3
     !> Choice set of the screening method names (`screen_choices`).
     integer, parameter, public :: choice_screen = 4
+    !> Choice set of the continuation solver names (`solver_choices`).
+    integer, parameter, public :: choice_solver = 5
+    !> Choice set of the closure names (`closure_choices`).
+    integer, parameter, public :: choice_closure = 6
     !> Choice set of the parameter names (`vary_choices`).
-    integer, parameter, public :: choice_vary = 5
+    integer, parameter, public :: choice_vary = 7
 
     !> Index in `key_table` of each key: `key_<group>_<name>`.
     integer, parameter, public :: key_chain_potential = 1, key_chain_c = 2, key_chain_m2 = 3, key_chain_gamma = 4, &
@@ -35,14 +39,16 @@ module supratrans_schema
         key_scene_amplitude_min = 25, key_scene_amplitude_max = 26, key_scene_amplitude_step = 27, key_scene_omega_min = 28, &
         key_scene_omega_max = 29, key_scene_omega_step = 30, key_scene_vary = 31, key_scene_values = 32, &
         key_scene_potentials = 33, key_scene_continuation_step = 34, key_scene_continuation_step_max = 35, &
-        key_scene_continuation_points = 36, key_scene_beyond_fold = 37, key_scene_crossing_tol = 38, &
-        key_scene_floquet_every = 39, key_scene_fold_convergence = 40, key_scene_coarse_step = 41, key_scene_resolution = 42, &
-        key_scene_screen_method = 43, key_scene_screen_dt = 44, key_scene_confirm_band = 45, key_scene_screen_margin = 46, &
-        key_scene_certify = 47, key_scene_methods = 48, key_scene_dts = 49, key_scene_dt_smallest = 50, &
-        key_scene_amplitudes = 51, key_scene_c_values = 52, key_scene_repeats = 53, key_scene_reference_dt = 54, &
-        key_scene_stair_times = 55, key_scene_stair_height = 56, key_scene_stair_ramp = 57, key_scene_power_threshold = 58, &
-        key_detect_site = 59, key_detect_amplitude = 60, key_detect_stop_when_decided = 61, key_output_file = 62, &
-        key_output_overwrite = 63, key_output_checkpoint_every = 64, key_output_quiet = 65
+        key_scene_continuation_points = 36, key_scene_beyond_fold = 37, key_scene_crossing_tol = 38, key_scene_solver = 39, &
+        key_scene_harmonics = 40, key_scene_harmonics_max = 41, key_scene_harmonics_tol = 42, key_scene_closure = 43, &
+        key_scene_absorber_family = 44, key_scene_floquet_every = 45, key_scene_fold_convergence = 46, &
+        key_scene_coarse_step = 47, key_scene_resolution = 48, key_scene_screen_method = 49, key_scene_screen_dt = 50, &
+        key_scene_confirm_band = 51, key_scene_screen_margin = 52, key_scene_certify = 53, key_scene_methods = 54, &
+        key_scene_dts = 55, key_scene_dt_smallest = 56, key_scene_amplitudes = 57, key_scene_c_values = 58, &
+        key_scene_repeats = 59, key_scene_reference_dt = 60, key_scene_stair_times = 61, key_scene_stair_height = 62, &
+        key_scene_stair_ramp = 63, key_scene_power_threshold = 64, key_detect_site = 65, key_detect_amplitude = 66, &
+        key_detect_stop_when_decided = 67, key_output_file = 68, key_output_overwrite = 69, key_output_checkpoint_every = 70, &
+        key_output_quiet = 71
 
     !> The keys of &chain.
     type(key_spec), parameter :: chain_keys(*) = [ &
@@ -138,6 +144,24 @@ module supratrans_schema
         key_spec("scene", "crossing_tol", kt_real, "crossing_tol", "1", "1e-06", "> 0 and <= 0.1", &
             "Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + crossing_tol", &
             lower="> 0", upper="<= 0.1"), &
+        key_spec("scene", "solver", kt_name, "solver", "1", "'shooting'", "'shooting', 'harmonic_balance'", &
+            "Continuation: how the periodic state is computed ('shooting': the &numerics method's one-period map; 'harmonic" // &
+            "_balance': Fourier coefficients per site, no dt)", choices=choice_solver, ids=.true.), &
+        key_spec("scene", "harmonics", kt_integer, "harmonics", "1", "0", ">= 0 and <= 256; 0, or <= harmonics_max", &
+            "Continuation with harmonic_balance: odd harmonics K to start from (0: ceiling(3 / Omega), at least 3); K grows" // &
+            " until the fold moves by less than harmonics_tol", lower=">= 0", upper="<= 256"), &
+        key_spec("scene", "harmonics_max", kt_integer, "harmonics_max", "1", "64", ">= 1 and <= 256", &
+            "Continuation with harmonic_balance: most odd harmonics K (the fold's truncation estimate says when it was not " // &
+            "enough)", lower=">= 1", upper="<= 256"), &
+        key_spec("scene", "harmonics_tol", kt_real, "harmonics_tol", "rad", "1e-09", "> 0", &
+            "Continuation with harmonic_balance: K grows (by half, at least 2) until the fold moves by at most this", &
+            lower="> 0"), &
+        key_spec("scene", "closure", kt_name, "closure", "1", "'absorber'", "'absorber', 'radiation'", &
+            "Continuation with harmonic_balance: the end at site N ('absorber': u_{N+1} = 0 behind the paper's absorber; 'r" // &
+            "adiation': the linear radiation condition per harmonic)", choices=choice_closure, ids=.true.), &
+        key_spec("scene", "absorber_family", kt_integer, "absorber_family", "1", "0", ">= 0 and <= 4", &
+            "Continuation with harmonic_balance: each fold again with absorbers 2, 4, .. 2^absorber_family times as long an" // &
+            "d wide, and on the core N0 with radiation closure (0: none)", lower=">= 0", upper="<= 4"), &
         key_spec("scene", "floquet_every", kt_integer, "floquet_every", "1", "4", ">= 0 and <= 100", &
             "Continuation: multipliers every this many branch points, where their trend could reach the unit circle, at the" // &
             " fold and where the verdict changes (1: every point; 0: the fold, and where one passes -1)", lower=">= 0", &
@@ -180,7 +204,8 @@ module supratrans_schema
         key_spec("scene", "amplitudes", kt_real, "amplitudes", "rad", "the &drive amplitude", "up to 16 values, each > 0", &
             "Work-precision: the drive amplitudes (one set of runs each)", max_values=max_curve_values, lower="> 0"), &
         key_spec("scene", "c_values", kt_real, "c_values", "1/time", "the &chain c", "up to 16 values, each > 0", &
-            "Stability: the values of the coupling c (the c axis)", max_values=max_curve_values, lower="> 0"), &
+            "Stability: the values of the coupling c (the c axis); continuation with harmonic_balance: the couplings of the" // &
+            " continuum limit (N, N0, sigma scaled with c)", max_values=max_curve_values, lower="> 0"), &
         key_spec("scene", "repeats", kt_integer, "repeats", "1", "3", ">= 1", &
             "Work-precision: timed repetitions of each run (the median wall time is recorded)", lower=">= 1"), &
         key_spec("scene", "reference_dt", kt_real, "reference_dt", "time", "0.025", "> 0; <= t_final/2", &
@@ -248,6 +273,8 @@ contains
         if (set == choice_method) names = method_choices
         if (set == choice_scene) names = scene_choices
         if (set == choice_screen) names = screen_choices
+        if (set == choice_solver) names = solver_choices
+        if (set == choice_closure) names = closure_choices
         if (set == choice_vary) names = vary_choices
     end function choice_names
 
@@ -262,6 +289,8 @@ contains
         if (set == choice_method) noun = "method"
         if (set == choice_scene) noun = "scene"
         if (set == choice_screen) noun = "screening method"
+        if (set == choice_solver) noun = "continuation solver"
+        if (set == choice_closure) noun = "closure"
         if (set == choice_vary) noun = "parameter"
     end function choice_noun
 
@@ -313,6 +342,12 @@ contains
         if (ik == key_scene_continuation_points) v = key_value(1, ints=[cfg%scene%continuation_points])
         if (ik == key_scene_beyond_fold) v = key_value(1, ints=[cfg%scene%beyond_fold])
         if (ik == key_scene_crossing_tol) v = key_value(1, reals=[cfg%scene%crossing_tol])
+        if (ik == key_scene_solver) v = key_value(1, ints=[cfg%scene%solver])
+        if (ik == key_scene_harmonics) v = key_value(1, ints=[cfg%scene%harmonics])
+        if (ik == key_scene_harmonics_max) v = key_value(1, ints=[cfg%scene%harmonics_max])
+        if (ik == key_scene_harmonics_tol) v = key_value(1, reals=[cfg%scene%harmonics_tol])
+        if (ik == key_scene_closure) v = key_value(1, ints=[cfg%scene%closure])
+        if (ik == key_scene_absorber_family) v = key_value(1, ints=[cfg%scene%absorber_family])
         if (ik == key_scene_floquet_every) v = key_value(1, ints=[cfg%scene%floquet_every])
         if (ik == key_scene_fold_convergence) v = key_value(1, flag=cfg%scene%fold_convergence)
         if (ik == key_scene_coarse_step) v = key_value(1, reals=[cfg%scene%coarse_step])
@@ -390,6 +425,12 @@ contains
         if (ik == key_scene_continuation_points) cfg%scene%continuation_points = v%ints(1)
         if (ik == key_scene_beyond_fold) cfg%scene%beyond_fold = v%ints(1)
         if (ik == key_scene_crossing_tol) cfg%scene%crossing_tol = v%reals(1)
+        if (ik == key_scene_solver) cfg%scene%solver = v%ints(1)
+        if (ik == key_scene_harmonics) cfg%scene%harmonics = v%ints(1)
+        if (ik == key_scene_harmonics_max) cfg%scene%harmonics_max = v%ints(1)
+        if (ik == key_scene_harmonics_tol) cfg%scene%harmonics_tol = v%reals(1)
+        if (ik == key_scene_closure) cfg%scene%closure = v%ints(1)
+        if (ik == key_scene_absorber_family) cfg%scene%absorber_family = v%ints(1)
         if (ik == key_scene_floquet_every) cfg%scene%floquet_every = v%ints(1)
         if (ik == key_scene_fold_convergence) cfg%scene%fold_convergence = v%flag
         if (ik == key_scene_coarse_step) cfg%scene%coarse_step = v%reals(1)

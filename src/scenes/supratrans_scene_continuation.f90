@@ -24,7 +24,8 @@ module supratrans_scene_continuation
     use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks, warn_partial
     use supratrans_limits, only: axis_points, check_axis, limit_error, threads_text, sci
     use supratrans_config, only: input_config, run_config, scene_params, method_newton, method_linearized, method_rk4, &
-                                 method_rk8, method_avf4, method_avf8, method_name
+                                 method_rk8, method_avf4, method_avf8, method_name, solver_harmonic_balance
+    use supratrans_fold_hb, only: hb_fold_tasks, make_hb_tasks, write_hb_file, hb_summary
     use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge
     use supratrans_potential, only: potential_name
@@ -131,6 +132,10 @@ contains
         type(continuation_tasks), allocatable :: list
         integer :: ncurve, nomega, ic
 
+        if (cfg%scene%solver == solver_harmonic_balance) then     ! the ODE's fold in the frequency domain
+            call make_hb_tasks(cfg, tasks, error)
+            return
+        end if
         allocate (list)
         list%cfg = cfg
         list%inv = tasks%inv
@@ -185,6 +190,8 @@ contains
         type is (continuation_tasks)
             call write_continuation_file(list, trim(cfg%output%file), tasks%results, tasks%done, .true., &
                                          tasks%elapsed, error)
+        type is (hb_fold_tasks)
+            call write_hb_file(list, trim(cfg%output%file), tasks%results, tasks%done, .true., tasks%elapsed, error)
         class default
             call wrong_tasks(error, "continuation_tasks")
         end select
@@ -202,6 +209,10 @@ contains
         type(fold_record) :: r
         integer :: i, found
 
+        if (cfg%scene%solver == solver_harmonic_balance) then
+            text = hb_summary(cfg, tasks)
+            return
+        end if
         found = 0
         do i = 1, size(tasks%done)
             r = fold_from_values(tasks%results(:, i), cfg%scene%continuation_points)
@@ -341,6 +352,7 @@ contains
             call check_axis(nomega, "omega_step = " // sci(sc%omega_step) // " makes " // sci(nomega) // " frequencies", &
                             where, error)
             if (allocated(error)) return
+            if (sc%solver == solver_harmonic_balance) return     ! blocks of 2K x 2K per site: no dense matrices
             n = real(cfg%run%chain%n, wp)*merge(2.0_wp, 1.0_wp, sc%fold_convergence)
             need = 5.0_wp*(2.0_wp*n + 1.0_wp)**2*8.0_wp*real(budget%threads, wp)
             if (budget%memory > 0.0_wp .and. need > 0.8_wp*budget%memory) then

@@ -8,7 +8,7 @@ module supratrans_dense
     implicit none
     private
 
-    public :: lu_factor, lu_solve, dense_solve, complex_lu_factor, complex_lu_solve
+    public :: lu_factor, lu_solve, dense_solve, complex_lu_factor, complex_lu_solve, invert
 
     !> Solve with the LU factors of `lu_factor`, for one right-hand side (a vector) or several (a matrix).
     interface lu_solve
@@ -54,6 +54,16 @@ module supratrans_dense
             integer, intent(out) :: info
         end subroutine zgetrs
 
+        !> LAPACK: the inverse of a matrix from its LU factors (`dgetrf`).
+        pure subroutine dgetri(n, a, lda, ipiv, work, lwork, info)
+            import :: wp
+            integer, intent(in) :: n, lda, lwork
+            real(wp), intent(inout) :: a(lda, *)
+            integer, intent(in) :: ipiv(*)
+            real(wp), intent(out) :: work(*)
+            integer, intent(out) :: info
+        end subroutine dgetri
+
         !> LAPACK: solve A X = B by LU with partial pivoting (factorisation and solve in one call).
         pure subroutine dgesv(n, nrhs, a, lda, ipiv, b, ldb, info)
             import :: wp
@@ -79,6 +89,22 @@ contains
 
         call dgetrf(size(a, 1), size(a, 2), a, size(a, 1), ipiv, info)
     end subroutine lu_factor
+
+    !> The inverse of the square matrix `a` in place (LU with partial pivoting, `dgetrf` and `dgetri`): the small
+    !> diagonal blocks of a block-tridiagonal elimination, applied afterwards by matrix products. `info` > 0 when
+    !> singular.
+    pure subroutine invert(a, info)
+        !> The matrix, n x n; its inverse on exit.
+        real(wp), intent(inout) :: a(:, :)
+        !> LAPACK status.
+        integer, intent(out) :: info
+        integer :: ipiv(size(a, 1))
+        real(wp) :: work(64*size(a, 1))
+
+        call dgetrf(size(a, 1), size(a, 2), a, size(a, 1), ipiv, info)
+        if (info /= 0) return
+        call dgetri(size(a, 1), a, size(a, 1), ipiv, work, size(work), info)
+    end subroutine invert
 
     !> Solve A x = b (or A^T x = b with `transposed`: a left null vector's system) with the factors of `lu_factor`;
     !> `b` is overwritten by x.

@@ -1,0 +1,902 @@
+!> The continuation scene with `solver = 'harmonic_balance'`: per (curve, Omega) the fold of the branch of driven
+!> periodic states of the ODE (paper eq. (1)) by harmonic balance (`supratrans_hb_continuation`), converged in the
+!> number of harmonics, with
+!>
+!> * the independent check of the time domain: one period of the rk8 method from the state at the fold, u_n(0) and
+!>   u_n'(0) of the Fourier series, returns to it (`/fold_period_closure`, max |P(x) - x|), and with
+!>   `floquet_every` > 0 the Floquet multipliers at the fold from the rk8 monodromy (one of them is +1 there);
+!> * with `absorber_family` > 0, the fold again with absorbers 2, 4, .. times as long and as wide (the core N0 kept)
+!>   and on the core closed by the exact radiation condition: how far the fold moves with the absorber, and the
+!>   longest absorber's fold as the best value for the semi-infinite chain (`/convergence`);
+!> * with `c_values`, the fold at each coupling c with N, N0 and sigma scaled by c / (&chain c), and its
+!>   extrapolation c -> infinity in 1/c^2 (`/continuum`), beside A_s.
+!>
+!> A record is a list of named values (`hb_fields`) built and read by one cursor (`put`, `take`) in one order, so
+!> no field has a hand-kept index. The file keeps the layout of the shooting scene where a dataset means the same
+!> (`/fold_amplitude`, `/status`, `/branch/*`, `/cost/*`, `/convergence/*`).
+module supratrans_fold_hb
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
+    use supratrans_kinds, only: wp, i8, pi
+    use supratrans_error, only: error_type, fatal_error, err_input
+    use supratrans_invocation, only: invocation_type
+    use supratrans_scene, only: scene_tasks, warn_partial
+    use supratrans_config, only: input_config, run_config, chain_params, method_rk8, closure_absorber, &
+                                 closure_radiation, solver_choices
+    use supratrans_curves, only: curve_count, curve_run, write_curves
+    use supratrans_chain, only: threshold_as, band_gap_edge
+    use supratrans_status, only: status_outside_gap, status_not_run
+    use supratrans_tasks, only: task_list
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
+    use supratrans_output, only: write_root, write_parameters
+    use supratrans_strings, only: int_str, fixed1
+    use supratrans_scene_bifurcation, only: bifurcation_omegas
+    use supratrans_fold_line, only: fold_status_codes, fold_found
+    use supratrans_harmonic_balance, only: hb_system, hb_init, hb_time_state, hb_spectrum
+    use supratrans_hb_continuation, only: hb_controls, hb_result, hb_fold_converged
+    use supratrans_period_map, only: period_map, period_map_init
+    use supratrans_fixed_point_map, only: map_ok
+    use supratrans_floquet, only: floquet_multipliers
+    implicit none
+    private
+
+    public :: make_hb_tasks, write_hb_file, hb_summary, hb_fields, hb_record, hb_to_values, hb_from_values
+
+    !> Harmonics whose amplitudes at the fold are kept per site (`/spectrum`): the odd harmonics 1, 3, .., 15.
+    integer, parameter, public :: spectrum_harmonics = 8
+    !> Floquet multipliers kept at the fold, those of largest modulus.
+    integer, parameter, public :: hb_kept_multipliers = 8
+    !> Quantities of each branch point (`/branch/<name>`).
+    character(len=*), parameter, public :: hb_branch_quantities(*) = [character(len=17) :: "amplitude", "umax", &
+        "energy", "newton_iterations", "residual"]
+
+    !> The tasks of a harmonic-balance continuation: task t = (curve - 1) nomega + iomega.
+    type, extends(task_list), public :: hb_fold_tasks
+        !> The validated input.
+        type(input_config) :: cfg
+        !> How the engine is invoked.
+        type(invocation_type) :: inv
+        !> Run of each curve.
+        type(run_config), allocatable :: runs(:)
+        !> The frequencies.
+        real(wp), allocatable :: omegas(:)
+        !> The couplings of the continuum limit (empty: none).
+        real(wp), allocatable :: c_values(:)
+        !> Path of the partial output.
+        character(len=:), allocatable :: partial_path
+    contains
+        !> Locate the fold of one task.
+        procedure :: run => run_hb_task
+        !> Write the partial output.
+        procedure :: snapshot => write_hb_snapshot
+        !> Estimated cost of a task: K^3 N of its first K.
+        procedure :: cost => hb_task_cost
+    end type hb_fold_tasks
+
+    !> One (curve, Omega) task of the harmonic-balance continuation.
+    type, public :: hb_record
+        !> Fold amplitude A_f of the chain of the input; NaN when none.
+        real(wp) :: fold_amplitude = 0.0_wp
+        !> max |R| of the harmonic balance at the fold.
+        real(wp) :: fold_residual = 0.0_wp
+        !> `cont_*` status (0 fold found), or the scene's -2 outside the gap, -1 pending.
+        integer :: status = 0
+        !> A_s of the curve's chain at Omega; NaN outside the gap.
+        real(wp) :: threshold_as = 0.0_wp
+        !> Odd harmonics K of the fold.
+        integer :: harmonics = 0
+        !> |A_f(K) - A_f(K_previous)|: the fold's truncation estimate in K.
+        real(wp) :: harmonics_error = 0.0_wp
+        !> max |u_n(t)| at the fold.
+        real(wp) :: fold_umax = 0.0_wp
+        !> max |P(x) - x| of one rk8 period from the fold's state (u, u') at t = 0.
+        real(wp) :: period_closure = 0.0_wp
+        !> Largest |mu| - 1 of the rk8 multipliers at the fold other than the one at +1; NaN when not computed.
+        real(wp) :: multiplier_excess = 0.0_wp
+        !> max |u_{N0}(t)| at the fold: how linear the far field is where the absorber begins.
+        real(wp) :: far_field_umax = 0.0_wp
+        !> Folds with the absorber 2, 4, .. times as long and wide (NaN when not computed), then on the core N0 with
+        !> the radiation closure.
+        real(wp), allocatable :: absorber_folds(:)
+        !> The fold on the core N0 closed by the radiation condition.
+        real(wp) :: fold_radiation = 0.0_wp
+        !> max |A_f(absorber m) - A_f| over the family; NaN when not computed.
+        real(wp) :: absorber_spread = 0.0_wp
+        !> The fold with the longest absorber of the family.
+        real(wp) :: fold_semi_infinite = 0.0_wp
+        !> Folds at each c of `c_values`; NaN when not computed.
+        real(wp), allocatable :: continuum_folds(:)
+        !> Extrapolation of the folds to c -> infinity in 1/c^2 and its error estimate.
+        real(wp) :: continuum_fold = 0.0_wp, continuum_error = 0.0_wp
+        !> Newton iterations, LU factorisations, residual evaluations, branches traced from rest.
+        integer :: newton_iterations = 0, factorizations = 0, residuals = 0, continuations = 0
+        !> Wall-clock time of the task (s).
+        real(wp) :: wall_time = 0.0_wp
+        !> The chain used: N, N0, sigma.
+        integer :: chain_n = 0, chain_n0 = 0
+        !> Absorber width sigma.
+        real(wp) :: chain_sigma = 0.0_wp
+        !> Branch points computed.
+        integer :: points = 0
+        !> The branch: `hb_branch_quantities` (rows) at each point (columns).
+        real(wp), allocatable :: branch(:, :)
+        !> Amplitudes of the harmonics 1, 3, .. (`spectrum_harmonics`) at each site at the fold, (8, N).
+        real(wp), allocatable :: spectrum(:, :)
+        !> Real and imaginary parts of the kept multipliers at the fold.
+        real(wp) :: multiplier_re(hb_kept_multipliers) = 0.0_wp, multiplier_im(hb_kept_multipliers) = 0.0_wp
+    end type hb_record
+
+contains
+
+    !> The tasks of the scene (the frequency axis of the bifurcation scene, so that fold lines lie over diagrams).
+    subroutine make_hb_tasks(cfg, tasks, error)
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> Its tasks: an `hb_fold_tasks`.
+        type(scene_tasks), intent(inout) :: tasks
+        !> Error, allocated when the axis is empty.
+        type(error_type), allocatable, intent(out) :: error
+        type(hb_fold_tasks), allocatable :: list
+        integer :: ncurve, nomega, ic
+
+        allocate (list)
+        list%cfg = cfg
+        list%inv = tasks%inv
+        list%omegas = bifurcation_omegas(cfg)
+        ncurve = curve_count(cfg)
+        nomega = size(list%omegas)
+        if (nomega < 1) then
+            call fatal_error(error, cfg%source // ": &scene: the frequency axis omega_min .. omega_max is empty", err_input)
+            return
+        end if
+        if (cfg%scene%harmonics > cfg%scene%harmonics_max) then
+            call fatal_error(error, cfg%source // ": &scene: harmonics = " // int_str(cfg%scene%harmonics) &
+                             // " is above harmonics_max = " // int_str(cfg%scene%harmonics_max), err_input)
+            return
+        end if
+        allocate (list%runs(ncurve))
+        do ic = 1, ncurve
+            list%runs(ic) = curve_run(cfg, ic)
+        end do
+        allocate (list%c_values(0))
+        if (allocated(cfg%scene%c_values)) list%c_values = cfg%scene%c_values
+        list%partial_path = trim(cfg%output%file) // ".partial.h5"
+        tasks%header = "supratrans: continuation (" // trim(solver_choices(2)) // ") from " // cfg%source // ": " &
+            // int_str(ncurve) // " curve(s) x " // int_str(nomega) // " frequencies, N = " &
+            // int_str(cfg%run%chain%n) // ", K up to " // int_str(cfg%scene%harmonics_max)
+        tasks%count = ncurve*nomega
+        tasks%fields = hb_fields(cfg%scene%continuation_points, cfg%run%chain%n, cfg%scene%absorber_family, &
+                                 size(list%c_values))
+        tasks%label = "folds by harmonic balance"
+        call move_alloc(list, tasks%list)
+    end subroutine make_hb_tasks
+
+    !> An empty record (numbers NaN) for the given sizes.
+    pure function empty_hb_record(npts, n, nfamily, nc) result(r)
+        !> Most branch points, sites, absorber family members, couplings.
+        integer, intent(in) :: npts, n, nfamily, nc
+        type(hb_record) :: r
+        real(wp) :: nan
+
+        nan = ieee_value(nan, ieee_quiet_nan)
+        r%fold_amplitude = nan
+        r%fold_residual = nan
+        r%threshold_as = nan
+        r%harmonics_error = nan
+        r%fold_umax = nan
+        r%period_closure = nan
+        r%multiplier_excess = nan
+        r%far_field_umax = nan
+        r%fold_radiation = nan
+        r%absorber_spread = nan
+        r%fold_semi_infinite = nan
+        r%continuum_fold = nan
+        r%continuum_error = nan
+        r%chain_sigma = nan
+        allocate (r%absorber_folds(nfamily), source=nan)
+        allocate (r%continuum_folds(nc), source=nan)
+        allocate (r%branch(size(hb_branch_quantities), npts), source=nan)
+        allocate (r%spectrum(spectrum_harmonics, n), source=nan)
+        r%multiplier_re = nan
+        r%multiplier_im = nan
+    end function empty_hb_record
+
+    !> The names of a record's values (the order of `hb_to_values`).
+    function hb_fields(npts, n, nfamily, nc) result(names)
+        !> Most branch points, sites, absorber family members, couplings.
+        integer, intent(in) :: npts, n, nfamily, nc
+        character(len=64), allocatable :: names(:)
+        type(hb_record) :: r
+        real(wp), allocatable :: v(:)
+        integer :: i
+
+        r = empty_hb_record(npts, n, nfamily, nc)
+        call serialize(r, v, names)
+        do i = 1, size(names)
+            if (len_trim(names(i)) == 0) names(i) = "value_" // int_str(i)
+        end do
+    end function hb_fields
+
+    !> The record as values.
+    function hb_to_values(r) result(v)
+        !> The record.
+        type(hb_record), intent(in) :: r
+        real(wp), allocatable :: v(:)
+        character(len=64), allocatable :: names(:)
+
+        call serialize(r, v, names)
+    end function hb_to_values
+
+    !> The record's values and their names, in one order (the one place that lists the fields).
+    subroutine serialize(r, v, names)
+        !> The record.
+        type(hb_record), intent(in) :: r
+        !> Its values.
+        real(wp), allocatable, intent(out) :: v(:)
+        !> Their names.
+        character(len=64), allocatable, intent(out) :: names(:)
+        integer :: k, j
+
+        allocate (v(0), names(0))
+        call put("fold_amplitude", r%fold_amplitude)
+        call put("fold_residual", r%fold_residual)
+        call put("status", real(r%status, wp))
+        call put("threshold_as", r%threshold_as)
+        call put("harmonics", real(r%harmonics, wp))
+        call put("harmonics_error", r%harmonics_error)
+        call put("fold_umax", r%fold_umax)
+        call put("period_closure", r%period_closure)
+        call put("multiplier_excess", r%multiplier_excess)
+        call put("far_field_umax", r%far_field_umax)
+        call put("fold_radiation", r%fold_radiation)
+        call put("absorber_spread", r%absorber_spread)
+        call put("fold_semi_infinite", r%fold_semi_infinite)
+        call put("continuum_fold", r%continuum_fold)
+        call put("continuum_error", r%continuum_error)
+        call put("newton_iterations", real(r%newton_iterations, wp))
+        call put("factorizations", real(r%factorizations, wp))
+        call put("residuals", real(r%residuals, wp))
+        call put("continuations", real(r%continuations, wp))
+        call put("wall_time", r%wall_time)
+        call put("chain_n", real(r%chain_n, wp))
+        call put("chain_n0", real(r%chain_n0, wp))
+        call put("chain_sigma", r%chain_sigma)
+        call put("points", real(r%points, wp))
+        do k = 1, size(r%absorber_folds)
+            call put("absorber_fold_" // int_str(k), r%absorber_folds(k))
+        end do
+        do k = 1, size(r%continuum_folds)
+            call put("continuum_fold_" // int_str(k), r%continuum_folds(k))
+        end do
+        do k = 1, hb_kept_multipliers
+            call put("multiplier_re_" // int_str(k), r%multiplier_re(k))
+            call put("multiplier_im_" // int_str(k), r%multiplier_im(k))
+        end do
+        do k = 1, size(r%branch, 2)
+            do j = 1, size(hb_branch_quantities)
+                call put("branch_" // trim(hb_branch_quantities(j)) // "_" // int_str(k), r%branch(j, k))
+            end do
+        end do
+        do k = 1, size(r%spectrum, 2)
+            do j = 1, spectrum_harmonics
+                call put("spectrum_" // int_str(2*j - 1) // "_" // int_str(k), r%spectrum(j, k))
+            end do
+        end do
+
+    contains
+
+        !> Append one named value.
+        subroutine put(name, x)
+            character(len=*), intent(in) :: name
+            real(wp), intent(in) :: x
+            character(len=64) :: nm
+
+            nm = name
+            v = [v, x]
+            names = [names, nm]
+        end subroutine put
+
+    end subroutine serialize
+
+    !> The record of values in the order of `hb_fields`.
+    function hb_from_values(v, npts, n, nfamily, nc) result(r)
+        !> The values.
+        real(wp), intent(in) :: v(:)
+        !> Most branch points, sites, absorber family members, couplings.
+        integer, intent(in) :: npts, n, nfamily, nc
+        type(hb_record) :: r
+        integer :: i, k, j
+
+        r = empty_hb_record(npts, n, nfamily, nc)
+        i = 0
+        r%fold_amplitude = take()
+        r%fold_residual = take()
+        r%status = nint(take())
+        r%threshold_as = take()
+        r%harmonics = nint(take())
+        r%harmonics_error = take()
+        r%fold_umax = take()
+        r%period_closure = take()
+        r%multiplier_excess = take()
+        r%far_field_umax = take()
+        r%fold_radiation = take()
+        r%absorber_spread = take()
+        r%fold_semi_infinite = take()
+        r%continuum_fold = take()
+        r%continuum_error = take()
+        r%newton_iterations = nint(take())
+        r%factorizations = nint(take())
+        r%residuals = nint(take())
+        r%continuations = nint(take())
+        r%wall_time = take()
+        r%chain_n = nint(take())
+        r%chain_n0 = nint(take())
+        r%chain_sigma = take()
+        r%points = nint(take())
+        do k = 1, nfamily
+            r%absorber_folds(k) = take()
+        end do
+        do k = 1, nc
+            r%continuum_folds(k) = take()
+        end do
+        do k = 1, hb_kept_multipliers
+            r%multiplier_re(k) = take()
+            r%multiplier_im(k) = take()
+        end do
+        do k = 1, npts
+            do j = 1, size(hb_branch_quantities)
+                r%branch(j, k) = take()
+            end do
+        end do
+        do k = 1, n
+            do j = 1, spectrum_harmonics
+                r%spectrum(j, k) = take()
+            end do
+        end do
+
+    contains
+
+        !> The next value.
+        real(wp) function take()
+            i = i + 1
+            take = v(i)
+        end function take
+
+    end function hb_from_values
+
+    !> The controls of the harmonic-balance continuation from the scene's keys.
+    pure function scene_controls(cfg) result(ctl)
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        type(hb_controls) :: ctl
+
+        ctl%step = cfg%scene%continuation_step
+        ctl%step_max = cfg%scene%continuation_step_max
+        ctl%points_max = cfg%scene%continuation_points
+        ctl%beyond_fold = cfg%scene%beyond_fold
+        ctl%amplitude_max = cfg%scene%amplitude_max
+        ctl%harmonics = cfg%scene%harmonics
+        ctl%harmonics_max = cfg%scene%harmonics_max
+        ctl%harmonics_tol = cfg%scene%harmonics_tol
+        ctl%closure = cfg%scene%closure
+    end function scene_controls
+
+    !> The run of task `index`: its curve's run at its frequency.
+    pure function hb_task_run(self, index) result(run)
+        !> The tasks.
+        class(hb_fold_tasks), intent(in) :: self
+        !> Task index.
+        integer, intent(in) :: index
+        type(run_config) :: run
+        integer :: nomega
+
+        nomega = size(self%omegas)
+        run = self%runs((index - 1)/nomega + 1)
+        run%drive%omega = self%omegas(mod(index - 1, nomega) + 1)
+    end function hb_task_run
+
+    !> Locate the fold of task `index` and what the scene adds to it (thread-safe: everything it changes is local).
+    subroutine run_hb_task(self, index, values)
+        !> The tasks.
+        class(hb_fold_tasks), intent(in) :: self
+        !> Task index.
+        integer, intent(in) :: index
+        !> The task's record as values.
+        real(wp), intent(out) :: values(:)
+        type(hb_record) :: r
+        type(run_config) :: run
+        type(hb_controls) :: ctl, quick
+        type(hb_result) :: res, other
+        type(chain_params) :: chain
+        type(error_type), allocatable :: error
+        integer :: m
+        integer(i8) :: clock_start, clock_end, clock_rate
+        real(wp) :: scale
+
+        call system_clock(clock_start, clock_rate)
+        run = hb_task_run(self, index)
+        r = empty_hb_record(self%cfg%scene%continuation_points, run%chain%n, self%cfg%scene%absorber_family, &
+                            size(self%c_values))
+        r%chain_n = run%chain%n
+        r%chain_n0 = run%chain%n0
+        r%chain_sigma = run%chain%sigma
+        if (run%drive%omega < band_gap_edge(run%chain)) r%threshold_as = threshold_as(run%chain, run%drive%omega)
+        if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. self%cfg%allow_outside_gap) then
+            r%status = status_outside_gap
+            values = hb_to_values(r)
+            return
+        end if
+        ctl = scene_controls(self%cfg)
+        call hb_fold_converged(run%chain, run%drive%omega, ctl, res, error)
+        r%status = res%status
+        if (.not. allocated(error)) then
+            call take_result(res, r)
+            if (res%status == fold_found) call check_in_time_domain(run, res, ctl%closure, &
+                                                                     self%cfg%scene%floquet_every > 0, r)
+        end if
+        ! the checks need the fold alone, started from the K found
+        quick = ctl
+        quick%beyond_fold = 0
+        quick%harmonics = res%harmonics
+        if (res%status == fold_found .and. size(r%absorber_folds) > 0) then
+            do m = 1, size(r%absorber_folds)
+                chain = run%chain
+                chain%n = run%chain%n0 + (run%chain%n - run%chain%n0)*2**m
+                chain%sigma = run%chain%sigma*real(2**m, wp)
+                call fold_of(chain, r%absorber_folds(m))
+            end do
+            chain = run%chain
+            chain%n = run%chain%n0
+            quick%closure = closure_radiation
+            call fold_of(chain, r%fold_radiation)
+            quick%closure = ctl%closure
+            r%fold_semi_infinite = r%absorber_folds(size(r%absorber_folds))
+            r%absorber_spread = maxval(abs(r%absorber_folds - r%fold_amplitude))
+        end if
+        if (res%status == fold_found .and. size(self%c_values) > 0) then
+            do m = 1, size(self%c_values)
+                scale = self%c_values(m)/run%chain%c
+                chain = run%chain
+                chain%c = self%c_values(m)
+                chain%n = nint(real(run%chain%n, wp)*scale)
+                chain%n0 = nint(real(run%chain%n0, wp)*scale)
+                chain%sigma = run%chain%sigma*scale
+                quick%harmonics = 0
+                call fold_of(chain, r%continuum_folds(m))
+            end do
+            call extrapolate_continuum(self%c_values, r%continuum_folds, r%continuum_fold, r%continuum_error)
+        end if
+        call system_clock(clock_end)
+        r%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+        values = hb_to_values(r)
+
+    contains
+
+        !> The fold of another chain, its cost added to the record.
+        subroutine fold_of(other_chain, fold)
+            type(chain_params), intent(in) :: other_chain
+            real(wp), intent(out) :: fold
+
+            call hb_fold_converged(other_chain, run%drive%omega, quick, other, error)
+            fold = ieee_value(fold, ieee_quiet_nan)
+            if (allocated(error)) return
+            if (other%status == fold_found) fold = other%fold_amplitude
+            r%newton_iterations = r%newton_iterations + other%newton_iterations
+            r%factorizations = r%factorizations + other%factorizations
+            r%residuals = r%residuals + other%residuals
+            r%continuations = r%continuations + other%continuations
+        end subroutine fold_of
+
+    end subroutine run_hb_task
+
+    !> The continuation's result into the record: the fold, its truncation estimate, counts, branch and spectrum.
+    subroutine take_result(res, r)
+        !> The result.
+        type(hb_result), intent(in) :: res
+        !> The record.
+        type(hb_record), intent(inout) :: r
+        integer :: np
+
+        r%fold_amplitude = res%fold_amplitude
+        r%fold_residual = res%fold_residual
+        r%harmonics = res%harmonics
+        r%harmonics_error = res%harmonics_error
+        r%newton_iterations = res%newton_iterations
+        r%factorizations = res%factorizations
+        r%residuals = res%residuals
+        r%continuations = res%continuations
+        np = min(res%points, size(r%branch, 2))
+        r%points = np
+        r%branch(:, 1:np) = res%branch(:, 1:np)
+    end subroutine take_result
+
+    !> The state at the fold in the time domain: its spectrum, max |u|, max |u_{N0}|, one rk8 period from it (its
+    !> closure) and, with `multipliers`, the rk8 Floquet multipliers there.
+    subroutine check_in_time_domain(run, res, closure, multipliers, r)
+        !> The task's run (chain, Omega, &numerics dt).
+        type(run_config), intent(in) :: run
+        !> The harmonic-balance fold.
+        type(hb_result), intent(in) :: res
+        !> The closure used.
+        integer, intent(in) :: closure
+        !> Whether to compute the multipliers.
+        logical, intent(in) :: multipliers
+        !> The record.
+        type(hb_record), intent(inout) :: r
+        type(hb_system) :: sys
+        type(run_config) :: rk
+        type(period_map) :: map
+        type(error_type), allocatable :: error
+        real(wp), allocatable :: amp(:, :), u(:), ut(:), x(:), px(:), jac(:, :), wr(:), wi(:)
+        real(wp) :: t, excess
+        integer :: n, status, info, i, m, j, kk
+        integer, allocatable :: order(:)
+
+        n = run%chain%n
+        call hb_init(sys, run%chain, run%drive%omega, res%harmonics, closure, error)
+        if (allocated(error)) return
+        allocate (amp(res%harmonics, n), u(n), ut(n))
+        call hb_spectrum(sys, res%fold_state, amp)
+        kk = min(spectrum_harmonics, res%harmonics)
+        r%spectrum(1:kk, :) = amp(1:kk, :)
+        r%fold_umax = 0.0_wp
+        r%far_field_umax = 0.0_wp
+        m = 8*res%harmonics                               ! |u| sampled finer than the harmonics' wavelength
+        do i = 0, m - 1
+            t = real(i, wp)*pi/(run%drive%omega*real(m, wp))
+            call hb_time_state(sys, res%fold_state, t, u, ut)
+            r%fold_umax = max(r%fold_umax, maxval(abs(u)))
+            if (run%chain%n0 >= 1 .and. run%chain%n0 <= n) r%far_field_umax = max(r%far_field_umax, abs(u(run%chain%n0)))
+        end do
+        if (closure /= closure_absorber) return           ! the time domain knows only the fixed end
+        rk = run
+        rk%numerics%method = method_rk8
+        call period_map_init(map, rk, error)
+        if (allocated(error)) return
+        call hb_time_state(sys, res%fold_state, 0.0_wp, u, ut)
+        x = [u, ut]
+        allocate (px(2*n))
+        if (multipliers) then
+            allocate (jac(2*n, 2*n))
+            call map%apply(x, res%fold_amplitude, px, status, jac=jac)
+        else
+            call map%apply(x, res%fold_amplitude, px, status)
+        end if
+        if (status /= map_ok) return
+        r%period_closure = maxval(abs(px - x))
+        if (.not. multipliers) return
+        call floquet_multipliers(jac, wr, wi, info)
+        if (info /= 0) return
+        order = sorted_by_modulus(wr, wi)
+        do j = 1, min(hb_kept_multipliers, size(order))
+            r%multiplier_re(j) = wr(order(j))
+            r%multiplier_im(j) = wi(order(j))
+        end do
+        ! the fold's own multiplier is the real one nearest +1; the rest say whether the fold's state is stable
+        excess = -huge(1.0_wp)
+        i = minloc(abs(cmplx(wr, wi, wp) - 1.0_wp), 1)
+        do j = 1, size(wr)
+            if (j /= i) excess = max(excess, hypot(wr(j), wi(j)) - 1.0_wp)
+        end do
+        r%multiplier_excess = excess
+    end subroutine check_in_time_domain
+
+    !> Indices of the multipliers by decreasing modulus.
+    pure function sorted_by_modulus(wr, wi) result(order)
+        !> Real and imaginary parts.
+        real(wp), intent(in) :: wr(:), wi(:)
+        integer, allocatable :: order(:)
+        logical :: used(size(wr))
+        integer :: j, best
+
+        allocate (order(size(wr)))
+        used = .false.
+        do j = 1, size(wr)
+            best = maxloc(hypot(wr, wi), 1, mask=.not. used)
+            order(j) = best
+            used(best) = .true.
+        end do
+    end function sorted_by_modulus
+
+    !> The folds at the couplings c_values extrapolated to c -> infinity in 1/c^2 (Richardson from the two largest
+    !> c); the error estimate is the change from the extrapolation of the next pair, or with two couplings the
+    !> change from the largest c's fold.
+    pure subroutine extrapolate_continuum(c, folds, limit, estimate)
+        !> The couplings (ascending).
+        real(wp), intent(in) :: c(:)
+        !> The folds there.
+        real(wp), intent(in) :: folds(:)
+        !> The extrapolation; NaN with fewer than two couplings.
+        real(wp), intent(out) :: limit
+        !> Its error estimate.
+        real(wp), intent(out) :: estimate
+        integer :: m
+
+        m = size(c)
+        limit = ieee_value(limit, ieee_quiet_nan)
+        estimate = limit
+        if (m < 2) return
+        limit = pair(m - 1, m)
+        if (m >= 3) then
+            estimate = abs(limit - pair(m - 2, m - 1))
+        else
+            estimate = abs(limit - folds(m))
+        end if
+
+    contains
+
+        !> Richardson in 1/c^2 from couplings i and j.
+        pure real(wp) function pair(i, j)
+            integer, intent(in) :: i, j
+
+            pair = (c(j)**2*folds(j) - c(i)**2*folds(i))/(c(j)**2 - c(i)**2)
+        end function pair
+
+    end subroutine extrapolate_continuum
+
+    !> Estimated cost of task `index`: (first K)^3 N, so that the engine runs the low frequencies first.
+    pure function hb_task_cost(self, index) result(cost)
+        !> The tasks.
+        class(hb_fold_tasks), intent(in) :: self
+        !> Task index.
+        integer, intent(in) :: index
+        real(wp) :: cost
+        type(run_config) :: run
+
+        run = hb_task_run(self, index)
+        cost = 0.0_wp
+        if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. self%cfg%allow_outside_gap) return
+        cost = real(run%chain%n, wp)*max(3.0_wp, 3.0_wp/run%drive%omega)**3
+    end function hb_task_cost
+
+    !> The number of folds found, and the wall time.
+    function hb_summary(cfg, tasks) result(text)
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The tasks' records.
+        type(scene_tasks), intent(in) :: tasks
+        character(len=:), allocatable :: text
+        integer :: i, found
+
+        found = 0
+        do i = 1, size(tasks%done)
+            if (nint(tasks%results(3, i)) == fold_found .and. tasks%done(i)) found = found + 1
+        end do
+        text = "  " // int_str(found) // " of " // int_str(size(tasks%done)) // " folds found by harmonic balance, " &
+               // fixed1(tasks%elapsed) // " s, K up to " // int_str(cfg%scene%harmonics_max)
+    end function hb_summary
+
+    !> Write the partial output (failures ignored: the journal is what a resumed run reads).
+    subroutine write_hb_snapshot(self, results, done)
+        !> The tasks.
+        class(hb_fold_tasks), intent(in) :: self
+        !> Results so far.
+        real(wp), intent(in) :: results(:, :)
+        !> Which tasks are done.
+        logical, intent(in) :: done(:)
+        type(error_type), allocatable :: error
+
+        call write_hb_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
+        call warn_partial(error, self%cfg%output%quiet)
+    end subroutine write_hb_snapshot
+
+    !> Write the scene's file `path` (built in memory, written atomically): tasks not done get NaN and status -1.
+    subroutine write_hb_file(tasks, path, results, done, complete, elapsed, error)
+        !> The tasks.
+        class(hb_fold_tasks), intent(in) :: tasks
+        !> Final path of the file.
+        character(len=*), intent(in) :: path
+        !> Results, (values, tasks).
+        real(wp), intent(in) :: results(:, :)
+        !> Which tasks are done.
+        logical, intent(in) :: done(:)
+        !> Whether this is the complete result.
+        logical, intent(in) :: complete
+        !> Wall time of the scene (s); negative when unknown.
+        real(wp), intent(in) :: elapsed
+        !> Error, allocated on failure.
+        type(error_type), allocatable, intent(out) :: error
+        type(h5_file) :: file
+        type(hb_record), allocatable :: recs(:)
+        real(wp), allocatable :: a3(:, :, :), a4(:, :, :, :)
+        integer :: ncurve, nomega, ntask, t, q, npts, n, nfam, nc
+        character(len=*), parameter :: dims = "curve, omega", g = "/convergence/"
+
+        ncurve = size(tasks%runs)
+        nomega = size(tasks%omegas)
+        ntask = ncurve*nomega
+        npts = tasks%cfg%scene%continuation_points
+        n = tasks%cfg%run%chain%n
+        nfam = tasks%cfg%scene%absorber_family
+        nc = size(tasks%c_values)
+        allocate (recs(ntask))
+        do t = 1, ntask
+            if (done(t)) then
+                recs(t) = hb_from_values(results(:, t), npts, n, nfam, nc)
+            else
+                recs(t) = empty_hb_record(npts, n, nfam, nc)
+                recs(t)%status = status_not_run
+            end if
+        end do
+
+        call h5_create(file, path, .true.)
+        call write_root(file, tasks%cfg, "continuation", "Fold (saddle-node) of the branch of driven periodic " &
+                        // "states of the ODE vs driving frequency by harmonic balance: the supratransmission " &
+                        // "threshold of the model, one curve per potential and varied value", tasks%inv)
+        call h5_write_attr(file, "/", "solver", "harmonic_balance")
+        call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
+        call h5_write_attr(file, "/", "tasks_done", count(done))
+        call write_parameters(file, tasks%cfg)
+        call h5_write(file, "/omega", tasks%omegas, "1/time", &
+            "Driving frequency Omega_i = omega_min + i omega_step", dims="omega")
+        call write_curves(file, tasks%cfg, tasks%runs)
+        call h5_write(file, "/fold_amplitude", grid(recs%fold_amplitude), "rad", "Fold A_f of the branch of " &
+            // "periodic states of the ODE (eq. (1)) from rest, by harmonic balance, converged in K to " &
+            // "/convergence/harmonics_error; NaN when none (see /status)", dims=dims)
+        call h5_write(file, "/fold_residual", grid(recs%fold_residual), "rad", &
+            "max |R| of the harmonic balance at the located fold", dims=dims)
+        call h5_write(file, "/status", igrid(recs%status), "1", &
+            "Outcome of the continuation (codes in attribute 'codes')", dims=dims)
+        call h5_write_attr(file, "/status", "codes", "-2: outside gap (not computed); " &
+            // "-1: pending (not computed yet); " // fold_status_codes())
+        call h5_write(file, "/threshold_As", grid(recs%threshold_as), "rad", &
+            "Continuum-limit threshold A_s = 4 arctan(lambda c / Omega) of the curve's chain; NaN outside the gap", &
+            dims=dims)
+        call h5_write(file, "/outside_gap", reshape(merge(1, 0, &
+            [(tasks%omegas(mod(t - 1, nomega) + 1) >= band_gap_edge(tasks%runs((t - 1)/nomega + 1)%chain), &
+            t=1, ntask)]), [nomega, ncurve]), "1", "1 where Omega >= sqrt(1 + m^2), outside the curve's band gap", &
+            dims=dims)
+        call h5_write(file, "/harmonics", igrid(recs%harmonics), "1", "Odd harmonics K of the fold " &
+            // "(frequencies Omega, 3 Omega, .., (2K - 1) Omega), grown until the fold moved by at most harmonics_tol", &
+            dims=dims)
+        call h5_write(file, "/fold_umax", grid(recs%fold_umax), "rad", "max |u_n(t)| of the state at the fold", &
+            dims=dims)
+        call h5_write(file, "/fold_period_closure", grid(recs%period_closure), "rad", "max |P(x) - x| of one " &
+            // "drive period of the rk8 method (the &numerics dt, adjusted to whole steps) from the fold's state " &
+            // "(u_n, u_n') at t = 0: how well the frequency-domain state is a periodic orbit of the ODE", dims=dims)
+        call h5_write(file, "/fold_multiplier_excess", grid(recs%multiplier_excess), "1", "Largest |mu| - 1 of " &
+            // "the rk8 Floquet multipliers at the fold other than the fold's own (nearest +1): negative when the " &
+            // "state is stable but for the fold's direction; NaN when not computed (floquet_every = 0)", dims=dims)
+        call h5_write(file, "/chain_n", igrid(recs%chain_n), "1", "Oscillators N of the chain", dims=dims)
+        call h5_write(file, "/chain_n0", igrid(recs%chain_n0), "1", "Last site N0 before the absorber", dims=dims)
+        call h5_write(file, "/chain_sigma", grid(recs%chain_sigma), "1", "Width sigma of the absorber's ramp", &
+            dims=dims)
+        allocate (a4(n, spectrum_harmonics, nomega, ncurve))
+        do t = 1, ntask
+            a4(:, :, mod(t - 1, nomega) + 1, (t - 1)/nomega + 1) = transpose(recs(t)%spectrum)
+        end do
+        call h5_write(file, "/spectrum", a4, "rad", "Amplitude sqrt(a^2 + b^2) of the odd harmonics 1, 3, .., " &
+            // int_str(2*spectrum_harmonics - 1) // " of u_n at the fold, per site n (NaN past K)", &
+            dims="curve, omega, harmonic, site")
+        call h5_create_group(file, "/multipliers", "Floquet multipliers of largest modulus at the fold, from the " &
+            // "rk8 monodromy (NaN when not computed)")
+        allocate (a3(hb_kept_multipliers, nomega, ncurve))
+        do t = 1, ntask
+            a3(:, mod(t - 1, nomega) + 1, (t - 1)/nomega + 1) = recs(t)%multiplier_re
+        end do
+        call h5_write(file, "/multipliers/real", a3, "1", "Real parts", dims="curve, omega, multiplier")
+        do t = 1, ntask
+            a3(:, mod(t - 1, nomega) + 1, (t - 1)/nomega + 1) = recs(t)%multiplier_im
+        end do
+        call h5_write(file, "/multipliers/imag", a3, "1", "Imaginary parts", dims="curve, omega, multiplier")
+        call h5_create_group(file, "/convergence", "How far each fold is converged: in the harmonics, and with the " &
+            // "absorber (&scene absorber_family); NaN when not computed")
+        call h5_write(file, g // "harmonics_error", grid(recs%harmonics_error), "rad", "|A_f(K) - A_f(K')| of the " &
+            // "last two numbers of harmonics: the truncation estimate of /fold_amplitude", dims=dims)
+        call h5_write(file, g // "far_field_umax", grid(recs%far_field_umax), "rad", "max |u_N0(t)| at the fold, " &
+            // "where the absorber begins: the radiation condition is exact where this is small (V' linear)", &
+            dims=dims)
+        if (nfam > 0) then
+            deallocate (a3)
+            allocate (a3(nfam, nomega, ncurve))
+            do t = 1, ntask
+                a3(:, mod(t - 1, nomega) + 1, (t - 1)/nomega + 1) = recs(t)%absorber_folds
+            end do
+            call h5_write(file, g // "absorber_folds", a3, "rad", "The fold with the absorber 2^m times as long " &
+                // "(N - N0) and as wide (sigma), m = 1 .. absorber_family, the core N0 kept", &
+                dims="curve, omega, absorber")
+        end if
+        call h5_write(file, g // "absorber_spread", grid(recs%absorber_spread), "rad", "max over the family of " &
+            // "|A_f(absorber m) - A_f|: how far the fold of the finite chain is from the semi-infinite chain's", &
+            dims=dims)
+        call h5_write(file, g // "fold_semi_infinite", grid(recs%fold_semi_infinite), "rad", "The fold with the " &
+            // "longest absorber of the family: the best value for the semi-infinite chain of eq. (1), uncertain " &
+            // "by about /convergence/absorber_spread", dims=dims)
+        call h5_write(file, g // "fold_radiation", grid(recs%fold_radiation), "rad", "The fold of the core " &
+            // "(N = N0, no absorber) closed by the exact linear radiation condition per harmonic", dims=dims)
+        if (nc > 0) then
+            deallocate (a3)
+            allocate (a3(nc, nomega, ncurve))
+            do t = 1, ntask
+                a3(:, mod(t - 1, nomega) + 1, (t - 1)/nomega + 1) = recs(t)%continuum_folds
+            end do
+            call h5_create_group(file, "/continuum", "The fold at each coupling c of c_values, N, N0 and sigma " &
+                // "scaled with c, and its limit c -> infinity (the paper's claim: larger c approach A_s)")
+            call h5_write(file, "/continuum/c", tasks%c_values, "1/time", "Couplings c", dims="c")
+            call h5_write(file, "/continuum/folds", a3, "rad", "The fold at each c", dims="curve, omega, c")
+            call h5_write(file, "/continuum/fold", grid(recs%continuum_fold), "rad", "Richardson extrapolation of " &
+                // "the folds to c -> infinity in 1/c^2 from the two largest c", dims=dims)
+            call h5_write(file, "/continuum/error_estimate", grid(recs%continuum_error), "rad", "Change of the " &
+                // "extrapolation from the next smaller pair of c (with two c: from the largest c's fold)", dims=dims)
+        end if
+        call h5_create_group(file, "/cost", "What each task cost (the convergence checks included)")
+        call h5_write(file, "/cost/newton_iterations", igrid(recs%newton_iterations), "1", &
+            "Newton (and chord) iterations", dims=dims)
+        call h5_write(file, "/cost/factorizations", igrid(recs%factorizations), "1", &
+            "Block-tridiagonal LU factorisations of the Jacobian", dims=dims)
+        call h5_write(file, "/cost/residuals", igrid(recs%residuals), "1", "Residual evaluations", dims=dims)
+        call h5_write(file, "/cost/continuations", igrid(recs%continuations), "1", &
+            "Branches traced from rest (the other folds were located from a neighbouring one)", dims=dims)
+        call h5_write(file, "/cost/wall_time", grid(recs%wall_time), "s", "Wall-clock time of the task (one " &
+            // "thread)", dims=dims)
+        if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
+        call h5_create_group(file, "/branch", "The branch of periodic states of each task from A = 0 (the fold " &
+            // "among its points; NaN past /branch/points)")
+        call h5_write(file, "/branch/points", igrid(recs%points), "1", "Points computed on the branch", dims=dims)
+        if (allocated(a3)) deallocate (a3)
+        allocate (a3(npts, nomega, ncurve))
+        do q = 1, size(hb_branch_quantities)
+            do t = 1, ntask
+                a3(:, mod(t - 1, nomega) + 1, (t - 1)/nomega + 1) = recs(t)%branch(q, :)
+            end do
+            call h5_write(file, "/branch/" // trim(hb_branch_quantities(q)), a3, branch_units(q), &
+                          branch_description(q), dims="curve, omega, point")
+        end do
+        call h5_commit(file, error)
+
+    contains
+
+        !> A per-task real as an (omega, curve) grid.
+        pure function grid(x) result(gr)
+            real(wp), intent(in) :: x(:)
+            real(wp), allocatable :: gr(:, :)
+
+            gr = reshape(x, [nomega, ncurve])
+        end function grid
+
+        !> A per-task integer as an (omega, curve) grid.
+        pure function igrid(x) result(gr)
+            integer, intent(in) :: x(:)
+            integer, allocatable :: gr(:, :)
+
+            gr = reshape(x, [nomega, ncurve])
+        end function igrid
+
+    end subroutine write_hb_file
+
+    !> Units of a branch quantity.
+    pure function branch_units(q) result(units)
+        !> Index in `hb_branch_quantities`.
+        integer, intent(in) :: q
+        character(len=:), allocatable :: units
+
+        select case (trim(hb_branch_quantities(q)))
+        case ("energy")
+            units = "energy"
+        case ("newton_iterations")
+            units = "1"
+        case default
+            units = "rad"
+        end select
+    end function branch_units
+
+    !> Description of a branch quantity.
+    pure function branch_description(q) result(text)
+        !> Index in `hb_branch_quantities`.
+        integer, intent(in) :: q
+        character(len=:), allocatable :: text
+
+        select case (trim(hb_branch_quantities(q)))
+        case ("amplitude")
+            text = "Driving amplitude A of each branch point"
+        case ("umax")
+            text = "Largest |u_n| over the chain and the time grid of a half period"
+        case ("energy")
+            text = "Stored energy of the chain (the ODE's), averaged over the time grid of the period"
+        case ("newton_iterations")
+            text = "Iterations of the point's corrector"
+        case default
+            text = "max |R| of the harmonic balance at the point"
+        end select
+    end function branch_description
+
+end module supratrans_fold_hb
