@@ -40,212 +40,217 @@ program pf_driver
     use test_fold_fate, only: t35 => test_half_period_symmetry
     use test_fold_fate, only: t36 => test_stairs_transmit_just_past_the_fold
     use test_fold_record, only: t37 => test_round_trip
-    use test_hdf5, only: b7 => set_up
-    use test_hdf5, only: a7 => tear_down
-    use test_hdf5, only: t38 => test_roundtrip_real
-    use test_hdf5, only: t39 => test_roundtrip_integer
-    use test_hdf5, only: t40 => test_roundtrip_character
-    use test_hdf5, only: t41 => test_roundtrip_attributes
-    use test_hdf5, only: t42 => test_refuses_to_overwrite
-    use test_hdf5, only: t43 => test_nothing_on_disk_before_commit
-    use test_hdf5, only: t44 => test_discard_leaves_nothing
-    use test_hdf5, only: t45 => test_exists_nested
-    use test_hdf5, only: t46 => test_first_error_sticks
-    use test_hdf5, only: t47 => test_dimension_scales_attached
-    use test_hdf5, only: t48 => test_many_files_in_one_process
-    use test_hdf5, only: t49 => test_errors_name_file_and_object
-    use test_hysteresis, only: t50 => test_default_profile_is_the_ramp
-    use test_hysteresis, only: t51 => test_stairs_have_their_levels_at_their_times
-    use test_hysteresis, only: t52 => test_stairs_are_continuous
-    use test_hysteresis, only: t53 => test_stair_slope_against_differences
-    use test_hysteresis, only: t54 => test_edges_from_powers
-    use test_hysteresis, only: t55 => test_stair_powers_against_wave_fluxes
-    use test_input, only: t56 => test_unknown_key
-    use test_input, only: t57 => test_key_in_wrong_group
-    use test_input, only: t58 => test_unknown_group
-    use test_input, only: t59 => test_integer_key_given_real
-    use test_input, only: t60 => test_real_key_given_text
-    use test_input, only: t61 => test_logical_key_given_yes
-    use test_input, only: t62 => test_scalar_key_given_list
-    use test_input, only: t63 => test_repeat_count_rejected
-    use test_input, only: t64 => test_key_given_twice
-    use test_input, only: t65 => test_unterminated_group
-    use test_input, only: t66 => test_unterminated_string
-    use test_input, only: t67 => test_text_outside_groups
-    use test_input, only: t68 => test_missing_file
-    use test_input, only: t69 => test_n_below_two
-    use test_input, only: t70 => test_dt_negative
-    use test_input, only: t71 => test_dt_zero
-    use test_input, only: t72 => test_t_final_not_positive
-    use test_input, only: t73 => test_omega_outside_gap
-    use test_input, only: t74 => test_omega_outside_gap_allowed
-    use test_input, only: t75 => test_stability_violated
-    use test_input, only: t76 => test_stability_condition_not_asked_of_a_stable_methods
-    use test_input, only: t77 => test_stability_violated_allowed
-    use test_input, only: t78 => test_output_exists
-    use test_input, only: t79 => test_output_exists_overwrite
-    use test_input, only: t80 => test_unknown_potential
-    use test_input, only: t81 => test_unknown_method
-    use test_input, only: t82 => test_unknown_scene
-    use test_input, only: t83 => test_probe_outside_chain
-    use test_input, only: t84 => test_full_valid_file
-    use test_input, only: t85 => test_empty_file_is_refused
-    use test_input, only: t86 => test_defaults_of_a_minimal_file
-    use test_input, only: t87 => test_validate_config_in_code
-    use test_input, only: t88 => test_list_value_out_of_range
-    use test_input, only: t89 => test_unknown_potential_in_list
-    use test_input, only: t90 => test_lists_of_names_read
-    use test_input, only: t91 => test_unknown_method_number_in_code
-    use test_input, only: t92 => test_namelist_text_and_start_kept
-    use test_journal, only: t93 => test_fields_read_by_name
-    use test_journal, only: t94 => test_other_fields_or_input_refused
-    use test_journal, only: t95 => test_header_names_the_fields
-    use test_journal, only: t96 => test_records_bound_to_their_header
-    use test_perf_kernels, only: t97 => test_sin_cos_array_accuracy
-    use test_perf_kernels, only: t98 => test_sin_cos_quiet_tail
-    use test_perf_kernels, only: t99 => test_gradient_paths_agree
-    use test_period_map, only: t100 => test_tangent_against_finite_differences
-    use test_period_map, only: t101 => test_tangent_light_cone
-    use test_period_map, only: t102 => test_same_scheme_as_steppers
-    use test_period_map, only: t103 => test_linear_evanescent_wave
-    use test_period_map, only: t104 => test_newton_shooting_quadratic
-    use test_period_map, only: t105 => test_steps_and_bad_input
-    use test_period_map, only: t106 => test_half_period_map
-    use test_potential, only: t107 => test_gradient_equals_difference_quotient
-    use test_potential, only: t108 => test_gradient_tends_to_force
-    use test_potential, only: t109 => test_gradient_exact_at_rest
-    use test_potential, only: t110 => test_slope_matches_finite_difference
-    use test_potential, only: t111 => test_array_kernels_agree
-    use test_potential, only: t112 => test_names_round_trip
-    use test_potential, only: t113 => test_unknown_potential_is_an_error
-    use test_provenance, only: b14 => set_up
-    use test_provenance, only: a14 => tear_down
-    use test_provenance, only: t114 => test_build_commit_is_an_id_or_unknown
-    use test_provenance, only: t115 => test_commit_is_not_read_from_the_working_directory
-    use test_provenance, only: t116 => test_provenance_written
-    use test_provenance, only: t117 => test_provenance_attributes_are_the_documented_ones
-    use test_rk4, only: t118 => test_rk4_fourth_order
-    use test_rk4, only: t119 => test_rk4_energy_drift
-    use test_rk4, only: t120 => test_rk4_stability_limit
-    use test_rk4, only: t121 => test_rk4_agrees_with_energy_conserving_scheme
-    use test_scene_bifurcation, only: b16 => set_up
-    use test_scene_bifurcation, only: a16 => tear_down
-    use test_scene_bifurcation, only: t122 => test_early_stop_keeps_verdict
-    use test_scene_bifurcation, only: t123 => test_threads_give_identical_thresholds
-    use test_scene_bifurcation, only: t124 => test_threshold_transmits_and_one_step_below_does_not
-    use test_scene_bifurcation, only: t125 => test_resume_after_kill
-    use test_scene_bifurcation, only: t126 => test_file_layout
-    use test_scene_bifurcation, only: t127 => test_failed_runs_give_status_run_failed
-    use test_scene_bifurcation, only: t128 => test_screening_changes_no_threshold
-    use test_scene_factory, only: t129 => test_every_kind_of_the_schema_has_a_scene
-    use test_scene_factory, only: t130 => test_unknown_kind_is_one_line_naming_the_known
-    use test_scene_factory, only: t131 => test_the_input_check_words_an_unknown_kind_as_before
-    use test_scene_factory, only: t132 => test_only_a_timeseries_is_one_run
-    use test_scene_factory, only: t133 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
-    use test_scene_factory, only: t134 => test_task_scenes_refuse_an_existing_output_first
-    use test_scene_map, only: b18 => set_up
-    use test_scene_map, only: a18 => tear_down
-    use test_scene_map, only: t135 => test_skips_outside_gap_and_stores_as
-    use test_scene_map, only: t136 => test_map_independent_of_thread_count
-    use test_scene_sweep, only: b19 => set_up
-    use test_scene_sweep, only: a19 => tear_down
-    use test_scene_sweep, only: t137 => test_axis_grid_exact
-    use test_scene_sweep, only: t138 => test_independent_of_thread_count
-    use test_scene_sweep, only: t139 => test_layout_and_physics
-    use test_scene_sweep, only: t140 => test_resume_after_kill
-    use test_scene_sweep, only: t141 => test_diverging_runs_flagged
-    use test_scene_sweep, only: t142 => test_partial_snapshot
-    use test_scene_sweep, only: t143 => test_refuses_existing_output
-    use test_schema, only: t144 => test_table_is_complete
-    use test_schema, only: t145 => test_each_key_sets_its_own_field
-    use test_schema, only: t146 => test_defaults_are_the_papers
-    use test_schema, only: t147 => test_choices_agree_with_the_physics
-    use test_schema, only: t148 => test_parameters_hold_every_key
-    use test_scheme, only: t149 => test_ledger_closes_every_step
-    use test_scheme, only: t150 => test_linearized_ledger_does_not_close
-    use test_scheme, only: t151 => test_evanescent_wave
-    use test_scheme, only: t152 => test_second_order_in_dt
-    use test_scheme, only: t153 => test_stability_boundary
-    use test_scheme, only: t154 => test_newton_failure_reported
-    use test_scheme, only: t155 => test_two_runs_in_two_threads
-    use test_scheme, only: t156 => test_verdict_across_the_gap
-    use test_screened_search, only: t157 => test_cheap_right_saves_exact_runs
-    use test_screened_search, only: t158 => test_cheap_too_high_within_band
-    use test_screened_search, only: t159 => test_cheap_too_high_walks_down
-    use test_screened_search, only: t160 => test_cheap_window_far_below
-    use test_screened_search, only: t161 => test_doubtful_quiet_answers_go_to_the_exact_oracle
-    use test_screened_search, only: t162 => test_random_patterns_with_margins
-    use test_screened_search, only: t163 => test_random_patterns_false_alarms
-    use test_screened_search, only: t164 => test_cheap_finds_none
-    use test_screened_search, only: t165 => test_none_transmits_confirms_the_top
-    use test_screened_search, only: t166 => test_exact_failure_is_reported
-    use test_screened_search, only: t167 => test_cheap_failure_falls_back_to_exact
-    use test_slice_costs, only: t168 => test_equal_costs_deal_round_robin
-    use test_slice_costs, only: t169 => test_every_task_in_one_slice_and_deterministic
-    use test_slice_costs, only: t170 => test_largest_first_is_balanced_within_the_largest_task
-    use test_slice_costs, only: t171 => test_run_order_is_largest_first
-    use test_slice_costs, only: t172 => test_fold_tasks_cost_more_at_low_omega
-    use test_slice_costs, only: t173 => test_slice_text_counts_the_slice
-    use test_stability, only: b24 => set_up
-    use test_stability, only: a24 => tear_down
-    use test_stability, only: t174 => test_linear_limits
-    use test_stability, only: t175 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t176 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t177 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t178 => test_stepper_contract_order
-    use test_stepper_contract, only: t179 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t180 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t181 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t182 => test_engine_counts_steps_in_64_bits
-    use test_stepper_contract, only: t183 => test_stepper_contract_checkpoint
-    use test_stepper_linearized, only: t184 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t185 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t186 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t187 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t188 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t189 => test_blocked_iteration_is_the_unblocked_one
-    use test_stepper_newton, only: t190 => test_levels_predictor_is_the_two_loop_one
-    use test_stepper_newton, only: t191 => test_uniform_loops_are_the_general_ones
-    use test_stepper_newton, only: t192 => test_newton_error_below_tol
-    use test_stepper_newton, only: t193 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t194 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t195 => test_newton_stepper_reports_failure
-    use test_stepper_newton, only: t196 => test_blowup_measure_is_the_level_maximum
-    use test_stepper_newton, only: t197 => test_step_powers_without_bulk_damping
-    use test_strings, only: t198 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t199 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t200 => test_find_name_gives_the_first_index_or_zero
-    use test_strings, only: t201 => test_joined_trims_each_name_and_prefixes_it
-    use test_strings, only: t202 => test_lower_changes_only_ascii_capitals
-    use test_system, only: b29 => set_up
-    use test_system, only: a29 => tear_down
-    use test_system, only: t203 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t204 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t205 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t206 => test_temporary_names_are_fresh
-    use test_system, only: t207 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t208 => test_monotone_step
-    use test_threshold, only: t209 => test_bisected_bracket
-    use test_threshold, only: t210 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t211 => test_two_transitions
-    use test_threshold, only: t212 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t213 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t214 => test_nothing_transmits
-    use test_threshold, only: t215 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t216 => test_lower_bound_transmits
-    use test_threshold, only: t217 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t218 => test_bad_arguments
-    use test_threshold, only: t219 => test_grid_helpers
-    use test_workprec, only: b31 => set_up
-    use test_workprec, only: a31 => tear_down
-    use test_workprec, only: t220 => test_rk8_eighth_order
-    use test_workprec, only: t221 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t222 => test_rk8_stability_polynomial
-    use test_workprec, only: t223 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t224 => test_unstable_runs_are_reported
-    use test_workprec, only: t225 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t226 => test_fitted_order
-    use test_workprec, only: t227 => test_step_kernels_timed
+    use test_harmonic_balance, only: t38 => test_jacobian_against_finite_differences
+    use test_harmonic_balance, only: t39 => test_block_solve_inverts_the_jacobian
+    use test_harmonic_balance, only: t40 => test_radiation_root_solves_the_dispersion_relation
+    use test_harmonic_balance, only: t41 => test_small_amplitude_state_is_the_evanescent_wave
+    use test_harmonic_balance, only: t42 => test_fold_state_is_a_periodic_orbit_of_the_ode
+    use test_hdf5, only: b8 => set_up
+    use test_hdf5, only: a8 => tear_down
+    use test_hdf5, only: t43 => test_roundtrip_real
+    use test_hdf5, only: t44 => test_roundtrip_integer
+    use test_hdf5, only: t45 => test_roundtrip_character
+    use test_hdf5, only: t46 => test_roundtrip_attributes
+    use test_hdf5, only: t47 => test_refuses_to_overwrite
+    use test_hdf5, only: t48 => test_nothing_on_disk_before_commit
+    use test_hdf5, only: t49 => test_discard_leaves_nothing
+    use test_hdf5, only: t50 => test_exists_nested
+    use test_hdf5, only: t51 => test_first_error_sticks
+    use test_hdf5, only: t52 => test_dimension_scales_attached
+    use test_hdf5, only: t53 => test_many_files_in_one_process
+    use test_hdf5, only: t54 => test_errors_name_file_and_object
+    use test_hysteresis, only: t55 => test_default_profile_is_the_ramp
+    use test_hysteresis, only: t56 => test_stairs_have_their_levels_at_their_times
+    use test_hysteresis, only: t57 => test_stairs_are_continuous
+    use test_hysteresis, only: t58 => test_stair_slope_against_differences
+    use test_hysteresis, only: t59 => test_edges_from_powers
+    use test_hysteresis, only: t60 => test_stair_powers_against_wave_fluxes
+    use test_input, only: t61 => test_unknown_key
+    use test_input, only: t62 => test_key_in_wrong_group
+    use test_input, only: t63 => test_unknown_group
+    use test_input, only: t64 => test_integer_key_given_real
+    use test_input, only: t65 => test_real_key_given_text
+    use test_input, only: t66 => test_logical_key_given_yes
+    use test_input, only: t67 => test_scalar_key_given_list
+    use test_input, only: t68 => test_repeat_count_rejected
+    use test_input, only: t69 => test_key_given_twice
+    use test_input, only: t70 => test_unterminated_group
+    use test_input, only: t71 => test_unterminated_string
+    use test_input, only: t72 => test_text_outside_groups
+    use test_input, only: t73 => test_missing_file
+    use test_input, only: t74 => test_n_below_two
+    use test_input, only: t75 => test_dt_negative
+    use test_input, only: t76 => test_dt_zero
+    use test_input, only: t77 => test_t_final_not_positive
+    use test_input, only: t78 => test_omega_outside_gap
+    use test_input, only: t79 => test_omega_outside_gap_allowed
+    use test_input, only: t80 => test_stability_violated
+    use test_input, only: t81 => test_stability_condition_not_asked_of_a_stable_methods
+    use test_input, only: t82 => test_stability_violated_allowed
+    use test_input, only: t83 => test_output_exists
+    use test_input, only: t84 => test_output_exists_overwrite
+    use test_input, only: t85 => test_unknown_potential
+    use test_input, only: t86 => test_unknown_method
+    use test_input, only: t87 => test_unknown_scene
+    use test_input, only: t88 => test_probe_outside_chain
+    use test_input, only: t89 => test_full_valid_file
+    use test_input, only: t90 => test_empty_file_is_refused
+    use test_input, only: t91 => test_defaults_of_a_minimal_file
+    use test_input, only: t92 => test_validate_config_in_code
+    use test_input, only: t93 => test_list_value_out_of_range
+    use test_input, only: t94 => test_unknown_potential_in_list
+    use test_input, only: t95 => test_lists_of_names_read
+    use test_input, only: t96 => test_unknown_method_number_in_code
+    use test_input, only: t97 => test_namelist_text_and_start_kept
+    use test_journal, only: t98 => test_fields_read_by_name
+    use test_journal, only: t99 => test_other_fields_or_input_refused
+    use test_journal, only: t100 => test_header_names_the_fields
+    use test_journal, only: t101 => test_records_bound_to_their_header
+    use test_perf_kernels, only: t102 => test_sin_cos_array_accuracy
+    use test_perf_kernels, only: t103 => test_sin_cos_quiet_tail
+    use test_perf_kernels, only: t104 => test_gradient_paths_agree
+    use test_period_map, only: t105 => test_tangent_against_finite_differences
+    use test_period_map, only: t106 => test_tangent_light_cone
+    use test_period_map, only: t107 => test_same_scheme_as_steppers
+    use test_period_map, only: t108 => test_linear_evanescent_wave
+    use test_period_map, only: t109 => test_newton_shooting_quadratic
+    use test_period_map, only: t110 => test_steps_and_bad_input
+    use test_period_map, only: t111 => test_half_period_map
+    use test_potential, only: t112 => test_gradient_equals_difference_quotient
+    use test_potential, only: t113 => test_gradient_tends_to_force
+    use test_potential, only: t114 => test_gradient_exact_at_rest
+    use test_potential, only: t115 => test_slope_matches_finite_difference
+    use test_potential, only: t116 => test_array_kernels_agree
+    use test_potential, only: t117 => test_names_round_trip
+    use test_potential, only: t118 => test_unknown_potential_is_an_error
+    use test_provenance, only: b15 => set_up
+    use test_provenance, only: a15 => tear_down
+    use test_provenance, only: t119 => test_build_commit_is_an_id_or_unknown
+    use test_provenance, only: t120 => test_commit_is_not_read_from_the_working_directory
+    use test_provenance, only: t121 => test_provenance_written
+    use test_provenance, only: t122 => test_provenance_attributes_are_the_documented_ones
+    use test_rk4, only: t123 => test_rk4_fourth_order
+    use test_rk4, only: t124 => test_rk4_energy_drift
+    use test_rk4, only: t125 => test_rk4_stability_limit
+    use test_rk4, only: t126 => test_rk4_agrees_with_energy_conserving_scheme
+    use test_scene_bifurcation, only: b17 => set_up
+    use test_scene_bifurcation, only: a17 => tear_down
+    use test_scene_bifurcation, only: t127 => test_early_stop_keeps_verdict
+    use test_scene_bifurcation, only: t128 => test_threads_give_identical_thresholds
+    use test_scene_bifurcation, only: t129 => test_threshold_transmits_and_one_step_below_does_not
+    use test_scene_bifurcation, only: t130 => test_resume_after_kill
+    use test_scene_bifurcation, only: t131 => test_file_layout
+    use test_scene_bifurcation, only: t132 => test_failed_runs_give_status_run_failed
+    use test_scene_bifurcation, only: t133 => test_screening_changes_no_threshold
+    use test_scene_factory, only: t134 => test_every_kind_of_the_schema_has_a_scene
+    use test_scene_factory, only: t135 => test_unknown_kind_is_one_line_naming_the_known
+    use test_scene_factory, only: t136 => test_the_input_check_words_an_unknown_kind_as_before
+    use test_scene_factory, only: t137 => test_only_a_timeseries_is_one_run
+    use test_scene_factory, only: t138 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
+    use test_scene_factory, only: t139 => test_task_scenes_refuse_an_existing_output_first
+    use test_scene_map, only: b19 => set_up
+    use test_scene_map, only: a19 => tear_down
+    use test_scene_map, only: t140 => test_skips_outside_gap_and_stores_as
+    use test_scene_map, only: t141 => test_map_independent_of_thread_count
+    use test_scene_sweep, only: b20 => set_up
+    use test_scene_sweep, only: a20 => tear_down
+    use test_scene_sweep, only: t142 => test_axis_grid_exact
+    use test_scene_sweep, only: t143 => test_independent_of_thread_count
+    use test_scene_sweep, only: t144 => test_layout_and_physics
+    use test_scene_sweep, only: t145 => test_resume_after_kill
+    use test_scene_sweep, only: t146 => test_diverging_runs_flagged
+    use test_scene_sweep, only: t147 => test_partial_snapshot
+    use test_scene_sweep, only: t148 => test_refuses_existing_output
+    use test_schema, only: t149 => test_table_is_complete
+    use test_schema, only: t150 => test_each_key_sets_its_own_field
+    use test_schema, only: t151 => test_defaults_are_the_papers
+    use test_schema, only: t152 => test_choices_agree_with_the_physics
+    use test_schema, only: t153 => test_parameters_hold_every_key
+    use test_scheme, only: t154 => test_ledger_closes_every_step
+    use test_scheme, only: t155 => test_linearized_ledger_does_not_close
+    use test_scheme, only: t156 => test_evanescent_wave
+    use test_scheme, only: t157 => test_second_order_in_dt
+    use test_scheme, only: t158 => test_stability_boundary
+    use test_scheme, only: t159 => test_newton_failure_reported
+    use test_scheme, only: t160 => test_two_runs_in_two_threads
+    use test_scheme, only: t161 => test_verdict_across_the_gap
+    use test_screened_search, only: t162 => test_cheap_right_saves_exact_runs
+    use test_screened_search, only: t163 => test_cheap_too_high_within_band
+    use test_screened_search, only: t164 => test_cheap_too_high_walks_down
+    use test_screened_search, only: t165 => test_cheap_window_far_below
+    use test_screened_search, only: t166 => test_doubtful_quiet_answers_go_to_the_exact_oracle
+    use test_screened_search, only: t167 => test_random_patterns_with_margins
+    use test_screened_search, only: t168 => test_random_patterns_false_alarms
+    use test_screened_search, only: t169 => test_cheap_finds_none
+    use test_screened_search, only: t170 => test_none_transmits_confirms_the_top
+    use test_screened_search, only: t171 => test_exact_failure_is_reported
+    use test_screened_search, only: t172 => test_cheap_failure_falls_back_to_exact
+    use test_slice_costs, only: t173 => test_equal_costs_deal_round_robin
+    use test_slice_costs, only: t174 => test_every_task_in_one_slice_and_deterministic
+    use test_slice_costs, only: t175 => test_largest_first_is_balanced_within_the_largest_task
+    use test_slice_costs, only: t176 => test_run_order_is_largest_first
+    use test_slice_costs, only: t177 => test_fold_tasks_cost_more_at_low_omega
+    use test_slice_costs, only: t178 => test_slice_text_counts_the_slice
+    use test_stability, only: b25 => set_up
+    use test_stability, only: a25 => tear_down
+    use test_stability, only: t179 => test_linear_limits
+    use test_stability, only: t180 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t181 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t182 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t183 => test_stepper_contract_order
+    use test_stepper_contract, only: t184 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t185 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t186 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t187 => test_engine_counts_steps_in_64_bits
+    use test_stepper_contract, only: t188 => test_stepper_contract_checkpoint
+    use test_stepper_linearized, only: t189 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t190 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t191 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t192 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t193 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t194 => test_blocked_iteration_is_the_unblocked_one
+    use test_stepper_newton, only: t195 => test_levels_predictor_is_the_two_loop_one
+    use test_stepper_newton, only: t196 => test_uniform_loops_are_the_general_ones
+    use test_stepper_newton, only: t197 => test_newton_error_below_tol
+    use test_stepper_newton, only: t198 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t199 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t200 => test_newton_stepper_reports_failure
+    use test_stepper_newton, only: t201 => test_blowup_measure_is_the_level_maximum
+    use test_stepper_newton, only: t202 => test_step_powers_without_bulk_damping
+    use test_strings, only: t203 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t204 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t205 => test_find_name_gives_the_first_index_or_zero
+    use test_strings, only: t206 => test_joined_trims_each_name_and_prefixes_it
+    use test_strings, only: t207 => test_lower_changes_only_ascii_capitals
+    use test_system, only: b30 => set_up
+    use test_system, only: a30 => tear_down
+    use test_system, only: t208 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t209 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t210 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t211 => test_temporary_names_are_fresh
+    use test_system, only: t212 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t213 => test_monotone_step
+    use test_threshold, only: t214 => test_bisected_bracket
+    use test_threshold, only: t215 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t216 => test_two_transitions
+    use test_threshold, only: t217 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t218 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t219 => test_nothing_transmits
+    use test_threshold, only: t220 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t221 => test_lower_bound_transmits
+    use test_threshold, only: t222 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t223 => test_bad_arguments
+    use test_threshold, only: t224 => test_grid_helpers
+    use test_workprec, only: b32 => set_up
+    use test_workprec, only: a32 => tear_down
+    use test_workprec, only: t225 => test_rk8_eighth_order
+    use test_workprec, only: t226 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t227 => test_rk8_stability_polynomial
+    use test_workprec, only: t228 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t229 => test_unstable_runs_are_reported
+    use test_workprec, only: t230 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t231 => test_fitted_order
+    use test_workprec, only: t232 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -286,225 +291,230 @@ program pf_driver
     call pf_run_test('test_fold_fate', 'test_half_period_symmetry', t35)
     call pf_run_test('test_fold_fate', 'test_stairs_transmit_just_past_the_fold', t36)
     call pf_run_test('test_fold_record', 'test_round_trip', t37)
-    call pf_run_test('test_hdf5', 'test_roundtrip_real', t38, before=b7, after=a7)
-    call pf_run_test('test_hdf5', 'test_roundtrip_integer', t39, before=b7, after=a7)
-    call pf_run_test('test_hdf5', 'test_roundtrip_character', t40, before=b7, after=a7)
-    call pf_run_test('test_hdf5', 'test_roundtrip_attributes', t41, before=b7, after=a7)
-    call pf_run_test('test_hdf5', 'test_refuses_to_overwrite', t42, before=b7, after=a7)
-    call pf_run_test('test_hdf5', 'test_nothing_on_disk_before_commit', t43, before=b7, after=a7)
-    call pf_run_test('test_hdf5', 'test_discard_leaves_nothing', t44, before=b7, after=a7)
-    call pf_run_test('test_hdf5', 'test_exists_nested', t45, before=b7, after=a7)
-    call pf_run_test('test_hdf5', 'test_first_error_sticks', t46, before=b7, after=a7)
-    call pf_run_test('test_hdf5', 'test_dimension_scales_attached', t47, before=b7, after=a7)
-    call pf_run_test('test_hdf5', 'test_many_files_in_one_process', t48, before=b7, after=a7)
-    call pf_run_test('test_hdf5', 'test_errors_name_file_and_object', t49, before=b7, after=a7)
-    call pf_run_test('test_hysteresis', 'test_default_profile_is_the_ramp', t50)
-    call pf_run_test('test_hysteresis', 'test_stairs_have_their_levels_at_their_times', t51)
-    call pf_run_test('test_hysteresis', 'test_stairs_are_continuous', t52)
-    call pf_run_test('test_hysteresis', 'test_stair_slope_against_differences', t53)
-    call pf_run_test('test_hysteresis', 'test_edges_from_powers', t54)
-    call pf_run_test('test_hysteresis', 'test_stair_powers_against_wave_fluxes', t55)
-    call pf_run_test('test_input', 'test_unknown_key', t56)
-    call pf_run_test('test_input', 'test_key_in_wrong_group', t57)
-    call pf_run_test('test_input', 'test_unknown_group', t58)
-    call pf_run_test('test_input', 'test_integer_key_given_real', t59)
-    call pf_run_test('test_input', 'test_real_key_given_text', t60)
-    call pf_run_test('test_input', 'test_logical_key_given_yes', t61)
-    call pf_run_test('test_input', 'test_scalar_key_given_list', t62)
-    call pf_run_test('test_input', 'test_repeat_count_rejected', t63)
-    call pf_run_test('test_input', 'test_key_given_twice', t64)
-    call pf_run_test('test_input', 'test_unterminated_group', t65)
-    call pf_run_test('test_input', 'test_unterminated_string', t66)
-    call pf_run_test('test_input', 'test_text_outside_groups', t67)
-    call pf_run_test('test_input', 'test_missing_file', t68)
-    call pf_run_test('test_input', 'test_n_below_two', t69)
-    call pf_run_test('test_input', 'test_dt_negative', t70)
-    call pf_run_test('test_input', 'test_dt_zero', t71)
-    call pf_run_test('test_input', 'test_t_final_not_positive', t72)
-    call pf_run_test('test_input', 'test_omega_outside_gap', t73)
-    call pf_run_test('test_input', 'test_omega_outside_gap_allowed', t74)
-    call pf_run_test('test_input', 'test_stability_violated', t75)
-    call pf_run_test('test_input', 'test_stability_condition_not_asked_of_a_stable_methods', t76)
-    call pf_run_test('test_input', 'test_stability_violated_allowed', t77)
-    call pf_run_test('test_input', 'test_output_exists', t78)
-    call pf_run_test('test_input', 'test_output_exists_overwrite', t79)
-    call pf_run_test('test_input', 'test_unknown_potential', t80)
-    call pf_run_test('test_input', 'test_unknown_method', t81)
-    call pf_run_test('test_input', 'test_unknown_scene', t82)
-    call pf_run_test('test_input', 'test_probe_outside_chain', t83)
-    call pf_run_test('test_input', 'test_full_valid_file', t84)
-    call pf_run_test('test_input', 'test_empty_file_is_refused', t85)
-    call pf_run_test('test_input', 'test_defaults_of_a_minimal_file', t86)
-    call pf_run_test('test_input', 'test_validate_config_in_code', t87)
-    call pf_run_test('test_input', 'test_list_value_out_of_range', t88)
-    call pf_run_test('test_input', 'test_unknown_potential_in_list', t89)
-    call pf_run_test('test_input', 'test_lists_of_names_read', t90)
-    call pf_run_test('test_input', 'test_unknown_method_number_in_code', t91)
-    call pf_run_test('test_input', 'test_namelist_text_and_start_kept', t92)
-    call pf_run_test('test_journal', 'test_fields_read_by_name', t93)
-    call pf_run_test('test_journal', 'test_other_fields_or_input_refused', t94)
-    call pf_run_test('test_journal', 'test_header_names_the_fields', t95)
-    call pf_run_test('test_journal', 'test_records_bound_to_their_header', t96)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t97)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t98)
-    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t99)
-    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t100)
-    call pf_run_test('test_period_map', 'test_tangent_light_cone', t101)
-    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t102)
-    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t103)
-    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t104)
-    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t105)
-    call pf_run_test('test_period_map', 'test_half_period_map', t106)
-    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t107)
-    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t108)
-    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t109)
-    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t110)
-    call pf_run_test('test_potential', 'test_array_kernels_agree', t111)
-    call pf_run_test('test_potential', 'test_names_round_trip', t112)
-    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t113)
-    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t114, before=b14, after=a14)
+    call pf_run_test('test_harmonic_balance', 'test_jacobian_against_finite_differences', t38)
+    call pf_run_test('test_harmonic_balance', 'test_block_solve_inverts_the_jacobian', t39)
+    call pf_run_test('test_harmonic_balance', 'test_radiation_root_solves_the_dispersion_relation', t40)
+    call pf_run_test('test_harmonic_balance', 'test_small_amplitude_state_is_the_evanescent_wave', t41)
+    call pf_run_test('test_harmonic_balance', 'test_fold_state_is_a_periodic_orbit_of_the_ode', t42)
+    call pf_run_test('test_hdf5', 'test_roundtrip_real', t43, before=b8, after=a8)
+    call pf_run_test('test_hdf5', 'test_roundtrip_integer', t44, before=b8, after=a8)
+    call pf_run_test('test_hdf5', 'test_roundtrip_character', t45, before=b8, after=a8)
+    call pf_run_test('test_hdf5', 'test_roundtrip_attributes', t46, before=b8, after=a8)
+    call pf_run_test('test_hdf5', 'test_refuses_to_overwrite', t47, before=b8, after=a8)
+    call pf_run_test('test_hdf5', 'test_nothing_on_disk_before_commit', t48, before=b8, after=a8)
+    call pf_run_test('test_hdf5', 'test_discard_leaves_nothing', t49, before=b8, after=a8)
+    call pf_run_test('test_hdf5', 'test_exists_nested', t50, before=b8, after=a8)
+    call pf_run_test('test_hdf5', 'test_first_error_sticks', t51, before=b8, after=a8)
+    call pf_run_test('test_hdf5', 'test_dimension_scales_attached', t52, before=b8, after=a8)
+    call pf_run_test('test_hdf5', 'test_many_files_in_one_process', t53, before=b8, after=a8)
+    call pf_run_test('test_hdf5', 'test_errors_name_file_and_object', t54, before=b8, after=a8)
+    call pf_run_test('test_hysteresis', 'test_default_profile_is_the_ramp', t55)
+    call pf_run_test('test_hysteresis', 'test_stairs_have_their_levels_at_their_times', t56)
+    call pf_run_test('test_hysteresis', 'test_stairs_are_continuous', t57)
+    call pf_run_test('test_hysteresis', 'test_stair_slope_against_differences', t58)
+    call pf_run_test('test_hysteresis', 'test_edges_from_powers', t59)
+    call pf_run_test('test_hysteresis', 'test_stair_powers_against_wave_fluxes', t60)
+    call pf_run_test('test_input', 'test_unknown_key', t61)
+    call pf_run_test('test_input', 'test_key_in_wrong_group', t62)
+    call pf_run_test('test_input', 'test_unknown_group', t63)
+    call pf_run_test('test_input', 'test_integer_key_given_real', t64)
+    call pf_run_test('test_input', 'test_real_key_given_text', t65)
+    call pf_run_test('test_input', 'test_logical_key_given_yes', t66)
+    call pf_run_test('test_input', 'test_scalar_key_given_list', t67)
+    call pf_run_test('test_input', 'test_repeat_count_rejected', t68)
+    call pf_run_test('test_input', 'test_key_given_twice', t69)
+    call pf_run_test('test_input', 'test_unterminated_group', t70)
+    call pf_run_test('test_input', 'test_unterminated_string', t71)
+    call pf_run_test('test_input', 'test_text_outside_groups', t72)
+    call pf_run_test('test_input', 'test_missing_file', t73)
+    call pf_run_test('test_input', 'test_n_below_two', t74)
+    call pf_run_test('test_input', 'test_dt_negative', t75)
+    call pf_run_test('test_input', 'test_dt_zero', t76)
+    call pf_run_test('test_input', 'test_t_final_not_positive', t77)
+    call pf_run_test('test_input', 'test_omega_outside_gap', t78)
+    call pf_run_test('test_input', 'test_omega_outside_gap_allowed', t79)
+    call pf_run_test('test_input', 'test_stability_violated', t80)
+    call pf_run_test('test_input', 'test_stability_condition_not_asked_of_a_stable_methods', t81)
+    call pf_run_test('test_input', 'test_stability_violated_allowed', t82)
+    call pf_run_test('test_input', 'test_output_exists', t83)
+    call pf_run_test('test_input', 'test_output_exists_overwrite', t84)
+    call pf_run_test('test_input', 'test_unknown_potential', t85)
+    call pf_run_test('test_input', 'test_unknown_method', t86)
+    call pf_run_test('test_input', 'test_unknown_scene', t87)
+    call pf_run_test('test_input', 'test_probe_outside_chain', t88)
+    call pf_run_test('test_input', 'test_full_valid_file', t89)
+    call pf_run_test('test_input', 'test_empty_file_is_refused', t90)
+    call pf_run_test('test_input', 'test_defaults_of_a_minimal_file', t91)
+    call pf_run_test('test_input', 'test_validate_config_in_code', t92)
+    call pf_run_test('test_input', 'test_list_value_out_of_range', t93)
+    call pf_run_test('test_input', 'test_unknown_potential_in_list', t94)
+    call pf_run_test('test_input', 'test_lists_of_names_read', t95)
+    call pf_run_test('test_input', 'test_unknown_method_number_in_code', t96)
+    call pf_run_test('test_input', 'test_namelist_text_and_start_kept', t97)
+    call pf_run_test('test_journal', 'test_fields_read_by_name', t98)
+    call pf_run_test('test_journal', 'test_other_fields_or_input_refused', t99)
+    call pf_run_test('test_journal', 'test_header_names_the_fields', t100)
+    call pf_run_test('test_journal', 'test_records_bound_to_their_header', t101)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t102)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t103)
+    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t104)
+    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t105)
+    call pf_run_test('test_period_map', 'test_tangent_light_cone', t106)
+    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t107)
+    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t108)
+    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t109)
+    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t110)
+    call pf_run_test('test_period_map', 'test_half_period_map', t111)
+    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t112)
+    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t113)
+    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t114)
+    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t115)
+    call pf_run_test('test_potential', 'test_array_kernels_agree', t116)
+    call pf_run_test('test_potential', 'test_names_round_trip', t117)
+    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t118)
+    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t119, before=b15, after=a15)
     call pf_run_test( &
         'test_provenance', &
         'test_commit_is_not_read_from_the_working_directory', &
-        t115, &
-        before=b14, &
-        after=a14)
-    call pf_run_test('test_provenance', 'test_provenance_written', t116, before=b14, after=a14)
+        t120, &
+        before=b15, &
+        after=a15)
+    call pf_run_test('test_provenance', 'test_provenance_written', t121, before=b15, after=a15)
     call pf_run_test( &
         'test_provenance', &
         'test_provenance_attributes_are_the_documented_ones', &
-        t117, &
-        before=b14, &
-        after=a14)
-    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t118)
-    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t119)
-    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t120)
-    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t121)
-    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t122, before=b16, after=a16)
-    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t123, before=b16, after=a16)
+        t122, &
+        before=b15, &
+        after=a15)
+    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t123)
+    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t124)
+    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t125)
+    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t126)
+    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t127, before=b17, after=a17)
+    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t128, before=b17, after=a17)
     call pf_run_test( &
         'test_scene_bifurcation', &
         'test_threshold_transmits_and_one_step_below_does_not', &
-        t124, &
-        before=b16, &
-        after=a16)
-    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t125, before=b16, after=a16)
-    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t126, before=b16, after=a16)
-    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t127, before=b16, after=a16)
-    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t128, before=b16, after=a16)
-    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t129)
-    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t130)
-    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t131)
-    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t132)
-    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t133)
-    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t134)
-    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t135, before=b18, after=a18)
-    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t136, before=b18, after=a18)
-    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t137, before=b19, after=a19)
-    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t138, before=b19, after=a19)
-    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t139, before=b19, after=a19)
-    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t140, before=b19, after=a19)
-    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t141, before=b19, after=a19)
-    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t142, before=b19, after=a19)
-    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t143, before=b19, after=a19)
-    call pf_run_test('test_schema', 'test_table_is_complete', t144)
-    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t145)
-    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t146)
-    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t147)
-    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t148)
-    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t149)
-    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t150)
-    call pf_run_test('test_scheme', 'test_evanescent_wave', t151)
-    call pf_run_test('test_scheme', 'test_second_order_in_dt', t152)
-    call pf_run_test('test_scheme', 'test_stability_boundary', t153)
-    call pf_run_test('test_scheme', 'test_newton_failure_reported', t154)
-    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t155)
-    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t156)
-    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t157)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t158)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t159)
-    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t160)
-    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t161)
-    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t162)
-    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t163)
-    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t164)
-    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t165)
-    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t166)
-    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t167)
-    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t168)
-    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t169)
-    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t170)
-    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t171)
-    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t172)
-    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t173)
-    call pf_run_test('test_stability', 'test_linear_limits', t174, before=b24, after=a24)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t175, before=b24, after=a24)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t176, before=b24, after=a24)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t177)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t178)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t179)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t180)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t181)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t182)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t183)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t184)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t185)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t186)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t187)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t188)
-    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t189)
-    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t190)
-    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t191)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t192)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t193)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t194)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t195)
-    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t196)
-    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t197)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t198)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t199)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t200)
-    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t201)
-    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t202)
+        t129, &
+        before=b17, &
+        after=a17)
+    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t130, before=b17, after=a17)
+    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t131, before=b17, after=a17)
+    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t132, before=b17, after=a17)
+    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t133, before=b17, after=a17)
+    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t134)
+    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t135)
+    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t136)
+    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t137)
+    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t138)
+    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t139)
+    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t140, before=b19, after=a19)
+    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t141, before=b19, after=a19)
+    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t142, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t143, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t144, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t145, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t146, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t147, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t148, before=b20, after=a20)
+    call pf_run_test('test_schema', 'test_table_is_complete', t149)
+    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t150)
+    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t151)
+    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t152)
+    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t153)
+    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t154)
+    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t155)
+    call pf_run_test('test_scheme', 'test_evanescent_wave', t156)
+    call pf_run_test('test_scheme', 'test_second_order_in_dt', t157)
+    call pf_run_test('test_scheme', 'test_stability_boundary', t158)
+    call pf_run_test('test_scheme', 'test_newton_failure_reported', t159)
+    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t160)
+    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t161)
+    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t162)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t163)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t164)
+    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t165)
+    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t166)
+    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t167)
+    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t168)
+    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t169)
+    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t170)
+    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t171)
+    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t172)
+    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t173)
+    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t174)
+    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t175)
+    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t176)
+    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t177)
+    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t178)
+    call pf_run_test('test_stability', 'test_linear_limits', t179, before=b25, after=a25)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t180, before=b25, after=a25)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t181, before=b25, after=a25)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t182)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t183)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t184)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t185)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t186)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t187)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t188)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t189)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t190)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t191)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t192)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t193)
+    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t194)
+    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t195)
+    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t196)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t197)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t198)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t199)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t200)
+    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t201)
+    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t202)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t203)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t204)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t205)
+    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t206)
+    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t207)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t203, &
-        before=b29, &
-        after=a29)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t204, before=b29, after=a29)
+        t208, &
+        before=b30, &
+        after=a30)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t209, before=b30, after=a30)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t205, &
-        before=b29, &
-        after=a29)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t206, before=b29, after=a29)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t207, before=b29, after=a29)
-    call pf_run_test('test_threshold', 'test_monotone_step', t208)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t209)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t210)
-    call pf_run_test('test_threshold', 'test_two_transitions', t211)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t212)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t213)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t214)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t215)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t216)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t217)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t218)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t219)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t220, before=b31, after=a31)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t221, before=b31, after=a31)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t222, before=b31, after=a31)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t223, before=b31, after=a31)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t224, before=b31, after=a31)
+        t210, &
+        before=b30, &
+        after=a30)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t211, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t212, before=b30, after=a30)
+    call pf_run_test('test_threshold', 'test_monotone_step', t213)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t214)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t215)
+    call pf_run_test('test_threshold', 'test_two_transitions', t216)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t217)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t218)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t219)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t220)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t221)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t222)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t223)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t224)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t225, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t226, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t227, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t228, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t229, before=b32, after=a32)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t225, &
-        before=b31, &
-        after=a31)
-    call pf_run_test('test_workprec', 'test_fitted_order', t226, before=b31, after=a31)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t227, before=b31, after=a31)
+        t230, &
+        before=b32, &
+        after=a32)
+    call pf_run_test('test_workprec', 'test_fitted_order', t231, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t232, before=b32, after=a32)
     call pf_driver_finish()
 end program pf_driver

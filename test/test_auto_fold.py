@@ -51,7 +51,7 @@ SCENE = """&chain potential = 'sine-gordon', n = {n}, n0 = {n0}, c = {c}, kappa 
 &drive omega = {omega} /
 &numerics method = '{method}', dt = {dt} /
 &scene kind = 'continuation', omega_min = {omega}, omega_max = {omega}, omega_step = 0.1, amplitude_max = 4.0,
-  fold_convergence = {convergence}, potentials = 'sine-gordon', floquet_every = {floquet_every} /
+  fold_convergence = {convergence}, potentials = 'sine-gordon', floquet_every = {floquet_every}, solver = '{solver}' /
 &output file = 'fold.h5', quiet = .true. /
 """
 #: The Newton scheme's dt (dt/2 is the scene's own convergence run).
@@ -94,13 +94,13 @@ def auto_fold(case: dict, tmp_path_factory: pytest.TempPathFactory) -> dict:
 
 
 def scene_fold(exe: str, folder: Path, case: dict, method: str, dt: float, convergence: bool,
-               floquet_every: int = 4) -> h5py.File:
+               floquet_every: int = 4, solver: str = "shooting") -> h5py.File:
     """The continuation scene's file for `case` with `method` at `dt` (fold_convergence and floquet_every as asked),
     opened."""
     folder.mkdir(parents=True, exist_ok=True)
     chain = {"gamma": 0.0, "beta": 0.0, "m2": 0.0} | case
     (folder / "case.nml").write_text(SCENE.format(method=method, dt=dt, **chain, floquet_every=floquet_every,
-                                                  convergence=".true." if convergence else ".false."))
+                                                  convergence=".true." if convergence else ".false.", solver=solver))
     proc = subprocess.run([exe, "case.nml"], cwd=folder, capture_output=True, text=True, timeout=600,
                           env=dict(os.environ, OMP_NUM_THREADS="1"))
     assert proc.returncode == 0, proc.stderr[-3000:]
@@ -154,3 +154,14 @@ def test_newton_folds_extrapolate_to_autos_fold(case, auto_fold, exe, tmp_path):
     assert richardson == pytest.approx(a_half + (a_half - a_dt) / 3, abs=1e-12)
     # what is left is the O(dt^4) remainder: (dt/2)^2 ~ 6e-4 of the dt^2 error at dt/2, well under 1e-2 of it
     assert abs(richardson - exact) < 1e-2 * abs(err_half)
+
+
+def test_harmonic_balance_finds_autos_fold(case, auto_fold, exe, tmp_path):
+    # the frequency domain (issue 41): the ODE's fold with no dt, converged in the number of harmonics
+    with scene_fold(exe, tmp_path, case, "rk8", 0.05, False, floquet_every=0, solver="harmonic_balance") as f:
+        fold = float(f["fold_amplitude"][0, 0])
+        closure = float(f["fold_period_closure"][0, 0])
+        print(f"harmonic balance (K = {int(f['harmonics'][0, 0])}): A_f = {fold!r}, "
+              f"AUTO - HB = {auto_fold['amplitude'] - fold:.2e}, rk8 period closure {closure:.1e}")
+        assert fold == pytest.approx(auto_fold["amplitude"], abs=1e-6)
+        assert closure < 5e-9   # the state converged to harmonics_tol = 1e-9 in its top harmonic

@@ -45,6 +45,8 @@ module supratrans_fold_hb
     integer, parameter, public :: spectrum_harmonics = 8
     !> Floquet multipliers kept at the fold, those of largest modulus.
     integer, parameter, public :: hb_kept_multipliers = 8
+    !> Scalar values of a record (the first `put`s of `serialize`).
+    integer, parameter :: scalar_count = 24
     !> Quantities of each branch point (`/branch/<name>`).
     character(len=*), parameter, public :: hb_branch_quantities(*) = [character(len=17) :: "amplitude", "umax", &
         "energy", "newton_iterations", "residual"]
@@ -234,9 +236,12 @@ contains
         real(wp), allocatable, intent(out) :: v(:)
         !> Their names.
         character(len=64), allocatable, intent(out) :: names(:)
-        integer :: k, j
+        integer :: k, j, i
 
-        allocate (v(0), names(0))
+        i = 0
+        k = scalar_count + size(r%absorber_folds) + size(r%continuum_folds) + 2*hb_kept_multipliers + size(r%branch) &
+            + size(r%spectrum)
+        allocate (v(k), names(k))
         call put("fold_amplitude", r%fold_amplitude)
         call put("fold_residual", r%fold_residual)
         call put("status", real(r%status, wp))
@@ -288,11 +293,10 @@ contains
         subroutine put(name, x)
             character(len=*), intent(in) :: name
             real(wp), intent(in) :: x
-            character(len=64) :: nm
 
-            nm = name
-            v = [v, x]
-            names = [names, nm]
+            i = i + 1
+            v(i) = x
+            names(i) = name
         end subroutine put
 
     end subroutine serialize
@@ -829,8 +833,9 @@ contains
         call h5_write(file, "/cost/wall_time", grid(recs%wall_time), "s", "Wall-clock time of the task (one " &
             // "thread)", dims=dims)
         if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
-        call h5_create_group(file, "/branch", "The branch of periodic states of each task from A = 0 (the fold " &
-            // "among its points; NaN past /branch/points)")
+        call h5_create_group(file, "/branch", "The branch of periodic states of each task from A = 0, traced with " &
+            // "the first K (its fold among the points, that K's: /fold_amplitude is the fold converged in K); NaN " &
+            // "past /branch/points")
         call h5_write(file, "/branch/points", igrid(recs%points), "1", "Points computed on the branch", dims=dims)
         if (allocated(a3)) deallocate (a3)
         allocate (a3(npts, nomega, ncurve))

@@ -340,7 +340,7 @@ contains
         !> The system.
         type(hb_system), intent(inout) :: sys
         !> (x, A).
-        real(wp), intent(in) :: x(:)
+        real(wp), intent(in), contiguous :: x(:)
         !> Counters.
         type(hb_result), intent(inout) :: res
         !> LAPACK status.
@@ -413,7 +413,7 @@ contains
         !> The system.
         type(hb_system), intent(inout) :: sys
         !> (x, A): the predictor on entry, the point on exit.
-        real(wp), intent(inout) :: x(:)
+        real(wp), intent(inout), contiguous :: x(:)
         !> The plane's normal (the predictor's tangent).
         real(wp), intent(in) :: t(:)
         !> Controls.
@@ -546,7 +546,7 @@ contains
         !> The system.
         type(hb_system), intent(inout) :: sys
         !> (x, A).
-        real(wp), intent(in) :: x(:)
+        real(wp), intent(in), contiguous :: x(:)
         !> Newton iterations of the point.
         integer, intent(in) :: iters
         !> The branch.
