@@ -33,7 +33,8 @@
 !> 7. With the argument `fold` (only this; a third argument `paper` for the paper's grid of Omega): the cost of the
 !>    continuation scene (`bench_fold`): one fold for several chains and controls, the fold line against the scan.
 !>    With `fold omega [FROM TO]`: the fold continued in Omega against the fold from rest at each frequency
-!>    (`bench_fold_omega`; default 0.99 .. 0.05), one thread.
+!>    (`bench_fold_omega`; default 0.99 .. 0.05), one thread. With `fold hb [paper]`: harmonic balance
+!>    (`bench_fold_hb`): one fold at Omega = 0.9, its cost against K and N, with `paper` the fold line against the scan.
 !> Scene outputs go to the system's temporary directory and are deleted. With beta = 0 (the paper default) the
 !> Jacobian is diagonal; a second block repeats the runs with beta = 0.1, where every Newton iteration is one
 !> LAPACK dgtsv.
@@ -55,6 +56,7 @@ program benchmark
     use bench_checkpoint, only: checkpoint_benchmark
     use bench_fold, only: fold_benchmark
     use bench_fold_omega, only: fold_omega_benchmark
+    use bench_fold_hb, only: fold_hb_benchmark
     use supratrans_search_record, only: from_values, search_record
     use supratrans_system, only: remove_file
     use supratrans_workprec_measure, only: median
@@ -104,6 +106,12 @@ program benchmark
             end do
             !$ call omp_set_num_threads(1)
             call fold_omega_benchmark(omega_range(1), omega_range(2))
+            stop
+        end if
+        if (trim(arg) == "hb") then
+            arg = ""
+            if (command_argument_count() >= 4) call get_command_argument(4, arg)
+            call fold_hb_benchmark(repeats, trim(arg) == "paper")
             stop
         end if
         call fold_benchmark(trim(arg) == "paper")

@@ -19,10 +19,11 @@
 !> matrix of V''(u_n(t)), (2 / mt) sum_m V''(u_n(t_m)) phi_p(t_m) phi_q(t_m), computed for all sites at once as one
 !> product; the off-diagonal blocks are the coupling -(c^2 + i beta w), the same at every site, and diagonal in the
 !> harmonics. The LU is block-tridiagonal (block Thomas): for n = 1..N, S_n = D_n - C S_{n-1}^{-1} C, each S_n
-!> inverted by LAPACK (`dgetrf` with pivoting within the block, `dgetri`), about 21 K^3 N flops; C, 2 x 2 per
+!> inverted by Gauss-Jordan elimination with partial pivoting (`invert_block`), about 21 K^3 N flops; C, 2 x 2 per
 !> harmonic, costs nothing, and a solve is two products with small blocks per site. LAPACK's banded LU (`dgbtrf`,
-!> kl = ku = 2K + 1) does the same work column by column through rank-one updates of 2K + 1 entries, and a solve with
-!> the blocks' LU factors calls LAPACK twice per site: both measured several times slower at K = 4-10.
+!> kl = ku = 2K + 1) does the same work column by column through rank-one updates of 2K + 1 entries, and LAPACK's
+!> `dgetrf`/`dgetri` on blocks of 8 .. 32 rows pay a library call's overhead per site that exceeds the block's
+!> arithmetic: both measured several times slower at K = 4-16 (docs/continuation.md).
 !>
 !> Every work array is allocated once by `hb_init`; nothing here keeps state between calls but the last Jacobian and
 !> its factors. One object per thread.
@@ -34,7 +35,6 @@ module supratrans_harmonic_balance
     use supratrans_chain, only: damping_profile
     use supratrans_potential, only: potential_v, potential_dv, potential_d2v
     use supratrans_blas, only: matrix_product
-    use supratrans_dense, only: invert
     use supratrans_radiation, only: radiation_root
     implicit none
     private
@@ -313,24 +313,82 @@ contains
         type(hb_system), intent(inout) :: sys
         !> LAPACK status of the first failing block (0: all factored).
         integer, intent(out) :: info
-        integer :: n, j
+        integer :: n, j, q
 
         do n = 1, sys%n
             sys%sinv(:, :, n) = sys%diag(:, :, n)
             if (n > 1) then          ! - C (S_{n-1}^{-1} C): C acts on the rows of each harmonic's pair
                 do j = 1, sys%k
-                    sys%sinv(2*j - 1:2*j, :, n) = sys%sinv(2*j - 1:2*j, :, n) &
-                                                  - matmul(sys%offd(:, :, j), sys%sc(2*j - 1:2*j, :, n - 1))
+                    do q = 1, 2*sys%k
+                        sys%sinv(2*j - 1, q, n) = sys%sinv(2*j - 1, q, n) - sys%offd(1, 1, j)*sys%sc(2*j - 1, q, n - 1) &
+                                                  - sys%offd(1, 2, j)*sys%sc(2*j, q, n - 1)
+                        sys%sinv(2*j, q, n) = sys%sinv(2*j, q, n) - sys%offd(2, 1, j)*sys%sc(2*j - 1, q, n - 1) &
+                                              - sys%offd(2, 2, j)*sys%sc(2*j, q, n - 1)
+                    end do
                 end do
             end if
-            call invert(sys%sinv(:, :, n), info)
-            if (info /= 0) return
+            call invert_block(sys%sinv(:, :, n), info)
+            if (info /= 0) then
+                info = n
+                return
+            end if
             do j = 1, sys%k          ! S_n^{-1} C: C is block-diagonal, so a pair of columns at a time
-                sys%sc(:, 2*j - 1:2*j, n) = matmul(sys%sinv(:, 2*j - 1:2*j, n), sys%offd(:, :, j))
+                sys%sc(:, 2*j - 1, n) = sys%sinv(:, 2*j - 1, n)*sys%offd(1, 1, j) + sys%sinv(:, 2*j, n)*sys%offd(2, 1, j)
+                sys%sc(:, 2*j, n) = sys%sinv(:, 2*j - 1, n)*sys%offd(1, 2, j) + sys%sinv(:, 2*j, n)*sys%offd(2, 2, j)
             end do
         end do
         sys%ja_ready = .false.
     end subroutine hb_factor
+
+    !> The inverse of a small square matrix in place, by Gauss-Jordan elimination with partial pivoting; `info` = 1
+    !> when a pivot is exactly zero (singular), else 0.
+    pure subroutine invert_block(a, info)
+        !> The matrix; its inverse on exit.
+        real(wp), intent(inout) :: a(:, :)
+        !> 0, or 1 when singular.
+        integer, intent(out) :: info
+        integer :: m, i, p, piv(size(a, 1)), t
+        real(wp) :: row(size(a, 2)), pivot, f
+
+        m = size(a, 1)
+        piv = [(i, i=1, m)]
+        info = 0
+        do i = 1, m
+            p = i - 1 + maxloc(abs(a(i:m, i)), 1)
+            if (a(p, i) == 0.0_wp) then
+                info = 1
+                return
+            end if
+            if (p /= i) then
+                row = a(i, :)
+                a(i, :) = a(p, :)
+                a(p, :) = row
+                t = piv(i)
+                piv(i) = piv(p)
+                piv(p) = t
+            end if
+            pivot = 1.0_wp/a(i, i)
+            a(i, i) = 1.0_wp
+            a(i, :) = a(i, :)*pivot
+            do p = 1, m
+                if (p == i) cycle
+                f = a(p, i)
+                a(p, i) = 0.0_wp
+                a(p, :) = a(p, :) - f*a(i, :)
+            end do
+        end do
+        row = 0.0_wp
+        do i = 1, m                  ! undo the row exchanges as column exchanges of the inverse
+            do while (piv(i) /= i)
+                t = piv(i)
+                row(1:m) = a(:, i)
+                a(:, i) = a(:, t)
+                a(:, t) = row(1:m)
+                piv(i) = piv(t)
+                piv(t) = t
+            end do
+        end do
+    end subroutine invert_block
 
     !> Solve J X = B with the factors of `hb_factor` (B, (2 K N, nrhs), overwritten): forward y_n = S_n^{-1} (b_n -
     !> C y_{n-1}), back x_n = y_n - (S_n^{-1} C) x_{n+1}.

@@ -133,12 +133,11 @@ contains
             if (next%status /= cont_fold_found) then    ! not bracketed near the old fold: from rest
                 call hb_fold(chain, omega, k_next, ctl, next, error)
                 if (allocated(error)) return
-                next%continuations = next%continuations + 1
             end if
             newton = res%newton_iterations + next%newton_iterations
             lus = res%factorizations + next%factorizations
             resid = res%residuals + next%residuals
-            branches = res%continuations + next%continuations - 1
+            branches = res%continuations + next%continuations
             next%harmonics_error = abs(next%fold_amplitude - res%fold_amplitude)
             if (next%status /= cont_fold_found) next%harmonics_error = ieee_value(1.0_wp, ieee_quiet_nan)
             if (next%points == 0) then                  ! keep the branch from rest, with the new fold
