@@ -280,13 +280,28 @@ def test_a_partial_snapshot_is_found_and_a_bad_file_is_one_line(scene_file, tmp_
 # ------------------------------------------------------------------------------------------------ plain xarray
 
 
-def test_plain_open_datatree_has_the_axes_in_every_group_today(scene_file):
-    """Without the loader: the root's axes reach every group, the potentials are bytes, no flags (docs/output.md)."""
-    with xr.open_datatree(scene_file("fig2"), engine="h5netcdf") as tree:
-        energy = tree["energy/injected"]
-        assert sorted(energy.coords) == ["amplitude", "curve"]
+@pytest.mark.parametrize("name", FILES)
+def test_plain_open_datatree_gives_every_variable_its_coordinates_today(scene_file, name):
+    """Without the loader: every group opens and every dimension of every variable has its coordinate (the root's
+    axes inherited); a group opened alone has none (docs/output.md)."""
+    path = scene_file(name)
+    with xr.open_datatree(path, engine="h5netcdf") as tree:
+        assert tree.children
+        for node in tree.subtree:
+            ds = node.to_dataset()
+            for vname, var in ds.data_vars.items():
+                missing = [d for d in var.dims if d not in ds.indexes]
+                assert not missing, f"{name}:{node.path}/{vname}: no coordinate for {missing}"
+
+
+def test_plain_xarray_today_bytes_no_flags_and_a_group_alone_without_axes(scene_file):
+    path = scene_file("fig2")
+    with xr.open_datatree(path, engine="h5netcdf") as tree:
+        assert sorted(tree["energy/injected"].coords) == ["amplitude", "curve"]
         assert tree["curves/potential"].dtype.kind == "S"
         assert "flag_values" not in tree["runs/status"].attrs
+    with xr.open_dataset(path, engine="h5netcdf", group="energy") as alone:
+        assert not alone["injected"].coords
 
 
 def test_the_attributes_docs_name_label_a_plain_open_datatree(scene_file, tmp_path):
