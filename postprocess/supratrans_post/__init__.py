@@ -22,9 +22,9 @@ Modules (lower ones never import higher ones):
 - `plot`, `runner`: the command lines of `plot.py` and `make_figures.py`.
 
 The scripts in `postprocess/` (`plot.py`, `make_figures.py`, `work_precision.py`, `chart_stability.py`,
-`peer_scipy.py`, `scaling.py`) only call the `main` of these modules; `pip install ./postprocess` installs the
+`peer_scipy.py`, `scaling.py`, `builds.py`) only call the `main` of these modules; `pip install ./postprocess` installs the
 package with the same mains as the commands `supratrans-plot`, `supratrans-figures`, `supratrans-stability-chart`,
-`supratrans-work-precision`, `supratrans-peer` and `supratrans-scaling` (pyproject.toml). Every main parses its
+`supratrans-work-precision`, `supratrans-peer`, `supratrans-scaling` and `supratrans-builds` (pyproject.toml). Every main parses its
 arguments before it does anything else and writes only where its options (or documented defaults) say.
 """
 
