@@ -10,7 +10,8 @@ not say in CF terms, `load` adds:
 - labels of the curves: in every group with a `curve` dimension, the coordinates `potential` (str) and, when the
   scene varies a parameter (the `/curves` attribute `vary`, e.g. 'gamma'), that parameter under its own name, with
   each curve's value (`/curves/value`); `curve` stays the 0-based index it is in the file (non-indexed coordinates
-  are not inherited by DataTree groups, so each group gets its own copy);
+  are not inherited by DataTree groups, so each group gets its own copy); likewise the datasets of AXIS_LABELS
+  that label other index axes (`sites` on `probe`, the stairs of hysteresis, work_precision's 2-D `dt`);
 - CF flags: each status dataset gets `flag_values` and `flag_meanings`, parsed from the free text of its codes (its
   attribute `codes`; for `/runs/status` the `/runs` attribute `status_codes`; for `/status` of `work_precision` and
   `/verdict/<method>` of `stability` the `/scene` attribute `status_codes`), see `parse_codes`;
@@ -22,6 +23,7 @@ The file is read eagerly and closed again. xarray and h5netcdf are needed only h
 from __future__ import annotations
 
 import re
+import warnings
 from typing import Any
 
 import numpy as np
@@ -147,9 +149,13 @@ def _cf_attrs(ds, path: str, codes: dict[str, str]):
             attrs["long_name"] = attrs["description"]
         full = f"{path.rstrip('/')}/{name}"
         if full in codes and var.dtype.kind in "iuf":
-            parsed = parse_codes(codes[full])
-            attrs["flag_values"] = np.array([v for v, _, _ in parsed], dtype=var.dtype)
-            attrs["flag_meanings"] = " ".join(w for _, w, _ in parsed)
+            try:
+                parsed = parse_codes(codes[full])
+            except ValueError as exc:  # a text this parser does not know: the variable without flags, said once
+                warnings.warn(f"{full}: no CF flags ({exc})", stacklevel=3)
+            else:
+                attrs["flag_values"] = np.array([v for v, _, _ in parsed], dtype=var.dtype)
+                attrs["flag_meanings"] = " ".join(w for _, w, _ in parsed)
         var.attrs = attrs
     return ds
 

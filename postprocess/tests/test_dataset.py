@@ -277,6 +277,16 @@ def test_a_partial_snapshot_is_found_and_a_bad_file_is_one_line(scene_file, tmp_
         load(bad)
 
 
+def test_codes_it_cannot_read_leave_the_variable_without_flags_and_say_so(scene_file, tmp_path):
+    path = tmp_path / "odd.h5"
+    shutil.copy(scene_file("bif3"), path)
+    with h5py.File(path, "a") as f:
+        f["/status"].attrs["codes"] = "whatever the program says one day"
+    with pytest.warns(UserWarning, match="/status: no CF flags"):
+        tree = load(path)
+    assert "flag_values" not in tree["status"].attrs and tree["status"].attrs["codes"].startswith("whatever")
+
+
 # ------------------------------------------------------------------------------------------------ plain xarray
 
 
