@@ -79,6 +79,12 @@ def test_commands_declared():
             "supratrans-scaling"} <= set(COMMANDS)
 
 
+def test_readme_lists_every_command():
+    """The README names every command pyproject.toml installs (it once listed 6 of 7)."""
+    readme = (POSTPROCESS.parent / "README.md").read_text(encoding="utf-8")
+    assert [c for c in COMMANDS if f"`{c}`" not in readme] == []
+
+
 @pytest.mark.parametrize("command", sorted(COMMANDS))
 def test_installed_command_help(venv, tmp_path, command):
     """Each command of pyproject.toml runs from anywhere, names itself in its usage, and does nothing else."""
