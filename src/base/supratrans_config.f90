@@ -243,8 +243,8 @@ module supratrans_config
         !> Continuation: how the periodic state is computed ('shooting': the &numerics method's one-period map; 'harmonic_balance':
         !> Fourier coefficients per site, no dt) (&scene solver).
         integer :: solver = solver_shooting
-        !> Continuation with harmonic_balance: odd harmonics K to start from (0: ceiling(3 / Omega), at least 3); K grows until the
-        !> fold moves by less than harmonics_tol (&scene harmonics).
+        !> Continuation with harmonic_balance: odd harmonics K of the branch from rest (0: ceiling(3 / Omega), 3 .. 16); K then
+        !> grows until the fold moves by <= harmonics_tol (&scene harmonics).
         integer :: harmonics = 0
         !> Continuation with harmonic_balance: most odd harmonics K (the fold's truncation estimate says when it was not enough)
         !> (&scene harmonics_max).

@@ -148,8 +148,8 @@ module supratrans_schema
             "Continuation: how the periodic state is computed ('shooting': the &numerics method's one-period map; 'harmonic" // &
             "_balance': Fourier coefficients per site, no dt)", choices=choice_solver, ids=.true.), &
         key_spec("scene", "harmonics", kt_integer, "harmonics", "1", "0", ">= 0 and <= 256; 0, or <= harmonics_max", &
-            "Continuation with harmonic_balance: odd harmonics K to start from (0: ceiling(3 / Omega), at least 3); K grows" // &
-            " until the fold moves by less than harmonics_tol", lower=">= 0", upper="<= 256"), &
+            "Continuation with harmonic_balance: odd harmonics K of the branch from rest (0: ceiling(3 / Omega), 3 .. 16); " // &
+            "K then grows until the fold moves by <= harmonics_tol", lower=">= 0", upper="<= 256"), &
         key_spec("scene", "harmonics_max", kt_integer, "harmonics_max", "1", "64", ">= 1 and <= 256", &
             "Continuation with harmonic_balance: most odd harmonics K (the fold's truncation estimate says when it was not " // &
             "enough)", lower=">= 1", upper="<= 256"), &

@@ -19,7 +19,8 @@
 !> matrix of V''(u_n(t)), (2 / mt) sum_m V''(u_n(t_m)) phi_p(t_m) phi_q(t_m), computed for all sites at once as one
 !> product; the off-diagonal blocks are the coupling -(c^2 + i beta w), the same at every site, and diagonal in the
 !> harmonics. The LU is block-tridiagonal (block Thomas): for n = 1..N, S_n = D_n - C S_{n-1}^{-1} C, each S_n
-!> inverted by Gauss-Jordan elimination with partial pivoting (`invert_block`), about 21 K^3 N flops; C, 2 x 2 per
+!> inverted by Gauss-Jordan elimination with partial pivoting (`invert_block`; by LAPACK from K = 16 on), about
+!> 21 K^3 N flops; C, 2 x 2 per
 !> harmonic, costs nothing, and a solve is two products with small blocks per site. LAPACK's banded LU (`dgbtrf`,
 !> kl = ku = 2K + 1) does the same work column by column through rank-one updates of 2K + 1 entries, and LAPACK's
 !> `dgetrf`/`dgetri` on blocks of 8 .. 32 rows pay a library call's overhead per site that exceeds the block's
@@ -35,12 +36,17 @@ module supratrans_harmonic_balance
     use supratrans_chain, only: damping_profile
     use supratrans_potential, only: potential_v, potential_dv, potential_d2v
     use supratrans_blas, only: matrix_product
+    use supratrans_dense, only: invert
     use supratrans_radiation, only: radiation_root
     implicit none
     private
 
     public :: hb_init, hb_residual, hb_jacobian, hb_factor, hb_solve, hb_apply_jacobian, hb_amplitude_column
     public :: hb_time_state, hb_measures, hb_spectrum, hb_size, hb_pad
+
+    !> Blocks of at least this many rows (K >= 16) are inverted by LAPACK (`dgetrf`, `dgetri`), whose blocked kernels
+    !> then outweigh a call's overhead; smaller ones in place (`invert_block`).
+    integer, parameter :: lapack_block = 32
 
     !> The harmonic-balance system of one chain at one driving frequency and number of harmonics.
     type, public :: hb_system
@@ -327,7 +333,11 @@ contains
                     end do
                 end do
             end if
-            call invert_block(sys%sinv(:, :, n), info)
+            if (2*sys%k < lapack_block) then
+                call invert_block(sys%sinv(:, :, n), info)
+            else
+                call invert(sys%sinv(:, :, n), info)
+            end if
             if (info /= 0) then
                 info = n
                 return

@@ -14,11 +14,12 @@
 !> component there, tau_A(sigma), is zero at the fold and is driven to zero by the Illinois method. A is stationary
 !> in sigma there, so the fold amplitude is located to roundoff long before sigma is.
 !>
-!> **Harmonics.** `hb_fold_converged` locates the fold with K harmonics from rest, then with K' = K + max(2, K/2)
-!> from the fold of K (its state and tangent padded with zeros), until the two folds agree within `harmonics_tol`
-!> and the highest harmonic's amplitude at the fold is below it too (the state, not only the fold's amplitude, is
-!> converged: A_f is stationary at the fold, so it converges faster than the state); the fold of the larger K is
-!> kept and |A_f(K') - A_f(K)| is its truncation estimate (an upper bound, as the series converges spectrally).
+!> **Harmonics.** `hb_fold_converged` locates the fold with K = min(ceiling(3 / Omega), 16) harmonics from rest,
+!> then with K' = K + max(2, K/2) from the fold of K (its state and tangent padded with zeros), until the two folds
+!> agree within `harmonics_tol` and the highest harmonic's amplitude at the fold is below it too (the state, not
+!> only the fold's amplitude, is converged: A_f is stationary at the fold, so it converges faster than the state);
+!> the fold of the larger K is kept and |A_f(K') - A_f(K)| is its truncation estimate (an upper bound, as the
+!> series converges spectrally).
 module supratrans_hb_continuation
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_finite
     use supratrans_kinds, only: wp
@@ -33,6 +34,10 @@ module supratrans_hb_continuation
     private
 
     public :: hb_fold, hb_fold_converged, hb_first_harmonics
+
+    !> Most harmonics of the branch traced from rest when K is chosen (harmonics = 0): at low Omega the branch is
+    !> traced with these and its fold carried to more (about a tenth of the LU work of a branch at K = 3 / Omega).
+    integer, parameter, public :: branch_harmonics_max = 16
 
     !> Controls of a harmonic-balance continuation.
     type, public :: hb_controls
@@ -120,7 +125,7 @@ contains
         integer :: newton, lus, resid, branches
 
         k = ctl%harmonics
-        if (k <= 0) k = hb_first_harmonics(omega)
+        if (k <= 0) k = min(hb_first_harmonics(omega), branch_harmonics_max)
         k = min(k, ctl%harmonics_max)
         call hb_fold(chain, omega, k, ctl, res, error)
         if (allocated(error)) return
@@ -156,8 +161,8 @@ contains
     end subroutine hb_fold_converged
 
     !> The fold with `k_to` harmonics located again from the fold `old` of `k_from` (its state and tangent padded with
-    !> zeros): the planes normal to the old tangent at sigma = -delta and +delta bracket the new fold (delta doubled
-    !> up to four times when they do not). `res%status` is `cont_no_fold` when no bracket was found, and the branch
+    !> zeros): the planes normal to the old tangent at sigma = -delta and +delta bracket the new fold (delta = 0.01
+    !> doubled up to seven times when they do not). `res%status` is `cont_no_fold` when no bracket was found, and the branch
     !> is left empty (the caller keeps the one from rest).
     subroutine refine_fold(chain, omega, k_from, k_to, old, ctl, res, error)
         !> Chain.
@@ -195,7 +200,7 @@ contains
         t0 = t0/norm2(t0)
         allocate (xs(nd), tau(nd))
         delta = 0.01_wp
-        do tries = 1, 5
+        do tries = 1, 8
             ok = .true.
             do side = 1, 2
                 sigma = merge(-delta, delta, side == 1)
