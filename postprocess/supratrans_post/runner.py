@@ -19,12 +19,13 @@ its partial snapshot, marked as such.
 Then every figure is drawn: Fig. 1 from the four fig1_* runs, one figure per other file, named after its
 input file (fig2.png, ..., bif3.png), with the numbers each figure shows printed below it. Charts of several
 files: fold_sg.png and fold_bif1.png lay the fold line over their scan (SCAN_OF), fold_hb_sg.png the fold line
-by harmonic balance over the same scan as fold_sg and beside fold_sg's (SHOOTING_OF); ramp090.png the scans of
-input/ramp090_t*.nml against their ramp time next to the fold of fold_sg_090 (PREFIXES, COMPANIONS);
-threshold_sg.png the fold line, the scan, the hysteresis window and A_s of the undamped sine-Gordon chain
-(COMBINED). `--only ramp090`, `--only threshold_sg` or `--only fold_hb_sg` runs the files they need too. A `stability` file
-is drawn by chart_stability.py; a `work_precision` file by work_precision.py, which first times the SciPy peer
-in the same process (with --no-run it reuses the peer points saved next to the file, if there are any).
+by harmonic balance over the same scan and beside fold_sg's fold line when its file is there (run now or
+before: SHOOTING_OF); ramp090.png the scans of input/ramp090_t*.nml against their ramp time next to the fold of
+fold_sg_090 (PREFIXES, COMPANIONS); threshold_sg.png the fold line, the scan, the hysteresis window and A_s of the
+undamped sine-Gordon chain (COMBINED). `--only ramp090`, `--only threshold_sg` or `--only fold_hb_sg` runs the
+files they need too. A `stability` file is drawn by chart_stability.py; a `work_precision` file by
+work_precision.py, which first times the SciPy peer in the same process (with --no-run it reuses the peer points
+saved next to the file, if there are any).
 With --quick the namelists are copied (read and written with f90nml) to out/quick/input/, the steps of their
 scene grids scaled (amplitude_step x 5, omega_step x 2, x 10 for a fold line, resolution x 5, coarse_step x 2,
 stair_height x 5; a continuation by harmonic balance from Omega = 0.15 up, at least three frequencies and the first
@@ -60,8 +61,9 @@ ORDER = ["fig1", "fig2", "fig3", "fig3half", "fig4", "fig11", "bif1", "bif2", "b
 CHARTS = ("stability", "work_precision")
 #: Fold lines drawn over the scan thresholds of a bifurcation diagram: {continuation input: bifurcation input}.
 SCAN_OF = {"fold_sg": "bif_undamped_sg", "fold_bif1": "bif1", "fold_hb_sg": "bif_undamped_sg"}
-#: Fold lines by harmonic balance drawn beside the shooting scene's fold line of the same chain, when its file is
-#: there: {harmonic-balance input: shooting input}.
+#: Fold lines by harmonic balance drawn beside the shooting scene's fold line of the same chain when its file is
+#: there (run now, or before: with --only it is not run, the shooting fold line costing 100 times the harmonic
+#: balance's, 23 min at --quick): {harmonic-balance input: shooting input}.
 SHOOTING_OF = {"fold_hb_sg": "fold_sg"}
 #: Figures made of several namelists by their stems' prefix: {prefix: figure} (Fig. 1's four runs; the scans at
 #: Omega = 0.9 for each ramp time, input/ramp090_t*.nml).
@@ -70,7 +72,7 @@ PREFIXES = {"fig1_": "fig1", "ramp090_": "ramp090"}
 #: ramp chart lays the fold of input/fold_sg_090.nml over its scans; the chart `threshold_sg` has no namelist of its
 #: own: the fold line, the scan and the hysteresis window of the undamped sine-Gordon chain, with A_s.
 COMPANIONS = {"ramp090": ("fold_sg_090",), "threshold_sg": ("fold_sg", "bif_undamped_sg", "hysteresis"),
-              "fold_hb_sg": ("bif_undamped_sg", "fold_sg")}
+              "fold_hb_sg": ("bif_undamped_sg",)}
 #: Charts drawn from other figures' files only: {chart: (fold line, scan, hysteresis) input stems}.
 COMBINED = {"threshold_sg": ("fold_sg", "bif_undamped_sg", "hysteresis")}
 #: Resolution of the figures whose panels are dense (dots per inch; the others style.DPI), unless --dpi says.
@@ -268,7 +270,7 @@ def _draw_all(jobs: list[Job], outdir: Path, args: argparse.Namespace) -> tuple[
             elif len(scenes) == 1 and name in SCAN_OF and SCAN_OF[name] in groups:
                 scan = groups[SCAN_OF[name]][0]
                 fig = figures.draw_continuation(scenes[0], open_scene(scan.rel(scan.output), expect="bifurcation"),
-                                                _shooting(groups, name))
+                                                _shooting(groups, name, args))
             elif len(scenes) == 1:
                 fig = figures.draw(scenes[0])
             else:
@@ -302,13 +304,25 @@ def _dpi(args: argparse.Namespace, name: str) -> int:
     return args.dpi or FIGURE_DPI.get(name, style.DPI)
 
 
-def _shooting(groups: dict, name: str):
-    """The Scene of the shooting fold line drawn beside the fold line by harmonic balance `name` (SHOOTING_OF),
-    None when there is none among the jobs or its file cannot be read (a note says so: the figure is drawn
-    without it)."""
+def _shooting(groups: dict, name: str, args: argparse.Namespace):
+    """The Scene of the shooting fold line drawn beside the fold line by harmonic balance `name` (SHOOTING_OF): the
+    file of its job, or, when it is not among the jobs, the file its namelist in the input folder writes (under
+    out/quick/ with --quick) if it is there. None when there is no such namelist or file, or the file cannot be
+    read (a note says so: the figure is drawn without it)."""
     stem = SHOOTING_OF.get(name)
+    if stem is None:
+        return None
     try:
-        return _companion(groups, stem, "continuation") if stem else None
+        if stem in groups:
+            return _companion(groups, stem, "continuation")
+        nml = args.input / f"{stem}.nml"
+        if not nml.is_file():
+            return None
+        job = Job(nml)
+        if job.output is None:
+            return None
+        path = ROOT / "out" / "quick" / job.output.name if args.quick else job.output
+        return open_scene(job.rel(path), expect="continuation")
     except PlotError as exc:
         print(f"  {name}: drawn without the shooting fold line: {exc.line()}")
         return None

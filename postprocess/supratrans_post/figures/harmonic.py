@@ -87,9 +87,10 @@ def draw_fold_line_hb(s: Scene, scan: Scene | None = None, shooting: Scene | Non
         w = np.asarray(shooting.data["omega"], dtype=float)
         f = np.asarray(shooting.data["fold_amplitude"], dtype=float)
         dt = fmt(shooting.params.get("dt"))
+        note = f", {shooting.partial_note()}" if shooting.partial else ""
         for c in range(f.shape[0]):
             ax.plot(w, f[c], "--", color="tab:orange", lw=1.0, marker="o", ms=3, mfc="none", gid=f"fold_shooting:{c}",
-                    label=rf"fold by shooting ({shooting.params.get('method', 'newton')}, $\Delta t$ = {dt})"
+                    label=rf"fold by shooting ({shooting.params.get('method', 'newton')}, $\Delta t$ = {dt}{note})"
                     if c == 0 else None)
     if scan is not None:
         thr = np.asarray(scan.data["threshold"], dtype=float)
