@@ -209,7 +209,7 @@ def draw_continuum(s: Scene):
             if math.isfinite(spread[c, w]) and math.isfinite(base[c, w]):
                 zoom.errorbar([1.0 / c0**2], [base[c, w]], yerr=[spread[c, w]], fmt="none", ecolor="tab:green",
                               elinewidth=1.2, capsize=4, gid=f"absorber_spread:{c}",
-                              label=rf"absorber spread at $c$ = {fmt(c0)} (semi-infinite chain)")
+                              label=rf"absorber spread of the $c$ = {fmt(c0)} fold (to the semi-infinite chain)")
             for i, (v, xv, yv) in enumerate(zip(cs[::-1], x[::-1], folds[c, w, ::-1])):
                 if c == 0 and math.isfinite(yv):  # from the largest c, alternately above and below
                     zoom.annotate(f"c = {fmt(v)}", (xv, yv), textcoords="offset points", fontsize=7,
@@ -222,6 +222,7 @@ def draw_continuum(s: Scene):
         top.set_title(rf"$\Omega$ = {fmt(float(omega[w]))}: fold and $A_s$")
         zoom.set_title("the fold's approach to its limit (zoom)")
         zoom.set_xlabel(r"$1/c^2$")
+        zoom.margins(y=0.12)  # room for the names of the points at the ends
         for ax in (top, zoom):
             ax.set_xlim(-0.004, 1.08 * float(np.nanmax(x)))
             ax.ticklabel_format(axis="y", useOffset=False)
