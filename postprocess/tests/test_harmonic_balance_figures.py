@@ -183,6 +183,17 @@ def test_fold_line_alone(files, tmp_path, call_main):
     assert "(harmonic balance): Omega 0.7: A_f = " in proc.stdout
 
 
+def test_charts_of_the_shooting_fold_line_refuse_it(files):
+    """threshold_sg and ramp090 draw shooting's loss of stability: a file by harmonic balance is one line of
+    PlotError, not a KeyError."""
+    hb = reader.open_scene(files["fold_hb"])
+    with pytest.raises(reader.PlotError, match="fold line by harmonic balance"):
+        figures.draw_thresholds(hb)
+    scan = reader.open_scene(files["scan"])
+    with pytest.raises(reader.PlotError, match="fold line by harmonic balance"):
+        figures.draw_ramp([scan], hb)
+
+
 # ------------------------------------------------------------------------------------------------ the continuum
 
 
