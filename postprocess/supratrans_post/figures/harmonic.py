@@ -87,7 +87,7 @@ def draw_fold_line_hb(s: Scene, scan: Scene | None = None, shooting: Scene | Non
         w = np.asarray(shooting.data["omega"], dtype=float)
         f = np.asarray(shooting.data["fold_amplitude"], dtype=float)
         dt = fmt(shooting.params.get("dt"))
-        note = f", {shooting.partial_note()}" if shooting.partial else ""
+        note = f", {w.size} frequencies" + (f", {shooting.partial_note()}" if shooting.partial else "")
         for c in range(f.shape[0]):
             ax.plot(w, f[c], "--", color="tab:orange", lw=1.0, marker="o", ms=3, mfc="none", gid=f"fold_shooting:{c}",
                     label=rf"fold by shooting ({shooting.params.get('method', 'newton')}, $\Delta t$ = {dt}{note})"
@@ -97,8 +97,8 @@ def draw_fold_line_hb(s: Scene, scan: Scene | None = None, shooting: Scene | Non
         status = np.asarray(scan.data["status"])
         w2 = np.asarray(scan.data["omega"], dtype=float)
         for c in range(thr.shape[0]):
-            ax.plot(w2, np.where(np.isin(status[c], (0, 1)), thr[c], np.nan), ".", ms=3, color="0.35", gid=f"scan:{c}",
-                    label="ramped scan threshold (time domain)" if c == 0 else None)
+            ax.plot(w2, np.where(np.isin(status[c], (0, 1)), thr[c], np.nan), "s", ms=3.5, mfc="none", mew=0.8,
+                    color="0.4", gid=f"scan:{c}", label="ramped scan threshold (time domain)" if c == 0 else None)
     a_s = np.asarray(s.data["threshold_As"], dtype=float)
     if np.isfinite(a_s).any():
         ax.plot(omega, a_s[0], "x", color="black", ms=4, gid="A_s", label=r"$A_s = 4\arctan(\lambda c/\Omega)$")
