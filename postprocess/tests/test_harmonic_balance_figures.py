@@ -244,6 +244,15 @@ def test_continuum_figure(files):
     assert "continuum limit" in fig._suptitle.get_text() and "$N$ = 40 at $c$ = 4" in fig._suptitle.get_text()
 
 
+def test_fold_line_of_a_file_with_the_absorber_family(files):
+    """The convergence panel of a fold line shows the absorber spread when the file has it (the continuum file,
+    drawn as a fold line)."""
+    s = reader.open_scene(files["continuum"])
+    bottom = harmonic.draw_fold_line_hb(s).get_axes()[1]
+    line = lines_by_gid(bottom)["convergence/absorber_spread:0"]
+    np.testing.assert_array_equal(line.get_ydata(), data(files["continuum"], "convergence/absorber_spread")[0])
+
+
 def test_summary_of_the_continuum(files):
     s = reader.open_scene(files["continuum"])
     (head, line) = figures.summary(s, full=True)
