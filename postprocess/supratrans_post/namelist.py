@@ -12,6 +12,12 @@ QUICK = {"amplitude_step": 5.0, "omega_step": 2.0, "resolution": 5.0, "coarse_st
 #: `--quick`: the factors of QUICK that a scene replaces. A fold costs seconds to minutes (much more at small Omega),
 #: so a fold line takes every tenth frequency: input/fold_sg.nml's 95 folds become 10.
 QUICK_SCENE = {"continuation": {"omega_step": 10.0}}
+#: `--quick` of a continuation by harmonic balance (`solver = 'harmonic_balance'`): a fold costs about K^3 N with K
+#: growing as 1/Omega (Omega = 0.05 alone takes minutes, 0.15 some seconds), so the frequencies start at
+#: `omega_min` at the lowest; at least `frequencies` of them are kept (input/fold_continuum.nml's three), and the
+#: first `couplings` of `c_values` (c = 4, 8, 16: the largest chain, N = 1600 at c = 32, costs as much as the others
+#: together).
+QUICK_HB = {"omega_min": 0.15, "frequencies": 3, "couplings": 3}
 
 
 def read(path: Any):
@@ -47,12 +53,29 @@ def output_file(nml) -> str | None:
     return str(out) if out else None
 
 
+def _quick_harmonic_balance(scene, step: Any) -> None:
+    """The `--quick` grid of a continuation by harmonic balance (QUICK_HB), its omega_step already scaled; `step`:
+    the namelist's own omega_step."""
+    if isinstance(scene.get("omega_min"), (int, float)):
+        scene["omega_min"] = max(float(scene["omega_min"]), QUICK_HB["omega_min"])
+    lo, hi, coarse = scene.get("omega_min"), scene.get("omega_max"), scene.get("omega_step")
+    if all(isinstance(v, (int, float)) for v in (lo, hi, coarse, step)) and hi > lo:
+        widest = (float(hi) - float(lo)) / (QUICK_HB["frequencies"] - 1)
+        if coarse > widest:
+            scene["omega_step"] = float(f"{max(float(step), widest):.6g}")
+    values = scene.get("c_values")
+    if isinstance(values, list) and len(values) > QUICK_HB["couplings"]:
+        scene["c_values"] = values[: QUICK_HB["couplings"]]
+
+
 def quick_copy(source: Any, target: Any, output: Any) -> Path:
     """Write to `target` a copy of the namelist `source` whose scene grids are coarser (the steps of QUICK scaled,
-    rounded to 6 significant digits as the copies always were), that writes `output` and may overwrite it.
+    rounded to 6 significant digits as the copies always were; a continuation by harmonic balance also QUICK_HB),
+    that writes `output` and may overwrite it.
     Returns `target`."""
     nml = read(source)
     scene = _group(nml, "scene")
+    step = scene.get("omega_step")
     factors = {**QUICK, **QUICK_SCENE.get(str(scene.get("kind", "")).lower(), {})}
     for key, factor in factors.items():
         value = scene.get(key)
@@ -60,6 +83,8 @@ def quick_copy(source: Any, target: Any, output: Any) -> Path:
             scene[key] = float(f"{float(value) * factor:.6g}")
     if str(scene.get("kind", "")).lower() == "continuation":
         scene["fold_convergence"] = False  # the dt/2 and 2N folds cost 20x the fold itself
+    if str(scene.get("solver", "")).lower() == "harmonic_balance":
+        _quick_harmonic_balance(scene, step)
     if "output" not in nml:
         nml["output"] = {}
     out = _group(nml, "output")

@@ -3,10 +3,11 @@ one-line errors of a file that cannot be used.
 
 `open_scene(path, expect=...)` reads, eagerly, everything the figures, charts and the SciPy peer need of one file
 (root attributes, `/parameters`, the attributes of every top-level group, and the datasets of `SCHEMA` for its
-scene) and closes it again. A file that cannot be used raises `PlotError`, which the command-line scripts print as
-the one line `error: <file>: <what is wrong>` before they exit with status 2: missing, not HDF5, truncated, not a
-supratrans file, of an unknown or another scene, a dataset missing, of the wrong rank, text where numbers belong,
-an axis with a value that is not a finite number, or a length along an axis that disagrees with the axis (README,
+scene, or of `SOLVER_SCHEMA` when its root attribute `solver` names another solver) and closes it again. A file
+that cannot be used raises `PlotError`, which the command-line scripts print as the one line
+`error: <file>: <what is wrong>` before they exit with status 2: missing, not HDF5, truncated, not a supratrans
+file, of an unknown or another scene, a dataset missing, of the wrong rank, text where numbers belong, an axis
+with a value that is not a finite number, or a length along an axis that disagrees with the axis (README,
 "Output", has the layouts).
 
 Which axis each dimension of a dataset runs over (`Scene.dims`, `Scene.coordinate`): the HDF5 dimension scale
@@ -23,8 +24,8 @@ from typing import Any, Iterable
 
 import numpy as np
 
-__all__ = ["PlotError", "Scene", "SCHEMA", "SCENES", "FIGURE_SCENES", "CHART_SCENES", "open_scene", "open_h5",
-           "resolve", "output_path", "figure_name", "text", "value"]
+__all__ = ["PlotError", "Scene", "SCHEMA", "SOLVER_SCHEMA", "SCENES", "FIGURE_SCENES", "CHART_SCENES", "open_scene",
+           "open_h5", "resolve", "output_path", "figure_name", "text", "value", "schema_of"]
 
 
 class PlotError(Exception):
@@ -130,6 +131,29 @@ SCHEMA: dict[str, dict[str, tuple[tuple[str, ...], bool]]] = {
         "boundary/rk4_undamped": _opt("curve", "c"),
     },
 }
+#: The datasets of a scene whose file names another solver in its root attribute `solver`, {(scene, solver): as
+#: SCHEMA}: the continuation scene by harmonic balance (src/scenes/supratrans_fold_hb.f90) has /fold_amplitude,
+#: /status and /branch as the shooting layout means them, its own convergence checks (the harmonics K, the rk8
+#: period from the fold's state, the absorber family, the continuum limit in c), and none of shooting's stability
+#: and transmission datasets.
+SOLVER_SCHEMA: dict[tuple[str, str], dict[str, tuple[tuple[str, ...], bool]]] = {
+    ("continuation", "harmonic_balance"): {
+        "omega": _req("omega"), "curves/potential": _req("curve"), "curves/value": _req("curve"),
+        "fold_amplitude": _req("curve", "omega"), "threshold_As": _req("curve", "omega"),
+        "status": _req("curve", "omega"), "harmonics": _req("curve", "omega"),
+        "fold_period_closure": _req("curve", "omega"), "convergence/harmonics_error": _req("curve", "omega"),
+        "branch/points": _req("curve", "omega"),
+        **{f"branch/{k}": _req("curve", "omega", "point") for k in ("amplitude", "umax")},
+        "curves/m2": _opt("curve"), "curves/band_gap_edge": _opt("curve"),
+        "fold_multiplier_excess": _opt("curve", "omega"),
+        **{f"convergence/{k}": _opt("curve", "omega") for k in ("far_field_umax", "absorber_spread",
+                                                                 "fold_semi_infinite", "fold_radiation")},
+        "convergence/absorber_folds": _opt("curve", "omega", "absorber"),
+        "continuum/c": _opt("coupling"), "continuum/folds": _opt("curve", "omega", "coupling"),
+        "continuum/fold": _opt("curve", "omega"), "continuum/error_estimate": _opt("curve", "omega"),
+        "cost/wall_time": _opt("curve", "omega"),
+    },
+}
 #: The datasets that hold text (names); every other dataset of SCHEMA holds numbers.
 TEXT = ("curves/potential", "methods")
 #: The axes of the grids and records, {schema dimension: dataset}: each value of one must be a finite number (the
@@ -198,7 +222,7 @@ class Scene:
         else the axis dataset of the schema (AXES) when the file has it, else None (e.g. the curves)."""
         if (name, i) in self.scales:
             return self.scales[name, i]
-        dims = SCHEMA[self.scene][name][0]
+        dims = schema_of(self.scene, self.solver)[name][0]
         axis = AXES.get(dims[i]) if i < len(dims) else None
         return self.data.get(axis) if axis else None
 
@@ -206,6 +230,12 @@ class Scene:
     def name(self) -> str:
         """Figure name: the stem of the input file that made the file (`input/fig2.nml` -> 'fig2')."""
         return figure_name(self)
+
+    @property
+    def solver(self) -> str:
+        """The solver that wrote the file (root attribute `solver`, 'harmonic_balance' for a continuation by
+        harmonic balance); '' when the file names none (the scene's only solver, shooting for a continuation)."""
+        return str(self.attrs.get("solver", ""))
 
     @property
     def partial(self) -> bool:
@@ -317,7 +347,7 @@ def _read(f, p: Path, expect: str | Iterable[str] | None) -> Scene:
     for name, obj in f.items():
         if isinstance(obj, h5py.Group) and name != "parameters":
             out.groups[name] = {k: value(v) for k, v in obj.attrs.items()}
-    schema = SCHEMA[scene]
+    schema = schema_of(scene, str(attrs.get("solver", "")))
     for name, (dims, required) in schema.items():
         obj = f.get(name)
         if obj is None or not isinstance(obj, h5py.Dataset):
@@ -346,6 +376,12 @@ def _read(f, p: Path, expect: str | Iterable[str] | None) -> Scene:
             out.scales[name, i] = values
     _check_dimensions(p, out, schema)
     return out
+
+
+def schema_of(scene: str, solver: str = "") -> dict[str, tuple[tuple[str, ...], bool]]:
+    """The datasets read of a file of `scene` written by `solver` (its root attribute, '' when it has none):
+    SOLVER_SCHEMA's when it lists the pair, else SCHEMA's for the scene."""
+    return SOLVER_SCHEMA.get((scene, solver), SCHEMA[scene])
 
 
 def _check_values(p: Path, name: str, data: np.ndarray, axis: bool) -> None:

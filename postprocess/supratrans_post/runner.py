@@ -18,15 +18,19 @@ from its journal when run again (Ctrl-C or `kill` stops the running scene too); 
 its partial snapshot, marked as such.
 Then every figure is drawn: Fig. 1 from the four fig1_* runs, one figure per other file, named after its
 input file (fig2.png, ..., bif3.png), with the numbers each figure shows printed below it. Charts of several
-files: fold_sg.png and fold_bif1.png lay the fold line over their scan (SCAN_OF); ramp090.png the scans of
-input/ramp090_t*.nml against their ramp time next to the fold of fold_sg_090 (PREFIXES, COMPANIONS);
-threshold_sg.png the fold line, the scan, the hysteresis window and A_s of the undamped sine-Gordon chain
-(COMBINED). `--only ramp090` or `--only threshold_sg` runs the files they need too. A `stability` file
-is drawn by chart_stability.py; a `work_precision` file by work_precision.py, which first times the SciPy peer
-in the same process (with --no-run it reuses the peer points saved next to the file, if there are any).
+files: fold_sg.png and fold_bif1.png lay the fold line over their scan (SCAN_OF), fold_hb_sg.png the fold line
+by harmonic balance over the same scan and beside fold_sg's fold line when its file is there (run now or
+before: SHOOTING_OF); ramp090.png the scans of input/ramp090_t*.nml against their ramp time next to the fold of
+fold_sg_090 (PREFIXES, COMPANIONS); threshold_sg.png the fold line, the scan, the hysteresis window and A_s of the
+undamped sine-Gordon chain (COMBINED). `--only ramp090`, `--only threshold_sg` or `--only fold_hb_sg` runs the
+files they need too. A `stability` file is drawn by chart_stability.py; a `work_precision` file by
+work_precision.py, which first times the SciPy peer in the same process (with --no-run it reuses the peer points
+saved next to the file, if there are any).
 With --quick the namelists are copied (read and written with f90nml) to out/quick/input/, the steps of their
 scene grids scaled (amplitude_step x 5, omega_step x 2, x 10 for a fold line, resolution x 5, coarse_step x 2,
-stair_height x 5), their output in out/quick/ (overwritten).
+stair_height x 5; a continuation by harmonic balance from Omega = 0.15 up, at least three frequencies and the first
+three c_values: namelist.QUICK_HB), their output in out/quick/ (overwritten). fold_hb_sg.png and
+fold_continuum.png are drawn at 200 dpi, the others at 96 (FIGURE_DPI), unless --dpi says.
 Exit status 0 when every scene ran and every figure was drawn, 1 otherwise.
 """
 from __future__ import annotations
@@ -56,16 +60,23 @@ ORDER = ["fig1", "fig2", "fig3", "fig3half", "fig4", "fig11", "bif1", "bif2", "b
 #: Scenes drawn by the charts of the speed/accuracy study, besides the figures' scenes.
 CHARTS = ("stability", "work_precision")
 #: Fold lines drawn over the scan thresholds of a bifurcation diagram: {continuation input: bifurcation input}.
-SCAN_OF = {"fold_sg": "bif_undamped_sg", "fold_bif1": "bif1"}
+SCAN_OF = {"fold_sg": "bif_undamped_sg", "fold_bif1": "bif1", "fold_hb_sg": "bif_undamped_sg"}
+#: Fold lines by harmonic balance drawn beside the shooting scene's fold line of the same chain when its file is
+#: there (run now, or before: with --only it is not run, the shooting fold line costing 100 times the harmonic
+#: balance's, 23 min at --quick): {harmonic-balance input: shooting input}.
+SHOOTING_OF = {"fold_hb_sg": "fold_sg"}
 #: Figures made of several namelists by their stems' prefix: {prefix: figure} (Fig. 1's four runs; the scans at
 #: Omega = 0.9 for each ramp time, input/ramp090_t*.nml).
 PREFIXES = {"fig1_": "fig1", "ramp090_": "ramp090"}
 #: Files a figure needs besides its own namelists: {figure: (input stems)}. `--only FIGURE` runs them too. The
 #: ramp chart lays the fold of input/fold_sg_090.nml over its scans; the chart `threshold_sg` has no namelist of its
 #: own: the fold line, the scan and the hysteresis window of the undamped sine-Gordon chain, with A_s.
-COMPANIONS = {"ramp090": ("fold_sg_090",), "threshold_sg": ("fold_sg", "bif_undamped_sg", "hysteresis")}
+COMPANIONS = {"ramp090": ("fold_sg_090",), "threshold_sg": ("fold_sg", "bif_undamped_sg", "hysteresis"),
+              "fold_hb_sg": ("bif_undamped_sg",)}
 #: Charts drawn from other figures' files only: {chart: (fold line, scan, hysteresis) input stems}.
 COMBINED = {"threshold_sg": ("fold_sg", "bif_undamped_sg", "hysteresis")}
+#: Resolution of the figures whose panels are dense (dots per inch; the others style.DPI), unless --dpi says.
+FIGURE_DPI = {"fold_hb_sg": 200, "fold_continuum": 200}
 
 
 # ------------------------------------------------------------------------------------------------ namelists
@@ -152,7 +163,8 @@ def _parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     ap.add_argument("--input", type=Path, default=ROOT / "input", help="folder of the namelists (default input/)")
     ap.add_argument("--logs", type=Path, help="folder of the program's output, one log per namelist "
                                               "(default out/logs/, with --quick out/quick/logs/)")
-    ap.add_argument("--dpi", type=cli.dpi, default=style.DPI, help=f"resolution of the images (default {style.DPI})")
+    ap.add_argument("--dpi", type=cli.dpi, help=f"resolution of the images (default {style.DPI}, "
+                                                 f"{', '.join(f'{k} {v}' for k, v in FIGURE_DPI.items())})")
     return ap
 
 
@@ -257,12 +269,13 @@ def _draw_all(jobs: list[Job], outdir: Path, args: argparse.Namespace) -> tuple[
                 fig = figures.draw_ramp(scenes, fold)
             elif len(scenes) == 1 and name in SCAN_OF and SCAN_OF[name] in groups:
                 scan = groups[SCAN_OF[name]][0]
-                fig = figures.draw_continuation(scenes[0], open_scene(scan.rel(scan.output), expect="bifurcation"))
+                fig = figures.draw_continuation(scenes[0], open_scene(scan.rel(scan.output), expect="bifurcation"),
+                                                _shooting(groups, name, args))
             elif len(scenes) == 1:
                 fig = figures.draw(scenes[0])
             else:
                 raise PlotError(group[0].nml, "several namelists for one figure")
-            style.save(fig, target, dpi=args.dpi)
+            style.save(fig, target, dpi=_dpi(args, name))
         except PlotError as exc:
             failures += 1
             print(f"  {name}: not drawn: {exc.line()}")
@@ -286,6 +299,35 @@ def _draw_all(jobs: list[Job], outdir: Path, args: argparse.Namespace) -> tuple[
     return drawn, failures
 
 
+def _dpi(args: argparse.Namespace, name: str) -> int:
+    """The resolution of the figure `name`: --dpi when given, else FIGURE_DPI's or style.DPI."""
+    return args.dpi or FIGURE_DPI.get(name, style.DPI)
+
+
+def _shooting(groups: dict, name: str, args: argparse.Namespace):
+    """The Scene of the shooting fold line drawn beside the fold line by harmonic balance `name` (SHOOTING_OF): the
+    file of its job, or, when it is not among the jobs, the file its namelist in the input folder writes (under
+    out/quick/ with --quick) if it is there. None when there is no such namelist or file, or the file cannot be
+    read (a note says so: the figure is drawn without it)."""
+    stem = SHOOTING_OF.get(name)
+    if stem is None:
+        return None
+    try:
+        if stem in groups:
+            return _companion(groups, stem, "continuation")
+        nml = args.input / f"{stem}.nml"
+        if not nml.is_file():
+            return None
+        job = Job(nml)
+        if job.output is None:
+            return None
+        path = ROOT / "out" / "quick" / job.output.name if args.quick else job.output
+        return open_scene(job.rel(path), expect="continuation")
+    except PlotError as exc:
+        print(f"  {name}: drawn without the shooting fold line: {exc.line()}")
+        return None
+
+
 def _companion(groups: dict, stem: str, scene: str):
     """The Scene of the companion file `stem` when its namelist is among the jobs, else None."""
     if stem not in groups:
@@ -301,7 +343,7 @@ def _draw_combined(name: str, parts: list[Job], outdir: Path, args: argparse.Nam
     try:
         fold, scan, hyst = (open_scene(j.rel(j.output), expect=k)
                             for j, k in zip(parts, ("continuation", "bifurcation", "hysteresis")))
-        style.save(figures.draw_thresholds(fold, scan, hyst), target, dpi=args.dpi)
+        style.save(figures.draw_thresholds(fold, scan, hyst), target, dpi=_dpi(args, name))
     except PlotError as exc:
         print(f"  {name}: not drawn: {exc.line()}")
         return 1
@@ -364,12 +406,12 @@ def draw_chart(job: Job, outdir: Path, args: argparse.Namespace) -> int:
         if job.kind == "stability":
             s = chart_stability.read_stability(path)
             target = outdir / f"{job.figure}.png"
-            style.save(chart_stability.draw_stability(s), target, dpi=args.dpi)
+            style.save(chart_stability.draw_stability(s), target, dpi=_dpi(args, job.figure))
             print(f"  {job.figure}: {_shown(target)}")
             for line in chart_stability.summary(s):
                 print("    " + line.strip())
             return 0
-        argv = ["--h5", str(path), "--outdir", str(outdir), "--dpi", str(args.dpi), "--quiet"]
+        argv = ["--h5", str(path), "--outdir", str(outdir), "--dpi", str(_dpi(args, job.figure)), "--quiet"]
         peer = output_path(path, "_peer.json")
         if args.no_run and Path(peer).is_file():
             argv += ["--peer", str(peer)]

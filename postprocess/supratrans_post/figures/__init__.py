@@ -9,7 +9,8 @@ attributes of `/parameters` and `/curves`.
 - `map`: total energy over driving frequency x amplitude (Fig. 11), one panel per curve, A_s(Omega) over it;
 - `bifurcation`: threshold amplitude vs driving frequency (Bif1-Bif3), A_s as x-marks;
 - `continuation`: the branch of driven periodic states with its fold and multipliers (one frequency), or the fold
-  line over the frequency (the model's threshold, not a protocol's);
+  line over the frequency (the model's threshold, not a protocol's); `harmonic`: a continuation file by harmonic
+  balance (root attribute `solver`), its fold line with its convergence in K, or its continuum limit in 1/c^2;
 - `hysteresis`: the mean power of each stair vs its amplitude, up and down, the bistable window shaded (one
   frequency), or the upward and downward edges over the frequency (several);
 - `threshold`: charts of several files: the fold line, the scan thresholds, the hysteresis window and A_s on one

@@ -5,7 +5,8 @@
   multipliers of largest modulus in the complex plane at the sampled points of the branch, with the unit circle;
 - several frequencies: the fold line A_f(Omega) of each curve, the first loss of stability where it comes before
   the fold, and A_s = 4 arctan(lambda c / Omega) as x-marks; with a bifurcation scene's file (`scan`), its scan
-  thresholds on the same chart.
+  thresholds on the same chart;
+- a file by harmonic balance (root attribute `solver`): its fold line or its continuum limit (`harmonic`).
 """
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ import numpy as np
 from ..reader import Scene
 from ..style import fmt, styled, subplots
 from .common import PANEL, conditions, curve_name, draw_transmission_marks, styles, title, vary_of
+from .harmonic import draw_continuum, draw_fold_line_hb, has_continuum, is_harmonic_balance, summary_harmonic_balance
 
 #: Names of the instability types (the file's /instability_type codes).
 KINDS = {0: "stable to the fold", 1: "multiplier +1", 2: "period doubling (-1)", 3: "torus (complex pair)"}
@@ -27,8 +29,12 @@ def _curves(s: Scene) -> tuple[list[str], np.ndarray, str]:
 
 
 @styled
-def draw_continuation(s: Scene, scan: Scene | None = None):
-    """The branch and its multipliers (one frequency) or the fold lines (several), see the module docstring."""
+def draw_continuation(s: Scene, scan: Scene | None = None, shooting: Scene | None = None):
+    """The branch and its multipliers (one frequency) or the fold lines (several), see the module docstring; a
+    file by harmonic balance (root attribute `solver`) is drawn by `harmonic`: its continuum limit when it has
+    one, else its fold line (over `scan` and beside the fold line by `shooting`, when given)."""
+    if is_harmonic_balance(s):
+        return draw_continuum(s) if has_continuum(s) else draw_fold_line_hb(s, scan, shooting)
     omega = np.asarray(s.data["omega"], dtype=float)
     if omega.size == 1 and scan is None:
         return _draw_branch(s)
@@ -154,7 +160,9 @@ def _draw_fold_line(s: Scene, scan: Scene | None):
 
 def summary_continuation(s: Scene, full: bool = False) -> list[str]:
     """Per curve and frequency (about seven of them unless `full`): the fold, the first loss of stability, A_s, the
-    converged digits."""
+    converged digits; a file by harmonic balance: `harmonic.summary_harmonic_balance`."""
+    if is_harmonic_balance(s):
+        return summary_harmonic_balance(s, full)
     pots, values, vary = _curves(s)
     omega = np.asarray(s.data["omega"], dtype=float)
     cols = range(omega.size) if full or omega.size <= 7 else np.unique(np.linspace(0, omega.size - 1, 7).astype(int))

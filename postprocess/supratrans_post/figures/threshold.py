@@ -105,6 +105,7 @@ def draw_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene | 
     """The fold line, the scan thresholds, the hysteresis window and A_s on one chart (module docstring)."""
     if fold.scene != "continuation":
         raise PlotError(fold.path, f"scene is '{fold.scene}', not 'continuation' (the fold line)")
+    _by_shooting(fold)
     for other, kind in ((scan, "bifurcation"), (hysteresis, "hysteresis")):
         if other is not None and other.scene != kind:
             raise PlotError(other.path, f"scene is '{other.scene}', not '{kind}'")
@@ -244,9 +245,18 @@ def ramp_points(scans: list[Scene], curve: int = 0) -> dict:
             "t_final": np.array(cols[3]), "omega": rows[0][4]}
 
 
+def _by_shooting(fold: Scene) -> None:
+    """PlotError for a fold line by harmonic balance: these charts draw the shooting scene's loss of stability and
+    transmission, which that file has not (its own figures: figures.harmonic)."""
+    if fold.solver == "harmonic_balance":
+        raise PlotError(fold.path, "a fold line by harmonic balance (no stability or transmission datasets): "
+                                   "drawn by itself (make_figures' fold_hb_sg), not on this chart")
+
+
 def _fold_at(fold: Scene, w0: float, curve: int = 0) -> tuple[float, float, int, float]:
     """(A_f, first loss of stability, its type, A_s) of a continuation file at the frequency nearest w0; PlotError
-    when none is within 1e-9."""
+    when none is within 1e-9 or the file is by harmonic balance."""
+    _by_shooting(fold)
     omega = np.asarray(fold.data["omega"], dtype=float)
     k = int(np.argmin(np.abs(omega - w0)))
     if not math.isclose(omega[k], w0, abs_tol=1e-9):
@@ -259,6 +269,8 @@ def _fold_at(fold: Scene, w0: float, curve: int = 0) -> tuple[float, float, int,
 @styled
 def draw_ramp(scans: list[Scene], fold: Scene | None = None):
     """Scan threshold vs ramp time at one frequency next to the fold (module docstring)."""
+    if fold is not None:
+        _by_shooting(fold)
     r = ramp_points(scans)
     fig, ax = subplots(figsize=(PANEL[0] * 1.3, PANEL[1] * 1.25))
     thr, res = r["threshold"], r["resolution"]
