@@ -13,7 +13,7 @@
 !>
 !> A record is a list of named values (`hb_fields`) built and read by one cursor (`put`, `take`) in one order, so
 !> no field has a hand-kept index. The file keeps the layout of the shooting scene where a dataset means the same
-!> (`/fold_amplitude`, `/status`, `/branch/*`, `/cost/*`, `/convergence/*`).
+!> (`/fold_amplitude`, `/status`, the groups `/branch`, `/cost`, `/convergence`).
 module supratrans_fold_hb
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp, i8, pi
