@@ -67,14 +67,12 @@ MAP = """! {tag}
 TEMPLATES = {"timeseries": TIMESERIES, "search": SEARCH, "hysteresis": HYSTERESIS, "sweep": SWEEP, "map": MAP}
 
 
-#: Length of the timeseries that a signal stops after its first periodic checkpoint (about 3 s of CPU, debug build).
-SIGNALLED_T = 4000.0
-
 #: The periodic checkpoints (s of wall time) of the runs that are stopped: the first is written early in every run
 #: (each takes 0.3-1.5 s of CPU in the debug build), so that a signal sent when it appears finds most of the run ahead.
 CHECKPOINT_EVERY = 0.05
 
-#: Length of the killed timeseries (the other scenes have their own lengths in their templates).
+#: Length of the timeseries that are stopped (about 1 s of CPU in the debug build; the other scenes have their own
+#: lengths in their templates).
 KILLED_T = 1200.0
 
 
@@ -182,15 +180,20 @@ def kill_and_resume(exe, tmp_path, scene, method):
     return tmp_path / "out" / f"{name}.h5", proc.stderr
 
 
-@pytest.mark.parametrize("method", METHODS)
-@pytest.mark.parametrize("scene", ["timeseries", "search"])
+def kills(scenes, methods, fast):
+    """The (scene, method) cases of a kill test, each `slow` but the one of the fast tier."""
+    return [pytest.param(scene, method, id=f"{scene}-{method}",
+                         marks=() if (scene, method) == fast else pytest.mark.slow)
+            for scene in scenes for method in methods]
+
+
+@pytest.mark.parametrize("scene,method", kills(["timeseries", "search"], METHODS, fast=("timeseries", "newton")))
 def test_killed_run_resumes_bit_identical(exe, tmp_path, references, scene, method):
     result, _ = kill_and_resume(exe, tmp_path, scene, method)
     same_results(references(scene, method), result)
 
 
-@pytest.mark.parametrize("method", ["newton", "rk4"])
-@pytest.mark.parametrize("scene", ["hysteresis", "sweep", "map"])
+@pytest.mark.parametrize("scene,method", kills(["hysteresis", "sweep", "map"], ["newton", "rk4"], fast=None))
 def test_killed_scene_run_resumes_bit_identical(exe, tmp_path, references, scene, method):
     """The one run of a task of a hysteresis, sweep or map scene checkpoints inside itself: killed (SIGTERM, then
     SIGKILL after a checkpoint) it resumes from its step, and the result datasets are bit for bit those of an
@@ -220,9 +223,9 @@ def test_stair_run_stopped_mid_run_resumes(exe, tmp_path, references):
 
 
 def stopped_timeseries(exe, tmp_path, sig=signal.SIGTERM):
-    """Start the long timeseries `ts` (SIGNALLED_T) with periodic checkpoints and stop it with `sig` once it has
+    """Start the timeseries `ts` with periodic checkpoints and stop it with `sig` once it has
     written its first: it writes its checkpoint at the signal and exits 5; its stderr."""
-    nml = write(tmp_path, "timeseries", "newton", "ts", t_final=SIGNALLED_T)
+    nml = write(tmp_path, "timeseries", "newton", "ts")
     proc = start(exe, nml, tmp_path)
     started(proc)
     wait_for_checkpoint(proc, tmp_path, "ts")
@@ -232,7 +235,8 @@ def stopped_timeseries(exe, tmp_path, sig=signal.SIGTERM):
     return nml, err
 
 
-@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGUSR1], ids=["SIGTERM", "SIGUSR1"])
+@pytest.mark.parametrize("sig", [signal.SIGTERM, pytest.param(signal.SIGUSR1, marks=pytest.mark.slow)],
+                         ids=["SIGTERM", "SIGUSR1"])
 def test_timeseries_resumes_from_its_checkpoint(exe, tmp_path, references, sig):
     """A SIGTERM (or Slurm's SIGUSR1) in the middle of a long timeseries writes its checkpoint; the rerun says it
     resumed (it does not start again from t = 0) and ends bit-identical."""
@@ -243,10 +247,11 @@ def test_timeseries_resumes_from_its_checkpoint(exe, tmp_path, references, sig):
     again = run(exe, nml, tmp_path)
     assert again.returncode == 0, again.stderr
     assert "resumed from its checkpoint" in again.stderr
-    same_results(references("timeseries", "newton", SIGNALLED_T), tmp_path / "out" / "ts.h5")
+    same_results(references("timeseries", "newton"), tmp_path / "out" / "ts.h5")
 
 
-@pytest.mark.parametrize("damage", ["flipped byte", "cut short", "other input"])
+@pytest.mark.parametrize("damage", ["flipped byte", pytest.param("cut short", marks=pytest.mark.slow),
+                                    pytest.param("other input", marks=pytest.mark.slow)])
 def test_damaged_or_foreign_checkpoint_is_ignored(exe, tmp_path, references, damage):
     """A checkpoint that fails its checksum, is cut short, or belongs to another input is ignored with one line and
     the run starts afresh (and ends with the uninterrupted result)."""
@@ -259,13 +264,13 @@ def test_damaged_or_foreign_checkpoint_is_ignored(exe, tmp_path, references, dam
     elif damage == "cut short":
         ckpt.write_bytes(bytes(data[: len(data) - 100]))
     else:
-        write(tmp_path, "timeseries", "newton", "ts", tag="an edited namelist is another input", t_final=SIGNALLED_T)
+        write(tmp_path, "timeseries", "newton", "ts", tag="an edited namelist is another input")
     again = run(exe, nml, tmp_path)
     assert again.returncode == 0, again.stderr
     lines = [line for line in again.stderr.splitlines() if "checkpoint" in line]
     assert len(lines) == 1 and "ignored" in lines[0], again.stderr
     assert "resumed" not in again.stderr
-    same_results(references("timeseries", "newton", SIGNALLED_T), tmp_path / "out" / "ts.h5")
+    same_results(references("timeseries", "newton"), tmp_path / "out" / "ts.h5")
 
 
 def test_no_checkpoint_when_off(exe, tmp_path):

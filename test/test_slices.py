@@ -105,6 +105,7 @@ def lpt(costs, n):
     return owner
 
 
+@pytest.mark.slow
 def test_slices_dealt_by_measured_costs(exe, tmp_path):
     """--costs EARLIER.h5: the slices are dealt largest-first by the searches' processor times measured in an earlier
     output of the same study; the merged file is still the single machine's. An output of another study, or a file
@@ -278,6 +279,7 @@ def torn_offsets(full: bytes, start: int, sampled: int = 24, seed: int = 40) -> 
     return sorted(cuts | set(random.Random(seed).sample(rest, min(sampled, len(rest)))))
 
 
+@pytest.mark.slow
 def test_journal_torn_inside_its_last_two_lines(exe, tmp_path):
     """A journal cut inside its last two lines (as a kill leaves it) resumes to the same file: cut at the boundaries
     of its lines and fields and at 24 offsets sampled with a fixed seed (about 50 of 1100 offsets: cutting at every
@@ -325,6 +327,7 @@ def wait_for_journal(proc, journal, lines, timeout=120):
         time.sleep(0.01)
 
 
+@pytest.mark.slow
 def test_sigterm_stops_cleanly_and_the_same_command_resumes(exe, tmp_path):
     (tmp_path / "study.nml").write_text(BIF_LONG)
     assert "screen_method = 'none'" in BIF_LONG
@@ -386,6 +389,7 @@ def small_disk(tmp_path):
     subprocess.run(["umount", "-l", str(mount)], capture_output=True)
 
 
+@pytest.mark.slow
 def test_full_disk_is_one_line_and_the_journal_resumes(exe, tmp_path, small_disk):
     text = """&chain n = 40, n0 = 30 /
 &numerics t_final = 10.0 /

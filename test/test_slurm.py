@@ -23,6 +23,9 @@ import pytest
 import compare_results
 from test_slices import lpt
 
+#: A real cluster, release builds and resumed studies: about two minutes.
+pytestmark = pytest.mark.slow
+
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPTS = ROOT / "input" / "slurm"
 
