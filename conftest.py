@@ -10,8 +10,9 @@
 - `call_main`: runs a script's `main(argv)` in the test's process and returns its exit status and output, as a
   subprocess would (without the second or so of starting Python and importing matplotlib for each call).
 
-The slow end-to-end tests (a compiler, make_figures.py running fpm, the timed SciPy peer) are marked `slow`;
-`bash test/run_tests.sh` runs everything, `python3 -m pytest -m "not slow"` skips them.
+The tests of more than a few seconds (a compiler or a build, make_figures.py running fpm, the SciPy peer, a real
+Slurm, long resumed runs) are marked `slow`; `bash test/run_tests.sh` runs everything, the fast tier
+`python3 -m pytest -m "not slow"` skips them (docs/testing.md).
 """
 from __future__ import annotations
 

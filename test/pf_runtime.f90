@@ -82,6 +82,14 @@ module pf_runtime
     character(len=:), allocatable :: test_filter
     !> Tests run so far that passed and that failed.
     integer :: n_passed = 0, n_failed = 0
+    !> The tests run so far (`module::test`) and their wall-clock times in seconds, for the slowest ten
+    !> that `pf_driver_finish` lists (reporting only: no test asserts on a time).
+    character(len=160), allocatable :: timed_names(:)
+    real(real64), allocatable :: timed_seconds(:)
+    !> How many entries of `timed_names` and `timed_seconds` are filled.
+    integer :: n_timed = 0
+    !> How many of the slowest tests `pf_driver_finish` lists.
+    integer, parameter :: n_slowest = 10
 
     !> pFUnit's `assertEqual`: real64 actual values with real64 or int32 expected ones (tolerance
     !> absent, real64 or real32), int32 and int64, logical, character.
@@ -176,6 +184,7 @@ contains
 
         n_passed = 0
         n_failed = 0
+        n_timed = 0
         if (allocated(test_filter)) deallocate(test_filter)
         call get_command_argument(1, length=length, status=status)
         if (status == 0 .and. length > 0) then
@@ -186,8 +195,9 @@ contains
     end subroutine pf_driver_init
 
     !> Run one test unless the filter excludes it: `before`, then, if `before` did not fail, the
-    !> test and `after` (also when the test failed), as pFUnit's `TestCase%runBare` does; count it
-    !> and print one `FAIL` line when it failed.
+    !> test and `after` (also when the test failed), as pFUnit's `TestCase%runBare` does; count it,
+    !> print one `FAIL` line when it failed, and one line with its wall-clock time (`before` and
+    !> `after` included), e.g. `    0.012 s  test_rk4::test_order`.
     subroutine pf_run_test(module_name, test_name, test, before, after)
         !> Name of the test module.
         character(len=*), intent(in) :: module_name
@@ -201,11 +211,13 @@ contains
         procedure(pf_test_procedure), optional :: after
 
         character(len=:), allocatable :: name
+        integer(int64) :: start, finish, rate
 
         name = module_name // "::" // test_name
         if (allocated(test_filter)) then
             if (index(to_lower(name), test_filter) == 0) return
         end if
+        call system_clock(start, rate)
         call pf_start_test(name)
         if (present(before)) call before()
         if (.not. pf_any_failed()) then
@@ -224,15 +236,79 @@ contains
         else
             n_passed = n_passed + 1
         end if
+        call system_clock(finish)
+        call record_time(name, real(finish - start, real64) / real(max(rate, 1_int64), real64))
     end subroutine pf_run_test
 
-    !> Print the closing line `fortran: N passed, M failed`; stop with an error if M > 0.
+    !> Print a test's time as `    0.012 s  module::test` and keep it for the list of the slowest.
+    subroutine record_time(name, seconds)
+        !> `module::test` name of the test.
+        character(len=*), intent(in) :: name
+        !> Its wall-clock time in seconds.
+        real(real64), intent(in) :: seconds
+
+        character(len=160), allocatable :: names(:)
+        real(real64), allocatable :: times(:)
+
+        call print_time(name, seconds)
+        if (.not. allocated(timed_names)) then
+            allocate(timed_names(256), timed_seconds(256))
+        else if (n_timed == size(timed_names)) then
+            allocate(names(2 * n_timed), times(2 * n_timed))
+            names(:n_timed) = timed_names(:n_timed)
+            times(:n_timed) = timed_seconds(:n_timed)
+            call move_alloc(names, timed_names)
+            call move_alloc(times, timed_seconds)
+        end if
+        n_timed = n_timed + 1
+        timed_names(n_timed) = name
+        timed_seconds(n_timed) = seconds
+    end subroutine record_time
+
+    !> One line: the time in seconds, right-aligned, then the name.
+    subroutine print_time(name, seconds)
+        !> `module::test` name of the test.
+        character(len=*), intent(in) :: name
+        !> Its wall-clock time in seconds.
+        real(real64), intent(in) :: seconds
+
+        write(output_unit, "(f9.3, a)") seconds, " s  " // trim(name)
+        flush(output_unit)
+    end subroutine print_time
+
+    !> Print the `n_slowest` slowest tests run, slowest first (ties in the order they ran).
+    subroutine print_slowest()
+        logical, allocatable :: listed(:)
+        integer :: k, i, pick
+
+        if (n_timed == 0) return
+        allocate(listed(n_timed), source=.false.)
+        write(output_unit, "(a, i0, a, i0, a)") "slowest ", min(n_slowest, n_timed), " of ", n_timed, &
+            " tests (wall clock):"
+        do k = 1, min(n_slowest, n_timed)
+            pick = 0
+            do i = 1, n_timed
+                if (listed(i)) cycle
+                if (pick == 0) then
+                    pick = i
+                else if (timed_seconds(i) > timed_seconds(pick)) then
+                    pick = i
+                end if
+            end do
+            listed(pick) = .true.
+            call print_time(timed_names(pick), timed_seconds(pick))
+        end do
+    end subroutine print_slowest
+
+    !> Print the slowest ten tests and the closing line `fortran: N passed, M failed`; stop with an
+    !> error if M > 0.
     subroutine pf_driver_finish()
         if (allocated(test_filter)) then
             if (n_passed + n_failed == 0) then
                 write(error_unit, "(a)") 'pf_driver: no test name contains "' // test_filter // '"'
             end if
         end if
+        call print_slowest()
         write(output_unit, "(a, i0, a, i0, a)") "fortran: ", n_passed, " passed, ", n_failed, " failed"
         flush(output_unit)
         if (n_failed > 0) error stop 1

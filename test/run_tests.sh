@@ -8,6 +8,9 @@
 #   4. pytest on test/ and postprocess/.
 # Usage: bash test/run_tests.sh [FILTER]
 #   FILTER (optional) runs only the Fortran tests whose `module::test` name contains it.
+# Each stage prints its wall time as it ends, and the line before the last sums them up (`run_tests: wall time by
+# stage: ...`); the Fortran runner prints each test's time and its slowest ten, `pytest --durations=15` its slowest.
+# The fast tier (docs/testing.md): `fpm test` and `python3 -m pytest -m "not slow"`.
 # The last line printed is `N passed, M failed`, summed over both suites, where a stage that
 # could not run (install, translation, build, crash) counts as one failure. Exit status 0 iff
 # M == 0.
@@ -23,11 +26,23 @@ note() {
     echo "run_tests: $*"
 }
 
+# Each stage's wall time, printed when it ends (`run_tests: <stage>: N s`) and again in one line before the total:
+# where the suite's time goes (reporting only).
+stage_start=${SECONDS}
+stage_times=()
+stage_done() {
+    local took=$((SECONDS - stage_start))
+    note "$1: ${took} s"
+    stage_times+=("$1 ${took} s")
+    stage_start=${SECONDS}
+}
+
 # ----------------------------------------------------------------------------- 1. install
 if ! bash .ci/install; then
     note "FAILED: .ci/install"
     failed=$((failed + 1))
 fi
+stage_done install
 
 # ----------------------------------------------------------------------------- generated files
 if ! python3 src/io/generate_schema.py --check; then
@@ -49,6 +64,8 @@ if ! python3 test/pf2f90.py; then
     translated=0
 fi
 
+stage_done "generated files and translation"
+
 # ----------------------------------------------------------------------------- 2b. lint
 # fortitude (rules and their reasons in fpm.toml [extra.fortitude.check]); one pass or one failure
 if fortitude check --output-format concise src app test/pf_runtime.f90 >"${tmp}/lint.log" 2>&1; then
@@ -58,6 +75,7 @@ else
     note "FAILED: fortitude check (lint)"
     failed=$((failed + 1))
 fi
+stage_done lint
 
 # ----------------------------------------------------------------------------- 3. fpm test
 if ((translated)); then
@@ -85,6 +103,7 @@ if ((translated)); then
     fi
     passed=$((passed + f_passed))
     failed=$((failed + f_failed))
+    stage_done "fpm test"
 fi
 
 # ----------------------------------------------------------------------------- 4. pytest
@@ -97,7 +116,7 @@ for dir in test postprocess; do
     fi
 done
 xml="${tmp}/pytest.xml"
-python3 -m pytest -q -p no:cacheprovider --junitxml="${xml}" "${py_dirs[@]}"
+python3 -m pytest -q -p no:cacheprovider --durations=15 --junitxml="${xml}" "${py_dirs[@]}"
 status=$?
 counts=$(python3 - "${xml}" <<'EOF'
 import sys
@@ -130,6 +149,8 @@ else
     passed=$((passed + p_passed))
     failed=$((failed + p_failed))
 fi
+stage_done pytest
+note "wall time by stage: $(IFS=,; echo "${stage_times[*]}" | sed 's/,/, /g'); total ${SECONDS} s"
 
 echo "${passed} passed, ${failed} failed"
 ((failed == 0))

@@ -1,7 +1,8 @@
 """The commit in /provenance is fixed when the program is built (src/base/supratrans_build_info.c, `.ci/with_commit`).
 
-The sources as they are now are committed into a temporary repository and built there, once for the module (the
-first build compiles everything: marked slow); each test then sets the state it needs and rebuilds through
+The sources as they are now are committed into a temporary repository and built there, once for the module (from a
+copy of this checkout's build tree without the objects of the build-info C file, so that only what changed, that
+file and the links are redone; marked slow all the same); each test then sets the state it needs and rebuilds through
 `.ci/with_commit` (one C file and the links) or with plain fpm. A run records the commit of its build, whatever its
 working directory, the directory of its executable, or a later checkout say; a build without a commit (plain fpm,
 a copy without .git) records "unknown (built without commit)", never a commit read when the program runs.
@@ -59,6 +60,11 @@ def repo(tmp_path_factory) -> Path:
     git(dest, "init", "-q")
     git(dest, "add", "-A")
     git(dest, "commit", "-q", "-m", "the sources under test")
+    if (ROOT / "build").is_dir():
+        # fpm recompiles what differs from the copied objects; the build-info objects, which carry this checkout's
+        # commit, are not copied (as .ci/with_commit removes them before each build)
+        shutil.copytree(ROOT / "build", dest / "build", symlinks=True,
+                        ignore=shutil.ignore_patterns("*supratrans_build_info*"))
     build_program(dest)
     return dest
 

@@ -18,6 +18,14 @@ FOLD = """&chain n = 30, n0 = 22 /
 """
 
 
+@pytest.fixture(scope="module")
+def rel(release_exe):
+    """The release build (what make_figures.py runs), for the runs that continue branches and check them against
+    slow ramps (marked slow): 9 times faster than the debug build, whose run-time checks cover the same code in the
+    Fortran suite (test/test_continuation*.pf, on smaller cases) and the bad inputs here."""
+    return str(release_exe)
+
+
 def sh(exe, *args, cwd, threads=1, check=True):
     env = dict(os.environ, OMP_NUM_THREADS=str(threads))
     proc = subprocess.run([exe, *map(str, args)], cwd=cwd, capture_output=True, text=True, timeout=600, env=env)
@@ -27,14 +35,15 @@ def sh(exe, *args, cwd, threads=1, check=True):
 
 
 @pytest.fixture(scope="module")
-def fold_line(exe, tmp_path_factory):
+def fold_line(rel, tmp_path_factory):
     """The fold line of FOLD computed with one thread: the folder it lives in."""
     tmp = tmp_path_factory.mktemp("fold")
     (tmp / "fold.nml").write_text(FOLD)
-    sh(exe, "fold.nml", cwd=tmp)
+    sh(rel, "fold.nml", cwd=tmp)
     return tmp
 
 
+@pytest.mark.slow
 def test_fold_line_has_folds_with_their_stability(fold_line):
     with h5py.File(fold_line / "out" / "fold.h5") as f:
         assert f.attrs["scene"] == b"continuation"
@@ -70,64 +79,68 @@ def test_fold_line_has_folds_with_their_stability(fold_line):
         assert (f["branches"][()][first] == 1).all() and (f["transmission_status"][()][first] == 0).all()
 
 
-def test_fold_line_is_the_same_for_two_threads_and_for_slices(exe, fold_line, tmp_path):
+@pytest.mark.slow
+def test_fold_line_is_the_same_for_two_threads_and_for_slices(rel, fold_line, tmp_path):
     (tmp_path / "fold.nml").write_text(FOLD)
-    sh(exe, "fold.nml", cwd=tmp_path, threads=2)
+    sh(rel, "fold.nml", cwd=tmp_path, threads=2)
     diffs, compared, _ = compare_results.compare(fold_line / "out" / "fold.h5", tmp_path / "out" / "fold.h5")
     assert compared > 10 and not diffs, diffs
     (tmp_path / "out" / "fold.h5").unlink()
     for i in (1, 2, 3):
-        sh(exe, "fold.nml", "--slice", f"{i}/3", cwd=tmp_path)
+        sh(rel, "fold.nml", "--slice", f"{i}/3", cwd=tmp_path)
     parts = sorted((tmp_path / "out").glob("fold.part-*.h5"))
     assert len(parts) == 3
-    sh(exe, "merge", *parts, cwd=tmp_path)
+    sh(rel, "merge", *parts, cwd=tmp_path)
     diffs, compared, _ = compare_results.compare(fold_line / "out" / "fold.h5", tmp_path / "out" / "fold.h5")
     assert compared > 10 and not diffs, diffs
 
 
-def test_the_fold_alone_is_the_same_for_two_threads_and_for_slices(exe, tmp_path):
+@pytest.mark.slow
+def test_the_fold_alone_is_the_same_for_two_threads_and_for_slices(rel, tmp_path):
     """floquet_every = 0, where a period of an even number of steps (Omega = 0.7: M = 90; 0.8: M = 79) has its
     branch from rest continued on the half-period map: the same file for 1 and 2 threads and for a sliced run."""
     text = FOLD.replace("fold_convergence", "floquet_every = 0, fold_convergence")
-    one = _same_for_threads_and_slices(exe, tmp_path, text)
+    one = _same_for_threads_and_slices(rel, tmp_path, text)
     with h5py.File(one) as f:
         assert sorted(f["steps_per_period"][0, :] % 2) == [0, 1]
 
 
-def test_the_switch_past_a_branch_point_is_the_same_for_two_threads_and_for_slices(exe, tmp_path):
+@pytest.mark.slow
+def test_the_switch_past_a_branch_point_is_the_same_for_two_threads_and_for_slices(rel, tmp_path):
     """The chain of SYMMETRY at Omega = 0.38, 0.40, 0.42, where the fold line switches branch at a branch point
     below the fold (once supercritical, twice subcritical): the same file for 1 and 2 threads and for a sliced run."""
-    one = _same_for_threads_and_slices(exe, tmp_path, SYMMETRY.replace(
+    one = _same_for_threads_and_slices(rel, tmp_path, SYMMETRY.replace(
         "omega_min = 0.4, omega_max = 0.5, omega_step = 0.05", "omega_min = 0.38, omega_max = 0.42, omega_step = 0.02"))
     with h5py.File(one) as f:
         np.testing.assert_array_equal(f["branch_switch"][0], [1, 2, 2])
 
 
-def _same_for_threads_and_slices(exe, tmp_path, text):
+def _same_for_threads_and_slices(rel, tmp_path, text):
     """The fold line of `text` with 1 and 2 threads and in 3 slices merged: the same file (its path returned)."""
     one, two, sliced = (tmp_path / name for name in ("one", "two", "sliced"))
     for folder, threads in ((one, 1), (two, 2)):
         folder.mkdir()
         (folder / "fold.nml").write_text(text)
-        sh(exe, "fold.nml", cwd=folder, threads=threads)
+        sh(rel, "fold.nml", cwd=folder, threads=threads)
     sliced.mkdir()
     (sliced / "fold.nml").write_text(text)
     for i in (1, 2, 3):
-        sh(exe, "fold.nml", "--slice", f"{i}/3", cwd=sliced)
-    sh(exe, "merge", *sorted((sliced / "out").glob("fold.part-*.h5")), cwd=sliced)
+        sh(rel, "fold.nml", "--slice", f"{i}/3", cwd=sliced)
+    sh(rel, "merge", *sorted((sliced / "out").glob("fold.part-*.h5")), cwd=sliced)
     for other in (two, sliced):
         diffs, compared, _ = compare_results.compare(one / "out" / "fold.h5", other / "out" / "fold.h5")
         assert compared > 10 and not diffs, diffs
     return one / "out" / "fold.h5"
 
 
-def test_the_fold_alone_is_the_same_fold_without_stability(exe, fold_line, tmp_path):
+@pytest.mark.slow
+def test_the_fold_alone_is_the_same_fold_without_stability(rel, fold_line, tmp_path):
     """floquet_every = 0: the same folds (to the location tolerance) and fates, no multipliers along the branch; the
     sign of det(J + I) watched along it does not change (no real multiplier through -1), so no first loss of
     stability: the threshold is the fold; one eigenvalue call a fold (the first branch's and those of the branches
     followed past a fold where the chain stays localized), fewer than along the whole branch."""
     (tmp_path / "fold.nml").write_text(FOLD.replace("fold_convergence", "floquet_every = 0, fold_convergence"))
-    sh(exe, "fold.nml", cwd=tmp_path)
+    sh(rel, "fold.nml", cwd=tmp_path)
     with h5py.File(fold_line / "out" / "fold.h5") as full, h5py.File(tmp_path / "out" / "fold.h5") as alone:
         assert (alone["status"][()] == 0).all()
         np.testing.assert_allclose(alone["fold_amplitude"][()], full["fold_amplitude"][()], rtol=0, atol=1e-8)
@@ -153,7 +166,8 @@ SYMMETRY = """&chain c = 2, n = 30, n0 = 20, sigma = 2 /
 """
 
 
-def test_the_fold_alone_sees_the_symmetry_break_before_the_fold(exe, tmp_path):
+@pytest.mark.slow
+def test_the_fold_alone_sees_the_symmetry_break_before_the_fold(rel, tmp_path):
     """On this short chain (M = 158, 140, 126: all even, the branch on the half-period map G) the symmetric branch
     loses its stability before its fold: a real multiplier of G through -1, which is P's through +1 where the branch
     does not turn (the half-period symmetry breaks). The fold alone sees it by the sign of det(J + I) and locates it;
@@ -163,7 +177,7 @@ def test_the_fold_alone_sees_the_symmetry_break_before_the_fold(exe, tmp_path):
     for name, text in (("alone", SYMMETRY), ("full", SYMMETRY.replace("floquet_every = 0", "floquet_every = 1"))):
         (tmp_path / name).mkdir()
         (tmp_path / name / "fold.nml").write_text(text)
-        sh(exe, "fold.nml", cwd=tmp_path / name)
+        sh(rel, "fold.nml", cwd=tmp_path / name)
     with h5py.File(tmp_path / "alone/out/fold.h5") as alone, h5py.File(tmp_path / "full/out/fold.h5") as full:
         assert (alone["steps_per_period"][()] % 2 == 0).all()
         assert (alone["status"][()] == 0).all()
@@ -196,7 +210,8 @@ SLOW_RAMP = """&chain c = 2, n = 30, n0 = 20, sigma = 2 /
 """
 
 
-def test_past_a_branch_point_the_chain_transmits_where_a_slow_ramp_does(exe, tmp_path):
+@pytest.mark.slow
+def test_past_a_branch_point_the_chain_transmits_where_a_slow_ramp_does(rel, tmp_path):
     """On the chain of SYMMETRY the half-period symmetry breaks at a branch point below the symmetric branch's fold
     (0.6 .. 0.8 below it). At Omega = 0.38 the other branch leaves it above its amplitude (supercritical:
     /branch_switch 1) and folds just above it; there the chain transmits (/transmission_fold, a second branch). At
@@ -208,8 +223,8 @@ def test_past_a_branch_point_the_chain_transmits_where_a_slow_ramp_does(exe, tmp
     (tmp_path / "fold.nml").write_text(SYMMETRY.replace("omega_min = 0.4, omega_max = 0.5, omega_step = 0.05",
                                                         "omega_min = 0.38, omega_max = 0.42, omega_step = 0.02"))
     (tmp_path / "scan.nml").write_text(SLOW_RAMP)
-    sh(exe, "fold.nml", cwd=tmp_path)
-    sh(exe, "scan.nml", cwd=tmp_path)
+    sh(rel, "fold.nml", cwd=tmp_path)
+    sh(rel, "scan.nml", cwd=tmp_path)
     with h5py.File(tmp_path / "out/fold.h5") as fold, h5py.File(tmp_path / "out/scan.h5") as scan:
         np.testing.assert_allclose(fold["omega"][()], scan["omega"][()], rtol=0, atol=1e-12)
         np.testing.assert_array_equal(fold["branch_switch"][0], [1, 2, 2])
@@ -241,7 +256,8 @@ TORUS_RAMP = """&chain c = 4, n = 90, n0 = 30, sigma = 10 /
 """
 
 
-def test_past_a_torus_the_chain_transmits_where_a_slow_ramp_does(exe, tmp_path):
+@pytest.mark.slow
+def test_past_a_torus_the_chain_transmits_where_a_slow_ramp_does(rel, tmp_path):
     """On a 90-site chain at Omega = 0.35 the branch from rest loses its stability to a torus (a complex pair of
     multipliers leaves the unit circle) 0.8 below its fold. No branch of periodic states leaves there; the chain,
     driven up in stairs from the torus's state (/branch_switch 4), transmits on a stair between the two, and the
@@ -250,8 +266,8 @@ def test_past_a_torus_the_chain_transmits_where_a_slow_ramp_does(exe, tmp_path):
     stairs, /transmission_fold was the fold, 0.76 above the ramp.)"""
     (tmp_path / "fold.nml").write_text(TORUS)
     (tmp_path / "scan.nml").write_text(TORUS_RAMP)
-    sh(exe, "fold.nml", cwd=tmp_path)
-    sh(exe, "scan.nml", cwd=tmp_path)
+    sh(rel, "fold.nml", cwd=tmp_path)
+    sh(rel, "scan.nml", cwd=tmp_path)
     with h5py.File(tmp_path / "out/fold.h5") as fold, h5py.File(tmp_path / "out/scan.h5") as scan:
         assert fold["threshold_kind"][0, 0] == 3 and fold["branch_switch"][0, 0] == 4
         assert b"stairs" in fold["branch_switch"].attrs["codes"]
@@ -272,10 +288,11 @@ def _check_spread(spread, transmission, start):
     assert 0.0 <= spread <= transmission - start + 0.01 + 1e-9, (spread, transmission, start)
 
 
-def test_the_stairs_past_a_torus_are_the_same_for_two_threads_and_for_slices(exe, tmp_path):
+@pytest.mark.slow
+def test_the_stairs_past_a_torus_are_the_same_for_two_threads_and_for_slices(rel, tmp_path):
     """The chain of TORUS at Omega = 0.35 (stairs past a torus) and 0.36 (a branch point): the same file for 1 and 2
     threads and for a sliced run."""
-    one = _same_for_threads_and_slices(exe, tmp_path, TORUS.replace("omega_max = 0.35", "omega_max = 0.36"))
+    one = _same_for_threads_and_slices(rel, tmp_path, TORUS.replace("omega_max = 0.35", "omega_max = 0.36"))
     with h5py.File(one) as f:
         np.testing.assert_array_equal(f["branch_switch"][0], [4, 1])
         assert np.isfinite(f["transmission_spread"][0, 0]) and np.isnan(f["transmission_spread"][0, 1])
@@ -313,7 +330,8 @@ RESONANT_RAMP = """&chain n = 90, n0 = 30, sigma = 6.0 /
 """
 
 
-def test_a_fold_at_a_harmonic_resonance_is_not_called_the_transmission_threshold(exe, tmp_path):
+@pytest.mark.slow
+def test_a_fold_at_a_harmonic_resonance_is_not_called_the_transmission_threshold(rel, tmp_path):
     """Omega = 0.34 (3 Omega at the band edge) on a short chain: the branch folds, but the chain driven 1% past the
     fold stays localized for the whole watch; the scene follows the branch it settles on, and where the chain
     then settles on no stable periodic state it drives the chain itself up in stairs from there
@@ -322,8 +340,8 @@ def test_a_fold_at_a_harmonic_resonance_is_not_called_the_transmission_threshold
     (0.04 below). Before the stairs, /transmission_fold was NaN here."""
     (tmp_path / "r.nml").write_text(RESONANT)
     (tmp_path / "s.nml").write_text(RESONANT_RAMP)
-    sh(exe, "r.nml", cwd=tmp_path)
-    sh(exe, "s.nml", cwd=tmp_path)
+    sh(rel, "r.nml", cwd=tmp_path)
+    sh(rel, "s.nml", cwd=tmp_path)
     with h5py.File(tmp_path / "out" / "resonant.h5") as f, h5py.File(tmp_path / "out" / "scan.h5") as scan:
         assert f["status"][0, 0] == 0
         assert f["fold_fate"][0, 0] == 2

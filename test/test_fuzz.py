@@ -12,6 +12,7 @@ import fuzz_namelists as fuzz
 CASES = Path(__file__).resolve().parent / "fuzz_cases"
 
 
+@pytest.mark.slow
 def test_campaign_of_ten_thousand_inputs(exe):
     failures = fuzz.campaign(exe, count=10_000, seed=20261123, jobs=4)
     assert not failures, "\n".join(f"input {i}: {r}: {d[:120]!r}" for i, r, d in failures[:10])

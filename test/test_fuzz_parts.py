@@ -179,6 +179,7 @@ def clear(out):
             p.unlink()
 
 
+@pytest.mark.slow
 def test_fuzz_parts_and_merge(exe, tmp_path, seeds):
     reference, parts, _ = seeds
     (tmp_path / "out").mkdir()
@@ -205,6 +206,7 @@ def test_fuzz_parts_and_merge(exe, tmp_path, seeds):
     assert outcomes.get(2, 0) > PART_BUDGET // 2
 
 
+@pytest.mark.slow
 def test_fuzz_journals_and_resume(exe, tmp_path, seeds):
     reference, _, journal = seeds
     (tmp_path / "study.nml").write_text(TINY)

@@ -81,6 +81,7 @@ def test_edges_are_on_the_stair_grid_and_upward_above_downward(hysteresis):
         assert "stair_times" in f["parameters"].attrs
 
 
+@pytest.mark.slow
 def test_hysteresis_is_the_same_for_two_threads_and_for_slices(exe, hysteresis, tmp_path):
     (tmp_path / "hyst.nml").write_text(HYST)
     sh(exe, "hyst.nml", cwd=tmp_path, threads=2)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 import shutil
 import subprocess
 import textwrap
@@ -357,11 +358,37 @@ def build_end_to_end(tmp_path: Path, source: str = END_TO_END, name: str = "test
     return exe
 
 
+#: A test's time as the driver prints it: `    0.012 s  module::test`.
+TIME_LINE = re.compile(r"^ *([0-9]+\.[0-9]{3}) s  (\S+)$")
+
+
+def untimed(stdout: str) -> tuple[list[str], list[tuple[str, float]], list[tuple[str, float]]]:
+    """The driver's output without its times: the other lines, then (name, seconds) of each test as it ran, then
+    those of the list of the slowest (after its heading `slowest K of N tests (wall clock):`)."""
+    lines, ran, slowest = [], [], []
+    in_slowest = False
+    for line in stdout.strip().splitlines():
+        match = TIME_LINE.match(line)
+        if re.fullmatch(r"slowest [0-9]+ of [0-9]+ tests \(wall clock\):", line):
+            in_slowest = True
+        elif match:
+            (slowest if in_slowest else ran).append((match[2], float(match[1])))
+        else:
+            lines.append(line)
+            in_slowest = False
+    return lines, ran, slowest
+
+
 @pytest.mark.slow
 def test_end_to_end(tmp_path):
     exe = build_end_to_end(tmp_path)
     run = subprocess.run([str(exe)], capture_output=True, text=True, cwd=tmp_path, timeout=60)
-    lines = run.stdout.strip().splitlines()
+    lines, ran, slowest = untimed(run.stdout)
+    # each test's time, in the order they ran, and then all three again, slowest first, before the closing line
+    assert [name for name, _ in ran] == ["test_e2e::test_passes", "test_e2e::test_fails", "test_e2e::test_also_passes"]
+    assert sorted(slowest) == sorted(ran)
+    assert [t for _, t in slowest] == sorted((t for _, t in ran), reverse=True)
+    assert run.stdout.strip().splitlines()[-5] == "slowest 3 of 3 tests (wall clock):"
     assert lines[-1] == "fortran: 2 passed, 1 failed"
     assert run.returncode != 0
     fails = [line for line in lines if line.startswith("FAIL")]
@@ -372,6 +399,7 @@ def test_end_to_end(tmp_path):
 
     selected = subprocess.run([str(exe), "PASSES"], capture_output=True, text=True, cwd=tmp_path, timeout=60)
     assert selected.stdout.strip().splitlines()[-1] == "fortran: 2 passed, 0 failed"
+    assert [name for name, _ in untimed(selected.stdout)[1]] == ["test_e2e::test_passes", "test_e2e::test_also_passes"]
     assert selected.returncode == 0
 
 
@@ -415,7 +443,7 @@ def test_after_runs_only_when_before_passed(tmp_path, name, set_up, test, ran, f
     """As pFUnit's TestCase%runBare: a failed @before skips the test and @after; a failed test does not skip @after."""
     exe = build_end_to_end(tmp_path, with_set_up(name, set_up, test), name)
     run = subprocess.run([str(exe)], capture_output=True, text=True, cwd=tmp_path, timeout=60)
-    assert run.stdout.strip().splitlines() == [*ran, fail, "fortran: 0 passed, 1 failed"]
+    assert untimed(run.stdout)[0] == [*ran, fail, "fortran: 0 passed, 1 failed"]
     assert run.returncode != 0
 
 
@@ -458,7 +486,7 @@ def test_order_assertions_take_their_relation_from_the_location(tmp_path):
     call without the location that the @-macro passes fails instead of checking an arbitrary one."""
     exe = build_end_to_end(tmp_path, ORDER, "test_order")
     run = subprocess.run([str(exe)], capture_output=True, text=True, cwd=tmp_path, timeout=60)
-    assert run.stdout.strip().splitlines() == [
+    assert untimed(run.stdout)[0] == [
         "FAIL test_order::test_lt_equal (test_order.pf:7): assertLessThan: 1 is not less than 1",
         "FAIL test_order::test_gt_equal (test_order.pf:17): assertGreaterThan: 1.0 is not greater than 1.0 at index 1",
         "FAIL test_order::test_ge_equal (test_order.pf:22): assertGreaterThanOrEqual: 1 is not greater than or equal "

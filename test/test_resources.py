@@ -289,6 +289,7 @@ def bisect_start(exe, tmp_path):
     return high
 
 
+@pytest.mark.slow
 def test_address_space_limit_ends_in_one_line_never_a_backtrace(exe, tmp_path):
     """Under `ulimit -v` (RLIMIT_AS) a little above what the program maps to run, a run of 10^5 oscillators (about
     16 MB more) used to die allocating with a backtrace (or a SIGSEGV): the check compared the need with the whole
@@ -325,6 +326,7 @@ def test_absurd_thread_count_is_bounded_with_one_line(exe, tmp_path):
     assert (tmp_path / "out" / "s.h5").is_file()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scene", ["timeseries", "amplitude_sweep"])
 def test_allocation_failure_ends_in_one_line(exe, tmp_path, scene):
     """When memory runs out at an allocation all the same (the check before the work skipped by the test-only

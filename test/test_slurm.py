@@ -1,9 +1,14 @@
 """The batch scripts of input/slurm/ on a real Slurm: a one-node cluster on localhost (munged, slurmctld, slurmd
 started by hand with their own configuration, no systemd), a study submitted as a job array with a dependent merge
 (behind a user's --dependency, options after --), compared with the single-machine file; one array task cancelled
-mid-way and resubmitted, one requeued (scontrol requeue) and one stopped by its time limit, each resuming from its
-journal; submissions refused before anything is queued. Where Slurm cannot start (not root, packages missing) the
-tests are skipped with one line saying why."""
+mid-way and resubmitted, one requeued (scontrol requeue) and one sent the SIGUSR1 that Slurm sends before a time
+limit (scancel --batch --signal=USR1), each resuming from its journal; submissions refused before anything is
+queued. Where Slurm cannot start (not root, packages missing) the tests are skipped with one line saying why.
+
+No test waits for a clock: each signal is sent once the slice has journaled a task (an event the test sees), to a
+run that has most of its work still ahead, and every wait polls with a short interval under an overall bound. The
+cluster is configured not to idle: a requeued job may start again after cred_expire + 1 s (10 + 1 here, Slurm's
+default 120 + 1), and the scheduler looks at pending jobs every second (sched_interval, default 60)."""
 import os
 import shutil
 import signal
@@ -17,6 +22,9 @@ import pytest
 
 import compare_results
 from test_slices import lpt
+
+#: A real cluster, release builds and resumed studies: about two minutes.
+pytestmark = pytest.mark.slow
 
 ROOT = Path(__file__).resolve().parents[1]
 SCRIPTS = ROOT / "input" / "slurm"
@@ -36,7 +44,7 @@ SlurmctldPort={ctld_port}
 SlurmdPort={d_port}
 AuthType=auth/munge
 CredType=cred/munge
-AuthInfo=socket={dir}/munge.socket
+AuthInfo=socket={dir}/munge.socket,cred_expire=10
 StateSaveLocation={dir}/state
 SlurmdSpoolDir={dir}/spool
 SlurmctldPidFile={dir}/slurmctld.pid
@@ -50,6 +58,7 @@ SelectTypeParameters=CR_Core
 MpiDefault=none
 ReturnToService=2
 SchedulerType=sched/builtin
+SchedulerParameters=sched_interval=1
 JobCompType=jobcomp/none
 AccountingStorageType=accounting_storage/none
 KillWait=10
@@ -160,16 +169,30 @@ class Cluster:
         states = [w.split("=", 1)[1] for w in out.split() if w.startswith("JobState=")]
         return states
 
-    def wait(self, job, timeout=240):
-        """Wait until every task of `job` has ended; return their states."""
-        deadline = time.time() + timeout
-        while time.time() < deadline:
+    def wait(self, job, timeout=300):
+        """Wait until every task of `job` has ended (polled every 0.2 s, at most `timeout` s: a bound, not a
+        moment anything is expected at); return their states."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
             states = self.state(job)
-            if states and all(s in ("COMPLETED", "FAILED", "CANCELLED", "TIMEOUT", "NODE_FAIL", "OUT_OF_MEMORY")
-                              for s in states):
+            if states and all(s in ENDED for s in states):
                 return states
-            time.sleep(0.5)
+            time.sleep(0.2)
         raise AssertionError(f"job {job} did not end in {timeout} s: {self.state(job)}")
+
+    def wait_for_journal(self, job, journal, tasks, timeout=300):
+        """Wait until `journal` holds `tasks` journaled tasks (polled every 0.05 s, at most `timeout` s); fails
+        when the job `job` ends first."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline and journal_lines(journal) < tasks:
+            states = self.state(job)
+            assert not (states and all(s in ENDED for s in states)), f"job {job} ended ({states}) before its journal"
+            time.sleep(0.05)
+        assert journal_lines(journal) >= tasks, f"job {job}: no task journaled in {timeout} s: {self.state(job)}"
+
+
+#: The states of a job that has ended.
+ENDED = ("COMPLETED", "FAILED", "CANCELLED", "TIMEOUT", "NODE_FAIL", "OUT_OF_MEMORY")
 
 
 @pytest.fixture(scope="module")
@@ -271,21 +294,29 @@ def test_refused_at_submission(cluster, release_exe, tmp_path):
     assert not (tmp_path / "out" / "study.h5").exists()
 
 
-def test_cancelled_task_resubmitted_resumes_from_its_journal(cluster, release_exe, tmp_path):
-    # slice 2 must still be running when it is cancelled: long runs, unscreened (a screened slice of this study
-    # at T = 300 ends in about 0.1 s, before scancel reaches it)
-    text = STUDY.format(t_final="3000.0").replace("resolution = 0.1,", "resolution = 0.1, screen_method = 'none',")
-    assert "screen_method = 'none'" in text
-    single_machine(release_exe, tmp_path, text)
+#: A study of 10 long searches (unscreened, T = 6000: about 7 s of one quiet core in the release build, 0.7 s a
+#: search; screened, a slice of it ends in about 0.1 s). A signal sent once a slice has journaled its first search
+#: finds most of the slice's searches still ahead of it.
+LONG = STUDY.format(t_final="6000.0").replace("resolution = 0.1,", "resolution = 0.1, screen_method = 'none',")
+
+
+@pytest.fixture(scope="module")
+def long_reference(release_exe, tmp_path_factory):
+    """The single-machine file of LONG, made once for the tests that stop a slice of it."""
+    folder = tmp_path_factory.mktemp("long")
+    single_machine(release_exe, folder, LONG)
+    return folder / "whole.h5"
+
+
+def test_cancelled_task_resubmitted_resumes_from_its_journal(cluster, release_exe, long_reference, tmp_path):
+    assert "screen_method = 'none'" in LONG
+    (tmp_path / "study.nml").write_text(LONG)
     env = dict(cluster.env, SUPRATRANS=release_exe)
     array_script = str(SCRIPTS / "supratrans-array.sbatch")
     job = cluster.run("sbatch", "--parsable", "--array=1-2", "--cpus-per-task=1", array_script, "study.nml", "2",
                       cwd=tmp_path, env=env).stdout.strip().split(";")[0]
     journal = tmp_path / "out" / "study.part-2-of-2.h5.journal"
-    deadline = time.time() + 120
-    while time.time() < deadline and (not journal.exists() or journal.read_text().count("\n") < 2):
-        time.sleep(0.05)
-    assert journal.exists(), "slice 2 never started"
+    cluster.wait_for_journal(f"{job}_2", journal, 1)
     cluster.run("scancel", f"{job}_2")
     states = cluster.wait(job)
     assert "CANCELLED" in states or "FAILED" in states, states
@@ -298,35 +329,7 @@ def test_cancelled_task_resubmitted_resumes_from_its_journal(cluster, release_ex
     assert cluster.wait(again) == ["COMPLETED"]
     log = (tmp_path / f"supratrans-{again}_2.out").read_text()
     assert f"{len(tasks_before)} already done" in log, log       # the journal's runs were not done again
-    merge = cluster.run("sbatch", "--parsable", str(SCRIPTS / "supratrans-merge.sbatch"), "study.nml", "2",
-                        cwd=tmp_path, env=env).stdout.strip().split(";")[0]
-    assert cluster.wait(merge) == ["COMPLETED"]
-    diffs, compared, _ = compare_results.compare(tmp_path / "whole.h5", tmp_path / "out" / "study.h5")
-    assert compared > 5 and not diffs, diffs
-
-
-LONG = STUDY.format(t_final="3000.0").replace("resolution = 0.1,", "resolution = 0.1, screen_method = 'none',")
-
-
-@pytest.fixture(scope="module")
-def long_reference(release_exe, tmp_path_factory):
-    """The single-machine file of a study of 10 long searches (unscreened, T = 3000), made once."""
-    folder = tmp_path_factory.mktemp("long")
-    single_machine(release_exe, folder, LONG)
-    return folder / "whole.h5"
-
-
-#: Eighteen times as long: about 50 s on one quiet core. The signal of a 1-minute limit with --signal=B:USR1@45 is
-#: due 15 s after the start but comes with slurmctld's next sweep: t_final 18000 (17 s on an idle machine, 31 s on a
-#: busy one) once finished at 16.9 s before any signal, and t_final 9000 (15.7 s) did too.
-LONGER = LONG.replace("t_final = 3000.0", "t_final = 54000.0")
-
-
-@pytest.fixture(scope="module")
-def longer_reference(release_exe, tmp_path_factory):
-    folder = tmp_path_factory.mktemp("longer")
-    single_machine(release_exe, folder, LONGER)
-    return folder / "whole.h5"
+    finish_and_compare(cluster, tmp_path, env, long_reference, 2)
 
 
 def journal_lines(path):
@@ -341,41 +344,51 @@ def finish_and_compare(cluster, folder, env, reference, slices):
     assert compared > 5 and not diffs, diffs
 
 
+def resumed_counts(log):
+    """The `N already done` of each run of a slice in its log, in order."""
+    return [int(line.split(" already done")[0].split(",")[-1]) for line in log.splitlines() if "already done" in line]
+
+
+def submit_one_slice(cluster, folder, env):
+    """LONG as an array of one slice (the script's own --signal and --requeue, no time limit to wait for); the job
+    id, once the slice has journaled its first search."""
+    (folder / "study.nml").write_text(LONG)
+    job = cluster.run("sbatch", "--parsable", "--array=1", "--cpus-per-task=1", str(SCRIPTS / "supratrans-array.sbatch"),
+                      "study.nml", "1", cwd=folder, env=env).stdout.strip().split(";")[0]
+    cluster.wait_for_journal(f"{job}_1", folder / "out" / "study.part-1-of-1.h5.journal", 1)
+    return job
+
+
 def test_requeued_task_resumes_from_its_journal(cluster, release_exe, long_reference, tmp_path):
     """scontrol requeue of a running slice (what a preempting scheduler does): the rerun of the same job resumes
     from what the first run journaled, and its log is appended to the first run's."""
-    (tmp_path / "study.nml").write_text(LONG)
     env = dict(cluster.env, SUPRATRANS=release_exe)
-    job = cluster.run("sbatch", "--parsable", "--array=1", "--cpus-per-task=1", str(SCRIPTS / "supratrans-array.sbatch"),
-                      "study.nml", "1", cwd=tmp_path, env=env).stdout.strip().split(";")[0]
-    journal = tmp_path / "out" / "study.part-1-of-1.h5.journal"
-    deadline = time.time() + 300
-    while time.time() < deadline and journal_lines(journal) < 2:
-        time.sleep(0.1)
-    assert journal_lines(journal) >= 2, "the slice never got going"
+    job = submit_one_slice(cluster, tmp_path, env)
     cluster.run("scontrol", "requeue", f"{job}_1")
-    done_before = journal_lines(journal)
-    states = cluster.wait(job, timeout=900)
+    done_before = journal_lines(tmp_path / "out" / "study.part-1-of-1.h5.journal")
+    states = cluster.wait(job)
     assert states == ["COMPLETED"], states
     log = (tmp_path / f"supratrans-{job}_1.out").read_text()
     assert log.count("supratrans-array: slice 1/1") == 2, log        # both runs in one log
-    resumed = [int(line.split(" already done")[0].split(",")[-1]) for line in log.splitlines()
-               if "already done" in line]
-    assert len(resumed) == 2 and resumed[0] == 0 and resumed[1] >= done_before - 1, log
+    assert "requeued to resume" not in log, log                      # Slurm requeued it, not the script
+    resumed = resumed_counts(log)
+    assert len(resumed) == 2 and resumed[0] == 0 and resumed[1] >= max(done_before - 1, 1), log
     finish_and_compare(cluster, tmp_path, env, long_reference, 1)
 
 
-def test_time_limit_stops_requeues_and_resumes(cluster, release_exe, longer_reference, tmp_path):
-    """A slice longer than its time limit: SIGUSR1 before the limit (--signal=B:USR1@), a clean stop, the task
-    requeues itself and the rerun resumes, until the slice is done; the merged file is the single machine's."""
-    (tmp_path / "study.nml").write_text(LONGER)
+def test_sigusr1_before_the_time_limit_stops_requeues_and_resumes(cluster, release_exe, long_reference, tmp_path):
+    """The SIGUSR1 that Slurm sends the batch shell before a time limit (the script's --signal=B:USR1@120), sent
+    here by scancel --batch --signal=USR1 once the slice has journaled a search rather than by waiting for a limit:
+    a clean stop, the task requeues itself, the rerun resumes from the journal; the merged file is the single
+    machine's."""
     env = dict(cluster.env, SUPRATRANS=release_exe)
-    job = cluster.run("sbatch", "--parsable", "--array=1", "--cpus-per-task=1", "--time=1", "--signal=B:USR1@45",
-                      str(SCRIPTS / "supratrans-array.sbatch"), "study.nml", "1", cwd=tmp_path,
-                      env=env).stdout.strip().split(";")[0]
-    states = cluster.wait(job, timeout=1800)
+    job = submit_one_slice(cluster, tmp_path, env)
+    cluster.run("scancel", "--batch", "--signal=USR1", f"{job}_1")
+    states = cluster.wait(job)
     log = (tmp_path / f"supratrans-{job}_1.out").read_text()
     assert states == ["COMPLETED"], log
-    assert "requeued to resume" in log, log
-    assert int(field(cluster, f"{job}_1", "Restarts")[0]) >= 1
-    finish_and_compare(cluster, tmp_path, env, longer_reference, 1)
+    assert log.count("requeued to resume") == 1, log
+    assert int(field(cluster, f"{job}_1", "Restarts")[0]) == 1
+    resumed = resumed_counts(log)
+    assert len(resumed) == 2 and resumed[0] == 0 and resumed[1] >= 1, log
+    finish_and_compare(cluster, tmp_path, env, long_reference, 1)

@@ -379,7 +379,8 @@ contains
         if (pf_any_failed()) return
     end subroutine test_fitted_order
 
-    !> The lower-bound kernels are timed: positive and finite, N sines cost more than N divisions.
+    !> The lower-bound kernels are timed: each a positive, finite time (how fast they are, e.g. N sines against N
+    !> divisions, is for the benchmarks, docs/benchmark.md: a test does not assert on speed).
     ! @test
     subroutine test_step_kernels_timed()
         real(wp) :: t_sine, t_division, t_tridiag
@@ -388,24 +389,23 @@ contains
         call assertGreaterThan( &
             t_sine, &
             0.0_wp, &
-            location=pf_source_location('test_workprec.pf', 259, 'assertGreaterThan'))
+            location=pf_source_location('test_workprec.pf', 260, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             t_division, &
             0.0_wp, &
-            location=pf_source_location('test_workprec.pf', 260, 'assertGreaterThan'))
+            location=pf_source_location('test_workprec.pf', 261, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             t_tridiag, &
             0.0_wp, &
-            location=pf_source_location('test_workprec.pf', 261, 'assertGreaterThan'))
+            location=pf_source_location('test_workprec.pf', 262, 'assertGreaterThan'))
         if (pf_any_failed()) return
-        call assertLessThan(t_sine, 1.0e-3_wp, location=pf_source_location('test_workprec.pf', 262, 'assertLessThan'))
+        call assertIsFinite(t_sine, location=pf_source_location('test_workprec.pf', 263, 'assertIsFinite'))
         if (pf_any_failed()) return
-        call assertGreaterThan( &
-            t_sine, &
-            t_division, &
-            location=pf_source_location('test_workprec.pf', 263, 'assertGreaterThan'))
+        call assertIsFinite(t_division, location=pf_source_location('test_workprec.pf', 264, 'assertIsFinite'))
+        if (pf_any_failed()) return
+        call assertIsFinite(t_tridiag, location=pf_source_location('test_workprec.pf', 265, 'assertIsFinite'))
         if (pf_any_failed()) return
     end subroutine test_step_kernels_timed
 
