@@ -116,3 +116,25 @@ def test_absorber_family_radiation_and_continuum(release_exe, tmp_path):
     assert abs(radiation - semi) < 1e-6
     assert folds_c[0] == pytest.approx(fold, abs=1e-9)          # c = 4 is the chain of the input
     assert limit == pytest.approx(folds_c[1] + (folds_c[1] - folds_c[0]) / 3, abs=1e-12)
+
+
+@pytest.mark.slow   # rk8 shooting with the multipliers at every point, ~35 s
+def test_hb_stability_brackets_shootings_first_loss(release_exe, tmp_path, hb_file):
+    # the rk8 multipliers at the harmonic-balance branch's points bracket the first loss of stability that rk8
+    # shooting locates on the same chain, with the same type (0.5: a real multiplier through +1, 0.7: a torus); at
+    # 0.9 the branch stays stable up to the fold (shooting's loss is the fold itself)
+    with run_scene(str(release_exe), tmp_path, "rk8stab", solver="shooting", method="rk8", floquet=1) as f:
+        loss = f["instability_amplitude"][0]
+        kind = f["instability_type"][0]
+    with run_scene(str(release_exe), tmp_path, "hbstab", solver="harmonic_balance", step_max=0.5, floquet=1) as f:
+        upper = f["instability_amplitude"][0]
+        lower = f["instability_lower"][0]
+        hb_kind = f["instability_type"][0]
+        fold = f["fold_amplitude"][0]
+        stable = f["branch/stable"][0]
+    print("shooting", loss.tolist(), kind.tolist(), "harmonic balance", lower.tolist(), upper.tolist(), hb_kind.tolist())
+    for i in (0, 1):
+        assert lower[i] < loss[i] <= upper[i]
+        assert hb_kind[i] == kind[i]
+    assert np.isnan(upper[2]) and loss[2] == pytest.approx(fold[2], abs=1e-8)
+    assert np.all(stable[2][stable[2] >= 0] == 1)

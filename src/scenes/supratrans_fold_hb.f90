@@ -30,12 +30,12 @@ module supratrans_fold_hb
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, fixed1
     use supratrans_scene_bifurcation, only: bifurcation_omegas
-    use supratrans_fold_line, only: fold_status_codes, fold_found
+    use supratrans_fold_line, only: fold_status_codes, fold_found, instability_type_codes
     use supratrans_harmonic_balance, only: hb_system, hb_init, hb_time_state, hb_spectrum
     use supratrans_hb_continuation, only: hb_controls, hb_result, hb_fold_converged
     use supratrans_period_map, only: period_map, period_map_init
     use supratrans_fixed_point_map, only: map_ok
-    use supratrans_floquet, only: floquet_multipliers
+    use supratrans_floquet, only: floquet_multipliers, largest_modulus, is_stable, leading_crossing
     implicit none
     private
 
@@ -46,10 +46,10 @@ module supratrans_fold_hb
     !> Floquet multipliers kept at the fold, those of largest modulus.
     integer, parameter, public :: hb_kept_multipliers = 8
     !> Scalar values of a record (the first `put`s of `serialize`).
-    integer, parameter :: scalar_count = 24
+    integer, parameter :: scalar_count = 27
     !> Quantities of each branch point (`/branch/<name>`).
     character(len=*), parameter, public :: hb_branch_quantities(*) = [character(len=17) :: "amplitude", "umax", &
-        "energy", "newton_iterations", "residual"]
+        "energy", "newton_iterations", "residual", "multiplier_max", "stable"]
 
     !> The tasks of a harmonic-balance continuation: task t = (curve - 1) nomega + iomega.
     type, extends(task_list), public :: hb_fold_tasks
@@ -94,6 +94,12 @@ module supratrans_fold_hb
         real(wp) :: period_closure = 0.0_wp
         !> Largest |mu| - 1 of the rk8 multipliers at the fold other than the one at +1; NaN when not computed.
         real(wp) :: multiplier_excess = 0.0_wp
+        !> The first sampled branch point below the fold whose rk8 multipliers leave the unit circle (NaN: none), the
+        !> last sampled point stable below it (the bracket of the first loss of stability), and the loss's type
+        !> (`supratrans_floquet` crossing codes; 0 none).
+        real(wp) :: instability_amplitude = 0.0_wp, instability_lower = 0.0_wp
+        !> The loss's type.
+        integer :: instability_type = 0
         !> max |u_{N0}(t)| at the fold: how linear the far field is where the absorber begins.
         real(wp) :: far_field_umax = 0.0_wp
         !> Folds with the absorber 2, 4, .. times as long and wide (NaN when not computed), then on the core N0 with
@@ -187,6 +193,8 @@ contains
         r%fold_umax = nan
         r%period_closure = nan
         r%multiplier_excess = nan
+        r%instability_amplitude = nan
+        r%instability_lower = nan
         r%far_field_umax = nan
         r%fold_radiation = nan
         r%absorber_spread = nan
@@ -197,6 +205,7 @@ contains
         allocate (r%absorber_folds(nfamily), source=nan)
         allocate (r%continuum_folds(nc), source=nan)
         allocate (r%branch(size(hb_branch_quantities), npts), source=nan)
+        r%branch(size(hb_branch_quantities), :) = -1.0_wp     ! stable: -1 not computed
         allocate (r%spectrum(spectrum_harmonics, n), source=nan)
         r%multiplier_re = nan
         r%multiplier_im = nan
@@ -251,6 +260,9 @@ contains
         call put("fold_umax", r%fold_umax)
         call put("period_closure", r%period_closure)
         call put("multiplier_excess", r%multiplier_excess)
+        call put("instability_amplitude", r%instability_amplitude)
+        call put("instability_lower", r%instability_lower)
+        call put("instability_type", real(r%instability_type, wp))
         call put("far_field_umax", r%far_field_umax)
         call put("fold_radiation", r%fold_radiation)
         call put("absorber_spread", r%absorber_spread)
@@ -321,6 +333,9 @@ contains
         r%fold_umax = take()
         r%period_closure = take()
         r%multiplier_excess = take()
+        r%instability_amplitude = take()
+        r%instability_lower = take()
+        r%instability_type = nint(take())
         r%far_field_umax = take()
         r%fold_radiation = take()
         r%absorber_spread = take()
@@ -382,6 +397,7 @@ contains
         ctl%harmonics_max = cfg%scene%harmonics_max
         ctl%harmonics_tol = cfg%scene%harmonics_tol
         ctl%closure = cfg%scene%closure
+        ctl%keep_states = cfg%scene%floquet_every > 0
     end function scene_controls
 
     !> The run of task `index`: its curve's run at its frequency.
@@ -434,12 +450,16 @@ contains
         r%status = res%status
         if (.not. allocated(error)) then
             call take_result(res, r)
-            if (res%status == fold_found) call check_in_time_domain(run, res, ctl%closure, &
-                                                                     self%cfg%scene%floquet_every > 0, r)
+            if (res%status == fold_found) then
+                call check_in_time_domain(run, res, ctl%closure, self%cfg%scene%floquet_every > 0, r)
+                if (self%cfg%scene%floquet_every > 0) call branch_stability(run, res, ctl%closure, &
+                    self%cfg%scene%floquet_every, self%cfg%scene%crossing_tol, r)
+            end if
         end if
         ! the checks need the fold alone, started from the K found
         quick = ctl
         quick%beyond_fold = 0
+        quick%keep_states = .false.
         quick%harmonics = res%harmonics
         if (res%status == fold_found .and. size(r%absorber_folds) > 0) then
             do m = 1, size(r%absorber_folds)
@@ -510,7 +530,7 @@ contains
         r%continuations = res%continuations
         np = min(res%points, size(r%branch, 2))
         r%points = np
-        r%branch(:, 1:np) = res%branch(:, 1:np)
+        r%branch(1:size(res%branch, 1), 1:np) = res%branch(:, 1:np)
     end subroutine take_result
 
     !> The state at the fold in the time domain: its spectrum, max |u|, max |u_{N0}|, one rk8 period from it (its
@@ -583,6 +603,64 @@ contains
         end do
         r%multiplier_excess = excess
     end subroutine check_in_time_domain
+
+    !> The stability of the branch below the fold: the rk8 multipliers (monodromy from each point's state) at every
+    !> `every`-th branch point and at the last point before the fold, into the branch's `multiplier_max` and `stable`
+    !> rows; the first sampled point that is not stable (a multiplier beyond 1 + `crossing_tol`) and the last stable
+    !> one below it bracket the first loss of stability, typed by its leading multiplier.
+    subroutine branch_stability(run, res, closure, every, crossing_tol, r)
+        !> The task's run (chain, Omega, &numerics dt).
+        type(run_config), intent(in) :: run
+        !> The harmonic-balance branch with its states.
+        type(hb_result), intent(in) :: res
+        !> The closure used (the time domain knows only the fixed end).
+        integer, intent(in) :: closure
+        !> Stride of the sampled points.
+        integer, intent(in) :: every
+        !> How far beyond the unit circle a multiplier must be to count.
+        real(wp), intent(in) :: crossing_tol
+        !> The record.
+        type(hb_record), intent(inout) :: r
+        type(hb_system) :: sys
+        type(run_config) :: rk
+        type(period_map) :: map
+        type(error_type), allocatable :: error
+        real(wp), allocatable :: u(:), ut(:), x(:), px(:), jac(:, :), wr(:), wi(:)
+        real(wp) :: lower
+        integer :: n, p, status, info, qs, qm, last
+
+        if (closure /= closure_absorber .or. .not. allocated(res%states) .or. res%fold_point < 3) return
+        n = run%chain%n
+        call hb_init(sys, run%chain, run%drive%omega, res%branch_harmonics, closure, error)
+        if (allocated(error)) return
+        rk = run
+        rk%numerics%method = method_rk8
+        call period_map_init(map, rk, error)
+        if (allocated(error)) return
+        allocate (u(n), ut(n), px(2*n), jac(2*n, 2*n))
+        qm = size(hb_branch_quantities) - 1
+        qs = size(hb_branch_quantities)
+        last = res%fold_point - 1
+        lower = 0.0_wp                                    ! rest is stable
+        do p = 2, last
+            if (mod(p - 1, every) /= 0 .and. p /= last) cycle
+            call hb_time_state(sys, res%states(1:sys%dim, p), 0.0_wp, u, ut)
+            x = [u, ut]
+            call map%apply(x, res%states(sys%dim + 1, p), px, status, jac=jac)
+            if (status /= map_ok) cycle
+            call floquet_multipliers(jac, wr, wi, info)
+            if (info /= 0) cycle
+            r%branch(qm, p) = largest_modulus(wr, wi)
+            r%branch(qs, p) = merge(1.0_wp, 0.0_wp, is_stable(wr, wi, crossing_tol))
+            if (r%branch(qs, p) > 0.5_wp) then
+                if (ieee_is_nan(r%instability_amplitude)) lower = res%states(sys%dim + 1, p)
+            else if (ieee_is_nan(r%instability_amplitude)) then
+                r%instability_amplitude = res%states(sys%dim + 1, p)
+                r%instability_lower = lower
+                r%instability_type = leading_crossing(wr, wi, crossing_tol)
+            end if
+        end do
+    end subroutine branch_stability
 
     !> Indices of the multipliers by decreasing modulus.
     pure function sorted_by_modulus(wr, wi) result(order)
@@ -760,6 +838,16 @@ contains
         call h5_write(file, "/fold_multiplier_excess", grid(recs%multiplier_excess), "1", "Largest |mu| - 1 of " &
             // "the rk8 Floquet multipliers at the fold other than the fold's own (nearest +1): negative when the " &
             // "state is stable but for the fold's direction; NaN when not computed (floquet_every = 0)", dims=dims)
+        call h5_write(file, "/instability_amplitude", grid(recs%instability_amplitude), "rad", "The first sampled " &
+            // "branch point below the fold (every floquet_every-th, and the last before the fold) whose rk8 " &
+            // "multipliers leave the unit circle by more than crossing_tol; NaN when every sample is stable or none " &
+            // "was computed (floquet_every = 0)", dims=dims)
+        call h5_write(file, "/instability_lower", grid(recs%instability_lower), "rad", "The last sampled point " &
+            // "stable below /instability_amplitude: the first loss of stability lies between the two", dims=dims)
+        call h5_write(file, "/instability_type", igrid(recs%instability_type), "1", &
+            "How the branch first loses stability, by the leading multiplier there (codes in attribute 'codes')", &
+            dims=dims)
+        call h5_write_attr(file, "/instability_type", "codes", instability_type_codes())
         call h5_write(file, "/chain_n", igrid(recs%chain_n), "1", "Oscillators N of the chain", dims=dims)
         call h5_write(file, "/chain_n0", igrid(recs%chain_n0), "1", "Last site N0 before the absorber", dims=dims)
         call h5_write(file, "/chain_sigma", grid(recs%chain_sigma), "1", "Width sigma of the absorber's ramp", &
@@ -877,7 +965,7 @@ contains
         select case (trim(hb_branch_quantities(q)))
         case ("energy")
             units = "energy"
-        case ("newton_iterations")
+        case ("newton_iterations", "multiplier_max", "stable")
             units = "1"
         case default
             units = "rad"
@@ -899,6 +987,10 @@ contains
             text = "Stored energy of the chain (the ODE's), averaged over the time grid of the period"
         case ("newton_iterations")
             text = "Iterations of the point's corrector"
+        case ("multiplier_max")
+            text = "Largest modulus of the rk8 Floquet multipliers at the sampled points below the fold (NaN elsewhere)"
+        case ("stable")
+            text = "1 where every multiplier has modulus <= 1 + crossing_tol, 0 where not, -1 not computed"
         case default
             text = "max |R| of the harmonic balance at the point"
         end select

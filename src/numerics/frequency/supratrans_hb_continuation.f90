@@ -69,6 +69,8 @@ module supratrans_hb_continuation
         real(wp) :: harmonics_tol = 1.0e-9_wp
         !> Closure at site N (`closure_absorber`, `closure_radiation` of `supratrans_config`).
         integer :: closure = closure_absorber
+        !> Keep the state (x, A) of every branch point (`hb_result%states`), for their stability.
+        logical :: keep_states = .false.
     end type hb_controls
 
     !> The branch from rest and its fold.
@@ -91,6 +93,13 @@ module supratrans_hb_continuation
         integer :: points = 0
         !> Per point: A, max |u|, mean energy, Newton iterations, max |R| (5, points_max).
         real(wp), allocatable :: branch(:, :)
+        !> With `keep_states`: the state (x, A) of each branch point, (2 K_b N + 1, points_max), K_b =
+        !> `branch_harmonics`; the fold's point among them.
+        real(wp), allocatable :: states(:, :)
+        !> Harmonics K_b of the branch from rest (of `branch` and `states`).
+        integer :: branch_harmonics = 0
+        !> Index of the fold's point in the branch (0: none).
+        integer :: fold_point = 0
         !> Newton iterations, LU factorisations and residual evaluations over everything done (every K).
         integer :: newton_iterations = 0, factorizations = 0, residuals = 0
         !> Branches traced from rest (one per K tried).
@@ -148,6 +157,9 @@ contains
             if (next%points == 0) then                  ! keep the branch from rest, with the new fold
                 next%points = res%points
                 next%branch = res%branch
+                next%branch_harmonics = res%branch_harmonics
+                next%fold_point = res%fold_point
+                if (allocated(res%states)) next%states = res%states
             end if
             call move_alloc_result(next, res)
             res%newton_iterations = newton
@@ -277,6 +289,8 @@ contains
         res%fold_residual = res%fold_amplitude
         res%continuations = 1
         allocate (res%branch(5, ctl%points_max), source=res%fold_amplitude)
+        res%branch_harmonics = harmonics
+        if (ctl%keep_states) allocate (res%states(nd, ctl%points_max), source=0.0_wp)
         allocate (x(nd), t(nd), xn(nd), tn(nd))
         x = 0.0_wp                                       ! rest at A = 0
         t = 0.0_wp
@@ -543,6 +557,7 @@ contains
         call hb_residual(sys, xs(1:sys%dim), xs(nd), r)
         res%fold_residual = maxval(abs(r))
         call record_point(sys, xs, iters, res)
+        if (res%points > 0) res%fold_point = res%points
     end subroutine locate_fold
 
     !> Append a point to the branch (A, max |u|, energy, Newton iterations, max |R|).
@@ -564,6 +579,7 @@ contains
         call hb_residual(sys, x(1:sys%dim), x(nd), r)
         res%points = res%points + 1
         res%branch(:, res%points) = [x(nd), umax, energy, real(iters, wp), maxval(abs(r))]
+        if (allocated(res%states)) res%states(:, res%points) = x
     end subroutine record_point
 
 end module supratrans_hb_continuation
