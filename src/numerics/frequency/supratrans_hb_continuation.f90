@@ -424,10 +424,10 @@ contains
         ok = all(ieee_is_finite(y))
     end subroutine bordered_solve
 
-    !> Newton's corrector onto the plane through x_pred normal to `t` (x overwritten with the solution). With `fresh`
-    !> the Jacobian is factored at every iterate (Newton); otherwise once at the predictor and again only when an
-    !> update shrinks by less than `chord_rate` (the chord method: the cheap corrector along the branch).
-    subroutine correct(sys, x, t, ctl, res, iters, ok, fresh)
+    !> The chord corrector onto the plane through x_pred normal to `t` (x overwritten with the solution): the Jacobian
+    !> is factored at the predictor and again only when an update shrinks by less than `chord_rate`. With `strict`
+    !> the tolerances are `residual_tol` and `step_tol` (the points that locate the fold), else `branch_tol`.
+    subroutine correct(sys, x, t, ctl, res, iters, ok, strict)
         !> The system.
         type(hb_system), intent(inout) :: sys
         !> (x, A): the predictor on entry, the point on exit.
@@ -442,8 +442,8 @@ contains
         integer, intent(out) :: iters
         !> Whether it converged.
         logical, intent(out) :: ok
-        !> Factor at every iterate.
-        logical, intent(in) :: fresh
+        !> The fold's tolerances.
+        logical, intent(in) :: strict
         real(wp), parameter :: chord_rate = 0.25_wp
         real(wp) :: r(sys%dim), dx(size(x)), last
         integer :: info, nd
@@ -457,17 +457,17 @@ contains
             call hb_residual(sys, x(1:sys%dim), x(nd), r)
             res%residuals = res%residuals + 1
             if (.not. all(ieee_is_finite(r))) return
-            if (maxval(abs(r)) <= merge(ctl%residual_tol, ctl%branch_tol, fresh) &
-                .and. last <= merge(ctl%step_tol, ctl%branch_tol, fresh)) then
+            if (maxval(abs(r)) <= merge(ctl%residual_tol, ctl%branch_tol, strict) &
+                .and. last <= merge(ctl%step_tol, ctl%branch_tol, strict)) then
                 ok = .true.
                 return
             end if
-            if (factor .or. fresh) then
+            if (factor) then
                 call jacobian_and_factor(sys, x, res, info)
                 if (info /= 0) return
                 factor = .false.
             end if
-            call bordered_solve(sys, t, -r, 0.0_wp, dx, ok, fresh)   ! the plane: t . dx = 0 keeps x on it
+            call bordered_solve(sys, t, -r, 0.0_wp, dx, ok, strict)   ! the plane: t . dx = 0 keeps x on it
             if (.not. ok) return
             ok = .false.
             x = x + dx
@@ -519,7 +519,8 @@ contains
         real(wp), intent(out) :: sigma
         !> Whether every corrector converged.
         logical, intent(out) :: ok
-        real(wp) :: sa, sb, fa, fb, f, xs(size(x0)), tau(size(x0)), r(sys%dim)
+        real(wp) :: sa, sb, fa, fb, f, xs(size(x0)), tau(size(x0)), r(sys%dim), x1(size(x0)), x2(size(x0))
+        real(wp) :: s1, s2
         integer :: it, side, iters, nd
 
         nd = sys%dim + 1
@@ -530,10 +531,20 @@ contains
         side = 0
         ok = .true.
         xs = x0
+        x2 = x0
+        s2 = 0.0_wp
         do it = 1, 60
             sigma = sb - fb*(sb - sa)/(fb - fa)
-            xs = x0 + sigma*t0
+            if (it <= 2) then                              ! predictors: along t0, then through the last two points
+                xs = x0 + sigma*t0
+            else
+                xs = x2 + (sigma - s2)/(s2 - s1)*(x2 - x1)
+            end if
             call correct(sys, xs, t0, ctl, res, iters, ok, .true.)
+            x1 = x2
+            s1 = s2
+            x2 = xs
+            s2 = sigma
             if (.not. ok) return
             call tangent(sys, t0, tau, ok)
             if (.not. ok) return
