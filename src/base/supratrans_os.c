@@ -10,6 +10,7 @@
  * journal appended to (O_NOFOLLOW, regular files only) and the lock file (O_NOFOLLOW, never truncated). */
 #define _GNU_SOURCE
 #include <dirent.h>
+#include <dlfcn.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <sched.h>
@@ -368,3 +369,163 @@ int supratrans_remove_stale(const char *dir, const char *prefix)
     closedir(d);
     return removed;
 }
+
+/* ---------------------------------------------------------------------------------------------- start-up limits
+ *
+ * The limits a scheduler sets (RLIMIT_AS: `ulimit -v`, Slurm's VSizeLimit; RLIMIT_DATA: `ulimit -d`; RLIMIT_STACK:
+ * `ulimit -s`) act before `main`. The OpenMP build of OpenBLAS (Debian's libopenblas0-openmp) maps one buffer of
+ * 128 MiB for each of its threads in its constructor, and retries a failed mmap forever: under a limit that leaves
+ * no room for them even `supratrans --version` used to spin at 100% CPU. It takes its thread count from
+ * OMP_NUM_THREADS (OPENBLAS_NUM_THREADS is ignored by that build), capped at the processors of the process.
+ *
+ * An ELF executable's .preinit_array runs before the constructors of every shared library (glibc's _dl_init), so
+ * this function can still set the environment those constructors read:
+ * - the buffers fit the limits: nothing;
+ * - k >= 1 buffers fit: OMP_NUM_THREADS=k (OpenBLAS's buffers and the program's threads), with one line;
+ * - none fits: one line and exit status 2 (what a memory limit below a run's needs gives), before any work;
+ * - the stack limit is below 8 MiB: OMP_STACKSIZE=8M unless set (libgomp's threads then get stacks of their own size,
+ *   not the limit of the main thread's stack, which they inherit otherwise: a worker overflowed 64 KiB), and the soft
+ *   stack limit is raised as far as the hard one allows (8 MiB at most).
+ * Only the OpenMP build of OpenBLAS is looked at (openblas_get_parallel() == 2); any other BLAS maps nothing here. */
+
+/* What OpenBLAS (x86_64, BUFFER_SIZE = 32 << 22) maps per thread at start-up, with what mmap adds to it. */
+#define OPENBLAS_BUFFER (128.0 * 1048576.0 + 1048576.0)
+/* What the rest of the start-up maps after the libraries (libgfortran, libgomp, HDF5), measured 2-6 MiB; with room. */
+#define STARTUP_RESERVE (16.0 * 1048576.0)
+/* The stack the threads of libgomp are given when the stack limit is below it. */
+#define THREAD_STACK (8.0 * 1048576.0)
+
+/* A field of /proc/self/status in bytes ("VmSize", "VmData"), -1 if it cannot be read. */
+static double status_bytes(const char *field)
+{
+    FILE *f = fopen("/proc/self/status", "r");
+    if (f == NULL) return -1.0;
+    char line[256];
+    double value = -1.0;
+    size_t n = strlen(field);
+    while (fgets(line, sizeof line, f) != NULL) {
+        if (strncmp(line, field, n) == 0 && line[n] == ':') {
+            value = 1024.0 * strtod(line + n + 1, NULL);
+            break;
+        }
+    }
+    fclose(f);
+    return value;
+}
+
+/* The soft limit of `resource` in bytes, -1 when unlimited. */
+static double soft_limit(int resource)
+{
+    struct rlimit r;
+    if (getrlimit(resource, &r) != 0 || r.rlim_cur == RLIM_INFINITY) return -1.0;
+    return (double)r.rlim_cur;
+}
+
+/* One line on stderr, before anything else of the program runs. */
+static void startup_line(const char *text)
+{
+    ssize_t ignored = write(2, text, strlen(text));
+    (void)ignored;
+}
+
+/* The value of `name` in the environment `envp` (getenv cannot be used yet: libc sets its environment after this). */
+static const char *env_value(char **envp, const char *name)
+{
+    size_t n = strlen(name);
+    for (char **e = envp; e != NULL && *e != NULL; e++) {
+        if (strncmp(*e, name, n) == 0 && (*e)[n] == '=') return *e + n + 1;
+    }
+    return NULL;
+}
+
+static void start_within_limits(int argc, char **argv, char **envp)
+{
+    (void)argc;
+    char line[640];
+    int set_stack = 0;
+    long set_threads = 0;
+    double stack = soft_limit(RLIMIT_STACK);
+    if (stack >= 0.0 && stack < THREAD_STACK) {
+        struct rlimit r;
+        if (getrlimit(RLIMIT_STACK, &r) == 0) {
+            rlim_t want = (rlim_t)THREAD_STACK;
+            if (r.rlim_max != RLIM_INFINITY && r.rlim_max < want) want = r.rlim_max;
+            if (want > r.rlim_cur) {
+                r.rlim_cur = want;
+                setrlimit(RLIMIT_STACK, &r);
+            }
+        }
+        set_stack = env_value(envp, "OMP_STACKSIZE") == NULL && env_value(envp, "GOMP_STACKSIZE") == NULL;
+    }
+    int (*parallel)(void) = (int (*)(void))dlsym(RTLD_DEFAULT, "openblas_get_parallel");
+    double as = soft_limit(RLIMIT_AS), data = soft_limit(RLIMIT_DATA);
+    if (parallel != NULL && parallel() == 2 && (as >= 0.0 || data >= 0.0)) {
+        int threads = supratrans_usable_cpus();
+        const char *omp = env_value(envp, "OMP_NUM_THREADS");
+        if (omp != NULL) {
+            long asked = strtol(omp, NULL, 10);   /* the first level of a list "4,2" */
+            if (asked > 0 && asked < threads) threads = (int)asked;
+        }
+        long fit = threads;
+        const char *which = NULL;
+        double limit = 0.0, used = 0.0;
+        double mapped = status_bytes("VmSize");
+        long k = (long)((as - mapped - STARTUP_RESERVE) / OPENBLAS_BUFFER);
+        if (as >= 0.0 && mapped >= 0.0 && k < fit) {
+            fit = k < 0 ? 0 : k;
+            which = "address-space limit (ulimit -v)";
+            limit = as;
+            used = mapped;
+        }
+        mapped = status_bytes("VmData");
+        k = (long)((data - mapped - STARTUP_RESERVE) / OPENBLAS_BUFFER);
+        if (data >= 0.0 && mapped >= 0.0 && k < fit) {
+            fit = k < 0 ? 0 : k;
+            which = "data-segment limit (ulimit -d)";
+            limit = data;
+            used = mapped;
+        }
+        if (which != NULL && fit < 1) {
+            snprintf(line, sizeof line, "error: supratrans: the %s of %.0f MiB is below what start-up needs: the "
+                     "libraries map %.0f MiB and OpenBLAS (OpenMP build) a buffer of 128 MiB, at least %.0f MiB in all "
+                     "(it would retry forever); raise the limit, or use a serial BLAS (docs/failures.md)\n",
+                     which, limit / 1048576.0, used / 1048576.0,
+                     (used + OPENBLAS_BUFFER + STARTUP_RESERVE) / 1048576.0 + 1.0);
+            startup_line(line);
+            _exit(2);
+        }
+        if (which != NULL) {
+            set_threads = fit;
+            snprintf(line, sizeof line, "supratrans: the %s of %.0f MiB leaves room for the start-up buffers of %ld "
+                     "OpenBLAS thread(s) (128 MiB each): running %ld OpenMP thread(s) instead of %d "
+                     "(OMP_NUM_THREADS=%ld)\n", which, limit / 1048576.0, fit, fit, threads, fit);
+            startup_line(line);
+        }
+    }
+    if (!set_stack && set_threads == 0) return;
+    /* The environment is read by the libraries' constructors from the array the kernel passed, which cannot grow:
+     * the program starts again with the settings added (they then hold, so this happens once). */
+    size_t n = 0;
+    while (envp != NULL && envp[n] != NULL) n++;
+    char **env = calloc(n + 3, sizeof *env);
+    static char threads_entry[48];
+    if (env == NULL) return;
+    size_t m = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (set_threads > 0 && strncmp(envp[i], "OMP_NUM_THREADS=", 16) == 0) continue;
+        env[m++] = envp[i];
+    }
+    if (set_threads > 0) {
+        snprintf(threads_entry, sizeof threads_entry, "OMP_NUM_THREADS=%ld", set_threads);
+        env[m++] = threads_entry;
+    }
+    if (set_stack) env[m++] = "OMP_STACKSIZE=8M";
+    env[m] = NULL;
+    execve("/proc/self/exe", argv, env);
+    /* exec refused (no /proc): the threads as they are; the check above stands for a retry-forever start-up */
+    free(env);
+}
+
+/* Run before the constructors of the shared libraries (OpenBLAS's, libgomp's): see start_within_limits. */
+__attribute__((section(".preinit_array"), used)) static void (*const supratrans_preinit)(int, char **, char **) =
+    start_within_limits;
