@@ -373,3 +373,175 @@ def test_stale_journal_beside_the_output_of_another_input_is_kept(exe, tmp_path)
     proc = run(exe, "s.nml", cwd=tmp_path)
     one_line(proc, 2, "exists")
     assert journal.read_bytes() == stale
+
+
+# --------------------------------------------------------------------------------------- issue 43: another user's files
+
+OTHER = ["setpriv", "--reuid=nobody", "--regid=nogroup", "--clear-groups"]
+
+
+@pytest.fixture
+def shared():
+    """A folder every user may write, without the sticky bit (0777), as a project's shared folder often is; files
+    are planted there as another user (`nobody`, through setpriv)."""
+    if os.geteuid() != 0 or shutil.which("setpriv") is None:
+        pytest.skip("needs root and setpriv to act as another user")
+    import tempfile
+    where = Path(tempfile.mkdtemp(prefix="supratrans-shared-", dir="/tmp"))
+    os.chmod(where, 0o777)
+    (where / "out").mkdir()
+    os.chmod(where / "out", 0o777)
+    yield where
+    shutil.rmtree(where, ignore_errors=True)
+
+
+def plant_as_other(path, data):
+    """Write `data` at `path` as the user nobody."""
+    subprocess.run([*OTHER, "sh", "-c", 'cat > "$1"', "sh", str(path)], input=data, check=True)
+    assert path.stat().st_uid != os.geteuid()
+
+
+@pytest.mark.parametrize("name, template", [("s.h5.partial.h5", SWEEP), ("s.h5.checkpoint-3", SWEEP),
+                                            ("s.h5.journal", SWEEP), ("s.h5.checkpoint", TS)])
+def test_another_users_files_in_a_shared_folder_are_neither_deleted_nor_used(exe, shared, name, template):
+    """Issue 43, failure 1: a run removed another user's `OUT.partial.h5` and `OUT.checkpoint-<t>` and exited 0.
+    Now it refuses in one line (status 4), and the file is left as it was; `--check` says the same."""
+    (shared / "s.nml").write_text(template.format(out="out/s.h5", extra=""))
+    planted = shared / "out" / name
+    plant_as_other(planted, b"another user's file\n")
+    before = planted.stat()
+    for args in (["s.nml"], ["--check", "s.nml"]):
+        proc = run(exe, *args, cwd=shared)
+        one_line(proc, 4, name, "another user")
+        after = planted.stat()
+        assert (after.st_ino, after.st_uid, after.st_mtime_ns) == (before.st_ino, before.st_uid, before.st_mtime_ns)
+        assert planted.read_bytes() == b"another user's file\n"
+        assert not (shared / "out" / "s.h5").exists()
+
+
+def forge(journal_text, value):
+    """The journal with the first value of its first record replaced by `value`, every checksum recomputed (as
+    supratrans computes them: zlib's CRC-32, records bound to the header line)."""
+    import zlib
+    lines = journal_text.splitlines()
+    header = lines[0]
+    words = lines[1].rsplit(" *", 1)[0].split()
+    words[1] = f"{value:.17e}"
+    body = " ".join(words)
+    crc = zlib.crc32(body.encode(), zlib.crc32((header + "\n").encode()))
+    return "\n".join([header, f"{body} *{crc:08X}", *lines[2:]]) + "\n"
+
+
+@pytest.fixture
+def forged_journal(exe, tmp_path):
+    """A journal of a stopped sweep with a value changed and its checksum recomputed: a forgery no checksum finds."""
+    path = nml(tmp_path, SWEEP)
+    stopped = run(exe, "s.nml", cwd=tmp_path, env={"SUPRATRANS_STOP_AFTER": "2", "OMP_NUM_THREADS": "1"})
+    assert stopped.returncode == 5, stopped.stderr
+    journal = tmp_path / "out" / "s.h5.journal"
+    assert stat.S_IMODE(journal.stat().st_mode) & 0o022 == 0       # supratrans writes its files rw-r--r--
+    journal.write_text(forge(journal.read_text(), 1000.0))
+    return path, journal
+
+
+def test_journal_forged_by_another_user_is_not_resumed_from(exe, forged_journal):
+    """Issue 43, failure 2: another user's journal with a value changed and its checksum recomputed was resumed from
+    (exit 0, the forged value in the output) and then deleted. Now: one line, status 4, the journal untouched."""
+    if os.geteuid() != 0:
+        pytest.skip("needs root to give the journal to another user")
+    path, journal = forged_journal
+    os.chown(journal, 65534, 65534)
+    text = journal.read_bytes()
+    proc = run(exe, path.name, cwd=path.parent)
+    one_line(proc, 4, "s.h5.journal", "another user")
+    assert journal.read_bytes() == text and journal.stat().st_uid == 65534
+    assert not (path.parent / "out" / "s.h5").exists()
+
+
+def test_journal_others_could_write_is_not_resumed_from(exe, forged_journal):
+    """The same forgery in the user's own journal left writable by others (mode 0666): refused, kept."""
+    path, journal = forged_journal
+    os.chmod(journal, 0o666)
+    text = journal.read_bytes()
+    proc = run(exe, path.name, cwd=path.parent)
+    one_line(proc, 4, "s.h5.journal", "writable by group or others", "0666")
+    assert journal.read_bytes() == text
+    os.chmod(journal, 0o644)                   # the owner vouches for it: resumed, as any journal of the user's own
+    assert run(exe, path.name, cwd=path.parent).returncode == 0
+
+
+def test_part_of_another_user_is_not_taken_for_a_finished_slice(exe, shared):
+    """A part file found under a slice's name is "complete already" only if it is the user's own."""
+    (shared / "p.nml").write_text(SWEEP.format(out="out/p.h5", extra=""))
+    assert run(exe, "p.nml", "--slice", "1/2", cwd=shared).returncode == 0
+    part = shared / "out" / "p.part-1-of-2.h5"
+    data = part.read_bytes()
+    part.unlink()
+    plant_as_other(part, data)
+    proc = run(exe, "p.nml", "--slice", "1/2", cwd=shared)
+    one_line(proc, 4, "p.part-1-of-2.h5", "another user")
+    assert part.read_bytes() == data and part.stat().st_uid != os.geteuid()
+
+
+# --------------------------------------------------------------------------------------- issue 43: a scheduler's limits
+
+LIMITS = {"ulimit -v 250 MiB": "ulimit -v 256000", "ulimit -d 20 MiB": "ulimit -d 20480", "ulimit -s 64 KiB": "ulimit -s 64"}
+
+
+@pytest.mark.parametrize("limit", sorted(LIMITS))
+@pytest.mark.parametrize("what", ["--version", "timeseries", "sweep"])
+def test_limits_of_a_scheduler_end_in_a_result_or_one_line(exe, tmp_path, limit, what):
+    """Issue 43, failure 3: under `ulimit -v` of 150-300 MiB or `ulimit -d 20000` even `--version` spun forever
+    (OpenBLAS's start-up retrying a 128 MiB mmap before main), and under `ulimit -s 64` a run ended in SIGSEGV (139)
+    with a journal left. Each now runs (status 0) or ends at once with one line and status 2; never a hang, never a
+    signal. Two threads asked, as on a node of several processors."""
+    if what == "--version":
+        args = ["--version"]
+    else:
+        nml(tmp_path, TS if what == "timeseries" else SWEEP)
+        args = ["s.nml"]
+    command = LIMITS[limit] + ' && exec "$@"'
+    proc = subprocess.run(["bash", "-c", command, "bash", exe, *args], cwd=tmp_path, capture_output=True, text=True,
+                          timeout=120, env=dict(os.environ, OMP_NUM_THREADS="2"))
+    errors = [line for line in proc.stderr.splitlines() if line.startswith("error")]
+    if proc.returncode == 0:
+        assert not errors, proc.stderr
+        if what != "--version":
+            assert is_hdf5(tmp_path / "out" / "s.h5")
+            assert not (tmp_path / "out" / "s.h5.journal").exists()
+    else:
+        one_line(proc, 2, limit.split(" ")[0] + " " + limit.split(" ")[1])
+        assert not (tmp_path / "out" / "s.h5.journal").exists()
+
+
+# --------------------------------------------------------------------------------------- issue 43: --slice, merge
+
+
+@pytest.mark.parametrize("args", [["--slice", "1/3", "--slice", "2/3"], ["--slice", "2/3", "--slice", "2/3"],
+                                  ["--slice", "08/09"], ["--slice", "1/08"], ["--slice", "0/3"], ["--slice", "00001/2"]])
+def test_slice_given_twice_or_with_leading_zeros_is_refused(exe, tmp_path, args):
+    """Issue 43, failure 6: `--slice 1/3 --slice 2/3` silently took the last, `--slice 08/09` was accepted."""
+    nml(tmp_path, SWEEP)
+    proc = run(exe, "s.nml", *args, cwd=tmp_path)
+    one_line(proc, 2, "--slice")
+    assert list((tmp_path / "out").iterdir()) == []
+
+
+def test_merge_catches_stop_signals_before_the_libraries_start(exe, tmp_path):
+    """Issue 43, failure 6: SIGTERM to `merge` in its first 50 ms ended it with 143: the handler came after the
+    libraries' start-up (OpenBLAS maps its buffers in a constructor) and the parsing. Seen without racing a signal:
+    the system calls in order, the handler's rt_sigaction before any library constructor's mmap of a buffer and
+    before any part file is opened."""
+    if shutil.which("strace") is None:
+        pytest.skip("strace not installed")
+    parts = make_parts(exe, tmp_path)
+    log = tmp_path / "strace.log"
+    proc = subprocess.run(["strace", "-f", "-o", str(log), "-e", "trace=rt_sigaction,mmap,openat", exe, "merge",
+                           *map(str, parts)], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    calls = log.read_text().splitlines()
+    handler = next(k for k, c in enumerate(calls) if "rt_sigaction(SIGTERM, {sa_handler=0x" in c)
+    buffers = [k for k, c in enumerate(calls) if "mmap(NULL, 134217728," in c]
+    opened = [k for k, c in enumerate(calls) if "openat(" in c and ".part-" in c]
+    assert opened and handler < opened[0]
+    assert not buffers or handler < buffers[0], calls[:handler + 1]

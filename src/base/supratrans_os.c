@@ -25,6 +25,59 @@
 #include <time.h>
 #include <unistd.h>
 
+/* The mode every file of supratrans is created with (reduced further by the umask): rw-r--r--, never writable by
+ * group or others whatever the umask allows, so that a file found under one of its names that someone else can
+ * write is not one it wrote (see supratrans_own_file). */
+#define FILE_MODE 0644
+
+/* Whether `path` is a file this program may trust and delete as its own (lstat: a link is not followed): 0 nothing
+ * there, 1 a regular file owned by this user (effective uid) and writable by nobody else (no group or other write
+ * bit), 2 not a regular file (a symbolic link, FIFO, device, socket or directory), 3 another user's file (`*uid`
+ * its owner), 4 this user's file but writable by group or others (`*mode` its permission bits). A checksum finds
+ * damage, not forgery: a journal, snapshot or checkpoint someone else wrote or could have written is never resumed
+ * from nor deleted. */
+int supratrans_own_file(const char *path, long long *uid, int *mode)
+{
+    struct stat st;
+    *uid = -1;
+    *mode = 0;
+    if (lstat(path, &st) != 0) return 0;
+    *uid = (long long)st.st_uid;
+    *mode = (int)(st.st_mode & 07777);
+    if (!S_ISREG(st.st_mode)) return 2;
+    if (st.st_uid != geteuid()) return 3;
+    if ((st.st_mode & (S_IWGRP | S_IWOTH)) != 0) return 4;
+    return 1;
+}
+
+/* The first entry of directory `dir` named `prefix` or `prefix-<digits>` (a checkpoint: `<out>.checkpoint`,
+ * `<out>.checkpoint-<task>`) that is not this user's own file (supratrans_own_file), its name into `buf` (`size`
+ * bytes). Returns that file's code (2, 3 or 4), 0 if every such entry is this user's own. */
+int supratrans_foreign_entry(const char *dir, const char *prefix, char *buf, int size)
+{
+    DIR *d = opendir(dir);
+    if (d == NULL) return 0;
+    size_t np = strlen(prefix);
+    int found = 0;
+    struct dirent *entry;
+    while (found == 0 && (entry = readdir(d)) != NULL) {
+        const char *name = entry->d_name;
+        if (strncmp(name, prefix, np) != 0) continue;
+        const char *rest = name + np;
+        if (*rest != '\0') {
+            if (rest[0] != '-' || rest[1] == '\0' || strspn(rest + 1, "0123456789") != strlen(rest + 1)) continue;
+        }
+        struct stat st;
+        if (fstatat(dirfd(d), name, &st, AT_SYMLINK_NOFOLLOW) != 0) continue;
+        if (!S_ISREG(st.st_mode)) found = 2;
+        else if (st.st_uid != geteuid()) found = 3;
+        else if ((st.st_mode & (S_IWGRP | S_IWOTH)) != 0) found = 4;
+        if (found != 0) snprintf(buf, (size_t)size, "%s", name);
+    }
+    closedir(d);
+    return found;
+}
+
 /* Kind of a path: 0 missing, 1 regular file, 2 directory, 3 other (FIFO, device, socket). */
 int supratrans_path_kind(const char *path)
 {
@@ -246,7 +299,7 @@ int supratrans_temp_name(const char *final, char *buf, int size)
  * otherwise errno. */
 int supratrans_append_bytes(const char *path, const char *bytes, long long len)
 {
-    int fd = open(path, O_WRONLY | O_CREAT | O_APPEND | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
+    int fd = open(path, O_WRONLY | O_CREAT | O_APPEND | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, FILE_MODE);
     if (fd < 0) return errno;
     struct stat st;
     if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
@@ -300,7 +353,7 @@ int supratrans_write_file_atomic(const char *final, const char *bytes, long long
     int fd = -1;
     for (int attempt = 0; attempt < 100 && fd < 0; attempt++) {
         if (supratrans_temp_name(final, tmp, sizeof tmp) != 0) return ENAMETOOLONG;
-        fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+        fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, FILE_MODE);
         if (fd < 0 && errno != EEXIST) return errno;
     }
     if (fd < 0) return EEXIST;
@@ -440,9 +493,12 @@ static const char *env_value(char **envp, const char *name)
 
 static void start_within_limits(int argc, char **argv, char **envp)
 {
-    (void)argc;
     char line[640];
     int set_stack = 0;
+    /* merge catches SIGTERM, SIGINT and SIGUSR1 from its very start, before the libraries' constructors (they take
+     * tens of milliseconds: a SIGTERM then used to end it with 143) */
+    int merging = argc > 1 && argv[1] != NULL && strcmp(argv[1], "merge") == 0;
+    if (merging) supratrans_catch_stop_signals();
     long set_threads = 0;
     double stack = soft_limit(RLIMIT_STACK);
     if (stack >= 0.0 && stack < THREAD_STACK) {
@@ -521,7 +577,15 @@ static void start_within_limits(int argc, char **argv, char **envp)
     }
     if (set_stack) env[m++] = "OMP_STACKSIZE=8M";
     env[m] = NULL;
+    sigset_t stops, before;
+    sigemptyset(&stops);
+    sigaddset(&stops, SIGTERM);
+    sigaddset(&stops, SIGINT);
+    sigaddset(&stops, SIGUSR1);
+    /* exec resets the handler: merge's stop signals wait, blocked and pending, for the handler of the new image */
+    if (merging) sigprocmask(SIG_BLOCK, &stops, &before);
     execve("/proc/self/exe", argv, env);
+    if (merging) sigprocmask(SIG_SETMASK, &before, NULL);
     /* exec refused (no /proc): the threads as they are; the check above stands for a retry-forever start-up */
     free(env);
 }
