@@ -545,3 +545,53 @@ def test_merge_catches_stop_signals_before_the_libraries_start(exe, tmp_path):
     opened = [k for k, c in enumerate(calls) if "openat(" in c and ".part-" in c]
     assert opened and handler < opened[0]
     assert not buffers or handler < buffers[0], calls[:handler + 1]
+
+
+# --------------------------------------------------------------------------------------- issue 43: work_precision
+
+WORKPREC = """&chain n = {n}, n0 = {n0} /
+&numerics t_final = 200.0 /
+&scene kind = 'work_precision', methods = 'rk4', dts = {dts}, repeats = {repeats}, reference_dt = 0.1 /
+&output file = 'out/s.h5' /
+"""
+
+
+@pytest.mark.parametrize("repeats, n, dts, status", [(2147483647, 100, "0.1", 2), (1000, 100000, "0.001, 0.0005", 2),
+                                                    (1, 100000, "0.001, 0.0005", 0)])
+def test_repeats_of_work_precision_are_bounded_and_counted_in_the_work_limit(exe, tmp_path, repeats, n, dts, status):
+    """Issue 43, failure 4: `repeats = 2147483647` passed --check (the repeats were in no limit)."""
+    (tmp_path / "s.nml").write_text(WORKPREC.format(n=n, n0=n - 10, dts=dts, repeats=repeats))
+    proc = run(exe, "--check", "s.nml", cwd=tmp_path)
+    assert proc.returncode == status, proc.stderr
+    if status:
+        one_line(proc, 2, "s.nml", "repeats")
+
+
+@pytest.mark.parametrize("when", ["reference solutions", "timed runs"])
+def test_work_precision_stops_at_sigterm_within_a_second(exe, tmp_path, when):
+    """Issue 43, failure 4: work_precision ignored SIGTERM for minutes (its repeats and its reference runs never
+    looked at the stop flag). The signal is sent once the scene says it has begun that stage (its progress line);
+    a timed run of 1000 repeats and its references take far longer than the test waits."""
+    (tmp_path / "out").mkdir()
+    (tmp_path / "s.nml").write_text(WORKPREC.format(n=500, n0=490, dts="0.01", repeats=1000))
+    proc = subprocess.Popen([exe, "s.nml"], cwd=tmp_path, stderr=subprocess.PIPE, text=True)
+    try:
+        seen = []
+        for line in proc.stderr:
+            seen.append(line)
+            if when in line:
+                break
+        assert when in seen[-1], seen
+        signalled = time.monotonic()
+        proc.send_signal(signal.SIGTERM)
+        rest = proc.communicate(timeout=30)[1]
+        stopped = time.monotonic() - signalled
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 5, rest
+    errors = [line for line in rest.splitlines() if line.startswith("error")]
+    assert len(errors) == 1 and "stopped by signal 15" in errors[0], rest
+    assert stopped < 5.0, stopped
+    assert not (tmp_path / "out" / "s.h5").exists()
