@@ -595,3 +595,31 @@ def test_work_precision_stops_at_sigterm_within_a_second(exe, tmp_path, when):
     assert len(errors) == 1 and "stopped by signal 15" in errors[0], rest
     assert stopped < 5.0, stopped
     assert not (tmp_path / "out" / "s.h5").exists()
+
+
+def test_sweep_without_checkpoints_stops_at_sigterm_within_a_second(exe, tmp_path):
+    """With `checkpoint_every = 0` a run of a sweep (or a hysteresis stair, a search, a stability run) did not look
+    at the stop flag and ran to its end after SIGTERM. Signalled once the scene has started its runs (its line)."""
+    (tmp_path / "out").mkdir()
+    (tmp_path / "s.nml").write_text("""&chain n = 2000, n0 = 1900 /
+&numerics t_final = 100000.0 /
+&scene kind = 'amplitude_sweep', amplitude_min = 1.0, amplitude_max = 1.2, amplitude_step = 0.2 /
+&output file = 'out/s.h5', checkpoint_every = 0 /
+""")
+    proc = subprocess.Popen([exe, "s.nml"], cwd=tmp_path, stderr=subprocess.PIPE, text=True,
+                            env=dict(os.environ, OMP_NUM_THREADS="1"))
+    try:
+        for line in proc.stderr:
+            if "already done" in line:
+                break
+        signalled = time.monotonic()
+        proc.send_signal(signal.SIGTERM)
+        rest = proc.communicate(timeout=30)[1]
+        stopped = time.monotonic() - signalled
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 5, rest
+    assert "stopped by signal 15" in rest and stopped < 5.0, (stopped, rest)
+    assert not (tmp_path / "out" / "s.h5").exists()

@@ -27,7 +27,7 @@
 !> `/boundary/grid_consistent` (curve, method, c), `/boundary/bisection_runs` (curve, method, c).
 module supratrans_scene_stability
     use, intrinsic :: iso_fortran_env, only: error_unit
-    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
@@ -42,6 +42,7 @@ module supratrans_scene_stability
     use supratrans_result, only: run_result, run_ok
     use supratrans_status, only: run_status_codes
     use supratrans_tasks, only: task_list
+    use supratrans_system, only: stop_signal
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_linear_stability, only: linear_stability_dt, rk_spectrum_dt, chain_spectrum, stability_polynomial
@@ -79,7 +80,10 @@ module supratrans_scene_stability
         !> Bisection resolution in dt.
         real(wp) :: resolution = 1.0e-3_wp
     contains
+        !> One task: a bisection for the largest stable dt, or one run of the grid (`stability_task_values`).
         procedure :: run => run_stability_task
+        !> Whether a task's values are its result (not a task a stop signal cut short).
+        procedure :: finished => stability_finished
     end type stability_tasks
 
     !> The scene `stability`: the largest stable dt per (curve, method), measured and predicted.
@@ -233,6 +237,33 @@ contains
         class(stability_tasks), intent(in) :: self
         !> Task index.
         integer, intent(in) :: index
+        !> The task's values (positions `s_*`; all NaN for a task a stop signal cut short).
+        real(wp), intent(out) :: values(:)
+
+        call stability_task_values(self, index, values)
+        ! its runs stop within a step once a signal has arrived (`interruptible`): what they gave is no result, the
+        ! task is not journaled and runs again on resume (it used to run every remaining run of the bisection)
+        if (stop_signal() /= 0) values = ieee_value(1.0_wp, ieee_quiet_nan)
+    end subroutine run_stability_task
+
+    !> Whether a task's values are its result: those of a task cut short by a stop signal are all NaN.
+    function stability_finished(self, values) result(yes)
+        !> The task list.
+        class(stability_tasks), intent(in) :: self
+        !> The task's values.
+        real(wp), intent(in) :: values(:)
+        logical :: yes
+
+        yes = .not. all(ieee_is_nan(values))
+    end function stability_finished
+
+    !> The values of task `index`: a bisection's (largest stable and smallest unstable dt, runs, status) or a grid
+    !> run's (status, max |u|, end time).
+    subroutine stability_task_values(self, index, values)
+        !> The scene's tasks.
+        class(stability_tasks), intent(in) :: self
+        !> Task index.
+        integer, intent(in) :: index
         !> The task's values (positions `s_*`).
         real(wp), intent(out) :: values(:)
         type(run_config) :: run
@@ -313,7 +344,7 @@ contains
             run%chain%c = self%c(ic)
             run%numerics%method = self%methods(im)
             run%numerics%dt = self%dts(idt)
-            call simulate(run, res)
+            call simulate(run, res, interruptible=.true.)
             values(s_status) = real(res%status, wp)
             values(s_max_abs_u) = res%max_abs_u
             values(s_t_end) = res%t_end
@@ -339,13 +370,13 @@ contains
             integer, intent(out) :: status
 
             run%numerics%dt = dt
-            call simulate(run, res)
+            call simulate(run, res, interruptible=.true.)
             runs = runs + 1
             status = res%status
             stable = run_is_stable(res)
         end subroutine try
 
-    end subroutine run_stability_task
+    end subroutine stability_task_values
 
     !> A run is stable when it reached its final time without blowing up or failing.
     pure function run_is_stable(res) result(stable)
