@@ -623,3 +623,81 @@ def test_sweep_without_checkpoints_stops_at_sigterm_within_a_second(exe, tmp_pat
     assert proc.returncode == 5, rest
     assert "stopped by signal 15" in rest and stopped < 5.0, (stopped, rest)
     assert not (tmp_path / "out" / "s.h5").exists()
+
+
+# --------------------------------------------------------------------------------------- issue 43: the batch scripts
+
+SLURM = Path(__file__).resolve().parent.parent / "input" / "slurm"
+
+
+@pytest.fixture
+def stub_sbatch(tmp_path):
+    """A stub `sbatch` first on PATH: it records its arguments (one line per call) and prints a job id."""
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    (bin_dir / "sbatch").write_text('#!/bin/bash\nprintf "%s\\n" "$*" >> "$SBATCH_LOG"\necho "4242;cluster"\n')
+    os.chmod(bin_dir / "sbatch", 0o755)
+    return bin_dir
+
+
+def submit(exe, tmp_path, stub, *args):
+    nml(tmp_path, SWEEP, name="study.nml")
+    env = dict(os.environ, PATH=f"{stub}:{os.environ['PATH']}", SUPRATRANS=exe, SBATCH_LOG=str(tmp_path / "sbatch.log"))
+    proc = subprocess.run(["bash", str(SLURM / "submit.sh"), "study.nml", *args], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=120)
+    log = tmp_path / "sbatch.log"
+    return proc, log.read_text().splitlines() if log.exists() else []
+
+
+@pytest.mark.parametrize("args", [
+    ["3", "--", "-c", "i[$(touch INJECTED)]"],
+    ["3", "--", "--cpus-per-task=i[$(touch INJECTED)]"],
+    ["3", "--", "-ci[$(touch INJECTED)]"],
+    ["3", "i[$(touch INJECTED)]"],
+    ["i[$(touch INJECTED)]"],
+], ids=["-c VALUE", "--cpus-per-task=", "-cVALUE", "THROTTLE", "N"])
+def test_submit_never_evaluates_user_text_as_arithmetic(exe, tmp_path, stub_sbatch, args):
+    """Issue 43, failure 5: `submit.sh s.nml 3 -- -c 'i[$(id>/tmp/x)]'` ran `id` (the value went into $(( ))) and
+    submitted. Now refused in one line, status 2, nothing submitted, nothing run."""
+    proc, calls = submit(exe, tmp_path, stub_sbatch, *args)
+    assert proc.returncode == 2, proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1 and "decimal" in proc.stderr, proc.stderr
+    assert calls == []
+    assert not (tmp_path / "INJECTED").exists()
+
+
+@pytest.mark.parametrize("args", [["08"], ["010"], ["18446744073709551619"], ["100001"], ["0"], ["3", "08"],
+                                  ["3", "18446744073709551619"], ["3", "--", "--cpus-per-task=08"],
+                                  ["3", "--", "-c", "99999999999999999999"]])
+def test_submit_refuses_leading_zeros_and_numbers_beyond_their_bound(exe, tmp_path, stub_sbatch, args):
+    """Issue 43, failure 5: `N = 08` printed a bash error and submitted --array=1-08%08; N = 18446744073709551619
+    wrapped past the "at most 100000" check."""
+    proc, calls = submit(exe, tmp_path, stub_sbatch, *args)
+    assert proc.returncode == 2, proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1 and "decimal" in proc.stderr, proc.stderr
+    assert calls == []
+
+
+@pytest.mark.parametrize("args, array", [(["3"], "--array=1-3%3"), (["16", "4", "--", "-c", "2"], "--array=1-16%4"),
+                                         (["100000"], "--array=1-100000%100000")])
+def test_submit_with_valid_numbers_and_no_options_submits_both_jobs(exe, tmp_path, stub_sbatch, args, array):
+    proc, calls = submit(exe, tmp_path, stub_sbatch, *args)
+    assert proc.returncode == 0, proc.stderr
+    assert len(calls) == 2 and array in calls[0] and "--dependency=afterok:4242" in calls[1], calls
+    assert "--mem=" in calls[0]
+
+
+def test_batch_scripts_expand_arrays_as_bash_4_2_allows_under_set_u():
+    """bash before 4.4 calls an empty array "unbound" under `set -u`: every array is expanded as ${a[@]+"${a[@]}"}
+    (bash 4.2 is not installed here to run them; this reads them). No user value reaches $(( )) or (( )) unchecked:
+    every variable in an arithmetic expression of submit.sh is one `decimal` checked, or the script's own."""
+    import re
+    for script in sorted(SLURM.iterdir()):
+        text = "\n".join(line for line in script.read_text().splitlines() if not line.lstrip().startswith("#"))
+        bare = re.findall(r'(?<!\+)"\$\{(\w+)\[@\]\}"', text)
+        assert not bare, (script.name, bare)
+    text = (SLURM / "submit.sh").read_text()
+    allowed = {"i", "per_thread", "cpus", "user_mem", "status", "requeue", "text", "max"}
+    for expr in re.findall(r"\$?\(\((.*?)\)\)", text):
+        names = set(re.findall(r"\b([a-z_]+)\b", expr)) - {"array_opts"}
+        assert names <= allowed, (expr, names - allowed)
