@@ -434,7 +434,7 @@ int supratrans_remove_stale(const char *dir, const char *prefix)
  * An ELF executable's .preinit_array runs before the constructors of every shared library (glibc's _dl_init), so
  * this function can still set the environment those constructors read:
  * - the buffers fit the limits: nothing;
- * - k >= 1 buffers fit: OMP_NUM_THREADS=k (OpenBLAS's buffers and the program's threads), with one line;
+ * - k >= 1 buffers fit: OMP_NUM_THREADS=k (OpenBLAS's buffers and the program's threads; /provenance has them);
  * - none fits: one line and exit status 2 (what a memory limit below a run's needs gives), before any work;
  * - the stack limit is below 8 MiB: OMP_STACKSIZE=8M unless set (libgomp's threads then get stacks of their own size,
  *   not the limit of the main thread's stack, which they inherit otherwise: a worker overflowed 64 KiB), and the soft
@@ -550,13 +550,9 @@ static void start_within_limits(int argc, char **argv, char **envp)
             startup_line(line);
             _exit(2);
         }
-        if (which != NULL) {
-            set_threads = fit;
-            snprintf(line, sizeof line, "supratrans: the %s of %.0f MiB leaves room for the start-up buffers of %ld "
-                     "OpenBLAS thread(s) (128 MiB each): running %ld OpenMP thread(s) instead of %d "
-                     "(OMP_NUM_THREADS=%ld)\n", which, limit / 1048576.0, fit, fit, threads, fit);
-            startup_line(line);
-        }
+        /* silently: a line here would be a second line beside a run's own error (one line per failure); the
+         * threads run are in every output's /provenance */
+        if (which != NULL) set_threads = fit;
     }
     if (!set_stack && set_threads == 0) return;
     /* The environment is read by the libraries' constructors from the array the kernel passed, which cannot grow:
