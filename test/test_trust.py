@@ -701,3 +701,14 @@ def test_batch_scripts_expand_arrays_as_bash_4_2_allows_under_set_u():
     for expr in re.findall(r"\$?\(\((.*?)\)\)", text):
         names = set(re.findall(r"\b([a-z_]+)\b", expr)) - {"array_opts"}
         assert names <= allowed, (expr, names - allowed)
+
+
+def test_address_space_limit_with_one_processor_of_several(exe, tmp_path):
+    """OpenBLAS counts the machine's processors, not the affinity mask: under `taskset -c 0` it still mapped a
+    buffer for each, and a start-up that counted the mask's one hung under `ulimit -v 250 MiB`."""
+    if shutil.which("taskset") is None or os.cpu_count() < 2:
+        pytest.skip("needs taskset and two processors")
+    proc = subprocess.run(["bash", "-c", 'ulimit -v 256000 && exec taskset -c 0 "$@"', "bash", exe, "--version"],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    assert proc.returncode in (0, 2), proc.stderr
+    assert proc.returncode == 2 or proc.stdout.startswith("supratrans ")

@@ -516,12 +516,20 @@ static void start_within_limits(int argc, char **argv, char **envp)
     int (*parallel)(void) = (int (*)(void))dlsym(RTLD_DEFAULT, "openblas_get_parallel");
     double as = soft_limit(RLIMIT_AS), data = soft_limit(RLIMIT_DATA);
     if (parallel != NULL && parallel() == 2 && (as >= 0.0 || data >= 0.0)) {
-        int threads = supratrans_usable_cpus();
+        /* OpenBLAS's count: OMP_NUM_THREADS (the first level of a list "4,2"), else all processors, at most the
+         * processors it counts, which are not always those of the affinity mask (measured: `taskset -c 0` on this
+         * 2-processor machine still mapped two buffers); so the larger count is taken */
+        int usable = supratrans_usable_cpus();
+        long conf = sysconf(_SC_NPROCESSORS_CONF), online = sysconf(_SC_NPROCESSORS_ONLN);
+        long most = usable;
+        if (conf > most) most = conf;
+        if (online > most) most = online;
+        long asked = 0;
         const char *omp = env_value(envp, "OMP_NUM_THREADS");
-        if (omp != NULL) {
-            long asked = strtol(omp, NULL, 10);   /* the first level of a list "4,2" */
-            if (asked > 0 && asked < threads) threads = (int)asked;
-        }
+        if (omp != NULL) asked = strtol(omp, NULL, 10);
+        long threads = asked > 0 && asked < most ? asked : most;
+        /* what the program runs without the limit: the threads asked, else libgomp's default (the affinity mask) */
+        long wanted = asked > 0 ? asked : usable;
         long fit = threads;
         const char *which = NULL;
         double limit = 0.0, used = 0.0;
@@ -552,7 +560,7 @@ static void start_within_limits(int argc, char **argv, char **envp)
         }
         /* silently: a line here would be a second line beside a run's own error (one line per failure); the
          * threads run are in every output's /provenance */
-        if (which != NULL) set_threads = fit;
+        if (which != NULL) set_threads = fit < wanted ? fit : wanted;
     }
     if (!set_stack && set_threads == 0) return;
     /* The environment is read by the libraries' constructors from the array the kernel passed, which cannot grow:

@@ -12,7 +12,7 @@ module supratrans_cli_output
     use supratrans_config, only: input_config
     use supratrans_invocation, only: invocation_type
     use supratrans_system, only: make_directories, path_kind, path_directory, same_file, lock_file, unlock_file, &
-                                 remove_file, catch_stop_signals, link_kind, path_link, path_special, lock_busy, &
+                                 catch_stop_signals, link_kind, path_link, path_special, lock_busy, &
                                  lock_unsupported, remove_stale_temporaries, disable_hdf5_locking, temp_extra, stop_signal, &
                                  not_own_file, remove_own_file, foreign_checkpoint
     use supratrans_journal, only: write_journal
@@ -21,7 +21,7 @@ module supratrans_cli_output
     implicit none
     private
 
-    public :: check_output_location, take_lock, with_lock, merge_stopped, progress, check_own_files
+    public :: check_output_location, take_lock, with_lock, merge_stopped, progress
 
 contains
 
