@@ -429,13 +429,16 @@ int supratrans_remove_stale(const char *dir, const char *prefix)
  * `ulimit -s`) act before `main`. The OpenMP build of OpenBLAS (Debian's libopenblas0-openmp) maps one buffer of
  * 128 MiB for each of its threads in its constructor, and retries a failed mmap forever: under a limit that leaves
  * no room for them even `supratrans --version` used to spin at 100% CPU. It takes its thread count from
- * OMP_NUM_THREADS (OPENBLAS_NUM_THREADS is ignored by that build), capped at the processors of the process.
+ * OMP_NUM_THREADS (OPENBLAS_NUM_THREADS is ignored by that build), capped at the processors it counts (the machine's,
+ * not the affinity mask's: measured with taskset).
  *
  * An ELF executable's .preinit_array runs before the constructors of every shared library (glibc's _dl_init), so
  * this function can still set the environment those constructors read:
  * - the buffers fit the limits: nothing;
- * - k >= 1 buffers fit: OMP_NUM_THREADS=k (OpenBLAS's buffers and the program's threads; /provenance has them);
+ * - k >= 1 buffers fit: OMP_NUM_THREADS=k, or the threads the program runs anyway if fewer (OpenBLAS's buffers and
+ *   the program's threads; no line, so that a failure later is one line; /provenance has the threads);
  * - none fits: one line and exit status 2 (what a memory limit below a run's needs gives), before any work;
+ * - merge: its stop signals are caught from here on (see supratrans_catch_stop_signals);
  * - the stack limit is below 8 MiB: OMP_STACKSIZE=8M unless set (libgomp's threads then get stacks of their own size,
  *   not the limit of the main thread's stack, which they inherit otherwise: a worker overflowed 64 KiB), and the soft
  *   stack limit is raised as far as the hard one allows (8 MiB at most).

@@ -32,7 +32,8 @@ module supratrans_scene_stability
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
     use supratrans_strings, only: int_str, real_str
-    use supratrans_scene, only: scene_type, scene_tasks, wrong_tasks
+    use supratrans_scene, only: scene_type, scene_tasks, wrong_tasks, scene_budget
+    use supratrans_limits, only: limit_error, threads_text, sci, dense_buffer_bytes
     use supratrans_config, only: input_config, run_config, vary_choices, chain_params, method_newton, method_linearized, &
                                  method_rk4, method_rk8, method_avf4, method_avf8, method_name
     use supratrans_potential, only: potential_name
@@ -93,6 +94,8 @@ module supratrans_scene_stability
         procedure :: make_tasks => stability_make_tasks
         !> Its file (`write_stability`).
         procedure :: write_output => stability_write_output
+        !> The address space its dense eigenvalue problems need (OpenBLAS's working buffer) against the memory.
+        procedure :: check_limits => stability_scene_limits
     end type stability_scene
 
 contains
@@ -377,6 +380,31 @@ contains
         end subroutine try
 
     end subroutine stability_task_values
+
+    !> The scene's memory against what the machine gives, before any work: the linear theory solves dense eigenvalue
+    !> problems (LAPACK), for which OpenBLAS maps a working buffer on each thread (`dense_buffer_bytes`); under a small
+    !> `ulimit -v` the scene used to hang there (OpenBLAS retries the mmap forever). Now one line, status 2.
+    pure subroutine stability_scene_limits(self, cfg, where, budget, error)
+        !> The scene.
+        class(stability_scene), intent(in) :: self
+        !> The configuration (values already within their ranges and rules).
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Threads and memory of the machine.
+        type(scene_budget), intent(in) :: budget
+        !> Allocated when a limit is exceeded.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp) :: need
+
+        need = dense_buffer_bytes*real(budget%threads, wp)
+        if (budget%memory > 0.0_wp .and. need > 0.8_wp*budget%memory) then
+            call limit_error(error, where, "scene", "the dense eigenvalue problems of the linear theory need about " &
+                             // sci(need/1.0e9_wp) // " GB (OpenBLAS's working buffer)" // threads_text(budget) &
+                             // ", more than the " // sci(budget%memory/1.0e9_wp) // " GB available (" &
+                             // budget%source // ")")
+        end if
+    end subroutine stability_scene_limits
 
     !> A run is stable when it reached its final time without blowing up or failing.
     pure function run_is_stable(res) result(stable)
