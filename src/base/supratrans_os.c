@@ -441,13 +441,15 @@ int supratrans_remove_stale(const char *dir, const char *prefix)
  * - merge: its stop signals are caught from here on (see supratrans_catch_stop_signals);
  * - the stack limit is below 8 MiB: OMP_STACKSIZE=8M unless set (libgomp's threads then get stacks of their own size,
  *   not the limit of the main thread's stack, which they inherit otherwise: a worker overflowed 64 KiB), and the soft
- *   stack limit is raised as far as the hard one allows (8 MiB at most).
+ *   stack limit is raised as far as the hard one allows (8 MiB at most); below 1 MiB still: one line, status 2.
  * Only the OpenMP build of OpenBLAS is looked at (openblas_get_parallel() == 2); any other BLAS maps nothing here. */
 
 /* What OpenBLAS (x86_64, BUFFER_SIZE = 32 << 22) maps per thread at start-up, with what mmap adds to it. */
 #define OPENBLAS_BUFFER (128.0 * 1048576.0 + 1048576.0)
 /* What the rest of the start-up maps after the libraries (libgfortran, libgomp, HDF5), measured 2-6 MiB; with room. */
 #define STARTUP_RESERVE (16.0 * 1048576.0)
+/* The least stack the main thread must be allowed (ulimit -s): a run's deepest calls (LAPACK) need more than 64 KiB. */
+#define MAIN_STACK (1024.0 * 1024.0)
 /* The stack the threads of libgomp are given when the stack limit is below it. */
 #define THREAD_STACK (8.0 * 1048576.0)
 
@@ -515,6 +517,17 @@ static void start_within_limits(int argc, char **argv, char **envp)
             }
         }
         set_stack = env_value(envp, "OMP_STACKSIZE") == NULL && env_value(envp, "GOMP_STACKSIZE") == NULL;
+        /* the main thread keeps what the hard limit allows: below MAIN_STACK a run may overflow it inside LAPACK's
+         * eigenvalue solvers (measured: SIGSEGV in dlaqr3/dormhr of a continuation under ulimit -s 64, now and then,
+         * as the master thread draws that task) */
+        double raised = soft_limit(RLIMIT_STACK);
+        if (raised >= 0.0 && raised < MAIN_STACK) {
+            snprintf(line, sizeof line, "error: supratrans: the stack limit (ulimit -s) of %.0f KiB is below the %.0f "
+                     "KiB the main thread may need (LAPACK's eigenvalue solvers, the HDF5 writers): raise it, e.g. "
+                     "ulimit -s 8192 (docs/failures.md)\n", raised / 1024.0, MAIN_STACK / 1024.0);
+            startup_line(line);
+            _exit(2);
+        }
     }
     int (*parallel)(void) = (int (*)(void))dlsym(RTLD_DEFAULT, "openblas_get_parallel");
     double as = soft_limit(RLIMIT_AS), data = soft_limit(RLIMIT_DATA);
