@@ -373,3 +373,359 @@ def test_stale_journal_beside_the_output_of_another_input_is_kept(exe, tmp_path)
     proc = run(exe, "s.nml", cwd=tmp_path)
     one_line(proc, 2, "exists")
     assert journal.read_bytes() == stale
+
+
+# --------------------------------------------------------------------------------------- issue 43: another user's files
+
+OTHER = ["setpriv", "--reuid=nobody", "--regid=nogroup", "--clear-groups"]
+
+
+@pytest.fixture
+def shared():
+    """A folder every user may write, without the sticky bit (0777), as a project's shared folder often is; files
+    are planted there as another user (`nobody`, through setpriv)."""
+    if os.geteuid() != 0 or shutil.which("setpriv") is None:
+        pytest.skip("needs root and setpriv to act as another user")
+    import tempfile
+    where = Path(tempfile.mkdtemp(prefix="supratrans-shared-", dir="/tmp"))
+    os.chmod(where, 0o777)
+    (where / "out").mkdir()
+    os.chmod(where / "out", 0o777)
+    yield where
+    shutil.rmtree(where, ignore_errors=True)
+
+
+def plant_as_other(path, data):
+    """Write `data` at `path` as the user nobody."""
+    subprocess.run([*OTHER, "sh", "-c", 'cat > "$1"', "sh", str(path)], input=data, check=True)
+    assert path.stat().st_uid != os.geteuid()
+
+
+@pytest.mark.parametrize("name, template", [("s.h5.partial.h5", SWEEP), ("s.h5.checkpoint-3", SWEEP),
+                                            ("s.h5.journal", SWEEP), ("s.h5.checkpoint", TS)])
+def test_another_users_files_in_a_shared_folder_are_neither_deleted_nor_used(exe, shared, name, template):
+    """Issue 43, failure 1: a run removed another user's `OUT.partial.h5` and `OUT.checkpoint-<t>` and exited 0.
+    Now it refuses in one line (status 4), and the file is left as it was; `--check` says the same."""
+    (shared / "s.nml").write_text(template.format(out="out/s.h5", extra=""))
+    planted = shared / "out" / name
+    plant_as_other(planted, b"another user's file\n")
+    before = planted.stat()
+    for args in (["s.nml"], ["--check", "s.nml"]):
+        proc = run(exe, *args, cwd=shared)
+        one_line(proc, 4, name, "another user")
+        after = planted.stat()
+        assert (after.st_ino, after.st_uid, after.st_mtime_ns) == (before.st_ino, before.st_uid, before.st_mtime_ns)
+        assert planted.read_bytes() == b"another user's file\n"
+        assert not (shared / "out" / "s.h5").exists()
+
+
+def forge(journal_text, value):
+    """The journal with the first value of its first record replaced by `value`, every checksum recomputed (as
+    supratrans computes them: zlib's CRC-32, records bound to the header line)."""
+    import zlib
+    lines = journal_text.splitlines()
+    header = lines[0]
+    words = lines[1].rsplit(" *", 1)[0].split()
+    words[1] = f"{value:.17e}"
+    body = " ".join(words)
+    crc = zlib.crc32(body.encode(), zlib.crc32((header + "\n").encode()))
+    return "\n".join([header, f"{body} *{crc:08X}", *lines[2:]]) + "\n"
+
+
+@pytest.fixture
+def forged_journal(exe, tmp_path):
+    """A journal of a stopped sweep with a value changed and its checksum recomputed: a forgery no checksum finds."""
+    path = nml(tmp_path, SWEEP)
+    stopped = run(exe, "s.nml", cwd=tmp_path, env={"SUPRATRANS_STOP_AFTER": "2", "OMP_NUM_THREADS": "1"})
+    assert stopped.returncode == 5, stopped.stderr
+    journal = tmp_path / "out" / "s.h5.journal"
+    assert stat.S_IMODE(journal.stat().st_mode) & 0o022 == 0       # supratrans writes its files rw-r--r--
+    journal.write_text(forge(journal.read_text(), 1000.0))
+    return path, journal
+
+
+def test_journal_forged_by_another_user_is_not_resumed_from(exe, forged_journal):
+    """Issue 43, failure 2: another user's journal with a value changed and its checksum recomputed was resumed from
+    (exit 0, the forged value in the output) and then deleted. Now: one line, status 4, the journal untouched."""
+    if os.geteuid() != 0:
+        pytest.skip("needs root to give the journal to another user")
+    path, journal = forged_journal
+    os.chown(journal, 65534, 65534)
+    text = journal.read_bytes()
+    proc = run(exe, path.name, cwd=path.parent)
+    one_line(proc, 4, "s.h5.journal", "another user")
+    assert journal.read_bytes() == text and journal.stat().st_uid == 65534
+    assert not (path.parent / "out" / "s.h5").exists()
+
+
+def test_journal_others_could_write_is_not_resumed_from(exe, forged_journal):
+    """The same forgery in the user's own journal left writable by others (mode 0666): refused, kept."""
+    path, journal = forged_journal
+    os.chmod(journal, 0o666)
+    text = journal.read_bytes()
+    proc = run(exe, path.name, cwd=path.parent)
+    one_line(proc, 4, "s.h5.journal", "writable by group or others", "0666")
+    assert journal.read_bytes() == text
+    os.chmod(journal, 0o644)                   # the owner vouches for it: resumed, as any journal of the user's own
+    assert run(exe, path.name, cwd=path.parent).returncode == 0
+
+
+def test_part_of_another_user_is_not_taken_for_a_finished_slice(exe, shared):
+    """A part file found under a slice's name is "complete already" only if it is the user's own."""
+    (shared / "p.nml").write_text(SWEEP.format(out="out/p.h5", extra=""))
+    assert run(exe, "p.nml", "--slice", "1/2", cwd=shared).returncode == 0
+    part = shared / "out" / "p.part-1-of-2.h5"
+    data = part.read_bytes()
+    part.unlink()
+    plant_as_other(part, data)
+    proc = run(exe, "p.nml", "--slice", "1/2", cwd=shared)
+    one_line(proc, 4, "p.part-1-of-2.h5", "another user")
+    assert part.read_bytes() == data and part.stat().st_uid != os.geteuid()
+
+
+# --------------------------------------------------------------------------------------- issue 43: a scheduler's limits
+
+LIMITS = {"ulimit -v 250 MiB": "ulimit -v 256000", "ulimit -d 20 MiB": "ulimit -d 20480", "ulimit -s 64 KiB": "ulimit -s 64"}
+
+
+DENSE = {"stability": """&chain n = 40, n0 = 30 /
+&numerics t_final = 10.0 /
+&scene kind = 'stability', methods = 'rk4', c_values = 4.0, dts = 0.1 /
+&output file = 'out/s.h5', quiet = .true. /
+""", "continuation": """&chain n = 40, n0 = 30 /
+&numerics method = 'newton', dt = 0.05 /
+&scene kind = 'continuation', omega_min = 0.9, omega_max = 0.9, omega_step = 0.1, amplitude_max = 3.0 /
+&output file = 'out/s.h5', quiet = .true. /
+"""}
+
+
+@pytest.mark.parametrize("limit", sorted(LIMITS))
+@pytest.mark.parametrize("what", ["--version", "timeseries", "sweep", "stability", "continuation"])
+def test_limits_of_a_scheduler_end_in_a_result_or_one_line(exe, tmp_path, limit, what):
+    """Issue 43, failure 3: under `ulimit -v` of 150-300 MiB or `ulimit -d 20000` even `--version` spun forever
+    (OpenBLAS's start-up retrying a 128 MiB mmap before main), and under `ulimit -s 64` a run ended in SIGSEGV (139)
+    with a journal left. Each now runs (status 0) or ends at once with one line and status 2; never a hang, never a
+    signal. Two threads asked, as on a node of several processors."""
+    if what == "--version":
+        args = ["--version"]
+    elif what in DENSE:                       # dense LAPACK: OpenBLAS maps a working buffer in the run (it hung)
+        (tmp_path / "out").mkdir()
+        (tmp_path / "s.nml").write_text(DENSE[what])
+        args = ["s.nml"]
+    else:
+        nml(tmp_path, TS if what == "timeseries" else SWEEP)
+        args = ["s.nml"]
+    command = LIMITS[limit] + ' && exec "$@"'
+    proc = subprocess.run(["bash", "-c", command, "bash", exe, *args], cwd=tmp_path, capture_output=True, text=True,
+                          timeout=120, env=dict(os.environ, OMP_NUM_THREADS="2"))
+    errors = [line for line in proc.stderr.splitlines() if line.startswith("error")]
+    if proc.returncode == 0:
+        assert not errors, proc.stderr
+        if what != "--version":
+            assert is_hdf5(tmp_path / "out" / "s.h5")
+            assert not (tmp_path / "out" / "s.h5.journal").exists()
+    else:
+        one_line(proc, 2, limit.split(" ")[0] + " " + limit.split(" ")[1])
+        assert not (tmp_path / "out" / "s.h5.journal").exists()
+
+
+# --------------------------------------------------------------------------------------- issue 43: --slice, merge
+
+
+@pytest.mark.parametrize("args", [["--slice", "1/3", "--slice", "2/3"], ["--slice", "2/3", "--slice", "2/3"],
+                                  ["--slice", "08/09"], ["--slice", "1/08"], ["--slice", "0/3"], ["--slice", "00001/2"]])
+def test_slice_given_twice_or_with_leading_zeros_is_refused(exe, tmp_path, args):
+    """Issue 43, failure 6: `--slice 1/3 --slice 2/3` silently took the last, `--slice 08/09` was accepted."""
+    nml(tmp_path, SWEEP)
+    proc = run(exe, "s.nml", *args, cwd=tmp_path)
+    one_line(proc, 2, "--slice")
+    assert list((tmp_path / "out").iterdir()) == []
+
+
+def test_merge_catches_stop_signals_before_the_libraries_start(exe, tmp_path):
+    """Issue 43, failure 6: SIGTERM to `merge` in its first 50 ms ended it with 143: the handler came after the
+    libraries' start-up (OpenBLAS maps its buffers in a constructor) and the parsing. Seen without racing a signal:
+    the system calls in order, the handler's rt_sigaction before any library constructor's mmap of a buffer and
+    before any part file is opened."""
+    if shutil.which("strace") is None:
+        pytest.skip("strace not installed")
+    parts = make_parts(exe, tmp_path)
+    log = tmp_path / "strace.log"
+    proc = subprocess.run(["strace", "-f", "-o", str(log), "-e", "trace=rt_sigaction,mmap,openat", exe, "merge",
+                           *map(str, parts)], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr
+    calls = log.read_text().splitlines()
+    handler = next(k for k, c in enumerate(calls) if "rt_sigaction(SIGTERM, {sa_handler=0x" in c)
+    buffers = [k for k, c in enumerate(calls) if "mmap(NULL, 134217728," in c]
+    opened = [k for k, c in enumerate(calls) if "openat(" in c and ".part-" in c]
+    assert opened and handler < opened[0]
+    assert not buffers or handler < buffers[0], calls[:handler + 1]
+
+
+# --------------------------------------------------------------------------------------- issue 43: work_precision
+
+WORKPREC = """&chain n = {n}, n0 = {n0} /
+&numerics t_final = 200.0 /
+&scene kind = 'work_precision', methods = 'rk4', dts = {dts}, repeats = {repeats}, reference_dt = {reference_dt} /
+&output file = 'out/s.h5' /
+"""
+
+
+@pytest.mark.parametrize("repeats, n, dts, status", [(2147483647, 100, "0.1", 2), (1000, 100000, "0.001, 0.0005", 2),
+                                                    (1, 100000, "0.001, 0.0005", 0)])
+def test_repeats_of_work_precision_are_bounded_and_counted_in_the_work_limit(exe, tmp_path, repeats, n, dts, status):
+    """Issue 43, failure 4: `repeats = 2147483647` passed --check (the repeats were in no limit)."""
+    (tmp_path / "s.nml").write_text(WORKPREC.format(n=n, n0=n - 10, dts=dts, repeats=repeats, reference_dt=0.1))
+    proc = run(exe, "--check", "s.nml", cwd=tmp_path)
+    assert proc.returncode == status, proc.stderr
+    if status:
+        one_line(proc, 2, "s.nml", "repeats")
+
+
+@pytest.mark.parametrize("when", ["reference solutions", "timed runs"])
+def test_work_precision_stops_at_sigterm_within_a_second(exe, tmp_path, when):
+    """Issue 43, failure 4: work_precision ignored SIGTERM for minutes (its repeats and its reference runs never
+    looked at the stop flag). The signal is sent once the scene says it has begun that stage (its progress line);
+    a timed run of 1000 repeats and its references take far longer than the test waits."""
+    (tmp_path / "out").mkdir()
+    # references of 3 x 200/0.005 rk8 steps when they are signalled, of 3 x 200/0.1 when the timed runs are
+    reference_dt = 0.005 if when == "reference solutions" else 0.1
+    (tmp_path / "s.nml").write_text(WORKPREC.format(n=500, n0=490, dts="0.01", repeats=1000, reference_dt=reference_dt))
+    proc = subprocess.Popen([exe, "s.nml"], cwd=tmp_path, stderr=subprocess.PIPE, text=True)
+    try:
+        seen = []
+        for line in proc.stderr:
+            seen.append(line)
+            if when in line:
+                break
+        assert when in seen[-1], seen
+        signalled = time.monotonic()
+        proc.send_signal(signal.SIGTERM)
+        rest = proc.communicate(timeout=30)[1]
+        stopped = time.monotonic() - signalled
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 5, rest
+    errors = [line for line in rest.splitlines() if line.startswith("error")]
+    assert len(errors) == 1 and "stopped by signal 15" in errors[0], rest
+    assert stopped < 2.0, stopped
+    assert not (tmp_path / "out" / "s.h5").exists()
+
+
+def test_sweep_without_checkpoints_stops_at_sigterm_within_a_second(exe, tmp_path):
+    """With `checkpoint_every = 0` a run of a sweep (or a hysteresis stair, a search, a stability run) did not look
+    at the stop flag and ran to its end after SIGTERM. Signalled once the scene has started its runs (its line)."""
+    (tmp_path / "out").mkdir()
+    (tmp_path / "s.nml").write_text("""&chain n = 2000, n0 = 1900 /
+&numerics t_final = 100000.0 /
+&scene kind = 'amplitude_sweep', amplitude_min = 1.0, amplitude_max = 1.2, amplitude_step = 0.2 /
+&output file = 'out/s.h5', checkpoint_every = 0 /
+""")
+    proc = subprocess.Popen([exe, "s.nml"], cwd=tmp_path, stderr=subprocess.PIPE, text=True,
+                            env=dict(os.environ, OMP_NUM_THREADS="1"))
+    try:
+        for line in proc.stderr:
+            if "already done" in line:
+                break
+        signalled = time.monotonic()
+        proc.send_signal(signal.SIGTERM)
+        rest = proc.communicate(timeout=30)[1]
+        stopped = time.monotonic() - signalled
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 5, rest
+    assert "stopped by signal 15" in rest and stopped < 5.0, (stopped, rest)
+    assert not (tmp_path / "out" / "s.h5").exists()
+
+
+# --------------------------------------------------------------------------------------- issue 43: the batch scripts
+
+SLURM = Path(__file__).resolve().parent.parent / "input" / "slurm"
+
+
+@pytest.fixture
+def stub_sbatch(tmp_path):
+    """A stub `sbatch` first on PATH: it records its arguments (one line per call) and prints a job id."""
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    (bin_dir / "sbatch").write_text('#!/bin/bash\nprintf "%s\\n" "$*" >> "$SBATCH_LOG"\necho "4242;cluster"\n')
+    os.chmod(bin_dir / "sbatch", 0o755)
+    return bin_dir
+
+
+def submit(exe, tmp_path, stub, *args):
+    nml(tmp_path, SWEEP, name="study.nml")
+    env = dict(os.environ, PATH=f"{stub}:{os.environ['PATH']}", SUPRATRANS=exe, SBATCH_LOG=str(tmp_path / "sbatch.log"))
+    proc = subprocess.run(["bash", str(SLURM / "submit.sh"), "study.nml", *args], cwd=tmp_path, env=env,
+                          capture_output=True, text=True, timeout=120)
+    log = tmp_path / "sbatch.log"
+    return proc, log.read_text().splitlines() if log.exists() else []
+
+
+@pytest.mark.parametrize("args", [
+    ["3", "--", "-c", "i[$(touch INJECTED)]"],
+    ["3", "--", "--cpus-per-task=i[$(touch INJECTED)]"],
+    ["3", "--", "-ci[$(touch INJECTED)]"],
+    ["3", "i[$(touch INJECTED)]"],
+    ["i[$(touch INJECTED)]"],
+], ids=["-c VALUE", "--cpus-per-task=", "-cVALUE", "THROTTLE", "N"])
+def test_submit_never_evaluates_user_text_as_arithmetic(exe, tmp_path, stub_sbatch, args):
+    """Issue 43, failure 5: `submit.sh s.nml 3 -- -c 'i[$(id>/tmp/x)]'` ran `id` (the value went into $(( ))) and
+    submitted. Now refused in one line, status 2, nothing submitted, nothing run."""
+    proc, calls = submit(exe, tmp_path, stub_sbatch, *args)
+    assert proc.returncode == 2, proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1 and "decimal" in proc.stderr, proc.stderr
+    assert calls == []
+    assert not (tmp_path / "INJECTED").exists()
+
+
+@pytest.mark.parametrize("args", [["08"], ["010"], ["18446744073709551619"], ["100001"], ["0"], ["3", "08"],
+                                  ["3", "18446744073709551619"], ["3", "--", "--cpus-per-task=08"],
+                                  ["3", "--", "-c", "99999999999999999999"]])
+def test_submit_refuses_leading_zeros_and_numbers_beyond_their_bound(exe, tmp_path, stub_sbatch, args):
+    """Issue 43, failure 5: `N = 08` printed a bash error and submitted --array=1-08%08; N = 18446744073709551619
+    wrapped past the "at most 100000" check."""
+    proc, calls = submit(exe, tmp_path, stub_sbatch, *args)
+    assert proc.returncode == 2, proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1 and "decimal" in proc.stderr, proc.stderr
+    assert calls == []
+
+
+@pytest.mark.parametrize("args, array", [(["3"], "--array=1-3%3"), (["16", "4", "--", "-c", "2"], "--array=1-16%4"),
+                                         (["100000"], "--array=1-100000%100000")])
+def test_submit_with_valid_numbers_and_no_options_submits_both_jobs(exe, tmp_path, stub_sbatch, args, array):
+    proc, calls = submit(exe, tmp_path, stub_sbatch, *args)
+    assert proc.returncode == 0, proc.stderr
+    assert len(calls) == 2 and array in calls[0] and "--dependency=afterok:4242" in calls[1], calls
+    assert "--mem=" in calls[0]
+
+
+def test_batch_scripts_expand_arrays_as_bash_4_2_allows_under_set_u():
+    """bash before 4.4 calls an empty array "unbound" under `set -u`: every array is expanded as ${a[@]+"${a[@]}"}
+    (bash 4.2 is not installed here to run them; this reads them). No user value reaches $(( )) or (( )) unchecked:
+    every variable in an arithmetic expression of submit.sh is one `decimal` checked, or the script's own."""
+    import re
+    for script in sorted(SLURM.iterdir()):
+        text = "\n".join(line for line in script.read_text().splitlines() if not line.lstrip().startswith("#"))
+        bare = re.findall(r'(?<!\+)"\$\{(\w+)\[@\]\}"', text)
+        assert not bare, (script.name, bare)
+    text = (SLURM / "submit.sh").read_text()
+    allowed = {"i", "per_thread", "cpus", "user_mem", "status", "requeue", "text", "max"}
+    for expr in re.findall(r"\$?\(\((.*?)\)\)", text):
+        names = set(re.findall(r"\b([a-z_]+)\b", expr)) - {"array_opts"}
+        assert names <= allowed, (expr, names - allowed)
+
+
+def test_address_space_limit_with_one_processor_of_several(exe, tmp_path):
+    """OpenBLAS counts the machine's processors, not the affinity mask: under `taskset -c 0` it still mapped a
+    buffer for each, and a start-up that counted the mask's one hung under `ulimit -v 250 MiB`."""
+    if shutil.which("taskset") is None or os.cpu_count() < 2:
+        pytest.skip("needs taskset and two processors")
+    proc = subprocess.run(["bash", "-c", 'ulimit -v 256000 && exec taskset -c 0 "$@"', "bash", exe, "--version"],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=60)
+    assert proc.returncode in (0, 2), proc.stderr
+    assert proc.returncode == 2 or proc.stdout.startswith("supratrans ")

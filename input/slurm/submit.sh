@@ -22,6 +22,10 @@
 # and the merge with
 #   sbatch input/slurm/supratrans-merge.sbatch COPY N EXECUTABLE
 # (COPY and EXECUTABLE as this script prints them).
+#
+# Numbers (N, THROTTLE, --cpus-per-task, the memory --check reports) are checked as text before any arithmetic:
+# decimal digits without a leading zero, no larger than their bound. Runs under bash 4.2 and later (set -u: an
+# empty array is expanded as ${a[@]+"${a[@]}"}).
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 usage() {
@@ -31,6 +35,17 @@ usage() {
 die() {
     echo "submit.sh: $*" >&2
     exit 2
+}
+# decimal WHAT TEXT MAX [MIN]: TEXT must be a decimal literal from MIN (1, or 0) to MAX, checked as text before it
+# reaches any arithmetic: in $(( )) or (( )) bash evaluates its operands as expressions, and `i[$(cmd)]` runs cmd;
+# a leading zero reads as octal (08 is an error, 010 is 8); a number longer than 19 digits wraps around. So: digits
+# only, no leading zero, and the length compared before the value (as text: equal lengths order as numbers).
+decimal() {
+    local what=$1 text=$2 max=$3 min=${4:-1} pattern='^[1-9][0-9]*$'
+    [[ ${min} == 0 ]] && pattern='^(0|[1-9][0-9]*)$'
+    if ! [[ ${text} =~ ${pattern} ]] || ((${#text} > ${#max})) || { ((${#text} == ${#max})) && [[ ${text} > ${max} ]]; }; then
+        die "${what} = '${text}': expected a decimal number from ${min} to ${max} (digits only, no leading zero)"
+    fi
 }
 (($# >= 2)) || usage
 namelist=$1
@@ -52,11 +67,13 @@ if (($# > 0)); then
     [[ $1 == "--" ]] || die "unexpected argument '$1' (sbatch options go after --)"
     shift
 fi
-array_opts=("$@")
-[[ -f ${namelist} ]] || die "${namelist}: no such namelist file"
-if ! [[ ${slices} =~ ^[0-9]+$ && ${throttle} =~ ^[0-9]+$ ]] || ((slices < 1 || throttle < 1 || slices > 100000)); then
-    die "N and THROTTLE must be positive integers (N at most 100000)"
+array_opts=()
+if (($# > 0)); then
+    array_opts=("$@")
 fi
+[[ -f ${namelist} ]] || die "${namelist}: no such namelist file"
+decimal N "${slices}" 100000
+decimal THROTTLE "${throttle}" 100000
 
 # the executable, once, by its absolute path
 exe=${SUPRATRANS:-}
@@ -88,6 +105,7 @@ overwrite=$(value overwrite)
 scene=$(value scene)
 per_thread=$(value memory_per_thread_bytes)
 [[ -n ${output} && -n ${overwrite} && -n ${per_thread} ]] || die "${exe} --check printed no output and memory (an older supratrans?)"
+decimal "the memory per thread of ${exe} --check" "${per_thread}" 100000000000000 0
 [[ ${scene} != timeseries ]] || die "${namelist}: a timeseries is one run, it is not sliced (run it with sbatch directly)"
 if [[ -e ${output} && ${overwrite} != 1 ]]; then
     die "${output}: output file exists (set overwrite = .true. in ${namelist} to replace it, or move it away)"
@@ -143,6 +161,7 @@ if [[ -z ${cpus} ]]; then
     cpus=$(sed -n 's/^#SBATCH --cpus-per-task=\([0-9]*\).*/\1/p' "${here}/supratrans-array.sbatch" | head -n 1)
 fi
 cpus=${cpus:-1}
+decimal "--cpus-per-task" "${cpus}" 10000
 mem_opts=()
 if ((user_mem == 0)); then
     # the runs' own memory (twice the estimate: work arrays, the task results) and the program's libraries
@@ -151,16 +170,17 @@ if ((user_mem == 0)); then
 fi
 
 array=$(sbatch --parsable --job-name="supratrans-${name}" --array="1-${slices}%${throttle}" \
-    --output="${study_dir}/slice-%a.out" --open-mode=append "${mem_opts[@]}" "${array_opts[@]}" \
-    "${here}/supratrans-array.sbatch" "${copy}" "${slices}" "${exe}" "${costs_args[@]}")
+    --output="${study_dir}/slice-%a.out" --open-mode=append ${mem_opts[@]+"${mem_opts[@]}"} \
+    ${array_opts[@]+"${array_opts[@]}"} "${here}/supratrans-array.sbatch" "${copy}" "${slices}" "${exe}" \
+    ${costs_args[@]+"${costs_args[@]}"})
 array=${array%%;*}
 dep="afterok:${array}"
 if [[ -n ${user_dep} && ${user_dep} != *"?"* ]]; then
     dep="${dep},${user_dep}"
 fi
 merge=$(sbatch --parsable --job-name="supratrans-merge-${name}" --dependency="${dep}" --kill-on-invalid-dep=yes \
-    --output="${study_dir}/merge.out" --open-mode=append "${merge_opts[@]}" \
+    --output="${study_dir}/merge.out" --open-mode=append ${merge_opts[@]+"${merge_opts[@]}"} \
     "${here}/supratrans-merge.sbatch" "${copy}" "${slices}" "${exe}")
 merge=${merge%%;*}
-echo "namelist copy ${copy}, executable ${exe}${costs_args:+, costs ${costs_args[0]}}" >&2
+echo "namelist copy ${copy}, executable ${exe}${costs:+, costs ${costs_copy}}" >&2
 echo "array job ${array} (${slices} slices of ${namelist}), merge job ${merge}"

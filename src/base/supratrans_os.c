@@ -10,6 +10,7 @@
  * journal appended to (O_NOFOLLOW, regular files only) and the lock file (O_NOFOLLOW, never truncated). */
 #define _GNU_SOURCE
 #include <dirent.h>
+#include <dlfcn.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <sched.h>
@@ -23,6 +24,59 @@
 #include <sys/types.h>
 #include <time.h>
 #include <unistd.h>
+
+/* The mode every file of supratrans is created with (reduced further by the umask): rw-r--r--, never writable by
+ * group or others whatever the umask allows, so that a file found under one of its names that someone else can
+ * write is not one it wrote (see supratrans_own_file). */
+#define FILE_MODE 0644
+
+/* Whether `path` is a file this program may trust and delete as its own (lstat: a link is not followed): 0 nothing
+ * there, 1 a regular file owned by this user (effective uid) and writable by nobody else (no group or other write
+ * bit), 2 not a regular file (a symbolic link, FIFO, device, socket or directory), 3 another user's file (`*uid`
+ * its owner), 4 this user's file but writable by group or others (`*mode` its permission bits). A checksum finds
+ * damage, not forgery: a journal, snapshot or checkpoint someone else wrote or could have written is never resumed
+ * from nor deleted. */
+int supratrans_own_file(const char *path, long long *uid, int *mode)
+{
+    struct stat st;
+    *uid = -1;
+    *mode = 0;
+    if (lstat(path, &st) != 0) return 0;
+    *uid = (long long)st.st_uid;
+    *mode = (int)(st.st_mode & 07777);
+    if (!S_ISREG(st.st_mode)) return 2;
+    if (st.st_uid != geteuid()) return 3;
+    if ((st.st_mode & (S_IWGRP | S_IWOTH)) != 0) return 4;
+    return 1;
+}
+
+/* The first entry of directory `dir` named `prefix` or `prefix-<digits>` (a checkpoint: `<out>.checkpoint`,
+ * `<out>.checkpoint-<task>`) that is not this user's own file (supratrans_own_file), its name into `buf` (`size`
+ * bytes). Returns that file's code (2, 3 or 4), 0 if every such entry is this user's own. */
+int supratrans_foreign_entry(const char *dir, const char *prefix, char *buf, int size)
+{
+    DIR *d = opendir(dir);
+    if (d == NULL) return 0;
+    size_t np = strlen(prefix);
+    int found = 0;
+    struct dirent *entry;
+    while (found == 0 && (entry = readdir(d)) != NULL) {
+        const char *name = entry->d_name;
+        if (strncmp(name, prefix, np) != 0) continue;
+        const char *rest = name + np;
+        if (*rest != '\0') {
+            if (rest[0] != '-' || rest[1] == '\0' || strspn(rest + 1, "0123456789") != strlen(rest + 1)) continue;
+        }
+        struct stat st;
+        if (fstatat(dirfd(d), name, &st, AT_SYMLINK_NOFOLLOW) != 0) continue;
+        if (!S_ISREG(st.st_mode)) found = 2;
+        else if (st.st_uid != geteuid()) found = 3;
+        else if ((st.st_mode & (S_IWGRP | S_IWOTH)) != 0) found = 4;
+        if (found != 0) snprintf(buf, (size_t)size, "%s", name);
+    }
+    closedir(d);
+    return found;
+}
 
 /* Kind of a path: 0 missing, 1 regular file, 2 directory, 3 other (FIFO, device, socket). */
 int supratrans_path_kind(const char *path)
@@ -245,7 +299,7 @@ int supratrans_temp_name(const char *final, char *buf, int size)
  * otherwise errno. */
 int supratrans_append_bytes(const char *path, const char *bytes, long long len)
 {
-    int fd = open(path, O_WRONLY | O_CREAT | O_APPEND | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
+    int fd = open(path, O_WRONLY | O_CREAT | O_APPEND | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, FILE_MODE);
     if (fd < 0) return errno;
     struct stat st;
     if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
@@ -299,7 +353,7 @@ int supratrans_write_file_atomic(const char *final, const char *bytes, long long
     int fd = -1;
     for (int attempt = 0; attempt < 100 && fd < 0; attempt++) {
         if (supratrans_temp_name(final, tmp, sizeof tmp) != 0) return ENAMETOOLONG;
-        fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+        fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, FILE_MODE);
         if (fd < 0 && errno != EEXIST) return errno;
     }
     if (fd < 0) return EEXIST;
@@ -368,3 +422,194 @@ int supratrans_remove_stale(const char *dir, const char *prefix)
     closedir(d);
     return removed;
 }
+
+/* ---------------------------------------------------------------------------------------------- start-up limits
+ *
+ * The limits a scheduler sets (RLIMIT_AS: `ulimit -v`, Slurm's VSizeLimit; RLIMIT_DATA: `ulimit -d`; RLIMIT_STACK:
+ * `ulimit -s`) act before `main`. The OpenMP build of OpenBLAS (Debian's libopenblas0-openmp) maps one buffer of
+ * 128 MiB for each of its threads in its constructor, and retries a failed mmap forever: under a limit that leaves
+ * no room for them even `supratrans --version` used to spin at 100% CPU. It takes its thread count from
+ * OMP_NUM_THREADS (OPENBLAS_NUM_THREADS is ignored by that build), capped at the processors it counts (the machine's,
+ * not the affinity mask's: measured with taskset).
+ *
+ * An ELF executable's .preinit_array runs before the constructors of every shared library (glibc's _dl_init), so
+ * this function can still set the environment those constructors read:
+ * - the buffers fit the limits: nothing;
+ * - k >= 1 buffers fit: OMP_NUM_THREADS=k, or the threads the program runs anyway if fewer (OpenBLAS's buffers and
+ *   the program's threads; no line, so that a failure later is one line; /provenance has the threads);
+ * - none fits: one line and exit status 2 (what a memory limit below a run's needs gives), before any work;
+ * - merge: its stop signals are caught from here on (see supratrans_catch_stop_signals);
+ * - the stack limit is below 8 MiB: OMP_STACKSIZE=8M unless set (libgomp's threads then get stacks of their own size,
+ *   not the limit of the main thread's stack, which they inherit otherwise: a worker overflowed 64 KiB), and the soft
+ *   stack limit is raised as far as the hard one allows (8 MiB at most); below 1 MiB still: one line, status 2.
+ * Only the OpenMP build of OpenBLAS is looked at (openblas_get_parallel() == 2); any other BLAS maps nothing here. */
+
+/* What OpenBLAS (x86_64, BUFFER_SIZE = 32 << 22) maps per thread at start-up, with what mmap adds to it. */
+#define OPENBLAS_BUFFER (128.0 * 1048576.0 + 1048576.0)
+/* What the rest of the start-up maps after the libraries (libgfortran, libgomp, HDF5), measured 2-6 MiB; with room. */
+#define STARTUP_RESERVE (16.0 * 1048576.0)
+/* The least stack the main thread must be allowed (ulimit -s): a run's deepest calls (LAPACK) need more than 64 KiB. */
+#define MAIN_STACK (1024.0 * 1024.0)
+/* The stack the threads of libgomp are given when the stack limit is below it. */
+#define THREAD_STACK (8.0 * 1048576.0)
+
+/* A field of /proc/self/status in bytes ("VmSize", "VmData"), -1 if it cannot be read. */
+static double status_bytes(const char *field)
+{
+    FILE *f = fopen("/proc/self/status", "r");
+    if (f == NULL) return -1.0;
+    char line[256];
+    double value = -1.0;
+    size_t n = strlen(field);
+    while (fgets(line, sizeof line, f) != NULL) {
+        if (strncmp(line, field, n) == 0 && line[n] == ':') {
+            value = 1024.0 * strtod(line + n + 1, NULL);
+            break;
+        }
+    }
+    fclose(f);
+    return value;
+}
+
+/* The soft limit of `resource` in bytes, -1 when unlimited. */
+static double soft_limit(int resource)
+{
+    struct rlimit r;
+    if (getrlimit(resource, &r) != 0 || r.rlim_cur == RLIM_INFINITY) return -1.0;
+    return (double)r.rlim_cur;
+}
+
+/* One line on stderr, before anything else of the program runs. */
+static void startup_line(const char *text)
+{
+    ssize_t ignored = write(2, text, strlen(text));
+    (void)ignored;
+}
+
+/* The value of `name` in the environment `envp` (getenv cannot be used yet: libc sets its environment after this). */
+static const char *env_value(char **envp, const char *name)
+{
+    size_t n = strlen(name);
+    for (char **e = envp; e != NULL && *e != NULL; e++) {
+        if (strncmp(*e, name, n) == 0 && (*e)[n] == '=') return *e + n + 1;
+    }
+    return NULL;
+}
+
+static void start_within_limits(int argc, char **argv, char **envp)
+{
+    char line[640];
+    int set_stack = 0;
+    /* merge catches SIGTERM, SIGINT and SIGUSR1 from its very start, before the libraries' constructors (they take
+     * tens of milliseconds: a SIGTERM then used to end it with 143) */
+    int merging = argc > 1 && argv[1] != NULL && strcmp(argv[1], "merge") == 0;
+    if (merging) supratrans_catch_stop_signals();
+    long set_threads = 0;
+    double stack = soft_limit(RLIMIT_STACK);
+    if (stack >= 0.0 && stack < THREAD_STACK) {
+        struct rlimit r;
+        if (getrlimit(RLIMIT_STACK, &r) == 0) {
+            rlim_t want = (rlim_t)THREAD_STACK;
+            if (r.rlim_max != RLIM_INFINITY && r.rlim_max < want) want = r.rlim_max;
+            if (want > r.rlim_cur) {
+                r.rlim_cur = want;
+                setrlimit(RLIMIT_STACK, &r);
+            }
+        }
+        set_stack = env_value(envp, "OMP_STACKSIZE") == NULL && env_value(envp, "GOMP_STACKSIZE") == NULL;
+        /* the main thread keeps what the hard limit allows: below MAIN_STACK a run may overflow it inside LAPACK's
+         * eigenvalue solvers (measured: SIGSEGV in dlaqr3/dormhr of a continuation under ulimit -s 64, now and then,
+         * as the master thread draws that task) */
+        double raised = soft_limit(RLIMIT_STACK);
+        if (raised >= 0.0 && raised < MAIN_STACK) {
+            snprintf(line, sizeof line, "error: supratrans: the stack limit (ulimit -s) of %.0f KiB is below the %.0f "
+                     "KiB the main thread may need (LAPACK's eigenvalue solvers, the HDF5 writers): raise it, e.g. "
+                     "ulimit -s 8192 (docs/failures.md)\n", raised / 1024.0, MAIN_STACK / 1024.0);
+            startup_line(line);
+            _exit(2);
+        }
+    }
+    int (*parallel)(void) = (int (*)(void))dlsym(RTLD_DEFAULT, "openblas_get_parallel");
+    double as = soft_limit(RLIMIT_AS), data = soft_limit(RLIMIT_DATA);
+    if (parallel != NULL && parallel() == 2 && (as >= 0.0 || data >= 0.0)) {
+        /* OpenBLAS's count: OMP_NUM_THREADS (the first level of a list "4,2"), else all processors, at most the
+         * processors it counts, which are not always those of the affinity mask (measured: `taskset -c 0` on this
+         * 2-processor machine still mapped two buffers); so the larger count is taken */
+        int usable = supratrans_usable_cpus();
+        long conf = sysconf(_SC_NPROCESSORS_CONF), online = sysconf(_SC_NPROCESSORS_ONLN);
+        long most = usable;
+        if (conf > most) most = conf;
+        if (online > most) most = online;
+        long asked = 0;
+        const char *omp = env_value(envp, "OMP_NUM_THREADS");
+        if (omp != NULL) asked = strtol(omp, NULL, 10);
+        long threads = asked > 0 && asked < most ? asked : most;
+        /* what the program runs without the limit: the threads asked, else libgomp's default (the affinity mask) */
+        long wanted = asked > 0 ? asked : usable;
+        long fit = threads;
+        const char *which = NULL;
+        double limit = 0.0, used = 0.0;
+        double mapped = status_bytes("VmSize");
+        long k = (long)((as - mapped - STARTUP_RESERVE) / OPENBLAS_BUFFER);
+        if (as >= 0.0 && mapped >= 0.0 && k < fit) {
+            fit = k < 0 ? 0 : k;
+            which = "address-space limit (ulimit -v)";
+            limit = as;
+            used = mapped;
+        }
+        mapped = status_bytes("VmData");
+        k = (long)((data - mapped - STARTUP_RESERVE) / OPENBLAS_BUFFER);
+        if (data >= 0.0 && mapped >= 0.0 && k < fit) {
+            fit = k < 0 ? 0 : k;
+            which = "data-segment limit (ulimit -d)";
+            limit = data;
+            used = mapped;
+        }
+        if (which != NULL && fit < 1) {
+            snprintf(line, sizeof line, "error: supratrans: the %s of %.0f MiB is below what start-up needs: the "
+                     "libraries map %.0f MiB and OpenBLAS (OpenMP build) a buffer of 128 MiB, at least %.0f MiB in all "
+                     "(it would retry forever); raise the limit, or use a serial BLAS (docs/failures.md)\n",
+                     which, limit / 1048576.0, used / 1048576.0,
+                     (used + OPENBLAS_BUFFER + STARTUP_RESERVE) / 1048576.0 + 1.0);
+            startup_line(line);
+            _exit(2);
+        }
+        /* silently: a line here would be a second line beside a run's own error (one line per failure); the
+         * threads run are in every output's /provenance */
+        if (which != NULL) set_threads = fit < wanted ? fit : wanted;
+    }
+    if (!set_stack && set_threads == 0) return;
+    /* The environment is read by the libraries' constructors from the array the kernel passed, which cannot grow:
+     * the program starts again with the settings added (they then hold, so this happens once). */
+    size_t n = 0;
+    while (envp != NULL && envp[n] != NULL) n++;
+    char **env = calloc(n + 3, sizeof *env);
+    static char threads_entry[48];
+    if (env == NULL) return;
+    size_t m = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (set_threads > 0 && strncmp(envp[i], "OMP_NUM_THREADS=", 16) == 0) continue;
+        env[m++] = envp[i];
+    }
+    if (set_threads > 0) {
+        snprintf(threads_entry, sizeof threads_entry, "OMP_NUM_THREADS=%ld", set_threads);
+        env[m++] = threads_entry;
+    }
+    if (set_stack) env[m++] = "OMP_STACKSIZE=8M";
+    env[m] = NULL;
+    sigset_t stops, before;
+    sigemptyset(&stops);
+    sigaddset(&stops, SIGTERM);
+    sigaddset(&stops, SIGINT);
+    sigaddset(&stops, SIGUSR1);
+    /* exec resets the handler: merge's stop signals wait, blocked and pending, for the handler of the new image */
+    if (merging) sigprocmask(SIG_BLOCK, &stops, &before);
+    execve("/proc/self/exe", argv, env);
+    if (merging) sigprocmask(SIG_SETMASK, &before, NULL);
+    /* exec refused (no /proc): the threads as they are; the check above stands for a retry-forever start-up */
+    free(env);
+}
+
+/* Run before the constructors of the shared libraries (OpenBLAS's, libgomp's): see start_within_limits. */
+__attribute__((section(".preinit_array"), used)) static void (*const supratrans_preinit)(int, char **, char **) =
+    start_within_limits;

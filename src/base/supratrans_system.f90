@@ -23,6 +23,7 @@ module supratrans_system
     public :: temp_name, write_file_atomic, write_bytes_atomic, commit_file, remove_stale_temporaries, os_error_text, &
         disable_hdf5_locking
     public :: directory_writable, usable_cpus, note_out_of_memory, out_of_memory, thread_cpu_seconds
+    public :: not_own_file, remove_own_file, foreign_checkpoint
 
     !> `path_kind`: nothing at that path.
     integer, parameter, public :: path_missing = 0
@@ -154,6 +155,20 @@ module supratrans_system
             import :: c_double
             real(c_double) :: seconds
         end function c_thread_cpu_seconds
+        function c_own_file(path, uid, mode) bind(c, name="supratrans_own_file") result(kind)
+            import :: c_char, c_int, c_long_long
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_long_long), intent(out) :: uid
+            integer(c_int), intent(out) :: mode
+            integer(c_int) :: kind
+        end function c_own_file
+        function c_foreign_entry(dir, prefix, buf, size) bind(c, name="supratrans_foreign_entry") result(kind)
+            import :: c_char, c_int
+            character(kind=c_char), intent(in) :: dir(*), prefix(*)
+            character(kind=c_char), intent(out) :: buf(*)
+            integer(c_int), value :: size
+            integer(c_int) :: kind
+        end function c_foreign_entry
         function c_same_file(a, b) bind(c, name="supratrans_same_file") result(same)
             import :: c_char, c_int
             character(kind=c_char), intent(in) :: a(*), b(*)
@@ -494,5 +509,84 @@ contains
 
         seconds = real(c_thread_cpu_seconds(), wp)
     end function thread_cpu_seconds
+
+    !> Why `path` is not a file of this user that supratrans may resume from or delete, "" when it is (or when
+    !> nothing is there): it must be a regular file (a link is not followed) owned by the running user and writable
+    !> by nobody else. A checksum finds damage, not forgery: a journal, snapshot, part or checkpoint that another user
+    !> wrote, or could have altered, is never trusted nor removed.
+    function not_own_file(path) result(reason)
+        !> The file.
+        character(len=*), intent(in) :: path
+        character(len=:), allocatable :: reason
+        integer(c_long_long) :: uid
+        integer(c_int) :: mode
+
+        reason = own_file_reason(int(c_own_file(path // c_null_char, uid, mode)), uid, mode)
+    end function not_own_file
+
+    !> The words of `not_own_file` for the code of `supratrans_own_file` (owner `uid`, permission bits `mode`).
+    function own_file_reason(kind, uid, mode) result(reason)
+        !> 0 missing, 1 own, 2 not a regular file, 3 another user's, 4 writable by group or others.
+        integer, intent(in) :: kind
+        !> Its owner.
+        integer(c_long_long), intent(in) :: uid
+        !> Its permission bits.
+        integer(c_int), intent(in) :: mode
+        character(len=:), allocatable :: reason
+        character(len=24) :: text
+
+        select case (kind)
+        case (2)
+            reason = "not a regular file (a symbolic link, FIFO, device or directory): never read nor removed"
+        case (3)
+            write (text, "(i0)") uid
+            reason = "belongs to another user (uid " // trim(text) // "): supratrans neither resumes from nor " &
+                     // "deletes a file it did not write; its owner may delete it, or write the output elsewhere"
+        case (4)
+            write (text, "(o4.4)") mode
+            reason = "writable by group or others (mode " // trim(text) // "): anyone may have altered it, and " &
+                     // "supratrans writes its files rw-r--r--; if it is yours and unaltered, chmod go-w it, else " &
+                     // "delete it"
+        case default
+            reason = ""
+        end select
+    end function own_file_reason
+
+    !> Delete `path` only if it is this user's own file (`not_own_file` is ""): a file planted under one of the
+    !> output's names by someone else, or a link, is left as it is.
+    subroutine remove_own_file(path)
+        !> The file.
+        character(len=*), intent(in) :: path
+
+        if (len(not_own_file(path)) == 0) call remove_file(path)
+    end subroutine remove_own_file
+
+    !> The first checkpoint of the output `file` (`<file>.checkpoint`, `<file>.checkpoint-<task>`) that is not this
+    !> user's own (`not_own_file`): `<name>: <why>`, or "" when there is none.
+    function foreign_checkpoint(file) result(text)
+        !> The output file.
+        character(len=*), intent(in) :: file
+        character(len=:), allocatable :: text
+        character(kind=c_char, len=4096) :: buffer
+        character(len=:), allocatable :: dir
+        integer :: k, kind
+
+        k = index(file, "/", back=.true.)
+        if (k == 0) then
+            dir = "."
+        else if (k == 1) then
+            dir = "/"
+        else
+            dir = file(1:k - 1)
+        end if
+        buffer = ""
+        kind = int(c_foreign_entry(dir // c_null_char, file(k + 1:) // ".checkpoint" // c_null_char, buffer, &
+                                   int(len(buffer), c_int)))
+        text = ""
+        if (kind == 0) return
+        text = buffer(1:max(index(buffer, c_null_char) - 1, 0))
+        if (k > 0) text = file(1:k) // text
+        text = text // ": " // not_own_file(text)
+    end function foreign_checkpoint
 
 end module supratrans_system

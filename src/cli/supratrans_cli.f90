@@ -83,7 +83,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
         !> Text for standard output (empty unless help or version).
         character(len=:), allocatable, intent(out) :: text
-        character(len=:), allocatable :: file, costs
+        character(len=:), allocatable :: file, costs, slice_text
         integer :: i, slice_index, slice_count, nchecked, worst
         logical :: check_only
 
@@ -139,7 +139,14 @@ contains
                     call fail("--slice needs I/N, e.g. --slice 3/16")
                     return
                 end if
+                if (slice_count > 0) then
+                    ! one slice per run: the last of several used to be taken silently
+                    call fail("--slice given twice ('" // printable(slice_text) // "' and '" &
+                              // printable(trim(args(i + 1))) // "'): one run computes one slice")
+                    return
+                end if
                 i = i + 1
+                slice_text = trim(args(i))
                 call parse_slice(trim(args(i)), slice_index, slice_count, error)
                 if (allocated(error)) then
                     status = error%stat

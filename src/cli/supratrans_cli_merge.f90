@@ -37,6 +37,8 @@ contains
         status = 0
         partial = .false.
         overwrite = .false.
+        ! before any file is read (also caught before main: supratrans_os.c)
+        call catch_stop_signals()
         output = ""
         nparts = 0
         slice_count = 0

@@ -12,8 +12,9 @@ module supratrans_cli_output
     use supratrans_config, only: input_config
     use supratrans_invocation, only: invocation_type
     use supratrans_system, only: make_directories, path_kind, path_directory, same_file, lock_file, unlock_file, &
-                                 remove_file, catch_stop_signals, link_kind, path_link, path_special, lock_busy, &
-                                 lock_unsupported, remove_stale_temporaries, disable_hdf5_locking, temp_extra, stop_signal
+                                 catch_stop_signals, link_kind, path_link, path_special, lock_busy, &
+                                 lock_unsupported, remove_stale_temporaries, disable_hdf5_locking, temp_extra, stop_signal, &
+                                 not_own_file, remove_own_file, foreign_checkpoint
     use supratrans_journal, only: write_journal
     use supratrans_parts, only: part_set
     use supratrans_scene, only: scene_type, new_scene
@@ -68,6 +69,8 @@ contains
                 return
             end if
         end do
+        call check_own_files(file, error)
+        if (allocated(error)) return
         if (allocated(cfg%source)) then
             if (same_file(file, cfg%source)) then
                 call fatal_error(error, cfg%source // ": &output: file = '" // file // "' is the input file itself", &
@@ -121,6 +124,30 @@ contains
         end if
     end subroutine check_output_name
 
+    !> The files of the output `file` that a run resumes from or deletes (its journal, partial snapshot and
+    !> checkpoints) must be this user's own: regular files owned by the running user and writable by nobody else
+    !> (`not_own_file`). In a folder others can write (0777 without the sticky bit) another user's file there is
+    !> refused with one line, status 4, and left as it is: it used to be deleted, or a forged journal resumed from.
+    subroutine check_own_files(file, error)
+        !> The output file.
+        character(len=*), intent(in) :: file
+        !> Error (status 4), allocated for the first file that is not this user's own.
+        type(error_type), allocatable, intent(out) :: error
+        character(len=*), parameter :: kept(2) = [character(len=11) :: ".journal", ".partial.h5"]
+        character(len=:), allocatable :: why
+        integer :: i
+
+        do i = 1, size(kept)
+            why = not_own_file(file // trim(kept(i)))
+            if (len(why) > 0) then
+                call fatal_error(error, file // trim(kept(i)) // ": " // why, err_io)
+                return
+            end if
+        end do
+        why = foreign_checkpoint(file)
+        if (len(why) > 0) call fatal_error(error, why, err_io)
+    end subroutine check_own_files
+
     !> Take the lock `<output>.lock` (never through a link; the file stays when released), then delete the
     !> temporaries a killed run of this output left. With SUPRATRANS_NO_LOCK=1 no lock is taken (`handle` -1) and
     !> no temporary is deleted.
@@ -142,6 +169,7 @@ contains
         if (ios == 0 .and. trim(knob) /= "" .and. trim(knob) /= "0") then
             call disable_hdf5_locking()
             call progress(cfg, "supratrans: SUPRATRANS_NO_LOCK is set: " // file // " is written without a lock")
+            call check_own_files(file, error)
         else
             call lock_file(lock, handle, reason)
             if (handle == lock_busy) then
@@ -156,7 +184,12 @@ contains
                 call fatal_error(error, file // ": cannot write in its directory (lock file " // lock // ": " // reason &
                                  // ")", err_io)
             end if
-            if (allocated(error)) return
+            if (.not. allocated(error)) call check_own_files(file, error)
+            if (allocated(error)) then
+                call unlock_file(handle)
+                handle = -1
+                return
+            end if
             ! only under the lock: without it, a temporary may be another run's file being written
             call remove_stale_temporaries(file, removed)
             if (removed > 0) call progress(cfg, "supratrans: deleted " // int_str(removed) // " temporary file(s) of " &
@@ -197,9 +230,9 @@ contains
             call run_scene(cfg, inv, error)
         end if
         ! the journal a merge wrote is the parts' records: gone once used, or refused
-        if (present(set) .and. inv%snapshot_only) call remove_file(journal)
+        if (present(set) .and. inv%snapshot_only) call remove_own_file(journal)
         if (present(set) .and. allocated(error)) then
-            if (error%stat == err_input) call remove_file(journal)
+            if (error%stat == err_input) call remove_own_file(journal)
         end if
         call unlock_file(handle)
         if (allocated(error)) then

@@ -4,10 +4,10 @@
 !> (`supratrans_cli_output`).
 module supratrans_cli_run
     use supratrans_strings, only: int_str, printable, text_fingerprint
-    use supratrans_error, only: error_type, fatal_error, err_input
+    use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config
     use supratrans_invocation, only: invocation_type
-    use supratrans_system, only: path_kind, path_missing, remove_file, unlock_file, link_kind, path_regular
+    use supratrans_system, only: path_kind, path_missing, remove_own_file, unlock_file, link_kind, path_regular, not_own_file
     use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
     use supratrans_input, only: read_input
     use supratrans_validate, only: validate_config
@@ -68,6 +68,13 @@ contains
                 if (present(costs)) inv%slice_costs = costs
                 cfg%output%file = part_path(trim(cfg%output%file), slice_index, slice_count)
                 if (path_kind(trim(cfg%output%file)) /= path_missing) then
+                    ! a part found under the slice's name is trusted as done only if it is this user's own file
+                    if (len(not_own_file(trim(cfg%output%file))) > 0) then
+                        call fatal_error(error, trim(cfg%output%file) // ": " // not_own_file(trim(cfg%output%file)), &
+                                         err_io)
+                        status = error%stat
+                        return
+                    end if
                     call read_parts([character(len=len_trim(cfg%output%file)) :: trim(cfg%output%file)], .true., &
                                     done_part, cause)
                     if (.not. allocated(cause)) then
@@ -96,7 +103,8 @@ contains
         call with_lock(cfg, inv, status, error)
     end subroutine run_from_file
 
-    !> Read "I/N" with 1 <= I <= N <= 100000.
+    !> Read "I/N" with 1 <= I <= N <= 100000, both decimal numbers without leading zeros ("08/09" is refused: a
+    !> shell or a script could read it as octal).
     subroutine parse_slice(text, slice_index, slice_count, error)
         !> The argument of --slice.
         character(len=*), intent(in) :: text
@@ -115,14 +123,14 @@ contains
         ios2 = 1
         ! exactly one '/' (list-directed input would read "3/3" as 3: a '/' ends its list)
         if (k > 1 .and. k < len(text) .and. verify(text, "0123456789/") == 0 .and. len(text) <= 13 &
-            .and. index(text(k + 1:), "/") == 0) then
+            .and. index(text(k + 1:), "/") == 0 .and. text(1:1) /= "0" .and. text(k + 1:k + 1) /= "0") then
             read (text(1:k - 1), *, iostat=ios1) slice_index
             read (text(k + 1:), *, iostat=ios2) slice_count
         end if
         if (ios1 /= 0 .or. ios2 /= 0 .or. slice_count < 1 .or. slice_count > 100000 .or. slice_index < 1 &
             .or. slice_index > slice_count) then
             call fatal_error(error, "--slice " // printable(text) // ": expected I/N with 1 <= I <= N <= 100000, " &
-                             // "e.g. --slice 3/16", err_input)
+                             // "decimal without leading zeros, e.g. --slice 3/16", err_input)
         end if
     end subroutine parse_slice
 
@@ -189,7 +197,7 @@ contains
         end if
         do i = 1, size(stale)
             if (link_kind(file // trim(stale(i))) /= path_regular) cycle
-            call remove_file(file // trim(stale(i)))
+            call remove_own_file(file // trim(stale(i)))
             call progress(cfg, "  deleted the stale " // file // trim(stale(i)) // " left by that run")
         end do
         call unlock_file(handle)

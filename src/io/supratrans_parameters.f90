@@ -136,9 +136,11 @@ contains
         type(h5_file), intent(inout) :: file
         character(len=*), parameter :: g = group // "/schema", dims = "parameter"
         integer, parameter :: nk = size(key_table), n = nk + size(derived_table)
-        character(len=len(key_table%description)) :: key(n), kind(n), default(n), allowed(n)
+        ! on the heap, not the stack (some hundred kB: a run under `ulimit -s 64` used to end in SIGSEGV here)
+        character(len=len(key_table%description)), allocatable :: key(:), kind(:), default(:), allowed(:)
         integer :: i
 
+        allocate (key(n), kind(n), default(n), allowed(n))
         key = ""
         kind = "real (derived)"
         default = ""

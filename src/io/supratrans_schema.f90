@@ -206,8 +206,8 @@ module supratrans_schema
         key_spec("scene", "c_values", kt_real, "c_values", "1/time", "the &chain c", "up to 16 values, each > 0", &
             "Stability: the values of the coupling c (the c axis); continuation with harmonic_balance: the couplings of the" // &
             " continuum limit (N, N0, sigma scaled with c)", max_values=max_curve_values, lower="> 0"), &
-        key_spec("scene", "repeats", kt_integer, "repeats", "1", "3", ">= 1", &
-            "Work-precision: timed repetitions of each run (the median wall time is recorded)", lower=">= 1"), &
+        key_spec("scene", "repeats", kt_integer, "repeats", "1", "3", ">= 1 and <= 1000", &
+            "Work-precision: timed repetitions of each run (the median wall time is recorded)", lower=">= 1", upper="<= 1000"), &
         key_spec("scene", "reference_dt", kt_real, "reference_dt", "time", "0.025", "> 0; <= t_final/2", &
             "Work-precision: step of the reference solution (rk8 at reference_dt/2, checked against reference_dt)", lower="> 0"), &
         key_spec("scene", "stair_times", kt_real, "stair_times", "time", "400 (one stair length)", &

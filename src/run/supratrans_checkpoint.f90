@@ -25,8 +25,8 @@ module supratrans_checkpoint
     use, intrinsic :: iso_fortran_env, only: int64
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type
-    use supratrans_system, only: write_bytes_atomic, remove_file, link_kind, path_regular, path_missing, &
-                                 remove_stale_temporaries
+    use supratrans_system, only: write_bytes_atomic, remove_own_file, link_kind, path_regular, path_missing, &
+                                 remove_stale_temporaries, not_own_file
     use supratrans_state_buffer, only: state_buffer, put_int, put_text, put_logical, put_buffer, get_int, get_text, &
                                        get_logical, crc32_bytes
     use supratrans_result, only: run_result, load_result
@@ -125,6 +125,13 @@ contains
         if (link_kind(session%path) == path_missing) return
         if (link_kind(session%path) /= path_regular) then
             session%note = "ignored: not a regular file (a link is never followed)"
+            return
+        end if
+        if (len(not_own_file(session%path)) > 0) then
+            ! another user's (planted since the run began): neither read, nor replaced, nor deleted; no checkpoints
+            session%note = "ignored and kept (not this user's own file, or writable by others); this task runs " &
+                           // "without checkpoints"
+            deallocate (session%path)
             return
         end if
         open (newunit=unit, file=session%path, access="stream", form="unformatted", status="old", action="read", &
@@ -256,7 +263,7 @@ contains
         !> The session.
         type(checkpoint_session), intent(inout) :: session
 
-        if (allocated(session%path)) call remove_file(session%path)
+        if (allocated(session%path)) call remove_own_file(session%path)
     end subroutine close_session
 
 end module supratrans_checkpoint

@@ -95,7 +95,8 @@ contains
         type(checkpoint_session) :: session
 
         if (.not. (every > 0.0_wp)) then
-            call simulate(run, result)
+            ! no checkpoints: still stopped by a signal within a step (`result%interrupted`: its caller journals nothing)
+            call simulate(run, result, interruptible=.true.)
             return
         end if
         call open_session(session, path, binding, every)

@@ -37,6 +37,8 @@ module supratrans_bifurcation_runs
         real(wp) :: last_margin = 1.0_wp
         !> The checkpoints of the task (every oracle of one search shares them), or null.
         type(checkpoint_session), pointer :: session => null()
+        !> A run was stopped by a signal (SIGTERM, SIGINT, SIGUSR1): the search's answers are no result.
+        logical :: interrupted = .false.
     contains
         !> One simulation: transmitting or not, and the time steps it took.
         procedure :: transmits => simulation_transmits
@@ -138,11 +140,13 @@ contains
         type(run_result) :: result
 
         self%run%drive%amplitude = amplitude
+        ! every run looks at the stop flag at each step, also without checkpoints (it used to run to its end)
         if (associated(self%session)) then
-            call simulate(self%run, result, verdict_only=.true., session=self%session)
+            call simulate(self%run, result, verdict_only=.true., interruptible=.true., session=self%session)
         else
-            call simulate(self%run, result, verdict_only=.true.)
+            call simulate(self%run, result, verdict_only=.true., interruptible=.true.)
         end if
+        self%interrupted = self%interrupted .or. result%interrupted
         cost = int(result%steps, i8)
         transmitting = result%transmitting
         self%last_margin = result%verdict_margin

@@ -28,6 +28,10 @@ module supratrans_limits
     real(wp), parameter, public :: max_tasks = 1.0e7_wp
     !> Most work of one invocation (a scene, or one slice of it), in oscillator-steps: about a day on one core.
     real(wp), parameter, public :: max_site_steps = 5.0e13_wp
+    !> Address space a dense LAPACK call maps on each thread the first time (OpenBLAS's working buffer of 128 MiB and
+    !> its alignment): a scene that factors dense matrices (continuation, stability) needs it beside its own arrays.
+    !> Under `ulimit -v` 250 MiB such a scene used to hang there (OpenBLAS retries the mmap forever).
+    real(wp), parameter, public :: dense_buffer_bytes = 135266304.0_wp
     !> Bytes of state per oscillator of a run (levels, scheme coefficients, work arrays: measured ~100).
     real(wp), parameter :: bytes_per_site = 160.0_wp
 

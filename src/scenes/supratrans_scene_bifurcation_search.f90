@@ -89,8 +89,9 @@ contains
             if (allocated(self%half_runs) .and. r%status == search_found) call certify()
         end associate
         call checkpoint_note()
-        if (session%interrupted) then
-            ! stopped by a signal at its checkpoint: no result (the engine journals nothing; a rerun resumes it)
+        if (session%interrupted .or. oracle%interrupted .or. screen%interrupted .or. check%interrupted) then
+            ! stopped by a signal (at its checkpoint, if any): no result (the engine journals nothing; a rerun resumes
+            ! it)
             values = to_values(unsearched_record())
             return
         end if

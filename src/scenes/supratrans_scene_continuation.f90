@@ -22,7 +22,7 @@ module supratrans_scene_continuation
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
     use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks, warn_partial
-    use supratrans_limits, only: axis_points, check_axis, limit_error, threads_text, sci
+    use supratrans_limits, only: axis_points, check_axis, limit_error, threads_text, sci, dense_buffer_bytes
     use supratrans_config, only: input_config, run_config, scene_params, method_newton, method_linearized, method_rk4, &
                                  method_rk8, method_avf4, method_avf8, method_name, solver_harmonic_balance
     use supratrans_fold_hb, only: hb_fold_tasks, make_hb_tasks, write_hb_file, hb_summary
@@ -352,12 +352,19 @@ contains
             call check_axis(nomega, "omega_step = " // sci(sc%omega_step) // " makes " // sci(nomega) // " frequencies", &
                             where, error)
             if (allocated(error)) return
-            if (sc%solver == solver_harmonic_balance) return     ! blocks of 2K x 2K per site: no dense matrices
             n = real(cfg%run%chain%n, wp)*merge(2.0_wp, 1.0_wp, sc%fold_convergence)
-            need = 5.0_wp*(2.0_wp*n + 1.0_wp)**2*8.0_wp*real(budget%threads, wp)
+            ! the matrices and the working buffer OpenBLAS maps for a dense solve, on every thread
+            need = (5.0_wp*(2.0_wp*n + 1.0_wp)**2*8.0_wp + dense_buffer_bytes)*real(budget%threads, wp)
+            if (sc%solver == solver_harmonic_balance) then
+                ! blocks of 2K x 2K per site; dense only for the rk8 monodromy and its eigenvalues (floquet_every > 0)
+                if (sc%floquet_every == 0) return
+                n = real(cfg%run%chain%n, wp)
+                need = (3.0_wp*(2.0_wp*n)**2*8.0_wp + dense_buffer_bytes)*real(budget%threads, wp)
+            end if
             if (budget%memory > 0.0_wp .and. need > 0.8_wp*budget%memory) then
                 call limit_error(error, where, "chain", "n = " // int_str(cfg%run%chain%n) // ": the dense shooting " &
-                                 // "matrices need about " // sci(need/1.0e9_wp) // " GB" // threads_text(budget) &
+                                 // "matrices and OpenBLAS's working buffer need about " // sci(need/1.0e9_wp) // " GB" &
+                                 // threads_text(budget) &
                                  // ", more than the " // sci(budget%memory/1.0e9_wp) // " GB available (" &
                                  // budget%source // "; a shorter chain)")
             end if

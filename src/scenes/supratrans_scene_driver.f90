@@ -8,7 +8,7 @@ submodule(supratrans_scene) supratrans_scene_driver
     use supratrans_error, only: err_input, err_io
     use supratrans_invocation, only: engine_only
     use supratrans_tasks, only: run_tasks, input_fingerprint
-    use supratrans_system, only: remove_file
+    use supratrans_system, only: remove_own_file
     implicit none
 
 contains
@@ -60,8 +60,8 @@ contains
         if (tasks%inv%merge_wall_time >= 0.0_wp) tasks%elapsed = tasks%inv%merge_wall_time   ! a merge: the slices' cost
         call self%write_output(cfg, tasks, error)
         if (allocated(error)) return
-        if (.not. keep) call remove_file(journal)
-        call remove_file(output // ".partial.h5")
+        if (.not. keep) call remove_own_file(journal)
+        call remove_own_file(output // ".partial.h5")
         if (.not. cfg%output%quiet) then
             text = self%summary(cfg, tasks)
             if (len(text) > 0) write (error_unit, "(a)") text

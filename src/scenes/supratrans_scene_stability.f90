@@ -27,12 +27,13 @@
 !> `/boundary/grid_consistent` (curve, method, c), `/boundary/bisection_runs` (curve, method, c).
 module supratrans_scene_stability
     use, intrinsic :: iso_fortran_env, only: error_unit
-    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
     use supratrans_strings, only: int_str, real_str
-    use supratrans_scene, only: scene_type, scene_tasks, wrong_tasks
+    use supratrans_scene, only: scene_type, scene_tasks, wrong_tasks, scene_budget
+    use supratrans_limits, only: limit_error, threads_text, sci, dense_buffer_bytes
     use supratrans_config, only: input_config, run_config, vary_choices, chain_params, method_newton, method_linearized, &
                                  method_rk4, method_rk8, method_avf4, method_avf8, method_name
     use supratrans_potential, only: potential_name
@@ -42,6 +43,7 @@ module supratrans_scene_stability
     use supratrans_result, only: run_result, run_ok
     use supratrans_status, only: run_status_codes
     use supratrans_tasks, only: task_list
+    use supratrans_system, only: stop_signal
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_linear_stability, only: linear_stability_dt, rk_spectrum_dt, chain_spectrum, stability_polynomial
@@ -79,7 +81,10 @@ module supratrans_scene_stability
         !> Bisection resolution in dt.
         real(wp) :: resolution = 1.0e-3_wp
     contains
+        !> One task: a bisection for the largest stable dt, or one run of the grid (`stability_task_values`).
         procedure :: run => run_stability_task
+        !> Whether a task's values are its result (not a task a stop signal cut short).
+        procedure :: finished => stability_finished
     end type stability_tasks
 
     !> The scene `stability`: the largest stable dt per (curve, method), measured and predicted.
@@ -89,6 +94,8 @@ module supratrans_scene_stability
         procedure :: make_tasks => stability_make_tasks
         !> Its file (`write_stability`).
         procedure :: write_output => stability_write_output
+        !> The address space its dense eigenvalue problems need (OpenBLAS's working buffer) against the memory.
+        procedure :: check_limits => stability_scene_limits
     end type stability_scene
 
 contains
@@ -233,6 +240,33 @@ contains
         class(stability_tasks), intent(in) :: self
         !> Task index.
         integer, intent(in) :: index
+        !> The task's values (positions `s_*`; all NaN for a task a stop signal cut short).
+        real(wp), intent(out) :: values(:)
+
+        call stability_task_values(self, index, values)
+        ! its runs stop within a step once a signal has arrived (`interruptible`): what they gave is no result, the
+        ! task is not journaled and runs again on resume (it used to run every remaining run of the bisection)
+        if (stop_signal() /= 0) values = ieee_value(1.0_wp, ieee_quiet_nan)
+    end subroutine run_stability_task
+
+    !> Whether a task's values are its result: those of a task cut short by a stop signal are all NaN.
+    function stability_finished(self, values) result(yes)
+        !> The task list.
+        class(stability_tasks), intent(in) :: self
+        !> The task's values.
+        real(wp), intent(in) :: values(:)
+        logical :: yes
+
+        yes = .not. all(ieee_is_nan(values))
+    end function stability_finished
+
+    !> The values of task `index`: a bisection's (largest stable and smallest unstable dt, runs, status) or a grid
+    !> run's (status, max |u|, end time).
+    subroutine stability_task_values(self, index, values)
+        !> The scene's tasks.
+        class(stability_tasks), intent(in) :: self
+        !> Task index.
+        integer, intent(in) :: index
         !> The task's values (positions `s_*`).
         real(wp), intent(out) :: values(:)
         type(run_config) :: run
@@ -313,7 +347,7 @@ contains
             run%chain%c = self%c(ic)
             run%numerics%method = self%methods(im)
             run%numerics%dt = self%dts(idt)
-            call simulate(run, res)
+            call simulate(run, res, interruptible=.true.)
             values(s_status) = real(res%status, wp)
             values(s_max_abs_u) = res%max_abs_u
             values(s_t_end) = res%t_end
@@ -339,13 +373,38 @@ contains
             integer, intent(out) :: status
 
             run%numerics%dt = dt
-            call simulate(run, res)
+            call simulate(run, res, interruptible=.true.)
             runs = runs + 1
             status = res%status
             stable = run_is_stable(res)
         end subroutine try
 
-    end subroutine run_stability_task
+    end subroutine stability_task_values
+
+    !> The scene's memory against what the machine gives, before any work: the linear theory solves dense eigenvalue
+    !> problems (LAPACK), for which OpenBLAS maps a working buffer on each thread (`dense_buffer_bytes`); under a small
+    !> `ulimit -v` the scene used to hang there (OpenBLAS retries the mmap forever). Now one line, status 2.
+    pure subroutine stability_scene_limits(self, cfg, where, budget, error)
+        !> The scene.
+        class(stability_scene), intent(in) :: self
+        !> The configuration (values already within their ranges and rules).
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Threads and memory of the machine.
+        type(scene_budget), intent(in) :: budget
+        !> Allocated when a limit is exceeded.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp) :: need
+
+        need = dense_buffer_bytes*real(budget%threads, wp)
+        if (budget%memory > 0.0_wp .and. need > 0.8_wp*budget%memory) then
+            call limit_error(error, where, "scene", "the dense eigenvalue problems of the linear theory need about " &
+                             // sci(need/1.0e9_wp) // " GB (OpenBLAS's working buffer)" // threads_text(budget) &
+                             // ", more than the " // sci(budget%memory/1.0e9_wp) // " GB available (" &
+                             // budget%source // ")")
+        end if
+    end subroutine stability_scene_limits
 
     !> A run is stable when it reached its final time without blowing up or failing.
     pure function run_is_stable(res) result(stable)

@@ -44,13 +44,15 @@ module supratrans_scene_workprec
     use supratrans_error, only: error_type
     use supratrans_invocation, only: invocation_type
     use supratrans_strings, only: real_str, printable
-    use supratrans_scene, only: scene_type, scene_tasks, wrong_tasks
+    use supratrans_scene, only: scene_type, scene_tasks, wrong_tasks, scene_budget
+    use supratrans_limits, only: check_tasks, sci, limit_error, max_site_steps
     use supratrans_config, only: input_config, method_newton, method_linearized, method_name
     use supratrans_status, only: status_not_run
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_workprec_measure, only: fitted_order, method_stages, measure_step_kernels
     use supratrans_workprec_tasks, only: workprec_tasks, setup_tasks, compute_references, drift_limit, value_names, &
+                                         default_methods, default_workprec_dts, &
                                          nvalues, w_status, w_wall_time, w_wall_time_min, w_injected, w_error_energy, &
                                          w_error_u, w_ledger_drift, w_rhs_evaluations, w_max_abs_u
     implicit none
@@ -68,6 +70,8 @@ module supratrans_scene_workprec
         procedure :: make_tasks => workprec_make_tasks
         !> Its file, with the step's kernels timed (`write_work_precision`).
         procedure :: write_output => workprec_write_output
+        !> Its task count and work (repeats, methods, time steps, amplitudes and the references) against the limits.
+        procedure :: check_limits => workprec_scene_limits
     end type workprec_scene
 
 contains
@@ -110,6 +114,56 @@ contains
         tasks%label = "timed runs (one at a time)"
         call move_alloc(list, tasks%list)
     end subroutine workprec_make_tasks
+
+    !> The scene's work against the limits before any run: every timed run (`repeats` of each amplitude, method and
+    !> dt, of t_final/dt steps) and the two reference runs of each amplitude (at reference_dt and reference_dt/2), in
+    !> oscillator-steps, against `max_site_steps` (a scene's work limit); the timed runs against `max_tasks`.
+    !> `repeats = 2147483647` used to pass `--check` and run for days, unstoppable by SIGTERM.
+    pure subroutine workprec_scene_limits(self, cfg, where, budget, error)
+        !> The scene.
+        class(workprec_scene), intent(in) :: self
+        !> The configuration (values already within their ranges and rules).
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Threads and memory of the machine.
+        type(scene_budget), intent(in) :: budget
+        !> Allocated when a limit is exceeded.
+        type(error_type), allocatable, intent(out) :: error
+        real(wp), allocatable :: dts(:)
+        real(wp) :: methods, amplitudes, repeats, t_final, timed, reference, work, n
+
+        dts = default_workprec_dts()
+        if (allocated(cfg%scene%dts)) then
+            if (size(cfg%scene%dts) > 0) dts = cfg%scene%dts
+        end if
+        methods = real(size(default_methods()), wp)
+        if (allocated(cfg%scene%methods)) then
+            if (size(cfg%scene%methods) > 0) methods = real(size(cfg%scene%methods), wp)
+        end if
+        amplitudes = 1.0_wp
+        if (allocated(cfg%scene%amplitudes)) then
+            if (size(cfg%scene%amplitudes) > 0) amplitudes = real(size(cfg%scene%amplitudes), wp)
+        end if
+        repeats = real(max(cfg%scene%repeats, 1), wp)
+        t_final = cfg%run%numerics%t_final
+        n = real(cfg%run%chain%n, wp)
+        ! steps of the timed runs of one (amplitude, method) pair, once each (a dt <= 0 is refused by the scene)
+        timed = sum(t_final/dts, mask=dts > 0.0_wp)
+        reference = 0.0_wp
+        if (cfg%scene%reference_dt > 0.0_wp) reference = 3.0_wp*t_final/cfg%scene%reference_dt
+        ! the count of timed runs here; their work, repeats and references included, below
+        call check_tasks(cfg, amplitudes*methods*real(size(dts), wp), 1.0_wp, 0.0_wp, "timed runs", where, error)
+        if (allocated(error)) return
+        work = n*amplitudes*(methods*repeats*timed + reference)
+        if (.not. (work <= max_site_steps)) then
+            call limit_error(error, where, "scene", "about " // sci(work) // " oscillator-steps (repeats = " &
+                             // sci(repeats) // " x " // sci(methods) // " methods x " // sci(timed) // " steps over " &
+                             // "the dts x " // sci(amplitudes) // " amplitudes x " // sci(n) // " oscillators, and " &
+                             // "the references): more than the limit " // sci(max_site_steps) // " (about a day on " &
+                             // "one core); fewer repeats, dts or amplitudes, or a shorter chain")
+        end if
+    end subroutine workprec_scene_limits
 
     !> Time the kernels of a step (the lower bound) and write the scene's file (`write_work_precision`).
     subroutine workprec_write_output(self, cfg, tasks, error)

@@ -2,9 +2,10 @@
 !> method, dt) run `repeats` times one at a time and measured against the reference of its amplitude (rk8 at
 !> reference_dt/2, with reference_dt's run for its error estimate), and what a task's record holds (`w_*`).
 module supratrans_workprec_tasks
-    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp, pi
-    use supratrans_error, only: error_type, fatal_error, err_input, err_runtime
+    use supratrans_error, only: error_type, fatal_error, err_input, err_runtime, err_interrupted
+    use supratrans_system, only: stop_signal
     use supratrans_strings, only: int_str, real_str
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
                                  method_avf4, method_avf8
@@ -70,6 +71,8 @@ module supratrans_workprec_tasks
     contains
         !> Run one task `repeats` times (one at a time) and measure it against its amplitude's reference.
         procedure :: run => run_workprec_task
+        !> Whether a task's values are its result (not a task a stop signal cut short).
+        procedure :: finished => workprec_finished
     end type workprec_tasks
 
 contains
@@ -184,9 +187,15 @@ contains
             run%numerics%method = method_rk8
             run%numerics%dt = reference_step(tasks, mod(i - 1, 2) == 0)
             run%record%ledger_every = 1
-            call simulate(run, res(i))
+            call simulate(run, res(i), interruptible=.true.)
         end do
         !$omp end parallel do
+        if (any(res%interrupted)) then
+            call fatal_error(error, "work_precision: stopped by signal " // int_str(max(stop_signal(), 0)) &
+                             // " during the reference runs, before any timed run: nothing journaled; run the same " &
+                             // "command again", err_interrupted)
+            return
+        end if
 
         nfail = 0
         message = ""
@@ -239,6 +248,18 @@ contains
         if (fine) h = 0.5_wp*h
     end function reference_step
 
+    !> Whether a task's values are its result: a task stopped by a signal returns a NaN status (every task that ran,
+    !> or was skipped by `dt_smallest`, has a status), is not journaled, and runs again on resume.
+    function workprec_finished(self, values) result(yes)
+        !> The task list.
+        class(workprec_tasks), intent(in) :: self
+        !> The task's values.
+        real(wp), intent(in) :: values(:)
+        logical :: yes
+
+        yes = .not. ieee_is_nan(values(w_status))
+    end function workprec_finished
+
     !> Task `index` = (dt, method, amplitude), dt fastest: run it `repeats` times and measure it.
     subroutine run_workprec_task(self, index, values)
         !> The scene's tasks.
@@ -252,6 +273,7 @@ contains
         real(wp), allocatable :: times(:)
         real(wp) :: nan, dt, t_lo, t_hi, e_ref, err_u, drift
         integer :: idt, im, ia, ndt, nm, r, i, status
+        logical :: stopped
 
         ndt = size(self%dts)
         nm = size(self%methods)
@@ -272,13 +294,25 @@ contains
         run%numerics%dt = dt
         run%record%ledger_every = nint(run%numerics%t_final/dt) + 1
         allocate (times(self%repeats))
+        stopped = .false.
         !$omp critical (supratrans_workprec_timing)
         do r = 1, self%repeats
-            call simulate(run, res)
+            ! a stop signal ends the repeats, and the run in progress within a step (`interruptible`): the task is
+            ! then no result (`workprec_finished`) and runs again on resume (it used to ignore SIGTERM for minutes)
+            if (stop_signal() /= 0) then
+                stopped = .true.
+                exit
+            end if
+            call simulate(run, res, interruptible=.true.)
+            if (res%interrupted) then
+                stopped = .true.
+                exit
+            end if
             times(r) = res%wall_time
             if (res%status /= run_ok) exit
         end do
         !$omp end critical (supratrans_workprec_timing)
+        if (stopped) return
 
         status = res%status
         drift = abs(res%ledger%residual)/max(res%ledger%energy_scale, tiny(1.0_wp))

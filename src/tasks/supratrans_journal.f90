@@ -18,7 +18,7 @@ module supratrans_journal
     use supratrans_kinds, only: wp
     use supratrans_strings, only: int_str
     use supratrans_error, only: error_type, fatal_error, err_io
-    use supratrans_system, only: file_size, append_bytes, write_file_atomic
+    use supratrans_system, only: file_size, append_bytes, write_file_atomic, not_own_file
     implicit none
     private
 
@@ -255,6 +255,11 @@ contains
         dropped = 0
         inquire (file=journal, exist=exists)
         if (.not. exists) return
+        ! a checksum finds damage, not forgery: only a journal of this user's, writable by nobody else, is resumed from
+        if (len(not_own_file(journal)) > 0) then
+            call fatal_error(error, journal // ": " // not_own_file(journal), err_io)
+            return
+        end if
         if (file_size(journal) == 0) return
         open (newunit=unit, file=journal, status="old", action="read", iostat=ios)
         if (ios /= 0) then

@@ -17,7 +17,7 @@ module supratrans_tasks
     use supratrans_error, only: error_type, fatal_error, err_io, err_interrupted, err_input
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
                                  method_avf4, method_avf8
-    use supratrans_system, only: remove_file, stop_signal, out_of_memory
+    use supratrans_system, only: remove_own_file, stop_signal, out_of_memory
     use supratrans_invocation, only: invocation_type, engine_only
     use supratrans_journal, only: journal_header, read_journal, write_journal, append_journal_line, record_binding
     use supratrans_parts, only: write_part, part_run
@@ -430,8 +430,8 @@ contains
             call write_part(trim(cfg%output%file), cfg, slice_index, slice_count, header, results, done, mine, &
                             run_record, error)
             if (allocated(error)) return
-            call remove_file(journal)
-            call remove_file(trim(cfg%output%file) // ".partial.h5")
+            call remove_own_file(journal)
+            call remove_own_file(trim(cfg%output%file) // ".partial.h5")
             if (.not. quiet) write (error_unit, "(a)") "  wrote part " // printable(trim(cfg%output%file)) &
                 // slice_text(slice_index, slice_count, ntodo, ntask)
         end if
