@@ -222,30 +222,31 @@ program pf_driver
     use test_system, only: t203 => test_atomic_write_replaces_a_planted_link_not_its_target
     use test_system, only: t204 => test_journal_is_never_appended_to_through_a_link
     use test_system, only: t205 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t206 => test_temporary_names_are_fresh
-    use test_system, only: t207 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t208 => test_monotone_step
-    use test_threshold, only: t209 => test_bisected_bracket
-    use test_threshold, only: t210 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t211 => test_two_transitions
-    use test_threshold, only: t212 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t213 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t214 => test_nothing_transmits
-    use test_threshold, only: t215 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t216 => test_lower_bound_transmits
-    use test_threshold, only: t217 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t218 => test_bad_arguments
-    use test_threshold, only: t219 => test_grid_helpers
+    use test_system, only: t206 => test_lock_file_is_removed_by_its_holder_only
+    use test_system, only: t207 => test_temporary_names_are_fresh
+    use test_system, only: t208 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t209 => test_monotone_step
+    use test_threshold, only: t210 => test_bisected_bracket
+    use test_threshold, only: t211 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t212 => test_two_transitions
+    use test_threshold, only: t213 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t214 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t215 => test_nothing_transmits
+    use test_threshold, only: t216 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t217 => test_lower_bound_transmits
+    use test_threshold, only: t218 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t219 => test_bad_arguments
+    use test_threshold, only: t220 => test_grid_helpers
     use test_workprec, only: b31 => set_up
     use test_workprec, only: a31 => tear_down
-    use test_workprec, only: t220 => test_rk8_eighth_order
-    use test_workprec, only: t221 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t222 => test_rk8_stability_polynomial
-    use test_workprec, only: t223 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t224 => test_unstable_runs_are_reported
-    use test_workprec, only: t225 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t226 => test_fitted_order
-    use test_workprec, only: t227 => test_step_kernels_timed
+    use test_workprec, only: t221 => test_rk8_eighth_order
+    use test_workprec, only: t222 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t223 => test_rk8_stability_polynomial
+    use test_workprec, only: t224 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t225 => test_unstable_runs_are_reported
+    use test_workprec, only: t226 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t227 => test_fitted_order
+    use test_workprec, only: t228 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -479,32 +480,33 @@ program pf_driver
         t205, &
         before=b29, &
         after=a29)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t206, before=b29, after=a29)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t207, before=b29, after=a29)
-    call pf_run_test('test_threshold', 'test_monotone_step', t208)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t209)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t210)
-    call pf_run_test('test_threshold', 'test_two_transitions', t211)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t212)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t213)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t214)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t215)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t216)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t217)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t218)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t219)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t220, before=b31, after=a31)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t221, before=b31, after=a31)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t222, before=b31, after=a31)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t223, before=b31, after=a31)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t224, before=b31, after=a31)
+    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t206, before=b29, after=a29)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t207, before=b29, after=a29)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t208, before=b29, after=a29)
+    call pf_run_test('test_threshold', 'test_monotone_step', t209)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t210)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t211)
+    call pf_run_test('test_threshold', 'test_two_transitions', t212)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t213)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t214)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t215)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t216)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t217)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t218)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t219)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t220)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t221, before=b31, after=a31)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t222, before=b31, after=a31)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t223, before=b31, after=a31)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t224, before=b31, after=a31)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t225, before=b31, after=a31)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t225, &
+        t226, &
         before=b31, &
         after=a31)
-    call pf_run_test('test_workprec', 'test_fitted_order', t226, before=b31, after=a31)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t227, before=b31, after=a31)
+    call pf_run_test('test_workprec', 'test_fitted_order', t227, before=b31, after=a31)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t228, before=b31, after=a31)
     call pf_driver_finish()
 end program pf_driver

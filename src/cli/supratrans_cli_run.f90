@@ -192,7 +192,7 @@ contains
             call remove_file(file // trim(stale(i)))
             call progress(cfg, "  deleted the stale " // file // trim(stale(i)) // " left by that run")
         end do
-        call unlock_file(handle)
+        call unlock_file(handle, file // ".lock")
     end subroutine clean_finished
 
 end module supratrans_cli_run
