@@ -47,8 +47,9 @@ contains
     end subroutine write_root
 
     !> Write `/provenance`: attributes `version`, `git_commit` and `git_dirty` (of the build: `build_commit`,
-    !> `build_dirty`), `git_commit_source` (fixed at build or read at run time: `commit_source`), `compiler`, `compiler_options`, `omp_max_threads`, `host`, `executable`, `working_directory`,
-    !> `started`, `input_file`, and the dataset `/provenance/namelist`, the input file's text exactly as read.
+    !> `build_dirty`), `git_commit_source` (fixed at build or read at run time: `commit_source`), `compiler`,
+    !> `compiler_options`, `omp_max_threads`, `host`, `executable`, `working_directory`, `started`, `input_file`,
+    !> and the dataset `/provenance/namelist`, the input file's text exactly as read.
     subroutine write_provenance(file, cfg, inv)
         !> Open output file.
         type(h5_file), intent(inout) :: file
