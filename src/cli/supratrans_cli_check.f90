@@ -2,13 +2,14 @@
 !> location included and whether that directory can be written (access(2)), run nothing, write nothing; for one
 !> file, what the run would need on stdout.
 module supratrans_cli_check
-    use, intrinsic :: iso_fortran_env, only: output_unit, int64
+    use, intrinsic :: iso_fortran_env, only: output_unit, error_unit, int64
     use supratrans_kinds, only: wp
     use supratrans_strings, only: printable
     use supratrans_error, only: error_type, fatal_error, err_io
     use supratrans_config, only: input_config
     use supratrans_system, only: path_kind, path_directory, path_missing, directory_writable
     use supratrans_input, only: read_input
+    use supratrans_validate, only: input_warnings
     use supratrans_limits, only: run_memory_bytes
     use supratrans_scene, only: scene_type, new_scene
     use supratrans_cli_output, only: check_output_location
@@ -30,9 +31,17 @@ contains
         !> Print the output, overwrite and memory estimate (`check_report`) when the file is fine; default false.
         logical, intent(in), optional :: report
         type(input_config) :: cfg
+        character(len=:), allocatable :: warnings(:)
+        integer :: i
 
         status = 0
         call read_input(path, cfg, error)
+        if (.not. allocated(error)) then
+            warnings = input_warnings(cfg)   ! the lines the run says too
+            do i = 1, size(warnings)
+                write (error_unit, "(a)") printable(warnings(i))
+            end do
+        end if
         if (.not. allocated(error)) call check_output_location(cfg, error, create=.false.)
         if (.not. allocated(error)) call check_output_writable(cfg, error)
         if (allocated(error)) status = error%stat

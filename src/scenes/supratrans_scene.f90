@@ -12,7 +12,9 @@
 !>   its memory estimate counts them);
 !> - `gap_rule`: whether the drive's Omega must lie inside the band gap 0 < Omega < sqrt(1 + m^2) (unless
 !>   allow_outside_gap): scenes at one frequency; scenes over a frequency axis skip the points outside instead;
-!> - `check_limits`: its own sizes (axes, task count, work, memory) against the limits of `supratrans_limits`.
+!> - `check_limits`: its own sizes (axes, task count, work, memory) against the limits of `supratrans_limits`;
+!> - `check_input`: the scene's own rules that need more than a pure check (a method's linear stability limit),
+!>   made by validation, so that `--check` refuses what the run would and nothing is created before.
 !>
 !> A scene of tasks implements three phases: `make_tasks` (its extension of `task_list`, which runs one task and
 !> writes the partial snapshot, with the names of a task's values, what the progress lines call the tasks and its
@@ -89,6 +91,8 @@ module supratrans_scene
         !> Check the scene's own sizes (axes, tasks, work, memory) against the limits (default: nothing beyond the
         !> limits of one run).
         procedure :: check_limits
+        !> Check the scene's own rules on the input that need more than a pure check (default: none).
+        procedure :: check_input
         !> Whether the scene is one run rather than a task list (default: a task list).
         procedure :: one_run
         !> Whether the drive's Omega must lie inside the band gap (default: no).
@@ -217,6 +221,18 @@ contains
         !> Allocated when a limit is exceeded.
         type(error_type), allocatable, intent(out) :: error
     end subroutine check_limits
+
+    !> The scene's own rules on the input beyond the pure checks: none by default.
+    subroutine check_input(self, cfg, where, error)
+        !> The scene.
+        class(scene_type), intent(in) :: self
+        !> The configuration (values already within their ranges, rules and limits).
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Allocated when a rule is broken.
+        type(error_type), allocatable, intent(out) :: error
+    end subroutine check_input
 
     !> Whether the scene is one run rather than a task list: false unless a scene says so.
     pure function one_run(self) result(yes)

@@ -80,6 +80,7 @@ module supratrans_scene_continuation
         procedure :: summary => continuation_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => continuation_scene_limits
+        procedure :: check_input => continuation_check_input
     end type continuation_scene
 
     interface
@@ -141,23 +142,13 @@ contains
             call fatal_error(error, cfg%source // ": &scene: the frequency axis omega_min .. omega_max is empty", err_input)
             return
         end if
-        if (any(cfg%run%numerics%method == [method_avf4, method_avf8])) then   ! no period map (supratrans_period_map)
-            call fatal_error(error, cfg%source // ": &numerics: method '" // method_name(cfg%run%numerics%method) &
-                // "' has no one-period map: continue folds with 'newton', 'linearized', 'rk4' or 'rk8'", err_input)
-            return
-        end if
+        ! the method and dt: checked by validation already (continuation_check_input, also for --check)
+        call continuation_check_input(self, cfg, cfg%source, error)
+        if (allocated(error)) return
         allocate (list%runs(ncurve))
         do ic = 1, ncurve
             list%runs(ic) = curve_run(cfg, ic)
             list%runs(ic)%drive%ramp_time = 0.0_wp
-            ! a periodic state needs a stable scheme: dt within the method's linear stability limit for the chain
-            if (cfg%run%numerics%dt >= linear_stability_dt(list%runs(ic)%chain, cfg%run%numerics%method)) then
-                call fatal_error(error, cfg%source // ": &numerics: dt = " // real_str(cfg%run%numerics%dt, 6) &
-                    // " is beyond the linear stability limit " // real_str(linear_stability_dt(list%runs(ic)%chain, &
-                    cfg%run%numerics%method), 6) // " of method '" // method_name(cfg%run%numerics%method) &
-                    // "' for curve " // int_str(ic) // ": the scheme has no periodic state to continue", err_input)
-                return
-            end if
         end do
         list%partial_path = trim(cfg%output%file) // ".partial.h5"
         if (allocated(cfg%text)) list%short_chain = .not. chain_length_given(cfg%text)
@@ -169,6 +160,41 @@ contains
         tasks%label = "fold continuations"
         call move_alloc(list, tasks%list)
     end subroutine continuation_make_tasks
+
+    !> Refuse, before any work (by validation, also for --check), a method without a one-period map (avf4, avf8) and
+    !> a dt beyond the method's linear stability limit for a curve's chain: the scheme has no periodic state to
+    !> continue.
+    subroutine continuation_check_input(self, cfg, where, error)
+        !> The scene.
+        class(continuation_scene), intent(in) :: self
+        !> The configuration (values already within their ranges, rules and limits).
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Allocated when the method or dt has no periodic state to continue.
+        type(error_type), allocatable, intent(out) :: error
+        type(run_config) :: run
+        real(wp) :: limit
+        integer :: ic
+
+        if (any(cfg%run%numerics%method == [method_avf4, method_avf8])) then   ! no period map (supratrans_period_map)
+            call fatal_error(error, where // ": &numerics: method '" // method_name(cfg%run%numerics%method) &
+                // "' has no one-period map: continue folds with 'newton', 'linearized', 'rk4' or 'rk8'", err_input)
+            return
+        end if
+        do ic = 1, curve_count(cfg)
+            run = curve_run(cfg, ic)
+            ! a periodic state needs a stable scheme: dt within the method's linear stability limit for the chain
+            limit = linear_stability_dt(run%chain, cfg%run%numerics%method)
+            if (cfg%run%numerics%dt >= limit) then
+                call fatal_error(error, where // ": &numerics: dt = " // real_str(cfg%run%numerics%dt, 6) &
+                    // " is beyond the linear stability limit " // real_str(limit, 6) // " of method '" &
+                    // method_name(cfg%run%numerics%method) // "' for curve " // int_str(ic) &
+                    // ": the scheme has no periodic state to continue", err_input)
+                return
+            end if
+        end do
+    end subroutine continuation_check_input
 
     !> Write the scene's file, complete, with the scene's wall time (`write_continuation_file`).
     subroutine continuation_write_output(self, cfg, tasks, error)
