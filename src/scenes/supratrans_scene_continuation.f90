@@ -21,7 +21,7 @@ module supratrans_scene_continuation
     use supratrans_kinds, only: wp, i8, pi
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks, warn_partial
+    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, scene_plan, wrong_tasks, warn_partial
     use supratrans_limits, only: axis_points, check_axis, limit_error, threads_text, sci
     use supratrans_config, only: input_config, run_config, scene_params, method_newton, method_linearized, method_rk4, &
                                  method_rk8, method_avf4, method_avf8, method_name
@@ -81,6 +81,7 @@ module supratrans_scene_continuation
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => continuation_scene_limits
         procedure :: check_input => continuation_check_input
+        procedure :: plan => continuation_scene_plan
     end type continuation_scene
 
     interface
@@ -377,5 +378,20 @@ contains
             end if
         end associate
     end subroutine continuation_scene_limits
+
+    !> The fold continuations: curves x frequencies (their cost is Newton-shooting's, not steps of a run: not known).
+    pure function continuation_scene_plan(self, cfg) result(p)
+        !> The scene.
+        class(continuation_scene), intent(in) :: self
+        !> The configuration (values within their ranges).
+        type(input_config), intent(in) :: cfg
+        type(scene_plan) :: p
+
+        associate (sc => cfg%scene)
+            p%tasks = real(curve_count(cfg), wp)*axis_points(sc%omega_min, sc%omega_max, sc%omega_step)
+        end associate
+        p%noun = "fold continuations"
+        p%steps = 0.0_wp
+    end function continuation_scene_plan
 
 end module supratrans_scene_continuation

@@ -21,7 +21,7 @@ module supratrans_scene_hysteresis
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks, warn_partial
+    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, scene_plan, wrong_tasks, warn_partial
     use supratrans_limits, only: axis_points, check_axis, check_tasks, limit_error, threads_text, sci, max_steps, &
         run_memory_bytes
     use supratrans_config, only: input_config, run_config, method_name
@@ -89,6 +89,7 @@ module supratrans_scene_hysteresis
         procedure :: summary => hysteresis_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => hysteresis_scene_limits
+        procedure :: plan => hysteresis_scene_plan
     end type hysteresis_scene
 
 contains
@@ -535,8 +536,7 @@ contains
             steps = 0.0_wp
             need = 0.0_wp
             do i = 1, size(stair_times)
-                run_steps = (cfg%run%drive%ramp_time + (2.0_wp*real(floor(ngrid + 1.0e-9_wp), wp) - 1.0_wp) &
-                             *stair_times(i))/cfg%run%numerics%dt
+                run_steps = stair_run_steps(cfg, ngrid, stair_times(i))
                 if (.not. (run_steps <= max_steps)) then
                     call limit_error(error, where, "scene", "a stair run of " // sci(run_steps) // " time steps (stair " &
                                      // "length " // sci(stair_times(i)) // "): more than the limit " // sci(max_steps))
@@ -555,5 +555,44 @@ contains
             call check_tasks(cfg, real(curve_count(cfg), wp)*nomega*1.0_wp, 1.0_wp, steps, "runs", where, error)
         end associate
     end subroutine hysteresis_scene_limits
+
+    !> Time steps of one stair run: the ramp from rest, then 2K + 1 stairs of length `stair_time` (K + 1 the
+    !> levels of `ngrid` grid points), over dt.
+    pure function stair_run_steps(cfg, ngrid, stair_time) result(steps)
+        !> The configuration.
+        type(input_config), intent(in) :: cfg
+        !> Grid points of amplitude_min .. amplitude_max by stair_height (real).
+        real(wp), intent(in) :: ngrid
+        !> The stair length.
+        real(wp), intent(in) :: stair_time
+        real(wp) :: steps
+
+        steps = (cfg%run%drive%ramp_time + (2.0_wp*real(floor(ngrid + 1.0e-9_wp), wp) - 1.0_wp)*stair_time) &
+                /cfg%run%numerics%dt
+    end function stair_run_steps
+
+    !> The stair runs: curves x frequencies x stair lengths, each of its ramp and 2K + 1 stairs (steps: their mean).
+    pure function hysteresis_scene_plan(self, cfg) result(p)
+        !> The scene.
+        class(hysteresis_scene), intent(in) :: self
+        !> The configuration (values within their ranges).
+        type(input_config), intent(in) :: cfg
+        type(scene_plan) :: p
+        real(wp), allocatable :: times(:)
+        real(wp) :: ngrid
+        integer :: i
+
+        associate (sc => cfg%scene)
+            times = scene_stair_times(cfg)
+            ngrid = axis_points(sc%amplitude_min, sc%amplitude_max, sc%stair_height)
+            p%tasks = real(curve_count(cfg), wp)*axis_points(sc%omega_min, sc%omega_max, sc%omega_step) &
+                      *real(size(times), wp)
+            p%noun = "stair runs"
+            p%steps = 0.0_wp
+            do i = 1, size(times)
+                p%steps = p%steps + stair_run_steps(cfg, ngrid, times(i))/real(size(times), wp)
+            end do
+        end associate
+    end function hysteresis_scene_plan
 
 end module supratrans_scene_hysteresis
