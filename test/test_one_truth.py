@@ -37,6 +37,13 @@ REFUSED = {
     "continuation dt beyond linear stability": (CONT.format(extra="amplitude_max = 2.0") +
                                                 "&numerics method = 'rk4', dt = 0.4, allow_unstable = .true. /\n",
                                                 "linear stability limit"),
+    # the work-precision scene's keys, checked by its task making after the folder and lock before
+    "dt_smallest not one per method": (CHAIN + "&scene kind = 'work_precision', dt_smallest = 0.1 /\n" + OUT,
+                                       "dt_smallest needs one value per method"),
+    "a dts beyond t_final/2": (CHAIN + "&scene kind = 'work_precision', dts = 0.05, 150.0 /\n" + OUT,
+                               "dts(2) = 150.0"),
+    "reference_dt beyond t_final/2": (CHAIN + "&scene kind = 'work_precision', reference_dt = 150.0 /\n" + OUT,
+                                      "reference_dt = 150.0"),
     # no silent clamping
     "continuation_step above continuation_step_max": (CONT.format(extra="continuation_step = 0.3"),
                                                       "continuation_step_max = 0.2 (the default)"),
