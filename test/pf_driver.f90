@@ -227,30 +227,31 @@ program pf_driver
     use test_system, only: t208 => test_atomic_write_replaces_a_planted_link_not_its_target
     use test_system, only: t209 => test_journal_is_never_appended_to_through_a_link
     use test_system, only: t210 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t211 => test_temporary_names_are_fresh
-    use test_system, only: t212 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t213 => test_monotone_step
-    use test_threshold, only: t214 => test_bisected_bracket
-    use test_threshold, only: t215 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t216 => test_two_transitions
-    use test_threshold, only: t217 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t218 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t219 => test_nothing_transmits
-    use test_threshold, only: t220 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t221 => test_lower_bound_transmits
-    use test_threshold, only: t222 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t223 => test_bad_arguments
-    use test_threshold, only: t224 => test_grid_helpers
+    use test_system, only: t211 => test_lock_file_is_removed_by_its_holder_only
+    use test_system, only: t212 => test_temporary_names_are_fresh
+    use test_system, only: t213 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t214 => test_monotone_step
+    use test_threshold, only: t215 => test_bisected_bracket
+    use test_threshold, only: t216 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t217 => test_two_transitions
+    use test_threshold, only: t218 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t219 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t220 => test_nothing_transmits
+    use test_threshold, only: t221 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t222 => test_lower_bound_transmits
+    use test_threshold, only: t223 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t224 => test_bad_arguments
+    use test_threshold, only: t225 => test_grid_helpers
     use test_workprec, only: b32 => set_up
     use test_workprec, only: a32 => tear_down
-    use test_workprec, only: t225 => test_rk8_eighth_order
-    use test_workprec, only: t226 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t227 => test_rk8_stability_polynomial
-    use test_workprec, only: t228 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t229 => test_unstable_runs_are_reported
-    use test_workprec, only: t230 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t231 => test_fitted_order
-    use test_workprec, only: t232 => test_step_kernels_timed
+    use test_workprec, only: t226 => test_rk8_eighth_order
+    use test_workprec, only: t227 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t228 => test_rk8_stability_polynomial
+    use test_workprec, only: t229 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t230 => test_unstable_runs_are_reported
+    use test_workprec, only: t231 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t232 => test_fitted_order
+    use test_workprec, only: t233 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -489,32 +490,33 @@ program pf_driver
         t210, &
         before=b30, &
         after=a30)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t211, before=b30, after=a30)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t212, before=b30, after=a30)
-    call pf_run_test('test_threshold', 'test_monotone_step', t213)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t214)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t215)
-    call pf_run_test('test_threshold', 'test_two_transitions', t216)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t217)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t218)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t219)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t220)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t221)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t222)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t223)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t224)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t225, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t226, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t227, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t228, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t229, before=b32, after=a32)
+    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t211, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t212, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t213, before=b30, after=a30)
+    call pf_run_test('test_threshold', 'test_monotone_step', t214)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t215)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t216)
+    call pf_run_test('test_threshold', 'test_two_transitions', t217)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t218)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t219)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t220)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t221)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t222)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t223)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t224)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t225)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t226, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t227, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t228, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t229, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t230, before=b32, after=a32)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t230, &
+        t231, &
         before=b32, &
         after=a32)
-    call pf_run_test('test_workprec', 'test_fitted_order', t231, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t232, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_fitted_order', t232, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t233, before=b32, after=a32)
     call pf_driver_finish()
 end program pf_driver

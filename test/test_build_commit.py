@@ -1,11 +1,13 @@
-"""The commit in /provenance is fixed when the program is built (src/base/supratrans_build_info.c, `.ci/with_commit`).
+"""The commit in /provenance (src/base/supratrans_build_info.c, `.ci/with_commit`).
 
 The sources as they are now are committed into a temporary repository and built there, once for the module (from a
 copy of this checkout's build tree without the objects of the build-info C file, so that only what changed, that
 file and the links are redone; marked slow all the same); each test then sets the state it needs and rebuilds through
-`.ci/with_commit` (one C file and the links) or with plain fpm. A run records the commit of its build, whatever its
-working directory, the directory of its executable, or a later checkout say; a build without a commit (plain fpm,
-a copy without .git) records "unknown (built without commit)", never a commit read when the program runs.
+`.ci/with_commit` (one C file and the links) or with plain fpm. A run built through `.ci/with_commit` records the
+commit of its build, whatever its working directory, the directory of its executable, or a later checkout say. A
+plain `fpm build` (the README's path) records the commit read when the program runs from the `.git` of the tree it
+was built in (attribute `git_commit_source` "read at run time ...", dirty flag -1: not known), also from a fresh
+clone whose branch is only in packed-refs; a copy without .git records "unknown (built without commit)".
 """
 from __future__ import annotations
 
@@ -32,8 +34,9 @@ def git(repo: Path, *args: str) -> str:
     return out.stdout.strip()
 
 
-def provenance(exe: Path, where: Path) -> tuple[str, int]:
-    """Run `exe` on a tiny namelist in directory `where`; `git_commit` and `git_dirty` of its file."""
+def provenance(exe: Path, where: Path, source: bool = False) -> tuple:
+    """Run `exe` on a tiny namelist in directory `where`; `git_commit` and `git_dirty` of its file (and, with
+    `source`, `git_commit_source`)."""
     h5py = pytest.importorskip("h5py")
     where.mkdir(parents=True, exist_ok=True)
     (where / "case.nml").write_text(NAMELIST)
@@ -41,6 +44,8 @@ def provenance(exe: Path, where: Path) -> tuple[str, int]:
     assert proc.returncode == 0, proc.stderr
     with h5py.File(where / "r.h5") as f:
         attrs = f["provenance"].attrs
+        if source:
+            return attrs["git_commit"].decode(), int(attrs["git_dirty"]), attrs["git_commit_source"].decode()
         return attrs["git_commit"].decode(), int(attrs["git_dirty"])
 
 
@@ -105,10 +110,41 @@ def test_uncommitted_changes_are_recorded_and_undone(repo, tmp_path):
     assert provenance(build_program(repo), tmp_path / "clean_again") == (head, 0)
 
 
-def test_plain_fpm_build_records_no_commit(repo, tmp_path):
+def test_plain_fpm_build_reads_the_commit_at_run_time(repo, tmp_path):
+    git(repo, "checkout", "-q", "-B", "main")    # on a branch (an earlier test may have left HEAD detached)
+    head = git(repo, "rev-parse", "HEAD")
     build_program(repo)
-    assert provenance(build_program(repo, with_commit=False), tmp_path / "plain") == (NO_COMMIT, -1)
-    assert provenance(build_program(repo), tmp_path / "wrapped") == (git(repo, "rev-parse", "HEAD"), 0)
+    assert provenance(build_program(repo), tmp_path / "wrapped", source=True) == (head, 0, "fixed at build")
+    exe = build_program(repo, with_commit=False)
+    commit, dirty, source = provenance(exe, tmp_path / "plain", source=True)
+    assert (commit, dirty) == (head, -1)
+    assert source.startswith(f"read at run time from {repo / '.git'}: ") and "moved" not in source, source
+    # the branch only in packed-refs (as after git gc): read there
+    git(repo, "pack-refs", "--all")
+    assert not (repo / ".git" / "refs" / "heads" / "main").exists()
+    assert provenance(exe, tmp_path / "packed") == (head, -1)
+    # a commit made after the build: the program reads the new HEAD and says that HEAD moved after it was built
+    (repo / "LATER.txt").write_text("a later commit\n")
+    git(repo, "add", "LATER.txt")
+    git(repo, "commit", "-q", "-m", "a later commit")
+    try:
+        commit, dirty, source = provenance(exe, tmp_path / "moved", source=True)
+        assert (commit, dirty) == (git(repo, "rev-parse", "HEAD"), -1)
+        assert source.endswith("HEAD moved after the executable was written"), source
+    finally:
+        git(repo, "reset", "-q", "--hard", head)
+    assert provenance(build_program(repo), tmp_path / "wrapped_again") == (head, 0)
+
+
+def test_a_fresh_clone_built_with_plain_fpm_records_its_commit(repo, tmp_path):
+    """The README's path: clone, `fpm build`, run; /provenance names `git rev-parse HEAD` of the clone."""
+    clone = tmp_path / "clone"
+    subprocess.run(["git", "clone", "-q", str(repo), str(clone)], check=True, capture_output=True)
+    subprocess.run(["fpm", "build"], cwd=clone, check=True, capture_output=True, text=True)
+    exe = build_program(clone, with_commit=False)
+    commit, dirty, source = provenance(exe, clone / "out" / "run", source=True)
+    assert commit == git(clone, "rev-parse", "HEAD")
+    assert dirty == -1 and source.startswith("read at run time from "), source
 
 
 def test_a_copy_without_git_records_no_commit(repo, tmp_path):

@@ -65,13 +65,13 @@ def leftovers(directory, keep=()):
 @pytest.mark.parametrize("sig", STOPS, ids=[s.name for s in STOPS])
 def test_timeseries_stops_at_a_signal_and_writes_nothing(exe, tmp_path, sig):
     """A stop signal that arrives as the run starts ends it at once: status 5, one line, no output, no temporary
-    (the empty lock file and the mid-run checkpoint it resumes from, issue 23). Today's code ignored it and ran to
+    (but the mid-run checkpoint it resumes from, issue 23: the lock file is removed as the run ends). Today's code ignored it and ran to
     the end (exit 0)."""
     namelist(tmp_path, TS.format(n=40, t_final=20000.0))
     proc = run(exe, "s.nml", cwd=tmp_path, preexec_fn=with_pending(sig), timeout=120)
     line = one_line(proc, 5, "out/s.h5", "timeseries stopped by signal " + str(int(sig)), "checkpoint written")
     assert "t = 0" in line
-    assert leftovers(tmp_path / "out") == ["s.h5.checkpoint", "s.h5.lock"]
+    assert leftovers(tmp_path / "out") == ["s.h5.checkpoint"]
 
 
 def test_timeseries_stops_at_sigterm_sent_while_it_runs(exe, tmp_path):
@@ -88,7 +88,7 @@ def test_timeseries_stops_at_sigterm_sent_while_it_runs(exe, tmp_path):
             proc.wait()
     assert proc.returncode == 5, err
     assert len(err.strip().splitlines()) == 1 and "timeseries stopped by signal 15" in err, err
-    assert leftovers(tmp_path / "out") == ["s.h5.checkpoint", "s.h5.lock"]
+    assert leftovers(tmp_path / "out") == ["s.h5.checkpoint"]
 
 
 def wait_for_handler(pid, sig, timeout=60.0):
@@ -151,7 +151,7 @@ def test_merge_stopped_early_by_a_signal_leaves_nothing(exe, tmp_path, sig, part
 
 def test_merge_signalled_at_any_moment_ends_whole_or_cleanly(exe, tmp_path):
     """SIGTERM at a spread of moments once `merge` catches it: either the merge finished (0, the output whole and
-    nothing else beside it but the lock) or it stopped (5, one line, nothing but the lock); never 143."""
+    nothing else beside it, not even the lock) or it stopped (5, one line, nothing left); never 143."""
     parts = make_parts(exe, tmp_path)
     names = leftovers(tmp_path / "parts")
     for delay in [0.0, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1]:
@@ -165,9 +165,9 @@ def test_merge_signalled_at_any_moment_ends_whole_or_cleanly(exe, tmp_path):
         assert proc.returncode in (0, 5), (delay, proc.returncode, err)
         if proc.returncode == 5:
             assert len(err.strip().splitlines()) == 1, err
-            assert leftovers(tmp_path / "parts") in (names, sorted(names + ["p.h5.lock"]))
+            assert leftovers(tmp_path / "parts") == names
         else:
-            assert leftovers(tmp_path / "parts") == sorted(names + ["p.h5", "p.h5.lock"])
+            assert leftovers(tmp_path / "parts") == sorted(names + ["p.h5"])
 
 
 # ------------------------------------------------------------------ --check on a read-only file system

@@ -1,4 +1,5 @@
 """Slices, merge, whole journal records, the output lock and a clean stop on SIGTERM, as a user drives them."""
+import fcntl
 import os
 import random
 import signal
@@ -374,7 +375,27 @@ def test_second_instance_on_one_output_is_refused(exe, tmp_path):
             left.unlink()
     third = sh(exe, "study.nml", cwd=tmp_path, check=False)
     assert third.returncode == 0, third.stderr
-    assert lock.exists() and lock.stat().st_size == 0      # never deleted: an empty file (see test_trust.py)
+    assert not lock.exists()          # removed by the instance that held it, as it ended (see test_trust.py)
+
+
+def test_a_lock_held_by_another_process_is_never_removed(exe, tmp_path):
+    """A lock file that another process holds (flock) refuses the run and stays, the same file; an empty lock file
+    left by an older version (not held) is taken and removed at the end; every run leaves no lock file."""
+    (tmp_path / "study.nml").write_text(SWEEP)
+    (tmp_path / "out").mkdir()
+    lock = tmp_path / "out" / "study.h5.lock"
+    fd = os.open(lock, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        held = sh(exe, "study.nml", cwd=tmp_path, check=False)
+        assert held.returncode == 4 and "another supratrans" in held.stderr, held.stderr
+        assert lock.exists() and os.stat(lock).st_ino == os.fstat(fd).st_ino
+    finally:
+        os.close(fd)
+    assert lock.exists()                                 # released, not held: left as an older version leaves it
+    done = sh(exe, "study.nml", cwd=tmp_path, check=False)
+    assert done.returncode == 0, done.stderr
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == ["study.h5"]
 
 
 @pytest.fixture()
@@ -402,7 +423,7 @@ def test_full_disk_is_one_line_and_the_journal_resumes(exe, tmp_path, small_disk
     assert proc.returncode == 4, proc.stderr
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and "disk full" in lines[0], proc.stderr
-    assert sorted(p.name for p in small_disk.iterdir()) == ["s.h5.journal", "s.h5.lock"]   # no temporary left
+    assert sorted(p.name for p in small_disk.iterdir()) == ["s.h5.journal"]   # no temporary, no lock left
     kept = small_disk.joinpath("s.h5.journal").read_text().count("\n") - 1
     assert kept > 50
     subprocess.run(["mount", "-o", "remount,size=10m", str(small_disk)], check=True)

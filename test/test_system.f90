@@ -188,6 +188,49 @@ contains
     end subroutine test_lock_is_exclusive_never_through_a_link_and_stays
 
     ! @test
+    subroutine test_lock_file_is_removed_by_its_holder_only()
+        integer :: first, second
+        character(len=:), allocatable :: reason
+        type(error_type), allocatable :: error
+
+        call lock_file(dir // "/r.h5.lock", first, reason)
+        call track(dir // "/r.h5.lock")
+        call assertTrue( &
+            first >= 0, &
+            message="the lock is taken: " // reason, &
+            location=pf_source_location('test_system.pf', 130, 'assertTrue'))
+        if (pf_any_failed()) return
+        call unlock_file(first, dir // "/r.h5.lock")
+        call assertEqual( &
+            path_missing, &
+            link_kind(dir // "/r.h5.lock"), &
+            message="removed by its holder as it is released", &
+            location=pf_source_location('test_system.pf', 132, 'assertEqual'))
+        if (pf_any_failed()) return
+        call lock_file(dir // "/r.h5.lock", second, reason)
+        call assertTrue( &
+            second >= 0, &
+            message="taken again, on a new file: " // reason, &
+            location=pf_source_location('test_system.pf', 134, 'assertTrue'))
+        if (pf_any_failed()) return
+        ! another file put at the lock's name while this one is held: never removed by this holder
+        call remove_file(dir // "/r.h5.lock")
+        call write_file_atomic(dir // "/r.h5.lock", "", error)
+        call assertFalse( &
+            allocated(error), &
+            message="a file of another process at the lock's name", &
+            location=pf_source_location('test_system.pf', 138, 'assertFalse'))
+        if (pf_any_failed()) return
+        call unlock_file(second, dir // "/r.h5.lock")
+        call assertEqual( &
+            path_regular, &
+            link_kind(dir // "/r.h5.lock"), &
+            message="a file this holder did not lock stays", &
+            location=pf_source_location('test_system.pf', 140, 'assertEqual'))
+        if (pf_any_failed()) return
+    end subroutine test_lock_file_is_removed_by_its_holder_only
+
+    ! @test
     subroutine test_temporary_names_are_fresh()
         character(len=:), allocatable :: a, b
 
@@ -196,22 +239,22 @@ contains
         call assertEqual( &
             len(dir // "/o.h5") + temp_extra, &
             len(a), &
-            location=pf_source_location('test_system.pf', 128, 'assertEqual'))
+            location=pf_source_location('test_system.pf', 149, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             dir // "/o.h5.tmp-", &
             a(1:len(dir // "/o.h5.tmp-")), &
-            location=pf_source_location('test_system.pf', 129, 'assertEqual'))
+            location=pf_source_location('test_system.pf', 150, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             a /= b, &
             message="two draws give two names: " // a // " " // b, &
-            location=pf_source_location('test_system.pf', 130, 'assertTrue'))
+            location=pf_source_location('test_system.pf', 151, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             verify(a(len(a) - 5:), "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789"), &
-            location=pf_source_location('test_system.pf', 131, 'assertEqual'))
+            location=pf_source_location('test_system.pf', 152, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_temporary_names_are_fresh
 
@@ -227,48 +270,48 @@ contains
         call put(dir // "/p.h5.tmp-Ab3dE9", "another output's")
         call plant_link(dir // "/victim", dir // "/o.h5.tmp-LINK00")
         call remove_stale_temporaries(dir // "/o.h5", removed)
-        call assertEqual(3, removed, location=pf_source_location('test_system.pf', 146, 'assertEqual'))
+        call assertEqual(3, removed, location=pf_source_location('test_system.pf', 167, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             path_missing, &
             link_kind(dir // "/o.h5.tmp-Ab3dE9"), &
-            location=pf_source_location('test_system.pf', 147, 'assertEqual'))
+            location=pf_source_location('test_system.pf', 168, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             path_missing, &
             link_kind(dir // "/o.h5.journal.tmp-000000"), &
-            location=pf_source_location('test_system.pf', 148, 'assertEqual'))
+            location=pf_source_location('test_system.pf', 169, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             path_missing, &
             link_kind(dir // "/o.h5.partial.h5.tmp-zZ9zZ9"), &
-            location=pf_source_location('test_system.pf', 149, 'assertEqual'))
+            location=pf_source_location('test_system.pf', 170, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             path_regular, &
             link_kind(dir // "/o.h5.tmp-toolong1"), &
-            location=pf_source_location('test_system.pf', 150, 'assertEqual'))
+            location=pf_source_location('test_system.pf', 171, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             path_regular, &
             link_kind(dir // "/o.h5.tmpx-Ab3dE9"), &
-            location=pf_source_location('test_system.pf', 151, 'assertEqual'))
+            location=pf_source_location('test_system.pf', 172, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             path_regular, &
             link_kind(dir // "/p.h5.tmp-Ab3dE9"), &
-            location=pf_source_location('test_system.pf', 152, 'assertEqual'))
+            location=pf_source_location('test_system.pf', 173, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             path_link, &
             link_kind(dir // "/o.h5.tmp-LINK00"), &
             message="a link is left alone", &
-            location=pf_source_location('test_system.pf', 153, 'assertEqual'))
+            location=pf_source_location('test_system.pf', 174, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             thesis, &
             contents(dir // "/victim"), &
-            location=pf_source_location('test_system.pf', 154, 'assertEqual'))
+            location=pf_source_location('test_system.pf', 175, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_only_our_temporaries_are_deleted
 
@@ -293,7 +336,7 @@ contains
             0, &
             int(stat), &
             message="symlink " // link, &
-            location=pf_source_location('test_system.pf', 174, 'assertEqual'))
+            location=pf_source_location('test_system.pf', 195, 'assertEqual'))
         if (pf_any_failed()) return
         call track(link)
     end subroutine plant_link

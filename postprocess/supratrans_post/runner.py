@@ -53,7 +53,7 @@ from .reader import PlotError, open_scene, output_path
 #: package, else the one the command is started in; see cli.checkout).
 ROOT = cli.checkout() or Path.cwd()
 #: fpm through .ci/with_commit, so that the program built (and rebuilt by `fpm run`) records the repository's
-#: commit in /provenance (fpm cannot run git itself; plain fpm records "unknown (built without commit)").
+#: commit in /provenance fixed at build (fpm cannot run git itself; plain fpm reads it at run time instead).
 FPM = ["sh", str(ROOT / ".ci" / "with_commit"), "fpm"]
 #: Order of the figures (the paper's), by input file stem or its prefix.
 ORDER = ["fig1", "fig2", "fig3", "fig3half", "fig4", "fig11", "bif1", "bif2", "bif3"]

@@ -7,7 +7,8 @@
  * name nobody can guess (`<final>.tmp-XXXXXX`, six random letters or digits, retried when taken), written, fsync'ed
  * and renamed onto its final name, so that a symbolic link or any other file planted by another user under a
  * predictable name is never opened for writing; an existing path is never opened for writing by name except the
- * journal appended to (O_NOFOLLOW, regular files only) and the lock file (O_NOFOLLOW, never truncated). */
+ * journal appended to (O_NOFOLLOW, regular files only) and the lock file (O_NOFOLLOW, never truncated; removed by
+ * its holder only, while held). */
 #define _GNU_SOURCE
 #include <dirent.h>
 #include <dlfcn.h>
@@ -108,44 +109,72 @@ long long supratrans_file_size(const char *path)
     return (long long)st.st_size;
 }
 
+/* Whether descriptor `fd` and the name `path` (not followed if a link) are the same file. */
+static int same_inode(int fd, const char *path)
+{
+    struct stat a, b;
+    if (fstat(fd, &a) != 0 || lstat(path, &b) != 0) return 0;
+    return a.st_dev == b.st_dev && a.st_ino == b.st_ino;
+}
+
 /* Take an exclusive advisory lock on `path` (created if missing) without waiting. Returns the descriptor (>= 0, kept
  * open for as long as the lock is held: the kernel releases it when the process ends, however it ends), -1 if another
  * process holds the lock, -2 if the lock file cannot be opened or is not a regular file (a symbolic link is never
  * followed), -3 if the file system refuses locks (ENOLCK on NFS without a lock manager, EOPNOTSUPP, ENOSYS, ...).
- * `*err` receives errno for -2 and -3. The lock file is never truncated and never unlinked (see
- * supratrans_unlock): a file unlinked while held lets a second process lock a new file of the same name. */
+ * `*err` receives errno for -2 and -3. The lock file is never truncated.
+ *
+ * The holder removes the lock file when it is done (supratrans_unlock_remove), while still holding it. A process
+ * that opened the file before that removal may then get the lock of a file that no longer has the name; so a lock
+ * counts only once the name still refers to the file locked (same device and inode, checked after flock): else it
+ * is dropped and the name opened again (created anew if gone). Two processes thus never both hold "the" lock. */
 int supratrans_lock(const char *path, int *err)
 {
     *err = 0;
-    int fd = open(path, O_RDWR | O_CREAT | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
-    if (fd < 0) {
-        *err = errno;
-        return -2;
-    }
-    struct stat st;
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        *err = EINVAL;
+    for (int attempt = 0; attempt < 100; attempt++) {
+        int fd = open(path, O_RDWR | O_CREAT | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
+        if (fd < 0) {
+            *err = errno;
+            return -2;
+        }
+        struct stat st;
+        if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+            *err = EINVAL;
+            close(fd);
+            return -2;
+        }
+        if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+            int e = errno;
+            close(fd);
+            if (e == EWOULDBLOCK || e == EAGAIN || e == EINTR) return -1;
+            *err = e;
+            return -3;
+        }
+        if (same_inode(fd, path)) return fd;
+        /* removed (or replaced) by its holder between our open and our flock: that file is no lock any more */
         close(fd);
-        return -2;
     }
-    if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
-        int e = errno;
-        close(fd);
-        if (e == EWOULDBLOCK || e == EAGAIN || e == EINTR) return -1;
-        *err = e;
-        return -3;
-    }
-    return fd;
+    return -1;
 }
 
-/* Release a lock taken by supratrans_lock. The file stays: unlinking it while held (or between unlock and close)
- * would let one process lock the old file and another a new one under the same name, both "holding the lock". */
+/* Release a lock taken by supratrans_lock. The file stays (see supratrans_unlock_remove). */
 void supratrans_unlock(int fd)
 {
     if (fd >= 0) {
         flock(fd, LOCK_UN);
         close(fd);
     }
+}
+
+/* Remove the lock file `path` and release the lock `fd` taken by supratrans_lock on it: the name is unlinked while
+ * the lock is still held, and only if it still names the file this process holds (same device and inode: never a
+ * file another process created in its place). A process that opened the old file in between finds, after its flock,
+ * that the name no longer refers to it and tries again (supratrans_lock). */
+void supratrans_unlock_remove(int fd, const char *path)
+{
+    if (fd < 0) return;
+    if (same_inode(fd, path)) unlink(path);
+    flock(fd, LOCK_UN);
+    close(fd);
 }
 
 /* The text of an errno value (strerror), copied into `buf` of `size` bytes. */

@@ -122,6 +122,11 @@ module supratrans_system
             import :: c_int
             integer(c_int), value :: fd
         end subroutine c_unlock
+        subroutine c_unlock_remove(fd, path) bind(c, name="supratrans_unlock_remove")
+            import :: c_char, c_int
+            integer(c_int), value :: fd
+            character(kind=c_char), intent(in) :: path(*)
+        end subroutine c_unlock_remove
         subroutine c_catch_stop_signals() bind(c, name="supratrans_catch_stop_signals")
         end subroutine c_catch_stop_signals
         subroutine c_ignore_file_size_signal() bind(c, name="supratrans_ignore_file_size_signal")
@@ -271,7 +276,8 @@ contains
     !> `handle` >= 0 holds it (the kernel releases it when the process ends, also by a crash or a kill);
     !> `lock_busy`: another process holds it; `lock_cannot_open`: the lock file cannot be created or is not a
     !> regular file; `lock_unsupported`: the file system refuses locks. `reason` says why for the last two.
-    !> The lock file is never unlinked (`unlock_file` leaves it), so that two processes cannot each lock a file of
+    !> A lock counts only once `path` still names the file locked (its holder may have removed it in between:
+    !> `unlock_file` with `path`); else the name is opened again, so that two processes never each hold a lock of
     !> the same name.
     subroutine lock_file(path, handle, reason)
         !> Lock file.
@@ -296,12 +302,21 @@ contains
         end select
     end subroutine lock_file
 
-    !> Release a lock taken by `lock_file` (nothing for a negative handle); the lock file stays.
-    subroutine unlock_file(handle)
+    !> Release a lock taken by `lock_file` (nothing for a negative handle). Given `path`, the lock file is removed
+    !> first, while still held, and only if that name still refers to the file this process locked (same device and
+    !> inode); without it the file stays.
+    subroutine unlock_file(handle, path)
         !> Lock handle.
         integer, intent(in) :: handle
+        !> The lock file `handle` was taken on: remove it.
+        character(len=*), intent(in), optional :: path
 
-        if (handle >= 0) call c_unlock(int(handle, c_int))
+        if (handle < 0) return
+        if (present(path)) then
+            call c_unlock_remove(int(handle, c_int), path // c_null_char)
+        else
+            call c_unlock(int(handle, c_int))
+        end if
     end subroutine unlock_file
 
     !> The system's text for an `errno` value (strerror), e.g. "No space left on device".

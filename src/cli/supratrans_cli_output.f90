@@ -1,9 +1,9 @@
 !> What every command that writes an output shares (`supratrans_cli`): the output's location checked before any
 !> work (a file name: no NUL, no trailing '/', short enough for the temporary and journal names made from it; not a
 !> directory, not a symbolic link, FIFO or device, not the input file itself; its directory made with mkdir(2),
-!> never a shell), the advisory lock `<output>.lock` taken before any file of the output is touched (never deleted;
-!> `SUPRATRANS_NO_LOCK=1` runs without it), and the scene run under that lock (`with_lock`), for a merge after the
-!> parts' records are written as the output's journal.
+!> never a shell), the advisory lock `<output>.lock` taken before any file of the output is touched (removed by its
+!> holder as the run ends, while still held; `SUPRATRANS_NO_LOCK=1` runs without it), and the scene run under that
+!> lock (`with_lock`), for a merge after the parts' records are written as the output's journal.
 module supratrans_cli_output
     use, intrinsic :: iso_fortran_env, only: error_unit
     use, intrinsic :: iso_c_binding, only: c_null_char
@@ -148,7 +148,7 @@ contains
         if (len(why) > 0) call fatal_error(error, why, err_io)
     end subroutine check_own_files
 
-    !> Take the lock `<output>.lock` (never through a link; the file stays when released), then delete the
+    !> Take the lock `<output>.lock` (never through a link; its holder removes it when released), then delete the
     !> temporaries a killed run of this output left. With SUPRATRANS_NO_LOCK=1 no lock is taken (`handle` -1) and
     !> no temporary is deleted.
     subroutine take_lock(cfg, handle, error)
@@ -198,7 +198,7 @@ contains
     end subroutine take_lock
 
     !> Take the output's lock, (for a merge: write the joined records as the output's journal,) run the scene, release
-    !> the lock. Nothing of the output is touched before the lock is held.
+    !> the lock and remove its file. Nothing of the output is touched before the lock is held.
     subroutine with_lock(cfg, inv, status, error, set)
         !> The validated input.
         type(input_config), intent(inout) :: cfg
@@ -234,7 +234,7 @@ contains
         if (present(set) .and. allocated(error)) then
             if (error%stat == err_input) call remove_own_file(journal)
         end if
-        call unlock_file(handle)
+        call unlock_file(handle, trim(cfg%output%file) // ".lock")   ! removed as the lock ends
         if (allocated(error)) then
             status = error%stat
             return

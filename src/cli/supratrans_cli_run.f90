@@ -3,6 +3,7 @@
 !> finished already, validate, check the output's location and run the scene under the output's lock
 !> (`supratrans_cli_output`).
 module supratrans_cli_run
+    use, intrinsic :: iso_fortran_env, only: error_unit
     use supratrans_strings, only: int_str, printable, text_fingerprint
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config
@@ -10,7 +11,7 @@ module supratrans_cli_run
     use supratrans_system, only: path_kind, path_missing, remove_own_file, unlock_file, link_kind, path_regular, not_own_file
     use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
     use supratrans_input, only: read_input
-    use supratrans_validate, only: validate_config
+    use supratrans_validate, only: validate_config, input_warnings
     use supratrans_parts, only: part_set, read_parts, part_path
     use supratrans_scene, only: scene_type, new_scene
     use supratrans_cli_output, only: check_output_location, take_lock, with_lock, progress
@@ -39,6 +40,8 @@ contains
         type(part_set) :: done_part
         type(error_type), allocatable :: cause
         class(scene_type), allocatable :: scene
+        character(len=:), allocatable :: warnings(:)
+        integer :: i
 
         status = 0
         call read_input(path, cfg, error, check_output=.false.)
@@ -100,6 +103,10 @@ contains
             status = error%stat
             return
         end if
+        warnings = input_warnings(cfg)   ! what --check says too (a key the scene does not use)
+        do i = 1, size(warnings)
+            write (error_unit, "(a)") printable(warnings(i))
+        end do
         call with_lock(cfg, inv, status, error)
     end subroutine run_from_file
 
@@ -200,7 +207,7 @@ contains
             call remove_own_file(file // trim(stale(i)))
             call progress(cfg, "  deleted the stale " // file // trim(stale(i)) // " left by that run")
         end do
-        call unlock_file(handle)
+        call unlock_file(handle, file // ".lock")
     end subroutine clean_finished
 
 end module supratrans_cli_run

@@ -9,7 +9,8 @@ module supratrans_output
     use supratrans_strings, only: text_or
     use supratrans_config, only: input_config
     use supratrans_invocation, only: invocation_type
-    use supratrans_host, only: timestamp, build_commit, build_dirty, host_name, executable_path, working_directory
+    use supratrans_host, only: timestamp, build_commit, build_dirty, commit_source, host_name, executable_path, &
+                               working_directory
     use supratrans_hdf5, only: h5_file, h5_write, h5_write_attr, h5_create_group
     use supratrans_parameters, only: write_parameters
     implicit none
@@ -46,8 +47,9 @@ contains
     end subroutine write_root
 
     !> Write `/provenance`: attributes `version`, `git_commit` and `git_dirty` (of the build: `build_commit`,
-    !> `build_dirty`), `compiler`, `compiler_options`, `omp_max_threads`, `host`, `executable`, `working_directory`,
-    !> `started`, `input_file`, and the dataset `/provenance/namelist`, the input file's text exactly as read.
+    !> `build_dirty`), `git_commit_source` (fixed at build or read at run time: `commit_source`), `compiler`,
+    !> `compiler_options`, `omp_max_threads`, `host`, `executable`, `working_directory`, `started`, `input_file`,
+    !> and the dataset `/provenance/namelist`, the input file's text exactly as read.
     subroutine write_provenance(file, cfg, inv)
         !> Open output file.
         type(h5_file), intent(inout) :: file
@@ -64,6 +66,7 @@ contains
         call h5_write_attr(file, g, "version", supratrans_version)
         call h5_write_attr(file, g, "git_commit", build_commit())
         call h5_write_attr(file, g, "git_dirty", build_dirty())
+        call h5_write_attr(file, g, "git_commit_source", commit_source())
         call h5_write_attr(file, g, "compiler", compiler_version())
         call h5_write_attr(file, g, "compiler_options", compiler_options())
         call h5_write_attr(file, g, "omp_max_threads", threads)

@@ -3,11 +3,15 @@
 !>
 !> 1. `check_keys`: every key against its row of `key_table` (list length, finite reals, bounds, allowed names);
 !>    nothing key-specific is written here, so a new key with a range is checked by its row alone;
-!> 2. `check_rules`: the hand-written rules between keys: 0 <= N0 <= N, Omega inside the band gap
-!>    0 < Omega < sqrt(1 + m^2), T >= 2 dt, the paper's necessary stability condition
-!>    (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt, probes within 1..N, the scene's axes and curves, the detector
-!>    site, a named output file;
-!> 3. `check_output_file`: the output file is not replaced by accident.
+!> 2. `check_rules`: the hand-written rules between keys: 0 <= N0 <= N (naming N0 as the default when it was not
+!>    given), Omega inside the band gap 0 < Omega < sqrt(1 + m^2), T >= 2 dt, the paper's necessary stability
+!>    condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt, probes within 1..N, the scene's axes and curves, the
+!>    detector site, a named output file, continuation_step <= continuation_step_max (refused, never clamped);
+!> 3. `check_limits` (`supratrans_limits`, then the scene's own), and the scene's `check_input`: every check the
+!>    run's task making would make, so that `--check` refuses what the run would, before anything is created;
+!> 4. `check_output_file`: the output file is not replaced by accident.
+!>
+!> `input_warnings` gives the lines said about keys a scene does not use (`&drive omega` on a frequency axis).
 !>
 !> Every failure is one line (status `err_input`): `<file>: &<group>: <key> = <value>: <what is wrong>`.
 module supratrans_validate
@@ -23,10 +27,11 @@ module supratrans_validate
     use supratrans_keys, only: key_spec, key_value, kt_integer, kt_real, kt_name, input_error
     use supratrans_schema, only: key_table, get_key, choice_names, choice_noun
     use supratrans_scene, only: scene_type, new_scene
+    use supratrans_namelist, only: parse_namelist, parsed_input
     implicit none
     private
 
-    public :: validate_config
+    public :: validate_config, input_warnings
 
 contains
 
@@ -57,6 +62,8 @@ contains
         call check_rules(cfg, scene, where, error)
         if (allocated(error)) return
         call check_limits(cfg, scene, where, error)
+        if (allocated(error)) return
+        call scene%check_input(cfg, where, error)
         if (allocated(error)) return
         check_file = .true.
         if (present(check_output)) check_file = check_output
@@ -197,8 +204,14 @@ contains
 
         associate (ch => cfg%run%chain, dr => cfg%run%drive, nu => cfg%run%numerics, rec => cfg%run%record)
             if (ch%n0 < 0 .or. ch%n0 > ch%n) then
-                call input_error(error, where, "chain", "n0 = " // int_str(ch%n0) // ": need 0 <= N0 <= N = " &
-                                 // int_str(ch%n))
+                if (key_given(cfg, "chain", "n0")) then
+                    call input_error(error, where, "chain", "n0 = " // int_str(ch%n0) // ": need 0 <= N0 <= N = " &
+                                     // int_str(ch%n))
+                else
+                    call input_error(error, where, "chain", "n0 = " // int_str(ch%n0) // " (the default, not given): " &
+                                     // "need 0 <= N0 <= N = " // int_str(ch%n) // "; give n0 (the absorber's start) " &
+                                     // "with n")
+                end if
                 return
             end if
             edge = band_gap_edge(ch)
@@ -279,6 +292,12 @@ contains
                                  "values are given but vary = 'none' (say which parameter they set)")
                 return
             end if
+            if (.not. (sc%continuation_step <= sc%continuation_step_max)) then
+                call input_error(error, where, "scene", "continuation_step = " // real_str(sc%continuation_step) &
+                                 // ": must be <= continuation_step_max = " // real_str(sc%continuation_step_max) &
+                                 // default_note(cfg, "continuation_step_max") // " (it is not clamped)")
+                return
+            end if
             if (scene%one_run()) return
             if (.not. (sc%amplitude_max >= sc%amplitude_min)) then
                 call input_error(error, where, "scene", "amplitude_max = " // real_str(sc%amplitude_max) &
@@ -328,6 +347,73 @@ contains
             end if
         end do
     end subroutine check_scene
+
+    !> Lines to print before a run (and by `--check`), one per key given that the scene does not use: today
+    !> `&drive omega` given to a scene over a frequency axis (map, bifurcation, continuation, hysteresis), which runs
+    !> omega_min .. omega_max by omega_step instead. Empty when there is nothing to say.
+    pure function input_warnings(cfg) result(lines)
+        !> The validated configuration.
+        type(input_config), intent(in) :: cfg
+        character(len=:), allocatable :: lines(:)
+        character(len=:), allocatable :: where, text
+        integer :: n
+
+        allocate (character(len=0) :: lines(0))
+        where = "configuration"
+        if (allocated(cfg%source)) then
+            if (len(cfg%source) > 0) where = cfg%source
+        end if
+        select case (trim(cfg%scene%kind))
+        case ("map", "bifurcation", "continuation", "hysteresis")
+            if (.not. key_given(cfg, "drive", "omega") .or. .not. allocated(cfg%text)) return
+            n = int(min((cfg%scene%omega_max - cfg%scene%omega_min)/cfg%scene%omega_step + 1.0e-9_wp, 1.0e7_wp)) + 1
+            text = "warning: " // where // ": &drive: omega = " // real_str(cfg%run%drive%omega) // " is not used by " &
+                   // "&scene kind = '" // trim(cfg%scene%kind) // "', which runs omega_min .. omega_max by omega_step (" &
+                   // real_str(cfg%scene%omega_min) // " .. " // real_str(cfg%scene%omega_max) // " by " &
+                   // real_str(cfg%scene%omega_step) // ": " // int_str(n) // trim(merge(" frequency  ", " frequencies", &
+                   n == 1)) // "); set those for one frequency"
+            deallocate (lines)
+            allocate (character(len=len(text)) :: lines(1))
+            lines(1) = text
+        case default
+            continue
+        end select
+    end function input_warnings
+
+    !> Whether the namelist text of `cfg` gives `group` `key` (true for a configuration built in code: no text).
+    pure logical function key_given(cfg, group, key) result(given)
+        !> The configuration.
+        type(input_config), intent(in) :: cfg
+        !> The key's group and name.
+        character(len=*), intent(in) :: group, key
+        type(parsed_input) :: parsed
+        type(error_type), allocatable :: error
+        integer :: ik
+
+        given = .true.
+        if (.not. allocated(cfg%text)) return
+        if (len_trim(cfg%text) == 0) return
+        call parse_namelist(cfg%text, "input", parsed, error)
+        if (allocated(error)) return
+        do ik = 1, size(key_table)
+            if (trim(key_table(ik)%group) == group .and. trim(key_table(ik)%key) == key) then
+                given = parsed%n_values(ik) > 0
+                return
+            end if
+        end do
+    end function key_given
+
+    !> " (the default)" when `&scene` `key` is not given in the namelist text, else empty.
+    pure function default_note(cfg, key) result(note)
+        !> The configuration.
+        type(input_config), intent(in) :: cfg
+        !> The &scene key.
+        character(len=*), intent(in) :: key
+        character(len=:), allocatable :: note
+
+        note = ""
+        if (.not. key_given(cfg, "scene", key)) note = " (the default)"
+    end function default_note
 
     !> Nothing may be at the output's path (a file, a link, a FIFO) unless `overwrite`.
     subroutine check_output_file(cfg, where, error)

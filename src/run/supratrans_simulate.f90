@@ -11,7 +11,7 @@ module supratrans_simulate
     use, intrinsic :: iso_fortran_env, only: error_unit
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
-    use supratrans_strings, only: real_str
+    use supratrans_strings, only: real_str, fixed1
     use supratrans_config, only: run_config
     use supratrans_potential, only: check_potential
     use supratrans_stepper, only: stepper, step_ok, step_not_converged, step_breakdown, save_counters, load_counters
@@ -134,7 +134,12 @@ contains
     !> signal (then ends `interrupted`, and so does every later call with the session), replays a finished run of a
     !> resumed task from its saved record and continues the run that was in progress from its saved step. A run
     !> that ends is added to the session's records.
-    subroutine simulate(run, result, verdict_only, interruptible, session)
+    !>
+    !> With `progress_every` > 0 (the timeseries scene: one long run) a line of progress goes to stderr once
+    !> max(`progress_every`, a tenth of the time elapsed) seconds of wall time have passed since the last: the
+    !> simulated time t of T, the wall time elapsed and the time left at the rate so far (a line count that grows
+    !> only with the logarithm of a long run's length). Polled with the checkpoint clock, every `clock_stride` steps.
+    subroutine simulate(run, result, verdict_only, interruptible, session, progress_every)
         !> Validated run configuration.
         type(run_config), intent(in) :: run
         !> Outcome, statistics, ledger and records.
@@ -145,13 +150,15 @@ contains
         logical, intent(in), optional :: interruptible
         !> The checkpoints of the task this run belongs to.
         type(checkpoint_session), intent(inout), optional :: session
+        !> Least wall time (s) between two lines of progress on stderr (absent or <= 0: none).
+        real(wp), intent(in), optional :: progress_every
         class(stepper), allocatable :: integrator
         type(observer_item), allocatable :: observers(:)
         type(error_type), allocatable :: error
-        integer(i8) :: clock_start, clock_end, clock_rate, m, nsteps, countdown
+        integer(i8) :: clock_start, clock_end, clock_rate, m, nsteps, countdown, clock_report
         integer :: i, status
-        logical :: halt, verdict, poll, keep, resumed
-        real(wp) :: earlier_wall
+        logical :: halt, verdict, poll, keep, resumed, report
+        real(wp) :: earlier_wall, t_begin
 
         call system_clock(clock_start, clock_rate)
         keep = .false.
@@ -215,6 +222,10 @@ contains
         poll = keep
         countdown = clock_stride
         if (present(interruptible)) poll = poll .or. interruptible
+        report = .false.
+        if (present(progress_every)) report = progress_every > 0.0_wp
+        t_begin = integrator%level_time()
+        call system_clock(clock_report)
         do while (integrator%steps < nsteps)
             if (poll) then
                 if (stop_signal() /= 0) then
@@ -222,13 +233,16 @@ contains
                     result%interrupted = .true.
                     exit
                 end if
-                if (keep) then
-                    ! the wall clock every clock_stride steps (a countdown: no division in the loop)
-                    countdown = countdown - 1
-                    if (countdown <= 0) then
-                        countdown = clock_stride
+            end if
+            if (keep .or. report) then
+                ! the wall clock every clock_stride steps (a countdown: no division in the loop)
+                countdown = countdown - 1
+                if (countdown <= 0) then
+                    countdown = clock_stride
+                    if (keep) then
                         if (checkpoint_due(session)) call save_task(.false.)
                     end if
+                    if (report) call report_progress()
                 end if
             end if
             call integrator%step(status)
@@ -271,6 +285,32 @@ contains
         end if
 
     contains
+
+        !> A line of progress on stderr once max(progress_every, elapsed/10) seconds have passed since the last: t of
+        !> T, the wall time elapsed in this process and the time left at its rate so far.
+        subroutine report_progress()
+            integer(i8) :: now
+            real(wp) :: elapsed, since, t, t_end, left
+            character(len=:), allocatable :: line
+
+            call system_clock(now)
+            elapsed = real(now - clock_start, wp)/real(clock_rate, wp)
+            since = real(now - clock_report, wp)/real(clock_rate, wp)
+            if (since < max(progress_every, 0.1_wp*elapsed)) return
+            clock_report = now
+            t = integrator%level_time()
+            t_end = run%numerics%t_final
+            line = "  t = " // real_str(t, 6) // " of " // real_str(t_end, 6) // " (" &
+                   // fixed1(100.0_wp*min(t/t_end, 1.0_wp)) // "%), " // fixed1(elapsed) // " s elapsed"
+            if (t > t_begin) then
+                left = elapsed*max(t_end - t, 0.0_wp)/(t - t_begin)
+                line = line // ", about " // fixed1(left) // " s left"
+            end if
+            !$omp critical (supratrans_simulate_notes)
+            write (error_unit, "(a)") line
+            flush (error_unit)
+            !$omp end critical (supratrans_simulate_notes)
+        end subroutine report_progress
 
         !> Wall-clock time of the run (with the time before the checkpoint it resumed from).
         subroutine stop_clock()

@@ -156,11 +156,6 @@ contains
             call fatal_error(error, cfg%source // ": &scene: the frequency axis omega_min .. omega_max is empty", err_input)
             return
         end if
-        if (cfg%scene%harmonics > cfg%scene%harmonics_max) then
-            call fatal_error(error, cfg%source // ": &scene: harmonics = " // int_str(cfg%scene%harmonics) &
-                             // " is above harmonics_max = " // int_str(cfg%scene%harmonics_max), err_input)
-            return
-        end if
         allocate (list%runs(ncurve))
         do ic = 1, ncurve
             list%runs(ic) = curve_run(cfg, ic)

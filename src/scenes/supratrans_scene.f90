@@ -12,7 +12,9 @@
 !>   its memory estimate counts them);
 !> - `gap_rule`: whether the drive's Omega must lie inside the band gap 0 < Omega < sqrt(1 + m^2) (unless
 !>   allow_outside_gap): scenes at one frequency; scenes over a frequency axis skip the points outside instead;
-!> - `check_limits`: its own sizes (axes, task count, work, memory) against the limits of `supratrans_limits`.
+!> - `check_limits`: its own sizes (axes, task count, work, memory) against the limits of `supratrans_limits`;
+!> - `check_input`: the scene's own rules that need more than a pure check (a method's linear stability limit),
+!>   made by validation, so that `--check` refuses what the run would and nothing is created before.
 !>
 !> A scene of tasks implements three phases: `make_tasks` (its extension of `task_list`, which runs one task and
 !> writes the partial snapshot, with the names of a task's values, what the progress lines call the tasks and its
@@ -34,7 +36,7 @@ module supratrans_scene
     implicit none
     private
 
-    public :: scene_type, scene_budget, scene_tasks, new_scene, wrong_tasks, warn_partial
+    public :: scene_type, scene_budget, scene_tasks, scene_plan, new_scene, wrong_tasks, warn_partial
 
     !> Longest name of a field of a task's record.
     integer, parameter, public :: field_name_length = 64
@@ -48,6 +50,19 @@ module supratrans_scene
         !> What gives `memory` (for messages): "MemAvailable of /proc/meminfo", a cgroup file, "ulimit -v", ...
         character(len=:), allocatable :: source
     end type scene_budget
+
+    !> What a scene will run, from its sizes alone (nothing made, nothing run): for `--check`'s count and estimate,
+    !> and the numbers `check_limits` bounds. Real counts (they may be huge before they are checked).
+    type :: scene_plan
+        !> Number of tasks (0: not known).
+        real(wp) :: tasks = 0.0_wp
+        !> What a task is, plural ("runs", "searches").
+        character(len=:), allocatable :: noun
+        !> Runs of one task (a search: the runs it is expected to ask for).
+        real(wp) :: runs_per_task = 1.0_wp
+        !> Time steps of one run (0: not known).
+        real(wp) :: steps = 0.0_wp
+    end type scene_plan
 
     !> The tasks of one run of a scene and what the task engine gathers of them: made by the scene's `make_tasks`,
     !> run by the driver, read by the scene's `write_output` and `summary`.
@@ -89,6 +104,10 @@ module supratrans_scene
         !> Check the scene's own sizes (axes, tasks, work, memory) against the limits (default: nothing beyond the
         !> limits of one run).
         procedure :: check_limits
+        !> Check the scene's own rules on the input that need more than a pure check (default: none).
+        procedure :: check_input
+        !> What the scene will run: tasks, runs and steps (default: one run of the input, or not known).
+        procedure :: plan
         !> Whether the scene is one run rather than a task list (default: a task list).
         procedure :: one_run
         !> Whether the drive's Omega must lie inside the band gap (default: no).
@@ -217,6 +236,33 @@ contains
         !> Allocated when a limit is exceeded.
         type(error_type), allocatable, intent(out) :: error
     end subroutine check_limits
+
+    !> The scene's own rules on the input beyond the pure checks: none by default.
+    subroutine check_input(self, cfg, where, error)
+        !> The scene.
+        class(scene_type), intent(in) :: self
+        !> The configuration (values already within their ranges, rules and limits).
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Allocated when a rule is broken.
+        type(error_type), allocatable, intent(out) :: error
+    end subroutine check_input
+
+    !> What the scene will run: a one-run scene, its run of t_final/dt steps; another, not known unless it says.
+    pure function plan(self, cfg) result(p)
+        !> The scene.
+        class(scene_type), intent(in) :: self
+        !> The configuration (values within their ranges).
+        type(input_config), intent(in) :: cfg
+        type(scene_plan) :: p
+
+        p%noun = "runs"
+        if (.not. self%one_run()) return
+        p%tasks = 1.0_wp
+        p%noun = "run"
+        p%steps = cfg%run%numerics%t_final/cfg%run%numerics%dt
+    end function plan
 
     !> Whether the scene is one run rather than a task list: false unless a scene says so.
     pure function one_run(self) result(yes)

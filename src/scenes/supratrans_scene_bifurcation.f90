@@ -31,7 +31,7 @@ module supratrans_scene_bifurcation
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks, warn_partial
+    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, scene_plan, wrong_tasks, warn_partial
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config, run_config, screen_none, screen_choices
     use supratrans_curves, only: curve_count, curve_run
@@ -93,6 +93,7 @@ module supratrans_scene_bifurcation
         procedure :: summary => bifurcation_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => bifurcation_scene_limits
+        procedure :: plan => bifurcation_scene_plan
     end type bifurcation_scene
 
     interface
@@ -357,6 +358,7 @@ contains
         !> Allocated when a limit is exceeded.
         type(error_type), allocatable, intent(out) :: error
         real(wp) :: nomega, ngrid
+        type(scene_plan) :: p
 
         associate (sc => cfg%scene)
             nomega = axis_points(sc%omega_min, sc%omega_max, sc%omega_step)
@@ -370,10 +372,26 @@ contains
             call check_axis(sc%coarse_step/sc%resolution, "coarse_step/resolution = " &
                             // sci(sc%coarse_step/sc%resolution), where, error)
             if (allocated(error)) return
-            call check_tasks(cfg, real(curve_count(cfg), wp)*nomega*1.0_wp, &
-                             (sc%amplitude_max - sc%amplitude_min)/sc%coarse_step + sc%coarse_step/sc%resolution, &
-                             cfg%run%numerics%t_final/cfg%run%numerics%dt, "searches", where, error)
+            p = bifurcation_scene_plan(self, cfg)
+            call check_tasks(cfg, p%tasks, p%runs_per_task, p%steps, p%noun, where, error)
         end associate
     end subroutine bifurcation_scene_limits
+
+    !> The searches: curves x frequencies, each asking at most (range)/coarse_step + coarse_step/resolution
+    !> amplitudes (the bound the limits take; screening makes most of them cheaper), each of t_final/dt steps.
+    pure function bifurcation_scene_plan(self, cfg) result(p)
+        !> The scene.
+        class(bifurcation_scene), intent(in) :: self
+        !> The configuration (values within their ranges).
+        type(input_config), intent(in) :: cfg
+        type(scene_plan) :: p
+
+        associate (sc => cfg%scene)
+            p%tasks = real(curve_count(cfg), wp)*axis_points(sc%omega_min, sc%omega_max, sc%omega_step)
+            p%runs_per_task = (sc%amplitude_max - sc%amplitude_min)/sc%coarse_step + sc%coarse_step/sc%resolution
+        end associate
+        p%noun = "searches"
+        p%steps = cfg%run%numerics%t_final/cfg%run%numerics%dt
+    end function bifurcation_scene_plan
 
 end module supratrans_scene_bifurcation

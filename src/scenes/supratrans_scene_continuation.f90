@@ -21,7 +21,7 @@ module supratrans_scene_continuation
     use supratrans_kinds, only: wp, i8, pi
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks, warn_partial
+    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, scene_plan, wrong_tasks, warn_partial
     use supratrans_limits, only: axis_points, check_axis, limit_error, threads_text, sci, dense_buffer_bytes
     use supratrans_config, only: input_config, run_config, scene_params, method_newton, method_linearized, method_rk4, &
                                  method_rk8, method_avf4, method_avf8, method_name, solver_harmonic_balance
@@ -81,6 +81,8 @@ module supratrans_scene_continuation
         procedure :: summary => continuation_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => continuation_scene_limits
+        procedure :: check_input => continuation_check_input
+        procedure :: plan => continuation_scene_plan
     end type continuation_scene
 
     interface
@@ -146,23 +148,13 @@ contains
             call fatal_error(error, cfg%source // ": &scene: the frequency axis omega_min .. omega_max is empty", err_input)
             return
         end if
-        if (any(cfg%run%numerics%method == [method_avf4, method_avf8])) then   ! no period map (supratrans_period_map)
-            call fatal_error(error, cfg%source // ": &numerics: method '" // method_name(cfg%run%numerics%method) &
-                // "' has no one-period map: continue folds with 'newton', 'linearized', 'rk4' or 'rk8'", err_input)
-            return
-        end if
+        ! the method and dt: checked by validation already (continuation_check_input, also for --check)
+        call continuation_check_input(self, cfg, cfg%source, error)
+        if (allocated(error)) return
         allocate (list%runs(ncurve))
         do ic = 1, ncurve
             list%runs(ic) = curve_run(cfg, ic)
             list%runs(ic)%drive%ramp_time = 0.0_wp
-            ! a periodic state needs a stable scheme: dt within the method's linear stability limit for the chain
-            if (cfg%run%numerics%dt >= linear_stability_dt(list%runs(ic)%chain, cfg%run%numerics%method)) then
-                call fatal_error(error, cfg%source // ": &numerics: dt = " // real_str(cfg%run%numerics%dt, 6) &
-                    // " is beyond the linear stability limit " // real_str(linear_stability_dt(list%runs(ic)%chain, &
-                    cfg%run%numerics%method), 6) // " of method '" // method_name(cfg%run%numerics%method) &
-                    // "' for curve " // int_str(ic) // ": the scheme has no periodic state to continue", err_input)
-                return
-            end if
         end do
         list%partial_path = trim(cfg%output%file) // ".partial.h5"
         if (allocated(cfg%text)) list%short_chain = .not. chain_length_given(cfg%text)
@@ -174,6 +166,51 @@ contains
         tasks%label = "fold continuations"
         call move_alloc(list, tasks%list)
     end subroutine continuation_make_tasks
+
+    !> Refuse, before any work (by validation, also for --check), a method without a one-period map (avf4, avf8) and
+    !> a dt beyond the method's linear stability limit for a curve's chain: the scheme has no periodic state to
+    !> continue. With harmonic balance: harmonics above harmonics_max, and a dt beyond rk8's limit (the rk8 period
+    !> that checks each fold).
+    subroutine continuation_check_input(self, cfg, where, error)
+        !> The scene.
+        class(continuation_scene), intent(in) :: self
+        !> The configuration (values already within their ranges, rules and limits).
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
+        !> Allocated when the method or dt has no periodic state to continue.
+        type(error_type), allocatable, intent(out) :: error
+        type(run_config) :: run
+        real(wp) :: limit
+        integer :: ic, method
+
+        method = cfg%run%numerics%method
+        if (cfg%scene%solver == solver_harmonic_balance) then
+            ! no scheme is continued: the &numerics dt is that of the rk8 period that checks each fold
+            if (cfg%scene%harmonics > cfg%scene%harmonics_max) then
+                call fatal_error(error, where // ": &scene: harmonics = " // int_str(cfg%scene%harmonics) &
+                                 // " is above harmonics_max = " // int_str(cfg%scene%harmonics_max), err_input)
+                return
+            end if
+            method = method_rk8
+        else if (any(method == [method_avf4, method_avf8])) then   ! no period map (supratrans_period_map)
+            call fatal_error(error, where // ": &numerics: method '" // method_name(cfg%run%numerics%method) &
+                // "' has no one-period map: continue folds with 'newton', 'linearized', 'rk4' or 'rk8'", err_input)
+            return
+        end if
+        do ic = 1, curve_count(cfg)
+            run = curve_run(cfg, ic)
+            ! a periodic state needs a stable scheme: dt within the method's linear stability limit for the chain
+            limit = linear_stability_dt(run%chain, method)
+            if (cfg%run%numerics%dt >= limit) then
+                call fatal_error(error, where // ": &numerics: dt = " // real_str(cfg%run%numerics%dt, 6) &
+                    // " is beyond the linear stability limit " // real_str(limit, 6) // " of method '" &
+                    // method_name(method) // "' for curve " // int_str(ic) &
+                    // ": the scheme has no periodic state to continue", err_input)
+                return
+            end if
+        end do
+    end subroutine continuation_check_input
 
     !> Write the scene's file, complete, with the scene's wall time (`write_continuation_file`).
     subroutine continuation_write_output(self, cfg, tasks, error)
@@ -370,5 +407,20 @@ contains
             end if
         end associate
     end subroutine continuation_scene_limits
+
+    !> The fold continuations: curves x frequencies (their cost is Newton-shooting's, not steps of a run: not known).
+    pure function continuation_scene_plan(self, cfg) result(p)
+        !> The scene.
+        class(continuation_scene), intent(in) :: self
+        !> The configuration (values within their ranges).
+        type(input_config), intent(in) :: cfg
+        type(scene_plan) :: p
+
+        associate (sc => cfg%scene)
+            p%tasks = real(curve_count(cfg), wp)*axis_points(sc%omega_min, sc%omega_max, sc%omega_step)
+        end associate
+        p%noun = "fold continuations"
+        p%steps = 0.0_wp
+    end function continuation_scene_plan
 
 end module supratrans_scene_continuation

@@ -65,6 +65,8 @@ contains
         if (.not. cfg%output%quiet) then
             text = self%summary(cfg, tasks)
             if (len(text) > 0) write (error_unit, "(a)") text
+            if (tasks%inv%merge_wall_time >= 0.0_wp) write (error_unit, "(a)") "  (merged: the counts above are the " &
+                // "parts' records, a time is the slices' summed wall time; nothing was run here)"
             flush (error_unit)
         end if
     end procedure run_scene

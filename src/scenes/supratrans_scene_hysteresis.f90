@@ -21,7 +21,7 @@ module supratrans_scene_hysteresis
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks, warn_partial
+    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, scene_plan, wrong_tasks, warn_partial
     use supratrans_limits, only: axis_points, check_axis, check_tasks, limit_error, threads_text, sci, max_steps, &
         run_memory_bytes
     use supratrans_config, only: input_config, run_config, method_name
@@ -89,6 +89,7 @@ module supratrans_scene_hysteresis
         procedure :: summary => hysteresis_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => hysteresis_scene_limits
+        procedure :: plan => hysteresis_scene_plan
     end type hysteresis_scene
 
 contains
@@ -113,7 +114,8 @@ contains
         list%inv = tasks%inv
         list%omegas = bifurcation_omegas(cfg)
         list%stair_times = scene_stair_times(cfg)
-        call check_stairs(cfg, list%stair_times, list%top, error)
+        ! checked already by validation (hysteresis_scene_limits, also for --check): here for the top level
+        call check_stairs(cfg, list%stair_times, source_of(cfg), list%top, error)
         if (allocated(error)) return
         ncurve = curve_count(cfg)
         nomega = size(list%omegas)
@@ -186,13 +188,16 @@ contains
         end if
     end function scene_stair_times
 
-    !> Check the stairs (before any work): at least one stair up (amplitude_min + stair_height <= amplitude_max) and
-    !> at most `max_stair_top`, a ramp no longer than half of every stair, stairs of at least 4 dt.
-    subroutine check_stairs(cfg, times, top, error)
+    !> Check the stairs (before any work, by validation: `hysteresis_scene_limits`): at least one stair up
+    !> (amplitude_min + stair_height <= amplitude_max) and at most `max_stair_top`, a ramp no longer than half of
+    !> every stair, stairs of at least 4 dt.
+    pure subroutine check_stairs(cfg, times, where, top, error)
         !> The input.
         type(input_config), intent(in) :: cfg
         !> The stair lengths.
         real(wp), intent(in) :: times(:)
+        !> Prefix of messages (the file name).
+        character(len=*), intent(in) :: where
         !> Index K of the top level.
         integer, intent(out) :: top
         !> Error, allocated when the stairs are not valid.
@@ -202,32 +207,44 @@ contains
         associate (sc => cfg%scene)
             top = search_grid_size(sc%amplitude_min, sc%amplitude_max, sc%stair_height) - 1
             if (top < 1) then
-                call fatal_error(error, cfg%source // ": &scene: hysteresis needs amplitude_min + stair_height <= " &
-                                 // "amplitude_max (at least one stair up)", err_input)
+                call fatal_error(error, where // ": &scene: stair_height = " // real_str(sc%stair_height, 6) &
+                                 // ": hysteresis needs amplitude_min + stair_height <= amplitude_max (at least one " &
+                                 // "stair up; amplitude_min = " // real_str(sc%amplitude_min, 6) // ", amplitude_max = " &
+                                 // real_str(sc%amplitude_max, 6) // ")", err_input)
                 return
             end if
             if (top > max_stair_top) then
-                call fatal_error(error, cfg%source // ": &scene: amplitude_min .. amplitude_max by stair_height makes " &
-                                 // int_str(2*top + 1) // " stairs: more than the limit " &
-                                 // int_str(2*max_stair_top + 1) // " (a journal line holds every stair's power)", &
-                                 err_input)
+                call fatal_error(error, where // ": &scene: stair_height = " // real_str(sc%stair_height, 6) &
+                                 // ": amplitude_min .. amplitude_max by stair_height makes " // int_str(2*top + 1) &
+                                 // " stairs: more than the limit " // int_str(2*max_stair_top + 1) &
+                                 // " (a journal line holds every stair's power)", err_input)
                 return
             end if
             do i = 1, size(times)
                 if (.not. (2.0_wp*sc%stair_ramp <= times(i))) then
-                    call fatal_error(error, cfg%source // ": &scene: stair_ramp = " // real_str(sc%stair_ramp, 6) &
+                    call fatal_error(error, where // ": &scene: stair_ramp = " // real_str(sc%stair_ramp, 6) &
                                      // " is longer than half the stair length " // real_str(times(i), 6) &
                                      // " (the mean power is taken over the stair's second half)", err_input)
                     return
                 end if
                 if (.not. (times(i) >= 4.0_wp*cfg%run%numerics%dt)) then
-                    call fatal_error(error, cfg%source // ": &scene: stair length " // real_str(times(i), 6) &
-                                     // " is shorter than 4 dt", err_input)
+                    call fatal_error(error, where // ": &scene: stair length " // real_str(times(i), 6) &
+                                     // " is shorter than 4 dt = " // real_str(4.0_wp*cfg%run%numerics%dt, 6), err_input)
                     return
                 end if
             end do
         end associate
     end subroutine check_stairs
+
+    !> The namelist file of the input ("configuration" when not set).
+    pure function source_of(cfg) result(name)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        character(len=:), allocatable :: name
+
+        name = "configuration"
+        if (allocated(cfg%source)) name = cfg%source
+    end function source_of
 
     !> Names of a task's values: the scalars, then power_0 .. power_{nstair - 1} (the mean power of each stair).
     pure function task_fields(nstair) result(fields)
@@ -501,7 +518,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
         real(wp) :: nomega, ngrid, steps, run_steps, need
         real(wp), allocatable :: stair_times(:)
-        integer :: i
+        integer :: i, top
 
         associate (sc => cfg%scene)
             nomega = axis_points(sc%omega_min, sc%omega_max, sc%omega_step)
@@ -512,15 +529,14 @@ contains
             call check_axis(ngrid, "stair_height = " // sci(sc%stair_height) // " makes " // sci(ngrid) // " levels", &
                             where, error)
             if (allocated(error)) return
+            stair_times = scene_stair_times(cfg)
+            ! the stairs themselves, as the run's task making checks them: refused here, before any file is made
+            call check_stairs(cfg, stair_times, where, top, error)
+            if (allocated(error)) return
             steps = 0.0_wp
             need = 0.0_wp
-            stair_times = [400.0_wp]
-            if (allocated(sc%stair_times)) then
-                if (size(sc%stair_times) > 0) stair_times = sc%stair_times
-            end if
             do i = 1, size(stair_times)
-                run_steps = (cfg%run%drive%ramp_time + (2.0_wp*real(floor(ngrid + 1.0e-9_wp), wp) - 1.0_wp) &
-                             *stair_times(i))/cfg%run%numerics%dt
+                run_steps = stair_run_steps(cfg, ngrid, stair_times(i))
                 if (.not. (run_steps <= max_steps)) then
                     call limit_error(error, where, "scene", "a stair run of " // sci(run_steps) // " time steps (stair " &
                                      // "length " // sci(stair_times(i)) // "): more than the limit " // sci(max_steps))
@@ -539,5 +555,44 @@ contains
             call check_tasks(cfg, real(curve_count(cfg), wp)*nomega*1.0_wp, 1.0_wp, steps, "runs", where, error)
         end associate
     end subroutine hysteresis_scene_limits
+
+    !> Time steps of one stair run: the ramp from rest, then 2K + 1 stairs of length `stair_time` (K + 1 the
+    !> levels of `ngrid` grid points), over dt.
+    pure function stair_run_steps(cfg, ngrid, stair_time) result(steps)
+        !> The configuration.
+        type(input_config), intent(in) :: cfg
+        !> Grid points of amplitude_min .. amplitude_max by stair_height (real).
+        real(wp), intent(in) :: ngrid
+        !> The stair length.
+        real(wp), intent(in) :: stair_time
+        real(wp) :: steps
+
+        steps = (cfg%run%drive%ramp_time + (2.0_wp*real(floor(ngrid + 1.0e-9_wp), wp) - 1.0_wp)*stair_time) &
+                /cfg%run%numerics%dt
+    end function stair_run_steps
+
+    !> The stair runs: curves x frequencies x stair lengths, each of its ramp and 2K + 1 stairs (steps: their mean).
+    pure function hysteresis_scene_plan(self, cfg) result(p)
+        !> The scene.
+        class(hysteresis_scene), intent(in) :: self
+        !> The configuration (values within their ranges).
+        type(input_config), intent(in) :: cfg
+        type(scene_plan) :: p
+        real(wp), allocatable :: times(:)
+        real(wp) :: ngrid
+        integer :: i
+
+        associate (sc => cfg%scene)
+            times = scene_stair_times(cfg)
+            ngrid = axis_points(sc%amplitude_min, sc%amplitude_max, sc%stair_height)
+            p%tasks = real(curve_count(cfg), wp)*axis_points(sc%omega_min, sc%omega_max, sc%omega_step) &
+                      *real(size(times), wp)
+            p%noun = "stair runs"
+            p%steps = 0.0_wp
+            do i = 1, size(times)
+                p%steps = p%steps + stair_run_steps(cfg, ngrid, times(i))/real(size(times), wp)
+            end do
+        end associate
+    end function hysteresis_scene_plan
 
 end module supratrans_scene_hysteresis

@@ -15,7 +15,7 @@ module supratrans_scene_map
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_budget, scene_tasks
+    use supratrans_scene, only: scene_budget, scene_tasks, scene_plan
     use supratrans_curves, only: curve_count
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config
@@ -43,6 +43,7 @@ module supratrans_scene_map
         procedure :: make_tasks => map_make_tasks
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => map_scene_limits
+        procedure :: plan => map_scene_plan
     end type map_scene
 
 contains
@@ -123,6 +124,7 @@ contains
         !> Allocated when a limit is exceeded.
         type(error_type), allocatable, intent(out) :: error
         real(wp) :: namp, nomega
+        type(scene_plan) :: p
 
         associate (sc => cfg%scene)
             namp = axis_points(sc%amplitude_min, sc%amplitude_max, sc%amplitude_step)
@@ -133,9 +135,25 @@ contains
             call check_axis(nomega, "omega_step = " // sci(sc%omega_step) // " makes " // sci(nomega) // " frequencies", &
                             where, error)
             if (allocated(error)) return
-            call check_tasks(cfg, real(curve_count(cfg), wp)*nomega*namp, 1.0_wp, &
-                             cfg%run%numerics%t_final/cfg%run%numerics%dt, "runs", where, error)
+            p = map_scene_plan(self, cfg)
+            call check_tasks(cfg, p%tasks, p%runs_per_task, p%steps, p%noun, where, error)
         end associate
     end subroutine map_scene_limits
+
+    !> The runs: curves x frequencies x amplitudes, each of t_final/dt steps.
+    pure function map_scene_plan(self, cfg) result(p)
+        !> The scene.
+        class(map_scene), intent(in) :: self
+        !> The configuration (values within their ranges).
+        type(input_config), intent(in) :: cfg
+        type(scene_plan) :: p
+
+        associate (sc => cfg%scene)
+            p%tasks = real(curve_count(cfg), wp)*axis_points(sc%omega_min, sc%omega_max, sc%omega_step) &
+                      *axis_points(sc%amplitude_min, sc%amplitude_max, sc%amplitude_step)
+        end associate
+        p%noun = "runs"
+        p%steps = cfg%run%numerics%t_final/cfg%run%numerics%dt
+    end function map_scene_plan
 
 end module supratrans_scene_map

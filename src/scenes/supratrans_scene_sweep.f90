@@ -37,7 +37,7 @@ module supratrans_scene_sweep
     use supratrans_kinds, only: wp, i8, supratrans_version
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, wrong_tasks, warn_partial
+    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, scene_plan, wrong_tasks, warn_partial
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config, run_config
     use supratrans_curves, only: curve_count, curve_run
@@ -133,6 +133,7 @@ module supratrans_scene_sweep
         procedure :: make_tasks => sweep_make_tasks
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => sweep_scene_limits
+        procedure :: plan => sweep_scene_plan
         !> At one frequency: inside the band gap.
         procedure :: gap_rule => sweep_scene_gap
     end type sweep_scene
@@ -530,14 +531,29 @@ contains
         !> Allocated when a limit is exceeded.
         type(error_type), allocatable, intent(out) :: error
         real(wp) :: namp
+        type(scene_plan) :: p
 
         namp = axis_points(cfg%scene%amplitude_min, cfg%scene%amplitude_max, cfg%scene%amplitude_step)
         call check_axis(namp, "amplitude_step = " // sci(cfg%scene%amplitude_step) // " makes " // sci(namp) &
                         // " amplitudes", where, error)
         if (allocated(error)) return
-        call check_tasks(cfg, real(curve_count(cfg), wp)*1.0_wp*namp, 1.0_wp, &
-                         cfg%run%numerics%t_final/cfg%run%numerics%dt, "runs", where, error)
+        p = sweep_scene_plan(self, cfg)
+        call check_tasks(cfg, p%tasks, p%runs_per_task, p%steps, p%noun, where, error)
     end subroutine sweep_scene_limits
+
+    !> The runs: curves x amplitudes, each of t_final/dt steps.
+    pure function sweep_scene_plan(self, cfg) result(p)
+        !> The scene.
+        class(sweep_scene), intent(in) :: self
+        !> The configuration (values within their ranges).
+        type(input_config), intent(in) :: cfg
+        type(scene_plan) :: p
+
+        p%tasks = real(curve_count(cfg), wp)*axis_points(cfg%scene%amplitude_min, cfg%scene%amplitude_max, &
+                                                         cfg%scene%amplitude_step)
+        p%noun = "runs"
+        p%steps = cfg%run%numerics%t_final/cfg%run%numerics%dt
+    end function sweep_scene_plan
 
     !> An amplitude sweep is driven at one frequency, which must lie inside each curve's band gap.
     pure function sweep_scene_gap(self) result(yes)

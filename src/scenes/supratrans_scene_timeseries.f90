@@ -3,7 +3,8 @@
 !> (`write_timeseries`: `/probes`, `/ledger`, `/run`, besides the root, `/provenance` and `/parameters` of every file).
 !>
 !> It is one run, not a task list: no journal, no `--slice`. A run stopped by a signal writes no result; with
-!> `checkpoint_every` > 0 it leaves its checkpoint `<output>.checkpoint`, from which the same command resumes.
+!> `checkpoint_every` > 0 it leaves its checkpoint `<output>.checkpoint`, from which the same command resumes. A run
+!> longer than a few seconds prints its progress on stderr (t of T, elapsed and remaining time) unless quiet.
 !> Omega must lie inside the band gap unless allow_outside_gap.
 module supratrans_scene_timeseries
     use, intrinsic :: iso_fortran_env, only: error_unit
@@ -30,6 +31,10 @@ module supratrans_scene_timeseries
         "Energy dissipated by the internal damping beta up to t", &
         "Energy dissipated by the absorbing end gamma'(n) up to t", &
         "Balance residual E_k - E_0 - (injected - dissipated): zero to roundoff for the Newton scheme"]
+
+    !> Least wall time (s) between two lines of the run's progress on stderr, unless SUPRATRANS_PROGRESS_EVERY says
+    !> otherwise: a 10 s run prints two (at 4 s and 8 s).
+    real(wp), parameter :: progress_every_default = 4.0_wp
 
     !> The scene `timeseries`: one run.
     type, extends(scene_type), public :: timeseries_scene
@@ -63,7 +68,7 @@ contains
         if (session%resumed) call progress(cfg, "  resumed from its checkpoint")
         session%note = ""
         session%log_runs = .false.        ! one run: nothing to replay
-        call simulate(cfg%run, result, interruptible=.true., session=session)
+        call simulate(cfg%run, result, interruptible=.true., session=session, progress_every=progress_interval(cfg))
         if (len_trim(session%note) > 0) call progress(cfg, "  checkpoint " // trim(session%note))
         if (result%interrupted) then
             ! a cut run is no result, and a file under the output's name would look like one: its checkpoint is
@@ -92,6 +97,26 @@ contains
         call write_timeseries(cfg, result, error)
         if (.not. allocated(error)) call close_session(session)
     end subroutine run_timeseries
+
+    !> Least wall time (s) between two lines of progress of the run on stderr: `progress_every_default`, or the
+    !> environment variable SUPRATRANS_PROGRESS_EVERY (seconds, > 0); 0 (none) when the output is quiet. The
+    !> interval grows with the time elapsed (`simulate`): a line at 4 s, 8 s, 12 s, ..., then every tenth of it.
+    function progress_interval(cfg) result(every)
+        !> The validated input (the quiet flag).
+        type(input_config), intent(in) :: cfg
+        real(wp) :: every
+        character(len=32) :: text
+        integer :: ios, stat
+        real(wp) :: value
+
+        every = 0.0_wp
+        if (cfg%output%quiet) return
+        every = progress_every_default
+        call get_environment_variable("SUPRATRANS_PROGRESS_EVERY", text, status=stat)
+        if (stat /= 0 .or. len_trim(text) == 0) return
+        read (text, *, iostat=ios) value
+        if (ios == 0 .and. value > 0.0_wp .and. value <= huge(1.0_wp)) every = value
+    end function progress_interval
 
     !> Write the `timeseries` scene: one run's probes u_n(t), its energy ledger over time and its outcome.
     subroutine write_timeseries(cfg, result, error)

@@ -72,6 +72,8 @@ module supratrans_scene_workprec
         procedure :: write_output => workprec_write_output
         !> Its task count and work (repeats, methods, time steps, amplitudes and the references) against the limits.
         procedure :: check_limits => workprec_scene_limits
+        !> Its keys (`setup_tasks`' checks), for validation: before anything is created, also by --check.
+        procedure :: check_input => workprec_check_input
     end type workprec_scene
 
 contains
@@ -164,6 +166,22 @@ contains
                              // "one core); fewer repeats, dts or amplitudes, or a shorter chain")
         end if
     end subroutine workprec_scene_limits
+    !> The scene's keys as `setup_tasks` checks them (dt_smallest one per method, dts and reference_dt within
+    !> t_final/2, amplitudes, repeats), made by validation so that --check refuses what the run would, before the
+    !> output's folder and lock; nothing is run.
+    subroutine workprec_check_input(self, cfg, where, error)
+        !> The scene.
+        class(workprec_scene), intent(in) :: self
+        !> The configuration (values already within their ranges, rules and limits).
+        type(input_config), intent(in) :: cfg
+        !> Prefix of messages (the file name; `setup_tasks` takes it from `cfg`).
+        character(len=*), intent(in) :: where
+        !> Allocated when a key is not valid.
+        type(error_type), allocatable, intent(out) :: error
+        type(workprec_tasks) :: probe
+
+        call setup_tasks(cfg, probe, error)
+    end subroutine workprec_check_input
 
     !> Time the kernels of a step (the lower bound) and write the scene's file (`write_work_precision`).
     subroutine workprec_write_output(self, cfg, tasks, error)

@@ -354,7 +354,11 @@ contains
         last_progress = 0.0_wp
         last_snapshot = 0.0_wp
         write_failed = .false.
-        if (.not. quiet) then
+        if (.not. quiet .and. merging .and. ndone_start == ntodo) then
+            ! a merge runs nothing: its records are the parts'
+            write (error_unit, "(a)") "  merged " // int_str(ndone_start) // " " // label // " from the parts' " &
+                // "records (none run here)"
+        else if (.not. quiet) then
             write (error_unit, "(a)") "  " // int_str(ntodo) // " " // label // slice_text(slice_index, slice_count, &
                 ntodo, ntask) // ", " // int_str(ndone_start) // " already done (journal " // printable(journal) // "), " &
                 // int_str(threads) // " thread(s)"

@@ -1,0 +1,98 @@
+"""Progress on every long run (issue 42, part 2): a timeseries prints lines of progress on stderr (t of T, elapsed
+and remaining time) at a rate set by SUPRATRANS_PROGRESS_EVERY (default 4 s, growing with the time elapsed), none
+when quiet; `--check` prints the number of tasks and runs and an estimate of the cost from the model's sizes;
+`merge` says that it merged records, not that it ran them.
+
+The interval is made small here (0.05 s) so that the assertions count lines, not seconds: a run of a second or more
+on any machine prints several, and every one but possibly the first has a remaining time.
+"""
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+from pathlib import Path
+
+#: A timeseries of some 2e6 oscillator-steps (about a second in the debug build).
+LONG = "&chain n = 400, n0 = 380 /\n&numerics t_final = 500.0 /\n&output file = 'ts.h5'{quiet} /\n"
+#: A progress line: "  t = 179.2 of 500.0 (35.8%), 0.3 s elapsed, about 0.6 s left".
+LINE = re.compile(r"^  t = [0-9.]+ of 500\.0 \([0-9.]+%\), [0-9.]+ s elapsed(, about [0-9.]+ s left)?$")
+
+
+def run(exe: str, where: Path, *args: str, env: dict | None = None) -> subprocess.CompletedProcess:
+    """The program run in `where` with `args` (SUPRATRANS_PROGRESS_EVERY from `env`)."""
+    full = dict(os.environ)
+    full.pop("SUPRATRANS_PROGRESS_EVERY", None)
+    full.update(env or {})
+    return subprocess.run([exe, *args], cwd=where, capture_output=True, text=True, timeout=600, env=full)
+
+
+def test_a_long_timeseries_prints_progress_with_the_time_left(exe, tmp_path):
+    (tmp_path / "ts.nml").write_text(LONG.format(quiet=""))
+    proc = run(exe, tmp_path, "ts.nml", env={"SUPRATRANS_PROGRESS_EVERY": "0.05"})
+    assert proc.returncode == 0, proc.stderr
+    lines = [line for line in proc.stderr.splitlines() if line.startswith("  t = ")]
+    assert len(lines) >= 2, proc.stderr
+    assert all(LINE.match(line) for line in lines), lines
+    assert sum("s left" in line for line in lines) >= 2, lines
+    times = [float(line.split()[2]) for line in lines]
+    assert times == sorted(times) and times[-1] < 500.0
+
+
+def test_quiet_and_short_runs_print_no_progress(exe, tmp_path):
+    (tmp_path / "ts.nml").write_text(LONG.format(quiet=", quiet = .true."))
+    proc = run(exe, tmp_path, "ts.nml", env={"SUPRATRANS_PROGRESS_EVERY": "0.05"})
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    # the default interval (4 s): a run of a second says nothing of its progress
+    (tmp_path / "ts.nml").write_text(LONG.format(quiet=", overwrite = .true."))
+    proc = run(exe, tmp_path, "ts.nml")
+    assert proc.returncode == 0, proc.stderr
+    assert not [line for line in proc.stderr.splitlines() if line.startswith("  t = ")], proc.stderr
+
+
+def report(text: str) -> dict:
+    """The `key value` lines of `--check`."""
+    return dict(line.split(" ", 1) for line in text.splitlines())
+
+
+def test_check_counts_the_runs_and_estimates_their_cost(exe, tmp_path):
+    chain = "&chain n = 40, n0 = 30 /\n&numerics t_final = 10.0 /\n"
+    cases = {
+        # scene: (&scene group, tasks, task kind, runs)
+        "timeseries": ("", 1, "run", 1),
+        "amplitude_sweep": ("&scene kind = 'amplitude_sweep', amplitude_min = 1.0, amplitude_max = 1.5, "
+                            "amplitude_step = 0.1, vary = 'gamma', values = 0.0, 0.1 /\n", 12, "runs", 12),
+        "map": ("&scene kind = 'map', amplitude_min = 1.0, amplitude_max = 1.5, amplitude_step = 0.1, "
+                "omega_min = 0.5, omega_max = 0.9, omega_step = 0.1 /\n", 30, "runs", 30),
+        "bifurcation": ("&scene kind = 'bifurcation', omega_min = 0.5, omega_max = 0.9, omega_step = 0.1, "
+                        "amplitude_min = 1.0, amplitude_max = 3.0, coarse_step = 0.5, resolution = 0.1 /\n",
+                        5, "searches", 5 * 9),
+        "hysteresis": ("&scene kind = 'hysteresis', omega_min = 0.9, omega_max = 0.9, amplitude_min = 1.0, "
+                       "amplitude_max = 1.04, stair_height = 0.02, stair_times = 20.0, 40.0, stair_ramp = 2.0 /\n",
+                       2, "stair runs", 2),
+    }
+    for scene, (group, tasks, kind, runs) in cases.items():
+        (tmp_path / "s.nml").write_text(chain + group + "&output file = 's.h5' /\n")
+        proc = run(exe, tmp_path, "--check", "s.nml")
+        assert proc.returncode == 0, proc.stderr
+        r = report(proc.stdout)
+        assert (int(r["tasks"]), r["task_kind"], int(r["runs"])) == (tasks, kind, runs), (scene, r)
+        assert float(r["work_newton_site_steps"]) > 0 and float(r["estimate_seconds"]) > 0, r
+        assert r["estimate"].startswith(f"{tasks} {kind}") and "about" in r["estimate"], r
+        if scene != "hysteresis":
+            assert int(r["steps_per_run"]) == 200, r        # t_final/dt
+            # work = runs x steps x N (Newton: 1 per oscillator-step)
+            assert abs(float(r["work_newton_site_steps"]) - runs * 200 * 40) < 1e-3 * runs * 200 * 40, r
+    assert not list(tmp_path.glob("*.h5"))      # --check writes nothing
+
+
+def test_merge_says_it_merged(exe, tmp_path):
+    text = "&chain n = 40, n0 = 30 /\n&numerics t_final = 10.0 /\n&scene kind = 'amplitude_sweep', " \
+           "amplitude_min = 1.0, amplitude_max = 1.5, amplitude_step = 0.1 /\n&output file = 's.h5' /\n"
+    (tmp_path / "s.nml").write_text(text)
+    for i in (1, 2):
+        assert run(exe, tmp_path, "s.nml", "--slice", f"{i}/2").returncode == 0
+    proc = run(exe, tmp_path, "merge", "s.part-1-of-2.h5", "s.part-2-of-2.h5")
+    assert proc.returncode == 0, proc.stderr
+    assert "  merged 6 runs from the parts' records (none run here)" in proc.stderr.splitlines(), proc.stderr
+    assert "already done" not in proc.stderr and "nothing was run here" in proc.stderr, proc.stderr
