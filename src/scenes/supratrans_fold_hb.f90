@@ -774,7 +774,7 @@ contains
         type(error_type), allocatable, intent(out) :: error
         type(h5_file) :: file
         type(hb_record), allocatable :: recs(:)
-        real(wp), allocatable :: a3(:, :, :), a4(:, :, :, :)
+        real(wp), allocatable :: a4(:, :, :, :)
         integer :: ncurve, nomega, ntask, t, q, npts, n, nfam, nc
         character(len=*), parameter :: dims = "curve, omega", g = "/convergence/"
 
@@ -847,24 +847,16 @@ contains
         call h5_write(file, "/chain_n0", igrid(recs%chain_n0), "1", "Last site N0 before the absorber", dims=dims)
         call h5_write(file, "/chain_sigma", grid(recs%chain_sigma), "1", "Width sigma of the absorber's ramp", &
             dims=dims)
-        allocate (a4(n, spectrum_harmonics, nomega, ncurve))
-        do t = 1, ntask
-            a4(:, :, mod(t - 1, nomega) + 1, (t - 1)/nomega + 1) = transpose(recs(t)%spectrum)
-        end do
+        a4 = reshape([(transpose(recs(t)%spectrum), t=1, ntask)], [n, spectrum_harmonics, nomega, ncurve])
         call h5_write(file, "/spectrum", a4, "rad", "Amplitude sqrt(a^2 + b^2) of the odd harmonics 1, 3, .., " &
             // int_str(2*spectrum_harmonics - 1) // " of u_n at the fold, per site n (NaN past K)", &
             dims="curve, omega, harmonic, site")
         call h5_create_group(file, "/multipliers", "Floquet multipliers of largest modulus at the fold, from the " &
             // "rk8 monodromy (NaN when not computed)")
-        allocate (a3(hb_kept_multipliers, nomega, ncurve))
-        do t = 1, ntask
-            a3(:, mod(t - 1, nomega) + 1, (t - 1)/nomega + 1) = recs(t)%multiplier_re
-        end do
-        call h5_write(file, "/multipliers/real", a3, "1", "Real parts", dims="curve, omega, multiplier")
-        do t = 1, ntask
-            a3(:, mod(t - 1, nomega) + 1, (t - 1)/nomega + 1) = recs(t)%multiplier_im
-        end do
-        call h5_write(file, "/multipliers/imag", a3, "1", "Imaginary parts", dims="curve, omega, multiplier")
+        call h5_write(file, "/multipliers/real", cube([(recs(t)%multiplier_re, t=1, ntask)], hb_kept_multipliers), &
+                      "1", "Real parts", dims="curve, omega, multiplier")
+        call h5_write(file, "/multipliers/imag", cube([(recs(t)%multiplier_im, t=1, ntask)], hb_kept_multipliers), &
+                      "1", "Imaginary parts", dims="curve, omega, multiplier")
         call h5_create_group(file, "/convergence", "How far each fold is converged: in the harmonics, and with the " &
             // "absorber (&scene absorber_family); NaN when not computed")
         call h5_write(file, g // "harmonics_error", grid(recs%harmonics_error), "rad", "|A_f(K) - A_f(K')| of the " &
@@ -873,12 +865,8 @@ contains
             // "where the absorber begins: the radiation condition is exact where this is small (V' linear)", &
             dims=dims)
         if (nfam > 0) then
-            deallocate (a3)
-            allocate (a3(nfam, nomega, ncurve))
-            do t = 1, ntask
-                a3(:, mod(t - 1, nomega) + 1, (t - 1)/nomega + 1) = recs(t)%absorber_folds
-            end do
-            call h5_write(file, g // "absorber_folds", a3, "rad", "The fold with the absorber 2^m times as long " &
+            call h5_write(file, g // "absorber_folds", cube([(recs(t)%absorber_folds, t=1, ntask)], nfam), "rad", &
+                "The fold with the absorber 2^m times as long " &
                 // "(N - N0) and as wide (sigma), m = 1 .. absorber_family, the core N0 kept", &
                 dims="curve, omega, absorber")
         end if
@@ -891,15 +879,11 @@ contains
         call h5_write(file, g // "fold_radiation", grid(recs%fold_radiation), "rad", "The fold of the core " &
             // "(N = N0, no absorber) closed by the exact linear radiation condition per harmonic", dims=dims)
         if (nc > 0) then
-            deallocate (a3)
-            allocate (a3(nc, nomega, ncurve))
-            do t = 1, ntask
-                a3(:, mod(t - 1, nomega) + 1, (t - 1)/nomega + 1) = recs(t)%continuum_folds
-            end do
             call h5_create_group(file, "/continuum", "The fold at each coupling c of c_values, N, N0 and sigma " &
                 // "scaled with c, and its limit c -> infinity (the paper's claim: larger c approach A_s)")
             call h5_write(file, "/continuum/c", tasks%c_values, "1/time", "Couplings c", dims="c")
-            call h5_write(file, "/continuum/folds", a3, "rad", "The fold at each c", dims="curve, omega, c")
+            call h5_write(file, "/continuum/folds", cube([(recs(t)%continuum_folds, t=1, ntask)], nc), "rad", &
+                          "The fold at each c", dims="curve, omega, c")
             call h5_write(file, "/continuum/fold", grid(recs%continuum_fold), "rad", "Richardson extrapolation of " &
                 // "the folds to c -> infinity in 1/c^2 from the two largest c", dims=dims)
             call h5_write(file, "/continuum/error_estimate", grid(recs%continuum_error), "rad", "Change of the " &
@@ -920,18 +904,24 @@ contains
             // "the first K (its fold among the points, that K's: /fold_amplitude is the fold converged in K); NaN " &
             // "past /branch/points")
         call h5_write(file, "/branch/points", igrid(recs%points), "1", "Points computed on the branch", dims=dims)
-        if (allocated(a3)) deallocate (a3)
-        allocate (a3(npts, nomega, ncurve))
         do q = 1, size(hb_branch_quantities)
-            do t = 1, ntask
-                a3(:, mod(t - 1, nomega) + 1, (t - 1)/nomega + 1) = recs(t)%branch(q, :)
-            end do
-            call h5_write(file, "/branch/" // trim(hb_branch_quantities(q)), a3, branch_units(q), &
+            call h5_write(file, "/branch/" // trim(hb_branch_quantities(q)), &
+                          cube([(recs(t)%branch(q, :), t=1, ntask)], npts), branch_units(q), &
                           branch_description(q), dims="curve, omega, point")
         end do
         call h5_commit(file, error)
 
     contains
+
+        !> Per-task vectors of length m, task after task (task t = (curve - 1) nomega + omega), as an (m, omega, curve)
+        !> array: h5py (curve, omega, m).
+        pure function cube(x, m) result(c)
+            real(wp), intent(in) :: x(:)
+            integer, intent(in) :: m
+            real(wp), allocatable :: c(:, :, :)
+
+            c = reshape(x, [m, nomega, ncurve])
+        end function cube
 
         !> A per-task real as an (omega, curve) grid.
         pure function grid(x) result(gr)
