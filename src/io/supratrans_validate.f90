@@ -351,20 +351,23 @@ contains
     !> Lines to print before a run (and by `--check`), one per key given that the scene does not use: today
     !> `&drive omega` given to a scene over a frequency axis (map, bifurcation, continuation, hysteresis), which runs
     !> omega_min .. omega_max by omega_step instead. Empty when there is nothing to say.
-    pure function input_warnings(cfg) result(lines)
+    function input_warnings(cfg) result(lines)
         !> The validated configuration.
         type(input_config), intent(in) :: cfg
         character(len=:), allocatable :: lines(:)
         character(len=:), allocatable :: where, text
         integer :: n
+        class(scene_type), allocatable :: scene
+        type(error_type), allocatable :: error
 
         allocate (character(len=0) :: lines(0))
         where = "configuration"
         if (allocated(cfg%source)) then
             if (len(cfg%source) > 0) where = cfg%source
         end if
-        select case (trim(cfg%scene%kind))
-        case ("map", "bifurcation", "continuation", "hysteresis")
+        call new_scene(trim(cfg%scene%kind), scene, error)
+        if (allocated(error)) return
+        if (scene%frequency_axis()) then
             if (.not. key_given(cfg, "drive", "omega") .or. .not. allocated(cfg%text)) return
             n = int(min((cfg%scene%omega_max - cfg%scene%omega_min)/cfg%scene%omega_step + 1.0e-9_wp, 1.0e7_wp)) + 1
             text = "warning: " // where // ": &drive: omega = " // real_str(cfg%run%drive%omega) // " is not used by " &
@@ -375,9 +378,7 @@ contains
             deallocate (lines)
             allocate (character(len=len(text)) :: lines(1))
             lines(1) = text
-        case default
-            continue
-        end select
+        end if
     end function input_warnings
 
     !> Whether the namelist text of `cfg` gives `group` `key` (true for a configuration built in code: no text).

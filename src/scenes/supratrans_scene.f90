@@ -112,6 +112,9 @@ module supratrans_scene
         procedure :: one_run
         !> Whether the drive's Omega must lie inside the band gap (default: no).
         procedure :: gap_rule
+        !> Whether the scene runs its own axis of frequencies (omega_min .. omega_max), so that `&drive omega` is
+        !> not used (default: no).
+        procedure :: frequency_axis
     end type scene_type
 
     interface
@@ -281,5 +284,14 @@ contains
 
         yes = .false.
     end function gap_rule
+
+    !> Whether the scene runs its own frequency axis: false unless a scene says so.
+    pure function frequency_axis(self) result(yes)
+        !> The scene.
+        class(scene_type), intent(in) :: self
+        logical :: yes
+
+        yes = .false.
+    end function frequency_axis
 
 end module supratrans_scene

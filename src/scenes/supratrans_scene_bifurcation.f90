@@ -93,6 +93,8 @@ module supratrans_scene_bifurcation
         procedure :: summary => bifurcation_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => bifurcation_scene_limits
+        !> It runs omega_min .. omega_max: `&drive omega` is not used.
+        procedure :: frequency_axis => bifurcation_frequency_axis
         procedure :: plan => bifurcation_scene_plan
     end type bifurcation_scene
 
@@ -393,5 +395,14 @@ contains
         p%noun = "searches"
         p%steps = cfg%run%numerics%t_final/cfg%run%numerics%dt
     end function bifurcation_scene_plan
+
+    !> The scene runs its own frequency axis (omega_min .. omega_max).
+    pure function bifurcation_frequency_axis(self) result(yes)
+        !> The scene.
+        class(bifurcation_scene), intent(in) :: self
+        logical :: yes
+
+        yes = .true.
+    end function bifurcation_frequency_axis
 
 end module supratrans_scene_bifurcation

@@ -81,6 +81,8 @@ module supratrans_scene_continuation
         procedure :: summary => continuation_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => continuation_scene_limits
+        !> It runs omega_min .. omega_max: `&drive omega` is not used.
+        procedure :: frequency_axis => continuation_frequency_axis
         procedure :: check_input => continuation_check_input
         procedure :: plan => continuation_scene_plan
     end type continuation_scene
@@ -169,8 +171,8 @@ contains
 
     !> Refuse, before any work (by validation, also for --check), a method without a one-period map (avf4, avf8) and
     !> a dt beyond the method's linear stability limit for a curve's chain: the scheme has no periodic state to
-    !> continue. With harmonic balance: harmonics above harmonics_max, and a dt beyond rk8's limit (the rk8 period
-    !> that checks each fold).
+    !> continue. With harmonic balance: harmonics above harmonics_max (the dt only sets the rk8 period that checks each
+    !> fold; `/fold_period_closure` shows an unstable one).
     subroutine continuation_check_input(self, cfg, where, error)
         !> The scene.
         class(continuation_scene), intent(in) :: self
@@ -186,13 +188,13 @@ contains
 
         method = cfg%run%numerics%method
         if (cfg%scene%solver == solver_harmonic_balance) then
-            ! no scheme is continued: the &numerics dt is that of the rk8 period that checks each fold
+            ! no scheme is continued (no dt to refuse: the rk8 spectrum of a long chain would cost --check seconds)
             if (cfg%scene%harmonics > cfg%scene%harmonics_max) then
                 call fatal_error(error, where // ": &scene: harmonics = " // int_str(cfg%scene%harmonics) &
                                  // " is above harmonics_max = " // int_str(cfg%scene%harmonics_max), err_input)
                 return
             end if
-            method = method_rk8
+            return      ! the &numerics dt only sets the rk8 period that checks each fold: an unstable one shows there
         else if (any(method == [method_avf4, method_avf8])) then   ! no period map (supratrans_period_map)
             call fatal_error(error, where // ": &numerics: method '" // method_name(cfg%run%numerics%method) &
                 // "' has no one-period map: continue folds with 'newton', 'linearized', 'rk4' or 'rk8'", err_input)
@@ -422,5 +424,14 @@ contains
         p%noun = "fold continuations"
         p%steps = 0.0_wp
     end function continuation_scene_plan
+
+    !> The scene runs its own frequency axis (omega_min .. omega_max).
+    pure function continuation_frequency_axis(self) result(yes)
+        !> The scene.
+        class(continuation_scene), intent(in) :: self
+        logical :: yes
+
+        yes = .true.
+    end function continuation_frequency_axis
 
 end module supratrans_scene_continuation

@@ -89,6 +89,8 @@ module supratrans_scene_hysteresis
         procedure :: summary => hysteresis_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => hysteresis_scene_limits
+        !> It runs omega_min .. omega_max: `&drive omega` is not used.
+        procedure :: frequency_axis => hysteresis_frequency_axis
         procedure :: plan => hysteresis_scene_plan
     end type hysteresis_scene
 
@@ -594,5 +596,14 @@ contains
             end do
         end associate
     end function hysteresis_scene_plan
+
+    !> The scene runs its own frequency axis (omega_min .. omega_max).
+    pure function hysteresis_frequency_axis(self) result(yes)
+        !> The scene.
+        class(hysteresis_scene), intent(in) :: self
+        logical :: yes
+
+        yes = .true.
+    end function hysteresis_frequency_axis
 
 end module supratrans_scene_hysteresis

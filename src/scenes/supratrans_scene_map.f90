@@ -43,6 +43,8 @@ module supratrans_scene_map
         procedure :: make_tasks => map_make_tasks
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => map_scene_limits
+        !> It runs omega_min .. omega_max: `&drive omega` is not used.
+        procedure :: frequency_axis => map_frequency_axis
         procedure :: plan => map_scene_plan
     end type map_scene
 
@@ -155,5 +157,14 @@ contains
         p%noun = "runs"
         p%steps = cfg%run%numerics%t_final/cfg%run%numerics%dt
     end function map_scene_plan
+
+    !> The scene runs its own frequency axis (omega_min .. omega_max).
+    pure function map_frequency_axis(self) result(yes)
+        !> The scene.
+        class(map_scene), intent(in) :: self
+        logical :: yes
+
+        yes = .true.
+    end function map_frequency_axis
 
 end module supratrans_scene_map
