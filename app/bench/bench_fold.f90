@@ -17,7 +17,7 @@ module bench_fold
     implicit none
     private
 
-    public :: fold_benchmark
+    public :: fold_benchmark, timed_scan, wall_seconds
 
 contains
 
@@ -126,7 +126,6 @@ contains
         type(continuation_scene) :: fold_line
         character(len=*), parameter :: nml = "/tmp/supratrans_bench_fold_line.nml"
         character(len=*), parameter :: out = "/tmp/supratrans_bench_fold_line.h5"
-        character(len=*), parameter :: scan_out = "/tmp/supratrans_bench_fold_scan.h5"
         real(wp), allocatable :: fold(:, :), scan(:, :), omega(:), wall(:, :)
         integer, allocatable :: chain_n(:, :), status(:, :)
         real(wp) :: seconds_fold, seconds_scan
@@ -155,22 +154,7 @@ contains
         if (allocated(error)) error stop "benchmark: " // error%message
         call h5_close(file, error)
 
-        call read_input("input/bif_undamped_sg.nml", cfg, error)
-        if (allocated(error)) error stop "benchmark: " // error%message
-        cfg%scene%omega_min = omega_min
-        cfg%scene%omega_max = omega_max
-        cfg%scene%omega_step = omega_step
-        cfg%output%file = scan_out
-        cfg%output%overwrite = .true.
-        cfg%output%quiet = .true.
-        seconds_scan = wall_seconds()
-        call run_bifurcation(cfg, error)
-        seconds_scan = wall_seconds() - seconds_scan
-        if (allocated(error)) error stop "benchmark: " // error%message
-        call h5_open(file, scan_out, error)
-        if (.not. allocated(error)) call h5_read(file, "/threshold", scan, error)
-        if (allocated(error)) error stop "benchmark: " // error%message
-        call h5_close(file, error)
+        call timed_scan(omega_min, omega_max, omega_step, scan, seconds_scan)
         write (*, "(a, f5.2, a, f5.2, a, f5.2, a)") "# undamped sine-Gordon, Omega = ", omega_min, " ..", omega_max, &
             " step", omega_step, ", 2 threads: the fold line (short chains; " // controls // &
             ") against the scan (N = 200, ramp 50)"
@@ -182,9 +166,41 @@ contains
         write (*, "(a, f9.2, a, f8.2, a, f8.2)") "fold line wall s: ", seconds_fold, ", scan wall s: ", seconds_scan, &
             ", ratio ", seconds_fold/max(seconds_scan, tiny(1.0_wp))
         call remove_file(out)
-        call remove_file(scan_out)
         call remove_file(nml)
     end subroutine fold_line_against_scan
+
+    !> The scan of input/bif_undamped_sg.nml on the grid omega_min .. omega_max step omega_step (2 threads, as set by
+    !> the caller): its thresholds (omega, curve) and its wall seconds; the file is deleted.
+    subroutine timed_scan(omega_min, omega_max, omega_step, scan, seconds)
+        !> The grid of Omega.
+        real(wp), intent(in) :: omega_min, omega_max, omega_step
+        !> The scan's /threshold.
+        real(wp), allocatable, intent(out) :: scan(:, :)
+        !> Wall seconds of the scene.
+        real(wp), intent(out) :: seconds
+        character(len=*), parameter :: scan_out = "/tmp/supratrans_bench_fold_scan.h5"
+        type(input_config) :: cfg
+        type(error_type), allocatable :: error
+        type(h5_file) :: file
+
+        call read_input("input/bif_undamped_sg.nml", cfg, error)
+        if (allocated(error)) error stop "benchmark: " // error%message
+        cfg%scene%omega_min = omega_min
+        cfg%scene%omega_max = omega_max
+        cfg%scene%omega_step = omega_step
+        cfg%output%file = scan_out
+        cfg%output%overwrite = .true.
+        cfg%output%quiet = .true.
+        seconds = wall_seconds()
+        call run_bifurcation(cfg, error)
+        seconds = wall_seconds() - seconds
+        if (allocated(error)) error stop "benchmark: " // error%message
+        call h5_open(file, scan_out, error)
+        if (.not. allocated(error)) call h5_read(file, "/threshold", scan, error)
+        if (allocated(error)) error stop "benchmark: " // error%message
+        call h5_close(file, error)
+        call remove_file(scan_out)
+    end subroutine timed_scan
 
     !> Wall-clock seconds since an arbitrary origin.
     function wall_seconds() result(t)

@@ -7,15 +7,15 @@
 !>    up, each against the scan of input/bif_undamped_sg.nml on the same grid, 2 threads: wall seconds, the ratio,
 !>    and each task's K and seconds.
 module bench_fold_hb
-    use supratrans_kinds, only: wp, i8
+    use supratrans_kinds, only: wp
     use supratrans_config, only: input_config, chain_params
     use supratrans_error, only: error_type
     use supratrans_input, only: read_input
-    use supratrans_scene_bifurcation, only: run_bifurcation
     use supratrans_scene_continuation, only: continuation_scene
     use supratrans_hdf5, only: h5_file, h5_open, h5_read, h5_close
     use supratrans_system, only: remove_file
     use supratrans_workprec_measure, only: median
+    use bench_fold, only: timed_scan, wall_seconds
     use supratrans_hb_continuation, only: hb_controls, hb_result, hb_fold_converged, hb_fold
     !$ use omp_lib, only: omp_set_num_threads
     implicit none
@@ -88,7 +88,6 @@ contains
         type(h5_file) :: file
         type(continuation_scene) :: fold_line
         character(len=*), parameter :: out = "/tmp/supratrans_bench_fold_hb.h5"
-        character(len=*), parameter :: scan_out = "/tmp/supratrans_bench_fold_hb_scan.h5"
         real(wp), allocatable :: fold(:, :), scan(:, :), omega(:), wall(:, :)
         integer, allocatable :: harmonics(:, :)
         real(wp) :: seconds_fold, seconds_scan
@@ -112,22 +111,7 @@ contains
         if (allocated(error)) error stop "benchmark: " // error%message
         call h5_close(file, error)
 
-        call read_input("input/bif_undamped_sg.nml", cfg, error)
-        if (allocated(error)) error stop "benchmark: " // error%message
-        cfg%scene%omega_min = omega_min
-        cfg%scene%omega_max = 0.99_wp
-        cfg%scene%omega_step = 0.01_wp
-        cfg%output%file = scan_out
-        cfg%output%overwrite = .true.
-        cfg%output%quiet = .true.
-        seconds_scan = wall_seconds()
-        call run_bifurcation(cfg, error)
-        seconds_scan = wall_seconds() - seconds_scan
-        if (allocated(error)) error stop "benchmark: " // error%message
-        call h5_open(file, scan_out, error)
-        if (.not. allocated(error)) call h5_read(file, "/threshold", scan, error)
-        if (allocated(error)) error stop "benchmark: " // error%message
-        call h5_close(file, error)
+        call timed_scan(omega_min, 0.99_wp, 0.01_wp, scan, seconds_scan)
         write (*, "(a, f5.2, a)") "# the fold line by harmonic balance (input/fold_hb_sg.nml), Omega = ", omega_min, &
             " .. 0.99 step 0.01, against the scan (input/bif_undamped_sg.nml, same grid), 2 threads"
         write (*, "(a8, 1x, a4, 1x, a12, 1x, a8, 1x, a8)") "Omega", "K", "A_f", "scan", "task_s"
@@ -138,16 +122,6 @@ contains
         write (*, "(a, f9.2, a, f8.2, a, f8.3)") "fold line wall s: ", seconds_fold, ", scan wall s: ", seconds_scan, &
             ", ratio ", seconds_fold/max(seconds_scan, tiny(1.0_wp))
         call remove_file(out)
-        call remove_file(scan_out)
     end subroutine fold_line_against_scan
-
-    !> Wall-clock seconds since an arbitrary origin.
-    function wall_seconds() result(t)
-        real(wp) :: t
-        integer(i8) :: count, rate
-
-        call system_clock(count, rate)
-        t = real(count, wp)/real(rate, wp)
-    end function wall_seconds
 
 end module bench_fold_hb
