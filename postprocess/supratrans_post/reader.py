@@ -73,6 +73,7 @@ SCHEMA: dict[str, dict[str, tuple[tuple[str, ...], bool]]] = {
         "runs/transmitting": _req("curve", "amplitude"),
         "curves/threshold_As": _opt("curve"), "curves/m2": _opt("curve"), "curves/band_gap_edge": _opt("curve"),
         **{f"energy/{k}": _opt("curve", "amplitude") for k in _ENERGIES},
+        "runs/thin_verdict": _opt("curve", "amplitude"), "runs/energy_jump": _opt("curve", "amplitude"),
     },
     "map": {
         "omega": _req("omega"), "amplitude": _req("amplitude"), "curves/potential": _req("curve"),
@@ -88,6 +89,7 @@ SCHEMA: dict[str, dict[str, tuple[tuple[str, ...], bool]]] = {
         "curves/m2": _opt("curve"), "curves/band_gap_edge": _opt("curve"), "cost/runs": _opt("curve", "omega"),
         "cost/wall_time": _opt("curve", "omega"),
         "cost/cpu_time": _opt("curve", "omega"),
+        "verdict_margin": _opt("curve", "omega"), "thin_verdict": _opt("curve", "omega"),
     },
     "continuation": {
         "omega": _req("omega"), "curves/potential": _req("curve"), "curves/value": _req("curve"),
@@ -164,6 +166,8 @@ AXES = {"amplitude": "amplitude", "omega": "omega", "c": "c", "dt": "dt", "probe
 #: Every scene the program writes.
 SCENES = tuple(SCHEMA)
 #: Scenes drawn as figures of the paper (`figures`), and as the speed/accuracy charts (`charts`).
+#: Attributes of a dataset that the figures show, kept by `read` (`Scene.attr`): the thin verdicts' margin.
+DATASET_ATTRS = ("thin_margin", "thin_verdicts", "flag_values", "flag_meanings")
 FIGURE_SCENES = ("timeseries", "amplitude_sweep", "map", "bifurcation", "continuation", "hysteresis")
 CHART_SCENES = ("stability", "work_precision")
 
@@ -216,6 +220,12 @@ class Scene:
     dims: dict = field(default_factory=dict)
     #: Values of the dimension scales attached to the datasets read, {(dataset, dimension index): array}.
     scales: dict = field(default_factory=dict)
+    #: The attributes of DATASET_ATTRS of the datasets read, {dataset: {attribute: value}}.
+    attributes: dict = field(default_factory=dict)
+
+    def attr(self, name: str, key: str, default: Any = None) -> Any:
+        """The attribute `key` of the dataset `name` read (one of DATASET_ATTRS), `default` when absent."""
+        return self.attributes.get(name, {}).get(key, default)
 
     def coordinate(self, name: str, i: int = 0) -> np.ndarray | None:
         """The coordinates along dimension `i` of the dataset `name`: its dimension scale when one is attached,
@@ -236,6 +246,13 @@ class Scene:
         """The solver that wrote the file (root attribute `solver`, 'harmonic_balance' for a continuation by
         harmonic balance); '' when the file names none (the scene's only solver, shooting for a continuation)."""
         return str(self.attrs.get("solver", ""))
+
+    @property
+    def quick(self) -> bool:
+        """Whether the file is from a quick copy of its namelist (make_figures --quick: coarser grids): the input
+        file it records (root attribute `input_file`) lies in a folder `quick/input/`."""
+        parts = Path(str(text(self.attrs.get("input_file", "")))).parts
+        return len(parts) >= 3 and parts[-3:-1] == ("quick", "input")
 
     @property
     def partial(self) -> bool:
@@ -363,6 +380,7 @@ def _read(f, p: Path, expect: str | Iterable[str] | None) -> Scene:
         out.data[name] = data
         if "units" in obj.attrs:
             out.units[name] = text(obj.attrs["units"])
+        out.attributes[name] = {k: value(v) for k, v in obj.attrs.items() if k in DATASET_ATTRS}
         out.dims[name] = dimension_axes(obj, dims)
         for i, scale in enumerate(_scales(obj)):
             if scale is None:

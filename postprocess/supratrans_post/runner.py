@@ -29,8 +29,9 @@ saved next to the file, if there are any).
 With --quick the namelists are copied (read and written with f90nml) to out/quick/input/, the steps of their
 scene grids scaled (amplitude_step x 5, omega_step x 2, x 10 for a fold line, resolution x 5, coarse_step x 2,
 stair_height x 5; a continuation by harmonic balance from Omega = 0.15 up, at least three frequencies and the first
-three c_values: namelist.QUICK_HB), their output in out/quick/ (overwritten). fold_hb_sg.png and
-fold_continuum.png are drawn at 200 dpi, the others at 96 (FIGURE_DPI), unless --dpi says.
+three c_values: namelist.QUICK_HB), their output in out/quick/ (overwritten), their figures' titles marked
+"quick". Every figure is drawn at 200 dpi (style.DPI) unless --dpi says, each PNG with a vector PDF of the same
+name beside it.
 Exit status 0 when every scene ran and every figure was drawn, 1 otherwise.
 """
 from __future__ import annotations
@@ -65,6 +66,10 @@ SCAN_OF = {"fold_sg": "bif_undamped_sg", "fold_bif1": "bif1", "fold_hb_sg": "bif
 #: there (run now, or before: with --only it is not run, the shooting fold line costing 100 times the harmonic
 #: balance's, 23 min at --quick): {harmonic-balance input: shooting input}.
 SHOOTING_OF = {"fold_hb_sg": "fold_sg"}
+#: Fold lines by harmonic balance drawn beside the curves of a bifurcation diagram that share their chain (the
+#: undamped sine-Gordon curve of each), from their file when it is there (run now or before, as SHOOTING_OF):
+#: {bifurcation input: harmonic-balance input}.
+FOLD_OF = {"bif1": "fold_hb_sg", "bif2": "fold_hb_sg", "bif3": "fold_hb_sg", "bif_undamped_sg": "fold_hb_sg"}
 #: Figures made of several namelists by their stems' prefix: {prefix: figure} (Fig. 1's four runs; the scans at
 #: Omega = 0.9 for each ramp time, input/ramp090_t*.nml).
 PREFIXES = {"fig1_": "fig1", "ramp090_": "ramp090"}
@@ -75,8 +80,8 @@ COMPANIONS = {"ramp090": ("fold_sg_090",), "threshold_sg": ("fold_sg", "bif_unda
               "fold_hb_sg": ("bif_undamped_sg",)}
 #: Charts drawn from other figures' files only: {chart: (fold line, scan, hysteresis) input stems}.
 COMBINED = {"threshold_sg": ("fold_sg", "bif_undamped_sg", "hysteresis")}
-#: Resolution of the figures whose panels are dense (dots per inch; the others style.DPI), unless --dpi says.
-FIGURE_DPI = {"fold_hb_sg": 200, "fold_continuum": 200}
+#: Resolution of figures that need another than the house style's style.DPI (200), unless --dpi says: none now.
+FIGURE_DPI: dict[str, int] = {}
 
 
 # ------------------------------------------------------------------------------------------------ namelists
@@ -163,8 +168,7 @@ def _parser(argv: list[str] | None = None) -> argparse.ArgumentParser:
     ap.add_argument("--input", type=Path, default=ROOT / "input", help="folder of the namelists (default input/)")
     ap.add_argument("--logs", type=Path, help="folder of the program's output, one log per namelist "
                                               "(default out/logs/, with --quick out/quick/logs/)")
-    ap.add_argument("--dpi", type=cli.dpi, help=f"resolution of the images (default {style.DPI}, "
-                                                 f"{', '.join(f'{k} {v}' for k, v in FIGURE_DPI.items())})")
+    ap.add_argument("--dpi", type=cli.dpi, help=f"resolution of the images (default {style.DPI})")
     return ap
 
 
@@ -271,6 +275,8 @@ def _draw_all(jobs: list[Job], outdir: Path, args: argparse.Namespace) -> tuple[
                 scan = groups[SCAN_OF[name]][0]
                 fig = figures.draw_continuation(scenes[0], open_scene(scan.rel(scan.output), expect="bifurcation"),
                                                 _shooting(groups, name, args))
+            elif len(scenes) == 1 and scenes[0].scene == "bifurcation" and name in FOLD_OF:
+                fig = figures.draw_bifurcation(scenes[0], _beside(groups, name, args, FOLD_OF))
             elif len(scenes) == 1:
                 fig = figures.draw(scenes[0])
             else:
@@ -305,11 +311,16 @@ def _dpi(args: argparse.Namespace, name: str) -> int:
 
 
 def _shooting(groups: dict, name: str, args: argparse.Namespace):
-    """The Scene of the shooting fold line drawn beside the fold line by harmonic balance `name` (SHOOTING_OF): the
-    file of its job, or, when it is not among the jobs, the file its namelist in the input folder writes (under
-    out/quick/ with --quick) if it is there. None when there is no such namelist or file, or the file cannot be
-    read (a note says so: the figure is drawn without it)."""
-    stem = SHOOTING_OF.get(name)
+    """The Scene of the shooting fold line drawn beside the fold line by harmonic balance `name` (SHOOTING_OF)."""
+    return _beside(groups, name, args, SHOOTING_OF)
+
+
+def _beside(groups: dict, name: str, args: argparse.Namespace, table: dict):
+    """The Scene of the fold line drawn beside the figure `name` (`table`: SHOOTING_OF, FOLD_OF): the file of its
+    job, or, when it is not among the jobs, the file its namelist in the input folder writes (under out/quick/
+    with --quick) if it is there. None when there is no such namelist or file, or the file cannot be read (a note
+    says so: the figure is drawn without it)."""
+    stem = table.get(name)
     if stem is None:
         return None
     try:
@@ -324,7 +335,7 @@ def _shooting(groups: dict, name: str, args: argparse.Namespace):
         path = ROOT / "out" / "quick" / job.output.name if args.quick else job.output
         return open_scene(job.rel(path), expect="continuation")
     except PlotError as exc:
-        print(f"  {name}: drawn without the shooting fold line: {exc.line()}")
+        print(f"  {name}: drawn without the fold line of {stem}: {exc.line()}")
         return None
 
 
@@ -372,6 +383,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.logs:
         args.logs = args.logs.resolve()
     os.chdir(ROOT)  # the namelists' output paths are relative to the repository, where fpm runs them
+    style.vector_copies(True)  # every PNG with its vector PDF beside it (the house style)
     signal.signal(signal.SIGTERM, _interrupt)  # `kill`: stop the running scene too, as Ctrl-C does
     try:
         jobs, failures = _jobs(args)

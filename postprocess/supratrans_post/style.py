@@ -3,6 +3,12 @@
 (unless `plot.py --show` asks for one), the number format of the labels, and saving (a PNG above a size budget is
 stored with a 256-colour palette; an image format matplotlib does not know is a one-line PlotError).
 
+The house style, for figures fit to publish: PNGs at 200 dpi (DPI) and, with `vector_copies(True)` (make_figures),
+a vector PDF beside each PNG; a colour-blind-safe palette (PALETTE: Okabe and Ito's eight colours, the default
+colour cycle of every axes); titles in words (`figures.common.title`: the paper's figure, or what the file shows,
+never a file stem), quick files (make_figures --quick) marked as quick in the title; legends placed off the data
+(beside or below the axes where a chart is full); markers on coarse curves.
+
 Importing the package, drawing and saving leave matplotlib's global state (rcParams, the backend, pyplot's
 figures) as they found it."""
 from __future__ import annotations
@@ -21,13 +27,23 @@ import numpy as np
 from . import cli
 from .reader import PlotError
 
-#: Resolution of saved figures (dots per inch).
-DPI = 96
+#: Resolution of saved figures (dots per inch): 200, print quality at the figures' size (5-8 inches wide).
+DPI = 200
+#: The colour-blind-safe palette (Okabe and Ito, "Color Universal Design"): black first, then the seven colours,
+#: by name. Families of curves and every chart take their colours from it.
+PALETTE = {"black": "#000000", "blue": "#0072B2", "vermillion": "#D55E00", "green": "#009E73",
+           "purple": "#CC79A7", "orange": "#E69F00", "sky": "#56B4E9", "yellow": "#F0E442"}
 #: PNGs larger than this are stored with a 256-colour palette (line plots: a third of the size, no visible change).
 PNG_BUDGET = 120_000
 #: The house style: matplotlib's rcParams while a figure is made and saved.
 STYLE = {"font.size": 9, "axes.titlesize": 9, "legend.fontsize": 8, "figure.titlesize": 10, "axes.grid": True,
-         "grid.alpha": 0.25, "lines.linewidth": 1.3, "savefig.bbox": "tight", "figure.constrained_layout.use": True}
+         "grid.alpha": 0.25, "lines.linewidth": 1.3, "savefig.bbox": "tight", "figure.constrained_layout.use": True,
+         "pdf.fonttype": 42}
+#: The colour cycle of every axes: the palette without black (black is kept for the reference curves).
+CYCLE = [v for k, v in PALETTE.items() if k not in ("black", "yellow")]
+
+#: Whether `save` writes a vector PDF beside each PNG (`vector_copies`; make_figures turns it on).
+_VECTOR = {"pdf": False}
 
 #: Whether figures may open a window (plot.py --show): then they are made by pyplot, else as plain Figures.
 _WINDOW = {"allowed": False}
@@ -41,6 +57,11 @@ def figure_dir() -> Path:
         raise PlotError(Path.cwd(), "not in a supratrans checkout (no fpm.toml with postprocess/ here or above): "
                                     "say where the images go (-o, --outdir)")
     return root / "postprocess" / "figures"
+
+
+def vector_copies(on: bool = True) -> None:
+    """Whether `save` writes a vector PDF (same name, `.pdf`) beside every PNG it writes."""
+    _VECTOR["pdf"] = bool(on)
 
 
 def allow_window() -> None:
@@ -58,7 +79,9 @@ def style_context() -> Iterator[None]:
     level = logger.level
     logger.setLevel(logging.ERROR)
     try:
-        with matplotlib.rc_context(STYLE):
+        from cycler import cycler  # noqa: PLC0415 (a dependency of matplotlib)
+
+        with matplotlib.rc_context({**STYLE, "axes.prop_cycle": cycler(color=CYCLE)}):
             yield
     finally:
         logger.setLevel(level)
@@ -130,7 +153,8 @@ def image_format(path: Any) -> str:
 
 def save(fig, path: Any, dpi: int = DPI) -> Path:
     """Write a figure, creating the folder; returns the path. A PNG above PNG_BUDGET bytes is stored with a
-    256-colour palette. The figure is closed, also when it cannot be written."""
+    256-colour palette; with `vector_copies(True)` a PNG gets a vector PDF beside it (same stem). The figure is
+    closed, also when it cannot be written."""
     path = Path(path)
     try:
         kind = image_format(path)
@@ -143,6 +167,8 @@ def save(fig, path: Any, dpi: int = DPI) -> Path:
                 buf = io.BytesIO()
                 fig.savefig(buf, dpi=dpi, format="png")
                 path.write_bytes(_palette(buf.getvalue()))
+                if _VECTOR["pdf"]:
+                    fig.savefig(path.with_suffix(".pdf"), format="pdf")
     finally:
         close(fig)
     return path

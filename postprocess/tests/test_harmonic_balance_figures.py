@@ -299,7 +299,7 @@ def test_quick_copies_of_the_harmonic_balance_namelists(tmp_path):
 def test_make_figures_draws_both_at_200_dpi(files, tmp_path, call_main, monkeypatch):
     """`--no-run --only fold_hb_sg fold_continuum` on namelists whose outputs are the tiny files: fold_hb_sg
     takes its scan along (COMPANIONS) and the shooting fold line of fold_sg from its file, though fold_sg is not
-    among the jobs (SHOOTING_OF); both figures are saved at 200 dpi, the scan at 96."""
+    among the jobs (SHOOTING_OF); every figure is saved at the house style's 200 dpi, the scan too."""
     inp = tmp_path / "input"
     inp.mkdir()
     for stem, name in (("fold_hb_sg", "fold_hb"), ("fold_continuum", "continuum"), ("fold_sg", "shooting"),
@@ -330,5 +330,5 @@ def test_make_figures_draws_both_at_200_dpi(files, tmp_path, call_main, monkeypa
     assert not (figs / "fold_sg.png").exists()  # not run nor drawn: only beside the fold line by harmonic balance
     (_, scan, shooting), = [d for d in drawn if d[0] == "fold_hb"]
     assert scan.path == str(files["scan"]) and shooting.path == str(files["shooting"])
-    assert saved == {"fold_hb_sg": 200, "fold_continuum": 200, "bif_undamped_sg": 96}
+    assert saved == {"fold_hb_sg": 200, "fold_continuum": 200, "bif_undamped_sg": 200}
     assert proc.stdout.count("(harmonic balance): Omega 0.7: A_f = ") == 2

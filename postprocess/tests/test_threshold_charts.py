@@ -86,21 +86,30 @@ def windows(fig) -> dict[str, list[np.ndarray]]:
 
 
 def test_threshold_chart_at_one_hysteresis_frequency(tmp_path):
-    """The windows at Omega = 0.9 span exactly the file's downward .. upward edge of each stair length, side by
-    side around 0.9; the fold line, the scan and A_s are the files' numbers; a zoom inset is drawn."""
+    """At the one frequency of the hysteresis file (0.9) the main axes carry one bar at Omega = 0.9 itself from the
+    lowest downward to the highest upward edge; the inset draws each stair length's window at its true stair length
+    (T_s = 200, 400: no made-up abscissae) spanning exactly the file's downward .. upward edge; the fold line, the
+    scan and A_s are the files' numbers; the legend is one, below the axes, of fewer than 12 entries."""
     up, down = [[1.84, 1.86]], [[1.52, 1.46]]
     fold = reader.open_scene(fold_file(tmp_path / "fold.h5"))
     scan = reader.open_scene(scan_file(tmp_path / "scan.h5"))
     hyst = reader.open_scene(hysteresis_file(tmp_path / "hyst.h5", [0.9], up, down))
     fig = figures.draw_thresholds(fold, scan, hyst)
-    got = windows(fig)
+    main = fig.get_axes()[0]
+    (bar,) = [ln for ln in main.get_lines() if ln.get_gid() == "window"]
+    np.testing.assert_array_equal(bar.get_xdata(), [0.9, 0.9])
+    np.testing.assert_allclose(bar.get_ydata(), [1.46, 1.86])
+    (inset,) = main.child_axes
+    got = {ln.get_gid(): ln for ln in inset.get_lines() if (ln.get_gid() or "").startswith("window:")}
     assert sorted(got) == ["window:200", "window:400"]
-    for i, gid in enumerate(("window:200", "window:400")):
-        (v,) = got[gid]
-        assert v[:, 1].min() == pytest.approx(down[0][i]) and v[:, 1].max() == pytest.approx(up[0][i])
-        assert 0.9 - 0.1 < v[:, 0].min() < v[:, 0].max() < 0.9 + 0.1
-    xs = [got[g][0][:, 0] for g in ("window:200", "window:400")]
-    assert xs[0].max() <= xs[1].min()  # side by side, not on top of each other
+    for i, (gid, ts) in enumerate((("window:200", 200.0), ("window:400", 400.0))):
+        np.testing.assert_array_equal(got[gid].get_xdata(), [ts, ts])
+        np.testing.assert_allclose(got[gid].get_ydata(), [down[0][i], up[0][i]])
+    assert inset.get_xscale() == "log"
+    assert not windows(fig)  # no shaded areas at invented frequencies
+    (legend,) = fig.legends
+    assert len(legend.get_texts()) < 12
+    assert main.get_legend() is None  # off the data
     ax = fig.get_axes()[0]
     lines = {ln.get_label(): ln for ln in ax.get_lines()}
     fold_line = next(ln for lab, ln in lines.items() if lab.startswith("fold $A_f$"))
@@ -112,7 +121,6 @@ def test_threshold_chart_at_one_hysteresis_frequency(tmp_path):
     np.testing.assert_array_equal(a_s.get_ydata(), AS[0])
     lost = next(ln for lab, ln in lines.items() if lab.startswith("first loss"))
     np.testing.assert_array_equal(lost.get_ydata(), [3.3439, 1.8266])  # only where it comes before the fold
-    assert len(ax.child_axes) == 1  # the zoom on the window
     text = " ".join(threshold.summary_thresholds(fold, scan, hyst))
     assert "A_f = 1.8342" in text and "T_s 400: up 1.86 down 1.46" in text and "scan 1.78" in text
 

@@ -35,9 +35,9 @@ from ..reader import PlotError, Scene, open_scene
 from ..style import DPI, figure_dir, fmt, image_format, save, styled, subplots
 
 #: Style of each method's observed boundary.
-STYLE = {"newton": dict(color="black", marker="o"), "linearized": dict(color="tab:blue", marker="s"),
-         "rk4": dict(color="tab:green", marker="^"), "rk8": dict(color="tab:red", marker="D"),
-         "avf4": dict(color="tab:cyan", marker="v"), "avf8": dict(color="tab:olive", marker="P")}
+STYLE = {"newton": dict(color="black", marker="o"), "linearized": dict(color="#0072B2", marker="s"),
+         "rk4": dict(color="#009E73", marker="^"), "rk8": dict(color="#D55E00", marker="D"),
+         "avf4": dict(color="#56B4E9", marker="v"), "avf8": dict(color="#999933", marker="P")}
 #: Symbols of the parameters a curve may vary.
 SYMBOL = {"gamma": r"\gamma", "beta": r"\beta", "m2": "m^2"}
 
@@ -109,9 +109,9 @@ def draw_stability(s: Scene):
                 st = STYLE.get(m, dict(marker="x"))
                 ax.plot(c, obs[icurve, im] * scale, ls=":", lw=0.9, ms=5, label=f"{m} (observed)", **st)
             if row:
-                ax.fill_between(c_fine, nb * c_fine, paper_f * c_fine, where=bad, color="tab:red", alpha=0.25,
+                ax.fill_between(c_fine, nb * c_fine, paper_f * c_fine, where=bad, color="#D55E00", alpha=0.25,
                                 lw=0, label="condition holds, newton unstable")
-                ax.fill_between(c_fine, paper_f * c_fine, nb * c_fine, where=loose, color="tab:green",
+                ax.fill_between(c_fine, paper_f * c_fine, nb * c_fine, where=loose, color="#009E73",
                                 alpha=0.18, lw=0, label="condition violated, newton stable")
                 ax.set_ylabel("$c\\,\\Delta t$ (Courant number)" if icurve == 0 else "")
                 ax.set_xlabel("coupling $c$")
@@ -138,7 +138,8 @@ def draw_stability(s: Scene):
     fig.suptitle(f"Stability: largest stable $\\Delta t$ vs $c$ ({p.get('potential', '')}, $A$ = "
                  f"{fmt(p.get('amplitude'))}, $T$ = {fmt(p.get('t_final'))}, $N$ = {p.get('n')}, "
                  f"$m^2$ = {fmt(p.get('m2', 0.0))}, $\\gamma$ = {fmt(p.get('gamma', 0.0))}, "
-                 f"absorber $\\kappa$ = {fmt(p.get('kappa', 0.0))})\n"
+                 f"absorber $\\kappa$ = {fmt(p.get('kappa', 0.0))})"
+                 + (" [quick: coarse grids]" if s.quick else "") + "\n"
                  "paper's necessary condition $(c^2 - m^2/4)\\,\\Delta t^2 < 1 + (\\alpha/4 + \\beta)\\,\\Delta t$")
     return fig
 

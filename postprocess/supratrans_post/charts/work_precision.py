@@ -48,12 +48,12 @@ LEVELS = [10.0 ** -k for k in range(2, 9)]
 #: The goal of issue 5: one of our methods at least this many times faster than SciPy's best at every level.
 GOAL = 5.0
 #: Styles: ours solid with filled markers, SciPy's dashed with open markers.
-STYLE = {"newton": dict(color="black", marker="o"), "linearized": dict(color="tab:blue", marker="s"),
-         "rk4": dict(color="tab:green", marker="^"), "rk8": dict(color="tab:red", marker="D"),
-         "avf4": dict(color="tab:cyan", marker="v"), "avf8": dict(color="tab:olive", marker="P"),
-         "DOP853": dict(color="tab:purple", marker="o", ls="--", mfc="none"),
-         "RK45": dict(color="tab:orange", marker="s", ls="--", mfc="none"),
-         "RK23": dict(color="tab:brown", marker="^", ls="--", mfc="none")}
+STYLE = {"newton": dict(color="black", marker="o"), "linearized": dict(color="#0072B2", marker="s"),
+         "rk4": dict(color="#009E73", marker="^"), "rk8": dict(color="#D55E00", marker="D"),
+         "avf4": dict(color="#56B4E9", marker="v"), "avf8": dict(color="#999933", marker="P"),
+         "DOP853": dict(color="#CC79A7", marker="o", ls="--", mfc="none"),
+         "RK45": dict(color="#E69F00", marker="s", ls="--", mfc="none"),
+         "RK23": dict(color="#8C510A", marker="^", ls="--", mfc="none")}
 
 
 # ------------------------------------------------------------------------------------------------ lines
@@ -209,7 +209,7 @@ def _suptitle(w: Scene, what: str) -> str:
     p = w.params
     return (f"{what}: {p['potential']}, $c$ = {fmt(p['c'])}, $\\Omega$ = {fmt(p['omega'])}, "
             f"$N$ = {p['n']}, $T$ = {fmt(p['t_final'])}, $\\gamma$ = {fmt(p['gamma'])}, "
-            f"$\\beta$ = {fmt(p['beta'])}")
+            f"$\\beta$ = {fmt(p['beta'])}" + (" [quick: coarse grids, not the paper's]" if w.quick else ""))
 
 
 @styled
@@ -232,14 +232,16 @@ def draw_work_precision(w: Scene, peer: dict, rows: list[dict] | None = None):
                 for tol, t, e in zip(ln["tol"], ln["time"], ln["error"]):
                     if round(math.log10(tol)) in (-3, -6, -9, -12):
                         ax.annotate(f"tol {tol:.0e}", (t, max(e, 1e-16)), textcoords="offset points",
-                                    xytext=(4, 3), fontsize=6.5, color=STYLE["DOP853"]["color"])
+                                    xytext=(5, 0), ha="left", va="center", fontsize=6, zorder=6,
+                                    color=STYLE["DOP853"]["color"], gid="tol",
+                                    bbox={"boxstyle": "square,pad=0.1", "fc": "white", "ec": "none", "alpha": 0.9})
         mine = [r for r in rows if r["amplitude"] == a and math.isfinite(r["scipy_time"])]
         if mine:
             ax.plot([r["scipy_time"] / GOAL for r in mine], [r["level"] for r in mine], color="0.55", ls=":",
                     lw=2.0, label=f"SciPy's best / {GOAL:g}")
         if floor is not None and np.isfinite(floor[ia]):
             ax.axhline(floor[ia], color="0.7", lw=0.8, ls="-.")
-            ax.text(0.99, floor[ia], "reference's error estimate", transform=ax.get_yaxis_transform(), ha="right",
+            ax.text(0.01, floor[ia], "reference's error estimate", transform=ax.get_yaxis_transform(), ha="left",
                     va="bottom", fontsize=6.5, color="0.45")
         ax.axhspan(min(LEVELS), max(LEVELS), color="0.93", zorder=-5, lw=0)
         ax.set_xscale("log")
@@ -248,7 +250,7 @@ def draw_work_precision(w: Scene, peer: dict, rows: list[dict] | None = None):
         ax.set_title(_panel_title(w, ia))
         if ia == 0:
             ax.set_ylabel("relative error of the injected energy")
-        ax.legend(loc="lower left", fontsize=7, ncol=2)
+    fig.legend(*axes[0, 0].get_legend_handles_labels(), loc="outside lower center", fontsize=7, ncol=9)
     fig.suptitle(_suptitle(w, "Work-precision") + "\nshaded: the error levels of the goal (1e-2 .. 1e-8)")
     return fig
 

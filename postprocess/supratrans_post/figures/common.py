@@ -9,7 +9,7 @@ from typing import Any, Iterable
 import numpy as np
 
 from ..reader import PlotError, Scene
-from ..style import cmap, fmt
+from ..style import PALETTE, cmap, fmt
 
 #: Figures of the paper, by the name of the input file that makes them (its stem, `input/<name>.nml`):
 #: (label, scene, what the figure shows).
@@ -27,8 +27,8 @@ FIGURES = {
 
 #: Line styles of a family, in the paper's order.
 LINESTYLES = ["-", "--", "-.", ":"]
-#: Colours of a family (dark first), used with the line styles.
-COLOURS = ["black", "tab:blue", "tab:red", "tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:olive"]
+#: Colours of a family (dark first), used with the line styles: the colour-blind-safe palette (style.PALETTE).
+COLOURS = [PALETTE[k] for k in ("black", "blue", "vermillion", "green", "purple", "orange", "sky")] + ["#999999"]
 #: Names of the potentials as the paper writes them.
 POTENTIAL_TITLES = {"sine-gordon": "Sine-Gordon chain", "klein-gordon": "Klein-Gordon chain"}
 #: Symbols of the parameters a family may vary.
@@ -108,14 +108,38 @@ def conditions(s: Scene, skip: Iterable[str] = ()) -> str:
     return ", ".join(items)
 
 
+#: Titles in words of the figures beyond the paper's, by input file stem (others by their scene: SCENE_TITLES).
+NAMES = {"bif_undamped_sg": "Undamped sine-Gordon chain", "fold_sg": "Fold line, sine-Gordon chain",
+         "fold_sg_090": "Sine-Gordon chain", "fold_sg_050": "Sine-Gordon chain",
+         "fold_bif1": "Fold lines of Bif1's chains", "fold_hb_sg": "Fold line by harmonic balance",
+         "fold_continuum": "The fold's continuum limit", "hysteresis": "Hysteresis stairs"}
+#: Titles in words of a scene's figure, for an input file of another name.
+SCENE_TITLES = {"timeseries": "One run", "amplitude_sweep": "Amplitude sweep", "map": "Energy map",
+                "bifurcation": "Bifurcation diagram", "continuation": "Driven periodic states",
+                "hysteresis": "Hysteresis stairs"}
+
+
+def label_of(s: Scene) -> str:
+    """The figure's name in words: the paper's label (Fig. 2, Bif1), a name of NAMES, or its scene's (never the
+    file's stem)."""
+    if s.name in FIGURES:
+        return FIGURES[s.name][0]
+    return NAMES.get(s.name, SCENE_TITLES.get(s.scene, s.scene.replace("_", " ").capitalize()))
+
+
+def notes(*scenes: Scene | None) -> str:
+    """'  [quick: coarse grids; partial: k of n runs]' for quick (make_figures --quick) or partial files among
+    `scenes`, '' when none is."""
+    parts = []
+    if any(x is not None and x.quick for x in scenes):
+        parts.append("quick: coarse grids, not the paper's")
+    parts += [x.partial_note() for x in scenes if x is not None and x.partial]
+    return f"  [{'; '.join(parts)}]" if parts else ""
+
+
 def title(s: Scene, what: str) -> str:
-    """Figure title: the paper's label (from the input file name), what is shown, the partial note."""
-    label = FIGURES.get(s.name, (s.name,))[0]
-    out = f"{label}: {what}"
-    note = s.partial_note()
-    if note:
-        out += f"  [{note}]"
-    return out
+    """Figure title: the figure in words (`label_of`), what is shown, the quick and partial notes."""
+    return f"{label_of(s)}: {what}{notes(s)}"
 
 
 def failed_note(status: Any) -> str:
@@ -294,7 +318,7 @@ def draw_transmission_marks(ax, fold, curve: int, suffix: str = "", legend: bool
             ax.plot(omega, values, marker, ms=ms, zorder=5, label=lab(text), **style)
 
     mark(transmission_past_loss(fold, curve), "^", 5, "where the chain transmits past a loss of stability",
-         color="tab:green")
+         color="#009E73")
     spread = transmission_spread(fold, curve)
     if np.isfinite(spread).any():
         trans = np.asarray(fold.data["transmission_fold"], dtype=float)[curve]
@@ -303,9 +327,9 @@ def draw_transmission_marks(ax, fold, curve: int, suffix: str = "", legend: bool
     stays = localized_folds(fold, curve)
     if not stays.any():
         return
-    ax.plot(omega[stays], fold_a[stays], "D", ms=5, mfc="none", mec="tab:red", zorder=5,
+    ax.plot(omega[stays], fold_a[stays], "D", ms=5, mfc="none", mec="#D55E00", zorder=5,
             label=lab("fold past which the chain stays localized"))
     mark(later_transmission(fold, curve), "*", 7, "fold of a later branch, past which the chain transmits",
-         color="tab:red")
+         color="#D55E00")
     mark(transmission_on_stairs(fold, curve), "v", 5,
-         "stair on which the chain, settled on no stable periodic state, transmits", color="tab:red")
+         "stair on which the chain, settled on no stable periodic state, transmits", color="#D55E00")

@@ -46,6 +46,8 @@ def _draw_branch(s: Scene):
     fig, (ax, axm) = subplots(1, 2, figsize=(PANEL[0] * 2.1, PANEL[1] * 1.25),
                               gridspec_kw={"width_ratios": [1.6, 1.0]})
     st = styles(values, vary, pots)
+    zoom = ax.inset_axes([0.56, 0.08, 0.42, 0.46])  # the lower right is empty: the branch rises from (0, 0)
+    zoom_box: list[float] = []
     for c in range(len(pots)):
         n = int(s.data["branch/points"][c, 0])
         a = np.asarray(s.data["branch/amplitude"][c, 0, :n], dtype=float)
@@ -63,21 +65,40 @@ def _draw_branch(s: Scene):
             m = m | np.r_[m[1:], False]  # each part joins the next: no gap where the verdict changes
             ln, = ax.plot(np.where(m, a, np.nan), np.where(m, u, np.nan), ls, lw=lw, label=lab,
                           color=color if line is None else line.get_color())
+            zoom.plot(np.where(m, a, np.nan), np.where(m, u, np.nan), ls, lw=lw, marker=".", ms=3,
+                      color=ln.get_color())
             line = line or ln
         af = float(s.data["fold_amplitude"][c, 0])
         if math.isfinite(af):
-            ax.axvline(af, color=line.get_color(), lw=0.8, ls=":")
-            ax.annotate(rf"fold $A_f$ = {fmt(af, 6)}", (af, np.nanmax(u)), textcoords="offset points",
-                        xytext=(-4, -12), ha="right", fontsize=8)
+            for a_ in (ax, zoom):
+                a_.axvline(af, color=line.get_color(), lw=0.8, ls=":")
+            zoom.annotate(rf"fold $A_f$ = {fmt(af, 6)}", (af, np.nanmax(u)), textcoords="offset points",
+                          xytext=(-4, -10), ha="right", fontsize=7)
+            near = a >= af - 0.08 * max(af, 1e-9)
+            if near.any():
+                zoom_box += [float(np.nanmin(a[near])), af, float(np.nanmin(u[near])), float(np.nanmax(u[near]))]
         ai = float(s.data["instability_amplitude"][c, 0])
         kind = int(s.data["instability_type"][c, 0])
         if math.isfinite(ai) and (not math.isfinite(af) or ai < af - 1e-9):
             ui = np.interp(ai, a[: int(np.nanargmax(a)) + 1], u[: int(np.nanargmax(a)) + 1])
             ax.plot([ai], [ui], "o", mfc="none", color=line.get_color(),
                     label=f"first loss of stability, {KINDS.get(kind, kind)}: A = {fmt(ai, 6)}")
+            zoom.plot([ai], [ui], "o", mfc="none", color=line.get_color())
         a_s = float(s.data["threshold_As"][c, 0])
         if math.isfinite(a_s):
-            ax.axvline(a_s, color="0.5", lw=0.8, ls="-.", label=rf"$A_s$ = {fmt(a_s, 4)}")
+            for a_ in (ax, zoom):
+                a_.axvline(a_s, color="0.5", lw=0.8, ls="-.", label=rf"$A_s$ = {fmt(a_s, 4)}" if a_ is ax else None)
+    if zoom_box:
+        x0, x1 = min(zoom_box[0::4]), max(zoom_box[1::4])
+        y0, y1 = min(zoom_box[2::4]), max(zoom_box[3::4])
+        pad_x, pad_y = 0.12 * max(x1 - x0, 1e-3), 0.08 * max(y1 - y0, 1e-3)
+        zoom.set_xlim(x0 - pad_x, x1 + pad_x)
+        zoom.set_ylim(y0 - pad_y, y1 + pad_y)
+        zoom.tick_params(labelsize=6)
+        zoom.set_title("zoom on the fold (dots: the branch's points)", fontsize=7, pad=2)
+        ax.indicate_inset_zoom(zoom, edgecolor="0.5")
+    else:
+        zoom.set_visible(False)
     ax.set_xlabel(f"driving amplitude $A${s.unit('branch/amplitude')}")
     ax.set_ylabel(r"max $|u_n|$ over a period" + s.unit("branch/umax"))
     ax.legend(loc="upper left", fontsize=7, framealpha=0.85)
@@ -112,18 +133,35 @@ def _draw_multipliers(s: Scene, ax) -> None:
     re = np.asarray(s.data["multipliers/real"], dtype=float)
     im = np.asarray(s.data["multipliers/imag"], dtype=float)
     amp = np.asarray(s.data["multipliers/amplitude"], dtype=float)
-    names = ["first point", "half the fold", "fold", "last point"]
+    af = float(s.data["fold_amplitude"][0, 0])
     marks = ["o", "s", "*", "x"]
     for k in range(re.shape[1]):
         if not math.isfinite(amp[0, k]):
             continue
         ax.plot(re[0, k], im[0, k], marks[k % 4], ms=5, mfc="none" if marks[k % 4] != "x" else None,
-                label=f"{names[k % 4]} (A = {fmt(amp[0, k], 4)})")
+                label=multiplier_label(k, float(amp[0, k]), af))
     ax.set_aspect("equal")
     ax.set_xlabel(r"Re $\mu$")
     ax.set_ylabel(r"Im $\mu$")
     ax.set_title("Floquet multipliers of largest modulus", fontsize=9)
     ax.legend(loc="lower left", fontsize=6, framealpha=0.85)
+
+
+def multiplier_label(k: int, a: float, af: float) -> str:
+    """Legend entry of the k-th sample of the multipliers (the file keeps them at the branch's first point, the
+    computed point nearest half the fold, the fold, the last point), by the amplitude it is at: the second sample
+    is named by its true fraction of A_f (with floquet_every > 1 the nearest point with multipliers can be far from
+    A_f / 2)."""
+    at = f"A = {fmt(a, 4)}"
+    if k % 4 == 0:
+        return f"first point ({at})"
+    if k % 4 == 2:
+        return f"the fold ({at})"
+    if k % 4 == 3:
+        return f"last point ({at}" + (f", {fmt(a / af, 3)} $A_f$)" if math.isfinite(af) and af > 0 else ")")
+    if math.isfinite(af) and af > 0:
+        return f"{fmt(a / af, 2)} $A_f$ ({at}; $A_f/2$ = {fmt(af / 2, 4)})"
+    return f"midway ({at})"
 
 
 def _draw_fold_line(s: Scene, scan: Scene | None):

@@ -89,7 +89,7 @@ def draw_fold_line_hb(s: Scene, scan: Scene | None = None, shooting: Scene | Non
         dt = fmt(shooting.params.get("dt"))
         note = f", {w.size} frequencies" + (f", {shooting.partial_note()}" if shooting.partial else "")
         for c in range(f.shape[0]):
-            ax.plot(w, f[c], "--", color="tab:orange", lw=1.0, marker="o", ms=3, mfc="none", gid=f"fold_shooting:{c}",
+            ax.plot(w, f[c], "--", color="#E69F00", lw=1.0, marker="o", ms=3, mfc="none", gid=f"fold_shooting:{c}",
                     label=rf"fold by shooting ({shooting.params.get('method', 'newton')}, $\Delta t$ = {dt}{note})"
                     if c == 0 else None)
     if scan is not None:
@@ -125,10 +125,10 @@ def _draw_convergence(s: Scene, ax, st: list[dict]) -> None:
     curve; on a twin axis K."""
     omega = np.asarray(s.data["omega"], dtype=float)
     several = len(st) > 1
-    quantities = [("convergence/harmonics_error", "truncation estimate $|A_f(K) - A_f(K')|$", "o", "tab:blue"),
-                  ("fold_period_closure", "closure of one rk8 period from the fold's state", "s", "tab:red"),
+    quantities = [("convergence/harmonics_error", "truncation estimate $|A_f(K) - A_f(K')|$", "o", "#0072B2"),
+                  ("fold_period_closure", "closure of one rk8 period from the fold's state", "s", "#D55E00"),
                   ("convergence/absorber_spread", "absorber spread (fold's distance to the semi-infinite chain)",
-                   "^", "tab:green")]
+                   "^", "#009E73")]
     for c in range(len(st)):
         suffix = f" (curve {c + 1})" if several else ""
         for name, label, marker, colour in quantities:
@@ -140,7 +140,7 @@ def _draw_convergence(s: Scene, ax, st: list[dict]) -> None:
                         label=label + suffix, gid=f"{name}:{c}")
     tol = float(s.params.get("harmonics_tol", float("nan")))
     if math.isfinite(tol) and tol > 0:
-        ax.axhline(tol, color="tab:blue", ls="--", lw=0.8, gid="harmonics_tol",
+        ax.axhline(tol, color="#0072B2", ls="--", lw=0.8, gid="harmonics_tol",
                    label=f"tolerance in K (harmonics_tol = {fmt(tol, 2)})")
     ax.set_yscale("log")
     ax.set_ylabel(f"error{s.unit('fold_amplitude')}")
@@ -207,7 +207,7 @@ def draw_continuum(s: Scene):
             top.plot([0.0], [a_inf], "*", color="0.35", ms=8, gid=f"A_s_continuum:{c}",
                      label=(r"$A_s = 4\arccos\Omega$" if m2 == 0 else r"$A_s$") + r" of the continuum")
             if math.isfinite(spread[c, w]) and math.isfinite(base[c, w]):
-                zoom.errorbar([1.0 / c0**2], [base[c, w]], yerr=[spread[c, w]], fmt="none", ecolor="tab:green",
+                zoom.errorbar([1.0 / c0**2], [base[c, w]], yerr=[spread[c, w]], fmt="none", ecolor="#009E73",
                               elinewidth=1.2, capsize=4, gid=f"absorber_spread:{c}",
                               label=rf"absorber spread of the $c$ = {fmt(c0)} fold (to the semi-infinite chain)")
             for i, (v, xv, yv) in enumerate(zip(cs[::-1], x[::-1], folds[c, w, ::-1])):

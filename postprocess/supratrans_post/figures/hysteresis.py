@@ -31,14 +31,30 @@ def draw_hysteresis(s: Scene):
     return _draw_edges(s)
 
 
+def edge_reason(levels: np.ndarray, power: np.ndarray, threshold: float, up: float, down: float) -> str:
+    """Why an edge of a stair length is missing (NaN), from its stairs' mean powers: '' when both are found."""
+    k = levels.size // 2
+    if not math.isfinite(up):
+        top = float(levels[k])
+        return f"no upward edge: no stair transmitted on the way up (to A = {fmt(top, 4)})"
+    if not math.isfinite(down):
+        low = float(levels[-1])
+        if math.isfinite(threshold) and math.isfinite(float(power[-1])) and float(power[-1]) > threshold:
+            return (f"no downward edge: still transmitting at the last stair down (A = {fmt(low, 4)}); "
+                    "the edge lies below the stairs")
+        return "no downward edge: the way down left transmission at no stair the criterion could place"
+    return ""
+
+
 def _draw_stairs(s: Scene):
     pots, values, vary = _curves(s)
     lengths = np.asarray(s.data["stair_time"], dtype=float)
     levels = np.asarray(s.data["stair_amplitude"], dtype=float)
     k = levels.size // 2
     thr = float(s.params.get("power_threshold", math.nan))
-    fig, axes = subplots(1, len(pots), figsize=(PANEL[0] * 1.35 * len(pots), PANEL[1] * 1.3), squeeze=False)
+    fig, axes = subplots(1, len(pots), figsize=(PANEL[0] * 1.5 * len(pots), PANEL[1] * 1.35), squeeze=False)
     for c, ax in enumerate(axes[0]):
+        reasons = []
         for i, ts in enumerate(lengths):
             color = COLOURS[(i + 1) % len(COLOURS)]
             p = np.asarray(s.data["power"][c, 0, i], dtype=float)
@@ -46,19 +62,28 @@ def _draw_stairs(s: Scene):
             ax.plot(levels[k:], p[k:], "--o", ms=3, mfc="none", color=color, label="down")
             up = float(s.data["upward_threshold"][c, 0, i])
             down = float(s.data["downward_threshold"][c, 0, i])
+            # each stair length's window its own bar above the data (not shaded areas that blend)
+            y = 1.0 - 0.045 * (i + 1)
             if math.isfinite(up) and math.isfinite(down) and up > down:
-                ax.axvspan(down, up, color=color, alpha=0.12, lw=0,
-                           label=f"window {fmt(down, 4)} .. {fmt(up, 4)}")
+                ax.plot([down, up], [y, y], "-", lw=5, color=color, solid_capstyle="butt", alpha=0.8,
+                        transform=ax.get_xaxis_transform(), gid=f"window:{ts:g}", clip_on=False,
+                        label=f"window {fmt(down, 4)} .. {fmt(up, 4)}")
+            why = edge_reason(levels, p, thr, up, down)
+            if why:
+                reasons.append((color, f"$T_s$ = {fmt(ts)}: {why}"))
+        for j, (color, why) in enumerate(reasons):
+            ax.text(0.01, 0.80 - 0.06 * j, why, transform=ax.transAxes, fontsize=7, color=color, va="top",
+                    gid="reason")
         if math.isfinite(thr):
             ax.axhline(thr, color="0.4", lw=0.8, ls=":", label=f"transmits above {fmt(thr)}")
         a_s = s.data.get("threshold_As")
         if a_s is not None and math.isfinite(float(a_s[c, 0])):
             ax.axvline(float(a_s[c, 0]), color="0.5", lw=0.8, ls="-.", label=rf"$A_s$ = {fmt(float(a_s[c, 0]), 4)}")
-        ax.set_yscale("symlog", linthresh=1e-3)
+        ax.set_ylim(top=ax.get_ylim()[1] * 1.25)  # room for the window bars above the data
         ax.set_xlabel(f"stair amplitude $A${s.unit('stair_amplitude')}")
-        ax.set_ylabel("mean power beyond the detector" + s.unit("power"))
+        ax.set_ylabel("mean power beyond the detector" + s.unit("power") + " (linear)")
         ax.set_title(curve_name(pots[c], vary, values[c]), fontsize=9)
-        ax.legend(loc="upper left", fontsize=6, framealpha=0.85)
+    fig.legend(*axes[0][0].get_legend_handles_labels(), loc="outside right center", fontsize=7, framealpha=0.9)
     w = float(s.data["omega"][0])
     fig.suptitle(title(s, rf"stairs up and down at $\Omega$ = {fmt(w, 4)}") + "\n" + conditions(s))
     return fig

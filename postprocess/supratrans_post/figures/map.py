@@ -55,7 +55,7 @@ def draw_map(s: Scene, surface: bool = False, energy: str = "injected"):
         note = failed_note(status[c])
         if note:
             ax.text2D(0.01, 0.01, note, transform=ax.transAxes) if surface else ax.text(
-                0.01, 0.01, note, transform=ax.transAxes, fontsize=7, color="tab:red")
+                0.01, 0.01, note, transform=ax.transAxes, fontsize=7, color="#D55E00")
     if mesh is not None:
         cb = fig.colorbar(mesh, ax=list(axes[0]), shrink=0.9, pad=0.02)
         cb.set_label(elabel)

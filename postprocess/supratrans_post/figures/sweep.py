@@ -74,6 +74,7 @@ def draw_sweep(s: Scene, zoom: bool = True, energy: str = "injected"):
                     ax.plot(amp, y, **{**st, "marker": "o", "markersize": 2.5})
             if a_s is not None:
                 _as_marks(s, ax, idx, order, st_order, a_s, vary, row)
+            _thin_marks(s, ax, amp, e, order, st_order, row)
             ax.set_ylabel(ylabel)
             if row == rows - 1:
                 ax.set_xlabel(f"driving amplitude $A${s.unit('amplitude')}")
@@ -111,6 +112,51 @@ def _as_marks(s: Scene, ax, idx: list[int], order: list[int], st_order: list[dic
         ax.plot([], [], "x", color="0.4", ms=7, mew=1.5, label=r"$A_s$ of each curve (its colour)")
 
 
+#: The program's `min_energy_jump` (src/scenes/supratrans_scene_sweep.f90): a verdict change whose energy injected
+#: after the ramp grows by less than this factor is "without an energy jump" (the file counts them in the /runs
+#: attribute verdict_changes_without_energy_jump).
+MIN_ENERGY_JUMP = 3.0
+
+
+def thin_thresholds(s: Scene) -> list[tuple[int, float, str]]:
+    """The thresholds (first transmitting amplitude) of a sweep whose verdict is thin, [(curve, amplitude, why)]:
+    the run there or just below it has a thin verdict (/runs/thin_verdict), or the energy injected after the ramp
+    does not jump there (/runs/energy_jump below MIN_ENERGY_JUMP)."""
+    amp = np.asarray(s.data["amplitude"], dtype=float)
+    thin = s.data.get("runs/thin_verdict")
+    jump = s.data.get("runs/energy_jump")
+    out = []
+    for c in range(len(s.data["curves/potential"])):
+        a = first_transmitting(amp, s.data["runs/transmitting"][c], s.data["runs/status"][c])
+        if not math.isfinite(a):
+            continue
+        k = int(np.argmax(amp == a))
+        why = []
+        if thin is not None and (np.asarray(thin[c][max(k - 1, 0):k + 1]) == 1).any():
+            why.append("thin margin")
+        if jump is not None and k > 0 and math.isfinite(float(jump[c][k])) and float(jump[c][k]) < MIN_ENERGY_JUMP:
+            why.append(f"energy x{float(jump[c][k]):.2g} only")
+        if why:
+            out.append((c, a, ", ".join(why)))
+    return out
+
+
+def _thin_marks(s: Scene, ax, amp: np.ndarray, e: np.ndarray, order: list[int], st_order: list[dict],
+                row: int) -> None:
+    """An open circle on each thin threshold (`thin_thresholds`), in its curve's colour, with its reason."""
+    marks = thin_thresholds(s)
+    for c, a, why in marks:
+        if c not in order:
+            continue
+        k = int(np.argmax(amp == a))
+        colour = st_order[order.index(c)]["color"]
+        ax.plot([a], [e[c, k]], "o", ms=8, mfc="none", mew=1.0, color=colour, zorder=6, gid="thin")
+        if row == 0:
+            ax.annotate(why, (a, e[c, k]), textcoords="offset points", xytext=(6, -10), fontsize=6.5, color=colour)
+    if row == 0 and any(c in order for c, _, _ in marks):
+        ax.plot([], [], "o", ms=8, mfc="none", color="0.3", label="thin verdict at the threshold")
+
+
 def _first_row(s: Scene, ax, name: str, amp: np.ndarray, status: np.ndarray, window) -> None:
     """Title, limits, legend and notes of a panel of the first row."""
     ax.set_title(name)
@@ -119,7 +165,7 @@ def _first_row(s: Scene, ax, name: str, amp: np.ndarray, status: np.ndarray, win
     ax.legend(loc="upper left", frameon=False)
     note = failed_note(status)
     if note:
-        ax.text(0.99, 0.02, note, transform=ax.transAxes, ha="right", va="bottom", fontsize=7, color="tab:red")
+        ax.text(0.99, 0.02, note, transform=ax.transAxes, ha="right", va="bottom", fontsize=7, color="#D55E00")
     if not (status == 0).any():
         ax.text(0.5, 0.5, "no run done yet" if s.partial else "no run completed", transform=ax.transAxes,
                 ha="center", va="center", color="0.4")

@@ -14,13 +14,15 @@ Every number comes from the files: the ramp times, resolutions, T from `/paramet
 from __future__ import annotations
 
 import math
+import textwrap
 
 import numpy as np
 
 from ..reader import PlotError, Scene
 from ..style import fmt, styled, subplots
-from .common import COLOURS, PANEL, conditions, curve_name, draw_transmission_marks, vary_of
+from .common import COLOURS, PANEL, conditions, curve_name, draw_transmission_marks, notes, vary_of
 from .continuation import KINDS
+from .hysteresis import edge_reason
 
 #: Width (in Omega) of the shaded window of a hysteresis file at a single frequency, as a fraction of the chart's
 #: frequency step (or of 0.05 when no other file sets one).
@@ -102,7 +104,10 @@ def _scan_line(scan: Scene, curve: int) -> tuple[np.ndarray, np.ndarray]:
 
 @styled
 def draw_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene | None = None):
-    """The fold line, the scan thresholds, the hysteresis window and A_s on one chart (module docstring)."""
+    """The fold line, the scan thresholds, the hysteresis window and A_s on one chart (module docstring). A
+    hysteresis file at one frequency is drawn at that frequency as one bar (the union of its windows) and, in an
+    inset, each stair length's window against the stair length (its true abscissa), beside the fold, the scan's
+    threshold and A_s there. The legend is below the axes."""
     if fold.scene != "continuation":
         raise PlotError(fold.path, f"scene is '{fold.scene}', not 'continuation' (the fold line)")
     _by_shooting(fold)
@@ -116,73 +121,117 @@ def draw_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene | 
     keys = _curve_keys(fold)
     several = len(keys) > 1
     width = WINDOW_WIDTH * _omega_step(omega, None if scan is None else np.asarray(scan.data["omega"], dtype=float))
-    zoom = hysteresis is not None and np.asarray(hysteresis.data["omega"]).size == 1
-    fig, ax = subplots(figsize=(PANEL[0] * 1.6, PANEL[1] * 1.45))
-    axes = [ax]
-    if zoom:
-        axes.append(ax.inset_axes([0.40, 0.05, 0.30, 0.36]))  # below the mid-gap thresholds (~3 .. 4.5)
+    single = hysteresis is not None and np.asarray(hysteresis.data["omega"]).size == 1
+    fig, ax = subplots(figsize=(PANEL[0] * 1.6, PANEL[1] * 1.6))
+    inset = ax.inset_axes([0.40, 0.06, 0.34, 0.36]) if single else None  # below the mid-gap thresholds
     for c, key in enumerate(keys):
         name = f", {curve_name(key[0], vary, key[1])}" if several else ""
         color = COLOURS[c % len(COLOURS)]
-        for k, a in enumerate(axes):
-            lab = (lambda t: t if k == 0 else None)  # noqa: E731 (legend entries from the main axes only)
-            a.plot(omega, fold_a[c], "-", marker=".", ms=4, lw=1.4, color=color, zorder=4,
-                   label=lab(f"fold $A_f$ of the periodic state (model){name}"))
-            before = np.isfinite(inst[c]) & ~(inst[c] >= fold_a[c] - 1e-9)
-            if before.any():
-                a.plot(omega[before], inst[c][before], "o", ms=4, mfc="none", color=color, zorder=4,
-                       label=lab(f"first loss of Floquet stability{name}"))
-            draw_transmission_marks(a, fold, c, name, legend=k == 0)
-            if scan is not None:
-                i = _match(scan, key, vary)
-                if i is not None:
-                    w2, y = _scan_line(scan, i)
-                    a.plot(w2, y, "--", marker="s", ms=3, lw=1.0, color="tab:blue" if not several else color,
-                           zorder=3, label=lab(_scan_label(scan) + name))
-            if hysteresis is not None:
-                j = _match(hysteresis, key, vary)
-                if j is not None:
-                    _draw_windows(a, hysteresis, j, width, name, legend=k == 0)
+        ax.plot(omega, fold_a[c], "-", marker=".", ms=4, lw=1.4, color=color, zorder=4,
+                label=f"fold $A_f$ of the periodic state (model){name}")
+        before = np.isfinite(inst[c]) & ~(inst[c] >= fold_a[c] - 1e-9)
+        if before.any():
+            ax.plot(omega[before], inst[c][before], "o", ms=4, mfc="none", color=color, zorder=4,
+                    label=f"first loss of Floquet stability{name}")
+        draw_transmission_marks(ax, fold, c, name)
+        i = _match(scan, key, vary) if scan is not None else None
+        if i is not None:
+            w2, y = _scan_line(scan, i)
+            ax.plot(w2, y, "--", marker="s", ms=3, lw=1.0, color="#0072B2" if not several else color, zorder=3,
+                    label=_scan_label(scan) + name)
+            thin = np.asarray(scan.data.get("thin_verdict", np.zeros_like(y)))[i] == 1
+            if thin.any():
+                ax.plot(w2[thin], y[thin], "o", ms=7, mfc="none", mew=0.9, color="#0072B2", zorder=5, gid="thin",
+                        label=f"thin verdict of the scan ({int(thin.sum())})")
+        j = _match(hysteresis, key, vary) if hysteresis is not None else None
+        if j is not None and single:
+            _window_bar(ax, hysteresis, j, name)
+            _window_inset(inset, hysteresis, j, fold, c, scan, i)
+        elif j is not None:
+            _draw_windows(ax, hysteresis, j, width, name)
     a_s = np.asarray(fold.data["threshold_As"], dtype=float)
-    for k, a in enumerate(axes):
-        if np.isfinite(a_s).any():
-            a.plot(omega, a_s[0], "x", color="black", ms=5, mew=1.0, zorder=5,
-                   label=r"$A_s = 4\arctan(\lambda c/\Omega)$" if k == 0 else None)
-    if zoom:
-        _zoom(axes[1], hysteresis, fold, scan, width)
-        ax.indicate_inset_zoom(axes[1], edgecolor="0.5")
+    if np.isfinite(a_s).any():
+        ax.plot(omega, a_s[0], "x", color="black", ms=5, mew=1.0, zorder=5, markevery=_every(omega.size),
+                label=r"$A_s = 4\arctan(\lambda c/\Omega)$")
+    if inset is not None:
+        w0 = float(np.asarray(hysteresis.data["omega"], dtype=float)[0])
+        lo, hi = inset.get_ylim()
+        ax.indicate_inset((w0 - width / 2, lo, width, hi - lo), inset, edgecolor="0.5")
     ax.set_xlabel(rf"driving frequency $\Omega${fold.unit('omega')}")
     ax.set_ylabel(f"threshold amplitude $A${fold.unit('fold_amplitude')}")
-    ax.legend(loc="upper right", fontsize=7, framealpha=0.9)
-    head = "the model's threshold (fold) against the protocols' (ramped scan, hysteresis stairs)"
-    notes = [f"{x.name}: {x.partial_note()}" for x in (fold, scan, hysteresis) if x is not None and x.partial]
-    if notes:
-        head += f"  [{'; '.join(notes)}]"
-    fig.suptitle(head + "\n" + conditions(fold))
+    handles, labels = ax.get_legend_handles_labels()
+    fig.legend(handles, labels, loc="outside lower center", ncol=2, fontsize=7, framealpha=0.9)
+    head = "Undamped chain: the model's threshold (fold) against the protocols' (ramped scan, stairs)"
+    fig.suptitle(head + notes(fold, scan, hysteresis) + "\n" + conditions(fold))
     return fig
 
 
-def _zoom(ax, h: Scene, fold: Scene, scan: Scene | None, width: float) -> None:
-    """Limits and ticks of the zoom on the hysteresis window at its one frequency."""
-    w0 = float(np.asarray(h.data["omega"], dtype=float)[0])
-    edges = np.concatenate([np.asarray(h.data["upward_threshold"], dtype=float).ravel(),
-                            np.asarray(h.data["downward_threshold"], dtype=float).ravel()])
+def _every(n: int) -> int:
+    """Every how many points x-marks go on a curve of n points (at most about 24: they stay marks)."""
+    return max(1, -(-n // 24))
+
+
+def _window_bar(ax, h: Scene, curve: int, name: str) -> None:
+    """At the one frequency of a hysteresis file, at its true abscissa: one bar from the lowest downward edge to
+    the highest upward edge of its stair lengths (the windows themselves: the inset)."""
+    wins = hysteresis_windows(h, curve)
+    w0 = float(wins[0]["omega"][0])
+    ups = [float(w["up"][0]) for w in wins if math.isfinite(float(w["up"][0]))]
+    downs = [float(w["down"][0]) for w in wins if math.isfinite(float(w["down"][0]))]
+    if ups and downs:
+        ax.plot([w0, w0], [min(downs), max(ups)], "-", lw=4, color="#CC79A7", alpha=0.8, zorder=4,
+                solid_capstyle="butt", gid="window",
+                label=rf"bistable window of the hysteresis stairs at $\Omega$ = {fmt(w0)} (inset: by stair length)"
+                      + name)
+
+
+def _window_inset(ax, h: Scene, curve: int, fold: Scene, c: int, scan: Scene | None, i: int | None) -> None:
+    """The inset: each stair length's window (downward edge v to upward edge ^) against the stair length T_s (a
+    log axis at the true T_s), with the fold, the scan's threshold and A_s at that frequency as lines."""
+    wins = hysteresis_windows(h, curve)
+    w0 = float(wins[0]["omega"][0])
+    ts = np.array([w["stair_time"] for w in wins])
+    up = np.array([float(w["up"][0]) for w in wins])
+    down = np.array([float(w["down"][0]) for w in wins])
+    for t, u, d in zip(ts, up, down):
+        if math.isfinite(u) and math.isfinite(d):
+            ax.plot([t, t], [d, u], "-", lw=5, color="#CC79A7", alpha=0.6, solid_capstyle="butt",
+                    gid=f"window:{t:g}")
+    ax.plot(ts, up, "^", ms=5, color="#CC79A7", mec="black", mew=0.5, ls="none")
+    ax.plot(ts, down, "v", ms=5, color="#CC79A7", mec="black", mew=0.5, ls="none")
+    for t, u, d in zip(ts, up, down):
+        if not math.isfinite(d) and math.isfinite(u):
+            k = int(np.argmin(np.abs(ts - t)))
+            why = edge_reason(np.asarray(h.data["stair_amplitude"], dtype=float),
+                              np.asarray(h.data["power"][curve, 0, k], dtype=float),
+                              float(h.params.get("power_threshold", math.nan)), u, d)
+            ax.annotate(textwrap.fill(why.replace("no downward edge: ", "no downward edge: "), 22), (t, u),
+                        fontsize=5, ha="center", va="top", textcoords="offset points", xytext=(0, -7), color="0.3",
+                        gid="reason")
     omega = np.asarray(fold.data["omega"], dtype=float)
-    near = np.abs(omega - w0) <= 1.5 * width + 1e-12
-    more = np.asarray(fold.data["fold_amplitude"], dtype=float)[:, near].ravel()
-    if scan is not None:
-        w2 = np.asarray(scan.data["omega"], dtype=float)
-        close = np.abs(w2 - w0) <= 1.5 * width + 1e-12
-        more = np.concatenate([more, np.asarray(scan.data["threshold"], dtype=float)[:, close].ravel()])
-    vals = np.concatenate([edges, more, np.asarray(fold.data["threshold_As"], dtype=float)[:, near].ravel()])
-    vals = vals[np.isfinite(vals)]
-    if vals.size:
-        lo, hi = float(vals.min()), float(vals.max())
-        pad = 0.08 * max(hi - lo, 0.1)
-        ax.set_ylim(lo - pad, hi + pad)
-    ax.set_xlim(w0 - 1.5 * width, w0 + 1.5 * width)
+    k = int(np.argmin(np.abs(omega - w0)))
+    lines = []
+    if math.isclose(omega[k], w0, abs_tol=1e-9):
+        lines.append((float(fold.data["fold_amplitude"][c, k]), "-", "black", "$A_f$"))
+        lines.append((float(fold.data["threshold_As"][c, k]), ":", "black", "$A_s$"))
+    if scan is not None and i is not None:
+        w2, y = _scan_line(scan, i)
+        m = int(np.argmin(np.abs(w2 - w0)))
+        if math.isclose(w2[m], w0, abs_tol=1e-9):
+            lines.append((float(y[m]), "--", "#0072B2", "scan"))
+    for v, ls, color, text in lines:
+        if math.isfinite(v):
+            ax.axhline(v, ls=ls, lw=1.0, color=color)
+            ax.annotate(f"{text} {fmt(v, 4)}", (1.0, v), xycoords=("axes fraction", "data"), fontsize=6,
+                        ha="right", va="bottom", color=color)
+    ax.set_xscale("log")
+    ax.set_xticks(ts)
+    ax.set_xticklabels([fmt(t) for t in ts])
+    ax.minorticks_off()
+    ax.set_xlim(ts.min() / 1.6, ts.max() * 1.6)
     ax.tick_params(labelsize=6)
-    ax.set_title(rf"$\Omega$ = {fmt(w0)}", fontsize=7, pad=2)
+    ax.set_xlabel("stair length $T_s$", fontsize=6, labelpad=1)
+    ax.set_title(rf"$\Omega$ = {fmt(w0)}: window of each stair length, v down to ^ up", fontsize=6.5, pad=2)
 
 
 def summary_thresholds(fold: Scene, scan: Scene | None = None, hysteresis: Scene | None = None) -> list[str]:
@@ -275,7 +324,7 @@ def draw_ramp(scans: list[Scene], fold: Scene | None = None):
     fig, ax = subplots(figsize=(PANEL[0] * 1.3, PANEL[1] * 1.25))
     thr, res = r["threshold"], r["resolution"]
     ax.errorbar(r["ramp"], thr, yerr=[res, np.zeros_like(res)], fmt="s-", ms=4, lw=1.0, capsize=3,
-                color="tab:blue", label="ramped scan: first transmitting $A$ (bar: the bracket below it)")
+                color="#0072B2", label="ramped scan: first transmitting $A$ (bar: the bracket below it)")
     for x, y in zip(r["ramp"], thr):
         if math.isfinite(y):
             ax.annotate(fmt(y, 4), (x, y), textcoords="offset points", xytext=(0, 6), ha="center", fontsize=7)
@@ -299,7 +348,8 @@ def draw_ramp(scans: list[Scene], fold: Scene | None = None):
     cond = conditions(s).split(r", $T$")[0]
     after = {fmt(float(t - x)) for t, x in zip(r["t_final"], r["ramp"])}
     cond += r", $T$ = ramp + " + "/".join(sorted(after)) + rf", $\Delta t$ = {fmt(s.params.get('dt'))}"
-    fig.suptitle(rf"scan threshold vs ramp time at $\Omega$ = {fmt(r['omega'])}, next to the fold" + "\n" + cond)
+    fig.suptitle(rf"Ramp time: the scan threshold at $\Omega$ = {fmt(r['omega'])} against the ramp, next to the fold"
+                 + notes(*scans, fold) + "\n" + cond)
     return fig
 
 

@@ -6,7 +6,7 @@ import numpy as np
 
 from ..reader import PlotError, Scene
 from ..style import close, fmt, styled, subplots
-from .common import FIGURES, PANEL, POTENTIAL_TITLES, conditions, potential_title, title
+from .common import FIGURES, PANEL, POTENTIAL_TITLES, conditions, label_of, notes, potential_title, title
 
 
 def probe_index(s: Scene, site: int | None) -> tuple[int, int]:
@@ -71,8 +71,9 @@ def draw_timeseries(scenes: list[Scene], site: int | None = None):
             if (r, c) not in seen:
                 axes[r, c].set_visible(False)
     s0 = scenes[0]
-    fig.suptitle(f"{FIGURES['fig1'][0] if s0.name == 'fig1' else s0.name}: displacement at one site, "
-                 "before (a) and after (b) the threshold\n" + conditions(s0))
+    label = FIGURES["fig1"][0] if s0.name.startswith("fig1") else label_of(s0)
+    fig.suptitle(f"{label}: displacement at one site, before (a) and after (b) the threshold{notes(*scenes)}\n"
+                 + conditions(s0))
     return fig
 
 
