@@ -185,6 +185,7 @@ def _palette(data: bytes) -> bytes:
         return data
     with Image.open(io.BytesIO(data)) as im:
         out = io.BytesIO()
+        extra = {"dpi": im.info["dpi"]} if "dpi" in im.info else {}  # the resolution recorded stays (pHYs)
         im.convert("RGB").quantize(colors=256, method=Image.Quantize.FASTOCTREE).save(out, format="PNG",
-                                                                                      optimize=True)
+                                                                                      optimize=True, **extra)
     return out.getvalue()

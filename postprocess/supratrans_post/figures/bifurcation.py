@@ -123,14 +123,14 @@ def draw_bifurcation(s: Scene, fold: Scene | None = None):
             half = 0.5 * (float(np.min(np.diff(omega))) if omega.size > 1 else 0.0)
             inside = (wf >= omega.min() - half - 1e-12) & (wf <= omega.max() + half + 1e-12)
             af = np.asarray(fold.data["fold_amplitude"], dtype=float)[j][inside]
+            label = rf"fold $A_f$ ({_fold_solver(fold)}), " + _label(vary, values[i], pots[i], several)
             ax.plot(wf[inside], af, "-", lw=3.2, alpha=0.55, color="#E69F00", zorder=1, gid="fold",
-                    marker="o" if inside.sum() <= 2 * MARKERS else None, ms=3, label=rf"fold $A_f$ of the periodic state ({_fold_solver(fold)}), "
-                                            + _label(vary, values[i], pots[i], several))
+                    marker="o" if inside.sum() <= 2 * MARKERS else None, ms=3, label=label)
             folds_drawn = True
     if thin is not None and thin.any():
         ax.plot([], [], "o", ms=6, mfc="none", color="0.3",
-                label=f"thin verdict ({int(thin.sum())}): the run just below came within "
-                      f"{fmt(s.attr('thin_verdict', 'thin_margin', 0.2))} of the detect amplitude")
+                label=f"thin verdict ({int(thin.sum())} of {int((np.asarray(s.data['thin_verdict']) >= 0).sum())}):"
+                      f" margin < {fmt(s.attr('thin_verdict', 'thin_margin', 0.2))}")
     rows: list[tuple[np.ndarray, int]] = []
     keep = massless(s, order)
     for i in order:
