@@ -118,10 +118,10 @@ def draw_stability(s: Scene):
             else:
                 ax.set_yscale("log")
                 lo, hi = ax.get_ylim()
-                ticks = [x for x in (0.1, 0.125, 0.15, 0.2, 0.25, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0, 1.25, 1.5, 2.0)
-                         if lo <= x <= hi]
-                ax.set_yticks(ticks[::max(1, len(ticks) // 7)])
-                ax.set_yticklabels([fmt(x) for x in ticks[::max(1, len(ticks) // 7)]])
+                ticks = [x for x in (0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0) if lo <= x <= hi]
+                ax.set_yticks(ticks)
+                ax.set_yticklabels([fmt(x) for x in ticks])
+                ax.set_yticks([], minor=True)  # 1-2-5 labels only: the log scale's minor labels overlapped them
                 ax.set_ylabel("largest stable $\\Delta t$" if icurve == 0 else "")
                 name = SYMBOL.get(vary, vary)
                 ax.set_title(f"${name}$ = {fmt(value)}" if vary in SYMBOL else f"curve {icurve + 1}")

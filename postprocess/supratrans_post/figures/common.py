@@ -109,10 +109,9 @@ def conditions(s: Scene, skip: Iterable[str] = ()) -> str:
 
 
 #: Titles in words of the figures beyond the paper's, by input file stem (others by their scene: SCENE_TITLES).
-NAMES = {"bif_undamped_sg": "Undamped sine-Gordon chain", "fold_sg": "Fold line, sine-Gordon chain",
-         "fold_sg_090": "Sine-Gordon chain", "fold_sg_050": "Sine-Gordon chain",
-         "fold_bif1": "Fold lines of Bif1's chains", "fold_hb_sg": "Fold line by harmonic balance",
-         "fold_continuum": "The fold's continuum limit", "hysteresis": "Hysteresis stairs"}
+NAMES = {"bif_undamped_sg": "Undamped sine-Gordon chain", "fold_sg": "Sine-Gordon chain",
+         "fold_sg_090": "Sine-Gordon chain", "fold_sg_050": "Sine-Gordon chain", "fold_bif1": "Bif1's chains",
+         "fold_hb_sg": "Sine-Gordon chain", "fold_continuum": "Sine-Gordon chain", "hysteresis": "Hysteresis"}
 #: Titles in words of a scene's figure, for an input file of another name.
 SCENE_TITLES = {"timeseries": "One run", "amplitude_sweep": "Amplitude sweep", "map": "Energy map",
                 "bifurcation": "Bifurcation diagram", "continuation": "Driven periodic states",
