@@ -118,3 +118,27 @@ def test_make_figures_runs_and_draws(release_exe, tmp_path, small_chain):
     h5py = pytest.importorskip("h5py")
     with h5py.File(tmp_path / "out" / "fig1_sg_A150.h5") as f:  # built and run through .ci/with_commit
         assert len(f["provenance"].attrs["git_commit"].decode()) == 40
+
+
+@pytest.mark.slow
+def test_make_figures_relays_the_programs_progress_when_not_a_terminal(release_exe, tmp_path):
+    """Its output a pipe (a log, CI), make_figures prints the program's own progress lines (elapsed, time left) below
+    the scene's line, then the scene's line again with its time: a long scene is not silent. The program's rate is
+    made small (SUPRATRANS_PROGRESS_EVERY = 0.05 s) so that a run of a second prints several."""
+    inp = tmp_path / "input"
+    inp.mkdir()
+    (inp / "fig1_sg_A150.nml").write_text(
+        "&chain n = 400, n0 = 380 /\n&drive amplitude = 1.5 /\n&numerics t_final = 500.0 /\n"
+        f"&output file = '{tmp_path / 'out' / 'fig1_sg_A150.h5'}', overwrite = .true. /\n")
+    cmd = [sys.executable, str(POSTPROCESS / "make_figures.py"), "--input", inp, "--outdir", tmp_path / "figs",
+           "--logs", tmp_path / "logs"]
+    proc = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, timeout=300,
+                          env={**ENV, "SUPRATRANS_PROGRESS_EVERY": "0.05"})
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    lines = proc.stdout.splitlines()
+    relayed = [x for x in lines if x.startswith("    t = ") and "elapsed" in x]
+    assert len(relayed) >= 2 and any("s left" in x for x in relayed), lines
+    first = lines.index(relayed[0])
+    assert lines[first - 1].startswith("[1/1] ") and lines[first - 1].endswith("fig1_sg_A150.nml ..."), lines
+    done = [x for x in lines[first:] if x.startswith("[1/1] ") and x.endswith(" s")]
+    assert len(done) == 1, lines      # the scene's line again, with its time, after its progress
