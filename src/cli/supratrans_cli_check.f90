@@ -98,9 +98,10 @@ contains
         write (output_unit, "(a)") "task_kind " // p%noun
         threads = 1
         !$ if (.not. one_run) threads = omp_get_max_threads()
-        threads = max(1, min(threads, nint(min(p%tasks, 1.0e9_wp))))   ! no more threads than tasks work
+        threads = max(1, min(threads, nint(min(p%tasks, 1.0e9_wp))))   ! no more threads at work than tasks
         if (p%work > 0.0_wp) then       ! the scene counts its own work (its tasks are not runs of one length)
             if (p%serial) threads = 1
+            if (.not. allocated(p%counts)) p%counts = "the scene's own count"
             if (p%runs_per_task > 0.0_wp) write (output_unit, "(a, i0)") "runs ", &
                 nint(min(p%tasks*p%runs_per_task, 9.0e18_wp), int64)
             seconds = p%work*seconds_per_site_step/real(threads, wp)
