@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -80,6 +81,8 @@ COMPANIONS = {"ramp090": ("fold_sg_090",), "threshold_sg": ("fold_sg", "bif_unda
               "fold_hb_sg": ("bif_undamped_sg",)}
 #: Charts drawn from other figures' files only: {chart: (fold line, scan, hysteresis) input stems}.
 COMBINED = {"threshold_sg": ("fold_sg", "bif_undamped_sg", "hysteresis")}
+#: A line of fpm's build progress: `[ 45%] Compiling...`.
+BUILD_LINE = re.compile(r"^\[ *[0-9]+%\]")
 #: Resolution of the figures whose panels are dense (dots per inch; the others style.DPI), unless --dpi says.
 FIGURE_DPI = {"fold_hb_sg": 200, "fold_continuum": 200}
 
@@ -126,8 +129,11 @@ def quick_copy(job: Job, folder: Path) -> Job:
 def run(cmd: list[str], log: Path, label: str, tty: bool, relayed: list[str] | None = None) -> int:
     """Run `cmd` in the repository, its output into `log`; on a terminal, show its last line after `label`;
     otherwise print the program's own progress lines (those with the time elapsed, which it prints every few
-    seconds at most) on lines of their own, and append them to `relayed`."""
+    seconds at most) and fpm's build lines (`[ 45%] ...`, at most one every cli.PROGRESS_EVERY seconds or
+    SUPRATRANS_PROGRESS_EVERY) on lines of their own, and append them to `relayed`."""
     log.parent.mkdir(parents=True, exist_ok=True)
+    every = cli.Progress("", 0).every
+    last = time.monotonic()
     with open(log, "w") as fh:
         proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                 bufsize=1)
@@ -138,7 +144,9 @@ def run(cmd: list[str], log: Path, label: str, tty: bool, relayed: list[str] | N
                 if tty and line.strip():
                     width = max(10, os.get_terminal_size().columns - len(label) - 2) if sys.stdout.isatty() else 60
                     print(f"\r{label} {line.strip()[:width]}\033[K", end="", flush=True)
-                elif not tty and "elapsed" in line:
+                elif not tty and ("elapsed" in line or (BUILD_LINE.match(line)
+                                                        and time.monotonic() - last >= every)):
+                    last = time.monotonic()
                     print(("" if relayed else "\n") + "    " + line.strip(), flush=True)
                     if relayed is not None:
                         relayed.append(line)
@@ -229,7 +237,8 @@ def _build(logs: Path, tty: bool) -> bool:
     t0 = time.monotonic()
     label = "[build] fpm build --profile release ..."
     print(label, end="" if tty else "\n", flush=True)
-    status = run([*FPM, "build", "--profile", "release"], logs / "build.log", label, tty)
+    relayed = [label]       # its line is ended already: fpm's lines follow it directly
+    status = run([*FPM, "build", "--profile", "release"], logs / "build.log", label, tty, relayed)
     if status != 0:
         print(f"\r{label} failed (status {status}); see {logs / 'build.log'}\033[K" if tty else
               f"build failed (status {status}); see {logs / 'build.log'}")

@@ -139,6 +139,24 @@ def test_make_figures_relays_the_programs_progress_when_not_a_terminal(release_e
     relayed = [x for x in lines if x.startswith("    t = ") and "elapsed" in x]
     assert len(relayed) >= 2 and any("s left" in x for x in relayed), lines
     first = lines.index(relayed[0])
-    assert lines[first - 1].startswith("[1/1] ") and lines[first - 1].endswith("fig1_sg_A150.nml ..."), lines
+    start = max(i for i, x in enumerate(lines[:first]) if x.startswith("[1/1] "))
+    assert lines[start].endswith("fig1_sg_A150.nml ..."), lines
+    assert all(x.startswith("    ") for x in lines[start + 1:first]), lines    # fpm's lines as `fpm run` relinks
     done = [x for x in lines[first:] if x.startswith("[1/1] ") and x.endswith(" s")]
     assert len(done) == 1, lines      # the scene's line again, with its time, after its progress
+
+
+def test_run_relays_progress_and_build_lines_when_not_a_terminal(tmp_path, capsys, monkeypatch):
+    """runner.run, its output not a terminal: the program's progress lines (with the time elapsed) and fpm's build
+    lines (`[ 45%] ...`, here at every line: SUPRATRANS_PROGRESS_EVERY = 0) are printed on lines of their own and
+    kept in `relayed`; the program's other lines go to the log only."""
+    monkeypatch.setenv("SUPRATRANS_PROGRESS_EVERY", "0")
+    script = ("print('[ 10%] compiling a.f90'); print('chatter'); "
+              "print('  3/95 fold continuations, elapsed 12.0 s, remaining ~300.0 s'); print('[100%] done')")
+    relayed: list[str] = []
+    status = runner.run([sys.executable, "-c", script], tmp_path / "log" / "x.log", "[1/1] x ...", False, relayed)
+    assert status == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out == ["", "    [ 10%] compiling a.f90", "    3/95 fold continuations, elapsed 12.0 s, remaining ~300.0 s",
+                   "    [100%] done"], out
+    assert len(relayed) == 3 and "chatter" in (tmp_path / "log" / "x.log").read_text()
