@@ -34,7 +34,8 @@ fold_continuum.png are drawn at 200 dpi, the others at 96 (FIGURE_DPI), unless -
 Outside a checkout (an installed `supratrans-figures`) the namelists' output paths are relative to the working
 directory, the figures go where --outdir says (asked for in one line), and the namelists run with the `supratrans`
 installed on PATH (README: `fpm install`), or not at all with --no-run. When the output is not a terminal the
-program's own progress lines (elapsed, time left: every few seconds at most) are printed below the scene's line.
+program's own progress lines (elapsed, time left: every few seconds at most) are printed below the scene's line,
+and fpm's build lines below the build's (one every 4 s at most).
 Exit status 0 when every scene ran and every figure was drawn, 1 otherwise, 2 with one line on stderr when
 nothing could be done.
 """
