@@ -136,4 +136,7 @@ def test_figure_draws_power_up_and_down_and_the_edges(exe, hysteresis, tmp_path,
     one = open_scene(tmp_path / "out" / "hyst.h5")
     fig = draw(one)
     ax = fig.axes[0]
-    assert len(ax.lines) >= 3 and ax.patches, "up and down branches, the threshold and the shaded window"
+    windows = [ln for ln in ax.lines if (ln.get_gid() or "").startswith("window:")]
+    reasons = [t for t in ax.texts if t.get_gid() == "reason"]
+    assert len(ax.lines) >= 3 and (windows or reasons), "up and down branches, the threshold, the window or why not"
+    assert ax.get_yscale() == "linear" and not ax.patches  # a linear power axis, windows as bars that do not blend
