@@ -140,26 +140,16 @@ def write_namelist(tmp_path: Path) -> Callable[..., Path]:
 # ------------------------------------------------------------------------------------------------ the workers
 
 
-@pytest.hookimpl(tryfirst=True)     # before pytest-xdist reads the groups (its hook has no order of its own)
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """How the tests are dealt to pytest-xdist's workers (`--dist loadgroup`, in pytest.ini), on every worker alike:
-    - the tests of a module that share a module-scoped fixture (a costly reference run, a Slurm cluster, a
-      temporary repository) form one group, run by one worker, so that the fixture is made once;
-    - the groups and tests that hold a `slow` test go first (in the order collected), so that the long ones do not
-      come last and leave one worker running them while the other idles."""
-    for item in items:
-        defs = getattr(item, "_fixtureinfo", None)
-        shared = defs and any(d.scope in ("module", "class") for name in item.fixturenames
-                              for d in defs.name2fixturedefs.get(name, ()))
-        if shared:
-            item.add_marker(pytest.mark.xdist_group(item.nodeid.split("::")[0]))
-
-    def unit(item: pytest.Item) -> str:
-        marks = [m.args[0] if m.args else m.kwargs.get("name", "default") for m in item.iter_markers("xdist_group")]
-        return "_".join(sorted(map(str, marks))) if marks else item.nodeid
-
-    slow_units = {unit(item) for item in items if item.get_closest_marker("slow")}
-    items.sort(key=lambda item: unit(item) not in slow_units)      # stable: collected order otherwise
+    """The order in which pytest-xdist deals the test files to its workers (`--dist loadfile
+    --no-loadscope-reorder`, pytest.ini: a file's tests run on one worker, in order, so that its module-scoped
+    fixtures, a costly reference, the Slurm cluster, a temporary repository, are made once): the files that hold a
+    `slow` test first, in the order collected, so that the long ones do not come last and leave one worker running
+    them while the other idles. (Per-test dealing with `xdist_group` marks for the shared fixtures would balance
+    finer, but pytest-xdist 3.8 cannot group under pytest 9: it renames the node ids, which pytest 9 no longer
+    lets it do.)"""
+    slow_files = {item.nodeid.split("::")[0] for item in items if item.get_closest_marker("slow")}
+    items.sort(key=lambda item: item.nodeid.split("::")[0] not in slow_files)     # stable: collected order otherwise
 
 
 # ------------------------------------------------------------------------------------------------ tiny files
