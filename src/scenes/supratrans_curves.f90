@@ -82,7 +82,7 @@ contains
 
     !> Write `/curves`, the same in every scene: the group's attribute `vary`, and per curve its potential, the value
     !> of the varied parameter (in the units of that parameter: gamma and beta 1/time, m2 1/time^2; "1" and NaN when
-    !> nothing varies), gamma, beta, m^2 and the band-gap edge sqrt(1 + m^2). A scene adds its own per-curve
+    !> nothing varies), gamma, beta, m^2 and the band-gap edge sqrt(V''(0) + m^2). A scene adds its own per-curve
     !> datasets (`threshold_As`, `screen_dt`) after this.
     subroutine write_curves(file, cfg, runs)
         !> Open output file (a failure sticks in it).
@@ -126,7 +126,7 @@ contains
                       dims="curve")
         call h5_write(file, "/curves/m2", m2, "1/time^2", &
                       "Mass term m^2 of each curve (negative: imaginary mass)", dims="curve")
-        call h5_write(file, "/curves/band_gap_edge", edge, "1/time", "Upper edge sqrt(1 + m^2) of the band gap of " &
+        call h5_write(file, "/curves/band_gap_edge", edge, "1/time", "Upper edge sqrt(V''(0) + m^2) of the band gap of " &
                       // "each curve", dims="curve")
     end subroutine write_curves
 
