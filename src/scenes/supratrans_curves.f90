@@ -91,11 +91,17 @@ contains
         type(input_config), intent(in) :: cfg
         !> The run configuration of each curve (`curve_run`).
         type(run_config), intent(in) :: runs(:)
-        character(len=16) :: names(size(runs))
+        character(len=:), allocatable :: names(:)
         real(wp) :: values(size(runs)), edge(size(runs)), gamma(size(runs)), beta(size(runs)), m2(size(runs))
         character(len=:), allocatable :: value_units
         integer :: ic, ipot, ival
 
+        ! the names' width: 16 (that of the files before the longer names), or the longest name's
+        ic = 16
+        do ipot = 1, size(runs)
+            ic = max(ic, len(potential_name(runs(ipot)%chain%potential)))
+        end do
+        allocate (character(len=ic) :: names(size(runs)))
         do ic = 1, size(runs)
             names(ic) = potential_name(runs(ic)%chain%potential)
             values(ic) = ieee_value(1.0_wp, ieee_quiet_nan)       ! the value of the varied parameter, NaN if none
