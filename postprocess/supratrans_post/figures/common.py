@@ -30,7 +30,8 @@ LINESTYLES = ["-", "--", "-.", ":"]
 #: Colours of a family (dark first), used with the line styles: the colour-blind-safe palette (style.PALETTE).
 COLOURS = [PALETTE[k] for k in ("black", "blue", "vermillion", "green", "purple", "orange", "sky")] + ["#999999"]
 #: Names of the potentials as the paper writes them.
-POTENTIAL_TITLES = {"sine-gordon": "Sine-Gordon chain", "klein-gordon": "Klein-Gordon chain"}
+POTENTIAL_TITLES = {"sine-gordon": "Sine-Gordon chain", "klein-gordon": "Klein-Gordon chain",
+                    "double-sine-gordon": "Double sine-Gordon chain"}
 #: Symbols of the parameters a family may vary.
 SYMBOLS = {"gamma": r"\gamma", "beta": r"\beta", "m2": r"m^2"}
 #: Figure size of one panel (inches).
