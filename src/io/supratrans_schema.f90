@@ -6,7 +6,7 @@
 module supratrans_schema
     use supratrans_kinds, only: wp, name_len
     use supratrans_config, only: input_config, potential_choices, method_choices, scene_choices, screen_choices, solver_choices, &
-        closure_choices, vary_choices, max_curve_values, max_probes, max_scene_methods, max_scene_dts
+        closure_choices, scene_chain_choices, vary_choices, max_curve_values, max_probes, max_scene_methods, max_scene_dts
     use supratrans_keys, only: key_spec, derived_spec, key_value, kt_integer, kt_real, kt_logical, kt_name, kt_path, &
         set_list, list_value
     implicit none
@@ -26,8 +26,10 @@ module supratrans_schema
     integer, parameter, public :: choice_solver = 5
     !> Choice set of the closure names (`closure_choices`).
     integer, parameter, public :: choice_closure = 6
+    !> Choice set of the chain names (`scene_chain_choices`).
+    integer, parameter, public :: choice_scene_chain = 7
     !> Choice set of the parameter names (`vary_choices`).
-    integer, parameter, public :: choice_vary = 7
+    integer, parameter, public :: choice_vary = 8
 
     !> Index in `key_table` of each key: `key_<group>_<name>`.
     integer, parameter, public :: key_chain_potential = 1, key_chain_c = 2, key_chain_m2 = 3, key_chain_gamma = 4, &
@@ -46,9 +48,15 @@ module supratrans_schema
         key_scene_confirm_band = 51, key_scene_screen_margin = 52, key_scene_certify = 53, key_scene_methods = 54, &
         key_scene_dts = 55, key_scene_dt_smallest = 56, key_scene_amplitudes = 57, key_scene_c_values = 58, &
         key_scene_repeats = 59, key_scene_reference_dt = 60, key_scene_stair_times = 61, key_scene_stair_height = 62, &
-        key_scene_stair_ramp = 63, key_scene_power_threshold = 64, key_detect_site = 65, key_detect_amplitude = 66, &
-        key_detect_stop_when_decided = 67, key_output_file = 68, key_output_overwrite = 69, key_output_checkpoint_every = 70, &
-        key_output_quiet = 71
+        key_scene_stair_ramp = 63, key_scene_power_threshold = 64, key_scene_chain = 65, key_scene_continuation_tol = 66, &
+        key_scene_fate_push = 67, key_scene_fate_watch_time = 68, key_scene_fate_min_periods = 69, &
+        key_scene_fold_stair_height = 70, key_scene_fold_stair_time = 71, key_scene_stair_climbs = 72, &
+        key_scene_follow_branches = 73, key_scene_follow_max_iter = 74, key_scene_follow_growth_limit = 75, &
+        key_scene_settle_iterations = 76, key_scene_settle_tol = 77, key_scene_symmetric_tol = 78, key_scene_switch_step = 79, &
+        key_scene_switch_seed = 80, key_scene_short_decay = 81, key_scene_short_n0_min = 82, key_scene_short_sigma_min = 83, &
+        key_scene_short_sigma_max = 84, key_scene_short_sigma_q = 85, key_scene_short_width_per_sigma = 86, &
+        key_scene_short_edge_margin = 87, key_detect_site = 88, key_detect_amplitude = 89, key_detect_stop_when_decided = 90, &
+        key_output_file = 91, key_output_overwrite = 92, key_output_checkpoint_every = 93, key_output_quiet = 94
 
     !> The keys of &chain.
     type(key_spec), parameter :: chain_keys(*) = [ &
@@ -222,7 +230,64 @@ module supratrans_schema
             "continuous)", lower=">= 0"), &
         key_spec("scene", "power_threshold", kt_real, "power_threshold", "energy/time", "0.05", "> 0", &
             "Hysteresis: a stair transmits when its mean power through the bond beyond the detector site exceeds this (tran" // &
-            "smitting stairs carry 0.3 - 4 here)", lower="> 0")]
+            "smitting stairs carry 0.3 - 4 here)", lower="> 0"), &
+        key_spec("scene", "chain", kt_name, "chain", "1", "'input'", "'input', 'short'", &
+            "Continuation (shooting): the chain of each task: 'input' (the &chain as given) or 'short' (the short chain of " // &
+            "its Omega, short_*)", choices=choice_scene_chain, ids=.true.), &
+        key_spec("scene", "continuation_tol", kt_real, "continuation_tol", "rad", "1e-10", "> 0", &
+            "Continuation (shooting): Newton-shooting converges when max |P(x) - x| <= this", lower="> 0"), &
+        key_spec("scene", "fate_push", kt_real, "fate_push", "1", "0.01", "> 0 and <= 1", &
+            "Continuation: a fold's fate is watched at A_f (1 + fate_push) (also past a branch point and the last stair)", &
+            lower="> 0", upper="<= 1"), &
+        key_spec("scene", "fate_watch_time", kt_real, "fate_watch_time", "time", "1000", "> 0", &
+            "Continuation: how long the chain pushed past a fold is watched for transmission", lower="> 0"), &
+        key_spec("scene", "fate_min_periods", kt_integer, "fate_min_periods", "1", "20", ">= 1 and <= 1000000", &
+            "Continuation: fewest drive periods a fold's fate is watched", lower=">= 1", upper="<= 1000000"), &
+        key_spec("scene", "fold_stair_height", kt_real, "fold_stair_height", "rad", "0.01", "> 0", &
+            "Continuation: amplitude step of the stairs past a torus or a period doubling, or from where the chain settled", &
+            lower="> 0"), &
+        key_spec("scene", "fold_stair_time", kt_real, "fold_stair_time", "time", "200", "> 0", &
+            "Continuation: time the chain is driven on each of those stairs (whole periods, at least one)", lower="> 0"), &
+        key_spec("scene", "stair_climbs", kt_integer, "stair_climbs", "1", "2", ">= 0 and <= 16", &
+            "Continuation: climbs of the stairs besides the first (from seeded starts): their spread is /transmission_spread", &
+            lower=">= 0", upper="<= 16"), &
+        key_spec("scene", "follow_branches", kt_integer, "follow_branches", "1", "4", ">= 1 and <= 100", &
+            "Continuation: most branches followed from rest to the fold past which the chain transmits", lower=">= 1", &
+            upper="<= 100"), &
+        key_spec("scene", "follow_max_iter", kt_integer, "follow_max_iter", "1", "40", ">= 1 and <= 1000", &
+            "Continuation: most Newton-shooting iterations from where the chain settled past a fold", lower=">= 1", &
+            upper="<= 1000"), &
+        key_spec("scene", "follow_growth_limit", kt_real, "follow_growth_limit", "1", "10", "> 1", &
+            "Continuation: that Newton-shooting gives up when its residual grows this many times its first value", lower="> 1"), &
+        key_spec("scene", "settle_iterations", kt_integer, "settle_iterations", "1", "30", ">= 0 and <= 1000", &
+            "Continuation: most damped Newton-shooting steps from where the chain settled, before the continuation's own", &
+            lower=">= 0", upper="<= 1000"), &
+        key_spec("scene", "settle_tol", kt_real, "settle_tol", "rad", "1e-09", "> 0", &
+            "Continuation: max |P(x) - x| at which the damped Newton-shooting from where the chain settled stops", lower="> 0"), &
+        key_spec("scene", "symmetric_tol", kt_real, "symmetric_tol", "rad", "1e-08", "> 0", &
+            "Continuation: a settled periodic state has the half-period symmetry when max |G(x) - x| <= this", lower="> 0"), &
+        key_spec("scene", "switch_step", kt_real, "switch_step", "rad", "0.05", "> 0", &
+            "Continuation: distance of the other branch's first point from a branch point (4 switch_step when that fails)", &
+            lower="> 0"), &
+        key_spec("scene", "switch_seed", kt_real, "switch_seed", "rad", "0.001", "> 0", &
+            "Continuation: the small asymmetry given to the chain past a branch point or a loss of stability (stairs)", &
+            lower="> 0"), &
+        key_spec("scene", "short_decay", kt_real, "short_decay", "1", "7", "> 0", &
+            "Short chain: lambda' N0, the decay of the linear state where the absorber starts", lower="> 0"), &
+        key_spec("scene", "short_n0_min", kt_integer, "short_n0_min", "1", "20", ">= 1 and <= 1000000", &
+            "Short chain: fewest sites N0 before its absorber", lower=">= 1", upper="<= 1000000"), &
+        key_spec("scene", "short_sigma_min", kt_real, "short_sigma_min", "1", "6", "> 0; <= short_sigma_max", &
+            "Short chain: least sigma of its absorber ramp", lower="> 0"), &
+        key_spec("scene", "short_sigma_max", kt_real, "short_sigma_max", "1", "20", "> 0 and <= 100000", &
+            "Short chain: largest sigma of its absorber (taken when an odd harmonic sits at the band edge)", lower="> 0", &
+            upper="<= 100000"), &
+        key_spec("scene", "short_sigma_q", kt_real, "short_sigma_q", "1", "3.4", "> 0", &
+            "Short chain: sigma q of its absorber, q the wavenumber of the lowest odd harmonic in the phonon band", lower="> 0"), &
+        key_spec("scene", "short_width_per_sigma", kt_integer, "short_width_per_sigma", "1", "10", ">= 1 and <= 1000", &
+            "Short chain: sites N - N0 of its absorber per unit of its sigma", lower=">= 1", upper="<= 1000"), &
+        key_spec("scene", "short_edge_margin", kt_real, "short_edge_margin", "1", "0.01", ">= 0 and <= 0.5", &
+            "Short chain: relative distance in Omega^2 from the lower band edge within which a harmonic counts as at the edge", &
+            lower=">= 0", upper="<= 0.5")]
 
     !> The keys of &detect.
     type(key_spec), parameter :: detect_keys(*) = [ &
@@ -275,6 +340,7 @@ contains
         if (set == choice_screen) names = screen_choices
         if (set == choice_solver) names = solver_choices
         if (set == choice_closure) names = closure_choices
+        if (set == choice_scene_chain) names = scene_chain_choices
         if (set == choice_vary) names = vary_choices
     end function choice_names
 
@@ -291,6 +357,7 @@ contains
         if (set == choice_screen) noun = "screening method"
         if (set == choice_solver) noun = "continuation solver"
         if (set == choice_closure) noun = "closure"
+        if (set == choice_scene_chain) noun = "chain"
         if (set == choice_vary) noun = "parameter"
     end function choice_noun
 
@@ -368,6 +435,29 @@ contains
         if (ik == key_scene_stair_height) v = key_value(1, reals=[cfg%scene%stair_height])
         if (ik == key_scene_stair_ramp) v = key_value(1, reals=[cfg%scene%stair_ramp])
         if (ik == key_scene_power_threshold) v = key_value(1, reals=[cfg%scene%power_threshold])
+        if (ik == key_scene_chain) v = key_value(1, ints=[cfg%scene%chain])
+        if (ik == key_scene_continuation_tol) v = key_value(1, reals=[cfg%scene%protocol%continuation_tol])
+        if (ik == key_scene_fate_push) v = key_value(1, reals=[cfg%scene%protocol%fate_push])
+        if (ik == key_scene_fate_watch_time) v = key_value(1, reals=[cfg%scene%protocol%fate_watch_time])
+        if (ik == key_scene_fate_min_periods) v = key_value(1, ints=[cfg%scene%protocol%fate_min_periods])
+        if (ik == key_scene_fold_stair_height) v = key_value(1, reals=[cfg%scene%protocol%stair_height])
+        if (ik == key_scene_fold_stair_time) v = key_value(1, reals=[cfg%scene%protocol%stair_time])
+        if (ik == key_scene_stair_climbs) v = key_value(1, ints=[cfg%scene%protocol%other_climbs])
+        if (ik == key_scene_follow_branches) v = key_value(1, ints=[cfg%scene%protocol%max_branches])
+        if (ik == key_scene_follow_max_iter) v = key_value(1, ints=[cfg%scene%protocol%follow_max_iter])
+        if (ik == key_scene_follow_growth_limit) v = key_value(1, reals=[cfg%scene%protocol%follow_growth_limit])
+        if (ik == key_scene_settle_iterations) v = key_value(1, ints=[cfg%scene%protocol%settle_iterations])
+        if (ik == key_scene_settle_tol) v = key_value(1, reals=[cfg%scene%protocol%settle_tol])
+        if (ik == key_scene_symmetric_tol) v = key_value(1, reals=[cfg%scene%protocol%symmetric_tol])
+        if (ik == key_scene_switch_step) v = key_value(1, reals=[cfg%scene%protocol%switch_step])
+        if (ik == key_scene_switch_seed) v = key_value(1, reals=[cfg%scene%protocol%switch_seed])
+        if (ik == key_scene_short_decay) v = key_value(1, reals=[cfg%scene%short%decay])
+        if (ik == key_scene_short_n0_min) v = key_value(1, ints=[cfg%scene%short%n0_min])
+        if (ik == key_scene_short_sigma_min) v = key_value(1, reals=[cfg%scene%short%sigma_min])
+        if (ik == key_scene_short_sigma_max) v = key_value(1, reals=[cfg%scene%short%sigma_max])
+        if (ik == key_scene_short_sigma_q) v = key_value(1, reals=[cfg%scene%short%sigma_q])
+        if (ik == key_scene_short_width_per_sigma) v = key_value(1, ints=[cfg%scene%short%width_per_sigma])
+        if (ik == key_scene_short_edge_margin) v = key_value(1, reals=[cfg%scene%short%band_edge_margin])
         if (ik == key_detect_site) v = key_value(1, ints=[cfg%run%detect%site])
         if (ik == key_detect_amplitude) v = key_value(1, reals=[cfg%run%detect%amplitude])
         if (ik == key_detect_stop_when_decided) v = key_value(1, flag=cfg%run%detect%stop_when_decided)
@@ -451,6 +541,29 @@ contains
         if (ik == key_scene_stair_height) cfg%scene%stair_height = v%reals(1)
         if (ik == key_scene_stair_ramp) cfg%scene%stair_ramp = v%reals(1)
         if (ik == key_scene_power_threshold) cfg%scene%power_threshold = v%reals(1)
+        if (ik == key_scene_chain) cfg%scene%chain = v%ints(1)
+        if (ik == key_scene_continuation_tol) cfg%scene%protocol%continuation_tol = v%reals(1)
+        if (ik == key_scene_fate_push) cfg%scene%protocol%fate_push = v%reals(1)
+        if (ik == key_scene_fate_watch_time) cfg%scene%protocol%fate_watch_time = v%reals(1)
+        if (ik == key_scene_fate_min_periods) cfg%scene%protocol%fate_min_periods = v%ints(1)
+        if (ik == key_scene_fold_stair_height) cfg%scene%protocol%stair_height = v%reals(1)
+        if (ik == key_scene_fold_stair_time) cfg%scene%protocol%stair_time = v%reals(1)
+        if (ik == key_scene_stair_climbs) cfg%scene%protocol%other_climbs = v%ints(1)
+        if (ik == key_scene_follow_branches) cfg%scene%protocol%max_branches = v%ints(1)
+        if (ik == key_scene_follow_max_iter) cfg%scene%protocol%follow_max_iter = v%ints(1)
+        if (ik == key_scene_follow_growth_limit) cfg%scene%protocol%follow_growth_limit = v%reals(1)
+        if (ik == key_scene_settle_iterations) cfg%scene%protocol%settle_iterations = v%ints(1)
+        if (ik == key_scene_settle_tol) cfg%scene%protocol%settle_tol = v%reals(1)
+        if (ik == key_scene_symmetric_tol) cfg%scene%protocol%symmetric_tol = v%reals(1)
+        if (ik == key_scene_switch_step) cfg%scene%protocol%switch_step = v%reals(1)
+        if (ik == key_scene_switch_seed) cfg%scene%protocol%switch_seed = v%reals(1)
+        if (ik == key_scene_short_decay) cfg%scene%short%decay = v%reals(1)
+        if (ik == key_scene_short_n0_min) cfg%scene%short%n0_min = v%ints(1)
+        if (ik == key_scene_short_sigma_min) cfg%scene%short%sigma_min = v%reals(1)
+        if (ik == key_scene_short_sigma_max) cfg%scene%short%sigma_max = v%reals(1)
+        if (ik == key_scene_short_sigma_q) cfg%scene%short%sigma_q = v%reals(1)
+        if (ik == key_scene_short_width_per_sigma) cfg%scene%short%width_per_sigma = v%ints(1)
+        if (ik == key_scene_short_edge_margin) cfg%scene%short%band_edge_margin = v%reals(1)
         if (ik == key_detect_site) cfg%run%detect%site = v%ints(1)
         if (ik == key_detect_amplitude) cfg%run%detect%amplitude = v%reals(1)
         if (ik == key_detect_stop_when_decided) cfg%run%detect%stop_when_decided = v%flag
