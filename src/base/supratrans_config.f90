@@ -76,14 +76,43 @@ module supratrans_config
 
     !> No parameter varies: one curve, the &chain of the input (or one per potential of `potentials`).
     integer, parameter, public :: vary_none = 1
-    !> The curves differ in the external damping gamma (`values`).
-    integer, parameter, public :: vary_gamma = 2
-    !> The curves differ in the internal damping beta (`values`).
-    integer, parameter, public :: vary_beta = 3
-    !> The curves differ in the mass term m^2 (`values`).
-    integer, parameter, public :: vary_m2 = 4
-    !> Names of the parameters (&scene vary), in the order of their numbers.
-    character(len=*), parameter, public :: vary_choices(*) = [character(len=5) :: "none", "gamma", "beta", "m2"]
+    !> The curves differ in &chain c: Coupling coefficient c (`values`).
+    integer, parameter, public :: vary_c = 2
+    !> The curves differ in &chain m2: Mass term m^2 (negative for an imaginary mass) (`values`).
+    integer, parameter, public :: vary_m2 = 3
+    !> The curves differ in &chain gamma: External damping gamma (`values`).
+    integer, parameter, public :: vary_gamma = 4
+    !> The curves differ in &chain beta: Internal damping beta (`values`).
+    integer, parameter, public :: vary_beta = 5
+    !> The curves differ in &chain n: Number of oscillators N (`values`).
+    integer, parameter, public :: vary_n = 6
+    !> The curves differ in &chain n0: Last site before the absorber, N0 (the absorber acts on N0 < n <= N) (`values`).
+    integer, parameter, public :: vary_n0 = 7
+    !> The curves differ in &chain kappa: Absorber strength kappa: gamma'(n) rises smoothly from 0 to 2 kappa (`values`).
+    integer, parameter, public :: vary_kappa = 8
+    !> The curves differ in &chain sigma: Absorber width sigma (sites) (`values`).
+    integer, parameter, public :: vary_sigma = 9
+    !> The curves differ in &drive amplitude: Driving amplitude A (`values`).
+    integer, parameter, public :: vary_amplitude = 10
+    !> The curves differ in &drive omega: Driving frequency Omega (`values`).
+    integer, parameter, public :: vary_omega = 11
+    !> The curves differ in &drive ramp_time: Length of the linear ramp of the drive amplitude (0: no ramp) (`values`).
+    integer, parameter, public :: vary_ramp_time = 12
+    !> The curves differ in &numerics dt: Time step Delta t (`values`).
+    integer, parameter, public :: vary_dt = 13
+    !> The curves differ in &numerics t_final: Final time T (`values`).
+    integer, parameter, public :: vary_t_final = 14
+    !> The curves differ in &numerics newton_tol: Newton accepts a step when its proven error bound (quadratic convergence) is at
+    !> most this and, in runs that keep the energy ledger (all but search runs), the ledger closes to roundoff (`values`).
+    integer, parameter, public :: vary_newton_tol = 15
+    !> The curves differ in &numerics newton_max_iter: Newton iteration cap; reaching it without convergence fails the run
+    !> (`values`).
+    integer, parameter, public :: vary_newton_max_iter = 16
+    !> The curves differ in &numerics blowup_threshold: A run whose |u_n| exceeds this is declared diverged (blown up) (`values`).
+    integer, parameter, public :: vary_blowup_threshold = 17
+    !> Names of the numeric keys (&scene vary), in the order of their numbers.
+    character(len=*), parameter, public :: vary_choices(*) = [character(len=16) :: "none", "c", "m2", "gamma", "beta", "n", "n0", &
+        "kappa", "sigma", "amplitude", "omega", "ramp_time", "dt", "t_final", "newton_tol", "newton_max_iter", "blowup_threshold"]
 
     !> Largest number of curves a scene may vary over (`values`), and of `amplitudes` and `c_values`.
     integer, parameter, public :: max_curve_values = 16
@@ -296,7 +325,8 @@ module supratrans_config
         real(wp) :: omega_max = 1.0_wp
         !> Frequency step (&scene omega_step).
         real(wp) :: omega_step = 0.05_wp
-        !> Parameter that differs between curves (&scene vary).
+        !> Parameter that differs between curves: 'none' or any numeric key of &chain, &drive or &numerics (c, n, kappa, dt, ...)
+        !> (&scene vary).
         integer :: vary = vary_none
         !> Values of the varied parameter, one curve each (in the units of that parameter) (&scene values).
         real(wp), allocatable :: values(:)

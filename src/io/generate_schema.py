@@ -52,6 +52,17 @@ def load(path=SCHEMA):
     constants = {c["name"]: c["value"] for c in s["constant"]}
     choices = {c["name"]: c for c in s["choices"]}
     types = {t["name"]: t for t in s["type"]}
+    for c in s["choices"]:
+        # a choice set over keys: 'none' and the rest as given, then every numeric scalar key of the groups `keys_of`
+        c["keys"] = []
+        for k in s["key"]:
+            if k.get("group") in c.get("keys_of", ()) and k.get("type") in ("integer", "real") \
+                    and "count" not in k:
+                c["values"].append(k["name"])
+                c["docs"].append(f"The curves differ in &{k['group']} {k['name']}: {k['description']} (`values`).")
+                c["keys"].append((k["name"], f"key_{k['group']}_{k['name']}"))
+        if len(set(c["values"])) != len(c["values"]):
+            raise SchemaError(f"choices {c['name']}: a key name is given twice")
     for i, c in enumerate(s["choices"], start=1):
         c["index"] = i
         if len(c.get("docs", c["values"])) != len(c["values"]):
@@ -462,6 +473,13 @@ def schema_module(s):
                               "they are converted and checked.", "    "))
     out.append(continued("    type(key_spec), parameter, public :: key_table(*) = [", [f"{g}_keys" for g in groups],
                          "    ", tail="]"))
+    for c in s["choices"]:
+        if c.get("keys_of"):
+            items = ["0"] * (len(c["values"]) - len(c["keys"])) + [ref for _, ref in c["keys"]]
+            out.append("\n" + comment(f"Index in `key_table` of the key each {c['noun']} of `{c['name']}_choices` "
+                                       "names (0: none).", "    "))
+            out.append(continued(f"    integer, parameter, public :: {c['name']}_keys(*) = [", items, "    ",
+                                 tail="]"))
     out.append("\n" + comment("Values derived from the keys that `/parameters` stores too.", "    "))
     items = [f"derived_spec({fstring(d['name'])}, {fstring(d['units'])}, &\n            "
              f"{long_string(d['description'], '            ')})" for d in s["derived"]]

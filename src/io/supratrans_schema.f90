@@ -28,7 +28,7 @@ module supratrans_schema
     integer, parameter, public :: choice_closure = 6
     !> Choice set of the chain names (`scene_chain_choices`).
     integer, parameter, public :: choice_scene_chain = 7
-    !> Choice set of the parameter names (`vary_choices`).
+    !> Choice set of the numeric key names (`vary_choices`).
     integer, parameter, public :: choice_vary = 8
 
     !> Index in `key_table` of each key: `key_<group>_<name>`.
@@ -132,8 +132,11 @@ module supratrans_schema
             "Frequency axis of maps and bifurcation diagrams: lower end", lower="> 0"), &
         key_spec("scene", "omega_max", kt_real, "omega_max", "1/time", "1", ">= omega_min", "Upper end of the frequency axis"), &
         key_spec("scene", "omega_step", kt_real, "omega_step", "1/time", "0.05", "> 0", "Frequency step", lower="> 0"), &
-        key_spec("scene", "vary", kt_name, "vary", "1", "'none'", "'none', 'gamma', 'beta', 'm2'", &
-            "Parameter that differs between curves", choices=choice_vary, ids=.true.), &
+        key_spec("scene", "vary", kt_name, "vary", "1", "'none'", &
+            "'none', 'c', 'm2', 'gamma', 'beta', 'n', 'n0', 'kappa', 'sigma', 'amplitude', 'omega', 'ramp_time', 'dt', 't_f" // &
+            "inal', 'newton_tol', 'newton_max_iter', 'blowup_threshold'", &
+            "Parameter that differs between curves: 'none' or any numeric key of &chain, &drive or &numerics (c, n, kappa, " // &
+            "dt, ...)", choices=choice_vary, ids=.true.), &
         key_spec("scene", "values", kt_real, "values", "1", "unset (needed unless vary = 'none')", "up to 16 values", &
             "Values of the varied parameter, one curve each (in the units of that parameter)", max_values=max_curve_values), &
         key_spec("scene", "potentials", kt_name, "potentials", "1", "the &chain potential", &
@@ -314,6 +317,12 @@ module supratrans_schema
     type(key_spec), parameter, public :: key_table(*) = [chain_keys, drive_keys, numerics_keys, record_keys, scene_keys, &
         detect_keys, output_keys]
 
+    !> Index in `key_table` of the key each numeric key of `vary_choices` names (0: none).
+    integer, parameter, public :: vary_keys(*) = [0, key_chain_c, key_chain_m2, key_chain_gamma, key_chain_beta, key_chain_n, &
+        key_chain_n0, key_chain_kappa, key_chain_sigma, key_drive_amplitude, key_drive_omega, key_drive_ramp_time, &
+        key_numerics_dt, key_numerics_t_final, key_numerics_newton_tol, key_numerics_newton_max_iter, &
+        key_numerics_blowup_threshold]
+
     !> Values derived from the keys that `/parameters` stores too.
     type(derived_spec), parameter, public :: derived_table(*) = [ &
         derived_spec("band_gap_edge", "1/time", &
@@ -358,7 +367,7 @@ contains
         if (set == choice_solver) noun = "continuation solver"
         if (set == choice_closure) noun = "closure"
         if (set == choice_scene_chain) noun = "chain"
-        if (set == choice_vary) noun = "parameter"
+        if (set == choice_vary) noun = "numeric key"
     end function choice_noun
 
     !> The value of key `ik` of `key_table` in a configuration (`n = 0` for a list that is not set). Named
