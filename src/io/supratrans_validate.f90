@@ -29,7 +29,7 @@ module supratrans_validate
     use supratrans_curves, only: curve_count, curve_run, varied_key, curve_label
     use supratrans_strings, only: int_str, real_str, fixed4, joined, find_name
     use supratrans_keys, only: key_spec, key_value, kt_integer, kt_real, kt_name, input_error
-    use supratrans_schema, only: key_table, get_key, choice_names, choice_noun
+    use supratrans_schema, only: key_table, get_key, choice_names, choice_noun, key_drive_omega
     use supratrans_scene, only: scene_type, new_scene
     use supratrans_namelist, only: parse_namelist, parsed_input
     implicit none
@@ -388,7 +388,8 @@ contains
         end associate
     end subroutine check_scene
 
-    !> Lines to print before a run (and by `--check`), one per key given that the scene does not use: today
+    !> Lines to print before a run (and by `--check`), one per key given that the scene does not use: a key of
+    !> &scene whose row names other scenes (`key_spec%scenes`: `stair_height` given to a continuation), and
     !> `&drive omega` given to a scene over a frequency axis (map, bifurcation, continuation, hysteresis), which runs
     !> omega_min .. omega_max by omega_step instead. Empty when there is nothing to say.
     function input_warnings(cfg) result(lines)
@@ -396,30 +397,59 @@ contains
         type(input_config), intent(in) :: cfg
         character(len=:), allocatable :: lines(:)
         character(len=:), allocatable :: where, text
-        integer :: n
+        integer :: n, ik
         class(scene_type), allocatable :: scene
         type(error_type), allocatable :: error
+        type(parsed_input) :: parsed
 
         allocate (character(len=0) :: lines(0))
         where = "configuration"
         if (allocated(cfg%source)) then
             if (len(cfg%source) > 0) where = cfg%source
         end if
+        if (.not. allocated(cfg%text)) return
+        if (len_trim(cfg%text) == 0) return
         call new_scene(trim(cfg%scene%kind), scene, error)
         if (allocated(error)) return
-        if (scene%frequency_axis()) then
-            if (.not. key_given(cfg, "drive", "omega") .or. .not. allocated(cfg%text)) return
+        call parse_namelist(cfg%text, "input", parsed, error)
+        if (allocated(error)) return
+        do ik = 1, size(key_table)
+            associate (spec => key_table(ik))
+                if (len_trim(spec%scenes) == 0 .or. parsed%n_values(ik) == 0) cycle
+                if (index(", " // trim(spec%scenes) // ",", ", " // trim(cfg%scene%kind) // ",") > 0) cycle
+                call add_line(lines, "warning: " // where // ": &" // trim(spec%group) // ": " // trim(spec%key) &
+                              // " is not used by &scene kind = '" // trim(cfg%scene%kind) // "' (only by " &
+                              // trim(spec%scenes) // "): it has no effect")
+            end associate
+        end do
+        if (scene%frequency_axis() .and. parsed%n_values(key_drive_omega) > 0) then
             n = int(min((cfg%scene%omega_max - cfg%scene%omega_min)/cfg%scene%omega_step + 1.0e-9_wp, 1.0e7_wp)) + 1
             text = "warning: " // where // ": &drive: omega = " // real_str(cfg%run%drive%omega) // " is not used by " &
                    // "&scene kind = '" // trim(cfg%scene%kind) // "', which runs omega_min .. omega_max by omega_step (" &
                    // real_str(cfg%scene%omega_min) // " .. " // real_str(cfg%scene%omega_max) // " by " &
                    // real_str(cfg%scene%omega_step) // ": " // int_str(n) // trim(merge(" frequency  ", " frequencies", &
                    n == 1)) // "); set those for one frequency"
-            deallocate (lines)
-            allocate (character(len=len(text)) :: lines(1))
-            lines(1) = text
+            call add_line(lines, text)
         end if
     end function input_warnings
+
+    !> Append a line to a list of lines (all padded to the longest; printed trimmed).
+    pure subroutine add_line(lines, text)
+        !> The lines.
+        character(len=:), allocatable, intent(inout) :: lines(:)
+        !> The line to add.
+        character(len=*), intent(in) :: text
+        character(len=:), allocatable :: longer(:)
+        integer :: i, width
+
+        width = max(len(lines), len(text))
+        allocate (character(len=width) :: longer(size(lines) + 1))
+        do i = 1, size(lines)
+            longer(i) = lines(i)
+        end do
+        longer(size(lines) + 1) = text
+        call move_alloc(longer, lines)
+    end subroutine add_line
 
     !> Whether the namelist text of `cfg` gives `group` `key` (true for a configuration built in code: no text).
     pure logical function key_given(cfg, group, key) result(given)
