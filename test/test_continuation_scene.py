@@ -304,8 +304,12 @@ def test_the_stairs_past_a_torus_are_the_same_for_two_threads_and_for_slices(rel
     ("n = 30, n0 = 22", "n = 20000, n0 = 15000", "dense shooting matrices"),
     ("n = 30, n0 = 22", "c = 4.0", "say chain = 'short' for that (the old behaviour) or chain = 'input'"),
     ("fold_convergence = .false.", "fold_convergence = .false., short_sigma_min = 30.0", "short_sigma_max = 20"),
+    ("fold_convergence = .false.", "fold_convergence = .false., continuation_slow_iter = 2, continuation_fast_iter = 2",
+     "continuation_slow_iter = 2: must be > continuation_fast_iter = 2"),
+    ("fold_convergence = .false.", "fold_convergence = .false., continuation_step_min = 0.1",
+     "continuation_step_min = 0.1: must be <= continuation_step = 0.05"),
 ], ids=["dt beyond stability", "omega zero", "dense system too large", "old rule of the short chain",
-        "short sigma range"])
+        "short sigma range", "slow not above fast", "smallest step above the first"])
 def test_no_periodic_state_is_one_line_and_nothing_written(exe, tmp_path, old, new, words):
     assert old in FOLD
     (tmp_path / "bad.nml").write_text(FOLD.replace(old, new))

@@ -247,6 +247,26 @@ module supratrans_config
     type, public :: fold_protocol
         !> Continuation (shooting): Newton-shooting converges when max |P(x) - x| <= this (&scene continuation_tol).
         real(wp) :: continuation_tol = 1.0e-10_wp
+        !> Continuation (shooting): most corrector iterations of a point (chord and Newton steps together) (&scene
+        !> continuation_max_iter).
+        integer :: continuation_max_iter = 12
+        !> Continuation (shooting): a chord step not this factor smaller than the one before refreshes the Jacobian (&scene
+        !> continuation_chord_rate).
+        real(wp) :: continuation_chord_rate = 0.5_wp
+        !> Continuation (shooting): a point corrected in at most this many iterations lets the step grow by 1.5 (&scene
+        !> continuation_fast_iter).
+        integer :: continuation_fast_iter = 3
+        !> Continuation (shooting): a point corrected in this many iterations or more shrinks the step by 0.6 (&scene
+        !> continuation_slow_iter).
+        integer :: continuation_slow_iter = 7
+        !> Continuation (shooting): smallest pseudo-arclength step; below it the branch ends (status step_too_small) (&scene
+        !> continuation_step_min).
+        real(wp) :: continuation_step_min = 1.0e-08_wp
+        !> Continuation (shooting): largest turn of the tangent in one step; a larger one halves the step (&scene
+        !> continuation_max_angle).
+        real(wp) :: continuation_max_angle = 0.5_wp
+        !> Continuation (shooting): accuracy in A of the located fold and of the located loss of stability (&scene fold_tol).
+        real(wp) :: fold_tol = 1.0e-10_wp
         !> Continuation: a fold's fate is watched at A_f (1 + fate_push) (also past a branch point and the last stair) (&scene
         !> fate_push).
         real(wp) :: fate_push = 0.01_wp

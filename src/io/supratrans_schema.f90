@@ -49,14 +49,16 @@ module supratrans_schema
         key_scene_dts = 55, key_scene_dt_smallest = 56, key_scene_amplitudes = 57, key_scene_c_values = 58, &
         key_scene_repeats = 59, key_scene_reference_dt = 60, key_scene_stair_times = 61, key_scene_stair_height = 62, &
         key_scene_stair_ramp = 63, key_scene_power_threshold = 64, key_scene_chain = 65, key_scene_continuation_tol = 66, &
-        key_scene_fate_push = 67, key_scene_fate_watch_time = 68, key_scene_fate_min_periods = 69, &
-        key_scene_fold_stair_height = 70, key_scene_fold_stair_time = 71, key_scene_stair_climbs = 72, &
-        key_scene_follow_branches = 73, key_scene_follow_max_iter = 74, key_scene_follow_growth_limit = 75, &
-        key_scene_settle_iterations = 76, key_scene_settle_tol = 77, key_scene_symmetric_tol = 78, key_scene_switch_step = 79, &
-        key_scene_switch_seed = 80, key_scene_short_decay = 81, key_scene_short_n0_min = 82, key_scene_short_sigma_min = 83, &
-        key_scene_short_sigma_max = 84, key_scene_short_sigma_q = 85, key_scene_short_width_per_sigma = 86, &
-        key_scene_short_edge_margin = 87, key_detect_site = 88, key_detect_amplitude = 89, key_detect_stop_when_decided = 90, &
-        key_output_file = 91, key_output_overwrite = 92, key_output_checkpoint_every = 93, key_output_quiet = 94
+        key_scene_continuation_max_iter = 67, key_scene_continuation_chord_rate = 68, key_scene_continuation_fast_iter = 69, &
+        key_scene_continuation_slow_iter = 70, key_scene_continuation_step_min = 71, key_scene_continuation_max_angle = 72, &
+        key_scene_fold_tol = 73, key_scene_fate_push = 74, key_scene_fate_watch_time = 75, key_scene_fate_min_periods = 76, &
+        key_scene_fold_stair_height = 77, key_scene_fold_stair_time = 78, key_scene_stair_climbs = 79, &
+        key_scene_follow_branches = 80, key_scene_follow_max_iter = 81, key_scene_follow_growth_limit = 82, &
+        key_scene_settle_iterations = 83, key_scene_settle_tol = 84, key_scene_symmetric_tol = 85, key_scene_switch_step = 86, &
+        key_scene_switch_seed = 87, key_scene_short_decay = 88, key_scene_short_n0_min = 89, key_scene_short_sigma_min = 90, &
+        key_scene_short_sigma_max = 91, key_scene_short_sigma_q = 92, key_scene_short_width_per_sigma = 93, &
+        key_scene_short_edge_margin = 94, key_detect_site = 95, key_detect_amplitude = 96, key_detect_stop_when_decided = 97, &
+        key_output_file = 98, key_output_overwrite = 99, key_output_checkpoint_every = 100, key_output_quiet = 101
 
     !> The keys of &chain.
     type(key_spec), parameter :: chain_keys(*) = [ &
@@ -255,6 +257,30 @@ module supratrans_schema
             "its Omega, short_*)", choices=choice_scene_chain, ids=.true., scenes="continuation"), &
         key_spec("scene", "continuation_tol", kt_real, "continuation_tol", "rad", "1e-10", "> 0", &
             "Continuation (shooting): Newton-shooting converges when max |P(x) - x| <= this", lower="> 0", &
+            scenes="continuation"), &
+        key_spec("scene", "continuation_max_iter", kt_integer, "continuation_max_iter", "1", "12", ">= 1 and <= 1000", &
+            "Continuation (shooting): most corrector iterations of a point (chord and Newton steps together)", lower=">= 1", &
+            upper="<= 1000", scenes="continuation"), &
+        key_spec("scene", "continuation_chord_rate", kt_real, "continuation_chord_rate", "1", "0.5", "> 0 and < 1", &
+            "Continuation (shooting): a chord step not this factor smaller than the one before refreshes the Jacobian", &
+            lower="> 0", upper="< 1", scenes="continuation"), &
+        key_spec("scene", "continuation_fast_iter", kt_integer, "continuation_fast_iter", "1", "3", ">= 1 and <= 1000", &
+            "Continuation (shooting): a point corrected in at most this many iterations lets the step grow by 1.5", &
+            lower=">= 1", upper="<= 1000", scenes="continuation"), &
+        key_spec("scene", "continuation_slow_iter", kt_integer, "continuation_slow_iter", "1", "7", &
+            ">= 1 and <= 1000; > continuation_fast_iter", &
+            "Continuation (shooting): a point corrected in this many iterations or more shrinks the step by 0.6", lower=">= 1", &
+            upper="<= 1000", scenes="continuation"), &
+        key_spec("scene", "continuation_step_min", kt_real, "continuation_step_min", "rad", "1e-08", &
+            "> 0; <= continuation_step", &
+            "Continuation (shooting): smallest pseudo-arclength step; below it the branch ends (status step_too_small)", &
+            lower="> 0", scenes="continuation"), &
+        key_spec("scene", "continuation_max_angle", kt_real, "continuation_max_angle", "rad", "0.5", &
+            "> 0 and <= 3.141592653589793", &
+            "Continuation (shooting): largest turn of the tangent in one step; a larger one halves the step", lower="> 0", &
+            upper="<= 3.141592653589793", scenes="continuation"), &
+        key_spec("scene", "fold_tol", kt_real, "fold_tol", "rad", "1e-10", "> 0", &
+            "Continuation (shooting): accuracy in A of the located fold and of the located loss of stability", lower="> 0", &
             scenes="continuation"), &
         key_spec("scene", "fate_push", kt_real, "fate_push", "1", "0.01", "> 0 and <= 1", &
             "Continuation: a fold's fate is watched at A_f (1 + fate_push) (also past a branch point and the last stair)", &
@@ -472,6 +498,13 @@ contains
         if (ik == key_scene_power_threshold) v = key_value(1, reals=[cfg%scene%power_threshold])
         if (ik == key_scene_chain) v = key_value(1, ints=[cfg%scene%chain])
         if (ik == key_scene_continuation_tol) v = key_value(1, reals=[cfg%scene%protocol%continuation_tol])
+        if (ik == key_scene_continuation_max_iter) v = key_value(1, ints=[cfg%scene%protocol%continuation_max_iter])
+        if (ik == key_scene_continuation_chord_rate) v = key_value(1, reals=[cfg%scene%protocol%continuation_chord_rate])
+        if (ik == key_scene_continuation_fast_iter) v = key_value(1, ints=[cfg%scene%protocol%continuation_fast_iter])
+        if (ik == key_scene_continuation_slow_iter) v = key_value(1, ints=[cfg%scene%protocol%continuation_slow_iter])
+        if (ik == key_scene_continuation_step_min) v = key_value(1, reals=[cfg%scene%protocol%continuation_step_min])
+        if (ik == key_scene_continuation_max_angle) v = key_value(1, reals=[cfg%scene%protocol%continuation_max_angle])
+        if (ik == key_scene_fold_tol) v = key_value(1, reals=[cfg%scene%protocol%fold_tol])
         if (ik == key_scene_fate_push) v = key_value(1, reals=[cfg%scene%protocol%fate_push])
         if (ik == key_scene_fate_watch_time) v = key_value(1, reals=[cfg%scene%protocol%fate_watch_time])
         if (ik == key_scene_fate_min_periods) v = key_value(1, ints=[cfg%scene%protocol%fate_min_periods])
@@ -578,6 +611,13 @@ contains
         if (ik == key_scene_power_threshold) cfg%scene%power_threshold = v%reals(1)
         if (ik == key_scene_chain) cfg%scene%chain = v%ints(1)
         if (ik == key_scene_continuation_tol) cfg%scene%protocol%continuation_tol = v%reals(1)
+        if (ik == key_scene_continuation_max_iter) cfg%scene%protocol%continuation_max_iter = v%ints(1)
+        if (ik == key_scene_continuation_chord_rate) cfg%scene%protocol%continuation_chord_rate = v%reals(1)
+        if (ik == key_scene_continuation_fast_iter) cfg%scene%protocol%continuation_fast_iter = v%ints(1)
+        if (ik == key_scene_continuation_slow_iter) cfg%scene%protocol%continuation_slow_iter = v%ints(1)
+        if (ik == key_scene_continuation_step_min) cfg%scene%protocol%continuation_step_min = v%reals(1)
+        if (ik == key_scene_continuation_max_angle) cfg%scene%protocol%continuation_max_angle = v%reals(1)
+        if (ik == key_scene_fold_tol) cfg%scene%protocol%fold_tol = v%reals(1)
         if (ik == key_scene_fate_push) cfg%scene%protocol%fate_push = v%reals(1)
         if (ik == key_scene_fate_watch_time) cfg%scene%protocol%fate_watch_time = v%reals(1)
         if (ik == key_scene_fate_min_periods) cfg%scene%protocol%fate_min_periods = v%ints(1)

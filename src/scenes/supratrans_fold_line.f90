@@ -90,6 +90,13 @@ contains
         r%chain_sigma = run%chain%sigma
         r%steps_per_period = map%steps
         ctl%newton_tol = scene%protocol%continuation_tol
+        ctl%newton_max_iter = scene%protocol%continuation_max_iter
+        ctl%chord_rate = scene%protocol%continuation_chord_rate
+        ctl%newton_fast = scene%protocol%continuation_fast_iter
+        ctl%newton_slow = scene%protocol%continuation_slow_iter
+        ctl%ds_min = scene%protocol%continuation_step_min
+        ctl%max_angle = scene%protocol%continuation_max_angle
+        ctl%fold_tol = scene%protocol%fold_tol
         ctl%ds0 = scene%continuation_step
         ctl%ds_max = scene%continuation_step_max
         ctl%max_points = scene%continuation_points

@@ -197,6 +197,18 @@ contains
             end if
             return      ! the &numerics dt only sets the rk8 period that checks each fold: an unstable one shows there
         end if
+        if (cfg%scene%protocol%continuation_slow_iter <= cfg%scene%protocol%continuation_fast_iter) then
+            call fatal_error(error, where // ": &scene: continuation_slow_iter = " &
+                             // int_str(cfg%scene%protocol%continuation_slow_iter) // ": must be > continuation_fast_iter = " &
+                             // int_str(cfg%scene%protocol%continuation_fast_iter), err_input)
+            return
+        end if
+        if (cfg%scene%protocol%continuation_step_min > cfg%scene%continuation_step) then
+            call fatal_error(error, where // ": &scene: continuation_step_min = " &
+                             // real_str(cfg%scene%protocol%continuation_step_min) // ": must be <= continuation_step = " &
+                             // real_str(cfg%scene%continuation_step), err_input)
+            return
+        end if
         if (cfg%scene%short%sigma_min > cfg%scene%short%sigma_max) then
             call fatal_error(error, where // ": &scene: short_sigma_min = " // real_str(cfg%scene%short%sigma_min) &
                              // ": must be <= short_sigma_max = " // real_str(cfg%scene%short%sigma_max), err_input)
