@@ -5,7 +5,7 @@
 !> c^2)). Beyond the core, what matters is the absorber: the state radiates its odd harmonics (3 Omega, 5 Omega, ... in
 !> the phonon band), and whatever the absorber reflects moves A_f (by 2e-5 at Omega = 0.9 and 1e-3 .. 4e-2 at 0.7 ..
 !> 0.5 with the paper's absorber, N - N0 = 50, sigma = 3; by up to 0.2 below Omega = 0.3, where the lowest odd harmonic
-!> in the band sits near its edge with a long wavelength: docs/continuation.md). The tanh absorber's reflection of a
+!> in the band sits near its edge with a long wavelength: docs/continuation_reference.md). The tanh absorber's reflection of a
 !> wave of wavenumber q is about exp(-pi sigma q / 2), whatever its width or kappa. The short chain has N0 = the
 !> smallest integer >= `short_decay` / lambda' (at least `short_n0_min`) and a smooth absorber with sigma =
 !> `short_sigma_q` / q (q of the lowest odd harmonic in the band, `harmonic_wavenumber`), kept within
@@ -13,7 +13,7 @@
 !> (`short_chain_params`). A fold line uses it when its input says &scene chain = 'short'; the record says which
 !> chain each task used. (sigma q = 3.4: the reflection R <~ exp(-pi sigma q / 2) ~ 5e-3, measured |A_f -
 !> A_f(reference)| <= 0.3 R; sigma_max 20, N - N0 = 200: near Omega = 1/k, k odd, an odd harmonic sits at the band
-!> edge and no affordable absorber takes it, docs/continuation.md.)
+!> edge and no affordable absorber takes it, docs/continuation_reference.md.)
 module supratrans_short_chain
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
