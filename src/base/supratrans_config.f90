@@ -10,13 +10,6 @@ module supratrans_config
 
     public :: method_name, method_from_name
 
-    !> Sine-Gordon potential V(u) = 1 - cos u.
-    integer, parameter, public :: potential_sine_gordon = 1
-    !> Klein-Gordon potential V(u) = u^2/2 - u^4/24 + u^6/720 (phi^6 truncation of 1 - cos u).
-    integer, parameter, public :: potential_klein_gordon = 2
-    !> Names of the potentials (&chain potential, &scene potentials), in the order of their numbers.
-    character(len=*), parameter, public :: potential_choices(*) = [character(len=12) :: "sine-gordon", "klein-gordon"]
-
     !> Energy-conserving implicit scheme solved by Newton's method (paper eq. DiscreteMainDiscr).
     integer, parameter, public :: method_newton = 1
     !> Linearized scheme: G replaced by V'(u^k), one tridiagonal solve a step (paper Sec. 3.1).
@@ -92,27 +85,31 @@ module supratrans_config
     integer, parameter, public :: vary_kappa = 8
     !> The curves differ in &chain sigma: Absorber width sigma (sites) (`values`).
     integer, parameter, public :: vary_sigma = 9
+    !> The curves differ in &chain eta: Weight eta of the second harmonic of the on-site potential, V(u) = 1 - cos u + eta (1 - cos
+    !> 2u), where it takes one (`values`).
+    integer, parameter, public :: vary_eta = 10
     !> The curves differ in &drive amplitude: Driving amplitude A (`values`).
-    integer, parameter, public :: vary_amplitude = 10
+    integer, parameter, public :: vary_amplitude = 11
     !> The curves differ in &drive omega: Driving frequency Omega (`values`).
-    integer, parameter, public :: vary_omega = 11
+    integer, parameter, public :: vary_omega = 12
     !> The curves differ in &drive ramp_time: Length of the linear ramp of the drive amplitude (0: no ramp) (`values`).
-    integer, parameter, public :: vary_ramp_time = 12
+    integer, parameter, public :: vary_ramp_time = 13
     !> The curves differ in &numerics dt: Time step Delta t (`values`).
-    integer, parameter, public :: vary_dt = 13
+    integer, parameter, public :: vary_dt = 14
     !> The curves differ in &numerics t_final: Final time T (`values`).
-    integer, parameter, public :: vary_t_final = 14
+    integer, parameter, public :: vary_t_final = 15
     !> The curves differ in &numerics newton_tol: Newton accepts a step when its proven error bound (quadratic convergence) is at
     !> most this and, in runs that keep the energy ledger (all but search runs), the ledger closes to roundoff (`values`).
-    integer, parameter, public :: vary_newton_tol = 15
+    integer, parameter, public :: vary_newton_tol = 16
     !> The curves differ in &numerics newton_max_iter: Newton iteration cap; reaching it without convergence fails the run
     !> (`values`).
-    integer, parameter, public :: vary_newton_max_iter = 16
+    integer, parameter, public :: vary_newton_max_iter = 17
     !> The curves differ in &numerics blowup_threshold: A run whose |u_n| exceeds this is declared diverged (blown up) (`values`).
-    integer, parameter, public :: vary_blowup_threshold = 17
+    integer, parameter, public :: vary_blowup_threshold = 18
     !> Names of the numeric keys (&scene vary), in the order of their numbers.
     character(len=*), parameter, public :: vary_choices(*) = [character(len=16) :: "none", "c", "m2", "gamma", "beta", "n", "n0", &
-        "kappa", "sigma", "amplitude", "omega", "ramp_time", "dt", "t_final", "newton_tol", "newton_max_iter", "blowup_threshold"]
+        "kappa", "sigma", "eta", "amplitude", "omega", "ramp_time", "dt", "t_final", "newton_tol", "newton_max_iter", &
+        "blowup_threshold"]
 
     !> Largest number of curves a scene may vary over (`values`), and of `amplitudes` and `c_values`.
     integer, parameter, public :: max_curve_values = 16
@@ -130,8 +127,9 @@ module supratrans_config
 
     !> The chain of eq. (1) on N sites with the absorbing end: alpha_n = gamma + gamma'(n).
     type, public :: chain_params
-        !> On-site potential V(u): 'sine-gordon' (1 - cos u) or 'klein-gordon' (its phi^6 truncation) (&chain potential).
-        integer :: potential = potential_sine_gordon
+        !> On-site potential V(u), by name (one module of src/physics/potentials each; the field holds its number) (&chain
+        !> potential).
+        integer :: potential = 1
         !> Coupling coefficient c (&chain c).
         real(wp) :: c = 4.0_wp
         !> Mass term m^2 (negative for an imaginary mass) (&chain m2).
@@ -148,6 +146,9 @@ module supratrans_config
         real(wp) :: kappa = 0.5_wp
         !> Absorber width sigma (sites) (&chain sigma).
         real(wp) :: sigma = 3.0_wp
+        !> Weight eta of the second harmonic of the on-site potential, V(u) = 1 - cos u + eta (1 - cos 2u), where it takes one
+        !> (&chain eta).
+        real(wp) :: eta = 0.0_wp
     end type chain_params
 
     !> Boundary drive u_0(t) = A r(t) sin(Omega t), r(t) = min(t / ramp_time, 1); or, set by the hysteresis scene (not a key),

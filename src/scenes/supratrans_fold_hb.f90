@@ -820,7 +820,7 @@ contains
             dims=dims)
         call h5_write(file, "/outside_gap", reshape(merge(1, 0, &
             [(tasks%omegas(mod(t - 1, nomega) + 1) >= band_gap_edge(tasks%runs((t - 1)/nomega + 1)%chain), &
-            t=1, ntask)]), [nomega, ncurve]), "1", "1 where Omega >= sqrt(1 + m^2), outside the curve's band gap", &
+            t=1, ntask)]), [nomega, ncurve]), "1", "1 where Omega >= sqrt(V''(0) + m^2), outside the curve's band gap", &
             dims=dims)
         call h5_write(file, "/harmonics", igrid(recs%harmonics), "1", "Odd harmonics K of the fold " &
             // "(frequencies Omega, 3 Omega, .., (2K - 1) Omega), grown until the fold moved by at most harmonics_tol", &

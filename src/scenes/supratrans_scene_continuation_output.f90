@@ -120,7 +120,7 @@ contains
             // "-1: pending (not computed yet); " // fold_status_codes())
         call h5_write(file, "/outside_gap", task_igrid(merge(1, 0, &
             [(tasks%omegas(mod(t - 1, nomega) + 1) >= band_gap_edge(tasks%runs((t - 1)/nomega + 1)%chain), &
-            t=1, ntask)]), nomega), "1", "1 where Omega >= sqrt(1 + m^2), outside the curve's band gap: computed only " &
+            t=1, ntask)]), nomega), "1", "1 where Omega >= sqrt(V''(0) + m^2), outside the curve's band gap: computed only " &
             // "with allow_outside_gap, and no fold is expected there", dims=dims)
         call h5_write(file, "/dt_used", grid(recs%dt_used), "time", &
             "Time step used: the drive period 2 pi / Omega over a whole number M of steps", dims=dims)
