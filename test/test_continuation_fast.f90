@@ -10,10 +10,9 @@ module test_continuation_fast
     use pf_runtime
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
-    use supratrans_config, only: run_config, chain_params
-    use supratrans_fold_line, only: shortest_chain, chain_length_given, scheme_decay_rate, short_width_per_sigma, &
-                                    short_absorber_sigma, short_chain_decay, harmonic_wavenumber, &
-                                    short_absorber_sigma_max, short_absorber_sigma_q
+    use supratrans_config, only: run_config, chain_params, short_chain_params
+    use supratrans_fold_line, only: shortest_chain, chain_length_given, scheme_decay_rate, harmonic_wavenumber
+    use supratrans_short_chain, only: old_short_chain_rule
     use supratrans_period_map, only: period_map, period_map_init, set_half_period
     use supratrans_fixed_point_map, only: map_ok
     use continuation_maps, only: short_test_chain, model_map, new_model_map, mode_doubling
@@ -38,17 +37,17 @@ contains
         b = [1.0_wp, -2.0_wp, 0.5_wp, 3.0_wp]
         lu = a
         call lu_factor(lu, ipiv, info)
-        call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 40, 'assertEqual'))
+        call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 39, 'assertEqual'))
         if (pf_any_failed()) return
         xt = b
         call lu_solve(lu, ipiv, xt, info, transposed=.true.)
-        call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 43, 'assertEqual'))
+        call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 42, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             b, &
             matmul(transpose(a), xt), &
             tolerance=1.0e-13_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 44, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 43, 'assertEqual'))
         if (pf_any_failed()) return
         xn = b
         call lu_solve(lu, ipiv, xn, info)
@@ -56,11 +55,11 @@ contains
             b, &
             matmul(a, xn), &
             tolerance=1.0e-13_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 47, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 46, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             maxval(abs(xt - xn)) > 1.0e-3_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 48, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 47, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_lu_solve_transposed
 
@@ -77,7 +76,7 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 64, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 63, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4)
         call continue_branch(map, ctl, full)
@@ -86,51 +85,51 @@ contains
         call assertEqual( &
             cont_fold_found, &
             full%status, &
-            location=pf_source_location('test_continuation_fast.pf', 69, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 68, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             cont_fold_found, &
             fast%status, &
-            location=pf_source_location('test_continuation_fast.pf', 70, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 69, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%fold_amplitude, &
             fast%fold_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 71, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 70, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%instability_type, &
             fast%instability_type, &
             message=crossing_name(fast%instability_type), &
-            location=pf_source_location('test_continuation_fast.pf', 72, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 71, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             ieee_is_nan(fast%instability_amplitude), &
-            location=pf_source_location('test_continuation_fast.pf', 73, 'assertFalse'))
+            location=pf_source_location('test_continuation_fast.pf', 72, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%instability_amplitude, &
             fast%instability_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 74, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 73, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             fast%stats%eigen_calls, &
             full%stats%eigen_calls, &
-            location=pf_source_location('test_continuation_fast.pf', 75, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 74, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             any(fast%stable == -1), &
-            location=pf_source_location('test_continuation_fast.pf', 76, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 75, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(full%stable(1:full%fold_index - 1) == 1), &
-            location=pf_source_location('test_continuation_fast.pf', 77, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 76, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(fast%stable(1:fast%fold_index - 1) /= 0), &
-            location=pf_source_location('test_continuation_fast.pf', 78, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 77, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_fast_floquet_same_verdicts
 
@@ -147,7 +146,7 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 94, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 93, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4)
         call continue_branch(map, ctl, full)
@@ -156,55 +155,55 @@ contains
         call assertEqual( &
             cont_fold_found, &
             alone%status, &
-            location=pf_source_location('test_continuation_fast.pf', 99, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 98, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             full%fold_amplitude, &
             alone%fold_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 100, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 99, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             alone%stats%eigen_calls, &
-            location=pf_source_location('test_continuation_fast.pf', 101, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 100, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             alone%stats%jacobian_evaluations, &
             full%stats%jacobian_evaluations, &
-            location=pf_source_location('test_continuation_fast.pf', 102, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 101, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             ieee_is_nan(alone%instability_amplitude), &
-            location=pf_source_location('test_continuation_fast.pf', 103, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 102, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             crossing_none, &
             alone%instability_type, &
-            location=pf_source_location('test_continuation_fast.pf', 104, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 103, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp, &
             alone%fold_multiplier, &
             1.0e-3_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 105, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 104, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(alone%stable(1:alone%fold_index - 1) == -1), &
-            location=pf_source_location('test_continuation_fast.pf', 106, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 105, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(alone%stable(alone%fold_index + 1:alone%n_points) == -1), &
-            location=pf_source_location('test_continuation_fast.pf', 107, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 106, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             allocated(alone%spectra(alone%fold_index)%wr), &
-            location=pf_source_location('test_continuation_fast.pf', 108, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 107, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             4, &
             alone%points_beyond_fold, &
-            location=pf_source_location('test_continuation_fast.pf', 109, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 108, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_fold_alone
 
@@ -224,41 +223,41 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 128, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 127, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=0)
         ctl%floquet_every = 0
         call continue_branch(map, ctl, whole)
         call set_half_period(map, .true., ok)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 133, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 132, 'assertTrue'))
         if (pf_any_failed()) return
         call continue_branch(map, ctl, half)
         call assertEqual( &
             cont_fold_found, &
             half%status, &
-            location=pf_source_location('test_continuation_fast.pf', 135, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 134, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             whole%fold_amplitude, &
             half%fold_amplitude, &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 136, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 135, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp, &
             half%fold_multiplier, &
             1.0e-3_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 137, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 136, 'assertEqual'))
         if (pf_any_failed()) return
         call set_half_period(map, .false., ok)
         allocate (px(map%dim))
         call map%apply(half%states(:, half%fold_index), half%fold_amplitude, px, status)
-        call assertEqual(map_ok, status, location=pf_source_location('test_continuation_fast.pf', 141, 'assertEqual'))
+        call assertEqual(map_ok, status, location=pf_source_location('test_continuation_fast.pf', 140, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             maxval(abs(px - half%states(:, half%fold_index))), &
             1.0e-8_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 142, 'assertLessThan'))
+            location=pf_source_location('test_continuation_fast.pf', 141, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_fold_on_the_half_period_map
 
@@ -281,43 +280,43 @@ contains
         call assertEqual( &
             cont_unstable_start, &
             stopped%status, &
-            location=pf_source_location('test_continuation_fast.pf', 161, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 160, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "unstable_start", &
             continuation_status_name(stopped%status), &
-            location=pf_source_location('test_continuation_fast.pf', 162, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 161, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             stopped%n_points, &
-            location=pf_source_location('test_continuation_fast.pf', 163, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 162, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             stopped%stable(1), &
-            location=pf_source_location('test_continuation_fast.pf', 164, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 163, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             stopped%stats%eigen_calls, &
-            location=pf_source_location('test_continuation_fast.pf', 165, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 164, 'assertEqual'))
         if (pf_any_failed()) return
         ctl%stop_at_unstable_start = .false.
         call continue_branch(map, ctl, continued, [0.0_wp, 0.0_wp])
         call assertGreaterThan( &
             continued%n_points, &
             1, &
-            location=pf_source_location('test_continuation_fast.pf', 168, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation_fast.pf', 167, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             continued%stable(1), &
-            location=pf_source_location('test_continuation_fast.pf', 169, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 168, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(continued%states(:, 1) == stopped%states(:, 1)), &
-            location=pf_source_location('test_continuation_fast.pf', 170, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 169, 'assertTrue'))
         if (pf_any_failed()) return
         ctl%stop_at_unstable_start = .true.
         ctl%amplitude_start = 0.1_wp
@@ -325,16 +324,16 @@ contains
         call assertEqual( &
             1, &
             stable%stable(1), &
-            location=pf_source_location('test_continuation_fast.pf', 174, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 173, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             stable%n_points, &
             1, &
-            location=pf_source_location('test_continuation_fast.pf', 175, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation_fast.pf', 174, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertTrue( &
             stable%status /= cont_unstable_start, &
-            location=pf_source_location('test_continuation_fast.pf', 176, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 175, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_stop_at_unstable_start
 
@@ -348,46 +347,67 @@ contains
     ! @test
     subroutine test_short_chain()
         type(chain_params) :: chain, given
+        type(short_chain_params) :: sh
+        character(len=:), allocatable :: message
+        real(wp) :: margin
         character(len=*), parameter :: nl = new_line("a")
         real(wp) :: lambda, dt_used, q
 
         call assertFalse( &
             chain_length_given("&chain" // nl // "  c = 4.0" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 192, 'assertFalse'))
+            location=pf_source_location('test_continuation_fast.pf', 194, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             chain_length_given("&chain" // nl // "  n = 30" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 193, 'assertTrue'))
-        if (pf_any_failed()) return
-        call assertTrue( &
-            chain_length_given("&chain" // nl // "  sigma = 3.0" // nl // "/" // nl), &
-            location=pf_source_location('test_continuation_fast.pf', 194, 'assertTrue'))
-        if (pf_any_failed()) return
-        call assertTrue( &
-            chain_length_given("&chain" // nl // "  n0 = 150" // nl // "/" // nl), &
             location=pf_source_location('test_continuation_fast.pf', 195, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
-            chain_length_given(""), &
+            chain_length_given("&chain" // nl // "  sigma = 3.0" // nl // "/" // nl), &
             location=pf_source_location('test_continuation_fast.pf', 196, 'assertTrue'))
         if (pf_any_failed()) return
-        call shortest_chain(chain, 0.9_wp, 0.05_wp)
+        call assertTrue( &
+            chain_length_given("&chain" // nl // "  n0 = 150" // nl // "/" // nl), &
+            location=pf_source_location('test_continuation_fast.pf', 197, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            chain_length_given(""), &
+            location=pf_source_location('test_continuation_fast.pf', 198, 'assertTrue'))
+        if (pf_any_failed()) return
+        margin = sh%band_edge_margin
+        ! the old rule's inputs (no n, n0, sigma, no &scene chain) are refused with the new spelling; the others pass
+        message = old_short_chain_rule("&chain" // nl // "  c = 4.0" // nl // "/" // nl)
+        call assertTrue( &
+            index(message, "chain = 'short'") > 0, &
+            message=message, &
+            location=pf_source_location('test_continuation_fast.pf', 202, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0, &
+            len(old_short_chain_rule("&chain" // nl // "  n = 30" // nl // "/" // nl)), &
+            location=pf_source_location('test_continuation_fast.pf', 203, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0, &
+            len(old_short_chain_rule("&scene chain = 'input' /" // nl)), &
+            location=pf_source_location('test_continuation_fast.pf', 204, 'assertEqual'))
+        if (pf_any_failed()) return
+        call shortest_chain(chain, 0.9_wp, 0.05_wp, sh)
         call assertEqual( &
             60, &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 198, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 206, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
-            short_absorber_sigma, &
+            sh%sigma_min, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 199, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 207, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             2.0_wp*asin(sqrt(2.7_wp**2 - 1.0_wp)/8.0_wp), &
-            harmonic_wavenumber(chain, 0.9_wp), &
+            harmonic_wavenumber(chain, 0.9_wp, margin), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 200, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 208, 'assertEqual'))
         if (pf_any_failed()) return
         dt_used = 2.0_wp*acos(-1.0_wp)/0.9_wp/140.0_wp
         lambda = scheme_decay_rate(chain, 0.9_wp, dt_used)
@@ -395,75 +415,75 @@ contains
             acosh(1.0_wp + (1.0_wp - 0.81_wp)/32.0_wp), &
             lambda, &
             5.0e-3_wp*lambda, &
-            location=pf_source_location('test_continuation_fast.pf', 203, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 211, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             lambda*chain%n0, &
-            short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 204, 'assertGreaterThanOrEqual'))
+            sh%decay, &
+            location=pf_source_location('test_continuation_fast.pf', 212, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             lambda*(chain%n0 - 1), &
-            short_chain_decay, &
-            location=pf_source_location('test_continuation_fast.pf', 205, 'assertLessThan'))
+            sh%decay, &
+            location=pf_source_location('test_continuation_fast.pf', 213, 'assertLessThan'))
         if (pf_any_failed()) return
         chain = chain_params()
-        call shortest_chain(chain, 0.5_wp, 0.05_wp)
+        call shortest_chain(chain, 0.5_wp, 0.05_wp, sh)
         q = 2.0_wp*asin(sqrt(1.25_wp)/8.0_wp)
         call assertEqual( &
-            short_absorber_sigma_q/q, &
+            sh%sigma_q/q, &
             chain%sigma, &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 209, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 217, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
-            ceiling(short_width_per_sigma*chain%sigma), &
+            ceiling(sh%width_per_sigma*chain%sigma), &
             chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 210, 'assertEqual'))
-        if (pf_any_failed()) return
-        chain = chain_params()
-        call shortest_chain(chain, 0.1_wp, 0.05_wp)
-        call assertEqual( &
-            2.0_wp*asin(sqrt(1.1_wp**2 - 1.0_wp)/8.0_wp), &
-            harmonic_wavenumber(chain, 0.1_wp), &
-            1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 213, 'assertEqual'))
-        if (pf_any_failed()) return
-        call assertEqual( &
-            short_absorber_sigma_max, &
-            chain%sigma, &
-            0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 214, 'assertEqual'))
-        if (pf_any_failed()) return
-        call assertEqual( &
-            ceiling(short_width_per_sigma*short_absorber_sigma_max), &
-            chain%n - chain%n0, &
-            location=pf_source_location('test_continuation_fast.pf', 215, 'assertEqual'))
-        if (pf_any_failed()) return
-        chain = chain_params()
-        call shortest_chain(chain, 0.2_wp, 0.05_wp)          ! 5 Omega = 1: at the band edge
-        call assertEqual( &
-            0.0_wp, &
-            harmonic_wavenumber(chain, 0.2_wp), &
-            0.0_wp, &
             location=pf_source_location('test_continuation_fast.pf', 218, 'assertEqual'))
         if (pf_any_failed()) return
+        chain = chain_params()
+        call shortest_chain(chain, 0.1_wp, 0.05_wp, sh)
         call assertEqual( &
-            short_absorber_sigma_max, &
+            2.0_wp*asin(sqrt(1.1_wp**2 - 1.0_wp)/8.0_wp), &
+            harmonic_wavenumber(chain, 0.1_wp, margin), &
+            1.0e-12_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 221, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            sh%sigma_max, &
             chain%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 219, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 222, 'assertEqual'))
         if (pf_any_failed()) return
-        call shortest_chain(given, 1.2_wp, 0.05_wp)
-        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 221, 'assertEqual'))
+        call assertEqual( &
+            ceiling(sh%width_per_sigma*sh%sigma_max), &
+            chain%n - chain%n0, &
+            location=pf_source_location('test_continuation_fast.pf', 223, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 222, 'assertEqual'))
+        chain = chain_params()
+        call shortest_chain(chain, 0.2_wp, 0.05_wp, sh)          ! 5 Omega = 1: at the band edge
+        call assertEqual( &
+            0.0_wp, &
+            harmonic_wavenumber(chain, 0.2_wp, margin), &
+            0.0_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 226, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            sh%sigma_max, &
+            chain%sigma, &
+            0.0_wp, &
+            location=pf_source_location('test_continuation_fast.pf', 227, 'assertEqual'))
+        if (pf_any_failed()) return
+        call shortest_chain(given, 1.2_wp, 0.05_wp, sh)
+        call assertEqual(200, given%n, location=pf_source_location('test_continuation_fast.pf', 229, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual(150, given%n0, location=pf_source_location('test_continuation_fast.pf', 230, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             3.0_wp, &
             given%sigma, &
             0.0_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 223, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 231, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_short_chain
 
@@ -497,30 +517,30 @@ contains
         mu = exact + cmplx(1.0e-3_wp, -1.0e-3_wp, kind=wp)
         v = cmplx(1.0_wp, 0.5_wp, kind=wp)
         call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 256, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 264, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             abs(mu - exact), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 257, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 265, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp, &
             norm2(abs(v)), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 258, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 266, 'assertEqual'))
         if (pf_any_failed()) return
         mu = cmplx(-0.301_wp, 0.0_wp, kind=wp)
         v = cmplx(1.0_wp, 0.5_wp, kind=wp)
         call track_multiplier(m, mu, v, ok, 1.0e-13_wp)
-        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 262, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_continuation_fast.pf', 270, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             abs(mu - cmplx(-0.3_wp, 0.0_wp, kind=wp)), &
             1.0e-12_wp, &
-            location=pf_source_location('test_continuation_fast.pf', 263, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 271, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_tracked_multiplier
 
@@ -542,42 +562,42 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 284, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_continuation_fast.pf', 292, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=4, floquet_every=4)
         call continue_branch(map, ctl, res)
         call assertEqual( &
             cont_fold_found, &
             res%status, &
-            location=pf_source_location('test_continuation_fast.pf', 287, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 295, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             res%stable(res%n_points) >= 0, &
             message="multipliers at the last point", &
-            location=pf_source_location('test_continuation_fast.pf', 288, 'assertTrue'))
+            location=pf_source_location('test_continuation_fast.pf', 296, 'assertTrue'))
         if (pf_any_failed()) return
         allocate (px(map%dim), jac(map%dim, map%dim))
         checked = 0
         do i = 1, res%n_points
             if (res%stable(i) < 0) cycle
             call branch_multipliers(map, res, i, wr, wi, info)
-            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 294, 'assertEqual'))
+            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 302, 'assertEqual'))
             if (pf_any_failed()) return
             call map%apply(res%states(:, i), res%amplitude(i), px, status, jac=jac)
             call floquet_multipliers(jac, fr, fi, info)
-            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 297, 'assertEqual'))
+            call assertEqual(0, info, location=pf_source_location('test_continuation_fast.pf', 305, 'assertEqual'))
             if (pf_any_failed()) return
             call assertTrue( &
                 all(wr == fr) .and. all(wi == fi), &
                 message="kept multipliers = recomputed", &
-                location=pf_source_location('test_continuation_fast.pf', 298, 'assertTrue'))
+                location=pf_source_location('test_continuation_fast.pf', 306, 'assertTrue'))
             if (pf_any_failed()) return
             checked = checked + 1
         end do
         call assertGreaterThan( &
             checked, &
             3, &
-            location=pf_source_location('test_continuation_fast.pf', 301, 'assertGreaterThan'))
+            location=pf_source_location('test_continuation_fast.pf', 309, 'assertGreaterThan'))
         if (pf_any_failed()) return
         allocate (x(map%dim))
         x = 0.0_wp
@@ -585,23 +605,23 @@ contains
         call assertEqual( &
             shoot_converged, &
             sres%status, &
-            location=pf_source_location('test_continuation_fast.pf', 305, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 313, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             sres%jacobians, &
-            location=pf_source_location('test_continuation_fast.pf', 306, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 314, 'assertEqual'))
         if (pf_any_failed()) return
         call shoot(map, x, 0.0_wp, shooting_controls(), sres, monodromy=jac)
         call assertEqual( &
             shoot_converged, &
             sres%status, &
-            location=pf_source_location('test_continuation_fast.pf', 308, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 316, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1, &
             sres%jacobians, &
-            location=pf_source_location('test_continuation_fast.pf', 309, 'assertEqual'))
+            location=pf_source_location('test_continuation_fast.pf', 317, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_kept_multipliers
 

@@ -302,7 +302,14 @@ def test_the_stairs_past_a_torus_are_the_same_for_two_threads_and_for_slices(rel
     ("dt = 0.1", "method = 'rk4', dt = 0.4, allow_unstable = .true.", "linear stability limit"),
     ("omega_min = 0.7", "omega_min = 0.0", "omega_min"),
     ("n = 30, n0 = 22", "n = 20000, n0 = 15000", "dense shooting matrices"),
-], ids=["dt beyond stability", "omega zero", "dense system too large"])
+    ("n = 30, n0 = 22", "c = 4.0", "say chain = 'short' for that (the old behaviour) or chain = 'input'"),
+    ("fold_convergence = .false.", "fold_convergence = .false., short_sigma_min = 30.0", "short_sigma_max = 20"),
+    ("fold_convergence = .false.", "fold_convergence = .false., continuation_slow_iter = 2, continuation_fast_iter = 2",
+     "continuation_slow_iter = 2: must be > continuation_fast_iter = 2"),
+    ("fold_convergence = .false.", "fold_convergence = .false., continuation_step_min = 0.1",
+     "continuation_step_min = 0.1: must be <= continuation_step = 0.05"),
+], ids=["dt beyond stability", "omega zero", "dense system too large", "old rule of the short chain",
+        "short sigma range", "slow not above fast", "smallest step above the first"])
 def test_no_periodic_state_is_one_line_and_nothing_written(exe, tmp_path, old, new, words):
     assert old in FOLD
     (tmp_path / "bad.nml").write_text(FOLD.replace(old, new))
@@ -311,6 +318,17 @@ def test_no_periodic_state_is_one_line_and_nothing_written(exe, tmp_path, old, n
     lines = proc.stderr.strip().splitlines()
     assert len(lines) == 1 and words in lines[0], proc.stderr
     assert not (tmp_path / "out" / "fold.h5").exists()
+
+
+def test_the_short_chain_is_a_choice_the_input_names(exe, tmp_path):
+    """A fold line without n, n0, sigma: refused in one line naming the new spelling (above); with chain = 'short'
+    or 'input' named it is accepted (--check)."""
+    for chain in ("short", "input"):
+        text = FOLD.replace("n = 30, n0 = 22", "c = 4.0")
+        text = text.replace("amplitude_max = 4.0,", f"amplitude_max = 4.0, chain = '{chain}',")
+        (tmp_path / f"{chain}.nml").write_text(text)
+        proc = sh(exe, "--check", f"{chain}.nml", cwd=tmp_path, check=False)
+        assert proc.returncode == 0, proc.stderr
 
 
 RESONANT = """&chain n = 90, n0 = 30, sigma = 6.0 /

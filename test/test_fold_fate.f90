@@ -11,9 +11,9 @@ module test_fold_fate
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
-    use supratrans_config, only: run_config
-    use supratrans_fold_fate, only: fold_fate, fate_transmits, fate_localized, fate_push, fate_watch_time, fate_codes, &
-                                    half_period_symmetric, stair_height, stair_time, switch_side, branch_switch_codes, &
+    use supratrans_config, only: run_config, fold_protocol
+    use supratrans_fold_fate, only: fold_fate, fate_transmits, fate_localized, fate_codes, &
+                                    half_period_symmetric, switch_side, branch_switch_codes, &
                                     switch_supercritical, switch_subcritical, switch_side_unknown
     use supratrans_chain_watch, only: climb_stairs
     use supratrans_period_map, only: period_map, period_map_init, set_half_period
@@ -31,54 +31,63 @@ contains
     ! @test
     subroutine test_switch_side_of_a_bracketed_branch_point()
         real(wp) :: nan
+        character(len=:), allocatable :: codes
 
         nan = ieee_value(1.0_wp, ieee_quiet_nan)
         ! located: lower end = upper end
         call assertEqual( &
             switch_supercritical, &
             switch_side(5.2_wp, 5.1_wp, 5.1_wp), &
-            location=pf_source_location('test_fold_fate.pf', 36, 'assertEqual'))
-        if (pf_any_failed()) return
-        call assertEqual( &
-            switch_subcritical, &
-            switch_side(5.0_wp, 5.1_wp, 5.1_wp), &
             location=pf_source_location('test_fold_fate.pf', 37, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             switch_subcritical, &
-            switch_side(5.0_wp, nan, 5.1_wp), &
+            switch_side(5.0_wp, 5.1_wp, 5.1_wp), &
             location=pf_source_location('test_fold_fate.pf', 38, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            switch_subcritical, &
+            switch_side(5.0_wp, nan, 5.1_wp), &
+            location=pf_source_location('test_fold_fate.pf', 39, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             switch_supercritical, &
             switch_side(5.2_wp, nan, 5.1_wp), &
-            location=pf_source_location('test_fold_fate.pf', 39, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 40, 'assertEqual'))
         if (pf_any_failed()) return
         ! bracketed [5.12790, 5.13750] (Omega = 0.18 of the paper's grid, M = 699; the first point 5.13154)
         call assertEqual( &
             switch_side_unknown, &
             switch_side(5.13154_wp, 5.12790_wp, 5.13750_wp), &
-            location=pf_source_location('test_fold_fate.pf', 41, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 42, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             switch_side_unknown, &
             switch_side(5.12790_wp, 5.12790_wp, 5.13750_wp), &
-            location=pf_source_location('test_fold_fate.pf', 42, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 43, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             switch_supercritical, &
             switch_side(5.13760_wp, 5.12790_wp, 5.13750_wp), &
-            location=pf_source_location('test_fold_fate.pf', 43, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 44, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             switch_subcritical, &
             switch_side(5.12780_wp, 5.12790_wp, 5.13750_wp), &
-            location=pf_source_location('test_fold_fate.pf', 44, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 45, 'assertEqual'))
         if (pf_any_failed()) return
+        codes = branch_switch_codes(fold_protocol())
         call assertTrue( &
-            index(branch_switch_codes(), "5 side unknown") > 0, &
-            message=branch_switch_codes(), &
-            location=pf_source_location('test_fold_fate.pf', 45, 'assertTrue'))
+            index(codes, "5 side unknown") > 0, &
+            message=codes, &
+            location=pf_source_location('test_fold_fate.pf', 47, 'assertTrue'))
+        if (pf_any_failed()) return
+        ! the codes name the protocol's stairs as the input sets them (&scene fold_stair_height, fold_stair_time)
+        codes = branch_switch_codes(fold_protocol(stair_height=0.03_wp, stair_time=150.0_wp))
+        call assertTrue( &
+            index(codes, "stairs of 0.03 held 150") > 0, &
+            message=codes, &
+            location=pf_source_location('test_fold_fate.pf', 50, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_switch_side_of_a_bracketed_branch_point
 
@@ -87,6 +96,7 @@ contains
     !> within the watch; the stable state at about 0.8 A_f stays below it for the whole watch.
     ! @test
     subroutine test_fold_transmits_and_stable_state_stays()
+        type(fold_protocol) :: proto
         type(run_config) :: run
         type(period_map) :: map
         type(error_type), allocatable :: error
@@ -97,48 +107,49 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 63, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 69, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=1, floquet_every=8)
         call continue_branch(map, ctl, res)
         call assertEqual( &
             cont_fold_found, &
             res%status, &
-            location=pf_source_location('test_fold_fate.pf', 66, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 72, 'assertEqual'))
         if (pf_any_failed()) return
 
-        call fold_fate(map, run, res%states(:, res%fold_index), res%fold_amplitude*(1.0_wp + fate_push), fate, time)
-        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 69, 'assertEqual'))
+        call fold_fate(map, run, proto, res%states(:, res%fold_index), res%fold_amplitude*(1.0_wp + proto%fate_push), &
+                       fate, time)
+        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 76, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             time, &
-            fate_watch_time, &
-            location=pf_source_location('test_fold_fate.pf', 70, 'assertLessThan'))
+            proto%fate_watch_time, &
+            location=pf_source_location('test_fold_fate.pf', 77, 'assertLessThan'))
         if (pf_any_failed()) return
-        call assertGreaterThan(time, 0.0_wp, location=pf_source_location('test_fold_fate.pf', 71, 'assertGreaterThan'))
+        call assertGreaterThan(time, 0.0_wp, location=pf_source_location('test_fold_fate.pf', 78, 'assertGreaterThan'))
         if (pf_any_failed()) return
 
         below = minloc(abs(res%amplitude(1:res%fold_index) - 0.8_wp*res%fold_amplitude), dim=1)
         call assertLessThan( &
             res%amplitude(below), &
             0.9_wp*res%fold_amplitude, &
-            location=pf_source_location('test_fold_fate.pf', 74, 'assertLessThan'))
+            location=pf_source_location('test_fold_fate.pf', 81, 'assertLessThan'))
         if (pf_any_failed()) return
-        call fold_fate(map, run, res%states(:, below), res%amplitude(below), fate, time)
-        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 76, 'assertEqual'))
+        call fold_fate(map, run, proto, res%states(:, below), res%amplitude(below), fate, time)
+        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 83, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             time, &
-            fate_watch_time, &
-            location=pf_source_location('test_fold_fate.pf', 77, 'assertGreaterThanOrEqual'))
+            proto%fate_watch_time, &
+            location=pf_source_location('test_fold_fate.pf', 84, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
-            index(fate_codes(), "transmits") > 0, &
-            location=pf_source_location('test_fold_fate.pf', 78, 'assertTrue'))
+            index(fate_codes(proto), "transmits") > 0, &
+            location=pf_source_location('test_fold_fate.pf', 85, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
-            index(fate_codes(), "localized") > 0, &
-            location=pf_source_location('test_fold_fate.pf', 79, 'assertTrue'))
+            index(fate_codes(proto), "localized") > 0, &
+            location=pf_source_location('test_fold_fate.pf', 86, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_fold_transmits_and_stable_state_stays
 
@@ -147,6 +158,7 @@ contains
     !> with its second half moved by 1e-6, has not, and the map is left as the one-period map; with M odd nothing has.
     ! @test
     subroutine test_half_period_symmetry()
+        type(fold_protocol) :: proto
         type(run_config) :: run
         type(period_map) :: map
         type(error_type), allocatable :: error
@@ -158,55 +170,56 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 98, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 106, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 99, 'assertEqual'))
+        call assertEqual(0, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 107, 'assertEqual'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=1.0_wp, floquet_every=0)
         call continue_branch(map, ctl, res)
         call assertGreaterThan( &
             res%n_points, &
             3, &
-            location=pf_source_location('test_fold_fate.pf', 102, 'assertGreaterThan'))
+            location=pf_source_location('test_fold_fate.pf', 110, 'assertGreaterThan'))
         if (pf_any_failed()) return
         i = res%n_points
         call assertGreaterThan( &
             res%amplitude(i), &
             0.9_wp, &
-            location=pf_source_location('test_fold_fate.pf', 104, 'assertGreaterThan'))
+            location=pf_source_location('test_fold_fate.pf', 112, 'assertGreaterThan'))
         if (pf_any_failed()) return
         x = res%states(:, i)
         call assertTrue( &
-            half_period_symmetric(map, x, res%amplitude(i)), &
-            location=pf_source_location('test_fold_fate.pf', 106, 'assertTrue'))
+            half_period_symmetric(map, proto, x, res%amplitude(i)), &
+            location=pf_source_location('test_fold_fate.pf', 114, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(map%half, location=pf_source_location('test_fold_fate.pf', 107, 'assertTrue'))
+        call assertTrue(map%half, location=pf_source_location('test_fold_fate.pf', 115, 'assertTrue'))
         if (pf_any_failed()) return
         call set_half_period(map, .false., ok)
-        call assertTrue(ok, location=pf_source_location('test_fold_fate.pf', 109, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_fold_fate.pf', 117, 'assertTrue'))
         if (pf_any_failed()) return
         x(size(x)) = x(size(x)) + 1.0e-6_wp
         call assertFalse( &
-            half_period_symmetric(map, x, res%amplitude(i)), &
-            location=pf_source_location('test_fold_fate.pf', 111, 'assertFalse'))
+            half_period_symmetric(map, proto, x, res%amplitude(i)), &
+            location=pf_source_location('test_fold_fate.pf', 119, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 112, 'assertFalse'))
+        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 120, 'assertFalse'))
         if (pf_any_failed()) return
+        x = 0.1_wp*res%states(:, i)
         call assertFalse( &
-            half_period_symmetric(map, 0.1_wp*res%states(:, i), res%amplitude(i)), &
-            location=pf_source_location('test_fold_fate.pf', 113, 'assertFalse'))
+            half_period_symmetric(map, proto, x, res%amplitude(i)), &
+            location=pf_source_location('test_fold_fate.pf', 122, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 114, 'assertFalse'))
+        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 123, 'assertFalse'))
         if (pf_any_failed()) return
         run%numerics%dt = 0.0503_wp
         call period_map_init(map, run, error)
-        call assertEqual(1, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 117, 'assertEqual'))
+        call assertEqual(1, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 126, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
-            half_period_symmetric(map, 0.0_wp*x, 0.0_wp), &
-            location=pf_source_location('test_fold_fate.pf', 118, 'assertFalse'))
+            half_period_symmetric(map, proto, 0.0_wp*x, 0.0_wp), &
+            location=pf_source_location('test_fold_fate.pf', 127, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 119, 'assertFalse'))
+        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 128, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_half_period_symmetry
 
@@ -216,6 +229,7 @@ contains
     !> the fold (a slow ramp meets the fold from below), after whole stairs of ceiling(stair_time / period) periods.
     ! @test
     subroutine test_stairs_transmit_just_past_the_fold()
+        type(fold_protocol) :: proto
         type(run_config) :: run
         type(period_map) :: map
         type(error_type), allocatable :: error
@@ -226,61 +240,62 @@ contains
         real(wp) :: a, a0
         integer :: fate, below, stairs, per_stair
 
+        proto = fold_protocol(stair_height=0.02_wp, stair_time=120.0_wp)     ! not the defaults: the keys act
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 140, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 151, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=1, floquet_every=8)
         call continue_branch(map, ctl, res)
         call assertEqual( &
             cont_fold_found, &
             res%status, &
-            location=pf_source_location('test_fold_fate.pf', 143, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 154, 'assertEqual'))
         if (pf_any_failed()) return
         below = minloc(abs(res%amplitude(1:res%fold_index) - 0.8_wp*res%fold_amplitude), dim=1)
         a0 = res%amplitude(below)
 
         y = res%states(:, below)
-        call climb_stairs(map, run, y, a0, a0 + 0.5_wp*stair_height, a, fate, stats)
-        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 149, 'assertEqual'))
+        call climb_stairs(map, run, proto, y, a0, a0 + 0.5_wp*proto%stair_height, a, fate, stats)
+        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 160, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(a0, a, location=pf_source_location('test_fold_fate.pf', 150, 'assertEqual'))
+        call assertEqual(a0, a, location=pf_source_location('test_fold_fate.pf', 161, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(res%states(:, below), y, location=pf_source_location('test_fold_fate.pf', 151, 'assertEqual'))
+        call assertEqual(res%states(:, below), y, location=pf_source_location('test_fold_fate.pf', 162, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, stats%map_evaluations, location=pf_source_location('test_fold_fate.pf', 152, 'assertEqual'))
+        call assertEqual(0, stats%map_evaluations, location=pf_source_location('test_fold_fate.pf', 163, 'assertEqual'))
         if (pf_any_failed()) return
 
-        call climb_stairs(map, run, y, a0, res%fold_amplitude + 0.5_wp, a, fate, stats)
-        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 155, 'assertEqual'))
+        call climb_stairs(map, run, proto, y, a0, res%fold_amplitude + 0.5_wp, a, fate, stats)
+        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 166, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             a, &
             res%fold_amplitude, &
-            location=pf_source_location('test_fold_fate.pf', 156, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_fold_fate.pf', 167, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             a, &
-            res%fold_amplitude + stair_height, &
-            location=pf_source_location('test_fold_fate.pf', 157, 'assertLessThan'))
+            res%fold_amplitude + proto%stair_height, &
+            location=pf_source_location('test_fold_fate.pf', 168, 'assertLessThan'))
         if (pf_any_failed()) return
-        stairs = nint((a - a0)/stair_height)
+        stairs = nint((a - a0)/proto%stair_height)
         call assertEqual( &
-            a0 + real(stairs, wp)*stair_height, &
+            a0 + real(stairs, wp)*proto%stair_height, &
             a, &
             tolerance=1.0e-12_wp, &
-            location=pf_source_location('test_fold_fate.pf', 159, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 170, 'assertEqual'))
         if (pf_any_failed()) return
-        per_stair = ceiling(stair_time/map%period)
+        per_stair = ceiling(proto%stair_time/map%period)
         call assertGreaterThan( &
             stats%map_evaluations, &
             (stairs - 1)*per_stair, &
-            location=pf_source_location('test_fold_fate.pf', 161, 'assertGreaterThan'))
+            location=pf_source_location('test_fold_fate.pf', 172, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             stats%map_evaluations, &
             stairs*per_stair, &
-            location=pf_source_location('test_fold_fate.pf', 162, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_fold_fate.pf', 173, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
     end subroutine test_stairs_transmit_just_past_the_fold
 

@@ -131,3 +131,28 @@ def test_the_run_warns_about_drive_omega_too(exe, tmp_path):
     assert proc.stderr.splitlines() == ["warning: case.nml: &drive: omega = 0.85 is not used by &scene kind = 'map', "
                                         "which runs omega_min .. omega_max by omega_step (0.9 .. 0.9 by 0.05: 1 "
                                         "frequency); set those for one frequency"]
+
+
+@pytest.mark.parametrize("kind,key,users", [
+    ("map", "stair_height = 0.05", "hysteresis"),
+    ("hysteresis", "fate_push = 0.02", "continuation"),
+    ("continuation", "coarse_step = 0.5", "bifurcation"),
+    ("timeseries", "vary = 'gamma', values = 0.1", "amplitude_sweep, map, bifurcation, stability, continuation, "
+                                                 "hysteresis"),
+])
+def test_a_scene_key_given_to_a_scene_that_does_not_use_it_is_one_line(exe, tmp_path, kind, key, users):
+    """Each &scene key names the scenes that use it (schema.toml `scenes`); given to another scene it is warned about
+    in one line by --check and the run (it has no effect); given to a scene that uses it, nothing is said."""
+    axis = "" if kind == "timeseries" else "omega_min = 0.9, omega_max = 0.9, "
+    text = CHAIN + f"&scene kind = '{kind}', {axis}{key} /\n" + OUT
+    check = run(exe, tmp_path, text, "--check")
+    assert check.returncode == 0, check.stderr
+    lines = check.stderr.strip().splitlines()
+    name = key.split(" =")[0]
+    assert len(lines) == 1 + (name == "vary"), check.stderr      # vary and its values: one line each
+    assert lines[0] == (f"warning: case.nml: &scene: {name} is not used by &scene kind = '{kind}' (only by {users}): "
+                        "it has no effect"), lines[0]
+    user = users.split(",")[0]
+    proc = run(exe, tmp_path, CHAIN + f"&scene kind = '{user}', omega_min = 0.9, omega_max = 0.9, {key} /\n" + OUT,
+               "--check")
+    assert not any(f"{name} is not used" in line for line in proc.stderr.splitlines()), proc.stderr

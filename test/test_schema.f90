@@ -9,6 +9,7 @@ module test_schema
     use supratrans_config
     use supratrans_keys, only: key_spec, key_value, kt_integer, kt_real, kt_logical
     use supratrans_schema
+    use supratrans_strings, only: int_str
     use supratrans_parameters, only: write_parameters, key_attribute_text
     use supratrans_potential, only: sine_gordon, klein_gordon, double_sine_gordon, potential_name, potential_names
     use supratrans_h5_test, only: h5_file, h5_create, h5_commit, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
@@ -23,57 +24,57 @@ contains
         call assertTrue( &
             size(key_table) > 40, &
             "key_table looks truncated", &
-            location=pf_source_location('test_schema.pf', 22, 'assertTrue'))
+            location=pf_source_location('test_schema.pf', 23, 'assertTrue'))
         if (pf_any_failed()) return
         do ik = 1, size(key_table)
             associate (k => key_table(ik))
                 call assertTrue( &
                     len_trim(k%group) > 0 .and. len_trim(k%key) > 0, &
-                    "key without group or name", &
-                    location=pf_source_location('test_schema.pf', 25, 'assertTrue'))
+                    "key without group or name: " // int_str(ik), &
+                    location=pf_source_location('test_schema.pf', 26, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     len_trim(k%units) > 0, &
                     "no units: " // trim(k%key), &
-                    location=pf_source_location('test_schema.pf', 26, 'assertTrue'))
+                    location=pf_source_location('test_schema.pf', 27, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     len_trim(k%description) > 0, &
                     "no description: " // trim(k%key), &
-                    location=pf_source_location('test_schema.pf', 27, 'assertTrue'))
+                    location=pf_source_location('test_schema.pf', 28, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     len_trim(k%attribute) > 0, &
                     "no attribute: " // trim(k%key), &
-                    location=pf_source_location('test_schema.pf', 28, 'assertTrue'))
+                    location=pf_source_location('test_schema.pf', 29, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
                     k%max_values >= 1, &
                     "max_values < 1: " // trim(k%key), &
-                    location=pf_source_location('test_schema.pf', 29, 'assertTrue'))
+                    location=pf_source_location('test_schema.pf', 30, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertFalse( &
                     k%ids .and. k%choices == 0, &
                     "numbers without choices: " // trim(k%key), &
-                    location=pf_source_location('test_schema.pf', 30, 'assertFalse'))
+                    location=pf_source_location('test_schema.pf', 31, 'assertFalse'))
                 if (pf_any_failed()) return
                 do jk = 1, ik - 1
                     call assertFalse( &
                         key_table(jk)%group == k%group .and. key_table(jk)%key == k%key, &
                         "twice: " // k%key, &
-                        location=pf_source_location('test_schema.pf', 32, 'assertFalse'))
+                        location=pf_source_location('test_schema.pf', 33, 'assertFalse'))
                     if (pf_any_failed()) return
                     call assertFalse( &
                         key_table(jk)%attribute == k%attribute, &
                         "attribute twice: " // k%attribute, &
-                        location=pf_source_location('test_schema.pf', 33, 'assertFalse'))
+                        location=pf_source_location('test_schema.pf', 34, 'assertFalse'))
                     if (pf_any_failed()) return
                 end do
                 do jk = 1, size(derived_table)
                     call assertFalse( &
                         derived_table(jk)%name == k%attribute, &
                         "attribute of a derived value: " // k%attribute, &
-                        location=pf_source_location('test_schema.pf', 36, 'assertFalse'))
+                        location=pf_source_location('test_schema.pf', 37, 'assertFalse'))
                     if (pf_any_failed()) return
                 end do
             end associate
@@ -81,17 +82,17 @@ contains
         call assertEqual( &
             key_chain_potential, &
             find(key_table, "chain", "potential"), &
-            location=pf_source_location('test_schema.pf', 40, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 41, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             key_detect_amplitude, &
             find(key_table, "detect", "amplitude"), &
-            location=pf_source_location('test_schema.pf', 41, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 42, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "detect_amplitude", &
             trim(key_table(key_detect_amplitude)%attribute), &
-            location=pf_source_location('test_schema.pf', 42, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 43, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_table_is_complete
 
@@ -111,12 +112,12 @@ contains
             call assertTrue( &
                 same(ik, v, w), &
                 "set_key/get_key round trip: " // trim(key_table(ik)%key), &
-                location=pf_source_location('test_schema.pf', 58, 'assertTrue'))
+                location=pf_source_location('test_schema.pf', 59, 'assertTrue'))
             if (pf_any_failed()) return
             call assertFalse( &
                 same(ik, w, get_key(base, ik)), &
                 "the change did not stick: " // trim(key_table(ik)%key), &
-                location=pf_source_location('test_schema.pf', 59, 'assertFalse'))
+                location=pf_source_location('test_schema.pf', 60, 'assertFalse'))
             if (pf_any_failed()) return
             do jk = 1, size(key_table)
                 if (jk == ik) cycle
@@ -124,7 +125,7 @@ contains
                 call assertTrue( &
                     same(jk, get_key(cfg, jk), get_key(base, jk)), &
                     message, &
-                    location=pf_source_location('test_schema.pf', 63, 'assertTrue'))
+                    location=pf_source_location('test_schema.pf', 64, 'assertTrue'))
                 if (pf_any_failed()) return
             end do
         end do
@@ -137,65 +138,65 @@ contains
         call assertEqual( &
             potential_sine_gordon, &
             cfg%run%chain%potential, &
-            location=pf_source_location('test_schema.pf', 72, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 73, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             4.0_wp, &
             cfg%run%chain%c, &
             0.0_wp, &
-            location=pf_source_location('test_schema.pf', 73, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 74, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(200, cfg%run%chain%n, location=pf_source_location('test_schema.pf', 74, 'assertEqual'))
+        call assertEqual(200, cfg%run%chain%n, location=pf_source_location('test_schema.pf', 75, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(150, cfg%run%chain%n0, location=pf_source_location('test_schema.pf', 75, 'assertEqual'))
+        call assertEqual(150, cfg%run%chain%n0, location=pf_source_location('test_schema.pf', 76, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.9_wp, &
             cfg%run%drive%omega, &
             0.0_wp, &
-            location=pf_source_location('test_schema.pf', 76, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 77, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.77_wp, &
             cfg%run%drive%amplitude, &
             0.0_wp, &
-            location=pf_source_location('test_schema.pf', 77, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 78, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             default_ramp_time, &
             cfg%run%drive%ramp_time, &
             0.0_wp, &
-            location=pf_source_location('test_schema.pf', 78, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 79, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             method_newton, &
             cfg%run%numerics%method, &
-            location=pf_source_location('test_schema.pf', 79, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 80, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.05_wp, &
             cfg%run%numerics%dt, &
             0.0_wp, &
-            location=pf_source_location('test_schema.pf', 80, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 81, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0e-10_wp, &
             cfg%run%numerics%newton_tol, &
             0.0_wp, &
-            location=pf_source_location('test_schema.pf', 81, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 82, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             3.141592653589793_wp, &
             cfg%run%detect%amplitude, &
             0.0_wp, &
-            location=pf_source_location('test_schema.pf', 82, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 83, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(60, default_probes(1), location=pf_source_location('test_schema.pf', 83, 'assertEqual'))
+        call assertEqual(60, default_probes(1), location=pf_source_location('test_schema.pf', 84, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             trim(cfg%output%file) == "supratrans.h5", &
             cfg%output%file, &
-            location=pf_source_location('test_schema.pf', 84, 'assertTrue'))
+            location=pf_source_location('test_schema.pf', 85, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_defaults_are_the_papers
 
@@ -206,61 +207,61 @@ contains
         call assertEqual( &
             sine_gordon, &
             potential_sine_gordon, &
-            location=pf_source_location('test_schema.pf', 91, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 92, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             klein_gordon, &
             potential_klein_gordon, &
-            location=pf_source_location('test_schema.pf', 92, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 93, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             double_sine_gordon, &
             potential_double_sine_gordon, &
-            location=pf_source_location('test_schema.pf', 93, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 94, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             size(potential_names), &
             size(potential_choices), &
-            location=pf_source_location('test_schema.pf', 94, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 95, 'assertEqual'))
         if (pf_any_failed()) return
         do i = 1, size(potential_choices)
             call assertTrue( &
                 potential_name(i) == trim(potential_choices(i)), &
                 potential_choices(i), &
-                location=pf_source_location('test_schema.pf', 96, 'assertTrue'))
+                location=pf_source_location('test_schema.pf', 97, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         do i = 1, size(method_choices)
             call assertEqual( &
                 i, &
                 method_from_name(method_name(i)), &
-                location=pf_source_location('test_schema.pf', 99, 'assertEqual'))
+                location=pf_source_location('test_schema.pf', 100, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         call assertTrue( &
             method_name(method_rk8) == "rk8", &
             method_name(method_rk8), &
-            location=pf_source_location('test_schema.pf', 101, 'assertTrue'))
+            location=pf_source_location('test_schema.pf', 102, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             method_name(0) == "unknown", &
             method_name(0), &
-            location=pf_source_location('test_schema.pf', 102, 'assertTrue'))
+            location=pf_source_location('test_schema.pf', 103, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             method_from_name("euler"), &
-            location=pf_source_location('test_schema.pf', 103, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 104, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             choice_noun(choice_scene) == "scene", &
             choice_noun(choice_scene), &
-            location=pf_source_location('test_schema.pf', 104, 'assertTrue'))
+            location=pf_source_location('test_schema.pf', 105, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             size(scene_choices), &
             size(choice_names(choice_scene)), &
-            location=pf_source_location('test_schema.pf', 105, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 106, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_choices_agree_with_the_physics
 
@@ -283,10 +284,10 @@ contains
         call h5_create(file, path, .true.)
         call write_parameters(file, cfg)
         call h5_commit(file, error)
-        call assertFalse(allocated(error), "commit", location=pf_source_location('test_schema.pf', 127, 'assertFalse'))
+        call assertFalse(allocated(error), "commit", location=pf_source_location('test_schema.pf', 128, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_open(file, path, error)
-        call assertFalse(allocated(error), "open", location=pf_source_location('test_schema.pf', 129, 'assertFalse'))
+        call assertFalse(allocated(error), "open", location=pf_source_location('test_schema.pf', 130, 'assertFalse'))
         if (pf_any_failed()) return
         if (allocated(error)) return
         do ik = 1, size(key_table)
@@ -294,7 +295,7 @@ contains
                 call assertTrue( &
                     h5_attr_exists(file, "/parameters", trim(name)), &
                     "missing attribute " // name, &
-                    location=pf_source_location('test_schema.pf', 133, 'assertTrue'))
+                    location=pf_source_location('test_schema.pf', 134, 'assertTrue'))
                 if (pf_any_failed()) return
                 v = get_key(cfg, ik)
                 if (v%n == 0 .and. k%unset > 0) v = get_key(cfg, k%unset)
@@ -305,14 +306,14 @@ contains
                         call assertEqual( &
                             v%n, &
                             size(xs), &
-                            location=pf_source_location('test_schema.pf', 140, 'assertEqual'))
+                            location=pf_source_location('test_schema.pf', 141, 'assertEqual'))
                         if (pf_any_failed()) return
                         if (v%n > 0) then
                             call assertEqual( &
                                 v%reals, &
                                 xs, &
                                 0.0_wp, &
-                                location=pf_source_location('test_schema.pf', 142, 'assertEqual'))
+                                location=pf_source_location('test_schema.pf', 143, 'assertEqual'))
                             if (pf_any_failed()) return
                         end if
                     else
@@ -321,20 +322,20 @@ contains
                             v%reals(1), &
                             x, &
                             0.0_wp, &
-                            location=pf_source_location('test_schema.pf', 146, 'assertEqual'))
+                            location=pf_source_location('test_schema.pf', 147, 'assertEqual'))
                         if (pf_any_failed()) return
                     end if
                 case (kt_integer)
                     if (k%max_values > 1) then
                         call h5_read_attr(file, "/parameters", trim(name), ns, error)
-                        call assertEqual(v%ints, ns, location=pf_source_location('test_schema.pf', 151, 'assertEqual'))
+                        call assertEqual(v%ints, ns, location=pf_source_location('test_schema.pf', 152, 'assertEqual'))
                         if (pf_any_failed()) return
                     else
                         call h5_read_attr(file, "/parameters", trim(name), n, error)
                         call assertEqual( &
                             v%ints(1), &
                             n, &
-                            location=pf_source_location('test_schema.pf', 154, 'assertEqual'))
+                            location=pf_source_location('test_schema.pf', 155, 'assertEqual'))
                         if (pf_any_failed()) return
                     end if
                 case (kt_logical)
@@ -342,63 +343,63 @@ contains
                     call assertEqual( &
                         merge(1, 0, v%flag), &
                         n, &
-                        location=pf_source_location('test_schema.pf', 158, 'assertEqual'))
+                        location=pf_source_location('test_schema.pf', 159, 'assertEqual'))
                     if (pf_any_failed()) return
                 case default
                     call h5_read_attr(file, "/parameters", trim(name), text, error)
                     call assertTrue( &
                         text == key_attribute_text(ik, v), &
                         name // " = " // text, &
-                        location=pf_source_location('test_schema.pf', 161, 'assertTrue'))
+                        location=pf_source_location('test_schema.pf', 162, 'assertTrue'))
                     if (pf_any_failed()) return
                 end select
                 call assertFalse( &
                     allocated(error), &
                     "reading " // name, &
-                    location=pf_source_location('test_schema.pf', 163, 'assertFalse'))
+                    location=pf_source_location('test_schema.pf', 164, 'assertFalse'))
                 if (pf_any_failed()) return
             end associate
         end do
         call h5_read_attr(file, "/parameters", "c", x, error)
-        call assertEqual(3.5_wp, x, 0.0_wp, location=pf_source_location('test_schema.pf', 167, 'assertEqual'))
+        call assertEqual(3.5_wp, x, 0.0_wp, location=pf_source_location('test_schema.pf', 168, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/parameters", "potentials", text, error)
         call assertEqual( &
             "sine-gordon, klein-gordon", &
             text, &
-            location=pf_source_location('test_schema.pf', 169, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 170, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/parameters", "method", text, error)
-        call assertEqual("newton", text, location=pf_source_location('test_schema.pf', 171, 'assertEqual'))
+        call assertEqual("newton", text, location=pf_source_location('test_schema.pf', 172, 'assertEqual'))
         if (pf_any_failed()) return
         do ik = 1, size(derived_table)
             call assertTrue( &
                 h5_attr_exists(file, "/parameters", trim(derived_table(ik)%name)), &
                 derived_table(ik)%name, &
-                location=pf_source_location('test_schema.pf', 173, 'assertTrue'))
+                location=pf_source_location('test_schema.pf', 174, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         call h5_read(file, "/parameters/schema/name", names, error)
         call assertFalse( &
             allocated(error), &
             "schema table", &
-            location=pf_source_location('test_schema.pf', 176, 'assertFalse'))
+            location=pf_source_location('test_schema.pf', 177, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             size(key_table) + size(derived_table), &
             size(names), &
-            location=pf_source_location('test_schema.pf', 177, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 178, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "detect_amplitude", &
             trim(names(key_detect_amplitude)), &
-            location=pf_source_location('test_schema.pf', 178, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 179, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/parameters/schema/units", "description", text, error)
         call assertFalse( &
             allocated(error), &
             "description of the units column", &
-            location=pf_source_location('test_schema.pf', 180, 'assertFalse'))
+            location=pf_source_location('test_schema.pf', 181, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call delete(path)

@@ -82,6 +82,9 @@ def test_output_holds_every_key(exe, tmp_path):
         assert list(p["probes"]) == [5, 7]
         assert p["detect_amplitude"] == 2.5
         assert p["n"] == 40 and p["method"] == b"newton" and p["potentials"] == b"sine-gordon"
+        # the fold protocol's and the short chain's numbers, once constants in the code, are recorded with the rest
+        assert p["fate_push"] == 0.01 and p["fate_watch_time"] == 1000.0 and p["fold_stair_height"] == 0.01
+        assert p["chain"] == b"input" and p["short_decay"] == 7.0 and p["continuation_tol"] == 1e-10
         names = [x.decode() for x in f["parameters/schema/name"][()]]
         assert names == [k.get("attribute", k["name"]) for k in s["key"]] + [d["name"] for d in s["derived"]]
         units = [x.decode() for x in f["parameters/schema/units"][()]]

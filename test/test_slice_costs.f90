@@ -152,23 +152,24 @@ contains
         integer :: i
 
         call read_input_text("&chain potential = 'sine-gordon' / &numerics dt = 0.05 / &scene kind = 'continuation', " &
-                             // "omega_min = 0.1, omega_max = 1.3, omega_step = 0.4 / &output file = 'unused.h5' /", &
+                             // "chain = 'short', omega_min = 0.1, omega_max = 1.3, omega_step = 0.4 / " &
+                             // "&output file = 'unused.h5' /", &
                              "cost.nml", cfg, error, check_output=.false.)
-        call assertFalse(allocated(error), location=pf_source_location('test_slice_costs.pf', 123, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_slice_costs.pf', 124, 'assertFalse'))
         if (pf_any_failed()) return
         call scene%make_tasks(cfg, tasks, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_slice_costs.pf', 125, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_slice_costs.pf', 126, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(4, tasks%count, location=pf_source_location('test_slice_costs.pf', 126, 'assertEqual'))
+        call assertEqual(4, tasks%count, location=pf_source_location('test_slice_costs.pf', 127, 'assertEqual'))
         if (pf_any_failed()) return
         cost = [(tasks%list%cost(i), i = 1, 4)]     ! Omega = 0.1, 0.5, 0.9, 1.3 (outside the gap 0 < Omega < 1)
-        call assertTrue(cost(1) > 4.0_wp*cost(2), location=pf_source_location('test_slice_costs.pf', 128, 'assertTrue'))
+        call assertTrue(cost(1) > 4.0_wp*cost(2), location=pf_source_location('test_slice_costs.pf', 129, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(cost(2) > cost(3), location=pf_source_location('test_slice_costs.pf', 129, 'assertTrue'))
+        call assertTrue(cost(2) > cost(3), location=pf_source_location('test_slice_costs.pf', 130, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(cost(3) > 0.0_wp, location=pf_source_location('test_slice_costs.pf', 130, 'assertTrue'))
+        call assertTrue(cost(3) > 0.0_wp, location=pf_source_location('test_slice_costs.pf', 131, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(0.0_wp, cost(4), location=pf_source_location('test_slice_costs.pf', 131, 'assertEqual'))
+        call assertEqual(0.0_wp, cost(4), location=pf_source_location('test_slice_costs.pf', 132, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_fold_tasks_cost_more_at_low_omega
 
@@ -178,12 +179,12 @@ contains
         call assertEqual( &
             " (slice 100 of 100: 0 of 95 tasks)", &
             slice_text(100, 100, 0, 95), &
-            location=pf_source_location('test_slice_costs.pf', 137, 'assertEqual'))
+            location=pf_source_location('test_slice_costs.pf', 138, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "", &
             slice_text(0, 0, 5, 5), &
-            location=pf_source_location('test_slice_costs.pf', 138, 'assertEqual'))
+            location=pf_source_location('test_slice_costs.pf', 139, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_slice_text_counts_the_slice
 

@@ -75,7 +75,7 @@ contains
         call fold_row(frun, sc, cpu(3))
         sc = scene_params(amplitude_max=sc%amplitude_max, continuation_points=sc%continuation_points)
         sc%floquet_every = 4
-        call shortest_chain(frun%chain, frun%drive%omega, frun%numerics%dt)
+        call shortest_chain(frun%chain, frun%drive%omega, frun%numerics%dt, sc%short)
         write (*, "(a)") "# the short chain of fold lines (N0 = ceil(7 / lambda'), absorber sigma 3.4 / q in 6 .. 20 " &
             // "over 10 sigma sites)"
         call fold_row(frun, sc, cpu(1))

@@ -22,7 +22,7 @@
 module bench_fold_omega
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
-    use supratrans_config, only: run_config, method_newton
+    use supratrans_config, only: run_config, method_newton, short_chain_params
     use supratrans_period_map, only: period_map, period_map_init
     use supratrans_fixed_point_map, only: map_ok
     use supratrans_dense, only: lu_solve
@@ -96,7 +96,7 @@ contains
             run%numerics%method = method_newton
             run%numerics%dt = 0.05_wp
             run%drive%omega = omega
-            call shortest_chain(run%chain, omega, run%numerics%dt)
+            call shortest_chain(run%chain, omega, run%numerics%dt, short_chain_params())
             call period_map_init(map, run, error)
             if (allocated(error)) error stop "benchmark: " // error%message
 

@@ -59,16 +59,57 @@ module supratrans_config
     !> Names of the closures (&scene closure), in the order of their numbers.
     character(len=*), parameter, public :: closure_choices(*) = [character(len=9) :: "absorber", "radiation"]
 
+    !> The chain of the input (&chain) for every task.
+    integer, parameter, public :: chain_input = 1
+    !> The short chain of each task's Omega (supratrans_short_chain: N0, N and sigma from the scheme's decay rate and the radiated
+    !> harmonic).
+    integer, parameter, public :: chain_short = 2
+    !> Names of the chains (&scene chain), in the order of their numbers.
+    character(len=*), parameter, public :: scene_chain_choices(*) = [character(len=5) :: "input", "short"]
+
     !> No parameter varies: one curve, the &chain of the input (or one per potential of `potentials`).
     integer, parameter, public :: vary_none = 1
-    !> The curves differ in the external damping gamma (`values`).
-    integer, parameter, public :: vary_gamma = 2
-    !> The curves differ in the internal damping beta (`values`).
-    integer, parameter, public :: vary_beta = 3
-    !> The curves differ in the mass term m^2 (`values`).
-    integer, parameter, public :: vary_m2 = 4
-    !> Names of the parameters (&scene vary), in the order of their numbers.
-    character(len=*), parameter, public :: vary_choices(*) = [character(len=5) :: "none", "gamma", "beta", "m2"]
+    !> The curves differ in &chain c: Coupling coefficient c (`values`).
+    integer, parameter, public :: vary_c = 2
+    !> The curves differ in &chain m2: Mass term m^2 (negative for an imaginary mass) (`values`).
+    integer, parameter, public :: vary_m2 = 3
+    !> The curves differ in &chain gamma: External damping gamma (`values`).
+    integer, parameter, public :: vary_gamma = 4
+    !> The curves differ in &chain beta: Internal damping beta (`values`).
+    integer, parameter, public :: vary_beta = 5
+    !> The curves differ in &chain n: Number of oscillators N (`values`).
+    integer, parameter, public :: vary_n = 6
+    !> The curves differ in &chain n0: Last site before the absorber, N0 (the absorber acts on N0 < n <= N) (`values`).
+    integer, parameter, public :: vary_n0 = 7
+    !> The curves differ in &chain kappa: Absorber strength kappa: gamma'(n) rises smoothly from 0 to 2 kappa (`values`).
+    integer, parameter, public :: vary_kappa = 8
+    !> The curves differ in &chain sigma: Absorber width sigma (sites) (`values`).
+    integer, parameter, public :: vary_sigma = 9
+    !> The curves differ in &chain eta: Weight eta of the second harmonic of the on-site potential, V(u) = 1 - cos u + eta (1 - cos
+    !> 2u), where it takes one (`values`).
+    integer, parameter, public :: vary_eta = 10
+    !> The curves differ in &drive amplitude: Driving amplitude A (`values`).
+    integer, parameter, public :: vary_amplitude = 11
+    !> The curves differ in &drive omega: Driving frequency Omega (`values`).
+    integer, parameter, public :: vary_omega = 12
+    !> The curves differ in &drive ramp_time: Length of the linear ramp of the drive amplitude (0: no ramp) (`values`).
+    integer, parameter, public :: vary_ramp_time = 13
+    !> The curves differ in &numerics dt: Time step Delta t (`values`).
+    integer, parameter, public :: vary_dt = 14
+    !> The curves differ in &numerics t_final: Final time T (`values`).
+    integer, parameter, public :: vary_t_final = 15
+    !> The curves differ in &numerics newton_tol: Newton accepts a step when its proven error bound (quadratic convergence) is at
+    !> most this and, in runs that keep the energy ledger (all but search runs), the ledger closes to roundoff (`values`).
+    integer, parameter, public :: vary_newton_tol = 16
+    !> The curves differ in &numerics newton_max_iter: Newton iteration cap; reaching it without convergence fails the run
+    !> (`values`).
+    integer, parameter, public :: vary_newton_max_iter = 17
+    !> The curves differ in &numerics blowup_threshold: A run whose |u_n| exceeds this is declared diverged (blown up) (`values`).
+    integer, parameter, public :: vary_blowup_threshold = 18
+    !> Names of the numeric keys (&scene vary), in the order of their numbers.
+    character(len=*), parameter, public :: vary_choices(*) = [character(len=16) :: "none", "c", "m2", "gamma", "beta", "n", "n0", &
+        "kappa", "sigma", "eta", "amplitude", "omega", "ramp_time", "dt", "t_final", "newton_tol", "newton_max_iter", &
+        "blowup_threshold"]
 
     !> Largest number of curves a scene may vary over (`values`), and of `amplitudes` and `c_values`.
     integer, parameter, public :: max_curve_values = 16
@@ -202,8 +243,95 @@ module supratrans_config
         logical :: quiet = .false.
     end type output_params
 
+    !> The continuation scene's protocol past a fold (supratrans_fold_fate, supratrans_chain_watch): how a fold's fate is watched,
+    !> how the chain is followed past it, the branch switch and the stairs (&scene fate_*, follow_*, switch_*, fold_stair_*).
+    type, public :: fold_protocol
+        !> Continuation (shooting): Newton-shooting converges when max |P(x) - x| <= this (&scene continuation_tol).
+        real(wp) :: continuation_tol = 1.0e-10_wp
+        !> Continuation (shooting): most corrector iterations of a point (chord and Newton steps together) (&scene
+        !> continuation_max_iter).
+        integer :: continuation_max_iter = 12
+        !> Continuation (shooting): a chord step not this factor smaller than the one before refreshes the Jacobian (&scene
+        !> continuation_chord_rate).
+        real(wp) :: continuation_chord_rate = 0.5_wp
+        !> Continuation (shooting): a point corrected in at most this many iterations lets the step grow by 1.5 (&scene
+        !> continuation_fast_iter).
+        integer :: continuation_fast_iter = 3
+        !> Continuation (shooting): a point corrected in this many iterations or more shrinks the step by 0.6 (&scene
+        !> continuation_slow_iter).
+        integer :: continuation_slow_iter = 7
+        !> Continuation (shooting): smallest pseudo-arclength step; below it the branch ends (status step_too_small) (&scene
+        !> continuation_step_min).
+        real(wp) :: continuation_step_min = 1.0e-08_wp
+        !> Continuation (shooting): largest turn of the tangent in one step; a larger one halves the step (&scene
+        !> continuation_max_angle).
+        real(wp) :: continuation_max_angle = 0.5_wp
+        !> Continuation (shooting): accuracy in A of the located fold and of the located loss of stability (&scene fold_tol).
+        real(wp) :: fold_tol = 1.0e-10_wp
+        !> Continuation: a fold's fate is watched at A_f (1 + fate_push) (also past a branch point and the last stair) (&scene
+        !> fate_push).
+        real(wp) :: fate_push = 0.01_wp
+        !> Continuation: how long the chain pushed past a fold is watched for transmission (&scene fate_watch_time).
+        real(wp) :: fate_watch_time = 1000.0_wp
+        !> Continuation: fewest drive periods a fold's fate is watched (&scene fate_min_periods).
+        integer :: fate_min_periods = 20
+        !> Continuation: amplitude step of the stairs past a torus or a period doubling, or from where the chain settled (&scene
+        !> fold_stair_height).
+        real(wp) :: stair_height = 0.01_wp
+        !> Continuation: time the chain is driven on each of those stairs (whole periods, at least one) (&scene fold_stair_time).
+        real(wp) :: stair_time = 200.0_wp
+        !> Continuation: climbs of the stairs besides the first (from seeded starts): their spread is /transmission_spread (&scene
+        !> stair_climbs).
+        integer :: other_climbs = 2
+        !> Continuation: most branches followed from rest to the fold past which the chain transmits (&scene follow_branches).
+        integer :: max_branches = 4
+        !> Continuation: most Newton-shooting iterations from where the chain settled past a fold (&scene follow_max_iter).
+        integer :: follow_max_iter = 40
+        !> Continuation: that Newton-shooting gives up when its residual grows this many times its first value (&scene
+        !> follow_growth_limit).
+        real(wp) :: follow_growth_limit = 10.0_wp
+        !> Continuation: most damped Newton-shooting steps from where the chain settled, before the continuation's own (&scene
+        !> settle_iterations).
+        integer :: settle_iterations = 30
+        !> Continuation: max |P(x) - x| at which the damped Newton-shooting from where the chain settled stops (&scene settle_tol).
+        real(wp) :: settle_tol = 1.0e-09_wp
+        !> Continuation: a settled periodic state has the half-period symmetry when max |G(x) - x| <= this (&scene symmetric_tol).
+        real(wp) :: symmetric_tol = 1.0e-08_wp
+        !> Continuation: distance of the other branch's first point from a branch point (4 switch_step when that fails) (&scene
+        !> switch_step).
+        real(wp) :: switch_step = 0.05_wp
+        !> Continuation: the small asymmetry given to the chain past a branch point or a loss of stability (stairs) (&scene
+        !> switch_seed).
+        real(wp) :: switch_seed = 0.001_wp
+    end type fold_protocol
+
+    !> The short chain of a fold line (&scene chain = 'short', supratrans_short_chain): N0 from the scheme's decay rate, the
+    !> absorber's sigma from the wavenumber of the lowest radiated odd harmonic (&scene short_*).
+    type, public :: short_chain_params
+        !> Short chain: lambda' N0, the decay of the linear state where the absorber starts (&scene short_decay).
+        real(wp) :: decay = 7.0_wp
+        !> Short chain: fewest sites N0 before its absorber (&scene short_n0_min).
+        integer :: n0_min = 20
+        !> Short chain: least sigma of its absorber ramp (&scene short_sigma_min).
+        real(wp) :: sigma_min = 6.0_wp
+        !> Short chain: largest sigma of its absorber (taken when an odd harmonic sits at the band edge) (&scene short_sigma_max).
+        real(wp) :: sigma_max = 20.0_wp
+        !> Short chain: sigma q of its absorber, q the wavenumber of the lowest odd harmonic in the phonon band (&scene
+        !> short_sigma_q).
+        real(wp) :: sigma_q = 3.4_wp
+        !> Short chain: sites N - N0 of its absorber per unit of its sigma (&scene short_width_per_sigma).
+        integer :: width_per_sigma = 10
+        !> Short chain: relative distance in Omega^2 from the lower band edge within which a harmonic counts as at the edge (&scene
+        !> short_edge_margin).
+        real(wp) :: band_edge_margin = 0.01_wp
+    end type short_chain_params
+
     !> The study to run and its controls.
     type, public :: scene_params
+        !> The fold protocol of the continuation scene.
+        type(fold_protocol) :: protocol
+        !> The short chain of the continuation scene.
+        type(short_chain_params) :: short
         !> Scene: the study to run (&scene kind).
         character(len=name_len) :: kind = "timeseries"
         !> Amplitude axis of sweeps and maps, and the search range of the bifurcation scene: lower end (&scene amplitude_min).
@@ -218,7 +346,8 @@ module supratrans_config
         real(wp) :: omega_max = 1.0_wp
         !> Frequency step (&scene omega_step).
         real(wp) :: omega_step = 0.05_wp
-        !> Parameter that differs between curves (&scene vary).
+        !> Parameter that differs between curves: 'none' or any numeric key of &chain, &drive or &numerics (c, n, kappa, dt, ...)
+        !> (&scene vary).
         integer :: vary = vary_none
         !> Values of the varied parameter, one curve each (in the units of that parameter) (&scene values).
         real(wp), allocatable :: values(:)
@@ -308,6 +437,9 @@ module supratrans_config
         !> Hysteresis: a stair transmits when its mean power through the bond beyond the detector site exceeds this (transmitting
         !> stairs carry 0.3 - 4 here) (&scene power_threshold).
         real(wp) :: power_threshold = 0.05_wp
+        !> Continuation (shooting): the chain of each task: 'input' (the &chain as given) or 'short' (the short chain of its Omega,
+        !> short_*) (&scene chain).
+        integer :: chain = chain_input
     end type scene_params
 
     !> A whole validated input file.

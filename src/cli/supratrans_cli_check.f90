@@ -45,7 +45,7 @@ contains
         if (.not. allocated(error)) then
             warnings = input_warnings(cfg)   ! the lines the run says too
             do i = 1, size(warnings)
-                write (error_unit, "(a)") printable(warnings(i))
+                write (error_unit, "(a)") printable(trim(warnings(i)))
             end do
         end if
         if (.not. allocated(error)) call check_output_location(cfg, error, create=.false.)

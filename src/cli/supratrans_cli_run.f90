@@ -105,7 +105,7 @@ contains
         end if
         warnings = input_warnings(cfg)   ! what --check says too (a key the scene does not use)
         do i = 1, size(warnings)
-            write (error_unit, "(a)") printable(warnings(i))
+            write (error_unit, "(a)") printable(trim(warnings(i)))
         end do
         call with_lock(cfg, inv, status, error)
     end subroutine run_from_file

@@ -34,6 +34,8 @@ module supratrans_keys
     integer, parameter :: bound_len = 16
     !> Length of descriptions and other texts of the table.
     integer, parameter :: text_len = 200
+    !> Length of the list of scenes that use a key.
+    integer, parameter :: scenes_len = 120
 
     !> One key of the input: where it is given, its type and count, its range, how it is stored and what it is. The
     !> table gives the first eight components in order (group, key, type, attribute, units, default, range,
@@ -69,6 +71,8 @@ module supratrans_keys
         character(len=text_len) :: message = ""
         !> For a list: index of the key whose value an unset list stands for (0: none; stored empty).
         integer :: unset = 0
+        !> For a key of &scene: the scenes that use it, "map, bifurcation" (blank: every scene).
+        character(len=scenes_len) :: scenes = ""
     end type key_spec
 
     !> A value derived from the keys that `/parameters` stores next to them (linear theory of the base run).

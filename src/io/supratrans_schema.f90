@@ -6,7 +6,7 @@
 module supratrans_schema
     use supratrans_kinds, only: wp, name_len
     use supratrans_config, only: input_config, method_choices, scene_choices, screen_choices, solver_choices, closure_choices, &
-        vary_choices, max_curve_values, max_probes, max_scene_methods, max_scene_dts
+        scene_chain_choices, vary_choices, max_curve_values, max_probes, max_scene_methods, max_scene_dts
     use supratrans_keys, only: key_spec, derived_spec, key_value, kt_integer, kt_real, kt_logical, kt_name, kt_path, &
         set_list, list_value
     implicit none
@@ -26,8 +26,10 @@ module supratrans_schema
     integer, parameter, public :: choice_solver = 5
     !> Choice set of the closure names (`closure_choices`).
     integer, parameter, public :: choice_closure = 6
-    !> Choice set of the parameter names (`vary_choices`).
-    integer, parameter, public :: choice_vary = 7
+    !> Choice set of the chain names (`scene_chain_choices`).
+    integer, parameter, public :: choice_scene_chain = 7
+    !> Choice set of the numeric key names (`vary_choices`).
+    integer, parameter, public :: choice_vary = 8
 
     !> Sine-Gordon potential V(u) = 1 - cos u.
     integer, parameter, public :: potential_sine_gordon = 1
@@ -56,9 +58,17 @@ module supratrans_schema
         key_scene_confirm_band = 52, key_scene_screen_margin = 53, key_scene_certify = 54, key_scene_methods = 55, &
         key_scene_dts = 56, key_scene_dt_smallest = 57, key_scene_amplitudes = 58, key_scene_c_values = 59, &
         key_scene_repeats = 60, key_scene_reference_dt = 61, key_scene_stair_times = 62, key_scene_stair_height = 63, &
-        key_scene_stair_ramp = 64, key_scene_power_threshold = 65, key_detect_site = 66, key_detect_amplitude = 67, &
-        key_detect_stop_when_decided = 68, key_output_file = 69, key_output_overwrite = 70, key_output_checkpoint_every = 71, &
-        key_output_quiet = 72
+        key_scene_stair_ramp = 64, key_scene_power_threshold = 65, key_scene_chain = 66, key_scene_continuation_tol = 67, &
+        key_scene_continuation_max_iter = 68, key_scene_continuation_chord_rate = 69, key_scene_continuation_fast_iter = 70, &
+        key_scene_continuation_slow_iter = 71, key_scene_continuation_step_min = 72, key_scene_continuation_max_angle = 73, &
+        key_scene_fold_tol = 74, key_scene_fate_push = 75, key_scene_fate_watch_time = 76, key_scene_fate_min_periods = 77, &
+        key_scene_fold_stair_height = 78, key_scene_fold_stair_time = 79, key_scene_stair_climbs = 80, &
+        key_scene_follow_branches = 81, key_scene_follow_max_iter = 82, key_scene_follow_growth_limit = 83, &
+        key_scene_settle_iterations = 84, key_scene_settle_tol = 85, key_scene_symmetric_tol = 86, key_scene_switch_step = 87, &
+        key_scene_switch_seed = 88, key_scene_short_decay = 89, key_scene_short_n0_min = 90, key_scene_short_sigma_min = 91, &
+        key_scene_short_sigma_max = 92, key_scene_short_sigma_q = 93, key_scene_short_width_per_sigma = 94, &
+        key_scene_short_edge_margin = 95, key_detect_site = 96, key_detect_amplitude = 97, key_detect_stop_when_decided = 98, &
+        key_output_file = 99, key_output_overwrite = 100, key_output_checkpoint_every = 101, key_output_quiet = 102
 
     !> The keys of &chain.
     type(key_spec), parameter :: chain_keys(*) = [ &
@@ -131,115 +141,224 @@ module supratrans_schema
             "'timeseries', 'amplitude_sweep', 'map', 'bifurcation', 'work_precision', 'stability', 'continuation', 'hystere" // &
             "sis'", "Scene: the study to run", choices=choice_scene), &
         key_spec("scene", "amplitude_min", kt_real, "amplitude_min", "rad", "1", ">= 0", &
-            "Amplitude axis of sweeps and maps, and the search range of the bifurcation scene: lower end", lower=">= 0"), &
+            "Amplitude axis of sweeps and maps, and the search range of the bifurcation scene: lower end", lower=">= 0", &
+            scenes="amplitude_sweep, map, bifurcation, hysteresis"), &
         key_spec("scene", "amplitude_max", kt_real, "amplitude_max", "rad", "3", ">= amplitude_min", &
-            "Upper end of the amplitude axis / search range"), &
+            "Upper end of the amplitude axis / search range", &
+            scenes="amplitude_sweep, map, bifurcation, continuation, hysteresis"), &
         key_spec("scene", "amplitude_step", kt_real, "amplitude_step", "rad", "0.01", "> 0", &
-            "Amplitude step of sweeps and maps", lower="> 0"), &
+            "Amplitude step of sweeps and maps", lower="> 0", scenes="amplitude_sweep, map"), &
         key_spec("scene", "omega_min", kt_real, "omega_min", "1/time", "0.05", "> 0", &
-            "Frequency axis of maps and bifurcation diagrams: lower end", lower="> 0"), &
-        key_spec("scene", "omega_max", kt_real, "omega_max", "1/time", "1", ">= omega_min", "Upper end of the frequency axis"), &
-        key_spec("scene", "omega_step", kt_real, "omega_step", "1/time", "0.05", "> 0", "Frequency step", lower="> 0"), &
-        key_spec("scene", "vary", kt_name, "vary", "1", "'none'", "'none', 'gamma', 'beta', 'm2'", &
-            "Parameter that differs between curves", choices=choice_vary, ids=.true.), &
+            "Frequency axis of maps and bifurcation diagrams: lower end", lower="> 0", &
+            scenes="map, bifurcation, continuation, hysteresis"), &
+        key_spec("scene", "omega_max", kt_real, "omega_max", "1/time", "1", ">= omega_min", "Upper end of the frequency axis", &
+            scenes="map, bifurcation, continuation, hysteresis"), &
+        key_spec("scene", "omega_step", kt_real, "omega_step", "1/time", "0.05", "> 0", "Frequency step", lower="> 0", &
+            scenes="map, bifurcation, continuation, hysteresis"), &
+        key_spec("scene", "vary", kt_name, "vary", "1", "'none'", &
+            "'none', 'c', 'm2', 'gamma', 'beta', 'n', 'n0', 'kappa', 'sigma', 'eta', 'amplitude', 'omega', 'ramp_time', 'dt" // &
+            "', 't_final', 'newton_tol', 'newton_max_iter', 'blowup_threshold'", &
+            "Parameter that differs between curves: 'none' or any numeric key of &chain, &drive or &numerics (c, n, kappa, " // &
+            "dt, ...)", choices=choice_vary, ids=.true., &
+            scenes="amplitude_sweep, map, bifurcation, stability, continuation, hysteresis"), &
         key_spec("scene", "values", kt_real, "values", "1", "unset (needed unless vary = 'none')", "up to 16 values", &
-            "Values of the varied parameter, one curve each (in the units of that parameter)", max_values=max_curve_values), &
+            "Values of the varied parameter, one curve each (in the units of that parameter)", max_values=max_curve_values, &
+            scenes="amplitude_sweep, map, bifurcation, stability, continuation, hysteresis"), &
         key_spec("scene", "potentials", kt_name, "potentials", "1", "the &chain potential", &
             "up to 2 values, each 'sine-gordon', 'klein-gordon', 'double-sine-gordon'", &
             "Potentials, one panel (sweeps, maps) or set of curves each", max_values=2, choices=choice_potential, ids=.true., &
-            unset=1), &
+            unset=1, scenes="amplitude_sweep, map, bifurcation, stability, continuation, hysteresis"), &
         key_spec("scene", "continuation_step", kt_real, "continuation_step", "rad", "0.05", "> 0; <= continuation_step_max", &
             "Continuation: first pseudo-arclength step along the branch of driven periodic states (grows and shrinks with N" // &
-            "ewton's progress)", lower="> 0"), &
+            "ewton's progress)", lower="> 0", scenes="continuation"), &
         key_spec("scene", "continuation_step_max", kt_real, "continuation_step_max", "rad", "0.2", "> 0", &
-            "Continuation: largest pseudo-arclength step", lower="> 0"), &
+            "Continuation: largest pseudo-arclength step", lower="> 0", scenes="continuation"), &
         key_spec("scene", "continuation_points", kt_integer, "continuation_points", "1", "150", ">= 3 and <= 150", &
             "Continuation: most points of a branch (the continuation stops there with status 'max_points')", lower=">= 3", &
-            upper="<= 150"), &
+            upper="<= 150", scenes="continuation"), &
         key_spec("scene", "beyond_fold", kt_integer, "beyond_fold", "1", "10", ">= 0 and <= 100", &
-            "Continuation: points followed along the unstable branch past the fold", lower=">= 0", upper="<= 100"), &
+            "Continuation: points followed along the unstable branch past the fold", lower=">= 0", upper="<= 100", &
+            scenes="continuation"), &
         key_spec("scene", "crossing_tol", kt_real, "crossing_tol", "1", "1e-06", "> 0 and <= 0.1", &
             "Continuation: a Floquet multiplier counts as outside the unit circle once its modulus exceeds 1 + crossing_tol", &
-            lower="> 0", upper="<= 0.1"), &
+            lower="> 0", upper="<= 0.1", scenes="continuation"), &
         key_spec("scene", "solver", kt_name, "solver", "1", "'shooting'", "'shooting', 'harmonic_balance'", &
             "Continuation: how the periodic state is computed ('shooting': the &numerics method's one-period map; 'harmonic" // &
-            "_balance': Fourier coefficients per site, no dt)", choices=choice_solver, ids=.true.), &
+            "_balance': Fourier coefficients per site, no dt)", choices=choice_solver, ids=.true., scenes="continuation"), &
         key_spec("scene", "harmonics", kt_integer, "harmonics", "1", "0", ">= 0 and <= 256; 0, or <= harmonics_max", &
             "Continuation with harmonic_balance: odd harmonics K of the branch from rest (0: ceiling(3 / Omega), 3 .. 16); " // &
-            "K then grows until the fold moves by <= harmonics_tol", lower=">= 0", upper="<= 256"), &
+            "K then grows until the fold moves by <= harmonics_tol", lower=">= 0", upper="<= 256", scenes="continuation"), &
         key_spec("scene", "harmonics_max", kt_integer, "harmonics_max", "1", "64", ">= 1 and <= 256", &
             "Continuation with harmonic_balance: most odd harmonics K (the fold's truncation estimate says when it was not " // &
-            "enough)", lower=">= 1", upper="<= 256"), &
+            "enough)", lower=">= 1", upper="<= 256", scenes="continuation"), &
         key_spec("scene", "harmonics_tol", kt_real, "harmonics_tol", "rad", "1e-09", "> 0", &
             "Continuation with harmonic_balance: K grows (by half, at least 2) until the fold moves by at most this", &
-            lower="> 0"), &
+            lower="> 0", scenes="continuation"), &
         key_spec("scene", "closure", kt_name, "closure", "1", "'absorber'", "'absorber', 'radiation'", &
             "Continuation with harmonic_balance: the end at site N ('absorber': u_{N+1} = 0 behind the paper's absorber; 'r" // &
-            "adiation': the linear radiation condition per harmonic)", choices=choice_closure, ids=.true.), &
+            "adiation': the linear radiation condition per harmonic)", choices=choice_closure, ids=.true., &
+            scenes="continuation"), &
         key_spec("scene", "absorber_family", kt_integer, "absorber_family", "1", "0", ">= 0 and <= 4", &
             "Continuation with harmonic_balance: each fold again with absorbers 2, 4, .. 2^absorber_family times as long an" // &
-            "d wide, and on the core N0 with radiation closure (0: none)", lower=">= 0", upper="<= 4"), &
+            "d wide, and on the core N0 with radiation closure (0: none)", lower=">= 0", upper="<= 4", scenes="continuation"), &
         key_spec("scene", "floquet_every", kt_integer, "floquet_every", "1", "4", ">= 0 and <= 100", &
             "Continuation: multipliers every this many branch points, where their trend could reach the unit circle, at the" // &
             " fold and where the verdict changes (1: every point; 0: the fold, and where one passes -1)", lower=">= 0", &
-            upper="<= 100"), &
+            upper="<= 100", scenes="continuation"), &
         key_spec("scene", "fold_convergence", kt_logical, "fold_convergence", "1", ".true.", "", &
-            "Continuation: locate each fold again at dt/2 and on a chain twice as long, for its converged digits"), &
+            "Continuation: locate each fold again at dt/2 and on a chain twice as long, for its converged digits", &
+            scenes="continuation"), &
         key_spec("scene", "coarse_step", kt_real, "coarse_step", "rad", "0.1", ">= resolution", &
-            "Bifurcation search: coarse amplitude step of the upward scan"), &
+            "Bifurcation search: coarse amplitude step of the upward scan", scenes="bifurcation"), &
         key_spec("scene", "resolution", kt_real, "resolution", "rad", "0.01", "> 0", &
-            "Bifurcation search: resolution of the threshold; stability scene: resolution of the boundary in dt", lower="> 0"), &
+            "Bifurcation search: resolution of the threshold; stability scene: resolution of the boundary in dt", lower="> 0", &
+            scenes="bifurcation, stability"), &
         key_spec("scene", "screen_method", kt_name, "screen_method", "1", "'linearized'", &
             "'none', 'newton', 'linearized', 'rk4', 'rk8'", &
             "Bifurcation search: integrator that screens amplitudes far from the threshold ('none': every run uses the &num" // &
-            "erics method; README, ""Screening"")", choices=choice_screen, ids=.true.), &
+            "erics method; README, ""Screening"")", choices=choice_screen, ids=.true., scenes="bifurcation"), &
         key_spec("scene", "screen_dt", kt_real, "screen_dt", "time", &
             "0 (2 dt, or dt where 2 dt breaks the stability condition)", ">= 0; 0, or dt <= screen_dt <= t_final/2", &
             "Bifurcation search: time step of the screening runs (0: twice the &numerics dt where that meets the paper's st" // &
-            "ability condition, else dt)", lower=">= 0"), &
+            "ability condition, else dt)", lower=">= 0", scenes="bifurcation"), &
         key_spec("scene", "confirm_band", kt_real, "confirm_band", "rad", "0.05", ">= 0", &
             "Bifurcation search: every amplitude the search asks within this distance below its threshold (and above) is ru" // &
-            "n with the &numerics method", lower=">= 0"), &
+            "n with the &numerics method", lower=">= 0", scenes="bifurcation"), &
         key_spec("scene", "screen_margin", kt_real, "screen_margin", "1", "0.5", ">= 0 and <= 1", &
             "Bifurcation search: a quiet screening run whose verdict margin (1 - max|u|/amplitude beyond the detector) is b" // &
-            "elow this is run again with the &numerics method", lower=">= 0", upper="<= 1"), &
+            "elow this is run again with the &numerics method", lower=">= 0", upper="<= 1", scenes="bifurcation"), &
         key_spec("scene", "certify", kt_logical, "certify", "1", ".false.", "", &
             "Bifurcation search: recheck each threshold with the &numerics method at dt/2 and flag it if it moves more than" // &
-            " the resolution"), &
+            " the resolution", scenes="bifurcation"), &
         key_spec("scene", "methods", kt_name, "methods", "1", "all", &
             "up to 8 values, each 'newton', 'linearized', 'rk4', 'rk8', 'avf4', 'avf8'", &
             "Work-precision and stability scenes: the integrators compared", max_values=max_scene_methods, &
-            choices=choice_method, ids=.true.), &
+            choices=choice_method, ids=.true., scenes="work_precision, stability"), &
         key_spec("scene", "dts", kt_real, "dts", "time", "the scene's list", &
             "up to 64 values, each > 0; <= t_final/2 (work_precision)", &
             "Work-precision: the time steps (each method runs those >= its dt_smallest); stability: the dt axis", &
-            max_values=max_scene_dts, lower="> 0"), &
+            max_values=max_scene_dts, lower="> 0", scenes="work_precision, stability"), &
         key_spec("scene", "dt_smallest", kt_real, "dt_smallest", "time", "0 for every method", &
             "up to 8 values, each >= 0; one value per entry of methods", &
             "Work-precision: smallest dt run for each method, one per entry of methods (0: every dt of dts)", &
-            max_values=max_scene_methods, lower=">= 0"), &
+            max_values=max_scene_methods, lower=">= 0", scenes="work_precision"), &
         key_spec("scene", "amplitudes", kt_real, "amplitudes", "rad", "the &drive amplitude", "up to 16 values, each > 0", &
-            "Work-precision: the drive amplitudes (one set of runs each)", max_values=max_curve_values, lower="> 0"), &
+            "Work-precision: the drive amplitudes (one set of runs each)", max_values=max_curve_values, lower="> 0", &
+            scenes="work_precision"), &
         key_spec("scene", "c_values", kt_real, "c_values", "1/time", "the &chain c", "up to 16 values, each > 0", &
             "Stability: the values of the coupling c (the c axis); continuation with harmonic_balance: the couplings of the" // &
-            " continuum limit (N, N0, sigma scaled with c)", max_values=max_curve_values, lower="> 0"), &
+            " continuum limit (N, N0, sigma scaled with c)", max_values=max_curve_values, lower="> 0", &
+            scenes="stability, continuation"), &
         key_spec("scene", "repeats", kt_integer, "repeats", "1", "3", ">= 1 and <= 1000", &
-            "Work-precision: timed repetitions of each run (the median wall time is recorded)", lower=">= 1", upper="<= 1000"), &
+            "Work-precision: timed repetitions of each run (the median wall time is recorded)", lower=">= 1", upper="<= 1000", &
+            scenes="work_precision"), &
         key_spec("scene", "reference_dt", kt_real, "reference_dt", "time", "0.025", "> 0; <= t_final/2", &
-            "Work-precision: step of the reference solution (rk8 at reference_dt/2, checked against reference_dt)", lower="> 0"), &
+            "Work-precision: step of the reference solution (rk8 at reference_dt/2, checked against reference_dt)", &
+            lower="> 0", scenes="work_precision"), &
         key_spec("scene", "stair_times", kt_real, "stair_times", "time", "400 (one stair length)", &
             "up to 16 values, each > 0; >= 2 stair_ramp", &
             "Hysteresis: the stair lengths (one run each per curve and Omega); the spread of the edges over them is the pro" // &
-            "tocol's part", max_values=max_curve_values, lower="> 0"), &
+            "tocol's part", max_values=max_curve_values, lower="> 0", scenes="hysteresis"), &
         key_spec("scene", "stair_height", kt_real, "stair_height", "rad", "0.02", "> 0", &
             "Hysteresis: amplitude step between two stairs (levels amplitude_min + i stair_height <= amplitude_max)", &
-            lower="> 0"), &
+            lower="> 0", scenes="hysteresis"), &
         key_spec("scene", "stair_ramp", kt_real, "stair_ramp", "time", "10", ">= 0; <= stair_times/2", &
             "Hysteresis: length of the linear ramp between two stairs (at the start of each stair, so that the drive stays " // &
-            "continuous)", lower=">= 0"), &
+            "continuous)", lower=">= 0", scenes="hysteresis"), &
         key_spec("scene", "power_threshold", kt_real, "power_threshold", "energy/time", "0.05", "> 0", &
             "Hysteresis: a stair transmits when its mean power through the bond beyond the detector site exceeds this (tran" // &
-            "smitting stairs carry 0.3 - 4 here)", lower="> 0")]
+            "smitting stairs carry 0.3 - 4 here)", lower="> 0", scenes="hysteresis"), &
+        key_spec("scene", "chain", kt_name, "chain", "1", "'input'", "'input', 'short'", &
+            "Continuation (shooting): the chain of each task: 'input' (the &chain as given) or 'short' (the short chain of " // &
+            "its Omega, short_*)", choices=choice_scene_chain, ids=.true., scenes="continuation"), &
+        key_spec("scene", "continuation_tol", kt_real, "continuation_tol", "rad", "1e-10", "> 0", &
+            "Continuation (shooting): Newton-shooting converges when max |P(x) - x| <= this", lower="> 0", &
+            scenes="continuation"), &
+        key_spec("scene", "continuation_max_iter", kt_integer, "continuation_max_iter", "1", "12", ">= 1 and <= 1000", &
+            "Continuation (shooting): most corrector iterations of a point (chord and Newton steps together)", lower=">= 1", &
+            upper="<= 1000", scenes="continuation"), &
+        key_spec("scene", "continuation_chord_rate", kt_real, "continuation_chord_rate", "1", "0.5", "> 0 and < 1", &
+            "Continuation (shooting): a chord step not this factor smaller than the one before refreshes the Jacobian", &
+            lower="> 0", upper="< 1", scenes="continuation"), &
+        key_spec("scene", "continuation_fast_iter", kt_integer, "continuation_fast_iter", "1", "3", ">= 1 and <= 1000", &
+            "Continuation (shooting): a point corrected in at most this many iterations lets the step grow by 1.5", &
+            lower=">= 1", upper="<= 1000", scenes="continuation"), &
+        key_spec("scene", "continuation_slow_iter", kt_integer, "continuation_slow_iter", "1", "7", &
+            ">= 1 and <= 1000; > continuation_fast_iter", &
+            "Continuation (shooting): a point corrected in this many iterations or more shrinks the step by 0.6", lower=">= 1", &
+            upper="<= 1000", scenes="continuation"), &
+        key_spec("scene", "continuation_step_min", kt_real, "continuation_step_min", "rad", "1e-08", &
+            "> 0; <= continuation_step", &
+            "Continuation (shooting): smallest pseudo-arclength step; below it the branch ends (status step_too_small)", &
+            lower="> 0", scenes="continuation"), &
+        key_spec("scene", "continuation_max_angle", kt_real, "continuation_max_angle", "rad", "0.5", &
+            "> 0 and <= 3.141592653589793", &
+            "Continuation (shooting): largest turn of the tangent in one step; a larger one halves the step", lower="> 0", &
+            upper="<= 3.141592653589793", scenes="continuation"), &
+        key_spec("scene", "fold_tol", kt_real, "fold_tol", "rad", "1e-10", "> 0", &
+            "Continuation (shooting): accuracy in A of the located fold and of the located loss of stability", lower="> 0", &
+            scenes="continuation"), &
+        key_spec("scene", "fate_push", kt_real, "fate_push", "1", "0.01", "> 0 and <= 1", &
+            "Continuation: a fold's fate is watched at A_f (1 + fate_push) (also past a branch point and the last stair)", &
+            lower="> 0", upper="<= 1", scenes="continuation"), &
+        key_spec("scene", "fate_watch_time", kt_real, "fate_watch_time", "time", "1000", "> 0", &
+            "Continuation: how long the chain pushed past a fold is watched for transmission", lower="> 0", &
+            scenes="continuation"), &
+        key_spec("scene", "fate_min_periods", kt_integer, "fate_min_periods", "1", "20", ">= 1 and <= 1000000", &
+            "Continuation: fewest drive periods a fold's fate is watched", lower=">= 1", upper="<= 1000000", &
+            scenes="continuation"), &
+        key_spec("scene", "fold_stair_height", kt_real, "fold_stair_height", "rad", "0.01", "> 0", &
+            "Continuation: amplitude step of the stairs past a torus or a period doubling, or from where the chain settled", &
+            lower="> 0", scenes="continuation"), &
+        key_spec("scene", "fold_stair_time", kt_real, "fold_stair_time", "time", "200", "> 0", &
+            "Continuation: time the chain is driven on each of those stairs (whole periods, at least one)", lower="> 0", &
+            scenes="continuation"), &
+        key_spec("scene", "stair_climbs", kt_integer, "stair_climbs", "1", "2", ">= 0 and <= 16", &
+            "Continuation: climbs of the stairs besides the first (from seeded starts): their spread is /transmission_spread", &
+            lower=">= 0", upper="<= 16", scenes="continuation"), &
+        key_spec("scene", "follow_branches", kt_integer, "follow_branches", "1", "4", ">= 1 and <= 100", &
+            "Continuation: most branches followed from rest to the fold past which the chain transmits", lower=">= 1", &
+            upper="<= 100", scenes="continuation"), &
+        key_spec("scene", "follow_max_iter", kt_integer, "follow_max_iter", "1", "40", ">= 1 and <= 1000", &
+            "Continuation: most Newton-shooting iterations from where the chain settled past a fold", lower=">= 1", &
+            upper="<= 1000", scenes="continuation"), &
+        key_spec("scene", "follow_growth_limit", kt_real, "follow_growth_limit", "1", "10", "> 1", &
+            "Continuation: that Newton-shooting gives up when its residual grows this many times its first value", lower="> 1", &
+            scenes="continuation"), &
+        key_spec("scene", "settle_iterations", kt_integer, "settle_iterations", "1", "30", ">= 0 and <= 1000", &
+            "Continuation: most damped Newton-shooting steps from where the chain settled, before the continuation's own", &
+            lower=">= 0", upper="<= 1000", scenes="continuation"), &
+        key_spec("scene", "settle_tol", kt_real, "settle_tol", "rad", "1e-09", "> 0", &
+            "Continuation: max |P(x) - x| at which the damped Newton-shooting from where the chain settled stops", lower="> 0", &
+            scenes="continuation"), &
+        key_spec("scene", "symmetric_tol", kt_real, "symmetric_tol", "rad", "1e-08", "> 0", &
+            "Continuation: a settled periodic state has the half-period symmetry when max |G(x) - x| <= this", lower="> 0", &
+            scenes="continuation"), &
+        key_spec("scene", "switch_step", kt_real, "switch_step", "rad", "0.05", "> 0", &
+            "Continuation: distance of the other branch's first point from a branch point (4 switch_step when that fails)", &
+            lower="> 0", scenes="continuation"), &
+        key_spec("scene", "switch_seed", kt_real, "switch_seed", "rad", "0.001", "> 0", &
+            "Continuation: the small asymmetry given to the chain past a branch point or a loss of stability (stairs)", &
+            lower="> 0", scenes="continuation"), &
+        key_spec("scene", "short_decay", kt_real, "short_decay", "1", "7", "> 0", &
+            "Short chain: lambda' N0, the decay of the linear state where the absorber starts", lower="> 0", &
+            scenes="continuation"), &
+        key_spec("scene", "short_n0_min", kt_integer, "short_n0_min", "1", "20", ">= 1 and <= 1000000", &
+            "Short chain: fewest sites N0 before its absorber", lower=">= 1", upper="<= 1000000", scenes="continuation"), &
+        key_spec("scene", "short_sigma_min", kt_real, "short_sigma_min", "1", "6", "> 0; <= short_sigma_max", &
+            "Short chain: least sigma of its absorber ramp", lower="> 0", scenes="continuation"), &
+        key_spec("scene", "short_sigma_max", kt_real, "short_sigma_max", "1", "20", "> 0 and <= 100000", &
+            "Short chain: largest sigma of its absorber (taken when an odd harmonic sits at the band edge)", lower="> 0", &
+            upper="<= 100000", scenes="continuation"), &
+        key_spec("scene", "short_sigma_q", kt_real, "short_sigma_q", "1", "3.4", "> 0", &
+            "Short chain: sigma q of its absorber, q the wavenumber of the lowest odd harmonic in the phonon band", &
+            lower="> 0", scenes="continuation"), &
+        key_spec("scene", "short_width_per_sigma", kt_integer, "short_width_per_sigma", "1", "10", ">= 1 and <= 1000", &
+            "Short chain: sites N - N0 of its absorber per unit of its sigma", lower=">= 1", upper="<= 1000", &
+            scenes="continuation"), &
+        key_spec("scene", "short_edge_margin", kt_real, "short_edge_margin", "1", "0.01", ">= 0 and <= 0.5", &
+            "Short chain: relative distance in Omega^2 from the lower band edge within which a harmonic counts as at the edge", &
+            lower=">= 0", upper="<= 0.5", scenes="continuation")]
 
     !> The keys of &detect.
     type(key_spec), parameter :: detect_keys(*) = [ &
@@ -265,6 +384,12 @@ module supratrans_schema
     !> Every key of the input, grouped; the order of the groups is the order in which they are converted and checked.
     type(key_spec), parameter, public :: key_table(*) = [chain_keys, drive_keys, numerics_keys, record_keys, scene_keys, &
         detect_keys, output_keys]
+
+    !> Index in `key_table` of the key each numeric key of `vary_choices` names (0: none).
+    integer, parameter, public :: vary_keys(*) = [0, key_chain_c, key_chain_m2, key_chain_gamma, key_chain_beta, key_chain_n, &
+        key_chain_n0, key_chain_kappa, key_chain_sigma, key_chain_eta, key_drive_amplitude, key_drive_omega, key_drive_ramp_time, &
+        key_numerics_dt, key_numerics_t_final, key_numerics_newton_tol, key_numerics_newton_max_iter, &
+        key_numerics_blowup_threshold]
 
     !> Values derived from the keys that `/parameters` stores too.
     type(derived_spec), parameter, public :: derived_table(*) = [ &
@@ -292,6 +417,7 @@ contains
         if (set == choice_screen) names = screen_choices
         if (set == choice_solver) names = solver_choices
         if (set == choice_closure) names = closure_choices
+        if (set == choice_scene_chain) names = scene_chain_choices
         if (set == choice_vary) names = vary_choices
     end function choice_names
 
@@ -308,7 +434,8 @@ contains
         if (set == choice_screen) noun = "screening method"
         if (set == choice_solver) noun = "continuation solver"
         if (set == choice_closure) noun = "closure"
-        if (set == choice_vary) noun = "parameter"
+        if (set == choice_scene_chain) noun = "chain"
+        if (set == choice_vary) noun = "numeric key"
     end function choice_noun
 
     !> The value of key `ik` of `key_table` in a configuration (`n = 0` for a list that is not set). Named
@@ -386,6 +513,36 @@ contains
         if (ik == key_scene_stair_height) v = key_value(1, reals=[cfg%scene%stair_height])
         if (ik == key_scene_stair_ramp) v = key_value(1, reals=[cfg%scene%stair_ramp])
         if (ik == key_scene_power_threshold) v = key_value(1, reals=[cfg%scene%power_threshold])
+        if (ik == key_scene_chain) v = key_value(1, ints=[cfg%scene%chain])
+        if (ik == key_scene_continuation_tol) v = key_value(1, reals=[cfg%scene%protocol%continuation_tol])
+        if (ik == key_scene_continuation_max_iter) v = key_value(1, ints=[cfg%scene%protocol%continuation_max_iter])
+        if (ik == key_scene_continuation_chord_rate) v = key_value(1, reals=[cfg%scene%protocol%continuation_chord_rate])
+        if (ik == key_scene_continuation_fast_iter) v = key_value(1, ints=[cfg%scene%protocol%continuation_fast_iter])
+        if (ik == key_scene_continuation_slow_iter) v = key_value(1, ints=[cfg%scene%protocol%continuation_slow_iter])
+        if (ik == key_scene_continuation_step_min) v = key_value(1, reals=[cfg%scene%protocol%continuation_step_min])
+        if (ik == key_scene_continuation_max_angle) v = key_value(1, reals=[cfg%scene%protocol%continuation_max_angle])
+        if (ik == key_scene_fold_tol) v = key_value(1, reals=[cfg%scene%protocol%fold_tol])
+        if (ik == key_scene_fate_push) v = key_value(1, reals=[cfg%scene%protocol%fate_push])
+        if (ik == key_scene_fate_watch_time) v = key_value(1, reals=[cfg%scene%protocol%fate_watch_time])
+        if (ik == key_scene_fate_min_periods) v = key_value(1, ints=[cfg%scene%protocol%fate_min_periods])
+        if (ik == key_scene_fold_stair_height) v = key_value(1, reals=[cfg%scene%protocol%stair_height])
+        if (ik == key_scene_fold_stair_time) v = key_value(1, reals=[cfg%scene%protocol%stair_time])
+        if (ik == key_scene_stair_climbs) v = key_value(1, ints=[cfg%scene%protocol%other_climbs])
+        if (ik == key_scene_follow_branches) v = key_value(1, ints=[cfg%scene%protocol%max_branches])
+        if (ik == key_scene_follow_max_iter) v = key_value(1, ints=[cfg%scene%protocol%follow_max_iter])
+        if (ik == key_scene_follow_growth_limit) v = key_value(1, reals=[cfg%scene%protocol%follow_growth_limit])
+        if (ik == key_scene_settle_iterations) v = key_value(1, ints=[cfg%scene%protocol%settle_iterations])
+        if (ik == key_scene_settle_tol) v = key_value(1, reals=[cfg%scene%protocol%settle_tol])
+        if (ik == key_scene_symmetric_tol) v = key_value(1, reals=[cfg%scene%protocol%symmetric_tol])
+        if (ik == key_scene_switch_step) v = key_value(1, reals=[cfg%scene%protocol%switch_step])
+        if (ik == key_scene_switch_seed) v = key_value(1, reals=[cfg%scene%protocol%switch_seed])
+        if (ik == key_scene_short_decay) v = key_value(1, reals=[cfg%scene%short%decay])
+        if (ik == key_scene_short_n0_min) v = key_value(1, ints=[cfg%scene%short%n0_min])
+        if (ik == key_scene_short_sigma_min) v = key_value(1, reals=[cfg%scene%short%sigma_min])
+        if (ik == key_scene_short_sigma_max) v = key_value(1, reals=[cfg%scene%short%sigma_max])
+        if (ik == key_scene_short_sigma_q) v = key_value(1, reals=[cfg%scene%short%sigma_q])
+        if (ik == key_scene_short_width_per_sigma) v = key_value(1, ints=[cfg%scene%short%width_per_sigma])
+        if (ik == key_scene_short_edge_margin) v = key_value(1, reals=[cfg%scene%short%band_edge_margin])
         if (ik == key_detect_site) v = key_value(1, ints=[cfg%run%detect%site])
         if (ik == key_detect_amplitude) v = key_value(1, reals=[cfg%run%detect%amplitude])
         if (ik == key_detect_stop_when_decided) v = key_value(1, flag=cfg%run%detect%stop_when_decided)
@@ -470,6 +627,36 @@ contains
         if (ik == key_scene_stair_height) cfg%scene%stair_height = v%reals(1)
         if (ik == key_scene_stair_ramp) cfg%scene%stair_ramp = v%reals(1)
         if (ik == key_scene_power_threshold) cfg%scene%power_threshold = v%reals(1)
+        if (ik == key_scene_chain) cfg%scene%chain = v%ints(1)
+        if (ik == key_scene_continuation_tol) cfg%scene%protocol%continuation_tol = v%reals(1)
+        if (ik == key_scene_continuation_max_iter) cfg%scene%protocol%continuation_max_iter = v%ints(1)
+        if (ik == key_scene_continuation_chord_rate) cfg%scene%protocol%continuation_chord_rate = v%reals(1)
+        if (ik == key_scene_continuation_fast_iter) cfg%scene%protocol%continuation_fast_iter = v%ints(1)
+        if (ik == key_scene_continuation_slow_iter) cfg%scene%protocol%continuation_slow_iter = v%ints(1)
+        if (ik == key_scene_continuation_step_min) cfg%scene%protocol%continuation_step_min = v%reals(1)
+        if (ik == key_scene_continuation_max_angle) cfg%scene%protocol%continuation_max_angle = v%reals(1)
+        if (ik == key_scene_fold_tol) cfg%scene%protocol%fold_tol = v%reals(1)
+        if (ik == key_scene_fate_push) cfg%scene%protocol%fate_push = v%reals(1)
+        if (ik == key_scene_fate_watch_time) cfg%scene%protocol%fate_watch_time = v%reals(1)
+        if (ik == key_scene_fate_min_periods) cfg%scene%protocol%fate_min_periods = v%ints(1)
+        if (ik == key_scene_fold_stair_height) cfg%scene%protocol%stair_height = v%reals(1)
+        if (ik == key_scene_fold_stair_time) cfg%scene%protocol%stair_time = v%reals(1)
+        if (ik == key_scene_stair_climbs) cfg%scene%protocol%other_climbs = v%ints(1)
+        if (ik == key_scene_follow_branches) cfg%scene%protocol%max_branches = v%ints(1)
+        if (ik == key_scene_follow_max_iter) cfg%scene%protocol%follow_max_iter = v%ints(1)
+        if (ik == key_scene_follow_growth_limit) cfg%scene%protocol%follow_growth_limit = v%reals(1)
+        if (ik == key_scene_settle_iterations) cfg%scene%protocol%settle_iterations = v%ints(1)
+        if (ik == key_scene_settle_tol) cfg%scene%protocol%settle_tol = v%reals(1)
+        if (ik == key_scene_symmetric_tol) cfg%scene%protocol%symmetric_tol = v%reals(1)
+        if (ik == key_scene_switch_step) cfg%scene%protocol%switch_step = v%reals(1)
+        if (ik == key_scene_switch_seed) cfg%scene%protocol%switch_seed = v%reals(1)
+        if (ik == key_scene_short_decay) cfg%scene%short%decay = v%reals(1)
+        if (ik == key_scene_short_n0_min) cfg%scene%short%n0_min = v%ints(1)
+        if (ik == key_scene_short_sigma_min) cfg%scene%short%sigma_min = v%reals(1)
+        if (ik == key_scene_short_sigma_max) cfg%scene%short%sigma_max = v%reals(1)
+        if (ik == key_scene_short_sigma_q) cfg%scene%short%sigma_q = v%reals(1)
+        if (ik == key_scene_short_width_per_sigma) cfg%scene%short%width_per_sigma = v%ints(1)
+        if (ik == key_scene_short_edge_margin) cfg%scene%short%band_edge_margin = v%reals(1)
         if (ik == key_detect_site) cfg%run%detect%site = v%ints(1)
         if (ik == key_detect_amplitude) cfg%run%detect%amplitude = v%reals(1)
         if (ik == key_detect_stop_when_decided) cfg%run%detect%stop_when_decided = v%flag

@@ -9,7 +9,11 @@
 !>    detector site, a named output file, continuation_step <= continuation_step_max (refused, never clamped);
 !> 3. `check_limits` (`supratrans_limits`, then the scene's own), and the scene's `check_input`: every check the
 !>    run's task making would make, so that `--check` refuses what the run would, before anything is created;
-!> 4. `check_output_file`: the output file is not replaced by accident.
+!> 4. where the curves vary a key (`&scene vary`, any numeric key of &chain, &drive, &numerics), steps 1 to 3 again
+!>    for each curve's run, as if its value were written in the namelist: the rules that involve the varied key
+!>    (N0 <= N, the absorber, the probes and the detector site within N, the stability condition, the band gap, the
+!>    limits) are checked per value, messages prefixed with the curve (`curve 2 (sine-gordon, n = 100)`);
+!> 5. `check_output_file`: the output file is not replaced by accident.
 !>
 !> `input_warnings` gives the lines said about keys a scene does not use (`&drive omega` on a frequency axis).
 !>
@@ -23,10 +27,10 @@ module supratrans_validate
     use supratrans_potential, only: potential_name, potential_takes, potential_ids, potential_names
     use supratrans_chain, only: band_gap_edge, gap_squared, onsite_stiffness, stability_lhs, stability_rhs, &
                                 stable_by_paper_condition, critical_dt
-    use supratrans_curves, only: curve_count, curve_run
+    use supratrans_curves, only: curve_count, curve_run, varied_key, curve_label
     use supratrans_strings, only: int_str, real_str, fixed4, joined, find_name
     use supratrans_keys, only: key_spec, key_value, kt_integer, kt_real, kt_name, input_error
-    use supratrans_schema, only: key_table, get_key, choice_names, choice_noun
+    use supratrans_schema, only: key_table, get_key, choice_names, choice_noun, key_drive_omega
     use supratrans_scene, only: scene_type, new_scene
     use supratrans_namelist, only: parse_namelist, parsed_input
     implicit none
@@ -50,6 +54,8 @@ contains
         character(len=:), allocatable :: where
         logical :: check_file
         class(scene_type), allocatable :: scene
+        type(input_config) :: curve
+        integer :: ic
 
         where = "configuration"
         if (allocated(cfg%source)) then
@@ -66,10 +72,43 @@ contains
         if (allocated(error)) return
         call scene%check_input(cfg, where, error)
         if (allocated(error)) return
+        if (varied_key(cfg) > 0 .and. allocated(cfg%scene%values)) then
+            ! each curve's run, as if its value were written in the namelist (the base value of the key is not run)
+            do ic = 1, curve_count(cfg)
+                curve = cfg
+                curve%run = curve_run(cfg, ic)
+                curve%scene%vary = vary_none
+                deallocate (curve%scene%values)
+                if (allocated(cfg%scene%potentials)) curve%scene%potentials = [curve%run%chain%potential]
+                call validate_curve(curve, scene, where // ": " // curve_label(cfg, ic), error)
+                if (allocated(error)) return
+            end do
+        end if
         check_file = .true.
         if (present(check_output)) check_file = check_output
         if (check_file) call check_output_file(cfg, where, error)
     end subroutine validate_config
+
+    !> The checks of one curve's run (a configuration whose curves vary nothing): its keys, the rules, the limits and
+    !> the scene's own checks.
+    subroutine validate_curve(curve, scene, where, error)
+        !> The curve's configuration.
+        type(input_config), intent(in) :: curve
+        !> The scene.
+        class(scene_type), intent(in) :: scene
+        !> Prefix of messages (the file name and the curve).
+        character(len=*), intent(in) :: where
+        !> Allocated on the first failed check.
+        type(error_type), allocatable, intent(out) :: error
+
+        call check_keys(curve, where, error)
+        if (allocated(error)) return
+        call check_rules(curve, scene, where, error)
+        if (allocated(error)) return
+        call check_limits(curve, scene, where, error)
+        if (allocated(error)) return
+        call scene%check_input(curve, where, error)
+    end subroutine validate_curve
 
     !> Every key against its row of `key_table`: at most `max_values` values, each finite (reals), within its
     !> bounds (numbers) and among its choices (names).
@@ -203,6 +242,15 @@ contains
         real(wp) :: edge
         integer :: i
 
+        ! where the curves vary a key the base run is not run: its rules are checked on each curve's run instead
+        ! (validate_config), so that a base value no curve uses (dt with vary = 'dt') is not refused
+        if (varied_key(cfg) > 0 .and. allocated(cfg%scene%values)) then
+            call check_scene(cfg, scene, where, error)
+            if (allocated(error)) return
+            if (len_trim(cfg%output%file) == 0) call input_error(error, where, "output", &
+                                                                 "file = '': must name the output file")
+            return
+        end if
         associate (ch => cfg%run%chain, dr => cfg%run%drive, nu => cfg%run%numerics, rec => cfg%run%record)
             if (ch%n0 < 0 .or. ch%n0 > ch%n) then
                 if (key_given(cfg, "chain", "n0")) then
@@ -279,8 +327,8 @@ contains
         end if
     end subroutine check_rules
 
-    !> The scene's rules: `values` go with `vary`; the axes are ordered; each curve (potential, varied value) is a
-    !> valid chain, stable by the paper's condition, and (scenes whose `gap_rule` holds) driven inside its band gap.
+    !> The scene's rules: `values` go with `vary`, whole numbers for an integer key, and `vary` names no key the scene
+    !> sets itself (`sets_itself`); the axes are ordered. (Each curve's run is checked whole by `validate_config`.)
     pure subroutine check_scene(cfg, scene, where, error)
         !> The configuration.
         type(input_config), intent(in) :: cfg
@@ -290,9 +338,7 @@ contains
         character(len=*), intent(in) :: where
         !> Allocated on the first failed check.
         type(error_type), allocatable, intent(out) :: error
-        type(run_config) :: run
-        integer :: ic
-        character(len=:), allocatable :: label
+        integer :: i, ik
 
         associate (sc => cfg%scene)
             if (sc%vary /= vary_none .and. .not. allocated(sc%values)) then
@@ -304,6 +350,24 @@ contains
                 call input_error(error, where, "scene", &
                                  "values are given but vary = 'none' (say which parameter they set)")
                 return
+            end if
+            ik = varied_key(cfg)
+            if (ik > 0 .and. allocated(sc%values)) then
+                if (scene%sets_itself(trim(key_table(ik)%key))) then
+                    call input_error(error, where, "scene", "vary = '" // trim(vary_choices(sc%vary)) // "': &scene " &
+                                     // "kind = '" // trim(sc%kind) // "' sets " // trim(key_table(ik)%key) &
+                                     // " itself in every task (its own axis); vary another key")
+                    return
+                end if
+                do i = 1, size(sc%values)
+                    if (key_table(ik)%value_type == kt_integer .and. .not. (sc%values(i) == aint(sc%values(i)) &
+                                                                            .and. abs(sc%values(i)) < 2.0e9_wp)) then
+                        call input_error(error, where, "scene", "values(" // int_str(i) // ") = " &
+                                         // real_str(sc%values(i)) // ": vary = '" // trim(vary_choices(sc%vary)) &
+                                         // "' is an integer key: give whole numbers")
+                        return
+                    end if
+                end do
             end if
             if (.not. (sc%continuation_step <= sc%continuation_step_max)) then
                 call input_error(error, where, "scene", "continuation_step = " // real_str(sc%continuation_step) &
@@ -335,33 +399,10 @@ contains
                 return
             end if
         end associate
-
-        do ic = 1, curve_count(cfg)
-            run = curve_run(cfg, ic)
-            label = "curve " // int_str(ic) // " (" // potential_name(run%chain%potential) // ", " &
-                    // trim(vary_choices(cfg%scene%vary)) // ")"
-            if (run%chain%gamma < 0.0_wp .or. run%chain%beta < 0.0_wp .or. .not. (gap_squared(run%chain) > 0.0_wp)) then
-                call input_error(error, where, "scene", label // ": need gamma >= 0, beta >= 0 and V''(0) + m2 > 0")
-                return
-            end if
-            if (.not. stable_by_paper_condition(run%chain, run%numerics%dt) .and. .not. cfg%allow_unstable &
-                .and. .not. a_stable(run%numerics%method)) then
-                call input_error(error, where, "scene", label // ": dt = " // real_str(run%numerics%dt) &
-                                 // " violates the paper's necessary stability condition (it needs dt < " &
-                                 // real_str(critical_dt(run%chain), 6) &
-                                 // "; set allow_unstable = .true. to run anyway)")
-                return
-            end if
-            if (scene%gap_rule() .and. run%drive%omega >= band_gap_edge(run%chain) .and. .not. cfg%allow_outside_gap) then
-                call input_error(error, where, "scene", label // ": omega = " // real_str(run%drive%omega) &
-                                 // " is outside its band gap 0 < Omega < " // fixed4(band_gap_edge(run%chain)) &
-                                 // " (set allow_outside_gap = .true. to run anyway)")
-                return
-            end if
-        end do
     end subroutine check_scene
 
-    !> Lines to print before a run (and by `--check`), one per key given that the scene does not use: today
+    !> Lines to print before a run (and by `--check`), one per key given that the scene does not use: a key of
+    !> &scene whose row names other scenes (`key_spec%scenes`: `stair_height` given to a continuation), and
     !> `&drive omega` given to a scene over a frequency axis (map, bifurcation, continuation, hysteresis), which runs
     !> omega_min .. omega_max by omega_step instead. Empty when there is nothing to say.
     function input_warnings(cfg) result(lines)
@@ -369,30 +410,59 @@ contains
         type(input_config), intent(in) :: cfg
         character(len=:), allocatable :: lines(:)
         character(len=:), allocatable :: where, text
-        integer :: n
+        integer :: n, ik
         class(scene_type), allocatable :: scene
         type(error_type), allocatable :: error
+        type(parsed_input) :: parsed
 
         allocate (character(len=0) :: lines(0))
         where = "configuration"
         if (allocated(cfg%source)) then
             if (len(cfg%source) > 0) where = cfg%source
         end if
+        if (.not. allocated(cfg%text)) return
+        if (len_trim(cfg%text) == 0) return
         call new_scene(trim(cfg%scene%kind), scene, error)
         if (allocated(error)) return
-        if (scene%frequency_axis()) then
-            if (.not. key_given(cfg, "drive", "omega") .or. .not. allocated(cfg%text)) return
+        call parse_namelist(cfg%text, "input", parsed, error)
+        if (allocated(error)) return
+        do ik = 1, size(key_table)
+            associate (spec => key_table(ik))
+                if (len_trim(spec%scenes) == 0 .or. parsed%n_values(ik) == 0) cycle
+                if (index(", " // trim(spec%scenes) // ",", ", " // trim(cfg%scene%kind) // ",") > 0) cycle
+                call add_line(lines, "warning: " // where // ": &" // trim(spec%group) // ": " // trim(spec%key) &
+                              // " is not used by &scene kind = '" // trim(cfg%scene%kind) // "' (only by " &
+                              // trim(spec%scenes) // "): it has no effect")
+            end associate
+        end do
+        if (scene%frequency_axis() .and. parsed%n_values(key_drive_omega) > 0) then
             n = int(min((cfg%scene%omega_max - cfg%scene%omega_min)/cfg%scene%omega_step + 1.0e-9_wp, 1.0e7_wp)) + 1
             text = "warning: " // where // ": &drive: omega = " // real_str(cfg%run%drive%omega) // " is not used by " &
                    // "&scene kind = '" // trim(cfg%scene%kind) // "', which runs omega_min .. omega_max by omega_step (" &
                    // real_str(cfg%scene%omega_min) // " .. " // real_str(cfg%scene%omega_max) // " by " &
                    // real_str(cfg%scene%omega_step) // ": " // int_str(n) // trim(merge(" frequency  ", " frequencies", &
                    n == 1)) // "); set those for one frequency"
-            deallocate (lines)
-            allocate (character(len=len(text)) :: lines(1))
-            lines(1) = text
+            call add_line(lines, text)
         end if
     end function input_warnings
+
+    !> Append a line to a list of lines (all padded to the longest; printed trimmed).
+    pure subroutine add_line(lines, text)
+        !> The lines.
+        character(len=:), allocatable, intent(inout) :: lines(:)
+        !> The line to add.
+        character(len=*), intent(in) :: text
+        character(len=:), allocatable :: longer(:)
+        integer :: i, width
+
+        width = max(len(lines), len(text))
+        allocate (character(len=width) :: longer(size(lines) + 1))
+        do i = 1, size(lines)
+            longer(i) = lines(i)
+        end do
+        longer(size(lines) + 1) = text
+        call move_alloc(longer, lines)
+    end subroutine add_line
 
     !> Whether a potential of the run (&chain potential, or one of &scene potentials) takes the &chain key `key`.
     pure logical function run_takes(cfg, key) result(takes)

@@ -18,7 +18,7 @@
 !> stairs of `stair_height`, each held `stair_time`, with the same detector, as a slow ramp would go on.
 module supratrans_chain_watch
     use supratrans_kinds, only: wp
-    use supratrans_config, only: run_config
+    use supratrans_config, only: run_config, fold_protocol
     use supratrans_strings, only: int_str, real_str
     use supratrans_period_map, only: period_map, set_half_period
     use supratrans_fixed_point_map, only: map_ok
@@ -39,24 +39,11 @@ module supratrans_chain_watch
     integer, parameter, public :: fate_localized = 2
     !> Fate of a fold: the one-period map failed while watching (its implicit steps did not converge).
     integer, parameter, public :: fate_failed = 3
-    !> Relative push past the fold: the fate is watched at A_f (1 + fate_push).
-    real(wp), parameter, public :: fate_push = 1.0e-2_wp
-    !> Time the pushed state is watched (in units of the model's time).
-    real(wp), parameter, public :: fate_watch_time = 1000.0_wp
-    !> Fewest drive periods the pushed state is watched.
-    integer, parameter, public :: fate_min_periods = 20
-    !> Most damped Newton-shooting steps from where the chain settled (`damped_shooting`).
-    integer, parameter :: settle_iterations = 30
-    !> max |P(x) - x| at which `damped_shooting` stops (the continuation's own shooting polishes to newton_tol).
-    real(wp), parameter :: settle_tol = 1.0e-9_wp
-    !> max |G(x) - x| below which a settled periodic state counts as symmetric (its branch then continued on G).
-    real(wp), parameter, public :: symmetric_tol = 1.0e-8_wp
-    !> Stairs: the amplitude step between two stairs (the scan's resolution).
-    real(wp), parameter, public :: stair_height = 1.0e-2_wp
-    !> Stairs: the time the chain is driven on each stair. (Held 1000 time units, as long as a fate is watched, the
-    !> stairs of the paper grid's fold line transmit 0.01 .. 0.22 lower at all 17 frequencies with stairs, closer
-    !> to the slow-ramp scan at 9 and farther at 8, for 1.24 times the grid's task time: docs/continuation.md.)
-    real(wp), parameter, public :: stair_time = 200.0_wp
+    ! The protocol's constants are input keys (`fold_protocol`, &scene fate_push, fate_watch_time, fate_min_periods,
+    ! settle_iterations, settle_tol, symmetric_tol, fold_stair_height, fold_stair_time), so /parameters records them.
+    ! (Stairs held 1000 time units, as long as a fate is watched, transmit 0.01 .. 0.22 lower on the paper grid's fold
+    ! line at all 17 frequencies with stairs than with the default 200, for 1.24 times the task time:
+    ! docs/continuation.md.)
 
 contains
 
@@ -64,11 +51,13 @@ contains
     !> below `top`, each held `stair_time` (whole periods) with the fate's detector. `fate_transmits`: on the stair
     !> `a`; `fate_localized`: no stair below `top` transmits (`y` the last stair's state, `a` its amplitude, a0 when
     !> there was none); `fate_failed`: the scheme failed on the stair `a`. The maps are added to `stats`.
-    subroutine climb_stairs(map, run, y, a0, top, a, fate, stats)
+    subroutine climb_stairs(map, run, proto, y, a0, top, a, fate, stats)
         !> The one-period map P.
         type(period_map), intent(inout) :: map
         !> The run (detector).
         type(run_config), intent(in) :: run
+        !> The fold protocol (stair height and time, the fate's watch).
+        type(fold_protocol), intent(in) :: proto
         !> The chain's state: in, at the start; out, at the end of the last stair held without transmission.
         real(wp), allocatable, intent(inout) :: y(:)
         !> The amplitude the chain was driven at before (the stairs start one step above it).
@@ -88,9 +77,9 @@ contains
         a = a0
         fate = fate_localized
         k = 1
-        do while (a0 + real(k, wp)*stair_height < top)
-            a = a0 + real(k, wp)*stair_height
-            call fold_fate(map, run, y, a, fate, time, last, watch=stair_time, stats=stats)
+        do while (a0 + real(k, wp)*proto%stair_height < top)
+            a = a0 + real(k, wp)*proto%stair_height
+            call fold_fate(map, run, proto, y, a, fate, time, last, watch=proto%stair_time, stats=stats)
             if (fate /= fate_localized) return
             call move_alloc(last, y)
             k = k + 1
@@ -99,9 +88,11 @@ contains
 
     !> Whether x is a periodic state with the half-period symmetry, G(x) = x to `symmetric_tol` (M even); if so,
     !> `map` is left as the half-period map G, else as P.
-    function half_period_symmetric(map, x, amplitude) result(yes)
+    function half_period_symmetric(map, proto, x, amplitude) result(yes)
         !> The one-period map (P on entry).
         type(period_map), intent(inout) :: map
+        !> The fold protocol (`symmetric_tol`).
+        type(fold_protocol), intent(in) :: proto
         !> The state.
         real(wp), intent(in) :: x(:)
         !> Drive amplitude.
@@ -116,7 +107,7 @@ contains
         allocate (gx(size(x)))
         call map%apply(x, amplitude, gx, status)
         yes = status == map_ok
-        if (yes) yes = maxval(abs(gx - x)) <= symmetric_tol
+        if (yes) yes = maxval(abs(gx - x)) <= proto%symmetric_tol
         if (.not. yes) call set_half_period(map, .false., ok)
     end function half_period_symmetric
 
@@ -127,9 +118,11 @@ contains
     !> when max |P(x) - x| <= `settle_tol` was reached, else left as it came (the continuation's own, undamped
     !> shooting then has its try, and gives up once its residual has grown tenfold: `follow_growth_limit` of
     !> `supratrans_fold_fate`).
-    subroutine damped_shooting(map, x, amplitude, stats)
+    subroutine damped_shooting(map, proto, x, amplitude, stats)
         !> The one-period map.
         type(period_map), intent(inout) :: map
+        !> The fold protocol (`settle_iterations`, `settle_tol`).
+        type(fold_protocol), intent(in) :: proto
         !> The state: in, where the chain settled; out, the best iterate.
         real(wp), intent(inout) :: x(:)
         !> Drive amplitude.
@@ -145,8 +138,8 @@ contains
         call apply(y, status)
         if (status /= map_ok) return
         residual = maxval(abs(px - y))
-        do it = 1, settle_iterations
-            if (residual <= settle_tol) then
+        do it = 1, proto%settle_iterations
+            if (residual <= proto%settle_tol) then
                 x = y
                 return
             end if
@@ -177,7 +170,7 @@ contains
             y = trial
             residual = r_trial
         end do
-        if (residual <= settle_tol) x = y
+        if (residual <= proto%settle_tol) x = y
 
     contains
 
@@ -199,11 +192,13 @@ contains
     !> `amplitude` (just past the fold), one period at a time, until an oscillator beyond the detector site swings
     !> past the detector amplitude (`fate_transmits`, `time` = the end of that period) or `fate_watch_time` has
     !> passed (`fate_localized`, `time` = the time watched), or `watch` (whole periods, at least one) when given.
-    subroutine fold_fate(map, run, x, amplitude, fate, time, last, watch, stats)
+    subroutine fold_fate(map, run, proto, x, amplitude, fate, time, last, watch, stats)
         !> The one-period map of the branch (its work arrays change).
         type(period_map), intent(inout) :: map
         !> The run (detector site and amplitude).
         type(run_config), intent(in) :: run
+        !> The fold protocol (`fate_watch_time`, `fate_min_periods`).
+        type(fold_protocol), intent(in) :: proto
         !> The state at the fold (u_n at t = 0 first, n = 1..N).
         real(wp), intent(in) :: x(:)
         !> Drive amplitude just past the fold.
@@ -224,7 +219,7 @@ contains
 
         t0 = wall_clock()
         nd = detector_site(run)
-        periods = max(fate_min_periods, ceiling(fate_watch_time/map%period))
+        periods = max(proto%fate_min_periods, ceiling(proto%fate_watch_time/map%period))
         if (present(watch)) periods = max(1, ceiling(watch/map%period))
         y = x
         allocate (py(size(x)))
@@ -254,11 +249,13 @@ contains
     end subroutine fold_fate
 
     !> The fates of a fold as "code name: meaning" clauses (the `codes` attribute of /fold_fate).
-    pure function fate_codes() result(text)
+    pure function fate_codes(proto) result(text)
+        !> The fold protocol (`fate_push`).
+        type(fold_protocol), intent(in) :: proto
         character(len=:), allocatable :: text
 
         text = int_str(fate_not_computed) // " none: no fold; " // int_str(fate_transmits) // " transmits: driven " &
-            // "at A_f (1 + " // real_str(fate_push, 3) // ") from the fold's state, an oscillator beyond the " &
+            // "at A_f (1 + " // real_str(proto%fate_push, 3) // ") from the fold's state, an oscillator beyond the " &
             // "detector site passes the detector amplitude (the fold is the supratransmission threshold); " &
             // int_str(fate_localized) // " localized: no transmission within /fold_fate_time (the chain " &
             // "settles on another state: the fold is not where transmission starts); " // int_str(fate_failed) &

@@ -1,16 +1,21 @@
 !> The curves of a scene: one run configuration per (potential, value of the varied parameter), as in the paper's
-!> figures (e.g. Fig. 2: gamma = 0, 0.01, 0.02, 0.03 for each of the two potentials).
+!> figures (e.g. Fig. 2: gamma = 0, 0.01, 0.02, 0.03 for each of the two potentials). The varied parameter (&scene
+!> vary) is any numeric key of &chain, &drive or &numerics (`vary_keys` of the schema: the choice set is generated
+!> from the key table), set through the schema's `set_key`, so that no key is named here.
 module supratrans_curves
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
-    use supratrans_config, only: input_config, run_config, vary_none, vary_gamma, vary_beta, vary_m2, vary_choices
+    use supratrans_config, only: input_config, run_config, vary_none, vary_choices
+    use supratrans_keys, only: key_value, kt_integer
+    use supratrans_strings, only: int_str, real_str
+    use supratrans_schema, only: key_table, vary_keys, get_key, set_key
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: band_gap_edge
     use supratrans_hdf5, only: h5_file, h5_write, h5_write_attr, h5_create_group
     implicit none
     private
 
-    public :: curve_count, curve_run, curve_indices, write_curves
+    public :: curve_count, curve_run, curve_indices, write_curves, varied_key, curve_label
 
 contains
 
@@ -21,6 +26,40 @@ contains
 
         varies = cfg%scene%vary /= vary_none .and. allocated(cfg%scene%values)
     end function varies
+
+    !> Index in `key_table` of the varied key; 0 when nothing varies.
+    pure integer function varied_key(cfg)
+        !> Validated input.
+        type(input_config), intent(in) :: cfg
+
+        varied_key = 0
+        if (cfg%scene%vary >= 1 .and. cfg%scene%vary <= size(vary_keys)) varied_key = vary_keys(cfg%scene%vary)
+    end function varied_key
+
+    !> "curve 2 (sine-gordon, n = 100)": a curve as messages name it.
+    pure function curve_label(cfg, icurve) result(label)
+        !> Validated input.
+        type(input_config), intent(in) :: cfg
+        !> Curve index, 1..curve_count.
+        integer, intent(in) :: icurve
+        character(len=:), allocatable :: label
+        type(run_config) :: run
+        integer :: ipot, ival, ik
+
+        run = curve_run(cfg, icurve)
+        call curve_indices(cfg, icurve, ipot, ival)
+        label = "curve " // int_str(icurve) // " (" // potential_name(run%chain%potential)
+        ik = varied_key(cfg)
+        if (varies(cfg) .and. ik > 0) then
+            label = label // ", " // trim(vary_choices(cfg%scene%vary)) // " = "
+            if (key_table(ik)%value_type == kt_integer) then
+                label = label // int_str(nint(cfg%scene%values(ival)))
+            else
+                label = label // real_str(cfg%scene%values(ival))
+            end if
+        end if
+        label = label // ")"
+    end function curve_label
 
     !> Number of values of the varied parameter (1 when nothing varies).
     pure integer function value_count(cfg)
@@ -60,29 +99,33 @@ contains
         !> Curve index, 1..curve_count.
         integer, intent(in) :: icurve
         type(run_config) :: run
-        integer :: ipot, ival
+        type(input_config) :: curve
+        type(key_value) :: v
+        integer :: ipot, ival, ik
 
         run = cfg%run
         call curve_indices(cfg, icurve, ipot, ival)
         if (allocated(cfg%scene%potentials)) then
             if (size(cfg%scene%potentials) > 0) run%chain%potential = cfg%scene%potentials(ipot)
         end if
-        if (.not. varies(cfg)) return
-        select case (cfg%scene%vary)
-        case (vary_gamma)
-            run%chain%gamma = cfg%scene%values(ival)
-        case (vary_beta)
-            run%chain%beta = cfg%scene%values(ival)
-        case (vary_m2)
-            run%chain%m2 = cfg%scene%values(ival)
-        case default
-            continue                            ! vary_none: validated by supratrans_input
-        end select
+        ik = varied_key(cfg)
+        if (.not. varies(cfg) .or. ik == 0) return
+        ! the value set through the key table, as the namelist reader sets it (an integer key: the nearest integer;
+        ! validation refuses a value that is not whole)
+        curve%run = run
+        v = get_key(curve, ik)
+        if (key_table(ik)%value_type == kt_integer) then
+            v%ints(1) = nint(cfg%scene%values(ival))
+        else
+            v%reals(1) = cfg%scene%values(ival)
+        end if
+        call set_key(curve, ik, v)
+        run = curve%run
     end function curve_run
 
     !> Write `/curves`, the same in every scene: the group's attribute `vary`, and per curve its potential, the value
-    !> of the varied parameter (in the units of that parameter: gamma and beta 1/time, m2 1/time^2; "1" and NaN when
-    !> nothing varies), gamma, beta, m^2 and the band-gap edge sqrt(V''(0) + m^2). A scene adds its own per-curve
+    !> of the varied parameter (in the units of its key; "1" and NaN when nothing varies), gamma, beta, m^2 and the
+    !> band-gap edge sqrt(V''(0) + m^2). A scene adds its own per-curve
     !> datasets (`threshold_As`, `screen_dt`) after this.
     subroutine write_curves(file, cfg, runs)
         !> Open output file (a failure sticks in it).
@@ -112,14 +155,8 @@ contains
             beta(ic) = runs(ic)%chain%beta
             m2(ic) = runs(ic)%chain%m2
         end do
-        select case (cfg%scene%vary)
-        case (vary_gamma, vary_beta)
-            value_units = "1/time"
-        case (vary_m2)
-            value_units = "1/time^2"
-        case default
-            value_units = "1"
-        end select
+        value_units = "1"
+        if (varied_key(cfg) > 0) value_units = trim(key_table(varied_key(cfg))%units)
         call h5_create_group(file, "/curves", "One entry per curve: a potential and a value of the varied " &
                              // "parameter (attribute vary), the values fastest")
         call h5_write_attr(file, "/curves", "vary", trim(vary_choices(cfg%scene%vary)))

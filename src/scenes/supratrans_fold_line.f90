@@ -3,8 +3,8 @@
 !> continuation scene's record (`supratrans_fold_record`).
 !>
 !> The model's threshold is the smaller of the fold A_f and the first loss of Floquet stability met on the way;
-!> the record says which one it is (`threshold_kind`, the codes of `instability_type_codes`). When the input gives no
-!> chain length, the run's chain is the short chain of `supratrans_short_chain` (re-exported here).
+!> the record says which one it is (`threshold_kind`, the codes of `instability_type_codes`). With &scene chain =
+!> 'short' the run's chain is the short chain of `supratrans_short_chain` (re-exported here).
 !>
 !> **The fold's fate** and the branches followed past a fold where the chain stays localized: `supratrans_fold_fate`
 !> (re-exported here).
@@ -27,9 +27,7 @@ module supratrans_fold_line
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
     use supratrans_config, only: run_config, scene_params
-    use supratrans_short_chain, only: shortest_chain, chain_length_given, scheme_decay_rate, harmonic_wavenumber, &
-        short_width_per_sigma, short_absorber_sigma, short_absorber_sigma_max, short_absorber_sigma_q, band_edge_margin, &
-        short_chain_decay, short_n0_min
+    use supratrans_short_chain, only: shortest_chain, chain_length_given, scheme_decay_rate, harmonic_wavenumber
     use supratrans_strings, only: int_str
     use supratrans_period_map, only: period_map, period_map_init, set_half_period
     use supratrans_fixed_point_map, only: map_ok
@@ -41,7 +39,7 @@ module supratrans_fold_line
                                   crossing_name
     use supratrans_fold_record, only: fold_record, branch_quantities, kept_multipliers, multiplier_samples
     use supratrans_fold_fate, only: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, &
-                                    transmission_after, add_branch_cost, counted_fate, fate_push, follow_fate_failed, &
+                                    transmission_after, add_branch_cost, counted_fate, follow_fate_failed, &
                                     past_branch_point, branch_switch_codes, past_oscillatory_loss
     implicit none
     private
@@ -49,8 +47,6 @@ module supratrans_fold_line
     public :: trace_fold, fold_status_codes, instability_type_codes, shortest_chain, chain_length_given
     public :: scheme_decay_rate, harmonic_wavenumber, fate_codes, fold_fate, transmission_status_codes, branch_switch_codes
     public :: half_period_symmetric
-    public :: short_width_per_sigma, short_absorber_sigma, short_absorber_sigma_max, short_absorber_sigma_q
-    public :: band_edge_margin, short_chain_decay, short_n0_min
 
     !> Status: the fold was found and located.
     integer, parameter, public :: fold_found = cont_fold_found
@@ -65,7 +61,7 @@ contains
         !> The run: chain, drive frequency, numerics.
         type(run_config), intent(in) :: run
         !> The scene's controls (amplitude_max, continuation_step, continuation_step_max, continuation_points,
-        !> beyond_fold, crossing_tol).
+        !> beyond_fold, crossing_tol, floquet_every) and its fold protocol (`scene%protocol`).
         type(scene_params), intent(in) :: scene
         !> The record (from `empty_fold_record`): filled.
         type(fold_record), intent(inout) :: r
@@ -93,7 +89,14 @@ contains
         r%chain_n0 = run%chain%n0
         r%chain_sigma = run%chain%sigma
         r%steps_per_period = map%steps
-        ctl%newton_tol = 1.0e-10_wp
+        ctl%newton_tol = scene%protocol%continuation_tol
+        ctl%newton_max_iter = scene%protocol%continuation_max_iter
+        ctl%chord_rate = scene%protocol%continuation_chord_rate
+        ctl%newton_fast = scene%protocol%continuation_fast_iter
+        ctl%newton_slow = scene%protocol%continuation_slow_iter
+        ctl%ds_min = scene%protocol%continuation_step_min
+        ctl%max_angle = scene%protocol%continuation_max_angle
+        ctl%fold_tol = scene%protocol%fold_tol
         ctl%ds0 = scene%continuation_step
         ctl%ds_max = scene%continuation_step_max
         ctl%max_points = scene%continuation_points
@@ -140,22 +143,22 @@ contains
         if (switch) switch = .not. (r%threshold >= r%fold_amplitude)
         if (switch) then
             if (r%threshold_kind == crossing_fold) then
-                call past_branch_point(map, run, ctl, res, r)
+                call past_branch_point(map, run, scene%protocol, ctl, res, r)
             else
                 ! a torus or a period doubling: no branch to switch to, the chain is driven up in stairs
-                call past_oscillatory_loss(map, run, ctl, res, r%fold_amplitude, r, switch)
+                call past_oscillatory_loss(map, run, scene%protocol, ctl, res, r%fold_amplitude, r, switch)
             end if
         end if
         ! the fold's fate (and, where no loss of stability below it was followed, where the chain transmits past it)
         if (test_fate .and. res%fold_index > 0 .and. .not. ieee_is_nan(r%fold_amplitude)) then
-            call counted_fate(map, run, res%states(:, res%fold_index), res%fold_amplitude*(1.0_wp + fate_push), r, &
-                              fate_code, fate_time, settled)
+            call counted_fate(map, run, scene%protocol, res%states(:, res%fold_index), &
+                              res%fold_amplitude*(1.0_wp + scene%protocol%fate_push), r, fate_code, fate_time, settled)
             r%fate = fate_code
             r%fate_time = fate_time
             if (.not. switch) then
                 r%branches = 1
                 r%transmission_status = follow_fate_failed
-                call transmission_after(map, run, ctl, res%fold_amplitude, fate_code, settled, r)
+                call transmission_after(map, run, scene%protocol, ctl, res%fold_amplitude, fate_code, settled, r)
             end if
         end if
         call add_branch_cost(r, res)

@@ -122,6 +122,9 @@ module supratrans_scene
         !> Whether the scene runs its own axis of frequencies (omega_min .. omega_max), so that `&drive omega` is
         !> not used (default: no).
         procedure :: frequency_axis
+        !> The keys of &chain, &drive and &numerics the scene sets itself in every task, which `vary` may not name
+        !> (default: the drive's amplitude, and its omega where the scene runs its own frequency axis).
+        procedure :: sets_itself
     end type scene_type
 
     interface
@@ -300,5 +303,17 @@ contains
 
         yes = .false.
     end function frequency_axis
+
+    !> Whether the scene sets `key` (of &chain, &drive or &numerics) itself in every task: the drive's amplitude (each
+    !> scene with curves runs its own amplitudes: an axis, a search, stairs or a branch), and omega with a frequency
+    !> axis.
+    pure logical function sets_itself(self, key) result(yes)
+        !> The scene.
+        class(scene_type), intent(in) :: self
+        !> The key's name.
+        character(len=*), intent(in) :: key
+
+        yes = key == "amplitude" .or. (self%frequency_axis() .and. key == "omega")
+    end function sets_itself
 
 end module supratrans_scene

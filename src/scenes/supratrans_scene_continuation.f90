@@ -24,7 +24,9 @@ module supratrans_scene_continuation
     use supratrans_scene, only: scene_type, scene_budget, scene_tasks, scene_plan, wrong_tasks, warn_partial
     use supratrans_limits, only: axis_points, check_axis, limit_error, threads_text, sci, dense_buffer_bytes
     use supratrans_config, only: input_config, run_config, scene_params, method_newton, method_linearized, method_rk4, &
-                                 method_rk8, method_avf4, method_avf8, method_name, solver_harmonic_balance
+                                 method_rk8, method_avf4, method_avf8, method_name, solver_harmonic_balance, chain_short, &
+                                 chain_input
+    use supratrans_short_chain, only: old_short_chain_rule
     use supratrans_fold_hb, only: hb_fold_tasks, make_hb_tasks, write_hb_file, hb_summary
     use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge, phonon_band_top
@@ -33,9 +35,7 @@ module supratrans_scene_continuation
     use supratrans_fold_record, only: fold_record, fold_fields, fold_to_values, fold_from_values, empty_fold_record, &
                                       branch_quantities, kept_multipliers, multiplier_samples, add_fold_cost
     use supratrans_fold_line, only: trace_fold, fold_status_codes, instability_type_codes, fold_found, &
-                                    shortest_chain, chain_length_given, fate_codes, &
-                                    transmission_status_codes, branch_switch_codes
-    use supratrans_fold_fate, only: stair_height, stair_time, switch_seed, other_climbs
+                                    shortest_chain, fate_codes, transmission_status_codes, branch_switch_codes
     use supratrans_tasks, only: task_list, run_work
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
@@ -87,7 +87,7 @@ module supratrans_scene_continuation
         real(wp), allocatable :: omegas(:)
         !> Path of the partial output written by `snapshot`.
         character(len=:), allocatable :: partial_path
-        !> The input gives no chain length (n, n0, sigma): each task uses the short chain of its Omega.
+        !> &scene chain = 'short': each task uses the short chain of its Omega.
         logical :: short_chain = .false.
     contains
         !> Trace the branch of one task.
@@ -189,7 +189,7 @@ contains
             list%runs(ic)%drive%ramp_time = 0.0_wp
         end do
         list%partial_path = trim(cfg%output%file) // ".partial.h5"
-        if (allocated(cfg%text)) list%short_chain = .not. chain_length_given(cfg%text)
+        list%short_chain = cfg%scene%chain == chain_short
         tasks%header = "supratrans: continuation from " // cfg%source // ": " // int_str(ncurve) // " curve(s) x " &
             // int_str(nomega) // " frequencies, method " // method_name(cfg%run%numerics%method) // ", N = " &
             // int_str(cfg%run%chain%n) // ", branches up to A = " // real_str(cfg%scene%amplitude_max, 6)
@@ -201,8 +201,9 @@ contains
 
     !> Refuse, before any work (by validation, also for --check), a method without a one-period map (avf4, avf8) and
     !> a dt beyond the method's linear stability limit for a curve's chain: the scheme has no periodic state to
-    !> continue. With harmonic balance: harmonics above harmonics_max (the dt only sets the rk8 period that checks each
-    !> fold; `/fold_period_closure` shows an unstable one).
+    !> continue; and an input written for the old rule of the short chain (`old_short_chain_rule`). With harmonic
+    !> balance: harmonics above harmonics_max (the dt only sets the rk8 period that checks each fold;
+    !> `/fold_period_closure` shows an unstable one).
     subroutine continuation_check_input(self, cfg, where, error)
         !> The scene.
         class(continuation_scene), intent(in) :: self
@@ -225,7 +226,31 @@ contains
                 return
             end if
             return      ! the &numerics dt only sets the rk8 period that checks each fold: an unstable one shows there
-        else if (any(method == [method_avf4, method_avf8])) then   ! no period map (supratrans_period_map)
+        end if
+        if (cfg%scene%protocol%continuation_slow_iter <= cfg%scene%protocol%continuation_fast_iter) then
+            call fatal_error(error, where // ": &scene: continuation_slow_iter = " &
+                             // int_str(cfg%scene%protocol%continuation_slow_iter) // ": must be > continuation_fast_iter = " &
+                             // int_str(cfg%scene%protocol%continuation_fast_iter), err_input)
+            return
+        end if
+        if (cfg%scene%protocol%continuation_step_min > cfg%scene%continuation_step) then
+            call fatal_error(error, where // ": &scene: continuation_step_min = " &
+                             // real_str(cfg%scene%protocol%continuation_step_min) // ": must be <= continuation_step = " &
+                             // real_str(cfg%scene%continuation_step), err_input)
+            return
+        end if
+        if (cfg%scene%short%sigma_min > cfg%scene%short%sigma_max) then
+            call fatal_error(error, where // ": &scene: short_sigma_min = " // real_str(cfg%scene%short%sigma_min) &
+                             // ": must be <= short_sigma_max = " // real_str(cfg%scene%short%sigma_max), err_input)
+            return
+        end if
+        if (cfg%scene%chain == chain_input .and. allocated(cfg%text)) then
+            if (len(old_short_chain_rule(cfg%text)) > 0) then
+                call fatal_error(error, where // ": " // old_short_chain_rule(cfg%text), err_input)
+                return
+            end if
+        end if
+        if (any(method == [method_avf4, method_avf8])) then   ! no period map (supratrans_period_map)
             call fatal_error(error, where // ": &numerics: method '" // method_name(cfg%run%numerics%method) &
                 // "' has no one-period map: continue folds with 'newton', 'linearized', 'rk4' or 'rk8'", err_input)
             return
@@ -348,8 +373,8 @@ contains
         values = fold_to_values(r)
     end subroutine run_fold_task
 
-    !> The run of task `index`: its curve's run at its frequency, on the short chain of that frequency when the input
-    !> gives no chain length.
+    !> The run of task `index`: its curve's run at its frequency, on the short chain of that frequency with &scene
+    !> chain = 'short'.
     pure function task_run(self, index) result(run)
         !> The tasks.
         class(continuation_tasks), intent(in) :: self
@@ -361,12 +386,12 @@ contains
         nomega = size(self%omegas)
         run = self%runs((index - 1)/nomega + 1)
         run%drive%omega = self%omegas(mod(index - 1, nomega) + 1)
-        if (self%short_chain) call shortest_chain(run%chain, run%drive%omega, run%numerics%dt)
+        if (self%short_chain) call shortest_chain(run%chain, run%drive%omega, run%numerics%dt, self%cfg%scene%short)
     end function task_run
 
     !> Estimated cost of task `index`: what one Jacobian of its one-period map costs, 2N tangent columns of N sites
     !> through the M = period / dt steps of a period (`run_work` of one period, times 2N), with the chain the task
-    !> runs (the short chain of its Omega when the input gives none); 0 for a frequency outside the gap that is not
+    !> runs (the short chain of its Omega with chain = 'short'); 0 for a frequency outside the gap that is not
     !> computed. A branch takes some tens of Jacobians wherever it is, so their cost sets the ratios: at Omega = 0.05
     !> the tasks cost about 40 times those at 0.5 (a longer chain, ten times the steps). The engine runs the tasks
     !> largest first and deals slices by it.
@@ -460,8 +485,7 @@ contains
         p%noun = "fold continuations"
         p%steps = 0.0_wp
         p%runs_per_task = 0.0_wp
-        short = .false.
-        if (allocated(cfg%text)) short = .not. chain_length_given(cfg%text)
+        short = cfg%scene%chain == chain_short
         p%work = 0.0_wp
         do ic = 1, curve_count(cfg)
             do io = 1, size(omegas)
@@ -471,7 +495,7 @@ contains
                 if (cfg%scene%solver == solver_harmonic_balance) then
                     p%work = p%work + hb_fold_work(cfg, run)
                 else
-                    if (short) call shortest_chain(run%chain, run%drive%omega, run%numerics%dt)
+                    if (short) call shortest_chain(run%chain, run%drive%omega, run%numerics%dt, cfg%scene%short)
                     p%work = p%work + shooting_fold_work(cfg%scene, run)
                 end if
             end do

@@ -56,7 +56,7 @@ contains
         call h5_write(file, "/fold_fate", igrid(recs%fate), "1", &
             "What the chain does when driven 1% past the fold from the fold's state (codes in attribute 'codes')", &
             dims=dims)
-        call h5_write_attr(file, "/fold_fate", "codes", fate_codes())
+        call h5_write_attr(file, "/fold_fate", "codes", fate_codes(tasks%cfg%scene%protocol))
         call h5_write(file, "/fold_fate_time", grid(recs%fate_time), "time", &
             "Time from the push past the fold to the first transmission (/fold_fate 1), or the time watched without " &
             // "one (2); NaN when there is no fold", dims=dims)
@@ -70,21 +70,25 @@ contains
             dims=dims)
         call h5_write(file, "/transmission_status", igrid(recs%transmission_status), "1", &
             "Whether /transmission_fold was found, and if not why (codes in attribute 'codes')", dims=dims)
-        call h5_write_attr(file, "/transmission_status", "codes", transmission_status_codes())
+        call h5_write_attr(file, "/transmission_status", "codes", transmission_status_codes(tasks%cfg%scene%protocol))
         call h5_write(file, "/branch_switch", igrid(recs%branch_switch), "1", "Past a loss of stability below the " &
             // "fold (/threshold below /fold_amplitude): at a branch point (/threshold_kind 1) where the other branch " &
             // "leaves, past a torus or a period doubling the stairs (codes in attribute 'codes'); 0 where there is " &
             // "no such loss (or the stairs would start above the fold)", dims=dims)
-        call h5_write_attr(file, "/branch_switch", "codes", branch_switch_codes())
+        call h5_write_attr(file, "/branch_switch", "codes", branch_switch_codes(tasks%cfg%scene%protocol))
         call h5_write(file, "/transmission_stairs", igrid(recs%transmission_stairs), "1", "1 where " &
-            // "/transmission_fold is the stair on which the chain, driven up in stairs of " // real_str(stair_height, 3) &
-            // " held " // real_str(stair_time, 4) // " time units each, transmitted (the one below it did not): past " &
+            // "/transmission_fold is the stair on which the chain, driven up in stairs of " &
+            // real_str(tasks%cfg%scene%protocol%stair_height, 3) &
+            // " held " // real_str(tasks%cfg%scene%protocol%stair_time, 4) &
+            // " time units each, transmitted (the one below it did not): past " &
             // "a torus or a period doubling below the fold (/branch_switch 4), or from where the chain settled on " &
             // "no stable periodic state past a fold; 0 where it is a fold or a branch point, or NaN", dims=dims)
         call h5_write(file, "/transmission_spread", grid(recs%transmission_spread), "rad", "Where " &
             // "/transmission_fold is a stair (/transmission_stairs 1): max |A_k - A_1| over " &
-            // int_str(other_climbs) // " more climbs of the same stairs, each from the first's start moved by " &
-            // real_str(switch_seed, 3) // " along another fixed direction (the chain is intermittent there: how " &
+            // int_str(tasks%cfg%scene%protocol%other_climbs) &
+            // " more climbs of the same stairs, each from the first's start moved by " &
+            // real_str(tasks%cfg%scene%protocol%switch_seed, 3) &
+            // " along another fixed direction (the chain is intermittent there: how " &
             // "reproducible the stair is; a lower bound of its uncertainty). A climb, which goes at most as far " &
             // "above A_1 as the first went above its start, that did not transmit counts at its next stair; NaN " &
             // "where /transmission_fold is not a stair", dims=dims)

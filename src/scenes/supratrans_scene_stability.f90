@@ -100,6 +100,8 @@ module supratrans_scene_stability
         procedure :: write_output => stability_write_output
         !> The address space its dense eigenvalue problems need (OpenBLAS's working buffer) against the memory.
         procedure :: check_limits => stability_scene_limits
+        !> Its axes are c (c_values) and dt (dts): `vary` may not name them.
+        procedure :: sets_itself => stability_sets_itself
         !> Its tasks and their work from the sizes (`--check`).
         procedure :: plan => stability_scene_plan
     end type stability_scene
@@ -587,5 +589,15 @@ contains
             "Runs made by the bisection", dims="curve, method, c")
         call h5_commit(file, error)
     end subroutine write_stability
+
+    !> Whether the stability scene sets `key` itself: c and dt, its two axes (the runs keep the base run's amplitude).
+    pure logical function stability_sets_itself(self, key) result(yes)
+        !> The scene.
+        class(stability_scene), intent(in) :: self
+        !> The key's name.
+        character(len=*), intent(in) :: key
+
+        yes = key == "c" .or. key == "dt"
+    end function stability_sets_itself
 
 end module supratrans_scene_stability

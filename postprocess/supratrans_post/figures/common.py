@@ -32,8 +32,10 @@ COLOURS = [PALETTE[k] for k in ("black", "blue", "vermillion", "green", "purple"
 #: Names of the potentials as the paper writes them.
 POTENTIAL_TITLES = {"sine-gordon": "Sine-Gordon chain", "klein-gordon": "Klein-Gordon chain",
                     "double-sine-gordon": "Double sine-Gordon chain"}
-#: Symbols of the parameters a family may vary.
-SYMBOLS = {"gamma": r"\gamma", "beta": r"\beta", "m2": r"m^2"}
+#: Symbols of the parameters a family may vary (any numeric key of &chain, &drive, &numerics: the others are shown
+#: by their key's name).
+SYMBOLS = {"gamma": r"\gamma", "beta": r"\beta", "m2": r"m^2", "c": "c", "n": "N", "n0": "N_0", "kappa": r"\kappa",
+           "sigma": r"\sigma", "dt": r"\Delta t", "t_final": "T", "omega": r"\Omega"}
 #: Figure size of one panel (inches).
 PANEL = (5.0, 3.6)
 
@@ -57,7 +59,7 @@ def potential_title(name: Any) -> str:
 
 
 def vary_of(s: Scene) -> str:
-    """The parameter the curves of a grid scene vary ('gamma', 'beta', 'm2' or 'none')."""
+    """The parameter the curves of a grid scene vary ('gamma', 'c', 'dt', any numeric key, or 'none')."""
     return str(s.groups.get("curves", {}).get("vary", s.params.get("vary", "none")))
 
 
@@ -70,6 +72,8 @@ def family_label(vary: str, value: float, potential: str | None = None, show_pot
             label += rf" ($|m|$ = {fmt(m, 3)})"
     elif vary in SYMBOLS:
         label = rf"${SYMBOLS[vary]}$ = {fmt(value)}"
+    elif vary and vary != "none":
+        label = f"{vary} = {fmt(value)}"
     else:
         label = potential_title(potential) if potential else "run"
         show_potential = False
@@ -80,7 +84,7 @@ def family_label(vary: str, value: float, potential: str | None = None, show_pot
 
 def curve_name(potential: str, vary: str, value: float) -> str:
     """A curve in plain text: 'sine-gordon, gamma = 0.01', or the potential alone when nothing varies."""
-    return f"{potential}, {vary} = {fmt(value)}" if vary in SYMBOLS else str(potential)
+    return f"{potential}, {vary} = {fmt(value)}" if vary and vary != "none" else str(potential)
 
 
 def conditions(s: Scene, skip: Iterable[str] = ()) -> str:
@@ -93,8 +97,10 @@ def conditions(s: Scene, skip: Iterable[str] = ()) -> str:
     for key in ("gamma", "beta", "m2"):
         if key != vary and key not in skip and key in p:
             items.append(rf"${SYMBOLS[key]}$ = {fmt(p[key])}")
-    items.append(rf"$c$ = {fmt(p.get('c'))}")
-    items.append(rf"$N$ = {fmt(p.get('n'))}")
+    if vary != "c":
+        items.append(rf"$c$ = {fmt(p.get('c'))}")
+    if vary != "n":
+        items.append(rf"$N$ = {fmt(p.get('n'))}")
     if s.scene == "continuation":  # periodic states: no final time, no ramp; the method and its step
         items.append(f"{p.get('method', 'newton')}, " + rf"$\Delta t$ = {fmt(p.get('dt'))}")
         return ", ".join(items)
