@@ -19,17 +19,17 @@ module supratrans_fold_hb
     use supratrans_kinds, only: wp, i8, pi
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_tasks, warn_partial
+    use supratrans_scene, only: scene_tasks
     use supratrans_config, only: input_config, run_config, chain_params, method_rk8, closure_absorber, &
                                  closure_radiation, solver_choices
-    use supratrans_curves, only: curve_count, curve_run, write_curves
+    use supratrans_curves, only: write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge
     use supratrans_status, only: status_outside_gap, status_not_run
     use supratrans_tasks, only: task_list
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, fixed1
-    use supratrans_scene_bifurcation, only: bifurcation_omegas
+    use supratrans_axis_scene, only: axis_tasks, init_axes
     use supratrans_fold_line, only: fold_status_codes, fold_found, instability_type_codes
     use supratrans_harmonic_balance, only: hb_system, hb_init, hb_time_state, hb_spectrum
     use supratrans_hb_continuation, only: hb_controls, hb_result, hb_fold_converged
@@ -51,25 +51,15 @@ module supratrans_fold_hb
     character(len=*), parameter, public :: hb_branch_quantities(*) = [character(len=17) :: "amplitude", "umax", &
         "energy", "newton_iterations", "residual", "multiplier_max", "stable"]
 
-    !> The tasks of a harmonic-balance continuation: task t = (curve - 1) nomega + iomega.
-    type, extends(task_list), public :: hb_fold_tasks
-        !> The validated input.
-        type(input_config) :: cfg
-        !> How the engine is invoked.
-        type(invocation_type) :: inv
-        !> Run of each curve.
-        type(run_config), allocatable :: runs(:)
-        !> The frequencies.
-        real(wp), allocatable :: omegas(:)
+    !> The tasks of a harmonic-balance continuation (the axes of `axis_tasks`): task t = (curve - 1) nomega + iomega.
+    type, extends(axis_tasks), public :: hb_fold_tasks
         !> The couplings of the continuum limit (empty: none).
         real(wp), allocatable :: c_values(:)
-        !> Path of the partial output.
-        character(len=:), allocatable :: partial_path
     contains
         !> Locate the fold of one task.
         procedure :: run => run_hb_task
-        !> Write the partial output.
-        procedure :: snapshot => write_hb_snapshot
+        !> The scene's file.
+        procedure :: write_file => write_hb_file
         !> Estimated cost of a task: K^3 N of its first K.
         procedure :: cost => hb_task_cost
     end type hb_fold_tasks
@@ -100,25 +90,15 @@ contains
         !> Error, allocated when the axis is empty.
         type(error_type), allocatable, intent(out) :: error
         type(hb_fold_tasks), allocatable :: list
-        integer :: ncurve, nomega, ic
+        integer :: ncurve, nomega
 
         allocate (list)
-        list%cfg = cfg
-        list%inv = tasks%inv
-        list%omegas = bifurcation_omegas(cfg)
-        ncurve = curve_count(cfg)
+        call init_axes(list, cfg, tasks%inv, 1, error)
+        if (allocated(error)) return
+        ncurve = size(list%runs)
         nomega = size(list%omegas)
-        if (nomega < 1) then
-            call fatal_error(error, cfg%source // ": &scene: the frequency axis omega_min .. omega_max is empty", err_input)
-            return
-        end if
-        allocate (list%runs(ncurve))
-        do ic = 1, ncurve
-            list%runs(ic) = curve_run(cfg, ic)
-        end do
         allocate (list%c_values(0))
         if (allocated(cfg%scene%c_values)) list%c_values = cfg%scene%c_values
-        list%partial_path = trim(cfg%output%file) // ".partial.h5"
         tasks%header = "supratrans: continuation (" // trim(solver_choices(2)) // ") from " // cfg%source // ": " &
             // int_str(ncurve) // " curve(s) x " // int_str(nomega) // " frequencies, N = " &
             // int_str(cfg%run%chain%n) // ", K up to " // int_str(cfg%scene%harmonics_max)
@@ -287,20 +267,6 @@ contains
         ctl%keep_states = cfg%scene%floquet_every > 0
     end function scene_controls
 
-    !> The run of task `index`: its curve's run at its frequency.
-    pure function hb_task_run(self, index) result(run)
-        !> The tasks.
-        class(hb_fold_tasks), intent(in) :: self
-        !> Task index.
-        integer, intent(in) :: index
-        type(run_config) :: run
-        integer :: nomega
-
-        nomega = size(self%omegas)
-        run = self%runs((index - 1)/nomega + 1)
-        run%drive%omega = self%omegas(mod(index - 1, nomega) + 1)
-    end function hb_task_run
-
     !> Locate the fold of task `index` and what the scene adds to it (thread-safe: everything it changes is local).
     subroutine run_hb_task(self, index, values)
         !> The tasks.
@@ -320,7 +286,7 @@ contains
         real(wp) :: scale
 
         call system_clock(clock_start, clock_rate)
-        run = hb_task_run(self, index)
+        run = self%task_run(index)
         r = empty_hb_record(self%cfg%scene%continuation_points, run%chain%n, self%cfg%scene%absorber_family, &
                             size(self%c_values))
         r%chain_n = run%chain%n
@@ -611,7 +577,7 @@ contains
         real(wp) :: cost
         type(run_config) :: run
 
-        run = hb_task_run(self, index)
+        run = self%task_run(index)
         cost = 0.0_wp
         if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. self%cfg%allow_outside_gap) return
         cost = real(run%chain%n, wp)*max(3.0_wp, 3.0_wp/run%drive%omega)**3
@@ -624,34 +590,22 @@ contains
         !> The tasks' records.
         type(scene_tasks), intent(in) :: tasks
         character(len=:), allocatable :: text
+        type(hb_scalars) :: r
         integer :: i, found
 
         found = 0
         do i = 1, size(tasks%done)
-            if (nint(tasks%results(3, i)) == fold_found .and. tasks%done(i)) found = found + 1
+            r = hb_scalars_from_values(tasks%results(:, i))
+            if (r%status == fold_found .and. tasks%done(i)) found = found + 1
         end do
         text = "  " // int_str(found) // " of " // int_str(size(tasks%done)) // " folds found by harmonic balance, " &
                // fixed1(tasks%elapsed) // " s, K up to " // int_str(cfg%scene%harmonics_max)
     end function hb_summary
 
-    !> Write the partial output (failures ignored: the journal is what a resumed run reads).
-    subroutine write_hb_snapshot(self, results, done)
+    !> Write the scene's file `path` (built in memory, written atomically): tasks not done get NaN and status -1.
+    subroutine write_hb_file(self, path, results, done, complete, elapsed, error)
         !> The tasks.
         class(hb_fold_tasks), intent(in) :: self
-        !> Results so far.
-        real(wp), intent(in) :: results(:, :)
-        !> Which tasks are done.
-        logical, intent(in) :: done(:)
-        type(error_type), allocatable :: error
-
-        call write_hb_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
-        call warn_partial(error, self%cfg%output%quiet)
-    end subroutine write_hb_snapshot
-
-    !> Write the scene's file `path` (built in memory, written atomically): tasks not done get NaN and status -1.
-    subroutine write_hb_file(tasks, path, results, done, complete, elapsed, error)
-        !> The tasks.
-        class(hb_fold_tasks), intent(in) :: tasks
         !> Final path of the file.
         character(len=*), intent(in) :: path
         !> Results, (values, tasks).
@@ -670,13 +624,13 @@ contains
         integer :: ncurve, nomega, ntask, t, q, npts, n, nfam, nc
         character(len=*), parameter :: g = "/convergence/"
 
-        ncurve = size(tasks%runs)
-        nomega = size(tasks%omegas)
+        ncurve = size(self%runs)
+        nomega = size(self%omegas)
         ntask = ncurve*nomega
-        npts = tasks%cfg%scene%continuation_points
-        n = tasks%cfg%run%chain%n
-        nfam = tasks%cfg%scene%absorber_family
-        nc = size(tasks%c_values)
+        npts = self%cfg%scene%continuation_points
+        n = self%cfg%run%chain%n
+        nfam = self%cfg%scene%absorber_family
+        nc = size(self%c_values)
         allocate (recs(ntask))
         do t = 1, ntask
             if (done(t)) then
@@ -688,16 +642,16 @@ contains
         end do
 
         call h5_create(file, path, .true.)
-        call write_root(file, tasks%cfg, "continuation", "Fold (saddle-node) of the branch of driven periodic " &
+        call write_root(file, self%cfg, "continuation", "Fold (saddle-node) of the branch of driven periodic " &
                         // "states of the ODE vs driving frequency by harmonic balance: the supratransmission " &
-                        // "threshold of the model, one curve per potential and varied value", tasks%inv)
+                        // "threshold of the model, one curve per potential and varied value", self%inv)
         call h5_write_attr(file, "/", "solver", "harmonic_balance")
         call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
         call h5_write_attr(file, "/", "tasks_done", count(done))
-        call write_parameters(file, tasks%cfg)
-        call h5_write(file, "/omega", tasks%omegas, "1/time", &
+        call write_parameters(file, self%cfg)
+        call h5_write(file, "/omega", self%omegas, "1/time", &
             "Driving frequency Omega_i = omega_min + i omega_step", dims="omega")
-        call write_curves(file, tasks%cfg, tasks%runs)
+        call write_curves(file, self%cfg, self%runs)
         ! the datasets of the record's scalar fields and their groups: the output table's
         ! (continuation_harmonic_balance.toml)
         call write_hb_scalars(file, recs%hb_scalars, nomega, nc > 0)
@@ -706,7 +660,7 @@ contains
         call h5_write_attr(file, "/instability_type", "codes", instability_type_codes())
         if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
         call h5_write(file, "/outside_gap", reshape(merge(1, 0, &
-            [(tasks%omegas(mod(t - 1, nomega) + 1) >= band_gap_edge(tasks%runs((t - 1)/nomega + 1)%chain), &
+            [(self%omegas(mod(t - 1, nomega) + 1) >= band_gap_edge(self%runs((t - 1)/nomega + 1)%chain), &
             t=1, ntask)]), [nomega, ncurve]), "1", "1 where Omega >= sqrt(1 + m^2), outside the curve's band gap", &
             dims="curve, omega")
         a4 = reshape([(transpose(recs(t)%spectrum), t=1, ntask)], [n, spectrum_harmonics, nomega, ncurve])
@@ -726,7 +680,7 @@ contains
                 dims="curve, omega, absorber")
         end if
         if (nc > 0) then
-            call h5_write(file, "/continuum/c", tasks%c_values, "1/time", "Couplings c", dims="c")
+            call h5_write(file, "/continuum/c", self%c_values, "1/time", "Couplings c", dims="c")
             call h5_write(file, "/continuum/folds", cube([(recs(t)%continuum_folds, t=1, ntask)], nc), "rad", &
                           "The fold at each c", dims="curve, omega, c")
         end if

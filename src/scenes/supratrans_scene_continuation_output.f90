@@ -1,19 +1,11 @@
 !> The file of the scene `continuation` (a submodule of `supratrans_scene_continuation`, whose interface declares
-!> `write_snapshot` and `write_continuation_file`): per (curve, Omega) the fold, the first loss of stability and their
-!> statuses, the convergence of each fold and its cost, and the sampled branches and multipliers; written atomically,
-!> as the final output or as the partial snapshot.
+!> `write_continuation_file`, the binding `write_file` of its tasks): per (curve, Omega) the fold, the first loss of
+!> stability and their statuses, the convergence of each fold and its cost, and the sampled branches and multipliers;
+!> written atomically, as the final output or as the partial snapshot.
 submodule(supratrans_scene_continuation) supratrans_scene_continuation_output
     implicit none
 
 contains
-
-    !> (the interface, with its arguments, is in the parent module)
-    module procedure write_snapshot
-        type(error_type), allocatable :: error
-
-        call write_continuation_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
-        call warn_partial(error, self%cfg%output%quiet)
-    end procedure write_snapshot
 
     !> Tasks not done get NaN and status -1 (pending); the file is built in memory and written atomically (the
     !> interface, with its arguments, is in the parent module).
@@ -23,10 +15,10 @@ contains
         real(wp), allocatable :: branch(:, :, :), mult(:, :, :)
         integer :: ncurve, nomega, ntask, t, q, npts
 
-        ncurve = size(tasks%runs)
-        nomega = size(tasks%omegas)
+        ncurve = size(self%runs)
+        nomega = size(self%omegas)
         ntask = ncurve*nomega
-        npts = tasks%cfg%scene%continuation_points
+        npts = self%cfg%scene%continuation_points
         allocate (recs(ntask))
         do t = 1, ntask
             if (done(t)) then
@@ -38,15 +30,15 @@ contains
         end do
 
         call h5_create(file, path, .true.)
-        call write_root(file, tasks%cfg, "continuation", "Fold (saddle-node) of the branch of driven periodic " &
+        call write_root(file, self%cfg, "continuation", "Fold (saddle-node) of the branch of driven periodic " &
                         // "states vs driving frequency: the supratransmission threshold of the model, one curve per " &
-                        // "potential and varied value, with Floquet stability and convergence", tasks%inv)
+                        // "potential and varied value, with Floquet stability and convergence", self%inv)
         call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
         call h5_write_attr(file, "/", "tasks_done", count(done))
-        call write_parameters(file, tasks%cfg)
-        call h5_write(file, "/omega", tasks%omegas, "1/time", &
+        call write_parameters(file, self%cfg)
+        call h5_write(file, "/omega", self%omegas, "1/time", &
             "Driving frequency Omega_i = omega_min + i omega_step", dims="omega")
-        call write_curves(file, tasks%cfg, tasks%runs)
+        call write_curves(file, self%cfg, self%runs)
         ! the datasets of the record's scalar fields and their groups: the output table's (continuation.toml)
         call write_fold_scalars(file, recs%fold_scalars, nomega, real_str(stair_height, 3), real_str(stair_time, 4), &
                                 int_str(other_climbs), real_str(switch_seed, 3))
@@ -59,7 +51,7 @@ contains
             // "-1: pending (not computed yet); " // fold_status_codes())
         if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
         call h5_write(file, "/outside_gap", reshape(merge(1, 0, &
-            [(tasks%omegas(mod(t - 1, nomega) + 1) >= band_gap_edge(tasks%runs((t - 1)/nomega + 1)%chain), &
+            [(self%omegas(mod(t - 1, nomega) + 1) >= band_gap_edge(self%runs((t - 1)/nomega + 1)%chain), &
             t=1, ntask)]), [nomega, ncurve]), "1", "1 where Omega >= sqrt(1 + m^2), outside the curve's band gap: " &
             // "computed only with allow_outside_gap, and no fold is expected there", dims="curve, omega")
         allocate (branch(npts, nomega, ncurve))
