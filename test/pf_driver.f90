@@ -185,73 +185,74 @@ program pf_driver
     use test_screened_search, only: t170 => test_none_transmits_confirms_the_top
     use test_screened_search, only: t171 => test_exact_failure_is_reported
     use test_screened_search, only: t172 => test_cheap_failure_falls_back_to_exact
-    use test_slice_costs, only: t173 => test_equal_costs_deal_round_robin
-    use test_slice_costs, only: t174 => test_every_task_in_one_slice_and_deterministic
-    use test_slice_costs, only: t175 => test_largest_first_is_balanced_within_the_largest_task
-    use test_slice_costs, only: t176 => test_run_order_is_largest_first
-    use test_slice_costs, only: t177 => test_fold_tasks_cost_more_at_low_omega
-    use test_slice_costs, only: t178 => test_slice_text_counts_the_slice
+    use test_screened_search, only: t173 => test_margin_below_the_threshold
+    use test_slice_costs, only: t174 => test_equal_costs_deal_round_robin
+    use test_slice_costs, only: t175 => test_every_task_in_one_slice_and_deterministic
+    use test_slice_costs, only: t176 => test_largest_first_is_balanced_within_the_largest_task
+    use test_slice_costs, only: t177 => test_run_order_is_largest_first
+    use test_slice_costs, only: t178 => test_fold_tasks_cost_more_at_low_omega
+    use test_slice_costs, only: t179 => test_slice_text_counts_the_slice
     use test_stability, only: b25 => set_up
     use test_stability, only: a25 => tear_down
-    use test_stability, only: t179 => test_linear_limits
-    use test_stability, only: t180 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t181 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t182 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t183 => test_stepper_contract_order
-    use test_stepper_contract, only: t184 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t185 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t186 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t187 => test_engine_counts_steps_in_64_bits
-    use test_stepper_contract, only: t188 => test_stepper_contract_checkpoint
-    use test_stepper_linearized, only: t189 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t190 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t191 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t192 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t193 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t194 => test_blocked_iteration_is_the_unblocked_one
-    use test_stepper_newton, only: t195 => test_levels_predictor_is_the_two_loop_one
-    use test_stepper_newton, only: t196 => test_uniform_loops_are_the_general_ones
-    use test_stepper_newton, only: t197 => test_newton_error_below_tol
-    use test_stepper_newton, only: t198 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t199 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t200 => test_newton_stepper_reports_failure
-    use test_stepper_newton, only: t201 => test_blowup_measure_is_the_level_maximum
-    use test_stepper_newton, only: t202 => test_step_powers_without_bulk_damping
-    use test_strings, only: t203 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t204 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t205 => test_find_name_gives_the_first_index_or_zero
-    use test_strings, only: t206 => test_joined_trims_each_name_and_prefixes_it
-    use test_strings, only: t207 => test_lower_changes_only_ascii_capitals
+    use test_stability, only: t180 => test_linear_limits
+    use test_stability, only: t181 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t182 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t183 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t184 => test_stepper_contract_order
+    use test_stepper_contract, only: t185 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t186 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t187 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t188 => test_engine_counts_steps_in_64_bits
+    use test_stepper_contract, only: t189 => test_stepper_contract_checkpoint
+    use test_stepper_linearized, only: t190 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t191 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t192 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t193 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t194 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t195 => test_blocked_iteration_is_the_unblocked_one
+    use test_stepper_newton, only: t196 => test_levels_predictor_is_the_two_loop_one
+    use test_stepper_newton, only: t197 => test_uniform_loops_are_the_general_ones
+    use test_stepper_newton, only: t198 => test_newton_error_below_tol
+    use test_stepper_newton, only: t199 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t200 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t201 => test_newton_stepper_reports_failure
+    use test_stepper_newton, only: t202 => test_blowup_measure_is_the_level_maximum
+    use test_stepper_newton, only: t203 => test_step_powers_without_bulk_damping
+    use test_strings, only: t204 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t205 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t206 => test_find_name_gives_the_first_index_or_zero
+    use test_strings, only: t207 => test_joined_trims_each_name_and_prefixes_it
+    use test_strings, only: t208 => test_lower_changes_only_ascii_capitals
     use test_system, only: b30 => set_up
     use test_system, only: a30 => tear_down
-    use test_system, only: t208 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t209 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t210 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t211 => test_lock_file_is_removed_by_its_holder_only
-    use test_system, only: t212 => test_temporary_names_are_fresh
-    use test_system, only: t213 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t214 => test_monotone_step
-    use test_threshold, only: t215 => test_bisected_bracket
-    use test_threshold, only: t216 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t217 => test_two_transitions
-    use test_threshold, only: t218 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t219 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t220 => test_nothing_transmits
-    use test_threshold, only: t221 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t222 => test_lower_bound_transmits
-    use test_threshold, only: t223 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t224 => test_bad_arguments
-    use test_threshold, only: t225 => test_grid_helpers
+    use test_system, only: t209 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t210 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t211 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t212 => test_lock_file_is_removed_by_its_holder_only
+    use test_system, only: t213 => test_temporary_names_are_fresh
+    use test_system, only: t214 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t215 => test_monotone_step
+    use test_threshold, only: t216 => test_bisected_bracket
+    use test_threshold, only: t217 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t218 => test_two_transitions
+    use test_threshold, only: t219 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t220 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t221 => test_nothing_transmits
+    use test_threshold, only: t222 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t223 => test_lower_bound_transmits
+    use test_threshold, only: t224 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t225 => test_bad_arguments
+    use test_threshold, only: t226 => test_grid_helpers
     use test_workprec, only: b32 => set_up
     use test_workprec, only: a32 => tear_down
-    use test_workprec, only: t226 => test_rk8_eighth_order
-    use test_workprec, only: t227 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t228 => test_rk8_stability_polynomial
-    use test_workprec, only: t229 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t230 => test_unstable_runs_are_reported
-    use test_workprec, only: t231 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t232 => test_fitted_order
-    use test_workprec, only: t233 => test_step_kernels_timed
+    use test_workprec, only: t227 => test_rk8_eighth_order
+    use test_workprec, only: t228 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t229 => test_rk8_stability_polynomial
+    use test_workprec, only: t230 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t231 => test_unstable_runs_are_reported
+    use test_workprec, only: t232 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t233 => test_fitted_order
+    use test_workprec, only: t234 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -442,81 +443,82 @@ program pf_driver
     call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t170)
     call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t171)
     call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t172)
-    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t173)
-    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t174)
-    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t175)
-    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t176)
-    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t177)
-    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t178)
-    call pf_run_test('test_stability', 'test_linear_limits', t179, before=b25, after=a25)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t180, before=b25, after=a25)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t181, before=b25, after=a25)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t182)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t183)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t184)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t185)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t186)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t187)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t188)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t189)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t190)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t191)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t192)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t193)
-    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t194)
-    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t195)
-    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t196)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t197)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t198)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t199)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t200)
-    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t201)
-    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t202)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t203)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t204)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t205)
-    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t206)
-    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t207)
+    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t173)
+    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t174)
+    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t175)
+    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t176)
+    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t177)
+    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t178)
+    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t179)
+    call pf_run_test('test_stability', 'test_linear_limits', t180, before=b25, after=a25)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t181, before=b25, after=a25)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t182, before=b25, after=a25)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t183)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t184)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t185)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t186)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t187)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t188)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t189)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t190)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t191)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t192)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t193)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t194)
+    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t195)
+    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t196)
+    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t197)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t198)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t199)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t200)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t201)
+    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t202)
+    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t203)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t204)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t205)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t206)
+    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t207)
+    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t208)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t208, &
+        t209, &
         before=b30, &
         after=a30)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t209, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t210, before=b30, after=a30)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t210, &
+        t211, &
         before=b30, &
         after=a30)
-    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t211, before=b30, after=a30)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t212, before=b30, after=a30)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t213, before=b30, after=a30)
-    call pf_run_test('test_threshold', 'test_monotone_step', t214)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t215)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t216)
-    call pf_run_test('test_threshold', 'test_two_transitions', t217)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t218)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t219)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t220)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t221)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t222)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t223)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t224)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t225)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t226, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t227, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t228, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t229, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t230, before=b32, after=a32)
+    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t212, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t213, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t214, before=b30, after=a30)
+    call pf_run_test('test_threshold', 'test_monotone_step', t215)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t216)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t217)
+    call pf_run_test('test_threshold', 'test_two_transitions', t218)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t219)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t220)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t221)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t222)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t223)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t224)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t225)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t226)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t227, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t228, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t229, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t230, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t231, before=b32, after=a32)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t231, &
+        t232, &
         before=b32, &
         after=a32)
-    call pf_run_test('test_workprec', 'test_fitted_order', t232, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t233, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_fitted_order', t233, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t234, before=b32, after=a32)
     call pf_driver_finish()
 end program pf_driver

@@ -641,4 +641,89 @@ contains
         if (pf_any_failed()) return
     end subroutine test_cheap_failure_falls_back_to_exact
 
+    ! @test
+    subroutine test_margin_below_the_threshold()
+        ! the margin reported is the oracle's at the grid point just below the threshold, whichever scan asked it:
+        ! the fine scan (threshold inside the bracket), the coarse scan (threshold one point above a coarse point),
+        ! a bisected bracket, and the screened search (the exact oracle's margin there, not the cheap one's)
+        type(pattern_oracle) :: exact, cheap
+        type(screen_report) :: report
+        real(wp) :: threshold, margin
+        integer :: runs, status, k, kt, i, kk
+        integer(i8) :: steps
+        ! 4.28 (k = 378): 4.27 asked by the fine scan; 4.26 (376): 4.25 below it is the coarse point before the hit;
+        ! 4.25 (375) is itself a coarse point: 4.24 asked by the fine scan
+        integer, parameter :: thresholds(3) = [378, 376, 375]
+        logical :: bisect
+
+        do i = 1, size(thresholds)
+            kt = thresholds(i)
+            do k = 0, 1
+                bisect = k == 1
+                exact = pattern_oracle()
+                exact%pattern = from(kt)
+                exact%margins = [(0.001_wp*real(mod(7*kk, 500), wp), kk = 0, kmax)]
+                call find_threshold(exact, a_min, a_max, coarse, res, threshold, runs, steps, status, bisect=bisect, &
+                                    margin_below=margin)
+                call assertEqual( &
+                    search_found, &
+                    status, &
+                    location=pf_source_location('test_screened_search.pf', 435, 'assertEqual'))
+                if (pf_any_failed()) return
+                call assertEqual( &
+                    a_min + kt*res, &
+                    threshold, &
+                    1.0e-12_wp, &
+                    location=pf_source_location('test_screened_search.pf', 436, 'assertEqual'))
+                if (pf_any_failed()) return
+                call assertEqual( &
+                    exact%margins(kt - 1), &
+                    margin, &
+                    1.0e-15_wp, &
+                    message="margin of the point below", &
+                    location=pf_source_location('test_screened_search.pf', 437, 'assertEqual'))
+                if (pf_any_failed()) return
+            end do
+        end do
+        exact = pattern_oracle()
+        cheap = pattern_oracle()
+        exact%pattern = from(378)
+        cheap%pattern = from(378)
+        exact%margins = [(0.001_wp*real(mod(7*kk, 500), wp), kk = 0, kmax)]
+        cheap%margins = 0.9_wp
+        call find_threshold_screened(exact, cheap, a_min, a_max, coarse, res, 0.05_wp, 0.0_wp, threshold, runs, steps, &
+                                     status, report)
+        call assertEqual( &
+            search_found, &
+            status, &
+            location=pf_source_location('test_screened_search.pf', 448, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            exact%margins(377), &
+            report%margin_below, &
+            1.0e-15_wp, &
+            message="the exact oracle's margin", &
+            location=pf_source_location('test_screened_search.pf', 449, 'assertEqual'))
+        if (pf_any_failed()) return
+        ! none found, or found at the lower bound: no margin
+        exact = pattern_oracle()
+        call find_threshold(exact, a_min, a_max, coarse, res, threshold, runs, steps, status, margin_below=margin)
+        call assertEqual( &
+            search_none, &
+            status, &
+            location=pf_source_location('test_screened_search.pf', 453, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertTrue(ieee_is_nan(margin), location=pf_source_location('test_screened_search.pf', 454, 'assertTrue'))
+        if (pf_any_failed()) return
+        exact%pattern = from(0)
+        call find_threshold(exact, a_min, a_max, coarse, res, threshold, runs, steps, status, margin_below=margin)
+        call assertEqual( &
+            search_at_lower_bound, &
+            status, &
+            location=pf_source_location('test_screened_search.pf', 457, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertTrue(ieee_is_nan(margin), location=pf_source_location('test_screened_search.pf', 458, 'assertTrue'))
+        if (pf_any_failed()) return
+    end subroutine test_margin_below_the_threshold
+
 end module test_screened_search

@@ -28,6 +28,7 @@
 !> `supratrans_scene_bifurcation_output.f90` (written, partial or final, and read back for `--costs`).
 module supratrans_scene_bifurcation
     use, intrinsic :: iso_fortran_env, only: error_unit
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
@@ -42,6 +43,7 @@ module supratrans_scene_bifurcation
                                         certify_moved_within, certify_moved
     use supratrans_strings, only: int_str, real_str, fixed1, printable
     use supratrans_bifurcation_runs, only: search_run, with_numerics, screen_integrator, screen_dt
+    use supratrans_result, only: thin_margin
     implicit none
     private
 
@@ -232,7 +234,7 @@ contains
         character(len=:), allocatable :: text
         type(search_record), allocatable :: records(:)
         character(len=24) :: steps_text
-        integer :: i
+        integer :: i, nthin
 
         allocate (records(size(tasks%done)))
         do i = 1, size(tasks%done)
@@ -245,6 +247,11 @@ contains
             // int_str(count(records%certify_status == certify_unchanged .or. records%certify_status &
                              == certify_moved_within)) // " thresholds stand, " &
             // int_str(count(records%certify_status >= certify_moved)) // " flagged"
+        nthin = count(records%margin_below < thin_margin)
+        if (nthin > 0) text = text // new_line("a") // "  " // int_str(nthin) // " of " &
+            // int_str(count(.not. ieee_is_nan(records%margin_below))) &
+            // " thresholds are thin verdicts (the run just below came within " // real_str(thin_margin, 2) &
+            // " of the detect amplitude: /thin_verdict)"
     end function bifurcation_summary
 
     !> The screening and certification settings, for the progress line ("" when neither is on).

@@ -100,10 +100,44 @@ contains
             "1", "Outcome of the search (codes in attribute 'codes')", dims=dims)
         call h5_write_attr(file, "/status", "codes", "-2: outside gap (Omega >= " &
             // "sqrt(1 + m^2): not searched; NaN); -1: pending (not computed yet); " // search_status_codes())
+        call write_verdict_margins(file, vals, nomega)
         call write_screening(file, self%cfg, vals, nomega)
         call write_certification(file, self%cfg, vals, nomega)
         call h5_commit(file, error)
     end subroutine write_bifurcation_file
+
+    !> `/verdict_margin` and `/thin_verdict`: how close the run just below each threshold came to transmitting
+    !> (the margin the verdict already computes), and the threshold flagged thin where that margin is below
+    !> `thin_margin` (CF flags: -1 no_margin, 0 clear, 1 thin).
+    subroutine write_verdict_margins(file, vals, nomega)
+        !> Open output file.
+        type(h5_file), intent(inout) :: file
+        !> The search records as values (`search_fields`, tasks).
+        real(wp), intent(in) :: vals(:, :)
+        !> Frequencies per curve.
+        integer, intent(in) :: nomega
+        real(wp), allocatable :: margin(:, :)
+        integer, allocatable :: thin(:, :)
+        character(len=*), parameter :: dims = "curve, omega"
+
+        margin = field_grid(vals, "margin_below", nomega)
+        allocate (thin(size(margin, 1), size(margin, 2)))
+        thin = -1
+        where (.not. ieee_is_nan(margin)) thin = merge(1, 0, margin < thin_margin)
+        call h5_write(file, "/verdict_margin", margin, "1", "Margin of the verdict of the run one resolution below " &
+                      // "the threshold (quiet, run to T): 1 - max|u_n|/a beyond the detector site, a the detect " &
+                      // "amplitude; NaN unless status is 0 (found above amplitude_min)", dims=dims)
+        call h5_write(file, "/thin_verdict", thin, "1", "The threshold is a thin verdict: the run just below it " &
+                      // "came within thin_margin of the detect amplitude (codes in attribute 'codes')", dims=dims)
+        call h5_write_attr(file, "/thin_verdict", "codes", "-1 no_margin: no threshold found above " &
+                           // "amplitude_min (see /status); 0 clear: /verdict_margin >= thin_margin; 1 thin: " &
+                           // "/verdict_margin < thin_margin, the detector's maximum just below the threshold near " &
+                           // "its detect amplitude")
+        call h5_write_attr(file, "/thin_verdict", "flag_values", [-1, 0, 1])
+        call h5_write_attr(file, "/thin_verdict", "flag_meanings", "no_margin clear thin")
+        call h5_write_attr(file, "/thin_verdict", "thin_margin", thin_margin)
+        call h5_write_attr(file, "/thin_verdict", "thin_verdicts", count(thin == 1))
+    end subroutine write_verdict_margins
 
     !> The measured cost of every search in `path`, an earlier output (or merged file) of the same study: its
     !> `/cost/cpu_time` (curve, omega), by task index (`/cost/wall_time` in a file written before it was recorded):

@@ -76,9 +76,10 @@ contains
                 r%rounds = report%rounds
                 r%disagreements = report%disagreements
                 r%farthest_disagreement = report%farthest_disagreement
+                r%margin_below = report%margin_below
             else
                 call find_threshold(oracle, sc%amplitude_min, sc%amplitude_max, sc%coarse_step, sc%resolution, &
-                                    r%threshold, r%runs, r%steps, r%status)
+                                    r%threshold, r%runs, r%steps, r%status, margin_below=r%margin_below)
                 r%runs_confirmed = r%runs
                 r%steps_confirmed = r%steps
             end if
@@ -251,6 +252,7 @@ contains
         r%band_high = nan
         r%certified_threshold = nan
         r%certify_status = certify_not_checked
+        r%margin_below = nan
     end function unsearched_record
 
 end submodule supratrans_scene_bifurcation_search

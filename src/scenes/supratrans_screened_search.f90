@@ -63,6 +63,9 @@ module supratrans_screened_search
         integer :: disagreements = 0
         !> Largest distance (amplitude) between the threshold and a point of disagreement; 0 when none.
         real(wp) :: farthest_disagreement = 0.0_wp
+        !> Margin of the quiet answer at the grid point just below the threshold (`find_threshold`'s
+        !> `margin_below`, from the oracle that answered it); NaN unless a threshold was found above a_min.
+        real(wp) :: margin_below = 0.0_wp
     end type screen_report
 
     !> Memo values: not asked, quiet, transmitting, failed, quiet with a margin below `doubt` (cheap oracle only).
@@ -83,6 +86,12 @@ module supratrans_screened_search
         integer(int8), allocatable :: exact_memo(:)
         !> Answers of the cheap oracle by grid index.
         integer(int8), allocatable :: cheap_memo(:)
+        !> Margins (the oracle's `margin`) of the exact oracle's answers by grid index.
+        real(wp), allocatable :: exact_margin(:)
+        !> Margins of the cheap oracle's answers by grid index.
+        real(wp), allocatable :: cheap_margin(:)
+        !> Margin of the last answer (remembered answers too).
+        real(wp) :: last_margin = 1.0_wp
         !> The confirmation set.
         logical, allocatable :: confirm(:)
         !> Points of this search that the cheap oracle answered.
@@ -100,6 +109,8 @@ module supratrans_screened_search
         procedure :: transmits => hybrid_transmits
         !> Whether the last answer failed.
         procedure :: failed => hybrid_failed
+        !> Margin of the last answer.
+        procedure :: margin => hybrid_margin
     end type hybrid_oracle
 
 contains
@@ -145,9 +156,11 @@ contains
         report%screen_threshold = nan
         report%band_low = nan
         report%band_high = nan
+        report%margin_below = nan
         kmax = search_grid_size(a_min, a_max, resolution) - 1
         if (kmax < 0 .or. .not. (coarse_step >= resolution)) then
-            call find_threshold(exact, a_min, a_max, coarse_step, resolution, threshold, runs, steps, status)
+            call find_threshold(exact, a_min, a_max, coarse_step, resolution, threshold, runs, steps, status, &
+                                margin_below=report%margin_below)
             report%runs_confirmed = runs
             report%steps_confirmed = steps
             return
@@ -159,7 +172,9 @@ contains
         hybrid%resolution = resolution
         hybrid%doubt = doubt
         allocate (hybrid%exact_memo(0:kmax), hybrid%cheap_memo(0:kmax), hybrid%confirm(0:kmax), &
-                  hybrid%asked_cheap(0:kmax))
+                  hybrid%asked_cheap(0:kmax), hybrid%exact_margin(0:kmax), hybrid%cheap_margin(0:kmax))
+        hybrid%exact_margin = nan
+        hybrid%cheap_margin = nan
         hybrid%exact_memo = unknown
         hybrid%cheap_memo = unknown
         hybrid%confirm = .false.
@@ -178,7 +193,7 @@ contains
         !    grow more than once grows by doubling widths (a long stretch of wrong cheap answers costs few rounds)
         do
             report%rounds = report%rounds + 1
-            call search(threshold, status)
+            call search(threshold, status, margin=report%margin_below)
             if (status == search_failed) exit
             k_ref = reference_index(threshold, status)
             lo = max(0, min(kmax, k_ref - nb))
@@ -198,17 +213,20 @@ contains
     contains
 
         !> One `find_threshold` with the hybrid oracle as it stands; the oracle's own counts are the real cost.
-        subroutine search(a, st, bisect)
+        subroutine search(a, st, bisect, margin)
             !> Threshold found.
             real(wp), intent(out) :: a
             !> Its status.
             integer, intent(out) :: st
             !> Bisect the bracket (the first, screening search).
             logical, intent(in), optional :: bisect
+            !> Margin of the answer just below the threshold (`find_threshold`'s `margin_below`).
+            real(wp), intent(out), optional :: margin
 
             hybrid%asked_cheap = .false.
             hybrid%last_failed = .false.
-            call find_threshold(hybrid, a_min, a_max, coarse_step, resolution, a, n_asked, ignored_steps, st, bisect)
+            call find_threshold(hybrid, a_min, a_max, coarse_step, resolution, a, n_asked, ignored_steps, st, bisect, &
+                                margin)
         end subroutine search
 
         !> Fill the report and the totals.
@@ -286,6 +304,7 @@ contains
                 self%runs_screened = self%runs_screened + 1
                 self%steps_screened = self%steps_screened + c
                 self%cheap_memo(k) = merge(transmitting, quiet, verdict)
+                self%cheap_margin(k) = self%cheap%margin()
                 if (self%cheap%failed()) then
                     self%cheap_memo(k) = failing
                 else if (.not. verdict .and. self%cheap%margin() < self%doubt) then
@@ -296,6 +315,7 @@ contains
             if (self%cheap_memo(k) /= failing .and. self%cheap_memo(k) /= doubtful) then
                 self%asked_cheap(k) = .true.
                 verdict = self%cheap_memo(k) == transmitting
+                self%last_margin = self%cheap_margin(k)
                 return
             end if
         end if
@@ -305,9 +325,11 @@ contains
             self%runs_confirmed = self%runs_confirmed + 1
             self%steps_confirmed = self%steps_confirmed + c
             self%exact_memo(k) = merge(transmitting, quiet, verdict)
+            self%exact_margin(k) = self%exact%margin()
             if (self%exact%failed()) self%exact_memo(k) = failing
         end if
         self%last_failed = self%exact_memo(k) == failing
+        self%last_margin = self%exact_margin(k)
         verdict = self%exact_memo(k) == transmitting
     end function hybrid_transmits
 
@@ -319,5 +341,14 @@ contains
 
         failed = self%last_failed
     end function hybrid_failed
+
+    !> Margin of the last answer: that of the oracle's run that gave it (remembered with the answer).
+    function hybrid_margin(self) result(margin)
+        !> The hybrid oracle.
+        class(hybrid_oracle), intent(in) :: self
+        real(wp) :: margin
+
+        margin = self%last_margin
+    end function hybrid_margin
 
 end module supratrans_screened_search

@@ -59,13 +59,17 @@ module supratrans_search_record
         integer(i8) :: certify_steps = 0_i8
         !> Processor time of the search's thread (s): its cost on any machine, shared or not (`--costs` deals by it).
         real(wp) :: cpu_time = 0.0_wp
+        !> Margin of the verdict at the grid point just below the threshold (quiet, run to T by the scene's method
+        !> where screening confirmed it): 1 - max|u_n|/a beyond the detector site; NaN unless a threshold was found
+        !> above amplitude_min. Small: that run nearly transmitted, the threshold is a thin verdict.
+        real(wp) :: margin_below = 0.0_wp
     end type search_record
 
     !> Names of the record's fields, in the order of `to_values` (the journal header lists them).
     character(len=*), parameter :: search_fields(*) = [character(len=21) :: "threshold", "threshold_as", "status", &
         "runs", "steps", "wall_time", "runs_screened", "runs_confirmed", "runs_doubtful", "steps_screened", &
         "steps_confirmed", "screen_threshold", "band_low", "band_high", "rounds", "disagreements", "farthest_disagreement", &
-        "certified_threshold", "certify_status", "certify_runs", "certify_steps", "cpu_time"]
+        "certified_threshold", "certify_status", "certify_runs", "certify_steps", "cpu_time", "margin_below"]
 
 contains
 
@@ -79,7 +83,8 @@ contains
                   real(r%runs_screened, wp), real(r%runs_confirmed, wp), real(r%runs_doubtful, wp), &
                   real(r%steps_screened, wp), real(r%steps_confirmed, wp), r%screen_threshold, r%band_low, r%band_high, &
                   real(r%rounds, wp), real(r%disagreements, wp), r%farthest_disagreement, r%certified_threshold, &
-                  real(r%certify_status, wp), real(r%certify_runs, wp), real(r%certify_steps, wp), r%cpu_time]
+                  real(r%certify_status, wp), real(r%certify_runs, wp), real(r%certify_steps, wp), r%cpu_time, &
+                  r%margin_below]
     end function to_values
 
     !> The record from values in the order of `search_fields`.
@@ -110,6 +115,7 @@ contains
         r%certify_runs = nint(values(20))
         r%certify_steps = nint(values(21), i8)
         r%cpu_time = values(22)
+        r%margin_below = values(23)
     end function from_values
 
 

@@ -138,7 +138,8 @@ contains
 
     !> Find the smallest amplitude of [a_min, a_max] at which `oracle` transmits, to within `resolution` (see the
     !> module documentation for the algorithm, its one assumption and its cost).
-    subroutine find_threshold(oracle, a_min, a_max, coarse_step, resolution, threshold, runs, steps, status, bisect)
+    subroutine find_threshold(oracle, a_min, a_max, coarse_step, resolution, threshold, runs, steps, status, bisect, &
+                              margin_below)
         !> Decides whether an amplitude transmits.
         class(verdict_oracle), intent(inout) :: oracle
         !> Lower end of the search range.
@@ -161,10 +162,18 @@ contains
         !> of up to coarse_step/resolution - 1, and *a* grid point where the verdict changes inside the bracket, not
         !> necessarily the smallest; an estimate (the screened search places its confirmation band with it).
         logical, intent(in), optional :: bisect
-        integer :: m, kmax, k, k_prev, k_hit, k_found, k_low
+        !> The oracle's margin (`margin`) of its quiet answer at the grid point just below the threshold, the run
+        !> that came closest to transmitting without doing so; NaN unless the status is `search_found`.
+        real(wp), intent(out), optional :: margin_below
+        integer :: m, kmax, k, k_prev, k_hit, k_found, k_low, k_fine
         logical :: hit, bisecting
+        real(wp) :: m_prev, m_fine, m_low
 
         threshold = ieee_value(threshold, ieee_quiet_nan)
+        if (present(margin_below)) margin_below = threshold
+        m_prev = threshold
+        m_fine = threshold
+        k_fine = -1
         runs = 0
         steps = 0_i8
         if (.not. (ieee_is_finite(a_min) .and. ieee_is_finite(a_max) .and. ieee_is_finite(coarse_step) &
@@ -192,6 +201,7 @@ contains
             end if
             if (k == kmax) exit
             k_prev = k
+            m_prev = oracle%margin()
             k = min(k + m, kmax)
         end do
         if (k_hit < 0) then
@@ -210,6 +220,7 @@ contains
         if (present(bisect)) bisecting = bisect
         if (bisecting) then
             k_low = k_prev
+            m_low = m_prev
             do while (k_found - k_low > 1)
                 k = k_low + (k_found - k_low)/2
                 call ask(k, hit)
@@ -218,8 +229,11 @@ contains
                     k_found = k
                 else
                     k_low = k
+                    m_low = oracle%margin()
                 end if
             end do
+            k_fine = k_low
+            m_fine = m_low
         else
             do k = k_prev + 1, k_hit - 1
                 call ask(k, hit)
@@ -228,10 +242,14 @@ contains
                     k_found = k
                     exit
                 end if
+                k_fine = k
+                m_fine = oracle%margin()
             end do
         end if
         threshold = grid_amplitude(k_found)
         status = search_found
+        ! the grid point below the threshold was the last quiet answer of the fine scan, or the coarse one before it
+        if (present(margin_below)) margin_below = merge(m_fine, m_prev, k_fine == k_found - 1)
 
     contains
 
