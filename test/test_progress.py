@@ -86,6 +86,71 @@ def test_check_counts_the_runs_and_estimates_their_cost(exe, tmp_path):
     assert not list(tmp_path.glob("*.h5"))      # --check writes nothing
 
 
+#: Every namelist of input/.
+INPUTS = sorted((Path(__file__).resolve().parents[1] / "input").glob("*.nml"))
+#: The line for a person: "estimate 95 fold continuations (each fold: ...): about 2.4 min on 2 thread(s) (...)".
+ESTIMATE = re.compile(r"^[0-9]+ [a-z ,()]+.*: about [0-9.]+ (s|min|h|days)( or less)? on [0-9]+ thread\(s\) ")
+
+
+def test_check_counts_and_estimates_every_input(exe, tmp_path):
+    """`--check` of every namelist of input/ prints its tasks and an estimate of their cost (continuation by
+    shooting and by harmonic balance, stability and work_precision included), and writes nothing."""
+    assert len(INPUTS) > 20
+    for nml in INPUTS:
+        proc = run(exe, tmp_path, "--check", str(nml))
+        assert proc.returncode == 0, (nml.name, proc.stderr)
+        r = report(proc.stdout)
+        assert int(r["tasks"]) >= 1 and r["task_kind"], (nml.name, r)
+        assert float(r["work_newton_site_steps"]) > 0 and float(r["estimate_seconds"]) > 0, (nml.name, r)
+        assert 1 <= int(r["threads"]) <= int(r["tasks"]), (nml.name, r)
+        assert ESTIMATE.match(r["estimate"]), (nml.name, r["estimate"])
+        assert r["estimate"].startswith(r["tasks"] + " " + r["task_kind"]), (nml.name, r)
+    assert not list(tmp_path.iterdir())      # --check writes nothing
+
+
+def test_check_estimates_scenes_of_uneven_tasks(exe, tmp_path):
+    """The scenes whose tasks are not runs of one length count their own work: work_precision its timed runs
+    exactly (repeats x T/dt x N x the method's cost per step, dt_smallest honoured, the rk8 references 3 T /
+    reference_dt), one at a time; stability its grid runs and bisections; a continuation its folds, more with
+    fold_convergence and less for the fold alone."""
+    chain = "&chain n = 40, n0 = 30 /\n&numerics t_final = 10.0 /\n&output file = 's.h5' /\n"
+
+    def check(group: str) -> dict:
+        (tmp_path / "s.nml").write_text(chain + group)
+        proc = run(exe, tmp_path, "--check", "s.nml")
+        assert proc.returncode == 0, proc.stderr
+        return report(proc.stdout)
+
+    r = check("&scene kind = 'work_precision', methods = 'newton', 'rk4', dts = 0.5, 0.25, 0.1, "
+              "dt_smallest = 0.1, 0.25, repeats = 3, reference_dt = 0.05, amplitudes = 1.0, 1.5 /\n")
+    # newton: dt 0.5, 0.25, 0.1 -> 20 + 40 + 100 steps; rk4 (0.6 a step): 0.5, 0.25 -> 60 steps
+    timed = 3 * 40 * ((20 + 40 + 100) + 0.6 * (20 + 40))
+    reference = 3 * 40 * 1.6 * 10.0 / 0.05
+    assert (int(r["tasks"]), r["task_kind"], int(r["runs"]), int(r["threads"])) == (12, "timed tasks", 30, 1), r
+    expected = 2 * (timed + reference)      # two amplitudes; the line prints 4 digits
+    assert abs(float(r["work_newton_site_steps"]) - expected) < 1e-3 * expected, r
+    r = check("&scene kind = 'stability', methods = 'newton', 'rk4', c_values = 1.0, 4.0, dts = 0.1, 0.2, 0.4, "
+              "resolution = 0.01 /\n")
+    assert (int(r["tasks"]), r["task_kind"]) == (2 * 2 * (1 + 3), "bisections and grid runs"), r
+    grid = 2 * 40 * (100 + 50 + 25) * (1 + 0.6)     # every grid run to T, at each c
+    assert int(r["runs"]) > 2 * 2 * 3 and float(r["work_newton_site_steps"]) > grid, r
+    assert r["estimate"].startswith("16 bisections and grid runs (12 grid runs to T = "), r
+    fold = "&scene kind = 'continuation', omega_min = 0.7, omega_max = 0.9, omega_step = 0.1{} /\n"
+    base, alone, converged = (check(fold.format(extra)) for extra in
+                              (", fold_convergence = .false.", ", fold_convergence = .false., floquet_every = 0",
+                               ""))     # fold_convergence is on by default
+    assert (int(base["tasks"]), base["task_kind"]) == (3, "fold continuations"), base
+    work = {name: float(r["work_newton_site_steps"]) for name, r in
+            (("base", base), ("alone", alone), ("converged", converged))}
+    assert work["alone"] < work["base"] < work["converged"], work
+    assert "spectra 2N x 2N" in base["estimate"] and "1 spectrum" in alone["estimate"], alone
+    assert "again at dt/2 and at 2N" in converged["estimate"] and "again" not in base["estimate"], base
+    hb = check(fold.format(", solver = 'harmonic_balance'"))
+    more = check(fold.format(", solver = 'harmonic_balance', absorber_family = 2"))
+    assert "(2K)^3" in hb["estimate"], hb
+    assert float(more["work_newton_site_steps"]) > float(hb["work_newton_site_steps"]) > 0, (hb, more)
+
+
 def test_merge_says_it_merged(exe, tmp_path):
     text = "&chain n = 40, n0 = 30 /\n&numerics t_final = 10.0 /\n&scene kind = 'amplitude_sweep', " \
            "amplitude_min = 1.0, amplitude_max = 1.5, amplitude_step = 0.1 /\n&output file = 's.h5' /\n"

@@ -14,7 +14,8 @@ paper-default run (sine-Gordon, Omega = 0.9, A = 1.9, N = 200, T = 200, newton; 
 user runs it), paired also against the naive program (app/naive), and a 40-amplitude sweep of that chain (A = 1.20
 .. 1.98, T = 200: the computation dominates).
 
-The builds are made with fpm through .ci/with_commit in the checkout (`fpm build --profile release [--flag
+The builds are made with fpm through .ci/with_commit in the checkout (the one holding this package or the working
+directory, or --checkout DIR from anywhere, an installed command for one; `fpm build --profile release [--flag
 HOST_FLAGS]`: fpm keeps each set of flags in a build directory of its own, so the default build is untouched). The
 static executables are linked by hand from fpm's own link line (fpm 0.12 cannot link one target statically without
 changing the others), with the static archives the compiler finds (Debian: libhdf5-dev, libsz2/libaec-dev,
@@ -108,11 +109,12 @@ def naive(root: Path) -> Path:
     return root / out.strip().splitlines()[-1].split()[0]
 
 
-def executables(host_flags: str, static: bool) -> dict[str, Path]:
-    """Name -> executable of every build to time (built or linked here)."""
-    root = cli.repository()
+def executables(root: Path, host_flags: str, static: bool) -> dict[str, Path]:
+    """Name -> executable of every build to time (built or linked here in the checkout `root`)."""
     exes = {}
     for name, flags in (("default", ""), ("host", host_flags)):
+        print(f"  builds: the {name} build (fpm build --profile release{' --flag ' + repr(flags) if flags else ''}; "
+              "minutes when it compiles everything)", file=sys.stderr, flush=True)
         exe, words = build(root, flags)
         exes[name] = exe
         if static:
@@ -140,11 +142,13 @@ def measure(cmd: list[str], folder: Path) -> tuple[float, float]:
 def rounds(commands: dict[str, list[str]], runs: int, folder: Path) -> dict[str, list[tuple[float, float]]]:
     """Every command once per round, in turn, for one warm-up round and `runs` counted ones."""
     times: dict[str, list[tuple[float, float]]] = {name: [] for name in commands}
+    progress = cli.Progress("builds", (runs + 1) * len(commands), "processes")    # every few seconds, on stderr
     for r in range(runs + 1):
         for name, cmd in commands.items():
             t = measure(cmd, folder)
             if r > 0:
                 times[name].append(t)
+            progress.step()
     return times
 
 
@@ -172,17 +176,21 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--sweep-runs", type=int, default=5,
                     help="counted rounds of the 40-amplitude sweep (default 5; 0: no sweep)")
     ap.add_argument("--no-static", action="store_true", help="time the dynamic builds only")
+    ap.add_argument("--checkout", type=Path, metavar="DIR",
+                    help="the supratrans checkout to build (default: the one holding this package, else the working "
+                         "directory's)")
     args = ap.parse_args(argv)
     if not 1 <= args.runs <= 1000 or not 0 <= args.sweep_runs <= 1000:
         ap.error("--runs must be 1 .. 1000 and --sweep-runs 0 .. 1000")
     try:
-        exes = executables(args.host_flags, not args.no_static)
+        root = cli.repository(args.checkout, "--checkout DIR")
+        exes = executables(root, args.host_flags, not args.no_static)
         with tempfile.TemporaryDirectory() as tmp:
             folder = Path(tmp)
             (folder / "paper.nml").write_text(PAPER)
             (folder / "sweep.nml").write_text(SWEEP)
             paper = {name: [str(exe), "paper.nml"] for name, exe in exes.items()}
-            paper["naive"] = [str(naive(cli.repository()))]
+            paper["naive"] = [str(naive(root))]
             print(f"host flags: {args.host_flags}")
             print("\n".join(report("paper-default run, whole process", rounds(paper, args.runs, folder),
                                    "default")))

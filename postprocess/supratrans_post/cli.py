@@ -1,13 +1,18 @@
-"""What the command lines share: a parser whose errors are one line, the checked `--dpi`, and the supratrans
-checkout the commands run in (where fpm builds, input/ and postprocess/figures/ are).
+"""What the command lines share: a parser whose errors are one line, the checked `--dpi`, the supratrans
+checkout the commands run in (where fpm builds, input/ and postprocess/figures/ are) or the `supratrans` installed
+on PATH that runs namelists outside one, and the progress lines of a long wait.
 
 Every command parses its arguments before it does anything else, so `--help` and a wrong option only print.
 """
 from __future__ import annotations
 
 import argparse
+import os
+import shutil
 import sys
+import time
 from pathlib import Path
+from typing import TextIO
 
 from .reader import PlotError
 
@@ -56,9 +61,74 @@ def checkout(start: Path | None = None) -> Path | None:
     return None
 
 
-def repository() -> Path:
-    """The checkout (`checkout`); PlotError when there is none."""
+def repository(given: Path | None = None, option: str = "") -> Path:
+    """The checkout: `given` when the command was told one (option `option`, named in the error), else
+    `checkout()`; PlotError when it is not one, or there is none (the message names `option` when there is one)."""
+    if given is not None:
+        folder = Path(given).resolve()
+        if not ((folder / "fpm.toml").is_file() and (folder / "postprocess").is_dir()):
+            raise PlotError(given, f"not a supratrans checkout (no fpm.toml with postprocess/ in it){_given(option)}")
+        return folder
     root = checkout()
     if root is None:
-        raise PlotError(Path.cwd(), "not in a supratrans checkout (no fpm.toml with postprocess/ here or above)")
+        raise PlotError(Path.cwd(), "not in a supratrans checkout (no fpm.toml with postprocess/ here or above)"
+                        + (f": give one with {option}" if option else ""))
     return root
+
+
+def _given(option: str) -> str:
+    """`" (option)"` when there is an option, else nothing."""
+    return f" ({option})" if option else ""
+
+
+def installed(what: str) -> str:
+    """The `supratrans` program on PATH, which runs namelists outside a checkout (README: `fpm install`); PlotError
+    saying what to give instead (`what`) when there is none."""
+    found = shutil.which("supratrans")
+    if found is None:
+        raise PlotError(Path.cwd(), "not in a supratrans checkout and no `supratrans` on PATH (README: "
+                        f"`fpm install`): {what}")
+    return found
+
+
+#: Seconds between two progress lines, at least (SUPRATRANS_PROGRESS_EVERY, as the program's own; the interval grows
+#: to a tenth of the time elapsed, so an hour's wait prints some tens of lines).
+PROGRESS_EVERY = 4.0
+
+
+class Progress:
+    """The progress of a long wait on standard error, as the program prints its own: `  LABEL: 3/20 WHAT, 12 s
+    elapsed, about 40 s left`. At most one line every PROGRESS_EVERY seconds (SUPRATRANS_PROGRESS_EVERY overrides
+    it) or a tenth of the time elapsed, whichever is longer, and none before the first interval: a short wait
+    prints nothing. The time left is the time per unit of work so far times the work left, the work of each item
+    given by `weights` (default 1 each; a solve at a tighter tolerance costs more)."""
+
+    def __init__(self, label: str, weights: list[float] | int, what: str = "done", stream: TextIO | None = None):
+        self.label, self.what = label, what
+        self.weights = [1.0] * weights if isinstance(weights, int) else [float(w) for w in weights]
+        self.stream = stream or sys.stderr
+        try:
+            self.every = float(os.environ.get("SUPRATRANS_PROGRESS_EVERY", PROGRESS_EVERY))
+        except ValueError:
+            self.every = PROGRESS_EVERY
+        self.start = self.last = time.monotonic()
+        self.done = 0
+
+    def step(self, count: int = 1) -> None:
+        """`count` more items done; a line when the interval has passed."""
+        self.done = min(self.done + count, len(self.weights))
+        now = time.monotonic()
+        elapsed = now - self.start
+        if now - self.last < max(self.every, 0.1 * elapsed):
+            return
+        self.last = now
+        self.stream.write(self.line(elapsed) + "\n")
+        self.stream.flush()
+
+    def line(self, elapsed: float) -> str:
+        """The progress line after `elapsed` seconds."""
+        done, left = sum(self.weights[:self.done]), sum(self.weights[self.done:])
+        text = f"  {self.label}: {self.done}/{len(self.weights)} {self.what}, {elapsed:.0f} s elapsed"
+        if done > 0:
+            text += f", about {elapsed / done * left:.0f} s left"
+        return text

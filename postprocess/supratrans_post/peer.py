@@ -266,9 +266,25 @@ def problem(w: Scene) -> tuple:
         np.asarray(d["reference/u_final"], float), probe, window
 
 
-def check_model(w: Scene, log: Callable = print) -> tuple[list[dict], list[Solve]]:
+def solve_cost(method: str, tol: float) -> float:
+    """The expected seconds of one solve of the paper's chain (N = 200, T = 200), for the time left of the progress
+    lines (only its ratios matter): an adaptive method of order p takes steps ~ tol^(-1/p) (DOP853 8, RK45 5, RK23
+    3) above a floor, fitted to the peer's points of 2026-11-29 (0.2 s at 1e-3, 1 s and 6 s at 1e-12)."""
+    return 0.12 + 0.024 * tol ** (-1.0 / {"DOP853": 8, "RK45": 5, "RK23": 3}.get(method, 5))
+
+
+def point_cost(method: str, tol: float, repeats: int, budget: float) -> float:
+    """The expected seconds of one point: its untimed solve and its timed repeats (at least three, fewer than
+    `repeats` once they pass `budget`)."""
+    one = solve_cost(method, tol)
+    return one * (1 + min(max(1, repeats), max(3, math.ceil(budget / one))))
+
+
+def check_model(w: Scene, log: Callable = print,
+                progress: cli.Progress | None = None) -> tuple[list[dict], list[Solve]]:
     """The model check: DOP853 at CHECK_TOL against the file's reference, per amplitude. Returns a list of dicts
-    (amplitude, injected, reference, relative error, u at T error, passed) and the reference windows."""
+    (amplitude, injected, reference, relative error, u at T error, passed) and the reference windows; one step of
+    `progress` per amplitude."""
     chain, amps, e_ref, u_ref, probe, window = problem(w)
     out, refs = [], []
     for ia, a in enumerate(amps):
@@ -282,6 +298,8 @@ def check_model(w: Scene, log: Callable = print) -> tuple[list[dict], list[Solve
         log(f"model check A = {a:g}: DOP853 at tol {CHECK_TOL:g}: injected {r.injected:.12g}, reference "
             f"{e_ref[ia]:.12g}, relative difference {rel:.2e} ({'ok' if ok else 'MISMATCH'}, limit "
             f"{CHECK_LIMIT:g}); u_{probe}(T) differs by {du:.1e}")
+        if progress is not None:
+            progress.step()
     return out, refs
 
 
@@ -290,11 +308,16 @@ def run_peer(w: Scene, methods: list[str] | None = None, tols: list[float] | Non
     """The peer's points for every amplitude, method and tolerance of a work_precision file: a dict ready for
     JSON (see `write_points`). The timed repeats of a point stop after `budget` seconds (at least three); a
     method whose median solve takes longer than `budget` is not run at tighter tolerances (recorded as
-    skipped)."""
+    skipped). Its progress (points done, elapsed, time left) goes to stderr every few seconds (`cli.Progress`)."""
     methods = methods or DEFAULT_METHODS
     tols = sorted(tols or DEFAULT_TOLS, reverse=True)
     chain, amps, e_ref, u_ref, probe, window = problem(w)
-    check, refs = check_model(w, log=log)
+    # progress on stderr (about 1.5 min for the paper's file): the model check's solves, then every point, each
+    # weighted by its solves' expected cost
+    weights = [solve_cost("DOP853", CHECK_TOL)] * len(amps) + [
+        point_cost(method, tol, repeats, budget) for _ in amps for method in methods for tol in tols]
+    progress = cli.Progress("SciPy peer", weights, "solves and points")
+    check, refs = check_model(w, log=log, progress=progress)
     points = []
     for ia, a in enumerate(amps):
         for method in methods:
@@ -304,12 +327,14 @@ def run_peer(w: Scene, methods: list[str] | None = None, tols: list[float] | Non
                 if skip:
                     pt.update(status="skipped", reason=f"a looser tolerance took over {budget:g} s")
                     points.append(pt)
+                    progress.step()
                     continue
                 # untimed run with the window (error in u), then the timed runs without
                 s = solve(chain, a, method, tol, probe=probe, window=window)
                 if not s.ok:
                     pt.update(status="failed", reason=str(s.message))
                     points.append(pt)
+                    progress.step()
                     continue
                 med, last, times = timed(chain, a, method, tol, repeats=repeats, budget=budget)
                 ref_u = np.interp(s.window_t, refs[ia].window_t, refs[ia].window_u)
@@ -322,6 +347,7 @@ def run_peer(w: Scene, methods: list[str] | None = None, tols: list[float] | Non
                 log(f"  A = {a:g} {method:6s} tol {tol:7.0e}: {med * 1e3:9.2f} ms (median of {len(times)}), "
                     f"error {pt['error_energy']:.2e} (energy), {pt['error_u']:.1e} (u), {last.nfev} f-evals, "
                     f"{last.steps} steps")
+                progress.step()
                 if med > budget:
                     skip = True
     return {"what": "SciPy solve_ivp peer of supratrans (postprocess/peer_scipy.py)",
@@ -397,7 +423,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         w = read_work_precision(args.h5)
         if args.check:
-            check, _ = check_model(w)
+            check, _ = check_model(w, progress=cli.Progress("SciPy model check", len(problem(w)[1]), "amplitudes"))
             return 0 if all(c["passed"] for c in check) else 1
         result = run_peer(w, methods=args.methods, tols=args.tols, repeats=args.repeats)
         out = Path(args.output) if args.output else output_path(w.path, "_peer.json")

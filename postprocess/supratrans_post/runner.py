@@ -31,12 +31,19 @@ scene grids scaled (amplitude_step x 5, omega_step x 2, x 10 for a fold line, re
 stair_height x 5; a continuation by harmonic balance from Omega = 0.15 up, at least three frequencies and the first
 three c_values: namelist.QUICK_HB), their output in out/quick/ (overwritten). fold_hb_sg.png and
 fold_continuum.png are drawn at 200 dpi, the others at 96 (FIGURE_DPI), unless --dpi says.
-Exit status 0 when every scene ran and every figure was drawn, 1 otherwise.
+Outside a checkout (an installed `supratrans-figures`) the namelists' output paths are relative to the working
+directory, the figures go where --outdir says (asked for in one line), and the namelists run with the `supratrans`
+installed on PATH (README: `fpm install`), or not at all with --no-run. When the output is not a terminal the
+program's own progress lines (elapsed, time left: every few seconds at most) are printed below the scene's line,
+and fpm's build lines below the build's (one every 4 s at most).
+Exit status 0 when every scene ran and every figure was drawn, 1 otherwise, 2 with one line on stderr when
+nothing could be done.
 """
 from __future__ import annotations
 
 import argparse
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -75,6 +82,8 @@ COMPANIONS = {"ramp090": ("fold_sg_090",), "threshold_sg": ("fold_sg", "bif_unda
               "fold_hb_sg": ("bif_undamped_sg",)}
 #: Charts drawn from other figures' files only: {chart: (fold line, scan, hysteresis) input stems}.
 COMBINED = {"threshold_sg": ("fold_sg", "bif_undamped_sg", "hysteresis")}
+#: A line of fpm's build progress: `[ 45%] Compiling...`.
+BUILD_LINE = re.compile(r"^\[ *[0-9]+%\]")
 #: Resolution of the figures whose panels are dense (dots per inch; the others style.DPI), unless --dpi says.
 FIGURE_DPI = {"fold_hb_sg": 200, "fold_continuum": 200}
 
@@ -118,9 +127,14 @@ def quick_copy(job: Job, folder: Path) -> Job:
 # ------------------------------------------------------------------------------------------------ running
 
 
-def run(cmd: list[str], log: Path, label: str, tty: bool) -> int:
-    """Run `cmd` in the repository, its output into `log`; on a terminal, show its last line after `label`."""
+def run(cmd: list[str], log: Path, label: str, tty: bool, relayed: list[str] | None = None) -> int:
+    """Run `cmd` in the repository, its output into `log`; on a terminal, show its last line after `label`;
+    otherwise print the program's own progress lines (those with the time elapsed, which it prints every few
+    seconds at most) and fpm's build lines (`[ 45%] ...`, at most one every cli.PROGRESS_EVERY seconds or
+    SUPRATRANS_PROGRESS_EVERY) on lines of their own, and append them to `relayed`."""
     log.parent.mkdir(parents=True, exist_ok=True)
+    every = cli.Progress("", 0).every
+    last = time.monotonic()
     with open(log, "w") as fh:
         proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                 bufsize=1)
@@ -131,6 +145,12 @@ def run(cmd: list[str], log: Path, label: str, tty: bool) -> int:
                 if tty and line.strip():
                     width = max(10, os.get_terminal_size().columns - len(label) - 2) if sys.stdout.isatty() else 60
                     print(f"\r{label} {line.strip()[:width]}\033[K", end="", flush=True)
+                elif not tty and ("elapsed" in line or (BUILD_LINE.match(line)
+                                                        and time.monotonic() - last >= every)):
+                    last = time.monotonic()
+                    print(("" if relayed else "\n") + "    " + line.strip(), flush=True)
+                    if relayed is not None:
+                        relayed.append(line)
         except KeyboardInterrupt:
             proc.terminate()
             proc.wait()
@@ -205,12 +225,21 @@ def _jobs(args: argparse.Namespace) -> tuple[list[Job], int]:
     return jobs, unreadable
 
 
+def program() -> list[str]:
+    """The command that runs a namelist: in a checkout fpm's release build through .ci/with_commit (FPM), else
+    the `supratrans` installed on PATH (README: `fpm install`; PlotError when there is none)."""
+    if cli.checkout() is None:
+        return [cli.installed("draw existing files with --no-run")]
+    return [*FPM, "run", "--profile", "release", "--"]
+
+
 def _build(logs: Path, tty: bool) -> bool:
     """Build the program (release profile), one line of progress; whether it built."""
     t0 = time.monotonic()
     label = "[build] fpm build --profile release ..."
     print(label, end="" if tty else "\n", flush=True)
-    status = run([*FPM, "build", "--profile", "release"], logs / "build.log", label, tty)
+    relayed = [label]       # its line is ended already: fpm's lines follow it directly
+    status = run([*FPM, "build", "--profile", "release"], logs / "build.log", label, tty, relayed)
     if status != 0:
         print(f"\r{label} failed (status {status}); see {logs / 'build.log'}\033[K" if tty else
               f"build failed (status {status}); see {logs / 'build.log'}")
@@ -232,14 +261,15 @@ def _run_all(jobs: list[Job], logs: Path, tty: bool) -> int:
         print(label, end="", flush=True)
         t = time.monotonic()
         log = logs / (job.stem + ".log")
+        relayed: list[str] = []
         try:
-            status = run([*FPM, "run", "--profile", "release", "--", nml], log, label, tty)
+            status = run([*program(), nml], log, label, tty, relayed)
         except KeyboardInterrupt:
             print(f"\r{label} interrupted\033[K" if tty else " interrupted")
             raise
         dt = time.monotonic() - t
         result = f"{dt:.0f} s" if status == 0 else f"FAILED (status {status}, {dt:.0f} s): see {job.rel(log)}"
-        print(f"\r{label} {result}\033[K" if tty else f" {result}", flush=True)
+        print(f"\r{label} {result}\033[K" if tty else (f"{label} {result}" if relayed else f" {result}"), flush=True)
         if status != 0:
             failures += 1
             for line in tail(log):
@@ -362,9 +392,15 @@ def main(argv: list[str] | None = None) -> int:
     """The command line of `make_figures.py`; returns the exit status (0 all done, 1 something failed, 2 nothing
     to do, 130 interrupted)."""
     args = _parser(argv).parse_args(argv)
-    if cli.checkout() is None:
-        print(f"error: {Path.cwd()}: not in a supratrans checkout (no fpm.toml with postprocess/ here or above)",
-              file=sys.stderr)
+    inside = cli.checkout() is not None
+    try:
+        # outside a checkout: the figures go where --outdir says, the namelists run with the installed program
+        if not (args.outdir or args.quick):
+            style.figure_dir()
+        if not inside and not args.no_run:
+            program()
+    except PlotError as exc:
+        print(exc.line(), file=sys.stderr)
         return 2
     args.input = args.input.resolve()
     if args.outdir:
@@ -380,12 +416,12 @@ def main(argv: list[str] | None = None) -> int:
     outdir = args.outdir or (ROOT / "out" / "quick" / "figures" if args.quick else style.figure_dir())
     logs = args.logs or ROOT / "out" / ("quick/logs" if args.quick else "logs")
     if not args.no_run:
-        if shutil.which("fpm") is None:
+        if inside and shutil.which("fpm") is None:
             print("error: fpm: not found (install it with `bash .ci/install`, or draw existing files with --no-run)",
                   file=sys.stderr)
             return 2
         tty = sys.stdout.isatty()
-        if not _build(logs, tty):
+        if inside and not _build(logs, tty):
             return 1
         try:
             failures += _run_all(jobs, logs, tty)

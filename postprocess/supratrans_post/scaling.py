@@ -17,8 +17,9 @@ processor time; columns n, ns_per_site_step, iterations_per_step, bytes_per_site
 triad_gb_per_s), with the bandwidth those bytes take against the machine's triad bandwidth, and its rows printed.
 
 Without --exe the executable is built with `fpm build --profile release` in the supratrans checkout (the one
-holding this package, else the working directory or one above it). A run that fails, or no checkout, gives one
-line `error: ...` and exit status 2.
+holding this package, else the working directory or one above it); outside a checkout it is the `supratrans`
+installed on PATH (README: `fpm install`). A run that fails, or no executable, gives one line `error: ...` and exit
+status 2.
 """
 from __future__ import annotations
 
@@ -40,8 +41,11 @@ LABELS = {"N": "oscillators N (T = 20)", "T": "final time T (N = 200)", "runs": 
 
 
 def executable() -> str:
-    """The release executable, built by fpm in the checkout; PlotError when there is none or the build fails."""
-    root = cli.repository()
+    """The release executable, built by fpm in the checkout; outside one, the `supratrans` installed on PATH.
+    PlotError when there is neither or the build fails."""
+    root = cli.checkout()
+    if root is None:
+        return cli.installed("give the executable with --exe")
     try:
         subprocess.run(["fpm", "build", "--profile", "release"], cwd=root, check=True, capture_output=True)
         out = subprocess.run(["fpm", "run", "--profile", "release", "--runner", "echo"], cwd=root, check=True,
@@ -87,6 +91,11 @@ def run_text(n: int, t_final: float, runs: int = 1) -> str:
 def measure_all(exe: str) -> list[tuple[str, int, float, float]]:
     """(varied, value, wall s, peak MiB) of every point of POINTS, in a scratch folder removed afterwards."""
     rows = []
+    # progress on stderr every few seconds (minutes in all): each point weighted by its oscillator-steps (dt = 0.05)
+    # at 60 ns, over a start-up of 20 ms
+    steps = {"N": lambda v: v * 400, "T": lambda v: 200 * v / 0.05, "runs": lambda v: 200 * 4000 * v}
+    progress = cli.Progress("scaling", [0.02 + 6e-8 * steps[kind](v) for kind, values in POINTS for v in values],
+                            "points")
     with tempfile.TemporaryDirectory() as tmp:
         folder = Path(tmp)
         for kind, values in POINTS:
@@ -94,6 +103,7 @@ def measure_all(exe: str) -> list[tuple[str, int, float, float]]:
                 text = {"N": lambda: run_text(v, 20.0), "T": lambda: run_text(200, float(v)),
                         "runs": lambda: run_text(200, 200.0, v)}[kind]()
                 rows.append((kind, v, *measure(exe, text, folder)))
+                progress.step()
     return rows
 
 

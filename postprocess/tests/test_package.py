@@ -103,6 +103,84 @@ def test_installed_command_outside_a_checkout_says_where(venv, tmp_path):
     assert "not in a supratrans checkout" in proc.stderr
 
 
+@pytest.mark.slow
+def test_installed_commands_work_outside_a_checkout(venv, tiny, debug_exe, small_chain, tmp_path):
+    """Every installed command, run in a folder outside any checkout, does its work when given what it needs: the
+    figures from existing files (--no-run, --input, --outdir) and from namelists run by the `supratrans` on PATH
+    (their paths relative to the working directory), plot, the stability chart, the peer and the work-precision
+    charts from a file, scaling with --exe; what cannot be done there is one line that names what to give."""
+    work = tmp_path / "work"
+    (work / "input").mkdir(parents=True)
+    (work / "bin").mkdir()
+    (work / "bin" / "supratrans").symlink_to(debug_exe)
+    (work / "input" / "fig1_sg_A150.nml").write_text(small_chain("sine-gordon", 1.5, 5.0, "out/fig1_sg_A150.h5"))
+    bare = clean_env(PATH="/usr/bin:/bin")       # no supratrans on PATH
+    with_program = clean_env(PATH=f"{work / 'bin'}:/usr/bin:/bin")
+
+    def command(name: str, *args: object, env: dict = bare) -> subprocess.CompletedProcess:
+        return subprocess.run([str(venv / "bin" / name), *map(str, args)], capture_output=True, text=True, cwd=work,
+                              env=env, timeout=300)
+
+    def one_line(proc: subprocess.CompletedProcess, *words: str) -> None:
+        assert proc.returncode == 2 and proc.stderr.count("\n") == 1, proc.stderr
+        assert proc.stderr.startswith("error: ") and all(w in proc.stderr for w in words), proc.stderr
+
+    one_line(command("supratrans-figures", "--input", "input", "--outdir", "figs"), "no `supratrans` on PATH",
+             "--no-run")
+    proc = command("supratrans-figures", "--input", "input", "--outdir", "figs", env=with_program)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert (work / "out" / "fig1_sg_A150.h5").is_file()     # the namelist's path, from the working directory
+    assert (work / "figs" / "fig1.png").read_bytes()[:4] == b"\x89PNG"
+    proc = command("supratrans-figures", "--no-run", "--only", "fig1", "--input", "input", "--outdir", "again")
+    assert proc.returncode == 0 and (work / "again" / "fig1.png").is_file(), proc.stdout + proc.stderr
+    proc = command("supratrans-plot", "out/fig1_sg_A150.h5", "-o", "plot.png")
+    assert proc.returncode == 0 and (work / "plot.png").is_file(), proc.stderr
+    proc = command("supratrans-stability-chart", tiny.file("stab"), "-o", "stability.png")
+    assert proc.returncode == 0 and (work / "stability.png").is_file(), proc.stderr
+    wpf = tiny.file("wp_sg")
+    proc = command("supratrans-peer", wpf, "-o", "peer.json", "--methods", "DOP853", "--tols", "1e-4",
+                   "--repeats", "1")
+    assert proc.returncode == 0 and (work / "peer.json").is_file(), proc.stderr
+    proc = command("supratrans-work-precision", "--h5", wpf, "--peer", "peer.json", "--outdir", "wp", "-q")
+    assert proc.returncode == 0 and (work / "wp" / "work_precision.png").is_file(), proc.stderr
+    one_line(command("supratrans-work-precision", "--nml", "input/fig1_sg_A150.nml", "--outdir", "wp"),
+             "no `supratrans` on PATH", "--h5")
+    one_line(command("supratrans-scaling"), "no `supratrans` on PATH", "--exe")
+    proc = command("supratrans-scaling", "--exe", debug_exe.parent / "nowhere")
+    assert proc.returncode == 2 and "cannot run" in proc.stderr, proc.stderr     # --exe is taken, not a checkout
+    one_line(command("supratrans-builds", "--no-static"), "not in a supratrans checkout", "--checkout DIR")
+    one_line(command("supratrans-builds", "--checkout", "input"), "not a supratrans checkout", "--checkout DIR")
+
+
+def test_progress_lines_say_the_time_left_by_the_work_left(monkeypatch):
+    """cli.Progress: nothing before its interval, then one line at most per interval (SUPRATRANS_PROGRESS_EVERY,
+    or a tenth of the time elapsed when longer), with the time left from the time per unit of work so far."""
+    import io  # noqa: PLC0415
+
+    clock = [100.0]
+    monkeypatch.setattr(cli.time, "monotonic", lambda: clock[0])
+    monkeypatch.setenv("SUPRATRANS_PROGRESS_EVERY", "5")
+    out = io.StringIO()
+    p = cli.Progress("peer", [1.0, 3.0, 4.0], "points", stream=out)
+    clock[0] += 2.0
+    p.step()                                    # 2 s: within the interval, silent
+    assert out.getvalue() == ""
+    clock[0] += 4.0
+    p.step()                                    # 6 s: 4 of 8 units done in 6 s, 4 left
+    assert out.getvalue() == "  peer: 2/3 points, 6 s elapsed, about 6 s left\n"
+    clock[0] += 4.0
+    p.step()                                    # 4 s after the last line: silent
+    assert out.getvalue().count("\n") == 1
+    monkeypatch.setenv("SUPRATRANS_PROGRESS_EVERY", "1")
+    q = cli.Progress("x", 2, stream=out)
+    clock[0] += 100.0
+    q.step()                                    # 100 s: 1 of 2 done
+    assert out.getvalue().splitlines()[-1] == "  x: 1/2 done, 100 s elapsed, about 100 s left"
+    clock[0] += 5.0
+    q.step()                                    # 5 s later, but the interval is now 10 s (a tenth of 105)
+    assert out.getvalue().count("\n") == 2
+
+
 # ------------------------------------------------------------------------------------------------ matplotlib
 
 

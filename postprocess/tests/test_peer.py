@@ -13,6 +13,7 @@
 from __future__ import annotations
 
 import math
+import re
 import shutil
 
 import numpy as np
@@ -137,6 +138,22 @@ def test_peer_reproduces_the_programs_reference(tiny, name):
     for c in check:
         assert c["passed"] and c["relative_error"] < ps.CHECK_LIMIT, c
         assert c["error_u_final"] < 1e-8, c
+
+
+def test_peer_prints_its_progress_with_the_time_left(tiny, capsys, monkeypatch):
+    """The peer's timing (about 1.5 min on the paper's file) prints its progress on stderr: points done of all,
+    elapsed and time left; here at every step that passes the interval (0: a tenth of the time elapsed)."""
+    monkeypatch.setenv("SUPRATRANS_PROGRESS_EVERY", "0")
+    w = ps.read_work_precision(tiny.file("wp_sg"))
+    capsys.readouterr()
+    r = ps.run_peer(w, methods=["DOP853"], tols=[1e-3, 1e-5], repeats=1, log=lambda *a: None)
+    lines = capsys.readouterr().err.splitlines()
+    total = 2 + 2 * 2                           # the model check per amplitude, then 2 amplitudes x 2 tolerances
+    assert len(r["points"]) == 4 and lines, lines
+    pattern = rf"^  SciPy peer: [1-{total}]/{total} solves and points, [0-9]+ s elapsed, about [0-9]+ s left$"
+    assert all(re.match(pattern, x) for x in lines), lines
+    assert lines[0].startswith(f"  SciPy peer: 1/{total} "), lines      # the first step always prints
+    assert ps.point_cost("RK45", 1e-12, 5, 10.0) > ps.point_cost("RK45", 1e-3, 5, 10.0)
 
 
 @pytest.mark.slow

@@ -118,3 +118,45 @@ def test_make_figures_runs_and_draws(release_exe, tmp_path, small_chain):
     h5py = pytest.importorskip("h5py")
     with h5py.File(tmp_path / "out" / "fig1_sg_A150.h5") as f:  # built and run through .ci/with_commit
         assert len(f["provenance"].attrs["git_commit"].decode()) == 40
+
+
+@pytest.mark.slow
+def test_make_figures_relays_the_programs_progress_when_not_a_terminal(release_exe, tmp_path):
+    """Its output a pipe (a log, CI), make_figures prints the program's own progress lines (elapsed, time left) below
+    the scene's line, then the scene's line again with its time: a long scene is not silent. The program's rate is
+    made small (SUPRATRANS_PROGRESS_EVERY = 0.05 s) so that a run of a second prints several."""
+    inp = tmp_path / "input"
+    inp.mkdir()
+    (inp / "fig1_sg_A150.nml").write_text(
+        "&chain n = 400, n0 = 380 /\n&drive amplitude = 1.5 /\n&numerics t_final = 500.0 /\n"
+        f"&output file = '{tmp_path / 'out' / 'fig1_sg_A150.h5'}', overwrite = .true. /\n")
+    cmd = [sys.executable, str(POSTPROCESS / "make_figures.py"), "--input", inp, "--outdir", tmp_path / "figs",
+           "--logs", tmp_path / "logs"]
+    proc = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, timeout=300,
+                          env={**ENV, "SUPRATRANS_PROGRESS_EVERY": "0.05"})
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    lines = proc.stdout.splitlines()
+    relayed = [x for x in lines if x.startswith("    t = ") and "elapsed" in x]
+    assert len(relayed) >= 2 and any("s left" in x for x in relayed), lines
+    first = lines.index(relayed[0])
+    start = max(i for i, x in enumerate(lines[:first]) if x.startswith("[1/1] "))
+    assert lines[start].endswith("fig1_sg_A150.nml ..."), lines
+    assert all(x.startswith("    ") for x in lines[start + 1:first]), lines    # fpm's lines as `fpm run` relinks
+    done = [x for x in lines[first:] if x.startswith("[1/1] ") and x.endswith(" s")]
+    assert len(done) == 1, lines      # the scene's line again, with its time, after its progress
+
+
+def test_run_relays_progress_and_build_lines_when_not_a_terminal(tmp_path, capsys, monkeypatch):
+    """runner.run, its output not a terminal: the program's progress lines (with the time elapsed) and fpm's build
+    lines (`[ 45%] ...`, here at every line: SUPRATRANS_PROGRESS_EVERY = 0) are printed on lines of their own and
+    kept in `relayed`; the program's other lines go to the log only."""
+    monkeypatch.setenv("SUPRATRANS_PROGRESS_EVERY", "0")
+    script = ("print('[ 10%] compiling a.f90'); print('chatter'); "
+              "print('  3/95 fold continuations, elapsed 12.0 s, remaining ~300.0 s'); print('[100%] done')")
+    relayed: list[str] = []
+    status = runner.run([sys.executable, "-c", script], tmp_path / "log" / "x.log", "[1/1] x ...", False, relayed)
+    assert status == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out == ["", "    [ 10%] compiling a.f90", "    3/95 fold continuations, elapsed 12.0 s, remaining ~300.0 s",
+                   "    [100%] done"], out
+    assert len(relayed) == 3 and "chatter" in (tmp_path / "log" / "x.log").read_text()

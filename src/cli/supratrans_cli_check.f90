@@ -64,7 +64,9 @@ contains
     !> where the steps are known `runs` (a search's: the most it may ask), `steps_per_run`, `work_newton_site_steps`
     !> (runs x steps x N x the method's cost per step relative to a Newton step, `run_work`), `threads` and
     !> `estimate_seconds` (that work at `seconds_per_site_step`, over the threads: an order of magnitude); and one
-    !> line for a person, `estimate ...`.
+    !> line for a person, `estimate ...`. A scene whose tasks are not runs of one length (continuation, stability,
+    !> work_precision) gives its own work in Newton oscillator-steps (`scene_plan%work`) and what it counts, which
+    !> the line says.
     subroutine check_report(cfg)
         !> The validated input.
         type(input_config), intent(in) :: cfg
@@ -94,13 +96,29 @@ contains
         if (.not. (p%tasks > 0.0_wp)) return
         write (output_unit, "(a, i0)") "tasks ", nint(min(p%tasks, 9.0e18_wp), int64)
         write (output_unit, "(a)") "task_kind " // p%noun
+        threads = 1
+        !$ if (.not. one_run) threads = omp_get_max_threads()
+        threads = max(1, min(threads, nint(min(p%tasks, 1.0e9_wp))))   ! no more threads at work than tasks
+        if (p%work > 0.0_wp) then       ! the scene counts its own work (its tasks are not runs of one length)
+            if (p%serial) threads = 1
+            if (.not. allocated(p%counts)) p%counts = "the scene's own count"
+            if (p%runs_per_task > 0.0_wp) write (output_unit, "(a, i0)") "runs ", &
+                nint(min(p%tasks*p%runs_per_task, 9.0e18_wp), int64)
+            seconds = p%work*seconds_per_site_step/real(threads, wp)
+            write (output_unit, "(a, es10.3)") "work_newton_site_steps ", p%work
+            write (output_unit, "(a, i0)") "threads ", threads
+            write (output_unit, "(a, es10.3)") "estimate_seconds ", seconds
+            write (output_unit, "(a)") "estimate " // int_str(nint(min(p%tasks, 2.0e9_wp))) // " " // p%noun &
+                // " (" // p%counts // "): about " // duration(seconds) // " on " // int_str(threads) &
+                // " thread(s) (release build, " // int_str(nint(seconds_per_site_step*1.0e9_wp)) &
+                // " ns per Newton oscillator-step; an order of magnitude)"
+            return
+        end if
         if (.not. (p%steps > 0.0_wp)) then
             write (output_unit, "(a)") "estimate " // int_str(nint(min(p%tasks, 2.0e9_wp))) // " " // p%noun &
                 // " (their cost is not estimated)"
             return
         end if
-        threads = 1
-        !$ if (.not. one_run) threads = omp_get_max_threads()
         ! the method's cost per step and site relative to a Newton step (run_work of the input's run)
         per_step = run_work(cfg%run)/(real(max(cfg%run%chain%n, 1), wp) &
                                       *max(cfg%run%numerics%t_final/cfg%run%numerics%dt, 1.0_wp))

@@ -14,7 +14,7 @@
 !> G's fixed points), at half the cost of every map and Jacobian; the fold's state is a fixed point of P, its residual
 !> is P's, its multipliers are P's (the squares of G's), and its fate is tested with P. The fold is G's, which is
 !> P's (to the location tolerance) unless P's continuation leaves the symmetric branch at a branch point, which G
-!> cannot (docs/continuation.md gives the paper grid both ways). Such a branch point is where a real multiplier of G
+!> cannot (docs/continuation_reference.md gives the paper grid both ways). Such a branch point is where a real multiplier of G
 !> passes -1 (P's passes +1 and the half-period symmetry breaks): the fold alone watches for it (`flip_watch` of the
 !> continuation, which also sees P's real multipliers through +1 where M is odd) and reports it as the first loss
 !> of stability, type 1 (a real multiplier through +1 where the branch does not turn), below the symmetric branch's

@@ -62,6 +62,13 @@ module supratrans_scene
         real(wp) :: runs_per_task = 1.0_wp
         !> Time steps of one run (0: not known).
         real(wp) :: steps = 0.0_wp
+        !> The scene's own estimate of its work in Newton oscillator-steps, for a scene whose tasks are not runs of
+        !> one length (continuation, stability, work_precision); 0: tasks x runs x steps x N x the method's cost.
+        real(wp) :: work = 0.0_wp
+        !> Whether that work runs one task at a time whatever the threads (work_precision's timed runs).
+        logical :: serial = .false.
+        !> What `work` counts, for the line of `--check` (with `work`).
+        character(len=:), allocatable :: counts
     end type scene_plan
 
     !> The tasks of one run of a scene and what the task engine gathers of them: made by the scene's `make_tasks`,

@@ -22,13 +22,13 @@ module supratrans_scene_continuation
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
     use supratrans_scene, only: scene_budget, scene_tasks, scene_plan
-    use supratrans_axis_scene, only: axis_tasks, axis_scene, init_axes, axis_task_run
+    use supratrans_axis_scene, only: axis_tasks, axis_scene, init_axes, axis_task_run, scene_omegas
     use supratrans_limits, only: axis_points, check_axis, limit_error, threads_text, sci, dense_buffer_bytes
     use supratrans_config, only: input_config, run_config, scene_params, method_newton, method_linearized, method_rk4, &
                                  method_rk8, method_avf4, method_avf8, method_name, solver_harmonic_balance
     use supratrans_fold_hb, only: make_hb_tasks, hb_summary
     use supratrans_curves, only: curve_count, curve_run, write_curves
-    use supratrans_chain, only: threshold_as, band_gap_edge
+    use supratrans_chain, only: threshold_as, band_gap_edge, phonon_band_top
     use supratrans_potential, only: potential_name
     use supratrans_status, only: status_outside_gap, status_not_run
     use supratrans_fold_record, only: fold_record, fold_fields, fold_to_values, fold_from_values, empty_fold_record, &
@@ -47,6 +47,34 @@ module supratrans_scene_continuation
     use supratrans_stepper_rk8, only: rk8_order
     implicit none
     private
+
+    ! A fold's typical counts and the cost of its phases in Newton oscillator-steps (60 ns, `--check`'s unit), for the
+    ! estimate of `--check`. Counts: medians of the 20 shooting folds of the quick figure set (fold_sg, fold_sg_090,
+    ! fold_sg_050, fold_bif1; N = 200, M = 133 .. 2514; 2026-11-29, their /cost); one fold's counts range over a
+    ! factor 4 (localized folds at low Omega take more). Costs: the phases of one fold at Omega = 0.9, N = 200, M =
+    ! 140 in CPU seconds at load 3 (docs/continuation_reference.md, "The fold alone"); by harmonic balance, fitted to
+    ! the 95 folds of input/fold_hb_sg.nml (each within a factor 3) and scaled to its wall time at a quiet moment.
+    !> Jacobians of the one-period map a fold takes (median 52).
+    real(wp), parameter :: fold_jacobians = 50.0_wp
+    !> Periods of the state alone a fold takes (median 710).
+    real(wp), parameter :: fold_maps = 700.0_wp
+    !> Dense spectra of the monodromy a fold takes with floquet_every > 0 (median 25).
+    real(wp), parameter :: fold_spectra = 25.0_wp
+    !> One tangent column through one oscillator-step (0.5 ns).
+    real(wp), parameter :: tangent_step = 0.0083_wp
+    !> One oscillator-step of a period of the state alone, the Newton iteration to the map's tolerance (15 ns).
+    real(wp), parameter :: map_step = 0.25_wp
+    !> A dense LU of order 2N, per (2N)^3 (0.034 ns).
+    real(wp), parameter :: lu_cube = 0.00057_wp
+    !> A dense eigenvalue problem (dgeev) of order 2N, per (2N)^3 (0.78 ns).
+    real(wp), parameter :: spectrum_cube = 0.013_wp
+    !> A harmonic-balance fold, per site and (2K)^3 of the fold's K plus 2.5 (2K')^3 of the branch's K' = min(K, 16)
+    !> (9 ns).
+    real(wp), parameter :: hb_fold_cube = 0.15_wp
+    !> Points of a harmonic-balance branch at which floquet_every counts (the multipliers of one in floquet_every).
+    real(wp), parameter :: hb_branch_points = 20.0_wp
+    !> Cost of an rk8 step relative to a Newton step (`run_work`).
+    real(wp), parameter :: rk8_step = 1.6_wp
 
     !> The tasks of a continuation scene (the axes of `axis_tasks`): task t = (curve - 1) nomega + iomega traces one
     !> branch to its fold.
@@ -73,7 +101,9 @@ module supratrans_scene_continuation
         procedure :: summary => continuation_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => continuation_scene_limits
+        !> Its method and dt (shooting) or harmonics (harmonic balance), before any work.
         procedure :: check_input => continuation_check_input
+        !> Its tasks and their work from the sizes (`--check`).
         procedure :: plan => continuation_scene_plan
     end type continuation_scene
 
@@ -356,19 +386,126 @@ contains
         end associate
     end subroutine continuation_scene_limits
 
-    !> The fold continuations: curves x frequencies (their cost is Newton-shooting's, not steps of a run: not known).
+    !> The fold continuations: curves x frequencies, and their work in Newton oscillator-steps from the sizes of each
+    !> task's chain (N, M = period / dt, K) and a fold's typical counts (`fold_jacobians` and the constants beside
+    !> it; by harmonic balance `hb_fold_cube`): an order of magnitude, since a localized fold takes up to four times
+    !> the median counts.
     pure function continuation_scene_plan(self, cfg) result(p)
         !> The scene.
         class(continuation_scene), intent(in) :: self
         !> The configuration (values within their ranges).
         type(input_config), intent(in) :: cfg
         type(scene_plan) :: p
+        real(wp), allocatable :: omegas(:)
+        type(run_config) :: run
+        logical :: short
+        integer :: ic, io
 
-        associate (sc => cfg%scene)
-            p%tasks = real(curve_count(cfg), wp)*axis_points(sc%omega_min, sc%omega_max, sc%omega_step)
-        end associate
+        omegas = scene_omegas(cfg)
+        p%tasks = real(curve_count(cfg)*size(omegas), wp)
         p%noun = "fold continuations"
         p%steps = 0.0_wp
+        p%runs_per_task = 0.0_wp
+        short = .false.
+        if (allocated(cfg%text)) short = .not. chain_length_given(cfg%text)
+        p%work = 0.0_wp
+        do ic = 1, curve_count(cfg)
+            do io = 1, size(omegas)
+                run = curve_run(cfg, ic)
+                run%drive%omega = omegas(io)
+                if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. cfg%allow_outside_gap) cycle
+                if (cfg%scene%solver == solver_harmonic_balance) then
+                    p%work = p%work + hb_fold_work(cfg, run)
+                else
+                    if (short) call shortest_chain(run%chain, run%drive%omega, run%numerics%dt)
+                    p%work = p%work + shooting_fold_work(cfg%scene, run)
+                end if
+            end do
+        end do
+        if (cfg%scene%solver == solver_harmonic_balance) then
+            p%counts = "each fold: N x (2K)^3 for its K = the band top / Omega (at most harmonics_max) and the " &
+                // "branch's at K <= 16, on every chain of absorber_family and c_values"
+        else
+            p%counts = "each fold: " // int_str(nint(fold_jacobians)) // " Jacobians of the one-period map (2N columns " &
+                // "x M steps x N) and their LUs, " // int_str(nint(fold_maps)) // " periods, "
+            if (cfg%scene%floquet_every == 0) then
+                p%counts = p%counts // "1 spectrum 2N x 2N (floquet_every = 0)"
+            else
+                p%counts = p%counts // int_str(nint(fold_spectra)) // " spectra 2N x 2N"
+            end if
+            if (cfg%scene%fold_convergence) p%counts = p%counts // "; the fold alone again at dt/2 and at 2N"
+        end if
     end function continuation_scene_plan
+
+    !> Work of one shooting task in Newton oscillator-steps: `fold_jacobians` Jacobians of the one-period map (2N
+    !> tangent columns through the M = period / dt steps of N sites) and their LUs, `fold_maps` periods and
+    !> `fold_spectra` dense eigenvalue problems of 2N x 2N (one with `floquet_every = 0`); with `fold_convergence`
+    !> the fold alone again at dt/2 and on the chain of 2N sites.
+    pure function shooting_fold_work(sc, run) result(work)
+        !> The scene's keys.
+        type(scene_params), intent(in) :: sc
+        !> The task's run (its chain, dt and Omega).
+        type(run_config), intent(in) :: run
+        real(wp) :: work
+        real(wp) :: n, m, spectra
+
+        n = real(run%chain%n, wp)
+        m = real(ceiling(2.0_wp*pi/(run%drive%omega*run%numerics%dt)), wp)
+        spectra = fold_spectra
+        if (sc%floquet_every == 0) spectra = 1.0_wp
+        work = one_fold(n, m, spectra)
+        if (sc%fold_convergence) work = work + one_fold(n, 2.0_wp*m, 1.0_wp) + one_fold(2.0_wp*n, m, 1.0_wp)
+
+    contains
+
+        !> One fold of N sites and M steps a period.
+        pure real(wp) function one_fold(n, m, spectra)
+            real(wp), intent(in) :: n, m, spectra
+            type(run_config) :: one_step
+
+            one_step = run
+            one_step%numerics%t_final = one_step%numerics%dt
+            one_step%chain%n = 1     ! the method's cost of one oscillator-step relative to a Newton step
+            one_fold = fold_jacobians*(2.0_wp*n*m*n*tangent_step*run_work(one_step) + (2.0_wp*n)**3*lu_cube) &
+                       + fold_maps*m*n*map_step*run_work(one_step) + spectra*(2.0_wp*n)**3*spectrum_cube
+        end function one_fold
+
+    end function shooting_fold_work
+
+    !> Work of one harmonic-balance task in Newton oscillator-steps: per site of its chain, of each chain of the
+    !> absorber family and of c_values, (2K)^3 for the fold and 2.5 (2K')^3 for the branch from rest (K: the odd
+    !> harmonics that reach the base chain's band top, between harmonics and harmonics_max; K' = min(K, 16), the most
+    !> the branch is traced with); with floquet_every > 0 the rk8 monodromies and their spectra too.
+    pure function hb_fold_work(cfg, run) result(work)
+        !> The validated input.
+        type(input_config), intent(in) :: cfg
+        !> The task's run (its chain and Omega).
+        type(run_config), intent(in) :: run
+        real(wp) :: work
+        real(wp) :: k, kb, n, n0, sites, m
+        integer :: j
+
+        associate (sc => cfg%scene)
+            k = real(min(sc%harmonics_max, max(sc%harmonics, 3, &
+                                               ceiling(phonon_band_top(run%chain)/run%drive%omega))), wp)
+            kb = min(k, 16.0_wp)
+            n = real(run%chain%n, wp)
+            n0 = real(run%chain%n0, wp)
+            sites = n
+            if (sc%absorber_family > 0) then
+                do j = 1, sc%absorber_family
+                    sites = sites + n0 + 2.0_wp**j*(n - n0)
+                end do
+                sites = sites + n0          ! the core closed by the radiation condition
+            end if
+            if (allocated(sc%c_values)) sites = sites + n*sum(sc%c_values)/run%chain%c
+            work = sites*((2.0_wp*k)**3 + 2.5_wp*(2.0_wp*kb)**3)*hb_fold_cube
+            if (sc%floquet_every > 0) then
+                m = real(ceiling(2.0_wp*pi/(run%drive%omega*run%numerics%dt)), wp)
+                work = work + (1.0_wp + hb_branch_points/real(sc%floquet_every, wp)) &
+                    *(2.0_wp*n*m*n*tangent_step*rk8_step + (2.0_wp*n)**3*spectrum_cube)
+            end if
+        end associate
+    end function hb_fold_work
 
 end module supratrans_scene_continuation

@@ -32,7 +32,7 @@ module supratrans_scene_stability
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
     use supratrans_strings, only: int_str, real_str
-    use supratrans_scene, only: scene_type, scene_tasks, wrong_tasks, scene_budget
+    use supratrans_scene, only: scene_type, scene_tasks, wrong_tasks, scene_budget, scene_plan
     use supratrans_limits, only: limit_error, threads_text, sci, dense_buffer_bytes
     use supratrans_config, only: input_config, run_config, vary_choices, chain_params, method_newton, method_linearized, &
                                  method_rk4, method_rk8, method_avf4, method_avf8, method_name
@@ -42,7 +42,7 @@ module supratrans_scene_stability
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok
     use supratrans_status, only: run_status_codes
-    use supratrans_tasks, only: task_list
+    use supratrans_tasks, only: task_list, run_work
     use supratrans_system, only: stop_signal
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
@@ -66,6 +66,10 @@ module supratrans_scene_stability
 
     !> Bisection gives up widening its bracket after this many factors of 1.5.
     integer, parameter :: max_widen = 12
+
+    !> A dense eigenvalue problem (dgeev) of order 2N in Newton oscillator-steps, per (2N)^3 (0.78 ns at 60 ns a
+    !> step: the continuation's measured `dgeev`), for the estimate of `--check`.
+    real(wp), parameter :: spectrum_cube = 0.013_wp
 
     !> The scene's runs: bisections first (they take longest), then the grid.
     type, extends(task_list) :: stability_tasks
@@ -96,6 +100,8 @@ module supratrans_scene_stability
         procedure :: write_output => stability_write_output
         !> The address space its dense eigenvalue problems need (OpenBLAS's working buffer) against the memory.
         procedure :: check_limits => stability_scene_limits
+        !> Its tasks and their work from the sizes (`--check`).
+        procedure :: plan => stability_scene_plan
     end type stability_scene
 
 contains
@@ -405,6 +411,69 @@ contains
                              // budget%source // ")")
         end if
     end subroutine stability_scene_limits
+
+    !> The tasks (bisections, then grid runs) and their work from the sizes, for `--check`: every grid run to T (a
+    !> run that blows up stops sooner: an upper bound), each bisection as 2 + log2(dt_p / (3 resolution)) runs at the
+    !> paper's critical dt dt_p (its bracket starts a factor 1.5 wide around the linear limit), and the spectra of the
+    !> linear theory (one 2N x 2N per curve and c).
+    pure function stability_scene_plan(self, cfg) result(p)
+        !> The scene.
+        class(stability_scene), intent(in) :: self
+        !> The configuration (values within their ranges).
+        type(input_config), intent(in) :: cfg
+        type(scene_plan) :: p
+        integer, allocatable :: methods(:)
+        real(wp), allocatable :: dts(:), c(:)
+        type(run_config) :: run
+        real(wp) :: dt_p, runs, bisection_runs, bisections, n
+        integer :: icurve, im, ic, idt
+
+        methods = [method_newton, method_linearized, method_rk4, method_rk8, method_avf4, method_avf8]
+        if (allocated(cfg%scene%methods)) then
+            if (size(cfg%scene%methods) > 0) methods = cfg%scene%methods
+        end if
+        dts = default_stability_dts()
+        if (allocated(cfg%scene%dts)) then
+            if (size(cfg%scene%dts) > 0) dts = cfg%scene%dts
+        end if
+        c = [cfg%run%chain%c]
+        if (allocated(cfg%scene%c_values)) then
+            if (size(cfg%scene%c_values) > 0) c = cfg%scene%c_values
+        end if
+        p%noun = "bisections and grid runs"
+        p%tasks = real(curve_count(cfg)*size(methods)*size(c)*(1 + size(dts)), wp)
+        p%work = 0.0_wp
+        runs = 0.0_wp
+        bisections = 0.0_wp
+        n = real(cfg%run%chain%n, wp)
+        do icurve = 1, curve_count(cfg)
+            do ic = 1, size(c)
+                run = curve_run(cfg, icurve)
+                run%chain%c = c(ic)
+                p%work = p%work + (2.0_wp*n)**3*spectrum_cube
+                dt_p = min(critical_dt(run%chain), 1.0_wp)
+                if (.not. (dt_p > 0.0_wp)) dt_p = 1.0_wp
+                do im = 1, size(methods)
+                    run%numerics%method = methods(im)
+                    do idt = 1, size(dts)
+                        if (.not. (dts(idt) > 0.0_wp)) cycle        ! refused by the scene
+                        run%numerics%dt = dts(idt)
+                        p%work = p%work + run_work(run)
+                        runs = runs + 1.0_wp
+                    end do
+                    run%numerics%dt = dt_p
+                    bisection_runs = max(2.0_wp + log(dt_p/(3.0_wp*max(cfg%scene%resolution, 1.0e-12_wp)))/log(2.0_wp), &
+                                         2.0_wp)
+                    p%work = p%work + bisection_runs*run_work(run)
+                    bisections = bisections + bisection_runs
+                end do
+            end do
+        end do
+        p%runs_per_task = (runs + bisections)/max(p%tasks, 1.0_wp)
+        p%counts = int_str(nint(runs)) // " grid runs to T = " // real_str(cfg%run%numerics%t_final) // " x N = " &
+            // int_str(cfg%run%chain%n) // ", about " // int_str(nint(bisections)) // " bisection runs at the " &
+            // "paper's critical dt, the linear theory's spectra"
+    end function stability_scene_plan
 
     !> A run is stable when it reached its final time without blowing up or failing.
     pure function run_is_stable(res) result(stable)

@@ -43,10 +43,11 @@ module supratrans_scene_workprec
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
     use supratrans_invocation, only: invocation_type
-    use supratrans_strings, only: real_str, printable
-    use supratrans_scene, only: scene_type, scene_tasks, wrong_tasks, scene_budget
+    use supratrans_strings, only: real_str, printable, int_str
+    use supratrans_scene, only: scene_type, scene_tasks, wrong_tasks, scene_budget, scene_plan
     use supratrans_limits, only: check_tasks, sci, limit_error, max_site_steps
-    use supratrans_config, only: input_config, method_newton, method_linearized, method_name
+    use supratrans_tasks, only: run_work
+    use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk8, method_name
     use supratrans_status, only: status_not_run
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
@@ -74,6 +75,8 @@ module supratrans_scene_workprec
         procedure :: check_limits => workprec_scene_limits
         !> Its keys (`setup_tasks`' checks), for validation: before anything is created, also by --check.
         procedure :: check_input => workprec_check_input
+        !> Its timed runs and their work from the sizes (`--check`).
+        procedure :: plan => workprec_scene_plan
     end type workprec_scene
 
 contains
@@ -166,6 +169,65 @@ contains
                              // "one core); fewer repeats, dts or amplitudes, or a shorter chain")
         end if
     end subroutine workprec_scene_limits
+    !> The timed tasks (amplitude, method, dt) and their work from the sizes, for `--check`: each (method, dt) not
+    !> below the method's dt_smallest run `repeats` times to T (one at a time: the timed runs do not overlap, so the
+    !> threads do not divide it), and per amplitude the references, rk8 at reference_dt/2 and reference_dt.
+    pure function workprec_scene_plan(self, cfg) result(p)
+        !> The scene.
+        class(workprec_scene), intent(in) :: self
+        !> The configuration (values within their ranges).
+        type(input_config), intent(in) :: cfg
+        type(scene_plan) :: p
+        integer, allocatable :: methods(:)
+        real(wp), allocatable :: dts(:), smallest(:)
+        type(run_config) :: run
+        real(wp) :: amplitudes, repeats, timed, runs
+        integer :: im, idt
+
+        methods = default_methods()
+        if (allocated(cfg%scene%methods)) then
+            if (size(cfg%scene%methods) > 0) methods = cfg%scene%methods
+        end if
+        dts = default_workprec_dts()
+        if (allocated(cfg%scene%dts)) then
+            if (size(cfg%scene%dts) > 0) dts = cfg%scene%dts
+        end if
+        allocate (smallest(size(methods)), source=0.0_wp)
+        if (allocated(cfg%scene%dt_smallest)) then
+            if (size(cfg%scene%dt_smallest) == size(methods)) smallest = cfg%scene%dt_smallest
+        end if
+        amplitudes = 1.0_wp
+        if (allocated(cfg%scene%amplitudes)) then
+            if (size(cfg%scene%amplitudes) > 0) amplitudes = real(size(cfg%scene%amplitudes), wp)
+        end if
+        repeats = real(max(cfg%scene%repeats, 1), wp)
+        p%noun = "timed tasks"
+        p%tasks = amplitudes*real(size(methods)*size(dts), wp)
+        p%serial = .true.
+        run = cfg%run
+        timed = 0.0_wp
+        runs = 0.0_wp
+        do im = 1, size(methods)
+            run%numerics%method = methods(im)
+            do idt = 1, size(dts)
+                if (.not. (dts(idt) > 0.0_wp) .or. dts(idt) < smallest(im)*(1.0_wp - 1.0e-12_wp)) cycle
+                run%numerics%dt = dts(idt)
+                timed = timed + run_work(run)
+                runs = runs + 1.0_wp
+            end do
+        end do
+        p%work = amplitudes*repeats*timed
+        p%runs_per_task = repeats*runs/real(max(size(methods)*size(dts), 1), wp)
+        if (cfg%scene%reference_dt > 0.0_wp) then
+            run%numerics%method = method_rk8
+            run%numerics%dt = cfg%scene%reference_dt
+            p%work = p%work + 3.0_wp*amplitudes*run_work(run)     ! reference_dt/2 and reference_dt
+        end if
+        p%counts = int_str(nint(amplitudes*runs)) // " (amplitude, method, dt) x repeats = " // int_str(nint(repeats)) &
+            // " runs to T = " // real_str(cfg%run%numerics%t_final) // " x N = " // int_str(cfg%run%chain%n) &
+            // ", one at a time, and the rk8 references"
+    end function workprec_scene_plan
+
     !> The scene's keys as `setup_tasks` checks them (dt_smallest one per method, dts and reference_dt within
     !> t_final/2, amplitudes, repeats), made by validation so that --check refuses what the run would, before the
     !> output's folder and lock; nothing is run.

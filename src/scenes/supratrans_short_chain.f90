@@ -5,7 +5,7 @@
 !> c^2)). Beyond the core, what matters is the absorber: the state radiates its odd harmonics (3 Omega, 5 Omega, ... in
 !> the phonon band), and whatever the absorber reflects moves A_f (by 2e-5 at Omega = 0.9 and 1e-3 .. 4e-2 at 0.7 ..
 !> 0.5 with the paper's absorber, N - N0 = 50, sigma = 3; by up to 0.2 below Omega = 0.3, where the lowest odd harmonic
-!> in the band sits near its edge with a long wavelength: docs/continuation.md). The tanh absorber's reflection of a
+!> in the band sits near its edge with a long wavelength: docs/continuation_reference.md). The tanh absorber's reflection of a
 !> wave of wavenumber q is about exp(-pi sigma q / 2), whatever its width or kappa. The short chain has N0 = the
 !> smallest integer >= `short_chain_decay` / lambda' (at least `short_n0_min`) and a smooth absorber with sigma =
 !> `short_absorber_sigma_q` / q (q of the lowest odd harmonic in the band, `harmonic_wavenumber`), kept within
@@ -27,7 +27,7 @@ module supratrans_short_chain
     !> Least sigma of the short chain's absorber ramp (the paper's is 3).
     real(wp), parameter, public :: short_absorber_sigma = 6.0_wp
     !> Largest sigma of the short chain's absorber (N - N0 = 200): near Omega = 1/k, k odd, an odd harmonic sits at
-    !> the band edge and no affordable absorber takes it (docs/continuation.md).
+    !> the band edge and no affordable absorber takes it (docs/continuation_reference.md).
     real(wp), parameter, public :: short_absorber_sigma_max = 20.0_wp
     !> sigma q of the short chain's absorber, q the wavenumber of the lowest odd harmonic of the drive in the phonon
     !> band: its reflection R <~ exp(-pi sigma q / 2) ~ 5e-3 (measured: |A_f - A_f(reference)| <= 0.3 R).

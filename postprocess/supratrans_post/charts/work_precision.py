@@ -6,7 +6,8 @@ problem in the same process, draw the work-precision charts and print the equal-
     python3 postprocess/work_precision.py --h5 out/work_precision.h5 --peer out/work_precision_peer.json
                                                                     # charts and table only, nothing run
 
-Steps: (a) `fpm run --profile release -- input/work_precision.nml` in the repository (or `--h5`); (b) right
+Steps: (a) `fpm run --profile release -- input/work_precision.nml` in the repository (outside one the `supratrans`
+installed on PATH, the paths relative to the working directory; or `--h5`), its progress lines passed on; (b) right
 after, `peer_scipy.py`'s DOP853 and RK45 at tolerances 1e-3 .. 1e-12 for every amplitude of the file; (c) the
 peer's points written as JSON next to the file (`out/work_precision_peer.json`, with the table); (d) the charts
 `postprocess/figures/work_precision.png` (error of the injected energy vs wall time, log-log, one line per
@@ -293,9 +294,15 @@ def draw_dt(w: Scene, peer: dict):
 # ------------------------------------------------------------------------------------------------ running
 
 
+def base() -> Path:
+    """Where the namelists' paths are relative to: the checkout, else (an installed command) the working
+    directory."""
+    return cli.checkout() or Path.cwd()
+
+
 def output_of(nml: Path) -> Path:
-    """The `&output file` of a namelist (relative to the repository)."""
-    root = cli.repository()
+    """The `&output file` of a namelist (relative to the repository, or outside one to the working directory)."""
+    root = base()
     out = namelist.output_file(namelist.read(nml if nml.is_absolute() else root / nml))
     if out is None:
         raise PlotError(nml, "no '&output file'")
@@ -303,15 +310,27 @@ def output_of(nml: Path) -> Path:
 
 
 def run_scene(nml: Path, log: Callable) -> Path:
-    """Run the scene with fpm in the repository; the path of its file."""
+    """Run the scene with fpm in the repository, or outside one with the `supratrans` installed on PATH; the path
+    of its file."""
     out = output_of(nml)
     t0 = time.monotonic()
-    log(f"running: fpm run --profile release -- {nml}")
-    proc = subprocess.run([*_fpm(), "run", "--profile", "release", "--", str(nml)], cwd=cli.repository(),
-                          capture_output=True, text=True)
-    if proc.returncode != 0:
-        tail = (proc.stderr.strip() or proc.stdout.strip() or "no output").splitlines()[-1]
-        raise PlotError(nml, f"fpm run failed (status {proc.returncode}): {tail}")
+    if cli.checkout() is None:
+        cmd = [cli.installed("give the scene's file with --h5"), str(nml)]
+    else:
+        cmd = [*_fpm(), "run", "--profile", "release", "--", str(nml)]
+    log(f"running: {' '.join(cmd[-5:] if len(cmd) > 2 else cmd)}")
+    # the scene takes about a minute: the program's own progress lines (every few seconds at most, with the time
+    # left) go on to stderr as it prints them; its last line names a failure
+    proc = subprocess.Popen(cmd, cwd=base(), stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    lines = []
+    for line in proc.stderr:
+        lines.append(line)
+        if "elapsed" in line:
+            print(line.rstrip(), file=sys.stderr, flush=True)
+    status = proc.wait()
+    if status != 0:
+        tail = ("".join(lines).strip() or "no output").splitlines()[-1]
+        raise PlotError(nml, f"{Path(cmd[0]).name} run failed (status {status}): {tail}")
     log(f"  done in {time.monotonic() - t0:.0f} s: {out}")
     return out
 
@@ -342,7 +361,7 @@ def main(argv: list[str] | None = None) -> int:
         outdir = args.outdir or figure_dir()
         h5 = args.h5
         if h5 is None:
-            root = cli.repository()
+            root = base()
             nml = args.nml if args.nml.is_absolute() else (root / args.nml)
             if not nml.is_file():
                 raise PlotError(args.nml, "no such file")

@@ -24,7 +24,7 @@
 !> harmonic, costs nothing, and a solve is two products with small blocks per site. LAPACK's banded LU (`dgbtrf`,
 !> kl = ku = 2K + 1) does the same work column by column through rank-one updates of 2K + 1 entries, and LAPACK's
 !> `dgetrf`/`dgetri` on blocks of 8 .. 32 rows pay a library call's overhead per site that exceeds the block's
-!> arithmetic: both measured several times slower at K = 4-16 (docs/continuation.md).
+!> arithmetic: both measured several times slower at K = 4-16 (docs/continuation_reference.md).
 !>
 !> Every work array is allocated once by `hb_init`; nothing here keeps state between calls but the last Jacobian and
 !> its factors. One object per thread.
