@@ -1,7 +1,10 @@
 """Shared fixtures of the Python tests (test/*.py and postprocess/tests/*.py; configuration in pytest.ini).
 
 - `debug_exe`, `release_exe`: the supratrans executable, built by fpm once per session (debug, or the release
-  profile that make_figures.py uses), only when a selected test needs it; the tests are skipped without fpm;
+  profile that make_figures.py uses), only when a selected test needs it; the tests are skipped without fpm.
+  pytest runs on every core (pytest.ini: pytest-xdist, `-n auto`): the workers of one session share each build
+  (the first to need it makes it under `build_lock`, the others read its path), and every command that runs fpm in
+  this checkout holds `build_lock` (`.ci/with_commit` removes the library archives of every profile);
 - `host_exe`: the release build for this machine's vector units (fpm's release flags plus HOST_FLAGS, in a build
   directory of its own: fpm hashes the flags), for the cross-build tests of test/test_host_build.py;
 - `write_namelist`: writes a namelist into the test's tmp_path; `small_chain`: the text of a tiny timeseries;
@@ -16,6 +19,8 @@ Slurm, long resumed runs) are marked `slow`; `bash test/run_tests.sh` runs every
 """
 from __future__ import annotations
 
+import contextlib
+import fcntl
 import os
 import shutil
 import subprocess
@@ -52,20 +57,53 @@ def build_program(root: Path, profile: str = "debug", with_commit: bool = True, 
     return root / out.stdout.strip().splitlines()[-1].split()[0]
 
 
-def _build(profile: str, flags: str = "") -> Path:
-    """Build the program with fpm (`debug` or `release`, plus `flags`) and return the path of its executable."""
+@contextlib.contextmanager
+def build_lock():
+    """Hold the lock of this checkout's build tree (an flock on build/.tests.lock) while fpm builds in it: the
+    pytest workers of a session, and any other process that takes it, never build at the same time (two fpm in one
+    tree would race, and `.ci/with_commit` removes the library archive of every profile as it starts)."""
+    folder = ROOT / "build"
+    folder.mkdir(exist_ok=True)
+    with open(folder / ".tests.lock", "a") as f:
+        fcntl.flock(f, fcntl.LOCK_EX)
+        yield
+
+
+def session_folder(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A folder shared by every worker of this pytest session (pytest-xdist's workers have their own base
+    temporary folders in one shared folder) and by no other session."""
+    base = tmp_path_factory.getbasetemp()
+    return base.parent if hasattr(request.config, "workerinput") else base
+
+
+def _build(profile: str, shared: Path, flags: str = "") -> Path:
+    """Build the program with fpm (`debug` or `release`, plus `flags`) once for the session whose shared folder is
+    `shared`, and return the path of a copy of its executable in `shared`: the first worker to ask builds it under
+    `build_lock` and copies it, the others find the copy. Tests run the copy, so that a later build in this checkout
+    (make_figures.py and builds.py build through fpm; a developer's `fpm build`) never relinks a program while a
+    test starts it."""
     if shutil.which("fpm") is None:
         pytest.skip("fpm not installed")
-    try:
-        return build_program(ROOT, profile, flags=flags)
-    except subprocess.CalledProcessError as e:
-        pytest.fail(f"fpm build --profile {profile} --flag '{flags}' failed:\n{(e.stdout + e.stderr)[-3000:]}")
+    copy = shared / f"exe-{profile}-{flags.encode().hex()}" / "supratrans"
+    if not copy.is_file():
+        with build_lock():
+            if not copy.is_file():
+                try:
+                    exe = build_program(ROOT, profile, flags=flags)
+                except subprocess.CalledProcessError as e:
+                    pytest.fail(f"fpm build --profile {profile} --flag '{flags}' failed:\n"
+                                f"{(e.stdout + e.stderr)[-3000:]}")
+                copy.parent.mkdir(exist_ok=True)
+                part = copy.with_suffix(".part")
+                shutil.copy2(exe, part)
+                part.rename(copy)          # whole or absent, for a worker that looks without the lock
+    return copy
 
 
 @pytest.fixture(scope="session")
-def debug_exe() -> Path:
+def debug_exe(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The supratrans executable, debug profile (what `fpm build` makes)."""
-    return _build("debug")
+    return _build("debug", session_folder(request, tmp_path_factory))
 
 
 @pytest.fixture(scope="session")
@@ -75,15 +113,15 @@ def exe(debug_exe: Path) -> str:
 
 
 @pytest.fixture(scope="session")
-def release_exe() -> Path:
+def release_exe(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The supratrans executable, release profile (what make_figures.py runs)."""
-    return _build("release")
+    return _build("release", session_folder(request, tmp_path_factory))
 
 
 @pytest.fixture(scope="session")
-def host_exe() -> Path:
+def host_exe(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> Path:
     """The supratrans executable, release profile built for this machine's vector units (HOST_FLAGS)."""
-    return _build("release", HOST_FLAGS)
+    return _build("release", session_folder(request, tmp_path_factory), HOST_FLAGS)
 
 
 @pytest.fixture
@@ -97,6 +135,21 @@ def write_namelist(tmp_path: Path) -> Callable[..., Path]:
         return path
 
     return write
+
+
+# ------------------------------------------------------------------------------------------------ the workers
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """The order in which pytest-xdist deals the test files to its workers (`--dist loadfile
+    --no-loadscope-reorder`, pytest.ini: a file's tests run on one worker, in order, so that its module-scoped
+    fixtures, a costly reference, the Slurm cluster, a temporary repository, are made once): the files that hold a
+    `slow` test first, in the order collected, so that the long ones do not come last and leave one worker running
+    them while the other idles. (Per-test dealing with `xdist_group` marks for the shared fixtures would balance
+    finer, but pytest-xdist 3.8 cannot group under pytest 9: it renames the node ids, which pytest 9 no longer
+    lets it do.)"""
+    slow_files = {item.nodeid.split("::")[0] for item in items if item.get_closest_marker("slow")}
+    items.sort(key=lambda item: item.nodeid.split("::")[0] not in slow_files)     # stable: collected order otherwise
 
 
 # ------------------------------------------------------------------------------------------------ tiny files
@@ -260,7 +313,8 @@ def tiny_namelists() -> dict[str, str]:
 
 
 class TinyFiles:
-    """The tiny HDF5 files, made by the program in one folder the first time each is asked for."""
+    """The tiny HDF5 files, made by the program in one folder the first time each is asked for (by any worker of
+    the session: the folder is shared, and each file is made under a lock of its own)."""
 
     def __init__(self, exe: Path, folder: Path) -> None:
         self.exe, self.folder = exe, folder
@@ -272,11 +326,18 @@ class TinyFiles:
         (yet), and fails when the program fails on it."""
         if name not in self.made:
             out = self.folder / f"{name}.h5"
-            nml = self.folder / f"{name}.nml"
-            nml.write_text(self.texts[name] + OUTPUT.format(out=out))
-            proc = subprocess.run([str(self.exe), str(nml)], cwd=self.folder, capture_output=True, text=True,
-                                  timeout=120)
-            self.made[name] = out if proc.returncode == 0 and out.is_file() else (proc.stderr.strip() or "no file")
+            verdict = self.folder / f"{name}.made"      # "" when made, else why not
+            with open(self.folder / f"{name}.lock", "a") as lock:
+                fcntl.flock(lock, fcntl.LOCK_EX)
+                if not verdict.is_file():
+                    nml = self.folder / f"{name}.nml"
+                    nml.write_text(self.texts[name] + OUTPUT.format(out=out))
+                    proc = subprocess.run([str(self.exe), str(nml)], cwd=self.folder, capture_output=True,
+                                          text=True, timeout=120)
+                    ok = proc.returncode == 0 and out.is_file()
+                    verdict.write_text("" if ok else (proc.stderr.strip() or "no file"))
+                why = verdict.read_text()
+            self.made[name] = why if why else out
         made = self.made[name]
         if isinstance(made, Path):
             return made
@@ -286,9 +347,11 @@ class TinyFiles:
 
 
 @pytest.fixture(scope="session")
-def tiny(debug_exe: Path, tmp_path_factory: pytest.TempPathFactory) -> TinyFiles:
+def tiny(debug_exe: Path, request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> TinyFiles:
     """The tiny HDF5 files of every scene, made by the program (debug build) on first use."""
-    return TinyFiles(debug_exe, tmp_path_factory.mktemp("tiny"))
+    folder = session_folder(request, tmp_path_factory) / "tiny"
+    folder.mkdir(exist_ok=True)
+    return TinyFiles(debug_exe, folder)
 
 
 # ------------------------------------------------------------------------------------------------ scripts

@@ -117,142 +117,146 @@ program pf_driver
     use test_period_map, only: t110 => test_steps_and_bad_input
     use test_period_map, only: t111 => test_half_period_map
     use test_potential, only: t112 => test_gradient_equals_difference_quotient
-    use test_potential, only: t113 => test_gradient_tends_to_force
-    use test_potential, only: t114 => test_gradient_exact_at_rest
-    use test_potential, only: t115 => test_slope_matches_finite_difference
-    use test_potential, only: t116 => test_array_kernels_agree
-    use test_potential, only: t117 => test_names_round_trip
-    use test_potential, only: t118 => test_unknown_potential_is_an_error
+    use test_potential, only: t113 => test_derivatives_consistent
+    use test_potential, only: t114 => test_gradient_tends_to_force
+    use test_potential, only: t115 => test_gradient_exact_at_rest
+    use test_potential, only: t116 => test_slope_matches_finite_difference
+    use test_potential, only: t117 => test_newton_bounds_hold
+    use test_potential, only: t118 => test_array_kernels_agree
+    use test_potential, only: t119 => test_names_round_trip
+    use test_potential, only: t120 => test_unknown_potential_is_an_error
     use test_provenance, only: b15 => set_up
     use test_provenance, only: a15 => tear_down
-    use test_provenance, only: t119 => test_build_commit_is_an_id_or_unknown
-    use test_provenance, only: t120 => test_commit_is_not_read_from_the_working_directory
-    use test_provenance, only: t121 => test_provenance_written
-    use test_provenance, only: t122 => test_provenance_attributes_are_the_documented_ones
-    use test_rk4, only: t123 => test_rk4_fourth_order
-    use test_rk4, only: t124 => test_rk4_energy_drift
-    use test_rk4, only: t125 => test_rk4_stability_limit
-    use test_rk4, only: t126 => test_rk4_agrees_with_energy_conserving_scheme
+    use test_provenance, only: t121 => test_build_commit_is_an_id_or_unknown
+    use test_provenance, only: t122 => test_commit_is_not_read_from_the_working_directory
+    use test_provenance, only: t123 => test_provenance_written
+    use test_provenance, only: t124 => test_provenance_attributes_are_the_documented_ones
+    use test_rk4, only: t125 => test_rk4_fourth_order
+    use test_rk4, only: t126 => test_rk4_energy_drift
+    use test_rk4, only: t127 => test_rk4_stability_limit
+    use test_rk4, only: t128 => test_rk4_agrees_with_energy_conserving_scheme
     use test_scene_bifurcation, only: b17 => set_up
     use test_scene_bifurcation, only: a17 => tear_down
-    use test_scene_bifurcation, only: t127 => test_early_stop_keeps_verdict
-    use test_scene_bifurcation, only: t128 => test_threads_give_identical_thresholds
-    use test_scene_bifurcation, only: t129 => test_threshold_transmits_and_one_step_below_does_not
-    use test_scene_bifurcation, only: t130 => test_resume_after_kill
-    use test_scene_bifurcation, only: t131 => test_file_layout
-    use test_scene_bifurcation, only: t132 => test_failed_runs_give_status_run_failed
-    use test_scene_bifurcation, only: t133 => test_screening_changes_no_threshold
-    use test_scene_factory, only: t134 => test_every_kind_of_the_schema_has_a_scene
-    use test_scene_factory, only: t135 => test_unknown_kind_is_one_line_naming_the_known
-    use test_scene_factory, only: t136 => test_the_input_check_words_an_unknown_kind_as_before
-    use test_scene_factory, only: t137 => test_only_a_timeseries_is_one_run
-    use test_scene_factory, only: t138 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
-    use test_scene_factory, only: t139 => test_task_scenes_refuse_an_existing_output_first
+    use test_scene_bifurcation, only: t129 => test_early_stop_keeps_verdict
+    use test_scene_bifurcation, only: t130 => test_threads_give_identical_thresholds
+    use test_scene_bifurcation, only: t131 => test_threshold_transmits_and_one_step_below_does_not
+    use test_scene_bifurcation, only: t132 => test_resume_after_kill
+    use test_scene_bifurcation, only: t133 => test_file_layout
+    use test_scene_bifurcation, only: t134 => test_failed_runs_give_status_run_failed
+    use test_scene_bifurcation, only: t135 => test_screening_changes_no_threshold
+    use test_scene_factory, only: t136 => test_every_kind_of_the_schema_has_a_scene
+    use test_scene_factory, only: t137 => test_unknown_kind_is_one_line_naming_the_known
+    use test_scene_factory, only: t138 => test_the_input_check_words_an_unknown_kind_as_before
+    use test_scene_factory, only: t139 => test_only_a_timeseries_is_one_run
+    use test_scene_factory, only: t140 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
+    use test_scene_factory, only: t141 => test_task_scenes_refuse_an_existing_output_first
     use test_scene_map, only: b19 => set_up
     use test_scene_map, only: a19 => tear_down
-    use test_scene_map, only: t140 => test_skips_outside_gap_and_stores_as
-    use test_scene_map, only: t141 => test_map_independent_of_thread_count
+    use test_scene_map, only: t142 => test_skips_outside_gap_and_stores_as
+    use test_scene_map, only: t143 => test_map_independent_of_thread_count
     use test_scene_sweep, only: b20 => set_up
     use test_scene_sweep, only: a20 => tear_down
-    use test_scene_sweep, only: t142 => test_axis_grid_exact
-    use test_scene_sweep, only: t143 => test_independent_of_thread_count
-    use test_scene_sweep, only: t144 => test_layout_and_physics
-    use test_scene_sweep, only: t145 => test_resume_after_kill
-    use test_scene_sweep, only: t146 => test_diverging_runs_flagged
-    use test_scene_sweep, only: t147 => test_partial_snapshot
-    use test_scene_sweep, only: t148 => test_refuses_existing_output
-    use test_schema, only: t149 => test_table_is_complete
-    use test_schema, only: t150 => test_each_key_sets_its_own_field
-    use test_schema, only: t151 => test_defaults_are_the_papers
-    use test_schema, only: t152 => test_choices_agree_with_the_physics
-    use test_schema, only: t153 => test_parameters_hold_every_key
-    use test_scheme, only: t154 => test_ledger_closes_every_step
-    use test_scheme, only: t155 => test_linearized_ledger_does_not_close
-    use test_scheme, only: t156 => test_evanescent_wave
-    use test_scheme, only: t157 => test_second_order_in_dt
-    use test_scheme, only: t158 => test_stability_boundary
-    use test_scheme, only: t159 => test_newton_failure_reported
-    use test_scheme, only: t160 => test_two_runs_in_two_threads
-    use test_scheme, only: t161 => test_verdict_across_the_gap
-    use test_screened_search, only: t162 => test_cheap_right_saves_exact_runs
-    use test_screened_search, only: t163 => test_cheap_too_high_within_band
-    use test_screened_search, only: t164 => test_cheap_too_high_walks_down
-    use test_screened_search, only: t165 => test_cheap_window_far_below
-    use test_screened_search, only: t166 => test_doubtful_quiet_answers_go_to_the_exact_oracle
-    use test_screened_search, only: t167 => test_random_patterns_with_margins
-    use test_screened_search, only: t168 => test_random_patterns_false_alarms
-    use test_screened_search, only: t169 => test_cheap_finds_none
-    use test_screened_search, only: t170 => test_none_transmits_confirms_the_top
-    use test_screened_search, only: t171 => test_exact_failure_is_reported
-    use test_screened_search, only: t172 => test_cheap_failure_falls_back_to_exact
-    use test_screened_search, only: t173 => test_margin_below_the_threshold
-    use test_slice_costs, only: t174 => test_equal_costs_deal_round_robin
-    use test_slice_costs, only: t175 => test_every_task_in_one_slice_and_deterministic
-    use test_slice_costs, only: t176 => test_largest_first_is_balanced_within_the_largest_task
-    use test_slice_costs, only: t177 => test_run_order_is_largest_first
-    use test_slice_costs, only: t178 => test_fold_tasks_cost_more_at_low_omega
-    use test_slice_costs, only: t179 => test_slice_text_counts_the_slice
+    use test_scene_sweep, only: t144 => test_axis_grid_exact
+    use test_scene_sweep, only: t145 => test_independent_of_thread_count
+    use test_scene_sweep, only: t146 => test_layout_and_physics
+    use test_scene_sweep, only: t147 => test_resume_after_kill
+    use test_scene_sweep, only: t148 => test_diverging_runs_flagged
+    use test_scene_sweep, only: t149 => test_partial_snapshot
+    use test_scene_sweep, only: t150 => test_refuses_existing_output
+    use test_schema, only: t151 => test_table_is_complete
+    use test_schema, only: t152 => test_each_key_sets_its_own_field
+    use test_schema, only: t153 => test_defaults_are_the_papers
+    use test_schema, only: t154 => test_choices_agree_with_the_physics
+    use test_schema, only: t155 => test_parameters_hold_every_key
+    use test_scheme, only: t156 => test_ledger_closes_every_step
+    use test_scheme, only: t157 => test_ledger_closes_double_sine_gordon
+    use test_scheme, only: t158 => test_evanescent_wave_double_sine_gordon
+    use test_scheme, only: t159 => test_linearized_ledger_does_not_close
+    use test_scheme, only: t160 => test_evanescent_wave
+    use test_scheme, only: t161 => test_second_order_in_dt
+    use test_scheme, only: t162 => test_stability_boundary
+    use test_scheme, only: t163 => test_newton_failure_reported
+    use test_scheme, only: t164 => test_two_runs_in_two_threads
+    use test_scheme, only: t165 => test_verdict_across_the_gap
+    use test_screened_search, only: t166 => test_cheap_right_saves_exact_runs
+    use test_screened_search, only: t167 => test_cheap_too_high_within_band
+    use test_screened_search, only: t168 => test_cheap_too_high_walks_down
+    use test_screened_search, only: t169 => test_cheap_window_far_below
+    use test_screened_search, only: t170 => test_doubtful_quiet_answers_go_to_the_exact_oracle
+    use test_screened_search, only: t171 => test_random_patterns_with_margins
+    use test_screened_search, only: t172 => test_random_patterns_false_alarms
+    use test_screened_search, only: t173 => test_cheap_finds_none
+    use test_screened_search, only: t174 => test_none_transmits_confirms_the_top
+    use test_screened_search, only: t175 => test_exact_failure_is_reported
+    use test_screened_search, only: t176 => test_cheap_failure_falls_back_to_exact
+    use test_screened_search, only: t177 => test_margin_below_the_threshold
+    use test_slice_costs, only: t178 => test_equal_costs_deal_round_robin
+    use test_slice_costs, only: t179 => test_every_task_in_one_slice_and_deterministic
+    use test_slice_costs, only: t180 => test_largest_first_is_balanced_within_the_largest_task
+    use test_slice_costs, only: t181 => test_run_order_is_largest_first
+    use test_slice_costs, only: t182 => test_fold_tasks_cost_more_at_low_omega
+    use test_slice_costs, only: t183 => test_slice_text_counts_the_slice
     use test_stability, only: b25 => set_up
     use test_stability, only: a25 => tear_down
-    use test_stability, only: t180 => test_linear_limits
-    use test_stability, only: t181 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t182 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t183 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t184 => test_stepper_contract_order
-    use test_stepper_contract, only: t185 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t186 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t187 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t188 => test_engine_counts_steps_in_64_bits
-    use test_stepper_contract, only: t189 => test_stepper_contract_checkpoint
-    use test_stepper_linearized, only: t190 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t191 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t192 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t193 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t194 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t195 => test_blocked_iteration_is_the_unblocked_one
-    use test_stepper_newton, only: t196 => test_levels_predictor_is_the_two_loop_one
-    use test_stepper_newton, only: t197 => test_uniform_loops_are_the_general_ones
-    use test_stepper_newton, only: t198 => test_newton_error_below_tol
-    use test_stepper_newton, only: t199 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t200 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t201 => test_newton_stepper_reports_failure
-    use test_stepper_newton, only: t202 => test_blowup_measure_is_the_level_maximum
-    use test_stepper_newton, only: t203 => test_step_powers_without_bulk_damping
-    use test_strings, only: t204 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t205 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t206 => test_find_name_gives_the_first_index_or_zero
-    use test_strings, only: t207 => test_joined_trims_each_name_and_prefixes_it
-    use test_strings, only: t208 => test_lower_changes_only_ascii_capitals
+    use test_stability, only: t184 => test_linear_limits
+    use test_stability, only: t185 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t186 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t187 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t188 => test_stepper_contract_order
+    use test_stepper_contract, only: t189 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t190 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t191 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t192 => test_engine_counts_steps_in_64_bits
+    use test_stepper_contract, only: t193 => test_stepper_contract_checkpoint
+    use test_stepper_linearized, only: t194 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t195 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t196 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t197 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t198 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t199 => test_blocked_iteration_is_the_unblocked_one
+    use test_stepper_newton, only: t200 => test_levels_predictor_is_the_two_loop_one
+    use test_stepper_newton, only: t201 => test_uniform_loops_are_the_general_ones
+    use test_stepper_newton, only: t202 => test_newton_error_below_tol
+    use test_stepper_newton, only: t203 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t204 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t205 => test_newton_stepper_reports_failure
+    use test_stepper_newton, only: t206 => test_blowup_measure_is_the_level_maximum
+    use test_stepper_newton, only: t207 => test_step_powers_without_bulk_damping
+    use test_strings, only: t208 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t209 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t210 => test_find_name_gives_the_first_index_or_zero
+    use test_strings, only: t211 => test_joined_trims_each_name_and_prefixes_it
+    use test_strings, only: t212 => test_lower_changes_only_ascii_capitals
     use test_system, only: b30 => set_up
     use test_system, only: a30 => tear_down
-    use test_system, only: t209 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t210 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t211 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t212 => test_lock_file_is_removed_by_its_holder_only
-    use test_system, only: t213 => test_temporary_names_are_fresh
-    use test_system, only: t214 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t215 => test_monotone_step
-    use test_threshold, only: t216 => test_bisected_bracket
-    use test_threshold, only: t217 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t218 => test_two_transitions
-    use test_threshold, only: t219 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t220 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t221 => test_nothing_transmits
-    use test_threshold, only: t222 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t223 => test_lower_bound_transmits
-    use test_threshold, only: t224 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t225 => test_bad_arguments
-    use test_threshold, only: t226 => test_grid_helpers
+    use test_system, only: t213 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t214 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t215 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t216 => test_lock_file_is_removed_by_its_holder_only
+    use test_system, only: t217 => test_temporary_names_are_fresh
+    use test_system, only: t218 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t219 => test_monotone_step
+    use test_threshold, only: t220 => test_bisected_bracket
+    use test_threshold, only: t221 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t222 => test_two_transitions
+    use test_threshold, only: t223 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t224 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t225 => test_nothing_transmits
+    use test_threshold, only: t226 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t227 => test_lower_bound_transmits
+    use test_threshold, only: t228 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t229 => test_bad_arguments
+    use test_threshold, only: t230 => test_grid_helpers
     use test_workprec, only: b32 => set_up
     use test_workprec, only: a32 => tear_down
-    use test_workprec, only: t227 => test_rk8_eighth_order
-    use test_workprec, only: t228 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t229 => test_rk8_stability_polynomial
-    use test_workprec, only: t230 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t231 => test_unstable_runs_are_reported
-    use test_workprec, only: t232 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t233 => test_fitted_order
-    use test_workprec, only: t234 => test_step_kernels_timed
+    use test_workprec, only: t231 => test_rk8_eighth_order
+    use test_workprec, only: t232 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t233 => test_rk8_stability_polynomial
+    use test_workprec, only: t234 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t235 => test_unstable_runs_are_reported
+    use test_workprec, only: t236 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t237 => test_fitted_order
+    use test_workprec, only: t238 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -368,157 +372,161 @@ program pf_driver
     call pf_run_test('test_period_map', 'test_steps_and_bad_input', t110)
     call pf_run_test('test_period_map', 'test_half_period_map', t111)
     call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t112)
-    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t113)
-    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t114)
-    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t115)
-    call pf_run_test('test_potential', 'test_array_kernels_agree', t116)
-    call pf_run_test('test_potential', 'test_names_round_trip', t117)
-    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t118)
-    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t119, before=b15, after=a15)
+    call pf_run_test('test_potential', 'test_derivatives_consistent', t113)
+    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t114)
+    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t115)
+    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t116)
+    call pf_run_test('test_potential', 'test_newton_bounds_hold', t117)
+    call pf_run_test('test_potential', 'test_array_kernels_agree', t118)
+    call pf_run_test('test_potential', 'test_names_round_trip', t119)
+    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t120)
+    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t121, before=b15, after=a15)
     call pf_run_test( &
         'test_provenance', &
         'test_commit_is_not_read_from_the_working_directory', &
-        t120, &
-        before=b15, &
-        after=a15)
-    call pf_run_test('test_provenance', 'test_provenance_written', t121, before=b15, after=a15)
-    call pf_run_test( &
-        'test_provenance', &
-        'test_provenance_attributes_are_the_documented_ones', &
         t122, &
         before=b15, &
         after=a15)
-    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t123)
-    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t124)
-    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t125)
-    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t126)
-    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t127, before=b17, after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t128, before=b17, after=a17)
+    call pf_run_test('test_provenance', 'test_provenance_written', t123, before=b15, after=a15)
+    call pf_run_test( &
+        'test_provenance', &
+        'test_provenance_attributes_are_the_documented_ones', &
+        t124, &
+        before=b15, &
+        after=a15)
+    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t125)
+    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t126)
+    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t127)
+    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t128)
+    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t129, before=b17, after=a17)
+    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t130, before=b17, after=a17)
     call pf_run_test( &
         'test_scene_bifurcation', &
         'test_threshold_transmits_and_one_step_below_does_not', &
-        t129, &
+        t131, &
         before=b17, &
         after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t130, before=b17, after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t131, before=b17, after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t132, before=b17, after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t133, before=b17, after=a17)
-    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t134)
-    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t135)
-    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t136)
-    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t137)
-    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t138)
-    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t139)
-    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t140, before=b19, after=a19)
-    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t141, before=b19, after=a19)
-    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t142, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t143, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t144, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t145, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t146, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t147, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t148, before=b20, after=a20)
-    call pf_run_test('test_schema', 'test_table_is_complete', t149)
-    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t150)
-    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t151)
-    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t152)
-    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t153)
-    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t154)
-    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t155)
-    call pf_run_test('test_scheme', 'test_evanescent_wave', t156)
-    call pf_run_test('test_scheme', 'test_second_order_in_dt', t157)
-    call pf_run_test('test_scheme', 'test_stability_boundary', t158)
-    call pf_run_test('test_scheme', 'test_newton_failure_reported', t159)
-    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t160)
-    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t161)
-    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t162)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t163)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t164)
-    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t165)
-    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t166)
-    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t167)
-    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t168)
-    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t169)
-    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t170)
-    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t171)
-    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t172)
-    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t173)
-    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t174)
-    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t175)
-    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t176)
-    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t177)
-    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t178)
-    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t179)
-    call pf_run_test('test_stability', 'test_linear_limits', t180, before=b25, after=a25)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t181, before=b25, after=a25)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t182, before=b25, after=a25)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t183)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t184)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t185)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t186)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t187)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t188)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t189)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t190)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t191)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t192)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t193)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t194)
-    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t195)
-    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t196)
-    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t197)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t198)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t199)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t200)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t201)
-    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t202)
-    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t203)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t204)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t205)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t206)
-    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t207)
-    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t208)
+    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t132, before=b17, after=a17)
+    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t133, before=b17, after=a17)
+    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t134, before=b17, after=a17)
+    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t135, before=b17, after=a17)
+    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t136)
+    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t137)
+    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t138)
+    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t139)
+    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t140)
+    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t141)
+    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t142, before=b19, after=a19)
+    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t143, before=b19, after=a19)
+    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t144, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t145, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t146, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t147, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t148, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t149, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t150, before=b20, after=a20)
+    call pf_run_test('test_schema', 'test_table_is_complete', t151)
+    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t152)
+    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t153)
+    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t154)
+    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t155)
+    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t156)
+    call pf_run_test('test_scheme', 'test_ledger_closes_double_sine_gordon', t157)
+    call pf_run_test('test_scheme', 'test_evanescent_wave_double_sine_gordon', t158)
+    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t159)
+    call pf_run_test('test_scheme', 'test_evanescent_wave', t160)
+    call pf_run_test('test_scheme', 'test_second_order_in_dt', t161)
+    call pf_run_test('test_scheme', 'test_stability_boundary', t162)
+    call pf_run_test('test_scheme', 'test_newton_failure_reported', t163)
+    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t164)
+    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t165)
+    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t166)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t167)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t168)
+    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t169)
+    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t170)
+    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t171)
+    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t172)
+    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t173)
+    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t174)
+    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t175)
+    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t176)
+    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t177)
+    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t178)
+    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t179)
+    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t180)
+    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t181)
+    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t182)
+    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t183)
+    call pf_run_test('test_stability', 'test_linear_limits', t184, before=b25, after=a25)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t185, before=b25, after=a25)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t186, before=b25, after=a25)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t187)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t188)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t189)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t190)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t191)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t192)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t193)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t194)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t195)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t196)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t197)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t198)
+    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t199)
+    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t200)
+    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t201)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t202)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t203)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t204)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t205)
+    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t206)
+    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t207)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t208)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t209)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t210)
+    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t211)
+    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t212)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t209, &
+        t213, &
         before=b30, &
         after=a30)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t210, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t214, before=b30, after=a30)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t211, &
+        t215, &
         before=b30, &
         after=a30)
-    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t212, before=b30, after=a30)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t213, before=b30, after=a30)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t214, before=b30, after=a30)
-    call pf_run_test('test_threshold', 'test_monotone_step', t215)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t216)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t217)
-    call pf_run_test('test_threshold', 'test_two_transitions', t218)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t219)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t220)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t221)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t222)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t223)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t224)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t225)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t226)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t227, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t228, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t229, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t230, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t231, before=b32, after=a32)
+    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t216, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t217, before=b30, after=a30)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t218, before=b30, after=a30)
+    call pf_run_test('test_threshold', 'test_monotone_step', t219)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t220)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t221)
+    call pf_run_test('test_threshold', 'test_two_transitions', t222)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t223)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t224)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t225)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t226)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t227)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t228)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t229)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t230)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t231, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t232, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t233, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t234, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t235, before=b32, after=a32)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t232, &
+        t236, &
         before=b32, &
         after=a32)
-    call pf_run_test('test_workprec', 'test_fitted_order', t233, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t234, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_fitted_order', t237, before=b32, after=a32)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t238, before=b32, after=a32)
     call pf_driver_finish()
 end program pf_driver

@@ -3,9 +3,10 @@
 #   1. .ci/install (installs only what is missing),
 #   2. test/pf2f90.py: test/X.pf -> test/X.f90 + test/pf_driver.f90 (pFUnit syntax -> Fortran;
 #      they must sit next to test/pf_runtime.f90, the only place fpm lets them use it from),
-#   3. fpm test (debug profile), which prints `fortran: N passed, M failed`, through .ci/with_commit (the
-#      build records the commit, as conftest.py's builds for pytest do),
-#   4. pytest on test/ and postprocess/.
+#   3. fpm test (debug profile), which prints `fortran: N passed, M failed`, with the commit's C flags of
+#      .ci/with_commit (the build records the commit, as conftest.py's builds for pytest do), while the release and
+#      host builds of the Python tests compile beside it,
+#   4. pytest on test/ and postprocess/, on every core (pytest.ini: pytest-xdist).
 # Usage: bash test/run_tests.sh [FILTER]
 #   FILTER (optional) runs only the Fortran tests whose `module::test` name contains it.
 # Each stage prints its wall time as it ends, and the line before the last sums them up (`run_tests: wall time by
@@ -81,14 +82,26 @@ else
 fi
 stage_done lint
 
-# ----------------------------------------------------------------------------- 3. fpm test
+# ----------------------------------------------------------------------------- 3. builds and fpm test
+# fpm test builds the debug profile and runs the Fortran tests while the release build (make_figures.py's, and the
+# Python tests' release_exe) and the host build (HOST_FLAGS of conftest.py, for test_host_build.py) compile beside
+# it, so that both cores stay busy through the builds' serial stretches; pytest's fixtures then only relink them. All
+# three take the commit's C flags from one .ci/with_commit call, made before any of them starts (it removes the
+# library archives of every profile: run inside each build, it could remove one that another build had just made).
+commit_flags=$(sh .ci/with_commit sh -c 'printf "%s" "${FPM_CFLAGS:-}"')
+host_flags=${SUPRATRANS_HOST_FLAGS:--march=native}
+builds=()
+FPM_CFLAGS=${commit_flags} fpm build --profile release >"${tmp}/release.log" 2>&1 &
+builds+=("$! release ${tmp}/release.log")
+FPM_CFLAGS=${commit_flags} fpm build --profile release --flag "${host_flags}" >"${tmp}/host.log" 2>&1 &
+builds+=("$! host ${tmp}/host.log")
 if ((translated)); then
     fpm_args=(test)
     if (($# > 0)); then
         fpm_args+=(-- "$@")
     fi
     log="${tmp}/fpm.log"
-    sh .ci/with_commit fpm "${fpm_args[@]}" 2>&1 | tee "${log}"
+    FPM_CFLAGS=${commit_flags} fpm "${fpm_args[@]}" 2>&1 | tee "${log}"
     status=${PIPESTATUS[0]}
     f_passed=0
     f_failed=0
@@ -109,6 +122,15 @@ if ((translated)); then
     failed=$((failed + f_failed))
     stage_done "fpm test"
 fi
+for build in "${builds[@]}"; do
+    read -r pid name build_log <<<"${build}"
+    if ! wait "${pid}"; then
+        # not counted here: the tests that need it fail with fpm's message when pytest builds it again
+        tail -n 20 "${build_log}"
+        note "the ${name} build failed (its tests will say so)"
+    fi
+done
+stage_done "release and host builds (the rest of them)"
 
 # ----------------------------------------------------------------------------- 4. pytest
 # pytest.ini and conftest.py (the program built once per session); every test, the slow end-to-end ones too

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from conftest import ROOT, build_program
+from conftest import ROOT, build_lock, build_program
 
 pytestmark = pytest.mark.slow
 
@@ -67,9 +67,11 @@ def repo(tmp_path_factory) -> Path:
     git(dest, "commit", "-q", "-m", "the sources under test")
     if (ROOT / "build").is_dir():
         # fpm recompiles what differs from the copied objects; the build-info objects, which carry this checkout's
-        # commit, are not copied (as .ci/with_commit removes them before each build)
-        shutil.copytree(ROOT / "build", dest / "build", symlinks=True,
-                        ignore=shutil.ignore_patterns("*supratrans_build_info*"))
+        # commit, are not copied (as .ci/with_commit removes them before each build); copied while no other worker
+        # of the session builds in it
+        with build_lock():
+            shutil.copytree(ROOT / "build", dest / "build", symlinks=True,
+                            ignore=shutil.ignore_patterns("*supratrans_build_info*", ".tests.lock"))
     build_program(dest)
     return dest
 
@@ -137,9 +139,14 @@ def test_plain_fpm_build_reads_the_commit_at_run_time(repo, tmp_path):
 
 
 def test_a_fresh_clone_built_with_plain_fpm_records_its_commit(repo, tmp_path):
-    """The README's path: clone, `fpm build`, run; /provenance names `git rev-parse HEAD` of the clone."""
+    """The README's path: clone, `fpm build`, run; /provenance names `git rev-parse HEAD` of the clone. The clone
+    gets the repository's build tree without the build-info objects (as `repo` does), so that fpm redoes the C file
+    and the links, not the whole program (a compile from nothing is `fpm test`'s on a fresh clone)."""
     clone = tmp_path / "clone"
     subprocess.run(["git", "clone", "-q", str(repo), str(clone)], check=True, capture_output=True)
+    assert not (clone / "build").exists()
+    shutil.copytree(repo / "build", clone / "build", symlinks=True,
+                    ignore=shutil.ignore_patterns("*supratrans_build_info*"))
     subprocess.run(["fpm", "build"], cwd=clone, check=True, capture_output=True, text=True)
     exe = build_program(clone, with_commit=False)
     commit, dirty, source = provenance(exe, clone / "out" / "run", source=True)

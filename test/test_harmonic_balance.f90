@@ -9,6 +9,7 @@ module test_harmonic_balance
     use supratrans_kinds, only: wp, pi
     use supratrans_error, only: error_type
     use supratrans_config
+    use supratrans_schema, only: potential_sine_gordon, potential_double_sine_gordon
     use supratrans_chain, only: decay_rate
     use supratrans_harmonic_balance, only: hb_system, hb_init, hb_residual, hb_jacobian, hb_factor, hb_solve, &
                                            hb_apply_jacobian, hb_amplitude_column, hb_time_state
@@ -27,6 +28,7 @@ contains
         type(chain_params) :: chain
 
         chain%potential = potential
+        chain%eta = 0.3_wp          ! the double sine-Gordon's (the others take no parameter)
         chain%n = 12
         chain%n0 = 8
         chain%sigma = 2.0_wp
@@ -60,7 +62,7 @@ contains
 
         h = 1.0e-6_wp
         a = 1.3_wp
-        do potential = potential_sine_gordon, potential_klein_gordon
+        do potential = potential_sine_gordon, potential_double_sine_gordon      ! every potential
             do k = 0, 1
                 damped = k == 1
                 do closure = closure_absorber, closure_radiation
@@ -68,7 +70,7 @@ contains
                     call hb_init(sys, short_chain(potential, damped), 0.8_wp, 5, closure, error)
                     call assertFalse( &
                         allocated(error), &
-                        location=pf_source_location('test_harmonic_balance.pf', 68, 'assertFalse'))
+                        location=pf_source_location('test_harmonic_balance.pf', 70, 'assertFalse'))
                     if (pf_any_failed()) return
                     x = some_coefficients(sys%dim)
                     v = some_coefficients(sys%dim + 7)
@@ -82,7 +84,7 @@ contains
                         maxval(abs(jv - (rp - rm)/(2*h))), &
                         1.0e-7_wp*maxval(abs(jv)), &
                         message=trim(label), &
-                        location=pf_source_location('test_harmonic_balance.pf', 77, 'assertLessThan'))
+                        location=pf_source_location('test_harmonic_balance.pf', 79, 'assertLessThan'))
                     if (pf_any_failed()) return
                     call hb_amplitude_column(sys, da)
                     call hb_residual(sys, x, a + h, rp)
@@ -91,7 +93,7 @@ contains
                         maxval(abs(da - (rp - rm)/(2*h))), &
                         1.0e-7_wp*maxval(abs(da)), &
                         message=trim(label), &
-                        location=pf_source_location('test_harmonic_balance.pf', 81, 'assertLessThan'))
+                        location=pf_source_location('test_harmonic_balance.pf', 83, 'assertLessThan'))
                     if (pf_any_failed()) return
                     deallocate (jv, rp, rm, da)
                 end do
@@ -107,11 +109,11 @@ contains
         integer :: info
 
         call hb_init(sys, short_chain(potential_sine_gordon, .true.), 0.6_wp, 6, closure_radiation, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_harmonic_balance.pf', 96, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_harmonic_balance.pf', 98, 'assertFalse'))
         if (pf_any_failed()) return
         call hb_jacobian(sys, some_coefficients(sys%dim))
         call hb_factor(sys, info)
-        call assertEqual(0, info, location=pf_source_location('test_harmonic_balance.pf', 99, 'assertEqual'))
+        call assertEqual(0, info, location=pf_source_location('test_harmonic_balance.pf', 101, 'assertEqual'))
         if (pf_any_failed()) return
         x = cos(real(i_index(sys%dim), wp))
         allocate (b(sys%dim, 2), jx(sys%dim))
@@ -119,17 +121,17 @@ contains
         b(:, 1) = jx
         b(:, 2) = 2*jx
         call hb_solve(sys, b, info)
-        call assertEqual(0, info, location=pf_source_location('test_harmonic_balance.pf', 106, 'assertEqual'))
+        call assertEqual(0, info, location=pf_source_location('test_harmonic_balance.pf', 108, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             maxval(abs(b(:, 1) - x)), &
             1.0e-10_wp, &
-            location=pf_source_location('test_harmonic_balance.pf', 107, 'assertLessThan'))
+            location=pf_source_location('test_harmonic_balance.pf', 109, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertLessThan( &
             maxval(abs(b(:, 2) - 2*x)), &
             1.0e-10_wp, &
-            location=pf_source_location('test_harmonic_balance.pf', 108, 'assertLessThan'))
+            location=pf_source_location('test_harmonic_balance.pf', 110, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_block_solve_inverts_the_jacobian
 
@@ -165,33 +167,33 @@ contains
             call assertLessThan( &
                 abs(lhs), &
                 1.0e-10_wp, &
-                location=pf_source_location('test_harmonic_balance.pf', 140, 'assertLessThan'))
+                location=pf_source_location('test_harmonic_balance.pf', 142, 'assertLessThan'))
             if (pf_any_failed()) return
             call assertLessThanOrEqual( &
                 abs(z), &
                 1.0_wp + 1.0e-12_wp, &
-                location=pf_source_location('test_harmonic_balance.pf', 141, 'assertLessThanOrEqual'))
+                location=pf_source_location('test_harmonic_balance.pf', 143, 'assertLessThanOrEqual'))
             if (pf_any_failed()) return
             if (case == 1) then
                 call assertEqual( &
                     exp(-acosh(1 + (kappa0 - w**2)/(2*c**2))), &
                     real(z, wp), &
                     1.0e-12_wp, &
-                    location=pf_source_location('test_harmonic_balance.pf', 143, 'assertEqual'))
+                    location=pf_source_location('test_harmonic_balance.pf', 145, 'assertEqual'))
                 if (pf_any_failed()) return
             end if
             if (case == 2) then      ! outgoing for e^{i w t}: the phase falls along the chain (group velocity > 0)
                 call assertLessThan( &
                     aimag(z), &
                     0.0_wp, &
-                    location=pf_source_location('test_harmonic_balance.pf', 146, 'assertLessThan'))
+                    location=pf_source_location('test_harmonic_balance.pf', 148, 'assertLessThan'))
                 if (pf_any_failed()) return
             end if
             if (case == 3) then
                 call assertLessThan( &
                     abs(z), &
                     1.0_wp, &
-                    location=pf_source_location('test_harmonic_balance.pf', 149, 'assertLessThan'))
+                    location=pf_source_location('test_harmonic_balance.pf', 151, 'assertLessThan'))
                 if (pf_any_failed()) return
             end if
         end do
@@ -211,12 +213,12 @@ contains
 
         a = 1.0e-4_wp
         call hb_init(sys, chain, 0.9_wp, 4, closure_absorber, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_harmonic_balance.pf', 168, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_harmonic_balance.pf', 170, 'assertFalse'))
         if (pf_any_failed()) return
         allocate (b(sys%dim, 1), r(sys%dim))
         call hb_jacobian(sys, [(0.0_wp, n=1, sys%dim)])
         call hb_factor(sys, info)
-        call assertEqual(0, info, location=pf_source_location('test_harmonic_balance.pf', 172, 'assertEqual'))
+        call assertEqual(0, info, location=pf_source_location('test_harmonic_balance.pf', 174, 'assertEqual'))
         if (pf_any_failed()) return
         call hb_amplitude_column(sys, b(:, 1))
         b = -a*b
@@ -228,20 +230,20 @@ contains
                 exp(-lambda), &
                 ratio, &
                 1.0e-9_wp, &
-                location=pf_source_location('test_harmonic_balance.pf', 179, 'assertEqual'))
+                location=pf_source_location('test_harmonic_balance.pf', 181, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         call assertEqual( &
             a*exp(-lambda), &
             b(2, 1), &
             1.0e-9_wp*a, &
-            location=pf_source_location('test_harmonic_balance.pf', 181, 'assertEqual'))
+            location=pf_source_location('test_harmonic_balance.pf', 183, 'assertEqual'))
         if (pf_any_failed()) return
         call hb_residual(sys, b(:, 1), a, r)
         call assertLessThan( &
             maxval(abs(r)), &
             a**3, &
-            location=pf_source_location('test_harmonic_balance.pf', 183, 'assertLessThan'))
+            location=pf_source_location('test_harmonic_balance.pf', 185, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_small_amplitude_state_is_the_evanescent_wave
 
@@ -263,50 +265,50 @@ contains
         run%numerics%dt = 0.05_wp
         ctl%step_max = 1.0_wp
         call hb_fold_converged(run%chain, run%drive%omega, ctl, res, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_harmonic_balance.pf', 204, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_harmonic_balance.pf', 206, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0, res%status, location=pf_source_location('test_harmonic_balance.pf', 205, 'assertEqual'))
+        call assertEqual(0, res%status, location=pf_source_location('test_harmonic_balance.pf', 207, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             res%harmonics_error, &
             ctl%harmonics_tol, &
-            location=pf_source_location('test_harmonic_balance.pf', 206, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_harmonic_balance.pf', 208, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             res%fold_amplitude, &
             1.8_wp, &
-            location=pf_source_location('test_harmonic_balance.pf', 207, 'assertGreaterThan'))
+            location=pf_source_location('test_harmonic_balance.pf', 209, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertLessThan( &
             res%fold_amplitude, &
             1.9_wp, &
-            location=pf_source_location('test_harmonic_balance.pf', 208, 'assertLessThan'))
+            location=pf_source_location('test_harmonic_balance.pf', 210, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertLessThan( &
             res%fold_residual, &
             1.0e-10_wp, &
-            location=pf_source_location('test_harmonic_balance.pf', 209, 'assertLessThan'))
+            location=pf_source_location('test_harmonic_balance.pf', 211, 'assertLessThan'))
         if (pf_any_failed()) return
         call hb_init(sys, run%chain, run%drive%omega, res%harmonics, closure_absorber, error)
         allocate (u(run%chain%n), ut(run%chain%n), px(2*run%chain%n))
         call hb_time_state(sys, res%fold_state, 0.0_wp, u, ut)
         x = [u, ut]
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_harmonic_balance.pf', 215, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_harmonic_balance.pf', 217, 'assertFalse'))
         if (pf_any_failed()) return
         call map%apply(x, res%fold_amplitude, px, status)
-        call assertEqual(map_ok, status, location=pf_source_location('test_harmonic_balance.pf', 217, 'assertEqual'))
+        call assertEqual(map_ok, status, location=pf_source_location('test_harmonic_balance.pf', 219, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             maxval(abs(px - x)), &
             1.0e-9_wp, &
-            location=pf_source_location('test_harmonic_balance.pf', 218, 'assertLessThan'))
+            location=pf_source_location('test_harmonic_balance.pf', 220, 'assertLessThan'))
         if (pf_any_failed()) return
         ! with two harmonics the state is no periodic orbit to that accuracy: the closure sees the truncation
         ctl%harmonics = 2
         ctl%harmonics_max = 2
         call hb_fold_converged(run%chain, run%drive%omega, ctl, res, error)
-        call assertEqual(0, res%status, location=pf_source_location('test_harmonic_balance.pf', 223, 'assertEqual'))
+        call assertEqual(0, res%status, location=pf_source_location('test_harmonic_balance.pf', 225, 'assertEqual'))
         if (pf_any_failed()) return
         call hb_init(sys, run%chain, run%drive%omega, 2, closure_absorber, error)
         call hb_time_state(sys, res%fold_state, 0.0_wp, u, ut)
@@ -315,7 +317,7 @@ contains
         call assertGreaterThan( &
             maxval(abs(px - x)), &
             1.0e-6_wp, &
-            location=pf_source_location('test_harmonic_balance.pf', 228, 'assertGreaterThan'))
+            location=pf_source_location('test_harmonic_balance.pf', 230, 'assertGreaterThan'))
         if (pf_any_failed()) return
     end subroutine test_fold_state_is_a_periodic_orbit_of_the_ode
 

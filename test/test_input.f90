@@ -1146,7 +1146,7 @@ contains
         if (.not. allocated(error)) return
         call assertEqual(2, error%stat, location=pf_source_location('test_input.pf', 599, 'assertEqual'))
         if (pf_any_failed()) return
-        expected = "&scene: potentials(2) = 'phi-four': unknown potential (known: sine-gordon, klein-gordon)"
+        expected = "&scene: potentials(2) = 'phi-four': unknown potential (known: sine-gordon, klein-gordon, double-sine-gordon)"
         call assertTrue( &
             names_file_and_key(error%message, path, expected), &
             error%message, &

@@ -10,7 +10,7 @@ module test_schema
     use supratrans_keys, only: key_spec, key_value, kt_integer, kt_real, kt_logical
     use supratrans_schema
     use supratrans_parameters, only: write_parameters, key_attribute_text
-    use supratrans_potential, only: sine_gordon, klein_gordon, potential_name
+    use supratrans_potential, only: sine_gordon, klein_gordon, double_sine_gordon, potential_name, potential_names
     use supratrans_h5_test, only: h5_file, h5_create, h5_commit, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
     implicit none
 
@@ -213,44 +213,54 @@ contains
             potential_klein_gordon, &
             location=pf_source_location('test_schema.pf', 92, 'assertEqual'))
         if (pf_any_failed()) return
+        call assertEqual( &
+            double_sine_gordon, &
+            potential_double_sine_gordon, &
+            location=pf_source_location('test_schema.pf', 93, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            size(potential_names), &
+            size(potential_choices), &
+            location=pf_source_location('test_schema.pf', 94, 'assertEqual'))
+        if (pf_any_failed()) return
         do i = 1, size(potential_choices)
             call assertTrue( &
                 potential_name(i) == trim(potential_choices(i)), &
                 potential_choices(i), &
-                location=pf_source_location('test_schema.pf', 94, 'assertTrue'))
+                location=pf_source_location('test_schema.pf', 96, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         do i = 1, size(method_choices)
             call assertEqual( &
                 i, &
                 method_from_name(method_name(i)), &
-                location=pf_source_location('test_schema.pf', 97, 'assertEqual'))
+                location=pf_source_location('test_schema.pf', 99, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         call assertTrue( &
             method_name(method_rk8) == "rk8", &
             method_name(method_rk8), &
-            location=pf_source_location('test_schema.pf', 99, 'assertTrue'))
+            location=pf_source_location('test_schema.pf', 101, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             method_name(0) == "unknown", &
             method_name(0), &
-            location=pf_source_location('test_schema.pf', 100, 'assertTrue'))
+            location=pf_source_location('test_schema.pf', 102, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             0, &
             method_from_name("euler"), &
-            location=pf_source_location('test_schema.pf', 101, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 103, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             choice_noun(choice_scene) == "scene", &
             choice_noun(choice_scene), &
-            location=pf_source_location('test_schema.pf', 102, 'assertTrue'))
+            location=pf_source_location('test_schema.pf', 104, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             size(scene_choices), &
             size(choice_names(choice_scene)), &
-            location=pf_source_location('test_schema.pf', 103, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 105, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_choices_agree_with_the_physics
 
@@ -273,10 +283,10 @@ contains
         call h5_create(file, path, .true.)
         call write_parameters(file, cfg)
         call h5_commit(file, error)
-        call assertFalse(allocated(error), "commit", location=pf_source_location('test_schema.pf', 125, 'assertFalse'))
+        call assertFalse(allocated(error), "commit", location=pf_source_location('test_schema.pf', 127, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_open(file, path, error)
-        call assertFalse(allocated(error), "open", location=pf_source_location('test_schema.pf', 127, 'assertFalse'))
+        call assertFalse(allocated(error), "open", location=pf_source_location('test_schema.pf', 129, 'assertFalse'))
         if (pf_any_failed()) return
         if (allocated(error)) return
         do ik = 1, size(key_table)
@@ -284,7 +294,7 @@ contains
                 call assertTrue( &
                     h5_attr_exists(file, "/parameters", trim(name)), &
                     "missing attribute " // name, &
-                    location=pf_source_location('test_schema.pf', 131, 'assertTrue'))
+                    location=pf_source_location('test_schema.pf', 133, 'assertTrue'))
                 if (pf_any_failed()) return
                 v = get_key(cfg, ik)
                 if (v%n == 0 .and. k%unset > 0) v = get_key(cfg, k%unset)
@@ -295,14 +305,14 @@ contains
                         call assertEqual( &
                             v%n, &
                             size(xs), &
-                            location=pf_source_location('test_schema.pf', 138, 'assertEqual'))
+                            location=pf_source_location('test_schema.pf', 140, 'assertEqual'))
                         if (pf_any_failed()) return
                         if (v%n > 0) then
                             call assertEqual( &
                                 v%reals, &
                                 xs, &
                                 0.0_wp, &
-                                location=pf_source_location('test_schema.pf', 140, 'assertEqual'))
+                                location=pf_source_location('test_schema.pf', 142, 'assertEqual'))
                             if (pf_any_failed()) return
                         end if
                     else
@@ -311,20 +321,20 @@ contains
                             v%reals(1), &
                             x, &
                             0.0_wp, &
-                            location=pf_source_location('test_schema.pf', 144, 'assertEqual'))
+                            location=pf_source_location('test_schema.pf', 146, 'assertEqual'))
                         if (pf_any_failed()) return
                     end if
                 case (kt_integer)
                     if (k%max_values > 1) then
                         call h5_read_attr(file, "/parameters", trim(name), ns, error)
-                        call assertEqual(v%ints, ns, location=pf_source_location('test_schema.pf', 149, 'assertEqual'))
+                        call assertEqual(v%ints, ns, location=pf_source_location('test_schema.pf', 151, 'assertEqual'))
                         if (pf_any_failed()) return
                     else
                         call h5_read_attr(file, "/parameters", trim(name), n, error)
                         call assertEqual( &
                             v%ints(1), &
                             n, &
-                            location=pf_source_location('test_schema.pf', 152, 'assertEqual'))
+                            location=pf_source_location('test_schema.pf', 154, 'assertEqual'))
                         if (pf_any_failed()) return
                     end if
                 case (kt_logical)
@@ -332,63 +342,63 @@ contains
                     call assertEqual( &
                         merge(1, 0, v%flag), &
                         n, &
-                        location=pf_source_location('test_schema.pf', 156, 'assertEqual'))
+                        location=pf_source_location('test_schema.pf', 158, 'assertEqual'))
                     if (pf_any_failed()) return
                 case default
                     call h5_read_attr(file, "/parameters", trim(name), text, error)
                     call assertTrue( &
                         text == key_attribute_text(ik, v), &
                         name // " = " // text, &
-                        location=pf_source_location('test_schema.pf', 159, 'assertTrue'))
+                        location=pf_source_location('test_schema.pf', 161, 'assertTrue'))
                     if (pf_any_failed()) return
                 end select
                 call assertFalse( &
                     allocated(error), &
                     "reading " // name, &
-                    location=pf_source_location('test_schema.pf', 161, 'assertFalse'))
+                    location=pf_source_location('test_schema.pf', 163, 'assertFalse'))
                 if (pf_any_failed()) return
             end associate
         end do
         call h5_read_attr(file, "/parameters", "c", x, error)
-        call assertEqual(3.5_wp, x, 0.0_wp, location=pf_source_location('test_schema.pf', 165, 'assertEqual'))
+        call assertEqual(3.5_wp, x, 0.0_wp, location=pf_source_location('test_schema.pf', 167, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/parameters", "potentials", text, error)
         call assertEqual( &
             "sine-gordon, klein-gordon", &
             text, &
-            location=pf_source_location('test_schema.pf', 167, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 169, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/parameters", "method", text, error)
-        call assertEqual("newton", text, location=pf_source_location('test_schema.pf', 169, 'assertEqual'))
+        call assertEqual("newton", text, location=pf_source_location('test_schema.pf', 171, 'assertEqual'))
         if (pf_any_failed()) return
         do ik = 1, size(derived_table)
             call assertTrue( &
                 h5_attr_exists(file, "/parameters", trim(derived_table(ik)%name)), &
                 derived_table(ik)%name, &
-                location=pf_source_location('test_schema.pf', 171, 'assertTrue'))
+                location=pf_source_location('test_schema.pf', 173, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         call h5_read(file, "/parameters/schema/name", names, error)
         call assertFalse( &
             allocated(error), &
             "schema table", &
-            location=pf_source_location('test_schema.pf', 174, 'assertFalse'))
+            location=pf_source_location('test_schema.pf', 176, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             size(key_table) + size(derived_table), &
             size(names), &
-            location=pf_source_location('test_schema.pf', 175, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 177, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "detect_amplitude", &
             trim(names(key_detect_amplitude)), &
-            location=pf_source_location('test_schema.pf', 176, 'assertEqual'))
+            location=pf_source_location('test_schema.pf', 178, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/parameters/schema/units", "description", text, error)
         call assertFalse( &
             allocated(error), &
             "description of the units column", &
-            location=pf_source_location('test_schema.pf', 178, 'assertFalse'))
+            location=pf_source_location('test_schema.pf', 180, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call delete(path)

@@ -43,3 +43,46 @@ def test_every_library_module_is_one_file_named_after_it():
             problems.append(f"{path.relative_to(ROOT)}: units {names}")
     assert len(list((ROOT / "src").rglob("*.f90"))) > 50
     assert not problems, "\n".join(problems)
+
+
+def code_part(line):
+    """A Fortran line without its `!` comment (a `!` inside a string literal is kept)."""
+    quote = None
+    for i, ch in enumerate(line):
+        if quote:
+            if ch == quote:
+                quote = None
+        elif ch in "'\"":
+            quote = ch
+        elif ch == "!":
+            return line[:i]
+    return line
+
+
+def test_only_physics_and_io_name_a_potential():
+    """The on-site potential is a type (src/physics/potentials/, issue 40): outside src/physics/ and src/io/ no code
+    names a particular potential (identifier or name) or tests which one a chain has; they call the type."""
+    import re
+    names = re.compile(r"(sine|klein)[-_ ]?gordon", re.IGNORECASE)
+    tests = re.compile(r"%potential\s*(==|/=|\.eq\.|\.ne\.)|case\s*\(.*%potential\s*\)|potential\s*(==|/=)\s*\d",
+                       re.IGNORECASE)
+    found = []
+    sources = sorted(p for p in (ROOT / "src").rglob("*") if p.suffix in (".f90", ".F90", ".c"))
+    for path in sources:
+        if path.relative_to(ROOT).parts[1] in ("physics", "io"):
+            continue
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            code = code_part(line) if path.suffix != ".c" else line
+            if names.search(code) or tests.search(code):
+                found.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
+    assert len(sources) > 50
+    assert not found, "a potential named or tested outside src/physics and src/io:\n" + "\n".join(found)
+
+
+def test_the_potential_check_sees_a_violation(tmp_path):
+    """The check above is not vacuous: it flags a line that tests a potential and passes its comment-only form."""
+    import re
+    tests = re.compile(r"%potential\s*(==|/=|\.eq\.|\.ne\.)", re.IGNORECASE)
+    assert tests.search(code_part("        if (run%chain%potential == sine_gordon) then"))
+    assert not tests.search(code_part("        x = 1  ! if (run%chain%potential == sine_gordon)"))
+    assert code_part("        s = 'a!b' ! c") == "        s = 'a!b' "

@@ -339,7 +339,7 @@ contains
             call small_run(run)
             select case (k)
             case (1)
-                run%chain%potential = 3
+                run%chain%potential = 99
             case (2)
                 run%numerics%method = 0
             case (3)
@@ -391,7 +391,7 @@ contains
             select case (k)
             case (1)
                 call assertTrue( &
-                    index(res%reason, "unknown potential identifier 3") == 1, &
+                    index(res%reason, "unknown potential identifier 99") == 1, &
                     res%reason, &
                     location=pf_source_location('test_stepper_contract.pf', 207, 'assertTrue'))
                 if (pf_any_failed()) return

@@ -6,7 +6,7 @@ module test_stepper_linearized
     use pf_runtime
     use supratrans_kinds, only: wp, i8
     use supratrans_config
-    use supratrans_potential, only: sine_gordon, klein_gordon, potential_dv
+    use supratrans_potential, only: sine_gordon, klein_gordon, potential_type, new_potential
     use supratrans_chain, only: absorber_profile
     use supratrans_scheme, only: scheme_type, scheme_init
     use supratrans_stepper, only: step_ok
@@ -67,6 +67,7 @@ contains
     ! @test
     subroutine test_linearized_step_solves_its_system()
         type(chain_params) :: chain
+        class(potential_type), allocatable :: potential
         type(scheme_type) :: scheme
         type(linearized_work) :: ws
         integer, parameter :: nsite = 5
@@ -94,10 +95,11 @@ contains
             u_new = 0.0_wp
             u_new(0) = 0.9_wp*cos(-0.2_wp)
             call linearized_step(scheme, ws, u_old, u_cur, u_new, info)
-            call assertEqual(0, info, location=pf_source_location('test_stepper_linearized.pf', 80, 'assertEqual'))
+            call assertEqual(0, info, location=pf_source_location('test_stepper_linearized.pf', 81, 'assertEqual'))
             if (pf_any_failed()) return
             a = -chain%beta/(2.0_wp*dt)
             d = 2.0_wp/dt**2 - 2.0_wp*chain%c**2
+            call new_potential(chain, potential)
             residual = 0.0_wp
             scale = 0.0_wp
             do n = 1, nsite
@@ -106,19 +108,19 @@ contains
                 e = (alpha + 2.0_wp*chain%beta)/(2.0_wp*dt) - chain%m2/2.0_wp - 1.0_wp/dt**2
                 lhs = b*u_new(n) + a*(u_new(n - 1) + u_new(n + 1))
                 rhs = d*u_cur(n) + chain%c**2*(u_cur(n - 1) + u_cur(n + 1)) + e*u_old(n) &
-                      + a*(u_old(n - 1) + u_old(n + 1)) - potential_dv(chain%potential, u_cur(n))
+                      + a*(u_old(n - 1) + u_old(n + 1)) - potential%dv(u_cur(n))
                 residual = max(residual, abs(lhs - rhs))
                 scale = max(scale, abs(b*u_new(n)), abs(d*u_cur(n)))
             end do
             call assertGreaterThan( &
                 scale, &
                 100.0_wp, &
-                location=pf_source_location('test_stepper_linearized.pf', 95, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_linearized.pf', 97, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertLessThan( &
                 residual, &
                 1.0e-14_wp*scale, &
-                location=pf_source_location('test_stepper_linearized.pf', 96, 'assertLessThan'))
+                location=pf_source_location('test_stepper_linearized.pf', 98, 'assertLessThan'))
             if (pf_any_failed()) return
         end do
     end subroutine test_linearized_step_solves_its_system
@@ -139,39 +141,39 @@ contains
             call assertEqual( &
                 step_ok, &
                 status, &
-                location=pf_source_location('test_stepper_linearized.pf', 113, 'assertEqual'))
+                location=pf_source_location('test_stepper_linearized.pf', 115, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         call assertEqual( &
             300_i8, &
             linearized%steps, &
-            location=pf_source_location('test_stepper_linearized.pf', 115, 'assertEqual'))
+            location=pf_source_location('test_stepper_linearized.pf', 117, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             300_i8, &
             linearized%tridiagonal_solves, &
-            location=pf_source_location('test_stepper_linearized.pf', 116, 'assertEqual'))
-        if (pf_any_failed()) return
-        call assertEqual( &
-            0_i8, &
-            linearized%newton_iterations, &
-            location=pf_source_location('test_stepper_linearized.pf', 117, 'assertEqual'))
-        if (pf_any_failed()) return
-        call assertEqual( &
-            0, &
-            linearized%newton_max_iterations, &
             location=pf_source_location('test_stepper_linearized.pf', 118, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0_i8, &
-            linearized%rhs_evaluations, &
+            linearized%newton_iterations, &
             location=pf_source_location('test_stepper_linearized.pf', 119, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0, &
+            linearized%newton_max_iterations, &
+            location=pf_source_location('test_stepper_linearized.pf', 120, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0_i8, &
+            linearized%rhs_evaluations, &
+            location=pf_source_location('test_stepper_linearized.pf', 121, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             301.0_wp*run%numerics%dt, &
             linearized%level_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_linearized.pf', 120, 'assertEqual'))
+            location=pf_source_location('test_stepper_linearized.pf', 122, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_linearized_stepper_counters
 
@@ -197,17 +199,17 @@ contains
         call linearized%step(status)
         call assertFalse( &
             status == step_ok, &
-            location=pf_source_location('test_stepper_linearized.pf', 143, 'assertFalse'))
+            location=pf_source_location('test_stepper_linearized.pf', 145, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             0_i8, &
             linearized%steps, &
-            location=pf_source_location('test_stepper_linearized.pf', 144, 'assertEqual'))
+            location=pf_source_location('test_stepper_linearized.pf', 146, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(linearized%reason, "dgtsv failed (info = ") == 1, &
             linearized%reason, &
-            location=pf_source_location('test_stepper_linearized.pf', 145, 'assertTrue'))
+            location=pf_source_location('test_stepper_linearized.pf', 147, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_linearized_singular_solve_reported
 

@@ -9,7 +9,7 @@ module test_stepper_newton
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp, i8
     use supratrans_config
-    use supratrans_potential, only: sine_gordon, klein_gordon, discrete_gradient
+    use supratrans_potential, only: sine_gordon, klein_gordon, potential_type, new_potential
     use supratrans_chain, only: absorber_profile, drive_psi
     use supratrans_scheme, only: scheme_type, scheme_init
     use supratrans_ledger, only: ledger_type, ledger_close, step_powers
@@ -82,7 +82,9 @@ contains
         real(wp), intent(out) :: residual, scale
         real(wp) :: a, d, b, e, alpha, lhs, rhs
         integer :: n
+        class(potential_type), allocatable :: potential
 
+        call new_potential(chain, potential)
         a = -chain%beta/(2.0_wp*dt)
         d = 2.0_wp/dt**2 - 2.0_wp*chain%c**2
         residual = 0.0_wp
@@ -91,7 +93,7 @@ contains
             alpha = chain%gamma + absorber_profile(chain, n)
             b = (alpha + 2.0_wp*chain%beta)/(2.0_wp*dt) + chain%m2/2.0_wp + 1.0_wp/dt**2
             e = (alpha + 2.0_wp*chain%beta)/(2.0_wp*dt) - chain%m2/2.0_wp - 1.0_wp/dt**2
-            lhs = b*x(n) + a*(x(n - 1) + x(n + 1)) + discrete_gradient(chain%potential, x(n), u_old(n))
+            lhs = b*x(n) + a*(x(n - 1) + x(n + 1)) + potential%discrete_gradient(x(n), u_old(n))
             rhs = d*u_cur(n) + chain%c**2*(u_cur(n - 1) + u_cur(n + 1)) + e*u_old(n) + a*(u_old(n - 1) + u_old(n + 1))
             residual = max(residual, abs(lhs - rhs))
             scale = max(scale, abs(b*x(n)), abs(d*u_cur(n)), abs(e*u_old(n)))
@@ -121,47 +123,47 @@ contains
                 call assertEqual( &
                     newton_ok, &
                     status, &
-                    location=pf_source_location('test_stepper_newton.pf', 120, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 122, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertGreaterThanOrEqual( &
                     iterations, &
                     2, &
-                    location=pf_source_location('test_stepper_newton.pf', 121, 'assertGreaterThanOrEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 123, 'assertGreaterThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertLessThanOrEqual( &
                     iterations, &
                     6, &
-                    location=pf_source_location('test_stepper_newton.pf', 122, 'assertLessThanOrEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 124, 'assertLessThanOrEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     psi_new, &
                     u_new(0), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 123, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 125, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0.0_wp, &
                     u_new(nsite + 1), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 124, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 126, 'assertEqual'))
                 if (pf_any_failed()) return
                 call scheme_residual(chain, dt, u_old, u_cur, u_new, residual, scale)
                 call assertGreaterThan( &
                     scale, &
                     100.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 126, 'assertGreaterThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 128, 'assertGreaterThan'))
                 if (pf_any_failed()) return
                 call assertLessThan( &
                     residual, &
                     1.0e-14_wp*scale, &
-                    location=pf_source_location('test_stepper_newton.pf', 127, 'assertLessThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 129, 'assertLessThan'))
                 if (pf_any_failed()) return
                 ! the step moved the chain: the solution is not the predictor 3 u^k - 3 u^{k-1} + u^{k-2}
                 predictor = 3.0_wp*(u_cur(1:nsite) - u_old(1:nsite)) + u_older(1:nsite)
                 call assertGreaterThan( &
                     maxval(abs(u_new(1:nsite) - predictor)), &
                     1.0e-6_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 130, 'assertGreaterThan'))
+                    location=pf_source_location('test_stepper_newton.pf', 132, 'assertGreaterThan'))
                 if (pf_any_failed()) return
             end do
         end do
@@ -203,12 +205,12 @@ contains
             ul(nl + 1, 4) = 0.0_wp
             call newton_work_init(ws, nl)
             call newton_step(long_scheme, ws, ul(:, 1), ul(:, 2), ul(:, 3), ul(:, 4), 0.0_wp, 3, iterations, status)
-            call assertEqual(3, iterations, location=pf_source_location('test_stepper_newton.pf', 171, 'assertEqual'))
+            call assertEqual(3, iterations, location=pf_source_location('test_stepper_newton.pf', 173, 'assertEqual'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 maxval(abs(ul(1:nl, 4) - ul(1:nl, 3))), &
                 0.01_wp, &
-                location=pf_source_location('test_stepper_newton.pf', 172, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_newton.pf', 174, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call newton_work_init(ws, ns)
             do kb = 0, 1                                 ! the long chain's sites kb ns + 1 .. kb ns + ns
@@ -220,12 +222,12 @@ contains
                 call assertEqual( &
                     3, &
                     iterations, &
-                    location=pf_source_location('test_stepper_newton.pf', 180, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 182, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0, &
                     count(ul(kb*ns + 1:kb*ns + ns, 4) /= us(1:ns, 4)), &
-                    location=pf_source_location('test_stepper_newton.pf', 181, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 183, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             deallocate (ul, us)
@@ -276,22 +278,22 @@ contains
                     call newton_work_init(ws, n)
                     call newton_step(scheme, ws, ub(:, 3), ub(:, 2), ub(:, 1), ub(:, predictor_levels + 1), 0.0_wp, 3, &
                                      it_b, st_b, predicted=.true.)
-                    call assertEqual(3, it_a, location=pf_source_location('test_stepper_newton.pf', 231, 'assertEqual'))
+                    call assertEqual(3, it_a, location=pf_source_location('test_stepper_newton.pf', 233, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         it_b, &
                         it_a, &
-                        location=pf_source_location('test_stepper_newton.pf', 232, 'assertEqual'))
+                        location=pf_source_location('test_stepper_newton.pf', 234, 'assertEqual'))
                     if (pf_any_failed()) return
                     call assertGreaterThan( &
                         maxval(abs(ua(1:n, predictor_levels + 1) - ua(1:n, 1))), &
                         0.01_wp, &
-                        location=pf_source_location('test_stepper_newton.pf', 233, 'assertGreaterThan'))
+                        location=pf_source_location('test_stepper_newton.pf', 235, 'assertGreaterThan'))
                     if (pf_any_failed()) return
                     call assertEqual( &
                         0, &
                         count(ua(1:n, predictor_levels + 1) /= ub(1:n, predictor_levels + 1)), &
-                        location=pf_source_location('test_stepper_newton.pf', 234, 'assertEqual'))
+                        location=pf_source_location('test_stepper_newton.pf', 236, 'assertEqual'))
                     if (pf_any_failed()) return
                     deallocate (ua, ub)
                 end do
@@ -325,12 +327,12 @@ contains
             call assertGreaterThan( &
                 scheme%absorber_first, &
                 2*newton_block, &
-                location=pf_source_location('test_stepper_newton.pf', 264, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_newton.pf', 266, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertLessThan( &
                 scheme%absorber_first, &
                 n + 1, &
-                location=pf_source_location('test_stepper_newton.pf', 265, 'assertLessThan'))
+                location=pf_source_location('test_stepper_newton.pf', 267, 'assertLessThan'))
             if (pf_any_failed()) return
             general = scheme
             general%absorber_first = 1
@@ -342,19 +344,19 @@ contains
             call newton_work_init(ws, n)
             call newton_step(general, ws, ub(:, 3), ub(:, 2), ub(:, 1), ub(:, predictor_levels + 1), 0.0_wp, 3, it_b, &
                              st_b, levels=ub, columns=cols)
-            call assertEqual(3, it_a, location=pf_source_location('test_stepper_newton.pf', 276, 'assertEqual'))
+            call assertEqual(3, it_a, location=pf_source_location('test_stepper_newton.pf', 278, 'assertEqual'))
             if (pf_any_failed()) return
-            call assertEqual(3, it_b, location=pf_source_location('test_stepper_newton.pf', 277, 'assertEqual'))
+            call assertEqual(3, it_b, location=pf_source_location('test_stepper_newton.pf', 279, 'assertEqual'))
             if (pf_any_failed()) return
             call assertGreaterThan( &
                 maxval(abs(ua(1:n, predictor_levels + 1) - ua(1:n, 1))), &
                 0.01_wp, &
-                location=pf_source_location('test_stepper_newton.pf', 278, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_newton.pf', 280, 'assertGreaterThan'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0, &
                 count(ua(1:n, predictor_levels + 1) /= ub(1:n, predictor_levels + 1)), &
-                location=pf_source_location('test_stepper_newton.pf', 279, 'assertEqual'))
+                location=pf_source_location('test_stepper_newton.pf', 281, 'assertEqual'))
             if (pf_any_failed()) return
             deallocate (ua, ub)
         end do
@@ -400,14 +402,14 @@ contains
                         call assertEqual( &
                             newton_ok, &
                             status, &
-                            location=pf_source_location('test_stepper_newton.pf', 321, 'assertEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 323, 'assertEqual'))
                         if (pf_any_failed()) return
                         call newton_step(scheme, ws, u(:, 1), u(:, 2), u(:, 3), u(:, 4), tols(it), 20, iterations, &
                                          status)
                         call assertEqual( &
                             newton_ok, &
                             status, &
-                            location=pf_source_location('test_stepper_newton.pf', 324, 'assertEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 326, 'assertEqual'))
                         if (pf_any_failed()) return
                         worst = max(worst, maxval(abs(u(:, 4) - exact)))
                         u = cshift(u, 1, dim=2)
@@ -415,13 +417,13 @@ contains
                     call assertLessThanOrEqual( &
                         worst, &
                         tols(it), &
-                        location=pf_source_location('test_stepper_newton.pf', 328, 'assertLessThanOrEqual'))
+                        location=pf_source_location('test_stepper_newton.pf', 330, 'assertLessThanOrEqual'))
                     if (pf_any_failed()) return
                     ! strongly nonlinear: |u| beyond 2 (sin u far from u) in the chain
                     call assertGreaterThan( &
                         maxval(abs(u(1:n, 3))), &
                         2.0_wp, &
-                        location=pf_source_location('test_stepper_newton.pf', 330, 'assertGreaterThan'))
+                        location=pf_source_location('test_stepper_newton.pf', 332, 'assertGreaterThan'))
                     if (pf_any_failed()) return
                 end do
             end do
@@ -470,26 +472,26 @@ contains
                             call assertEqual( &
                                 newton_ok, &
                                 status, &
-                                location=pf_source_location('test_stepper_newton.pf', 375, 'assertEqual'))
+                                location=pf_source_location('test_stepper_newton.pf', 377, 'assertEqual'))
                             if (pf_any_failed()) return
                             call newton%step(status)
                             call assertEqual( &
                                 step_ok, &
                                 status, &
-                                location=pf_source_location('test_stepper_newton.pf', 377, 'assertEqual'))
+                                location=pf_source_location('test_stepper_newton.pf', 379, 'assertEqual'))
                             if (pf_any_failed()) return
                             worst = max(worst, maxval(abs(newton%u(:, newton%ic) - exact)))
                         end do
                         call assertLessThanOrEqual( &
                             worst, &
                             run%numerics%newton_tol, &
-                            location=pf_source_location('test_stepper_newton.pf', 380, 'assertLessThanOrEqual'))
+                            location=pf_source_location('test_stepper_newton.pf', 382, 'assertLessThanOrEqual'))
                         if (pf_any_failed()) return
                         if (ia == 1) then
                             call assertLessThan( &
                                 real(newton%newton_iterations, wp), &
                                 1.5_wp*1500.0_wp, &
-                                location=pf_source_location('test_stepper_newton.pf', 382, 'assertLessThan'))
+                                location=pf_source_location('test_stepper_newton.pf', 384, 'assertLessThan'))
                             if (pf_any_failed()) return
                         end if
                         used(ie) = newton%newton_iterations
@@ -498,7 +500,7 @@ contains
                         call assertLessThan( &
                             real(used(2), wp), &
                             0.9_wp*real(used(1), wp), &
-                            location=pf_source_location('test_stepper_newton.pf', 387, 'assertLessThan'))
+                            location=pf_source_location('test_stepper_newton.pf', 389, 'assertLessThan'))
                         if (pf_any_failed()) return
                     end if
                 end do
@@ -527,20 +529,20 @@ contains
         call assertEqual( &
             2, &
             newton%initial_levels, &
-            location=pf_source_location('test_stepper_newton.pf', 412, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 414, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(2, newton%order, location=pf_source_location('test_stepper_newton.pf', 413, 'assertEqual'))
+        call assertEqual(2, newton%order, location=pf_source_location('test_stepper_newton.pf', 415, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             run%numerics%dt, &
             newton%level_time(), &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 414, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 416, 'assertEqual'))
         if (pf_any_failed()) return
         call ledger_close(ledger, newton%stored_energy())
         do k = 1, 1200
             call newton%step(status)
-            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_newton.pf', 418, 'assertEqual'))
+            call assertEqual(step_ok, status, location=pf_source_location('test_stepper_newton.pf', 420, 'assertEqual'))
             if (pf_any_failed()) return
             call newton%account(ledger)
             call ledger_close(ledger, newton%stored_energy())
@@ -548,66 +550,66 @@ contains
         call assertEqual( &
             1200_i8, &
             newton%steps, &
-            location=pf_source_location('test_stepper_newton.pf', 422, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 424, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1201.0_wp*run%numerics%dt, &
             newton%level_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 423, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 425, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1200.5_wp*run%numerics%dt, &
             newton%energy_time(), &
             1.0e-12_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 424, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 426, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             drive_psi(run%drive, newton%level_time()), &
             newton%displacement(0, 0), &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 425, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 427, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             newton%newton_iterations, &
             newton%tridiagonal_solves, &
-            location=pf_source_location('test_stepper_newton.pf', 426, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 428, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             newton%newton_iterations, &
             1200_i8, &
-            location=pf_source_location('test_stepper_newton.pf', 427, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 429, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0_i8, &
             newton%rhs_evaluations, &
-            location=pf_source_location('test_stepper_newton.pf', 428, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 430, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             newton%newton_max_iterations, &
             2, &
-            location=pf_source_location('test_stepper_newton.pf', 429, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 431, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         ! it transmits: far more energy goes in than an evanescent response takes
         call assertGreaterThan( &
             ledger%injected, &
             20.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 431, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 433, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             ledger%dissipated_beta, &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 432, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 434, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             ledger%dissipated_absorber, &
             0.0_wp, &
-            location=pf_source_location('test_stepper_newton.pf', 433, 'assertGreaterThan'))
+            location=pf_source_location('test_stepper_newton.pf', 435, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertLessThan( &
             ledger%max_step_residual, &
             1.0e-13_wp*ledger%energy_scale, &
-            location=pf_source_location('test_stepper_newton.pf', 434, 'assertLessThan'))
+            location=pf_source_location('test_stepper_newton.pf', 436, 'assertLessThan'))
         if (pf_any_failed()) return
     end subroutine test_newton_stepper_counters_and_ledger
 
@@ -628,19 +630,19 @@ contains
         call assertEqual( &
             step_not_converged, &
             status, &
-            location=pf_source_location('test_stepper_newton.pf', 451, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 453, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 452, 'assertEqual'))
+        call assertEqual(0_i8, newton%steps, location=pf_source_location('test_stepper_newton.pf', 454, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1_i8, &
             newton%newton_iterations, &
-            location=pf_source_location('test_stepper_newton.pf', 453, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 455, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "Newton did not converge in 1 iterations at t = 0.1", &
             newton%reason, &
-            location=pf_source_location('test_stepper_newton.pf', 454, 'assertEqual'))
+            location=pf_source_location('test_stepper_newton.pf', 456, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_newton_stepper_reports_failure
 
@@ -666,39 +668,39 @@ contains
                 call assertEqual( &
                     step_ok, &
                     status, &
-                    location=pf_source_location('test_stepper_newton.pf', 476, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 478, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     maxval(abs(newton%u(1:60, newton%ic))), &
                     newton%max_abs_u(1), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 477, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 479, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     maxval(abs(newton%u(20:60, newton%ic))), &
                     newton%max_abs_u(20), &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 478, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 480, 'assertEqual'))
                 if (pf_any_failed()) return
                 call newton%verdict_measures(20, blowup, beyond)
                 call assertEqual( &
                     maxval(abs(newton%u(1:60, newton%ic))), &
                     blowup, &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 480, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 482, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     maxval(abs(newton%u(20:60, newton%ic))), &
                     beyond, &
                     0.0_wp, &
-                    location=pf_source_location('test_stepper_newton.pf', 481, 'assertEqual'))
+                    location=pf_source_location('test_stepper_newton.pf', 483, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             ! it moved
             call assertGreaterThan( &
                 newton%max_abs_u(1), &
                 1.0_wp, &
-                location=pf_source_location('test_stepper_newton.pf', 484, 'assertGreaterThan'))
+                location=pf_source_location('test_stepper_newton.pf', 486, 'assertGreaterThan'))
             if (pf_any_failed()) return
         end do
     end subroutine test_blowup_measure_is_the_level_maximum
@@ -721,7 +723,7 @@ contains
             call assertEqual( &
                 chain%n0 + 1, &
                 scheme%absorber_first, &
-                location=pf_source_location('test_stepper_newton.pf', 503, 'assertEqual'))
+                location=pf_source_location('test_stepper_newton.pf', 505, 'assertEqual'))
             if (pf_any_failed()) return
             do iy = 1, 3
                 do n = 0, 51
@@ -738,25 +740,25 @@ contains
                 call full_loop(r_p, r_gamma, r_beta, r_abs)
                 call assertTrue( &
                     same_bits(r_p, p_in), &
-                    location=pf_source_location('test_stepper_newton.pf', 517, 'assertTrue'))
-                if (pf_any_failed()) return
-                call assertTrue( &
-                    same_bits(r_gamma, d_gamma), &
-                    location=pf_source_location('test_stepper_newton.pf', 518, 'assertTrue'))
-                if (pf_any_failed()) return
-                call assertTrue( &
-                    same_bits(r_beta, d_beta), &
                     location=pf_source_location('test_stepper_newton.pf', 519, 'assertTrue'))
                 if (pf_any_failed()) return
                 call assertTrue( &
-                    same_bits(r_abs, d_abs), &
+                    same_bits(r_gamma, d_gamma), &
                     location=pf_source_location('test_stepper_newton.pf', 520, 'assertTrue'))
+                if (pf_any_failed()) return
+                call assertTrue( &
+                    same_bits(r_beta, d_beta), &
+                    location=pf_source_location('test_stepper_newton.pf', 521, 'assertTrue'))
+                if (pf_any_failed()) return
+                call assertTrue( &
+                    same_bits(r_abs, d_abs), &
+                    location=pf_source_location('test_stepper_newton.pf', 522, 'assertTrue'))
                 if (pf_any_failed()) return
                 if (iy == 1 .and. ia == 1) then
                     call assertGreaterThan( &
                         d_abs, &
                         0.0_wp, &
-                        location=pf_source_location('test_stepper_newton.pf', 522, 'assertGreaterThan'))
+                        location=pf_source_location('test_stepper_newton.pf', 524, 'assertGreaterThan'))
                     if (pf_any_failed()) return
                 end if
             end do

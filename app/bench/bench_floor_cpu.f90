@@ -10,7 +10,7 @@ module bench_floor_cpu
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result
     use supratrans_stepper_newton, only: newton_stepper
-    use supratrans_potential, only: sin_cos_array
+    use supratrans_sine_kernels, only: sin_cos_array
     use supratrans_workprec_measure, only: median
     !$ use omp_lib, only: omp_set_num_threads
     implicit none

@@ -62,7 +62,7 @@ program benchmark
     use supratrans_workprec_measure, only: median
     use supratrans_tridiag, only: solve_tridiag
     use supratrans_stepper_newton, only: newton_stepper
-    use supratrans_potential, only: sin_cos_array
+    use supratrans_sine_kernels, only: sin_cos_array
     use bench_workprec, only: workprec_benchmark
     use bench_scaling, only: scaling_benchmark, scaling_alone
     use bench_floor_cpu, only: floor_cpu_benchmark

@@ -14,7 +14,8 @@ every parameter read from the file's `/parameters` attributes (nothing re-typed 
 
 n = 1..N, u_0 = psi(t) = A r(t) sin(Omega t), v_0 = psi'(t), r(t) = min(t/ramp_time, 1), u_{N+1} = v_{N+1} = 0,
 alpha_n = gamma + gamma'(n), gamma'(n) = kappa [1 + tanh((2n - N0 - N)/(2 sigma))] for N0 < n <= N (the smooth
-absorber; docs/method.md, notes on the paper). V'(u) = sin u (sine-Gordon) or u - u^3/6 + u^5/120 (Klein-Gordon).
+absorber; docs/method.md, notes on the paper). V'(u) = sin u (sine-Gordon), u - u^3/6 + u^5/120 (Klein-Gordon) or
+sin u + 2 eta sin 2u (double sine-Gordon, `eta` from /parameters; 0 in files written before the key existed).
 W is a component of the state, so its accuracy is the integrator's own (no quadrature on top).
 
 The drive has a kink at t = ramp_time (psi' jumps by -A sin(Omega ramp_time)/ramp_time). An adaptive method
@@ -61,6 +62,9 @@ CHECK_LIMIT = 1e-9
 # ------------------------------------------------------------------------------------------------ reading
 
 
+#: Parameters of the model that `/parameters` may lack (files written before the key existed), with their value then.
+OPTIONAL_PARAMETERS = {"eta": 0.0}
+
 #: Parameters the model needs from `/parameters`.
 MODEL_PARAMETERS = ("potential", "c", "beta", "gamma", "m2", "n", "n0", "kappa", "sigma", "omega", "ramp_time",
                     "t_final")
@@ -95,10 +99,11 @@ class Chain:
     omega: float
     ramp_time: float
     t_final: float
+    eta: float = 0.0
     alpha: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
-        if self.potential not in ("sine-gordon", "klein-gordon"):
+        if self.potential not in ("sine-gordon", "klein-gordon", "double-sine-gordon"):
             raise ValueError(f"unknown potential '{self.potential}'")
         self.alpha = self.gamma + self.absorber()
 
@@ -106,9 +111,10 @@ class Chain:
     def from_params(cls, params: dict, **override: Any) -> "Chain":
         """The chain of a file's `/parameters` (MODEL_PARAMETERS), some of them replaced by `override`."""
         kw = {k: params[k] for k in MODEL_PARAMETERS}
+        kw.update({k: params.get(k, v) for k, v in OPTIONAL_PARAMETERS.items()})
         kw.update(override)
         kw["potential"] = str(kw["potential"])
-        for k in ("c", "beta", "gamma", "m2", "kappa", "sigma", "omega", "ramp_time", "t_final"):
+        for k in ("c", "beta", "gamma", "m2", "kappa", "sigma", "omega", "ramp_time", "t_final", "eta"):
             kw[k] = float(kw[k])
         kw["n"], kw["n0"] = int(kw["n"]), int(kw["n0"])
         return cls(**kw)
@@ -123,6 +129,8 @@ class Chain:
         """V'(u)."""
         if self.potential == "sine-gordon":
             return np.sin(u)
+        if self.potential == "double-sine-gordon":
+            return np.sin(u) + 2.0 * self.eta * np.sin(2.0 * u)
         u2 = u * u
         return u * (1.0 + u2 * (-1.0 / 6.0 + u2 / 120.0))
 

@@ -44,8 +44,8 @@ VARY = {"fig2": "gamma", "fig3": "m2", "fig11": "none", "bif3": "m2", "stab": "b
 #: The status variables of each file, {path: (word of code 0, word of code -1 or None)}.
 STATUS = {
     "fig2": {"/runs/status": ("ok", "not_run")}, "fig3": {"/runs/status": ("ok", "not_run")},
-    "fig11": {"/runs/status": ("ok", "not_run")}, "bif3": {"/status": ("found", "pending"),
-                                                                  "/thin_verdict": ("clear", "no_margin")},
+    "fig11": {"/runs/status": ("ok", "not_run")},
+    "bif3": {"/status": ("found", "pending"), "/thin_verdict": ("clear", "no_margin")},
     "wp_sg": {"/status": ("ok", "not_run")},
     "stab": {f"/verdict/{m}": ("ok", None) for m in ("newton", "linearized", "rk4")},
     "fold": {"/status": ("fold_found", "pending"), "/fold_fate": ("none", None), "/instability_type": ("none", None),

@@ -30,6 +30,8 @@ pytest.importorskip("matplotlib")
 def tiny_chain(potential="sine-gordon", **kw):
     p = dict(potential=potential, c=2.0, beta=0.3, gamma=0.02, m2=-0.04, n=7, n0=3, kappa=0.5, sigma=1.5,
              omega=0.9, ramp_time=5.0, t_final=20.0)
+    if potential == "double-sine-gordon":
+        p["eta"] = 0.3
     p.update(kw)
     return ps.Chain.from_params(p)
 
@@ -46,7 +48,8 @@ def loop_rhs(ch, a, t, y, ramping):
         ui, vi = y[i], y[n + i]
         u_right, v_right = (y[i + 1], y[n + i + 1]) if i < n - 1 else (0.0, 0.0)
         gp = ch.kappa * (1 + math.tanh((2 * (i + 1) - ch.n0 - ch.n) / (2 * ch.sigma))) if i + 1 > ch.n0 else 0.0
-        force = math.sin(ui) if ch.potential == "sine-gordon" else ui - ui ** 3 / 6 + ui ** 5 / 120
+        force = {"sine-gordon": math.sin(ui), "klein-gordon": ui - ui ** 3 / 6 + ui ** 5 / 120,
+                 "double-sine-gordon": math.sin(ui) + ch.eta * 4 * math.sin(ui) * math.cos(ui)}[ch.potential]
         out[i] = vi
         out[n + i] = (ch.c ** 2 * (u_right - 2 * ui + u_left) + ch.beta * (v_right - 2 * vi + v_left)
                       - (ch.gamma + gp) * vi - ch.m2 * ui - force)
@@ -60,12 +63,13 @@ def energy(ch, a, t, y, ramping):
     n = ch.n
     u, v = y[:n], y[n:2 * n]
     psi = ch.drive(a, ramping)(t)[0]
-    pot = 1 - np.cos(u) if ch.potential == "sine-gordon" else u ** 2 / 2 - u ** 4 / 24 + u ** 6 / 720
+    pot = {"sine-gordon": 1 - np.cos(u), "klein-gordon": u ** 2 / 2 - u ** 4 / 24 + u ** 6 / 720,
+           "double-sine-gordon": 1 - np.cos(u) + ch.eta * (1 - np.cos(2 * u))}[ch.potential]
     full = np.concatenate([[psi], u, [0.0]])
     return float(np.sum(v ** 2 / 2 + ch.m2 * u ** 2 / 2 + pot) + ch.c ** 2 / 2 * np.sum(np.diff(full) ** 2))
 
 
-@pytest.mark.parametrize("potential", ["sine-gordon", "klein-gordon"])
+@pytest.mark.parametrize("potential", ["sine-gordon", "klein-gordon", "double-sine-gordon"])
 @pytest.mark.parametrize("ramping, t", [(True, 2.3), (False, 7.9)])
 def test_rhs_matches_the_fortran_formula(potential, ramping, t):
     ch = tiny_chain(potential)
@@ -74,7 +78,7 @@ def test_rhs_matches_the_fortran_formula(potential, ramping, t):
     assert np.allclose(got, loop_rhs(ch, 1.7, t, y, ramping), rtol=1e-13, atol=1e-13)
 
 
-@pytest.mark.parametrize("potential", ["sine-gordon", "klein-gordon"])
+@pytest.mark.parametrize("potential", ["sine-gordon", "klein-gordon", "double-sine-gordon"])
 @pytest.mark.parametrize("ramping, t", [(True, 2.3), (False, 7.9)])
 def test_rhs_balances_the_energy(potential, ramping, t):
     """d/dt H along the flow (central differences in t and y together) = W' - (gamma + gamma') v^2 - beta (dv)^2."""

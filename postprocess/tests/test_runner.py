@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 
+from conftest import build_lock
 from supratrans_post import namelist, runner
 
 POSTPROCESS = Path(__file__).resolve().parents[1]
@@ -105,7 +106,8 @@ def test_make_figures_runs_and_draws(release_exe, tmp_path, small_chain):
     (inp / "other.nml").write_text("&scene kind = 'timeseries' /\n")  # no &output file: listed and skipped
     cmd = [sys.executable, str(POSTPROCESS / "make_figures.py"), "--input", inp, "--outdir", tmp_path / "figs",
            "--logs", tmp_path / "logs"]
-    proc = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, env=ENV, timeout=300)
+    with build_lock():     # it runs fpm in this checkout, as the session's builds do
+        proc = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, env=ENV, timeout=300)
     lines = proc.stdout.splitlines()
     assert proc.returncode == 1, proc.stdout + proc.stderr  # broken.nml fails, the others go on
     assert any(x.startswith("[1/3] ") and x.endswith(" s") and "fig1_sg_A150.nml" in x for x in lines), lines

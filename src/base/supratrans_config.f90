@@ -10,13 +10,6 @@ module supratrans_config
 
     public :: method_name, method_from_name
 
-    !> Sine-Gordon potential V(u) = 1 - cos u.
-    integer, parameter, public :: potential_sine_gordon = 1
-    !> Klein-Gordon potential V(u) = u^2/2 - u^4/24 + u^6/720 (phi^6 truncation of 1 - cos u).
-    integer, parameter, public :: potential_klein_gordon = 2
-    !> Names of the potentials (&chain potential, &scene potentials), in the order of their numbers.
-    character(len=*), parameter, public :: potential_choices(*) = [character(len=12) :: "sine-gordon", "klein-gordon"]
-
     !> Energy-conserving implicit scheme solved by Newton's method (paper eq. DiscreteMainDiscr).
     integer, parameter, public :: method_newton = 1
     !> Linearized scheme: G replaced by V'(u^k), one tridiagonal solve a step (paper Sec. 3.1).
@@ -93,8 +86,9 @@ module supratrans_config
 
     !> The chain of eq. (1) on N sites with the absorbing end: alpha_n = gamma + gamma'(n).
     type, public :: chain_params
-        !> On-site potential V(u): 'sine-gordon' (1 - cos u) or 'klein-gordon' (its phi^6 truncation) (&chain potential).
-        integer :: potential = potential_sine_gordon
+        !> On-site potential V(u), by name (one module of src/physics/potentials each; the field holds its number) (&chain
+        !> potential).
+        integer :: potential = 1
         !> Coupling coefficient c (&chain c).
         real(wp) :: c = 4.0_wp
         !> Mass term m^2 (negative for an imaginary mass) (&chain m2).
@@ -111,6 +105,9 @@ module supratrans_config
         real(wp) :: kappa = 0.5_wp
         !> Absorber width sigma (sites) (&chain sigma).
         real(wp) :: sigma = 3.0_wp
+        !> Weight eta of the second harmonic of the on-site potential, V(u) = 1 - cos u + eta (1 - cos 2u), where it takes one
+        !> (&chain eta).
+        real(wp) :: eta = 0.0_wp
     end type chain_params
 
     !> Boundary drive u_0(t) = A r(t) sin(Omega t), r(t) = min(t / ramp_time, 1); or, set by the hysteresis scene (not a key),

@@ -16,7 +16,7 @@ module supratrans_status
 
     public :: run_status_name, run_status_codes, search_status_name, search_status_codes, certify_status_codes
 
-    !> Task not run: the driving frequency lies outside the curve's band gap, Omega >= sqrt(1 + m^2).
+    !> Task not run: the driving frequency lies outside the curve's band gap, Omega >= sqrt(V''(0) + m^2).
     integer, parameter, public :: status_outside_gap = -2
     !> Task not computed (yet).
     integer, parameter, public :: status_not_run = -1
@@ -91,7 +91,7 @@ contains
 
         text = ""
         if (outside_gap) text = text // int_str(status_outside_gap) // " outside_gap: not run, the driving " &
-                                // "frequency lies outside the band gap of the curve (Omega >= sqrt(1 + m^2)); "
+                                // "frequency lies outside the band gap of the curve (Omega >= sqrt(V''(0) + m^2)); "
         if (not_run) text = text // int_str(status_not_run) // " not_run: not computed yet (partial file); "
         text = text // int_str(status_ok) // " " // run_status_name(status_ok) // ": the run reached T; " &
                // int_str(status_diverged) // " " // run_status_name(status_diverged) // ": blow-up, |u_n| above " &

@@ -179,6 +179,8 @@ def fvalue(k, v):
         return freal(v)
     if k["type"] == "logical":
         return ".true." if v else ".false."
+    if k["ids"] and k.get("home") == "schema":
+        return str(k["values"].index(v) + 1)      # the config (src/base) names no member of such a set
     if k["ids"]:
         return choice_id_name(k, v)
     return fstring(v)
@@ -243,7 +245,8 @@ def component_decl(s, k):
     if "default_name" in k:
         value = k["default_name"]
     else:
-        value = fvalue(dict(k, prefix=s["choices_by_name"].get(k.get("choices"), {}).get("prefix", "")),
+        cset = s["choices_by_name"].get(k.get("choices"), {})
+        value = fvalue(dict(k, prefix=cset.get("prefix", ""), home=cset.get("home"), values=cset.get("values")),
                        k["default"])
     return f"{base} :: {k['component']} = {value}"
 
@@ -261,6 +264,22 @@ def default_constant(s, k):
     return doc + f"    {base}, parameter, public :: {k['default_name']} = {fvalue(kk, k['default'])}\n"
 
 
+def choice_constants(s, c):
+    """The named numbers of a choice set (with a prefix) and its names array."""
+    out = []
+    if "prefix" in c:
+        for i, (value, doc) in enumerate(zip(c["values"], c["docs"]), start=1):
+            out.append(comment(doc, "    "))
+            out.append(f"    integer, parameter, public :: {c['prefix']}{value.replace('-', '_')} = {i}\n")
+    width = max(len(v) for v in c["values"])
+    out.append(comment(f"Names of the {c['noun']}s (&{choice_keys(s, c)})"
+                       + (", in the order of their numbers." if "prefix" in c else "."), "    "))
+    out.append(continued(f"    character(len=*), parameter, public :: {c['name']}_choices(*) = "
+                         f"[character(len={width}) :: ", [fstring(v) for v in c["values"]], "    ", tail="]"))
+    out.append("\n")
+    return "".join(out)
+
+
 def config_module(s):
     """Text of src/base/supratrans_config.f90."""
     out = [HEADER]
@@ -272,16 +291,8 @@ def config_module(s):
         out.append("    public :: " + ", ".join(f"{c['name']}_name, {c['name']}_from_name" for c in helpers)
                    + "\n\n")
     for c in s["choices"]:
-        if "prefix" in c:
-            for i, (value, doc) in enumerate(zip(c["values"], c["docs"]), start=1):
-                out.append(comment(doc, "    "))
-                out.append(f"    integer, parameter, public :: {c['prefix']}{value.replace('-', '_')} = {i}\n")
-        width = max(len(v) for v in c["values"])
-        out.append(comment(f"Names of the {c['noun']}s (&{choice_keys(s, c)})"
-                           + (", in the order of their numbers." if "prefix" in c else "."), "    "))
-        out.append(continued(f"    character(len=*), parameter, public :: {c['name']}_choices(*) = "
-                             f"[character(len={width}) :: ", [fstring(v) for v in c["values"]], "    ", tail="]"))
-        out.append("\n")
+        if c.get("home") != "schema":
+            out.append(choice_constants(s, c))
     for c in s["constant"]:
         out.append(comment(c["description"], "    "))
         out.append(f"    integer, parameter, public :: {c['name']} = {c['value']}\n")
@@ -436,7 +447,8 @@ def schema_module(s):
     out.append(comment(s["schema_doc"], ""))
     out.append("module supratrans_schema\n")
     out.append("    use supratrans_kinds, only: wp, name_len\n")
-    used = ["input_config"] + [f"{c['name']}_choices" for c in s["choices"]] + [c["name"] for c in s["constant"]]
+    used = (["input_config"] + [f"{c['name']}_choices" for c in s["choices"] if c.get("home") != "schema"]
+            + [c["name"] for c in s["constant"]])
     out.append(continued("    use supratrans_config, only: ", used, "    "))
     out.append("    use supratrans_keys, only: key_spec, derived_spec, key_value, kt_integer, kt_real, kt_logical, "
                "kt_name, kt_path, &\n        set_list, list_value\n")
@@ -446,6 +458,9 @@ def schema_module(s):
         out.append(comment(f"Choice set of the {c['noun']} names (`{c['name']}_choices`).", "    "))
         out.append(f"    integer, parameter, public :: choice_{c['name']} = {c['index']}\n")
     out.append("\n")
+    for c in s["choices"]:
+        if c.get("home") == "schema":
+            out.append(choice_constants(s, c))
     out.append(comment("Index in `key_table` of each key: `key_<group>_<name>`.", "    "))
     out.append(continued("    integer, parameter, public :: ", [f"key_{k['id']} = {k['index']}" for k in keys],
                          "    "))

@@ -5,8 +5,8 @@
 !> configuration field of each key.
 module supratrans_schema
     use supratrans_kinds, only: wp, name_len
-    use supratrans_config, only: input_config, potential_choices, method_choices, scene_choices, screen_choices, solver_choices, &
-        closure_choices, vary_choices, max_curve_values, max_probes, max_scene_methods, max_scene_dts
+    use supratrans_config, only: input_config, method_choices, scene_choices, screen_choices, solver_choices, closure_choices, &
+        vary_choices, max_curve_values, max_probes, max_scene_methods, max_scene_dts
     use supratrans_keys, only: key_spec, derived_spec, key_value, kt_integer, kt_real, kt_logical, kt_name, kt_path, &
         set_list, list_value
     implicit none
@@ -29,36 +29,47 @@ module supratrans_schema
     !> Choice set of the parameter names (`vary_choices`).
     integer, parameter, public :: choice_vary = 7
 
+    !> Sine-Gordon potential V(u) = 1 - cos u.
+    integer, parameter, public :: potential_sine_gordon = 1
+    !> Klein-Gordon potential V(u) = u^2/2 - u^4/24 + u^6/720 (phi^6 truncation of 1 - cos u).
+    integer, parameter, public :: potential_klein_gordon = 2
+    !> Double sine-Gordon potential V(u) = 1 - cos u + eta (1 - cos 2u) (&chain eta).
+    integer, parameter, public :: potential_double_sine_gordon = 3
+    !> Names of the potentials (&chain potential, &scene potentials), in the order of their numbers.
+    character(len=*), parameter, public :: potential_choices(*) = [character(len=18) :: "sine-gordon", "klein-gordon", &
+        "double-sine-gordon"]
+
     !> Index in `key_table` of each key: `key_<group>_<name>`.
     integer, parameter, public :: key_chain_potential = 1, key_chain_c = 2, key_chain_m2 = 3, key_chain_gamma = 4, &
-        key_chain_beta = 5, key_chain_n = 6, key_chain_n0 = 7, key_chain_kappa = 8, key_chain_sigma = 9, &
-        key_drive_amplitude = 10, key_drive_omega = 11, key_drive_ramp_time = 12, key_drive_allow_outside_gap = 13, &
-        key_numerics_method = 14, key_numerics_dt = 15, key_numerics_t_final = 16, key_numerics_newton_tol = 17, &
-        key_numerics_newton_max_iter = 18, key_numerics_blowup_threshold = 19, key_numerics_allow_unstable = 20, &
-        key_record_probes = 21, key_record_probe_every = 22, key_record_ledger_every = 23, key_scene_kind = 24, &
-        key_scene_amplitude_min = 25, key_scene_amplitude_max = 26, key_scene_amplitude_step = 27, key_scene_omega_min = 28, &
-        key_scene_omega_max = 29, key_scene_omega_step = 30, key_scene_vary = 31, key_scene_values = 32, &
-        key_scene_potentials = 33, key_scene_continuation_step = 34, key_scene_continuation_step_max = 35, &
-        key_scene_continuation_points = 36, key_scene_beyond_fold = 37, key_scene_crossing_tol = 38, key_scene_solver = 39, &
-        key_scene_harmonics = 40, key_scene_harmonics_max = 41, key_scene_harmonics_tol = 42, key_scene_closure = 43, &
-        key_scene_absorber_family = 44, key_scene_floquet_every = 45, key_scene_fold_convergence = 46, &
-        key_scene_coarse_step = 47, key_scene_resolution = 48, key_scene_screen_method = 49, key_scene_screen_dt = 50, &
-        key_scene_confirm_band = 51, key_scene_screen_margin = 52, key_scene_certify = 53, key_scene_methods = 54, &
-        key_scene_dts = 55, key_scene_dt_smallest = 56, key_scene_amplitudes = 57, key_scene_c_values = 58, &
-        key_scene_repeats = 59, key_scene_reference_dt = 60, key_scene_stair_times = 61, key_scene_stair_height = 62, &
-        key_scene_stair_ramp = 63, key_scene_power_threshold = 64, key_detect_site = 65, key_detect_amplitude = 66, &
-        key_detect_stop_when_decided = 67, key_output_file = 68, key_output_overwrite = 69, key_output_checkpoint_every = 70, &
-        key_output_quiet = 71
+        key_chain_beta = 5, key_chain_n = 6, key_chain_n0 = 7, key_chain_kappa = 8, key_chain_sigma = 9, key_chain_eta = 10, &
+        key_drive_amplitude = 11, key_drive_omega = 12, key_drive_ramp_time = 13, key_drive_allow_outside_gap = 14, &
+        key_numerics_method = 15, key_numerics_dt = 16, key_numerics_t_final = 17, key_numerics_newton_tol = 18, &
+        key_numerics_newton_max_iter = 19, key_numerics_blowup_threshold = 20, key_numerics_allow_unstable = 21, &
+        key_record_probes = 22, key_record_probe_every = 23, key_record_ledger_every = 24, key_scene_kind = 25, &
+        key_scene_amplitude_min = 26, key_scene_amplitude_max = 27, key_scene_amplitude_step = 28, key_scene_omega_min = 29, &
+        key_scene_omega_max = 30, key_scene_omega_step = 31, key_scene_vary = 32, key_scene_values = 33, &
+        key_scene_potentials = 34, key_scene_continuation_step = 35, key_scene_continuation_step_max = 36, &
+        key_scene_continuation_points = 37, key_scene_beyond_fold = 38, key_scene_crossing_tol = 39, key_scene_solver = 40, &
+        key_scene_harmonics = 41, key_scene_harmonics_max = 42, key_scene_harmonics_tol = 43, key_scene_closure = 44, &
+        key_scene_absorber_family = 45, key_scene_floquet_every = 46, key_scene_fold_convergence = 47, &
+        key_scene_coarse_step = 48, key_scene_resolution = 49, key_scene_screen_method = 50, key_scene_screen_dt = 51, &
+        key_scene_confirm_band = 52, key_scene_screen_margin = 53, key_scene_certify = 54, key_scene_methods = 55, &
+        key_scene_dts = 56, key_scene_dt_smallest = 57, key_scene_amplitudes = 58, key_scene_c_values = 59, &
+        key_scene_repeats = 60, key_scene_reference_dt = 61, key_scene_stair_times = 62, key_scene_stair_height = 63, &
+        key_scene_stair_ramp = 64, key_scene_power_threshold = 65, key_detect_site = 66, key_detect_amplitude = 67, &
+        key_detect_stop_when_decided = 68, key_output_file = 69, key_output_overwrite = 70, key_output_checkpoint_every = 71, &
+        key_output_quiet = 72
 
     !> The keys of &chain.
     type(key_spec), parameter :: chain_keys(*) = [ &
-        key_spec("chain", "potential", kt_name, "potential", "1", "'sine-gordon'", "'sine-gordon', 'klein-gordon'", &
-            "On-site potential V(u): 'sine-gordon' (1 - cos u) or 'klein-gordon' (its phi^6 truncation)", &
+        key_spec("chain", "potential", kt_name, "potential", "1", "'sine-gordon'", &
+            "'sine-gordon', 'klein-gordon', 'double-sine-gordon'", &
+            "On-site potential V(u), by name (one module of src/physics/potentials each; the field holds its number)", &
             choices=choice_potential, ids=.true.), &
         key_spec("chain", "c", kt_real, "c", "1/time", "4", "> 0 and <= 1000000", "Coupling coefficient c", lower="> 0", &
             upper="<= 1000000"), &
         key_spec("chain", "m2", kt_real, "m2", "1/time^2", "0", "> -1", "Mass term m^2 (negative for an imaginary mass)", &
-            lower="> -1", message="need 1 + m2 > 0 (the band gap 0 < Omega < sqrt(1 + m^2) must not be empty)"), &
+            lower="> -1", message="need 1 + m2 > 0 (the band gap 0 < Omega < sqrt(V''(0) + m^2) must not be empty)"), &
         key_spec("chain", "gamma", kt_real, "gamma", "1/time", "0", ">= 0", "External damping gamma", lower=">= 0"), &
         key_spec("chain", "beta", kt_real, "beta", "1/time", "0", ">= 0", "Internal damping beta", lower=">= 0"), &
         key_spec("chain", "n", kt_integer, "n", "1", "200", ">= 2", "Number of oscillators N", lower=">= 2", &
@@ -67,13 +78,18 @@ module supratrans_schema
             "Last site before the absorber, N0 (the absorber acts on N0 < n <= N)"), &
         key_spec("chain", "kappa", kt_real, "kappa", "1/time", "0.5", ">= 0", &
             "Absorber strength kappa: gamma'(n) rises smoothly from 0 to 2 kappa", lower=">= 0"), &
-        key_spec("chain", "sigma", kt_real, "sigma", "1", "3", "> 0", "Absorber width sigma (sites)", lower="> 0")]
+        key_spec("chain", "sigma", kt_real, "sigma", "1", "3", "> 0", "Absorber width sigma (sites)", lower="> 0"), &
+        key_spec("chain", "eta", kt_real, "eta", "1", "0", &
+            ">= -1000000 and <= 1000000; only with a potential that takes it (double-sine-gordon); V''(0) + m2 = 1 + 4 eta " // &
+            "+ m2 > 0", &
+            "Weight eta of the second harmonic of the on-site potential, V(u) = 1 - cos u + eta (1 - cos 2u), where it take" // &
+            "s one", lower=">= -1000000", upper="<= 1000000")]
 
     !> The keys of &drive.
     type(key_spec), parameter :: drive_keys(*) = [ &
         key_spec("drive", "amplitude", kt_real, "amplitude", "rad", "1.77", ">= 0", "Driving amplitude A", lower=">= 0"), &
         key_spec("drive", "omega", kt_real, "omega", "1/time", "0.9", &
-            "> 0; inside the band gap, Omega < sqrt(1 + m^2), unless allow_outside_gap (timeseries, amplitude_sweep)", &
+            "> 0; inside the band gap, Omega < sqrt(V''(0) + m^2), unless allow_outside_gap (timeseries, amplitude_sweep)", &
             "Driving frequency Omega", lower="> 0"), &
         key_spec("drive", "ramp_time", kt_real, "ramp_time", "time", "50", ">= 0", &
             "Length of the linear ramp of the drive amplitude (0: no ramp)", lower=">= 0"), &
@@ -129,8 +145,9 @@ module supratrans_schema
         key_spec("scene", "values", kt_real, "values", "1", "unset (needed unless vary = 'none')", "up to 16 values", &
             "Values of the varied parameter, one curve each (in the units of that parameter)", max_values=max_curve_values), &
         key_spec("scene", "potentials", kt_name, "potentials", "1", "the &chain potential", &
-            "up to 2 values, each 'sine-gordon', 'klein-gordon'", "Potentials, one panel (sweeps, maps) or set of curves each", &
-            max_values=2, choices=choice_potential, ids=.true., unset=1), &
+            "up to 2 values, each 'sine-gordon', 'klein-gordon', 'double-sine-gordon'", &
+            "Potentials, one panel (sweeps, maps) or set of curves each", max_values=2, choices=choice_potential, ids=.true., &
+            unset=1), &
         key_spec("scene", "continuation_step", kt_real, "continuation_step", "rad", "0.05", "> 0; <= continuation_step_max", &
             "Continuation: first pseudo-arclength step along the branch of driven periodic states (grows and shrinks with N" // &
             "ewton's progress)", lower="> 0"), &
@@ -252,7 +269,7 @@ module supratrans_schema
     !> Values derived from the keys that `/parameters` stores too.
     type(derived_spec), parameter, public :: derived_table(*) = [ &
         derived_spec("band_gap_edge", "1/time", &
-            "Upper edge sqrt(1 + m^2) of the band gap 0 < Omega < sqrt(1 + m^2) of the base run"), &
+            "Upper edge sqrt(V''(0) + m^2) of the band gap 0 < Omega < sqrt(V''(0) + m^2) of the base run"), &
         derived_spec("lambda", "1", &
             "Decay rate per site of the evanescent wave at the base run's Omega (linear theory)"), &
         derived_spec("threshold_As", "rad", &
@@ -313,6 +330,7 @@ contains
         if (ik == key_chain_n0) v = key_value(1, ints=[cfg%run%chain%n0])
         if (ik == key_chain_kappa) v = key_value(1, reals=[cfg%run%chain%kappa])
         if (ik == key_chain_sigma) v = key_value(1, reals=[cfg%run%chain%sigma])
+        if (ik == key_chain_eta) v = key_value(1, reals=[cfg%run%chain%eta])
         if (ik == key_drive_amplitude) v = key_value(1, reals=[cfg%run%drive%amplitude])
         if (ik == key_drive_omega) v = key_value(1, reals=[cfg%run%drive%omega])
         if (ik == key_drive_ramp_time) v = key_value(1, reals=[cfg%run%drive%ramp_time])
@@ -396,6 +414,7 @@ contains
         if (ik == key_chain_n0) cfg%run%chain%n0 = v%ints(1)
         if (ik == key_chain_kappa) cfg%run%chain%kappa = v%reals(1)
         if (ik == key_chain_sigma) cfg%run%chain%sigma = v%reals(1)
+        if (ik == key_chain_eta) cfg%run%chain%eta = v%reals(1)
         if (ik == key_drive_amplitude) cfg%run%drive%amplitude = v%reals(1)
         if (ik == key_drive_omega) cfg%run%drive%omega = v%reals(1)
         if (ik == key_drive_ramp_time) cfg%run%drive%ramp_time = v%reals(1)

@@ -4,7 +4,7 @@
 !> 1. `check_keys`: every key against its row of `key_table` (list length, finite reals, bounds, allowed names);
 !>    nothing key-specific is written here, so a new key with a range is checked by its row alone;
 !> 2. `check_rules`: the hand-written rules between keys: 0 <= N0 <= N (naming N0 as the default when it was not
-!>    given), Omega inside the band gap 0 < Omega < sqrt(1 + m^2), T >= 2 dt, the paper's necessary stability
+!>    given), Omega inside the band gap 0 < Omega < sqrt(V''(0) + m^2), T >= 2 dt, the paper's necessary stability
 !>    condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt, probes within 1..N, the scene's axes and curves, the
 !>    detector site, a named output file, continuation_step <= continuation_step_max (refused, never clamped);
 !> 3. `check_limits` (`supratrans_limits`, then the scene's own), and the scene's `check_input`: every check the
@@ -20,8 +20,9 @@ module supratrans_validate
     use supratrans_system, only: path_kind, path_directory, link_kind, path_missing
     use supratrans_error, only: error_type
     use supratrans_config, only: input_config, run_config, method_avf4, method_avf8, vary_none, vary_choices
-    use supratrans_potential, only: potential_name
-    use supratrans_chain, only: band_gap_edge, stability_lhs, stability_rhs, stable_by_paper_condition, critical_dt
+    use supratrans_potential, only: potential_name, potential_takes, potential_ids, potential_names
+    use supratrans_chain, only: band_gap_edge, gap_squared, onsite_stiffness, stability_lhs, stability_rhs, &
+                                stable_by_paper_condition, critical_dt
     use supratrans_curves, only: curve_count, curve_run
     use supratrans_strings, only: int_str, real_str, fixed4, joined, find_name
     use supratrans_keys, only: key_spec, key_value, kt_integer, kt_real, kt_name, input_error
@@ -214,6 +215,18 @@ contains
                 end if
                 return
             end if
+            if (ch%eta /= 0.0_wp .and. .not. run_takes(cfg, "eta")) then     ! eta = 0 changes nothing
+                call input_error(error, where, "chain", "eta = " // real_str(ch%eta) // " is a parameter of no " &
+                                 // "potential of this run: only " // takers("eta") // " take" // " it (&chain " &
+                                 // "potential, &scene potentials); remove eta or choose such a potential")
+                return
+            end if
+            if (.not. (gap_squared(ch) > 0.0_wp)) then
+                call input_error(error, where, "chain", "m2 = " // real_str(ch%m2) // ": need V''(0) + m2 > 0 (V''(0) = " &
+                                 // real_str(onsite_stiffness(ch)) // " for " // potential_name(ch%potential) &
+                                 // "): the band gap 0 < Omega^2 < V''(0) + m2 must not be empty")
+                return
+            end if
             edge = band_gap_edge(ch)
             if (dr%omega >= edge .and. .not. cfg%allow_outside_gap .and. scene%gap_rule()) then
                 call input_error(error, where, "drive", "omega = " // real_str(dr%omega) &
@@ -327,8 +340,8 @@ contains
             run = curve_run(cfg, ic)
             label = "curve " // int_str(ic) // " (" // potential_name(run%chain%potential) // ", " &
                     // trim(vary_choices(cfg%scene%vary)) // ")"
-            if (run%chain%gamma < 0.0_wp .or. run%chain%beta < 0.0_wp .or. .not. (1.0_wp + run%chain%m2 > 0.0_wp)) then
-                call input_error(error, where, "scene", label // ": need gamma >= 0, beta >= 0 and 1 + m2 > 0")
+            if (run%chain%gamma < 0.0_wp .or. run%chain%beta < 0.0_wp .or. .not. (gap_squared(run%chain) > 0.0_wp)) then
+                call input_error(error, where, "scene", label // ": need gamma >= 0, beta >= 0 and V''(0) + m2 > 0")
                 return
             end if
             if (.not. stable_by_paper_condition(run%chain, run%numerics%dt) .and. .not. cfg%allow_unstable &
@@ -380,6 +393,32 @@ contains
             lines(1) = text
         end if
     end function input_warnings
+
+    !> Whether a potential of the run (&chain potential, or one of &scene potentials) takes the &chain key `key`.
+    pure logical function run_takes(cfg, key) result(takes)
+        !> The input.
+        type(input_config), intent(in) :: cfg
+        !> The key (e.g. 'eta').
+        character(len=*), intent(in) :: key
+
+        takes = potential_takes(cfg%run%chain%potential, key)
+        if (allocated(cfg%scene%potentials)) takes = takes .or. any(potential_takes(cfg%scene%potentials, key))
+    end function run_takes
+
+    !> The names of the potentials that take the &chain key `key`, quoted and joined ("'a', 'b'").
+    pure function takers(key) result(text)
+        !> The key.
+        character(len=*), intent(in) :: key
+        character(len=:), allocatable :: text
+        integer :: i
+
+        text = ""
+        do i = 1, size(potential_ids)
+            if (.not. potential_takes(potential_ids(i), key)) cycle
+            if (len(text) > 0) text = text // ", "
+            text = text // "'" // trim(potential_names(i)) // "'"
+        end do
+    end function takers
 
     !> Whether the namelist text of `cfg` gives `group` `key` (true for a configuration built in code: no text).
     pure logical function key_given(cfg, group, key) result(given)

@@ -11,7 +11,6 @@
 !> through the viscous coupling, so that every dissipation term is non-negative.
 module supratrans_ledger
     use supratrans_kinds, only: wp
-    use supratrans_potential, only: potential_sum
     use supratrans_scheme, only: scheme_type
     implicit none
     private
@@ -61,7 +60,7 @@ contains
         e = 0.5_wp*sum(((u_new(1:n) - u_cur(1:n))/scheme%dt)**2) &
             + 0.5_wp*scheme%c2*sum((u_new(1:n + 1) - u_new(0:n))*(u_cur(1:n + 1) - u_cur(0:n))) &
             + 0.25_wp*m2*sum(u_new(1:n)**2 + u_cur(1:n)**2) &
-            + 0.5_wp*(potential_sum(scheme%potential, u_new(1:n)) + potential_sum(scheme%potential, u_cur(1:n)))
+            + 0.5_wp*(scheme%potential%potential_sum(u_new(1:n)) + scheme%potential%potential_sum(u_cur(1:n)))
     end function stored_energy
 
     !> Powers of step k: injected P_k and the dissipation rates D^gamma, D^beta, D^abs.

@@ -24,7 +24,7 @@ module supratrans_mol
     use supratrans_kinds, only: wp
     use supratrans_config, only: chain_params, drive_params
     use supratrans_chain, only: drive_psi, ramp_factor, profile_ramp, stair_amplitude, stair_slope
-    use supratrans_potential, only: force_array, potential_v
+    use supratrans_potential, only: potential_type
     use supratrans_ledger, only: ledger_type
     implicit none
     private
@@ -39,9 +39,11 @@ contains
 
     !> Stage derivative f(t0 + c dt, state) of a step from t0, with the one-sided psi' of this step at the ramp's
     !> kink (the side of the step's midpoint).
-    pure subroutine rk_stage(chain, drive, alpha, t0, dt, c, state, derivative)
+    pure subroutine rk_stage(chain, potential, drive, alpha, t0, dt, c, state, derivative)
         !> Chain parameters.
         type(chain_params), intent(in) :: chain
+        !> On-site potential V.
+        class(potential_type), intent(in) :: potential
         !> Drive parameters.
         type(drive_params), intent(in) :: drive
         !> Site damping alpha_n.
@@ -55,16 +57,18 @@ contains
         real(wp) :: t
 
         t = t0 + c*dt
-        call chain_rhs(chain, alpha, drive_psi(drive, t), drive_dpsi(drive, t, t0 + 0.5_wp*dt), state, derivative)
+        call chain_rhs(chain, potential, alpha, drive_psi(drive, t), drive_dpsi(drive, t, t0 + 0.5_wp*dt), state, derivative)
     end subroutine rk_stage
 
     !> Right-hand side of the method-of-lines system extended by the energy rates.
     !>
     !> Layout of `y` and `dydt` (size 2N + 4): u_1..u_N, v_1..v_N, then the cumulative energies injected,
     !> dissipated by gamma, by beta, by the absorber; their rates P, D^gamma, D^beta, D^abs do not depend on them.
-    pure subroutine chain_rhs(chain, alpha, psi, dpsi, y, dydt)
-        !> Chain parameters (c, beta, gamma, m^2, potential, N).
+    pure subroutine chain_rhs(chain, potential, alpha, psi, dpsi, y, dydt)
+        !> Chain parameters (c, beta, gamma, m^2, N).
         type(chain_params), intent(in) :: chain
+        !> On-site potential V.
+        class(potential_type), intent(in) :: potential
         !> Site damping alpha_n = gamma + gamma'(n), size N.
         real(wp), intent(in), contiguous :: alpha(:)
         !> Boundary displacement u_0 = psi(t) at the stage time.
@@ -84,7 +88,7 @@ contains
         c2 = chain%c**2
         beta = chain%beta
         associate (u => y(1:n), v => y(n + 1:2*n), du => dydt(1:n), dv => dydt(n + 1:2*n))
-            call force_array(chain%potential, u, dv)
+            call potential%force_array(u, dv)
             du = v
             dv(2:n - 1) = c2*(u(3:n) - 2.0_wp*u(2:n - 1) + u(1:n - 2)) - alpha(2:n - 1)*v(2:n - 1) &
                           - chain%m2*u(2:n - 1) - dv(2:n - 1)
@@ -153,25 +157,28 @@ contains
     end function drive_dpsi
 
     !> Continuous energy H of the chain for state `y` = (u, v, ...) and boundary value u_0 = psi.
-    pure function chain_energy(chain, psi, y) result(h)
+    pure function chain_energy(chain, potential, psi, y) result(h)
         !> Chain parameters.
         type(chain_params), intent(in) :: chain
+        !> On-site potential V.
+        class(potential_type), intent(in) :: potential
         !> Boundary displacement u_0.
         real(wp), intent(in) :: psi
         !> State (u, v, energies).
-        real(wp), intent(in) :: y(:)
+        real(wp), intent(in), contiguous :: y(:)
         real(wp) :: h
-        real(wp) :: kinetic, onsite, bonds, u_left
+        real(wp) :: kinetic, onsite, bonds, u_left, v(chain%n)
         integer :: n, i
 
         n = chain%n
+        call potential%v_each(y(1:n), v)
         kinetic = 0.0_wp
         onsite = 0.0_wp
         bonds = 0.0_wp
         u_left = psi
         do i = 1, n
             kinetic = kinetic + y(n + i)**2
-            onsite = onsite + 0.5_wp*chain%m2*y(i)**2 + potential_v(chain%potential, y(i))
+            onsite = onsite + 0.5_wp*chain%m2*y(i)**2 + v(i)
             bonds = bonds + (y(i) - u_left)**2
             u_left = y(i)
         end do

@@ -12,6 +12,7 @@ module supratrans_scheme
     use supratrans_kinds, only: wp
     use supratrans_config, only: chain_params
     use supratrans_chain, only: damping_profile
+    use supratrans_potential, only: potential_type, new_potential
     implicit none
     private
 
@@ -23,8 +24,8 @@ module supratrans_scheme
     type, public :: scheme_type
         !> Number of oscillators N.
         integer :: n = 0
-        !> On-site potential identifier.
-        integer :: potential = 0
+        !> On-site potential V (with its parameters).
+        class(potential_type), allocatable :: potential
         !> Time step Delta t.
         real(wp) :: dt = 0.0_wp
         !> Coupling squared, c^2.
@@ -62,7 +63,7 @@ contains
 
         n = chain%n
         scheme%n = n
-        scheme%potential = chain%potential
+        call new_potential(chain, scheme%potential)
         scheme%dt = dt
         scheme%c2 = chain%c**2
         scheme%a = -chain%beta/(2.0_wp*dt)

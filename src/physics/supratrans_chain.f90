@@ -1,12 +1,18 @@
 !> The chain model of the paper: absorbing-end damping profile, boundary drive, linear theory and the
 !> necessary stability condition.
 !>
+!> The linear theory lives here, in one place, from V''(0) of the potential (`potential_stiffness`) and m^2: the
+!> on-site stiffness at rest K = V''(0) + m^2 (`gap_squared`), the band gap 0 < Omega < sqrt(K), the phonon band's
+!> top sqrt(K + 4 c^2), the decay rate lambda = arccosh(1 + (K - Omega^2)/(2 c^2)) and A_s = 4 arctan(lambda c /
+!> Omega) (the sine-Gordon continuum's kink formula, used as the reference for every potential).
+!>
 !> Absorber (paper Sec. 3.1, misprint corrected, see README): for N0 < n <= N,
 !> gamma'(n) = kappa [1 + tanh((2n - N0 - N) / (2 sigma))], a smooth ramp from 0 to 2 kappa centred at (N0 + N)/2;
 !> gamma'(n) = 0 otherwise. The damping of site n is alpha_n = gamma + gamma'(n).
 module supratrans_chain
     use supratrans_kinds, only: wp
     use supratrans_config, only: chain_params, drive_params, run_config
+    use supratrans_potential, only: potential_stiffness
     implicit none
     private
 
@@ -17,7 +23,7 @@ module supratrans_chain
     integer, parameter, public :: profile_ramp = 0
     !> Amplitude profile of the hysteresis scene: stairs up from a_0 to a_K and down again (`stair_amplitude`).
     integer, parameter, public :: profile_stairs = 1
-    public :: band_gap_edge, phonon_band_top, decay_rate, threshold_as
+    public :: band_gap_edge, phonon_band_top, decay_rate, threshold_as, gap_squared, onsite_stiffness
     public :: stability_lhs, stability_rhs, stable_by_paper_condition, critical_dt, detector_site
 
 contains
@@ -164,36 +170,56 @@ contains
         end if
     end function stair_slope
 
-    !> Upper edge of the forbidden band gap, sqrt(1 + m^2): the gap is 0 < Omega < sqrt(1 + m^2).
+    !> V''(0), the on-site potential's stiffness at rest (1 for sine-Gordon and Klein-Gordon).
+    elemental function onsite_stiffness(chain) result(k)
+        !> Chain parameters (potential and its parameters).
+        type(chain_params), intent(in) :: chain
+        real(wp) :: k
+
+        k = potential_stiffness(chain)
+    end function onsite_stiffness
+
+    !> The on-site stiffness at rest K = V''(0) + m^2: the square of the band gap's edge.
+    elemental function gap_squared(chain) result(k)
+        !> Chain parameters (potential, m^2).
+        type(chain_params), intent(in) :: chain
+        real(wp) :: k
+
+        k = onsite_stiffness(chain) + chain%m2
+    end function gap_squared
+
+    !> Upper edge of the forbidden band gap, sqrt(V''(0) + m^2): the gap is 0 < Omega < sqrt(V''(0) + m^2).
     elemental function band_gap_edge(chain) result(w)
         !> Chain parameters.
         type(chain_params), intent(in) :: chain
         real(wp) :: w
 
-        w = sqrt(max(1.0_wp + chain%m2, 0.0_wp))
+        w = sqrt(max(gap_squared(chain), 0.0_wp))
     end function band_gap_edge
 
-    !> Top of the phonon band, sqrt(1 + m^2 + 4 c^2).
+    !> Top of the phonon band, sqrt(V''(0) + m^2 + 4 c^2).
     elemental function phonon_band_top(chain) result(w)
         !> Chain parameters.
         type(chain_params), intent(in) :: chain
         real(wp) :: w
 
-        w = sqrt(max(1.0_wp + chain%m2 + 4.0_wp*chain%c**2, 0.0_wp))
+        w = sqrt(max(gap_squared(chain) + 4.0_wp*chain%c**2, 0.0_wp))
     end function phonon_band_top
 
-    !> Decay rate lambda = arccosh(1 + (m^2 + 1 - Omega^2)/(2 c^2)) of the evanescent wave A sin(Omega t) e^{-lambda n}.
+    !> Decay rate lambda = arccosh(1 + (V''(0) + m^2 - Omega^2)/(2 c^2)) of the evanescent wave
+    !> A sin(Omega t) e^{-lambda n}.
     elemental function decay_rate(chain, omega) result(lambda)
-        !> Chain parameters (c, m^2).
+        !> Chain parameters (c, m^2, potential).
         type(chain_params), intent(in) :: chain
         !> Driving frequency Omega.
         real(wp), intent(in) :: omega
         real(wp) :: lambda
 
-        lambda = acosh(1.0_wp + (chain%m2 + 1.0_wp - omega**2)/(2.0_wp*chain%c**2))
+        lambda = acosh(1.0_wp + (chain%m2 + onsite_stiffness(chain) - omega**2)/(2.0_wp*chain%c**2))
     end function decay_rate
 
-    !> Continuum-limit supratransmission threshold A_s = 4 arctan(lambda c / Omega) (massless, undamped).
+    !> Continuum-limit supratransmission threshold A_s = 4 arctan(lambda c / Omega) (massless, undamped; the
+    !> sine-Gordon continuum's formula, with this potential's lambda).
     elemental function threshold_as(chain, omega) result(as)
         !> Chain parameters (c, m^2).
         type(chain_params), intent(in) :: chain
@@ -265,7 +291,7 @@ contains
         if (run%detect%site > 0) then
             nd = run%detect%site
         else
-            lambda = decay_rate(run%chain, min(run%drive%omega, 0.999999_wp*sqrt(1.0_wp + run%chain%m2)))
+            lambda = decay_rate(run%chain, min(run%drive%omega, 0.999999_wp*sqrt(gap_squared(run%chain))))
             nd = min(run%chain%n0 - 10, max(20, ceiling(min(3.0_wp/max(lambda, 1.0e-6_wp), 1.0e6_wp))))
         end if
         nd = max(1, min(nd, run%chain%n - 1))

@@ -82,7 +82,7 @@ contains
 
     !> Write `/curves`, the same in every scene: the group's attribute `vary`, and per curve its potential, the value
     !> of the varied parameter (in the units of that parameter: gamma and beta 1/time, m2 1/time^2; "1" and NaN when
-    !> nothing varies), gamma, beta, m^2 and the band-gap edge sqrt(1 + m^2). A scene adds its own per-curve
+    !> nothing varies), gamma, beta, m^2 and the band-gap edge sqrt(V''(0) + m^2). A scene adds its own per-curve
     !> datasets (`threshold_As`, `screen_dt`) after this.
     subroutine write_curves(file, cfg, runs)
         !> Open output file (a failure sticks in it).
@@ -91,11 +91,17 @@ contains
         type(input_config), intent(in) :: cfg
         !> The run configuration of each curve (`curve_run`).
         type(run_config), intent(in) :: runs(:)
-        character(len=16) :: names(size(runs))
+        character(len=:), allocatable :: names(:)
         real(wp) :: values(size(runs)), edge(size(runs)), gamma(size(runs)), beta(size(runs)), m2(size(runs))
         character(len=:), allocatable :: value_units
         integer :: ic, ipot, ival
 
+        ! the names' width: 16 (that of the files before the longer names), or the longest name's
+        ic = 16
+        do ipot = 1, size(runs)
+            ic = max(ic, len(potential_name(runs(ipot)%chain%potential)))
+        end do
+        allocate (character(len=ic) :: names(size(runs)))
         do ic = 1, size(runs)
             names(ic) = potential_name(runs(ic)%chain%potential)
             values(ic) = ieee_value(1.0_wp, ieee_quiet_nan)       ! the value of the varied parameter, NaN if none
@@ -126,7 +132,7 @@ contains
                       dims="curve")
         call h5_write(file, "/curves/m2", m2, "1/time^2", &
                       "Mass term m^2 of each curve (negative: imaginary mass)", dims="curve")
-        call h5_write(file, "/curves/band_gap_edge", edge, "1/time", "Upper edge sqrt(1 + m^2) of the band gap of " &
+        call h5_write(file, "/curves/band_gap_edge", edge, "1/time", "Upper edge sqrt(V''(0) + m^2) of the band gap of " &
                       // "each curve", dims="curve")
     end subroutine write_curves
 

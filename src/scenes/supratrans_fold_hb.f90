@@ -661,7 +661,7 @@ contains
         if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
         call h5_write(file, "/outside_gap", reshape(merge(1, 0, &
             [(self%omegas(mod(t - 1, nomega) + 1) >= band_gap_edge(self%runs((t - 1)/nomega + 1)%chain), &
-            t=1, ntask)]), [nomega, ncurve]), "1", "1 where Omega >= sqrt(1 + m^2), outside the curve's band gap", &
+            t=1, ntask)]), [nomega, ncurve]), "1", "1 where Omega >= sqrt(V''(0) + m^2), outside the curve's band gap", &
             dims="curve, omega")
         a4 = reshape([(transpose(recs(t)%spectrum), t=1, ntask)], [n, spectrum_harmonics, nomega, ncurve])
         call h5_write(file, "/spectrum", a4, "rad", "Amplitude sqrt(a^2 + b^2) of the odd harmonics 1, 3, .., " &

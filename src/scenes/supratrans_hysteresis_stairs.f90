@@ -180,7 +180,7 @@ contains
     pure function hysteresis_status_codes() result(text)
         character(len=:), allocatable :: text
 
-        text = "-2: outside gap (Omega >= sqrt(1 + m^2): not run; NaN); -1: pending (not computed yet); " &
+        text = "-2: outside gap (Omega >= sqrt(V''(0) + m^2): not run; NaN); -1: pending (not computed yet); " &
                // "0: found (both edges); 1: none transmits (no stair up to the top transmits; NaN); " &
                // "2: at bottom (the first stair amplitude_min already transmits: the upward edge lies below it; NaN); " &
                // "3: died before top (the transmission stopped on the way up: downward edge NaN); " &

@@ -3,21 +3,21 @@
 !> dt of the continuation scene. Dirichlet modes with sin^2(theta/2), theta = k pi/(N+1), k = 1..N, the largest
 !> s^2 = sin^2(N pi/(2(N+1)))):
 !> - newton (energy-conserving): the discrete energy is positive definite, hence the scheme stable, iff
-!>   4 c^2 s^2 dt^2 < 4 + (1 + m^2) dt^2; damping (gamma, beta, absorber) only dissipates and does not move this
+!>   4 c^2 s^2 dt^2 < 4 + (V''(0) + m^2) dt^2; damping (gamma, beta, absorber) only dissipates and does not move this
 !>   bound (per mode, the characteristic roots of a z^2 - b z + c' = 0 stay inside the unit circle iff
 !>   |b| <= a + c', independent of the damping). So where the paper's condition allows a larger dt
 !>   (gamma > 0 or beta > 0), it is necessary but not sufficient;
 !> - linearized (V'(u^k) explicit): (4 c^2 s^2 + 1 - m^2) dt^2 < 4, again independent of the damping;
 !> - rk4, rk8: the largest dt with |R(dt lambda)| <= 1 for every eigenvalue lambda of the linearised system
-!>   u' = v, v' = -(c^2 L + (1 + m^2)) u - (diag(alpha_n) + beta L) v (L the Dirichlet Laplacian, absorber
+!>   u' = v, v' = -(c^2 L + (V''(0) + m^2)) u - (diag(alpha_n) + beta L) v (L the Dirichlet Laplacian, absorber
 !>   included), computed with LAPACK `dgeev`; R is the method's stability polynomial. Undamped: 2 sqrt(2) /
-!>   omega_max for RK4, 3.0018 / omega_max for rk8, omega_max^2 = 1 + m^2 + 4 c^2 s^2;
+!>   omega_max for RK4, 3.0018 / omega_max for rk8, omega_max^2 = V''(0) + m^2 + 4 c^2 s^2;
 !> - avf4, avf8 (Gauss collocation): A-stable on the linear chain, no bound.
 module supratrans_linear_stability
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan, ieee_is_nan
     use supratrans_kinds, only: wp
     use supratrans_config, only: chain_params, method_newton, method_linearized, method_rk8, method_avf4, method_avf8
-    use supratrans_chain, only: damping_profile
+    use supratrans_chain, only: damping_profile, gap_squared, onsite_stiffness
     use supratrans_stepper_rk8, only: rk8_stability_coefficients
     use supratrans_eigen, only: general_eigenvalues
     implicit none
@@ -44,7 +44,7 @@ contains
         case (method_avf4, method_avf8)   ! Gauss collocation on the linear chain: A-stable (supratrans_stepper_avf)
             dt = huge(1.0_wp)
         case (method_newton)
-            q = 4.0_wp*chain%c**2*s2 - (1.0_wp + chain%m2)
+            q = 4.0_wp*chain%c**2*s2 - gap_squared(chain)
             dt = huge(1.0_wp)
             if (q > 0.0_wp) dt = 2.0_wp/sqrt(q)
         case (method_linearized)
@@ -72,23 +72,25 @@ contains
     end function stability_polynomial
 
     !> Eigenvalues of the chain linearised at rest, as a first-order system of size 2N:
-    !> u' = v, v' = -(c^2 L + (1 + m^2) I) u - (diag(alpha_n) + beta L) v, L = tridiag(-1, 2, -1) (Dirichlet ends).
+    !> u' = v, v' = -(c^2 L + (V''(0) + m^2) I) u - (diag(alpha_n) + beta L) v, L = tridiag(-1, 2, -1) (Dirichlet ends).
     subroutine chain_spectrum(chain, re, im)
         !> Chain parameters.
         type(chain_params), intent(in) :: chain
         !> Real and imaginary parts of the 2N eigenvalues.
         real(wp), allocatable, intent(out) :: re(:), im(:)
         real(wp), allocatable :: a(:, :), alpha(:)
+        real(wp) :: k0
         integer :: n, i, info
 
         n = chain%n
+        k0 = onsite_stiffness(chain)      ! V''(0): the chain at rest
         allocate (alpha(n))
         alpha = damping_profile(chain)
         allocate (a(2*n, 2*n), source=0.0_wp)
         allocate (re(2*n), im(2*n))
         do i = 1, n
             a(i, n + i) = 1.0_wp
-            a(n + i, i) = -(2.0_wp*chain%c**2 + 1.0_wp + chain%m2)
+            a(n + i, i) = -(2.0_wp*chain%c**2 + k0 + chain%m2)
             a(n + i, n + i) = -(alpha(i) + 2.0_wp*chain%beta)
             if (i > 1) then
                 a(n + i, i - 1) = chain%c**2

@@ -10,7 +10,7 @@
 !>   is one run (a timeseries) is run by its own `run_one` instead;
 !> - `one_run`: whether it is one run rather than a task list (no `--slice`, no journal; it keeps its records, so
 !>   its memory estimate counts them);
-!> - `gap_rule`: whether the drive's Omega must lie inside the band gap 0 < Omega < sqrt(1 + m^2) (unless
+!> - `gap_rule`: whether the drive's Omega must lie inside the band gap 0 < Omega < sqrt(V''(0) + m^2) (unless
 !>   allow_outside_gap): scenes at one frequency; scenes over a frequency axis skip the points outside instead;
 !> - `check_limits`: its own sizes (axes, task count, work, memory) against the limits of `supratrans_limits`;
 !> - `check_input`: the scene's own rules that need more than a pure check (a method's linear stability limit),

@@ -6,7 +6,7 @@
 !> [amplitude_min, amplitude_max] in steps of `coarse_step`, then a scan of the bracket at `resolution`. Its oracle is
 !> one `simulate` of the curve's run at (Omega_i, A) with `detect%stop_when_decided = .true.`: a transmitting run
 !> stops as soon as an oscillator beyond the detector site passes the detection amplitude (pi), a
-!> non-transmitting one runs to T. Frequencies outside the curve's band gap, Omega >= sqrt(1 + m^2), are skipped
+!> non-transmitting one runs to T. Frequencies outside the curve's band gap, Omega >= sqrt(V''(0) + m^2), are skipped
 !> (threshold NaN, status `bifurcation_outside_gap`) unless `allow_outside_gap` is set.
 !>
 !> The tasks (curves x frequencies) run on OpenMP threads through `supratrans_tasks`, driven by the scene driver

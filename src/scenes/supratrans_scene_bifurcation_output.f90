@@ -99,7 +99,7 @@ contains
         call h5_write(file, "/status", count_grid(vals, "status", nomega), &
             "1", "Outcome of the search (codes in attribute 'codes')", dims=dims)
         call h5_write_attr(file, "/status", "codes", "-2: outside gap (Omega >= " &
-            // "sqrt(1 + m^2): not searched; NaN); -1: pending (not computed yet); " // search_status_codes())
+            // "sqrt(V''(0) + m^2): not searched; NaN); -1: pending (not computed yet); " // search_status_codes())
         call write_verdict_margins(file, vals, nomega)
         call write_screening(file, self%cfg, vals, nomega)
         call write_certification(file, self%cfg, vals, nomega)

@@ -52,7 +52,7 @@ contains
         if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
         call h5_write(file, "/outside_gap", reshape(merge(1, 0, &
             [(self%omegas(mod(t - 1, nomega) + 1) >= band_gap_edge(self%runs((t - 1)/nomega + 1)%chain), &
-            t=1, ntask)]), [nomega, ncurve]), "1", "1 where Omega >= sqrt(1 + m^2), outside the curve's band gap: " &
+            t=1, ntask)]), [nomega, ncurve]), "1", "1 where Omega >= sqrt(V''(0) + m^2), outside the curve's band gap: " &
             // "computed only with allow_outside_gap, and no fold is expected there", dims="curve, omega")
         allocate (branch(npts, nomega, ncurve))
         do q = 1, size(branch_quantities)

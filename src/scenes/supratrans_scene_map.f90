@@ -5,7 +5,7 @@
 !> The map is the amplitude sweep of `supratrans_scene_sweep` over a second axis, the frequency
 !> omega_min..omega_max by omega_step: it uses that module's task list, file, summary, partial file and per-run
 !> datasets (a `grid_scene`), and adds only its axes (`/omega`, `/threshold_As`). A (curve, frequency) outside the curve's
-!> band gap, Omega >= sqrt(1 + m^2), is not run (unless allow_outside_gap): its entries are NaN with status
+!> band gap, Omega >= sqrt(V''(0) + m^2), is not run (unless allow_outside_gap): its entries are NaN with status
 !> `status_outside_gap` (-2) and its A_s is NaN.
 !>
 !> The per-run datasets are Fortran arrays (namp, nomega, ncurve), which h5py reads as (ncurve, nomega, namp):

@@ -23,7 +23,7 @@
 !> `/curves/potential` (curve), `/verdict/<method>` (curve, c, dt: 0 stable, 1 diverged, 2 newton_failed,
 !> 3 solver_failed), `/max_abs_u/<method>` (curve, c, dt), `/boundary/observed` and `/boundary/observed_unstable`
 !> (curve, method, c), `/boundary/linear` (curve, method, c), `/boundary/paper` (curve, c), `/boundary/rk4`
-!> (curve, c: RK4's linear limit), `/boundary/rk4_undamped` (curve, c: 2 sqrt(2) / sqrt(1 + m^2 + 4 c^2)),
+!> (curve, c: RK4's linear limit), `/boundary/rk4_undamped` (curve, c: 2 sqrt(2) / sqrt(V''(0) + m^2 + 4 c^2)),
 !> `/boundary/grid_consistent` (curve, method, c), `/boundary/bisection_runs` (curve, method, c).
 module supratrans_scene_stability
     use, intrinsic :: iso_fortran_env, only: error_unit
@@ -37,7 +37,7 @@ module supratrans_scene_stability
     use supratrans_config, only: input_config, run_config, vary_choices, chain_params, method_newton, method_linearized, &
                                  method_rk4, method_rk8, method_avf4, method_avf8, method_name
     use supratrans_potential, only: potential_name
-    use supratrans_chain, only: critical_dt
+    use supratrans_chain, only: critical_dt, gap_squared
     use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_simulate, only: simulate
     use supratrans_result, only: run_result, run_ok
@@ -196,7 +196,7 @@ contains
                 paper(ic, icurve) = critical_dt(chain)
                 call chain_spectrum(chain, re, im_part)
                 rk4_limit(ic, icurve) = rk_spectrum_dt(stability_polynomial(method_rk4), re, im_part)
-                rk4_undamped(ic, icurve) = 2.0_wp*sqrt(2.0_wp)/sqrt(max(1.0_wp + chain%m2 + 4.0_wp*chain%c**2, &
+                rk4_undamped(ic, icurve) = 2.0_wp*sqrt(2.0_wp)/sqrt(max(gap_squared(chain) + 4.0_wp*chain%c**2, &
                                                                         tiny(1.0_wp)))
                 do im = 1, nm
                     select case (list%methods(im))
@@ -579,7 +579,7 @@ contains
         call h5_write(file, "/boundary/rk4", tasks%rk4_limit, "time", &
             "RK4's linear limit: largest dt with |R(dt lambda)| <= 1 over the spectrum of the linearised chain", dims="curve, c")
         call h5_write(file, "/boundary/rk4_undamped", tasks%rk4_undamped, "time", &
-            "2 sqrt(2) / sqrt(1 + m^2 + 4 c^2): RK4's limit for the undamped chain's band top", dims="curve, c")
+            "2 sqrt(2) / sqrt(V''(0) + m^2 + 4 c^2): RK4's limit for the undamped chain's band top", dims="curve, c")
         call h5_write(file, "/boundary/grid_consistent", consistent, "1", &
             "1 when every grid verdict agrees with the bisection (stable below, unstable above), else 0", &
             dims="curve, method, c")

@@ -450,7 +450,7 @@ contains
         ic = (index - 1)/(namp*nomega) + 1
     end subroutine task_position
 
-    !> Whether frequency `iw` is run for curve `ic`: inside the curve's band gap, Omega < sqrt(1 + m^2), or the
+    !> Whether frequency `iw` is run for curve `ic`: inside the curve's band gap, Omega < sqrt(V''(0) + m^2), or the
     !> input allows frequencies outside it.
     pure function runnable(self, iw, ic) result(ok)
         !> The task list.

@@ -1,7 +1,7 @@
 !> The short chain of fold lines (`shortest_chain`, issue 25 point 6; `supratrans_fold_line` re-exports it).
 !>
 !> The periodic state is localized at the driven end: at small amplitude it decays as e^{-lambda' n}, lambda' the
-!> scheme's own decay rate (NOTES.md: cosh lambda' = 1 + ((1 + m^2) cos(Omega dt) - (2 sin(Omega dt / 2) / dt)^2) / (2
+!> scheme's own decay rate (NOTES.md: cosh lambda' = 1 + ((V''(0) + m^2) cos(Omega dt) - (2 sin(Omega dt / 2) / dt)^2) / (2
 !> c^2)). Beyond the core, what matters is the absorber: the state radiates its odd harmonics (3 Omega, 5 Omega, ... in
 !> the phonon band), and whatever the absorber reflects moves A_f (by 2e-5 at Omega = 0.9 and 1e-3 .. 4e-2 at 0.7 ..
 !> 0.5 with the paper's absorber, N - N0 = 50, sigma = 3; by up to 0.2 below Omega = 0.3, where the lowest odd harmonic
@@ -15,6 +15,7 @@ module supratrans_short_chain
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
     use supratrans_config, only: chain_params
+    use supratrans_chain, only: gap_squared
     use supratrans_namelist, only: parse_namelist, parsed_input
     use supratrans_schema, only: key_table
     implicit none
@@ -52,7 +53,7 @@ contains
         real(wp), intent(in) :: dt
         real(wp) :: arg
 
-        arg = ((1.0_wp + chain%m2)*cos(omega*dt) - (2.0_wp*sin(0.5_wp*omega*dt)/dt)**2)/(2.0_wp*chain%c**2)
+        arg = (gap_squared(chain)*cos(omega*dt) - (2.0_wp*sin(0.5_wp*omega*dt)/dt)**2)/(2.0_wp*chain%c**2)
         lambda = 0.0_wp
         if (arg > 0.0_wp) lambda = acosh(1.0_wp + arg)
     end function scheme_decay_rate
@@ -83,7 +84,7 @@ contains
     end subroutine shortest_chain
 
     !> The wavenumber q (per site) of the lowest odd harmonic k Omega (k = 3, 5, ...) of the drive at or inside the
-    !> chain's phonon band, from the linear dispersion (k Omega)^2 = 1 + m^2 + 4 c^2 sin^2(q / 2): 0 for a harmonic
+    !> chain's phonon band, from the linear dispersion (k Omega)^2 = V''(0) + m^2 + 4 c^2 sin^2(q / 2): 0 for a harmonic
     !> within `band_edge_margin` of the lower edge (below it or above: long, slow and not absorbed by any affordable
     !> ramp, and the scheme's own band edge differs from the continuum's by O(dt^2)); -1 when the lowest odd harmonic
     !> above the gap lies beyond the band (no odd harmonic radiates).
@@ -95,7 +96,7 @@ contains
         real(wp) :: w2, edge, k
 
         q = -1.0_wp
-        edge = 1.0_wp + chain%m2
+        edge = gap_squared(chain)
         ! the smallest odd k >= 3 with (k Omega)^2 > edge (1 - band_edge_margin), in reals (no loop, no overflow)
         k = sqrt(max(edge*(1.0_wp - band_edge_margin), 0.0_wp))/omega
         k = max(3.0_wp, 2.0_wp*real(floor((k - 1.0_wp)/2.0_wp), wp) + 3.0_wp)

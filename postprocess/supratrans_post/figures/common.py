@@ -30,7 +30,8 @@ LINESTYLES = ["-", "--", "-.", ":"]
 #: Colours of a family (dark first), used with the line styles.
 COLOURS = ["black", "tab:blue", "tab:red", "tab:green", "tab:purple", "tab:orange", "tab:brown", "tab:olive"]
 #: Names of the potentials as the paper writes them.
-POTENTIAL_TITLES = {"sine-gordon": "Sine-Gordon chain", "klein-gordon": "Klein-Gordon chain"}
+POTENTIAL_TITLES = {"sine-gordon": "Sine-Gordon chain", "klein-gordon": "Klein-Gordon chain",
+                    "double-sine-gordon": "Double sine-Gordon chain"}
 #: Symbols of the parameters a family may vary.
 SYMBOLS = {"gamma": r"\gamma", "beta": r"\beta", "m2": r"m^2"}
 #: Figure size of one panel (inches).

@@ -23,7 +23,7 @@
 !> stored energy: the scheme's E_k (`stored_energy`, k = 0..M-1) for the three-level schemes, H of the
 !> method-of-lines system (`chain_energy`, levels 0..M-1) for Runge-Kutta.
 !>
-!> **The half-period map** (`set_half_period`). Both potentials have an odd V' and every other term of the
+!> **The half-period map** (`set_half_period`). Every potential has an odd V' and every other term of the
 !> equations is linear, and the drive changes sign over half a period: u(t) solves them if and only if -u(t + T/2)
 !> does. So with M even, the map over M/2 steps negated, G(x) = -(state after M/2 steps), gives P = G o G for every
 !> x, and a fixed point of G is a fixed point of P (a periodic state with u(t + T/2) = -u(t), as the branch from
@@ -40,6 +40,7 @@ module supratrans_period_map
     use supratrans_config, only: run_config, chain_params, method_newton, method_linearized, method_rk4, method_rk8
     use supratrans_chain, only: damping_profile
     use supratrans_scheme, only: scheme_type, scheme_init
+    use supratrans_potential, only: new_potential
     use supratrans_mol, only: mol_energy_components
     use supratrans_stepper_linearized, only: linearized_work, linearized_work_init
     use supratrans_stepper_rk4, only: rk4_stages
@@ -89,11 +90,11 @@ module supratrans_period_map
         integer :: watch_site = 0
         !> max |u_n|, n > `watch_site`, over the levels 0..M of the last `apply` (when `watch_site` > 0).
         real(wp) :: beyond_max = 0.0_wp
-        !> Chain parameters (c, beta, gamma, m^2, potential, absorber).
+        !> Chain parameters (c, beta, gamma, m^2, absorber).
         type(chain_params) :: chain
         !> Work: P(x; A) of `measures`, size 2N.
         real(wp), allocatable :: px_work(:)
-        !> The scheme's matrices at dt_used (three-level schemes).
+        !> The scheme's matrices at dt_used (three-level schemes; for every method its potential).
         type(scheme_type) :: scheme
         !> Time levels u(0:N+1, 4) with boundary cells (three-level schemes; the columns rotate).
         real(wp), allocatable :: u(:, :)
@@ -234,6 +235,7 @@ contains
         map%n = n
         map%dim = 2*n
         map%chain = run%chain
+        call new_potential(run%chain, map%scheme%potential)   ! (again by `scheme_init` for the schemes)
         map%omega = run%drive%omega
         map%period = 2.0_wp*acos(-1.0_wp)/map%omega
         ratio = map%period/run%numerics%dt

@@ -16,7 +16,6 @@
 !> * in both, the dA column's boundary cells are du_0^k = sin(Omega t_k) (the derivative of u_0^k = A sin(Omega t_k)),
 !>   the state columns' are zero;
 submodule(supratrans_period_map) supratrans_period_map_leapfrog
-    use supratrans_potential, only: gradient_and_slope_array, curvature_bound, slope_lower_bound, potential_d2v
     use supratrans_scheme, only: scheme_rhs_and_predictor, scheme_apply_a
     use supratrans_ledger, only: stored_energy
     use supratrans_stepper_linearized, only: linearized_step
@@ -163,11 +162,11 @@ contains
         associate (s => self%scheme)
             call scheme_rhs_and_predictor(s, self%u(:, lm2), self%u(:, lm1), self%u(:, lc), self%rhs, &
                                           self%u(:, ln), h_max)
-            mu = s%b_min + slope_lower_bound(s%potential) - 2.0_wp*abs(s%a)
+            mu = s%b_min + s%potential%slope_lower_bound() - 2.0_wp*abs(s%a)
             previous = huge(1.0_wp)
             do it = 1, period_newton_max_iter
                 self%newton_iterations = self%newton_iterations + 1
-                call gradient_and_slope_array(s%potential, self%u(1:n, ln), self%u(1:n, lm1), self%g, self%dga, &
+                call s%potential%gradient_and_slope_array(self%u(1:n, ln), self%u(1:n, lm1), self%g, self%dga, &
                                               self%sin_s, self%cos_s)
                 call scheme_apply_a(s, self%u(:, ln), self%delta)
                 if (s%a == 0.0_wp) then
@@ -197,7 +196,7 @@ contains
                 if (.not. (change <= huge(1.0_wp) .and. scale <= huge(1.0_wp))) return
                 if (change <= 4.0_wp*epsilon(1.0_wp)*scale) exit
                 if (mu > 0.0_wp) then
-                    curvature = curvature_bound(s%potential, max(scale, u_max) + change)
+                    curvature = s%potential%curvature_bound(max(scale, u_max) + change)
                     if (curvature/(2.0_wp*mu)*change**2 <= epsilon(1.0_wp)*scale) exit
                 end if
                 if (change >= previous .and. change <= 1.0e-12_wp*scale) exit
@@ -229,9 +228,9 @@ contains
         status = map_ok
         associate (s => self%scheme)
             if (self%method == method_newton) then
-                call gradient_and_slope_array(s%potential, self%u(1:n, ln), self%u(1:n, lm1), self%g, self%dga, &
+                call s%potential%gradient_and_slope_array(self%u(1:n, ln), self%u(1:n, lm1), self%g, self%dga, &
                                               self%sin_s, self%cos_s)
-                call gradient_and_slope_array(s%potential, self%u(1:n, lm1), self%u(1:n, ln), self%g, self%dgb, &
+                call s%potential%gradient_and_slope_array(self%u(1:n, lm1), self%u(1:n, ln), self%g, self%dgb, &
                                               self%sin_s, self%cos_s)
                 do j = 1, n
                     self%step_b(j, step) = s%d
@@ -252,8 +251,9 @@ contains
                     if (info /= 0) status = map_failed
                 end if
             else
+                call s%potential%d2v_each(self%u(1:n, lc), self%g)     ! V''(u^k), in the work array of G
                 do j = 1, n
-                    self%step_b(j, step) = s%d - potential_d2v(s%potential, self%u(j, lc))
+                    self%step_b(j, step) = s%d - self%g(j)
                     self%step_c(j, step) = s%e(j)
                 end do
             end if

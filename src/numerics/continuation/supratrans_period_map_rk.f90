@@ -7,7 +7,6 @@
 !> cos(Omega t) in the equation of u_1'' (u_0 = psi and psi' enter there only).
 submodule(supratrans_period_map) supratrans_period_map_rk
     use supratrans_config, only: drive_params
-    use supratrans_potential, only: potential_d2v
     use supratrans_mol, only: chain_energy
     use supratrans_stepper_rk4, only: rk4_step
     use supratrans_stepper_rk8, only: rk8_step
@@ -66,15 +65,15 @@ contains
         if (self%watch_site > 0) self%beyond_max = maxval(abs(self%y(self%watch_site + 1:n)))
         if (measure) then
             umax = maxval(abs(self%y(1:n)))
-            energy_sum = chain_energy(self%chain, amplitude*sin(self%omega*0.0_wp), self%y)
+            energy_sum = chain_energy(self%chain, self%scheme%potential, amplitude*sin(self%omega*0.0_wp), self%y)
         end if
         do step = 1, m
             t0 = real(step - 1, wp)*dt
             if (tangent) self%y0 = self%y
             if (self%method == method_rk4) then
-                call rk4_step(self%chain, drive, self%alpha, t0, dt, self%y, self%ys, self%k)
+                call rk4_step(self%chain, self%scheme%potential, drive, self%alpha, t0, dt, self%y, self%ys, self%k)
             else
-                call rk8_step(self%chain, drive, self%alpha, t0, dt, self%y, self%ys, self%k)
+                call rk8_step(self%chain, self%scheme%potential, drive, self%alpha, t0, dt, self%y, self%ys, self%k)
             end if
             if (tangent) then
                 ! the stage states' u (rebuilt from the stage derivatives), V'' there, the drive's forcing
@@ -85,7 +84,7 @@ contains
                             self%ys(1:n) = self%ys(1:n) + (dt*self%rk_a(i, l))*self%k(1:n, l)
                         end if
                     end do
-                    self%curvature(:, i) = potential_d2v(self%chain%potential, self%ys(1:n))
+                    call self%scheme%potential%d2v_each(self%ys(1:n), self%curvature(:, i))
                     t = t0 + self%rk_c(i)*dt
                     self%forcing(i) = self%chain%c**2*sin(self%omega*t) + self%chain%beta*self%omega*cos(self%omega*t)
                 end do
@@ -96,7 +95,8 @@ contains
             if (self%watch_site > 0) self%beyond_max = max(self%beyond_max, maxval(abs(self%y(self%watch_site + 1:n))))
             if (measure .and. step <= m - 1) then
                 umax = max(umax, maxval(abs(self%y(1:n))))
-                energy_sum = energy_sum + chain_energy(self%chain, amplitude*sin(self%omega*real(step, wp)*dt), self%y)
+                energy_sum = energy_sum + chain_energy(self%chain, self%scheme%potential, &
+                                                     amplitude*sin(self%omega*real(step, wp)*dt), self%y)
             end if
         end do
         if (measure) then

@@ -1,7 +1,7 @@
 !> Harmonic balance of the driven chain (paper eq. (1)): the time-periodic state driven by u_0(t) = A sin(Omega t) as
 !> Fourier coefficients per site, its residual and its exact Jacobian.
 !>
-!> Both potentials have an odd V' and the drive changes sign over half a period, so the branch from rest keeps the
+!> Every potential has an odd V' and the drive changes sign over half a period, so the branch from rest keeps the
 !> half-period symmetry u(t + T/2) = -u(t): only the odd harmonics w_j = (2j - 1) Omega, j = 1..K, appear,
 !>
 !>     u_n(t) = sum_j [a_{n,j} cos(w_j t) + b_{n,j} sin(w_j t)],    x = (a_{n,1}, b_{n,1}, ..., a_{n,K}, b_{n,K})_n,
@@ -34,7 +34,8 @@ module supratrans_harmonic_balance
     use supratrans_strings, only: int_str
     use supratrans_config, only: chain_params, closure_absorber, closure_radiation
     use supratrans_chain, only: damping_profile
-    use supratrans_potential, only: potential_v, potential_dv, potential_d2v
+    use supratrans_potential, only: potential_type, new_potential
+    use supratrans_chain, only: gap_squared
     use supratrans_blas, only: matrix_product
     use supratrans_dense, only: invert
     use supratrans_radiation, only: radiation_root
@@ -64,6 +65,8 @@ module supratrans_harmonic_balance
         integer :: closure = closure_absorber
         !> Chain parameters.
         type(chain_params) :: chain
+        !> On-site potential V of the chain.
+        class(potential_type), allocatable :: potential
         !> Frequencies w_j = (2j - 1) Omega.
         real(wp), allocatable :: w(:)
         !> Site damping alpha_n = gamma + gamma'(n).
@@ -135,6 +138,7 @@ contains
         sys%omega = omega
         sys%closure = closure
         sys%chain = chain
+        call new_potential(chain, sys%potential)
         sys%w = [(real(2*j - 1, wp)*omega, j=1, harmonics)]
         sys%alpha = damping_profile(chain)
         allocate (sys%basis(sys%mt, k2), sys%dbasis(sys%mt, k2))
@@ -165,7 +169,7 @@ contains
         if (closure == closure_radiation) then
             do j = 1, harmonics
                 sys%z(j) = radiation_root(sys%w(j), chain%c, chain%beta, sys%alpha(sys%n), &
-                                          chain%m2 + potential_d2v(chain%potential, 0.0_wp))
+                                          gap_squared(chain))
             end do
         end if
         allocate (sys%sinv(k2, k2, sys%n), sys%sc(k2, k2, sys%n), sys%ja(sys%dim))
@@ -210,7 +214,9 @@ contains
 
         k2 = 2*sys%k
         call synthesize(sys, x)
-        sys%ft = potential_dv(sys%chain%potential, sys%ut)
+        do n = 1, sys%n
+            call sys%potential%dv_each(sys%ut(:, n), sys%ft(:, n))
+        end do
         call matrix_product(sys%proj, sys%ft, sys%fc, transpose_a=.true.)
         do n = 1, sys%n
             do j = 1, sys%k
@@ -260,7 +266,9 @@ contains
 
         k2 = 2*sys%k
         call synthesize(sys, x)
-        sys%ft = potential_d2v(sys%chain%potential, sys%ut)
+        do n = 1, sys%n
+            call sys%potential%d2v_each(sys%ut(:, n), sys%ft(:, n))
+        end do
         call galerkin_blocks(sys)
         do n = 1, sys%n
             do j = 1, sys%k
@@ -472,7 +480,7 @@ contains
         real(wp), intent(out) :: umax
         !> Mean stored energy.
         real(wp), intent(out) :: energy
-        real(wp), allocatable :: v(:, :)
+        real(wp), allocatable :: v(:, :), vt(:, :)
         real(wp), pointer, contiguous :: xc(:, :)
         real(wp), target :: copy(size(x))
         integer :: n
@@ -481,9 +489,12 @@ contains
         umax = maxval(abs(sys%ut))
         copy = x
         xc(1:2*sys%k, 1:sys%n) => copy
-        allocate (v(sys%mt, sys%n))
+        allocate (v(sys%mt, sys%n), vt(sys%mt, sys%n))
         call matrix_product(sys%dbasis, xc, v)
-        energy = sum(0.5_wp*v**2 + 0.5_wp*sys%chain%m2*sys%ut**2 + potential_v(sys%chain%potential, sys%ut))
+        do n = 1, sys%n
+            call sys%potential%v_each(sys%ut(:, n), vt(:, n))
+        end do
+        energy = sum(0.5_wp*v**2 + 0.5_wp*sys%chain%m2*sys%ut**2 + vt)
         energy = energy + 0.5_wp*sys%chain%c**2*sum((sys%ut(:, 1) - amplitude*sys%basis(:, 2))**2)
         do n = 1, sys%n - 1
             energy = energy + 0.5_wp*sys%chain%c**2*sum((sys%ut(:, n + 1) - sys%ut(:, n))**2)

@@ -11,14 +11,10 @@
 !> l_i the Lagrange polynomials of the nodes, b_i the Gauss weights; y1 = sigma(t0 + h). The quadratic part of
 !> H0 makes g_i the value at the node (the integrand has degree 2s - 1), so only the on-site force V' is averaged:
 !>     Gbar_{n,i} = (1/b_i) int_0^1 l_i(tau) V'(sigma_{u,n}(tau)) dtau,
-!> computed with a Gauss-Legendre rule of `nq` nodes. For Klein-Gordon (V' of degree 5, sigma_u of degree s) the
-!> integrand has degree 6s - 1 and the rule of 3s nodes is exact. For sine-Gordon the rule has s + 2 nodes (4 for
-!> avf4, 6 for avf8) and is not exact: its error (the integrand is analytic, sigma_u moves by about h |v| over a
-!> step) is the balance residual of a step, measured (test_avf, A = 1.9, dt = 0.1) at 2e-14 (avf4) and 1e-15 (avf8)
-!> of the energy scale, 1e-12 for avf4 at dt = 0.5; the methods' own errors there are 5e-5 and 4e-10 relative
-!> (docs/method.md). On the paper-default run at A = 1.9, avf8 (6 nodes): 4e-15 a step at dt = 0.1, 8e-14 at
-!> 0.3125, 1.3e-12 at 0.4, where the method's error of the injected energy is 4e-8 (8 nodes: 4e-15 throughout,
-!> and 13% more time).
+!> computed with a Gauss-Legendre rule of `nq` nodes, the potential's `averaging_nodes(s)`. For a polynomial V' of
+!> degree p (sigma_u of degree s) the integrand has degree (p + 1) s - 1, and a rule of (p + 1) s / 2 nodes is exact
+!> (3s for the phi^6 truncation). For a transcendental V' the rule is not exact: its error is the balance residual of
+!> a step (the potential's module says what was measured).
 !> Everything else is s-stage Gauss collocation: U_i = u0 + h sum_j a_ij V_j, V_i = v0 + h sum_j a_ij F_i.
 !>
 !> Linear stability: the method reduces to Gauss collocation on a linear chain (V' linear), which is A-stable
@@ -40,12 +36,6 @@ module supratrans_avf_tableau
     integer, parameter, public :: avf4_stages = 2
     !> Gauss nodes (stages) of `avf8`.
     integer, parameter, public :: avf8_stages = 4
-    !> Nodes of the rule that averages V' per stage node: exact for the Klein-Gordon potential.
-    integer, parameter, public :: avf_quadrature_per_stage = 3
-    !> Nodes beyond the s stages of the averaging rule for sine-Gordon (s + 2 nodes: 4 for avf4, 6 for avf8). Not
-    !> exact: its error is the balance residual of a step, measured (module header) far below the method's error at
-    !> every step used. (2s = 8 nodes for avf8 left 1e-15 instead of 1e-12 at dt = 0.4 and cost 13% more.)
-    integer, parameter, public :: avf_quadrature_sine_gordon = 2
 
     !> The coefficients of the s-stage energy-preserving collocation method on [0, 1].
     type, public :: avf_tableau

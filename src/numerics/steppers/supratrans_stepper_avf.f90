@@ -17,9 +17,9 @@
 !>                 + c^2 [psi^2/2 - u_1 psi]_{t0}^{t0+h},
 !>     D^gamma = h sum_i b_i gamma sum_n V_{n,i}^2,   D^abs = h sum_i b_i sum_n gamma'(n) V_{n,i}^2,
 !>     D^beta  = h sum_i b_i beta sum_{n=1}^{N+1} (V_{n,i} - V_{n-1,i})^2,
-!> and H(y1) - H(y0) = injected - D^gamma - D^beta - D^abs holds exactly: to roundoff for Klein-Gordon, to the
-!> rule's error for sine-Gordon. Each term is a Gauss quadrature of the continuous power of `supratrans_mol`, so it
-!> converges at the method's order.
+!> and H(y1) - H(y0) = injected - D^gamma - D^beta - D^abs holds exactly: to roundoff where the averaging rule is
+!> exact (a polynomial V'), else to the rule's error. Each term is a Gauss quadrature of the continuous power of
+!> `supratrans_mol`, so it converges at the method's order.
 !>
 !> Solving a step. The unknowns are the stage increments Z_i = U_i - u0 (N x s: small, so their roundoff is
 !> eps |Z|); V = W Z/h, W = A^{-1}. The residual R(Z)_i = (W (V - v0))_i / h - F_i(u0 + Z, V) is driven to zero by
@@ -48,7 +48,7 @@
 !> 3.72 -> 3.75 on that run), and every later iteration solves the method's own equations.
 !>
 !> Counters: every iteration is one Newton iteration and one (block-)tridiagonal solve, and `nq` right-hand sides
-!> (N-force kernels: sines for sine-Gordon).
+!> (N-force kernels of the potential).
 !>
 !> The continuation scene has no one-period map for these methods and refuses them (`supratrans_period_map`).
 module supratrans_stepper_avf
@@ -58,7 +58,6 @@ module supratrans_stepper_avf
     use supratrans_config, only: run_config
     use supratrans_chain, only: drive_psi
     use supratrans_mol, only: drive_dpsi
-    use supratrans_potential, only: force_array, potential_d2v, sine_gordon
     use supratrans_stepper, only: step_ok, step_not_converged, step_breakdown
     use supratrans_stepper_rk, only: rk_stepper
     use supratrans_state_buffer, only: state_buffer
@@ -296,7 +295,7 @@ contains
         !> The stepper.
         class(avf_stepper), intent(inout) :: self
         !> Where V'' is frozen (the predictor's midpoint; not `fq`, which holds the diagonal's real part here).
-        real(wp), intent(in) :: u0(:)
+        real(wp), intent(in), contiguous :: u0(:)
         !> False when a pivot is zero or not finite.
         logical, intent(out) :: ok
         integer :: n, k, m
@@ -307,11 +306,7 @@ contains
         c2 = self%chain%c**2
         beta = self%chain%beta
         ok = .true.
-        if (self%chain%potential == sine_gordon) then
-            self%fq = cos(u0)       ! the array form: libmvec's vector cos (the elemental call is a scalar cos)
-        else
-            self%fq = potential_d2v(self%chain%potential, u0)
-        end if
+        call self%potential%d2v_array(u0, self%fq)       ! vectorised (for the sines: libmvec's vector cos)
         self%fq = self%fq + (2.0_wp*c2 + self%chain%m2)
         do k = 1, self%tab%s/2
             lam(k) = self%tab%lam(k)/self%dt
@@ -451,14 +446,14 @@ contains
             if (nodal) then
                 do i = 1, s
                     self%sigq(:, i) = u0 + uu(:, i)
-                    call force_array(self%chain%potential, self%sigq(:, i), self%fqq(:, i))
+                    call self%potential%force_array(self%sigq(:, i), self%fqq(:, i))
                 end do
             else
                 do q = 1, tab%nq
                     ! sigma_u(tau_q) = u0 + sum_j L_j(tau_q) Z_j (the basis sums to 1)
                     self%sigq(:, q) = u0
                     call lincomb(self%sigq(:, q), self%lagc(:, q), uu, .true.)
-                    call force_array(self%chain%potential, self%sigq(:, q), self%fqq(:, q))
+                    call self%potential%force_array(self%sigq(:, q), self%fqq(:, q))
                 end do
             end if
             do i = 1, s

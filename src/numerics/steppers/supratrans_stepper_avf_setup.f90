@@ -4,8 +4,7 @@
 submodule(supratrans_stepper_avf) supratrans_stepper_avf_setup
     use supratrans_config, only: method_avf8
     use supratrans_stepper_rk, only: rk_init
-    use supratrans_avf_tableau, only: avf_make_tableau, avf4_stages, avf8_stages, avf_quadrature_per_stage, &
-                                      avf_quadrature_sine_gordon
+    use supratrans_avf_tableau, only: avf_make_tableau, avf4_stages, avf8_stages
     use supratrans_state_buffer, only: put_reals, put_reals2, get_reals, get_reals2
     implicit none
 
@@ -24,12 +23,8 @@ contains
         n = run%chain%n
         call rk_init(self, run, s, 2*s)
         if (allocated(self%reason)) return
-        ! the averaging rule: exact for Klein-Gordon (3s nodes); for sine-Gordon s + 2 nodes (module header)
-        if (run%chain%potential == sine_gordon) then
-            call avf_make_tableau(s, s + avf_quadrature_sine_gordon, self%tab)
-        else
-            call avf_make_tableau(s, avf_quadrature_per_stage*s, self%tab)
-        end if
+        ! the averaging rule: the potential's number of nodes (exact for a polynomial V')
+        call avf_make_tableau(s, self%potential%averaging_nodes(s), self%tab)
         self%wh = transpose(self%tab%w)/self%dt
         self%mwh = -self%wh
         self%mqw = -transpose(self%tab%qw)

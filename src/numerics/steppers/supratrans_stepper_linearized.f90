@@ -8,7 +8,6 @@ module supratrans_stepper_linearized
     use supratrans_kinds, only: wp
     use supratrans_strings, only: int_fixed, real_fixed
     use supratrans_config, only: run_config
-    use supratrans_potential, only: force_array
     use supratrans_scheme, only: scheme_type, scheme_rhs
     use supratrans_tridiag, only: solve_tridiag
     use supratrans_stepper, only: step_ok, step_solver_failed
@@ -118,7 +117,7 @@ contains
         integer :: n, j
 
         n = scheme%n
-        call force_array(scheme%potential, u_cur(1:n), ws%g)
+        call scheme%potential%force_array(u_cur(1:n), ws%g)
         if (scheme%a == 0.0_wp) then      ! beta = 0: A is diagonal: right-hand side and division in one pass
             do j = 1, n
                 u_new(j) = (scheme%d*u_cur(j) + scheme%c2*(u_cur(j - 1) + u_cur(j + 1)) + scheme%e(j)*u_old(j) &

@@ -11,8 +11,9 @@
 !> from a register): on smooth, sub-threshold runs it is close enough (|delta| ~ 1e-8) for
 !> the stopping test below to accept the first iteration; `newton_step` called alone extrapolates
 !> 3 u^k - 3 u^{k-1} + u^{k-2}. The first
-!> iteration evaluates sin and cos of s = (x + u^{k-1})/2 in one vectorised loop (`sin_cos_array`); later ones
-!> advance them by angle addition (`gradient_and_slope_refine`), without transcendentals.
+!> iteration calls the potential's `gradient_and_slope_array` (for the sine potentials: sin and cos of
+!> s = (x + u^{k-1})/2 in one vectorised loop, `sin_cos_array`); later ones its `gradient_and_slope_refine` (which
+!> advances them by angle addition, without transcendentals).
 !>
 !> Stopping test (rigorous, of Kantorovich type). Let L bound |d2G/da2| (`curvature_bound`) and
 !> mu = min_n b_n + min dG/da - 2 |a| (`slope_lower_bound`) the smallest diagonal dominance of any Jacobian of the
@@ -34,8 +35,6 @@ module supratrans_stepper_newton
     use supratrans_kinds, only: wp
     use supratrans_strings, only: int_fixed, real_fixed
     use supratrans_config, only: run_config
-    use supratrans_potential, only: gradient_and_slope_array, gradient_and_slope_refine, slope_lower_bound, &
-                                    curvature_bound, sine_gordon
     use supratrans_scheme, only: scheme_type, scheme_rhs_and_predictor, scheme_apply_a
     use supratrans_tridiag, only: solve_tridiag
     use supratrans_stepper, only: step_ok, step_not_converged, step_breakdown
@@ -68,7 +67,7 @@ module supratrans_stepper_newton
         real(wp), allocatable :: work(:)
         !> Discrete gradient G and its slope dG/da at the current iterate.
         real(wp), allocatable :: g(:), dg(:)
-        !> sin(s_n), cos(s_n) of the current iterate (sine-Gordon).
+        !> sin(s_n), cos(s_n) of the current iterate (the work the potential keeps for its refinement).
         real(wp), allocatable :: sin_s(:), cos_s(:)
         !> Copies of the tridiagonal Jacobian handed to `dgtsv` (it overwrites them); dl, du of size max(N-1, 1).
         real(wp), allocatable :: dl(:), dd(:), du(:)
@@ -235,7 +234,7 @@ contains
         end if
         exact = .true.
         if (present(exact_energy)) exact = exact_energy
-        mu = scheme%b_min + slope_lower_bound(scheme%potential) - 2.0_wp*abs(scheme%a)
+        mu = scheme%b_min + scheme%potential%slope_lower_bound() - 2.0_wp*abs(scheme%a)
         status = newton_not_converged
         iterations = 0
         change = huge(change)
@@ -246,10 +245,10 @@ contains
                 info = 0
             else
                 if (it == 1) then
-                    call gradient_and_slope_array(scheme%potential, u_new(1:n), u_old(1:n), ws%g, ws%dg, &
+                    call scheme%potential%gradient_and_slope_array(u_new(1:n), u_old(1:n), ws%g, ws%dg, &
                                                   ws%sin_s, ws%cos_s, h_max=h_max)
                 else
-                    call gradient_and_slope_refine(scheme%potential, u_new(1:n), u_old(1:n), ws%work, ws%g, &
+                    call scheme%potential%gradient_and_slope_refine(u_new(1:n), u_old(1:n), ws%work, ws%g, &
                                                    ws%dg, ws%sin_s, ws%cos_s, delta_max=change, h_max=h_max)
                 end if
                 call scheme_apply_a(scheme, u_new, ws%work)
@@ -269,13 +268,13 @@ contains
             end if
             if (mu > 0.0_wp) then
                 u_bound = 0.0_wp
-                if (scheme%potential /= sine_gordon) then      ! the bound of V''' grows with |u|
+                if (scheme%potential%curvature_grows()) then    ! the bound of V''' grows with |u|
                     do j = 1, n
                         u_bound = max(u_bound, abs(u_new(j)), abs(u_old(j)))
                     end do
                     u_bound = u_bound + change                 ! the previous iterate is within `change`
                 end if
-                curvature = curvature_bound(scheme%potential, u_bound)
+                curvature = scheme%potential%curvature_bound(u_bound)
                 if (curvature/(2.0_wp*mu)*change**2 <= tol &
                     .and. (.not. exact .or. 0.5_wp*curvature*defect <= epsilon(1.0_wp)/16.0_wp*scale)) then
                     status = newton_ok
@@ -380,10 +379,10 @@ contains
         do lo = 1, size(x), newton_block
             hi = min(size(x), lo + newton_block - 1)
             if (it == 1) then
-                call gradient_and_slope_array(scheme%potential, x(lo:hi), x_old(lo:hi), ws%g(lo:hi), ws%dg(lo:hi), &
+                call scheme%potential%gradient_and_slope_array(x(lo:hi), x_old(lo:hi), ws%g(lo:hi), ws%dg(lo:hi), &
                                               ws%sin_s(lo:hi), ws%cos_s(lo:hi), h_max=h_in)
             else
-                call gradient_and_slope_refine(scheme%potential, x(lo:hi), x_old(lo:hi), ws%work(lo:hi), &
+                call scheme%potential%gradient_and_slope_refine(x(lo:hi), x_old(lo:hi), ws%work(lo:hi), &
                                                ws%g(lo:hi), ws%dg(lo:hi), ws%sin_s(lo:hi), ws%cos_s(lo:hi), &
                                                delta_max=c_in, h_max=h_in)
             end if

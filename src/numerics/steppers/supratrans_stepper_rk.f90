@@ -10,6 +10,7 @@ module supratrans_stepper_rk
     use supratrans_config, only: run_config, chain_params, drive_params
     use supratrans_chain, only: damping_profile, drive_psi
     use supratrans_mol, only: chain_energy, ledger_from_state, mol_energy_components
+    use supratrans_potential, only: potential_type, new_potential
     use supratrans_ledger, only: ledger_type
     use supratrans_stepper, only: stepper
     use supratrans_state_buffer, only: state_buffer, put_reals, get_reals
@@ -22,6 +23,8 @@ module supratrans_stepper_rk
     type, abstract, extends(stepper), public :: rk_stepper
         !> Chain parameters.
         type(chain_params) :: chain
+        !> On-site potential V of the chain.
+        class(potential_type), allocatable :: potential
         !> Drive parameters.
         type(drive_params) :: drive
         !> Stages (right-hand sides) of one step.
@@ -80,6 +83,7 @@ contains
         self%tridiagonal_solves = 0
         self%rhs_evaluations = 0
         self%chain = run%chain
+        call new_potential(run%chain, self%potential)
         self%drive = run%drive
         self%stages = stages
         ! work arrays, allocated once; the chain starts at rest
@@ -130,7 +134,7 @@ contains
         class(rk_stepper), intent(in) :: self
         real(wp) :: e
 
-        e = chain_energy(self%chain, drive_psi(self%drive, self%level_time()), self%y)
+        e = chain_energy(self%chain, self%potential, drive_psi(self%drive, self%level_time()), self%y)
     end function rk_energy
 
     !> Copy the integrated cumulative energies into the ledger.

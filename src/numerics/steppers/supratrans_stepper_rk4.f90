@@ -8,6 +8,7 @@ module supratrans_stepper_rk4
     use supratrans_kinds, only: wp
     use supratrans_config, only: run_config, chain_params, drive_params
     use supratrans_mol, only: rk_stage
+    use supratrans_potential, only: potential_type
     use supratrans_stepper, only: step_ok
     use supratrans_stepper_rk, only: rk_stepper, rk_init
     implicit none
@@ -48,15 +49,18 @@ contains
         !> Always `step_ok`.
         integer, intent(out) :: status
 
-        call rk4_step(self%chain, self%drive, self%alpha, real(self%steps, wp)*self%dt, self%dt, self%y, self%ys, self%k)
+        call rk4_step(self%chain, self%potential, self%drive, self%alpha, &
+                      real(self%steps, wp)*self%dt, self%dt, self%y, self%ys, self%k)
         call self%end_step()
         status = step_ok
     end subroutine rk4_stepper_step
 
     !> One classical RK4 step from t0 to t0 + dt: `y` is overwritten by the new state.
-    pure subroutine rk4_step(chain, drive, alpha, t0, dt, y, ys, k)
+    pure subroutine rk4_step(chain, potential, drive, alpha, t0, dt, y, ys, k)
         !> Chain parameters.
         type(chain_params), intent(in) :: chain
+        !> On-site potential V.
+        class(potential_type), intent(in) :: potential
         !> Drive parameters.
         type(drive_params), intent(in) :: drive
         !> Site damping alpha_n.
@@ -70,13 +74,13 @@ contains
         !> Work: stage derivatives, (size(y), 4).
         real(wp), intent(inout), contiguous :: k(:, :)
 
-        call rk_stage(chain, drive, alpha, t0, dt, 0.0_wp, y, k(:, 1))
+        call rk_stage(chain, potential, drive, alpha, t0, dt, 0.0_wp, y, k(:, 1))
         ys = y + (0.5_wp*dt)*k(:, 1)
-        call rk_stage(chain, drive, alpha, t0, dt, 0.5_wp, ys, k(:, 2))
+        call rk_stage(chain, potential, drive, alpha, t0, dt, 0.5_wp, ys, k(:, 2))
         ys = y + (0.5_wp*dt)*k(:, 2)
-        call rk_stage(chain, drive, alpha, t0, dt, 0.5_wp, ys, k(:, 3))
+        call rk_stage(chain, potential, drive, alpha, t0, dt, 0.5_wp, ys, k(:, 3))
         ys = y + dt*k(:, 3)
-        call rk_stage(chain, drive, alpha, t0, dt, 1.0_wp, ys, k(:, 4))
+        call rk_stage(chain, potential, drive, alpha, t0, dt, 1.0_wp, ys, k(:, 4))
         y = y + (dt/6.0_wp)*(k(:, 1) + 2.0_wp*(k(:, 2) + k(:, 3)) + k(:, 4))
     end subroutine rk4_step
 

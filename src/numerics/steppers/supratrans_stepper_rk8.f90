@@ -14,7 +14,7 @@
 !> relative error of 1e-8 in the injected energy RK4 needs dt = 0.00625 (32 000 steps, 128 000 right-hand sides,
 !> 0.19 s), Butcher's 7-stage sixth-order method dt = 0.0625 (22 400 right-hand sides, 0.05 s), this method
 !> dt = 0.2 (11 000 right-hand sides, 0.017 s). Its stability interval on the imaginary axis is |y| <= 3.0018
-!> (RK4: 2.8284): for the undamped chain at c = 4 it is stable for dt < 3.0018 / sqrt(1 + m^2 + 4 c^2) = 0.372
+!> (RK4: 2.8284): for the undamped chain at c = 4 it is stable for dt < 3.0018 / sqrt(V''(0) + m^2 + 4 c^2) = 0.372
 !> (RK4: 0.351), and its stability function damps oscillations near the axis (|R(iy)|^2 = 1 - 4.9e-5 y^10 + ...),
 !> whereas Butcher's sixth-order method amplifies every one (|R(iy)|^2 = 1 + 1.3e-3 y^8 + ...: it blows up at
 !> c = 4 for dt >= 0.2).
@@ -28,6 +28,7 @@ module supratrans_stepper_rk8
     use supratrans_kinds, only: wp
     use supratrans_config, only: run_config, chain_params, drive_params
     use supratrans_mol, only: rk_stage
+    use supratrans_potential, only: potential_type
     use supratrans_stepper, only: step_ok
     use supratrans_stepper_rk, only: rk_stepper, rk_init
     implicit none
@@ -122,15 +123,18 @@ contains
         !> Always `step_ok`.
         integer, intent(out) :: status
 
-        call rk8_step(self%chain, self%drive, self%alpha, real(self%steps, wp)*self%dt, self%dt, self%y, self%ys, self%k)
+        call rk8_step(self%chain, self%potential, self%drive, self%alpha, &
+                      real(self%steps, wp)*self%dt, self%dt, self%y, self%ys, self%k)
         call self%end_step()
         status = step_ok
     end subroutine rk8_stepper_step
 
     !> One Cooper-Verner step from t0 to t0 + dt: `y` is overwritten by the new state.
-    pure subroutine rk8_step(chain, drive, alpha, t0, dt, y, ys, k)
+    pure subroutine rk8_step(chain, potential, drive, alpha, t0, dt, y, ys, k)
         !> Chain parameters.
         type(chain_params), intent(in) :: chain
+        !> On-site potential V.
+        class(potential_type), intent(in) :: potential
         !> Drive parameters.
         type(drive_params), intent(in) :: drive
         !> Site damping alpha_n.
@@ -146,27 +150,27 @@ contains
         real(wp) :: h
 
         h = dt
-        call rk_stage(chain, drive, alpha, t0, h, 0.0_wp, y, k(:, 1))
+        call rk_stage(chain, potential, drive, alpha, t0, h, 0.0_wp, y, k(:, 1))
         ys = y + h*a21*k(:, 1)
-        call rk_stage(chain, drive, alpha, t0, h, c2, ys, k(:, 2))
+        call rk_stage(chain, potential, drive, alpha, t0, h, c2, ys, k(:, 2))
         ys = y + h*(a31*k(:, 1) + a32*k(:, 2))
-        call rk_stage(chain, drive, alpha, t0, h, c3, ys, k(:, 3))
+        call rk_stage(chain, potential, drive, alpha, t0, h, c3, ys, k(:, 3))
         ys = y + h*(a41*k(:, 1) + a42*k(:, 2) + a43*k(:, 3))
-        call rk_stage(chain, drive, alpha, t0, h, c4, ys, k(:, 4))
+        call rk_stage(chain, potential, drive, alpha, t0, h, c4, ys, k(:, 4))
         ys = y + h*(a51*k(:, 1) + a53*k(:, 3) + a54*k(:, 4))
-        call rk_stage(chain, drive, alpha, t0, h, c5, ys, k(:, 5))
+        call rk_stage(chain, potential, drive, alpha, t0, h, c5, ys, k(:, 5))
         ys = y + h*(a61*k(:, 1) + a63*k(:, 3) + a64*k(:, 4) + a65*k(:, 5))
-        call rk_stage(chain, drive, alpha, t0, h, c6, ys, k(:, 6))
+        call rk_stage(chain, potential, drive, alpha, t0, h, c6, ys, k(:, 6))
         ys = y + h*(a71*k(:, 1) + a73*k(:, 3) + a74*k(:, 4) + a75*k(:, 5) + a76*k(:, 6))
-        call rk_stage(chain, drive, alpha, t0, h, c7, ys, k(:, 7))
+        call rk_stage(chain, potential, drive, alpha, t0, h, c7, ys, k(:, 7))
         ys = y + h*(a81*k(:, 1) + a85*k(:, 5) + a86*k(:, 6) + a87*k(:, 7))
-        call rk_stage(chain, drive, alpha, t0, h, c8, ys, k(:, 8))
+        call rk_stage(chain, potential, drive, alpha, t0, h, c8, ys, k(:, 8))
         ys = y + h*(a91*k(:, 1) + a95*k(:, 5) + a96*k(:, 6) + a97*k(:, 7) + a98*k(:, 8))
-        call rk_stage(chain, drive, alpha, t0, h, c9, ys, k(:, 9))
+        call rk_stage(chain, potential, drive, alpha, t0, h, c9, ys, k(:, 9))
         ys = y + h*(a101*k(:, 1) + a105*k(:, 5) + a106*k(:, 6) + a107*k(:, 7) + a108*k(:, 8) + a109*k(:, 9))
-        call rk_stage(chain, drive, alpha, t0, h, c10, ys, k(:, 10))
+        call rk_stage(chain, potential, drive, alpha, t0, h, c10, ys, k(:, 10))
         ys = y + h*(a115*k(:, 5) + a116*k(:, 6) + a117*k(:, 7) + a118*k(:, 8) + a119*k(:, 9) + a1110*k(:, 10))
-        call rk_stage(chain, drive, alpha, t0, h, c11, ys, k(:, 11))
+        call rk_stage(chain, potential, drive, alpha, t0, h, c11, ys, k(:, 11))
         y = y + h*(b1*(k(:, 1) + k(:, 11)) + b8*(k(:, 8) + k(:, 10)) + b9*k(:, 9))
     end subroutine rk8_step
 

@@ -1,38 +1,18 @@
-!> On-site potentials V(u) of the paper (Sec. 2.1) and their discrete gradients.
+!> The sine kernels of the potentials built on 1 - cos u (sine-Gordon, double sine-Gordon): the branch-free,
+!> vectorised sine and cosine of an array (`sin_cos_array`), the rotation of sin(s), cos(s) by angle addition
+!> between Newton iterations (`rotate_sin_cos`), sinc and its slope, and the sine-Gordon discrete gradient of
+!> whole arrays. They sit in one module so that the compiler inlines the small elemental helpers into the loops
+!> (gfortran inlines within a module only): the sine-Gordon kernels were tuned here (docs/benchmark.md).
 !>
-!> The energy-conserving scheme (paper eq. DiscreteMainDiscr) uses the difference quotient
-!> G(a, b) = (V(a) - V(b)) / (a - b), with a = u_n^{k+1} and b = u_n^{k-1}. That quotient is 0/0 at rest and
-!> loses all its digits to cancellation near it, so it is never computed by division here:
-!>
-!> * sine-Gordon, V(u) = 1 - cos u:  G(a, b) = sin(s) sinc(h), with s = (a + b)/2 and h = (a - b)/2;
-!> * Klein-Gordon (phi^6 truncation), V(u) = u^2/2 - u^4/24 + u^6/720:
-!>   G(a, b) = (a + b) [1/2 - (a^2 + b^2)/24 + (a^4 + a^2 b^2 + b^4)/720].
-!>
-!> dG/da, the diagonal added to the Newton Jacobian, is equally direct. All procedures are pure.
-!>
-!> The potentials form a closed enumeration (`sine_gordon`, `klein_gordon`; identifiers, names, `check_potential`
-!> and the bounds of Newton's stopping test are in `supratrans_potential_catalog`, re-exported here): an identifier
-!> outside it is an error, never a silent choice of one of them. `check_potential` turns it into an error value
-!> (the run engine checks once per run); the kernels below, which cannot return errors, give NaN for it (V, V', G,
-!> dG/da, sums), so a caller that skipped the check sees a loud, non-finite result rather than another potential's
-!> numbers.
-module supratrans_potential
-    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+!> Sine-Gordon, V(u) = 1 - cos u: G(a, b) = sin(s) sinc(h), with s = (a + b)/2 and h = (a - b)/2, and
+!> dG/da = (cos(s) sinc(h) + sin(s) sinc'(h))/2, never the difference quotient (0/0 at rest).
+module supratrans_sine_kernels
     use supratrans_kinds, only: wp
-    use supratrans_potential_catalog, only: potential_unknown, sine_gordon, klein_gordon, potential_ids, &
-                                            potential_name, potential_from_name, is_potential, check_potential, &
-                                            slope_lower_bound, curvature_bound
     implicit none
     private
 
-    public :: potential_v, potential_dv, potential_d2v, discrete_gradient, discrete_gradient_da
-    public :: gradient_and_slope, gradient_and_slope_array, gradient_and_slope_refine, potential_sum, force_array
-    public :: potential_name, potential_from_name, is_potential, check_potential
-    public :: slope_lower_bound, curvature_bound, sin_cos_array
-
-    !> The catalog (`supratrans_potential_catalog`): the enumeration's identifiers, names and check, and the bounds
-    !> of dG/da and d2G/da2 that Newton's stopping test uses.
-    public :: potential_unknown, sine_gordon, klein_gordon, potential_ids
+    public :: sine_gordon_gradient, sine_gordon_gradient_array, sine_gordon_gradient_refine, sine_gordon_force_array
+    public :: sin_cos_array, rotate_sin_cos, sinc_and_slope, max_abs
 
     !> Below this |h| = |a - b|/2 the Taylor series of sinc and sinc' are used (truncation error < 3e-21).
     real(wp), parameter :: h_series = 0.25_wp
@@ -41,125 +21,27 @@ module supratrans_potential
     !> Largest |x| for which sin x and cos x are taken from their Taylor polynomials without a reduction (just
     !> below pi/4, where the reduction of `sin_cos_reduced` leaves x unchanged).
     real(wp), parameter :: taylor_max = 0.78_wp
-    !> Largest max |delta| for which `gradient_and_slope_refine` advances sin(s), cos(s) by angle addition.
+    !> Largest max |delta| for which the refinements advance sin(s), cos(s) by angle addition.
     real(wp), parameter, public :: rotate_max = 0.05_wp
 
 contains
 
-    !> Potential V(u) of the paper: `sine_gordon` or `klein_gordon`.
-    elemental function potential_v(id, u) result(v)
-        !> Potential identifier.
-        integer, intent(in) :: id
-        !> Displacement u_n.
-        real(wp), intent(in) :: u
-        real(wp) :: v
-
-        select case (id)
-        case (sine_gordon)
-            v = 2.0_wp*sin(0.5_wp*u)**2          ! 1 - cos u without cancellation near u = 0
-        case (klein_gordon)
-            v = u*u*(0.5_wp + u*u*(-1.0_wp/24.0_wp + u*u/720.0_wp))
-        case default
-            v = ieee_value(v, ieee_quiet_nan)
-        end select
-    end function potential_v
-
-    !> Derivative V'(u), the force used by the linearized scheme.
-    elemental function potential_dv(id, u) result(dv)
-        !> Potential identifier.
-        integer, intent(in) :: id
-        !> Displacement u_n.
-        real(wp), intent(in) :: u
-        real(wp) :: dv
-
-        select case (id)
-        case (sine_gordon)
-            dv = sin(u)
-        case (klein_gordon)
-            dv = u*(1.0_wp + u*u*(-1.0_wp/6.0_wp + u*u/120.0_wp))
-        case default
-            dv = ieee_value(dv, ieee_quiet_nan)
-        end select
-    end function potential_dv
-
-    !> Second derivative V''(u) of the on-site potential: cos u (sine-Gordon), 1 - u^2/2 + u^4/24 (Klein-Gordon,
-    !> phi^6 truncation); NaN for an unknown potential.
-    elemental function potential_d2v(id, u) result(d2v)
-        !> Potential identifier.
-        integer, intent(in) :: id
-        !> Displacement u_n.
-        real(wp), intent(in) :: u
-        real(wp) :: d2v
-
-        select case (id)
-        case (sine_gordon)
-            d2v = cos(u)
-        case (klein_gordon)
-            d2v = 1.0_wp + u*u*(-0.5_wp + u*u/24.0_wp)
-        case default
-            d2v = ieee_value(d2v, ieee_quiet_nan)
-        end select
-    end function potential_d2v
-
-    !> Discrete gradient G(a, b) = (V(a) - V(b))/(a - b) in closed form; equals V'(a) when a = b.
-    elemental function discrete_gradient(id, a, b) result(g)
-        !> Potential identifier.
-        integer, intent(in) :: id
+    !> Sine-Gordon G(a, b) and dG/da of one pair (they share their transcendental evaluations).
+    elemental subroutine sine_gordon_gradient(a, b, g, dg)
         !> New value u_n^{k+1}.
         real(wp), intent(in) :: a
         !> Old value u_n^{k-1}.
         real(wp), intent(in) :: b
-        real(wp) :: g, dg
+        !> Discrete gradient G(a, b) and dG/da.
+        real(wp), intent(out) :: g, dg
 
-        call gradient_and_slope(id, a, b, g, dg)
-    end function discrete_gradient
+        call sine_gordon_g(sin(0.5_wp*(a + b)), cos(0.5_wp*(a + b)), 0.5_wp*(a - b), g, dg)
+    end subroutine sine_gordon_gradient
 
-    !> Partial derivative dG/da of the discrete gradient, the Newton Jacobian's nonlinear diagonal.
-    elemental function discrete_gradient_da(id, a, b) result(dg)
-        !> Potential identifier.
-        integer, intent(in) :: id
-        !> New value u_n^{k+1}.
-        real(wp), intent(in) :: a
-        !> Old value u_n^{k-1}.
-        real(wp), intent(in) :: b
-        real(wp) :: g, dg
-
-        call gradient_and_slope(id, a, b, g, dg)
-    end function discrete_gradient_da
-
-    !> G(a, b) and dG/da together (they share their transcendental evaluations).
-    elemental subroutine gradient_and_slope(id, a, b, g, dg)
-        !> Potential identifier.
-        integer, intent(in) :: id
-        !> New value u_n^{k+1}.
-        real(wp), intent(in) :: a
-        !> Old value u_n^{k-1}.
-        real(wp), intent(in) :: b
-        !> Discrete gradient G(a, b).
-        real(wp), intent(out) :: g
-        !> Derivative dG/da.
-        real(wp), intent(out) :: dg
-        real(wp) :: ga(1), dga(1)
-
-        select case (id)
-        case (sine_gordon)
-            call sine_gordon_g(sin(0.5_wp*(a + b)), cos(0.5_wp*(a + b)), 0.5_wp*(a - b), g, dg)
-        case (klein_gordon)
-            call klein_gordon_array([a], [b], ga, dga)
-            g = ga(1)
-            dg = dga(1)
-        case default
-            g = ieee_value(g, ieee_quiet_nan)
-            dg = g
-        end select
-    end subroutine gradient_and_slope
-
-    !> G(a_n, b_n) and dG/da for whole arrays: the Newton step's kernel (the branch on the potential is hoisted
-    !> out of the loops). For sine-Gordon, sin(s_n) and cos(s_n), s = (a + b)/2, are returned in `ss` and `cs` so
-    !> that later Newton iterations can refine them without new transcendentals (`gradient_and_slope_refine`).
-    pure subroutine gradient_and_slope_array(id, a, b, g, dg, ss, cs, h_max)
-        !> Potential identifier.
-        integer, intent(in) :: id
+    !> Sine-Gordon G(a_n, b_n) and dG/da for whole arrays: the Newton step's kernel. sin(s_n) and cos(s_n),
+    !> s = (a + b)/2, are returned in `ss` and `cs` so that later Newton iterations can refine them without new
+    !> transcendentals (`sine_gordon_gradient_refine`).
+    pure subroutine sine_gordon_gradient_array(a, b, g, dg, ss, cs, h_max)
         !> New values u^{k+1}.
         real(wp), intent(in), contiguous :: a(:)
         !> Old values u^{k-1}, same size as `a`.
@@ -168,28 +50,18 @@ contains
         real(wp), intent(out), contiguous :: g(:)
         !> Derivatives dG/da(a_n, b_n).
         real(wp), intent(out), contiguous :: dg(:)
-        !> sin(s_n) and cos(s_n) (sine-Gordon only; untouched for Klein-Gordon).
+        !> sin(s_n) and cos(s_n).
         real(wp), intent(inout), contiguous :: ss(:), cs(:)
         !> max |a_n - b_n|/2 when the caller knows it (else it is computed here).
         real(wp), intent(in), optional :: h_max
 
-        select case (id)
-        case (sine_gordon)
-            call sine_gordon_kernel(.false., a, b, a, ss, cs, g, dg, half_difference_max(a, b, h_max))
-        case (klein_gordon)
-            call klein_gordon_array(a, b, g, dg)
-        case default
-            g = ieee_value(1.0_wp, ieee_quiet_nan)
-            dg = g
-        end select
-    end subroutine gradient_and_slope_array
+        call sine_gordon_kernel(.false., a, b, a, ss, cs, g, dg, half_difference_max(a, b, h_max))
+    end subroutine sine_gordon_gradient_array
 
-    !> Same as `gradient_and_slope_array` after a Newton update `delta` of `a` (a = a_previous + delta). For
-    !> sine-Gordon, when max |delta| <= `rotate_max`, sin(s) and cos(s) are advanced by the angle-addition formulas
-    !> (s moves by delta/2) without transcendentals; otherwise they are evaluated afresh.
-    pure subroutine gradient_and_slope_refine(id, a, b, delta, g, dg, ss, cs, delta_max, h_max)
-        !> Potential identifier.
-        integer, intent(in) :: id
+    !> Same as `sine_gordon_gradient_array` after a Newton update `delta` of `a` (a = a_previous + delta): when
+    !> max |delta| <= `rotate_max`, sin(s) and cos(s) are advanced by the angle-addition formulas (s moves by
+    !> delta/2) without transcendentals; otherwise they are evaluated afresh.
+    pure subroutine sine_gordon_gradient_refine(a, b, delta, g, dg, ss, cs, delta_max, h_max)
         !> New values u^{k+1} (already updated by `delta`).
         real(wp), intent(in), contiguous :: a(:)
         !> Old values u^{k-1}.
@@ -208,21 +80,45 @@ contains
         real(wp), intent(in), optional :: h_max
         real(wp) :: dmax
 
-        select case (id)
-        case (sine_gordon)
-            if (present(delta_max)) then
-                dmax = delta_max
-            else
-                dmax = max_abs(delta)
-            end if
-            call sine_gordon_kernel(dmax <= rotate_max, a, b, delta, ss, cs, g, dg, half_difference_max(a, b, h_max))
-        case (klein_gordon)
-            call klein_gordon_array(a, b, g, dg)
-        case default
-            g = ieee_value(1.0_wp, ieee_quiet_nan)
-            dg = g
-        end select
-    end subroutine gradient_and_slope_refine
+        if (present(delta_max)) then
+            dmax = delta_max
+        else
+            dmax = max_abs(delta)
+        end if
+        call sine_gordon_kernel(dmax <= rotate_max, a, b, delta, ss, cs, g, dg, half_difference_max(a, b, h_max))
+    end subroutine sine_gordon_gradient_refine
+
+    !> sin(s_n), cos(s_n) advanced by the angle delta_n/2 (s = (a + b)/2 after an update delta of a) by the
+    !> angle-addition formulas, for max |delta| <= `rotate_max` (the caller checks).
+    pure subroutine rotate_sin_cos(delta, ss, cs)
+        !> The update of a.
+        real(wp), intent(in), contiguous :: delta(:)
+        !> sin(s_n), cos(s_n): in for the old s, out for the new one.
+        real(wp), intent(inout), contiguous :: ss(:), cs(:)
+        integer :: n
+        real(wp) :: s_old, se, ce
+
+        !$omp simd private(s_old, se, ce)
+        do n = 1, size(delta)
+            call small_angle(0.5_wp*delta(n), se, ce)
+            s_old = ss(n)
+            ss(n) = s_old*ce + cs(n)*se
+            cs(n) = cs(n)*ce - s_old*se
+        end do
+    end subroutine rotate_sin_cos
+
+    !> Sine-Gordon forces V'(u_n) = sin u_n for a whole array (the linearized scheme's kernel).
+    pure subroutine sine_gordon_force_array(u, f)
+        !> Displacements u_n (contiguous, so that the sines vectorise through libmvec).
+        real(wp), intent(in), contiguous :: u(:)
+        !> Forces V'(u_n).
+        real(wp), intent(out), contiguous :: f(:)
+        integer :: m
+
+        m = head_length(u, taylor_max)
+        f(1:m) = sin(u(1:m))        ! libmvec's vector sin: faster than a sine alone by our reduction
+        f(m + 1:) = sin_taylor(u(m + 1:))   ! the quiet tail: the polynomial, 2.5 times faster here
+    end subroutine sine_gordon_force_array
 
     !> max |a_n - b_n|/2: `h_max` when present, else computed.
     pure function half_difference_max(a, b, h_max) result(hmax)
@@ -498,63 +394,6 @@ contains
         dg = 0.5_wp*(cs*sc + ss*dsc)
     end subroutine sine_gordon_g
 
-    !> Klein-Gordon G(a, b) and dG/da for whole arrays (polynomials: no transcendentals).
-    pure subroutine klein_gordon_array(a, b, g, dg)
-        !> New and old values.
-        real(wp), intent(in) :: a(:), b(:)
-        !> G(a_n, b_n) and dG/da.
-        real(wp), intent(out) :: g(:), dg(:)
-        integer :: n
-        real(wp) :: a2, b2, q
-
-        do n = 1, size(a)
-            a2 = a(n)*a(n)
-            b2 = b(n)*b(n)
-            q = 0.5_wp - (a2 + b2)/24.0_wp + (a2*a2 + a2*b2 + b2*b2)/720.0_wp
-            g(n) = (a(n) + b(n))*q
-            dg(n) = q + (a(n) + b(n))*a(n)*(-1.0_wp/12.0_wp + (4.0_wp*a2 + 2.0_wp*b2)/720.0_wp)
-        end do
-    end subroutine klein_gordon_array
-
-    !> Forces V'(u_n) for a whole array (the linearized scheme's kernel).
-    pure subroutine force_array(id, u, f)
-        !> Potential identifier.
-        integer, intent(in) :: id
-        !> Displacements u_n (contiguous, so that the sines vectorise through libmvec).
-        real(wp), intent(in), contiguous :: u(:)
-        !> Forces V'(u_n).
-        real(wp), intent(out), contiguous :: f(:)
-        integer :: m
-
-        select case (id)
-        case (sine_gordon)
-            m = head_length(u, taylor_max)
-            f(1:m) = sin(u(1:m))        ! libmvec's vector sin: faster than a sine alone by our reduction
-            f(m + 1:) = sin_taylor(u(m + 1:))   ! the quiet tail: the polynomial, 2.5 times faster here
-        case (klein_gordon)
-            f = u*(1.0_wp + u*u*(-1.0_wp/6.0_wp + u*u/120.0_wp))
-        case default
-            f = ieee_value(1.0_wp, ieee_quiet_nan)
-        end select
-    end subroutine force_array
-
-    !> Sum of V(u_n) over an array (the potential part of the discrete energy).
-    pure function potential_sum(id, u) result(total)
-        !> Potential identifier.
-        integer, intent(in) :: id
-        !> Displacements u_n (contiguous, so that the sines vectorise through libmvec).
-        real(wp), intent(in), contiguous :: u(:)
-        real(wp) :: total
-
-        select case (id)
-        case (sine_gordon)
-            total = 2.0_wp*sum(sin(0.5_wp*u)**2)
-        case (klein_gordon)
-            total = sum(u*u*(0.5_wp + u*u*(-1.0_wp/24.0_wp + u*u/720.0_wp)))
-        case default
-            total = ieee_value(total, ieee_quiet_nan)
-        end select
-    end function potential_sum
 
     !> sinc(h) = sin(h)/h and its derivative, by Taylor series near 0 and directly elsewhere.
     elemental subroutine sinc_and_slope(h, sc, dsc)
@@ -573,4 +412,4 @@ contains
         end if
     end subroutine sinc_and_slope
 
-end module supratrans_potential
+end module supratrans_sine_kernels
