@@ -50,6 +50,10 @@ if ! python3 src/io/generate_schema.py --check; then
     note "FAILED: generated files are stale (run python3 src/io/generate_schema.py)"
     failed=$((failed + 1))
 fi
+if ! python3 src/io/generate_outputs.py --check; then
+    note "FAILED: files generated from the output tables are stale (run python3 src/io/generate_outputs.py)"
+    failed=$((failed + 1))
+fi
 
 # ----------------------------------------------------------------------------- 2. translate .pf
 # The translation (test/test_*.f90, test/pf_driver.f90) is committed, so that `fpm test` on a fresh clone

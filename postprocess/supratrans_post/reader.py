@@ -24,6 +24,8 @@ from typing import Any, Iterable
 
 import numpy as np
 
+from . import layout
+
 __all__ = ["PlotError", "Scene", "SCHEMA", "SOLVER_SCHEMA", "SCENES", "FIGURE_SCENES", "CHART_SCENES", "open_scene",
            "open_h5", "resolve", "output_path", "figure_name", "text", "value", "schema_of"]
 
@@ -43,121 +45,20 @@ class PlotError(Exception):
 
 # ------------------------------------------------------------------------------------------------ the schema
 
-
-def _req(*dims: str) -> tuple[tuple[str, ...], bool]:
-    """A required dataset over the axes `dims` (SCHEMA)."""
-    return dims, True
-
-
-def _opt(*dims: str) -> tuple[tuple[str, ...], bool]:
-    """An optional dataset over the axes `dims` (SCHEMA)."""
-    return dims, False
-
-
-_ENERGIES = ("injected_after_ramp", "stored", "dissipated_gamma", "dissipated_beta", "dissipated_absorber")
-
 #: The datasets of each scene that the scripts read, {scene: {h5py path: (dimensions, required)}}, in the order they
-#: are checked. Each dimension names the axis a dataset runs over: the first dataset (in this order) with that axis
-#: sets its length and every later one must agree. Datasets not listed are not read.
-SCHEMA: dict[str, dict[str, tuple[tuple[str, ...], bool]]] = {
-    "timeseries": {
-        "probes/sites": _req("probe"), "probes/time": _req("probe_time"), "probes/u": _req("probe", "probe_time"),
-        "ledger/time": _req("ledger_time"),
-        **{f"ledger/{k}": _req("ledger_time") for k in ("stored", "injected", "dissipated_gamma", "dissipated_beta",
-                                                        "dissipated_absorber")},
-        "ledger/residual": _opt("ledger_time"),
-    },
-    "amplitude_sweep": {
-        "amplitude": _req("amplitude"), "curves/potential": _req("curve"), "curves/value": _req("curve"),
-        "energy/injected": _req("curve", "amplitude"), "runs/status": _req("curve", "amplitude"),
-        "runs/transmitting": _req("curve", "amplitude"),
-        "curves/threshold_As": _opt("curve"), "curves/m2": _opt("curve"), "curves/band_gap_edge": _opt("curve"),
-        **{f"energy/{k}": _opt("curve", "amplitude") for k in _ENERGIES},
-        "runs/thin_verdict": _opt("curve", "amplitude"), "runs/energy_jump": _opt("curve", "amplitude"),
-    },
-    "map": {
-        "omega": _req("omega"), "amplitude": _req("amplitude"), "curves/potential": _req("curve"),
-        "curves/value": _req("curve"), "threshold_As": _req("curve", "omega"),
-        "energy/injected": _req("curve", "omega", "amplitude"), "runs/status": _req("curve", "omega", "amplitude"),
-        "runs/transmitting": _req("curve", "omega", "amplitude"),
-        "curves/m2": _opt("curve"), "curves/band_gap_edge": _opt("curve"),
-        **{f"energy/{k}": _opt("curve", "omega", "amplitude") for k in _ENERGIES},
-    },
-    "bifurcation": {
-        "omega": _req("omega"), "curves/potential": _req("curve"), "curves/value": _req("curve"),
-        "threshold": _req("curve", "omega"), "threshold_As": _req("curve", "omega"), "status": _req("curve", "omega"),
-        "curves/m2": _opt("curve"), "curves/band_gap_edge": _opt("curve"), "cost/runs": _opt("curve", "omega"),
-        "cost/wall_time": _opt("curve", "omega"),
-        "cost/cpu_time": _opt("curve", "omega"),
-        "verdict_margin": _opt("curve", "omega"), "thin_verdict": _opt("curve", "omega"),
-    },
-    "continuation": {
-        "omega": _req("omega"), "curves/potential": _req("curve"), "curves/value": _req("curve"),
-        "fold_amplitude": _req("curve", "omega"), "threshold": _req("curve", "omega"),
-        "threshold_kind": _req("curve", "omega"), "instability_amplitude": _req("curve", "omega"),
-        "instability_type": _req("curve", "omega"), "threshold_As": _req("curve", "omega"),
-        "status": _req("curve", "omega"), "branch/points": _req("curve", "omega"),
-        **{f"branch/{k}": _req("curve", "omega", "point") for k in ("amplitude", "umax", "stable",
-                                                                      "multiplier_max")},
-        "multipliers/real": _opt("task", "sample", "multiplier"),
-        "multipliers/imag": _opt("task", "sample", "multiplier"), "multipliers/amplitude": _opt("task", "sample"),
-        "convergence/digits": _opt("curve", "omega"), "convergence/error_estimate": _opt("curve", "omega"),
-        "fold_fate": _opt("curve", "omega"), "transmission_fold": _opt("curve", "omega"),
-        "branches": _opt("curve", "omega"), "branch_switch": _opt("curve", "omega"),
-        "transmission_stairs": _opt("curve", "omega"), "transmission_spread": _opt("curve", "omega"),
-    },
-    "hysteresis": {
-        "omega": _req("omega"), "stair_time": _req("stair_length"), "stair_amplitude": _req("stair"),
-        "stair_direction": _req("stair"), "curves/potential": _req("curve"), "curves/value": _req("curve"),
-        **{k: _req("curve", "omega", "stair_length") for k in ("upward_threshold", "downward_threshold", "window",
-                                                                 "status")},
-        "upward_spread": _req("curve", "omega"), "downward_spread": _req("curve", "omega"),
-        "power": _req("curve", "omega", "stair_length", "stair"),
-        "threshold_As": _opt("curve", "omega"), "downward_gaps": _opt("curve", "omega", "stair_length"),
-    },
-    "work_precision": {
-        "methods": _req("method"), "amplitude": _req("amplitude"), "dt": _req("method", "dt"),
-        **{k: _req("amplitude", "method", "dt") for k in ("status", "wall_time", "error_energy", "error_u")},
-        "order_energy": _req("amplitude", "method"),
-        **{f"reference/{k}": _req("amplitude") for k in ("injected", "u_final")},
-        **{f"reference/{k}": _opt("amplitude") for k in ("error_energy", "u_scale", "error_u", "wall_time")},
-        **{k: _opt("amplitude", "method", "dt") for k in ("injected", "wall_time_min", "rhs_evaluations")},
-        "order_u": _opt("amplitude", "method"), "steps": _opt("method", "dt"),
-    },
-    "stability": {
-        "methods": _req("method"), "c": _req("c"), "dt": _req("dt"), "curves/value": _req("curve"),
-        "curves/potential": _req("curve"),
-        "boundary/observed": _req("curve", "method", "c"), "boundary/observed_unstable": _req("curve", "method", "c"),
-        "boundary/paper": _req("curve", "c"), "boundary/rk4": _req("curve", "c"),
-        "boundary/linear": _opt("curve", "method", "c"), "boundary/grid_consistent": _opt("curve", "method", "c"),
-        "boundary/rk4_undamped": _opt("curve", "c"),
-    },
-}
+#: are checked; each dimension names the axis a dataset runs over: the first dataset (in this order) with that axis
+#: sets its length and every later one must agree. Datasets not listed are not read. Generated from the output
+#: tables, src/io/outputs/<scene>.toml (the rows with `read`), by src/io/generate_outputs.py (`layout.py`): the same
+#: tables the Fortran writers' records and metadata follow.
+SCHEMA: dict[str, dict[str, tuple[tuple[str, ...], bool]]] = layout.SCHEMA
 #: The datasets of a scene whose file names another solver in its root attribute `solver`, {(scene, solver): as
-#: SCHEMA}: the continuation scene by harmonic balance (src/scenes/supratrans_fold_hb.f90) has /fold_amplitude,
-#: /status and /branch as the shooting layout means them, its own convergence checks (the harmonics K, the rk8
-#: period from the fold's state, the absorber family, the continuum limit in c), and none of shooting's stability
-#: and transmission datasets.
-SOLVER_SCHEMA: dict[tuple[str, str], dict[str, tuple[tuple[str, ...], bool]]] = {
-    ("continuation", "harmonic_balance"): {
-        "omega": _req("omega"), "curves/potential": _req("curve"), "curves/value": _req("curve"),
-        "fold_amplitude": _req("curve", "omega"), "threshold_As": _req("curve", "omega"),
-        "status": _req("curve", "omega"), "harmonics": _req("curve", "omega"),
-        "fold_period_closure": _req("curve", "omega"), "convergence/harmonics_error": _req("curve", "omega"),
-        "branch/points": _req("curve", "omega"),
-        **{f"branch/{k}": _req("curve", "omega", "point") for k in ("amplitude", "umax")},
-        "curves/m2": _opt("curve"), "curves/band_gap_edge": _opt("curve"),
-        "fold_multiplier_excess": _opt("curve", "omega"),
-        **{f"convergence/{k}": _opt("curve", "omega") for k in ("far_field_umax", "absorber_spread",
-                                                                 "fold_semi_infinite", "fold_radiation")},
-        "convergence/absorber_folds": _opt("curve", "omega", "absorber"),
-        "continuum/c": _opt("coupling"), "continuum/folds": _opt("curve", "omega", "coupling"),
-        "continuum/fold": _opt("curve", "omega"), "continuum/error_estimate": _opt("curve", "omega"),
-        "cost/wall_time": _opt("curve", "omega"),
-    },
-}
+#: SCHEMA}: the continuation scene by harmonic balance (src/io/outputs/continuation_harmonic_balance.toml) has
+#: /fold_amplitude, /status and /branch as the shooting layout means them, its own convergence checks (the
+#: harmonics K, the rk8 period from the fold's state, the absorber family, the continuum limit in c), and none of
+#: shooting's stability and transmission datasets.
+SOLVER_SCHEMA: dict[tuple[str, str], dict[str, tuple[tuple[str, ...], bool]]] = layout.SOLVER_SCHEMA
 #: The datasets that hold text (names); every other dataset of SCHEMA holds numbers.
-TEXT = ("curves/potential", "methods")
+TEXT = layout.TEXT
 #: The axes of the grids and records, {schema dimension: dataset}: each value of one must be a finite number (the
 #: 2-D `dt` of work_precision, one row of time steps per method padded with NaN, needs one finite value at least).
 AXES = {"amplitude": "amplitude", "omega": "omega", "c": "c", "dt": "dt", "probe": "probes/sites",
@@ -165,9 +66,9 @@ AXES = {"amplitude": "amplitude", "omega": "omega", "c": "c", "dt": "dt", "probe
         "probe_time": "probes/time", "ledger_time": "ledger/time"}
 #: Every scene the program writes.
 SCENES = tuple(SCHEMA)
-#: Scenes drawn as figures of the paper (`figures`), and as the speed/accuracy charts (`charts`).
 #: Attributes of a dataset that the figures show, kept by `read` (`Scene.attr`): the thin verdicts' margin.
 DATASET_ATTRS = ("thin_margin", "thin_verdicts", "flag_values", "flag_meanings")
+#: Scenes drawn as figures of the paper (`figures`), and as the speed/accuracy charts (`charts`).
 FIGURE_SCENES = ("timeseries", "amplitude_sweep", "map", "bifurcation", "continuation", "hysteresis")
 CHART_SCENES = ("stability", "work_precision")
 

@@ -19,22 +19,24 @@ module supratrans_fold_hb
     use supratrans_kinds, only: wp, i8, pi
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_tasks, warn_partial
+    use supratrans_scene, only: scene_tasks
     use supratrans_config, only: input_config, run_config, chain_params, method_rk8, closure_absorber, &
                                  closure_radiation, solver_choices
-    use supratrans_curves, only: curve_count, curve_run, write_curves
+    use supratrans_curves, only: write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge
     use supratrans_status, only: status_outside_gap, status_not_run
     use supratrans_tasks, only: task_list
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, fixed1
-    use supratrans_scene_bifurcation, only: bifurcation_omegas
+    use supratrans_axis_scene, only: axis_tasks, init_axes
     use supratrans_fold_line, only: fold_status_codes, fold_found, instability_type_codes
     use supratrans_harmonic_balance, only: hb_system, hb_init, hb_time_state, hb_spectrum
     use supratrans_hb_continuation, only: hb_controls, hb_result, hb_fold_converged
     use supratrans_period_map, only: period_map, period_map_init
     use supratrans_fixed_point_map, only: map_ok
+    use supratrans_hb_scalars, only: hb_scalars, hb_scalars_names, hb_scalars_values, hb_scalars_from_values, &
+                                     empty_hb_scalars, write_hb_scalars
     use supratrans_floquet, only: floquet_multipliers, largest_modulus, is_stable, leading_crossing
     implicit none
     private
@@ -45,86 +47,30 @@ module supratrans_fold_hb
     integer, parameter, public :: spectrum_harmonics = 8
     !> Floquet multipliers kept at the fold, those of largest modulus.
     integer, parameter, public :: hb_kept_multipliers = 8
-    !> Scalar values of a record (the first `put`s of `serialize`).
-    integer, parameter :: scalar_count = 27
     !> Quantities of each branch point (`/branch/<name>`).
     character(len=*), parameter, public :: hb_branch_quantities(*) = [character(len=17) :: "amplitude", "umax", &
         "energy", "newton_iterations", "residual", "multiplier_max", "stable"]
 
-    !> The tasks of a harmonic-balance continuation: task t = (curve - 1) nomega + iomega.
-    type, extends(task_list), public :: hb_fold_tasks
-        !> The validated input.
-        type(input_config) :: cfg
-        !> How the engine is invoked.
-        type(invocation_type) :: inv
-        !> Run of each curve.
-        type(run_config), allocatable :: runs(:)
-        !> The frequencies.
-        real(wp), allocatable :: omegas(:)
+    !> The tasks of a harmonic-balance continuation (the axes of `axis_tasks`): task t = (curve - 1) nomega + iomega.
+    type, extends(axis_tasks), public :: hb_fold_tasks
         !> The couplings of the continuum limit (empty: none).
         real(wp), allocatable :: c_values(:)
-        !> Path of the partial output.
-        character(len=:), allocatable :: partial_path
     contains
         !> Locate the fold of one task.
         procedure :: run => run_hb_task
-        !> Write the partial output.
-        procedure :: snapshot => write_hb_snapshot
+        !> The scene's file.
+        procedure :: write_file => write_hb_file
         !> Estimated cost of a task: K^3 N of its first K.
         procedure :: cost => hb_task_cost
     end type hb_fold_tasks
 
-    !> One (curve, Omega) task of the harmonic-balance continuation.
-    type, public :: hb_record
-        !> Fold amplitude A_f of the chain of the input; NaN when none.
-        real(wp) :: fold_amplitude = 0.0_wp
-        !> max |R| of the harmonic balance at the fold.
-        real(wp) :: fold_residual = 0.0_wp
-        !> `cont_*` status (0 fold found), or the scene's -2 outside the gap, -1 pending.
-        integer :: status = 0
-        !> A_s of the curve's chain at Omega; NaN outside the gap.
-        real(wp) :: threshold_as = 0.0_wp
-        !> Odd harmonics K of the fold.
-        integer :: harmonics = 0
-        !> |A_f(K) - A_f(K_previous)|: the fold's truncation estimate in K.
-        real(wp) :: harmonics_error = 0.0_wp
-        !> max |u_n(t)| at the fold.
-        real(wp) :: fold_umax = 0.0_wp
-        !> max |P(x) - x| of one rk8 period from the fold's state (u, u') at t = 0.
-        real(wp) :: period_closure = 0.0_wp
-        !> Largest |mu| - 1 of the rk8 multipliers at the fold other than the one at +1; NaN when not computed.
-        real(wp) :: multiplier_excess = 0.0_wp
-        !> The first sampled branch point below the fold whose rk8 multipliers leave the unit circle (NaN: none), the
-        !> last sampled point stable below it (the bracket of the first loss of stability), and the loss's type
-        !> (`supratrans_floquet` crossing codes; 0 none).
-        real(wp) :: instability_amplitude = 0.0_wp, instability_lower = 0.0_wp
-        !> The loss's type.
-        integer :: instability_type = 0
-        !> max |u_{N0}(t)| at the fold: how linear the far field is where the absorber begins.
-        real(wp) :: far_field_umax = 0.0_wp
-        !> Folds with the absorber 2, 4, .. times as long and wide (NaN when not computed), then on the core N0 with
-        !> the radiation closure.
+    !> One (curve, Omega) task of the harmonic-balance continuation: its scalar fields, one dataset each, are those of
+    !> the output table src/io/outputs/continuation_harmonic_balance.toml (`hb_scalars`); the arrays follow.
+    type, extends(hb_scalars), public :: hb_record
+        !> Folds with the absorber 2, 4, .. times as long and wide (NaN when not computed).
         real(wp), allocatable :: absorber_folds(:)
-        !> The fold on the core N0 closed by the radiation condition.
-        real(wp) :: fold_radiation = 0.0_wp
-        !> max |A_f(absorber m) - A_f| over the family; NaN when not computed.
-        real(wp) :: absorber_spread = 0.0_wp
-        !> The fold with the longest absorber of the family.
-        real(wp) :: fold_semi_infinite = 0.0_wp
         !> Folds at each c of `c_values`; NaN when not computed.
         real(wp), allocatable :: continuum_folds(:)
-        !> Extrapolation of the folds to c -> infinity in 1/c^2 and its error estimate.
-        real(wp) :: continuum_fold = 0.0_wp, continuum_error = 0.0_wp
-        !> Newton iterations, LU factorisations, residual evaluations, branches traced from rest.
-        integer :: newton_iterations = 0, factorizations = 0, residuals = 0, continuations = 0
-        !> Wall-clock time of the task (s).
-        real(wp) :: wall_time = 0.0_wp
-        !> The chain used: N, N0, sigma.
-        integer :: chain_n = 0, chain_n0 = 0
-        !> Absorber width sigma.
-        real(wp) :: chain_sigma = 0.0_wp
-        !> Branch points computed.
-        integer :: points = 0
         !> The branch: `hb_branch_quantities` (rows) at each point (columns).
         real(wp), allocatable :: branch(:, :)
         !> Amplitudes of the harmonics 1, 3, .. (`spectrum_harmonics`) at each site at the fold, (8, N).
@@ -144,25 +90,15 @@ contains
         !> Error, allocated when the axis is empty.
         type(error_type), allocatable, intent(out) :: error
         type(hb_fold_tasks), allocatable :: list
-        integer :: ncurve, nomega, ic
+        integer :: ncurve, nomega
 
         allocate (list)
-        list%cfg = cfg
-        list%inv = tasks%inv
-        list%omegas = bifurcation_omegas(cfg)
-        ncurve = curve_count(cfg)
+        call init_axes(list, cfg, tasks%inv, 1, error)
+        if (allocated(error)) return
+        ncurve = size(list%runs)
         nomega = size(list%omegas)
-        if (nomega < 1) then
-            call fatal_error(error, cfg%source // ": &scene: the frequency axis omega_min .. omega_max is empty", err_input)
-            return
-        end if
-        allocate (list%runs(ncurve))
-        do ic = 1, ncurve
-            list%runs(ic) = curve_run(cfg, ic)
-        end do
         allocate (list%c_values(0))
         if (allocated(cfg%scene%c_values)) list%c_values = cfg%scene%c_values
-        list%partial_path = trim(cfg%output%file) // ".partial.h5"
         tasks%header = "supratrans: continuation (" // trim(solver_choices(2)) // ") from " // cfg%source // ": " &
             // int_str(ncurve) // " curve(s) x " // int_str(nomega) // " frequencies, N = " &
             // int_str(cfg%run%chain%n) // ", K up to " // int_str(cfg%scene%harmonics_max)
@@ -181,22 +117,7 @@ contains
         real(wp) :: nan
 
         nan = ieee_value(nan, ieee_quiet_nan)
-        r%fold_amplitude = nan
-        r%fold_residual = nan
-        r%threshold_as = nan
-        r%harmonics_error = nan
-        r%fold_umax = nan
-        r%period_closure = nan
-        r%multiplier_excess = nan
-        r%instability_amplitude = nan
-        r%instability_lower = nan
-        r%far_field_umax = nan
-        r%fold_radiation = nan
-        r%absorber_spread = nan
-        r%fold_semi_infinite = nan
-        r%continuum_fold = nan
-        r%continuum_error = nan
-        r%chain_sigma = nan
+        r%hb_scalars = empty_hb_scalars()
         allocate (r%absorber_folds(nfamily), source=nan)
         allocate (r%continuum_folds(nc), source=nan)
         allocate (r%branch(size(hb_branch_quantities), npts), source=nan)
@@ -243,36 +164,12 @@ contains
         integer :: k, j, i
 
         i = 0
-        k = scalar_count + size(r%absorber_folds) + size(r%continuum_folds) + 2*hb_kept_multipliers + size(r%branch) &
+        k = size(hb_scalars_names) + size(r%absorber_folds) + size(r%continuum_folds) + 2*hb_kept_multipliers + size(r%branch) &
             + size(r%spectrum)
         allocate (v(k), names(k))
-        call put("fold_amplitude", r%fold_amplitude)
-        call put("fold_residual", r%fold_residual)
-        call put("status", real(r%status, wp))
-        call put("threshold_as", r%threshold_as)
-        call put("harmonics", real(r%harmonics, wp))
-        call put("harmonics_error", r%harmonics_error)
-        call put("fold_umax", r%fold_umax)
-        call put("period_closure", r%period_closure)
-        call put("multiplier_excess", r%multiplier_excess)
-        call put("instability_amplitude", r%instability_amplitude)
-        call put("instability_lower", r%instability_lower)
-        call put("instability_type", real(r%instability_type, wp))
-        call put("far_field_umax", r%far_field_umax)
-        call put("fold_radiation", r%fold_radiation)
-        call put("absorber_spread", r%absorber_spread)
-        call put("fold_semi_infinite", r%fold_semi_infinite)
-        call put("continuum_fold", r%continuum_fold)
-        call put("continuum_error", r%continuum_error)
-        call put("newton_iterations", real(r%newton_iterations, wp))
-        call put("factorizations", real(r%factorizations, wp))
-        call put("residuals", real(r%residuals, wp))
-        call put("continuations", real(r%continuations, wp))
-        call put("wall_time", r%wall_time)
-        call put("chain_n", real(r%chain_n, wp))
-        call put("chain_n0", real(r%chain_n0, wp))
-        call put("chain_sigma", r%chain_sigma)
-        call put("points", real(r%points, wp))
+        i = size(hb_scalars_names)
+        v(1:i) = hb_scalars_values(r%hb_scalars)
+        names(1:i) = hb_scalars_names
         do k = 1, size(r%absorber_folds)
             call put("absorber_fold_" // int_str(k), r%absorber_folds(k))
         end do
@@ -319,33 +216,8 @@ contains
 
         r = empty_hb_record(npts, n, nfamily, nc)
         i = 0
-        r%fold_amplitude = take()
-        r%fold_residual = take()
-        r%status = nint(take())
-        r%threshold_as = take()
-        r%harmonics = nint(take())
-        r%harmonics_error = take()
-        r%fold_umax = take()
-        r%period_closure = take()
-        r%multiplier_excess = take()
-        r%instability_amplitude = take()
-        r%instability_lower = take()
-        r%instability_type = nint(take())
-        r%far_field_umax = take()
-        r%fold_radiation = take()
-        r%absorber_spread = take()
-        r%fold_semi_infinite = take()
-        r%continuum_fold = take()
-        r%continuum_error = take()
-        r%newton_iterations = nint(take())
-        r%factorizations = nint(take())
-        r%residuals = nint(take())
-        r%continuations = nint(take())
-        r%wall_time = take()
-        r%chain_n = nint(take())
-        r%chain_n0 = nint(take())
-        r%chain_sigma = take()
-        r%points = nint(take())
+        r%hb_scalars = hb_scalars_from_values(v)
+        i = size(hb_scalars_names)
         do k = 1, nfamily
             r%absorber_folds(k) = take()
         end do
@@ -395,20 +267,6 @@ contains
         ctl%keep_states = cfg%scene%floquet_every > 0
     end function scene_controls
 
-    !> The run of task `index`: its curve's run at its frequency.
-    pure function hb_task_run(self, index) result(run)
-        !> The tasks.
-        class(hb_fold_tasks), intent(in) :: self
-        !> Task index.
-        integer, intent(in) :: index
-        type(run_config) :: run
-        integer :: nomega
-
-        nomega = size(self%omegas)
-        run = self%runs((index - 1)/nomega + 1)
-        run%drive%omega = self%omegas(mod(index - 1, nomega) + 1)
-    end function hb_task_run
-
     !> Locate the fold of task `index` and what the scene adds to it (thread-safe: everything it changes is local).
     subroutine run_hb_task(self, index, values)
         !> The tasks.
@@ -428,7 +286,7 @@ contains
         real(wp) :: scale
 
         call system_clock(clock_start, clock_rate)
-        run = hb_task_run(self, index)
+        run = self%task_run(index)
         r = empty_hb_record(self%cfg%scene%continuation_points, run%chain%n, self%cfg%scene%absorber_family, &
                             size(self%c_values))
         r%chain_n = run%chain%n
@@ -719,7 +577,7 @@ contains
         real(wp) :: cost
         type(run_config) :: run
 
-        run = hb_task_run(self, index)
+        run = self%task_run(index)
         cost = 0.0_wp
         if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. self%cfg%allow_outside_gap) return
         cost = real(run%chain%n, wp)*max(3.0_wp, 3.0_wp/run%drive%omega)**3
@@ -732,34 +590,22 @@ contains
         !> The tasks' records.
         type(scene_tasks), intent(in) :: tasks
         character(len=:), allocatable :: text
+        type(hb_scalars) :: r
         integer :: i, found
 
         found = 0
         do i = 1, size(tasks%done)
-            if (nint(tasks%results(3, i)) == fold_found .and. tasks%done(i)) found = found + 1
+            r = hb_scalars_from_values(tasks%results(:, i))
+            if (r%status == fold_found .and. tasks%done(i)) found = found + 1
         end do
         text = "  " // int_str(found) // " of " // int_str(size(tasks%done)) // " folds found by harmonic balance, " &
                // fixed1(tasks%elapsed) // " s, K up to " // int_str(cfg%scene%harmonics_max)
     end function hb_summary
 
-    !> Write the partial output (failures ignored: the journal is what a resumed run reads).
-    subroutine write_hb_snapshot(self, results, done)
+    !> Write the scene's file `path` (built in memory, written atomically): tasks not done get NaN and status -1.
+    subroutine write_hb_file(self, path, results, done, complete, elapsed, error)
         !> The tasks.
         class(hb_fold_tasks), intent(in) :: self
-        !> Results so far.
-        real(wp), intent(in) :: results(:, :)
-        !> Which tasks are done.
-        logical, intent(in) :: done(:)
-        type(error_type), allocatable :: error
-
-        call write_hb_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
-        call warn_partial(error, self%cfg%output%quiet)
-    end subroutine write_hb_snapshot
-
-    !> Write the scene's file `path` (built in memory, written atomically): tasks not done get NaN and status -1.
-    subroutine write_hb_file(tasks, path, results, done, complete, elapsed, error)
-        !> The tasks.
-        class(hb_fold_tasks), intent(in) :: tasks
         !> Final path of the file.
         character(len=*), intent(in) :: path
         !> Results, (values, tasks).
@@ -776,15 +622,15 @@ contains
         type(hb_record), allocatable :: recs(:)
         real(wp), allocatable :: a4(:, :, :, :)
         integer :: ncurve, nomega, ntask, t, q, npts, n, nfam, nc
-        character(len=*), parameter :: dims = "curve, omega", g = "/convergence/"
+        character(len=*), parameter :: g = "/convergence/"
 
-        ncurve = size(tasks%runs)
-        nomega = size(tasks%omegas)
+        ncurve = size(self%runs)
+        nomega = size(self%omegas)
         ntask = ncurve*nomega
-        npts = tasks%cfg%scene%continuation_points
-        n = tasks%cfg%run%chain%n
-        nfam = tasks%cfg%scene%absorber_family
-        nc = size(tasks%c_values)
+        npts = self%cfg%scene%continuation_points
+        n = self%cfg%run%chain%n
+        nfam = self%cfg%scene%absorber_family
+        nc = size(self%c_values)
         allocate (recs(ntask))
         do t = 1, ntask
             if (done(t)) then
@@ -796,57 +642,27 @@ contains
         end do
 
         call h5_create(file, path, .true.)
-        call write_root(file, tasks%cfg, "continuation", "Fold (saddle-node) of the branch of driven periodic " &
+        call write_root(file, self%cfg, "continuation", "Fold (saddle-node) of the branch of driven periodic " &
                         // "states of the ODE vs driving frequency by harmonic balance: the supratransmission " &
-                        // "threshold of the model, one curve per potential and varied value", tasks%inv)
+                        // "threshold of the model, one curve per potential and varied value", self%inv)
         call h5_write_attr(file, "/", "solver", "harmonic_balance")
         call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
         call h5_write_attr(file, "/", "tasks_done", count(done))
-        call write_parameters(file, tasks%cfg)
-        call h5_write(file, "/omega", tasks%omegas, "1/time", &
+        call write_parameters(file, self%cfg)
+        call h5_write(file, "/omega", self%omegas, "1/time", &
             "Driving frequency Omega_i = omega_min + i omega_step", dims="omega")
-        call write_curves(file, tasks%cfg, tasks%runs)
-        call h5_write(file, "/fold_amplitude", grid(recs%fold_amplitude), "rad", "Fold A_f of the branch of " &
-            // "periodic states of the ODE (eq. (1)) from rest, by harmonic balance, converged in K to " &
-            // "/convergence/harmonics_error; NaN when none (see /status)", dims=dims)
-        call h5_write(file, "/fold_residual", grid(recs%fold_residual), "rad", &
-            "max |R| of the harmonic balance at the located fold", dims=dims)
-        call h5_write(file, "/status", igrid(recs%status), "1", &
-            "Outcome of the continuation (codes in attribute 'codes')", dims=dims)
+        call write_curves(file, self%cfg, self%runs)
+        ! the datasets of the record's scalar fields and their groups: the output table's
+        ! (continuation_harmonic_balance.toml)
+        call write_hb_scalars(file, recs%hb_scalars, nomega, nc > 0)
         call h5_write_attr(file, "/status", "codes", "-2: outside gap (not computed); " &
             // "-1: pending (not computed yet); " // fold_status_codes())
-        call h5_write(file, "/threshold_As", grid(recs%threshold_as), "rad", &
-            "Continuum-limit threshold A_s = 4 arctan(lambda c / Omega) of the curve's chain; NaN outside the gap", &
-            dims=dims)
-        call h5_write(file, "/outside_gap", reshape(merge(1, 0, &
-            [(tasks%omegas(mod(t - 1, nomega) + 1) >= band_gap_edge(tasks%runs((t - 1)/nomega + 1)%chain), &
-            t=1, ntask)]), [nomega, ncurve]), "1", "1 where Omega >= sqrt(V''(0) + m^2), outside the curve's band gap", &
-            dims=dims)
-        call h5_write(file, "/harmonics", igrid(recs%harmonics), "1", "Odd harmonics K of the fold " &
-            // "(frequencies Omega, 3 Omega, .., (2K - 1) Omega), grown until the fold moved by at most harmonics_tol", &
-            dims=dims)
-        call h5_write(file, "/fold_umax", grid(recs%fold_umax), "rad", "max |u_n(t)| of the state at the fold", &
-            dims=dims)
-        call h5_write(file, "/fold_period_closure", grid(recs%period_closure), "rad", "max |P(x) - x| of one " &
-            // "drive period of the rk8 method (the &numerics dt, adjusted to whole steps) from the fold's state " &
-            // "(u_n, u_n') at t = 0: how well the frequency-domain state is a periodic orbit of the ODE", dims=dims)
-        call h5_write(file, "/fold_multiplier_excess", grid(recs%multiplier_excess), "1", "Largest |mu| - 1 of " &
-            // "the rk8 Floquet multipliers at the fold other than the fold's own (nearest +1): negative when the " &
-            // "state is stable but for the fold's direction; NaN when not computed (floquet_every = 0)", dims=dims)
-        call h5_write(file, "/instability_amplitude", grid(recs%instability_amplitude), "rad", "The first sampled " &
-            // "branch point below the fold (every floquet_every-th, and the last before the fold) whose rk8 " &
-            // "multipliers leave the unit circle by more than crossing_tol; NaN when every sample is stable or none " &
-            // "was computed (floquet_every = 0)", dims=dims)
-        call h5_write(file, "/instability_lower", grid(recs%instability_lower), "rad", "The last sampled point " &
-            // "stable below /instability_amplitude: the first loss of stability lies between the two", dims=dims)
-        call h5_write(file, "/instability_type", igrid(recs%instability_type), "1", &
-            "How the branch first loses stability, by the leading multiplier there (codes in attribute 'codes')", &
-            dims=dims)
         call h5_write_attr(file, "/instability_type", "codes", instability_type_codes())
-        call h5_write(file, "/chain_n", igrid(recs%chain_n), "1", "Oscillators N of the chain", dims=dims)
-        call h5_write(file, "/chain_n0", igrid(recs%chain_n0), "1", "Last site N0 before the absorber", dims=dims)
-        call h5_write(file, "/chain_sigma", grid(recs%chain_sigma), "1", "Width sigma of the absorber's ramp", &
-            dims=dims)
+        if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
+        call h5_write(file, "/outside_gap", reshape(merge(1, 0, &
+            [(self%omegas(mod(t - 1, nomega) + 1) >= band_gap_edge(self%runs((t - 1)/nomega + 1)%chain), &
+            t=1, ntask)]), [nomega, ncurve]), "1", "1 where Omega >= sqrt(V''(0) + m^2), outside the curve's band gap", &
+            dims="curve, omega")
         a4 = reshape([(transpose(recs(t)%spectrum), t=1, ntask)], [n, spectrum_harmonics, nomega, ncurve])
         call h5_write(file, "/spectrum", a4, "rad", "Amplitude sqrt(a^2 + b^2) of the odd harmonics 1, 3, .., " &
             // int_str(2*spectrum_harmonics - 1) // " of u_n at the fold, per site n (NaN past K)", &
@@ -857,53 +673,17 @@ contains
                       "1", "Real parts", dims="curve, omega, multiplier")
         call h5_write(file, "/multipliers/imag", cube([(recs(t)%multiplier_im, t=1, ntask)], hb_kept_multipliers), &
                       "1", "Imaginary parts", dims="curve, omega, multiplier")
-        call h5_create_group(file, "/convergence", "How far each fold is converged: in the harmonics, and with the " &
-            // "absorber (&scene absorber_family); NaN when not computed")
-        call h5_write(file, g // "harmonics_error", grid(recs%harmonics_error), "rad", "|A_f(K) - A_f(K')| of the " &
-            // "last two numbers of harmonics: the truncation estimate of /fold_amplitude", dims=dims)
-        call h5_write(file, g // "far_field_umax", grid(recs%far_field_umax), "rad", "max |u_N0(t)| at the fold, " &
-            // "where the absorber begins: the radiation condition is exact where this is small (V' linear)", &
-            dims=dims)
         if (nfam > 0) then
             call h5_write(file, g // "absorber_folds", cube([(recs(t)%absorber_folds, t=1, ntask)], nfam), "rad", &
                 "The fold with the absorber 2^m times as long " &
                 // "(N - N0) and as wide (sigma), m = 1 .. absorber_family, the core N0 kept", &
                 dims="curve, omega, absorber")
         end if
-        call h5_write(file, g // "absorber_spread", grid(recs%absorber_spread), "rad", "max over the family of " &
-            // "|A_f(absorber m) - A_f|: how far the fold of the finite chain is from the semi-infinite chain's", &
-            dims=dims)
-        call h5_write(file, g // "fold_semi_infinite", grid(recs%fold_semi_infinite), "rad", "The fold with the " &
-            // "longest absorber of the family: the best value for the semi-infinite chain of eq. (1), uncertain " &
-            // "by about /convergence/absorber_spread", dims=dims)
-        call h5_write(file, g // "fold_radiation", grid(recs%fold_radiation), "rad", "The fold of the core " &
-            // "(N = N0, no absorber) closed by the exact linear radiation condition per harmonic", dims=dims)
         if (nc > 0) then
-            call h5_create_group(file, "/continuum", "The fold at each coupling c of c_values, N, N0 and sigma " &
-                // "scaled with c, and its limit c -> infinity (the paper's claim: larger c approach A_s)")
-            call h5_write(file, "/continuum/c", tasks%c_values, "1/time", "Couplings c", dims="c")
+            call h5_write(file, "/continuum/c", self%c_values, "1/time", "Couplings c", dims="c")
             call h5_write(file, "/continuum/folds", cube([(recs(t)%continuum_folds, t=1, ntask)], nc), "rad", &
                           "The fold at each c", dims="curve, omega, c")
-            call h5_write(file, "/continuum/fold", grid(recs%continuum_fold), "rad", "Richardson extrapolation of " &
-                // "the folds to c -> infinity in 1/c^2 from the two largest c", dims=dims)
-            call h5_write(file, "/continuum/error_estimate", grid(recs%continuum_error), "rad", "Change of the " &
-                // "extrapolation from the next smaller pair of c (with two c: from the largest c's fold)", dims=dims)
         end if
-        call h5_create_group(file, "/cost", "What each task cost (the convergence checks included)")
-        call h5_write(file, "/cost/newton_iterations", igrid(recs%newton_iterations), "1", &
-            "Newton (and chord) iterations", dims=dims)
-        call h5_write(file, "/cost/factorizations", igrid(recs%factorizations), "1", &
-            "Block-tridiagonal LU factorisations of the Jacobian", dims=dims)
-        call h5_write(file, "/cost/residuals", igrid(recs%residuals), "1", "Residual evaluations", dims=dims)
-        call h5_write(file, "/cost/continuations", igrid(recs%continuations), "1", &
-            "Branches traced from rest (the other folds were located from a neighbouring one)", dims=dims)
-        call h5_write(file, "/cost/wall_time", grid(recs%wall_time), "s", "Wall-clock time of the task (one " &
-            // "thread)", dims=dims)
-        if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
-        call h5_create_group(file, "/branch", "The branch of periodic states of each task from A = 0, traced with " &
-            // "the first K (its fold among the points, that K's: /fold_amplitude is the fold converged in K); NaN " &
-            // "past /branch/points")
-        call h5_write(file, "/branch/points", igrid(recs%points), "1", "Points computed on the branch", dims=dims)
         do q = 1, size(hb_branch_quantities)
             call h5_write(file, "/branch/" // trim(hb_branch_quantities(q)), &
                           cube([(recs(t)%branch(q, :), t=1, ntask)], npts), branch_units(q), &
@@ -922,22 +702,6 @@ contains
 
             c = reshape(x, [m, nomega, ncurve])
         end function cube
-
-        !> A per-task real as an (omega, curve) grid.
-        pure function grid(x) result(gr)
-            real(wp), intent(in) :: x(:)
-            real(wp), allocatable :: gr(:, :)
-
-            gr = reshape(x, [nomega, ncurve])
-        end function grid
-
-        !> A per-task integer as an (omega, curve) grid.
-        pure function igrid(x) result(gr)
-            integer, intent(in) :: x(:)
-            integer, allocatable :: gr(:, :)
-
-            gr = reshape(x, [nomega, ncurve])
-        end function igrid
 
     end subroutine write_hb_file
 

@@ -32,7 +32,8 @@ module supratrans_scene_bifurcation
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, scene_plan, wrong_tasks, warn_partial
+    use supratrans_scene, only: scene_budget, scene_tasks, scene_plan
+    use supratrans_axis_scene, only: axis_tasks, axis_scene, init_axes, bifurcation_omegas => scene_omegas
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config, run_config, screen_none, screen_choices
     use supratrans_curves, only: curve_count, curve_run
@@ -40,7 +41,6 @@ module supratrans_scene_bifurcation
     use supratrans_status, only: bifurcation_outside_gap => status_outside_gap, bifurcation_pending => status_not_run
     use supratrans_search_record, only: search_record, search_fields, from_values, certify_unchanged, &
                                         certify_moved_within, certify_moved
-    use supratrans_tasks, only: task_list, input_fingerprint
     use supratrans_strings, only: int_str, real_str, fixed1, printable
     use supratrans_bifurcation_runs, only: search_run, with_numerics, screen_integrator, screen_dt
     use supratrans_result, only: thin_margin
@@ -54,30 +54,19 @@ module supratrans_scene_bifurcation
     public :: bifurcation_outside_gap, bifurcation_pending
 
     !> The tasks of a bifurcation scene: task t = (curve - 1) nomega + iomega searches one threshold.
-    type, extends(task_list) :: bifurcation_tasks
-        !> The validated input.
-        type(input_config) :: cfg
-        !> How the engine is invoked (slice, merge: `supratrans_invocation`).
-        type(invocation_type) :: inv
-        !> Run of each curve, prepared for the search (early stop, nothing recorded).
-        type(run_config), allocatable :: runs(:)
-        !> The same with the screening method and step (allocated when the scene screens).
+    type, extends(axis_tasks) :: bifurcation_tasks
+        !> The runs of the axes (`runs`) are prepared for the search (early stop, nothing recorded); the same with
+        !> the screening method and step (allocated when the scene screens).
         type(run_config), allocatable :: screen_runs(:)
         !> The same at dt/2 (allocated when the scene certifies).
         type(run_config), allocatable :: half_runs(:)
-        !> The frequencies.
-        real(wp), allocatable :: omegas(:)
-        !> Path of the partial output written by `snapshot`.
-        character(len=:), allocatable :: partial_path
-        !> Mid-run checkpoints of task t: `<checkpoint_prefix><t>`, bound to `fingerprint` and t.
-        character(len=:), allocatable :: checkpoint_prefix, fingerprint
     contains
         !> Search the threshold of one task.
         procedure :: run => run_search
         !> Whether a task's record is a result (not one stopped by a signal at a checkpoint).
         procedure :: finished => search_finished
-        !> Write the partial output.
-        procedure :: snapshot => write_snapshot
+        !> The scene's file.
+        procedure :: write_file => write_bifurcation_file
         !> Estimated cost of one search (slices of equal cost).
         procedure :: cost => search_cost
         !> The searches' measured wall times in an earlier output of the same study (`--costs`).
@@ -85,18 +74,14 @@ module supratrans_scene_bifurcation
     end type bifurcation_tasks
 
     !> The scene `bifurcation`: one threshold search A_th per (curve, frequency).
-    type, extends(scene_type), public :: bifurcation_scene
+    type, extends(axis_scene), public :: bifurcation_scene
     contains
         !> Its tasks: one threshold search per (curve, frequency).
         procedure :: make_tasks => bifurcation_make_tasks
-        !> Its file (`write_bifurcation_file`).
-        procedure :: write_output => bifurcation_write_output
         !> The runs, time steps and wall time of the searches, and the certified thresholds.
         procedure :: summary => bifurcation_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => bifurcation_scene_limits
-        !> It runs omega_min .. omega_max: `&drive omega` is not used.
-        procedure :: frequency_axis => bifurcation_frequency_axis
         procedure :: plan => bifurcation_scene_plan
     end type bifurcation_scene
 
@@ -138,22 +123,11 @@ module supratrans_scene_bifurcation
             type(search_record) :: r
         end function unsearched_record
 
-        !> Write the results so far to `<output>.partial.h5` (root attribute `complete = 0`); failures are ignored (the
-        !> journal, not this file, is what a resumed run reads).
-        module subroutine write_snapshot(self, results, done)
-            !> The tasks.
-            class(bifurcation_tasks), intent(in) :: self
-            !> Results so far, (values, tasks).
-            real(wp), intent(in) :: results(:, :)
-            !> Which tasks are done.
-            logical, intent(in) :: done(:)
-        end subroutine write_snapshot
-
         !> Write the scene's file `path` (built in memory, written atomically): tasks not done get NaN and status
         !> `bifurcation_pending`.
-        module subroutine write_bifurcation_file(tasks, path, results, done, complete, elapsed, error)
+        module subroutine write_bifurcation_file(self, path, results, done, complete, elapsed, error)
             !> The tasks.
-            type(bifurcation_tasks), intent(in) :: tasks
+            class(bifurcation_tasks), intent(in) :: self
             !> Final path of the file.
             character(len=*), intent(in) :: path
             !> Results, (values, tasks).
@@ -213,24 +187,15 @@ contains
         !> Error, allocated when the frequency axis is empty.
         type(error_type), allocatable, intent(out) :: error
         type(bifurcation_tasks), allocatable :: list
-        character(len=:), allocatable :: output
         integer :: ncurve, nomega, ic
 
         allocate (list)
-        output = trim(cfg%output%file)
-        list%cfg = cfg
-        list%inv = tasks%inv
-        list%omegas = bifurcation_omegas(cfg)
-        ncurve = curve_count(cfg)
+        call init_axes(list, cfg, tasks%inv, 1, error)
+        if (allocated(error)) return
+        ncurve = size(list%runs)
         nomega = size(list%omegas)
-        if (nomega < 1) then
-            call fatal_error(error, source_name(cfg) // ": &scene: the frequency axis omega_min .. omega_max is empty", &
-                             err_input)
-            return
-        end if
-        allocate (list%runs(ncurve))
         do ic = 1, ncurve
-            list%runs(ic) = search_run(curve_run(cfg, ic))
+            list%runs(ic) = search_run(list%runs(ic))
         end do
         if (cfg%scene%screen_method /= screen_none) then
             allocate (list%screen_runs(ncurve))
@@ -246,9 +211,6 @@ contains
                                                               cfg%run%numerics%dt/2.0_wp))
             end do
         end if
-        list%partial_path = output // ".partial.h5"
-        list%checkpoint_prefix = output // ".checkpoint-"
-        list%fingerprint = input_fingerprint(cfg)
         tasks%header = "supratrans: bifurcation from " // printable(source_name(cfg)) // ": " // int_str(ncurve) &
             // " curve(s) x " // int_str(nomega) // " frequencies, amplitudes " // real_str(cfg%scene%amplitude_min, 6) &
             // " .. " // real_str(cfg%scene%amplitude_max, 6) // " (coarse step " &
@@ -259,26 +221,6 @@ contains
         tasks%label = "threshold searches"
         call move_alloc(list, tasks%list)
     end subroutine bifurcation_make_tasks
-
-    !> Write the scene's file, complete, with the scene's wall time (`write_bifurcation_file`).
-    subroutine bifurcation_write_output(self, cfg, tasks, error)
-        !> The scene.
-        class(bifurcation_scene), intent(in) :: self
-        !> The validated input.
-        type(input_config), intent(in) :: cfg
-        !> The tasks (a `bifurcation_tasks`), their records and the wall time.
-        type(scene_tasks), intent(in) :: tasks
-        !> Error, allocated on failure (the file is then not created).
-        type(error_type), allocatable, intent(out) :: error
-
-        select type (list => tasks%list)
-        type is (bifurcation_tasks)
-            call write_bifurcation_file(list, trim(cfg%output%file), tasks%results, tasks%done, .true., tasks%elapsed, &
-                                        error)
-        class default
-            call wrong_tasks(error, "bifurcation_tasks")
-        end select
-    end subroutine bifurcation_write_output
 
     !> The runs (screened), time steps and wall time of the searches; with `certify`, the thresholds that stand at
     !> dt/2 and those flagged.
@@ -326,21 +268,6 @@ contains
             // real_str(cfg%scene%screen_margin, 6)
         if (cfg%scene%certify) text = text // "; certified at dt/2"
     end function screening_text
-
-    !> The frequency axis of a scene: Omega_i = omega_min + i omega_step <= omega_max, i = 0, 1, ... (integer index;
-    !> a point within 1e-9 steps of omega_max is kept).
-    pure function bifurcation_omegas(cfg) result(omegas)
-        !> The input.
-        type(input_config), intent(in) :: cfg
-        real(wp), allocatable :: omegas(:)
-        integer :: i, n
-
-        n = search_grid_size(cfg%scene%omega_min, cfg%scene%omega_max, cfg%scene%omega_step)
-        allocate (omegas(n))
-        do i = 1, n
-            omegas(i) = cfg%scene%omega_min + real(i - 1, wp)*cfg%scene%omega_step
-        end do
-    end function bifurcation_omegas
 
     !> The namelist file of the input ("configuration" when not set).
     pure function source_name(cfg) result(name)
@@ -402,14 +329,5 @@ contains
         p%noun = "searches"
         p%steps = cfg%run%numerics%t_final/cfg%run%numerics%dt
     end function bifurcation_scene_plan
-
-    !> The scene runs its own frequency axis (omega_min .. omega_max).
-    pure function bifurcation_frequency_axis(self) result(yes)
-        !> The scene.
-        class(bifurcation_scene), intent(in) :: self
-        logical :: yes
-
-        yes = .true.
-    end function bifurcation_frequency_axis
 
 end module supratrans_scene_bifurcation

@@ -1,8 +1,8 @@
 !> The file of the scene `bifurcation` (a submodule of `supratrans_scene_bifurcation`, whose interface declares
-!> `write_snapshot`, `write_bifurcation_file` and `search_measured_costs`): the thresholds, the continuum-limit
-!> threshold, the cost of each search, the detector sites and statuses, `/screening` and `/certify` as (curve, omega)
-!> grids of the search records; written atomically, as the final output or as the partial snapshot, and read back
-!> for the measured costs of `--costs`.
+!> `write_bifurcation_file`, the binding `write_file` of its tasks, and `search_measured_costs`): the thresholds, the
+!> continuum-limit threshold, the cost of each search, the detector sites and statuses, `/screening` and `/certify`
+!> as (curve, omega) grids of the search records; written atomically, as the final output or as the partial snapshot,
+!> and read back for the measured costs of `--costs`.
 submodule(supratrans_scene_bifurcation) supratrans_scene_bifurcation_output
     use supratrans_curves, only: write_curves
     use supratrans_chain, only: detector_site
@@ -30,26 +30,11 @@ submodule(supratrans_scene_bifurcation) supratrans_scene_bifurcation_output
 
 contains
 
-    !> Write the results so far to `<output>.partial.h5` (root attribute `complete = 0`); failures are ignored (the
-    !> journal, not this file, is what a resumed run reads).
-    module subroutine write_snapshot(self, results, done)
-        !> The tasks.
-        class(bifurcation_tasks), intent(in) :: self
-        !> Results so far, (values, tasks).
-        real(wp), intent(in) :: results(:, :)
-        !> Which tasks are done.
-        logical, intent(in) :: done(:)
-        type(error_type), allocatable :: error
-
-        call write_bifurcation_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
-        call warn_partial(error, self%cfg%output%quiet)
-    end subroutine write_snapshot
-
     !> Write the scene's file `path` (built in memory, written atomically): tasks not done get NaN and status
     !> `bifurcation_pending`.
-    module subroutine write_bifurcation_file(tasks, path, results, done, complete, elapsed, error)
+    module subroutine write_bifurcation_file(self, path, results, done, complete, elapsed, error)
         !> The tasks.
-        type(bifurcation_tasks), intent(in) :: tasks
+        class(bifurcation_tasks), intent(in) :: self
         !> Final path of the file.
         character(len=*), intent(in) :: path
         !> Results, (values, tasks).
@@ -68,8 +53,8 @@ contains
         integer :: ncurve, nomega, ic, io
         character(len=*), parameter :: dims = "curve, omega"
 
-        ncurve = size(tasks%runs)
-        nomega = size(tasks%omegas)
+        ncurve = size(self%runs)
+        nomega = size(self%omegas)
         ! the records as values in `search_fields` order; tasks not done as records with nothing searched
         vals = results
         do ic = 1, size(done)
@@ -78,19 +63,19 @@ contains
         allocate (nd(nomega, ncurve))
         do ic = 1, ncurve
             do io = 1, nomega
-                nd(io, ic) = detector_site(with_omega(tasks%runs(ic), tasks%omegas(io)))
+                nd(io, ic) = detector_site(with_omega(self%runs(ic), self%omegas(io)))
             end do
         end do
 
         call h5_create(file, path, .true.)
-        call write_root(file, tasks%cfg, "bifurcation", "Supratransmission threshold (smallest transmitting driving " &
-                        // "amplitude) vs driving frequency, one curve per potential and varied value", tasks%inv)
+        call write_root(file, self%cfg, "bifurcation", "Supratransmission threshold (smallest transmitting driving " &
+                        // "amplitude) vs driving frequency, one curve per potential and varied value", self%inv)
         call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
         call h5_write_attr(file, "/", "tasks_done", count(done))
-        call write_scene_parameters(file, tasks%cfg)
-        call h5_write(file, "/omega", tasks%omegas, "1/time", &
+        call write_scene_parameters(file, self%cfg)
+        call h5_write(file, "/omega", self%omegas, "1/time", &
             "Driving frequency Omega_i = omega_min + i omega_step", dims="omega")
-        call write_bifurcation_curves(file, tasks)
+        call write_bifurcation_curves(file, self)
         call h5_write(file, "/threshold", field_grid(vals, "threshold", nomega), "rad", "Smallest driving amplitude " &
                       // "A (grid amplitude_min + k resolution) at which the run transmits: the supratransmission " &
                       // "threshold; NaN when not found (see /status)", dims=dims)
@@ -116,8 +101,8 @@ contains
         call h5_write_attr(file, "/status", "codes", "-2: outside gap (Omega >= " &
             // "sqrt(V''(0) + m^2): not searched; NaN); -1: pending (not computed yet); " // search_status_codes())
         call write_verdict_margins(file, vals, nomega)
-        call write_screening(file, tasks%cfg, vals, nomega)
-        call write_certification(file, tasks%cfg, vals, nomega)
+        call write_screening(file, self%cfg, vals, nomega)
+        call write_certification(file, self%cfg, vals, nomega)
         call h5_commit(file, error)
     end subroutine write_bifurcation_file
 

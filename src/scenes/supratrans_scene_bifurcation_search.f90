@@ -28,7 +28,7 @@ contains
         type(screen_report) :: report
         type(search_record) :: r
         type(checkpoint_session), target :: session
-        integer :: icurve, iomega, nomega
+        integer :: icurve
         integer(i8) :: clock_start, clock_end, clock_rate
         real(wp) :: omega, nan, cpu_start
         character(len=24) :: task_text
@@ -36,12 +36,9 @@ contains
         call system_clock(clock_start, clock_rate)
         cpu_start = thread_cpu_seconds()
         nan = ieee_value(nan, ieee_quiet_nan)
-        nomega = size(self%omegas)
-        icurve = (index - 1)/nomega + 1
-        iomega = mod(index - 1, nomega) + 1
-        omega = self%omegas(iomega)
-        oracle%run = self%runs(icurve)
-        oracle%run%drive%omega = omega
+        icurve = self%task_curve(index)
+        oracle%run = self%task_run(index)
+        omega = oracle%run%drive%omega
         r = unsearched_record()
         r%status = bifurcation_outside_gap
         if (omega < band_gap_edge(oracle%run%chain)) r%threshold_as = threshold_as(oracle%run%chain, omega)
@@ -64,8 +61,7 @@ contains
         end if
         associate (sc => self%cfg%scene)
             if (allocated(self%screen_runs)) then
-                screen%run = self%screen_runs(icurve)
-                screen%run%drive%omega = omega
+                screen%run = self%run_at(index, self%screen_runs)
                 call find_threshold_screened(oracle, screen, sc%amplitude_min, sc%amplitude_max, sc%coarse_step, &
                                              sc%resolution, sc%confirm_band, sc%screen_margin, r%threshold, r%runs, &
                                              r%steps, r%status, report)
@@ -138,8 +134,7 @@ contains
             logical :: at, below
 
             associate (sc => self%cfg%scene)
-                check%run = self%half_runs(icurve)
-                check%run%drive%omega = omega
+                check%run = self%run_at(index, self%half_runs)
                 k_t = nint((r%threshold - sc%amplitude_min)/sc%resolution)
                 kmax = search_grid_size(sc%amplitude_min, sc%amplitude_max, sc%resolution) - 1
                 m = max(1, nint(effective_coarse_step(sc%coarse_step, sc%resolution)/sc%resolution))

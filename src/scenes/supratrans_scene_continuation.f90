@@ -21,13 +21,14 @@ module supratrans_scene_continuation
     use supratrans_kinds, only: wp, i8, pi
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, scene_plan, wrong_tasks, warn_partial
+    use supratrans_scene, only: scene_budget, scene_tasks, scene_plan
+    use supratrans_axis_scene, only: axis_tasks, axis_scene, init_axes, axis_task_run, scene_omegas
     use supratrans_limits, only: axis_points, check_axis, limit_error, threads_text, sci, dense_buffer_bytes
     use supratrans_config, only: input_config, run_config, scene_params, method_newton, method_linearized, method_rk4, &
                                  method_rk8, method_avf4, method_avf8, method_name, solver_harmonic_balance, chain_short, &
                                  chain_input
     use supratrans_short_chain, only: old_short_chain_rule
-    use supratrans_fold_hb, only: hb_fold_tasks, make_hb_tasks, write_hb_file, hb_summary
+    use supratrans_fold_hb, only: make_hb_tasks, hb_summary
     use supratrans_curves, only: curve_count, curve_run, write_curves
     use supratrans_chain, only: threshold_as, band_gap_edge, phonon_band_top
     use supratrans_potential, only: potential_name
@@ -36,11 +37,11 @@ module supratrans_scene_continuation
                                       branch_quantities, kept_multipliers, multiplier_samples, add_fold_cost
     use supratrans_fold_line, only: trace_fold, fold_status_codes, instability_type_codes, fold_found, &
                                     shortest_chain, fate_codes, transmission_status_codes, branch_switch_codes
+    use supratrans_fold_scalars, only: write_fold_scalars
     use supratrans_tasks, only: task_list, run_work
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1
-    use supratrans_scene_bifurcation, only: bifurcation_omegas
     use supratrans_linear_stability, only: linear_stability_dt
     use supratrans_stepper_rk4, only: rk4_order
     use supratrans_stepper_rk8, only: rk8_order
@@ -75,42 +76,31 @@ module supratrans_scene_continuation
     !> Cost of an rk8 step relative to a Newton step (`run_work`).
     real(wp), parameter :: rk8_step = 1.6_wp
 
-    !> The tasks of a continuation scene: task t = (curve - 1) nomega + iomega traces one branch to its fold.
-    type, extends(task_list) :: continuation_tasks
-        !> The validated input.
-        type(input_config) :: cfg
-        !> How the engine is invoked (slice, merge: `supratrans_invocation`).
-        type(invocation_type) :: inv
-        !> Run of each curve (chain, numerics; the drive's frequency and amplitude are set per task).
-        type(run_config), allocatable :: runs(:)
-        !> The frequencies.
-        real(wp), allocatable :: omegas(:)
-        !> Path of the partial output written by `snapshot`.
-        character(len=:), allocatable :: partial_path
+    !> The tasks of a continuation scene (the axes of `axis_tasks`): task t = (curve - 1) nomega + iomega traces one
+    !> branch to its fold.
+    type, extends(axis_tasks) :: continuation_tasks
         !> &scene chain = 'short': each task uses the short chain of its Omega.
         logical :: short_chain = .false.
     contains
         !> Trace the branch of one task.
         procedure :: run => run_fold_task
-        !> Write the partial output.
-        procedure :: snapshot => write_snapshot
+        !> The scene's file.
+        procedure :: write_file => write_continuation_file
         !> Estimated cost of one task (a Jacobian of its one-period map).
         procedure :: cost => fold_task_cost
+        !> The run of a task, on the short chain of its Omega with &scene chain = 'short'.
+        procedure :: task_run => continuation_task_run
     end type continuation_tasks
 
     !> The scene `continuation`: the fold line of the periodic states over the frequency axis, per curve.
-    type, extends(scene_type), public :: continuation_scene
+    type, extends(axis_scene), public :: continuation_scene
     contains
         !> Its tasks: one branch traced to its fold per (curve, frequency).
         procedure :: make_tasks => continuation_make_tasks
-        !> Its file (`write_continuation_file`).
-        procedure :: write_output => continuation_write_output
         !> The folds found and the wall time.
         procedure :: summary => continuation_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => continuation_scene_limits
-        !> It runs omega_min .. omega_max: `&drive omega` is not used.
-        procedure :: frequency_axis => continuation_frequency_axis
         !> Its method and dt (shooting) or harmonics (harmonic balance), before any work.
         procedure :: check_input => continuation_check_input
         !> Its tasks and their work from the sizes (`--check`).
@@ -118,22 +108,11 @@ module supratrans_scene_continuation
     end type continuation_scene
 
     interface
-        !> Write the results so far to `<output>.partial.h5` (root attribute `complete = 0`); failures are ignored
-        !> (the journal, not this file, is what a resumed run reads).
-        module subroutine write_snapshot(self, results, done)
-            !> The tasks.
-            class(continuation_tasks), intent(in) :: self
-            !> Results so far, (values, tasks).
-            real(wp), intent(in) :: results(:, :)
-            !> Which tasks are done.
-            logical, intent(in) :: done(:)
-        end subroutine write_snapshot
-
         !> Write the scene's file `path` (built in memory, written atomically): tasks not done get NaN and status
         !> -1 (pending).
-        module subroutine write_continuation_file(tasks, path, results, done, complete, elapsed, error)
+        module subroutine write_continuation_file(self, path, results, done, complete, elapsed, error)
             !> The tasks.
-            type(continuation_tasks), intent(in) :: tasks
+            class(continuation_tasks), intent(in) :: self
             !> Final path of the file.
             character(len=*), intent(in) :: path
             !> Results, (values, tasks).
@@ -171,24 +150,16 @@ contains
             return
         end if
         allocate (list)
-        list%cfg = cfg
-        list%inv = tasks%inv
-        list%omegas = bifurcation_omegas(cfg)  ! the bifurcation scene's axis, so fold lines lie over diagrams
-        ncurve = curve_count(cfg)
+        call init_axes(list, cfg, tasks%inv, 1, error)   ! the bifurcation scene's axis, so fold lines lie over diagrams
+        if (allocated(error)) return
+        ncurve = size(list%runs)
         nomega = size(list%omegas)
-        if (nomega < 1) then
-            call fatal_error(error, cfg%source // ": &scene: the frequency axis omega_min .. omega_max is empty", err_input)
-            return
-        end if
         ! the method and dt: checked by validation already (continuation_check_input, also for --check)
         call continuation_check_input(self, cfg, cfg%source, error)
         if (allocated(error)) return
-        allocate (list%runs(ncurve))
         do ic = 1, ncurve
-            list%runs(ic) = curve_run(cfg, ic)
             list%runs(ic)%drive%ramp_time = 0.0_wp
         end do
-        list%partial_path = trim(cfg%output%file) // ".partial.h5"
         list%short_chain = cfg%scene%chain == chain_short
         tasks%header = "supratrans: continuation from " // cfg%source // ": " // int_str(ncurve) // " curve(s) x " &
             // int_str(nomega) // " frequencies, method " // method_name(cfg%run%numerics%method) // ", N = " &
@@ -269,28 +240,6 @@ contains
         end do
     end subroutine continuation_check_input
 
-    !> Write the scene's file, complete, with the scene's wall time (`write_continuation_file`).
-    subroutine continuation_write_output(self, cfg, tasks, error)
-        !> The scene.
-        class(continuation_scene), intent(in) :: self
-        !> The validated input.
-        type(input_config), intent(in) :: cfg
-        !> The tasks (a `continuation_tasks`), their records and the wall time.
-        type(scene_tasks), intent(in) :: tasks
-        !> Error, allocated on failure (the file is then not created).
-        type(error_type), allocatable, intent(out) :: error
-
-        select type (list => tasks%list)
-        type is (continuation_tasks)
-            call write_continuation_file(list, trim(cfg%output%file), tasks%results, tasks%done, .true., &
-                                         tasks%elapsed, error)
-        type is (hb_fold_tasks)
-            call write_hb_file(list, trim(cfg%output%file), tasks%results, tasks%done, .true., tasks%elapsed, error)
-        class default
-            call wrong_tasks(error, "continuation_tasks")
-        end select
-    end subroutine continuation_write_output
-
     !> The folds found of the tasks, and the wall time.
     function continuation_summary(self, cfg, tasks) result(text)
         !> The scene.
@@ -331,7 +280,7 @@ contains
         integer(i8) :: clock_start, clock_end, clock_rate
 
         call system_clock(clock_start, clock_rate)
-        run = task_run(self, index)
+        run = self%task_run(index)
         r = empty_fold_record(self%cfg%scene%continuation_points)
         if (run%drive%omega < band_gap_edge(run%chain)) r%threshold_as = threshold_as(run%chain, run%drive%omega)
         if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. self%cfg%allow_outside_gap) then
@@ -375,19 +324,16 @@ contains
 
     !> The run of task `index`: its curve's run at its frequency, on the short chain of that frequency with &scene
     !> chain = 'short'.
-    pure function task_run(self, index) result(run)
+    pure function continuation_task_run(self, index) result(run)
         !> The tasks.
         class(continuation_tasks), intent(in) :: self
         !> Task index: (curve - 1) nomega + iomega.
         integer, intent(in) :: index
         type(run_config) :: run
-        integer :: nomega
 
-        nomega = size(self%omegas)
-        run = self%runs((index - 1)/nomega + 1)
-        run%drive%omega = self%omegas(mod(index - 1, nomega) + 1)
+        run = axis_task_run(self, index)
         if (self%short_chain) call shortest_chain(run%chain, run%drive%omega, run%numerics%dt, self%cfg%scene%short)
-    end function task_run
+    end function continuation_task_run
 
     !> Estimated cost of task `index`: what one Jacobian of its one-period map costs, 2N tangent columns of N sites
     !> through the M = period / dt steps of a period (`run_work` of one period, times 2N), with the chain the task
@@ -403,7 +349,7 @@ contains
         real(wp) :: cost
         type(run_config) :: run
 
-        run = task_run(self, index)
+        run = self%task_run(index)
         cost = 0.0_wp
         if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. self%cfg%allow_outside_gap) return
         run%numerics%t_final = 2.0_wp*pi/run%drive%omega
@@ -480,7 +426,7 @@ contains
         logical :: short
         integer :: ic, io
 
-        omegas = bifurcation_omegas(cfg)
+        omegas = scene_omegas(cfg)
         p%tasks = real(curve_count(cfg)*size(omegas), wp)
         p%noun = "fold continuations"
         p%steps = 0.0_wp
@@ -585,14 +531,5 @@ contains
             end if
         end associate
     end function hb_fold_work
-
-    !> The scene runs its own frequency axis (omega_min .. omega_max).
-    pure function continuation_frequency_axis(self) result(yes)
-        !> The scene.
-        class(continuation_scene), intent(in) :: self
-        logical :: yes
-
-        yes = .true.
-    end function continuation_frequency_axis
 
 end module supratrans_scene_continuation

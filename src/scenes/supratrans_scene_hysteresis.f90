@@ -21,7 +21,8 @@ module supratrans_scene_hysteresis
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, scene_plan, wrong_tasks, warn_partial
+    use supratrans_scene, only: scene_budget, scene_tasks, scene_plan
+    use supratrans_axis_scene, only: axis_tasks, axis_scene, init_axes
     use supratrans_limits, only: axis_points, check_axis, check_tasks, limit_error, threads_text, sci, max_steps, &
         run_memory_bytes
     use supratrans_config, only: input_config, run_config, method_name
@@ -31,11 +32,9 @@ module supratrans_scene_hysteresis
     use supratrans_result, only: run_result, run_ok
     use supratrans_status, only: status_outside_gap, status_not_run
     use supratrans_threshold, only: search_grid_size
-    use supratrans_tasks, only: task_list, input_fingerprint
     use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1
-    use supratrans_scene_bifurcation, only: bifurcation_omegas
     use supratrans_hysteresis_stairs, only: hysteresis_drive, stair_powers, hysteresis_edges, hysteresis_status_codes, &
                                             hysteresis_found, hysteresis_failed
     implicit none
@@ -52,45 +51,29 @@ module supratrans_scene_hysteresis
         "downward_gaps", "detector_site", "steps", "wall_time"]
 
     !> The tasks of a hysteresis scene: task t = ((curve - 1) nomega + iomega - 1) nlength + ilength, one run each.
-    type, extends(task_list) :: hysteresis_tasks
-        !> The validated input.
-        type(input_config) :: cfg
-        !> How the engine is invoked (slice, merge: `supratrans_invocation`).
-        type(invocation_type) :: inv
-        !> Run of each curve (chain, numerics; the drive's frequency and stairs are set per task).
-        type(run_config), allocatable :: runs(:)
-        !> The frequencies.
-        real(wp), allocatable :: omegas(:)
-        !> The stair lengths T_s.
+    type, extends(axis_tasks) :: hysteresis_tasks
+        !> The stair lengths T_s (the inner axis of `axis_tasks`).
         real(wp), allocatable :: stair_times(:)
         !> Index K of the top level: 2K + 1 stairs.
         integer :: top = 0
-        !> Path of the partial output written by `snapshot`.
-        character(len=:), allocatable :: partial_path
-        !> Mid-run checkpoints of task t: `<checkpoint_prefix><t>`, bound to `fingerprint` and t.
-        character(len=:), allocatable :: checkpoint_prefix, fingerprint
     contains
         !> One run up and down the stairs.
         procedure :: run => run_stairs_task
         !> Whether a task's values are its result (not a run stopped by a signal at its checkpoint).
         procedure :: finished => stairs_finished
-        !> Write the partial output.
-        procedure :: snapshot => write_snapshot
+        !> The scene's file.
+        procedure :: write_file => write_hysteresis_file
     end type hysteresis_tasks
 
     !> The scene `hysteresis`: the stairs up and down of the amplitude per (curve, frequency, stair length).
-    type, extends(scene_type), public :: hysteresis_scene
+    type, extends(axis_scene), public :: hysteresis_scene
     contains
         !> Its tasks: one run up and down the stairs per (curve, frequency, stair length).
         procedure :: make_tasks => hysteresis_make_tasks
-        !> Its file (`write_hysteresis_file`).
-        procedure :: write_output => hysteresis_write_output
         !> The runs that found both edges, and the wall time.
         procedure :: summary => hysteresis_summary
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => hysteresis_scene_limits
-        !> It runs omega_min .. omega_max: `&drive omega` is not used.
-        procedure :: frequency_axis => hysteresis_frequency_axis
         procedure :: plan => hysteresis_scene_plan
     end type hysteresis_scene
 
@@ -107,32 +90,18 @@ contains
         !> Error, allocated when the stairs are not valid or the frequency axis is empty.
         type(error_type), allocatable, intent(out) :: error
         type(hysteresis_tasks), allocatable :: list
-        character(len=:), allocatable :: output
-        integer :: ncurve, nomega, nlen, ic
+        integer :: ncurve, nomega, nlen
 
         allocate (list)
-        output = trim(cfg%output%file)
-        list%cfg = cfg
-        list%inv = tasks%inv
-        list%omegas = bifurcation_omegas(cfg)
         list%stair_times = scene_stair_times(cfg)
         ! checked already by validation (hysteresis_scene_limits, also for --check): here for the top level
         call check_stairs(cfg, list%stair_times, source_of(cfg), list%top, error)
         if (allocated(error)) return
-        ncurve = curve_count(cfg)
-        nomega = size(list%omegas)
         nlen = size(list%stair_times)
-        if (nomega < 1) then
-            call fatal_error(error, cfg%source // ": &scene: the frequency axis omega_min .. omega_max is empty", err_input)
-            return
-        end if
-        allocate (list%runs(ncurve))
-        do ic = 1, ncurve
-            list%runs(ic) = curve_run(cfg, ic)
-        end do
-        list%partial_path = output // ".partial.h5"
-        list%checkpoint_prefix = output // ".checkpoint-"
-        list%fingerprint = input_fingerprint(cfg)
+        call init_axes(list, cfg, tasks%inv, nlen, error)
+        if (allocated(error)) return
+        ncurve = size(list%runs)
+        nomega = size(list%omegas)
         tasks%header = "supratrans: hysteresis from " // cfg%source // ": " // int_str(ncurve) // " curve(s) x " &
             // int_str(nomega) // " frequencies x " // int_str(nlen) // " stair length(s), " &
             // int_str(2*list%top + 1) // " stairs " // real_str(cfg%scene%amplitude_min, 6) // " .. " &
@@ -143,26 +112,6 @@ contains
         tasks%label = "stair runs"
         call move_alloc(list, tasks%list)
     end subroutine hysteresis_make_tasks
-
-    !> Write the scene's file, complete, with the scene's wall time (`write_hysteresis_file`).
-    subroutine hysteresis_write_output(self, cfg, tasks, error)
-        !> The scene.
-        class(hysteresis_scene), intent(in) :: self
-        !> The validated input.
-        type(input_config), intent(in) :: cfg
-        !> The tasks (a `hysteresis_tasks`), their records and the wall time.
-        type(scene_tasks), intent(in) :: tasks
-        !> Error, allocated on failure (the file is then not created).
-        type(error_type), allocatable, intent(out) :: error
-
-        select type (list => tasks%list)
-        type is (hysteresis_tasks)
-            call write_hysteresis_file(list, trim(cfg%output%file), tasks%results, tasks%done, .true., tasks%elapsed, &
-                                       error)
-        class default
-            call wrong_tasks(error, "hysteresis_tasks")
-        end select
-    end subroutine hysteresis_write_output
 
     !> The runs that found both edges, and the wall time.
     function hysteresis_summary(self, cfg, tasks) result(text)
@@ -272,7 +221,7 @@ contains
         real(wp), intent(out) :: values(:)
         type(run_config) :: run
         type(run_result) :: result
-        integer :: icurve, iomega, ilen, nomega, nlen, nd, nstair, status, gaps, ns
+        integer :: icurve, iomega, ilen, nd, nstair, status, gaps, ns
         integer(i8) :: clock_start, clock_end, clock_rate
         real(wp), allocatable :: power(:)
         real(wp) :: up, down, nan
@@ -280,11 +229,9 @@ contains
 
         call system_clock(clock_start, clock_rate)
         nan = ieee_value(nan, ieee_quiet_nan)
-        nomega = size(self%omegas)
-        nlen = size(self%stair_times)
-        ilen = mod(index - 1, nlen) + 1
-        iomega = mod((index - 1)/nlen, nomega) + 1
-        icurve = (index - 1)/(nlen*nomega) + 1
+        ilen = self%task_inner(index)
+        iomega = self%task_omega(index)
+        icurve = self%task_curve(index)
         nstair = 2*self%top + 1
         ns = size(scalar_fields)
         values = nan
@@ -338,26 +285,11 @@ contains
         yes = nint(values(1)) /= status_not_run
     end function stairs_finished
 
-    !> Write the results so far to `<output>.partial.h5` (root attribute `complete = 0`); failures are ignored (the
-    !> journal, not this file, is what a resumed run reads).
-    subroutine write_snapshot(self, results, done)
-        !> The tasks.
-        class(hysteresis_tasks), intent(in) :: self
-        !> Results so far, (values, tasks).
-        real(wp), intent(in) :: results(:, :)
-        !> Which tasks are done.
-        logical, intent(in) :: done(:)
-        type(error_type), allocatable :: error
-
-        call write_hysteresis_file(self, self%partial_path, results, done, .false., -1.0_wp, error)
-        call warn_partial(error, self%cfg%output%quiet)
-    end subroutine write_snapshot
-
     !> Write the scene's file `path` (as a temporary file, renamed when complete): tasks not done get NaN and status
     !> -1 (pending).
-    subroutine write_hysteresis_file(tasks, path, results, done, complete, elapsed, error)
+    subroutine write_hysteresis_file(self, path, results, done, complete, elapsed, error)
         !> The tasks.
-        type(hysteresis_tasks), intent(in) :: tasks
+        class(hysteresis_tasks), intent(in) :: self
         !> Final path of the file.
         character(len=*), intent(in) :: path
         !> Results, (values, tasks).
@@ -377,10 +309,10 @@ contains
         integer :: ncurve, nomega, nlen, nstair, ntask, t, ns, ic, io
         character(len=*), parameter :: dims = "curve, omega, stair_length", dims2 = "curve, omega"
 
-        ncurve = size(tasks%runs)
-        nomega = size(tasks%omegas)
-        nlen = size(tasks%stair_times)
-        nstair = 2*tasks%top + 1
+        ncurve = size(self%runs)
+        nomega = size(self%omegas)
+        nlen = size(self%stair_times)
+        nstair = 2*self%top + 1
         ntask = ncurve*nomega*nlen
         ns = size(scalar_fields)
         vals = results
@@ -393,9 +325,9 @@ contains
                 vals(8, t) = 0.0_wp
             end if
         end do
-        run = hysteresis_drive(tasks%runs(1), tasks%cfg, tasks%omegas(1), tasks%top, tasks%stair_times(1))
+        run = hysteresis_drive(self%runs(1), self%cfg, self%omegas(1), self%top, self%stair_times(1))
         levels = [(stair_level(run%drive, t), t=0, nstair - 1)]
-        direction = [(merge(1, merge(0, -1, t == tasks%top), t < tasks%top), t=0, nstair - 1)]
+        direction = [(merge(1, merge(0, -1, t == self%top), t < self%top), t=0, nstair - 1)]
         allocate (spread_up(nomega, ncurve), spread_down(nomega, ncurve), as(nomega, ncurve), nd(nomega, ncurve))
         do ic = 1, ncurve
             do io = 1, nomega
@@ -403,34 +335,34 @@ contains
                 spread_up(io, ic) = spread(vals(2, t + 1:t + nlen))
                 spread_down(io, ic) = spread(vals(3, t + 1:t + nlen))
                 as(io, ic) = ieee_value(1.0_wp, ieee_quiet_nan)
-                nd(io, ic) = detector_site(hysteresis_drive(tasks%runs(ic), tasks%cfg, tasks%omegas(io), tasks%top, &
-                                                            tasks%stair_times(1)))
-                if (tasks%omegas(io) < band_gap_edge(tasks%runs(ic)%chain)) as(io, ic) = threshold_as(tasks%runs(ic)%chain, &
-                                                                                                    tasks%omegas(io))
+                nd(io, ic) = detector_site(hysteresis_drive(self%runs(ic), self%cfg, self%omegas(io), self%top, &
+                                                            self%stair_times(1)))
+                if (self%omegas(io) < band_gap_edge(self%runs(ic)%chain)) as(io, ic) = threshold_as(self%runs(ic)%chain, &
+                                                                                                    self%omegas(io))
             end do
         end do
 
         call h5_create(file, path, .true.)
-        call write_root(file, tasks%cfg, "hysteresis", "Hysteresis of supratransmission: the drive amplitude goes up " &
+        call write_root(file, self%cfg, "hysteresis", "Hysteresis of supratransmission: the drive amplitude goes up " &
                         // "and down in slow stairs; the upward edge (where the transmitting state is born), the " &
-                        // "downward edge (where it dies) and the bistable window, per curve, Omega and stair length", tasks%inv)
+                        // "downward edge (where it dies) and the bistable window, per curve, Omega and stair length", self%inv)
         call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
         call h5_write_attr(file, "/", "tasks_done", count(done))
-        call write_parameters(file, tasks%cfg)
-        call h5_write_attr(file, "/parameters", "stair_times_used", tasks%stair_times)
+        call write_parameters(file, self%cfg)
+        call h5_write_attr(file, "/parameters", "stair_times_used", self%stair_times)
         call h5_write_attr(file, "/parameters", "power_measure", "mean energy flux " &
             // "c^2 (u_nd - u_nd+1) v_nd+1 + beta (v_nd - v_nd+1) v_nd+1 through the bond beyond the detector site " &
             // "n_d, over the last whole drive periods of each stair's second half")
-        call h5_write(file, "/omega", tasks%omegas, "1/time", &
+        call h5_write(file, "/omega", self%omegas, "1/time", &
             "Driving frequency Omega_i = omega_min + i omega_step", dims="omega")
-        call h5_write(file, "/stair_time", tasks%stair_times, "time", &
+        call h5_write(file, "/stair_time", self%stair_times, "time", &
             "Stair length T_s of each protocol (the run's T = ramp_time + (2K + 1) T_s)", dims="stair_length")
         call h5_write(file, "/stair_amplitude", levels, "rad", &
             "Level of each stair a_i = amplitude_min + i stair_height, up then down (i = 0 .. K .. 0)", &
             dims="stair")
         call h5_write(file, "/stair_direction", direction, "1", &
             "1 on the way up, 0 at the top, -1 on the way down", dims="stair")
-        call write_curves(file, tasks%cfg, tasks%runs)
+        call write_curves(file, self%cfg, self%runs)
         call h5_write(file, "/upward_threshold", grid3(vals(2, :)), "rad", &
             "Upward edge: level of the first stair on the way up that transmits (where the transmitting state is " &
             // "born); NaN when none (see /status)", dims=dims)
@@ -455,7 +387,7 @@ contains
             [nstair, nlen, nomega, ncurve]), "energy/time", "Mean power through the bond (n_d, n_d + 1) beyond the " &
             // "detector site on each stair (over the last whole drive periods of its second half); NaN when not run", &
             dims="curve, omega, stair_length, stair")
-        call h5_write_attr(file, "/power", "power_threshold", tasks%cfg%scene%power_threshold)
+        call h5_write_attr(file, "/power", "power_threshold", self%cfg%scene%power_threshold)
         call h5_write(file, "/detector_site", nd, "1", &
             "Detector site n_d: the power is measured through the bond (n_d, n_d + 1)", dims=dims2)
         call h5_write(file, "/threshold_As", as, "rad", &
@@ -596,14 +528,5 @@ contains
             end do
         end associate
     end function hysteresis_scene_plan
-
-    !> The scene runs its own frequency axis (omega_min .. omega_max).
-    pure function hysteresis_frequency_axis(self) result(yes)
-        !> The scene.
-        class(hysteresis_scene), intent(in) :: self
-        logical :: yes
-
-        yes = .true.
-    end function hysteresis_frequency_axis
 
 end module supratrans_scene_hysteresis
