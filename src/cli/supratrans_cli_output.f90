@@ -214,6 +214,9 @@ contains
         integer :: handle
 
         status = 0
+        ! caught before the lock file exists: a stop signal as the lock is taken sets the flag (the scene then stops
+        ! at once, exit 5, and the lock's file is removed) instead of ending the process with the file left behind
+        call catch_stop_signals()
         call take_lock(cfg, handle, error)
         if (allocated(error)) then
             status = error%stat
@@ -225,10 +228,7 @@ contains
             if (stop_signal() /= 0) call merge_stopped(error)
             if (.not. allocated(error)) call write_journal(journal, set%header, set%results, set%done, error)
         end if
-        if (.not. allocated(error)) then
-            call catch_stop_signals()
-            call run_scene(cfg, inv, error)
-        end if
+        if (.not. allocated(error)) call run_scene(cfg, inv, error)
         ! the journal a merge wrote is the parts' records: gone once used, or refused
         if (present(set) .and. inv%snapshot_only) call remove_own_file(journal)
         if (present(set) .and. allocated(error)) then
