@@ -65,6 +65,8 @@ SCHEMA = {
         'cost/runs': (('curve', 'omega'), False),
         'cost/wall_time': (('curve', 'omega'), False),
         'cost/cpu_time': (('curve', 'omega'), False),
+        'verdict_margin': (('curve', 'omega'), False),
+        'thin_verdict': (('curve', 'omega'), False),
     },
     'work_precision': {
         'methods': (('method',), True),
