@@ -212,6 +212,9 @@ module supratrans_config
         integer :: site = 0
         !> Displacement |u_n|, n > n_d, that makes the verdict 'transmitting' (&detect amplitude).
         real(wp) :: amplitude = 3.141592653589793_wp
+        !> A verdict whose margin (1 - max|u_n|/amplitude beyond n_d, or its converse) is below this is flagged thin
+        !> (/thin_verdict): it could flip under a small change; no verdict changes (&detect thin_margin).
+        real(wp) :: thin_margin = 0.2_wp
         !> Stop a run as soon as it is found transmitting (its energy totals then end at that time) (&detect stop_when_decided).
         logical :: stop_when_decided = .false.
     end type detect_params

@@ -67,8 +67,9 @@ module supratrans_schema
         key_scene_settle_iterations = 84, key_scene_settle_tol = 85, key_scene_symmetric_tol = 86, key_scene_switch_step = 87, &
         key_scene_switch_seed = 88, key_scene_short_decay = 89, key_scene_short_n0_min = 90, key_scene_short_sigma_min = 91, &
         key_scene_short_sigma_max = 92, key_scene_short_sigma_q = 93, key_scene_short_width_per_sigma = 94, &
-        key_scene_short_edge_margin = 95, key_detect_site = 96, key_detect_amplitude = 97, key_detect_stop_when_decided = 98, &
-        key_output_file = 99, key_output_overwrite = 100, key_output_checkpoint_every = 101, key_output_quiet = 102
+        key_scene_short_edge_margin = 95, key_detect_site = 96, key_detect_amplitude = 97, key_detect_thin_margin = 98, &
+        key_detect_stop_when_decided = 99, key_output_file = 100, key_output_overwrite = 101, key_output_checkpoint_every = 102, &
+        key_output_quiet = 103
 
     !> The keys of &chain.
     type(key_spec), parameter :: chain_keys(*) = [ &
@@ -367,6 +368,9 @@ module supratrans_schema
             "o e^-3"), &
         key_spec("detect", "amplitude", kt_real, "detect_amplitude", "rad", "pi", "> 0", &
             "Displacement |u_n|, n > n_d, that makes the verdict 'transmitting'", lower="> 0"), &
+        key_spec("detect", "thin_margin", kt_real, "detect_thin_margin", "1", "0.2", ">= 0 and <= 1", &
+            "A verdict whose margin (1 - max|u_n|/amplitude beyond n_d, or its converse) is below this is flagged thin (/th" // &
+            "in_verdict): it could flip under a small change; no verdict changes", lower=">= 0", upper="<= 1"), &
         key_spec("detect", "stop_when_decided", kt_logical, "stop_when_decided", "1", ".false.", "", &
             "Stop a run as soon as it is found transmitting (its energy totals then end at that time)")]
 
@@ -545,6 +549,7 @@ contains
         if (ik == key_scene_short_edge_margin) v = key_value(1, reals=[cfg%scene%short%band_edge_margin])
         if (ik == key_detect_site) v = key_value(1, ints=[cfg%run%detect%site])
         if (ik == key_detect_amplitude) v = key_value(1, reals=[cfg%run%detect%amplitude])
+        if (ik == key_detect_thin_margin) v = key_value(1, reals=[cfg%run%detect%thin_margin])
         if (ik == key_detect_stop_when_decided) v = key_value(1, flag=cfg%run%detect%stop_when_decided)
         if (ik == key_output_file) v = key_value(1, texts=[cfg%output%file])
         if (ik == key_output_overwrite) v = key_value(1, flag=cfg%output%overwrite)
@@ -659,6 +664,7 @@ contains
         if (ik == key_scene_short_edge_margin) cfg%scene%short%band_edge_margin = v%reals(1)
         if (ik == key_detect_site) cfg%run%detect%site = v%ints(1)
         if (ik == key_detect_amplitude) cfg%run%detect%amplitude = v%reals(1)
+        if (ik == key_detect_thin_margin) cfg%run%detect%thin_margin = v%reals(1)
         if (ik == key_detect_stop_when_decided) cfg%run%detect%stop_when_decided = v%flag
         if (ik == key_output_file) cfg%output%file = trim(v%texts(1))
         if (ik == key_output_overwrite) cfg%output%overwrite = v%flag

@@ -19,11 +19,6 @@ module supratrans_result
     public :: init_records, record_ledger, record_probes, observe_ramp, check_blowup, observe_detector, &
               observe_early_stop, close_verdict, save_result, load_result
 
-    !> A verdict whose margin (`verdict_margin`, relative to the detect amplitude) is below this is flagged thin:
-    !> below threshold |u| beyond the detector stays under 0.8 pi, above it passes 1.2 pi, everywhere the
-    !> criterion was measured to be clear (README, "Classification").
-    real(wp), parameter, public :: thin_margin = 0.2_wp
-
     !> Result of one run.
     type, public :: run_result
         !> Outcome: `run_ok`, `run_diverged`, `run_newton_failed`, `run_solver_failed`, `run_invalid`.
@@ -77,7 +72,7 @@ module supratrans_result
         !> stayed below, max|u|/a - 1 for one that crossed and ran on to T; NaN when it stopped at the crossing
         !> (early stop: the margin is that of the search's run below) or failed.
         real(wp) :: verdict_margin = 0.0_wp
-        !> The margin is below `thin_margin`: the verdict could flip under a small change (flagged in the output).
+        !> The margin is below `&detect thin_margin`: the verdict could flip under a small change (flagged in the output).
         logical :: thin_verdict = .false.
         !> Probe sites.
         integer, allocatable :: probes(:)
@@ -450,7 +445,7 @@ contains
             else
                 result%verdict_margin = 1.0_wp - result%u_beyond_max/detect%amplitude
             end if
-            result%thin_verdict = result%verdict_margin < thin_margin
+            result%thin_verdict = result%verdict_margin < detect%thin_margin
         end if
         if (result%transmitting) then
             if (result%thin_verdict) result%verdict_reason = result%verdict_reason // "; thin margin " &

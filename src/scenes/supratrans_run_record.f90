@@ -51,7 +51,7 @@ module supratrans_run_record
     integer, parameter, public :: iv_rhs_evaluations = 19
     !> Position: margin of the verdict relative to the detect amplitude (`supratrans_result%verdict_margin`).
     integer, parameter, public :: iv_verdict_margin = 20
-    !> Position: 1 if the margin is thin (below `thin_margin`), 0 if not.
+    !> Position: 1 if the margin is thin (below `&detect thin_margin`), 0 if not.
     integer, parameter, public :: iv_thin_verdict = 21
     !> Number of values a task produces (the columns of the journal).
     integer, parameter, public :: n_run_values = 21
@@ -110,8 +110,8 @@ module supratrans_run_record
                    // "run"), &
         field_spec(iv_verdict_margin, "/runs/verdict_margin", "1", .false., "Margin of the verdict: 1 - u_beyond_max/" &
                    // "detect_amplitude below, u_beyond_max/detect_amplitude - 1 above; NaN if not run or failed"), &
-        field_spec(iv_thin_verdict, "/runs/thin_verdict", "1", .true., "1 if the verdict's margin is below 0.2 " &
-                   // "(it could flip under a small change: check it), 0 if not; -1 if not run")]
+        field_spec(iv_thin_verdict, "/runs/thin_verdict", "1", .true., "1 if the verdict's margin is below &detect " &
+                   // "thin_margin (it could flip under a small change: check it), 0 if not; -1 if not run")]
 
 contains
 

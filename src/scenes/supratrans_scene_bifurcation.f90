@@ -43,7 +43,6 @@ module supratrans_scene_bifurcation
                                         certify_moved_within, certify_moved
     use supratrans_strings, only: int_str, real_str, fixed1, printable
     use supratrans_bifurcation_runs, only: search_run, with_numerics, screen_integrator, screen_dt
-    use supratrans_result, only: thin_margin
     implicit none
     private
 
@@ -247,10 +246,10 @@ contains
             // int_str(count(records%certify_status == certify_unchanged .or. records%certify_status &
                              == certify_moved_within)) // " thresholds stand, " &
             // int_str(count(records%certify_status >= certify_moved)) // " flagged"
-        nthin = count(records%margin_below < thin_margin)
+        nthin = count(records%margin_below < cfg%run%detect%thin_margin)
         if (nthin > 0) text = text // new_line("a") // "  " // int_str(nthin) // " of " &
             // int_str(count(.not. ieee_is_nan(records%margin_below))) &
-            // " thresholds are thin verdicts (the run just below came within " // real_str(thin_margin, 2) &
+            // " thresholds are thin verdicts (the run just below came within " // real_str(cfg%run%detect%thin_margin, 2) &
             // " of the detect amplitude: /thin_verdict)"
     end function bifurcation_summary
 

@@ -100,7 +100,7 @@ contains
             "1", "Outcome of the search (codes in attribute 'codes')", dims=dims)
         call h5_write_attr(file, "/status", "codes", "-2: outside gap (Omega >= " &
             // "sqrt(V''(0) + m^2): not searched; NaN); -1: pending (not computed yet); " // search_status_codes())
-        call write_verdict_margins(file, vals, nomega)
+        call write_verdict_margins(file, vals, nomega, self%cfg%run%detect%thin_margin)
         call write_screening(file, self%cfg, vals, nomega)
         call write_certification(file, self%cfg, vals, nomega)
         call h5_commit(file, error)
@@ -109,13 +109,15 @@ contains
     !> `/verdict_margin` and `/thin_verdict`: how close the run just below each threshold came to transmitting
     !> (the margin the verdict already computes), and the threshold flagged thin where that margin is below
     !> `thin_margin` (CF flags: -1 no_margin, 0 clear, 1 thin).
-    subroutine write_verdict_margins(file, vals, nomega)
+    subroutine write_verdict_margins(file, vals, nomega, thin_margin)
         !> Open output file.
         type(h5_file), intent(inout) :: file
         !> The search records as values (`search_fields`, tasks).
         real(wp), intent(in) :: vals(:, :)
         !> Frequencies per curve.
         integer, intent(in) :: nomega
+        !> &detect thin_margin: a margin below it is thin.
+        real(wp), intent(in) :: thin_margin
         real(wp), allocatable :: margin(:, :)
         integer, allocatable :: thin(:, :)
         character(len=*), parameter :: dims = "curve, omega"
