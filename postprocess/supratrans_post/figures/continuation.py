@@ -177,8 +177,8 @@ def _draw_fold_line(s: Scene, scan: Scene | None):
         before = np.isfinite(inst[c]) & ~(inst[c] >= fold[c] - 1e-9)
         if before.any():
             ax.plot(omega[before], inst[c][before], "v", ms=4, mfc="none", color=line.get_color(),
-                    label=f"first loss of stability, {name}")
-        draw_transmission_marks(ax, s, c, f", {name}")
+                    label="first loss of stability" + (" (in its curve's colour)" if len(pots) > 1 else ""))
+        draw_transmission_marks(ax, s, c, "")      # the same marks for every curve: one legend entry each
     a_s = np.asarray(s.data["threshold_As"], dtype=float)
     if np.isfinite(a_s).any():
         ax.plot(omega, a_s[0], "x", color="black", ms=4, label=r"$A_s = 4\arctan(\lambda c/\Omega)$")
@@ -191,7 +191,11 @@ def _draw_fold_line(s: Scene, scan: Scene | None):
             ax.plot(w2, y, ".", ms=3, color="0.35", label="ramped scan threshold" if c == 0 else None)
     ax.set_xlabel(rf"driving frequency $\Omega${s.unit('omega')}")
     ax.set_ylabel(f"amplitude $A${s.unit('fold_amplitude')}")
-    ax.legend(loc="best", fontsize=7, framealpha=0.85)
+    # below the axes, off the data: the fold line fills the panel from corner to corner (its dips reach A ~ 1.8)
+    handles, labels = ax.get_legend_handles_labels()
+    unique = dict(zip(labels, handles))           # a mark's meaning once, whatever curve it is drawn on
+    ax.legend(unique.values(), unique.keys(), loc="upper center", bbox_to_anchor=(0.5, -0.12), ncol=2, fontsize=7,
+              framealpha=0.9)
     fig.suptitle(title(s, "fold of the driven periodic state vs driving frequency") + "\n" + conditions(s))
     return fig
 
