@@ -60,10 +60,11 @@ module supratrans_potential
         procedure(potential_map_i), deferred :: dv_each
         !> V''(u_n) of an array, site by site with the scalar functions (the bits of `d2v`).
         procedure(potential_map_i), deferred :: d2v_each
-        !> V'(u_n) of an array, vectorised (the linearized scheme's and the method of lines' kernel).
-        procedure(potential_map_i), deferred :: force_array
-        !> V''(u_n) of an array, vectorised.
-        procedure(potential_map_i), deferred :: d2v_array
+        !> V'(u_n) of an array, vectorised (the linearized scheme's and the method of lines' kernel); by default
+        !> `dv_each`, overridden where a faster kernel gives other bits.
+        procedure :: force_array => force_from_each
+        !> V''(u_n) of an array, vectorised; by default `d2v_each`.
+        procedure :: d2v_array => d2v_from_each
         !> The sum of V(u_n) over an array (the potential part of the discrete energy).
         procedure(potential_sum_i), deferred :: potential_sum
         !> G(a_n, b_n) and dG/da of arrays: the Newton step's kernel (with work it may keep for the refinement).
@@ -228,6 +229,30 @@ module supratrans_potential
     end interface
 
 contains
+
+    !> V'(u_n) of an array: `dv_each` (a member whose site-by-site form already vectorises needs no second copy).
+    pure subroutine force_from_each(self, u, y)
+        !> The potential.
+        class(potential_type), intent(in) :: self
+        !> Displacements.
+        real(wp), intent(in), contiguous :: u(:)
+        !> V'(u_n).
+        real(wp), intent(out), contiguous :: y(:)
+
+        call self%dv_each(u, y)
+    end subroutine force_from_each
+
+    !> V''(u_n) of an array: `d2v_each`.
+    pure subroutine d2v_from_each(self, u, y)
+        !> The potential.
+        class(potential_type), intent(in) :: self
+        !> Displacements.
+        real(wp), intent(in), contiguous :: u(:)
+        !> V''(u_n).
+        real(wp), intent(out), contiguous :: y(:)
+
+        call self%d2v_each(u, y)
+    end subroutine d2v_from_each
 
     !> V''(0) of a chain's potential, the on-site stiffness at rest (with m^2 it makes the linear theory of
     !> `supratrans_chain`); NaN for an unknown potential.

@@ -36,8 +36,6 @@ module supratrans_potential_double_sine_gordon
         procedure :: v_each => dsg_v_each
         procedure :: dv_each => dsg_dv_each
         procedure :: d2v_each => dsg_d2v_each
-        procedure :: force_array => dsg_force_array
-        procedure :: d2v_array => dsg_d2v_array
         procedure :: potential_sum => dsg_potential_sum
         procedure :: gradient_and_slope_array => dsg_gradient_and_slope_array
         procedure :: gradient_and_slope_refine => dsg_gradient_and_slope_refine
@@ -144,29 +142,7 @@ contains
         y = cos(u) + 4.0_wp*self%eta*cos(2.0_wp*u)
     end subroutine dsg_d2v_each
 
-    !> V'(u_n), vectorised.
-    pure subroutine dsg_force_array(self, u, y)
-        !> The potential.
-        class(double_sine_gordon_potential), intent(in) :: self
-        !> Displacements.
-        real(wp), intent(in), contiguous :: u(:)
-        !> V'(u_n).
-        real(wp), intent(out), contiguous :: y(:)
 
-        y = sin(u) + 2.0_wp*self%eta*sin(2.0_wp*u)
-    end subroutine dsg_force_array
-
-    !> V''(u_n), vectorised.
-    pure subroutine dsg_d2v_array(self, u, y)
-        !> The potential.
-        class(double_sine_gordon_potential), intent(in) :: self
-        !> Displacements.
-        real(wp), intent(in), contiguous :: u(:)
-        !> V''(u_n).
-        real(wp), intent(out), contiguous :: y(:)
-
-        y = cos(u) + 4.0_wp*self%eta*cos(2.0_wp*u)
-    end subroutine dsg_d2v_array
 
     !> Sum of V(u_n).
     pure function dsg_potential_sum(self, u) result(total)

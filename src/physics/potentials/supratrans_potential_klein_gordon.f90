@@ -25,8 +25,6 @@ module supratrans_potential_klein_gordon
         procedure :: v_each => kg_v_each
         procedure :: dv_each => kg_dv_each
         procedure :: d2v_each => kg_d2v_each
-        procedure :: force_array => kg_force_array
-        procedure :: d2v_array => kg_d2v_array
         procedure :: potential_sum => kg_potential_sum
         procedure :: gradient_and_slope_array => kg_gradient_and_slope_array
         procedure :: gradient_and_slope_refine => kg_gradient_and_slope_refine
@@ -131,29 +129,7 @@ contains
         y = 1.0_wp + u*u*(-0.5_wp + u*u/24.0_wp)
     end subroutine kg_d2v_each
 
-    !> V'(u_n), vectorised.
-    pure subroutine kg_force_array(self, u, y)
-        !> The potential.
-        class(klein_gordon_potential), intent(in) :: self
-        !> Displacements.
-        real(wp), intent(in), contiguous :: u(:)
-        !> The values.
-        real(wp), intent(out), contiguous :: y(:)
 
-        y = u*(1.0_wp + u*u*(-1.0_wp/6.0_wp + u*u/120.0_wp))
-    end subroutine kg_force_array
-
-    !> V''(u_n), vectorised.
-    pure subroutine kg_d2v_array(self, u, y)
-        !> The potential.
-        class(klein_gordon_potential), intent(in) :: self
-        !> Displacements.
-        real(wp), intent(in), contiguous :: u(:)
-        !> The values.
-        real(wp), intent(out), contiguous :: y(:)
-
-        y = 1.0_wp + u*u*(-0.5_wp + u*u/24.0_wp)
-    end subroutine kg_d2v_array
 
     !> Sum of V(u_n).
     pure function kg_potential_sum(self, u) result(total)
