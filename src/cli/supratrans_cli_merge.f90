@@ -7,7 +7,7 @@ module supratrans_cli_merge
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_config, only: input_config
     use supratrans_invocation, only: invocation_type
-    use supratrans_system, only: path_kind, path_missing, catch_stop_signals, stop_signal
+    use supratrans_system, only: path_kind, path_missing, stop_signal
     use supratrans_input, only: read_input, read_input_text
     use supratrans_validate, only: validate_config
     use supratrans_parts, only: part_set, read_parts, part_path, merged_path
@@ -37,8 +37,6 @@ contains
         status = 0
         partial = .false.
         overwrite = .false.
-        ! before any file is read (also caught before main: supratrans_os.c)
-        call catch_stop_signals()
         output = ""
         nparts = 0
         slice_count = 0
@@ -184,9 +182,9 @@ contains
         type(invocation_type) :: inv
 
         status = 0
-        ! from the start: a merge stopped by a signal ends with status 5 and writes nothing (the parts stay, the same
-        ! command merges them again); once the output is being written, the merge finishes it instead
-        call catch_stop_signals()
+        ! the stop signals are caught from the program's start (supratrans_os.c, before main): a merge stopped by a
+        ! signal ends with status 5 and writes nothing (the parts stay, the same command merges them again); once the
+        ! output is being written, the merge finishes it instead
         call read_parts(paths, partial, set, error)
         if (.not. allocated(error)) call read_input_text(set%text, set%source, cfg, error, check_output=.false.)
         if (allocated(error)) then
