@@ -20,7 +20,7 @@ module supratrans_fold_fate
     use supratrans_continuation, only: continue_branch, continuation_controls, continuation_result, continuation_stats, &
                                        cont_fold_found, cont_no_fold, cont_newton_failed, cont_step_too_small, &
                                        cont_max_points, cont_unstable_start
-    use supratrans_fold_record, only: fold_record
+    use supratrans_fold_record, only: fold_record, add_stats, add_branch_cost
     use supratrans_continuation_corrector, only: branch_point
     use supratrans_branch_switch, only: switch_branch
     implicit none
@@ -58,34 +58,6 @@ module supratrans_fold_fate
     ! spread is /transmission_spread), follow_branches, follow_max_iter, follow_growth_limit.
 
 contains
-
-    !> Add what a continuation cost (its counts and times) to the record's costs.
-    pure subroutine add_branch_cost(r, res)
-        !> The record.
-        type(fold_record), intent(inout) :: r
-        !> The continuation.
-        type(continuation_result), intent(in) :: res
-
-        r%newton_iterations = r%newton_iterations + sum(res%newton_iterations(1:res%n_points))
-        call add_stats(r, res%stats)
-    end subroutine add_branch_cost
-
-    !> Add counts and times to the record's costs.
-    pure subroutine add_stats(r, stats)
-        !> The record.
-        type(fold_record), intent(inout) :: r
-        !> The counts and times.
-        type(continuation_stats), intent(in) :: stats
-
-        r%map_evaluations = r%map_evaluations + stats%map_evaluations + stats%jacobian_evaluations
-        r%jacobians = r%jacobians + stats%jacobian_evaluations
-        r%factorizations = r%factorizations + stats%factorisations
-        r%eigen_calls = r%eigen_calls + stats%eigen_calls
-        r%time_map = r%time_map + stats%time_map
-        r%time_tangent = r%time_tangent + stats%time_jacobian
-        r%time_lu = r%time_lu + stats%time_lu
-        r%time_eigen = r%time_eigen + stats%time_eigen
-    end subroutine add_stats
 
     !> Past a branch point below the fold (the first loss of stability of the branch from rest, a real multiplier
     !> through +1 where the branch does not turn; its point and the tangent next to it in `res`), where a slow ramp
