@@ -5,21 +5,29 @@
 !> periodic states have the half-period symmetry (a followed branch is then continued on the half-period map). The
 !> stairs (`climb_stairs`): none below their top, none run; from a stable state they follow its branch and the chain
 !> transmits on the stair just past its fold. On which side of a branch point, located or bracketed, the other branch
-!> leaves (`switch_side`).
+!> leaves (`switch_side`). The outcomes of the protocol's units written as the files' codes (`supratrans_protocol_codes`),
+!> and the plan and the reading of the climb's stairs (`supratrans_stairs`).
 module test_fold_fate
     use pf_runtime
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
     use supratrans_config, only: run_config, fold_protocol
-    use supratrans_fold_fate, only: fold_fate, fate_transmits, fate_localized, fate_codes, &
-                                    half_period_symmetric, switch_side, branch_switch_codes, &
-                                    switch_supercritical, switch_subcritical, switch_side_unknown
-    use supratrans_chain_watch, only: climb_stairs
+    use, intrinsic :: ieee_arithmetic, only: ieee_is_nan
+    use supratrans_protocol_fate, only: fold_fate, fate_transmits, fate_localized, fate_failed
+    use supratrans_protocol_follow, only: half_period_symmetric, follow_at_push, follow_fold_transmits, &
+                                          follow_stairs_transmit, follow_branch_ended, follow_too_many, &
+                                          follow_fate_failed
+    use supratrans_protocol_switch, only: switch_side, switch_supercritical, switch_subcritical, switch_side_unknown, &
+                                          switch_not_found, switch_stairs, switch_no_stairs
+    use supratrans_protocol_codes, only: fate_codes, branch_switch_codes, transmission_status_codes, fold_fate_code, &
+                                         transmission_code, branch_switch_code
+    use supratrans_stairs, only: climb_stairs, climb_plan, plan_level, read_stairs, stair_plan, stairs_found, &
+                                 stairs_none
     use supratrans_period_map, only: period_map, period_map_init, set_half_period
     use continuation_maps, only: short_test_chain
     use supratrans_continuation, only: continue_branch, continuation_controls, continuation_result, cont_fold_found, &
-                                       continuation_stats
+                                       continuation_stats, cont_no_fold, cont_unstable_start
     implicit none
 
 contains
@@ -38,56 +46,56 @@ contains
         call assertEqual( &
             switch_supercritical, &
             switch_side(5.2_wp, 5.1_wp, 5.1_wp), &
-            location=pf_source_location('test_fold_fate.pf', 37, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 45, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             switch_subcritical, &
             switch_side(5.0_wp, 5.1_wp, 5.1_wp), &
-            location=pf_source_location('test_fold_fate.pf', 38, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 46, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             switch_subcritical, &
             switch_side(5.0_wp, nan, 5.1_wp), &
-            location=pf_source_location('test_fold_fate.pf', 39, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 47, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             switch_supercritical, &
             switch_side(5.2_wp, nan, 5.1_wp), &
-            location=pf_source_location('test_fold_fate.pf', 40, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 48, 'assertEqual'))
         if (pf_any_failed()) return
         ! bracketed [5.12790, 5.13750] (Omega = 0.18 of the paper's grid, M = 699; the first point 5.13154)
         call assertEqual( &
             switch_side_unknown, &
             switch_side(5.13154_wp, 5.12790_wp, 5.13750_wp), &
-            location=pf_source_location('test_fold_fate.pf', 42, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 50, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             switch_side_unknown, &
             switch_side(5.12790_wp, 5.12790_wp, 5.13750_wp), &
-            location=pf_source_location('test_fold_fate.pf', 43, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 51, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             switch_supercritical, &
             switch_side(5.13760_wp, 5.12790_wp, 5.13750_wp), &
-            location=pf_source_location('test_fold_fate.pf', 44, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 52, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             switch_subcritical, &
             switch_side(5.12780_wp, 5.12790_wp, 5.13750_wp), &
-            location=pf_source_location('test_fold_fate.pf', 45, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 53, 'assertEqual'))
         if (pf_any_failed()) return
         codes = branch_switch_codes(fold_protocol())
         call assertTrue( &
             index(codes, "5 side unknown") > 0, &
             message=codes, &
-            location=pf_source_location('test_fold_fate.pf', 47, 'assertTrue'))
+            location=pf_source_location('test_fold_fate.pf', 55, 'assertTrue'))
         if (pf_any_failed()) return
         ! the codes name the protocol's stairs as the input sets them (&scene fold_stair_height, fold_stair_time)
         codes = branch_switch_codes(fold_protocol(stair_height=0.03_wp, stair_time=150.0_wp))
         call assertTrue( &
             index(codes, "stairs of 0.03 held 150") > 0, &
             message=codes, &
-            location=pf_source_location('test_fold_fate.pf', 50, 'assertTrue'))
+            location=pf_source_location('test_fold_fate.pf', 58, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_switch_side_of_a_bracketed_branch_point
 
@@ -107,49 +115,49 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 69, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 77, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=1, floquet_every=8)
         call continue_branch(map, ctl, res)
         call assertEqual( &
             cont_fold_found, &
             res%status, &
-            location=pf_source_location('test_fold_fate.pf', 72, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 80, 'assertEqual'))
         if (pf_any_failed()) return
 
         call fold_fate(map, run, proto, res%states(:, res%fold_index), res%fold_amplitude*(1.0_wp + proto%fate_push), &
                        fate, time)
-        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 76, 'assertEqual'))
+        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 84, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             time, &
             proto%fate_watch_time, &
-            location=pf_source_location('test_fold_fate.pf', 77, 'assertLessThan'))
+            location=pf_source_location('test_fold_fate.pf', 85, 'assertLessThan'))
         if (pf_any_failed()) return
-        call assertGreaterThan(time, 0.0_wp, location=pf_source_location('test_fold_fate.pf', 78, 'assertGreaterThan'))
+        call assertGreaterThan(time, 0.0_wp, location=pf_source_location('test_fold_fate.pf', 86, 'assertGreaterThan'))
         if (pf_any_failed()) return
 
         below = minloc(abs(res%amplitude(1:res%fold_index) - 0.8_wp*res%fold_amplitude), dim=1)
         call assertLessThan( &
             res%amplitude(below), &
             0.9_wp*res%fold_amplitude, &
-            location=pf_source_location('test_fold_fate.pf', 81, 'assertLessThan'))
+            location=pf_source_location('test_fold_fate.pf', 89, 'assertLessThan'))
         if (pf_any_failed()) return
         call fold_fate(map, run, proto, res%states(:, below), res%amplitude(below), fate, time)
-        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 83, 'assertEqual'))
+        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 91, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             time, &
             proto%fate_watch_time, &
-            location=pf_source_location('test_fold_fate.pf', 84, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_fold_fate.pf', 92, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(fate_codes(proto), "transmits") > 0, &
-            location=pf_source_location('test_fold_fate.pf', 85, 'assertTrue'))
+            location=pf_source_location('test_fold_fate.pf', 93, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(fate_codes(proto), "localized") > 0, &
-            location=pf_source_location('test_fold_fate.pf', 86, 'assertTrue'))
+            location=pf_source_location('test_fold_fate.pf', 94, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_fold_transmits_and_stable_state_stays
 
@@ -170,56 +178,56 @@ contains
 
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 106, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 114, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 107, 'assertEqual'))
+        call assertEqual(0, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 115, 'assertEqual'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=1.0_wp, floquet_every=0)
         call continue_branch(map, ctl, res)
         call assertGreaterThan( &
             res%n_points, &
             3, &
-            location=pf_source_location('test_fold_fate.pf', 110, 'assertGreaterThan'))
+            location=pf_source_location('test_fold_fate.pf', 118, 'assertGreaterThan'))
         if (pf_any_failed()) return
         i = res%n_points
         call assertGreaterThan( &
             res%amplitude(i), &
             0.9_wp, &
-            location=pf_source_location('test_fold_fate.pf', 112, 'assertGreaterThan'))
+            location=pf_source_location('test_fold_fate.pf', 120, 'assertGreaterThan'))
         if (pf_any_failed()) return
         x = res%states(:, i)
         call assertTrue( &
             half_period_symmetric(map, proto, x, res%amplitude(i)), &
-            location=pf_source_location('test_fold_fate.pf', 114, 'assertTrue'))
+            location=pf_source_location('test_fold_fate.pf', 122, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertTrue(map%half, location=pf_source_location('test_fold_fate.pf', 115, 'assertTrue'))
+        call assertTrue(map%half, location=pf_source_location('test_fold_fate.pf', 123, 'assertTrue'))
         if (pf_any_failed()) return
         call set_half_period(map, .false., ok)
-        call assertTrue(ok, location=pf_source_location('test_fold_fate.pf', 117, 'assertTrue'))
+        call assertTrue(ok, location=pf_source_location('test_fold_fate.pf', 125, 'assertTrue'))
         if (pf_any_failed()) return
         x(size(x)) = x(size(x)) + 1.0e-6_wp
         call assertFalse( &
             half_period_symmetric(map, proto, x, res%amplitude(i)), &
-            location=pf_source_location('test_fold_fate.pf', 119, 'assertFalse'))
+            location=pf_source_location('test_fold_fate.pf', 127, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 120, 'assertFalse'))
+        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 128, 'assertFalse'))
         if (pf_any_failed()) return
         x = 0.1_wp*res%states(:, i)
         call assertFalse( &
             half_period_symmetric(map, proto, x, res%amplitude(i)), &
-            location=pf_source_location('test_fold_fate.pf', 122, 'assertFalse'))
+            location=pf_source_location('test_fold_fate.pf', 130, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 123, 'assertFalse'))
+        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 131, 'assertFalse'))
         if (pf_any_failed()) return
         run%numerics%dt = 0.0503_wp
         call period_map_init(map, run, error)
-        call assertEqual(1, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 126, 'assertEqual'))
+        call assertEqual(1, mod(map%steps, 2), location=pf_source_location('test_fold_fate.pf', 134, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             half_period_symmetric(map, proto, 0.0_wp*x, 0.0_wp), &
-            location=pf_source_location('test_fold_fate.pf', 127, 'assertFalse'))
+            location=pf_source_location('test_fold_fate.pf', 135, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 128, 'assertFalse'))
+        call assertFalse(map%half, location=pf_source_location('test_fold_fate.pf', 136, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_half_period_symmetry
 
@@ -243,60 +251,220 @@ contains
         proto = fold_protocol(stair_height=0.02_wp, stair_time=120.0_wp)     ! not the defaults: the keys act
         run = short_test_chain()
         call period_map_init(map, run, error)
-        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 151, 'assertFalse'))
+        call assertFalse(allocated(error), location=pf_source_location('test_fold_fate.pf', 159, 'assertFalse'))
         if (pf_any_failed()) return
         ctl = continuation_controls(ds0=0.05_wp, ds_max=0.2_wp, amplitude_max=4.0_wp, beyond_fold=1, floquet_every=8)
         call continue_branch(map, ctl, res)
         call assertEqual( &
             cont_fold_found, &
             res%status, &
-            location=pf_source_location('test_fold_fate.pf', 154, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 162, 'assertEqual'))
         if (pf_any_failed()) return
         below = minloc(abs(res%amplitude(1:res%fold_index) - 0.8_wp*res%fold_amplitude), dim=1)
         a0 = res%amplitude(below)
 
         y = res%states(:, below)
         call climb_stairs(map, run, proto, y, a0, a0 + 0.5_wp*proto%stair_height, a, fate, stats)
-        call assertEqual(fate_localized, fate, location=pf_source_location('test_fold_fate.pf', 160, 'assertEqual'))
+        call assertEqual(stairs_none, fate, location=pf_source_location('test_fold_fate.pf', 168, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(a0, a, location=pf_source_location('test_fold_fate.pf', 161, 'assertEqual'))
+        call assertEqual(a0, a, location=pf_source_location('test_fold_fate.pf', 169, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(res%states(:, below), y, location=pf_source_location('test_fold_fate.pf', 162, 'assertEqual'))
+        call assertEqual(res%states(:, below), y, location=pf_source_location('test_fold_fate.pf', 170, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, stats%map_evaluations, location=pf_source_location('test_fold_fate.pf', 163, 'assertEqual'))
+        call assertEqual(0, stats%map_evaluations, location=pf_source_location('test_fold_fate.pf', 171, 'assertEqual'))
         if (pf_any_failed()) return
 
         call climb_stairs(map, run, proto, y, a0, res%fold_amplitude + 0.5_wp, a, fate, stats)
-        call assertEqual(fate_transmits, fate, location=pf_source_location('test_fold_fate.pf', 166, 'assertEqual'))
+        call assertEqual(stairs_found, fate, location=pf_source_location('test_fold_fate.pf', 174, 'assertEqual'))
         if (pf_any_failed()) return
         call assertGreaterThanOrEqual( &
             a, &
             res%fold_amplitude, &
-            location=pf_source_location('test_fold_fate.pf', 167, 'assertGreaterThanOrEqual'))
+            location=pf_source_location('test_fold_fate.pf', 175, 'assertGreaterThanOrEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             a, &
             res%fold_amplitude + proto%stair_height, &
-            location=pf_source_location('test_fold_fate.pf', 168, 'assertLessThan'))
+            location=pf_source_location('test_fold_fate.pf', 176, 'assertLessThan'))
         if (pf_any_failed()) return
         stairs = nint((a - a0)/proto%stair_height)
         call assertEqual( &
             a0 + real(stairs, wp)*proto%stair_height, &
             a, &
             tolerance=1.0e-12_wp, &
-            location=pf_source_location('test_fold_fate.pf', 170, 'assertEqual'))
+            location=pf_source_location('test_fold_fate.pf', 178, 'assertEqual'))
         if (pf_any_failed()) return
         per_stair = ceiling(proto%stair_time/map%period)
         call assertGreaterThan( &
             stats%map_evaluations, &
             (stairs - 1)*per_stair, &
-            location=pf_source_location('test_fold_fate.pf', 172, 'assertGreaterThan'))
+            location=pf_source_location('test_fold_fate.pf', 180, 'assertGreaterThan'))
         if (pf_any_failed()) return
         call assertLessThanOrEqual( &
             stats%map_evaluations, &
             stairs*per_stair, &
-            location=pf_source_location('test_fold_fate.pf', 173, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_fold_fate.pf', 181, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
     end subroutine test_stairs_transmit_just_past_the_fold
+
+    !> Each outcome of the protocol's units is written as its file's code, fixed by the files (/fold_fate 1 .. 3;
+    !> /transmission_status 0 where found, the last branch's continuation status, 7 and 8; /branch_switch 0 .. 5),
+    !> and each code is named in its dataset's `codes` attribute.
+    ! @test
+    subroutine test_outcomes_as_the_files_codes()
+        type(fold_protocol) :: proto
+
+        call assertEqual( &
+            1, &
+            fold_fate_code(fate_transmits), &
+            location=pf_source_location('test_fold_fate.pf', 191, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            2, &
+            fold_fate_code(fate_localized), &
+            location=pf_source_location('test_fold_fate.pf', 192, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            3, &
+            fold_fate_code(fate_failed), &
+            location=pf_source_location('test_fold_fate.pf', 193, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0, &
+            transmission_code(follow_at_push, cont_no_fold), &
+            location=pf_source_location('test_fold_fate.pf', 194, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0, &
+            transmission_code(follow_fold_transmits, cont_no_fold), &
+            location=pf_source_location('test_fold_fate.pf', 195, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0, &
+            transmission_code(follow_stairs_transmit, cont_unstable_start), &
+            location=pf_source_location('test_fold_fate.pf', 196, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            1, &
+            transmission_code(follow_branch_ended, cont_no_fold), &
+            location=pf_source_location('test_fold_fate.pf', 197, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            6, &
+            transmission_code(follow_branch_ended, cont_unstable_start), &
+            location=pf_source_location('test_fold_fate.pf', 198, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            7, &
+            transmission_code(follow_too_many, cont_fold_found), &
+            location=pf_source_location('test_fold_fate.pf', 199, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            8, &
+            transmission_code(follow_fate_failed, cont_fold_found), &
+            location=pf_source_location('test_fold_fate.pf', 200, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            0, &
+            branch_switch_code(switch_no_stairs), &
+            location=pf_source_location('test_fold_fate.pf', 201, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            1, &
+            branch_switch_code(switch_supercritical), &
+            location=pf_source_location('test_fold_fate.pf', 202, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            2, &
+            branch_switch_code(switch_subcritical), &
+            location=pf_source_location('test_fold_fate.pf', 203, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            3, &
+            branch_switch_code(switch_not_found), &
+            location=pf_source_location('test_fold_fate.pf', 204, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            4, &
+            branch_switch_code(switch_stairs), &
+            location=pf_source_location('test_fold_fate.pf', 205, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            5, &
+            branch_switch_code(switch_side_unknown), &
+            location=pf_source_location('test_fold_fate.pf', 206, 'assertEqual'))
+        if (pf_any_failed()) return
+        proto = fold_protocol(max_branches=3)
+        call assertTrue( &
+            index(fate_codes(proto), "3 failed") > 0, &
+            location=pf_source_location('test_fold_fate.pf', 208, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            index(transmission_status_codes(proto), "7: still localized past the folds of 3 branches") > 0, &
+            location=pf_source_location('test_fold_fate.pf', 209, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            index(transmission_status_codes(proto), "8: the scheme failed") > 0, &
+            location=pf_source_location('test_fold_fate.pf', 210, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            index(branch_switch_codes(proto), "4 stairs") > 0, &
+            location=pf_source_location('test_fold_fate.pf', 211, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            index(branch_switch_codes(proto), "5 side unknown") > 0, &
+            location=pf_source_location('test_fold_fate.pf', 212, 'assertTrue'))
+        if (pf_any_failed()) return
+    end subroutine test_outcomes_as_the_files_codes
+
+    !> A climb's plan (`climb_plan`): the stairs a0 + k stair_height strictly below the top, none where the first
+    !> would reach it; its levels are a0 + k stair_height to the bit; its verdicts read (`read_stairs`, up only) as
+    !> the first stair that transmits, or none, and never a downward edge.
+    ! @test
+    subroutine test_climb_plan_and_its_reading()
+        type(fold_protocol) :: proto
+        type(stair_plan) :: plan
+        real(wp) :: up, down
+        integer :: gaps, outcome, k
+
+        proto = fold_protocol(stair_height=0.1_wp, stair_time=50.0_wp)
+        plan = climb_plan(1.0_wp, proto, 1.35_wp)
+        call assertEqual(3, plan%top, location=pf_source_location('test_fold_fate.pf', 227, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertFalse(plan%down, location=pf_source_location('test_fold_fate.pf', 228, 'assertFalse'))
+        if (pf_any_failed()) return
+        call assertEqual(50.0_wp, plan%time, location=pf_source_location('test_fold_fate.pf', 229, 'assertEqual'))
+        if (pf_any_failed()) return
+        do k = 1, plan%top
+            call assertTrue( &
+                plan_level(plan, k) == 1.0_wp + real(k, wp)*0.1_wp, &
+                location=pf_source_location('test_fold_fate.pf', 231, 'assertTrue'))
+            if (pf_any_failed()) return
+        end do
+        plan = climb_plan(1.0_wp, proto, 1.0_wp + 3.0_wp*0.1_wp)
+        call assertEqual(2, plan%top, location=pf_source_location('test_fold_fate.pf', 234, 'assertEqual'))
+        if (pf_any_failed()) return
+        plan = climb_plan(1.0_wp, proto, 1.05_wp)
+        call assertEqual(0, plan%top, location=pf_source_location('test_fold_fate.pf', 236, 'assertEqual'))
+        if (pf_any_failed()) return
+
+        plan = climb_plan(1.0_wp, proto, 1.35_wp)
+        call read_stairs(plan, [.false., .false., .true., .false.], up, down, gaps, outcome)
+        call assertEqual(stairs_found, outcome, location=pf_source_location('test_fold_fate.pf', 240, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertTrue(up == plan_level(plan, 2), location=pf_source_location('test_fold_fate.pf', 241, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue(ieee_is_nan(down), location=pf_source_location('test_fold_fate.pf', 242, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertEqual(0, gaps, location=pf_source_location('test_fold_fate.pf', 243, 'assertEqual'))
+        if (pf_any_failed()) return
+        call read_stairs(plan, [.false., .false., .false., .false.], up, down, gaps, outcome)
+        call assertEqual(stairs_none, outcome, location=pf_source_location('test_fold_fate.pf', 245, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            ieee_is_nan(up) .and. ieee_is_nan(down), &
+            location=pf_source_location('test_fold_fate.pf', 246, 'assertTrue'))
+        if (pf_any_failed()) return
+    end subroutine test_climb_plan_and_its_reading
 
 end module test_fold_fate

@@ -13,7 +13,9 @@ module test_hysteresis
                                 stair_count, profile_ramp, profile_stairs
     use supratrans_mol, only: drive_dpsi
     use supratrans_hysteresis_stairs, only: hysteresis_edges, stair_powers, hysteresis_found, hysteresis_none, &
-                                            hysteresis_at_bottom, hysteresis_still_at_end, hysteresis_died_before_top
+                                            hysteresis_at_bottom, hysteresis_still_at_end, hysteresis_died_before_top, &
+                                            hysteresis_status, hysteresis_failed
+    use supratrans_stairs, only: stairs_failed
     implicit none
 
 contains
@@ -44,7 +46,7 @@ contains
         call assertEqual( &
             profile_ramp, &
             drive%profile, &
-            location=pf_source_location('test_hysteresis.pf', 43, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 45, 'assertEqual'))
         if (pf_any_failed()) return
         do r = 1, 2
             drive%amplitude = 1.77_wp
@@ -58,7 +60,7 @@ contains
                     old, &
                     drive_psi(drive, t), &
                     0.0_wp, &
-                    location=pf_source_location('test_hysteresis.pf', 52, 'assertEqual'))
+                    location=pf_source_location('test_hysteresis.pf', 54, 'assertEqual'))
                 if (pf_any_failed()) return
                 dr = 0.0_wp
                 if (drive%ramp_time > 0.0_wp .and. t < drive%ramp_time) dr = 1.0_wp/drive%ramp_time
@@ -68,7 +70,7 @@ contains
                         old, &
                         drive_dpsi(drive, t, t + 1.0e-3_wp), &
                         0.0_wp, &
-                        location=pf_source_location('test_hysteresis.pf', 57, 'assertEqual'))
+                        location=pf_source_location('test_hysteresis.pf', 59, 'assertEqual'))
                     if (pf_any_failed()) return
                 end if
             end do
@@ -85,7 +87,7 @@ contains
         integer :: j, k
 
         drive = stairs()
-        call assertEqual(7, stair_count(drive), location=pf_source_location('test_hysteresis.pf', 73, 'assertEqual'))
+        call assertEqual(7, stair_count(drive), location=pf_source_location('test_hysteresis.pf', 75, 'assertEqual'))
         if (pf_any_failed()) return
         do j = 0, 6
             expected = 1.5_wp + real(min(j, 6 - j), wp)*0.1_wp
@@ -93,7 +95,7 @@ contains
                 expected, &
                 stair_level(drive, j), &
                 1.0e-14_wp, &
-                location=pf_source_location('test_hysteresis.pf', 76, 'assertEqual'))
+                location=pf_source_location('test_hysteresis.pf', 78, 'assertEqual'))
             if (pf_any_failed()) return
             do k = 0, 10
                 t = 20.0_wp + real(j, wp)*100.0_wp + 10.0_wp + 8.9_wp*real(k, wp)
@@ -101,13 +103,13 @@ contains
                     expected, &
                     stair_amplitude(drive, t), &
                     1.0e-14_wp, &
-                    location=pf_source_location('test_hysteresis.pf', 79, 'assertEqual'))
+                    location=pf_source_location('test_hysteresis.pf', 81, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     0.0_wp, &
                     stair_slope(drive, t), &
                     0.0_wp, &
-                    location=pf_source_location('test_hysteresis.pf', 80, 'assertEqual'))
+                    location=pf_source_location('test_hysteresis.pf', 82, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
         end do
@@ -115,51 +117,51 @@ contains
             20.0_wp + 300.0_wp, &
             stair_start(drive, 3), &
             1.0e-12_wp, &
-            location=pf_source_location('test_hysteresis.pf', 83, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 85, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.8_wp, &
             stair_amplitude(drive, 360.0_wp), &
             1.0e-14_wp, &
-            location=pf_source_location('test_hysteresis.pf', 84, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 86, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.75_wp, &
             stair_amplitude(drive, 10.0_wp), &
             1.0e-14_wp, &
-            location=pf_source_location('test_hysteresis.pf', 85, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 87, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             stair_amplitude(drive, 0.0_wp), &
             0.0_wp, &
-            location=pf_source_location('test_hysteresis.pf', 86, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 88, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.5_wp, &
             stair_amplitude(drive, 720.0_wp + 55.0_wp), &
             1.0e-14_wp, &
-            location=pf_source_location('test_hysteresis.pf', 87, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 89, 'assertEqual'))
         if (pf_any_failed()) return
         ! halfway up the ramp of stair 1 (a_0 -> a_1) and of stair 4 (a_3 -> a_2)
         call assertEqual( &
             1.55_wp, &
             stair_amplitude(drive, 125.0_wp), &
             1.0e-14_wp, &
-            location=pf_source_location('test_hysteresis.pf', 89, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 91, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.75_wp, &
             stair_amplitude(drive, 425.0_wp), &
             1.0e-14_wp, &
-            location=pf_source_location('test_hysteresis.pf', 90, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 92, 'assertEqual'))
         if (pf_any_failed()) return
         t = 433.3_wp
         call assertEqual( &
             stair_amplitude(drive, t)*sin(0.9_wp*t), &
             drive_psi(drive, t), &
             0.0_wp, &
-            location=pf_source_location('test_hysteresis.pf', 92, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 94, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_stairs_have_their_levels_at_their_times
 
@@ -183,12 +185,12 @@ contains
         call assertLessThanOrEqual( &
             biggest, &
             max(1.5_wp/20.0_wp, 0.1_wp/10.0_wp)*h*(1.0_wp + 1.0e-6_wp), &
-            location=pf_source_location('test_hysteresis.pf', 112, 'assertLessThanOrEqual'))
+            location=pf_source_location('test_hysteresis.pf', 114, 'assertLessThanOrEqual'))
         if (pf_any_failed()) return
         call assertGreaterThan( &
             biggest, &
             0.5_wp*1.5_wp/20.0_wp*h, &
-            location=pf_source_location('test_hysteresis.pf', 113, 'assertGreaterThan'))
+            location=pf_source_location('test_hysteresis.pf', 115, 'assertGreaterThan'))
         if (pf_any_failed()) return
         do j = 0, 7
             tk = stair_start(drive, j)
@@ -196,14 +198,14 @@ contains
                 stair_amplitude(drive, tk - 1.0e-9_wp), &
                 stair_amplitude(drive, tk + 1.0e-9_wp), &
                 1.0e-9_wp, &
-                location=pf_source_location('test_hysteresis.pf', 116, 'assertEqual'))
+                location=pf_source_location('test_hysteresis.pf', 118, 'assertEqual'))
             if (pf_any_failed()) return
             tk = tk + drive%stair_ramp
             call assertEqual( &
                 stair_amplitude(drive, tk - 1.0e-9_wp), &
                 stair_amplitude(drive, tk + 1.0e-9_wp), &
                 1.0e-9_wp, &
-                location=pf_source_location('test_hysteresis.pf', 118, 'assertEqual'))
+                location=pf_source_location('test_hysteresis.pf', 120, 'assertEqual'))
             if (pf_any_failed()) return
         end do
     end subroutine test_stairs_are_continuous
@@ -226,14 +228,14 @@ contains
                 fd, &
                 stair_slope(drive, t), &
                 1.0e-8_wp, &
-                location=pf_source_location('test_hysteresis.pf', 136, 'assertEqual'))
+                location=pf_source_location('test_hysteresis.pf', 138, 'assertEqual'))
             if (pf_any_failed()) return
             fd = (drive_psi(drive, t + h) - drive_psi(drive, t - h))/(2.0_wp*h)
             call assertEqual( &
                 fd, &
                 drive_dpsi(drive, t, t), &
                 1.0e-7_wp, &
-                location=pf_source_location('test_hysteresis.pf', 138, 'assertEqual'))
+                location=pf_source_location('test_hysteresis.pf', 140, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         ! at the start of stair 1's ramp: 0 from the left, (a_1 - a_0)/stair_ramp from the right
@@ -242,19 +244,19 @@ contains
             0.0_wp, &
             stair_slope(drive, t - 0.01_wp), &
             0.0_wp, &
-            location=pf_source_location('test_hysteresis.pf', 142, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 144, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.01_wp, &
             stair_slope(drive, t + 0.01_wp), &
             1.0e-14_wp, &
-            location=pf_source_location('test_hysteresis.pf', 143, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 145, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             -0.01_wp, &
             stair_slope(drive, stair_start(drive, 4) + 0.01_wp), &
             1.0e-14_wp, &
-            location=pf_source_location('test_hysteresis.pf', 144, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 146, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_stair_slope_against_differences
 
@@ -273,60 +275,66 @@ contains
         call assertEqual( &
             hysteresis_found, &
             status, &
-            location=pf_source_location('test_hysteresis.pf', 159, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 161, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.7_wp, up, 1.0e-14_wp, location=pf_source_location('test_hysteresis.pf', 160, 'assertEqual'))
+        call assertEqual(1.7_wp, up, 1.0e-14_wp, location=pf_source_location('test_hysteresis.pf', 162, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.6_wp, &
             down, &
             1.0e-14_wp, &
-            location=pf_source_location('test_hysteresis.pf', 161, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 163, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1, gaps, location=pf_source_location('test_hysteresis.pf', 162, 'assertEqual'))
+        call assertEqual(1, gaps, location=pf_source_location('test_hysteresis.pf', 164, 'assertEqual'))
         if (pf_any_failed()) return
         call hysteresis_edges(drive, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp], 0.05_wp, up, down, &
                               gaps, status)
-        call assertEqual(hysteresis_none, status, location=pf_source_location('test_hysteresis.pf', 165, 'assertEqual'))
+        call assertEqual(hysteresis_none, status, location=pf_source_location('test_hysteresis.pf', 167, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             ieee_is_nan(up) .and. ieee_is_nan(down), &
-            location=pf_source_location('test_hysteresis.pf', 166, 'assertTrue'))
+            location=pf_source_location('test_hysteresis.pf', 168, 'assertTrue'))
         if (pf_any_failed()) return
         call hysteresis_edges(drive, [1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, 0.0_wp, 0.0_wp], 0.05_wp, up, down, &
                               gaps, status)
         call assertEqual( &
             hysteresis_at_bottom, &
             status, &
-            location=pf_source_location('test_hysteresis.pf', 169, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 171, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertTrue(ieee_is_nan(up), location=pf_source_location('test_hysteresis.pf', 170, 'assertTrue'))
+        call assertTrue(ieee_is_nan(up), location=pf_source_location('test_hysteresis.pf', 172, 'assertTrue'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.7_wp, &
             down, &
             1.0e-14_wp, &
-            location=pf_source_location('test_hysteresis.pf', 171, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 173, 'assertEqual'))
         if (pf_any_failed()) return
         call hysteresis_edges(drive, [0.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp, 1.0_wp], 0.05_wp, up, down, &
                               gaps, status)
         call assertEqual( &
             hysteresis_still_at_end, &
             status, &
-            location=pf_source_location('test_hysteresis.pf', 174, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 176, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1.6_wp, up, 1.0e-14_wp, location=pf_source_location('test_hysteresis.pf', 175, 'assertEqual'))
+        call assertEqual(1.6_wp, up, 1.0e-14_wp, location=pf_source_location('test_hysteresis.pf', 177, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertTrue(ieee_is_nan(down), location=pf_source_location('test_hysteresis.pf', 176, 'assertTrue'))
+        call assertTrue(ieee_is_nan(down), location=pf_source_location('test_hysteresis.pf', 178, 'assertTrue'))
         if (pf_any_failed()) return
         call hysteresis_edges(drive, [0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp], 0.05_wp, up, down, &
                               gaps, status)
         call assertEqual( &
             hysteresis_died_before_top, &
             status, &
-            location=pf_source_location('test_hysteresis.pf', 179, 'assertEqual'))
+            location=pf_source_location('test_hysteresis.pf', 181, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertTrue(ieee_is_nan(down), location=pf_source_location('test_hysteresis.pf', 180, 'assertTrue'))
+        call assertTrue(ieee_is_nan(down), location=pf_source_location('test_hysteresis.pf', 182, 'assertTrue'))
+        if (pf_any_failed()) return
+        ! (a failed run, read by no stairs: its code through the same mapping)
+        call assertEqual( &
+            hysteresis_failed, &
+            hysteresis_status(stairs_failed), &
+            location=pf_source_location('test_hysteresis.pf', 184, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_edges_from_powers
 
@@ -365,7 +373,7 @@ contains
                 end if
             end do
             power = stair_powers(run, result)
-            call assertEqual(7, size(power), location=pf_source_location('test_hysteresis.pf', 218, 'assertEqual'))
+            call assertEqual(7, size(power), location=pf_source_location('test_hysteresis.pf', 222, 'assertEqual'))
             if (pf_any_failed()) return
             do j = 0, 6
                 a = stair_level(run%drive, j)
@@ -376,7 +384,7 @@ contains
                     expected, &
                     power(j + 1), &
                     2.0e-3_wp*max(abs(expected), 1.0_wp), &
-                    location=pf_source_location('test_hysteresis.pf', 224, 'assertEqual'))
+                    location=pf_source_location('test_hysteresis.pf', 228, 'assertEqual'))
                 if (pf_any_failed()) return
             end do
             deallocate (result%probe_time, result%probe_u)

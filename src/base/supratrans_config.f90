@@ -246,8 +246,8 @@ module supratrans_config
         logical :: quiet = .false.
     end type output_params
 
-    !> The continuation scene's protocol past a fold (supratrans_fold_fate, supratrans_chain_watch): how a fold's fate is watched,
-    !> how the chain is followed past it, the branch switch and the stairs (&scene fate_*, follow_*, switch_*, fold_stair_*).
+    !> The continuation scene's protocol past a fold (its units in src/scenes/protocol/): how a fold's fate is watched, how the
+    !> chain is followed past it, the branch switch and the stairs (&scene fate_*, follow_*, switch_*, fold_stair_*).
     type, public :: fold_protocol
         !> Continuation (shooting): Newton-shooting converges when max |P(x) - x| <= this (&scene continuation_tol).
         real(wp) :: continuation_tol = 1.0e-10_wp

@@ -6,8 +6,10 @@
 !> the record says which one it is (`threshold_kind`, the codes of `instability_type_codes`). With &scene chain =
 !> 'short' the run's chain is the short chain of `supratrans_short_chain` (re-exported here).
 !>
-!> **The fold's fate** and the branches followed past a fold where the chain stays localized: `supratrans_fold_fate`
-!> (re-exported here).
+!> **The fold protocol** past the fold or a loss of stability below it: its units in `src/scenes/protocol/` (the
+!> fate `supratrans_protocol_fate`, the following `supratrans_protocol_follow`, the branch switch
+!> `supratrans_protocol_switch`, the stairs `supratrans_stairs`), their outcomes written as the files' codes by
+!> `supratrans_protocol_codes` (`fate_codes`, `fold_fate`, ... re-exported here).
 !>
 !> **The branch from rest on half a period.** For the fold alone (`floquet_every = 0`) with M even, the branch from
 !> rest is continued on the half-period map G of `supratrans_period_map` (P = G o G; the branch from rest is made of
@@ -19,7 +21,7 @@
 !> continuation, which also sees P's real multipliers through +1 where M is odd) and reports it as the first loss
 !> of stability, type 1 (a real multiplier through +1 where the branch does not turn), below the symmetric branch's
 !> fold. A slow ramp never reaches that fold: where the transmission is asked for (`fate`), the scene switches there
-!> to the branch of states without the symmetry (`past_branch_point` of `supratrans_fold_fate`, on P). A branch
+!> to the branch of states without the symmetry (`past_loss` of `supratrans_protocol_switch`, on P). A branch
 !> followed past a localized fold goes on G too when the periodic state the chain settled on has the symmetry
 !> (G(x) = x to `symmetric_tol`; the chain may settle on one without it), and on P otherwise.
 module supratrans_fold_line
@@ -37,10 +39,13 @@ module supratrans_fold_line
                                        continuation_status_name
     use supratrans_floquet, only: crossing_none, crossing_fold, crossing_period_doubling, crossing_torus, &
                                   crossing_name
-    use supratrans_fold_record, only: fold_record, branch_quantities, kept_multipliers, multiplier_samples
-    use supratrans_fold_fate, only: fold_fate, fate_codes, transmission_status_codes, half_period_symmetric, &
-                                    transmission_after, add_branch_cost, counted_fate, follow_fate_failed, &
-                                    past_branch_point, branch_switch_codes, past_oscillatory_loss
+    use supratrans_fold_record, only: fold_record, branch_quantities, kept_multipliers, multiplier_samples, &
+                                      add_branch_cost
+    use supratrans_protocol_fate, only: fold_fate
+    use supratrans_protocol_follow, only: transmission_after, counted_fate, half_period_symmetric
+    use supratrans_protocol_switch, only: past_loss, switch_no_stairs
+    use supratrans_protocol_codes, only: fate_codes, transmission_status_codes, branch_switch_codes, fold_fate_code, &
+                                         transmission_code, branch_switch_code
     implicit none
     private
 
@@ -73,7 +78,7 @@ contains
         type(continuation_controls) :: ctl
         type(continuation_result) :: res
         type(error_type), allocatable :: error
-        integer :: npts, k, s, last, fate_code
+        integer :: npts, k, s, last, fate_outcome, switch_outcome, transmission, ended
         real(wp) :: fate_time
         integer :: samples(multiplier_samples)
         real(wp), allocatable :: settled(:)
@@ -139,26 +144,27 @@ contains
         end if
         ! a loss of stability below the fold: a slow ramp leaves the branch from rest there, at a branch point (a
         ! real multiplier through +1, the branch not turning) for the other branch or for what the chain does past it
+        ! (a branch point: the other branch; a torus or a period doubling: no branch to switch to, the stairs)
         switch = test_fate .and. r%threshold_kind /= crossing_none .and. allocated(res%instability_point)
         if (switch) switch = .not. (r%threshold >= r%fold_amplitude)
         if (switch) then
-            if (r%threshold_kind == crossing_fold) then
-                call past_branch_point(map, run, scene%protocol, ctl, res, r)
-            else
-                ! a torus or a period doubling: no branch to switch to, the chain is driven up in stairs
-                call past_oscillatory_loss(map, run, scene%protocol, ctl, res, r%fold_amplitude, r, switch)
-            end if
+            call past_loss(map, run, scene%protocol, ctl, res, r%threshold_kind, r%fold_amplitude, r, switch_outcome, &
+                           transmission, ended)
+            r%branch_switch = branch_switch_code(switch_outcome)
+            switch = switch_outcome /= switch_no_stairs
+            if (switch) r%transmission_status = transmission_code(transmission, ended)
         end if
         ! the fold's fate (and, where no loss of stability below it was followed, where the chain transmits past it)
         if (test_fate .and. res%fold_index > 0 .and. .not. ieee_is_nan(r%fold_amplitude)) then
             call counted_fate(map, run, scene%protocol, res%states(:, res%fold_index), &
-                              res%fold_amplitude*(1.0_wp + scene%protocol%fate_push), r, fate_code, fate_time, settled)
-            r%fate = fate_code
+                              res%fold_amplitude*(1.0_wp + scene%protocol%fate_push), r, fate_outcome, fate_time, settled)
+            r%fate = fold_fate_code(fate_outcome)
             r%fate_time = fate_time
             if (.not. switch) then
                 r%branches = 1
-                r%transmission_status = follow_fate_failed
-                call transmission_after(map, run, scene%protocol, ctl, res%fold_amplitude, fate_code, settled, r)
+                call transmission_after(map, run, scene%protocol, ctl, res%fold_amplitude, fate_outcome, settled, r, &
+                                        transmission, ended)
+                r%transmission_status = transmission_code(transmission, ended)
             end if
         end if
         call add_branch_cost(r, res)

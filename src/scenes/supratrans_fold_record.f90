@@ -13,12 +13,13 @@ module supratrans_fold_record
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
     use supratrans_strings, only: int_str
+    use supratrans_continuation_types, only: continuation_result, continuation_stats
     use supratrans_fold_scalars, only: fold_scalars, fold_scalars_names, fold_scalars_values, fold_scalars_from_values, &
                                        empty_fold_scalars
     implicit none
     private
 
-    public :: fold_fields, fold_to_values, fold_from_values, empty_fold_record, add_fold_cost
+    public :: fold_fields, fold_to_values, fold_from_values, empty_fold_record, add_fold_cost, add_stats, add_branch_cost
 
     !> Quantities recorded at each branch point, in this order (`fold_record%branch` rows, `/branch/<name>`).
     character(len=*), parameter, public :: branch_quantities(*) = [character(len=17) :: "amplitude", "umax", &
@@ -142,5 +143,33 @@ contains
         r%time_lu = r%time_lu + check%time_lu
         r%time_eigen = r%time_eigen + check%time_eigen
     end subroutine add_fold_cost
+
+    !> Add what a continuation cost (its counts and times) to the record's costs.
+    pure subroutine add_branch_cost(r, res)
+        !> The record.
+        type(fold_record), intent(inout) :: r
+        !> The continuation.
+        type(continuation_result), intent(in) :: res
+
+        r%newton_iterations = r%newton_iterations + sum(res%newton_iterations(1:res%n_points))
+        call add_stats(r, res%stats)
+    end subroutine add_branch_cost
+
+    !> Add counts and times (of a continuation, a fate's watch, stairs, damped shooting) to the record's costs.
+    pure subroutine add_stats(r, stats)
+        !> The record.
+        type(fold_record), intent(inout) :: r
+        !> The counts and times.
+        type(continuation_stats), intent(in) :: stats
+
+        r%map_evaluations = r%map_evaluations + stats%map_evaluations + stats%jacobian_evaluations
+        r%jacobians = r%jacobians + stats%jacobian_evaluations
+        r%factorizations = r%factorizations + stats%factorisations
+        r%eigen_calls = r%eigen_calls + stats%eigen_calls
+        r%time_map = r%time_map + stats%time_map
+        r%time_tangent = r%time_tangent + stats%time_jacobian
+        r%time_lu = r%time_lu + stats%time_lu
+        r%time_eigen = r%time_eigen + stats%time_eigen
+    end subroutine add_stats
 
 end module supratrans_fold_record

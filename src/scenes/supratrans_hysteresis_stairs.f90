@@ -1,6 +1,8 @@
 !> The stair protocol of the scene `hysteresis` (`supratrans_scene_hysteresis`) and what it measures: the drive of
 !> a run up and down the stairs (`hysteresis_drive`), the mean power of each stair (`stair_powers`), the two edges
-!> and the status of a run (`hysteresis_edges`, codes `hysteresis_*`).
+!> and the status of a run (`hysteresis_edges`, codes `hysteresis_*`). The stairs themselves, their plan, levels and
+!> the reading of their verdicts into edges, are the ones of the fold protocol (`supratrans_stairs`); what is the
+!> scene's own is how a stair is held (one run whose drive ramps from stair to stair) and its verdict (the power).
 !>
 !> **What a stair transmits.** The mean power through the bond (n_d, n_d + 1) just beyond the detector site n_d
 !> (`detector_site`, the one of the bifurcation scene's verdict): J = c^2 (u_{n_d} - u_{n_d+1}) v_{n_d+1} + beta
@@ -29,16 +31,18 @@
 !> is intermittent, and this says how much. The spreads are max - min of each edge over the stair lengths (the
 !> protocol's part of the edge: the model's edge, the fold of the branch of periodic states, has none).
 module supratrans_hysteresis_stairs
-    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
     use supratrans_config, only: input_config, run_config, drive_params
-    use supratrans_chain, only: profile_stairs, stair_count, stair_level, stair_start
+    use supratrans_chain, only: stair_count, stair_start
+    use supratrans_stairs, only: stair_plan, stairs_profile, drive_plan, plan_level, read_stairs, stairs_found, &
+                                 stairs_none, stairs_at_bottom, stairs_died_before_top, stairs_still_at_end, stairs_failed
     use supratrans_result, only: run_result
     implicit none
     private
 
-    public :: hysteresis_drive, stair_powers, hysteresis_edges, hysteresis_status_codes
+    public :: hysteresis_drive, stair_powers, hysteresis_edges, hysteresis_status_codes, hysteresis_status
 
+    ! The codes of /status (a run's outcome, `stairs_*` of `supratrans_stairs`, as `hysteresis_status` writes it).
     !> Status: both edges found.
     integer, parameter, public :: hysteresis_found = 0
     !> Status: no stair up to a_K transmits (both edges NaN).
@@ -68,16 +72,14 @@ contains
         !> Stair length T_s.
         real(wp), intent(in) :: stair_time
         type(run_config) :: r
+        type(stair_plan) :: plan
 
+        plan = stair_plan(low=cfg%scene%amplitude_min, height=cfg%scene%stair_height, top=top, time=stair_time, &
+                          ramp=cfg%scene%stair_ramp, down=.true.)
         r = run
         r%drive%omega = omega
-        r%drive%profile = profile_stairs
-        r%drive%stair_low = cfg%scene%amplitude_min
-        r%drive%stair_height = cfg%scene%stair_height
-        r%drive%stair_top = top
-        r%drive%stair_time = stair_time
-        r%drive%stair_ramp = cfg%scene%stair_ramp
-        r%drive%amplitude = stair_level(r%drive, top)
+        r%drive = stairs_profile(plan, r%drive)
+        r%drive%amplitude = plan_level(plan, top)
         r%numerics%t_final = stair_start(r%drive, stair_count(r%drive))
         r%detect%stop_when_decided = .false.
     end function hysteresis_drive
@@ -119,13 +121,14 @@ contains
         end do
     end function stair_powers
 
-    !> The edges from the stairs' mean powers (see the module documentation): the upward edge (first transmitting
-    !> stair on the way up), the downward edge (last transmitting stair on the way down, the top included), the quiet
-    !> stairs between the top and the downward edge, and the status.
+    !> The edges from the stairs' mean powers (see the module documentation): a stair transmits when its power exceeds
+    !> `threshold`, and its verdicts are read by `read_stairs` into the upward edge (first transmitting stair on the
+    !> way up), the downward edge (last transmitting stair on the way down, the top included), the quiet stairs
+    !> between the top and the downward edge, and the status.
     pure subroutine hysteresis_edges(drive, power, threshold, up, down, gaps, status)
         !> The drive (stair profile: levels).
         type(drive_params), intent(in) :: drive
-        !> Mean power of each stair, 2K + 1 values.
+        !> Mean power of each stair, 2K + 1 values (K the drive's `stair_top`).
         real(wp), intent(in) :: power(:)
         !> A stair transmits when its power exceeds this.
         real(wp), intent(in) :: threshold
@@ -137,44 +140,36 @@ contains
         integer, intent(out) :: gaps
         !> `hysteresis_*` status.
         integer, intent(out) :: status
-        logical :: on(0:size(power) - 1)
-        integer :: top, j, ju, jd
+        type(stair_plan) :: plan
+        integer :: outcome
 
-        top = (size(power) - 1)/2
-        on = power > threshold
-        up = ieee_value(up, ieee_quiet_nan)
-        down = up
-        gaps = 0
-        ju = -1
-        do j = 0, top
-            if (on(j)) then
-                ju = j
-                exit
-            end if
-        end do
-        jd = -1
-        do j = 2*top, top, -1
-            if (on(j)) then
-                jd = j
-                exit
-            end if
-        end do
-        if (ju > 0) up = stair_level(drive, ju)
-        if (jd >= top .and. jd < 2*top) down = stair_level(drive, jd)
-        if (jd >= top) gaps = count(.not. on(top:jd))
-        if (ju < 0) then
-            status = hysteresis_none
-        else if (ju == 0) then
-            status = hysteresis_at_bottom
-        else if (jd < 0) then
-            status = hysteresis_died_before_top
-        else if (jd == 2*top) then
-            status = hysteresis_still_at_end
-        else
-            status = hysteresis_found
-        end if
-        if (ju < 0) down = ieee_value(down, ieee_quiet_nan)
+        plan = drive_plan(drive)
+        call read_stairs(plan, power > threshold, up, down, gaps, outcome)
+        status = hysteresis_status(outcome)
     end subroutine hysteresis_edges
+
+    !> The /status code of a run's stairs (`stairs_*` of `supratrans_stairs`): the one place they are mapped.
+    pure integer function hysteresis_status(outcome)
+        !> The outcome.
+        integer, intent(in) :: outcome
+
+        select case (outcome)
+        case (stairs_found)
+            hysteresis_status = hysteresis_found
+        case (stairs_none)
+            hysteresis_status = hysteresis_none
+        case (stairs_at_bottom)
+            hysteresis_status = hysteresis_at_bottom
+        case (stairs_died_before_top)
+            hysteresis_status = hysteresis_died_before_top
+        case (stairs_still_at_end)
+            hysteresis_status = hysteresis_still_at_end
+        case (stairs_failed)
+            hysteresis_status = hysteresis_failed
+        case default
+            hysteresis_status = hysteresis_failed
+        end select
+    end function hysteresis_status
 
     !> The status codes of the scene, "code: meaning" clauses separated by "; ".
     pure function hysteresis_status_codes() result(text)
