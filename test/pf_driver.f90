@@ -27,236 +27,243 @@ program pf_driver
     use test_continuation, only: t22 => test_tangent_finite_difference
     use test_continuation, only: t23 => test_failures_reported
     use test_continuation, only: t24 => test_fold_next_to_failing_region
-    use test_continuation_fast, only: t25 => test_lu_solve_transposed
-    use test_continuation_fast, only: t26 => test_fast_floquet_same_verdicts
-    use test_continuation_fast, only: t27 => test_fold_alone
-    use test_continuation_fast, only: t28 => test_fold_on_the_half_period_map
-    use test_continuation_fast, only: t29 => test_stop_at_unstable_start
-    use test_continuation_fast, only: t30 => test_short_chain
-    use test_continuation_fast, only: t31 => test_tracked_multiplier
-    use test_continuation_fast, only: t32 => test_kept_multipliers
-    use test_fold_fate, only: t33 => test_switch_side_of_a_bracketed_branch_point
-    use test_fold_fate, only: t34 => test_fold_transmits_and_stable_state_stays
-    use test_fold_fate, only: t35 => test_half_period_symmetry
-    use test_fold_fate, only: t36 => test_stairs_transmit_just_past_the_fold
-    use test_fold_record, only: t37 => test_round_trip
-    use test_harmonic_balance, only: t38 => test_jacobian_against_finite_differences
-    use test_harmonic_balance, only: t39 => test_block_solve_inverts_the_jacobian
-    use test_harmonic_balance, only: t40 => test_radiation_root_solves_the_dispersion_relation
-    use test_harmonic_balance, only: t41 => test_small_amplitude_state_is_the_evanescent_wave
-    use test_harmonic_balance, only: t42 => test_fold_state_is_a_periodic_orbit_of_the_ode
-    use test_hdf5, only: b8 => set_up
-    use test_hdf5, only: a8 => tear_down
-    use test_hdf5, only: t43 => test_roundtrip_real
-    use test_hdf5, only: t44 => test_roundtrip_integer
-    use test_hdf5, only: t45 => test_roundtrip_character
-    use test_hdf5, only: t46 => test_roundtrip_attributes
-    use test_hdf5, only: t47 => test_refuses_to_overwrite
-    use test_hdf5, only: t48 => test_nothing_on_disk_before_commit
-    use test_hdf5, only: t49 => test_discard_leaves_nothing
-    use test_hdf5, only: t50 => test_exists_nested
-    use test_hdf5, only: t51 => test_first_error_sticks
-    use test_hdf5, only: t52 => test_dimension_scales_attached
-    use test_hdf5, only: t53 => test_many_files_in_one_process
-    use test_hdf5, only: t54 => test_errors_name_file_and_object
-    use test_hysteresis, only: t55 => test_default_profile_is_the_ramp
-    use test_hysteresis, only: t56 => test_stairs_have_their_levels_at_their_times
-    use test_hysteresis, only: t57 => test_stairs_are_continuous
-    use test_hysteresis, only: t58 => test_stair_slope_against_differences
-    use test_hysteresis, only: t59 => test_edges_from_powers
-    use test_hysteresis, only: t60 => test_stair_powers_against_wave_fluxes
-    use test_input, only: t61 => test_unknown_key
-    use test_input, only: t62 => test_key_in_wrong_group
-    use test_input, only: t63 => test_unknown_group
-    use test_input, only: t64 => test_integer_key_given_real
-    use test_input, only: t65 => test_real_key_given_text
-    use test_input, only: t66 => test_logical_key_given_yes
-    use test_input, only: t67 => test_scalar_key_given_list
-    use test_input, only: t68 => test_repeat_count_rejected
-    use test_input, only: t69 => test_key_given_twice
-    use test_input, only: t70 => test_unterminated_group
-    use test_input, only: t71 => test_unterminated_string
-    use test_input, only: t72 => test_text_outside_groups
-    use test_input, only: t73 => test_missing_file
-    use test_input, only: t74 => test_n_below_two
-    use test_input, only: t75 => test_dt_negative
-    use test_input, only: t76 => test_dt_zero
-    use test_input, only: t77 => test_t_final_not_positive
-    use test_input, only: t78 => test_omega_outside_gap
-    use test_input, only: t79 => test_omega_outside_gap_allowed
-    use test_input, only: t80 => test_stability_violated
-    use test_input, only: t81 => test_stability_condition_not_asked_of_a_stable_methods
-    use test_input, only: t82 => test_stability_violated_allowed
-    use test_input, only: t83 => test_output_exists
-    use test_input, only: t84 => test_output_exists_overwrite
-    use test_input, only: t85 => test_unknown_potential
-    use test_input, only: t86 => test_unknown_method
-    use test_input, only: t87 => test_unknown_scene
-    use test_input, only: t88 => test_probe_outside_chain
-    use test_input, only: t89 => test_full_valid_file
-    use test_input, only: t90 => test_empty_file_is_refused
-    use test_input, only: t91 => test_defaults_of_a_minimal_file
-    use test_input, only: t92 => test_validate_config_in_code
-    use test_input, only: t93 => test_list_value_out_of_range
-    use test_input, only: t94 => test_unknown_potential_in_list
-    use test_input, only: t95 => test_lists_of_names_read
-    use test_input, only: t96 => test_unknown_method_number_in_code
-    use test_input, only: t97 => test_namelist_text_and_start_kept
-    use test_journal, only: t98 => test_fields_read_by_name
-    use test_journal, only: t99 => test_other_fields_or_input_refused
-    use test_journal, only: t100 => test_header_names_the_fields
-    use test_journal, only: t101 => test_records_bound_to_their_header
-    use test_perf_kernels, only: t102 => test_sin_cos_array_accuracy
-    use test_perf_kernels, only: t103 => test_sin_cos_quiet_tail
-    use test_perf_kernels, only: t104 => test_gradient_paths_agree
-    use test_period_map, only: t105 => test_tangent_against_finite_differences
-    use test_period_map, only: t106 => test_tangent_light_cone
-    use test_period_map, only: t107 => test_same_scheme_as_steppers
-    use test_period_map, only: t108 => test_linear_evanescent_wave
-    use test_period_map, only: t109 => test_newton_shooting_quadratic
-    use test_period_map, only: t110 => test_steps_and_bad_input
-    use test_period_map, only: t111 => test_half_period_map
-    use test_potential, only: t112 => test_gradient_equals_difference_quotient
-    use test_potential, only: t113 => test_derivatives_consistent
-    use test_potential, only: t114 => test_gradient_tends_to_force
-    use test_potential, only: t115 => test_gradient_exact_at_rest
-    use test_potential, only: t116 => test_slope_matches_finite_difference
-    use test_potential, only: t117 => test_newton_bounds_hold
-    use test_potential, only: t118 => test_array_kernels_agree
-    use test_potential, only: t119 => test_names_round_trip
-    use test_potential, only: t120 => test_unknown_potential_is_an_error
-    use test_provenance, only: b15 => set_up
-    use test_provenance, only: a15 => tear_down
-    use test_provenance, only: t121 => test_build_commit_is_an_id_or_unknown
-    use test_provenance, only: t122 => test_commit_is_not_read_from_the_working_directory
-    use test_provenance, only: t123 => test_provenance_written
-    use test_provenance, only: t124 => test_provenance_attributes_are_the_documented_ones
-    use test_rk4, only: t125 => test_rk4_fourth_order
-    use test_rk4, only: t126 => test_rk4_energy_drift
-    use test_rk4, only: t127 => test_rk4_stability_limit
-    use test_rk4, only: t128 => test_rk4_agrees_with_energy_conserving_scheme
-    use test_scene_bifurcation, only: b17 => set_up
-    use test_scene_bifurcation, only: a17 => tear_down
-    use test_scene_bifurcation, only: t129 => test_early_stop_keeps_verdict
-    use test_scene_bifurcation, only: t130 => test_threads_give_identical_thresholds
-    use test_scene_bifurcation, only: t131 => test_threshold_transmits_and_one_step_below_does_not
-    use test_scene_bifurcation, only: t132 => test_resume_after_kill
-    use test_scene_bifurcation, only: t133 => test_file_layout
-    use test_scene_bifurcation, only: t134 => test_failed_runs_give_status_run_failed
-    use test_scene_bifurcation, only: t135 => test_screening_changes_no_threshold
-    use test_scene_factory, only: t136 => test_every_kind_of_the_schema_has_a_scene
-    use test_scene_factory, only: t137 => test_unknown_kind_is_one_line_naming_the_known
-    use test_scene_factory, only: t138 => test_the_input_check_words_an_unknown_kind_as_before
-    use test_scene_factory, only: t139 => test_only_a_timeseries_is_one_run
-    use test_scene_factory, only: t140 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
-    use test_scene_factory, only: t141 => test_task_scenes_refuse_an_existing_output_first
-    use test_scene_map, only: b19 => set_up
-    use test_scene_map, only: a19 => tear_down
-    use test_scene_map, only: t142 => test_skips_outside_gap_and_stores_as
-    use test_scene_map, only: t143 => test_map_independent_of_thread_count
-    use test_scene_sweep, only: b20 => set_up
-    use test_scene_sweep, only: a20 => tear_down
-    use test_scene_sweep, only: t144 => test_axis_grid_exact
-    use test_scene_sweep, only: t145 => test_independent_of_thread_count
-    use test_scene_sweep, only: t146 => test_layout_and_physics
-    use test_scene_sweep, only: t147 => test_resume_after_kill
-    use test_scene_sweep, only: t148 => test_diverging_runs_flagged
-    use test_scene_sweep, only: t149 => test_partial_snapshot
-    use test_scene_sweep, only: t150 => test_refuses_existing_output
-    use test_schema, only: t151 => test_table_is_complete
-    use test_schema, only: t152 => test_each_key_sets_its_own_field
-    use test_schema, only: t153 => test_defaults_are_the_papers
-    use test_schema, only: t154 => test_choices_agree_with_the_physics
-    use test_schema, only: t155 => test_parameters_hold_every_key
-    use test_scheme, only: t156 => test_ledger_closes_every_step
-    use test_scheme, only: t157 => test_ledger_closes_double_sine_gordon
-    use test_scheme, only: t158 => test_evanescent_wave_double_sine_gordon
-    use test_scheme, only: t159 => test_linearized_ledger_does_not_close
-    use test_scheme, only: t160 => test_evanescent_wave
-    use test_scheme, only: t161 => test_second_order_in_dt
-    use test_scheme, only: t162 => test_stability_boundary
-    use test_scheme, only: t163 => test_newton_failure_reported
-    use test_scheme, only: t164 => test_two_runs_in_two_threads
-    use test_scheme, only: t165 => test_verdict_across_the_gap
-    use test_screened_search, only: t166 => test_cheap_right_saves_exact_runs
-    use test_screened_search, only: t167 => test_cheap_too_high_within_band
-    use test_screened_search, only: t168 => test_cheap_too_high_walks_down
-    use test_screened_search, only: t169 => test_cheap_window_far_below
-    use test_screened_search, only: t170 => test_doubtful_quiet_answers_go_to_the_exact_oracle
-    use test_screened_search, only: t171 => test_random_patterns_with_margins
-    use test_screened_search, only: t172 => test_random_patterns_false_alarms
-    use test_screened_search, only: t173 => test_cheap_finds_none
-    use test_screened_search, only: t174 => test_none_transmits_confirms_the_top
-    use test_screened_search, only: t175 => test_exact_failure_is_reported
-    use test_screened_search, only: t176 => test_cheap_failure_falls_back_to_exact
-    use test_screened_search, only: t177 => test_margin_below_the_threshold
-    use test_slice_costs, only: t178 => test_equal_costs_deal_round_robin
-    use test_slice_costs, only: t179 => test_every_task_in_one_slice_and_deterministic
-    use test_slice_costs, only: t180 => test_largest_first_is_balanced_within_the_largest_task
-    use test_slice_costs, only: t181 => test_run_order_is_largest_first
-    use test_slice_costs, only: t182 => test_fold_tasks_cost_more_at_low_omega
-    use test_slice_costs, only: t183 => test_slice_text_counts_the_slice
-    use test_stability, only: b25 => set_up
-    use test_stability, only: a25 => tear_down
-    use test_stability, only: t184 => test_linear_limits
-    use test_stability, only: t185 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t186 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t187 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t188 => test_stepper_contract_order
-    use test_stepper_contract, only: t189 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t190 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t191 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t192 => test_engine_counts_steps_in_64_bits
-    use test_stepper_contract, only: t193 => test_stepper_contract_checkpoint
-    use test_stepper_linearized, only: t194 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t195 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t196 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t197 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t198 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t199 => test_blocked_iteration_is_the_unblocked_one
-    use test_stepper_newton, only: t200 => test_levels_predictor_is_the_two_loop_one
-    use test_stepper_newton, only: t201 => test_uniform_loops_are_the_general_ones
-    use test_stepper_newton, only: t202 => test_newton_error_below_tol
-    use test_stepper_newton, only: t203 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t204 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t205 => test_newton_stepper_reports_failure
-    use test_stepper_newton, only: t206 => test_blowup_measure_is_the_level_maximum
-    use test_stepper_newton, only: t207 => test_step_powers_without_bulk_damping
-    use test_strings, only: t208 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t209 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t210 => test_find_name_gives_the_first_index_or_zero
-    use test_strings, only: t211 => test_joined_trims_each_name_and_prefixes_it
-    use test_strings, only: t212 => test_lower_changes_only_ascii_capitals
-    use test_system, only: b30 => set_up
-    use test_system, only: a30 => tear_down
-    use test_system, only: t213 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t214 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t215 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t216 => test_lock_file_is_removed_by_its_holder_only
-    use test_system, only: t217 => test_temporary_names_are_fresh
-    use test_system, only: t218 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t219 => test_monotone_step
-    use test_threshold, only: t220 => test_bisected_bracket
-    use test_threshold, only: t221 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t222 => test_two_transitions
-    use test_threshold, only: t223 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t224 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t225 => test_nothing_transmits
-    use test_threshold, only: t226 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t227 => test_lower_bound_transmits
-    use test_threshold, only: t228 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t229 => test_bad_arguments
-    use test_threshold, only: t230 => test_grid_helpers
-    use test_workprec, only: b32 => set_up
-    use test_workprec, only: a32 => tear_down
-    use test_workprec, only: t231 => test_rk8_eighth_order
-    use test_workprec, only: t232 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t233 => test_rk8_stability_polynomial
-    use test_workprec, only: t234 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t235 => test_unstable_runs_are_reported
-    use test_workprec, only: t236 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t237 => test_fitted_order
-    use test_workprec, only: t238 => test_step_kernels_timed
+    use test_continuation_events, only: t25 => test_stop_reasons_keep_their_numbers
+    use test_continuation_events, only: t26 => test_march_schedule_from_the_controls
+    use test_continuation_events, only: t27 => test_multipliers_due
+    use test_continuation_events, only: t28 => test_nearing_circle
+    use test_continuation_events, only: t29 => test_fold_events
+    use test_continuation_events, only: t30 => test_march_ends
+    use test_continuation_events, only: t31 => test_flips_steps_and_turns
+    use test_continuation_fast, only: t32 => test_lu_solve_transposed
+    use test_continuation_fast, only: t33 => test_fast_floquet_same_verdicts
+    use test_continuation_fast, only: t34 => test_fold_alone
+    use test_continuation_fast, only: t35 => test_fold_on_the_half_period_map
+    use test_continuation_fast, only: t36 => test_stop_at_unstable_start
+    use test_continuation_fast, only: t37 => test_short_chain
+    use test_continuation_fast, only: t38 => test_tracked_multiplier
+    use test_continuation_fast, only: t39 => test_kept_multipliers
+    use test_fold_fate, only: t40 => test_switch_side_of_a_bracketed_branch_point
+    use test_fold_fate, only: t41 => test_fold_transmits_and_stable_state_stays
+    use test_fold_fate, only: t42 => test_half_period_symmetry
+    use test_fold_fate, only: t43 => test_stairs_transmit_just_past_the_fold
+    use test_fold_record, only: t44 => test_round_trip
+    use test_harmonic_balance, only: t45 => test_jacobian_against_finite_differences
+    use test_harmonic_balance, only: t46 => test_block_solve_inverts_the_jacobian
+    use test_harmonic_balance, only: t47 => test_radiation_root_solves_the_dispersion_relation
+    use test_harmonic_balance, only: t48 => test_small_amplitude_state_is_the_evanescent_wave
+    use test_harmonic_balance, only: t49 => test_fold_state_is_a_periodic_orbit_of_the_ode
+    use test_hdf5, only: b9 => set_up
+    use test_hdf5, only: a9 => tear_down
+    use test_hdf5, only: t50 => test_roundtrip_real
+    use test_hdf5, only: t51 => test_roundtrip_integer
+    use test_hdf5, only: t52 => test_roundtrip_character
+    use test_hdf5, only: t53 => test_roundtrip_attributes
+    use test_hdf5, only: t54 => test_refuses_to_overwrite
+    use test_hdf5, only: t55 => test_nothing_on_disk_before_commit
+    use test_hdf5, only: t56 => test_discard_leaves_nothing
+    use test_hdf5, only: t57 => test_exists_nested
+    use test_hdf5, only: t58 => test_first_error_sticks
+    use test_hdf5, only: t59 => test_dimension_scales_attached
+    use test_hdf5, only: t60 => test_many_files_in_one_process
+    use test_hdf5, only: t61 => test_errors_name_file_and_object
+    use test_hysteresis, only: t62 => test_default_profile_is_the_ramp
+    use test_hysteresis, only: t63 => test_stairs_have_their_levels_at_their_times
+    use test_hysteresis, only: t64 => test_stairs_are_continuous
+    use test_hysteresis, only: t65 => test_stair_slope_against_differences
+    use test_hysteresis, only: t66 => test_edges_from_powers
+    use test_hysteresis, only: t67 => test_stair_powers_against_wave_fluxes
+    use test_input, only: t68 => test_unknown_key
+    use test_input, only: t69 => test_key_in_wrong_group
+    use test_input, only: t70 => test_unknown_group
+    use test_input, only: t71 => test_integer_key_given_real
+    use test_input, only: t72 => test_real_key_given_text
+    use test_input, only: t73 => test_logical_key_given_yes
+    use test_input, only: t74 => test_scalar_key_given_list
+    use test_input, only: t75 => test_repeat_count_rejected
+    use test_input, only: t76 => test_key_given_twice
+    use test_input, only: t77 => test_unterminated_group
+    use test_input, only: t78 => test_unterminated_string
+    use test_input, only: t79 => test_text_outside_groups
+    use test_input, only: t80 => test_missing_file
+    use test_input, only: t81 => test_n_below_two
+    use test_input, only: t82 => test_dt_negative
+    use test_input, only: t83 => test_dt_zero
+    use test_input, only: t84 => test_t_final_not_positive
+    use test_input, only: t85 => test_omega_outside_gap
+    use test_input, only: t86 => test_omega_outside_gap_allowed
+    use test_input, only: t87 => test_stability_violated
+    use test_input, only: t88 => test_stability_condition_not_asked_of_a_stable_methods
+    use test_input, only: t89 => test_stability_violated_allowed
+    use test_input, only: t90 => test_output_exists
+    use test_input, only: t91 => test_output_exists_overwrite
+    use test_input, only: t92 => test_unknown_potential
+    use test_input, only: t93 => test_unknown_method
+    use test_input, only: t94 => test_unknown_scene
+    use test_input, only: t95 => test_probe_outside_chain
+    use test_input, only: t96 => test_full_valid_file
+    use test_input, only: t97 => test_empty_file_is_refused
+    use test_input, only: t98 => test_defaults_of_a_minimal_file
+    use test_input, only: t99 => test_validate_config_in_code
+    use test_input, only: t100 => test_list_value_out_of_range
+    use test_input, only: t101 => test_unknown_potential_in_list
+    use test_input, only: t102 => test_lists_of_names_read
+    use test_input, only: t103 => test_unknown_method_number_in_code
+    use test_input, only: t104 => test_namelist_text_and_start_kept
+    use test_journal, only: t105 => test_fields_read_by_name
+    use test_journal, only: t106 => test_other_fields_or_input_refused
+    use test_journal, only: t107 => test_header_names_the_fields
+    use test_journal, only: t108 => test_records_bound_to_their_header
+    use test_perf_kernels, only: t109 => test_sin_cos_array_accuracy
+    use test_perf_kernels, only: t110 => test_sin_cos_quiet_tail
+    use test_perf_kernels, only: t111 => test_gradient_paths_agree
+    use test_period_map, only: t112 => test_tangent_against_finite_differences
+    use test_period_map, only: t113 => test_tangent_light_cone
+    use test_period_map, only: t114 => test_same_scheme_as_steppers
+    use test_period_map, only: t115 => test_linear_evanescent_wave
+    use test_period_map, only: t116 => test_newton_shooting_quadratic
+    use test_period_map, only: t117 => test_steps_and_bad_input
+    use test_period_map, only: t118 => test_half_period_map
+    use test_potential, only: t119 => test_gradient_equals_difference_quotient
+    use test_potential, only: t120 => test_derivatives_consistent
+    use test_potential, only: t121 => test_gradient_tends_to_force
+    use test_potential, only: t122 => test_gradient_exact_at_rest
+    use test_potential, only: t123 => test_slope_matches_finite_difference
+    use test_potential, only: t124 => test_newton_bounds_hold
+    use test_potential, only: t125 => test_array_kernels_agree
+    use test_potential, only: t126 => test_names_round_trip
+    use test_potential, only: t127 => test_unknown_potential_is_an_error
+    use test_provenance, only: b16 => set_up
+    use test_provenance, only: a16 => tear_down
+    use test_provenance, only: t128 => test_build_commit_is_an_id_or_unknown
+    use test_provenance, only: t129 => test_commit_is_not_read_from_the_working_directory
+    use test_provenance, only: t130 => test_provenance_written
+    use test_provenance, only: t131 => test_provenance_attributes_are_the_documented_ones
+    use test_rk4, only: t132 => test_rk4_fourth_order
+    use test_rk4, only: t133 => test_rk4_energy_drift
+    use test_rk4, only: t134 => test_rk4_stability_limit
+    use test_rk4, only: t135 => test_rk4_agrees_with_energy_conserving_scheme
+    use test_scene_bifurcation, only: b18 => set_up
+    use test_scene_bifurcation, only: a18 => tear_down
+    use test_scene_bifurcation, only: t136 => test_early_stop_keeps_verdict
+    use test_scene_bifurcation, only: t137 => test_threads_give_identical_thresholds
+    use test_scene_bifurcation, only: t138 => test_threshold_transmits_and_one_step_below_does_not
+    use test_scene_bifurcation, only: t139 => test_resume_after_kill
+    use test_scene_bifurcation, only: t140 => test_file_layout
+    use test_scene_bifurcation, only: t141 => test_failed_runs_give_status_run_failed
+    use test_scene_bifurcation, only: t142 => test_screening_changes_no_threshold
+    use test_scene_factory, only: t143 => test_every_kind_of_the_schema_has_a_scene
+    use test_scene_factory, only: t144 => test_unknown_kind_is_one_line_naming_the_known
+    use test_scene_factory, only: t145 => test_the_input_check_words_an_unknown_kind_as_before
+    use test_scene_factory, only: t146 => test_only_a_timeseries_is_one_run
+    use test_scene_factory, only: t147 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
+    use test_scene_factory, only: t148 => test_task_scenes_refuse_an_existing_output_first
+    use test_scene_map, only: b20 => set_up
+    use test_scene_map, only: a20 => tear_down
+    use test_scene_map, only: t149 => test_skips_outside_gap_and_stores_as
+    use test_scene_map, only: t150 => test_map_independent_of_thread_count
+    use test_scene_sweep, only: b21 => set_up
+    use test_scene_sweep, only: a21 => tear_down
+    use test_scene_sweep, only: t151 => test_axis_grid_exact
+    use test_scene_sweep, only: t152 => test_independent_of_thread_count
+    use test_scene_sweep, only: t153 => test_layout_and_physics
+    use test_scene_sweep, only: t154 => test_resume_after_kill
+    use test_scene_sweep, only: t155 => test_diverging_runs_flagged
+    use test_scene_sweep, only: t156 => test_partial_snapshot
+    use test_scene_sweep, only: t157 => test_refuses_existing_output
+    use test_schema, only: t158 => test_table_is_complete
+    use test_schema, only: t159 => test_each_key_sets_its_own_field
+    use test_schema, only: t160 => test_defaults_are_the_papers
+    use test_schema, only: t161 => test_choices_agree_with_the_physics
+    use test_schema, only: t162 => test_parameters_hold_every_key
+    use test_scheme, only: t163 => test_ledger_closes_every_step
+    use test_scheme, only: t164 => test_ledger_closes_double_sine_gordon
+    use test_scheme, only: t165 => test_evanescent_wave_double_sine_gordon
+    use test_scheme, only: t166 => test_linearized_ledger_does_not_close
+    use test_scheme, only: t167 => test_evanescent_wave
+    use test_scheme, only: t168 => test_second_order_in_dt
+    use test_scheme, only: t169 => test_stability_boundary
+    use test_scheme, only: t170 => test_newton_failure_reported
+    use test_scheme, only: t171 => test_two_runs_in_two_threads
+    use test_scheme, only: t172 => test_verdict_across_the_gap
+    use test_screened_search, only: t173 => test_cheap_right_saves_exact_runs
+    use test_screened_search, only: t174 => test_cheap_too_high_within_band
+    use test_screened_search, only: t175 => test_cheap_too_high_walks_down
+    use test_screened_search, only: t176 => test_cheap_window_far_below
+    use test_screened_search, only: t177 => test_doubtful_quiet_answers_go_to_the_exact_oracle
+    use test_screened_search, only: t178 => test_random_patterns_with_margins
+    use test_screened_search, only: t179 => test_random_patterns_false_alarms
+    use test_screened_search, only: t180 => test_cheap_finds_none
+    use test_screened_search, only: t181 => test_none_transmits_confirms_the_top
+    use test_screened_search, only: t182 => test_exact_failure_is_reported
+    use test_screened_search, only: t183 => test_cheap_failure_falls_back_to_exact
+    use test_screened_search, only: t184 => test_margin_below_the_threshold
+    use test_slice_costs, only: t185 => test_equal_costs_deal_round_robin
+    use test_slice_costs, only: t186 => test_every_task_in_one_slice_and_deterministic
+    use test_slice_costs, only: t187 => test_largest_first_is_balanced_within_the_largest_task
+    use test_slice_costs, only: t188 => test_run_order_is_largest_first
+    use test_slice_costs, only: t189 => test_fold_tasks_cost_more_at_low_omega
+    use test_slice_costs, only: t190 => test_slice_text_counts_the_slice
+    use test_stability, only: b26 => set_up
+    use test_stability, only: a26 => tear_down
+    use test_stability, only: t191 => test_linear_limits
+    use test_stability, only: t192 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t193 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t194 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t195 => test_stepper_contract_order
+    use test_stepper_contract, only: t196 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t197 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t198 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t199 => test_engine_counts_steps_in_64_bits
+    use test_stepper_contract, only: t200 => test_stepper_contract_checkpoint
+    use test_stepper_linearized, only: t201 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t202 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t203 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t204 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t205 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t206 => test_blocked_iteration_is_the_unblocked_one
+    use test_stepper_newton, only: t207 => test_levels_predictor_is_the_two_loop_one
+    use test_stepper_newton, only: t208 => test_uniform_loops_are_the_general_ones
+    use test_stepper_newton, only: t209 => test_newton_error_below_tol
+    use test_stepper_newton, only: t210 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t211 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t212 => test_newton_stepper_reports_failure
+    use test_stepper_newton, only: t213 => test_blowup_measure_is_the_level_maximum
+    use test_stepper_newton, only: t214 => test_step_powers_without_bulk_damping
+    use test_strings, only: t215 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t216 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t217 => test_find_name_gives_the_first_index_or_zero
+    use test_strings, only: t218 => test_joined_trims_each_name_and_prefixes_it
+    use test_strings, only: t219 => test_lower_changes_only_ascii_capitals
+    use test_system, only: b31 => set_up
+    use test_system, only: a31 => tear_down
+    use test_system, only: t220 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t221 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t222 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t223 => test_lock_file_is_removed_by_its_holder_only
+    use test_system, only: t224 => test_temporary_names_are_fresh
+    use test_system, only: t225 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t226 => test_monotone_step
+    use test_threshold, only: t227 => test_bisected_bracket
+    use test_threshold, only: t228 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t229 => test_two_transitions
+    use test_threshold, only: t230 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t231 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t232 => test_nothing_transmits
+    use test_threshold, only: t233 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t234 => test_lower_bound_transmits
+    use test_threshold, only: t235 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t236 => test_bad_arguments
+    use test_threshold, only: t237 => test_grid_helpers
+    use test_workprec, only: b33 => set_up
+    use test_workprec, only: a33 => tear_down
+    use test_workprec, only: t238 => test_rk8_eighth_order
+    use test_workprec, only: t239 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t240 => test_rk8_stability_polynomial
+    use test_workprec, only: t241 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t242 => test_unstable_runs_are_reported
+    use test_workprec, only: t243 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t244 => test_fitted_order
+    use test_workprec, only: t245 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -284,249 +291,256 @@ program pf_driver
     call pf_run_test('test_continuation', 'test_tangent_finite_difference', t22)
     call pf_run_test('test_continuation', 'test_failures_reported', t23)
     call pf_run_test('test_continuation', 'test_fold_next_to_failing_region', t24)
-    call pf_run_test('test_continuation_fast', 'test_lu_solve_transposed', t25)
-    call pf_run_test('test_continuation_fast', 'test_fast_floquet_same_verdicts', t26)
-    call pf_run_test('test_continuation_fast', 'test_fold_alone', t27)
-    call pf_run_test('test_continuation_fast', 'test_fold_on_the_half_period_map', t28)
-    call pf_run_test('test_continuation_fast', 'test_stop_at_unstable_start', t29)
-    call pf_run_test('test_continuation_fast', 'test_short_chain', t30)
-    call pf_run_test('test_continuation_fast', 'test_tracked_multiplier', t31)
-    call pf_run_test('test_continuation_fast', 'test_kept_multipliers', t32)
-    call pf_run_test('test_fold_fate', 'test_switch_side_of_a_bracketed_branch_point', t33)
-    call pf_run_test('test_fold_fate', 'test_fold_transmits_and_stable_state_stays', t34)
-    call pf_run_test('test_fold_fate', 'test_half_period_symmetry', t35)
-    call pf_run_test('test_fold_fate', 'test_stairs_transmit_just_past_the_fold', t36)
-    call pf_run_test('test_fold_record', 'test_round_trip', t37)
-    call pf_run_test('test_harmonic_balance', 'test_jacobian_against_finite_differences', t38)
-    call pf_run_test('test_harmonic_balance', 'test_block_solve_inverts_the_jacobian', t39)
-    call pf_run_test('test_harmonic_balance', 'test_radiation_root_solves_the_dispersion_relation', t40)
-    call pf_run_test('test_harmonic_balance', 'test_small_amplitude_state_is_the_evanescent_wave', t41)
-    call pf_run_test('test_harmonic_balance', 'test_fold_state_is_a_periodic_orbit_of_the_ode', t42)
-    call pf_run_test('test_hdf5', 'test_roundtrip_real', t43, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_roundtrip_integer', t44, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_roundtrip_character', t45, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_roundtrip_attributes', t46, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_refuses_to_overwrite', t47, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_nothing_on_disk_before_commit', t48, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_discard_leaves_nothing', t49, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_exists_nested', t50, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_first_error_sticks', t51, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_dimension_scales_attached', t52, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_many_files_in_one_process', t53, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_errors_name_file_and_object', t54, before=b8, after=a8)
-    call pf_run_test('test_hysteresis', 'test_default_profile_is_the_ramp', t55)
-    call pf_run_test('test_hysteresis', 'test_stairs_have_their_levels_at_their_times', t56)
-    call pf_run_test('test_hysteresis', 'test_stairs_are_continuous', t57)
-    call pf_run_test('test_hysteresis', 'test_stair_slope_against_differences', t58)
-    call pf_run_test('test_hysteresis', 'test_edges_from_powers', t59)
-    call pf_run_test('test_hysteresis', 'test_stair_powers_against_wave_fluxes', t60)
-    call pf_run_test('test_input', 'test_unknown_key', t61)
-    call pf_run_test('test_input', 'test_key_in_wrong_group', t62)
-    call pf_run_test('test_input', 'test_unknown_group', t63)
-    call pf_run_test('test_input', 'test_integer_key_given_real', t64)
-    call pf_run_test('test_input', 'test_real_key_given_text', t65)
-    call pf_run_test('test_input', 'test_logical_key_given_yes', t66)
-    call pf_run_test('test_input', 'test_scalar_key_given_list', t67)
-    call pf_run_test('test_input', 'test_repeat_count_rejected', t68)
-    call pf_run_test('test_input', 'test_key_given_twice', t69)
-    call pf_run_test('test_input', 'test_unterminated_group', t70)
-    call pf_run_test('test_input', 'test_unterminated_string', t71)
-    call pf_run_test('test_input', 'test_text_outside_groups', t72)
-    call pf_run_test('test_input', 'test_missing_file', t73)
-    call pf_run_test('test_input', 'test_n_below_two', t74)
-    call pf_run_test('test_input', 'test_dt_negative', t75)
-    call pf_run_test('test_input', 'test_dt_zero', t76)
-    call pf_run_test('test_input', 'test_t_final_not_positive', t77)
-    call pf_run_test('test_input', 'test_omega_outside_gap', t78)
-    call pf_run_test('test_input', 'test_omega_outside_gap_allowed', t79)
-    call pf_run_test('test_input', 'test_stability_violated', t80)
-    call pf_run_test('test_input', 'test_stability_condition_not_asked_of_a_stable_methods', t81)
-    call pf_run_test('test_input', 'test_stability_violated_allowed', t82)
-    call pf_run_test('test_input', 'test_output_exists', t83)
-    call pf_run_test('test_input', 'test_output_exists_overwrite', t84)
-    call pf_run_test('test_input', 'test_unknown_potential', t85)
-    call pf_run_test('test_input', 'test_unknown_method', t86)
-    call pf_run_test('test_input', 'test_unknown_scene', t87)
-    call pf_run_test('test_input', 'test_probe_outside_chain', t88)
-    call pf_run_test('test_input', 'test_full_valid_file', t89)
-    call pf_run_test('test_input', 'test_empty_file_is_refused', t90)
-    call pf_run_test('test_input', 'test_defaults_of_a_minimal_file', t91)
-    call pf_run_test('test_input', 'test_validate_config_in_code', t92)
-    call pf_run_test('test_input', 'test_list_value_out_of_range', t93)
-    call pf_run_test('test_input', 'test_unknown_potential_in_list', t94)
-    call pf_run_test('test_input', 'test_lists_of_names_read', t95)
-    call pf_run_test('test_input', 'test_unknown_method_number_in_code', t96)
-    call pf_run_test('test_input', 'test_namelist_text_and_start_kept', t97)
-    call pf_run_test('test_journal', 'test_fields_read_by_name', t98)
-    call pf_run_test('test_journal', 'test_other_fields_or_input_refused', t99)
-    call pf_run_test('test_journal', 'test_header_names_the_fields', t100)
-    call pf_run_test('test_journal', 'test_records_bound_to_their_header', t101)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t102)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t103)
-    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t104)
-    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t105)
-    call pf_run_test('test_period_map', 'test_tangent_light_cone', t106)
-    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t107)
-    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t108)
-    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t109)
-    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t110)
-    call pf_run_test('test_period_map', 'test_half_period_map', t111)
-    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t112)
-    call pf_run_test('test_potential', 'test_derivatives_consistent', t113)
-    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t114)
-    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t115)
-    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t116)
-    call pf_run_test('test_potential', 'test_newton_bounds_hold', t117)
-    call pf_run_test('test_potential', 'test_array_kernels_agree', t118)
-    call pf_run_test('test_potential', 'test_names_round_trip', t119)
-    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t120)
-    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t121, before=b15, after=a15)
+    call pf_run_test('test_continuation_events', 'test_stop_reasons_keep_their_numbers', t25)
+    call pf_run_test('test_continuation_events', 'test_march_schedule_from_the_controls', t26)
+    call pf_run_test('test_continuation_events', 'test_multipliers_due', t27)
+    call pf_run_test('test_continuation_events', 'test_nearing_circle', t28)
+    call pf_run_test('test_continuation_events', 'test_fold_events', t29)
+    call pf_run_test('test_continuation_events', 'test_march_ends', t30)
+    call pf_run_test('test_continuation_events', 'test_flips_steps_and_turns', t31)
+    call pf_run_test('test_continuation_fast', 'test_lu_solve_transposed', t32)
+    call pf_run_test('test_continuation_fast', 'test_fast_floquet_same_verdicts', t33)
+    call pf_run_test('test_continuation_fast', 'test_fold_alone', t34)
+    call pf_run_test('test_continuation_fast', 'test_fold_on_the_half_period_map', t35)
+    call pf_run_test('test_continuation_fast', 'test_stop_at_unstable_start', t36)
+    call pf_run_test('test_continuation_fast', 'test_short_chain', t37)
+    call pf_run_test('test_continuation_fast', 'test_tracked_multiplier', t38)
+    call pf_run_test('test_continuation_fast', 'test_kept_multipliers', t39)
+    call pf_run_test('test_fold_fate', 'test_switch_side_of_a_bracketed_branch_point', t40)
+    call pf_run_test('test_fold_fate', 'test_fold_transmits_and_stable_state_stays', t41)
+    call pf_run_test('test_fold_fate', 'test_half_period_symmetry', t42)
+    call pf_run_test('test_fold_fate', 'test_stairs_transmit_just_past_the_fold', t43)
+    call pf_run_test('test_fold_record', 'test_round_trip', t44)
+    call pf_run_test('test_harmonic_balance', 'test_jacobian_against_finite_differences', t45)
+    call pf_run_test('test_harmonic_balance', 'test_block_solve_inverts_the_jacobian', t46)
+    call pf_run_test('test_harmonic_balance', 'test_radiation_root_solves_the_dispersion_relation', t47)
+    call pf_run_test('test_harmonic_balance', 'test_small_amplitude_state_is_the_evanescent_wave', t48)
+    call pf_run_test('test_harmonic_balance', 'test_fold_state_is_a_periodic_orbit_of_the_ode', t49)
+    call pf_run_test('test_hdf5', 'test_roundtrip_real', t50, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_roundtrip_integer', t51, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_roundtrip_character', t52, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_roundtrip_attributes', t53, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_refuses_to_overwrite', t54, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_nothing_on_disk_before_commit', t55, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_discard_leaves_nothing', t56, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_exists_nested', t57, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_first_error_sticks', t58, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_dimension_scales_attached', t59, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_many_files_in_one_process', t60, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_errors_name_file_and_object', t61, before=b9, after=a9)
+    call pf_run_test('test_hysteresis', 'test_default_profile_is_the_ramp', t62)
+    call pf_run_test('test_hysteresis', 'test_stairs_have_their_levels_at_their_times', t63)
+    call pf_run_test('test_hysteresis', 'test_stairs_are_continuous', t64)
+    call pf_run_test('test_hysteresis', 'test_stair_slope_against_differences', t65)
+    call pf_run_test('test_hysteresis', 'test_edges_from_powers', t66)
+    call pf_run_test('test_hysteresis', 'test_stair_powers_against_wave_fluxes', t67)
+    call pf_run_test('test_input', 'test_unknown_key', t68)
+    call pf_run_test('test_input', 'test_key_in_wrong_group', t69)
+    call pf_run_test('test_input', 'test_unknown_group', t70)
+    call pf_run_test('test_input', 'test_integer_key_given_real', t71)
+    call pf_run_test('test_input', 'test_real_key_given_text', t72)
+    call pf_run_test('test_input', 'test_logical_key_given_yes', t73)
+    call pf_run_test('test_input', 'test_scalar_key_given_list', t74)
+    call pf_run_test('test_input', 'test_repeat_count_rejected', t75)
+    call pf_run_test('test_input', 'test_key_given_twice', t76)
+    call pf_run_test('test_input', 'test_unterminated_group', t77)
+    call pf_run_test('test_input', 'test_unterminated_string', t78)
+    call pf_run_test('test_input', 'test_text_outside_groups', t79)
+    call pf_run_test('test_input', 'test_missing_file', t80)
+    call pf_run_test('test_input', 'test_n_below_two', t81)
+    call pf_run_test('test_input', 'test_dt_negative', t82)
+    call pf_run_test('test_input', 'test_dt_zero', t83)
+    call pf_run_test('test_input', 'test_t_final_not_positive', t84)
+    call pf_run_test('test_input', 'test_omega_outside_gap', t85)
+    call pf_run_test('test_input', 'test_omega_outside_gap_allowed', t86)
+    call pf_run_test('test_input', 'test_stability_violated', t87)
+    call pf_run_test('test_input', 'test_stability_condition_not_asked_of_a_stable_methods', t88)
+    call pf_run_test('test_input', 'test_stability_violated_allowed', t89)
+    call pf_run_test('test_input', 'test_output_exists', t90)
+    call pf_run_test('test_input', 'test_output_exists_overwrite', t91)
+    call pf_run_test('test_input', 'test_unknown_potential', t92)
+    call pf_run_test('test_input', 'test_unknown_method', t93)
+    call pf_run_test('test_input', 'test_unknown_scene', t94)
+    call pf_run_test('test_input', 'test_probe_outside_chain', t95)
+    call pf_run_test('test_input', 'test_full_valid_file', t96)
+    call pf_run_test('test_input', 'test_empty_file_is_refused', t97)
+    call pf_run_test('test_input', 'test_defaults_of_a_minimal_file', t98)
+    call pf_run_test('test_input', 'test_validate_config_in_code', t99)
+    call pf_run_test('test_input', 'test_list_value_out_of_range', t100)
+    call pf_run_test('test_input', 'test_unknown_potential_in_list', t101)
+    call pf_run_test('test_input', 'test_lists_of_names_read', t102)
+    call pf_run_test('test_input', 'test_unknown_method_number_in_code', t103)
+    call pf_run_test('test_input', 'test_namelist_text_and_start_kept', t104)
+    call pf_run_test('test_journal', 'test_fields_read_by_name', t105)
+    call pf_run_test('test_journal', 'test_other_fields_or_input_refused', t106)
+    call pf_run_test('test_journal', 'test_header_names_the_fields', t107)
+    call pf_run_test('test_journal', 'test_records_bound_to_their_header', t108)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t109)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t110)
+    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t111)
+    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t112)
+    call pf_run_test('test_period_map', 'test_tangent_light_cone', t113)
+    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t114)
+    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t115)
+    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t116)
+    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t117)
+    call pf_run_test('test_period_map', 'test_half_period_map', t118)
+    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t119)
+    call pf_run_test('test_potential', 'test_derivatives_consistent', t120)
+    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t121)
+    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t122)
+    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t123)
+    call pf_run_test('test_potential', 'test_newton_bounds_hold', t124)
+    call pf_run_test('test_potential', 'test_array_kernels_agree', t125)
+    call pf_run_test('test_potential', 'test_names_round_trip', t126)
+    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t127)
+    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t128, before=b16, after=a16)
     call pf_run_test( &
         'test_provenance', &
         'test_commit_is_not_read_from_the_working_directory', &
-        t122, &
-        before=b15, &
-        after=a15)
-    call pf_run_test('test_provenance', 'test_provenance_written', t123, before=b15, after=a15)
+        t129, &
+        before=b16, &
+        after=a16)
+    call pf_run_test('test_provenance', 'test_provenance_written', t130, before=b16, after=a16)
     call pf_run_test( &
         'test_provenance', &
         'test_provenance_attributes_are_the_documented_ones', &
-        t124, &
-        before=b15, &
-        after=a15)
-    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t125)
-    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t126)
-    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t127)
-    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t128)
-    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t129, before=b17, after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t130, before=b17, after=a17)
+        t131, &
+        before=b16, &
+        after=a16)
+    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t132)
+    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t133)
+    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t134)
+    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t135)
+    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t136, before=b18, after=a18)
+    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t137, before=b18, after=a18)
     call pf_run_test( &
         'test_scene_bifurcation', &
         'test_threshold_transmits_and_one_step_below_does_not', &
-        t131, &
-        before=b17, &
-        after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t132, before=b17, after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t133, before=b17, after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t134, before=b17, after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t135, before=b17, after=a17)
-    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t136)
-    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t137)
-    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t138)
-    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t139)
-    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t140)
-    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t141)
-    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t142, before=b19, after=a19)
-    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t143, before=b19, after=a19)
-    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t144, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t145, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t146, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t147, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t148, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t149, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t150, before=b20, after=a20)
-    call pf_run_test('test_schema', 'test_table_is_complete', t151)
-    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t152)
-    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t153)
-    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t154)
-    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t155)
-    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t156)
-    call pf_run_test('test_scheme', 'test_ledger_closes_double_sine_gordon', t157)
-    call pf_run_test('test_scheme', 'test_evanescent_wave_double_sine_gordon', t158)
-    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t159)
-    call pf_run_test('test_scheme', 'test_evanescent_wave', t160)
-    call pf_run_test('test_scheme', 'test_second_order_in_dt', t161)
-    call pf_run_test('test_scheme', 'test_stability_boundary', t162)
-    call pf_run_test('test_scheme', 'test_newton_failure_reported', t163)
-    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t164)
-    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t165)
-    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t166)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t167)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t168)
-    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t169)
-    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t170)
-    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t171)
-    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t172)
-    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t173)
-    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t174)
-    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t175)
-    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t176)
-    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t177)
-    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t178)
-    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t179)
-    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t180)
-    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t181)
-    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t182)
-    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t183)
-    call pf_run_test('test_stability', 'test_linear_limits', t184, before=b25, after=a25)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t185, before=b25, after=a25)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t186, before=b25, after=a25)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t187)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t188)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t189)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t190)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t191)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t192)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t193)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t194)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t195)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t196)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t197)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t198)
-    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t199)
-    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t200)
-    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t201)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t202)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t203)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t204)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t205)
-    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t206)
-    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t207)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t208)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t209)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t210)
-    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t211)
-    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t212)
+        t138, &
+        before=b18, &
+        after=a18)
+    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t139, before=b18, after=a18)
+    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t140, before=b18, after=a18)
+    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t141, before=b18, after=a18)
+    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t142, before=b18, after=a18)
+    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t143)
+    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t144)
+    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t145)
+    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t146)
+    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t147)
+    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t148)
+    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t149, before=b20, after=a20)
+    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t150, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t151, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t152, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t153, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t154, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t155, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t156, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t157, before=b21, after=a21)
+    call pf_run_test('test_schema', 'test_table_is_complete', t158)
+    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t159)
+    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t160)
+    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t161)
+    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t162)
+    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t163)
+    call pf_run_test('test_scheme', 'test_ledger_closes_double_sine_gordon', t164)
+    call pf_run_test('test_scheme', 'test_evanescent_wave_double_sine_gordon', t165)
+    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t166)
+    call pf_run_test('test_scheme', 'test_evanescent_wave', t167)
+    call pf_run_test('test_scheme', 'test_second_order_in_dt', t168)
+    call pf_run_test('test_scheme', 'test_stability_boundary', t169)
+    call pf_run_test('test_scheme', 'test_newton_failure_reported', t170)
+    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t171)
+    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t172)
+    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t173)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t174)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t175)
+    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t176)
+    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t177)
+    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t178)
+    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t179)
+    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t180)
+    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t181)
+    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t182)
+    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t183)
+    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t184)
+    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t185)
+    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t186)
+    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t187)
+    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t188)
+    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t189)
+    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t190)
+    call pf_run_test('test_stability', 'test_linear_limits', t191, before=b26, after=a26)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t192, before=b26, after=a26)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t193, before=b26, after=a26)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t194)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t195)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t196)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t197)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t198)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t199)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t200)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t201)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t202)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t203)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t204)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t205)
+    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t206)
+    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t207)
+    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t208)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t209)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t210)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t211)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t212)
+    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t213)
+    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t214)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t215)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t216)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t217)
+    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t218)
+    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t219)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t213, &
-        before=b30, &
-        after=a30)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t214, before=b30, after=a30)
+        t220, &
+        before=b31, &
+        after=a31)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t221, before=b31, after=a31)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t215, &
-        before=b30, &
-        after=a30)
-    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t216, before=b30, after=a30)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t217, before=b30, after=a30)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t218, before=b30, after=a30)
-    call pf_run_test('test_threshold', 'test_monotone_step', t219)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t220)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t221)
-    call pf_run_test('test_threshold', 'test_two_transitions', t222)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t223)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t224)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t225)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t226)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t227)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t228)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t229)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t230)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t231, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t232, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t233, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t234, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t235, before=b32, after=a32)
+        t222, &
+        before=b31, &
+        after=a31)
+    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t223, before=b31, after=a31)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t224, before=b31, after=a31)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t225, before=b31, after=a31)
+    call pf_run_test('test_threshold', 'test_monotone_step', t226)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t227)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t228)
+    call pf_run_test('test_threshold', 'test_two_transitions', t229)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t230)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t231)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t232)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t233)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t234)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t235)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t236)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t237)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t238, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t239, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t240, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t241, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t242, before=b33, after=a33)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t236, &
-        before=b32, &
-        after=a32)
-    call pf_run_test('test_workprec', 'test_fitted_order', t237, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t238, before=b32, after=a32)
+        t243, &
+        before=b33, &
+        after=a33)
+    call pf_run_test('test_workprec', 'test_fitted_order', t244, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t245, before=b33, after=a33)
     call pf_driver_finish()
 end program pf_driver
