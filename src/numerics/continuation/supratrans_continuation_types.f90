@@ -131,7 +131,8 @@ module supratrans_continuation_types
 
     !> The branch, its fold and its first loss of stability.
     type, public :: continuation_result
-        !> `cont_fold_found`, `cont_no_fold`, `cont_newton_failed`, `cont_step_too_small`, `cont_max_points`.
+        !> `cont_fold_found`, `cont_no_fold`, `cont_newton_failed`, `cont_step_too_small`, `cont_max_points`,
+        !> `cont_unstable_start`.
         integer :: status = cont_newton_failed
         !> Why the march ended (same codes; `cont_fold_found`: the `beyond_fold` points past the fold were done).
         integer :: stop_reason = cont_newton_failed
