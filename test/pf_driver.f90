@@ -27,238 +27,245 @@ program pf_driver
     use test_continuation, only: t22 => test_tangent_finite_difference
     use test_continuation, only: t23 => test_failures_reported
     use test_continuation, only: t24 => test_fold_next_to_failing_region
-    use test_continuation_fast, only: t25 => test_lu_solve_transposed
-    use test_continuation_fast, only: t26 => test_fast_floquet_same_verdicts
-    use test_continuation_fast, only: t27 => test_fold_alone
-    use test_continuation_fast, only: t28 => test_fold_on_the_half_period_map
-    use test_continuation_fast, only: t29 => test_stop_at_unstable_start
-    use test_continuation_fast, only: t30 => test_short_chain
-    use test_continuation_fast, only: t31 => test_tracked_multiplier
-    use test_continuation_fast, only: t32 => test_kept_multipliers
-    use test_fold_fate, only: t33 => test_switch_side_of_a_bracketed_branch_point
-    use test_fold_fate, only: t34 => test_fold_transmits_and_stable_state_stays
-    use test_fold_fate, only: t35 => test_half_period_symmetry
-    use test_fold_fate, only: t36 => test_stairs_transmit_just_past_the_fold
-    use test_fold_fate, only: t37 => test_outcomes_as_the_files_codes
-    use test_fold_fate, only: t38 => test_climb_plan_and_its_reading
-    use test_fold_record, only: t39 => test_round_trip
-    use test_harmonic_balance, only: t40 => test_jacobian_against_finite_differences
-    use test_harmonic_balance, only: t41 => test_block_solve_inverts_the_jacobian
-    use test_harmonic_balance, only: t42 => test_radiation_root_solves_the_dispersion_relation
-    use test_harmonic_balance, only: t43 => test_small_amplitude_state_is_the_evanescent_wave
-    use test_harmonic_balance, only: t44 => test_fold_state_is_a_periodic_orbit_of_the_ode
-    use test_hdf5, only: b8 => set_up
-    use test_hdf5, only: a8 => tear_down
-    use test_hdf5, only: t45 => test_roundtrip_real
-    use test_hdf5, only: t46 => test_roundtrip_integer
-    use test_hdf5, only: t47 => test_roundtrip_character
-    use test_hdf5, only: t48 => test_roundtrip_attributes
-    use test_hdf5, only: t49 => test_refuses_to_overwrite
-    use test_hdf5, only: t50 => test_nothing_on_disk_before_commit
-    use test_hdf5, only: t51 => test_discard_leaves_nothing
-    use test_hdf5, only: t52 => test_exists_nested
-    use test_hdf5, only: t53 => test_first_error_sticks
-    use test_hdf5, only: t54 => test_dimension_scales_attached
-    use test_hdf5, only: t55 => test_many_files_in_one_process
-    use test_hdf5, only: t56 => test_errors_name_file_and_object
-    use test_hysteresis, only: t57 => test_default_profile_is_the_ramp
-    use test_hysteresis, only: t58 => test_stairs_have_their_levels_at_their_times
-    use test_hysteresis, only: t59 => test_stairs_are_continuous
-    use test_hysteresis, only: t60 => test_stair_slope_against_differences
-    use test_hysteresis, only: t61 => test_edges_from_powers
-    use test_hysteresis, only: t62 => test_stair_powers_against_wave_fluxes
-    use test_input, only: t63 => test_unknown_key
-    use test_input, only: t64 => test_key_in_wrong_group
-    use test_input, only: t65 => test_unknown_group
-    use test_input, only: t66 => test_integer_key_given_real
-    use test_input, only: t67 => test_real_key_given_text
-    use test_input, only: t68 => test_logical_key_given_yes
-    use test_input, only: t69 => test_scalar_key_given_list
-    use test_input, only: t70 => test_repeat_count_rejected
-    use test_input, only: t71 => test_key_given_twice
-    use test_input, only: t72 => test_unterminated_group
-    use test_input, only: t73 => test_unterminated_string
-    use test_input, only: t74 => test_text_outside_groups
-    use test_input, only: t75 => test_missing_file
-    use test_input, only: t76 => test_n_below_two
-    use test_input, only: t77 => test_dt_negative
-    use test_input, only: t78 => test_dt_zero
-    use test_input, only: t79 => test_t_final_not_positive
-    use test_input, only: t80 => test_omega_outside_gap
-    use test_input, only: t81 => test_omega_outside_gap_allowed
-    use test_input, only: t82 => test_stability_violated
-    use test_input, only: t83 => test_stability_condition_not_asked_of_a_stable_methods
-    use test_input, only: t84 => test_stability_violated_allowed
-    use test_input, only: t85 => test_output_exists
-    use test_input, only: t86 => test_output_exists_overwrite
-    use test_input, only: t87 => test_unknown_potential
-    use test_input, only: t88 => test_unknown_method
-    use test_input, only: t89 => test_unknown_scene
-    use test_input, only: t90 => test_probe_outside_chain
-    use test_input, only: t91 => test_full_valid_file
-    use test_input, only: t92 => test_empty_file_is_refused
-    use test_input, only: t93 => test_defaults_of_a_minimal_file
-    use test_input, only: t94 => test_validate_config_in_code
-    use test_input, only: t95 => test_list_value_out_of_range
-    use test_input, only: t96 => test_unknown_potential_in_list
-    use test_input, only: t97 => test_lists_of_names_read
-    use test_input, only: t98 => test_unknown_method_number_in_code
-    use test_input, only: t99 => test_namelist_text_and_start_kept
-    use test_journal, only: t100 => test_fields_read_by_name
-    use test_journal, only: t101 => test_other_fields_or_input_refused
-    use test_journal, only: t102 => test_header_names_the_fields
-    use test_journal, only: t103 => test_records_bound_to_their_header
-    use test_perf_kernels, only: t104 => test_sin_cos_array_accuracy
-    use test_perf_kernels, only: t105 => test_sin_cos_quiet_tail
-    use test_perf_kernels, only: t106 => test_gradient_paths_agree
-    use test_period_map, only: t107 => test_tangent_against_finite_differences
-    use test_period_map, only: t108 => test_tangent_light_cone
-    use test_period_map, only: t109 => test_same_scheme_as_steppers
-    use test_period_map, only: t110 => test_linear_evanescent_wave
-    use test_period_map, only: t111 => test_newton_shooting_quadratic
-    use test_period_map, only: t112 => test_steps_and_bad_input
-    use test_period_map, only: t113 => test_half_period_map
-    use test_potential, only: t114 => test_gradient_equals_difference_quotient
-    use test_potential, only: t115 => test_derivatives_consistent
-    use test_potential, only: t116 => test_gradient_tends_to_force
-    use test_potential, only: t117 => test_gradient_exact_at_rest
-    use test_potential, only: t118 => test_slope_matches_finite_difference
-    use test_potential, only: t119 => test_newton_bounds_hold
-    use test_potential, only: t120 => test_array_kernels_agree
-    use test_potential, only: t121 => test_names_round_trip
-    use test_potential, only: t122 => test_unknown_potential_is_an_error
-    use test_provenance, only: b15 => set_up
-    use test_provenance, only: a15 => tear_down
-    use test_provenance, only: t123 => test_build_commit_is_an_id_or_unknown
-    use test_provenance, only: t124 => test_commit_is_not_read_from_the_working_directory
-    use test_provenance, only: t125 => test_provenance_written
-    use test_provenance, only: t126 => test_provenance_attributes_are_the_documented_ones
-    use test_rk4, only: t127 => test_rk4_fourth_order
-    use test_rk4, only: t128 => test_rk4_energy_drift
-    use test_rk4, only: t129 => test_rk4_stability_limit
-    use test_rk4, only: t130 => test_rk4_agrees_with_energy_conserving_scheme
-    use test_scene_bifurcation, only: b17 => set_up
-    use test_scene_bifurcation, only: a17 => tear_down
-    use test_scene_bifurcation, only: t131 => test_early_stop_keeps_verdict
-    use test_scene_bifurcation, only: t132 => test_threads_give_identical_thresholds
-    use test_scene_bifurcation, only: t133 => test_threshold_transmits_and_one_step_below_does_not
-    use test_scene_bifurcation, only: t134 => test_resume_after_kill
-    use test_scene_bifurcation, only: t135 => test_file_layout
-    use test_scene_bifurcation, only: t136 => test_failed_runs_give_status_run_failed
-    use test_scene_bifurcation, only: t137 => test_screening_changes_no_threshold
-    use test_scene_factory, only: t138 => test_every_kind_of_the_schema_has_a_scene
-    use test_scene_factory, only: t139 => test_unknown_kind_is_one_line_naming_the_known
-    use test_scene_factory, only: t140 => test_the_input_check_words_an_unknown_kind_as_before
-    use test_scene_factory, only: t141 => test_only_a_timeseries_is_one_run
-    use test_scene_factory, only: t142 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
-    use test_scene_factory, only: t143 => test_task_scenes_refuse_an_existing_output_first
-    use test_scene_map, only: b19 => set_up
-    use test_scene_map, only: a19 => tear_down
-    use test_scene_map, only: t144 => test_skips_outside_gap_and_stores_as
-    use test_scene_map, only: t145 => test_map_independent_of_thread_count
-    use test_scene_sweep, only: b20 => set_up
-    use test_scene_sweep, only: a20 => tear_down
-    use test_scene_sweep, only: t146 => test_axis_grid_exact
-    use test_scene_sweep, only: t147 => test_independent_of_thread_count
-    use test_scene_sweep, only: t148 => test_layout_and_physics
-    use test_scene_sweep, only: t149 => test_resume_after_kill
-    use test_scene_sweep, only: t150 => test_diverging_runs_flagged
-    use test_scene_sweep, only: t151 => test_partial_snapshot
-    use test_scene_sweep, only: t152 => test_refuses_existing_output
-    use test_schema, only: t153 => test_table_is_complete
-    use test_schema, only: t154 => test_each_key_sets_its_own_field
-    use test_schema, only: t155 => test_defaults_are_the_papers
-    use test_schema, only: t156 => test_choices_agree_with_the_physics
-    use test_schema, only: t157 => test_parameters_hold_every_key
-    use test_scheme, only: t158 => test_ledger_closes_every_step
-    use test_scheme, only: t159 => test_ledger_closes_double_sine_gordon
-    use test_scheme, only: t160 => test_evanescent_wave_double_sine_gordon
-    use test_scheme, only: t161 => test_linearized_ledger_does_not_close
-    use test_scheme, only: t162 => test_evanescent_wave
-    use test_scheme, only: t163 => test_second_order_in_dt
-    use test_scheme, only: t164 => test_stability_boundary
-    use test_scheme, only: t165 => test_newton_failure_reported
-    use test_scheme, only: t166 => test_two_runs_in_two_threads
-    use test_scheme, only: t167 => test_verdict_across_the_gap
-    use test_screened_search, only: t168 => test_cheap_right_saves_exact_runs
-    use test_screened_search, only: t169 => test_cheap_too_high_within_band
-    use test_screened_search, only: t170 => test_cheap_too_high_walks_down
-    use test_screened_search, only: t171 => test_cheap_window_far_below
-    use test_screened_search, only: t172 => test_doubtful_quiet_answers_go_to_the_exact_oracle
-    use test_screened_search, only: t173 => test_random_patterns_with_margins
-    use test_screened_search, only: t174 => test_random_patterns_false_alarms
-    use test_screened_search, only: t175 => test_cheap_finds_none
-    use test_screened_search, only: t176 => test_none_transmits_confirms_the_top
-    use test_screened_search, only: t177 => test_exact_failure_is_reported
-    use test_screened_search, only: t178 => test_cheap_failure_falls_back_to_exact
-    use test_screened_search, only: t179 => test_margin_below_the_threshold
-    use test_slice_costs, only: t180 => test_equal_costs_deal_round_robin
-    use test_slice_costs, only: t181 => test_every_task_in_one_slice_and_deterministic
-    use test_slice_costs, only: t182 => test_largest_first_is_balanced_within_the_largest_task
-    use test_slice_costs, only: t183 => test_run_order_is_largest_first
-    use test_slice_costs, only: t184 => test_fold_tasks_cost_more_at_low_omega
-    use test_slice_costs, only: t185 => test_slice_text_counts_the_slice
-    use test_stability, only: b25 => set_up
-    use test_stability, only: a25 => tear_down
-    use test_stability, only: t186 => test_linear_limits
-    use test_stability, only: t187 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t188 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t189 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t190 => test_stepper_contract_order
-    use test_stepper_contract, only: t191 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t192 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t193 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t194 => test_engine_counts_steps_in_64_bits
-    use test_stepper_contract, only: t195 => test_stepper_contract_checkpoint
-    use test_stepper_linearized, only: t196 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t197 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t198 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t199 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t200 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t201 => test_blocked_iteration_is_the_unblocked_one
-    use test_stepper_newton, only: t202 => test_levels_predictor_is_the_two_loop_one
-    use test_stepper_newton, only: t203 => test_uniform_loops_are_the_general_ones
-    use test_stepper_newton, only: t204 => test_newton_error_below_tol
-    use test_stepper_newton, only: t205 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t206 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t207 => test_newton_stepper_reports_failure
-    use test_stepper_newton, only: t208 => test_blowup_measure_is_the_level_maximum
-    use test_stepper_newton, only: t209 => test_step_powers_without_bulk_damping
-    use test_strings, only: t210 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t211 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t212 => test_find_name_gives_the_first_index_or_zero
-    use test_strings, only: t213 => test_joined_trims_each_name_and_prefixes_it
-    use test_strings, only: t214 => test_lower_changes_only_ascii_capitals
-    use test_system, only: b30 => set_up
-    use test_system, only: a30 => tear_down
-    use test_system, only: t215 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t216 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t217 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t218 => test_lock_file_is_removed_by_its_holder_only
-    use test_system, only: t219 => test_temporary_names_are_fresh
-    use test_system, only: t220 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t221 => test_monotone_step
-    use test_threshold, only: t222 => test_bisected_bracket
-    use test_threshold, only: t223 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t224 => test_two_transitions
-    use test_threshold, only: t225 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t226 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t227 => test_nothing_transmits
-    use test_threshold, only: t228 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t229 => test_lower_bound_transmits
-    use test_threshold, only: t230 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t231 => test_bad_arguments
-    use test_threshold, only: t232 => test_grid_helpers
-    use test_workprec, only: b32 => set_up
-    use test_workprec, only: a32 => tear_down
-    use test_workprec, only: t233 => test_rk8_eighth_order
-    use test_workprec, only: t234 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t235 => test_rk8_stability_polynomial
-    use test_workprec, only: t236 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t237 => test_unstable_runs_are_reported
-    use test_workprec, only: t238 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t239 => test_fitted_order
-    use test_workprec, only: t240 => test_step_kernels_timed
+    use test_continuation_events, only: t25 => test_stop_reasons_keep_their_numbers
+    use test_continuation_events, only: t26 => test_march_schedule_from_the_controls
+    use test_continuation_events, only: t27 => test_multipliers_due
+    use test_continuation_events, only: t28 => test_nearing_circle
+    use test_continuation_events, only: t29 => test_fold_events
+    use test_continuation_events, only: t30 => test_march_ends
+    use test_continuation_events, only: t31 => test_flips_steps_and_turns
+    use test_continuation_fast, only: t32 => test_lu_solve_transposed
+    use test_continuation_fast, only: t33 => test_fast_floquet_same_verdicts
+    use test_continuation_fast, only: t34 => test_fold_alone
+    use test_continuation_fast, only: t35 => test_fold_on_the_half_period_map
+    use test_continuation_fast, only: t36 => test_stop_at_unstable_start
+    use test_continuation_fast, only: t37 => test_short_chain
+    use test_continuation_fast, only: t38 => test_tracked_multiplier
+    use test_continuation_fast, only: t39 => test_kept_multipliers
+    use test_fold_fate, only: t40 => test_switch_side_of_a_bracketed_branch_point
+    use test_fold_fate, only: t41 => test_fold_transmits_and_stable_state_stays
+    use test_fold_fate, only: t42 => test_half_period_symmetry
+    use test_fold_fate, only: t43 => test_stairs_transmit_just_past_the_fold
+    use test_fold_fate, only: t44 => test_outcomes_as_the_files_codes
+    use test_fold_fate, only: t45 => test_climb_plan_and_its_reading
+    use test_fold_record, only: t46 => test_round_trip
+    use test_harmonic_balance, only: t47 => test_jacobian_against_finite_differences
+    use test_harmonic_balance, only: t48 => test_block_solve_inverts_the_jacobian
+    use test_harmonic_balance, only: t49 => test_radiation_root_solves_the_dispersion_relation
+    use test_harmonic_balance, only: t50 => test_small_amplitude_state_is_the_evanescent_wave
+    use test_harmonic_balance, only: t51 => test_fold_state_is_a_periodic_orbit_of_the_ode
+    use test_hdf5, only: b9 => set_up
+    use test_hdf5, only: a9 => tear_down
+    use test_hdf5, only: t52 => test_roundtrip_real
+    use test_hdf5, only: t53 => test_roundtrip_integer
+    use test_hdf5, only: t54 => test_roundtrip_character
+    use test_hdf5, only: t55 => test_roundtrip_attributes
+    use test_hdf5, only: t56 => test_refuses_to_overwrite
+    use test_hdf5, only: t57 => test_nothing_on_disk_before_commit
+    use test_hdf5, only: t58 => test_discard_leaves_nothing
+    use test_hdf5, only: t59 => test_exists_nested
+    use test_hdf5, only: t60 => test_first_error_sticks
+    use test_hdf5, only: t61 => test_dimension_scales_attached
+    use test_hdf5, only: t62 => test_many_files_in_one_process
+    use test_hdf5, only: t63 => test_errors_name_file_and_object
+    use test_hysteresis, only: t64 => test_default_profile_is_the_ramp
+    use test_hysteresis, only: t65 => test_stairs_have_their_levels_at_their_times
+    use test_hysteresis, only: t66 => test_stairs_are_continuous
+    use test_hysteresis, only: t67 => test_stair_slope_against_differences
+    use test_hysteresis, only: t68 => test_edges_from_powers
+    use test_hysteresis, only: t69 => test_stair_powers_against_wave_fluxes
+    use test_input, only: t70 => test_unknown_key
+    use test_input, only: t71 => test_key_in_wrong_group
+    use test_input, only: t72 => test_unknown_group
+    use test_input, only: t73 => test_integer_key_given_real
+    use test_input, only: t74 => test_real_key_given_text
+    use test_input, only: t75 => test_logical_key_given_yes
+    use test_input, only: t76 => test_scalar_key_given_list
+    use test_input, only: t77 => test_repeat_count_rejected
+    use test_input, only: t78 => test_key_given_twice
+    use test_input, only: t79 => test_unterminated_group
+    use test_input, only: t80 => test_unterminated_string
+    use test_input, only: t81 => test_text_outside_groups
+    use test_input, only: t82 => test_missing_file
+    use test_input, only: t83 => test_n_below_two
+    use test_input, only: t84 => test_dt_negative
+    use test_input, only: t85 => test_dt_zero
+    use test_input, only: t86 => test_t_final_not_positive
+    use test_input, only: t87 => test_omega_outside_gap
+    use test_input, only: t88 => test_omega_outside_gap_allowed
+    use test_input, only: t89 => test_stability_violated
+    use test_input, only: t90 => test_stability_condition_not_asked_of_a_stable_methods
+    use test_input, only: t91 => test_stability_violated_allowed
+    use test_input, only: t92 => test_output_exists
+    use test_input, only: t93 => test_output_exists_overwrite
+    use test_input, only: t94 => test_unknown_potential
+    use test_input, only: t95 => test_unknown_method
+    use test_input, only: t96 => test_unknown_scene
+    use test_input, only: t97 => test_probe_outside_chain
+    use test_input, only: t98 => test_full_valid_file
+    use test_input, only: t99 => test_empty_file_is_refused
+    use test_input, only: t100 => test_defaults_of_a_minimal_file
+    use test_input, only: t101 => test_validate_config_in_code
+    use test_input, only: t102 => test_list_value_out_of_range
+    use test_input, only: t103 => test_unknown_potential_in_list
+    use test_input, only: t104 => test_lists_of_names_read
+    use test_input, only: t105 => test_unknown_method_number_in_code
+    use test_input, only: t106 => test_namelist_text_and_start_kept
+    use test_journal, only: t107 => test_fields_read_by_name
+    use test_journal, only: t108 => test_other_fields_or_input_refused
+    use test_journal, only: t109 => test_header_names_the_fields
+    use test_journal, only: t110 => test_records_bound_to_their_header
+    use test_perf_kernels, only: t111 => test_sin_cos_array_accuracy
+    use test_perf_kernels, only: t112 => test_sin_cos_quiet_tail
+    use test_perf_kernels, only: t113 => test_gradient_paths_agree
+    use test_period_map, only: t114 => test_tangent_against_finite_differences
+    use test_period_map, only: t115 => test_tangent_light_cone
+    use test_period_map, only: t116 => test_same_scheme_as_steppers
+    use test_period_map, only: t117 => test_linear_evanescent_wave
+    use test_period_map, only: t118 => test_newton_shooting_quadratic
+    use test_period_map, only: t119 => test_steps_and_bad_input
+    use test_period_map, only: t120 => test_half_period_map
+    use test_potential, only: t121 => test_gradient_equals_difference_quotient
+    use test_potential, only: t122 => test_derivatives_consistent
+    use test_potential, only: t123 => test_gradient_tends_to_force
+    use test_potential, only: t124 => test_gradient_exact_at_rest
+    use test_potential, only: t125 => test_slope_matches_finite_difference
+    use test_potential, only: t126 => test_newton_bounds_hold
+    use test_potential, only: t127 => test_array_kernels_agree
+    use test_potential, only: t128 => test_names_round_trip
+    use test_potential, only: t129 => test_unknown_potential_is_an_error
+    use test_provenance, only: b16 => set_up
+    use test_provenance, only: a16 => tear_down
+    use test_provenance, only: t130 => test_build_commit_is_an_id_or_unknown
+    use test_provenance, only: t131 => test_commit_is_not_read_from_the_working_directory
+    use test_provenance, only: t132 => test_provenance_written
+    use test_provenance, only: t133 => test_provenance_attributes_are_the_documented_ones
+    use test_rk4, only: t134 => test_rk4_fourth_order
+    use test_rk4, only: t135 => test_rk4_energy_drift
+    use test_rk4, only: t136 => test_rk4_stability_limit
+    use test_rk4, only: t137 => test_rk4_agrees_with_energy_conserving_scheme
+    use test_scene_bifurcation, only: b18 => set_up
+    use test_scene_bifurcation, only: a18 => tear_down
+    use test_scene_bifurcation, only: t138 => test_early_stop_keeps_verdict
+    use test_scene_bifurcation, only: t139 => test_threads_give_identical_thresholds
+    use test_scene_bifurcation, only: t140 => test_threshold_transmits_and_one_step_below_does_not
+    use test_scene_bifurcation, only: t141 => test_resume_after_kill
+    use test_scene_bifurcation, only: t142 => test_file_layout
+    use test_scene_bifurcation, only: t143 => test_failed_runs_give_status_run_failed
+    use test_scene_bifurcation, only: t144 => test_screening_changes_no_threshold
+    use test_scene_factory, only: t145 => test_every_kind_of_the_schema_has_a_scene
+    use test_scene_factory, only: t146 => test_unknown_kind_is_one_line_naming_the_known
+    use test_scene_factory, only: t147 => test_the_input_check_words_an_unknown_kind_as_before
+    use test_scene_factory, only: t148 => test_only_a_timeseries_is_one_run
+    use test_scene_factory, only: t149 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
+    use test_scene_factory, only: t150 => test_task_scenes_refuse_an_existing_output_first
+    use test_scene_map, only: b20 => set_up
+    use test_scene_map, only: a20 => tear_down
+    use test_scene_map, only: t151 => test_skips_outside_gap_and_stores_as
+    use test_scene_map, only: t152 => test_map_independent_of_thread_count
+    use test_scene_sweep, only: b21 => set_up
+    use test_scene_sweep, only: a21 => tear_down
+    use test_scene_sweep, only: t153 => test_axis_grid_exact
+    use test_scene_sweep, only: t154 => test_independent_of_thread_count
+    use test_scene_sweep, only: t155 => test_layout_and_physics
+    use test_scene_sweep, only: t156 => test_resume_after_kill
+    use test_scene_sweep, only: t157 => test_diverging_runs_flagged
+    use test_scene_sweep, only: t158 => test_partial_snapshot
+    use test_scene_sweep, only: t159 => test_refuses_existing_output
+    use test_schema, only: t160 => test_table_is_complete
+    use test_schema, only: t161 => test_each_key_sets_its_own_field
+    use test_schema, only: t162 => test_defaults_are_the_papers
+    use test_schema, only: t163 => test_choices_agree_with_the_physics
+    use test_schema, only: t164 => test_parameters_hold_every_key
+    use test_scheme, only: t165 => test_ledger_closes_every_step
+    use test_scheme, only: t166 => test_ledger_closes_double_sine_gordon
+    use test_scheme, only: t167 => test_evanescent_wave_double_sine_gordon
+    use test_scheme, only: t168 => test_linearized_ledger_does_not_close
+    use test_scheme, only: t169 => test_evanescent_wave
+    use test_scheme, only: t170 => test_second_order_in_dt
+    use test_scheme, only: t171 => test_stability_boundary
+    use test_scheme, only: t172 => test_newton_failure_reported
+    use test_scheme, only: t173 => test_two_runs_in_two_threads
+    use test_scheme, only: t174 => test_verdict_across_the_gap
+    use test_screened_search, only: t175 => test_cheap_right_saves_exact_runs
+    use test_screened_search, only: t176 => test_cheap_too_high_within_band
+    use test_screened_search, only: t177 => test_cheap_too_high_walks_down
+    use test_screened_search, only: t178 => test_cheap_window_far_below
+    use test_screened_search, only: t179 => test_doubtful_quiet_answers_go_to_the_exact_oracle
+    use test_screened_search, only: t180 => test_random_patterns_with_margins
+    use test_screened_search, only: t181 => test_random_patterns_false_alarms
+    use test_screened_search, only: t182 => test_cheap_finds_none
+    use test_screened_search, only: t183 => test_none_transmits_confirms_the_top
+    use test_screened_search, only: t184 => test_exact_failure_is_reported
+    use test_screened_search, only: t185 => test_cheap_failure_falls_back_to_exact
+    use test_screened_search, only: t186 => test_margin_below_the_threshold
+    use test_slice_costs, only: t187 => test_equal_costs_deal_round_robin
+    use test_slice_costs, only: t188 => test_every_task_in_one_slice_and_deterministic
+    use test_slice_costs, only: t189 => test_largest_first_is_balanced_within_the_largest_task
+    use test_slice_costs, only: t190 => test_run_order_is_largest_first
+    use test_slice_costs, only: t191 => test_fold_tasks_cost_more_at_low_omega
+    use test_slice_costs, only: t192 => test_slice_text_counts_the_slice
+    use test_stability, only: b26 => set_up
+    use test_stability, only: a26 => tear_down
+    use test_stability, only: t193 => test_linear_limits
+    use test_stability, only: t194 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t195 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t196 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t197 => test_stepper_contract_order
+    use test_stepper_contract, only: t198 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t199 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t200 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t201 => test_engine_counts_steps_in_64_bits
+    use test_stepper_contract, only: t202 => test_stepper_contract_checkpoint
+    use test_stepper_linearized, only: t203 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t204 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t205 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t206 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t207 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t208 => test_blocked_iteration_is_the_unblocked_one
+    use test_stepper_newton, only: t209 => test_levels_predictor_is_the_two_loop_one
+    use test_stepper_newton, only: t210 => test_uniform_loops_are_the_general_ones
+    use test_stepper_newton, only: t211 => test_newton_error_below_tol
+    use test_stepper_newton, only: t212 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t213 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t214 => test_newton_stepper_reports_failure
+    use test_stepper_newton, only: t215 => test_blowup_measure_is_the_level_maximum
+    use test_stepper_newton, only: t216 => test_step_powers_without_bulk_damping
+    use test_strings, only: t217 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t218 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t219 => test_find_name_gives_the_first_index_or_zero
+    use test_strings, only: t220 => test_joined_trims_each_name_and_prefixes_it
+    use test_strings, only: t221 => test_lower_changes_only_ascii_capitals
+    use test_system, only: b31 => set_up
+    use test_system, only: a31 => tear_down
+    use test_system, only: t222 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t223 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t224 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t225 => test_lock_file_is_removed_by_its_holder_only
+    use test_system, only: t226 => test_temporary_names_are_fresh
+    use test_system, only: t227 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t228 => test_monotone_step
+    use test_threshold, only: t229 => test_bisected_bracket
+    use test_threshold, only: t230 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t231 => test_two_transitions
+    use test_threshold, only: t232 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t233 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t234 => test_nothing_transmits
+    use test_threshold, only: t235 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t236 => test_lower_bound_transmits
+    use test_threshold, only: t237 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t238 => test_bad_arguments
+    use test_threshold, only: t239 => test_grid_helpers
+    use test_workprec, only: b33 => set_up
+    use test_workprec, only: a33 => tear_down
+    use test_workprec, only: t240 => test_rk8_eighth_order
+    use test_workprec, only: t241 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t242 => test_rk8_stability_polynomial
+    use test_workprec, only: t243 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t244 => test_unstable_runs_are_reported
+    use test_workprec, only: t245 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t246 => test_fitted_order
+    use test_workprec, only: t247 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -286,251 +293,258 @@ program pf_driver
     call pf_run_test('test_continuation', 'test_tangent_finite_difference', t22)
     call pf_run_test('test_continuation', 'test_failures_reported', t23)
     call pf_run_test('test_continuation', 'test_fold_next_to_failing_region', t24)
-    call pf_run_test('test_continuation_fast', 'test_lu_solve_transposed', t25)
-    call pf_run_test('test_continuation_fast', 'test_fast_floquet_same_verdicts', t26)
-    call pf_run_test('test_continuation_fast', 'test_fold_alone', t27)
-    call pf_run_test('test_continuation_fast', 'test_fold_on_the_half_period_map', t28)
-    call pf_run_test('test_continuation_fast', 'test_stop_at_unstable_start', t29)
-    call pf_run_test('test_continuation_fast', 'test_short_chain', t30)
-    call pf_run_test('test_continuation_fast', 'test_tracked_multiplier', t31)
-    call pf_run_test('test_continuation_fast', 'test_kept_multipliers', t32)
-    call pf_run_test('test_fold_fate', 'test_switch_side_of_a_bracketed_branch_point', t33)
-    call pf_run_test('test_fold_fate', 'test_fold_transmits_and_stable_state_stays', t34)
-    call pf_run_test('test_fold_fate', 'test_half_period_symmetry', t35)
-    call pf_run_test('test_fold_fate', 'test_stairs_transmit_just_past_the_fold', t36)
-    call pf_run_test('test_fold_fate', 'test_outcomes_as_the_files_codes', t37)
-    call pf_run_test('test_fold_fate', 'test_climb_plan_and_its_reading', t38)
-    call pf_run_test('test_fold_record', 'test_round_trip', t39)
-    call pf_run_test('test_harmonic_balance', 'test_jacobian_against_finite_differences', t40)
-    call pf_run_test('test_harmonic_balance', 'test_block_solve_inverts_the_jacobian', t41)
-    call pf_run_test('test_harmonic_balance', 'test_radiation_root_solves_the_dispersion_relation', t42)
-    call pf_run_test('test_harmonic_balance', 'test_small_amplitude_state_is_the_evanescent_wave', t43)
-    call pf_run_test('test_harmonic_balance', 'test_fold_state_is_a_periodic_orbit_of_the_ode', t44)
-    call pf_run_test('test_hdf5', 'test_roundtrip_real', t45, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_roundtrip_integer', t46, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_roundtrip_character', t47, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_roundtrip_attributes', t48, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_refuses_to_overwrite', t49, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_nothing_on_disk_before_commit', t50, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_discard_leaves_nothing', t51, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_exists_nested', t52, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_first_error_sticks', t53, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_dimension_scales_attached', t54, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_many_files_in_one_process', t55, before=b8, after=a8)
-    call pf_run_test('test_hdf5', 'test_errors_name_file_and_object', t56, before=b8, after=a8)
-    call pf_run_test('test_hysteresis', 'test_default_profile_is_the_ramp', t57)
-    call pf_run_test('test_hysteresis', 'test_stairs_have_their_levels_at_their_times', t58)
-    call pf_run_test('test_hysteresis', 'test_stairs_are_continuous', t59)
-    call pf_run_test('test_hysteresis', 'test_stair_slope_against_differences', t60)
-    call pf_run_test('test_hysteresis', 'test_edges_from_powers', t61)
-    call pf_run_test('test_hysteresis', 'test_stair_powers_against_wave_fluxes', t62)
-    call pf_run_test('test_input', 'test_unknown_key', t63)
-    call pf_run_test('test_input', 'test_key_in_wrong_group', t64)
-    call pf_run_test('test_input', 'test_unknown_group', t65)
-    call pf_run_test('test_input', 'test_integer_key_given_real', t66)
-    call pf_run_test('test_input', 'test_real_key_given_text', t67)
-    call pf_run_test('test_input', 'test_logical_key_given_yes', t68)
-    call pf_run_test('test_input', 'test_scalar_key_given_list', t69)
-    call pf_run_test('test_input', 'test_repeat_count_rejected', t70)
-    call pf_run_test('test_input', 'test_key_given_twice', t71)
-    call pf_run_test('test_input', 'test_unterminated_group', t72)
-    call pf_run_test('test_input', 'test_unterminated_string', t73)
-    call pf_run_test('test_input', 'test_text_outside_groups', t74)
-    call pf_run_test('test_input', 'test_missing_file', t75)
-    call pf_run_test('test_input', 'test_n_below_two', t76)
-    call pf_run_test('test_input', 'test_dt_negative', t77)
-    call pf_run_test('test_input', 'test_dt_zero', t78)
-    call pf_run_test('test_input', 'test_t_final_not_positive', t79)
-    call pf_run_test('test_input', 'test_omega_outside_gap', t80)
-    call pf_run_test('test_input', 'test_omega_outside_gap_allowed', t81)
-    call pf_run_test('test_input', 'test_stability_violated', t82)
-    call pf_run_test('test_input', 'test_stability_condition_not_asked_of_a_stable_methods', t83)
-    call pf_run_test('test_input', 'test_stability_violated_allowed', t84)
-    call pf_run_test('test_input', 'test_output_exists', t85)
-    call pf_run_test('test_input', 'test_output_exists_overwrite', t86)
-    call pf_run_test('test_input', 'test_unknown_potential', t87)
-    call pf_run_test('test_input', 'test_unknown_method', t88)
-    call pf_run_test('test_input', 'test_unknown_scene', t89)
-    call pf_run_test('test_input', 'test_probe_outside_chain', t90)
-    call pf_run_test('test_input', 'test_full_valid_file', t91)
-    call pf_run_test('test_input', 'test_empty_file_is_refused', t92)
-    call pf_run_test('test_input', 'test_defaults_of_a_minimal_file', t93)
-    call pf_run_test('test_input', 'test_validate_config_in_code', t94)
-    call pf_run_test('test_input', 'test_list_value_out_of_range', t95)
-    call pf_run_test('test_input', 'test_unknown_potential_in_list', t96)
-    call pf_run_test('test_input', 'test_lists_of_names_read', t97)
-    call pf_run_test('test_input', 'test_unknown_method_number_in_code', t98)
-    call pf_run_test('test_input', 'test_namelist_text_and_start_kept', t99)
-    call pf_run_test('test_journal', 'test_fields_read_by_name', t100)
-    call pf_run_test('test_journal', 'test_other_fields_or_input_refused', t101)
-    call pf_run_test('test_journal', 'test_header_names_the_fields', t102)
-    call pf_run_test('test_journal', 'test_records_bound_to_their_header', t103)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t104)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t105)
-    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t106)
-    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t107)
-    call pf_run_test('test_period_map', 'test_tangent_light_cone', t108)
-    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t109)
-    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t110)
-    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t111)
-    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t112)
-    call pf_run_test('test_period_map', 'test_half_period_map', t113)
-    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t114)
-    call pf_run_test('test_potential', 'test_derivatives_consistent', t115)
-    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t116)
-    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t117)
-    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t118)
-    call pf_run_test('test_potential', 'test_newton_bounds_hold', t119)
-    call pf_run_test('test_potential', 'test_array_kernels_agree', t120)
-    call pf_run_test('test_potential', 'test_names_round_trip', t121)
-    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t122)
-    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t123, before=b15, after=a15)
+    call pf_run_test('test_continuation_events', 'test_stop_reasons_keep_their_numbers', t25)
+    call pf_run_test('test_continuation_events', 'test_march_schedule_from_the_controls', t26)
+    call pf_run_test('test_continuation_events', 'test_multipliers_due', t27)
+    call pf_run_test('test_continuation_events', 'test_nearing_circle', t28)
+    call pf_run_test('test_continuation_events', 'test_fold_events', t29)
+    call pf_run_test('test_continuation_events', 'test_march_ends', t30)
+    call pf_run_test('test_continuation_events', 'test_flips_steps_and_turns', t31)
+    call pf_run_test('test_continuation_fast', 'test_lu_solve_transposed', t32)
+    call pf_run_test('test_continuation_fast', 'test_fast_floquet_same_verdicts', t33)
+    call pf_run_test('test_continuation_fast', 'test_fold_alone', t34)
+    call pf_run_test('test_continuation_fast', 'test_fold_on_the_half_period_map', t35)
+    call pf_run_test('test_continuation_fast', 'test_stop_at_unstable_start', t36)
+    call pf_run_test('test_continuation_fast', 'test_short_chain', t37)
+    call pf_run_test('test_continuation_fast', 'test_tracked_multiplier', t38)
+    call pf_run_test('test_continuation_fast', 'test_kept_multipliers', t39)
+    call pf_run_test('test_fold_fate', 'test_switch_side_of_a_bracketed_branch_point', t40)
+    call pf_run_test('test_fold_fate', 'test_fold_transmits_and_stable_state_stays', t41)
+    call pf_run_test('test_fold_fate', 'test_half_period_symmetry', t42)
+    call pf_run_test('test_fold_fate', 'test_stairs_transmit_just_past_the_fold', t43)
+    call pf_run_test('test_fold_fate', 'test_outcomes_as_the_files_codes', t44)
+    call pf_run_test('test_fold_fate', 'test_climb_plan_and_its_reading', t45)
+    call pf_run_test('test_fold_record', 'test_round_trip', t46)
+    call pf_run_test('test_harmonic_balance', 'test_jacobian_against_finite_differences', t47)
+    call pf_run_test('test_harmonic_balance', 'test_block_solve_inverts_the_jacobian', t48)
+    call pf_run_test('test_harmonic_balance', 'test_radiation_root_solves_the_dispersion_relation', t49)
+    call pf_run_test('test_harmonic_balance', 'test_small_amplitude_state_is_the_evanescent_wave', t50)
+    call pf_run_test('test_harmonic_balance', 'test_fold_state_is_a_periodic_orbit_of_the_ode', t51)
+    call pf_run_test('test_hdf5', 'test_roundtrip_real', t52, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_roundtrip_integer', t53, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_roundtrip_character', t54, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_roundtrip_attributes', t55, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_refuses_to_overwrite', t56, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_nothing_on_disk_before_commit', t57, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_discard_leaves_nothing', t58, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_exists_nested', t59, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_first_error_sticks', t60, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_dimension_scales_attached', t61, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_many_files_in_one_process', t62, before=b9, after=a9)
+    call pf_run_test('test_hdf5', 'test_errors_name_file_and_object', t63, before=b9, after=a9)
+    call pf_run_test('test_hysteresis', 'test_default_profile_is_the_ramp', t64)
+    call pf_run_test('test_hysteresis', 'test_stairs_have_their_levels_at_their_times', t65)
+    call pf_run_test('test_hysteresis', 'test_stairs_are_continuous', t66)
+    call pf_run_test('test_hysteresis', 'test_stair_slope_against_differences', t67)
+    call pf_run_test('test_hysteresis', 'test_edges_from_powers', t68)
+    call pf_run_test('test_hysteresis', 'test_stair_powers_against_wave_fluxes', t69)
+    call pf_run_test('test_input', 'test_unknown_key', t70)
+    call pf_run_test('test_input', 'test_key_in_wrong_group', t71)
+    call pf_run_test('test_input', 'test_unknown_group', t72)
+    call pf_run_test('test_input', 'test_integer_key_given_real', t73)
+    call pf_run_test('test_input', 'test_real_key_given_text', t74)
+    call pf_run_test('test_input', 'test_logical_key_given_yes', t75)
+    call pf_run_test('test_input', 'test_scalar_key_given_list', t76)
+    call pf_run_test('test_input', 'test_repeat_count_rejected', t77)
+    call pf_run_test('test_input', 'test_key_given_twice', t78)
+    call pf_run_test('test_input', 'test_unterminated_group', t79)
+    call pf_run_test('test_input', 'test_unterminated_string', t80)
+    call pf_run_test('test_input', 'test_text_outside_groups', t81)
+    call pf_run_test('test_input', 'test_missing_file', t82)
+    call pf_run_test('test_input', 'test_n_below_two', t83)
+    call pf_run_test('test_input', 'test_dt_negative', t84)
+    call pf_run_test('test_input', 'test_dt_zero', t85)
+    call pf_run_test('test_input', 'test_t_final_not_positive', t86)
+    call pf_run_test('test_input', 'test_omega_outside_gap', t87)
+    call pf_run_test('test_input', 'test_omega_outside_gap_allowed', t88)
+    call pf_run_test('test_input', 'test_stability_violated', t89)
+    call pf_run_test('test_input', 'test_stability_condition_not_asked_of_a_stable_methods', t90)
+    call pf_run_test('test_input', 'test_stability_violated_allowed', t91)
+    call pf_run_test('test_input', 'test_output_exists', t92)
+    call pf_run_test('test_input', 'test_output_exists_overwrite', t93)
+    call pf_run_test('test_input', 'test_unknown_potential', t94)
+    call pf_run_test('test_input', 'test_unknown_method', t95)
+    call pf_run_test('test_input', 'test_unknown_scene', t96)
+    call pf_run_test('test_input', 'test_probe_outside_chain', t97)
+    call pf_run_test('test_input', 'test_full_valid_file', t98)
+    call pf_run_test('test_input', 'test_empty_file_is_refused', t99)
+    call pf_run_test('test_input', 'test_defaults_of_a_minimal_file', t100)
+    call pf_run_test('test_input', 'test_validate_config_in_code', t101)
+    call pf_run_test('test_input', 'test_list_value_out_of_range', t102)
+    call pf_run_test('test_input', 'test_unknown_potential_in_list', t103)
+    call pf_run_test('test_input', 'test_lists_of_names_read', t104)
+    call pf_run_test('test_input', 'test_unknown_method_number_in_code', t105)
+    call pf_run_test('test_input', 'test_namelist_text_and_start_kept', t106)
+    call pf_run_test('test_journal', 'test_fields_read_by_name', t107)
+    call pf_run_test('test_journal', 'test_other_fields_or_input_refused', t108)
+    call pf_run_test('test_journal', 'test_header_names_the_fields', t109)
+    call pf_run_test('test_journal', 'test_records_bound_to_their_header', t110)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t111)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t112)
+    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t113)
+    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t114)
+    call pf_run_test('test_period_map', 'test_tangent_light_cone', t115)
+    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t116)
+    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t117)
+    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t118)
+    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t119)
+    call pf_run_test('test_period_map', 'test_half_period_map', t120)
+    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t121)
+    call pf_run_test('test_potential', 'test_derivatives_consistent', t122)
+    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t123)
+    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t124)
+    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t125)
+    call pf_run_test('test_potential', 'test_newton_bounds_hold', t126)
+    call pf_run_test('test_potential', 'test_array_kernels_agree', t127)
+    call pf_run_test('test_potential', 'test_names_round_trip', t128)
+    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t129)
+    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t130, before=b16, after=a16)
     call pf_run_test( &
         'test_provenance', &
         'test_commit_is_not_read_from_the_working_directory', &
-        t124, &
-        before=b15, &
-        after=a15)
-    call pf_run_test('test_provenance', 'test_provenance_written', t125, before=b15, after=a15)
+        t131, &
+        before=b16, &
+        after=a16)
+    call pf_run_test('test_provenance', 'test_provenance_written', t132, before=b16, after=a16)
     call pf_run_test( &
         'test_provenance', &
         'test_provenance_attributes_are_the_documented_ones', &
-        t126, &
-        before=b15, &
-        after=a15)
-    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t127)
-    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t128)
-    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t129)
-    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t130)
-    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t131, before=b17, after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t132, before=b17, after=a17)
+        t133, &
+        before=b16, &
+        after=a16)
+    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t134)
+    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t135)
+    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t136)
+    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t137)
+    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t138, before=b18, after=a18)
+    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t139, before=b18, after=a18)
     call pf_run_test( &
         'test_scene_bifurcation', &
         'test_threshold_transmits_and_one_step_below_does_not', &
-        t133, &
-        before=b17, &
-        after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t134, before=b17, after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t135, before=b17, after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t136, before=b17, after=a17)
-    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t137, before=b17, after=a17)
-    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t138)
-    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t139)
-    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t140)
-    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t141)
-    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t142)
-    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t143)
-    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t144, before=b19, after=a19)
-    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t145, before=b19, after=a19)
-    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t146, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t147, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t148, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t149, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t150, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t151, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t152, before=b20, after=a20)
-    call pf_run_test('test_schema', 'test_table_is_complete', t153)
-    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t154)
-    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t155)
-    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t156)
-    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t157)
-    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t158)
-    call pf_run_test('test_scheme', 'test_ledger_closes_double_sine_gordon', t159)
-    call pf_run_test('test_scheme', 'test_evanescent_wave_double_sine_gordon', t160)
-    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t161)
-    call pf_run_test('test_scheme', 'test_evanescent_wave', t162)
-    call pf_run_test('test_scheme', 'test_second_order_in_dt', t163)
-    call pf_run_test('test_scheme', 'test_stability_boundary', t164)
-    call pf_run_test('test_scheme', 'test_newton_failure_reported', t165)
-    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t166)
-    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t167)
-    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t168)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t169)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t170)
-    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t171)
-    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t172)
-    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t173)
-    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t174)
-    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t175)
-    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t176)
-    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t177)
-    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t178)
-    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t179)
-    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t180)
-    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t181)
-    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t182)
-    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t183)
-    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t184)
-    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t185)
-    call pf_run_test('test_stability', 'test_linear_limits', t186, before=b25, after=a25)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t187, before=b25, after=a25)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t188, before=b25, after=a25)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t189)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t190)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t191)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t192)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t193)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t194)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t195)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t196)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t197)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t198)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t199)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t200)
-    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t201)
-    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t202)
-    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t203)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t204)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t205)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t206)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t207)
-    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t208)
-    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t209)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t210)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t211)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t212)
-    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t213)
-    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t214)
+        t140, &
+        before=b18, &
+        after=a18)
+    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t141, before=b18, after=a18)
+    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t142, before=b18, after=a18)
+    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t143, before=b18, after=a18)
+    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t144, before=b18, after=a18)
+    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t145)
+    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t146)
+    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t147)
+    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t148)
+    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t149)
+    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t150)
+    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t151, before=b20, after=a20)
+    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t152, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t153, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t154, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t155, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t156, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t157, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t158, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t159, before=b21, after=a21)
+    call pf_run_test('test_schema', 'test_table_is_complete', t160)
+    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t161)
+    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t162)
+    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t163)
+    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t164)
+    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t165)
+    call pf_run_test('test_scheme', 'test_ledger_closes_double_sine_gordon', t166)
+    call pf_run_test('test_scheme', 'test_evanescent_wave_double_sine_gordon', t167)
+    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t168)
+    call pf_run_test('test_scheme', 'test_evanescent_wave', t169)
+    call pf_run_test('test_scheme', 'test_second_order_in_dt', t170)
+    call pf_run_test('test_scheme', 'test_stability_boundary', t171)
+    call pf_run_test('test_scheme', 'test_newton_failure_reported', t172)
+    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t173)
+    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t174)
+    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t175)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t176)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t177)
+    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t178)
+    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t179)
+    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t180)
+    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t181)
+    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t182)
+    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t183)
+    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t184)
+    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t185)
+    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t186)
+    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t187)
+    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t188)
+    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t189)
+    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t190)
+    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t191)
+    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t192)
+    call pf_run_test('test_stability', 'test_linear_limits', t193, before=b26, after=a26)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t194, before=b26, after=a26)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t195, before=b26, after=a26)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t196)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t197)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t198)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t199)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t200)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t201)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t202)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t203)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t204)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t205)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t206)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t207)
+    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t208)
+    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t209)
+    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t210)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t211)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t212)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t213)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t214)
+    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t215)
+    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t216)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t217)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t218)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t219)
+    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t220)
+    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t221)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t215, &
-        before=b30, &
-        after=a30)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t216, before=b30, after=a30)
+        t222, &
+        before=b31, &
+        after=a31)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t223, before=b31, after=a31)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t217, &
-        before=b30, &
-        after=a30)
-    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t218, before=b30, after=a30)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t219, before=b30, after=a30)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t220, before=b30, after=a30)
-    call pf_run_test('test_threshold', 'test_monotone_step', t221)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t222)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t223)
-    call pf_run_test('test_threshold', 'test_two_transitions', t224)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t225)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t226)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t227)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t228)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t229)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t230)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t231)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t232)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t233, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t234, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t235, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t236, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t237, before=b32, after=a32)
+        t224, &
+        before=b31, &
+        after=a31)
+    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t225, before=b31, after=a31)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t226, before=b31, after=a31)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t227, before=b31, after=a31)
+    call pf_run_test('test_threshold', 'test_monotone_step', t228)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t229)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t230)
+    call pf_run_test('test_threshold', 'test_two_transitions', t231)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t232)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t233)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t234)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t235)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t236)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t237)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t238)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t239)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t240, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t241, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t242, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t243, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t244, before=b33, after=a33)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t238, &
-        before=b32, &
-        after=a32)
-    call pf_run_test('test_workprec', 'test_fitted_order', t239, before=b32, after=a32)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t240, before=b32, after=a32)
+        t245, &
+        before=b33, &
+        after=a33)
+    call pf_run_test('test_workprec', 'test_fitted_order', t246, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t247, before=b33, after=a33)
     call pf_driver_finish()
 end program pf_driver

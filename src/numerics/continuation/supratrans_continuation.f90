@@ -63,6 +63,10 @@
 !> the walk then finds what came first, a complex pair included). A complex pair that leaves the circle with no
 !> real multiplier through +-1 after it is not seen: that needs `floquet_every` > 0.
 !>
+!> **The march** is a sequence of named events (multipliers due, fold bracketed, fold behind the point, past the
+!> fold, ...), each decided in one place from the march's state (`supratrans_continuation_events`, which lists them
+!> in the order the march asks them).
+!>
 !> An implementation of `fixed_point_map` holds its own work arrays: one map and one call per thread; this module
 !> has no state of its own.
 module supratrans_continuation
@@ -79,7 +83,12 @@ module supratrans_continuation
     use supratrans_continuation_corrector, only: branch_point, correct, complete_point, point_multipliers, &
                                                  stored_point, move_point
     use supratrans_continuation_locate, only: locate, class_max, bisect_sign
-    use supratrans_continuation_watch, only: moduli_trend, note_trend, trend_due, sign_watch, note_signs
+    use supratrans_continuation_watch, only: moduli_trend, note_trend, sign_watch, note_signs
+    use supratrans_continuation_events, only: march_state, start_march, start_unstable, points_exhausted, &
+                                              nearing_circle, multipliers_due, turned_too_far, fold_behind_point, &
+                                              step_too_small, fold_bracketed, fold_before_step, &
+                                              sign_flipped_while_stable, fast_correction, slow_correction, past_fold, &
+                                              beyond_max_amplitude, unstable_end_unexamined
     use supratrans_continuation_branch, only: branch_multipliers, allocate_branch, record_point, keep_spectrum, &
                                               update_tangent, set_stop, finish
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
@@ -95,8 +104,6 @@ module supratrans_continuation
 
     !> Most points examined backwards from the first unstable one for a bracket of the crossing |mu| = 1.
     integer, parameter :: walk_back = 10
-    !> Corrector iterations more that the step control allows when the corrector started from a reused Jacobian.
-    integer, parameter :: reuse_slack = 3
 
 contains
 
@@ -116,12 +123,14 @@ contains
         type(shooting_result) :: sres
         real(wp), allocatable :: x(:), wr(:), wi(:), row(:)
         real(wp) :: ds, nan, t_start, sigma
-        integer :: d, n1, info, last_checked, j, every, slack, from
-        logical :: ok, have_mult, lost, located, past, due, watch, fold_only
+        integer :: d, n1, info, j, from
+        ! ok: the last corrector or Jacobian succeeded; located: `locate` found the fold; nearing: `nearing_circle`
+        ! at this step; behind: `fold_behind_point` at this step; have_mult: the new point got its multipliers
+        logical :: ok, located, nearing, behind, have_mult
+        type(march_state) :: ms
         type(moduli_trend) :: trend
         type(sign_watch) :: signs
         type(continuation_controls) :: march_ctl, side_ctl
-        logical :: watch_flips
 
         t_start = wall_clock()
         nan = ieee_value(1.0_wp, ieee_quiet_nan)
@@ -169,15 +178,14 @@ contains
             call finish(res, t_start)
             return
         end if
-        fold_only = ctl%floquet_every == 0
+        ms = start_march(ctl)
         info = 1
         ! (the fold alone computes none but the fold's, and the first point's when its stability may end the branch)
-        if (.not. fold_only .or. ctl%stop_at_unstable_start) call point_multipliers(cur, res%stats, wr, wi, info)
+        if (.not. ms%fold_only .or. ctl%stop_at_unstable_start) call point_multipliers(cur, res%stats, wr, wi, info)
         call record_point(map, res, cur, wr, wi, info == 0)
         if (info == 0) call note_trend(trend, cur%s, wr, wi)
-        last_checked = 1
-        lost = res%stable(1) == 0
-        if (lost) then
+        ms%stability_lost = start_unstable(res)
+        if (ms%stability_lost) then
             res%instability_amplitude = ctl%amplitude_start
             res%instability_lower = ctl%amplitude_start
             res%instability_type = leading_crossing(wr, wi, ctl%crossing_tol)
@@ -190,35 +198,25 @@ contains
 
         ! the fold alone: the signs of det(J + I) and of the bordered matrix watched along the branch (a real
         ! multiplier through -1 or +1)
-        watch_flips = fold_only .and. ctl%flip_watch
         march_ctl = ctl
-        march_ctl%flip_watch = watch_flips
+        march_ctl%flip_watch = ms%watch_flips
         ! (the points a secant or a bisection corrects are not the branch's: no signs watched there)
         side_ctl = ctl
         side_ctl%flip_watch = .false.
-        if (watch_flips) call note_signs(signs, cur, base, 1, res%stats, from)
+        if (ms%watch_flips) call note_signs(signs, cur, base, 1, res%stats, from)
         ds = min(max(ctl%ds0, ctl%ds_min), ctl%ds_max)
-        past = .false.
-        every = max(1, ctl%floquet_every)
-        if (fold_only) every = huge(1)
-        watch = .false.
+        nearing = .false.
+        ! Each step asks the events of `supratrans_continuation_events` in the order of its documentation
         march: do
-            if (res%n_points >= ctl%max_points) then
+            if (points_exhausted(ctl, res)) then
                 call set_stop(res, cont_max_points)
                 exit march
             end if
             call correct(map, cur, base, ds, march_ctl, trial, ok, res%stats, fresh)
             if (ok) then
-                ! multipliers due here: every `every` points, and right after the fold (appended or inserted)
-                due = mod(res%n_points, every) == 0 .or. (res%fold_index > 0 .and. res%fold_index >= res%n_points - 1)
-                ! past the fold with the stability already lost: only the first point after the fold
-                if (every > 1 .and. res%fold_index > 0 .and. lost) due = first_after_fold()
-                ! and wherever the trend of the largest moduli may reach the circle within this step
-                watch = every > 1 .and. ctl%floquet_trend .and. .not. lost
-                watch = watch .and. trend_due(trend, cur%s + ds, ctl%crossing_tol)
-                due = (due .or. watch) .and. .not. fold_only
-                watch = watch .and. .not. fold_only
-                if (due .or. .not. ctl%reuse_jacobian) then
+                ! the new point gets its own Jacobian where its multipliers are due
+                nearing = nearing_circle(ms, ctl, trend, cur%s + ds)
+                if (multipliers_due(ms, res, nearing) .or. .not. ctl%reuse_jacobian) then
                     call complete_point(map, trial, cur%t, next, ok, res%stats)
                 else
                     ! Shamanskii across points: the secant as tangent, the last factorised system kept
@@ -232,22 +230,22 @@ contains
                     ! the carried matrix cannot take the secant as its last row: a Jacobian here after all
                     if (info /= 0) call complete_point(map, trial, cur%t, next, ok, res%stats)
                 end if
-                if (ok) ok = dot_product(cur%t, trial%t) >= cos(ctl%max_angle)
+                if (ok) ok = .not. turned_too_far(ctl, cur, trial)
             end if
             if (.not. ok .and. .not. cur%exact) then
                 ! before shrinking the step, give the point we stand on its own Jacobian and tangent
                 call complete_point(map, cur, cur%t, base, ok, res%stats)
                 if (ok) then
-                    ! a secant and the exact tangent with A-components of opposite signs: the fold lies behind cur
-                    located = res%tangent_amplitude(res%n_points)*cur%t(n1) < 0.0_wp
+                    ! (asked before the recorded secant is replaced by the exact tangent)
+                    behind = fold_behind_point(res, cur)
                     call update_tangent(res, res%n_points, cur)
-                    if (located .and. res%fold_index == 0) call fold_before_cur()
+                    if (behind) call fold_before_cur()
                     cycle march
                 end if
             end if
             if (.not. ok) then
                 ds = 0.5_wp*ds
-                if (ds < ctl%ds_min) then
+                if (step_too_small(ctl, ds)) then
                     call set_stop(res, cont_step_too_small)
                     exit march
                 end if
@@ -256,13 +254,13 @@ contains
             trial%s = cur%s + ds
 
             ! The fold: t_A changes sign between cur and trial (secants first, then exact tangents on both sides)
-            if (res%fold_index == 0 .and. cur%t(n1)*trial%t(n1) < 0.0_wp) then
+            if (fold_bracketed(res, cur, trial)) then
                 if (.not. trial%exact) call complete_point(map, trial, cur%t, next, ok, res%stats)
                 if (ok .and. .not. cur%exact) then
                     call complete_point(map, cur, cur%t, base, ok, res%stats)
                     if (ok) call update_tangent(res, res%n_points, cur)
                 end if
-                if (ok .and. cur%t(n1)*trial%t(n1) < 0.0_wp) then
+                if (ok .and. fold_bracketed(res, cur, trial)) then
                     ! the bracket is trial's step along cur's (now exact) tangent; the fold's arclength lies
                     ! between theirs in proportion
                     sigma = max(dot_product(cur%t, trial%y - cur%y), tiny(1.0_wp))
@@ -273,18 +271,15 @@ contains
                     end if
                     fold_pt%s = cur%s + (trial%s - cur%s)*min(max((fold_pt%s - cur%s)/sigma, 0.0_wp), 1.0_wp)
                     call record_fold(res%n_points + 1)
-                else if (ok .and. cur%t(n1)*trial%t(n1) > 0.0_wp .and. (trial%y(n1) - cur%y(n1))*cur%t(n1) > 0.0_wp) then
+                else if (ok) then
                     ! the exact tangent at cur already points the way the branch goes after the fold
-                    call fold_before_cur()
+                    if (fold_before_step(cur, trial)) call fold_before_cur()
                 end if
                 ok = .true.
             end if
 
-            have_mult = mod(res%n_points, every) == 0 .or. res%fold_index == res%n_points
-            have_mult = have_mult .or. watch
-            have_mult = trial%exact .and. (have_mult .or. (res%fold_index > 0 .and. res%fold_index == res%n_points - 1))
-            if (every > 1 .and. res%fold_index > 0 .and. lost) have_mult = trial%exact .and. first_after_fold()
-            have_mult = have_mult .and. .not. fold_only
+            ! (asked again: a fold recorded at this step, or the stability lost there, changes what is due)
+            have_mult = trial%exact .and. multipliers_due(ms, res, nearing)
             if (have_mult) then
                 call point_multipliers(trial, res%stats, wr, wi, info)
                 have_mult = info == 0
@@ -292,56 +287,40 @@ contains
             end if
             call record_point(map, res, trial, wr, wi, have_mult)
             if (have_mult) call check_stability(res%n_points, trial)
-            if (watch_flips) then
+            if (ms%watch_flips) then
                 ! the fold alone: a real multiplier through -1 or +1 since the last signs, before the fold
                 call note_signs(signs, trial, next, res%n_points, res%stats, from)
-                if (from > 0 .and. .not. lost .and. (res%fold_index == 0 .or. from < res%fold_index)) then
-                    call flip_crossing(from, res%n_points)
-                end if
+                if (sign_flipped_while_stable(ms, res, from)) call flip_crossing(from, res%n_points)
             end if
             if (res%fold_index > 0) res%points_beyond_fold = res%points_beyond_fold + 1
 
-            ! Step control (a corrector that started from a reused Jacobian is allowed `reuse_slack` more steps)
-            slack = merge(0, reuse_slack, cur%exact)
-            if (trial%iterations <= ctl%newton_fast + slack .and. trial%refreshes == 0) then
+            ! Step control (a corrector that started from a reused Jacobian, cur's secant, is allowed more steps)
+            if (fast_correction(ctl, trial, cur%exact)) then
                 ds = min(1.5_wp*ds, ctl%ds_max)
-            else if (trial%iterations >= ctl%newton_slow + slack .or. trial%refreshes >= 2) then
+            else if (slow_correction(ctl, trial, cur%exact)) then
                 ds = max(0.6_wp*ds, ctl%ds_min)
             end if
             call move_point(trial, cur)
             call move_system(next, base)
 
-            if (res%fold_index > 0) then
-                past = res%points_beyond_fold >= ctl%beyond_fold
-                if (ctl%beyond_fold_distance > 0.0_wp) then
-                    past = past .or. res%fold_amplitude - cur%y(n1) >= ctl%beyond_fold_distance
-                end if
-            end if
-            if (past) then
+            if (past_fold(ctl, res, cur)) then
                 call set_stop(res, cont_fold_found)
                 exit march
             end if
-            if (res%fold_index == 0 .and. cur%y(n1) > ctl%amplitude_max) then
+            if (beyond_max_amplitude(ctl, res, cur)) then
                 call set_stop(res, cont_no_fold)
                 exit march
             end if
         end do march
-        if (res%fold_index > 0 .and. lost .and. res%n_points > res%fold_index .and. .not. fold_only) then
+        if (unstable_end_unexamined(ms, res)) then
             ! the last point past the fold gets its multipliers (the end of the unstable part)
-            if (res%stable(res%n_points) < 0) then
-                call point_with_jacobian(res%n_points, prev, info)
-                if (info == 0) call point_multipliers(prev, res%stats, wr, wi, info)
-                if (info == 0) call keep_spectrum(res, res%n_points, wr, wi)
-            end if
+            call point_with_jacobian(res%n_points, prev, info)
+            if (info == 0) call point_multipliers(prev, res%stats, wr, wi, info)
+            if (info == 0) call keep_spectrum(res, res%n_points, wr, wi)
         end if
         call finish(res, t_start)
 
     contains
-
-        !> Whether no point past the fold has its multipliers yet (the next one recorded is then the first).
-        logical function first_after_fold()
-            first_after_fold = all(res%stable(res%fold_index + 1:res%n_points) < 0)     ! (true when none is past it)
-        end function first_after_fold
 
         !> The fold between the previous recorded point and cur (the last one): the exact tangent at the previous
         !> point, the secant on t_A from there, the fold point inserted before cur.
@@ -383,7 +362,7 @@ contains
             end if
             call record_point(map, res, fold_pt, wr, wi, .true., pos)
             res%fold_index = pos
-            if (fold_only) then
+            if (ms%fold_only) then
                 ! no stability along the branch: the fold's multipliers are its own record, no crossing is sought
                 if (pos < res%n_points .and. res%points_beyond_fold == 0) res%points_beyond_fold = 1
             else if (pos == res%n_points) then
@@ -391,8 +370,8 @@ contains
             else
                 ! inserted before the last point, which is past the fold
                 if (res%points_beyond_fold == 0) res%points_beyond_fold = 1
-                if (last_checked >= pos) then
-                    last_checked = last_checked + 1
+                if (ms%last_checked >= pos) then
+                    ms%last_checked = ms%last_checked + 1
                 else
                     call check_stability(pos, fold_pt)
                 end if
@@ -411,16 +390,16 @@ contains
             integer :: k, linfo, kind, m, jl, have_left
             logical :: inside, narrowed
 
-            if (lost) then
-                last_checked = i
+            if (ms%stability_lost) then
+                ms%last_checked = i
                 return
             end if
             if (res%stable(i) == 1) then
-                last_checked = i
+                ms%last_checked = i
                 return
             end if
             ! Unstable at i, stable at last_checked: find the first unstable point in between
-            k = last_checked + 1
+            k = ms%last_checked + 1
             do while (k < i)
                 if (res%stable(k) < 0) then
                     call point_with_jacobian(k, left, linfo)
@@ -430,8 +409,8 @@ contains
                 if (res%stable(k) == 0) exit
                 k = k + 1
             end do
-            lost = .true.
-            last_checked = i
+            ms%stability_lost = .true.
+            ms%last_checked = i
             ! Multipliers at k (kept when computed; computed again otherwise)
             if (allocated(res%spectra(k)%wr)) then
                 lr = res%spectra(k)%wr
@@ -543,11 +522,11 @@ contains
             if (linfo /= 0 .or. res%stable(b) /= 0) return
             call spectrum_at(a, linfo)
             if (linfo /= 0) return
-            last_checked = a
+            ms%last_checked = a
             if (res%stable(a) /= 1) then
                 call spectrum_at(1, linfo)
                 if (linfo /= 0 .or. res%stable(1) /= 1) return
-                last_checked = 1
+                ms%last_checked = 1
             end if
             call check_stability(b, unused)          ! (b's multipliers are kept: `unused` is not read)
         end subroutine flip_crossing

@@ -9,18 +9,25 @@ module supratrans_continuation_types
 
     public :: continuation_status_name, wall_clock
 
-    !> Status: a fold was found and located (the march then went up to `beyond_fold` points past it).
-    integer, parameter, public :: cont_fold_found = 0
-    !> Status: the branch reached A > `amplitude_max` with no fold.
-    integer, parameter, public :: cont_no_fold = 1
-    !> Status: Newton-shooting did not converge at the starting amplitude (or x0 has the wrong size).
-    integer, parameter, public :: cont_newton_failed = 2
-    !> Status: the corrector kept failing until the step fell below `ds_min`, before any fold.
-    integer, parameter, public :: cont_step_too_small = 3
-    !> Status: `max_points` points computed before any fold and below `amplitude_max`.
-    integer, parameter, public :: cont_max_points = 4
-    !> Status: the starting state is not stable and `stop_at_unstable_start` asked for no branch from it.
-    integer, parameter, public :: cont_unstable_start = 6
+    public :: cont_fold_found, cont_no_fold, cont_newton_failed, cont_step_too_small, cont_max_points, &
+              cont_unstable_start
+
+    !> The statuses of a continuation, why its march ended: one enumeration, with the numbers the result files have
+    !> always stored (5 is the continuation scene's `fold_map_failed`, `supratrans_fold_line`): not renumbered.
+    enum, bind(c)
+        !> Status: a fold was found and located (the march then went up to `beyond_fold` points past it).
+        enumerator :: cont_fold_found = 0
+        !> Status: the branch reached A > `amplitude_max` with no fold.
+        enumerator :: cont_no_fold = 1
+        !> Status: Newton-shooting did not converge at the starting amplitude (or x0 has the wrong size).
+        enumerator :: cont_newton_failed = 2
+        !> Status: the corrector kept failing until the step fell below `ds_min`, before any fold.
+        enumerator :: cont_step_too_small = 3
+        !> Status: `max_points` points computed before any fold and below `amplitude_max`.
+        enumerator :: cont_max_points = 4
+        !> Status: the starting state is not stable and `stop_at_unstable_start` asked for no branch from it.
+        enumerator :: cont_unstable_start = 6
+    end enum
 
     !> Controls of the continuation, with their defaults.
     type, public :: continuation_controls
@@ -124,7 +131,8 @@ module supratrans_continuation_types
 
     !> The branch, its fold and its first loss of stability.
     type, public :: continuation_result
-        !> `cont_fold_found`, `cont_no_fold`, `cont_newton_failed`, `cont_step_too_small`, `cont_max_points`.
+        !> `cont_fold_found`, `cont_no_fold`, `cont_newton_failed`, `cont_step_too_small`, `cont_max_points`,
+        !> `cont_unstable_start`.
         integer :: status = cont_newton_failed
         !> Why the march ended (same codes; `cont_fold_found`: the `beyond_fold` points past the fold were done).
         integer :: stop_reason = cont_newton_failed
