@@ -76,9 +76,6 @@ module supratrans_scene_sweep
 
     !> Slack of the end point of an axis: `first + i step` is on the axis while it is at most `last` + this.
     real(wp), parameter :: grid_slack = 1.0e-9_wp
-    !> A verdict change along the amplitude axis is backed by the energy when the energy injected after the ramp
-    !> changes there by at least this factor (measured: 20-100 at the threshold, 1.0-1.3 between neighbours elsewhere).
-    real(wp), parameter :: min_energy_jump = 3.0_wp
     !> Largest number of tasks of one scene (a guard against a step that is far too small).
     integer, parameter :: max_tasks = 10000000
 
@@ -334,7 +331,9 @@ contains
         end select
         nthin = count(nint(tasks%results(iv_thin_verdict, :)) == 1)
         call jumps_along_amplitude(tasks%results, namp, jump, change)
-        nflat = count(change == 1 .and. .not. (jump >= min_energy_jump .or. jump <= 1.0_wp/min_energy_jump))
+        associate (min_jump => cfg%scene%min_energy_jump)
+            nflat = count(change == 1 .and. .not. (jump >= min_jump .or. jump <= 1.0_wp/min_jump))
+        end associate
         if (nthin > 0 .or. nflat > 0) text = text // new_line("a") // "  warning: " // int_str(nthin) &
             // " verdict(s) with a thin margin (/runs/thin_verdict), " // int_str(nflat) // " verdict change(s) " &
             // "without an energy jump (/runs/energy_jump): check them"

@@ -163,7 +163,8 @@ contains
         end if
         call h5_write_attr(file, "/runs", "thin_verdicts", count(nint(values(iv_thin_verdict, :)) == 1))
         call h5_write_attr(file, "/runs", "verdict_changes_without_energy_jump", &
-                           count(change == 1 .and. .not. (jump >= min_energy_jump .or. jump <= 1.0_wp/min_energy_jump)))
+                           count(change == 1 .and. .not. (jump >= tasks%cfg%scene%min_energy_jump &
+                                                          .or. jump <= 1.0_wp/tasks%cfg%scene%min_energy_jump)))
 
         allocate (failures(0))
         do i = 1, size(done)
