@@ -10,6 +10,7 @@ module test_scene_sweep
     !$ use omp_lib, only: omp_get_max_threads, omp_set_num_threads
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type
+    use supratrans_invocation, only: invocation_type
     use supratrans_config, only: input_config, vary_none, vary_gamma
     use supratrans_potential, only: sine_gordon, klein_gordon
     use supratrans_h5_test, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr
@@ -56,31 +57,31 @@ contains
         real(wp), allocatable :: a(:)
 
         a = axis_grid(1.0_wp, 3.0_wp, 0.02_wp)
-        call assertEqual(101, size(a), location=pf_source_location('test_scene_sweep.pf', 58, 'assertEqual'))
+        call assertEqual(101, size(a), location=pf_source_location('test_scene_sweep.pf', 59, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp + 100*0.02_wp, &
             a(101), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 59, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 60, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp + 37*0.02_wp, &
             a(38), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 60, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 61, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.1_wp, 4.0_wp, 0.1_wp)
-        call assertEqual(40, size(a), location=pf_source_location('test_scene_sweep.pf', 62, 'assertEqual'))
+        call assertEqual(40, size(a), location=pf_source_location('test_scene_sweep.pf', 63, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.05_wp, 0.95_wp, 0.05_wp)
-        call assertEqual(19, size(a), location=pf_source_location('test_scene_sweep.pf', 64, 'assertEqual'))
+        call assertEqual(19, size(a), location=pf_source_location('test_scene_sweep.pf', 65, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.5_wp, 0.5_wp, 0.1_wp)
-        call assertEqual(1, size(a), location=pf_source_location('test_scene_sweep.pf', 66, 'assertEqual'))
+        call assertEqual(1, size(a), location=pf_source_location('test_scene_sweep.pf', 67, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.0_wp, 0.99_wp, 0.1_wp)
-        call assertEqual(10, size(a), location=pf_source_location('test_scene_sweep.pf', 68, 'assertEqual'))
+        call assertEqual(10, size(a), location=pf_source_location('test_scene_sweep.pf', 69, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_axis_grid_exact
 
@@ -98,7 +99,7 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 82, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 83, 'assertFalse'))
         if (pf_any_failed()) return
         cfg = tiny_config("_b")
         !$ call omp_set_num_threads(2)
@@ -107,37 +108,37 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 87, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 88, 'assertFalse'))
         if (pf_any_failed()) return
 
         do i = 1, size(result_names)
             call assertTrue( &
                 same_dataset(base // "_a.h5", base // "_b.h5", trim(result_names(i))), &
                 message=trim(result_names(i)), &
-                location=pf_source_location('test_scene_sweep.pf', 90, 'assertTrue'))
+                location=pf_source_location('test_scene_sweep.pf', 91, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         call read_root_counts(base // "_b.h5", complete, done, total)
-        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 93, 'assertEqual'))
+        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 94, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, done, location=pf_source_location('test_scene_sweep.pf', 94, 'assertEqual'))
+        call assertEqual(20, done, location=pf_source_location('test_scene_sweep.pf', 95, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 95, 'assertEqual'))
+        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 96, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // "_b.h5.journal"), &
             message="journal deleted at the end", &
-            location=pf_source_location('test_scene_sweep.pf', 96, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 97, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // "_b.h5.partial.h5"), &
             message="partial file deleted at the end", &
-            location=pf_source_location('test_scene_sweep.pf', 97, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 98, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // "_b.h5.tmp"), &
             message="no temporary file left", &
-            location=pf_source_location('test_scene_sweep.pf', 98, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 99, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_independent_of_thread_count
 
@@ -157,64 +158,64 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 114, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 115, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_open(file, base // ".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 116, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 117, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "scene", text, error)
         call assertEqual( &
             "amplitude_sweep", &
             text, &
-            location=pf_source_location('test_scene_sweep.pf', 118, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 119, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/amplitude", amplitude, error)
         call assertEqual( &
             [0.5_wp, 1.0_wp, 1.5_wp, 2.0_wp, 2.5_wp], &
             amplitude, &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 120, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 121, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/curves/value", value, error)
         call assertEqual( &
             [0.0_wp, 0.05_wp, 0.0_wp, 0.05_wp], &
             value, &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 122, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 123, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/energy/injected", injected, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 124, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 125, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             [5, 4], &
             shape(injected), &
-            location=pf_source_location('test_scene_sweep.pf', 125, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 126, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/energy/injected", "dimensions", text, error)
         call assertEqual( &
             "curve, amplitude", &
             text, &
-            location=pf_source_location('test_scene_sweep.pf', 127, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 128, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/energy/injected", "units", text, error)
-        call assertEqual("energy", text, location=pf_source_location('test_scene_sweep.pf', 129, 'assertEqual'))
+        call assertEqual("energy", text, location=pf_source_location('test_scene_sweep.pf', 130, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/runs", "status_codes", text, error)
         call assertTrue( &
             index(text, "-2 outside_gap") > 0, &
             message=text, &
-            location=pf_source_location('test_scene_sweep.pf', 131, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 132, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(text, "1 diverged") > 0, &
             message=text, &
-            location=pf_source_location('test_scene_sweep.pf', 132, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 133, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read(file, "/energy/stored", stored, error)
         call h5_read(file, "/energy/dissipated_gamma", d_gamma, error)
@@ -226,63 +227,63 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 140, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 141, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
 
         call assertEqual( &
             0, &
             pack(status, .true.), &
-            location=pf_source_location('test_scene_sweep.pf', 143, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 144, 'assertEqual'))
         if (pf_any_failed()) return
         ! the ledger closes: injected = stored + dissipated (E_0 = 0), to roundoff
         call assertEqual( &
             pack(injected, .true.), &
             pack(stored + d_gamma + d_beta + d_abs, .true.), &
             1.0e-9_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 145, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 146, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             maxval(abs(res)), &
             1.0e-9_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 146, 'assertLessThan'))
+            location=pf_source_location('test_scene_sweep.pf', 147, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             pack(d_beta, .true.), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 147, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 148, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             d_gamma(:, 1), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 148, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 149, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             d_gamma(:, 3), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 149, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 150, 'assertEqual'))
         if (pf_any_failed()) return
         do ic = 1, 4
             ! the energy grows with the amplitude, and the smallest amplitude does not transmit
             call assertTrue( &
                 all(injected(2:, ic) > injected(:4, ic)), &
                 message="injected energy increases with A", &
-                location=pf_source_location('test_scene_sweep.pf', 152, 'assertTrue'))
+                location=pf_source_location('test_scene_sweep.pf', 153, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0, &
                 transmitting(1, ic), &
-                location=pf_source_location('test_scene_sweep.pf', 153, 'assertEqual'))
+                location=pf_source_location('test_scene_sweep.pf', 154, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         ! damping lowers the energy left in the chain
         call assertTrue( &
             all(stored(1:2, 2) < stored(1:2, 1)), &
             message="gamma = 0.05 stores less than gamma = 0", &
-            location=pf_source_location('test_scene_sweep.pf', 156, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 157, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_layout_and_physics
 
@@ -291,6 +292,7 @@ contains
         type(input_config) :: cfg, cfg_ref, other
         type(error_type), allocatable :: error
         type(sweep_tasks) :: tasks
+        type(invocation_type) :: inv
         real(wp), allocatable :: results(:, :), wall(:, :)
         logical, allocatable :: done(:)
         character(len=:), allocatable :: journal
@@ -303,27 +305,32 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 173, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 175, 'assertFalse'))
         if (pf_any_failed()) return
 
         ! a sweep killed after a few runs: the journal holds its header, 3 complete lines and half a line
         cfg = tiny_config("")
         journal = journal_path(cfg)
-        call init_sweep_tasks(tasks, cfg, "amplitude_sweep", "test", [cfg%run%drive%omega], .false.)
-        call run_tasks(tasks, tasks%task_count(), run_value_names(), journal, file_fingerprint(cfg%source), "runs", &
-                       .true., results, done, error)
+        call init_sweep_tasks(tasks, cfg, inv, "amplitude_sweep", "test", [cfg%run%drive%omega], .false., error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
             location=pf_source_location('test_scene_sweep.pf', 181, 'assertFalse'))
         if (pf_any_failed()) return
+        call run_tasks(tasks, tasks%task_count(), run_value_names(), journal, file_fingerprint(cfg%source), "runs", &
+                       .true., results, done, error)
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_scene_sweep.pf', 184, 'assertFalse'))
+        if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5"), &
             message="the engine alone writes no output file", &
-            location=pf_source_location('test_scene_sweep.pf', 182, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 185, 'assertFalse'))
         if (pf_any_failed()) return
         lines = read_lines(journal)
-        call assertEqual(21, size(lines), location=pf_source_location('test_scene_sweep.pf', 184, 'assertEqual'))
+        call assertEqual(21, size(lines), location=pf_source_location('test_scene_sweep.pf', 187, 'assertEqual'))
         if (pf_any_failed()) return
         kept = 3
         ! mark one kept line, to see that the resumed sweep takes it from the journal instead of recomputing it
@@ -339,17 +346,17 @@ contains
         call assertTrue( &
             allocated(error), &
             message="journal of another input accepted", &
-            location=pf_source_location('test_scene_sweep.pf', 196, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 199, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "journal of a different input") > 0, &
             message=error%message, &
-            location=pf_source_location('test_scene_sweep.pf', 197, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 200, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5"), &
             message="output written despite the error", &
-            location=pf_source_location('test_scene_sweep.pf', 198, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 201, 'assertFalse'))
         if (pf_any_failed()) return
         deallocate (error)
 
@@ -357,13 +364,13 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 202, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 205, 'assertFalse'))
         if (pf_any_failed()) return
         do i = 1, size(result_names)
             call assertTrue( &
                 same_dataset(base // "_ref.h5", base // ".h5", trim(result_names(i))), &
                 message=trim(result_names(i)), &
-                location=pf_source_location('test_scene_sweep.pf', 204, 'assertTrue'))
+                location=pf_source_location('test_scene_sweep.pf', 207, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         wall = read_real_2d(base // ".h5", "/runs/wall_time")
@@ -373,17 +380,17 @@ contains
             12345.0_wp, &
             wall(ia, ic), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 209, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 212, 'assertEqual'))
         if (pf_any_failed()) return
         call read_root_counts(base // ".h5", complete, ndone, total)
-        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 211, 'assertEqual'))
+        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 214, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 212, 'assertEqual'))
+        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 215, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(journal), &
             message="journal deleted at the end", &
-            location=pf_source_location('test_scene_sweep.pf', 213, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 216, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_resume_after_kill
 
@@ -408,14 +415,14 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 234, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 237, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base // ".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 237, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 240, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "/amplitude", amplitude, error)
         call h5_read(file, "/runs/status", status, error)
@@ -426,63 +433,63 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 244, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 247, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/runs", "failed", nfailed, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 246, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 249, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
 
-        call assertEqual([5, 1], shape(status), location=pf_source_location('test_scene_sweep.pf', 249, 'assertEqual'))
+        call assertEqual([5, 1], shape(status), location=pf_source_location('test_scene_sweep.pf', 252, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, status(1:2, 1), location=pf_source_location('test_scene_sweep.pf', 250, 'assertEqual'))
+        call assertEqual(0, status(1:2, 1), location=pf_source_location('test_scene_sweep.pf', 253, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1, status(4:5, 1), location=pf_source_location('test_scene_sweep.pf', 251, 'assertEqual'))
+        call assertEqual(1, status(4:5, 1), location=pf_source_location('test_scene_sweep.pf', 254, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             count(status /= 0), &
             nfailed, &
-            location=pf_source_location('test_scene_sweep.pf', 252, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 255, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             nfailed, &
             size(failures), &
-            location=pf_source_location('test_scene_sweep.pf', 253, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 256, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(failures(1), "diverged") > 0, &
             message=failures(1), &
-            location=pf_source_location('test_scene_sweep.pf', 254, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 257, 'assertTrue'))
         if (pf_any_failed()) return
         do ia = 1, 5
             if (status(ia, 1) == 0) then
                 call assertIsFinite( &
                     injected(ia, 1), &
-                    location=pf_source_location('test_scene_sweep.pf', 257, 'assertIsFinite'))
+                    location=pf_source_location('test_scene_sweep.pf', 260, 'assertIsFinite'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     30.0_wp, &
                     t_end(ia, 1), &
                     1.0e-9_wp, &
-                    location=pf_source_location('test_scene_sweep.pf', 258, 'assertEqual'))
+                    location=pf_source_location('test_scene_sweep.pf', 261, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     599, &
                     steps(ia, 1), &
-                    location=pf_source_location('test_scene_sweep.pf', 259, 'assertEqual'))
+                    location=pf_source_location('test_scene_sweep.pf', 262, 'assertEqual'))
                 if (pf_any_failed()) return
             else
                 call assertIsNaN( &
                     injected(ia, 1), &
-                    location=pf_source_location('test_scene_sweep.pf', 261, 'assertIsNaN'))
+                    location=pf_source_location('test_scene_sweep.pf', 264, 'assertIsNaN'))
                 if (pf_any_failed()) return
                 call assertLessThan( &
                     t_end(ia, 1), &
                     30.0_wp, &
-                    location=pf_source_location('test_scene_sweep.pf', 262, 'assertLessThan'))
+                    location=pf_source_location('test_scene_sweep.pf', 265, 'assertLessThan'))
                 if (pf_any_failed()) return
             end if
         end do
@@ -493,13 +500,19 @@ contains
         type(input_config) :: cfg
         type(error_type), allocatable :: error
         type(sweep_tasks) :: tasks
+        type(invocation_type) :: inv
         real(wp), allocatable :: results(:, :), injected(:), t_decided(:, :)
         logical, allocatable :: done(:)
         integer, allocatable :: status(:, :), transmitting(:, :)
         integer :: i, complete, ndone, total
 
         cfg = tiny_config("")
-        call init_sweep_tasks(tasks, cfg, "amplitude_sweep", "test", [cfg%run%drive%omega], .false.)
+        call init_sweep_tasks(tasks, cfg, inv, "amplitude_sweep", "test", [cfg%run%drive%omega], .false., error)
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_scene_sweep.pf', 283, 'assertFalse'))
+        if (pf_any_failed()) return
         allocate (results(n_run_values, tasks%task_count()), done(tasks%task_count()))
         results = 0.0_wp
         done = .false.
@@ -511,63 +524,63 @@ contains
         call assertTrue( &
             path_exists(partial_path(cfg)), &
             message="no partial file", &
-            location=pf_source_location('test_scene_sweep.pf', 287, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 292, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(partial_path(cfg) // ".tmp"), &
             message="temporary partial file left", &
-            location=pf_source_location('test_scene_sweep.pf', 288, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 293, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5"), &
             message="the snapshot wrote the final file", &
-            location=pf_source_location('test_scene_sweep.pf', 289, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 294, 'assertFalse'))
         if (pf_any_failed()) return
 
         call read_root_counts(partial_path(cfg), complete, ndone, total)
-        call assertEqual(0, complete, location=pf_source_location('test_scene_sweep.pf', 292, 'assertEqual'))
+        call assertEqual(0, complete, location=pf_source_location('test_scene_sweep.pf', 297, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(7, ndone, location=pf_source_location('test_scene_sweep.pf', 293, 'assertEqual'))
+        call assertEqual(7, ndone, location=pf_source_location('test_scene_sweep.pf', 298, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 294, 'assertEqual'))
+        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 299, 'assertEqual'))
         if (pf_any_failed()) return
         injected = reshape(read_real_2d(partial_path(cfg), "/energy/injected"), [20])
         t_decided = read_real_2d(partial_path(cfg), "/runs/t_decided")
         status = nint(read_real_2d(partial_path(cfg), "/runs/status"))
         transmitting = nint(read_real_2d(partial_path(cfg), "/runs/transmitting"))
-        call assertEqual([5, 4], shape(status), location=pf_source_location('test_scene_sweep.pf', 299, 'assertEqual'))
+        call assertEqual([5, 4], shape(status), location=pf_source_location('test_scene_sweep.pf', 304, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             results(iv_injected, 1:7), &
             injected(1:7), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 300, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 305, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, status(:, 1), location=pf_source_location('test_scene_sweep.pf', 301, 'assertEqual'))
+        call assertEqual(0, status(:, 1), location=pf_source_location('test_scene_sweep.pf', 306, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, status(1:2, 2), location=pf_source_location('test_scene_sweep.pf', 302, 'assertEqual'))
+        call assertEqual(0, status(1:2, 2), location=pf_source_location('test_scene_sweep.pf', 307, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             status_not_run, &
             status(3:, 2), &
-            location=pf_source_location('test_scene_sweep.pf', 303, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 308, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             status_not_run, &
             pack(status(:, 3:), .true.), &
-            location=pf_source_location('test_scene_sweep.pf', 304, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 309, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(-1, transmitting(:, 4), location=pf_source_location('test_scene_sweep.pf', 305, 'assertEqual'))
+        call assertEqual(-1, transmitting(:, 4), location=pf_source_location('test_scene_sweep.pf', 310, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(ieee_is_nan(injected(8:))), &
             message="missing runs are NaN", &
-            location=pf_source_location('test_scene_sweep.pf', 306, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 311, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(ieee_is_nan(t_decided(:, 3:))), &
             message="missing runs are NaN", &
-            location=pf_source_location('test_scene_sweep.pf', 307, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 312, 'assertTrue'))
         if (pf_any_failed()) return
 
         ! a later snapshot replaces it
@@ -577,7 +590,7 @@ contains
         end do
         call tasks%snapshot(results, done)
         call read_root_counts(partial_path(cfg), complete, ndone, total)
-        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 316, 'assertEqual'))
+        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 321, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_partial_snapshot
 
@@ -593,17 +606,17 @@ contains
         call assertTrue( &
             allocated(error), &
             message="existing output replaced without overwrite", &
-            location=pf_source_location('test_scene_sweep.pf', 328, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 333, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "exists") > 0, &
             message=error%message, &
-            location=pf_source_location('test_scene_sweep.pf', 329, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 334, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5.journal"), &
             message="work started despite the error", &
-            location=pf_source_location('test_scene_sweep.pf', 330, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 335, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_refuses_existing_output
 

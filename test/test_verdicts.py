@@ -97,3 +97,69 @@ def test_imaginary_mass_near_one(exe, tmp_path):
     assert proc.returncode == 2 and "gap" in proc.stderr
     proc, r = outcome(exe, tmp_path, 0.5, 0.05, m2=-1.0)
     assert proc.returncode == 2 and "m2" in proc.stderr
+
+
+JUMP_SWEEP = """&chain gamma = 0.1 /
+&drive omega = 0.9 /
+&scene kind = 'amplitude_sweep', amplitude_min = 2.6, amplitude_max = 2.8, amplitude_step = 0.1{key} /
+&output file = 'sweep.h5' /
+"""
+
+#: What differs between two runs of one input however it is set: timings, when and where the file was made.
+NOT_RESULTS = ("wall_time", "provenance", "created")
+
+
+def everything(path):
+    """Every dataset's values and every attribute of a file, by (object, attribute) path, but NOT_RESULTS and the
+    dimension scales' references."""
+    out = {}
+
+    def visit(name, obj):
+        if any(s in name for s in NOT_RESULTS):
+            return
+        if isinstance(obj, h5py.Dataset):
+            out[(name, None)] = obj[()]
+        for k, v in obj.attrs.items():
+            if k not in ("DIMENSION_LIST", "REFERENCE_LIST") and not any(s in k for s in NOT_RESULTS):
+                out[(name, k)] = v
+
+    with h5py.File(path) as f:
+        visit("/", f)
+        f.visititems(visit)
+    return out
+
+
+def differences(a, b):
+    """The keys of `everything` whose values differ between two files (NaN equal to NaN)."""
+    def same(x, y):
+        x, y = np.asarray(x), np.asarray(y)
+        if x.shape != y.shape:
+            return False
+        return bool(np.array_equal(x, y, equal_nan=x.dtype.kind == "f" and y.dtype.kind == "f"))
+    return sorted(k for k in set(a) | set(b) if k not in a or k not in b or not same(a[k], b[k]))
+
+
+def test_min_energy_jump_moves_the_count_of_unbacked_verdict_changes_and_nothing_else(exe, tmp_path):
+    """&scene min_energy_jump: unset and 3 (its default) make the same file; 1.05, below the ratio 1.11 of the
+    verdict change at A = 2.7 (gamma = 0.1, Omega = 0.9), backs that change: the /runs attribute
+    verdict_changes_without_energy_jump and the summary's warning move, /parameters records the value, and every
+    other dataset and attribute stays as it was."""
+    files, printed = {}, {}
+    for name, key in (("unset", ""), ("default", ", min_energy_jump = 3"), ("low", ", min_energy_jump = 1.05")):
+        proc = run(exe, tmp_path, JUMP_SWEEP.format(key=key))
+        assert proc.returncode == 0, proc.stderr
+        files[name] = everything(tmp_path / "sweep.h5")
+        printed[name] = proc.stdout + proc.stderr
+        (tmp_path / "sweep.h5").unlink()
+    unset, default, low = files["unset"], files["default"], files["low"]
+    assert differences(unset, default) == []
+    assert unset[("parameters", "min_energy_jump")] == 3.0
+    change, jump = unset[("runs/verdict_change", None)][0], unset[("runs/energy_jump", None)][0]
+    assert (change == 1).sum() == 1 and 1.05 < jump[change == 1][0] < 3
+    assert unset[("runs", "verdict_changes_without_energy_jump")] == 1
+    assert low[("runs", "verdict_changes_without_energy_jump")] == 0
+    assert low[("parameters", "min_energy_jump")] == 1.05
+    assert differences(unset, low) == [("parameters", "min_energy_jump"),
+                                       ("runs", "verdict_changes_without_energy_jump")]
+    assert "1 verdict change(s) without an energy jump" in printed["unset"]
+    assert "1 verdict change(s) without an energy jump" not in printed["low"]

@@ -160,6 +160,31 @@ def test_thin_threshold_marked_on_a_sweep(tiny):
     assert any(ln.get_gid() == "thin" and ln.get_xdata()[0] == a for ax in fig.get_axes() for ln in ax.get_lines())
 
 
+def test_energy_jump_of_a_sweep_judged_by_the_files_min_energy_jump(tiny):
+    """A threshold whose energy grows by 2x there is thin by the file's `min_energy_jump` (its /parameters attribute):
+    at 3 (the default, written by the program) it is, at 1.5 it is not; a file written before the key (no
+    attribute) falls back to 3."""
+    s = reader.open_scene(tiny.file("fig2"))
+    assert s.params["min_energy_jump"] == 3.0
+    amp = np.asarray(s.data["amplitude"], dtype=float)
+    status = np.asarray(s.data["runs/status"])
+    k = int(np.flatnonzero(status[0] == 0)[-1])
+    assert k > 0
+    trans = np.zeros_like(np.asarray(s.data["runs/transmitting"]))
+    trans[0, k:] = 1
+    jump = np.full(np.shape(s.data["runs/transmitting"]), np.nan)
+    jump[0, k] = 2.0
+    data = {**s.data, "runs/transmitting": trans, "runs/energy_jump": jump,
+            "runs/thin_verdict": np.zeros_like(status)}
+    marked = dataclasses.replace(s, data=data)
+    assert sweep.thin_thresholds(marked) == [(0, amp[k], "energy x2 only")]
+    lower = dataclasses.replace(marked, params={**s.params, "min_energy_jump": 1.5})
+    assert sweep.thin_thresholds(lower) == []
+    legacy = dataclasses.replace(marked, params={key: v for key, v in s.params.items() if key != "min_energy_jump"})
+    assert sweep.min_energy_jump(legacy) == 3.0
+    assert sweep.thin_thresholds(legacy) == [(0, amp[k], "energy x2 only")]
+
+
 def test_fold_beside_the_curve_of_its_chain(tiny):
     """With a fold-line file, the fold is drawn beside the curves of the same chain only (here the m^2 = 0 curve
     of Bif3's tiny file against a fold file of the massless chain), and the caption says what each curve is."""

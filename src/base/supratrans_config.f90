@@ -343,6 +343,9 @@ module supratrans_config
         real(wp) :: amplitude_max = 3.0_wp
         !> Amplitude step of sweeps and maps (&scene amplitude_step).
         real(wp) :: amplitude_step = 0.01_wp
+        !> Sweeps and maps: a verdict change along the amplitude axis where the energy injected after the ramp changes by less than
+        !> this factor (up or down) is counted and warned about (&scene min_energy_jump).
+        real(wp) :: min_energy_jump = 3.0_wp
         !> Frequency axis of maps and bifurcation diagrams: lower end (&scene omega_min).
         real(wp) :: omega_min = 0.05_wp
         !> Upper end of the frequency axis (&scene omega_max).

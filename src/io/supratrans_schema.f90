@@ -48,28 +48,28 @@ module supratrans_schema
         key_numerics_method = 15, key_numerics_dt = 16, key_numerics_t_final = 17, key_numerics_newton_tol = 18, &
         key_numerics_newton_max_iter = 19, key_numerics_blowup_threshold = 20, key_numerics_allow_unstable = 21, &
         key_record_probes = 22, key_record_probe_every = 23, key_record_ledger_every = 24, key_scene_kind = 25, &
-        key_scene_amplitude_min = 26, key_scene_amplitude_max = 27, key_scene_amplitude_step = 28, key_scene_omega_min = 29, &
-        key_scene_omega_max = 30, key_scene_omega_step = 31, key_scene_vary = 32, key_scene_values = 33, &
-        key_scene_potentials = 34, key_scene_continuation_step = 35, key_scene_continuation_step_max = 36, &
-        key_scene_continuation_points = 37, key_scene_beyond_fold = 38, key_scene_crossing_tol = 39, key_scene_solver = 40, &
-        key_scene_harmonics = 41, key_scene_harmonics_max = 42, key_scene_harmonics_tol = 43, key_scene_closure = 44, &
-        key_scene_absorber_family = 45, key_scene_floquet_every = 46, key_scene_fold_convergence = 47, &
-        key_scene_coarse_step = 48, key_scene_resolution = 49, key_scene_screen_method = 50, key_scene_screen_dt = 51, &
-        key_scene_confirm_band = 52, key_scene_screen_margin = 53, key_scene_certify = 54, key_scene_methods = 55, &
-        key_scene_dts = 56, key_scene_dt_smallest = 57, key_scene_amplitudes = 58, key_scene_c_values = 59, &
-        key_scene_repeats = 60, key_scene_reference_dt = 61, key_scene_stair_times = 62, key_scene_stair_height = 63, &
-        key_scene_stair_ramp = 64, key_scene_power_threshold = 65, key_scene_chain = 66, key_scene_continuation_tol = 67, &
-        key_scene_continuation_max_iter = 68, key_scene_continuation_chord_rate = 69, key_scene_continuation_fast_iter = 70, &
-        key_scene_continuation_slow_iter = 71, key_scene_continuation_step_min = 72, key_scene_continuation_max_angle = 73, &
-        key_scene_fold_tol = 74, key_scene_fate_push = 75, key_scene_fate_watch_time = 76, key_scene_fate_min_periods = 77, &
-        key_scene_fold_stair_height = 78, key_scene_fold_stair_time = 79, key_scene_stair_climbs = 80, &
-        key_scene_follow_branches = 81, key_scene_follow_max_iter = 82, key_scene_follow_growth_limit = 83, &
-        key_scene_settle_iterations = 84, key_scene_settle_tol = 85, key_scene_symmetric_tol = 86, key_scene_switch_step = 87, &
-        key_scene_switch_seed = 88, key_scene_short_decay = 89, key_scene_short_n0_min = 90, key_scene_short_sigma_min = 91, &
-        key_scene_short_sigma_max = 92, key_scene_short_sigma_q = 93, key_scene_short_width_per_sigma = 94, &
-        key_scene_short_edge_margin = 95, key_detect_site = 96, key_detect_amplitude = 97, key_detect_thin_margin = 98, &
-        key_detect_stop_when_decided = 99, key_output_file = 100, key_output_overwrite = 101, key_output_checkpoint_every = 102, &
-        key_output_quiet = 103
+        key_scene_amplitude_min = 26, key_scene_amplitude_max = 27, key_scene_amplitude_step = 28, &
+        key_scene_min_energy_jump = 29, key_scene_omega_min = 30, key_scene_omega_max = 31, key_scene_omega_step = 32, &
+        key_scene_vary = 33, key_scene_values = 34, key_scene_potentials = 35, key_scene_continuation_step = 36, &
+        key_scene_continuation_step_max = 37, key_scene_continuation_points = 38, key_scene_beyond_fold = 39, &
+        key_scene_crossing_tol = 40, key_scene_solver = 41, key_scene_harmonics = 42, key_scene_harmonics_max = 43, &
+        key_scene_harmonics_tol = 44, key_scene_closure = 45, key_scene_absorber_family = 46, key_scene_floquet_every = 47, &
+        key_scene_fold_convergence = 48, key_scene_coarse_step = 49, key_scene_resolution = 50, key_scene_screen_method = 51, &
+        key_scene_screen_dt = 52, key_scene_confirm_band = 53, key_scene_screen_margin = 54, key_scene_certify = 55, &
+        key_scene_methods = 56, key_scene_dts = 57, key_scene_dt_smallest = 58, key_scene_amplitudes = 59, &
+        key_scene_c_values = 60, key_scene_repeats = 61, key_scene_reference_dt = 62, key_scene_stair_times = 63, &
+        key_scene_stair_height = 64, key_scene_stair_ramp = 65, key_scene_power_threshold = 66, key_scene_chain = 67, &
+        key_scene_continuation_tol = 68, key_scene_continuation_max_iter = 69, key_scene_continuation_chord_rate = 70, &
+        key_scene_continuation_fast_iter = 71, key_scene_continuation_slow_iter = 72, key_scene_continuation_step_min = 73, &
+        key_scene_continuation_max_angle = 74, key_scene_fold_tol = 75, key_scene_fate_push = 76, key_scene_fate_watch_time = 77, &
+        key_scene_fate_min_periods = 78, key_scene_fold_stair_height = 79, key_scene_fold_stair_time = 80, &
+        key_scene_stair_climbs = 81, key_scene_follow_branches = 82, key_scene_follow_max_iter = 83, &
+        key_scene_follow_growth_limit = 84, key_scene_settle_iterations = 85, key_scene_settle_tol = 86, &
+        key_scene_symmetric_tol = 87, key_scene_switch_step = 88, key_scene_switch_seed = 89, key_scene_short_decay = 90, &
+        key_scene_short_n0_min = 91, key_scene_short_sigma_min = 92, key_scene_short_sigma_max = 93, &
+        key_scene_short_sigma_q = 94, key_scene_short_width_per_sigma = 95, key_scene_short_edge_margin = 96, &
+        key_detect_site = 97, key_detect_amplitude = 98, key_detect_thin_margin = 99, key_detect_stop_when_decided = 100, &
+        key_output_file = 101, key_output_overwrite = 102, key_output_checkpoint_every = 103, key_output_quiet = 104
 
     !> The keys of &chain.
     type(key_spec), parameter :: chain_keys(*) = [ &
@@ -149,6 +149,9 @@ module supratrans_schema
             scenes="amplitude_sweep, map, bifurcation, continuation, hysteresis"), &
         key_spec("scene", "amplitude_step", kt_real, "amplitude_step", "rad", "0.01", "> 0", &
             "Amplitude step of sweeps and maps", lower="> 0", scenes="amplitude_sweep, map"), &
+        key_spec("scene", "min_energy_jump", kt_real, "min_energy_jump", "1", "3", "> 1", &
+            "Sweeps and maps: a verdict change along the amplitude axis where the energy injected after the ramp changes by" // &
+            " less than this factor (up or down) is counted and warned about", lower="> 1", scenes="amplitude_sweep, map"), &
         key_spec("scene", "omega_min", kt_real, "omega_min", "1/time", "0.05", "> 0", &
             "Frequency axis of maps and bifurcation diagrams: lower end", lower="> 0", &
             scenes="map, bifurcation, continuation, hysteresis"), &
@@ -480,6 +483,7 @@ contains
         if (ik == key_scene_amplitude_min) v = key_value(1, reals=[cfg%scene%amplitude_min])
         if (ik == key_scene_amplitude_max) v = key_value(1, reals=[cfg%scene%amplitude_max])
         if (ik == key_scene_amplitude_step) v = key_value(1, reals=[cfg%scene%amplitude_step])
+        if (ik == key_scene_min_energy_jump) v = key_value(1, reals=[cfg%scene%min_energy_jump])
         if (ik == key_scene_omega_min) v = key_value(1, reals=[cfg%scene%omega_min])
         if (ik == key_scene_omega_max) v = key_value(1, reals=[cfg%scene%omega_max])
         if (ik == key_scene_omega_step) v = key_value(1, reals=[cfg%scene%omega_step])
@@ -595,6 +599,7 @@ contains
         if (ik == key_scene_amplitude_min) cfg%scene%amplitude_min = v%reals(1)
         if (ik == key_scene_amplitude_max) cfg%scene%amplitude_max = v%reals(1)
         if (ik == key_scene_amplitude_step) cfg%scene%amplitude_step = v%reals(1)
+        if (ik == key_scene_min_energy_jump) cfg%scene%min_energy_jump = v%reals(1)
         if (ik == key_scene_omega_min) cfg%scene%omega_min = v%reals(1)
         if (ik == key_scene_omega_max) cfg%scene%omega_max = v%reals(1)
         if (ik == key_scene_omega_step) cfg%scene%omega_step = v%reals(1)

@@ -1,13 +1,14 @@
 !> The base of the scenes of tasks over the axes curve x Omega (x an inner axis of the scene's own): bifurcation,
-!> continuation (by shooting and by harmonic balance) and hysteresis.
+!> continuation (by shooting and by harmonic balance), hysteresis (the stair lengths its inner axis), and the
+!> amplitude sweep and the map (the amplitudes their inner axis; the sweep at the one &drive Omega, nomega = 1).
 !>
 !> It owns what those scenes shared as copies: the frequency axis Omega_i = omega_min + i omega_step (`scene_omegas`,
-!> refused when empty), the run of each curve, the task index t = ((curve - 1) nomega + iomega - 1) ninner + iinner
-!> and its run at its Omega (`task_run`: the one place a task's drive frequency is set), the partial snapshot
-!> (`<output>.partial.h5`, written by the scene's own writer with `complete` = 0), and the scene's `write_output` (its
-!> writer, with the complete records and the wall time). A scene extends `axis_tasks` with what it adds (its
-!> `run` of one task, its file `write_file`, its own runs or inner axis) and `axis_scene` with its tasks
-!> (`make_tasks`, which calls `init_axes`), its summary and its checks.
+!> refused when empty; a scene may hand its own axis to `init_axes`), the run of each curve, the task index t =
+!> ((curve - 1) nomega + iomega - 1) ninner + iinner and its run at its Omega (`task_run`: the one place a task's
+!> drive frequency is set), the partial snapshot (`<output>.partial.h5`, written by the scene's own writer with
+!> `complete` = 0), and the scene's `write_output` (its writer, with the complete records and the wall time). A scene
+!> extends `axis_tasks` with what it adds (its `run` of one task, its file `write_file`, its own runs or inner axis)
+!> and `axis_scene` with its tasks (`make_tasks`, which calls `init_axes`), its summary and its checks.
 module supratrans_axis_scene
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type, fatal_error, err_input
@@ -84,7 +85,7 @@ module supratrans_axis_scene
     contains
         !> Write the scene's file, complete, with the scene's wall time (the tasks' `write_file`).
         procedure :: write_output => axis_write_output
-        !> It runs omega_min .. omega_max: `&drive omega` is not used.
+        !> It runs omega_min .. omega_max: `&drive omega` is not used (the amplitude sweep, at &drive omega, says no).
         procedure :: frequency_axis => axis_frequency_axis
     end type axis_scene
 
@@ -107,7 +108,7 @@ contains
 
     !> Set the axes of a scene's tasks: the input, the invocation, the frequency axis, each curve's run, the inner
     !> axis' length, the partial output and the checkpoints' names; an error when the frequency axis is empty.
-    subroutine init_axes(list, cfg, inv, ninner, error)
+    subroutine init_axes(list, cfg, inv, ninner, error, omegas)
         !> The scene's tasks.
         class(axis_tasks), intent(inout) :: list
         !> The validated input.
@@ -118,12 +119,19 @@ contains
         integer, intent(in) :: ninner
         !> Error, allocated when the frequency axis is empty.
         type(error_type), allocatable, intent(out) :: error
+        !> The frequency axis, when it is not omega_min .. omega_max by omega_step (`scene_omegas`): the sweep's
+        !> one &drive Omega, the map's own grid.
+        real(wp), intent(in), optional :: omegas(:)
         character(len=:), allocatable :: output, source
         integer :: ic
 
         list%cfg = cfg
         list%inv = inv
-        list%omegas = scene_omegas(cfg)
+        if (present(omegas)) then
+            list%omegas = omegas
+        else
+            list%omegas = scene_omegas(cfg)
+        end if
         list%ninner = ninner
         if (size(list%omegas) < 1) then
             source = "configuration"

@@ -3,8 +3,9 @@
 !> threshold A_s(Omega) for comparison.
 !>
 !> The map is the amplitude sweep of `supratrans_scene_sweep` over a second axis, the frequency
-!> omega_min..omega_max by omega_step: it uses that module's task list, file, summary, partial file and per-run
-!> datasets (a `grid_scene`), and adds only its axes (`/omega`, `/threshold_As`). A (curve, frequency) outside the curve's
+!> omega_min..omega_max by omega_step (`axis_grid`, handed to the axis base as its frequency axis): it uses that
+!> module's task list, file, summary, partial file and per-run datasets (a `grid_scene`, on the axis base
+!> `supratrans_axis_scene`), and adds only its axes (`/omega`, `/threshold_As`). A (curve, frequency) outside the curve's
 !> band gap, Omega >= sqrt(V''(0) + m^2), is not run (unless allow_outside_gap): its entries are NaN with status
 !> `status_outside_gap` (-2) and its A_s is NaN.
 !>
@@ -43,8 +44,6 @@ module supratrans_scene_map
         procedure :: make_tasks => map_make_tasks
         !> Its axes, tasks, work and memory against the limits.
         procedure :: check_limits => map_scene_limits
-        !> It runs omega_min .. omega_max: `&drive omega` is not used.
-        procedure :: frequency_axis => map_frequency_axis
         procedure :: plan => map_scene_plan
     end type map_scene
 
@@ -81,9 +80,10 @@ contains
         class(sweep_tasks), allocatable :: list
 
         allocate (map_tasks :: list)
-        call init_sweep_tasks(list, cfg, "map", "Total energy injected vs driving frequency and amplitude: one full " &
-                              // "run (0..T) per curve, frequency and amplitude (paper Fig. 11)", &
-                              axis_grid(cfg%scene%omega_min, cfg%scene%omega_max, cfg%scene%omega_step), .true.)
+        call init_sweep_tasks(list, cfg, tasks%inv, "map", "Total energy injected vs driving frequency and " &
+                              // "amplitude: one full run (0..T) per curve, frequency and amplitude (paper Fig. 11)", &
+                              axis_grid(cfg%scene%omega_min, cfg%scene%omega_max, cfg%scene%omega_step), .true., error)
+        if (allocated(error)) return
         call make_grid_tasks(list, tasks, error)
     end subroutine map_make_tasks
 
@@ -93,14 +93,14 @@ contains
         class(map_tasks), intent(in) :: self
         !> Open output file (a failure sticks in it).
         type(h5_file), intent(inout) :: file
-        real(wp) :: as(size(self%omegas), size(self%curves))
+        real(wp) :: as(size(self%omegas), size(self%runs))
         integer :: ic, iw
 
         call write_common_axes(self, file)
-        do ic = 1, size(self%curves)
+        do ic = 1, size(self%runs)
             do iw = 1, size(self%omegas)
-                if (self%omegas(iw) < band_gap_edge(self%curves(ic)%chain)) then
-                    as(iw, ic) = threshold_as(self%curves(ic)%chain, self%omegas(iw))
+                if (self%omegas(iw) < band_gap_edge(self%runs(ic)%chain)) then
+                    as(iw, ic) = threshold_as(self%runs(ic)%chain, self%omegas(iw))
                 else
                     as(iw, ic) = ieee_value(as(iw, ic), ieee_quiet_nan)
                 end if
@@ -157,14 +157,5 @@ contains
         p%noun = "runs"
         p%steps = cfg%run%numerics%t_final/cfg%run%numerics%dt
     end function map_scene_plan
-
-    !> The scene runs its own frequency axis (omega_min .. omega_max).
-    pure function map_frequency_axis(self) result(yes)
-        !> The scene.
-        class(map_scene), intent(in) :: self
-        logical :: yes
-
-        yes = .true.
-    end function map_frequency_axis
 
 end module supratrans_scene_map

@@ -9,10 +9,12 @@
 !> under a temporary name and renamed when complete; the journal and the partial file are then deleted.
 !>
 !> The machinery is shared with the scene `map` (`supratrans_scene_map`, paper Fig. 11), which is the same sweep
-!> over a second axis, the driving frequency: `sweep_tasks` holds a grid of curves x frequencies x amplitudes
-!> (one frequency, the &drive omega, for the sweep), `make_grid_tasks` checks it and hands it to the scene driver
-!> (`supratrans_scene`), both scenes extend `grid_scene` (the file and the summary), and the map extends
-!> `sweep_tasks` only to write its own axes (`write_axes`).
+!> over a second axis, the driving frequency. Both are on the axis base (`supratrans_axis_scene`): `sweep_tasks`
+!> extends `axis_tasks` with the amplitudes, the inner axis of curve x Omega x amplitude (one frequency, the &drive
+!> omega, for the sweep: nomega = 1), the base owning each curve's run, the task index, a task's run at its Omega,
+!> the partial snapshot, the checkpoints' names and the scene's `write_output`; `make_grid_tasks` checks the grid
+!> and hands it to the scene driver (`supratrans_scene`), both scenes extend `grid_scene` (an `axis_scene` with
+!> the summary), and the map extends `sweep_tasks` only to write its own axes (`write_axes`).
 !>
 !> ## Runs that fail
 !> A run that diverges or whose Newton iteration fails does not stop the sweep: it is recorded with its status
@@ -25,22 +27,24 @@
 !> most `last` + 1e-9 (`axis_grid`): computed from the integer index, so it is exact and reproducible.
 !>
 !> ## Order of the data
-!> Task `index` = ia + namp ((iw - 1) + nomega (ic - 1)) for amplitude ia, frequency iw, curve ic (amplitude
-!> fastest). The per-run datasets are stored as Fortran arrays (namp, ncurve) for the sweep and
-!> (namp, nomega, ncurve) for the map, which h5py sees as (ncurve, namp) and (ncurve, nomega, namp): `d[ic-1, ia-1]`
-!> and `d[ic-1, iw-1, ia-1]`. Each dataset's attribute `dimensions` names them in that (h5py) order.
+!> Task `index` = ia + namp ((iw - 1) + nomega (ic - 1)) for amplitude ia, frequency iw, curve ic (amplitude fastest:
+!> the base's `task_inner`, `task_omega`, `task_curve`). The per-run datasets are stored as Fortran arrays (namp,
+!> ncurve) for the sweep and (namp, nomega, ncurve) for the map, which h5py sees as (ncurve, namp) and (ncurve,
+!> nomega, namp): `d[ic-1, ia-1]` and `d[ic-1, iw-1, ia-1]`. Each dataset's attribute `dimensions` names them in that
+!> (h5py) order.
 !>
-!> The file (`write_grid_file`, the axes, the per-run datasets) is written by the submodule
+!> The file (`write_grid_file`, the tasks' `write_file`: the axes, the per-run datasets) is written by the submodule
 !> `supratrans_scene_sweep_output.f90`.
 module supratrans_scene_sweep
     use, intrinsic :: iso_fortran_env, only: int64
     use supratrans_kinds, only: wp, i8, supratrans_version
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_invocation, only: invocation_type
-    use supratrans_scene, only: scene_type, scene_budget, scene_tasks, scene_plan, wrong_tasks, warn_partial
+    use supratrans_scene, only: scene_budget, scene_tasks, scene_plan
+    use supratrans_axis_scene, only: axis_tasks, axis_scene, init_axes
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config, run_config
-    use supratrans_curves, only: curve_count, curve_run
+    use supratrans_curves, only: curve_count
     use supratrans_validate, only: validate_config
     use supratrans_chain, only: band_gap_edge
     use supratrans_simulate, only: simulate_task, number_of_levels
@@ -51,7 +55,6 @@ module supratrans_scene_sweep
         iv_status, iv_transmitting, iv_t_decided, iv_steps, iv_newton_iterations, iv_wall_time, iv_t_end, &
         iv_max_abs_u, iv_injected_after_ramp, iv_u_beyond_max, iv_detect_site, iv_tridiagonal_solves, &
         iv_rhs_evaluations, iv_verdict_margin, iv_thin_verdict
-    use supratrans_tasks, only: task_list, input_fingerprint
     use supratrans_hdf5, only: h5_file
     use supratrans_strings, only: int_str, printable
     implicit none
@@ -64,7 +67,7 @@ module supratrans_scene_sweep
               iv_max_abs_u, iv_injected_after_ramp, iv_u_beyond_max, iv_detect_site, iv_tridiagonal_solves, &
               iv_rhs_evaluations, iv_verdict_margin, iv_thin_verdict
     public :: run_amplitude_sweep
-    public :: sweep_tasks, init_sweep_tasks, make_grid_tasks, write_common_axes, write_grid_file
+    public :: sweep_tasks, init_sweep_tasks, make_grid_tasks, write_common_axes
     public :: axis_grid, journal_path, partial_path, status_codes_text
 
     !> Status of a run not computed (yet), and of a grid point outside the curve's band gap: the task codes of
@@ -73,55 +76,41 @@ module supratrans_scene_sweep
 
     !> Slack of the end point of an axis: `first + i step` is on the axis while it is at most `last` + this.
     real(wp), parameter :: grid_slack = 1.0e-9_wp
-    !> A verdict change along the amplitude axis is backed by the energy when the energy injected after the ramp
-    !> changes there by at least this factor (measured: 20-100 at the threshold, 1.0-1.3 between neighbours elsewhere).
-    real(wp), parameter :: min_energy_jump = 3.0_wp
     !> Largest number of tasks of one scene (a guard against a step that is far too small).
     integer, parameter :: max_tasks = 10000000
 
-    !> The tasks of a sweep or map: a grid of curves x driving frequencies x amplitudes, one full run each.
-    !> Read-only while the tasks run.
-    type, extends(task_list), public :: sweep_tasks
-        !> The validated input.
-        type(input_config) :: cfg
-        !> How the engine is invoked (slice, merge: `supratrans_invocation`).
-        type(invocation_type) :: inv
+    !> The tasks of a sweep or map: a grid of curves x driving frequencies x amplitudes, one full run each (the axes
+    !> of `axis_tasks`, the amplitudes its inner axis; its `runs` prepared for the sweep: full length, no probes, no
+    !> early stop; its `omegas` the &drive omega alone for the sweep, the frequency axis for the map). Read-only
+    !> while the tasks run.
+    type, extends(axis_tasks), public :: sweep_tasks
         !> Scene name written to the file: 'amplitude_sweep' or 'map'.
         character(len=:), allocatable :: scene
         !> One-line description of the file written.
         character(len=:), allocatable :: description
-        !> Run configuration of each curve, prepared for the sweep (full length, no probes, no early stop).
-        type(run_config), allocatable :: curves(:)
-        !> Driving frequencies: the &drive omega alone for the sweep, the frequency axis for the map.
-        real(wp), allocatable :: omegas(:)
-        !> Driving amplitudes.
+        !> Driving amplitudes (the inner axis).
         real(wp), allocatable :: amplitudes(:)
         !> The frequency is an axis of the data (map): datasets are (curve, omega, amplitude), not (curve, amplitude).
         logical :: omega_axis = .false.
-        !> Mid-run checkpoints of task t: `<checkpoint_prefix><t>`, bound to `fingerprint` and t.
-        character(len=:), allocatable :: checkpoint_prefix, fingerprint
     contains
         !> Run one task (thread-safe).
         procedure :: run => sweep_run
         !> Whether a task's values are its result (not a run stopped by a signal at its checkpoint).
         procedure :: finished => sweep_finished
-        !> Write the partial file.
-        procedure :: snapshot => sweep_snapshot
+        !> Write the scene's file, final or partial (`write_grid_file`).
+        procedure :: write_file => write_grid_file
         !> Write the axes of the scene (the sweep: /amplitude, /curves; the map overrides it).
         procedure :: write_axes => sweep_write_axes
         !> Number of tasks.
         procedure :: task_count
-        !> Amplitude, frequency and curve index of a task.
-        procedure :: task_position
         !> Whether a (frequency, curve) is run: inside the curve's band gap, or allow_outside_gap.
         procedure :: runnable
     end type sweep_tasks
 
-    !> The scenes of a grid of full runs (`sweep_tasks`): the amplitude sweep and the map. Their file and summary.
-    type, abstract, extends(scene_type), public :: grid_scene
+    !> The scenes of a grid of full runs (`sweep_tasks`): the amplitude sweep and the map. Their file is the axis
+    !> base's `write_output`; they add the summary.
+    type, abstract, extends(axis_scene), public :: grid_scene
     contains
-        !> Write the file (`write_grid_file`).
-        procedure :: write_output => grid_write_output
         !> How many runs ended ok, transmitting, failed; a warning for thin or unbacked verdicts.
         procedure :: summary => grid_summary
     end type grid_scene
@@ -136,27 +125,31 @@ module supratrans_scene_sweep
         procedure :: plan => sweep_scene_plan
         !> At one frequency: inside the band gap.
         procedure :: gap_rule => sweep_scene_gap
+        !> At the &drive frequency: no frequency axis of its own.
+        procedure :: frequency_axis => sweep_scene_frequency_axis
     end type sweep_scene
 
     interface
         !> Write the scene's HDF5 file `path` from the results so far (atomically: built in memory, written to a fresh
         !> temporary, renamed). With every task done the file is the final output (root attribute `complete` = 1);
         !> otherwise a partial file (`complete` = 0) in which the missing runs are NaN with status `status_not_run`.
-        module subroutine write_grid_file(tasks, path, overwrite, results, done, error, wall_time)
+        module subroutine write_grid_file(self, path, results, done, complete, elapsed, error)
             !> The task list.
-            class(sweep_tasks), intent(in) :: tasks
+            class(sweep_tasks), intent(in) :: self
             !> Path of the file.
             character(len=*), intent(in) :: path
-            !> Replace an existing file.
-            logical, intent(in) :: overwrite
             !> Results, (n_run_values, ntask).
             real(wp), intent(in) :: results(:, :)
             !> Which tasks are done.
             logical, intent(in) :: done(:)
+            !> Whether this is the scene's output (replaced only with `overwrite`, with the wall time), not the
+            !> partial snapshot.
+            logical, intent(in) :: complete
+            !> Wall time of the scene (s; of a merge, the slices' summed wall time), the root attribute `wall_time_s`
+            !> of the output; negative (unused) for the partial snapshot.
+            real(wp), intent(in) :: elapsed
             !> Error, allocated on failure (nothing is then left under `path`).
             type(error_type), allocatable, intent(out) :: error
-            !> Wall time of the scene (s; of a merge, the slices' summed wall time), the root attribute `wall_time_s`.
-            real(wp), intent(in), optional :: wall_time
         end subroutine write_grid_file
 
         !> The axes of the sweep: `/amplitude`, `/curves/...` (`write_common_axes`) and `/curves/threshold_As`, the
@@ -222,19 +215,23 @@ contains
         class(sweep_tasks), allocatable :: list
 
         allocate (sweep_tasks :: list)
-        call init_sweep_tasks(list, cfg, "amplitude_sweep", "Total energy injected vs driving amplitude: one " &
-                              // "full run (0..T) per curve and amplitude (paper Figs. 2, 3, 3-and-a-half, 4)", &
-                              [cfg%run%drive%omega], .false.)
+        call init_sweep_tasks(list, cfg, tasks%inv, "amplitude_sweep", "Total energy injected vs driving amplitude: " &
+                              // "one full run (0..T) per curve and amplitude (paper Figs. 2, 3, 3-and-a-half, 4)", &
+                              [cfg%run%drive%omega], .false., error)
+        if (allocated(error)) return
         call make_grid_tasks(list, tasks, error)
     end subroutine sweep_make_tasks
 
-    !> Fill a task list: the input, the scene's name and description, the frequencies, the amplitude axis of the
-    !> &scene group and the run of every curve, prepared for the sweep.
-    subroutine init_sweep_tasks(tasks, cfg, scene, description, omegas, omega_axis)
+    !> Fill a task list: the axes (`init_axes`: the input, the invocation, the frequencies, the run of every curve,
+    !> the partial file's and the checkpoints' names) with the amplitude axis of the &scene group as the inner axis,
+    !> the scene's name and description, and the runs prepared for the sweep.
+    subroutine init_sweep_tasks(tasks, cfg, inv, scene, description, omegas, omega_axis, error)
         !> The task list (a `sweep_tasks` or an extension of it).
         class(sweep_tasks), intent(inout) :: tasks
         !> The validated input.
         type(input_config), intent(in) :: cfg
+        !> How the engine is invoked (slice, merge: `supratrans_invocation`).
+        type(invocation_type), intent(in) :: inv
         !> Scene name.
         character(len=*), intent(in) :: scene
         !> One-line description of the output file.
@@ -243,26 +240,24 @@ contains
         real(wp), intent(in) :: omegas(:)
         !> Whether the frequency is an axis of the data (map).
         logical, intent(in) :: omega_axis
+        !> Error, allocated when the frequency axis is empty.
+        type(error_type), allocatable, intent(out) :: error
         integer :: ic
 
-        tasks%cfg = cfg
         tasks%scene = scene
         tasks%description = description
-        tasks%omegas = omegas
         tasks%omega_axis = omega_axis
         tasks%amplitudes = axis_grid(cfg%scene%amplitude_min, cfg%scene%amplitude_max, cfg%scene%amplitude_step)
-        tasks%checkpoint_prefix = trim(cfg%output%file) // ".checkpoint-"
-        tasks%fingerprint = input_fingerprint(cfg)
-        if (allocated(tasks%curves)) deallocate (tasks%curves)
-        allocate (tasks%curves(curve_count(cfg)))
-        do ic = 1, size(tasks%curves)
-            tasks%curves(ic) = curve_run(cfg, ic)
+        if (allocated(tasks%runs)) deallocate (tasks%runs)
+        call init_axes(tasks, cfg, inv, size(tasks%amplitudes), error, omegas)
+        if (allocated(error)) return
+        do ic = 1, size(tasks%runs)
             ! the figures need the totals at T: no early stop, no probes, the ledger closed once at the end
-            tasks%curves(ic)%detect%stop_when_decided = .false.
-            if (allocated(tasks%curves(ic)%record%probes)) deallocate (tasks%curves(ic)%record%probes)
-            allocate (tasks%curves(ic)%record%probes(0))
-            tasks%curves(ic)%record%probe_every = int(min(number_of_levels(tasks%curves(ic)), int(huge(1), i8)))
-            tasks%curves(ic)%record%ledger_every = huge(1)
+            tasks%runs(ic)%detect%stop_when_decided = .false.
+            if (allocated(tasks%runs(ic)%record%probes)) deallocate (tasks%runs(ic)%record%probes)
+            allocate (tasks%runs(ic)%record%probes(0))
+            tasks%runs(ic)%record%probe_every = int(min(number_of_levels(tasks%runs(ic)), int(huge(1), i8)))
+            tasks%runs(ic)%record%ledger_every = huge(1)
         end do
     end subroutine init_sweep_tasks
 
@@ -271,14 +266,13 @@ contains
     subroutine make_grid_tasks(list, tasks, error)
         !> The task list, filled by `init_sweep_tasks`; moved into `tasks%list`.
         class(sweep_tasks), allocatable, intent(inout) :: list
-        !> The scene's tasks (`inv` set).
+        !> The scene's tasks.
         type(scene_tasks), intent(inout) :: tasks
         !> Error, allocated when the configuration is not valid or makes too many runs.
         type(error_type), allocatable, intent(out) :: error
         integer(int64) :: ntask
         integer :: nskip, i
 
-        list%inv = tasks%inv
         call validate_config(list%cfg, error)
         if (allocated(error)) return
         if (.not. allocated(list%cfg%source)) then
@@ -286,7 +280,7 @@ contains
                              // "journal)", err_input)
             return
         end if
-        ntask = int(size(list%amplitudes), int64)*int(size(list%omegas), int64)*int(size(list%curves), int64)
+        ntask = int(size(list%amplitudes), int64)*int(size(list%omegas), int64)*int(size(list%runs), int64)
         if (ntask > max_tasks) then
             call fatal_error(error, list%cfg%source // ": &scene: " // int_str(int(min(ntask, 2000000000_int64))) &
                              // " runs is more than the limit " // int_str(max_tasks) // " (check the steps)", err_input)
@@ -294,7 +288,7 @@ contains
         end if
 
         tasks%header = "supratrans " // supratrans_version // ": " // list%scene // " from " // list%cfg%source &
-                       // ": " // int_str(size(list%curves)) // " curve(s) x "
+                       // ": " // int_str(size(list%runs)) // " curve(s) x "
         if (list%omega_axis) tasks%header = tasks%header // int_str(size(list%omegas)) // " frequencies x "
         tasks%header = tasks%header // int_str(size(list%amplitudes)) // " amplitudes = " // int_str(list%task_count()) &
                        // " runs -> " // trim(list%cfg%output%file)
@@ -309,26 +303,6 @@ contains
         tasks%label = "runs"
         call move_alloc(list, tasks%list)
     end subroutine make_grid_tasks
-
-    !> Write the file of a sweep or map (`write_grid_file`, atomically) with the scene's wall time.
-    subroutine grid_write_output(self, cfg, tasks, error)
-        !> The scene.
-        class(grid_scene), intent(in) :: self
-        !> The validated input.
-        type(input_config), intent(in) :: cfg
-        !> The tasks (a `sweep_tasks`), their records and the wall time.
-        type(scene_tasks), intent(in) :: tasks
-        !> Error, allocated on failure (nothing is then left under the output's name).
-        type(error_type), allocatable, intent(out) :: error
-
-        select type (list => tasks%list)
-        class is (sweep_tasks)
-            call write_grid_file(list, trim(cfg%output%file), cfg%output%overwrite, tasks%results, tasks%done, error, &
-                                 tasks%elapsed)
-        class default
-            call wrong_tasks(error, "sweep_tasks")
-        end select
-    end subroutine grid_write_output
 
     !> The runs ok (transmitting) and failed, and a warning when verdicts have a thin margin or change along the
     !> amplitude axis without a jump of the energy.
@@ -357,7 +331,9 @@ contains
         end select
         nthin = count(nint(tasks%results(iv_thin_verdict, :)) == 1)
         call jumps_along_amplitude(tasks%results, namp, jump, change)
-        nflat = count(change == 1 .and. .not. (jump >= min_energy_jump .or. jump <= 1.0_wp/min_energy_jump))
+        associate (min_jump => cfg%scene%min_energy_jump)
+            nflat = count(change == 1 .and. .not. (jump >= min_jump .or. jump <= 1.0_wp/min_jump))
+        end associate
         if (nthin > 0 .or. nflat > 0) text = text // new_line("a") // "  warning: " // int_str(nthin) &
             // " verdict(s) with a thin margin (/runs/thin_verdict), " // int_str(nflat) // " verdict change(s) " &
             // "without an energy jump (/runs/energy_jump): check them"
@@ -374,18 +350,15 @@ contains
         real(wp), intent(out) :: values(:)
         type(run_config) :: run
         type(run_result) :: result
-        integer :: ia, iw, ic
         character(len=12) :: task_text
 
-        call self%task_position(index, ia, iw, ic)
-        if (.not. self%runnable(iw, ic)) then
+        if (.not. self%runnable(self%task_omega(index), self%task_curve(index))) then
             values = nan()
             values(iv_status) = real(status_outside_gap, wp)
             return
         end if
-        run = self%curves(ic)
-        run%drive%amplitude = self%amplitudes(ia)
-        run%drive%omega = self%omegas(iw)
+        run = self%task_run(index)
+        run%drive%amplitude = self%amplitudes(self%task_inner(index))
         write (task_text, "(i0)") index
         call simulate_task(run, result, self%checkpoint_prefix // trim(task_text), self%fingerprint // " task " &
                            // trim(task_text), self%cfg%output%checkpoint_every, self%cfg%output%quiet)
@@ -409,46 +382,14 @@ contains
         yes = nint(values(iv_status)) /= status_not_run
     end function sweep_finished
 
-    !> Write the partial file `<output file>.partial.h5` (called serially by the task engine). A failure to write it
-    !> is reported on stderr (unless quiet) and does not stop the scene.
-    subroutine sweep_snapshot(self, results, done)
-        !> The task list.
-        class(sweep_tasks), intent(in) :: self
-        !> Results so far, (n_run_values, ntask).
-        real(wp), intent(in) :: results(:, :)
-        !> Which tasks are done.
-        logical, intent(in) :: done(:)
-        type(error_type), allocatable :: error
-
-        call write_grid_file(self, partial_path(self%cfg), .true., results, done, error)
-        call warn_partial(error, self%cfg%output%quiet)
-    end subroutine sweep_snapshot
-
     !> Number of tasks: amplitudes x frequencies x curves.
     pure function task_count(self) result(n)
         !> The task list.
         class(sweep_tasks), intent(in) :: self
         integer :: n
 
-        n = size(self%amplitudes)*size(self%omegas)*size(self%curves)
+        n = size(self%amplitudes)*size(self%omegas)*size(self%runs)
     end function task_count
-
-    !> Amplitude index `ia`, frequency index `iw` and curve index `ic` of task `index` (amplitude fastest).
-    pure subroutine task_position(self, index, ia, iw, ic)
-        !> The task list.
-        class(sweep_tasks), intent(in) :: self
-        !> Task index, 1..task_count().
-        integer, intent(in) :: index
-        !> Amplitude, frequency and curve index.
-        integer, intent(out) :: ia, iw, ic
-        integer :: namp, nomega
-
-        namp = size(self%amplitudes)
-        nomega = size(self%omegas)
-        ia = mod(index - 1, namp) + 1
-        iw = mod((index - 1)/namp, nomega) + 1
-        ic = (index - 1)/(namp*nomega) + 1
-    end subroutine task_position
 
     !> Whether frequency `iw` is run for curve `ic`: inside the curve's band gap, Omega < sqrt(V''(0) + m^2), or the
     !> input allows frequencies outside it.
@@ -461,7 +402,7 @@ contains
         integer, intent(in) :: ic
         logical :: ok
 
-        ok = self%omegas(iw) < band_gap_edge(self%curves(ic)%chain) .or. self%cfg%allow_outside_gap
+        ok = self%omegas(iw) < band_gap_edge(self%runs(ic)%chain) .or. self%cfg%allow_outside_gap
     end function runnable
 
     !> Whether task `index` is run (not outside the gap).
@@ -471,10 +412,8 @@ contains
         !> Task index.
         integer, intent(in) :: index
         logical :: ok
-        integer :: ia, iw, ic
 
-        call tasks%task_position(index, ia, iw, ic)
-        ok = tasks%runnable(iw, ic)
+        ok = tasks%runnable(tasks%task_omega(index), tasks%task_curve(index))
     end function task_is_runnable
 
     !> Points of an axis: `first + i step`, i = 0, 1, ..., while at most `last` + 1e-9 (at least `first`).
@@ -563,5 +502,14 @@ contains
 
         yes = .true.
     end function sweep_scene_gap
+
+    !> An amplitude sweep is driven at the &drive frequency: it has no frequency axis of its own.
+    pure function sweep_scene_frequency_axis(self) result(yes)
+        !> The scene.
+        class(sweep_scene), intent(in) :: self
+        logical :: yes
+
+        yes = .false.
+    end function sweep_scene_frequency_axis
 
 end module supratrans_scene_sweep

@@ -20,32 +20,35 @@ contains
     !> Write the scene's HDF5 file `path` from the results so far (atomically: built in memory, written to a fresh
     !> temporary, renamed). With every task done the file is the final output (root attribute `complete` = 1);
     !> otherwise a partial file (`complete` = 0) in which the missing runs are NaN with status `status_not_run`.
-    module subroutine write_grid_file(tasks, path, overwrite, results, done, error, wall_time)
+    module subroutine write_grid_file(self, path, results, done, complete, elapsed, error)
         !> The task list.
-        class(sweep_tasks), intent(in) :: tasks
+        class(sweep_tasks), intent(in) :: self
         !> Path of the file.
         character(len=*), intent(in) :: path
-        !> Replace an existing file.
-        logical, intent(in) :: overwrite
         !> Results, (n_run_values, ntask).
         real(wp), intent(in) :: results(:, :)
         !> Which tasks are done.
         logical, intent(in) :: done(:)
+        !> Whether this is the scene's output (replaced only with `overwrite`, with the wall time), not the
+        !> partial snapshot.
+        logical, intent(in) :: complete
+        !> Wall time of the scene (s; of a merge, the slices' summed wall time), the root attribute `wall_time_s`
+        !> of the output; negative (unused) for the partial snapshot.
+        real(wp), intent(in) :: elapsed
         !> Error, allocated on failure (nothing is then left under `path`).
         type(error_type), allocatable, intent(out) :: error
-        !> Wall time of the scene (s; of a merge, the slices' summed wall time), the root attribute `wall_time_s`.
-        real(wp), intent(in), optional :: wall_time
         type(h5_file) :: file
 
-        call h5_create(file, path, overwrite)
-        call write_root(file, tasks%cfg, tasks%scene, tasks%description, tasks%inv)
+        ! the partial snapshot replaces its predecessor; the output only with overwrite
+        call h5_create(file, path, self%cfg%output%overwrite .or. .not. complete)
+        call write_root(file, self%cfg, self%scene, self%description, self%inv)
         call h5_write_attr(file, "/", "complete", merge(1, 0, all(done)))
         call h5_write_attr(file, "/", "runs_done", count(done))
         call h5_write_attr(file, "/", "runs_total", size(done))
-        if (present(wall_time)) call h5_write_attr(file, "/", "wall_time_s", wall_time)
-        call write_parameters(file, tasks%cfg)
-        call tasks%write_axes(file)
-        call write_run_datasets(file, tasks, results, done)
+        if (complete) call h5_write_attr(file, "/", "wall_time_s", elapsed)
+        call write_parameters(file, self%cfg)
+        call self%write_axes(file)
+        call write_run_datasets(file, self, results, done)
         call h5_commit(file, error)
     end subroutine write_grid_file
 
@@ -56,12 +59,12 @@ contains
         class(sweep_tasks), intent(in) :: self
         !> Open output file (a failure sticks in it).
         type(h5_file), intent(inout) :: file
-        real(wp) :: as(size(self%curves))
+        real(wp) :: as(size(self%runs))
         integer :: ic
 
         call write_common_axes(self, file)
-        do ic = 1, size(self%curves)
-            as(ic) = threshold_as_or_nan(self%curves(ic), self%omegas(1))
+        do ic = 1, size(self%runs)
+            as(ic) = threshold_as_or_nan(self%runs(ic), self%omegas(1))
         end do
         call h5_write(file, "/curves/threshold_As", as, "rad", "Continuum-limit supratransmission threshold A_s = " &
                       // "4 arctan(lambda c / Omega) of each curve at the sweep's frequency (massless, undamped " &
@@ -77,7 +80,7 @@ contains
 
         call h5_write(file, "/amplitude", tasks%amplitudes, "rad", "Driving amplitude A of each run: amplitude_min" &
                       // " + i amplitude_step, i = 0, 1, ...", dims="amplitude")
-        call write_curves(file, tasks%cfg, tasks%curves)
+        call write_curves(file, tasks%cfg, tasks%runs)
     end subroutine write_common_axes
 
     !> The per-run datasets `/energy/...` and `/runs/...` (table `fields`), `/runs/failures` and the attribute
@@ -101,7 +104,7 @@ contains
 
         namp = size(tasks%amplitudes)
         nomega = size(tasks%omegas)
-        ncurve = size(tasks%curves)
+        ncurve = size(tasks%runs)
         allocate (values(n_run_values, size(done)))
         do i = 1, size(done)
             if (done(i)) then
@@ -160,7 +163,8 @@ contains
         end if
         call h5_write_attr(file, "/runs", "thin_verdicts", count(nint(values(iv_thin_verdict, :)) == 1))
         call h5_write_attr(file, "/runs", "verdict_changes_without_energy_jump", &
-                           count(change == 1 .and. .not. (jump >= min_energy_jump .or. jump <= 1.0_wp/min_energy_jump)))
+                           count(change == 1 .and. .not. (jump >= tasks%cfg%scene%min_energy_jump &
+                                                          .or. jump <= 1.0_wp/tasks%cfg%scene%min_energy_jump)))
 
         allocate (failures(0))
         do i = 1, size(done)
@@ -184,9 +188,11 @@ contains
         character(len=:), allocatable :: text
         integer :: ia, iw, ic, ipot, ival
 
-        call tasks%task_position(index, ia, iw, ic)
+        ia = tasks%task_inner(index)
+        iw = tasks%task_omega(index)
+        ic = tasks%task_curve(index)
         call curve_indices(tasks%cfg, ic, ipot, ival)
-        text = "curve " // int_str(ic) // " (" // potential_name(tasks%curves(ic)%chain%potential)
+        text = "curve " // int_str(ic) // " (" // potential_name(tasks%runs(ic)%chain%potential)
         if (tasks%cfg%scene%vary /= vary_none) text = text // ", " // trim(vary_choices(tasks%cfg%scene%vary)) // " = " &
             // real_str(tasks%cfg%scene%values(ival), 6)
         text = text // "), A = " // real_str(tasks%amplitudes(ia), 6) // ", Omega = " // real_str(tasks%omegas(iw), 6) &

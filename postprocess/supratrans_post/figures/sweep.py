@@ -112,19 +112,26 @@ def _as_marks(s: Scene, ax, idx: list[int], order: list[int], st_order: list[dic
         ax.plot([], [], "x", color="0.4", ms=7, mew=1.5, label=r"$A_s$ of each curve (its colour)")
 
 
-#: The program's `min_energy_jump` (src/scenes/supratrans_scene_sweep.f90): a verdict change whose energy injected
-#: after the ramp grows by less than this factor is "without an energy jump" (the file counts them in the /runs
-#: attribute verdict_changes_without_energy_jump).
-MIN_ENERGY_JUMP = 3.0
+#: The factor `min_energy_jump` of a file written before it was an input key (`&scene min_energy_jump`, whose
+#: default it is; the program had it as a constant): only for such files, which lack the /parameters attribute.
+LEGACY_MIN_ENERGY_JUMP = 3.0
+
+
+def min_energy_jump(s: Scene) -> float:
+    """The file's `min_energy_jump` (its /parameters attribute): a verdict change whose energy injected after the
+    ramp grows by less than this factor is "without an energy jump" (the file counts them in the /runs attribute
+    verdict_changes_without_energy_jump). A file written before the key falls back to LEGACY_MIN_ENERGY_JUMP."""
+    return float(s.params.get("min_energy_jump", LEGACY_MIN_ENERGY_JUMP))
 
 
 def thin_thresholds(s: Scene) -> list[tuple[int, float, str]]:
     """The thresholds (first transmitting amplitude) of a sweep whose verdict is thin, [(curve, amplitude, why)]:
     the run there or just below it has a thin verdict (/runs/thin_verdict), or the energy injected after the ramp
-    does not jump there (/runs/energy_jump below MIN_ENERGY_JUMP)."""
+    does not jump there (/runs/energy_jump below the file's `min_energy_jump`)."""
     amp = np.asarray(s.data["amplitude"], dtype=float)
     thin = s.data.get("runs/thin_verdict")
     jump = s.data.get("runs/energy_jump")
+    min_jump = min_energy_jump(s)
     out = []
     for c in range(len(s.data["curves/potential"])):
         a = first_transmitting(amp, s.data["runs/transmitting"][c], s.data["runs/status"][c])
@@ -134,7 +141,7 @@ def thin_thresholds(s: Scene) -> list[tuple[int, float, str]]:
         why = []
         if thin is not None and (np.asarray(thin[c][max(k - 1, 0):k + 1]) == 1).any():
             why.append("thin margin")
-        if jump is not None and k > 0 and math.isfinite(float(jump[c][k])) and float(jump[c][k]) < MIN_ENERGY_JUMP:
+        if jump is not None and k > 0 and math.isfinite(float(jump[c][k])) and float(jump[c][k]) < min_jump:
             why.append(f"energy x{float(jump[c][k]):.2g} only")
         if why:
             out.append((c, a, ", ".join(why)))
