@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 #: The base namelist's groups (the keys a case varies or writes are set in these).
-BASE = {"chain": {"n": 40, "n0": 30}, "numerics": {"t_final": 20.0, "dt": 0.05}}
+BASE = {"chain": {"n": 40, "n0": 30}, "drive": {"omega": 0.9}, "numerics": {"t_final": 20.0, "dt": 0.05}}
 SCENE = "&scene kind = 'amplitude_sweep', amplitude_min = 1.0, amplitude_max = 1.2, amplitude_step = 0.1 {scene}/\n"
 OUT = "&output file = 'out/s.h5', quiet = .true. /\n"
 
@@ -32,6 +32,8 @@ CASES = {
     "n": ("chain", [44, 52], "1"),
     "dt": ("numerics", [0.04, 0.025], "time"),
     "kappa": ("chain", [0.2, 1.0], "1/time"),
+    # the sweep has no frequency axis: each curve runs at its own Omega (every curve ran at &drive omega before)
+    "omega": ("drive", [0.5, 0.7], "1/time"),
 }
 
 
@@ -73,6 +75,14 @@ def test_each_curve_is_the_run_with_its_value_written(exe, tmp_path, key):
             np.testing.assert_array_equal(got[name][i], data[0], err_msg=f"{name}, curve {i + 1} ({key} = {v})")
     # the values differ in what they give: the curves are not copies of one run
     assert not np.array_equal(got["energy/injected"][0], got["energy/injected"][1])
+    if key == "omega":
+        # A_s is each curve's, at its own Omega
+        with h5py.File(path) as f:
+            a_s = f["curves/threshold_As"][()]
+        for i, v in enumerate(values):
+            with h5py.File(tmp_path / f"single{i}" / "out" / "s.h5") as f:
+                assert a_s[i] == f["curves/threshold_As"][0]
+        assert a_s[0] != a_s[1]
 
 
 @pytest.mark.parametrize("scene,words", [

@@ -37,6 +37,9 @@ module supratrans_axis_scene
         real(wp), allocatable :: omegas(:)
         !> Points of the scene's inner axis per (curve, Omega) (1: none).
         integer :: ninner = 1
+        !> Each task runs at its curve's own &drive omega (which `vary = 'omega'` sets), `omegas` being the one point
+        !> of the &drive omega: the amplitude sweep, which has no frequency axis.
+        logical :: curve_omega = .false.
         !> Path of the partial output written by `snapshot`: `<output>.partial.h5`.
         character(len=:), allocatable :: partial_path
         !> Mid-run checkpoints of task t: `<checkpoint_prefix><t>`, bound to `fingerprint` and t (scenes that
@@ -57,6 +60,8 @@ module supratrans_axis_scene
         procedure :: task_run => axis_task_run
         !> The run of a task from another run per curve (a scene's screening or checking runs), at its Omega.
         procedure, non_overridable :: run_at
+        !> The Omega of a curve at a point of the frequency axis.
+        procedure, non_overridable :: omega_at
     end type axis_tasks
 
     abstract interface
@@ -201,8 +206,30 @@ contains
         type(run_config) :: run
 
         run = runs(self%task_curve(index))
-        run%drive%omega = self%omegas(self%task_omega(index))
+        run%drive%omega = self%omega_at(self%task_curve(index), self%task_omega(index), runs)
     end function run_at
+
+    !> The Omega of curve `icurve` at point `iomega` of the frequency axis: `omegas(iomega)`, or the curve's own
+    !> &drive omega when the scene has no frequency axis (`curve_omega`).
+    pure function omega_at(self, icurve, iomega, runs) result(omega)
+        !> The tasks.
+        class(axis_tasks), intent(in) :: self
+        !> Curve index.
+        integer, intent(in) :: icurve
+        !> Index on the frequency axis.
+        integer, intent(in) :: iomega
+        !> A run per curve (default: the curves' runs).
+        type(run_config), intent(in), optional :: runs(:)
+        real(wp) :: omega
+
+        if (.not. self%curve_omega) then
+            omega = self%omegas(iomega)
+        else if (present(runs)) then
+            omega = runs(icurve)%drive%omega
+        else
+            omega = self%runs(icurve)%drive%omega
+        end if
+    end function omega_at
 
     !> Write the results so far to `<output>.partial.h5` (root attribute `complete = 0`); failures are a warning (the
     !> journal, not this file, is what a resumed run reads).

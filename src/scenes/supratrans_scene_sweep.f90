@@ -251,6 +251,8 @@ contains
         if (allocated(tasks%runs)) deallocate (tasks%runs)
         call init_axes(tasks, cfg, inv, size(tasks%amplitudes), error, omegas)
         if (allocated(error)) return
+        ! without a frequency axis each curve runs at its own &drive omega (`vary = 'omega'` gives each its own)
+        tasks%curve_omega = .not. omega_axis
         do ic = 1, size(tasks%runs)
             ! the figures need the totals at T: no early stop, no probes, the ledger closed once at the end
             tasks%runs(ic)%detect%stop_when_decided = .false.
@@ -402,7 +404,7 @@ contains
         integer, intent(in) :: ic
         logical :: ok
 
-        ok = self%omegas(iw) < band_gap_edge(self%runs(ic)%chain) .or. self%cfg%allow_outside_gap
+        ok = self%omega_at(ic, iw) < band_gap_edge(self%runs(ic)%chain) .or. self%cfg%allow_outside_gap
     end function runnable
 
     !> Whether task `index` is run (not outside the gap).

@@ -64,7 +64,7 @@ contains
 
         call write_common_axes(self, file)
         do ic = 1, size(self%runs)
-            as(ic) = threshold_as_or_nan(self%runs(ic), self%omegas(1))
+            as(ic) = threshold_as_or_nan(self%runs(ic), self%omega_at(ic, 1))
         end do
         call h5_write(file, "/curves/threshold_As", as, "rad", "Continuum-limit supratransmission threshold A_s = " &
                       // "4 arctan(lambda c / Omega) of each curve at the sweep's frequency (massless, undamped " &
@@ -195,9 +195,11 @@ contains
         text = "curve " // int_str(ic) // " (" // potential_name(tasks%runs(ic)%chain%potential)
         if (tasks%cfg%scene%vary /= vary_none) text = text // ", " // trim(vary_choices(tasks%cfg%scene%vary)) // " = " &
             // real_str(tasks%cfg%scene%values(ival), 6)
-        text = text // "), A = " // real_str(tasks%amplitudes(ia), 6) // ", Omega = " // real_str(tasks%omegas(iw), 6) &
-               // ": " // status_name(nint(values(iv_status))) // ", the run ended at t = " &
-               // real_str(values(iv_t_end), 6) // " (max |u_n| = " // real_str(values(iv_max_abs_u), 6) // ")"
+        text = text // "), A = " // real_str(tasks%amplitudes(ia), 6) // ", Omega = " &
+               // real_str(tasks%omega_at(ic, iw), 6) // ": " &
+               // status_name(nint(values(iv_status))) &
+               // ", the run ended at t = " // real_str(values(iv_t_end), 6) // " (max |u_n| = " &
+               // real_str(values(iv_max_abs_u), 6) // ")"
     end function failure_text
 
     !> Continuum-limit threshold A_s of a curve at frequency omega; NaN outside the band gap.
