@@ -18,8 +18,9 @@ submodule(supratrans_scene_sweep) supratrans_scene_sweep_output
 contains
 
     !> Write the scene's HDF5 file `path` from the results so far (atomically: built in memory, written to a fresh
-    !> temporary, renamed). With every task done the file is the final output (root attribute `complete` = 1);
-    !> otherwise a partial file (`complete` = 0) in which the missing runs are NaN with status `status_not_run`.
+    !> temporary, renamed): the final output (root attribute `complete` = 1) or a partial file, `<output>.partial.h5`
+    !> (`complete` = 0, as every scene's, even when every task is done), in which the missing runs are NaN with status
+    !> `status_not_run`.
     module subroutine write_grid_file(self, path, results, done, complete, elapsed, error)
         !> The task list.
         class(sweep_tasks), intent(in) :: self
@@ -42,7 +43,7 @@ contains
         ! the partial snapshot replaces its predecessor; the output only with overwrite
         call h5_create(file, path, self%cfg%output%overwrite .or. .not. complete)
         call write_root(file, self%cfg, self%scene, self%description, self%inv)
-        call h5_write_attr(file, "/", "complete", merge(1, 0, all(done)))
+        call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
         call h5_write_attr(file, "/", "runs_done", count(done))
         call h5_write_attr(file, "/", "runs_total", size(done))
         if (complete) call h5_write_attr(file, "/", "wall_time_s", elapsed)
