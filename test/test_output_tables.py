@@ -243,3 +243,39 @@ def test_a_stale_generated_file_is_detected(tmp_path, monkeypatch):
     assert g.main(["--check"]) == 1
     assert g.main([]) == 0 and g.main(["--check"]) == 0
     assert "'fold_amplitude'" in layout.read_text(encoding="utf-8")
+
+
+def test_every_row_is_a_constant_of_the_rows_module():
+    """Each dataset and group of each table has its named constant, its metadata in `output_row_meta`."""
+    g = generator()
+    text = g.ROWS.read_text(encoding="utf-8")
+    rows = g.table_rows(g.load())
+    for i, (const, t, kind, r) in enumerate(rows, start=1):
+        assert f":: {const} = output_row({i})\n" in text, const
+        assert f"case ({i})   ! {const}\n" in text, const
+    assert len({const for const, *_ in rows}) == len(rows)
+
+
+def test_a_row_that_makes_no_fortran_name_is_refused(tmp_path):
+    g = generator()
+    folder = tmp_path / "outputs"
+    shutil.copytree(ROOT / "src" / "io" / "outputs", folder)
+    table = folder / "map.toml"
+    source = table.read_text(encoding="utf-8")
+    assert 'path = "omega"\n' in source
+    table.write_text(source.replace('path = "omega"\n', 'path = "Omega-axis"\n', 1), encoding="utf-8")
+    with pytest.raises(g.TableError, match="is not a Fortran name"):
+        g.outputs(g.load(folder))
+
+
+def test_two_rows_of_one_constant_are_refused(tmp_path):
+    g = generator()
+    folder = tmp_path / "outputs"
+    shutil.copytree(ROOT / "src" / "io" / "outputs", folder)
+    table = folder / "hysteresis.toml"
+    table.write_text(table.read_text(encoding="utf-8") + '\n[[group]]\npath = "stair_time_x"\ndescription = ""\n'
+                     '\n[[dataset]]\npath = "stair_time_x/y"\ndims = ""\nunits = "1"\ntype = "real"\n'
+                     'description = "one"\n\n[[dataset]]\npath = "stair_time_x_y"\ndims = ""\nunits = "1"\n'
+                     'type = "real"\ndescription = "two"\n', encoding="utf-8")
+    with pytest.raises(g.TableError, match="is also that of"):
+        g.outputs(g.load(folder))
