@@ -245,6 +245,23 @@ def test_a_stale_generated_file_is_detected(tmp_path, monkeypatch):
     assert "'fold_amplitude'" in layout.read_text(encoding="utf-8")
 
 
+#: The writers that take every dataset's and group's metadata from their table's rows (supratrans_output_rows):
+#: they name no unit, description or dimensions, so call neither `h5_write` nor `h5_create_group`, and write
+#: attributes with `h5_write_attr` only on the root and /parameters (which no table describes).
+ROW_WRITERS = ("supratrans_scene_timeseries.f90", "supratrans_scene_bifurcation_output.f90",
+               "supratrans_scene_stability.f90", "supratrans_scene_workprec.f90")
+
+
+@pytest.mark.parametrize("name", ROW_WRITERS)
+def test_a_writer_takes_its_metadata_from_its_table(name):
+    source = (ROOT / "src" / "scenes" / name).read_text(encoding="utf-8")
+    code = "\n".join(line.split("!")[0] for line in source.splitlines())
+    assert not re.search(r"\bcall\s+h5_write\s*\(", code), f"{name}: h5_write: write the dataset with write_row"
+    assert not re.search(r"\bcall\s+h5_create_group\s*\(", code), f"{name}: h5_create_group: use write_row_group"
+    for obj in re.findall(r"\bcall\s+h5_write_attr\s*\(\s*file\s*,\s*([^,]+),", code):
+        assert obj.strip() in ('"/"', "g") or "parameters" in obj, f"{name}: h5_write_attr on {obj}: write_row_attr"
+
+
 def test_every_row_is_a_constant_of_the_rows_module():
     """Each dataset and group of each table has its named constant, its metadata in `output_row_meta`."""
     g = generator()
