@@ -249,7 +249,7 @@ def test_a_stale_generated_file_is_detected(tmp_path, monkeypatch):
 #: they name no unit, description or dimensions, so call neither `h5_write` nor `h5_create_group`, and write
 #: attributes with `h5_write_attr` only on the root and /parameters (which no table describes).
 ROW_WRITERS = ("supratrans_scene_timeseries.f90", "supratrans_scene_bifurcation_output.f90",
-               "supratrans_scene_stability.f90", "supratrans_scene_workprec.f90")
+               "supratrans_scene_stability.f90", "supratrans_scene_workprec.f90", "supratrans_scene_hysteresis.f90")
 
 
 @pytest.mark.parametrize("name", ROW_WRITERS)
@@ -271,6 +271,35 @@ def test_every_row_is_a_constant_of_the_rows_module():
         assert f":: {const} = output_row({i})\n" in text, const
         assert f"case ({i})   ! {const}\n" in text, const
     assert len({const for const, *_ in rows}) == len(rows)
+
+
+def test_the_hysteresis_journal_keeps_its_names():
+    """The hysteresis record's scalar fields (its table's `field`) in the order of main's journal: a journal written
+    before they came from the table still resumes; power_0 .. follow them."""
+    t = tables()[("hysteresis", "")]
+    assert [f["name"] for f in t["field"]] == ["status", "upward", "downward", "window", "downward_gaps",
+                                               "detector_site", "steps", "wall_time"]
+    text = (ROOT / "src" / "scenes" / "supratrans_hysteresis_scalars.f90").read_text(encoding="utf-8")
+    assert '"status", "upward", "downward", &\n        "window", "downward_gaps", "detector_site", "steps", "wall_time"]' in text
+
+
+@pytest.mark.parametrize("table,old,new,words", [
+    ("hysteresis.toml", 'journal_only = true, description = "Detector site n_d of the run (/detector_site holds it '
+     'per curve and Omega)"', 'journal_only = true', "needs a description"),
+    ("hysteresis.toml", 'path = "upward_spread"\n', 'path = "upward_spread"\nfield = "detector_site"\n',
+     "is journal_only but dataset 'upward_spread' holds it"),
+    ("hysteresis.toml", "record_writer = false\n", "", "a record with a writer (record_writer)"),
+    ("hysteresis.toml", 'path = "stair_time"\n', 'path = "stair/time"\n', "group 'stair' is not a [[group]]"),
+])
+def test_a_mistake_in_a_record_or_a_row_is_refused(tmp_path, table, old, new, words):
+    g = generator()
+    folder = tmp_path / "outputs"
+    shutil.copytree(ROOT / "src" / "io" / "outputs", folder)
+    source = (folder / table).read_text(encoding="utf-8")
+    assert old in source
+    (folder / table).write_text(source.replace(old, new, 1), encoding="utf-8")
+    with pytest.raises(g.TableError, match=re.escape(words)):
+        g.outputs(g.load(folder))
 
 
 def test_a_row_that_makes_no_fortran_name_is_refused(tmp_path):

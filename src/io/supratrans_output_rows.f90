@@ -1961,20 +1961,20 @@ contains
             m = row_meta("upward_threshold", "curve, omega, stair_length", "rad", "real", &
                 "Upward edge: level of the first stair on the way up that transmits (where the transmitting state is " // &
                 "born); NaN when none (see /status)", &
-                "", "", .false.)
+                "", "upward", .false.)
         case (298)   ! hysteresis_downward_threshold
             m = row_meta("downward_threshold", "curve, omega, stair_length", "rad", "real", &
                 "Downward edge: level of the last stair on the way down that still transmits (where the transmitting state " // &
                 "dies); NaN when none (see /status)", &
-                "", "", .false.)
+                "", "downward", .false.)
         case (299)   ! hysteresis_window
             m = row_meta("window", "curve, omega, stair_length", "rad", "real", &
                 "Bistable window: upward - downward edge", &
-                "", "", .false.)
+                "", "window", .false.)
         case (300)   ! hysteresis_status
             m = row_meta("status", "curve, omega, stair_length", "1", "integer", &
                 "Outcome of the run (codes in attribute 'codes')", &
-                "codes", "", .false.)
+                "codes", "status", .false.)
         case (301)   ! hysteresis_upward_spread
             m = row_meta("upward_spread", "curve, omega", "rad", "real", &
                 "Spread of the upward edge over the stair lengths (max - min of those found; NaN when none)", &
@@ -1995,15 +1995,15 @@ contains
         case (305)   ! hysteresis_downward_gaps
             m = row_meta("downward_gaps", "curve, omega, stair_length", "1", "integer", &
                 "Quiet stairs between the top and the downward edge (the intermittency of the transmitting regime)", &
-                "", "", .false.)
+                "", "downward_gaps", .false.)
         case (306)   ! hysteresis_cost_steps
             m = row_meta("cost/steps", "curve, omega, stair_length", "1", "real", &
                 "Time steps of the run", &
-                "", "", .false.)
+                "", "steps", .false.)
         case (307)   ! hysteresis_cost_wall_time
             m = row_meta("cost/wall_time", "curve, omega, stair_length", "s", "real", &
                 "Wall-clock time of the run (one thread)", &
-                "", "", .false.)
+                "", "wall_time", .false.)
         case (308)   ! hysteresis_curves_band_gap_edge
             m = row_meta("curves/band_gap_edge", "curve", "1/time", "real", &
                 "Upper edge sqrt(V''(0) + m^2) of the band gap of each curve", &
