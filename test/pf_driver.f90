@@ -114,157 +114,158 @@ program pf_driver
     use test_output_rows, only: t105 => test_a_group_is_not_a_dataset
     use test_output_rows, only: t106 => test_an_attribute_the_row_does_not_list_is_the_files_error
     use test_output_rows, only: t107 => test_the_hysteresis_record_as_values_and_back
-    use test_perf_kernels, only: t108 => test_sin_cos_array_accuracy
-    use test_perf_kernels, only: t109 => test_sin_cos_quiet_tail
-    use test_perf_kernels, only: t110 => test_gradient_paths_agree
-    use test_period_map, only: t111 => test_tangent_against_finite_differences
-    use test_period_map, only: t112 => test_tangent_light_cone
-    use test_period_map, only: t113 => test_same_scheme_as_steppers
-    use test_period_map, only: t114 => test_linear_evanescent_wave
-    use test_period_map, only: t115 => test_newton_shooting_quadratic
-    use test_period_map, only: t116 => test_steps_and_bad_input
-    use test_period_map, only: t117 => test_half_period_map
-    use test_potential, only: t118 => test_gradient_equals_difference_quotient
-    use test_potential, only: t119 => test_derivatives_consistent
-    use test_potential, only: t120 => test_gradient_tends_to_force
-    use test_potential, only: t121 => test_gradient_exact_at_rest
-    use test_potential, only: t122 => test_slope_matches_finite_difference
-    use test_potential, only: t123 => test_newton_bounds_hold
-    use test_potential, only: t124 => test_array_kernels_agree
-    use test_potential, only: t125 => test_names_round_trip
-    use test_potential, only: t126 => test_unknown_potential_is_an_error
+    use test_output_rows, only: t108 => test_the_run_record_takes_its_empty_value_from_nan
+    use test_perf_kernels, only: t109 => test_sin_cos_array_accuracy
+    use test_perf_kernels, only: t110 => test_sin_cos_quiet_tail
+    use test_perf_kernels, only: t111 => test_gradient_paths_agree
+    use test_period_map, only: t112 => test_tangent_against_finite_differences
+    use test_period_map, only: t113 => test_tangent_light_cone
+    use test_period_map, only: t114 => test_same_scheme_as_steppers
+    use test_period_map, only: t115 => test_linear_evanescent_wave
+    use test_period_map, only: t116 => test_newton_shooting_quadratic
+    use test_period_map, only: t117 => test_steps_and_bad_input
+    use test_period_map, only: t118 => test_half_period_map
+    use test_potential, only: t119 => test_gradient_equals_difference_quotient
+    use test_potential, only: t120 => test_derivatives_consistent
+    use test_potential, only: t121 => test_gradient_tends_to_force
+    use test_potential, only: t122 => test_gradient_exact_at_rest
+    use test_potential, only: t123 => test_slope_matches_finite_difference
+    use test_potential, only: t124 => test_newton_bounds_hold
+    use test_potential, only: t125 => test_array_kernels_agree
+    use test_potential, only: t126 => test_names_round_trip
+    use test_potential, only: t127 => test_unknown_potential_is_an_error
     use test_provenance, only: b16 => set_up
     use test_provenance, only: a16 => tear_down
-    use test_provenance, only: t127 => test_build_commit_is_an_id_or_unknown
-    use test_provenance, only: t128 => test_commit_is_not_read_from_the_working_directory
-    use test_provenance, only: t129 => test_provenance_written
-    use test_provenance, only: t130 => test_provenance_attributes_are_the_documented_ones
-    use test_rk4, only: t131 => test_rk4_fourth_order
-    use test_rk4, only: t132 => test_rk4_energy_drift
-    use test_rk4, only: t133 => test_rk4_stability_limit
-    use test_rk4, only: t134 => test_rk4_agrees_with_energy_conserving_scheme
+    use test_provenance, only: t128 => test_build_commit_is_an_id_or_unknown
+    use test_provenance, only: t129 => test_commit_is_not_read_from_the_working_directory
+    use test_provenance, only: t130 => test_provenance_written
+    use test_provenance, only: t131 => test_provenance_attributes_are_the_documented_ones
+    use test_rk4, only: t132 => test_rk4_fourth_order
+    use test_rk4, only: t133 => test_rk4_energy_drift
+    use test_rk4, only: t134 => test_rk4_stability_limit
+    use test_rk4, only: t135 => test_rk4_agrees_with_energy_conserving_scheme
     use test_scene_bifurcation, only: b18 => set_up
     use test_scene_bifurcation, only: a18 => tear_down
-    use test_scene_bifurcation, only: t135 => test_early_stop_keeps_verdict
-    use test_scene_bifurcation, only: t136 => test_threads_give_identical_thresholds
-    use test_scene_bifurcation, only: t137 => test_threshold_transmits_and_one_step_below_does_not
-    use test_scene_bifurcation, only: t138 => test_resume_after_kill
-    use test_scene_bifurcation, only: t139 => test_file_layout
-    use test_scene_bifurcation, only: t140 => test_failed_runs_give_status_run_failed
-    use test_scene_bifurcation, only: t141 => test_screening_changes_no_threshold
-    use test_scene_factory, only: t142 => test_every_kind_of_the_schema_has_a_scene
-    use test_scene_factory, only: t143 => test_unknown_kind_is_one_line_naming_the_known
-    use test_scene_factory, only: t144 => test_the_input_check_words_an_unknown_kind_as_before
-    use test_scene_factory, only: t145 => test_only_a_timeseries_is_one_run
-    use test_scene_factory, only: t146 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
-    use test_scene_factory, only: t147 => test_task_scenes_refuse_an_existing_output_first
+    use test_scene_bifurcation, only: t136 => test_early_stop_keeps_verdict
+    use test_scene_bifurcation, only: t137 => test_threads_give_identical_thresholds
+    use test_scene_bifurcation, only: t138 => test_threshold_transmits_and_one_step_below_does_not
+    use test_scene_bifurcation, only: t139 => test_resume_after_kill
+    use test_scene_bifurcation, only: t140 => test_file_layout
+    use test_scene_bifurcation, only: t141 => test_failed_runs_give_status_run_failed
+    use test_scene_bifurcation, only: t142 => test_screening_changes_no_threshold
+    use test_scene_factory, only: t143 => test_every_kind_of_the_schema_has_a_scene
+    use test_scene_factory, only: t144 => test_unknown_kind_is_one_line_naming_the_known
+    use test_scene_factory, only: t145 => test_the_input_check_words_an_unknown_kind_as_before
+    use test_scene_factory, only: t146 => test_only_a_timeseries_is_one_run
+    use test_scene_factory, only: t147 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
+    use test_scene_factory, only: t148 => test_task_scenes_refuse_an_existing_output_first
     use test_scene_map, only: b20 => set_up
     use test_scene_map, only: a20 => tear_down
-    use test_scene_map, only: t148 => test_skips_outside_gap_and_stores_as
-    use test_scene_map, only: t149 => test_map_independent_of_thread_count
+    use test_scene_map, only: t149 => test_skips_outside_gap_and_stores_as
+    use test_scene_map, only: t150 => test_map_independent_of_thread_count
     use test_scene_sweep, only: b21 => set_up
     use test_scene_sweep, only: a21 => tear_down
-    use test_scene_sweep, only: t150 => test_axis_grid_exact
-    use test_scene_sweep, only: t151 => test_independent_of_thread_count
-    use test_scene_sweep, only: t152 => test_layout_and_physics
-    use test_scene_sweep, only: t153 => test_resume_after_kill
-    use test_scene_sweep, only: t154 => test_diverging_runs_flagged
-    use test_scene_sweep, only: t155 => test_partial_snapshot
-    use test_scene_sweep, only: t156 => test_refuses_existing_output
-    use test_schema, only: t157 => test_table_is_complete
-    use test_schema, only: t158 => test_each_key_sets_its_own_field
-    use test_schema, only: t159 => test_defaults_are_the_papers
-    use test_schema, only: t160 => test_choices_agree_with_the_physics
-    use test_schema, only: t161 => test_parameters_hold_every_key
-    use test_scheme, only: t162 => test_ledger_closes_every_step
-    use test_scheme, only: t163 => test_ledger_closes_double_sine_gordon
-    use test_scheme, only: t164 => test_evanescent_wave_double_sine_gordon
-    use test_scheme, only: t165 => test_linearized_ledger_does_not_close
-    use test_scheme, only: t166 => test_evanescent_wave
-    use test_scheme, only: t167 => test_second_order_in_dt
-    use test_scheme, only: t168 => test_stability_boundary
-    use test_scheme, only: t169 => test_newton_failure_reported
-    use test_scheme, only: t170 => test_two_runs_in_two_threads
-    use test_scheme, only: t171 => test_verdict_across_the_gap
-    use test_screened_search, only: t172 => test_cheap_right_saves_exact_runs
-    use test_screened_search, only: t173 => test_cheap_too_high_within_band
-    use test_screened_search, only: t174 => test_cheap_too_high_walks_down
-    use test_screened_search, only: t175 => test_cheap_window_far_below
-    use test_screened_search, only: t176 => test_doubtful_quiet_answers_go_to_the_exact_oracle
-    use test_screened_search, only: t177 => test_random_patterns_with_margins
-    use test_screened_search, only: t178 => test_random_patterns_false_alarms
-    use test_screened_search, only: t179 => test_cheap_finds_none
-    use test_screened_search, only: t180 => test_none_transmits_confirms_the_top
-    use test_screened_search, only: t181 => test_exact_failure_is_reported
-    use test_screened_search, only: t182 => test_cheap_failure_falls_back_to_exact
-    use test_screened_search, only: t183 => test_margin_below_the_threshold
-    use test_slice_costs, only: t184 => test_equal_costs_deal_round_robin
-    use test_slice_costs, only: t185 => test_every_task_in_one_slice_and_deterministic
-    use test_slice_costs, only: t186 => test_largest_first_is_balanced_within_the_largest_task
-    use test_slice_costs, only: t187 => test_run_order_is_largest_first
-    use test_slice_costs, only: t188 => test_fold_tasks_cost_more_at_low_omega
-    use test_slice_costs, only: t189 => test_slice_text_counts_the_slice
+    use test_scene_sweep, only: t151 => test_axis_grid_exact
+    use test_scene_sweep, only: t152 => test_independent_of_thread_count
+    use test_scene_sweep, only: t153 => test_layout_and_physics
+    use test_scene_sweep, only: t154 => test_resume_after_kill
+    use test_scene_sweep, only: t155 => test_diverging_runs_flagged
+    use test_scene_sweep, only: t156 => test_partial_snapshot
+    use test_scene_sweep, only: t157 => test_refuses_existing_output
+    use test_schema, only: t158 => test_table_is_complete
+    use test_schema, only: t159 => test_each_key_sets_its_own_field
+    use test_schema, only: t160 => test_defaults_are_the_papers
+    use test_schema, only: t161 => test_choices_agree_with_the_physics
+    use test_schema, only: t162 => test_parameters_hold_every_key
+    use test_scheme, only: t163 => test_ledger_closes_every_step
+    use test_scheme, only: t164 => test_ledger_closes_double_sine_gordon
+    use test_scheme, only: t165 => test_evanescent_wave_double_sine_gordon
+    use test_scheme, only: t166 => test_linearized_ledger_does_not_close
+    use test_scheme, only: t167 => test_evanescent_wave
+    use test_scheme, only: t168 => test_second_order_in_dt
+    use test_scheme, only: t169 => test_stability_boundary
+    use test_scheme, only: t170 => test_newton_failure_reported
+    use test_scheme, only: t171 => test_two_runs_in_two_threads
+    use test_scheme, only: t172 => test_verdict_across_the_gap
+    use test_screened_search, only: t173 => test_cheap_right_saves_exact_runs
+    use test_screened_search, only: t174 => test_cheap_too_high_within_band
+    use test_screened_search, only: t175 => test_cheap_too_high_walks_down
+    use test_screened_search, only: t176 => test_cheap_window_far_below
+    use test_screened_search, only: t177 => test_doubtful_quiet_answers_go_to_the_exact_oracle
+    use test_screened_search, only: t178 => test_random_patterns_with_margins
+    use test_screened_search, only: t179 => test_random_patterns_false_alarms
+    use test_screened_search, only: t180 => test_cheap_finds_none
+    use test_screened_search, only: t181 => test_none_transmits_confirms_the_top
+    use test_screened_search, only: t182 => test_exact_failure_is_reported
+    use test_screened_search, only: t183 => test_cheap_failure_falls_back_to_exact
+    use test_screened_search, only: t184 => test_margin_below_the_threshold
+    use test_slice_costs, only: t185 => test_equal_costs_deal_round_robin
+    use test_slice_costs, only: t186 => test_every_task_in_one_slice_and_deterministic
+    use test_slice_costs, only: t187 => test_largest_first_is_balanced_within_the_largest_task
+    use test_slice_costs, only: t188 => test_run_order_is_largest_first
+    use test_slice_costs, only: t189 => test_fold_tasks_cost_more_at_low_omega
+    use test_slice_costs, only: t190 => test_slice_text_counts_the_slice
     use test_stability, only: b26 => set_up
     use test_stability, only: a26 => tear_down
-    use test_stability, only: t190 => test_linear_limits
-    use test_stability, only: t191 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t192 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t193 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t194 => test_stepper_contract_order
-    use test_stepper_contract, only: t195 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t196 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t197 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t198 => test_engine_counts_steps_in_64_bits
-    use test_stepper_contract, only: t199 => test_stepper_contract_checkpoint
-    use test_stepper_linearized, only: t200 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t201 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t202 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t203 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t204 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t205 => test_blocked_iteration_is_the_unblocked_one
-    use test_stepper_newton, only: t206 => test_levels_predictor_is_the_two_loop_one
-    use test_stepper_newton, only: t207 => test_uniform_loops_are_the_general_ones
-    use test_stepper_newton, only: t208 => test_newton_error_below_tol
-    use test_stepper_newton, only: t209 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t210 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t211 => test_newton_stepper_reports_failure
-    use test_stepper_newton, only: t212 => test_blowup_measure_is_the_level_maximum
-    use test_stepper_newton, only: t213 => test_step_powers_without_bulk_damping
-    use test_strings, only: t214 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t215 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t216 => test_find_name_gives_the_first_index_or_zero
-    use test_strings, only: t217 => test_joined_trims_each_name_and_prefixes_it
-    use test_strings, only: t218 => test_lower_changes_only_ascii_capitals
+    use test_stability, only: t191 => test_linear_limits
+    use test_stability, only: t192 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t193 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t194 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t195 => test_stepper_contract_order
+    use test_stepper_contract, only: t196 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t197 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t198 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t199 => test_engine_counts_steps_in_64_bits
+    use test_stepper_contract, only: t200 => test_stepper_contract_checkpoint
+    use test_stepper_linearized, only: t201 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t202 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t203 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t204 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t205 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t206 => test_blocked_iteration_is_the_unblocked_one
+    use test_stepper_newton, only: t207 => test_levels_predictor_is_the_two_loop_one
+    use test_stepper_newton, only: t208 => test_uniform_loops_are_the_general_ones
+    use test_stepper_newton, only: t209 => test_newton_error_below_tol
+    use test_stepper_newton, only: t210 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t211 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t212 => test_newton_stepper_reports_failure
+    use test_stepper_newton, only: t213 => test_blowup_measure_is_the_level_maximum
+    use test_stepper_newton, only: t214 => test_step_powers_without_bulk_damping
+    use test_strings, only: t215 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t216 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t217 => test_find_name_gives_the_first_index_or_zero
+    use test_strings, only: t218 => test_joined_trims_each_name_and_prefixes_it
+    use test_strings, only: t219 => test_lower_changes_only_ascii_capitals
     use test_system, only: b31 => set_up
     use test_system, only: a31 => tear_down
-    use test_system, only: t219 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t220 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t221 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t222 => test_lock_file_is_removed_by_its_holder_only
-    use test_system, only: t223 => test_temporary_names_are_fresh
-    use test_system, only: t224 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t225 => test_monotone_step
-    use test_threshold, only: t226 => test_bisected_bracket
-    use test_threshold, only: t227 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t228 => test_two_transitions
-    use test_threshold, only: t229 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t230 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t231 => test_nothing_transmits
-    use test_threshold, only: t232 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t233 => test_lower_bound_transmits
-    use test_threshold, only: t234 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t235 => test_bad_arguments
-    use test_threshold, only: t236 => test_grid_helpers
+    use test_system, only: t220 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t221 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t222 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t223 => test_lock_file_is_removed_by_its_holder_only
+    use test_system, only: t224 => test_temporary_names_are_fresh
+    use test_system, only: t225 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t226 => test_monotone_step
+    use test_threshold, only: t227 => test_bisected_bracket
+    use test_threshold, only: t228 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t229 => test_two_transitions
+    use test_threshold, only: t230 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t231 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t232 => test_nothing_transmits
+    use test_threshold, only: t233 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t234 => test_lower_bound_transmits
+    use test_threshold, only: t235 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t236 => test_bad_arguments
+    use test_threshold, only: t237 => test_grid_helpers
     use test_workprec, only: b33 => set_up
     use test_workprec, only: a33 => tear_down
-    use test_workprec, only: t237 => test_rk8_eighth_order
-    use test_workprec, only: t238 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t239 => test_rk8_stability_polynomial
-    use test_workprec, only: t240 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t241 => test_unstable_runs_are_reported
-    use test_workprec, only: t242 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t243 => test_fitted_order
-    use test_workprec, only: t244 => test_step_kernels_timed
+    use test_workprec, only: t238 => test_rk8_eighth_order
+    use test_workprec, only: t239 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t240 => test_rk8_stability_polynomial
+    use test_workprec, only: t241 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t242 => test_unstable_runs_are_reported
+    use test_workprec, only: t243 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t244 => test_fitted_order
+    use test_workprec, only: t245 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -380,172 +381,178 @@ program pf_driver
         before=b12, &
         after=a12)
     call pf_run_test('test_output_rows', 'test_the_hysteresis_record_as_values_and_back', t107, before=b12, after=a12)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t108)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t109)
-    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t110)
-    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t111)
-    call pf_run_test('test_period_map', 'test_tangent_light_cone', t112)
-    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t113)
-    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t114)
-    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t115)
-    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t116)
-    call pf_run_test('test_period_map', 'test_half_period_map', t117)
-    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t118)
-    call pf_run_test('test_potential', 'test_derivatives_consistent', t119)
-    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t120)
-    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t121)
-    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t122)
-    call pf_run_test('test_potential', 'test_newton_bounds_hold', t123)
-    call pf_run_test('test_potential', 'test_array_kernels_agree', t124)
-    call pf_run_test('test_potential', 'test_names_round_trip', t125)
-    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t126)
-    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t127, before=b16, after=a16)
+    call pf_run_test( &
+        'test_output_rows', &
+        'test_the_run_record_takes_its_empty_value_from_nan', &
+        t108, &
+        before=b12, &
+        after=a12)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t109)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t110)
+    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t111)
+    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t112)
+    call pf_run_test('test_period_map', 'test_tangent_light_cone', t113)
+    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t114)
+    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t115)
+    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t116)
+    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t117)
+    call pf_run_test('test_period_map', 'test_half_period_map', t118)
+    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t119)
+    call pf_run_test('test_potential', 'test_derivatives_consistent', t120)
+    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t121)
+    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t122)
+    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t123)
+    call pf_run_test('test_potential', 'test_newton_bounds_hold', t124)
+    call pf_run_test('test_potential', 'test_array_kernels_agree', t125)
+    call pf_run_test('test_potential', 'test_names_round_trip', t126)
+    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t127)
+    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t128, before=b16, after=a16)
     call pf_run_test( &
         'test_provenance', &
         'test_commit_is_not_read_from_the_working_directory', &
-        t128, &
+        t129, &
         before=b16, &
         after=a16)
-    call pf_run_test('test_provenance', 'test_provenance_written', t129, before=b16, after=a16)
+    call pf_run_test('test_provenance', 'test_provenance_written', t130, before=b16, after=a16)
     call pf_run_test( &
         'test_provenance', &
         'test_provenance_attributes_are_the_documented_ones', &
-        t130, &
+        t131, &
         before=b16, &
         after=a16)
-    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t131)
-    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t132)
-    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t133)
-    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t134)
-    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t135, before=b18, after=a18)
-    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t136, before=b18, after=a18)
+    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t132)
+    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t133)
+    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t134)
+    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t135)
+    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t136, before=b18, after=a18)
+    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t137, before=b18, after=a18)
     call pf_run_test( &
         'test_scene_bifurcation', &
         'test_threshold_transmits_and_one_step_below_does_not', &
-        t137, &
+        t138, &
         before=b18, &
         after=a18)
-    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t138, before=b18, after=a18)
-    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t139, before=b18, after=a18)
-    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t140, before=b18, after=a18)
-    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t141, before=b18, after=a18)
-    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t142)
-    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t143)
-    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t144)
-    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t145)
-    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t146)
-    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t147)
-    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t148, before=b20, after=a20)
-    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t149, before=b20, after=a20)
-    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t150, before=b21, after=a21)
-    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t151, before=b21, after=a21)
-    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t152, before=b21, after=a21)
-    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t153, before=b21, after=a21)
-    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t154, before=b21, after=a21)
-    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t155, before=b21, after=a21)
-    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t156, before=b21, after=a21)
-    call pf_run_test('test_schema', 'test_table_is_complete', t157)
-    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t158)
-    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t159)
-    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t160)
-    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t161)
-    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t162)
-    call pf_run_test('test_scheme', 'test_ledger_closes_double_sine_gordon', t163)
-    call pf_run_test('test_scheme', 'test_evanescent_wave_double_sine_gordon', t164)
-    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t165)
-    call pf_run_test('test_scheme', 'test_evanescent_wave', t166)
-    call pf_run_test('test_scheme', 'test_second_order_in_dt', t167)
-    call pf_run_test('test_scheme', 'test_stability_boundary', t168)
-    call pf_run_test('test_scheme', 'test_newton_failure_reported', t169)
-    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t170)
-    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t171)
-    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t172)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t173)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t174)
-    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t175)
-    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t176)
-    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t177)
-    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t178)
-    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t179)
-    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t180)
-    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t181)
-    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t182)
-    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t183)
-    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t184)
-    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t185)
-    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t186)
-    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t187)
-    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t188)
-    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t189)
-    call pf_run_test('test_stability', 'test_linear_limits', t190, before=b26, after=a26)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t191, before=b26, after=a26)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t192, before=b26, after=a26)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t193)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t194)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t195)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t196)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t197)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t198)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t199)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t200)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t201)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t202)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t203)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t204)
-    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t205)
-    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t206)
-    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t207)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t208)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t209)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t210)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t211)
-    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t212)
-    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t213)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t214)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t215)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t216)
-    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t217)
-    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t218)
+    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t139, before=b18, after=a18)
+    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t140, before=b18, after=a18)
+    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t141, before=b18, after=a18)
+    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t142, before=b18, after=a18)
+    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t143)
+    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t144)
+    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t145)
+    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t146)
+    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t147)
+    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t148)
+    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t149, before=b20, after=a20)
+    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t150, before=b20, after=a20)
+    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t151, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t152, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t153, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t154, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t155, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t156, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t157, before=b21, after=a21)
+    call pf_run_test('test_schema', 'test_table_is_complete', t158)
+    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t159)
+    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t160)
+    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t161)
+    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t162)
+    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t163)
+    call pf_run_test('test_scheme', 'test_ledger_closes_double_sine_gordon', t164)
+    call pf_run_test('test_scheme', 'test_evanescent_wave_double_sine_gordon', t165)
+    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t166)
+    call pf_run_test('test_scheme', 'test_evanescent_wave', t167)
+    call pf_run_test('test_scheme', 'test_second_order_in_dt', t168)
+    call pf_run_test('test_scheme', 'test_stability_boundary', t169)
+    call pf_run_test('test_scheme', 'test_newton_failure_reported', t170)
+    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t171)
+    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t172)
+    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t173)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t174)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t175)
+    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t176)
+    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t177)
+    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t178)
+    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t179)
+    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t180)
+    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t181)
+    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t182)
+    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t183)
+    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t184)
+    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t185)
+    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t186)
+    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t187)
+    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t188)
+    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t189)
+    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t190)
+    call pf_run_test('test_stability', 'test_linear_limits', t191, before=b26, after=a26)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t192, before=b26, after=a26)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t193, before=b26, after=a26)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t194)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t195)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t196)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t197)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t198)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t199)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t200)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t201)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t202)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t203)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t204)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t205)
+    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t206)
+    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t207)
+    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t208)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t209)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t210)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t211)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t212)
+    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t213)
+    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t214)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t215)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t216)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t217)
+    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t218)
+    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t219)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t219, &
+        t220, &
         before=b31, &
         after=a31)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t220, before=b31, after=a31)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t221, before=b31, after=a31)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t221, &
+        t222, &
         before=b31, &
         after=a31)
-    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t222, before=b31, after=a31)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t223, before=b31, after=a31)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t224, before=b31, after=a31)
-    call pf_run_test('test_threshold', 'test_monotone_step', t225)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t226)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t227)
-    call pf_run_test('test_threshold', 'test_two_transitions', t228)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t229)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t230)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t231)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t232)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t233)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t234)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t235)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t236)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t237, before=b33, after=a33)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t238, before=b33, after=a33)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t239, before=b33, after=a33)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t240, before=b33, after=a33)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t241, before=b33, after=a33)
+    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t223, before=b31, after=a31)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t224, before=b31, after=a31)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t225, before=b31, after=a31)
+    call pf_run_test('test_threshold', 'test_monotone_step', t226)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t227)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t228)
+    call pf_run_test('test_threshold', 'test_two_transitions', t229)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t230)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t231)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t232)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t233)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t234)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t235)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t236)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t237)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t238, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t239, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t240, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t241, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t242, before=b33, after=a33)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t242, &
+        t243, &
         before=b33, &
         after=a33)
-    call pf_run_test('test_workprec', 'test_fitted_order', t243, before=b33, after=a33)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t244, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_fitted_order', t244, before=b33, after=a33)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t245, before=b33, after=a33)
     call pf_driver_finish()
 end program pf_driver

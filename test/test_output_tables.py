@@ -325,3 +325,19 @@ def test_two_rows_of_one_constant_are_refused(tmp_path):
                      'type = "real"\ndescription = "two"\n', encoding="utf-8")
     with pytest.raises(g.TableError, match="is also that of"):
         g.outputs(g.load(folder))
+
+
+def test_the_sweep_and_the_map_share_the_run_record():
+    """The map's table holds the fields of the sweep's run record, each over (curve, omega, amplitude), in the order
+    of main's journal (run_value_names of supratrans_run_record): one record, two layouts."""
+    t = tables()
+    sweep, grid = t[("amplitude_sweep", "")], t[("map", "")]
+    assert grid.get("shares") == "amplitude_sweep.toml" and not grid["field"]
+    assert [f["name"] for f in sweep["field"]] == [
+        "injected", "stored", "dissipated_gamma", "dissipated_beta", "dissipated_absorber", "residual", "status",
+        "transmitting", "t_decided", "steps", "newton_iterations", "wall_time", "t_end", "max_abs_u",
+        "injected_after_ramp", "u_beyond_max", "detect_site", "tridiagonal_solves", "rhs_evaluations",
+        "verdict_margin", "thin_verdict"]
+    held = {d["field"]: d["dims"] for d in grid["dataset"] if "field" in d}
+    assert set(held) == {f["name"] for f in sweep["field"]}
+    assert set(held.values()) == {"curve, omega, amplitude"}

@@ -769,16 +769,16 @@ contains
             m = row_meta("energy/injected", "curve, amplitude", "energy", "real", &
                 "Energy injected through the driven end over the run 0..T (the paper's total energy transmitted); NaN " // &
                 "unless status = 0", &
-                "", "", .false.)
+                "", "injected", .false.)
         case (18)   ! amplitude_sweep_runs_status
             m = row_meta("runs/status", "curve, amplitude", "1", "integer", &
                 "Run status: see the attribute status_codes of /runs (0 ok, > 0 failed, < 0 not run)", &
-                "", "", .false.)
+                "", "status", .false.)
         case (19)   ! amplitude_sweep_runs_transmitting
             m = row_meta("runs/transmitting", "curve, amplitude", "1", "integer", &
                 "Verdict: 1 if an oscillator beyond the detector site swung past the detect amplitude (supratransmission), " // &
                 "0 if not; -1 if not run", &
-                "", "", .false.)
+                "", "transmitting", .false.)
         case (20)   ! amplitude_sweep_curves_threshold_as
             m = row_meta("curves/threshold_As", "curve", "rad", "real", &
                 "Continuum-limit supratransmission threshold A_s = 4 arctan(lambda c / Omega) of each curve at the sweep's " // &
@@ -796,23 +796,23 @@ contains
             m = row_meta("energy/injected_after_ramp", "curve, amplitude", "energy", "real", &
                 "Energy injected after the drive's ramp, from ramp_time to T (the paper: 'before we start to compute the " // &
                 "total energy'); NaN unless status = 0", &
-                "", "", .false.)
+                "", "injected_after_ramp", .false.)
         case (24)   ! amplitude_sweep_energy_stored
             m = row_meta("energy/stored", "curve, amplitude", "energy", "real", &
                 "Discrete energy E stored in the chain at T (paper Sec. 3.2); NaN unless status = 0", &
-                "", "", .false.)
+                "", "stored", .false.)
         case (25)   ! amplitude_sweep_energy_dissipated_gamma
             m = row_meta("energy/dissipated_gamma", "curve, amplitude", "energy", "real", &
                 "Energy dissipated by the external damping gamma over the run; NaN unless status = 0", &
-                "", "", .false.)
+                "", "dissipated_gamma", .false.)
         case (26)   ! amplitude_sweep_energy_dissipated_beta
             m = row_meta("energy/dissipated_beta", "curve, amplitude", "energy", "real", &
                 "Energy dissipated by the internal damping beta over the run; NaN unless status = 0", &
-                "", "", .false.)
+                "", "dissipated_beta", .false.)
         case (27)   ! amplitude_sweep_energy_dissipated_absorber
             m = row_meta("energy/dissipated_absorber", "curve, amplitude", "energy", "real", &
                 "Energy dissipated by the absorbing end gamma'(n) over the run; NaN unless status = 0", &
-                "", "", .false.)
+                "", "dissipated_absorber", .false.)
         case (28)   ! amplitude_sweep_curves_beta
             m = row_meta("curves/beta", "curve", "1/time", "real", &
                 "Internal damping beta of each curve", &
@@ -825,11 +825,11 @@ contains
             m = row_meta("energy/residual", "curve, amplitude", "energy", "real", &
                 "Ledger balance residual E(T) - E(0) - (injected - dissipated): roundoff for the Newton scheme; NaN unless " // &
                 "status = 0", &
-                "", "", .false.)
+                "", "residual", .false.)
         case (31)   ! amplitude_sweep_runs_detect_site
             m = row_meta("runs/detect_site", "curve, amplitude", "1", "integer", &
                 "Detector site n_d of the verdict; -1 if not run", &
-                "", "", .false.)
+                "", "detect_site", .false.)
         case (32)   ! amplitude_sweep_runs_energy_jump
             m = row_meta("runs/energy_jump", "curve, amplitude", "1", "real", &
                 "Energy injected after the ramp over that of the previous amplitude (NaN for the first or a run not ok)", &
@@ -842,42 +842,42 @@ contains
         case (34)   ! amplitude_sweep_runs_max_abs_u
             m = row_meta("runs/max_abs_u", "curve, amplitude", "rad", "real", &
                 "Largest |u_n| over the run; NaN if not run", &
-                "", "", .false.)
+                "", "max_abs_u", .false.)
         case (35)   ! amplitude_sweep_runs_newton_iterations
             m = row_meta("runs/newton_iterations", "curve, amplitude", "1", "integer", &
                 "Newton iterations over the run (0 for methods without Newton); -1 if not run", &
-                "", "", .false.)
+                "", "newton_iterations", .false.)
         case (36)   ! amplitude_sweep_runs_rhs_evaluations
             m = row_meta("runs/rhs_evaluations", "curve, amplitude", "1", "integer", &
                 "Right-hand-side evaluations over the run (rk4, rk8: their stages); -1 if not run", &
-                "", "", .false.)
+                "", "rhs_evaluations", .false.)
         case (37)   ! amplitude_sweep_runs_steps
             m = row_meta("runs/steps", "curve, amplitude", "1", "integer", &
                 "Time steps taken; -1 if not run", &
-                "", "", .false.)
+                "", "steps", .false.)
         case (38)   ! amplitude_sweep_runs_t_decided
             m = row_meta("runs/t_decided", "curve, amplitude", "time", "real", &
                 "Time of the verdict: when the detector amplitude was passed if transmitting, else the end of the run; NaN " // &
                 "if not run", &
-                "", "", .false.)
+                "", "t_decided", .false.)
         case (39)   ! amplitude_sweep_runs_t_end
             m = row_meta("runs/t_end", "curve, amplitude", "time", "real", &
                 "Time at which the run ended: T, or when it failed; NaN if not run", &
-                "", "", .false.)
+                "", "t_end", .false.)
         case (40)   ! amplitude_sweep_runs_thin_verdict
             m = row_meta("runs/thin_verdict", "curve, amplitude", "1", "integer", &
                 "1 if the verdict's margin is below &detect thin_margin (it could flip under a small change: check it), 0 " // &
                 "if not; -1 if not run", &
-                "", "", .false.)
+                "", "thin_verdict", .false.)
         case (41)   ! amplitude_sweep_runs_tridiagonal_solves
             m = row_meta("runs/tridiagonal_solves", "curve, amplitude", "1", "integer", &
                 "Tridiagonal solves over the run (newton: one per iteration, linearized: one per step); -1 if not run", &
-                "", "", .false.)
+                "", "tridiagonal_solves", .false.)
         case (42)   ! amplitude_sweep_runs_u_beyond_max
             m = row_meta("runs/u_beyond_max", "curve, amplitude", "rad", "real", &
                 "Reason of the verdict: largest |u_n| beyond the detector site (transmitting once it exceeds " // &
                 "detect_amplitude); NaN if not run", &
-                "", "", .false.)
+                "", "u_beyond_max", .false.)
         case (43)   ! amplitude_sweep_runs_verdict_change
             m = row_meta("runs/verdict_change", "curve, amplitude", "1", "integer", &
                 "1 where the verdict differs from the previous amplitude's, 0 where not, -1 for the first or a run not ok", &
@@ -886,11 +886,11 @@ contains
             m = row_meta("runs/verdict_margin", "curve, amplitude", "1", "real", &
                 "Margin of the verdict: 1 - u_beyond_max/detect_amplitude below, u_beyond_max/detect_amplitude - 1 above; " // &
                 "NaN if not run or failed", &
-                "", "", .false.)
+                "", "verdict_margin", .false.)
         case (45)   ! amplitude_sweep_runs_wall_time
             m = row_meta("runs/wall_time", "curve, amplitude", "s", "real", &
                 "Wall-clock time of the run; NaN if not run", &
-                "", "", .false.)
+                "", "wall_time", .false.)
         case (46)   ! amplitude_sweep_curves
             m = row_meta("curves", "", "", "", &
                 "One entry per curve: a potential and a value of the varied parameter (attribute vary), the values fastest", &
@@ -928,16 +928,16 @@ contains
             m = row_meta("energy/injected", "curve, omega, amplitude", "energy", "real", &
                 "Energy injected through the driven end over the run 0..T (the paper's total energy transmitted); NaN " // &
                 "unless status = 0", &
-                "", "", .false.)
+                "", "injected", .false.)
         case (55)   ! map_runs_status
             m = row_meta("runs/status", "curve, omega, amplitude", "1", "integer", &
                 "Run status: see the attribute status_codes of /runs (0 ok, > 0 failed, < 0 not run)", &
-                "", "", .false.)
+                "", "status", .false.)
         case (56)   ! map_runs_transmitting
             m = row_meta("runs/transmitting", "curve, omega, amplitude", "1", "integer", &
                 "Verdict: 1 if an oscillator beyond the detector site swung past the detect amplitude (supratransmission), " // &
                 "0 if not; -1 if not run", &
-                "", "", .false.)
+                "", "transmitting", .false.)
         case (57)   ! map_curves_m2
             m = row_meta("curves/m2", "curve", "1/time^2", "real", &
                 "Mass term m^2 of each curve (negative: imaginary mass)", &
@@ -950,23 +950,23 @@ contains
             m = row_meta("energy/injected_after_ramp", "curve, omega, amplitude", "energy", "real", &
                 "Energy injected after the drive's ramp, from ramp_time to T (the paper: 'before we start to compute the " // &
                 "total energy'); NaN unless status = 0", &
-                "", "", .false.)
+                "", "injected_after_ramp", .false.)
         case (60)   ! map_energy_stored
             m = row_meta("energy/stored", "curve, omega, amplitude", "energy", "real", &
                 "Discrete energy E stored in the chain at T (paper Sec. 3.2); NaN unless status = 0", &
-                "", "", .false.)
+                "", "stored", .false.)
         case (61)   ! map_energy_dissipated_gamma
             m = row_meta("energy/dissipated_gamma", "curve, omega, amplitude", "energy", "real", &
                 "Energy dissipated by the external damping gamma over the run; NaN unless status = 0", &
-                "", "", .false.)
+                "", "dissipated_gamma", .false.)
         case (62)   ! map_energy_dissipated_beta
             m = row_meta("energy/dissipated_beta", "curve, omega, amplitude", "energy", "real", &
                 "Energy dissipated by the internal damping beta over the run; NaN unless status = 0", &
-                "", "", .false.)
+                "", "dissipated_beta", .false.)
         case (63)   ! map_energy_dissipated_absorber
             m = row_meta("energy/dissipated_absorber", "curve, omega, amplitude", "energy", "real", &
                 "Energy dissipated by the absorbing end gamma'(n) over the run; NaN unless status = 0", &
-                "", "", .false.)
+                "", "dissipated_absorber", .false.)
         case (64)   ! map_curves_beta
             m = row_meta("curves/beta", "curve", "1/time", "real", &
                 "Internal damping beta of each curve", &
@@ -979,11 +979,11 @@ contains
             m = row_meta("energy/residual", "curve, omega, amplitude", "energy", "real", &
                 "Ledger balance residual E(T) - E(0) - (injected - dissipated): roundoff for the Newton scheme; NaN unless " // &
                 "status = 0", &
-                "", "", .false.)
+                "", "residual", .false.)
         case (67)   ! map_runs_detect_site
             m = row_meta("runs/detect_site", "curve, omega, amplitude", "1", "integer", &
                 "Detector site n_d of the verdict; -1 if not run", &
-                "", "", .false.)
+                "", "detect_site", .false.)
         case (68)   ! map_runs_energy_jump
             m = row_meta("runs/energy_jump", "curve, omega, amplitude", "1", "real", &
                 "Energy injected after the ramp over that of the previous amplitude (NaN for the first or a run not ok)", &
@@ -996,42 +996,42 @@ contains
         case (70)   ! map_runs_max_abs_u
             m = row_meta("runs/max_abs_u", "curve, omega, amplitude", "rad", "real", &
                 "Largest |u_n| over the run; NaN if not run", &
-                "", "", .false.)
+                "", "max_abs_u", .false.)
         case (71)   ! map_runs_newton_iterations
             m = row_meta("runs/newton_iterations", "curve, omega, amplitude", "1", "integer", &
                 "Newton iterations over the run (0 for methods without Newton); -1 if not run", &
-                "", "", .false.)
+                "", "newton_iterations", .false.)
         case (72)   ! map_runs_rhs_evaluations
             m = row_meta("runs/rhs_evaluations", "curve, omega, amplitude", "1", "integer", &
                 "Right-hand-side evaluations over the run (rk4, rk8: their stages); -1 if not run", &
-                "", "", .false.)
+                "", "rhs_evaluations", .false.)
         case (73)   ! map_runs_steps
             m = row_meta("runs/steps", "curve, omega, amplitude", "1", "integer", &
                 "Time steps taken; -1 if not run", &
-                "", "", .false.)
+                "", "steps", .false.)
         case (74)   ! map_runs_t_decided
             m = row_meta("runs/t_decided", "curve, omega, amplitude", "time", "real", &
                 "Time of the verdict: when the detector amplitude was passed if transmitting, else the end of the run; NaN " // &
                 "if not run", &
-                "", "", .false.)
+                "", "t_decided", .false.)
         case (75)   ! map_runs_t_end
             m = row_meta("runs/t_end", "curve, omega, amplitude", "time", "real", &
                 "Time at which the run ended: T, or when it failed; NaN if not run", &
-                "", "", .false.)
+                "", "t_end", .false.)
         case (76)   ! map_runs_thin_verdict
             m = row_meta("runs/thin_verdict", "curve, omega, amplitude", "1", "integer", &
                 "1 if the verdict's margin is below &detect thin_margin (it could flip under a small change: check it), 0 " // &
                 "if not; -1 if not run", &
-                "", "", .false.)
+                "", "thin_verdict", .false.)
         case (77)   ! map_runs_tridiagonal_solves
             m = row_meta("runs/tridiagonal_solves", "curve, omega, amplitude", "1", "integer", &
                 "Tridiagonal solves over the run (newton: one per iteration, linearized: one per step); -1 if not run", &
-                "", "", .false.)
+                "", "tridiagonal_solves", .false.)
         case (78)   ! map_runs_u_beyond_max
             m = row_meta("runs/u_beyond_max", "curve, omega, amplitude", "rad", "real", &
                 "Reason of the verdict: largest |u_n| beyond the detector site (transmitting once it exceeds " // &
                 "detect_amplitude); NaN if not run", &
-                "", "", .false.)
+                "", "u_beyond_max", .false.)
         case (79)   ! map_runs_verdict_change
             m = row_meta("runs/verdict_change", "curve, omega, amplitude", "1", "integer", &
                 "1 where the verdict differs from the previous amplitude's, 0 where not, -1 for the first or a run not ok", &
@@ -1040,11 +1040,11 @@ contains
             m = row_meta("runs/verdict_margin", "curve, omega, amplitude", "1", "real", &
                 "Margin of the verdict: 1 - u_beyond_max/detect_amplitude below, u_beyond_max/detect_amplitude - 1 above; " // &
                 "NaN if not run or failed", &
-                "", "", .false.)
+                "", "verdict_margin", .false.)
         case (81)   ! map_runs_wall_time
             m = row_meta("runs/wall_time", "curve, omega, amplitude", "s", "real", &
                 "Wall-clock time of the run; NaN if not run", &
-                "", "", .false.)
+                "", "wall_time", .false.)
         case (82)   ! map_curves
             m = row_meta("curves", "", "", "", &
                 "One entry per curve: a potential and a value of the varied parameter (attribute vary), the values fastest", &
