@@ -125,7 +125,6 @@ contains
         !> The tasks' records and the wall time.
         type(scene_tasks), intent(in) :: tasks
         character(len=:), allocatable :: text
-
         type(hysteresis_scalars) :: s
         integer :: t, found
 
