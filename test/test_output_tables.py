@@ -243,3 +243,101 @@ def test_a_stale_generated_file_is_detected(tmp_path, monkeypatch):
     assert g.main(["--check"]) == 1
     assert g.main([]) == 0 and g.main(["--check"]) == 0
     assert "'fold_amplitude'" in layout.read_text(encoding="utf-8")
+
+
+#: The writers that take every dataset's and group's metadata from their table's rows (supratrans_output_rows):
+#: they name no unit, description or dimensions, so call neither `h5_write` nor `h5_create_group`, and write
+#: attributes with `h5_write_attr` only on the root and /parameters (which no table describes).
+ROW_WRITERS = ("supratrans_scene_timeseries.f90", "supratrans_scene_bifurcation_output.f90",
+               "supratrans_scene_stability.f90", "supratrans_scene_workprec.f90", "supratrans_scene_hysteresis.f90")
+
+
+@pytest.mark.parametrize("name", ROW_WRITERS)
+def test_a_writer_takes_its_metadata_from_its_table(name):
+    source = (ROOT / "src" / "scenes" / name).read_text(encoding="utf-8")
+    code = "\n".join(line.split("!")[0] for line in source.splitlines())
+    assert not re.search(r"\bcall\s+h5_write\s*\(", code), f"{name}: h5_write: write the dataset with write_row"
+    assert not re.search(r"\bcall\s+h5_create_group\s*\(", code), f"{name}: h5_create_group: use write_row_group"
+    for obj in re.findall(r"\bcall\s+h5_write_attr\s*\(\s*file\s*,\s*([^,]+),", code):
+        assert obj.strip() in ('"/"', "g") or "parameters" in obj, f"{name}: h5_write_attr on {obj}: write_row_attr"
+
+
+def test_every_row_is_a_constant_of_the_rows_module():
+    """Each dataset and group of each table has its named constant, its metadata in `output_row_meta`."""
+    g = generator()
+    text = g.ROWS.read_text(encoding="utf-8")
+    rows = g.table_rows(g.load())
+    for i, (const, t, kind, r) in enumerate(rows, start=1):
+        assert f":: {const} = output_row({i})\n" in text, const
+        assert f"case ({i})   ! {const}\n" in text, const
+    assert len({const for const, *_ in rows}) == len(rows)
+
+
+def test_the_hysteresis_journal_keeps_its_names():
+    """The hysteresis record's scalar fields (its table's `field`) in the order of main's journal: a journal written
+    before they came from the table still resumes; power_0 .. follow them."""
+    t = tables()[("hysteresis", "")]
+    assert [f["name"] for f in t["field"]] == ["status", "upward", "downward", "window", "downward_gaps",
+                                               "detector_site", "steps", "wall_time"]
+    text = (ROOT / "src" / "scenes" / "supratrans_hysteresis_scalars.f90").read_text(encoding="utf-8")
+    assert '"status", "upward", "downward", &\n        "window", "downward_gaps", "detector_site", "steps", "wall_time"]' in text
+
+
+@pytest.mark.parametrize("table,old,new,words", [
+    ("hysteresis.toml", 'journal_only = true, description = "Detector site n_d of the run (/detector_site holds it '
+     'per curve and Omega)"', 'journal_only = true', "needs a description"),
+    ("hysteresis.toml", 'path = "upward_spread"\n', 'path = "upward_spread"\nfield = "detector_site"\n',
+     "is journal_only but dataset 'upward_spread' holds it"),
+    ("hysteresis.toml", "record_writer = false\n", "", "a record with a writer (record_writer)"),
+    ("hysteresis.toml", 'path = "stair_time"\n', 'path = "stair/time"\n', "group 'stair' is not a [[group]]"),
+])
+def test_a_mistake_in_a_record_or_a_row_is_refused(tmp_path, table, old, new, words):
+    g = generator()
+    folder = tmp_path / "outputs"
+    shutil.copytree(ROOT / "src" / "io" / "outputs", folder)
+    source = (folder / table).read_text(encoding="utf-8")
+    assert old in source
+    (folder / table).write_text(source.replace(old, new, 1), encoding="utf-8")
+    with pytest.raises(g.TableError, match=re.escape(words)):
+        g.outputs(g.load(folder))
+
+
+def test_a_row_that_makes_no_fortran_name_is_refused(tmp_path):
+    g = generator()
+    folder = tmp_path / "outputs"
+    shutil.copytree(ROOT / "src" / "io" / "outputs", folder)
+    table = folder / "map.toml"
+    source = table.read_text(encoding="utf-8")
+    assert 'path = "omega"\n' in source
+    table.write_text(source.replace('path = "omega"\n', 'path = "Omega-axis"\n', 1), encoding="utf-8")
+    with pytest.raises(g.TableError, match="is not a Fortran name"):
+        g.outputs(g.load(folder))
+
+
+def test_two_rows_of_one_constant_are_refused(tmp_path):
+    g = generator()
+    folder = tmp_path / "outputs"
+    shutil.copytree(ROOT / "src" / "io" / "outputs", folder)
+    table = folder / "hysteresis.toml"
+    table.write_text(table.read_text(encoding="utf-8") + '\n[[group]]\npath = "stair_time_x"\ndescription = ""\n'
+                     '\n[[dataset]]\npath = "stair_time_x/y"\ndims = ""\nunits = "1"\ntype = "real"\n'
+                     'description = "one"\n\n[[dataset]]\npath = "stair_time_x_y"\ndims = ""\nunits = "1"\n'
+                     'type = "real"\ndescription = "two"\n', encoding="utf-8")
+    with pytest.raises(g.TableError, match="is also that of"):
+        g.outputs(g.load(folder))
+
+
+def test_the_sweep_and_the_map_share_the_run_record():
+    """The map's table holds the fields of the sweep's run record, each over (curve, omega, amplitude), in the order
+    of main's journal (run_value_names of supratrans_run_record): one record, two layouts."""
+    t = tables()
+    sweep, grid = t[("amplitude_sweep", "")], t[("map", "")]
+    assert grid.get("shares") == "amplitude_sweep.toml" and not grid["field"]
+    assert [f["name"] for f in sweep["field"]] == [
+        "injected", "stored", "dissipated_gamma", "dissipated_beta", "dissipated_absorber", "residual", "status",
+        "transmitting", "t_decided", "steps", "newton_iterations", "wall_time", "t_end", "max_abs_u",
+        "injected_after_ramp", "u_beyond_max", "detect_site", "tridiagonal_solves", "rhs_evaluations",
+        "verdict_margin", "thin_verdict"]
+    held = {d["field"]: d["dims"] for d in grid["dataset"] if "field" in d}
+    assert set(held) == {f["name"] for f in sweep["field"]}
+    assert set(held.values()) == {"curve, omega, amplitude"}

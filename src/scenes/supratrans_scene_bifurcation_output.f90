@@ -8,24 +8,29 @@ submodule(supratrans_scene_bifurcation) supratrans_scene_bifurcation_output
     use supratrans_chain, only: detector_site
     use supratrans_threshold, only: search_status_codes
     use supratrans_search_record, only: to_values, certify_status_codes
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group, h5_open, &
-                               h5_close, h5_read, h5_read_attr, h5_exists
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write_attr, h5_open, h5_close, h5_read, h5_read_attr, &
+                               h5_exists
+    use supratrans_output_rows, only: output_row, write_row, write_row_group, write_row_attr, row_type, &
+        bifurcation_omega, bifurcation_threshold, bifurcation_threshold_as, bifurcation_cost, bifurcation_cost_runs, &
+        bifurcation_cost_steps, bifurcation_cost_wall_time, bifurcation_cost_cpu_time, bifurcation_detector_site, &
+        bifurcation_status, bifurcation_verdict_margin, bifurcation_thin_verdict, bifurcation_curves_screen_dt, &
+        bifurcation_screening, bifurcation_screening_runs_screened, bifurcation_screening_runs_confirmed, &
+        bifurcation_screening_runs_doubtful, bifurcation_screening_steps_screened, &
+        bifurcation_screening_steps_confirmed, bifurcation_screening_screen_threshold, bifurcation_screening_band_low, &
+        bifurcation_screening_band_high, bifurcation_screening_rounds, bifurcation_screening_disagreements, &
+        bifurcation_screening_farthest_disagreement, bifurcation_certify, bifurcation_certify_threshold, &
+        bifurcation_certify_status, bifurcation_certify_runs, bifurcation_certify_steps
     use supratrans_output, only: write_root, write_parameters
     use supratrans_bifurcation_runs, only: with_omega
     implicit none
 
-    !> A dataset of `/screening` or `/certify`: one field of the search records written as a (curve, omega) grid.
+    !> A dataset of `/screening` or `/certify`: one field of the search records written as a (curve, omega) grid
+    !> (of its row's type: an integer is a count or a status, written as default integers capped at huge(1)).
     type :: grid_dataset
         !> The field's name in `search_fields`.
         character(len=24) :: field
-        !> The dataset's name in its group.
-        character(len=24) :: name
-        !> Units attribute.
-        character(len=4) :: units
-        !> A count or a status (written as default integers, capped at huge(1)), else a real value.
-        logical :: count
-        !> Description attribute.
-        character(len=120) :: description
+        !> The dataset's row of the output table.
+        type(output_row) :: row
     end type grid_dataset
 
 contains
@@ -51,7 +56,6 @@ contains
         real(wp), allocatable :: vals(:, :)
         integer, allocatable :: nd(:, :)
         integer :: ncurve, nomega, ic, io
-        character(len=*), parameter :: dims = "curve, omega"
 
         ncurve = size(self%runs)
         nomega = size(self%omegas)
@@ -73,32 +77,19 @@ contains
         call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
         call h5_write_attr(file, "/", "tasks_done", count(done))
         call write_scene_parameters(file, self%cfg)
-        call h5_write(file, "/omega", self%omegas, "1/time", &
-            "Driving frequency Omega_i = omega_min + i omega_step", dims="omega")
+        call write_row(file, bifurcation_omega, self%omegas)
         call write_bifurcation_curves(file, self)
-        call h5_write(file, "/threshold", field_grid(vals, "threshold", nomega), "rad", "Smallest driving amplitude " &
-                      // "A (grid amplitude_min + k resolution) at which the run transmits: the supratransmission " &
-                      // "threshold; NaN when not found (see /status)", dims=dims)
-        call h5_write(file, "/threshold_As", field_grid(vals, "threshold_as", nomega), "rad", "Continuum-limit " &
-                      // "threshold A_s = 4 arctan(lambda c / Omega) of the curve's chain (undamped theory); NaN " &
-                      // "outside the band gap", dims=dims)
-        call h5_create_group(file, "/cost", "What each threshold search cost")
-        call h5_write(file, "/cost/runs", count_grid(vals, "runs", nomega), &
-            "1", "Simulations run by the search (coarse scan + fine scan)", dims=dims)
-        call h5_write(file, "/cost/steps", &
-            count_grid(vals, "steps", nomega), "1", &
-            "Time steps taken by all the search's simulations (transmitting runs stop when decided)", dims=dims)
-        call h5_write(file, "/cost/wall_time", field_grid(vals, "wall_time", nomega), &
-            "s", "Wall-clock time of the search (one thread)", dims=dims)
-        call h5_write(file, "/cost/cpu_time", field_grid(vals, "cpu_time", nomega), "s", "Processor time of the " &
-            // "search's thread: its cost whatever else the machine ran (--costs deals slices by it)", dims=dims)
-        if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
-        call h5_write(file, "/detector_site", nd, "1", &
-            "Detector site n_d of the verdict (a run transmits once |u_n| > detect amplitude for some n > n_d)", &
-            dims=dims)
-        call h5_write(file, "/status", count_grid(vals, "status", nomega), &
-            "1", "Outcome of the search (codes in attribute 'codes')", dims=dims)
-        call h5_write_attr(file, "/status", "codes", "-2: outside gap (Omega >= " &
+        call write_row(file, bifurcation_threshold, field_grid(vals, "threshold", nomega))
+        call write_row(file, bifurcation_threshold_as, field_grid(vals, "threshold_as", nomega))
+        call write_row_group(file, bifurcation_cost)
+        call write_row(file, bifurcation_cost_runs, count_grid(vals, "runs", nomega))
+        call write_row(file, bifurcation_cost_steps, count_grid(vals, "steps", nomega))
+        call write_row(file, bifurcation_cost_wall_time, field_grid(vals, "wall_time", nomega))
+        call write_row(file, bifurcation_cost_cpu_time, field_grid(vals, "cpu_time", nomega))
+        if (elapsed >= 0.0_wp) call write_row_attr(file, bifurcation_cost, "scene_wall_time_s", elapsed)
+        call write_row(file, bifurcation_detector_site, nd)
+        call write_row(file, bifurcation_status, count_grid(vals, "status", nomega))
+        call write_row_attr(file, bifurcation_status, "codes", "-2: outside gap (Omega >= " &
             // "sqrt(V''(0) + m^2): not searched; NaN); -1: pending (not computed yet); " // search_status_codes())
         call write_verdict_margins(file, vals, nomega, self%cfg%run%detect%thin_margin)
         call write_screening(file, self%cfg, vals, nomega)
@@ -120,25 +111,21 @@ contains
         real(wp), intent(in) :: thin_margin
         real(wp), allocatable :: margin(:, :)
         integer, allocatable :: thin(:, :)
-        character(len=*), parameter :: dims = "curve, omega"
 
         margin = field_grid(vals, "margin_below", nomega)
         allocate (thin(size(margin, 1), size(margin, 2)))
         thin = -1
         where (.not. ieee_is_nan(margin)) thin = merge(1, 0, margin < thin_margin)
-        call h5_write(file, "/verdict_margin", margin, "1", "Margin of the verdict of the run one resolution below " &
-                      // "the threshold (quiet, run to T): 1 - max|u_n|/a beyond the detector site, a the detect " &
-                      // "amplitude; NaN unless status is 0 (found above amplitude_min)", dims=dims)
-        call h5_write(file, "/thin_verdict", thin, "1", "The threshold is a thin verdict: the run just below it " &
-                      // "came within thin_margin of the detect amplitude (codes in attribute 'codes')", dims=dims)
-        call h5_write_attr(file, "/thin_verdict", "codes", "-1 no_margin: no threshold found above " &
-                           // "amplitude_min (see /status); 0 clear: /verdict_margin >= thin_margin; 1 thin: " &
-                           // "/verdict_margin < thin_margin, the detector's maximum just below the threshold near " &
-                           // "its detect amplitude")
-        call h5_write_attr(file, "/thin_verdict", "flag_values", [-1, 0, 1])
-        call h5_write_attr(file, "/thin_verdict", "flag_meanings", "no_margin clear thin")
-        call h5_write_attr(file, "/thin_verdict", "thin_margin", thin_margin)
-        call h5_write_attr(file, "/thin_verdict", "thin_verdicts", count(thin == 1))
+        call write_row(file, bifurcation_verdict_margin, margin)
+        call write_row(file, bifurcation_thin_verdict, thin)
+        call write_row_attr(file, bifurcation_thin_verdict, "codes", "-1 no_margin: no threshold found above " &
+                            // "amplitude_min (see /status); 0 clear: /verdict_margin >= thin_margin; 1 thin: " &
+                            // "/verdict_margin < thin_margin, the detector's maximum just below the threshold near " &
+                            // "its detect amplitude")
+        call write_row_attr(file, bifurcation_thin_verdict, "flag_values", [-1, 0, 1])
+        call write_row_attr(file, bifurcation_thin_verdict, "flag_meanings", "no_margin clear thin")
+        call write_row_attr(file, bifurcation_thin_verdict, "thin_margin", thin_margin)
+        call write_row_attr(file, bifurcation_thin_verdict, "thin_verdicts", count(thin == 1))
     end subroutine write_verdict_margins
 
     !> The measured cost of every search in `path`, an earlier output (or merged file) of the same study: its
@@ -252,36 +239,26 @@ contains
         real(wp), intent(in) :: vals(:, :)
         !> Frequencies per curve.
         integer, intent(in) :: nomega
-        character(len=*), parameter :: g = "/screening"
+        type(output_row), parameter :: g = bifurcation_screening
         type(grid_dataset), parameter :: datasets(*) = [ &
-            grid_dataset("runs_screened", "runs_screened", "1", .true., "Simulations run by the screening method"), &
-            grid_dataset("runs_confirmed", "runs_confirmed", "1", .true., &
-                         "Simulations run by the scene's method (every verdict near the threshold)"), &
-            grid_dataset("runs_doubtful", "runs_doubtful", "1", .true., &
-                         "Screening runs quiet with a margin below screen_margin, run again by the scene's method"), &
-            grid_dataset("steps_screened", "steps_screened", "1", .true., "Time steps of the screening runs"), &
-            grid_dataset("steps_confirmed", "steps_confirmed", "1", .true., "Time steps of the scene method's runs"), &
-            grid_dataset("screen_threshold", "screen_threshold", "rad", .false., "Threshold the screening method " &
-                         // "alone finds (its bracket bisected); NaN when none or not screened"), &
-            grid_dataset("band_low", "band_low", "rad", .false., &
-                         "Lowest amplitude of the confirmation band; NaN when not screened"), &
-            grid_dataset("band_high", "band_high", "rad", .false., &
-                         "Highest amplitude of the confirmation band; NaN when not screened"), &
-            grid_dataset("rounds", "rounds", "1", .true., &
-                         "Searches with the confirmation band (more than 1: the band grew)"), &
-            grid_dataset("disagreements", "disagreements", "1", .true., &
-                         "Amplitudes answered by both methods with different verdicts"), &
-            grid_dataset("farthest_disagreement", "farthest_disagreement", "rad", .false., "Largest distance " &
-                         // "between the threshold and an amplitude where the two methods disagree (0 when none)")]
+            grid_dataset("runs_screened", bifurcation_screening_runs_screened), &
+            grid_dataset("runs_confirmed", bifurcation_screening_runs_confirmed), &
+            grid_dataset("runs_doubtful", bifurcation_screening_runs_doubtful), &
+            grid_dataset("steps_screened", bifurcation_screening_steps_screened), &
+            grid_dataset("steps_confirmed", bifurcation_screening_steps_confirmed), &
+            grid_dataset("screen_threshold", bifurcation_screening_screen_threshold), &
+            grid_dataset("band_low", bifurcation_screening_band_low), &
+            grid_dataset("band_high", bifurcation_screening_band_high), &
+            grid_dataset("rounds", bifurcation_screening_rounds), &
+            grid_dataset("disagreements", bifurcation_screening_disagreements), &
+            grid_dataset("farthest_disagreement", bifurcation_screening_farthest_disagreement)]
 
-        call h5_create_group(file, g, "Screening of each threshold search: amplitudes far below the threshold are " &
-            // "answered by the screening method, every amplitude the search asked within [band_low, band_high] by " &
-            // "the scene's &numerics method (README, Screening)")
-        call h5_write_attr(file, g, "screen_method", trim(screen_choices(cfg%scene%screen_method)))
-        call h5_write_attr(file, g, "screen_dt", screen_dt(cfg, cfg%run))
-        call h5_write_attr(file, g, "confirm_band", cfg%scene%confirm_band)
-        call h5_write_attr(file, g, "screen_margin", cfg%scene%screen_margin)
-        call write_grids(file, g, datasets, vals, nomega)
+        call write_row_group(file, g)
+        call write_row_attr(file, g, "screen_method", trim(screen_choices(cfg%scene%screen_method)))
+        call write_row_attr(file, g, "screen_dt", screen_dt(cfg, cfg%run))
+        call write_row_attr(file, g, "confirm_band", cfg%scene%confirm_band)
+        call write_row_attr(file, g, "screen_margin", cfg%scene%screen_margin)
+        call write_grids(file, datasets, vals, nomega)
     end subroutine write_screening
 
     !> `/certify`: each threshold rechecked with the scene's method at dt/2 (only when `certify` is on).
@@ -294,47 +271,39 @@ contains
         real(wp), intent(in) :: vals(:, :)
         !> Frequencies per curve.
         integer, intent(in) :: nomega
-        character(len=*), parameter :: g = "/certify"
+        type(output_row), parameter :: g = bifurcation_certify
         type(grid_dataset), parameter :: datasets(*) = [ &
-            grid_dataset("certified_threshold", "threshold", "rad", .false., &
-                         "Threshold at dt/2 near the threshold; NaN when not checked or not found"), &
-            grid_dataset("certify_status", "status", "1", .true., &
-                         "Outcome of the check (codes in attribute 'codes'); >= 2 is flagged"), &
-            grid_dataset("certify_runs", "runs", "1", .true., "Simulations at dt/2 run by the check"), &
-            grid_dataset("certify_steps", "steps", "1", .true., "Time steps of those simulations")]
+            grid_dataset("certified_threshold", bifurcation_certify_threshold), &
+            grid_dataset("certify_status", bifurcation_certify_status), &
+            grid_dataset("certify_runs", bifurcation_certify_runs), &
+            grid_dataset("certify_steps", bifurcation_certify_steps)]
 
         if (.not. cfg%scene%certify) return
-        call h5_create_group(file, g, "Each threshold rechecked with the scene's method at dt/2: the threshold must " &
-            // "transmit and the grid point below it must not; otherwise the dt/2 threshold within one coarse step")
-        call h5_write_attr(file, g, "dt", cfg%run%numerics%dt/2.0_wp)
-        call h5_write_attr(file, g, "flagged", count(count_grid(vals, "certify_status", nomega) >= certify_moved))
-        call write_grids(file, g, datasets, vals, nomega)
-        call h5_write_attr(file, g // "/status", "codes", certify_status_codes())
+        call write_row_group(file, g)
+        call write_row_attr(file, g, "dt", cfg%run%numerics%dt/2.0_wp)
+        call write_row_attr(file, g, "flagged", count(count_grid(vals, "certify_status", nomega) >= certify_moved))
+        call write_grids(file, datasets, vals, nomega)
+        call write_row_attr(file, bifurcation_certify_status, "codes", certify_status_codes())
     end subroutine write_certification
 
     !> Datasets of a group, each a field of the search records as a (curve, omega) grid (`grid_dataset`).
-    subroutine write_grids(file, group, datasets, vals, nomega)
+    subroutine write_grids(file, datasets, vals, nomega)
         !> Open output file.
         type(h5_file), intent(inout) :: file
-        !> The group the datasets go into.
-        character(len=*), intent(in) :: group
         !> What to write.
         type(grid_dataset), intent(in) :: datasets(:)
         !> The search records as values (`search_fields`, tasks).
         real(wp), intent(in) :: vals(:, :)
         !> Frequencies per curve.
         integer, intent(in) :: nomega
-        character(len=*), parameter :: dims = "curve, omega"
         integer :: i
 
         do i = 1, size(datasets)
             associate (d => datasets(i))
-                if (d%count) then
-                    call h5_write(file, group // "/" // trim(d%name), count_grid(vals, trim(d%field), nomega), &
-                                  trim(d%units), trim(d%description), dims=dims)
+                if (row_type(d%row) == "integer") then
+                    call write_row(file, d%row, count_grid(vals, trim(d%field), nomega))
                 else
-                    call h5_write(file, group // "/" // trim(d%name), field_grid(vals, trim(d%field), nomega), &
-                                  trim(d%units), trim(d%description), dims=dims)
+                    call write_row(file, d%row, field_grid(vals, trim(d%field), nomega))
                 end if
             end associate
         end do
@@ -369,8 +338,7 @@ contains
         do ic = 1, size(tasks%runs)
             sdt(ic) = screen_dt(tasks%cfg, curve_run(tasks%cfg, ic))
         end do
-        if (tasks%cfg%scene%screen_method /= screen_none) call h5_write(file, &
-            "/curves/screen_dt", sdt, "time", "Time step of each curve's screening runs (/screening)", dims="curve")
+        if (tasks%cfg%scene%screen_method /= screen_none) call write_row(file, bifurcation_curves_screen_dt, sdt)
     end subroutine write_bifurcation_curves
 
 end submodule supratrans_scene_bifurcation_output

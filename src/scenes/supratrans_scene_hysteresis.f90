@@ -32,7 +32,14 @@ module supratrans_scene_hysteresis
     use supratrans_result, only: run_result, run_ok
     use supratrans_status, only: status_outside_gap, status_not_run
     use supratrans_threshold, only: search_grid_size
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write_attr
+    use supratrans_output_rows, only: write_row, write_row_group, write_row_attr, hysteresis_omega, hysteresis_stair_time, &
+        hysteresis_stair_amplitude, hysteresis_stair_direction, hysteresis_upward_threshold, &
+        hysteresis_downward_threshold, hysteresis_window, hysteresis_upward_spread, hysteresis_downward_spread, &
+        hysteresis_downward_gaps, hysteresis_status, hysteresis_power, hysteresis_detector_site, &
+        hysteresis_threshold_as, hysteresis_cost, hysteresis_cost_steps, hysteresis_cost_wall_time
+    use supratrans_hysteresis_scalars, only: hysteresis_scalars, hysteresis_scalars_names, hysteresis_scalars_values, &
+        hysteresis_scalars_from_values, empty_hysteresis_scalars
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1
     use supratrans_hysteresis_stairs, only: hysteresis_drive, stair_powers, hysteresis_edges, hysteresis_status_codes, &
@@ -45,10 +52,6 @@ module supratrans_scene_hysteresis
 
     !> Stair length used when `stair_times` is not set.
     real(wp), parameter :: default_stair_time = 400.0_wp
-
-    !> Scalar values of a task's record, before the stairs' mean powers (`task_fields`).
-    character(len=*), parameter :: scalar_fields(*) = [character(len=16) :: "status", "upward", "downward", "window", &
-        "downward_gaps", "detector_site", "steps", "wall_time"]
 
     !> The tasks of a hysteresis scene: task t = ((curve - 1) nomega + iomega - 1) nlength + ilength, one run each.
     type, extends(axis_tasks) :: hysteresis_tasks
@@ -122,9 +125,17 @@ contains
         !> The tasks' records and the wall time.
         type(scene_tasks), intent(in) :: tasks
         character(len=:), allocatable :: text
+        type(hysteresis_scalars) :: s
+        integer :: t, found
 
-        text = "  " // int_str(count(nint(tasks%results(1, :)) == hysteresis_found)) // " of " &
-               // int_str(size(tasks%done)) // " runs with both edges, " // fixed1(tasks%elapsed) // " s"
+        found = 0
+        do t = 1, size(tasks%done)
+            if (.not. tasks%done(t)) cycle
+            s = hysteresis_scalars_from_values(tasks%results(:, t))
+            if (s%status == hysteresis_found) found = found + 1
+        end do
+        text = "  " // int_str(found) // " of " // int_str(size(tasks%done)) // " runs with both edges, " &
+               // fixed1(tasks%elapsed) // " s"
     end function hysteresis_summary
 
     !> The stair lengths of the scene: `stair_times`, or `default_stair_time` when unset.
@@ -197,17 +208,19 @@ contains
         if (allocated(cfg%source)) name = cfg%source
     end function source_of
 
-    !> Names of a task's values: the scalars, then power_0 .. power_{nstair - 1} (the mean power of each stair).
+    !> Names of a task's values: the record's scalar fields (`hysteresis_scalars_names`, its output table's), then
+    !> power_0 .. power_{nstair - 1} (the mean power of each stair).
     pure function task_fields(nstair) result(fields)
         !> Number of stairs 2K + 1.
         integer, intent(in) :: nstair
         character(len=16), allocatable :: fields(:)
-        integer :: j
+        integer :: j, ns
 
-        allocate (fields(size(scalar_fields) + nstair))
-        fields(1:size(scalar_fields)) = scalar_fields
+        ns = size(hysteresis_scalars_names)
+        allocate (fields(ns + nstair))
+        fields(1:ns) = hysteresis_scalars_names
         do j = 1, nstair
-            write (fields(size(scalar_fields) + j), "(a, i0)") "power_", j - 1
+            write (fields(ns + j), "(a, i0)") "power_", j - 1
         end do
     end function task_fields
 
@@ -221,6 +234,7 @@ contains
         real(wp), intent(out) :: values(:)
         type(run_config) :: run
         type(run_result) :: result
+        type(hysteresis_scalars) :: s
         integer :: icurve, iomega, ilen, nd, nstair, status, gaps, ns
         integer(i8) :: clock_start, clock_end, clock_rate
         real(wp), allocatable :: power(:)
@@ -233,16 +247,15 @@ contains
         iomega = self%task_omega(index)
         icurve = self%task_curve(index)
         nstair = 2*self%top + 1
-        ns = size(scalar_fields)
+        ns = size(hysteresis_scalars_names)
         values = nan
-        values(5) = 0.0_wp
+        s = empty_hysteresis_scalars()
         run = hysteresis_drive(self%runs(icurve), self%cfg, self%omegas(iomega), self%top, self%stair_times(ilen))
         nd = detector_site(run)
-        values(6) = real(nd, wp)
-        values(7) = 0.0_wp
+        s%detector_site = nd
         if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. self%cfg%allow_outside_gap) then
-            values(1) = real(status_outside_gap, wp)
-            values(8) = 0.0_wp
+            s%status = status_outside_gap
+            values(1:ns) = hysteresis_scalars_values(s)
             return
         end if
         if (allocated(run%record%probes)) deallocate (run%record%probes)
@@ -254,24 +267,26 @@ contains
                            // trim(task_text), self%cfg%output%checkpoint_every, self%cfg%output%quiet)
         if (result%interrupted) then
             ! stopped by a signal at its checkpoint: no result (not journaled; a rerun resumes it)
-            values(1) = real(status_not_run, wp)
+            s%status = status_not_run
+            values(1:ns) = hysteresis_scalars_values(s)
             return
         end if
-        values(7) = real(result%steps, wp)
+        s%steps = real(result%steps, wp)
         if (result%status /= run_ok) then
-            values(1) = real(hysteresis_failed, wp)
+            s%status = hysteresis_failed
         else
             power = stair_powers(run, result)
             call hysteresis_edges(run%drive, power, self%cfg%scene%power_threshold, up, down, gaps, status)
-            values(1) = real(status, wp)
-            values(2) = up
-            values(3) = down
-            values(4) = up - down
-            values(5) = real(gaps, wp)
+            s%status = status
+            s%upward = up
+            s%downward = down
+            s%window = up - down
+            s%downward_gaps = gaps
             values(ns + 1:ns + nstair) = power
         end if
         call system_clock(clock_end)
-        values(8) = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+        s%wall_time = real(clock_end - clock_start, wp)/real(clock_rate, wp)
+        values(1:ns) = hysteresis_scalars_values(s)
     end subroutine run_stairs_task
 
     !> Whether a task's values are its result: a run stopped at its checkpoint by a signal has status not-run.
@@ -281,8 +296,10 @@ contains
         !> The task's values (`task_fields`).
         real(wp), intent(in) :: values(:)
         logical :: yes
+        type(hysteresis_scalars) :: s
 
-        yes = nint(values(1)) /= status_not_run
+        s = hysteresis_scalars_from_values(values)
+        yes = s%status /= status_not_run
     end function stairs_finished
 
     !> Write the scene's file `path` (as a temporary file, renamed when complete): tasks not done get NaN and status
@@ -304,25 +321,27 @@ contains
         type(error_type), allocatable, intent(out) :: error
         type(h5_file) :: file
         type(run_config) :: run
-        real(wp), allocatable :: vals(:, :), levels(:), spread_up(:, :), spread_down(:, :), as(:, :)
+        type(hysteresis_scalars), allocatable :: s(:)
+        real(wp), allocatable :: power(:, :), levels(:), spread_up(:, :), spread_down(:, :), as(:, :)
         integer, allocatable :: direction(:), nd(:, :)
         integer :: ncurve, nomega, nlen, nstair, ntask, t, ns, ic, io
-        character(len=*), parameter :: dims = "curve, omega, stair_length", dims2 = "curve, omega"
 
         ncurve = size(self%runs)
         nomega = size(self%omegas)
         nlen = size(self%stair_times)
         nstair = 2*self%top + 1
         ntask = ncurve*nomega*nlen
-        ns = size(scalar_fields)
-        vals = results
+        ns = size(hysteresis_scalars_names)
+        ! the records' scalar fields, and the stairs' mean powers after them; tasks not done: the empty record
+        ! (status not run) and NaN powers
+        allocate (s(ntask))
+        power = results(ns + 1:ns + nstair, :)
         do t = 1, ntask
-            if (.not. done(t)) then
-                vals(:, t) = ieee_value(1.0_wp, ieee_quiet_nan)
-                vals(1, t) = real(status_not_run, wp)
-                vals(5, t) = 0.0_wp
-                vals(7, t) = 0.0_wp
-                vals(8, t) = 0.0_wp
+            if (done(t)) then
+                s(t) = hysteresis_scalars_from_values(results(:, t))
+            else
+                s(t) = empty_hysteresis_scalars()
+                power(:, t) = ieee_value(1.0_wp, ieee_quiet_nan)
             end if
         end do
         run = hysteresis_drive(self%runs(1), self%cfg, self%omegas(1), self%top, self%stair_times(1))
@@ -332,8 +351,8 @@ contains
         do ic = 1, ncurve
             do io = 1, nomega
                 t = ((ic - 1)*nomega + io - 1)*nlen
-                spread_up(io, ic) = spread(vals(2, t + 1:t + nlen))
-                spread_down(io, ic) = spread(vals(3, t + 1:t + nlen))
+                spread_up(io, ic) = spread(s(t + 1:t + nlen)%upward)
+                spread_down(io, ic) = spread(s(t + 1:t + nlen)%downward)
                 as(io, ic) = ieee_value(1.0_wp, ieee_quiet_nan)
                 nd(io, ic) = detector_site(hysteresis_drive(self%runs(ic), self%cfg, self%omegas(io), self%top, &
                                                             self%stair_times(1)))
@@ -353,52 +372,27 @@ contains
         call h5_write_attr(file, "/parameters", "power_measure", "mean energy flux " &
             // "c^2 (u_nd - u_nd+1) v_nd+1 + beta (v_nd - v_nd+1) v_nd+1 through the bond beyond the detector site " &
             // "n_d, over the last whole drive periods of each stair's second half")
-        call h5_write(file, "/omega", self%omegas, "1/time", &
-            "Driving frequency Omega_i = omega_min + i omega_step", dims="omega")
-        call h5_write(file, "/stair_time", self%stair_times, "time", &
-            "Stair length T_s of each protocol (the run's T = ramp_time + (2K + 1) T_s)", dims="stair_length")
-        call h5_write(file, "/stair_amplitude", levels, "rad", &
-            "Level of each stair a_i = amplitude_min + i stair_height, up then down (i = 0 .. K .. 0)", &
-            dims="stair")
-        call h5_write(file, "/stair_direction", direction, "1", &
-            "1 on the way up, 0 at the top, -1 on the way down", dims="stair")
+        call write_row(file, hysteresis_omega, self%omegas)
+        call write_row(file, hysteresis_stair_time, self%stair_times)
+        call write_row(file, hysteresis_stair_amplitude, levels)
+        call write_row(file, hysteresis_stair_direction, direction)
         call write_curves(file, self%cfg, self%runs)
-        call h5_write(file, "/upward_threshold", grid3(vals(2, :)), "rad", &
-            "Upward edge: level of the first stair on the way up that transmits (where the transmitting state is " &
-            // "born); NaN when none (see /status)", dims=dims)
-        call h5_write(file, "/downward_threshold", grid3(vals(3, :)), "rad", &
-            "Downward edge: level of the last stair on the way down that still transmits (where the transmitting " &
-            // "state dies); NaN when none (see /status)", dims=dims)
-        call h5_write(file, "/window", grid3(vals(4, :)), "rad", &
-            "Bistable window: upward - downward edge", dims=dims)
-        call h5_write(file, "/upward_spread", spread_up, "rad", &
-            "Spread of the upward edge over the stair lengths (max - min of those found; NaN when none)", &
-            dims=dims2)
-        call h5_write(file, "/downward_spread", spread_down, "rad", &
-            "Spread of the downward edge over the stair lengths (max - min of those found; NaN when none)", &
-            dims=dims2)
-        call h5_write(file, "/downward_gaps", igrid3(vals(5, :)), "1", &
-            "Quiet stairs between the top and the downward edge (the intermittency of the transmitting regime)", &
-            dims=dims)
-        call h5_write(file, "/status", igrid3(vals(1, :)), "1", &
-            "Outcome of the run (codes in attribute 'codes')", dims=dims)
-        call h5_write_attr(file, "/status", "codes", hysteresis_status_codes())
-        call h5_write(file, "/power", reshape(vals(ns + 1:ns + nstair, :), &
-            [nstair, nlen, nomega, ncurve]), "energy/time", "Mean power through the bond (n_d, n_d + 1) beyond the " &
-            // "detector site on each stair (over the last whole drive periods of its second half); NaN when not run", &
-            dims="curve, omega, stair_length, stair")
-        call h5_write_attr(file, "/power", "power_threshold", self%cfg%scene%power_threshold)
-        call h5_write(file, "/detector_site", nd, "1", &
-            "Detector site n_d: the power is measured through the bond (n_d, n_d + 1)", dims=dims2)
-        call h5_write(file, "/threshold_As", as, "rad", &
-            "Continuum-limit threshold A_s = 4 arctan(lambda c / Omega) of the curve's chain; NaN outside the gap", &
-            dims=dims2)
-        call h5_create_group(file, "/cost", "What each run cost")
-        call h5_write(file, "/cost/steps", grid3(vals(7, :)), "1", &
-            "Time steps of the run", dims=dims)
-        call h5_write(file, "/cost/wall_time", grid3(vals(8, :)), "s", &
-            "Wall-clock time of the run (one thread)", dims=dims)
-        if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
+        call write_row(file, hysteresis_upward_threshold, grid3(s%upward))
+        call write_row(file, hysteresis_downward_threshold, grid3(s%downward))
+        call write_row(file, hysteresis_window, grid3(s%window))
+        call write_row(file, hysteresis_upward_spread, spread_up)
+        call write_row(file, hysteresis_downward_spread, spread_down)
+        call write_row(file, hysteresis_downward_gaps, igrid3(s%downward_gaps))
+        call write_row(file, hysteresis_status, igrid3(s%status))
+        call write_row_attr(file, hysteresis_status, "codes", hysteresis_status_codes())
+        call write_row(file, hysteresis_power, reshape(power, [nstair, nlen, nomega, ncurve]))
+        call write_row_attr(file, hysteresis_power, "power_threshold", self%cfg%scene%power_threshold)
+        call write_row(file, hysteresis_detector_site, nd)
+        call write_row(file, hysteresis_threshold_as, as)
+        call write_row_group(file, hysteresis_cost)
+        call write_row(file, hysteresis_cost_steps, grid3(s%steps))
+        call write_row(file, hysteresis_cost_wall_time, grid3(s%wall_time))
+        if (elapsed >= 0.0_wp) call write_row_attr(file, hysteresis_cost, "scene_wall_time_s", elapsed)
         call h5_commit(file, error)
 
     contains
@@ -411,12 +405,12 @@ contains
             g = reshape(x, [nlen, nomega, ncurve])
         end function grid3
 
-        !> A per-task integer (stored as a real value) as a (stair_length, omega, curve) grid.
+        !> A per-task integer as a (stair_length, omega, curve) grid.
         pure function igrid3(x) result(g)
-            real(wp), intent(in) :: x(:)
+            integer, intent(in) :: x(:)
             integer, allocatable :: g(:, :, :)
 
-            g = reshape(nint(x), [nlen, nomega, ncurve])
+            g = reshape(x, [nlen, nomega, ncurve])
         end function igrid3
 
     end subroutine write_hysteresis_file

@@ -44,7 +44,12 @@ module supratrans_scene_stability
     use supratrans_status, only: run_status_codes
     use supratrans_tasks, only: task_list, run_work
     use supratrans_system, only: stop_signal
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit
+    use supratrans_output_rows, only: write_row, write_row_group, write_row_attr, stability_methods, &
+        stability_c, stability_dt, stability_verdict_method, stability_max_abs_u_method, stability_boundary_observed, &
+        stability_boundary_observed_unstable, stability_boundary_linear, stability_boundary_paper, &
+        stability_boundary_rk4, stability_boundary_rk4_undamped, stability_boundary_grid_consistent, &
+        stability_boundary_bisection_runs, scene_group => stability_scene
     use supratrans_output, only: write_root, write_parameters
     use supratrans_linear_stability, only: linear_stability_dt, rk_spectrum_dt, chain_spectrum, stability_polynomial
     implicit none
@@ -528,19 +533,19 @@ contains
         call write_root(file, cfg, "stability", "Where each integrator blows up over a grid of (dt, c), observed " &
                         // "boundaries next to the paper's necessary condition and linear stability theory", inv)
         call write_parameters(file, cfg)
-        call h5_create_group(file, "/scene", "Controls of the stability scene")
-        call h5_write_attr(file, "/scene", "vary", trim(vary_choices(cfg%scene%vary)))
-        call h5_write_attr(file, "/scene", "resolution", tasks%resolution)
-        call h5_write_attr(file, "/scene", "stable_means", "the run reaches T with " &
+        call write_row_group(file, scene_group)
+        call write_row_attr(file, scene_group, "vary", trim(vary_choices(cfg%scene%vary)))
+        call write_row_attr(file, scene_group, "resolution", tasks%resolution)
+        call write_row_attr(file, scene_group, "stable_means", "the run reaches T with " &
             // "every |u_n| <= blowup_threshold (status ok)")
-        call h5_write_attr(file, "/scene", "status_codes", &
+        call write_row_attr(file, scene_group, "status_codes", &
             "stable means 0 ok; " // run_status_codes(outside_gap=.false., not_run=.false.))
         do im = 1, nm
             names(im) = method_name(tasks%methods(im))
         end do
-        call h5_write(file, "/methods", names, "1", "Integrators", dims="method")
-        call h5_write(file, "/c", tasks%c, "1", "Coupling values c (grid axis)", dims="c")
-        call h5_write(file, "/dt", tasks%dts, "time", "Time steps (grid axis)", dims="dt")
+        call write_row(file, stability_methods, names)
+        call write_row(file, stability_c, tasks%c)
+        call write_row(file, stability_dt, tasks%dts)
         call write_curves(file, cfg, tasks%curves)
 
         allocate (verdict(ndt, nc, ncurve), umax(ndt, nc, ncurve))
@@ -561,32 +566,17 @@ contains
                     consistent(ic, im, icurve) = merge(1.0_wp, 0.0_wp, ok)
                 end do
             end do
-            call h5_write(file, "/verdict/" // trim(names(im)), verdict, "1", &
-                "Outcome of the run at (c, dt): 0 stable, 1 diverged, 2 newton_failed, 3 solver_failed", &
-                dims="curve, c, dt")
-            call h5_write(file, "/max_abs_u/" // trim(names(im)), umax, "rad", &
-                "Largest |u_n| of the run at (c, dt)", dims="curve, c, dt")
+            call write_row(file, stability_verdict_method, verdict, name=trim(names(im)))
+            call write_row(file, stability_max_abs_u_method, umax, name=trim(names(im)))
         end do
-        call h5_write(file, "/boundary/observed", observed, "time", &
-            "Largest dt found stable by bisection (NaN: none found)", dims="curve, method, c")
-        call h5_write(file, "/boundary/observed_unstable", observed_hi, "time", &
-            "Smallest dt found unstable by bisection (NaN: none found); the boundary lies between", &
-            dims="curve, method, c")
-        call h5_write(file, "/boundary/linear", tasks%predicted, "time", &
-            "Linear-stability limit of each method (chain linearised at rest; see the module documentation)", &
-            dims="curve, method, c")
-        call h5_write(file, "/boundary/paper", tasks%paper, "time", &
-            "Critical dt of the paper's necessary condition (c^2 - m^2/4) dt^2 < 1 + (gamma/4 + beta) dt", &
-            dims="curve, c")
-        call h5_write(file, "/boundary/rk4", tasks%rk4_limit, "time", &
-            "RK4's linear limit: largest dt with |R(dt lambda)| <= 1 over the spectrum of the linearised chain", dims="curve, c")
-        call h5_write(file, "/boundary/rk4_undamped", tasks%rk4_undamped, "time", &
-            "2 sqrt(2) / sqrt(V''(0) + m^2 + 4 c^2): RK4's limit for the undamped chain's band top", dims="curve, c")
-        call h5_write(file, "/boundary/grid_consistent", consistent, "1", &
-            "1 when every grid verdict agrees with the bisection (stable below, unstable above), else 0", &
-            dims="curve, method, c")
-        call h5_write(file, "/boundary/bisection_runs", runs, "1", &
-            "Runs made by the bisection", dims="curve, method, c")
+        call write_row(file, stability_boundary_observed, observed)
+        call write_row(file, stability_boundary_observed_unstable, observed_hi)
+        call write_row(file, stability_boundary_linear, tasks%predicted)
+        call write_row(file, stability_boundary_paper, tasks%paper)
+        call write_row(file, stability_boundary_rk4, tasks%rk4_limit)
+        call write_row(file, stability_boundary_rk4_undamped, tasks%rk4_undamped)
+        call write_row(file, stability_boundary_grid_consistent, consistent)
+        call write_row(file, stability_boundary_bisection_runs, runs)
         call h5_commit(file, error)
     end subroutine write_stability
 

@@ -16,21 +16,23 @@ module supratrans_scene_timeseries
     use supratrans_checkpoint, only: checkpoint_session, open_session, close_session
     use supratrans_tasks, only: input_fingerprint
     use supratrans_result, only: run_result, status_name, ledger_columns
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit
+    use supratrans_output_rows, only: output_row, write_row, write_row_group, write_row_attr, row_name, &
+        timeseries_probes_sites, timeseries_probes_time, timeseries_probes_u, timeseries_ledger_time, &
+        timeseries_ledger_stored, timeseries_ledger_injected, timeseries_ledger_dissipated_gamma, &
+        timeseries_ledger_dissipated_beta, timeseries_ledger_dissipated_absorber, timeseries_ledger_residual, &
+        timeseries_run
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, printable
     use supratrans_system, only: stop_signal
     implicit none
     private
 
-    !> What each column of the energy ledger (`ledger_columns` of `supratrans_result`) is.
-    character(len=*), parameter :: ledger_description(*) = [character(len=96) :: &
-        "Stored discrete energy E_k (paper Sec. 3.2, sums over n = 1..N)", &
-        "Energy injected through the driven end up to t: sum dt [c^2 (u_0 - u_1) + beta (y_0 - y_1)] y_0", &
-        "Energy dissipated by the external damping gamma up to t", &
-        "Energy dissipated by the internal damping beta up to t", &
-        "Energy dissipated by the absorbing end gamma'(n) up to t", &
-        "Balance residual E_k - E_0 - (injected - dissipated): zero to roundoff for the Newton scheme"]
+    !> The rows of the energy ledger's datasets (their names those of `ledger_columns` of `supratrans_result`), in the
+    !> order they are written.
+    type(output_row), parameter :: ledger_rows(*) = [timeseries_ledger_stored, timeseries_ledger_injected, &
+        timeseries_ledger_dissipated_gamma, timeseries_ledger_dissipated_beta, timeseries_ledger_dissipated_absorber, &
+        timeseries_ledger_residual]
 
     !> Least wall time (s) between two lines of the run's progress on stderr, unless SUPRATRANS_PROGRESS_EVERY says
     !> otherwise: a 10 s run prints two (at 4 s and 8 s).
@@ -127,7 +129,7 @@ contains
         !> Error, allocated on failure (the output file is then not created: nothing under its name, no temporary).
         type(error_type), allocatable, intent(out) :: error
         type(h5_file) :: file
-        integer :: ns, nl, j
+        integer :: ns, nl, j, k
         real(wp), allocatable :: probe_u(:, :)
 
         call h5_create(file, trim(cfg%output%file), cfg%output%overwrite)
@@ -135,57 +137,57 @@ contains
         call write_parameters(file, cfg)
         ns = result%n_probe_samples
         nl = result%n_ledger_samples
-        call h5_write(file, "/probes/sites", result%probes, "1", "Site index n of each probe (1 = first oscillator)", &
-                      dims="probe")
-        call h5_write(file, "/probes/time", result%probe_time(1:ns), "time", "Sample times t_k = k dt", dims="time")
+        call write_row(file, timeseries_probes_sites, result%probes)
+        call write_row(file, timeseries_probes_time, result%probe_time(1:ns))
         probe_u = result%probe_u(1:ns, :)          ! contiguous copy of the filled samples
-        call h5_write(file, "/probes/u", probe_u, "rad", "Displacement u_n(t_k) at the probe sites", &
-                      dims="probe, time")
-        call h5_write(file, "/ledger/time", result%ledger_time(1:nl), "time", &
-                      "Record times t_{k+1/2} (E_k is defined on levels k and k+1)", dims="time")
-        do j = 1, size(ledger_columns)
-            call h5_write(file, "/ledger/"//trim(ledger_columns(j)), result%ledger_series(1:nl, j), "energy", &
-                          trim(ledger_description(j)), dims="time")
+        call write_row(file, timeseries_probes_u, probe_u)
+        call write_row(file, timeseries_ledger_time, result%ledger_time(1:nl))
+        do j = 1, size(ledger_rows)
+            ! the column of the row's name (a row without its column is left out: test_output_tables finds it)
+            do k = 1, size(ledger_columns)
+                if (trim(ledger_columns(k)) == row_name(ledger_rows(j))) then
+                    call write_row(file, ledger_rows(j), result%ledger_series(1:nl, k))
+                    exit
+                end if
+            end do
         end do
-        call write_outcome(file, "/run", result)
+        call write_outcome(file, result)
         call h5_commit(file, error)
     end subroutine write_timeseries
 
-    !> Outcome and statistics of one run as attributes of `group`.
-    subroutine write_outcome(file, group, result)
+    !> Outcome and statistics of one run as attributes of the group `/run`.
+    subroutine write_outcome(file, result)
         !> Open output file.
         type(h5_file), intent(inout) :: file
-        !> Group that receives the attributes (created).
-        character(len=*), intent(in) :: group
         !> The run's result.
         type(run_result), intent(in) :: result
 
-        call h5_create_group(file, group, "Outcome of the run, solver statistics and final energy totals")
-        call h5_write_attr(file, group, "status", status_name(result%status))
-        call h5_write_attr(file, group, "reason", result%reason)
-        call h5_write_attr(file, group, "steps", result%steps)
-        call h5_write_attr(file, group, "t_end", result%t_end)
-        call h5_write_attr(file, group, "newton_iterations", int(result%newton_iterations))
-        call h5_write_attr(file, group, "newton_max_iterations", result%newton_max_iterations)
-        call h5_write_attr(file, group, "tridiagonal_solves", result%tridiagonal_solves)
-        call h5_write_attr(file, group, "rhs_evaluations", result%rhs_evaluations)
-        call h5_write_attr(file, group, "wall_time_s", result%wall_time)
-        call h5_write_attr(file, group, "max_abs_u", result%max_abs_u)
-        call h5_write_attr(file, group, "energy_injected", result%ledger%injected)
-        call h5_write_attr(file, group, "energy_stored", result%ledger%stored)
-        call h5_write_attr(file, group, "energy_dissipated_gamma", result%ledger%dissipated_gamma)
-        call h5_write_attr(file, group, "energy_dissipated_beta", result%ledger%dissipated_beta)
-        call h5_write_attr(file, group, "energy_dissipated_absorber", result%ledger%dissipated_absorber)
-        call h5_write_attr(file, group, "ledger_max_step_residual", result%ledger%max_step_residual)
-        call h5_write_attr(file, group, "ledger_energy_scale", result%ledger%energy_scale)
-        call h5_write_attr(file, group, "transmitting", result%transmitting)
-        call h5_write_attr(file, group, "t_decided", result%t_decided)
-        call h5_write_attr(file, group, "verdict_reason", result%verdict_reason)
-        call h5_write_attr(file, group, "detect_site", result%detect_site)
-        call h5_write_attr(file, group, "u_beyond_max", result%u_beyond_max)
-        call h5_write_attr(file, group, "verdict_margin", result%verdict_margin)
-        call h5_write_attr(file, group, "thin_verdict", result%thin_verdict)
-        if (result%ramp_passed) call h5_write_attr(file, group, &
+        call write_row_group(file, timeseries_run)
+        call write_row_attr(file, timeseries_run, "status", status_name(result%status))
+        call write_row_attr(file, timeseries_run, "reason", result%reason)
+        call write_row_attr(file, timeseries_run, "steps", result%steps)
+        call write_row_attr(file, timeseries_run, "t_end", result%t_end)
+        call write_row_attr(file, timeseries_run, "newton_iterations", int(result%newton_iterations))
+        call write_row_attr(file, timeseries_run, "newton_max_iterations", result%newton_max_iterations)
+        call write_row_attr(file, timeseries_run, "tridiagonal_solves", result%tridiagonal_solves)
+        call write_row_attr(file, timeseries_run, "rhs_evaluations", result%rhs_evaluations)
+        call write_row_attr(file, timeseries_run, "wall_time_s", result%wall_time)
+        call write_row_attr(file, timeseries_run, "max_abs_u", result%max_abs_u)
+        call write_row_attr(file, timeseries_run, "energy_injected", result%ledger%injected)
+        call write_row_attr(file, timeseries_run, "energy_stored", result%ledger%stored)
+        call write_row_attr(file, timeseries_run, "energy_dissipated_gamma", result%ledger%dissipated_gamma)
+        call write_row_attr(file, timeseries_run, "energy_dissipated_beta", result%ledger%dissipated_beta)
+        call write_row_attr(file, timeseries_run, "energy_dissipated_absorber", result%ledger%dissipated_absorber)
+        call write_row_attr(file, timeseries_run, "ledger_max_step_residual", result%ledger%max_step_residual)
+        call write_row_attr(file, timeseries_run, "ledger_energy_scale", result%ledger%energy_scale)
+        call write_row_attr(file, timeseries_run, "transmitting", result%transmitting)
+        call write_row_attr(file, timeseries_run, "t_decided", result%t_decided)
+        call write_row_attr(file, timeseries_run, "verdict_reason", result%verdict_reason)
+        call write_row_attr(file, timeseries_run, "detect_site", result%detect_site)
+        call write_row_attr(file, timeseries_run, "u_beyond_max", result%u_beyond_max)
+        call write_row_attr(file, timeseries_run, "verdict_margin", result%verdict_margin)
+        call write_row_attr(file, timeseries_run, "thin_verdict", result%thin_verdict)
+        if (result%ramp_passed) call write_row_attr(file, timeseries_run, &
             "energy_injected_after_ramp", result%ledger%injected - result%injected_at_ramp)
     end subroutine write_outcome
 

@@ -49,7 +49,16 @@ module supratrans_scene_workprec
     use supratrans_tasks, only: run_work
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk8, method_name
     use supratrans_status, only: status_not_run
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit
+    use supratrans_output_rows, only: write_row, write_row_group, write_row_attr, work_precision_scene, &
+        work_precision_methods, work_precision_amplitude, work_precision_dt, work_precision_steps, work_precision_status, &
+        work_precision_wall_time, work_precision_wall_time_min, work_precision_injected, work_precision_error_energy, &
+        work_precision_error_u, work_precision_ledger_drift, work_precision_rhs_evaluations, work_precision_max_abs_u, &
+        work_precision_order_energy, work_precision_order_u, work_precision_reference, work_precision_reference_injected, &
+        work_precision_reference_error_energy, work_precision_reference_error_u, work_precision_reference_u_scale, &
+        work_precision_reference_u_final, work_precision_reference_wall_time, work_precision_lower_bound, &
+        work_precision_lower_bound_sine_time, work_precision_lower_bound_division_time, &
+        work_precision_lower_bound_tridiagonal_time, work_precision_lower_bound_run_time, work_precision_lower_bound_ratio
     use supratrans_output, only: write_root, write_parameters
     use supratrans_workprec_measure, only: fitted_order, method_stages, measure_step_kernels
     use supratrans_workprec_tasks, only: workprec_tasks, setup_tasks, compute_references, drift_limit, value_names, &
@@ -286,7 +295,6 @@ contains
         real(wp), allocatable :: ratio(:, :, :)
         real(wp) :: nan, per_step
         character(len=16), allocatable :: names(:)
-        character(len=*), parameter :: dims3 = "amplitude, method, dt"
 
         ndt = size(tasks%dts)
         nm = size(tasks%methods)
@@ -333,86 +341,50 @@ contains
         call write_root(file, cfg, "work_precision", "Speed against accuracy: wall time, errors against a reference " &
                         // "and ledger drift for each integrator, time step and drive amplitude", inv)
         call write_parameters(file, cfg)
-        call h5_create_group(file, "/scene", "Controls of the work-precision scene")
-        call h5_write_attr(file, "/scene", "repeats", tasks%repeats)
-        call h5_write_attr(file, "/scene", "timing", "median of the run's own wall " &
+        call write_row_group(file, work_precision_scene)
+        call write_row_attr(file, work_precision_scene, "repeats", tasks%repeats)
+        call write_row_attr(file, work_precision_scene, "timing", "median of the run's own wall " &
             // "clock over `repeats` runs; the runs are timed one at a time (a critical section)")
-        call h5_write_attr(file, "/scene", "probe_site", tasks%base%record%probes(1))
-        call h5_write_attr(file, "/scene", "error_window", tasks%window)
-        call h5_write_attr(file, "/scene", "drift_limit", drift_limit)
-        call h5_write_attr(file, "/scene", "dt_smallest", tasks%dt_smallest)
-        call h5_write_attr(file, "/scene", "status_codes", &
+        call write_row_attr(file, work_precision_scene, "probe_site", tasks%base%record%probes(1))
+        call write_row_attr(file, work_precision_scene, "error_window", tasks%window)
+        call write_row_attr(file, work_precision_scene, "drift_limit", drift_limit)
+        call write_row_attr(file, work_precision_scene, "dt_smallest", tasks%dt_smallest)
+        call write_row_attr(file, work_precision_scene, "status_codes", &
             "-1 not_run, 0 ok, 1 diverged (blow-up, or ledger residual above drift_limit of the energy scale), " &
             // "2 newton_failed, 3 solver_failed")
-        call h5_write(file, "/methods", names, "1", "Integrators compared", &
-                                                  dims="method")
-        call h5_write(file, "/amplitude", tasks%amplitudes, "rad", &
-                                                  "Drive amplitudes A", dims="amplitude")
-        call h5_write(file, "/dt", dt, "time", &
-                                                  "Time step of each run (NaN: not run for this method)", &
-                                                  dims="method, dt")
-        call h5_write(file, "/steps", steps, "1", "Steps M = nint(T/dt) of each run", dims="method, dt")
-        call h5_write(file, "/status", nint(grid(:, :, :, w_status)), "1", &
-            "Outcome: -1 not run, 0 ok, 1 diverged, 2 newton_failed, 3 solver_failed (measured values are NaN " &
-            // "unless 0)", dims=dims3)
-        call h5_write(file, "/wall_time", grid(:, :, :, w_wall_time), "s", &
-            "Median wall time of the run over `repeats` timed runs (one at a time)", dims=dims3)
-        call h5_write(file, "/wall_time_min", grid(:, :, :, w_wall_time_min), "s", &
-            "Shortest wall time of the run over `repeats` timed runs", dims=dims3)
-        call h5_write(file, "/injected", grid(:, :, :, w_injected), "energy", &
-            "Injected energy of the run (newton, linearized: over [dt/2, T - dt/2]; RK: over [0, T])", &
-            dims=dims3)
-        call h5_write(file, "/error_energy", grid(:, :, :, w_error_energy), "1", &
-            "|injected - reference's injected over the same window| / reference's injected at T", dims=dims3)
-        call h5_write(file, "/error_u", grid(:, :, :, w_error_u), "rad", &
-            "max |u - u_ref| at the probe over the run's samples in the last drive period", dims=dims3)
-        call h5_write(file, "/ledger_drift", grid(:, :, :, w_ledger_drift), "1", &
-            "|E(T) - E(0) - (injected - dissipated)| / energy scale at the end of the run", dims=dims3)
-        call h5_write(file, "/rhs_evaluations", grid(:, :, :, w_rhs_evaluations), "1", &
-            "Newton iterations (newton), tridiagonal solves (linearized), right-hand sides (RK) of the run", &
-            dims=dims3)
-        call h5_write(file, "/max_abs_u", grid(:, :, :, w_max_abs_u), "rad", &
-            "Largest |u_n| of the run (also for runs that diverged)", dims=dims3)
-        call h5_write(file, "/order_energy", order_e, "1", &
-            "Fitted order: least-squares slope of log(error_energy) vs log(dt) over the (at most 4) smallest dt, " &
-            // "skipping errors at the floor (the reference's error estimate, at least 1e-13) and stopping at the " &
-            // "first error above 1e-2; NaN with fewer than 2 points", dims="amplitude, method")
-        call h5_write(file, "/order_u", order_u, "1", &
-            "Fitted order of error_u / reference u scale, same rule", dims="amplitude, method")
+        call write_row(file, work_precision_methods, names)
+        call write_row(file, work_precision_amplitude, tasks%amplitudes)
+        call write_row(file, work_precision_dt, dt)
+        call write_row(file, work_precision_steps, steps)
+        call write_row(file, work_precision_status, nint(grid(:, :, :, w_status)))
+        call write_row(file, work_precision_wall_time, grid(:, :, :, w_wall_time))
+        call write_row(file, work_precision_wall_time_min, grid(:, :, :, w_wall_time_min))
+        call write_row(file, work_precision_injected, grid(:, :, :, w_injected))
+        call write_row(file, work_precision_error_energy, grid(:, :, :, w_error_energy))
+        call write_row(file, work_precision_error_u, grid(:, :, :, w_error_u))
+        call write_row(file, work_precision_ledger_drift, grid(:, :, :, w_ledger_drift))
+        call write_row(file, work_precision_rhs_evaluations, grid(:, :, :, w_rhs_evaluations))
+        call write_row(file, work_precision_max_abs_u, grid(:, :, :, w_max_abs_u))
+        call write_row(file, work_precision_order_energy, order_e)
+        call write_row(file, work_precision_order_u, order_u)
         ! reference
-        call h5_create_group(file, "/reference", "Reference solutions, one per amplitude")
-        call h5_write_attr(file, "/reference", "method", "rk8")
-        call h5_write_attr(file, "/reference", "dt", 0.5_wp*tasks%reference_dt)
-        call h5_write_attr(file, "/reference", "check_dt", tasks%reference_dt)
-        call h5_write(file, "/reference/injected", ref_column(1), "energy", &
-            "Reference injected energy over [0, T] (rk8 at reference dt)", dims="amplitude")
-        call h5_write(file, "/reference/error_energy", ref_column(2), "1", &
-            "Estimated relative error of the reference injected energy: |E(check_dt) - E(dt)| / E(dt) (an upper " &
-            // "bound: the reference's own error is about 2^-8 of it)", dims="amplitude")
-        call h5_write(file, "/reference/error_u", ref_column(3), "rad", &
-            "Estimated error of the reference u at the probe (max over the last drive period, same rule)", &
-            dims="amplitude")
-        call h5_write(file, "/reference/u_scale", ref_column(4), "rad", &
-            "max |u_ref| at the probe over the last drive period", dims="amplitude")
-        call h5_write(file, "/reference/u_final", ref_column(5), "rad", &
-            "Reference u at the probe at T", dims="amplitude")
-        call h5_write(file, "/reference/wall_time", ref_column(6), "s", &
-            "Wall time of the reference run (run in parallel with the others)", dims="amplitude")
+        call write_row_group(file, work_precision_reference)
+        call write_row_attr(file, work_precision_reference, "method", "rk8")
+        call write_row_attr(file, work_precision_reference, "dt", 0.5_wp*tasks%reference_dt)
+        call write_row_attr(file, work_precision_reference, "check_dt", tasks%reference_dt)
+        call write_row(file, work_precision_reference_injected, ref_column(1))
+        call write_row(file, work_precision_reference_error_energy, ref_column(2))
+        call write_row(file, work_precision_reference_error_u, ref_column(3))
+        call write_row(file, work_precision_reference_u_scale, ref_column(4))
+        call write_row(file, work_precision_reference_u_final, ref_column(5))
+        call write_row(file, work_precision_reference_wall_time, ref_column(6))
         ! lower bound
-        call h5_create_group(file, "/lower_bound", "Work a step cannot avoid, timed alone: " &
-            // "N sines (the potential) and, for the implicit schemes, one tridiagonal solve (N divisions when " &
-            // "beta = 0); N sines per stage for Runge-Kutta")
-        call h5_write(file, "/lower_bound/sine_time", t_sine, "s", &
-            "N sines of values spread over [-A, A], N = chain sites (best of 7 trials)")
-        call h5_write(file, "/lower_bound/division_time", t_division, "s", &
-            "N divisions (the solve when beta = 0)")
-        call h5_write(file, "/lower_bound/tridiagonal_time", t_tridiag, "s", &
-            "One LAPACK dgtsv of size N with the matrix copies the Newton step makes (the solve when beta > 0)")
-        call h5_write(file, "/lower_bound/run_time", lb, "s", &
-            "Lower bound of each run: steps x (N sines per stage [+ the solve of the implicit schemes])", &
-            dims=dims3)
-        call h5_write(file, "/lower_bound/ratio", ratio, "1", &
-            "wall_time / lower_bound run_time", dims=dims3)
+        call write_row_group(file, work_precision_lower_bound)
+        call write_row(file, work_precision_lower_bound_sine_time, t_sine)
+        call write_row(file, work_precision_lower_bound_division_time, t_division)
+        call write_row(file, work_precision_lower_bound_tridiagonal_time, t_tridiag)
+        call write_row(file, work_precision_lower_bound_run_time, lb)
+        call write_row(file, work_precision_lower_bound_ratio, ratio)
         call h5_commit(file, error)
 
     contains
