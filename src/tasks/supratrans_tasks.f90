@@ -236,7 +236,9 @@ contains
     !> Run tasks 1..ntask (those not already in the journal), in parallel over OpenMP threads. Unless `quiet`, a
     !> progress line goes to stderr after a task is journaled when one is due (`supratrans_progress`, at the interval
     !> `inv%progress_every`), and after the last: "  12/40 runs", then the fraction done, the wall time elapsed and
-    !> the time left at the rate so far (`progress_tail`). A task that runs long prints nothing while it runs.
+    !> the time left at the rate so far (`progress_tail`), the tasks weighed by their costs (those that deal the
+    !> slices): the largest run first, so that a count of tasks would foretell the rest at the rate of the costliest.
+    !> A task that runs long prints nothing while it runs.
     !>
     !> With `inv` given, its options apply: `--slice I/N` (`inv%slice_count` > 0) runs only the tasks
     !> `slice_owners` deals to slice I by their costs (`tasks%cost`, or with `--costs FILE` the costs measured in
@@ -277,7 +279,8 @@ contains
         logical, allocatable :: mine(:)
         integer :: nvalues, i, ndone_start, ndone, ntodo, ios, threads, dropped, slice_index, slice_count
         integer(int64) :: clock_start, clock_rate, clock_now, binding
-        real(wp) :: last_snapshot, elapsed, every
+        real(wp) :: last_snapshot, elapsed, every, work_start, work_done, work_total
+        real(wp), allocatable :: weights(:)
         logical :: snapshot_only, write_failed, written, merging, lost, due
         type(progress_clock) :: clock
         real(wp), allocatable :: costs(:)
@@ -317,6 +320,9 @@ contains
             costs = [(tasks%cost(i), i = 1, ntask)]
         end if
         order = run_order(costs)
+        ! the progress lines weigh the tasks by their costs: run largest first, the first ones done are not a
+        ! fair sample of the rest (a task of cost 0, or with all costs 0, weighs 1 in 10^9 of the largest)
+        weights = real(max(cost_keys(costs), 1_int64), wp)
         header = journal_header(ntask, fields, fingerprint)
         call read_journal(journal, header, results, done, dropped, error)
         merging = .false.
@@ -354,6 +360,9 @@ contains
         ntodo = count(mine)
         ndone_start = count(done .and. mine)
         ndone = ndone_start
+        work_total = sum(weights, mask=mine)
+        work_start = sum(weights, mask=done .and. mine)
+        work_done = work_start
         threads = 1
         !$ threads = omp_get_max_threads()
         call system_clock(clock_start, clock_rate)
@@ -390,6 +399,7 @@ contains
                 results(:, i) = values
                 done(i) = .true.
                 ndone = ndone + 1
+                work_done = work_done + weights(i)
                 if (.not. write_failed) then
                     call append_journal_line(journal, binding, i, values, written)
                     write_failed = .not. written
@@ -401,7 +411,8 @@ contains
             if (.not. lost) call progress_due(clock, elapsed, due, final=ndone == ntodo)
             if (due) then
                 write (error_unit, "(a)") "  " // trim(int_fixed(ndone)) // "/" // trim(int_fixed(ntodo)) // " " &
-                    // label // trim(progress_tail(real(ndone_start, wp), real(ndone, wp), real(ntodo, wp), elapsed))
+                    // label // trim(progress_tail(work_start, merge(work_total, work_done, ndone == ntodo), &
+                                                   work_total, elapsed))
                 flush (error_unit)
             end if
             if (elapsed - last_snapshot >= snapshot_interval .and. ndone < ntodo) then
