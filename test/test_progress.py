@@ -1,11 +1,14 @@
-"""Progress on every long run (issue 42, part 2): a timeseries prints lines of progress on stderr (t of T, elapsed
-and remaining time) at a rate set by SUPRATRANS_PROGRESS_EVERY (default 4 s, growing with the time elapsed), none
-when quiet; `--check` prints the number of tasks and runs and an estimate of the cost from the model's sizes;
+"""Progress on every long run (issue 42, part 2): a timeseries prints lines of progress on stderr (t of T, then the
+fraction done, the elapsed and the remaining time) and so does the task engine (tasks done of total and what they
+are called, then the same), by one rule (`supratrans_progress`, whose rule test/test_progress_clock.pf holds as a
+pure function of the times) at a rate set by SUPRATRANS_PROGRESS_EVERY (default 4 s, growing with the time elapsed),
+none when quiet; `--check` prints the number of tasks and runs and an estimate of the cost from the model's sizes;
 `merge` says that it merged records, not that it ran them.
 
 The interval is made tiny here (1e-6 s), so that the assertions count lines, not seconds: a line then comes whenever
-a tenth of the time elapsed has passed since the last (polled every 256 steps), so a run of some forty polls prints
-several on any machine, fast or loaded, and every one but possibly the first has a remaining time.
+a tenth of the time elapsed has passed since the last (polled every 256 steps, or after every task), so a run of
+some forty polls prints several on any machine, fast or loaded, and every one but possibly the first has a
+remaining time.
 """
 from __future__ import annotations
 
@@ -17,8 +20,15 @@ from pathlib import Path
 
 #: A timeseries of some 2e6 oscillator-steps (about a second in the debug build).
 LONG = "&chain n = 400, n0 = 380 /\n&numerics t_final = 500.0 /\n&output file = 'ts.h5'{quiet} /\n"
-#: A progress line: "  t = 179.2 of 500.0 (35.8%), 0.3 s elapsed, about 0.6 s left".
-LINE = re.compile(r"^  t = [0-9.]+ of 500\.0 \([0-9.]+%\), [0-9.]+ s elapsed(, about [0-9.]+ s left)?$")
+#: A duration as the lines give it: two digits in its unit ("0.3 s", "42 s", "2.5 min").
+DURATION = r"([0-9]\.[0-9]|[1-9][0-9]*) (s|min|h|days)"
+#: A progress line: "  t = 179.2 of 500.0 (35%), 0.3 s elapsed, about 0.6 s left".
+LINE = re.compile(rf"^  t = [0-9.]+ of 500\.0 \([0-9]+%\), {DURATION} elapsed(, about {DURATION} left)?$")
+#: A progress line of the task engine: "  12/40 runs (30%), 5.2 s elapsed, about 12 s left".
+TASK_LINE = re.compile(rf"^  ([0-9]+)/([0-9]+) runs \(([0-9]+)%\), {DURATION} elapsed(, about {DURATION} left)?$")
+#: An amplitude sweep of 21 short runs.
+SWEEP = "&chain n = 40, n0 = 30 /\n&numerics t_final = 20.0 /\n&scene kind = 'amplitude_sweep', " \
+        "amplitude_min = 1.0, amplitude_max = 2.0, amplitude_step = 0.05 /\n&output file = 's.h5'{quiet} /\n"
 
 
 def run(exe: str, where: Path, *args: str, env: dict | None = None) -> subprocess.CompletedProcess:
@@ -54,6 +64,35 @@ def test_quiet_and_short_runs_print_no_progress(exe, tmp_path):
     assert proc.returncode == 0, proc.stderr
     lines = [line for line in proc.stderr.splitlines() if line.startswith("  t = ")]
     assert len(lines) <= wall/4.0, (wall, proc.stderr)
+
+
+def test_the_task_engine_prints_tasks_done_by_the_same_rule(exe, tmp_path):
+    """The engine's lines: tasks done of total and what they are called, then the shared part; increasing, the
+    last one at 100% with no time left; none when quiet. With the default interval, no more lines than the wall
+    time allows besides the last."""
+    (tmp_path / "s.nml").write_text(SWEEP.format(quiet=""))
+    proc = run(exe, tmp_path, "s.nml", env={"SUPRATRANS_PROGRESS_EVERY": "1e-6"})
+    assert proc.returncode == 0, proc.stderr
+    lines = [line for line in proc.stderr.splitlines() if TASK_LINE.match(line)]
+    assert lines and lines[-1].startswith("  21/21 runs (100%), ") and "left" not in lines[-1], proc.stderr
+    done = [int(TASK_LINE.match(line).group(1)) for line in lines]
+    assert done == sorted(set(done)), lines
+    # the fraction is of the work, the tasks weighed by their costs: growing, 100% only at the end
+    percent = [int(TASK_LINE.match(line).group(3)) for line in lines]
+    assert percent == sorted(percent) and percent[-1] == 100 and max(percent[:-1], default=0) < 100, lines
+    assert all("s left" in line for line in lines[:-1]), lines
+    assert not [line for line in proc.stderr.splitlines() if "/21 runs" in line and not TASK_LINE.match(line)]
+    (tmp_path / "s.nml").write_text(SWEEP.format(quiet=", overwrite = .true., quiet = .true."))
+    proc = run(exe, tmp_path, "s.nml", env={"SUPRATRANS_PROGRESS_EVERY": "1e-6"})
+    assert proc.returncode == 0 and proc.stderr == "", proc.stderr
+    (tmp_path / "s.nml").write_text(SWEEP.format(quiet=", overwrite = .true."))
+    start = time.monotonic()
+    proc = run(exe, tmp_path, "s.nml")
+    wall = time.monotonic() - start
+    assert proc.returncode == 0, proc.stderr
+    lines = [line for line in proc.stderr.splitlines() if TASK_LINE.match(line)]
+    assert 1 <= len(lines) <= 1 + wall / 4.0, (wall, proc.stderr)
+    assert lines[-1].startswith("  21/21 runs (100%), "), lines
 
 
 def report(text: str) -> dict:

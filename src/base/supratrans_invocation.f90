@@ -1,9 +1,11 @@
 !> How the engine is invoked, apart from the physics it computes: the command line's slice and cost options and
-!> what `merge` hands a scene. The configuration (`input_config`, the namelist) says what to compute; this says
-!> which part of it this process runs and how its output is made, and is passed beside the configuration (scenes'
-!> `run`, `supratrans_tasks::run_tasks`, the root of an output file). Defaults: the whole scene, computed here.
+!> what `merge` hands a scene, and the interval of the progress lines. The configuration (`input_config`, the
+!> namelist) says what to compute; this says which part of it this process runs and how its output (and its progress
+!> on stderr) is made, and is passed beside the configuration (scenes' `run`, `supratrans_tasks::run_tasks`, the root
+!> of an output file). Defaults: the whole scene, computed here.
 module supratrans_invocation
     use supratrans_kinds, only: wp
+    use supratrans_progress, only: progress_every_default
     implicit none
     private
 
@@ -29,6 +31,10 @@ module supratrans_invocation
         !> For `merge`: the summed wall time (s) of the slices, the merged file's cost in place of the merge's own
         !> (< 0: not a merge).
         real(wp) :: merge_wall_time = -1.0_wp
+        !> Least wall time (s) between two progress lines on stderr (`supratrans_progress`): the command line's
+        !> `progress_every_setting` (SUPRATRANS_PROGRESS_EVERY), read once with the configuration; an output's
+        !> `quiet` prints none.
+        real(wp) :: progress_every = progress_every_default
     end type invocation_type
 
 contains

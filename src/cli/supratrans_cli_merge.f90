@@ -7,6 +7,7 @@ module supratrans_cli_merge
     use supratrans_error, only: error_type, fatal_error, err_input
     use supratrans_config, only: input_config
     use supratrans_invocation, only: invocation_type
+    use supratrans_progress, only: progress_every_setting
     use supratrans_system, only: path_kind, path_missing, stop_signal
     use supratrans_input, only: read_input, read_input_text
     use supratrans_validate, only: validate_config
@@ -198,6 +199,7 @@ contains
             return
         end if
         inv%merge_part = set%first
+        inv%progress_every = progress_every_setting()     ! SUPRATRANS_PROGRESS_EVERY, read once, with the input
         inv%merge_record = set%record
         inv%merge_wall_time = set%wall_time
         cfg%output%file = output

@@ -8,6 +8,7 @@ module supratrans_cli_run
     use supratrans_error, only: error_type, fatal_error, err_input, err_io
     use supratrans_config, only: input_config
     use supratrans_invocation, only: invocation_type
+    use supratrans_progress, only: progress_every_setting
     use supratrans_system, only: path_kind, path_missing, remove_own_file, unlock_file, link_kind, path_regular, not_own_file
     use supratrans_hdf5, only: h5_file, h5_open, h5_close, h5_read, h5_read_attr, h5_attr_exists
     use supratrans_input, only: read_input
@@ -45,6 +46,7 @@ contains
 
         status = 0
         call read_input(path, cfg, error, check_output=.false.)
+        inv%progress_every = progress_every_setting()     ! SUPRATRANS_PROGRESS_EVERY, read once, with the input
         if (.not. allocated(error)) call new_scene(trim(cfg%scene%kind), scene, error)
         if (allocated(error)) then
             status = error%stat

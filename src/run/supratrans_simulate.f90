@@ -11,7 +11,8 @@ module supratrans_simulate
     use, intrinsic :: iso_fortran_env, only: error_unit
     use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type, fatal_error, err_input
-    use supratrans_strings, only: real_str, fixed1
+    use supratrans_strings, only: real_str, real_fixed
+    use supratrans_progress, only: progress_clock, start_progress, progress_due, progress_tail
     use supratrans_config, only: run_config
     use supratrans_potential, only: check_potential
     use supratrans_stepper, only: stepper, step_ok, step_not_converged, step_breakdown, save_counters, load_counters
@@ -135,10 +136,11 @@ contains
     !> resumed task from its saved record and continues the run that was in progress from its saved step. A run
     !> that ends is added to the session's records.
     !>
-    !> With `progress_every` > 0 (the timeseries scene: one long run) a line of progress goes to stderr once
-    !> max(`progress_every`, a tenth of the time elapsed) seconds of wall time have passed since the last: the
-    !> simulated time t of T, the wall time elapsed and the time left at the rate so far (a line count that grows
-    !> only with the logarithm of a long run's length). Polled with the checkpoint clock, every `clock_stride` steps.
+    !> With `progress_every` > 0 (the timeseries scene: one long run) a line of progress goes to stderr whenever
+    !> the rule of `supratrans_progress` says one is due (max(`progress_every`, a tenth of the time elapsed) seconds
+    !> of wall time since the last): the simulated time t of T, then `progress_tail` (the fraction done, the wall
+    !> time elapsed and the time left at the rate so far). Polled with the checkpoint clock, every `clock_stride`
+    !> steps.
     subroutine simulate(run, result, verdict_only, interruptible, session, progress_every)
         !> Validated run configuration.
         type(run_config), intent(in) :: run
@@ -155,10 +157,11 @@ contains
         class(stepper), allocatable :: integrator
         type(observer_item), allocatable :: observers(:)
         type(error_type), allocatable :: error
-        integer(i8) :: clock_start, clock_end, clock_rate, m, nsteps, countdown, clock_report
+        integer(i8) :: clock_start, clock_end, clock_rate, m, nsteps, countdown
         integer :: i, status
         logical :: halt, verdict, poll, keep, resumed, report
         real(wp) :: earlier_wall, t_begin
+        type(progress_clock) :: clock
 
         call system_clock(clock_start, clock_rate)
         keep = .false.
@@ -223,9 +226,11 @@ contains
         countdown = clock_stride
         if (present(interruptible)) poll = poll .or. interruptible
         report = .false.
-        if (present(progress_every)) report = progress_every > 0.0_wp
+        if (present(progress_every)) then
+            clock = start_progress(progress_every, quiet=.false.)
+            report = clock%every > 0.0_wp
+        end if
         t_begin = integrator%level_time()
-        call system_clock(clock_report)
         do while (integrator%steps < nsteps)
             if (poll) then
                 if (stop_signal() /= 0) then
@@ -286,28 +291,22 @@ contains
 
     contains
 
-        !> A line of progress on stderr once max(progress_every, elapsed/10) seconds have passed since the last: t of
-        !> T, the wall time elapsed in this process and the time left at its rate so far.
+        !> A line of progress on stderr when one is due (`progress_due`): t of T, then the fraction done, the wall
+        !> time elapsed in this process and the time left at its rate so far (`progress_tail`).
         subroutine report_progress()
             integer(i8) :: now
-            real(wp) :: elapsed, since, t, t_end, left
-            character(len=:), allocatable :: line
+            real(wp) :: elapsed, t
+            logical :: due
 
             call system_clock(now)
             elapsed = real(now - clock_start, wp)/real(clock_rate, wp)
-            since = real(now - clock_report, wp)/real(clock_rate, wp)
-            if (since < max(progress_every, 0.1_wp*elapsed)) return
-            clock_report = now
+            call progress_due(clock, elapsed, due)
+            if (.not. due) return
             t = integrator%level_time()
-            t_end = run%numerics%t_final
-            line = "  t = " // real_str(t, 6) // " of " // real_str(t_end, 6) // " (" &
-                   // fixed1(100.0_wp*min(t/t_end, 1.0_wp)) // "%), " // fixed1(elapsed) // " s elapsed"
-            if (t > t_begin) then
-                left = elapsed*max(t_end - t, 0.0_wp)/(t - t_begin)
-                line = line // ", about " // fixed1(left) // " s left"
-            end if
             !$omp critical (supratrans_simulate_notes)
-            write (error_unit, "(a)") line
+            write (error_unit, "(a)") "  t = " // trim(real_fixed(t, 6)) // " of " &
+                // trim(real_fixed(run%numerics%t_final, 6)) &
+                // trim(progress_tail(t_begin, t, run%numerics%t_final, elapsed))
             flush (error_unit)
             !$omp end critical (supratrans_simulate_notes)
         end subroutine report_progress

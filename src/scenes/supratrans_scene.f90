@@ -200,11 +200,13 @@ contains
     end function summary
 
     !> Run a one-run scene and write its output: a one-run scene overrides it; here, an error.
-    subroutine run_one(self, cfg, error)
+    subroutine run_one(self, cfg, inv, error)
         !> The scene.
         class(scene_type), intent(in) :: self
         !> The validated input.
         type(input_config), intent(in) :: cfg
+        !> How it is invoked (the interval of its progress lines).
+        type(invocation_type), intent(in) :: inv
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
 

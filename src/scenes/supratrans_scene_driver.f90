@@ -25,14 +25,14 @@ contains
         integer(int64) :: clock_start, clock_end, clock_rate
         logical :: exists, keep
 
+        if (present(inv)) tasks%inv = inv
         if (self%one_run()) then
-            call self%run_one(cfg, error)
+            call self%run_one(cfg, tasks%inv, error)
             return
         end if
         call system_clock(clock_start, clock_rate)
         keep = .false.
         if (present(keep_journal)) keep = keep_journal
-        if (present(inv)) tasks%inv = inv
         output = trim(cfg%output%file)
         journal = output // ".journal"
         inquire (file=output, exist=exists)

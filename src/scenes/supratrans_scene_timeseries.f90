@@ -4,7 +4,8 @@
 !>
 !> It is one run, not a task list: no journal, no `--slice`. A run stopped by a signal writes no result; with
 !> `checkpoint_every` > 0 it leaves its checkpoint `<output>.checkpoint`, from which the same command resumes. A run
-!> longer than a few seconds prints its progress on stderr (t of T, elapsed and remaining time) unless quiet.
+!> longer than a few seconds prints its progress on stderr (t of T, elapsed and remaining time: `supratrans_progress`,
+!> its interval the invocation's) unless quiet.
 !> Omega must lie inside the band gap unless allow_outside_gap.
 module supratrans_scene_timeseries
     use, intrinsic :: iso_fortran_env, only: error_unit
@@ -12,6 +13,7 @@ module supratrans_scene_timeseries
     use supratrans_error, only: error_type, fatal_error, err_input, err_interrupted
     use supratrans_config, only: input_config
     use supratrans_scene, only: scene_type
+    use supratrans_invocation, only: invocation_type
     use supratrans_simulate, only: simulate
     use supratrans_checkpoint, only: checkpoint_session, open_session, close_session
     use supratrans_tasks, only: input_fingerprint
@@ -34,10 +36,6 @@ module supratrans_scene_timeseries
         timeseries_ledger_dissipated_gamma, timeseries_ledger_dissipated_beta, timeseries_ledger_dissipated_absorber, &
         timeseries_ledger_residual]
 
-    !> Least wall time (s) between two lines of the run's progress on stderr, unless SUPRATRANS_PROGRESS_EVERY says
-    !> otherwise: a 10 s run prints two (at 4 s and 8 s).
-    real(wp), parameter :: progress_every_default = 4.0_wp
-
     !> The scene `timeseries`: one run.
     type, extends(scene_type), public :: timeseries_scene
     contains
@@ -53,11 +51,13 @@ contains
 
     !> Run the one run `cfg` describes (stoppable by a signal), print its end and verdict, and write
     !> `cfg%output%file` (`write_timeseries`).
-    subroutine run_timeseries(cfg, error)
+    subroutine run_timeseries(cfg, error, progress_every)
         !> The validated input.
         type(input_config), intent(in) :: cfg
         !> Error, allocated on failure: stopped by a signal (no result written), out of memory, output not written.
         type(error_type), allocatable, intent(out) :: error
+        !> Least wall time (s) between two lines of the run's progress (`supratrans_progress`; none when quiet).
+        real(wp), intent(in) :: progress_every
         type(run_result) :: result
         type(checkpoint_session) :: session
 
@@ -70,7 +70,8 @@ contains
         if (session%resumed) call progress(cfg, "  resumed from its checkpoint")
         session%note = ""
         session%log_runs = .false.        ! one run: nothing to replay
-        call simulate(cfg%run, result, interruptible=.true., session=session, progress_every=progress_interval(cfg))
+        call simulate(cfg%run, result, interruptible=.true., session=session, &
+                      progress_every=merge(0.0_wp, progress_every, cfg%output%quiet))
         if (len_trim(session%note) > 0) call progress(cfg, "  checkpoint " // trim(session%note))
         if (result%interrupted) then
             ! a cut run is no result, and a file under the output's name would look like one: its checkpoint is
@@ -99,26 +100,6 @@ contains
         call write_timeseries(cfg, result, error)
         if (.not. allocated(error)) call close_session(session)
     end subroutine run_timeseries
-
-    !> Least wall time (s) between two lines of progress of the run on stderr: `progress_every_default`, or the
-    !> environment variable SUPRATRANS_PROGRESS_EVERY (seconds, > 0); 0 (none) when the output is quiet. The
-    !> interval grows with the time elapsed (`simulate`): a line at 4 s, 8 s, 12 s, ..., then every tenth of it.
-    function progress_interval(cfg) result(every)
-        !> The validated input (the quiet flag).
-        type(input_config), intent(in) :: cfg
-        real(wp) :: every
-        character(len=32) :: text
-        integer :: ios, stat
-        real(wp) :: value
-
-        every = 0.0_wp
-        if (cfg%output%quiet) return
-        every = progress_every_default
-        call get_environment_variable("SUPRATRANS_PROGRESS_EVERY", text, status=stat)
-        if (stat /= 0 .or. len_trim(text) == 0) return
-        read (text, *, iostat=ios) value
-        if (ios == 0 .and. value > 0.0_wp .and. value <= huge(1.0_wp)) every = value
-    end function progress_interval
 
     !> Write the `timeseries` scene: one run's probes u_n(t), its energy ledger over time and its outcome.
     subroutine write_timeseries(cfg, result, error)
@@ -202,15 +183,17 @@ contains
     end subroutine progress
 
     !> Run the scene (`run_timeseries`): its own run phase, called by the scene driver (`supratrans_scene`).
-    subroutine timeseries_run_one(self, cfg, error)
+    subroutine timeseries_run_one(self, cfg, inv, error)
         !> The scene.
         class(timeseries_scene), intent(in) :: self
         !> The validated input.
         type(input_config), intent(in) :: cfg
+        !> How it is invoked (the interval of its progress lines).
+        type(invocation_type), intent(in) :: inv
         !> Error, allocated on failure.
         type(error_type), allocatable, intent(out) :: error
 
-        call run_timeseries(cfg, error)
+        call run_timeseries(cfg, error, inv%progress_every)
     end subroutine timeseries_run_one
 
     !> A timeseries is one run.

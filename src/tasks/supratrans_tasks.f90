@@ -13,7 +13,8 @@
 module supratrans_tasks
     use, intrinsic :: iso_fortran_env, only: error_unit, int64
     use supratrans_kinds, only: wp
-    use supratrans_strings, only: int_str, real_str, fixed1, text_fingerprint, printable
+    use supratrans_strings, only: int_str, real_str, int_fixed, text_fingerprint, printable
+    use supratrans_progress, only: progress_clock, start_progress, progress_due, progress_tail, progress_every_default
     use supratrans_error, only: error_type, fatal_error, err_io, err_interrupted, err_input
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
                                  method_avf4, method_avf8
@@ -30,8 +31,8 @@ module supratrans_tasks
     public :: run_tasks, file_fingerprint, text_fingerprint, input_fingerprint, engine_only, slice_owners, slice_text, run_work
     public :: slice_costs, task_list, run_order
 
-    !> Seconds between two progress lines, and between two snapshots.
-    real(wp), parameter :: progress_interval = 2.0_wp, snapshot_interval = 10.0_wp
+    !> Seconds between two snapshots (the progress lines: `supratrans_progress`, at the invocation's interval).
+    real(wp), parameter :: snapshot_interval = 10.0_wp
 
 contains
 
@@ -232,7 +233,12 @@ contains
         end do
     end function sorted_by_key
 
-    !> Run tasks 1..ntask (those not already in the journal), in parallel over OpenMP threads.
+    !> Run tasks 1..ntask (those not already in the journal), in parallel over OpenMP threads. Unless `quiet`, a
+    !> progress line goes to stderr after a task is journaled when one is due (`supratrans_progress`, at the interval
+    !> `inv%progress_every`), and after the last: "  12/40 runs", then the fraction done, the wall time elapsed and
+    !> the time left at the rate so far (`progress_tail`), the tasks weighed by their costs (those that deal the
+    !> slices): the largest run first, so that a count of tasks would foretell the rest at the rate of the costliest.
+    !> A task that runs long prints nothing while it runs.
     !>
     !> With `inv` given, its options apply: `--slice I/N` (`inv%slice_count` > 0) runs only the tasks
     !> `slice_owners` deals to slice I by their costs (`tasks%cost`, or with `--costs FILE` the costs measured in
@@ -273,8 +279,10 @@ contains
         logical, allocatable :: mine(:)
         integer :: nvalues, i, ndone_start, ndone, ntodo, ios, threads, dropped, slice_index, slice_count
         integer(int64) :: clock_start, clock_rate, clock_now, binding
-        real(wp) :: last_progress, last_snapshot, elapsed
-        logical :: snapshot_only, write_failed, written, merging, lost
+        real(wp) :: last_snapshot, elapsed, every, work_start, work_done, work_total
+        real(wp), allocatable :: weights(:)
+        logical :: snapshot_only, write_failed, written, merging, lost, due
+        type(progress_clock) :: clock
         real(wp), allocatable :: costs(:)
         integer, allocatable :: order(:)
         integer :: stop_after, k
@@ -285,10 +293,12 @@ contains
         slice_index = 0
         slice_count = 0
         snapshot_only = .false.
+        every = progress_every_default
         if (present(inv)) then
             slice_index = inv%slice_index
             slice_count = inv%slice_count
             snapshot_only = inv%snapshot_only
+            every = inv%progress_every
         end if
         allocate (results(nvalues, ntask), stat=ios)
         if (ios == 0) allocate (done(ntask), stat=ios)
@@ -310,6 +320,9 @@ contains
             costs = [(tasks%cost(i), i = 1, ntask)]
         end if
         order = run_order(costs)
+        ! the progress lines weigh the tasks by their costs: run largest first, the first ones done are not a
+        ! fair sample of the rest (a task of cost 0, or with all costs 0, weighs 1 in 10^9 of the largest)
+        weights = real(max(cost_keys(costs), 1_int64), wp)
         header = journal_header(ntask, fields, fingerprint)
         call read_journal(journal, header, results, done, dropped, error)
         merging = .false.
@@ -347,11 +360,14 @@ contains
         ntodo = count(mine)
         ndone_start = count(done .and. mine)
         ndone = ndone_start
+        work_total = sum(weights, mask=mine)
+        work_start = sum(weights, mask=done .and. mine)
+        work_done = work_start
         threads = 1
         !$ threads = omp_get_max_threads()
         call system_clock(clock_start, clock_rate)
         run_record%started = timestamp()
-        last_progress = 0.0_wp
+        clock = start_progress(every, quiet)
         last_snapshot = 0.0_wp
         write_failed = .false.
         if (.not. quiet .and. merging .and. ndone_start == ntodo) then
@@ -367,7 +383,7 @@ contains
             flush (error_unit)
         end if
 
-        !$omp parallel do schedule(dynamic, 1) default(shared) private(k, i, values, clock_now, elapsed, written, lost)
+        !$omp parallel do schedule(dynamic, 1) default(shared) private(k, i, values, clock_now, elapsed, written, lost, due)
         do k = 1, ntask
             i = order(k)
             if (done(i) .or. .not. mine(i)) cycle
@@ -383,6 +399,7 @@ contains
                 results(:, i) = values
                 done(i) = .true.
                 ndone = ndone + 1
+                work_done = work_done + weights(i)
                 if (.not. write_failed) then
                     call append_journal_line(journal, binding, i, values, written)
                     write_failed = .not. written
@@ -390,11 +407,12 @@ contains
             end if
             call system_clock(clock_now)
             elapsed = real(clock_now - clock_start, wp)/real(clock_rate, wp)
-            if (.not. quiet .and. .not. lost .and. (elapsed - last_progress >= progress_interval .or. ndone == ntodo)) then
-                last_progress = elapsed
-                write (error_unit, "(a)") "  " // int_str(ndone) // "/" // int_str(ntodo) // " " // label &
-                    // ", elapsed " // fixed1(elapsed) // " s, remaining ~" &
-                    // fixed1(elapsed/real(ndone - ndone_start, wp)*real(ntodo - ndone, wp)) // " s"
+            due = .false.
+            if (.not. lost) call progress_due(clock, elapsed, due, final=ndone == ntodo)
+            if (due) then
+                write (error_unit, "(a)") "  " // trim(int_fixed(ndone)) // "/" // trim(int_fixed(ntodo)) // " " &
+                    // label // trim(progress_tail(work_start, merge(work_total, work_done, ndone == ntodo), &
+                                                   work_total, elapsed))
                 flush (error_unit)
             end if
             if (elapsed - last_snapshot >= snapshot_interval .and. ndone < ntodo) then
