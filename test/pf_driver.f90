@@ -122,159 +122,160 @@ program pf_driver
     use test_output_rows, only: t113 => test_data_of_another_type_is_the_files_error
     use test_output_rows, only: t114 => test_a_group_is_not_a_dataset
     use test_output_rows, only: t115 => test_an_attribute_the_row_does_not_list_is_the_files_error
-    use test_output_rows, only: t116 => test_the_hysteresis_record_as_values_and_back
-    use test_output_rows, only: t117 => test_the_run_record_takes_its_empty_value_from_nan
-    use test_perf_kernels, only: t118 => test_sin_cos_array_accuracy
-    use test_perf_kernels, only: t119 => test_sin_cos_quiet_tail
-    use test_perf_kernels, only: t120 => test_gradient_paths_agree
-    use test_period_map, only: t121 => test_tangent_against_finite_differences
-    use test_period_map, only: t122 => test_tangent_light_cone
-    use test_period_map, only: t123 => test_same_scheme_as_steppers
-    use test_period_map, only: t124 => test_linear_evanescent_wave
-    use test_period_map, only: t125 => test_newton_shooting_quadratic
-    use test_period_map, only: t126 => test_steps_and_bad_input
-    use test_period_map, only: t127 => test_half_period_map
-    use test_potential, only: t128 => test_gradient_equals_difference_quotient
-    use test_potential, only: t129 => test_derivatives_consistent
-    use test_potential, only: t130 => test_gradient_tends_to_force
-    use test_potential, only: t131 => test_gradient_exact_at_rest
-    use test_potential, only: t132 => test_slope_matches_finite_difference
-    use test_potential, only: t133 => test_newton_bounds_hold
-    use test_potential, only: t134 => test_array_kernels_agree
-    use test_potential, only: t135 => test_names_round_trip
-    use test_potential, only: t136 => test_unknown_potential_is_an_error
+    use test_output_rows, only: t116 => test_units_only_where_the_row_leaves_them_to_the_writer
+    use test_output_rows, only: t117 => test_the_hysteresis_record_as_values_and_back
+    use test_output_rows, only: t118 => test_the_run_record_takes_its_empty_value_from_nan
+    use test_perf_kernels, only: t119 => test_sin_cos_array_accuracy
+    use test_perf_kernels, only: t120 => test_sin_cos_quiet_tail
+    use test_perf_kernels, only: t121 => test_gradient_paths_agree
+    use test_period_map, only: t122 => test_tangent_against_finite_differences
+    use test_period_map, only: t123 => test_tangent_light_cone
+    use test_period_map, only: t124 => test_same_scheme_as_steppers
+    use test_period_map, only: t125 => test_linear_evanescent_wave
+    use test_period_map, only: t126 => test_newton_shooting_quadratic
+    use test_period_map, only: t127 => test_steps_and_bad_input
+    use test_period_map, only: t128 => test_half_period_map
+    use test_potential, only: t129 => test_gradient_equals_difference_quotient
+    use test_potential, only: t130 => test_derivatives_consistent
+    use test_potential, only: t131 => test_gradient_tends_to_force
+    use test_potential, only: t132 => test_gradient_exact_at_rest
+    use test_potential, only: t133 => test_slope_matches_finite_difference
+    use test_potential, only: t134 => test_newton_bounds_hold
+    use test_potential, only: t135 => test_array_kernels_agree
+    use test_potential, only: t136 => test_names_round_trip
+    use test_potential, only: t137 => test_unknown_potential_is_an_error
     use test_provenance, only: b17 => set_up
     use test_provenance, only: a17 => tear_down
-    use test_provenance, only: t137 => test_build_commit_is_an_id_or_unknown
-    use test_provenance, only: t138 => test_commit_is_not_read_from_the_working_directory
-    use test_provenance, only: t139 => test_provenance_written
-    use test_provenance, only: t140 => test_provenance_attributes_are_the_documented_ones
-    use test_rk4, only: t141 => test_rk4_fourth_order
-    use test_rk4, only: t142 => test_rk4_energy_drift
-    use test_rk4, only: t143 => test_rk4_stability_limit
-    use test_rk4, only: t144 => test_rk4_agrees_with_energy_conserving_scheme
+    use test_provenance, only: t138 => test_build_commit_is_an_id_or_unknown
+    use test_provenance, only: t139 => test_commit_is_not_read_from_the_working_directory
+    use test_provenance, only: t140 => test_provenance_written
+    use test_provenance, only: t141 => test_provenance_attributes_are_the_documented_ones
+    use test_rk4, only: t142 => test_rk4_fourth_order
+    use test_rk4, only: t143 => test_rk4_energy_drift
+    use test_rk4, only: t144 => test_rk4_stability_limit
+    use test_rk4, only: t145 => test_rk4_agrees_with_energy_conserving_scheme
     use test_scene_bifurcation, only: b19 => set_up
     use test_scene_bifurcation, only: a19 => tear_down
-    use test_scene_bifurcation, only: t145 => test_early_stop_keeps_verdict
-    use test_scene_bifurcation, only: t146 => test_threads_give_identical_thresholds
-    use test_scene_bifurcation, only: t147 => test_threshold_transmits_and_one_step_below_does_not
-    use test_scene_bifurcation, only: t148 => test_resume_after_kill
-    use test_scene_bifurcation, only: t149 => test_file_layout
-    use test_scene_bifurcation, only: t150 => test_failed_runs_give_status_run_failed
-    use test_scene_bifurcation, only: t151 => test_screening_changes_no_threshold
-    use test_scene_factory, only: t152 => test_every_kind_of_the_schema_has_a_scene
-    use test_scene_factory, only: t153 => test_unknown_kind_is_one_line_naming_the_known
-    use test_scene_factory, only: t154 => test_the_input_check_words_an_unknown_kind_as_before
-    use test_scene_factory, only: t155 => test_only_a_timeseries_is_one_run
-    use test_scene_factory, only: t156 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
-    use test_scene_factory, only: t157 => test_task_scenes_refuse_an_existing_output_first
+    use test_scene_bifurcation, only: t146 => test_early_stop_keeps_verdict
+    use test_scene_bifurcation, only: t147 => test_threads_give_identical_thresholds
+    use test_scene_bifurcation, only: t148 => test_threshold_transmits_and_one_step_below_does_not
+    use test_scene_bifurcation, only: t149 => test_resume_after_kill
+    use test_scene_bifurcation, only: t150 => test_file_layout
+    use test_scene_bifurcation, only: t151 => test_failed_runs_give_status_run_failed
+    use test_scene_bifurcation, only: t152 => test_screening_changes_no_threshold
+    use test_scene_factory, only: t153 => test_every_kind_of_the_schema_has_a_scene
+    use test_scene_factory, only: t154 => test_unknown_kind_is_one_line_naming_the_known
+    use test_scene_factory, only: t155 => test_the_input_check_words_an_unknown_kind_as_before
+    use test_scene_factory, only: t156 => test_only_a_timeseries_is_one_run
+    use test_scene_factory, only: t157 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
+    use test_scene_factory, only: t158 => test_task_scenes_refuse_an_existing_output_first
     use test_scene_map, only: b21 => set_up
     use test_scene_map, only: a21 => tear_down
-    use test_scene_map, only: t158 => test_skips_outside_gap_and_stores_as
-    use test_scene_map, only: t159 => test_map_independent_of_thread_count
+    use test_scene_map, only: t159 => test_skips_outside_gap_and_stores_as
+    use test_scene_map, only: t160 => test_map_independent_of_thread_count
     use test_scene_sweep, only: b22 => set_up
     use test_scene_sweep, only: a22 => tear_down
-    use test_scene_sweep, only: t160 => test_axis_grid_exact
-    use test_scene_sweep, only: t161 => test_independent_of_thread_count
-    use test_scene_sweep, only: t162 => test_layout_and_physics
-    use test_scene_sweep, only: t163 => test_resume_after_kill
-    use test_scene_sweep, only: t164 => test_diverging_runs_flagged
-    use test_scene_sweep, only: t165 => test_partial_snapshot
-    use test_scene_sweep, only: t166 => test_refuses_existing_output
-    use test_schema, only: t167 => test_table_is_complete
-    use test_schema, only: t168 => test_each_key_sets_its_own_field
-    use test_schema, only: t169 => test_defaults_are_the_papers
-    use test_schema, only: t170 => test_choices_agree_with_the_physics
-    use test_schema, only: t171 => test_parameters_hold_every_key
-    use test_scheme, only: t172 => test_ledger_closes_every_step
-    use test_scheme, only: t173 => test_ledger_closes_double_sine_gordon
-    use test_scheme, only: t174 => test_evanescent_wave_double_sine_gordon
-    use test_scheme, only: t175 => test_linearized_ledger_does_not_close
-    use test_scheme, only: t176 => test_evanescent_wave
-    use test_scheme, only: t177 => test_second_order_in_dt
-    use test_scheme, only: t178 => test_stability_boundary
-    use test_scheme, only: t179 => test_newton_failure_reported
-    use test_scheme, only: t180 => test_two_runs_in_two_threads
-    use test_scheme, only: t181 => test_verdict_across_the_gap
-    use test_screened_search, only: t182 => test_cheap_right_saves_exact_runs
-    use test_screened_search, only: t183 => test_cheap_too_high_within_band
-    use test_screened_search, only: t184 => test_cheap_too_high_walks_down
-    use test_screened_search, only: t185 => test_cheap_window_far_below
-    use test_screened_search, only: t186 => test_doubtful_quiet_answers_go_to_the_exact_oracle
-    use test_screened_search, only: t187 => test_random_patterns_with_margins
-    use test_screened_search, only: t188 => test_random_patterns_false_alarms
-    use test_screened_search, only: t189 => test_cheap_finds_none
-    use test_screened_search, only: t190 => test_none_transmits_confirms_the_top
-    use test_screened_search, only: t191 => test_exact_failure_is_reported
-    use test_screened_search, only: t192 => test_cheap_failure_falls_back_to_exact
-    use test_screened_search, only: t193 => test_margin_below_the_threshold
-    use test_slice_costs, only: t194 => test_equal_costs_deal_round_robin
-    use test_slice_costs, only: t195 => test_every_task_in_one_slice_and_deterministic
-    use test_slice_costs, only: t196 => test_largest_first_is_balanced_within_the_largest_task
-    use test_slice_costs, only: t197 => test_run_order_is_largest_first
-    use test_slice_costs, only: t198 => test_fold_tasks_cost_more_at_low_omega
-    use test_slice_costs, only: t199 => test_slice_text_counts_the_slice
+    use test_scene_sweep, only: t161 => test_axis_grid_exact
+    use test_scene_sweep, only: t162 => test_independent_of_thread_count
+    use test_scene_sweep, only: t163 => test_layout_and_physics
+    use test_scene_sweep, only: t164 => test_resume_after_kill
+    use test_scene_sweep, only: t165 => test_diverging_runs_flagged
+    use test_scene_sweep, only: t166 => test_partial_snapshot
+    use test_scene_sweep, only: t167 => test_refuses_existing_output
+    use test_schema, only: t168 => test_table_is_complete
+    use test_schema, only: t169 => test_each_key_sets_its_own_field
+    use test_schema, only: t170 => test_defaults_are_the_papers
+    use test_schema, only: t171 => test_choices_agree_with_the_physics
+    use test_schema, only: t172 => test_parameters_hold_every_key
+    use test_scheme, only: t173 => test_ledger_closes_every_step
+    use test_scheme, only: t174 => test_ledger_closes_double_sine_gordon
+    use test_scheme, only: t175 => test_evanescent_wave_double_sine_gordon
+    use test_scheme, only: t176 => test_linearized_ledger_does_not_close
+    use test_scheme, only: t177 => test_evanescent_wave
+    use test_scheme, only: t178 => test_second_order_in_dt
+    use test_scheme, only: t179 => test_stability_boundary
+    use test_scheme, only: t180 => test_newton_failure_reported
+    use test_scheme, only: t181 => test_two_runs_in_two_threads
+    use test_scheme, only: t182 => test_verdict_across_the_gap
+    use test_screened_search, only: t183 => test_cheap_right_saves_exact_runs
+    use test_screened_search, only: t184 => test_cheap_too_high_within_band
+    use test_screened_search, only: t185 => test_cheap_too_high_walks_down
+    use test_screened_search, only: t186 => test_cheap_window_far_below
+    use test_screened_search, only: t187 => test_doubtful_quiet_answers_go_to_the_exact_oracle
+    use test_screened_search, only: t188 => test_random_patterns_with_margins
+    use test_screened_search, only: t189 => test_random_patterns_false_alarms
+    use test_screened_search, only: t190 => test_cheap_finds_none
+    use test_screened_search, only: t191 => test_none_transmits_confirms_the_top
+    use test_screened_search, only: t192 => test_exact_failure_is_reported
+    use test_screened_search, only: t193 => test_cheap_failure_falls_back_to_exact
+    use test_screened_search, only: t194 => test_margin_below_the_threshold
+    use test_slice_costs, only: t195 => test_equal_costs_deal_round_robin
+    use test_slice_costs, only: t196 => test_every_task_in_one_slice_and_deterministic
+    use test_slice_costs, only: t197 => test_largest_first_is_balanced_within_the_largest_task
+    use test_slice_costs, only: t198 => test_run_order_is_largest_first
+    use test_slice_costs, only: t199 => test_fold_tasks_cost_more_at_low_omega
+    use test_slice_costs, only: t200 => test_slice_text_counts_the_slice
     use test_stability, only: b27 => set_up
     use test_stability, only: a27 => tear_down
-    use test_stability, only: t200 => test_linear_limits
-    use test_stability, only: t201 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t202 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t203 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t204 => test_stepper_contract_order
-    use test_stepper_contract, only: t205 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t206 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t207 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t208 => test_engine_counts_steps_in_64_bits
-    use test_stepper_contract, only: t209 => test_stepper_contract_checkpoint
-    use test_stepper_linearized, only: t210 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t211 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t212 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t213 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t214 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t215 => test_blocked_iteration_is_the_unblocked_one
-    use test_stepper_newton, only: t216 => test_levels_predictor_is_the_two_loop_one
-    use test_stepper_newton, only: t217 => test_uniform_loops_are_the_general_ones
-    use test_stepper_newton, only: t218 => test_newton_error_below_tol
-    use test_stepper_newton, only: t219 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t220 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t221 => test_newton_stepper_reports_failure
-    use test_stepper_newton, only: t222 => test_blowup_measure_is_the_level_maximum
-    use test_stepper_newton, only: t223 => test_step_powers_without_bulk_damping
-    use test_strings, only: t224 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t225 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t226 => test_find_name_gives_the_first_index_or_zero
-    use test_strings, only: t227 => test_joined_trims_each_name_and_prefixes_it
-    use test_strings, only: t228 => test_lower_changes_only_ascii_capitals
+    use test_stability, only: t201 => test_linear_limits
+    use test_stability, only: t202 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t203 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t204 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t205 => test_stepper_contract_order
+    use test_stepper_contract, only: t206 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t207 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t208 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t209 => test_engine_counts_steps_in_64_bits
+    use test_stepper_contract, only: t210 => test_stepper_contract_checkpoint
+    use test_stepper_linearized, only: t211 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t212 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t213 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t214 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t215 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t216 => test_blocked_iteration_is_the_unblocked_one
+    use test_stepper_newton, only: t217 => test_levels_predictor_is_the_two_loop_one
+    use test_stepper_newton, only: t218 => test_uniform_loops_are_the_general_ones
+    use test_stepper_newton, only: t219 => test_newton_error_below_tol
+    use test_stepper_newton, only: t220 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t221 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t222 => test_newton_stepper_reports_failure
+    use test_stepper_newton, only: t223 => test_blowup_measure_is_the_level_maximum
+    use test_stepper_newton, only: t224 => test_step_powers_without_bulk_damping
+    use test_strings, only: t225 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t226 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t227 => test_find_name_gives_the_first_index_or_zero
+    use test_strings, only: t228 => test_joined_trims_each_name_and_prefixes_it
+    use test_strings, only: t229 => test_lower_changes_only_ascii_capitals
     use test_system, only: b32 => set_up
     use test_system, only: a32 => tear_down
-    use test_system, only: t229 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t230 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t231 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t232 => test_lock_file_is_removed_by_its_holder_only
-    use test_system, only: t233 => test_temporary_names_are_fresh
-    use test_system, only: t234 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t235 => test_monotone_step
-    use test_threshold, only: t236 => test_bisected_bracket
-    use test_threshold, only: t237 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t238 => test_two_transitions
-    use test_threshold, only: t239 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t240 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t241 => test_nothing_transmits
-    use test_threshold, only: t242 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t243 => test_lower_bound_transmits
-    use test_threshold, only: t244 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t245 => test_bad_arguments
-    use test_threshold, only: t246 => test_grid_helpers
+    use test_system, only: t230 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t231 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t232 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t233 => test_lock_file_is_removed_by_its_holder_only
+    use test_system, only: t234 => test_temporary_names_are_fresh
+    use test_system, only: t235 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t236 => test_monotone_step
+    use test_threshold, only: t237 => test_bisected_bracket
+    use test_threshold, only: t238 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t239 => test_two_transitions
+    use test_threshold, only: t240 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t241 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t242 => test_nothing_transmits
+    use test_threshold, only: t243 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t244 => test_lower_bound_transmits
+    use test_threshold, only: t245 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t246 => test_bad_arguments
+    use test_threshold, only: t247 => test_grid_helpers
     use test_workprec, only: b34 => set_up
     use test_workprec, only: a34 => tear_down
-    use test_workprec, only: t247 => test_rk8_eighth_order
-    use test_workprec, only: t248 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t249 => test_rk8_stability_polynomial
-    use test_workprec, only: t250 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t251 => test_unstable_runs_are_reported
-    use test_workprec, only: t252 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t253 => test_fitted_order
-    use test_workprec, only: t254 => test_step_kernels_timed
+    use test_workprec, only: t248 => test_rk8_eighth_order
+    use test_workprec, only: t249 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t250 => test_rk8_stability_polynomial
+    use test_workprec, only: t251 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t252 => test_unstable_runs_are_reported
+    use test_workprec, only: t253 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t254 => test_fitted_order
+    use test_workprec, only: t255 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -398,179 +399,185 @@ program pf_driver
         t115, &
         before=b13, &
         after=a13)
-    call pf_run_test('test_output_rows', 'test_the_hysteresis_record_as_values_and_back', t116, before=b13, after=a13)
+    call pf_run_test( &
+        'test_output_rows', &
+        'test_units_only_where_the_row_leaves_them_to_the_writer', &
+        t116, &
+        before=b13, &
+        after=a13)
+    call pf_run_test('test_output_rows', 'test_the_hysteresis_record_as_values_and_back', t117, before=b13, after=a13)
     call pf_run_test( &
         'test_output_rows', &
         'test_the_run_record_takes_its_empty_value_from_nan', &
-        t117, &
+        t118, &
         before=b13, &
         after=a13)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t118)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t119)
-    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t120)
-    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t121)
-    call pf_run_test('test_period_map', 'test_tangent_light_cone', t122)
-    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t123)
-    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t124)
-    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t125)
-    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t126)
-    call pf_run_test('test_period_map', 'test_half_period_map', t127)
-    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t128)
-    call pf_run_test('test_potential', 'test_derivatives_consistent', t129)
-    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t130)
-    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t131)
-    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t132)
-    call pf_run_test('test_potential', 'test_newton_bounds_hold', t133)
-    call pf_run_test('test_potential', 'test_array_kernels_agree', t134)
-    call pf_run_test('test_potential', 'test_names_round_trip', t135)
-    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t136)
-    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t137, before=b17, after=a17)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t119)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t120)
+    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t121)
+    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t122)
+    call pf_run_test('test_period_map', 'test_tangent_light_cone', t123)
+    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t124)
+    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t125)
+    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t126)
+    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t127)
+    call pf_run_test('test_period_map', 'test_half_period_map', t128)
+    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t129)
+    call pf_run_test('test_potential', 'test_derivatives_consistent', t130)
+    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t131)
+    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t132)
+    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t133)
+    call pf_run_test('test_potential', 'test_newton_bounds_hold', t134)
+    call pf_run_test('test_potential', 'test_array_kernels_agree', t135)
+    call pf_run_test('test_potential', 'test_names_round_trip', t136)
+    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t137)
+    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t138, before=b17, after=a17)
     call pf_run_test( &
         'test_provenance', &
         'test_commit_is_not_read_from_the_working_directory', &
-        t138, &
+        t139, &
         before=b17, &
         after=a17)
-    call pf_run_test('test_provenance', 'test_provenance_written', t139, before=b17, after=a17)
+    call pf_run_test('test_provenance', 'test_provenance_written', t140, before=b17, after=a17)
     call pf_run_test( &
         'test_provenance', &
         'test_provenance_attributes_are_the_documented_ones', &
-        t140, &
+        t141, &
         before=b17, &
         after=a17)
-    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t141)
-    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t142)
-    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t143)
-    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t144)
-    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t145, before=b19, after=a19)
-    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t146, before=b19, after=a19)
+    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t142)
+    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t143)
+    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t144)
+    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t145)
+    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t146, before=b19, after=a19)
+    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t147, before=b19, after=a19)
     call pf_run_test( &
         'test_scene_bifurcation', &
         'test_threshold_transmits_and_one_step_below_does_not', &
-        t147, &
+        t148, &
         before=b19, &
         after=a19)
-    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t148, before=b19, after=a19)
-    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t149, before=b19, after=a19)
-    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t150, before=b19, after=a19)
-    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t151, before=b19, after=a19)
-    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t152)
-    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t153)
-    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t154)
-    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t155)
-    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t156)
-    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t157)
-    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t158, before=b21, after=a21)
-    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t159, before=b21, after=a21)
-    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t160, before=b22, after=a22)
-    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t161, before=b22, after=a22)
-    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t162, before=b22, after=a22)
-    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t163, before=b22, after=a22)
-    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t164, before=b22, after=a22)
-    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t165, before=b22, after=a22)
-    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t166, before=b22, after=a22)
-    call pf_run_test('test_schema', 'test_table_is_complete', t167)
-    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t168)
-    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t169)
-    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t170)
-    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t171)
-    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t172)
-    call pf_run_test('test_scheme', 'test_ledger_closes_double_sine_gordon', t173)
-    call pf_run_test('test_scheme', 'test_evanescent_wave_double_sine_gordon', t174)
-    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t175)
-    call pf_run_test('test_scheme', 'test_evanescent_wave', t176)
-    call pf_run_test('test_scheme', 'test_second_order_in_dt', t177)
-    call pf_run_test('test_scheme', 'test_stability_boundary', t178)
-    call pf_run_test('test_scheme', 'test_newton_failure_reported', t179)
-    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t180)
-    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t181)
-    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t182)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t183)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t184)
-    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t185)
-    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t186)
-    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t187)
-    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t188)
-    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t189)
-    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t190)
-    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t191)
-    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t192)
-    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t193)
-    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t194)
-    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t195)
-    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t196)
-    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t197)
-    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t198)
-    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t199)
-    call pf_run_test('test_stability', 'test_linear_limits', t200, before=b27, after=a27)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t201, before=b27, after=a27)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t202, before=b27, after=a27)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t203)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t204)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t205)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t206)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t207)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t208)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t209)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t210)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t211)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t212)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t213)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t214)
-    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t215)
-    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t216)
-    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t217)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t218)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t219)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t220)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t221)
-    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t222)
-    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t223)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t224)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t225)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t226)
-    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t227)
-    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t228)
+    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t149, before=b19, after=a19)
+    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t150, before=b19, after=a19)
+    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t151, before=b19, after=a19)
+    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t152, before=b19, after=a19)
+    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t153)
+    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t154)
+    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t155)
+    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t156)
+    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t157)
+    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t158)
+    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t159, before=b21, after=a21)
+    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t160, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t161, before=b22, after=a22)
+    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t162, before=b22, after=a22)
+    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t163, before=b22, after=a22)
+    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t164, before=b22, after=a22)
+    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t165, before=b22, after=a22)
+    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t166, before=b22, after=a22)
+    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t167, before=b22, after=a22)
+    call pf_run_test('test_schema', 'test_table_is_complete', t168)
+    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t169)
+    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t170)
+    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t171)
+    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t172)
+    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t173)
+    call pf_run_test('test_scheme', 'test_ledger_closes_double_sine_gordon', t174)
+    call pf_run_test('test_scheme', 'test_evanescent_wave_double_sine_gordon', t175)
+    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t176)
+    call pf_run_test('test_scheme', 'test_evanescent_wave', t177)
+    call pf_run_test('test_scheme', 'test_second_order_in_dt', t178)
+    call pf_run_test('test_scheme', 'test_stability_boundary', t179)
+    call pf_run_test('test_scheme', 'test_newton_failure_reported', t180)
+    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t181)
+    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t182)
+    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t183)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t184)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t185)
+    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t186)
+    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t187)
+    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t188)
+    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t189)
+    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t190)
+    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t191)
+    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t192)
+    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t193)
+    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t194)
+    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t195)
+    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t196)
+    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t197)
+    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t198)
+    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t199)
+    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t200)
+    call pf_run_test('test_stability', 'test_linear_limits', t201, before=b27, after=a27)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t202, before=b27, after=a27)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t203, before=b27, after=a27)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t204)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t205)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t206)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t207)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t208)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t209)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t210)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t211)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t212)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t213)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t214)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t215)
+    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t216)
+    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t217)
+    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t218)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t219)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t220)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t221)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t222)
+    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t223)
+    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t224)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t225)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t226)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t227)
+    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t228)
+    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t229)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t229, &
+        t230, &
         before=b32, &
         after=a32)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t230, before=b32, after=a32)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t231, before=b32, after=a32)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t231, &
+        t232, &
         before=b32, &
         after=a32)
-    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t232, before=b32, after=a32)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t233, before=b32, after=a32)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t234, before=b32, after=a32)
-    call pf_run_test('test_threshold', 'test_monotone_step', t235)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t236)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t237)
-    call pf_run_test('test_threshold', 'test_two_transitions', t238)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t239)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t240)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t241)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t242)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t243)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t244)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t245)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t246)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t247, before=b34, after=a34)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t248, before=b34, after=a34)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t249, before=b34, after=a34)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t250, before=b34, after=a34)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t251, before=b34, after=a34)
+    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t233, before=b32, after=a32)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t234, before=b32, after=a32)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t235, before=b32, after=a32)
+    call pf_run_test('test_threshold', 'test_monotone_step', t236)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t237)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t238)
+    call pf_run_test('test_threshold', 'test_two_transitions', t239)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t240)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t241)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t242)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t243)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t244)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t245)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t246)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t247)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t248, before=b34, after=a34)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t249, before=b34, after=a34)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t250, before=b34, after=a34)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t251, before=b34, after=a34)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t252, before=b34, after=a34)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t252, &
+        t253, &
         before=b34, &
         after=a34)
-    call pf_run_test('test_workprec', 'test_fitted_order', t253, before=b34, after=a34)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t254, before=b34, after=a34)
+    call pf_run_test('test_workprec', 'test_fitted_order', t254, before=b34, after=a34)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t255, before=b34, after=a34)
     call pf_driver_finish()
 end program pf_driver
