@@ -43,8 +43,7 @@ Generated (never edit them by hand):
                                           (one writer, `write_curves`, writes them for every scene)
   src/scenes/supratrans_<record>_scalars.f90   per record: the type of its scalar fields, their names in the journal,
                                           the record as values and back, the empty record, and (record_writer) the
-                                          writer of their datasets and of the scene's groups (units, descriptions,
-                                          dims)
+                                          writer of their datasets and of the scene's groups (by their rows)
 
 Checked: the keys of every entry, unique paths, known types, read and when values, every field (but a journal-only
 one) in exactly one dataset of its type over the record's dimensions, every group of a dataset in the table, every
@@ -330,7 +329,12 @@ def record_module(t):
                + (", ieee_is_nan" if guarded_ints else "") + "\n")
     out.append(f"{ind}use supratrans_kinds, only: wp\n")
     if writer:
-        out.append(f"{ind}use supratrans_hdf5, only: h5_file, h5_write, h5_create_group\n")
+        consts = {(r["path"], kind): const for const, tt, kind, r in table_rows([t])}
+        used = [consts[(g["path"], "group")] for g in own_groups(t)] + [consts[(f["dataset"]["path"], "dataset")]
+                                                                         for f in fields if "dataset" in f]
+        out.append(f"{ind}use supratrans_hdf5, only: h5_file\n")
+        out.append(continued(f"{ind}use supratrans_output_rows, only: ", ["write_row", "write_row_group"] + used,
+                             ind * 2))
     out.append(f"{ind}implicit none\n{ind}private\n\n")
     out.append(f"{ind}public :: {name}_values, {name}_from_values, empty_{name}"
                + (f", write_{name}" if writer else "") + "\n\n")
@@ -404,23 +408,45 @@ def record_module(t):
     for a in args:
         out.append(f"{ind * 2}!> The text of `{{{a}}}` in the descriptions.\n")
         out.append(f"{ind * 2}character(len=*), intent(in) :: {a}\n")
-    out.append(f"{ind * 2}integer :: ncurve\n\n{ind * 2}ncurve = size(s)/max(nomega, 1)\n")
 
     def guarded(x, lines):
         if "when" in x:
             return [f"{ind * 2}if ({x['when']}) then\n"] + [ind + line for line in lines] + [f"{ind * 2}end if\n"]
         return lines
 
+    def fill(x):
+        """(lines before the call, `, fill=...`): the arguments of the `{name}`s of a description, each time it
+        names one, in order (more than one: in `texts`, of the longest one's length)."""
+        names = re.findall(r"\{([a-z_][a-z0-9_]*)\}", x["description"])
+        if not names:
+            return [], ""
+        if len(set(names)) == 1:
+            return [], f", fill=[{names[0]}]"
+        width = ", ".join(f"len({n})" for n in dict.fromkeys(names))
+        lines = [f"{ind * 2}if (allocated(texts)) deallocate (texts)\n",
+                 f"{ind * 2}allocate (character(len=max({width})) :: texts({len(names)}))\n"]
+        lines += [f"{ind * 2}texts({i}) = {n}\n" for i, n in enumerate(names, start=1)]
+        return lines, ", fill=texts"
+
+    calls = []
     for g in own_groups(t):
-        call = (f"{ind * 2}call h5_create_group(file, {fstring('/' + g['path'])}, &\n{ind * 3}"
-                + fortran_description(g["description"], ind * 3) + ")\n")
-        out += guarded(g, [call])
+        before, arg = fill(g)
+        calls += guarded(g, before + [f"{ind * 2}call write_row_group(file, {consts[(g['path'], 'group')]}{arg})\n"])
     for f in fields:
+        if "dataset" not in f:
+            continue
         d = f["dataset"]
-        call = (f"{ind * 2}call h5_write(file, {fstring('/' + d['path'])}, reshape(s%{f['name']}, [nomega, ncurve]), "
-                f"{fstring(d['units'])}, &\n{ind * 3}" + fortran_description(d["description"], ind * 3)
-                + f", &\n{ind * 3}dims={fstring(d['dims'])})\n")
-        out += guarded(d, [call])
+        before, arg = fill(d)
+        head = f"{ind * 2}call write_row(file, {consts[(d['path'], 'dataset')]}, "
+        data = f"reshape([s%{f['name']}], [nomega, ncurve])"   # [ ]: no temporary of the strided component
+        if len(ind + head + data + arg) + 1 > WIDTH:
+            head += f"&\n{ind * 3}"
+        calls += guarded(d, before + [f"{head}{data}{arg})\n"])
+    if any("texts(" in line for line in calls):
+        out.append(comment("The texts of the `{name}`s of a description naming more than one.", ind * 2))
+        out.append(f"{ind * 2}character(len=:), allocatable :: texts(:)\n")
+    out.append(f"{ind * 2}integer :: ncurve\n\n{ind * 2}ncurve = size(s)/max(nomega, 1)\n")
+    out += calls
     out.append(f"{ind}end subroutine write_{name}\n\nend module supratrans_{name}\n")
     return "".join(out)
 
