@@ -123,160 +123,161 @@ program pf_driver
     use test_output_rows, only: t114 => test_a_group_is_not_a_dataset
     use test_output_rows, only: t115 => test_an_attribute_the_row_does_not_list_is_the_files_error
     use test_output_rows, only: t116 => test_units_only_where_the_row_leaves_them_to_the_writer
-    use test_output_rows, only: t117 => test_the_hysteresis_record_as_values_and_back
-    use test_output_rows, only: t118 => test_the_run_record_takes_its_empty_value_from_nan
-    use test_perf_kernels, only: t119 => test_sin_cos_array_accuracy
-    use test_perf_kernels, only: t120 => test_sin_cos_quiet_tail
-    use test_perf_kernels, only: t121 => test_gradient_paths_agree
-    use test_period_map, only: t122 => test_tangent_against_finite_differences
-    use test_period_map, only: t123 => test_tangent_light_cone
-    use test_period_map, only: t124 => test_same_scheme_as_steppers
-    use test_period_map, only: t125 => test_linear_evanescent_wave
-    use test_period_map, only: t126 => test_newton_shooting_quadratic
-    use test_period_map, only: t127 => test_steps_and_bad_input
-    use test_period_map, only: t128 => test_half_period_map
-    use test_potential, only: t129 => test_gradient_equals_difference_quotient
-    use test_potential, only: t130 => test_derivatives_consistent
-    use test_potential, only: t131 => test_gradient_tends_to_force
-    use test_potential, only: t132 => test_gradient_exact_at_rest
-    use test_potential, only: t133 => test_slope_matches_finite_difference
-    use test_potential, only: t134 => test_newton_bounds_hold
-    use test_potential, only: t135 => test_array_kernels_agree
-    use test_potential, only: t136 => test_names_round_trip
-    use test_potential, only: t137 => test_unknown_potential_is_an_error
+    use test_output_rows, only: t117 => test_a_record_writer_puts_every_name_of_a_description_whole
+    use test_output_rows, only: t118 => test_the_hysteresis_record_as_values_and_back
+    use test_output_rows, only: t119 => test_the_run_record_takes_its_empty_value_from_nan
+    use test_perf_kernels, only: t120 => test_sin_cos_array_accuracy
+    use test_perf_kernels, only: t121 => test_sin_cos_quiet_tail
+    use test_perf_kernels, only: t122 => test_gradient_paths_agree
+    use test_period_map, only: t123 => test_tangent_against_finite_differences
+    use test_period_map, only: t124 => test_tangent_light_cone
+    use test_period_map, only: t125 => test_same_scheme_as_steppers
+    use test_period_map, only: t126 => test_linear_evanescent_wave
+    use test_period_map, only: t127 => test_newton_shooting_quadratic
+    use test_period_map, only: t128 => test_steps_and_bad_input
+    use test_period_map, only: t129 => test_half_period_map
+    use test_potential, only: t130 => test_gradient_equals_difference_quotient
+    use test_potential, only: t131 => test_derivatives_consistent
+    use test_potential, only: t132 => test_gradient_tends_to_force
+    use test_potential, only: t133 => test_gradient_exact_at_rest
+    use test_potential, only: t134 => test_slope_matches_finite_difference
+    use test_potential, only: t135 => test_newton_bounds_hold
+    use test_potential, only: t136 => test_array_kernels_agree
+    use test_potential, only: t137 => test_names_round_trip
+    use test_potential, only: t138 => test_unknown_potential_is_an_error
     use test_provenance, only: b17 => set_up
     use test_provenance, only: a17 => tear_down
-    use test_provenance, only: t138 => test_build_commit_is_an_id_or_unknown
-    use test_provenance, only: t139 => test_commit_is_not_read_from_the_working_directory
-    use test_provenance, only: t140 => test_provenance_written
-    use test_provenance, only: t141 => test_provenance_attributes_are_the_documented_ones
-    use test_rk4, only: t142 => test_rk4_fourth_order
-    use test_rk4, only: t143 => test_rk4_energy_drift
-    use test_rk4, only: t144 => test_rk4_stability_limit
-    use test_rk4, only: t145 => test_rk4_agrees_with_energy_conserving_scheme
+    use test_provenance, only: t139 => test_build_commit_is_an_id_or_unknown
+    use test_provenance, only: t140 => test_commit_is_not_read_from_the_working_directory
+    use test_provenance, only: t141 => test_provenance_written
+    use test_provenance, only: t142 => test_provenance_attributes_are_the_documented_ones
+    use test_rk4, only: t143 => test_rk4_fourth_order
+    use test_rk4, only: t144 => test_rk4_energy_drift
+    use test_rk4, only: t145 => test_rk4_stability_limit
+    use test_rk4, only: t146 => test_rk4_agrees_with_energy_conserving_scheme
     use test_scene_bifurcation, only: b19 => set_up
     use test_scene_bifurcation, only: a19 => tear_down
-    use test_scene_bifurcation, only: t146 => test_early_stop_keeps_verdict
-    use test_scene_bifurcation, only: t147 => test_threads_give_identical_thresholds
-    use test_scene_bifurcation, only: t148 => test_threshold_transmits_and_one_step_below_does_not
-    use test_scene_bifurcation, only: t149 => test_resume_after_kill
-    use test_scene_bifurcation, only: t150 => test_file_layout
-    use test_scene_bifurcation, only: t151 => test_failed_runs_give_status_run_failed
-    use test_scene_bifurcation, only: t152 => test_screening_changes_no_threshold
-    use test_scene_factory, only: t153 => test_every_kind_of_the_schema_has_a_scene
-    use test_scene_factory, only: t154 => test_unknown_kind_is_one_line_naming_the_known
-    use test_scene_factory, only: t155 => test_the_input_check_words_an_unknown_kind_as_before
-    use test_scene_factory, only: t156 => test_only_a_timeseries_is_one_run
-    use test_scene_factory, only: t157 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
-    use test_scene_factory, only: t158 => test_task_scenes_refuse_an_existing_output_first
+    use test_scene_bifurcation, only: t147 => test_early_stop_keeps_verdict
+    use test_scene_bifurcation, only: t148 => test_threads_give_identical_thresholds
+    use test_scene_bifurcation, only: t149 => test_threshold_transmits_and_one_step_below_does_not
+    use test_scene_bifurcation, only: t150 => test_resume_after_kill
+    use test_scene_bifurcation, only: t151 => test_file_layout
+    use test_scene_bifurcation, only: t152 => test_failed_runs_give_status_run_failed
+    use test_scene_bifurcation, only: t153 => test_screening_changes_no_threshold
+    use test_scene_factory, only: t154 => test_every_kind_of_the_schema_has_a_scene
+    use test_scene_factory, only: t155 => test_unknown_kind_is_one_line_naming_the_known
+    use test_scene_factory, only: t156 => test_the_input_check_words_an_unknown_kind_as_before
+    use test_scene_factory, only: t157 => test_only_a_timeseries_is_one_run
+    use test_scene_factory, only: t158 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
+    use test_scene_factory, only: t159 => test_task_scenes_refuse_an_existing_output_first
     use test_scene_map, only: b21 => set_up
     use test_scene_map, only: a21 => tear_down
-    use test_scene_map, only: t159 => test_skips_outside_gap_and_stores_as
-    use test_scene_map, only: t160 => test_map_independent_of_thread_count
+    use test_scene_map, only: t160 => test_skips_outside_gap_and_stores_as
+    use test_scene_map, only: t161 => test_map_independent_of_thread_count
     use test_scene_sweep, only: b22 => set_up
     use test_scene_sweep, only: a22 => tear_down
-    use test_scene_sweep, only: t161 => test_a_runs_record_holds_its_result
-    use test_scene_sweep, only: t162 => test_axis_grid_exact
-    use test_scene_sweep, only: t163 => test_independent_of_thread_count
-    use test_scene_sweep, only: t164 => test_layout_and_physics
-    use test_scene_sweep, only: t165 => test_resume_after_kill
-    use test_scene_sweep, only: t166 => test_diverging_runs_flagged
-    use test_scene_sweep, only: t167 => test_partial_snapshot
-    use test_scene_sweep, only: t168 => test_refuses_existing_output
-    use test_schema, only: t169 => test_table_is_complete
-    use test_schema, only: t170 => test_each_key_sets_its_own_field
-    use test_schema, only: t171 => test_defaults_are_the_papers
-    use test_schema, only: t172 => test_choices_agree_with_the_physics
-    use test_schema, only: t173 => test_parameters_hold_every_key
-    use test_scheme, only: t174 => test_ledger_closes_every_step
-    use test_scheme, only: t175 => test_ledger_closes_double_sine_gordon
-    use test_scheme, only: t176 => test_evanescent_wave_double_sine_gordon
-    use test_scheme, only: t177 => test_linearized_ledger_does_not_close
-    use test_scheme, only: t178 => test_evanescent_wave
-    use test_scheme, only: t179 => test_second_order_in_dt
-    use test_scheme, only: t180 => test_stability_boundary
-    use test_scheme, only: t181 => test_newton_failure_reported
-    use test_scheme, only: t182 => test_two_runs_in_two_threads
-    use test_scheme, only: t183 => test_verdict_across_the_gap
-    use test_screened_search, only: t184 => test_cheap_right_saves_exact_runs
-    use test_screened_search, only: t185 => test_cheap_too_high_within_band
-    use test_screened_search, only: t186 => test_cheap_too_high_walks_down
-    use test_screened_search, only: t187 => test_cheap_window_far_below
-    use test_screened_search, only: t188 => test_doubtful_quiet_answers_go_to_the_exact_oracle
-    use test_screened_search, only: t189 => test_random_patterns_with_margins
-    use test_screened_search, only: t190 => test_random_patterns_false_alarms
-    use test_screened_search, only: t191 => test_cheap_finds_none
-    use test_screened_search, only: t192 => test_none_transmits_confirms_the_top
-    use test_screened_search, only: t193 => test_exact_failure_is_reported
-    use test_screened_search, only: t194 => test_cheap_failure_falls_back_to_exact
-    use test_screened_search, only: t195 => test_margin_below_the_threshold
-    use test_slice_costs, only: t196 => test_equal_costs_deal_round_robin
-    use test_slice_costs, only: t197 => test_every_task_in_one_slice_and_deterministic
-    use test_slice_costs, only: t198 => test_largest_first_is_balanced_within_the_largest_task
-    use test_slice_costs, only: t199 => test_run_order_is_largest_first
-    use test_slice_costs, only: t200 => test_fold_tasks_cost_more_at_low_omega
-    use test_slice_costs, only: t201 => test_slice_text_counts_the_slice
+    use test_scene_sweep, only: t162 => test_a_runs_record_holds_its_result
+    use test_scene_sweep, only: t163 => test_axis_grid_exact
+    use test_scene_sweep, only: t164 => test_independent_of_thread_count
+    use test_scene_sweep, only: t165 => test_layout_and_physics
+    use test_scene_sweep, only: t166 => test_resume_after_kill
+    use test_scene_sweep, only: t167 => test_diverging_runs_flagged
+    use test_scene_sweep, only: t168 => test_partial_snapshot
+    use test_scene_sweep, only: t169 => test_refuses_existing_output
+    use test_schema, only: t170 => test_table_is_complete
+    use test_schema, only: t171 => test_each_key_sets_its_own_field
+    use test_schema, only: t172 => test_defaults_are_the_papers
+    use test_schema, only: t173 => test_choices_agree_with_the_physics
+    use test_schema, only: t174 => test_parameters_hold_every_key
+    use test_scheme, only: t175 => test_ledger_closes_every_step
+    use test_scheme, only: t176 => test_ledger_closes_double_sine_gordon
+    use test_scheme, only: t177 => test_evanescent_wave_double_sine_gordon
+    use test_scheme, only: t178 => test_linearized_ledger_does_not_close
+    use test_scheme, only: t179 => test_evanescent_wave
+    use test_scheme, only: t180 => test_second_order_in_dt
+    use test_scheme, only: t181 => test_stability_boundary
+    use test_scheme, only: t182 => test_newton_failure_reported
+    use test_scheme, only: t183 => test_two_runs_in_two_threads
+    use test_scheme, only: t184 => test_verdict_across_the_gap
+    use test_screened_search, only: t185 => test_cheap_right_saves_exact_runs
+    use test_screened_search, only: t186 => test_cheap_too_high_within_band
+    use test_screened_search, only: t187 => test_cheap_too_high_walks_down
+    use test_screened_search, only: t188 => test_cheap_window_far_below
+    use test_screened_search, only: t189 => test_doubtful_quiet_answers_go_to_the_exact_oracle
+    use test_screened_search, only: t190 => test_random_patterns_with_margins
+    use test_screened_search, only: t191 => test_random_patterns_false_alarms
+    use test_screened_search, only: t192 => test_cheap_finds_none
+    use test_screened_search, only: t193 => test_none_transmits_confirms_the_top
+    use test_screened_search, only: t194 => test_exact_failure_is_reported
+    use test_screened_search, only: t195 => test_cheap_failure_falls_back_to_exact
+    use test_screened_search, only: t196 => test_margin_below_the_threshold
+    use test_slice_costs, only: t197 => test_equal_costs_deal_round_robin
+    use test_slice_costs, only: t198 => test_every_task_in_one_slice_and_deterministic
+    use test_slice_costs, only: t199 => test_largest_first_is_balanced_within_the_largest_task
+    use test_slice_costs, only: t200 => test_run_order_is_largest_first
+    use test_slice_costs, only: t201 => test_fold_tasks_cost_more_at_low_omega
+    use test_slice_costs, only: t202 => test_slice_text_counts_the_slice
     use test_stability, only: b27 => set_up
     use test_stability, only: a27 => tear_down
-    use test_stability, only: t202 => test_linear_limits
-    use test_stability, only: t203 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t204 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t205 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t206 => test_stepper_contract_order
-    use test_stepper_contract, only: t207 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t208 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t209 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t210 => test_engine_counts_steps_in_64_bits
-    use test_stepper_contract, only: t211 => test_stepper_contract_checkpoint
-    use test_stepper_linearized, only: t212 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t213 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t214 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t215 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t216 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t217 => test_blocked_iteration_is_the_unblocked_one
-    use test_stepper_newton, only: t218 => test_levels_predictor_is_the_two_loop_one
-    use test_stepper_newton, only: t219 => test_uniform_loops_are_the_general_ones
-    use test_stepper_newton, only: t220 => test_newton_error_below_tol
-    use test_stepper_newton, only: t221 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t222 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t223 => test_newton_stepper_reports_failure
-    use test_stepper_newton, only: t224 => test_blowup_measure_is_the_level_maximum
-    use test_stepper_newton, only: t225 => test_step_powers_without_bulk_damping
-    use test_strings, only: t226 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t227 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t228 => test_find_name_gives_the_first_index_or_zero
-    use test_strings, only: t229 => test_joined_trims_each_name_and_prefixes_it
-    use test_strings, only: t230 => test_lower_changes_only_ascii_capitals
+    use test_stability, only: t203 => test_linear_limits
+    use test_stability, only: t204 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t205 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t206 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t207 => test_stepper_contract_order
+    use test_stepper_contract, only: t208 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t209 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t210 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t211 => test_engine_counts_steps_in_64_bits
+    use test_stepper_contract, only: t212 => test_stepper_contract_checkpoint
+    use test_stepper_linearized, only: t213 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t214 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t215 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t216 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t217 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t218 => test_blocked_iteration_is_the_unblocked_one
+    use test_stepper_newton, only: t219 => test_levels_predictor_is_the_two_loop_one
+    use test_stepper_newton, only: t220 => test_uniform_loops_are_the_general_ones
+    use test_stepper_newton, only: t221 => test_newton_error_below_tol
+    use test_stepper_newton, only: t222 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t223 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t224 => test_newton_stepper_reports_failure
+    use test_stepper_newton, only: t225 => test_blowup_measure_is_the_level_maximum
+    use test_stepper_newton, only: t226 => test_step_powers_without_bulk_damping
+    use test_strings, only: t227 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t228 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t229 => test_find_name_gives_the_first_index_or_zero
+    use test_strings, only: t230 => test_joined_trims_each_name_and_prefixes_it
+    use test_strings, only: t231 => test_lower_changes_only_ascii_capitals
     use test_system, only: b32 => set_up
     use test_system, only: a32 => tear_down
-    use test_system, only: t231 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t232 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t233 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t234 => test_lock_file_is_removed_by_its_holder_only
-    use test_system, only: t235 => test_temporary_names_are_fresh
-    use test_system, only: t236 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t237 => test_monotone_step
-    use test_threshold, only: t238 => test_bisected_bracket
-    use test_threshold, only: t239 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t240 => test_two_transitions
-    use test_threshold, only: t241 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t242 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t243 => test_nothing_transmits
-    use test_threshold, only: t244 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t245 => test_lower_bound_transmits
-    use test_threshold, only: t246 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t247 => test_bad_arguments
-    use test_threshold, only: t248 => test_grid_helpers
+    use test_system, only: t232 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t233 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t234 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t235 => test_lock_file_is_removed_by_its_holder_only
+    use test_system, only: t236 => test_temporary_names_are_fresh
+    use test_system, only: t237 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t238 => test_monotone_step
+    use test_threshold, only: t239 => test_bisected_bracket
+    use test_threshold, only: t240 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t241 => test_two_transitions
+    use test_threshold, only: t242 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t243 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t244 => test_nothing_transmits
+    use test_threshold, only: t245 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t246 => test_lower_bound_transmits
+    use test_threshold, only: t247 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t248 => test_bad_arguments
+    use test_threshold, only: t249 => test_grid_helpers
     use test_workprec, only: b34 => set_up
     use test_workprec, only: a34 => tear_down
-    use test_workprec, only: t249 => test_rk8_eighth_order
-    use test_workprec, only: t250 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t251 => test_rk8_stability_polynomial
-    use test_workprec, only: t252 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t253 => test_unstable_runs_are_reported
-    use test_workprec, only: t254 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t255 => test_fitted_order
-    use test_workprec, only: t256 => test_step_kernels_timed
+    use test_workprec, only: t250 => test_rk8_eighth_order
+    use test_workprec, only: t251 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t252 => test_rk8_stability_polynomial
+    use test_workprec, only: t253 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t254 => test_unstable_runs_are_reported
+    use test_workprec, only: t255 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t256 => test_fitted_order
+    use test_workprec, only: t257 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -406,180 +407,186 @@ program pf_driver
         t116, &
         before=b13, &
         after=a13)
-    call pf_run_test('test_output_rows', 'test_the_hysteresis_record_as_values_and_back', t117, before=b13, after=a13)
+    call pf_run_test( &
+        'test_output_rows', &
+        'test_a_record_writer_puts_every_name_of_a_description_whole', &
+        t117, &
+        before=b13, &
+        after=a13)
+    call pf_run_test('test_output_rows', 'test_the_hysteresis_record_as_values_and_back', t118, before=b13, after=a13)
     call pf_run_test( &
         'test_output_rows', &
         'test_the_run_record_takes_its_empty_value_from_nan', &
-        t118, &
+        t119, &
         before=b13, &
         after=a13)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t119)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t120)
-    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t121)
-    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t122)
-    call pf_run_test('test_period_map', 'test_tangent_light_cone', t123)
-    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t124)
-    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t125)
-    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t126)
-    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t127)
-    call pf_run_test('test_period_map', 'test_half_period_map', t128)
-    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t129)
-    call pf_run_test('test_potential', 'test_derivatives_consistent', t130)
-    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t131)
-    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t132)
-    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t133)
-    call pf_run_test('test_potential', 'test_newton_bounds_hold', t134)
-    call pf_run_test('test_potential', 'test_array_kernels_agree', t135)
-    call pf_run_test('test_potential', 'test_names_round_trip', t136)
-    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t137)
-    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t138, before=b17, after=a17)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t120)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t121)
+    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t122)
+    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t123)
+    call pf_run_test('test_period_map', 'test_tangent_light_cone', t124)
+    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t125)
+    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t126)
+    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t127)
+    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t128)
+    call pf_run_test('test_period_map', 'test_half_period_map', t129)
+    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t130)
+    call pf_run_test('test_potential', 'test_derivatives_consistent', t131)
+    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t132)
+    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t133)
+    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t134)
+    call pf_run_test('test_potential', 'test_newton_bounds_hold', t135)
+    call pf_run_test('test_potential', 'test_array_kernels_agree', t136)
+    call pf_run_test('test_potential', 'test_names_round_trip', t137)
+    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t138)
+    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t139, before=b17, after=a17)
     call pf_run_test( &
         'test_provenance', &
         'test_commit_is_not_read_from_the_working_directory', &
-        t139, &
+        t140, &
         before=b17, &
         after=a17)
-    call pf_run_test('test_provenance', 'test_provenance_written', t140, before=b17, after=a17)
+    call pf_run_test('test_provenance', 'test_provenance_written', t141, before=b17, after=a17)
     call pf_run_test( &
         'test_provenance', &
         'test_provenance_attributes_are_the_documented_ones', &
-        t141, &
+        t142, &
         before=b17, &
         after=a17)
-    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t142)
-    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t143)
-    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t144)
-    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t145)
-    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t146, before=b19, after=a19)
-    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t147, before=b19, after=a19)
+    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t143)
+    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t144)
+    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t145)
+    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t146)
+    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t147, before=b19, after=a19)
+    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t148, before=b19, after=a19)
     call pf_run_test( &
         'test_scene_bifurcation', &
         'test_threshold_transmits_and_one_step_below_does_not', &
-        t148, &
+        t149, &
         before=b19, &
         after=a19)
-    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t149, before=b19, after=a19)
-    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t150, before=b19, after=a19)
-    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t151, before=b19, after=a19)
-    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t152, before=b19, after=a19)
-    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t153)
-    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t154)
-    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t155)
-    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t156)
-    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t157)
-    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t158)
-    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t159, before=b21, after=a21)
-    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t160, before=b21, after=a21)
-    call pf_run_test('test_scene_sweep', 'test_a_runs_record_holds_its_result', t161, before=b22, after=a22)
-    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t162, before=b22, after=a22)
-    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t163, before=b22, after=a22)
-    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t164, before=b22, after=a22)
-    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t165, before=b22, after=a22)
-    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t166, before=b22, after=a22)
-    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t167, before=b22, after=a22)
-    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t168, before=b22, after=a22)
-    call pf_run_test('test_schema', 'test_table_is_complete', t169)
-    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t170)
-    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t171)
-    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t172)
-    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t173)
-    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t174)
-    call pf_run_test('test_scheme', 'test_ledger_closes_double_sine_gordon', t175)
-    call pf_run_test('test_scheme', 'test_evanescent_wave_double_sine_gordon', t176)
-    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t177)
-    call pf_run_test('test_scheme', 'test_evanescent_wave', t178)
-    call pf_run_test('test_scheme', 'test_second_order_in_dt', t179)
-    call pf_run_test('test_scheme', 'test_stability_boundary', t180)
-    call pf_run_test('test_scheme', 'test_newton_failure_reported', t181)
-    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t182)
-    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t183)
-    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t184)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t185)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t186)
-    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t187)
-    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t188)
-    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t189)
-    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t190)
-    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t191)
-    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t192)
-    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t193)
-    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t194)
-    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t195)
-    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t196)
-    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t197)
-    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t198)
-    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t199)
-    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t200)
-    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t201)
-    call pf_run_test('test_stability', 'test_linear_limits', t202, before=b27, after=a27)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t203, before=b27, after=a27)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t204, before=b27, after=a27)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t205)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t206)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t207)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t208)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t209)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t210)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t211)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t212)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t213)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t214)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t215)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t216)
-    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t217)
-    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t218)
-    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t219)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t220)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t221)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t222)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t223)
-    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t224)
-    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t225)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t226)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t227)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t228)
-    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t229)
-    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t230)
+    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t150, before=b19, after=a19)
+    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t151, before=b19, after=a19)
+    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t152, before=b19, after=a19)
+    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t153, before=b19, after=a19)
+    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t154)
+    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t155)
+    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t156)
+    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t157)
+    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t158)
+    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t159)
+    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t160, before=b21, after=a21)
+    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t161, before=b21, after=a21)
+    call pf_run_test('test_scene_sweep', 'test_a_runs_record_holds_its_result', t162, before=b22, after=a22)
+    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t163, before=b22, after=a22)
+    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t164, before=b22, after=a22)
+    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t165, before=b22, after=a22)
+    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t166, before=b22, after=a22)
+    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t167, before=b22, after=a22)
+    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t168, before=b22, after=a22)
+    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t169, before=b22, after=a22)
+    call pf_run_test('test_schema', 'test_table_is_complete', t170)
+    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t171)
+    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t172)
+    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t173)
+    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t174)
+    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t175)
+    call pf_run_test('test_scheme', 'test_ledger_closes_double_sine_gordon', t176)
+    call pf_run_test('test_scheme', 'test_evanescent_wave_double_sine_gordon', t177)
+    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t178)
+    call pf_run_test('test_scheme', 'test_evanescent_wave', t179)
+    call pf_run_test('test_scheme', 'test_second_order_in_dt', t180)
+    call pf_run_test('test_scheme', 'test_stability_boundary', t181)
+    call pf_run_test('test_scheme', 'test_newton_failure_reported', t182)
+    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t183)
+    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t184)
+    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t185)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t186)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t187)
+    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t188)
+    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t189)
+    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t190)
+    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t191)
+    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t192)
+    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t193)
+    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t194)
+    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t195)
+    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t196)
+    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t197)
+    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t198)
+    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t199)
+    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t200)
+    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t201)
+    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t202)
+    call pf_run_test('test_stability', 'test_linear_limits', t203, before=b27, after=a27)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t204, before=b27, after=a27)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t205, before=b27, after=a27)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t206)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t207)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t208)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t209)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t210)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t211)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t212)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t213)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t214)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t215)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t216)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t217)
+    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t218)
+    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t219)
+    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t220)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t221)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t222)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t223)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t224)
+    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t225)
+    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t226)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t227)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t228)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t229)
+    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t230)
+    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t231)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t231, &
+        t232, &
         before=b32, &
         after=a32)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t232, before=b32, after=a32)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t233, before=b32, after=a32)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t233, &
+        t234, &
         before=b32, &
         after=a32)
-    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t234, before=b32, after=a32)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t235, before=b32, after=a32)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t236, before=b32, after=a32)
-    call pf_run_test('test_threshold', 'test_monotone_step', t237)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t238)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t239)
-    call pf_run_test('test_threshold', 'test_two_transitions', t240)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t241)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t242)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t243)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t244)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t245)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t246)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t247)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t248)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t249, before=b34, after=a34)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t250, before=b34, after=a34)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t251, before=b34, after=a34)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t252, before=b34, after=a34)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t253, before=b34, after=a34)
+    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t235, before=b32, after=a32)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t236, before=b32, after=a32)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t237, before=b32, after=a32)
+    call pf_run_test('test_threshold', 'test_monotone_step', t238)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t239)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t240)
+    call pf_run_test('test_threshold', 'test_two_transitions', t241)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t242)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t243)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t244)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t245)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t246)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t247)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t248)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t249)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t250, before=b34, after=a34)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t251, before=b34, after=a34)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t252, before=b34, after=a34)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t253, before=b34, after=a34)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t254, before=b34, after=a34)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t254, &
+        t255, &
         before=b34, &
         after=a34)
-    call pf_run_test('test_workprec', 'test_fitted_order', t255, before=b34, after=a34)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t256, before=b34, after=a34)
+    call pf_run_test('test_workprec', 'test_fitted_order', t256, before=b34, after=a34)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t257, before=b34, after=a34)
     call pf_driver_finish()
 end program pf_driver
