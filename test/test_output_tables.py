@@ -333,7 +333,8 @@ def test_two_rows_of_one_constant_are_refused(tmp_path):
 
 def test_the_sweep_and_the_map_share_the_run_record():
     """The map's table holds the fields of the sweep's run record, each over (curve, omega, amplitude), in the order
-    of main's journal (run_value_names of supratrans_run_record): one record, two layouts."""
+    of the journal before the record came from the table (a journal of that time still resumes): one record, two
+    layouts."""
     t = tables()
     sweep, grid = t[("amplitude_sweep", "")], t[("map", "")]
     assert grid.get("shares") == "amplitude_sweep.toml" and not grid["field"]
