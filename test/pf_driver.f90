@@ -122,163 +122,166 @@ program pf_driver
     use test_output_rows, only: t113 => test_data_of_another_type_is_the_files_error
     use test_output_rows, only: t114 => test_a_group_is_not_a_dataset
     use test_output_rows, only: t115 => test_an_attribute_the_row_does_not_list_is_the_files_error
-    use test_output_rows, only: t116 => test_the_hysteresis_record_as_values_and_back
-    use test_output_rows, only: t117 => test_the_run_record_takes_its_empty_value_from_nan
-    use test_perf_kernels, only: t118 => test_sin_cos_array_accuracy
-    use test_perf_kernels, only: t119 => test_sin_cos_quiet_tail
-    use test_perf_kernels, only: t120 => test_gradient_paths_agree
-    use test_period_map, only: t121 => test_tangent_against_finite_differences
-    use test_period_map, only: t122 => test_tangent_light_cone
-    use test_period_map, only: t123 => test_same_scheme_as_steppers
-    use test_period_map, only: t124 => test_linear_evanescent_wave
-    use test_period_map, only: t125 => test_newton_shooting_quadratic
-    use test_period_map, only: t126 => test_steps_and_bad_input
-    use test_period_map, only: t127 => test_half_period_map
-    use test_potential, only: t128 => test_gradient_equals_difference_quotient
-    use test_potential, only: t129 => test_derivatives_consistent
-    use test_potential, only: t130 => test_gradient_tends_to_force
-    use test_potential, only: t131 => test_gradient_exact_at_rest
-    use test_potential, only: t132 => test_slope_matches_finite_difference
-    use test_potential, only: t133 => test_newton_bounds_hold
-    use test_potential, only: t134 => test_array_kernels_agree
-    use test_potential, only: t135 => test_names_round_trip
-    use test_potential, only: t136 => test_unknown_potential_is_an_error
-    use test_progress_clock, only: t137 => test_due_after_the_interval_or_a_tenth_of_the_elapsed
-    use test_progress_clock, only: t138 => test_clock_records_lines_last_one_due_unless_quiet
-    use test_progress_clock, only: t139 => test_tail_gives_fraction_elapsed_and_left
-    use test_progress_clock, only: t140 => test_a_duration_has_two_digits_in_its_unit
+    use test_output_rows, only: t116 => test_units_only_where_the_row_leaves_them_to_the_writer
+    use test_output_rows, only: t117 => test_a_record_writer_puts_every_name_of_a_description_whole
+    use test_output_rows, only: t118 => test_the_hysteresis_record_as_values_and_back
+    use test_output_rows, only: t119 => test_the_run_record_takes_its_empty_value_from_nan
+    use test_perf_kernels, only: t120 => test_sin_cos_array_accuracy
+    use test_perf_kernels, only: t121 => test_sin_cos_quiet_tail
+    use test_perf_kernels, only: t122 => test_gradient_paths_agree
+    use test_period_map, only: t123 => test_tangent_against_finite_differences
+    use test_period_map, only: t124 => test_tangent_light_cone
+    use test_period_map, only: t125 => test_same_scheme_as_steppers
+    use test_period_map, only: t126 => test_linear_evanescent_wave
+    use test_period_map, only: t127 => test_newton_shooting_quadratic
+    use test_period_map, only: t128 => test_steps_and_bad_input
+    use test_period_map, only: t129 => test_half_period_map
+    use test_potential, only: t130 => test_gradient_equals_difference_quotient
+    use test_potential, only: t131 => test_derivatives_consistent
+    use test_potential, only: t132 => test_gradient_tends_to_force
+    use test_potential, only: t133 => test_gradient_exact_at_rest
+    use test_potential, only: t134 => test_slope_matches_finite_difference
+    use test_potential, only: t135 => test_newton_bounds_hold
+    use test_potential, only: t136 => test_array_kernels_agree
+    use test_potential, only: t137 => test_names_round_trip
+    use test_potential, only: t138 => test_unknown_potential_is_an_error
+    use test_progress_clock, only: t139 => test_due_after_the_interval_or_a_tenth_of_the_elapsed
+    use test_progress_clock, only: t140 => test_clock_records_lines_last_one_due_unless_quiet
+    use test_progress_clock, only: t141 => test_tail_gives_fraction_elapsed_and_left
+    use test_progress_clock, only: t142 => test_a_duration_has_two_digits_in_its_unit
     use test_provenance, only: b18 => set_up
     use test_provenance, only: a18 => tear_down
-    use test_provenance, only: t141 => test_build_commit_is_an_id_or_unknown
-    use test_provenance, only: t142 => test_commit_is_not_read_from_the_working_directory
-    use test_provenance, only: t143 => test_provenance_written
-    use test_provenance, only: t144 => test_provenance_attributes_are_the_documented_ones
-    use test_rk4, only: t145 => test_rk4_fourth_order
-    use test_rk4, only: t146 => test_rk4_energy_drift
-    use test_rk4, only: t147 => test_rk4_stability_limit
-    use test_rk4, only: t148 => test_rk4_agrees_with_energy_conserving_scheme
+    use test_provenance, only: t143 => test_build_commit_is_an_id_or_unknown
+    use test_provenance, only: t144 => test_commit_is_not_read_from_the_working_directory
+    use test_provenance, only: t145 => test_provenance_written
+    use test_provenance, only: t146 => test_provenance_attributes_are_the_documented_ones
+    use test_rk4, only: t147 => test_rk4_fourth_order
+    use test_rk4, only: t148 => test_rk4_energy_drift
+    use test_rk4, only: t149 => test_rk4_stability_limit
+    use test_rk4, only: t150 => test_rk4_agrees_with_energy_conserving_scheme
     use test_scene_bifurcation, only: b20 => set_up
     use test_scene_bifurcation, only: a20 => tear_down
-    use test_scene_bifurcation, only: t149 => test_early_stop_keeps_verdict
-    use test_scene_bifurcation, only: t150 => test_threads_give_identical_thresholds
-    use test_scene_bifurcation, only: t151 => test_threshold_transmits_and_one_step_below_does_not
-    use test_scene_bifurcation, only: t152 => test_resume_after_kill
-    use test_scene_bifurcation, only: t153 => test_file_layout
-    use test_scene_bifurcation, only: t154 => test_failed_runs_give_status_run_failed
-    use test_scene_bifurcation, only: t155 => test_screening_changes_no_threshold
-    use test_scene_factory, only: t156 => test_every_kind_of_the_schema_has_a_scene
-    use test_scene_factory, only: t157 => test_unknown_kind_is_one_line_naming_the_known
-    use test_scene_factory, only: t158 => test_the_input_check_words_an_unknown_kind_as_before
-    use test_scene_factory, only: t159 => test_only_a_timeseries_is_one_run
-    use test_scene_factory, only: t160 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
-    use test_scene_factory, only: t161 => test_task_scenes_refuse_an_existing_output_first
+    use test_scene_bifurcation, only: t151 => test_early_stop_keeps_verdict
+    use test_scene_bifurcation, only: t152 => test_threads_give_identical_thresholds
+    use test_scene_bifurcation, only: t153 => test_threshold_transmits_and_one_step_below_does_not
+    use test_scene_bifurcation, only: t154 => test_resume_after_kill
+    use test_scene_bifurcation, only: t155 => test_file_layout
+    use test_scene_bifurcation, only: t156 => test_failed_runs_give_status_run_failed
+    use test_scene_bifurcation, only: t157 => test_screening_changes_no_threshold
+    use test_scene_factory, only: t158 => test_every_kind_of_the_schema_has_a_scene
+    use test_scene_factory, only: t159 => test_unknown_kind_is_one_line_naming_the_known
+    use test_scene_factory, only: t160 => test_the_input_check_words_an_unknown_kind_as_before
+    use test_scene_factory, only: t161 => test_only_a_timeseries_is_one_run
+    use test_scene_factory, only: t162 => test_the_gap_rule_holds_for_the_scenes_at_one_frequency
+    use test_scene_factory, only: t163 => test_task_scenes_refuse_an_existing_output_first
     use test_scene_map, only: b22 => set_up
     use test_scene_map, only: a22 => tear_down
-    use test_scene_map, only: t162 => test_skips_outside_gap_and_stores_as
-    use test_scene_map, only: t163 => test_map_independent_of_thread_count
+    use test_scene_map, only: t164 => test_skips_outside_gap_and_stores_as
+    use test_scene_map, only: t165 => test_map_independent_of_thread_count
     use test_scene_sweep, only: b23 => set_up
     use test_scene_sweep, only: a23 => tear_down
-    use test_scene_sweep, only: t164 => test_axis_grid_exact
-    use test_scene_sweep, only: t165 => test_independent_of_thread_count
-    use test_scene_sweep, only: t166 => test_layout_and_physics
-    use test_scene_sweep, only: t167 => test_resume_after_kill
-    use test_scene_sweep, only: t168 => test_diverging_runs_flagged
-    use test_scene_sweep, only: t169 => test_partial_snapshot
-    use test_scene_sweep, only: t170 => test_refuses_existing_output
-    use test_schema, only: t171 => test_table_is_complete
-    use test_schema, only: t172 => test_each_key_sets_its_own_field
-    use test_schema, only: t173 => test_defaults_are_the_papers
-    use test_schema, only: t174 => test_choices_agree_with_the_physics
-    use test_schema, only: t175 => test_parameters_hold_every_key
-    use test_scheme, only: t176 => test_ledger_closes_every_step
-    use test_scheme, only: t177 => test_ledger_closes_double_sine_gordon
-    use test_scheme, only: t178 => test_evanescent_wave_double_sine_gordon
-    use test_scheme, only: t179 => test_linearized_ledger_does_not_close
-    use test_scheme, only: t180 => test_evanescent_wave
-    use test_scheme, only: t181 => test_second_order_in_dt
-    use test_scheme, only: t182 => test_stability_boundary
-    use test_scheme, only: t183 => test_newton_failure_reported
-    use test_scheme, only: t184 => test_two_runs_in_two_threads
-    use test_scheme, only: t185 => test_verdict_across_the_gap
-    use test_screened_search, only: t186 => test_cheap_right_saves_exact_runs
-    use test_screened_search, only: t187 => test_cheap_too_high_within_band
-    use test_screened_search, only: t188 => test_cheap_too_high_walks_down
-    use test_screened_search, only: t189 => test_cheap_window_far_below
-    use test_screened_search, only: t190 => test_doubtful_quiet_answers_go_to_the_exact_oracle
-    use test_screened_search, only: t191 => test_random_patterns_with_margins
-    use test_screened_search, only: t192 => test_random_patterns_false_alarms
-    use test_screened_search, only: t193 => test_cheap_finds_none
-    use test_screened_search, only: t194 => test_none_transmits_confirms_the_top
-    use test_screened_search, only: t195 => test_exact_failure_is_reported
-    use test_screened_search, only: t196 => test_cheap_failure_falls_back_to_exact
-    use test_screened_search, only: t197 => test_margin_below_the_threshold
-    use test_slice_costs, only: t198 => test_equal_costs_deal_round_robin
-    use test_slice_costs, only: t199 => test_every_task_in_one_slice_and_deterministic
-    use test_slice_costs, only: t200 => test_largest_first_is_balanced_within_the_largest_task
-    use test_slice_costs, only: t201 => test_run_order_is_largest_first
-    use test_slice_costs, only: t202 => test_fold_tasks_cost_more_at_low_omega
-    use test_slice_costs, only: t203 => test_slice_text_counts_the_slice
+    use test_scene_sweep, only: t166 => test_a_runs_record_holds_its_result
+    use test_scene_sweep, only: t167 => test_axis_grid_exact
+    use test_scene_sweep, only: t168 => test_independent_of_thread_count
+    use test_scene_sweep, only: t169 => test_layout_and_physics
+    use test_scene_sweep, only: t170 => test_resume_after_kill
+    use test_scene_sweep, only: t171 => test_diverging_runs_flagged
+    use test_scene_sweep, only: t172 => test_partial_snapshot
+    use test_scene_sweep, only: t173 => test_refuses_existing_output
+    use test_schema, only: t174 => test_table_is_complete
+    use test_schema, only: t175 => test_each_key_sets_its_own_field
+    use test_schema, only: t176 => test_defaults_are_the_papers
+    use test_schema, only: t177 => test_choices_agree_with_the_physics
+    use test_schema, only: t178 => test_parameters_hold_every_key
+    use test_scheme, only: t179 => test_ledger_closes_every_step
+    use test_scheme, only: t180 => test_ledger_closes_double_sine_gordon
+    use test_scheme, only: t181 => test_evanescent_wave_double_sine_gordon
+    use test_scheme, only: t182 => test_linearized_ledger_does_not_close
+    use test_scheme, only: t183 => test_evanescent_wave
+    use test_scheme, only: t184 => test_second_order_in_dt
+    use test_scheme, only: t185 => test_stability_boundary
+    use test_scheme, only: t186 => test_newton_failure_reported
+    use test_scheme, only: t187 => test_two_runs_in_two_threads
+    use test_scheme, only: t188 => test_verdict_across_the_gap
+    use test_screened_search, only: t189 => test_cheap_right_saves_exact_runs
+    use test_screened_search, only: t190 => test_cheap_too_high_within_band
+    use test_screened_search, only: t191 => test_cheap_too_high_walks_down
+    use test_screened_search, only: t192 => test_cheap_window_far_below
+    use test_screened_search, only: t193 => test_doubtful_quiet_answers_go_to_the_exact_oracle
+    use test_screened_search, only: t194 => test_random_patterns_with_margins
+    use test_screened_search, only: t195 => test_random_patterns_false_alarms
+    use test_screened_search, only: t196 => test_cheap_finds_none
+    use test_screened_search, only: t197 => test_none_transmits_confirms_the_top
+    use test_screened_search, only: t198 => test_exact_failure_is_reported
+    use test_screened_search, only: t199 => test_cheap_failure_falls_back_to_exact
+    use test_screened_search, only: t200 => test_margin_below_the_threshold
+    use test_slice_costs, only: t201 => test_equal_costs_deal_round_robin
+    use test_slice_costs, only: t202 => test_every_task_in_one_slice_and_deterministic
+    use test_slice_costs, only: t203 => test_largest_first_is_balanced_within_the_largest_task
+    use test_slice_costs, only: t204 => test_run_order_is_largest_first
+    use test_slice_costs, only: t205 => test_fold_tasks_cost_more_at_low_omega
+    use test_slice_costs, only: t206 => test_slice_text_counts_the_slice
     use test_stability, only: b28 => set_up
     use test_stability, only: a28 => tear_down
-    use test_stability, only: t204 => test_linear_limits
-    use test_stability, only: t205 => test_scene_boundaries_undamped_chain
-    use test_stability, only: t206 => test_paper_condition_not_sufficient_with_damping
-    use test_stepper_contract, only: t207 => test_stepper_contract_state_counters_ledger
-    use test_stepper_contract, only: t208 => test_stepper_contract_order
-    use test_stepper_contract, only: t209 => test_unknown_method_is_an_error
-    use test_stepper_contract, only: t210 => test_engine_refuses_invalid_runs
-    use test_stepper_contract, only: t211 => test_verdict_only_run_keeps_the_verdict
-    use test_stepper_contract, only: t212 => test_engine_counts_steps_in_64_bits
-    use test_stepper_contract, only: t213 => test_stepper_contract_checkpoint
-    use test_stepper_linearized, only: t214 => test_linearized_one_site_by_hand
-    use test_stepper_linearized, only: t215 => test_linearized_step_solves_its_system
-    use test_stepper_linearized, only: t216 => test_linearized_stepper_counters
-    use test_stepper_linearized, only: t217 => test_linearized_singular_solve_reported
-    use test_stepper_newton, only: t218 => test_newton_step_solves_the_scheme
-    use test_stepper_newton, only: t219 => test_blocked_iteration_is_the_unblocked_one
-    use test_stepper_newton, only: t220 => test_levels_predictor_is_the_two_loop_one
-    use test_stepper_newton, only: t221 => test_uniform_loops_are_the_general_ones
-    use test_stepper_newton, only: t222 => test_newton_error_below_tol
-    use test_stepper_newton, only: t223 => test_newton_stepper_error_below_tol
-    use test_stepper_newton, only: t224 => test_newton_stepper_counters_and_ledger
-    use test_stepper_newton, only: t225 => test_newton_stepper_reports_failure
-    use test_stepper_newton, only: t226 => test_blowup_measure_is_the_level_maximum
-    use test_stepper_newton, only: t227 => test_step_powers_without_bulk_damping
-    use test_strings, only: t228 => test_int_str_is_the_decimal_without_blanks
-    use test_strings, only: t229 => test_text_or_gives_the_default_for_unset_or_empty_text
-    use test_strings, only: t230 => test_find_name_gives_the_first_index_or_zero
-    use test_strings, only: t231 => test_joined_trims_each_name_and_prefixes_it
-    use test_strings, only: t232 => test_lower_changes_only_ascii_capitals
+    use test_stability, only: t207 => test_linear_limits
+    use test_stability, only: t208 => test_scene_boundaries_undamped_chain
+    use test_stability, only: t209 => test_paper_condition_not_sufficient_with_damping
+    use test_stepper_contract, only: t210 => test_stepper_contract_state_counters_ledger
+    use test_stepper_contract, only: t211 => test_stepper_contract_order
+    use test_stepper_contract, only: t212 => test_unknown_method_is_an_error
+    use test_stepper_contract, only: t213 => test_engine_refuses_invalid_runs
+    use test_stepper_contract, only: t214 => test_verdict_only_run_keeps_the_verdict
+    use test_stepper_contract, only: t215 => test_engine_counts_steps_in_64_bits
+    use test_stepper_contract, only: t216 => test_stepper_contract_checkpoint
+    use test_stepper_linearized, only: t217 => test_linearized_one_site_by_hand
+    use test_stepper_linearized, only: t218 => test_linearized_step_solves_its_system
+    use test_stepper_linearized, only: t219 => test_linearized_stepper_counters
+    use test_stepper_linearized, only: t220 => test_linearized_singular_solve_reported
+    use test_stepper_newton, only: t221 => test_newton_step_solves_the_scheme
+    use test_stepper_newton, only: t222 => test_blocked_iteration_is_the_unblocked_one
+    use test_stepper_newton, only: t223 => test_levels_predictor_is_the_two_loop_one
+    use test_stepper_newton, only: t224 => test_uniform_loops_are_the_general_ones
+    use test_stepper_newton, only: t225 => test_newton_error_below_tol
+    use test_stepper_newton, only: t226 => test_newton_stepper_error_below_tol
+    use test_stepper_newton, only: t227 => test_newton_stepper_counters_and_ledger
+    use test_stepper_newton, only: t228 => test_newton_stepper_reports_failure
+    use test_stepper_newton, only: t229 => test_blowup_measure_is_the_level_maximum
+    use test_stepper_newton, only: t230 => test_step_powers_without_bulk_damping
+    use test_strings, only: t231 => test_int_str_is_the_decimal_without_blanks
+    use test_strings, only: t232 => test_text_or_gives_the_default_for_unset_or_empty_text
+    use test_strings, only: t233 => test_find_name_gives_the_first_index_or_zero
+    use test_strings, only: t234 => test_joined_trims_each_name_and_prefixes_it
+    use test_strings, only: t235 => test_lower_changes_only_ascii_capitals
     use test_system, only: b33 => set_up
     use test_system, only: a33 => tear_down
-    use test_system, only: t233 => test_atomic_write_replaces_a_planted_link_not_its_target
-    use test_system, only: t234 => test_journal_is_never_appended_to_through_a_link
-    use test_system, only: t235 => test_lock_is_exclusive_never_through_a_link_and_stays
-    use test_system, only: t236 => test_lock_file_is_removed_by_its_holder_only
-    use test_system, only: t237 => test_temporary_names_are_fresh
-    use test_system, only: t238 => test_only_our_temporaries_are_deleted
-    use test_threshold, only: t239 => test_monotone_step
-    use test_threshold, only: t240 => test_bisected_bracket
-    use test_threshold, only: t241 => test_threshold_on_a_coarse_point
-    use test_threshold, only: t242 => test_two_transitions
-    use test_threshold, only: t243 => test_non_monotone_inside_the_bracket
-    use test_threshold, only: t244 => test_narrow_window_below_first_hit_is_missed
-    use test_threshold, only: t245 => test_nothing_transmits
-    use test_threshold, only: t246 => test_range_end_off_the_coarse_grid
-    use test_threshold, only: t247 => test_lower_bound_transmits
-    use test_threshold, only: t248 => test_failed_oracle_stops_the_search
-    use test_threshold, only: t249 => test_bad_arguments
-    use test_threshold, only: t250 => test_grid_helpers
+    use test_system, only: t236 => test_atomic_write_replaces_a_planted_link_not_its_target
+    use test_system, only: t237 => test_journal_is_never_appended_to_through_a_link
+    use test_system, only: t238 => test_lock_is_exclusive_never_through_a_link_and_stays
+    use test_system, only: t239 => test_lock_file_is_removed_by_its_holder_only
+    use test_system, only: t240 => test_temporary_names_are_fresh
+    use test_system, only: t241 => test_only_our_temporaries_are_deleted
+    use test_threshold, only: t242 => test_monotone_step
+    use test_threshold, only: t243 => test_bisected_bracket
+    use test_threshold, only: t244 => test_threshold_on_a_coarse_point
+    use test_threshold, only: t245 => test_two_transitions
+    use test_threshold, only: t246 => test_non_monotone_inside_the_bracket
+    use test_threshold, only: t247 => test_narrow_window_below_first_hit_is_missed
+    use test_threshold, only: t248 => test_nothing_transmits
+    use test_threshold, only: t249 => test_range_end_off_the_coarse_grid
+    use test_threshold, only: t250 => test_lower_bound_transmits
+    use test_threshold, only: t251 => test_failed_oracle_stops_the_search
+    use test_threshold, only: t252 => test_bad_arguments
+    use test_threshold, only: t253 => test_grid_helpers
     use test_workprec, only: b35 => set_up
     use test_workprec, only: a35 => tear_down
-    use test_workprec, only: t251 => test_rk8_eighth_order
-    use test_workprec, only: t252 => test_rk8_order_collapses_at_off_grid_kink
-    use test_workprec, only: t253 => test_rk8_stability_polynomial
-    use test_workprec, only: t254 => test_newton_ledger_closes_where_rk4_drifts
-    use test_workprec, only: t255 => test_unstable_runs_are_reported
-    use test_workprec, only: t256 => test_scene_writes_status_not_numbers_for_unstable_runs
-    use test_workprec, only: t257 => test_fitted_order
-    use test_workprec, only: t258 => test_step_kernels_timed
+    use test_workprec, only: t254 => test_rk8_eighth_order
+    use test_workprec, only: t255 => test_rk8_order_collapses_at_off_grid_kink
+    use test_workprec, only: t256 => test_rk8_stability_polynomial
+    use test_workprec, only: t257 => test_newton_ledger_closes_where_rk4_drifts
+    use test_workprec, only: t258 => test_unstable_runs_are_reported
+    use test_workprec, only: t259 => test_scene_writes_status_not_numbers_for_unstable_runs
+    use test_workprec, only: t260 => test_fitted_order
+    use test_workprec, only: t261 => test_step_kernels_timed
     implicit none
 
     call pf_driver_init()
@@ -402,183 +405,196 @@ program pf_driver
         t115, &
         before=b13, &
         after=a13)
-    call pf_run_test('test_output_rows', 'test_the_hysteresis_record_as_values_and_back', t116, before=b13, after=a13)
     call pf_run_test( &
         'test_output_rows', &
-        'test_the_run_record_takes_its_empty_value_from_nan', &
+        'test_units_only_where_the_row_leaves_them_to_the_writer', &
+        t116, &
+        before=b13, &
+        after=a13)
+    call pf_run_test( &
+        'test_output_rows', &
+        'test_a_record_writer_puts_every_name_of_a_description_whole', &
         t117, &
         before=b13, &
         after=a13)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t118)
-    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t119)
-    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t120)
-    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t121)
-    call pf_run_test('test_period_map', 'test_tangent_light_cone', t122)
-    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t123)
-    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t124)
-    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t125)
-    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t126)
-    call pf_run_test('test_period_map', 'test_half_period_map', t127)
-    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t128)
-    call pf_run_test('test_potential', 'test_derivatives_consistent', t129)
-    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t130)
-    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t131)
-    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t132)
-    call pf_run_test('test_potential', 'test_newton_bounds_hold', t133)
-    call pf_run_test('test_potential', 'test_array_kernels_agree', t134)
-    call pf_run_test('test_potential', 'test_names_round_trip', t135)
-    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t136)
-    call pf_run_test('test_progress_clock', 'test_due_after_the_interval_or_a_tenth_of_the_elapsed', t137)
-    call pf_run_test('test_progress_clock', 'test_clock_records_lines_last_one_due_unless_quiet', t138)
-    call pf_run_test('test_progress_clock', 'test_tail_gives_fraction_elapsed_and_left', t139)
-    call pf_run_test('test_progress_clock', 'test_a_duration_has_two_digits_in_its_unit', t140)
-    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t141, before=b18, after=a18)
+    call pf_run_test('test_output_rows', 'test_the_hysteresis_record_as_values_and_back', t118, before=b13, after=a13)
+    call pf_run_test( &
+        'test_output_rows', &
+        'test_the_run_record_takes_its_empty_value_from_nan', &
+        t119, &
+        before=b13, &
+        after=a13)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_array_accuracy', t120)
+    call pf_run_test('test_perf_kernels', 'test_sin_cos_quiet_tail', t121)
+    call pf_run_test('test_perf_kernels', 'test_gradient_paths_agree', t122)
+    call pf_run_test('test_period_map', 'test_tangent_against_finite_differences', t123)
+    call pf_run_test('test_period_map', 'test_tangent_light_cone', t124)
+    call pf_run_test('test_period_map', 'test_same_scheme_as_steppers', t125)
+    call pf_run_test('test_period_map', 'test_linear_evanescent_wave', t126)
+    call pf_run_test('test_period_map', 'test_newton_shooting_quadratic', t127)
+    call pf_run_test('test_period_map', 'test_steps_and_bad_input', t128)
+    call pf_run_test('test_period_map', 'test_half_period_map', t129)
+    call pf_run_test('test_potential', 'test_gradient_equals_difference_quotient', t130)
+    call pf_run_test('test_potential', 'test_derivatives_consistent', t131)
+    call pf_run_test('test_potential', 'test_gradient_tends_to_force', t132)
+    call pf_run_test('test_potential', 'test_gradient_exact_at_rest', t133)
+    call pf_run_test('test_potential', 'test_slope_matches_finite_difference', t134)
+    call pf_run_test('test_potential', 'test_newton_bounds_hold', t135)
+    call pf_run_test('test_potential', 'test_array_kernels_agree', t136)
+    call pf_run_test('test_potential', 'test_names_round_trip', t137)
+    call pf_run_test('test_potential', 'test_unknown_potential_is_an_error', t138)
+    call pf_run_test('test_progress_clock', 'test_due_after_the_interval_or_a_tenth_of_the_elapsed', t139)
+    call pf_run_test('test_progress_clock', 'test_clock_records_lines_last_one_due_unless_quiet', t140)
+    call pf_run_test('test_progress_clock', 'test_tail_gives_fraction_elapsed_and_left', t141)
+    call pf_run_test('test_progress_clock', 'test_a_duration_has_two_digits_in_its_unit', t142)
+    call pf_run_test('test_provenance', 'test_build_commit_is_an_id_or_unknown', t143, before=b18, after=a18)
     call pf_run_test( &
         'test_provenance', &
         'test_commit_is_not_read_from_the_working_directory', &
-        t142, &
-        before=b18, &
-        after=a18)
-    call pf_run_test('test_provenance', 'test_provenance_written', t143, before=b18, after=a18)
-    call pf_run_test( &
-        'test_provenance', &
-        'test_provenance_attributes_are_the_documented_ones', &
         t144, &
         before=b18, &
         after=a18)
-    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t145)
-    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t146)
-    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t147)
-    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t148)
-    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t149, before=b20, after=a20)
-    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t150, before=b20, after=a20)
+    call pf_run_test('test_provenance', 'test_provenance_written', t145, before=b18, after=a18)
+    call pf_run_test( &
+        'test_provenance', &
+        'test_provenance_attributes_are_the_documented_ones', &
+        t146, &
+        before=b18, &
+        after=a18)
+    call pf_run_test('test_rk4', 'test_rk4_fourth_order', t147)
+    call pf_run_test('test_rk4', 'test_rk4_energy_drift', t148)
+    call pf_run_test('test_rk4', 'test_rk4_stability_limit', t149)
+    call pf_run_test('test_rk4', 'test_rk4_agrees_with_energy_conserving_scheme', t150)
+    call pf_run_test('test_scene_bifurcation', 'test_early_stop_keeps_verdict', t151, before=b20, after=a20)
+    call pf_run_test('test_scene_bifurcation', 'test_threads_give_identical_thresholds', t152, before=b20, after=a20)
     call pf_run_test( &
         'test_scene_bifurcation', &
         'test_threshold_transmits_and_one_step_below_does_not', &
-        t151, &
+        t153, &
         before=b20, &
         after=a20)
-    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t152, before=b20, after=a20)
-    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t153, before=b20, after=a20)
-    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t154, before=b20, after=a20)
-    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t155, before=b20, after=a20)
-    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t156)
-    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t157)
-    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t158)
-    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t159)
-    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t160)
-    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t161)
-    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t162, before=b22, after=a22)
-    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t163, before=b22, after=a22)
-    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t164, before=b23, after=a23)
-    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t165, before=b23, after=a23)
-    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t166, before=b23, after=a23)
-    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t167, before=b23, after=a23)
-    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t168, before=b23, after=a23)
-    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t169, before=b23, after=a23)
-    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t170, before=b23, after=a23)
-    call pf_run_test('test_schema', 'test_table_is_complete', t171)
-    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t172)
-    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t173)
-    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t174)
-    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t175)
-    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t176)
-    call pf_run_test('test_scheme', 'test_ledger_closes_double_sine_gordon', t177)
-    call pf_run_test('test_scheme', 'test_evanescent_wave_double_sine_gordon', t178)
-    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t179)
-    call pf_run_test('test_scheme', 'test_evanescent_wave', t180)
-    call pf_run_test('test_scheme', 'test_second_order_in_dt', t181)
-    call pf_run_test('test_scheme', 'test_stability_boundary', t182)
-    call pf_run_test('test_scheme', 'test_newton_failure_reported', t183)
-    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t184)
-    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t185)
-    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t186)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t187)
-    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t188)
-    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t189)
-    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t190)
-    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t191)
-    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t192)
-    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t193)
-    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t194)
-    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t195)
-    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t196)
-    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t197)
-    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t198)
-    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t199)
-    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t200)
-    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t201)
-    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t202)
-    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t203)
-    call pf_run_test('test_stability', 'test_linear_limits', t204, before=b28, after=a28)
-    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t205, before=b28, after=a28)
-    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t206, before=b28, after=a28)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t207)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t208)
-    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t209)
-    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t210)
-    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t211)
-    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t212)
-    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t213)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t214)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t215)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t216)
-    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t217)
-    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t218)
-    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t219)
-    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t220)
-    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t221)
-    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t222)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t223)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t224)
-    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t225)
-    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t226)
-    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t227)
-    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t228)
-    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t229)
-    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t230)
-    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t231)
-    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t232)
+    call pf_run_test('test_scene_bifurcation', 'test_resume_after_kill', t154, before=b20, after=a20)
+    call pf_run_test('test_scene_bifurcation', 'test_file_layout', t155, before=b20, after=a20)
+    call pf_run_test('test_scene_bifurcation', 'test_failed_runs_give_status_run_failed', t156, before=b20, after=a20)
+    call pf_run_test('test_scene_bifurcation', 'test_screening_changes_no_threshold', t157, before=b20, after=a20)
+    call pf_run_test('test_scene_factory', 'test_every_kind_of_the_schema_has_a_scene', t158)
+    call pf_run_test('test_scene_factory', 'test_unknown_kind_is_one_line_naming_the_known', t159)
+    call pf_run_test('test_scene_factory', 'test_the_input_check_words_an_unknown_kind_as_before', t160)
+    call pf_run_test('test_scene_factory', 'test_only_a_timeseries_is_one_run', t161)
+    call pf_run_test('test_scene_factory', 'test_the_gap_rule_holds_for_the_scenes_at_one_frequency', t162)
+    call pf_run_test('test_scene_factory', 'test_task_scenes_refuse_an_existing_output_first', t163)
+    call pf_run_test('test_scene_map', 'test_skips_outside_gap_and_stores_as', t164, before=b22, after=a22)
+    call pf_run_test('test_scene_map', 'test_map_independent_of_thread_count', t165, before=b22, after=a22)
+    call pf_run_test('test_scene_sweep', 'test_a_runs_record_holds_its_result', t166, before=b23, after=a23)
+    call pf_run_test('test_scene_sweep', 'test_axis_grid_exact', t167, before=b23, after=a23)
+    call pf_run_test('test_scene_sweep', 'test_independent_of_thread_count', t168, before=b23, after=a23)
+    call pf_run_test('test_scene_sweep', 'test_layout_and_physics', t169, before=b23, after=a23)
+    call pf_run_test('test_scene_sweep', 'test_resume_after_kill', t170, before=b23, after=a23)
+    call pf_run_test('test_scene_sweep', 'test_diverging_runs_flagged', t171, before=b23, after=a23)
+    call pf_run_test('test_scene_sweep', 'test_partial_snapshot', t172, before=b23, after=a23)
+    call pf_run_test('test_scene_sweep', 'test_refuses_existing_output', t173, before=b23, after=a23)
+    call pf_run_test('test_schema', 'test_table_is_complete', t174)
+    call pf_run_test('test_schema', 'test_each_key_sets_its_own_field', t175)
+    call pf_run_test('test_schema', 'test_defaults_are_the_papers', t176)
+    call pf_run_test('test_schema', 'test_choices_agree_with_the_physics', t177)
+    call pf_run_test('test_schema', 'test_parameters_hold_every_key', t178)
+    call pf_run_test('test_scheme', 'test_ledger_closes_every_step', t179)
+    call pf_run_test('test_scheme', 'test_ledger_closes_double_sine_gordon', t180)
+    call pf_run_test('test_scheme', 'test_evanescent_wave_double_sine_gordon', t181)
+    call pf_run_test('test_scheme', 'test_linearized_ledger_does_not_close', t182)
+    call pf_run_test('test_scheme', 'test_evanescent_wave', t183)
+    call pf_run_test('test_scheme', 'test_second_order_in_dt', t184)
+    call pf_run_test('test_scheme', 'test_stability_boundary', t185)
+    call pf_run_test('test_scheme', 'test_newton_failure_reported', t186)
+    call pf_run_test('test_scheme', 'test_two_runs_in_two_threads', t187)
+    call pf_run_test('test_scheme', 'test_verdict_across_the_gap', t188)
+    call pf_run_test('test_screened_search', 'test_cheap_right_saves_exact_runs', t189)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_within_band', t190)
+    call pf_run_test('test_screened_search', 'test_cheap_too_high_walks_down', t191)
+    call pf_run_test('test_screened_search', 'test_cheap_window_far_below', t192)
+    call pf_run_test('test_screened_search', 'test_doubtful_quiet_answers_go_to_the_exact_oracle', t193)
+    call pf_run_test('test_screened_search', 'test_random_patterns_with_margins', t194)
+    call pf_run_test('test_screened_search', 'test_random_patterns_false_alarms', t195)
+    call pf_run_test('test_screened_search', 'test_cheap_finds_none', t196)
+    call pf_run_test('test_screened_search', 'test_none_transmits_confirms_the_top', t197)
+    call pf_run_test('test_screened_search', 'test_exact_failure_is_reported', t198)
+    call pf_run_test('test_screened_search', 'test_cheap_failure_falls_back_to_exact', t199)
+    call pf_run_test('test_screened_search', 'test_margin_below_the_threshold', t200)
+    call pf_run_test('test_slice_costs', 'test_equal_costs_deal_round_robin', t201)
+    call pf_run_test('test_slice_costs', 'test_every_task_in_one_slice_and_deterministic', t202)
+    call pf_run_test('test_slice_costs', 'test_largest_first_is_balanced_within_the_largest_task', t203)
+    call pf_run_test('test_slice_costs', 'test_run_order_is_largest_first', t204)
+    call pf_run_test('test_slice_costs', 'test_fold_tasks_cost_more_at_low_omega', t205)
+    call pf_run_test('test_slice_costs', 'test_slice_text_counts_the_slice', t206)
+    call pf_run_test('test_stability', 'test_linear_limits', t207, before=b28, after=a28)
+    call pf_run_test('test_stability', 'test_scene_boundaries_undamped_chain', t208, before=b28, after=a28)
+    call pf_run_test('test_stability', 'test_paper_condition_not_sufficient_with_damping', t209, before=b28, after=a28)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_state_counters_ledger', t210)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_order', t211)
+    call pf_run_test('test_stepper_contract', 'test_unknown_method_is_an_error', t212)
+    call pf_run_test('test_stepper_contract', 'test_engine_refuses_invalid_runs', t213)
+    call pf_run_test('test_stepper_contract', 'test_verdict_only_run_keeps_the_verdict', t214)
+    call pf_run_test('test_stepper_contract', 'test_engine_counts_steps_in_64_bits', t215)
+    call pf_run_test('test_stepper_contract', 'test_stepper_contract_checkpoint', t216)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_one_site_by_hand', t217)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_step_solves_its_system', t218)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_stepper_counters', t219)
+    call pf_run_test('test_stepper_linearized', 'test_linearized_singular_solve_reported', t220)
+    call pf_run_test('test_stepper_newton', 'test_newton_step_solves_the_scheme', t221)
+    call pf_run_test('test_stepper_newton', 'test_blocked_iteration_is_the_unblocked_one', t222)
+    call pf_run_test('test_stepper_newton', 'test_levels_predictor_is_the_two_loop_one', t223)
+    call pf_run_test('test_stepper_newton', 'test_uniform_loops_are_the_general_ones', t224)
+    call pf_run_test('test_stepper_newton', 'test_newton_error_below_tol', t225)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_error_below_tol', t226)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_counters_and_ledger', t227)
+    call pf_run_test('test_stepper_newton', 'test_newton_stepper_reports_failure', t228)
+    call pf_run_test('test_stepper_newton', 'test_blowup_measure_is_the_level_maximum', t229)
+    call pf_run_test('test_stepper_newton', 'test_step_powers_without_bulk_damping', t230)
+    call pf_run_test('test_strings', 'test_int_str_is_the_decimal_without_blanks', t231)
+    call pf_run_test('test_strings', 'test_text_or_gives_the_default_for_unset_or_empty_text', t232)
+    call pf_run_test('test_strings', 'test_find_name_gives_the_first_index_or_zero', t233)
+    call pf_run_test('test_strings', 'test_joined_trims_each_name_and_prefixes_it', t234)
+    call pf_run_test('test_strings', 'test_lower_changes_only_ascii_capitals', t235)
     call pf_run_test( &
         'test_system', &
         'test_atomic_write_replaces_a_planted_link_not_its_target', &
-        t233, &
+        t236, &
         before=b33, &
         after=a33)
-    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t234, before=b33, after=a33)
+    call pf_run_test('test_system', 'test_journal_is_never_appended_to_through_a_link', t237, before=b33, after=a33)
     call pf_run_test( &
         'test_system', &
         'test_lock_is_exclusive_never_through_a_link_and_stays', &
-        t235, &
+        t238, &
         before=b33, &
         after=a33)
-    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t236, before=b33, after=a33)
-    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t237, before=b33, after=a33)
-    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t238, before=b33, after=a33)
-    call pf_run_test('test_threshold', 'test_monotone_step', t239)
-    call pf_run_test('test_threshold', 'test_bisected_bracket', t240)
-    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t241)
-    call pf_run_test('test_threshold', 'test_two_transitions', t242)
-    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t243)
-    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t244)
-    call pf_run_test('test_threshold', 'test_nothing_transmits', t245)
-    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t246)
-    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t247)
-    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t248)
-    call pf_run_test('test_threshold', 'test_bad_arguments', t249)
-    call pf_run_test('test_threshold', 'test_grid_helpers', t250)
-    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t251, before=b35, after=a35)
-    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t252, before=b35, after=a35)
-    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t253, before=b35, after=a35)
-    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t254, before=b35, after=a35)
-    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t255, before=b35, after=a35)
+    call pf_run_test('test_system', 'test_lock_file_is_removed_by_its_holder_only', t239, before=b33, after=a33)
+    call pf_run_test('test_system', 'test_temporary_names_are_fresh', t240, before=b33, after=a33)
+    call pf_run_test('test_system', 'test_only_our_temporaries_are_deleted', t241, before=b33, after=a33)
+    call pf_run_test('test_threshold', 'test_monotone_step', t242)
+    call pf_run_test('test_threshold', 'test_bisected_bracket', t243)
+    call pf_run_test('test_threshold', 'test_threshold_on_a_coarse_point', t244)
+    call pf_run_test('test_threshold', 'test_two_transitions', t245)
+    call pf_run_test('test_threshold', 'test_non_monotone_inside_the_bracket', t246)
+    call pf_run_test('test_threshold', 'test_narrow_window_below_first_hit_is_missed', t247)
+    call pf_run_test('test_threshold', 'test_nothing_transmits', t248)
+    call pf_run_test('test_threshold', 'test_range_end_off_the_coarse_grid', t249)
+    call pf_run_test('test_threshold', 'test_lower_bound_transmits', t250)
+    call pf_run_test('test_threshold', 'test_failed_oracle_stops_the_search', t251)
+    call pf_run_test('test_threshold', 'test_bad_arguments', t252)
+    call pf_run_test('test_threshold', 'test_grid_helpers', t253)
+    call pf_run_test('test_workprec', 'test_rk8_eighth_order', t254, before=b35, after=a35)
+    call pf_run_test('test_workprec', 'test_rk8_order_collapses_at_off_grid_kink', t255, before=b35, after=a35)
+    call pf_run_test('test_workprec', 'test_rk8_stability_polynomial', t256, before=b35, after=a35)
+    call pf_run_test('test_workprec', 'test_newton_ledger_closes_where_rk4_drifts', t257, before=b35, after=a35)
+    call pf_run_test('test_workprec', 'test_unstable_runs_are_reported', t258, before=b35, after=a35)
     call pf_run_test( &
         'test_workprec', &
         'test_scene_writes_status_not_numbers_for_unstable_runs', &
-        t256, &
+        t259, &
         before=b35, &
         after=a35)
-    call pf_run_test('test_workprec', 'test_fitted_order', t257, before=b35, after=a35)
-    call pf_run_test('test_workprec', 'test_step_kernels_timed', t258, before=b35, after=a35)
+    call pf_run_test('test_workprec', 'test_fitted_order', t260, before=b35, after=a35)
+    call pf_run_test('test_workprec', 'test_step_kernels_timed', t261, before=b35, after=a35)
     call pf_driver_finish()
 end program pf_driver

@@ -2,7 +2,9 @@
 !> Tests of the rows of the output tables (`supratrans_output_rows`, generated from the output tables) and of the
 !> records generated from them: a dataset written by its row carries the row's units, description and dimensions
 !> (none for a row without), a `{name}` of its path takes the writer's name; data of another type than the row's, a
-!> group written as a dataset, and an attribute the row does not list are the file's error; the hysteresis and the
+!> group written as a dataset, and an attribute the row does not list are the file's error; units only where the
+!> row's are the writer's to give (`(vary)`), a shared row of /curves that of every curve table; a generated record
+!> writer puts each `{name}` of a description whole, the shorter and the longer; the hysteresis and the
 !> sweep's run records as values and back, their empty records, an integer field NaN in the values.
 !> Files are written as /tmp/supratrans_test_rows_<random>.h5 and removed after each test.
 module test_output_rows
@@ -14,9 +16,11 @@ module test_output_rows
     use supratrans_test_files, only: unique_tmp, path_exists, delete_file, error_text
     use supratrans_output_rows, only: output_row_meta, row_meta, row_path, row_name, row_type, write_row, &
         write_row_group, write_row_attr, hysteresis_window, hysteresis_status, hysteresis_cost, &
-        work_precision_lower_bound_sine_time, stability_verdict_method, timeseries_ledger_stored, timeseries_run
+        work_precision_lower_bound_sine_time, stability_verdict_method, timeseries_ledger_stored, timeseries_run, &
+        shared_curves_value, shared_curves_gamma, map_curves_value, hysteresis_curves_gamma
     use supratrans_hysteresis_scalars, only: hysteresis_scalars, hysteresis_scalars_names, hysteresis_scalars_values, &
         hysteresis_scalars_from_values, empty_hysteresis_scalars
+    use supratrans_fold_scalars, only: fold_scalars, empty_fold_scalars, write_fold_scalars
     use supratrans_run_scalars, only: run_scalars, run_scalars_names, run_scalars_values, run_scalars_from_values, &
         empty_run_scalars
     implicit none
@@ -53,67 +57,67 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_output_rows.pf', 52, 'assertFalse'))
+            location=pf_source_location('test_output_rows.pf', 56, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, path, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_output_rows.pf', 55, 'assertFalse'))
+            location=pf_source_location('test_output_rows.pf', 59, 'assertFalse'))
         if (pf_any_failed()) return
         m = output_row_meta(hysteresis_window)
         call h5_read_attr(file, "/window", "units", text, error)
-        call assertEqual("rad", text, location=pf_source_location('test_output_rows.pf', 58, 'assertEqual'))
+        call assertEqual("rad", text, location=pf_source_location('test_output_rows.pf', 62, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/window", "description", text, error)
-        call assertEqual(m%description, text, location=pf_source_location('test_output_rows.pf', 60, 'assertEqual'))
+        call assertEqual(m%description, text, location=pf_source_location('test_output_rows.pf', 64, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "Bistable window: upward - downward edge", &
             text, &
-            location=pf_source_location('test_output_rows.pf', 61, 'assertEqual'))
+            location=pf_source_location('test_output_rows.pf', 65, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/window", "dimensions", text, error)
         call assertEqual( &
             "curve, omega, stair_length", &
             text, &
-            location=pf_source_location('test_output_rows.pf', 63, 'assertEqual'))
+            location=pf_source_location('test_output_rows.pf', 67, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual("window", m%field, location=pf_source_location('test_output_rows.pf', 64, 'assertEqual'))
+        call assertEqual("window", m%field, location=pf_source_location('test_output_rows.pf', 68, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_attr_exists(file, "/lower_bound/sine_time", "dimensions"), &
             message="a row without dims", &
-            location=pf_source_location('test_output_rows.pf', 65, 'assertFalse'))
+            location=pf_source_location('test_output_rows.pf', 69, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/lower_bound/sine_time", "units", text, error)
-        call assertEqual("s", text, location=pf_source_location('test_output_rows.pf', 67, 'assertEqual'))
+        call assertEqual("s", text, location=pf_source_location('test_output_rows.pf', 71, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_exists(file, "/verdict/newton"), &
             message="{method} of the path named", &
-            location=pf_source_location('test_output_rows.pf', 68, 'assertTrue'))
+            location=pf_source_location('test_output_rows.pf', 72, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/verdict/newton", "dimensions", text, error)
-        call assertEqual("curve, c, dt", text, location=pf_source_location('test_output_rows.pf', 70, 'assertEqual'))
+        call assertEqual("curve, c, dt", text, location=pf_source_location('test_output_rows.pf', 74, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/cost", "description", text, error)
         call assertEqual( &
             "What each run cost", &
             text, &
-            location=pf_source_location('test_output_rows.pf', 72, 'assertEqual'))
+            location=pf_source_location('test_output_rows.pf', 76, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             h5_attr_exists(file, "/cost", "scene_wall_time_s"), &
             message="the group's attribute", &
-            location=pf_source_location('test_output_rows.pf', 73, 'assertTrue'))
+            location=pf_source_location('test_output_rows.pf', 77, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_close(file, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_output_rows.pf', 75, 'assertFalse'))
+            location=pf_source_location('test_output_rows.pf', 79, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_a_row_gives_its_dataset_metadata
 
@@ -122,27 +126,27 @@ contains
         call assertEqual( &
             "/verdict/rk4", &
             row_path(stability_verdict_method, "rk4"), &
-            location=pf_source_location('test_output_rows.pf', 80, 'assertEqual'))
+            location=pf_source_location('test_output_rows.pf', 84, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "/verdict/{method}", &
             row_path(stability_verdict_method), &
-            location=pf_source_location('test_output_rows.pf', 81, 'assertEqual'))
+            location=pf_source_location('test_output_rows.pf', 85, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "stored", &
             row_name(timeseries_ledger_stored), &
-            location=pf_source_location('test_output_rows.pf', 82, 'assertEqual'))
+            location=pf_source_location('test_output_rows.pf', 86, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "integer", &
             row_type(hysteresis_status), &
-            location=pf_source_location('test_output_rows.pf', 83, 'assertEqual'))
+            location=pf_source_location('test_output_rows.pf', 87, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "", &
             row_type(timeseries_run), &
-            location=pf_source_location('test_output_rows.pf', 84, 'assertEqual'))
+            location=pf_source_location('test_output_rows.pf', 88, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_row_names_and_types
 
@@ -156,23 +160,23 @@ contains
         call assertTrue( &
             h5_failed(file), &
             message="integer data for a real row", &
-            location=pf_source_location('test_output_rows.pf', 94, 'assertTrue'))
+            location=pf_source_location('test_output_rows.pf', 98, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertTrue( &
             allocated(error), &
             message="the commit refuses", &
-            location=pf_source_location('test_output_rows.pf', 96, 'assertTrue'))
+            location=pf_source_location('test_output_rows.pf', 100, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "'window' is not a dataset of type integer") > 0, &
             message=error%message, &
-            location=pf_source_location('test_output_rows.pf', 97, 'assertTrue'))
+            location=pf_source_location('test_output_rows.pf', 101, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(path), &
             message="nothing written", &
-            location=pf_source_location('test_output_rows.pf', 98, 'assertFalse'))
+            location=pf_source_location('test_output_rows.pf', 102, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_data_of_another_type_is_the_files_error
 
@@ -187,7 +191,7 @@ contains
         call assertTrue( &
             allocated(error), &
             message="a group's row written as a dataset", &
-            location=pf_source_location('test_output_rows.pf', 109, 'assertTrue'))
+            location=pf_source_location('test_output_rows.pf', 113, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_create(file, path, .false.)
         call write_row_group(file, hysteresis_window)
@@ -195,12 +199,12 @@ contains
         call assertTrue( &
             allocated(error), &
             message="a dataset's row written as a group", &
-            location=pf_source_location('test_output_rows.pf', 113, 'assertTrue'))
+            location=pf_source_location('test_output_rows.pf', 117, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "'window' is not a group") > 0, &
             message=error%message, &
-            location=pf_source_location('test_output_rows.pf', 114, 'assertTrue'))
+            location=pf_source_location('test_output_rows.pf', 118, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_a_group_is_not_a_dataset
 
@@ -215,26 +219,140 @@ contains
         call assertFalse( &
             h5_failed(file), &
             message="codes: listed", &
-            location=pf_source_location('test_output_rows.pf', 125, 'assertFalse'))
+            location=pf_source_location('test_output_rows.pf', 129, 'assertFalse'))
         if (pf_any_failed()) return
         call write_row_attr(file, hysteresis_status, "code", "0 found")
         call assertTrue( &
             h5_failed(file), &
             message="code: not listed", &
-            location=pf_source_location('test_output_rows.pf', 127, 'assertTrue'))
+            location=pf_source_location('test_output_rows.pf', 131, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_commit(file, error)
         call assertTrue( &
             allocated(error), &
             message="the commit refuses", &
-            location=pf_source_location('test_output_rows.pf', 129, 'assertTrue'))
+            location=pf_source_location('test_output_rows.pf', 133, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "has no attribute 'code'") > 0, &
             message=error%message, &
-            location=pf_source_location('test_output_rows.pf', 130, 'assertTrue'))
+            location=pf_source_location('test_output_rows.pf', 134, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_an_attribute_the_row_does_not_list_is_the_files_error
+
+    ! @test
+    subroutine test_units_only_where_the_row_leaves_them_to_the_writer()
+        type(h5_file) :: file
+        type(error_type), allocatable :: error
+        character(len=:), allocatable :: text
+        type(row_meta) :: shared, own
+
+        shared = output_row_meta(shared_curves_value)
+        own = output_row_meta(map_curves_value)
+        call assertEqual("(vary)", shared%units, location=pf_source_location('test_output_rows.pf', 146, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            own%description, &
+            shared%description, &
+            location=pf_source_location('test_output_rows.pf', 147, 'assertEqual'))
+        if (pf_any_failed()) return
+        shared = output_row_meta(shared_curves_gamma)
+        own = output_row_meta(hysteresis_curves_gamma)
+        call assertEqual( &
+            own%units, &
+            shared%units, &
+            location=pf_source_location('test_output_rows.pf', 150, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            own%description, &
+            shared%description, &
+            location=pf_source_location('test_output_rows.pf', 151, 'assertEqual'))
+        if (pf_any_failed()) return
+        call h5_create(file, path, .false.)
+        call write_row(file, shared_curves_value, [0.5_wp, 1.0_wp], units="1/time")
+        call h5_commit(file, error)
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_output_rows.pf', 155, 'assertFalse'))
+        if (pf_any_failed()) return
+        call h5_open(file, path, error)
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_output_rows.pf', 157, 'assertFalse'))
+        if (pf_any_failed()) return
+        call h5_read_attr(file, "/curves/value", "units", text, error)
+        call assertEqual("1/time", text, location=pf_source_location('test_output_rows.pf', 159, 'assertEqual'))
+        if (pf_any_failed()) return
+        call h5_close(file, error)
+
+        call h5_create(file, path, .true.)
+        call write_row(file, shared_curves_gamma, [0.5_wp, 1.0_wp], units="1")
+        call assertTrue( &
+            h5_failed(file), &
+            message="units given for a row that has its own", &
+            location=pf_source_location('test_output_rows.pf', 164, 'assertTrue'))
+        if (pf_any_failed()) return
+        call h5_commit(file, error)
+        call assertTrue( &
+            allocated(error), &
+            message="the commit refuses", &
+            location=pf_source_location('test_output_rows.pf', 166, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            index(error%message, "'curves/gamma' has its units") > 0, &
+            message=error%message, &
+            location=pf_source_location('test_output_rows.pf', 167, 'assertTrue'))
+        if (pf_any_failed()) return
+    end subroutine test_units_only_where_the_row_leaves_them_to_the_writer
+
+    ! @test
+    subroutine test_a_record_writer_puts_every_name_of_a_description_whole()
+        type(h5_file) :: file
+        type(error_type), allocatable :: error
+        character(len=:), allocatable :: text
+        type(fold_scalars) :: s(2)
+
+        s = empty_fold_scalars()
+        call h5_create(file, path, .false.)
+        call write_fold_scalars(file, s, 1, "0.01", "200.0", "2", "0.001")
+        call h5_commit(file, error)
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_output_rows.pf', 181, 'assertFalse'))
+        if (pf_any_failed()) return
+        call h5_open(file, path, error)
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_output_rows.pf', 183, 'assertFalse'))
+        if (pf_any_failed()) return
+        call h5_read_attr(file, "/transmission_stairs", "description", text, error)
+        call assertTrue( &
+            index(text, "stairs of 0.01 held 200.0 time units each") > 0, &
+            message=text, &
+            location=pf_source_location('test_output_rows.pf', 185, 'assertTrue'))
+        if (pf_any_failed()) return
+        call h5_read_attr(file, "/transmission_spread", "description", text, error)
+        call assertTrue( &
+            index(text, "over 2 more climbs") > 0, &
+            message=text, &
+            location=pf_source_location('test_output_rows.pf', 187, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            index(text, "moved by 0.001 along") > 0, &
+            message=text, &
+            location=pf_source_location('test_output_rows.pf', 188, 'assertTrue'))
+        if (pf_any_failed()) return
+        call h5_close(file, error)
+        call assertFalse( &
+            allocated(error), &
+            message=error_text(error), &
+            location=pf_source_location('test_output_rows.pf', 190, 'assertFalse'))
+        if (pf_any_failed()) return
+    end subroutine test_a_record_writer_puts_every_name_of_a_description_whole
 
     ! @test
     subroutine test_the_hysteresis_record_as_values_and_back()
@@ -244,28 +362,28 @@ contains
         call assertEqual( &
             8, &
             size(hysteresis_scalars_names), &
-            location=pf_source_location('test_output_rows.pf', 138, 'assertEqual'))
+            location=pf_source_location('test_output_rows.pf', 198, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "status", &
             trim(hysteresis_scalars_names(1)), &
-            location=pf_source_location('test_output_rows.pf', 139, 'assertEqual'))
+            location=pf_source_location('test_output_rows.pf', 199, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             "wall_time", &
             trim(hysteresis_scalars_names(8)), &
-            location=pf_source_location('test_output_rows.pf', 140, 'assertEqual'))
+            location=pf_source_location('test_output_rows.pf', 200, 'assertEqual'))
         if (pf_any_failed()) return
         s = empty_hysteresis_scalars()
-        call assertEqual(-1, s%status, location=pf_source_location('test_output_rows.pf', 142, 'assertEqual'))
+        call assertEqual(-1, s%status, location=pf_source_location('test_output_rows.pf', 202, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             ieee_is_nan(s%upward) .and. ieee_is_nan(s%downward) .and. ieee_is_nan(s%window), &
-            location=pf_source_location('test_output_rows.pf', 143, 'assertTrue'))
+            location=pf_source_location('test_output_rows.pf', 203, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(0, s%downward_gaps, location=pf_source_location('test_output_rows.pf', 144, 'assertEqual'))
+        call assertEqual(0, s%downward_gaps, location=pf_source_location('test_output_rows.pf', 204, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0.0_wp, s%wall_time, location=pf_source_location('test_output_rows.pf', 145, 'assertEqual'))
+        call assertEqual(0.0_wp, s%wall_time, location=pf_source_location('test_output_rows.pf', 205, 'assertEqual'))
         if (pf_any_failed()) return
         s%status = 2
         s%upward = 1.25_wp
@@ -280,18 +398,18 @@ contains
             [2.0_wp, 1.25_wp, 0.75_wp, 0.5_wp, 3.0_wp, 41.0_wp, 1.0e10_wp, 0.125_wp], &
             v, &
             0.0_wp, &
-            location=pf_source_location('test_output_rows.pf', 155, 'assertEqual'))
+            location=pf_source_location('test_output_rows.pf', 215, 'assertEqual'))
         if (pf_any_failed()) return
         back = hysteresis_scalars_from_values([v, 7.0_wp])
-        call assertEqual(2, back%status, location=pf_source_location('test_output_rows.pf', 157, 'assertEqual'))
+        call assertEqual(2, back%status, location=pf_source_location('test_output_rows.pf', 217, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(41, back%detector_site, location=pf_source_location('test_output_rows.pf', 158, 'assertEqual'))
+        call assertEqual(41, back%detector_site, location=pf_source_location('test_output_rows.pf', 218, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0e10_wp, &
             back%steps, &
             0.0_wp, &
-            location=pf_source_location('test_output_rows.pf', 159, 'assertEqual'))
+            location=pf_source_location('test_output_rows.pf', 219, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_the_hysteresis_record_as_values_and_back
 
@@ -303,22 +421,22 @@ contains
         call assertEqual( &
             21, &
             size(run_scalars_names), &
-            location=pf_source_location('test_output_rows.pf', 167, 'assertEqual'))
+            location=pf_source_location('test_output_rows.pf', 227, 'assertEqual'))
         if (pf_any_failed()) return
         s = empty_run_scalars()
-        call assertEqual(-1, s%status, location=pf_source_location('test_output_rows.pf', 169, 'assertEqual'))
+        call assertEqual(-1, s%status, location=pf_source_location('test_output_rows.pf', 229, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(-1, s%steps, location=pf_source_location('test_output_rows.pf', 170, 'assertEqual'))
+        call assertEqual(-1, s%steps, location=pf_source_location('test_output_rows.pf', 230, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertTrue(ieee_is_nan(s%injected), location=pf_source_location('test_output_rows.pf', 171, 'assertTrue'))
+        call assertTrue(ieee_is_nan(s%injected), location=pf_source_location('test_output_rows.pf', 231, 'assertTrue'))
         if (pf_any_failed()) return
         v = run_scalars_values(s)
         v(findloc(run_scalars_names, "steps", dim=1)) = ieee_value(1.0_wp, ieee_quiet_nan)
         v(findloc(run_scalars_names, "status", dim=1)) = 0.0_wp
         s = run_scalars_from_values(v)
-        call assertEqual(-1, s%steps, location=pf_source_location('test_output_rows.pf', 176, 'assertEqual'))
+        call assertEqual(-1, s%steps, location=pf_source_location('test_output_rows.pf', 236, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, s%status, location=pf_source_location('test_output_rows.pf', 177, 'assertEqual'))
+        call assertEqual(0, s%status, location=pf_source_location('test_output_rows.pf', 237, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_the_run_record_takes_its_empty_value_from_nan
 

@@ -249,7 +249,8 @@ def test_a_stale_generated_file_is_detected(tmp_path, monkeypatch):
 #: they name no unit, description or dimensions, so call neither `h5_write` nor `h5_create_group`, and write
 #: attributes with `h5_write_attr` only on the root and /parameters (which no table describes).
 ROW_WRITERS = ("supratrans_scene_timeseries.f90", "supratrans_scene_bifurcation_output.f90",
-               "supratrans_scene_stability.f90", "supratrans_scene_workprec.f90", "supratrans_scene_hysteresis.f90")
+               "supratrans_scene_stability.f90", "supratrans_scene_workprec.f90", "supratrans_scene_hysteresis.f90",
+               "supratrans_scene_sweep_output.f90", "supratrans_scene_map.f90", "supratrans_curves.f90")
 
 
 @pytest.mark.parametrize("name", ROW_WRITERS)
@@ -290,6 +291,9 @@ def test_the_hysteresis_journal_keeps_its_names():
      "is journal_only but dataset 'upward_spread' holds it"),
     ("hysteresis.toml", "record_writer = false\n", "", "a record with a writer (record_writer)"),
     ("hysteresis.toml", 'path = "stair_time"\n', 'path = "stair/time"\n', "group 'stair' is not a [[group]]"),
+    ("map.toml", 'units = "1/time^2"\n', 'units = "1/time2"\n', "dataset 'curves/m2' differs from that of"),
+    ("stability.toml", 'description = "On-site potential of each curve"', 'description = "Potential of each curve"',
+     "dataset 'curves/potential' differs from that of"),
 ])
 def test_a_mistake_in_a_record_or_a_row_is_refused(tmp_path, table, old, new, words):
     g = generator()
@@ -329,7 +333,8 @@ def test_two_rows_of_one_constant_are_refused(tmp_path):
 
 def test_the_sweep_and_the_map_share_the_run_record():
     """The map's table holds the fields of the sweep's run record, each over (curve, omega, amplitude), in the order
-    of main's journal (run_value_names of supratrans_run_record): one record, two layouts."""
+    of the journal before the record came from the table (a journal of that time still resumes): one record, two
+    layouts."""
     t = tables()
     sweep, grid = t[("amplitude_sweep", "")], t[("map", "")]
     assert grid.get("shares") == "amplitude_sweep.toml" and not grid["field"]

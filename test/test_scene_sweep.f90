@@ -2,14 +2,16 @@
 !> Tests of `supratrans_scene_sweep` (scene `amplitude_sweep`) on tiny chains (N = 40, N0 = 30, T = 30): the
 !> results do not depend on the number of threads; a sweep killed mid-way resumes from its journal and gives the
 !> same file as an uninterrupted one; a journal of another input is refused; runs that diverge are flagged and the
-!> rest complete; the partial snapshot is a readable file with complete = 0; the amplitude axis is exact.
+!> rest complete; the partial snapshot is a readable file with complete = 0; the amplitude axis is exact; a run's
+!> record holds its result, a count beyond the default integer's range clamped to its largest value.
 !> Files are written as /tmp/supratrans_test_sweep_<random>* and removed after each test.
 module test_scene_sweep
     use pf_runtime
     use, intrinsic :: ieee_arithmetic, only: ieee_is_nan, ieee_is_finite
     !$ use omp_lib, only: omp_get_max_threads, omp_set_num_threads
-    use supratrans_kinds, only: wp
+    use supratrans_kinds, only: wp, i8
     use supratrans_error, only: error_type
+    use supratrans_result, only: run_result, run_ok
     use supratrans_invocation, only: invocation_type
     use supratrans_config, only: input_config, vary_none, vary_gamma
     use supratrans_potential, only: sine_gordon, klein_gordon
@@ -53,35 +55,78 @@ contains
     end subroutine tear_down
 
     ! @test
+    subroutine test_a_runs_record_holds_its_result()
+        type(run_result) :: result
+        type(run_scalars) :: s
+
+        result%status = run_ok
+        result%transmitting = .true.
+        result%steps = int(huge(1), i8) + 10_i8
+        result%newton_iterations = 7_i8
+        result%detect_site = 12
+        result%ledger%injected = 2.5_wp
+        result%ramp_passed = .false.
+        s = run_scalars_from_values(run_values(result))
+        call assertEqual(huge(1), s%steps, location=pf_source_location('test_scene_sweep.pf', 69, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual(7, s%newton_iterations, location=pf_source_location('test_scene_sweep.pf', 70, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual(1, s%transmitting, location=pf_source_location('test_scene_sweep.pf', 71, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual(12, s%detect_site, location=pf_source_location('test_scene_sweep.pf', 72, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertEqual( &
+            2.5_wp, &
+            s%injected, &
+            0.0_wp, &
+            location=pf_source_location('test_scene_sweep.pf', 73, 'assertEqual'))
+        if (pf_any_failed()) return
+        call assertTrue( &
+            ieee_is_nan(s%injected_after_ramp), &
+            message="no energy after a ramp not passed", &
+            location=pf_source_location('test_scene_sweep.pf', 74, 'assertTrue'))
+        if (pf_any_failed()) return
+        result%status = run_ok + 1
+        s = run_scalars_from_values(run_values(result))
+        call assertTrue( &
+            ieee_is_nan(s%injected), &
+            message="no energy of a run that failed", &
+            location=pf_source_location('test_scene_sweep.pf', 77, 'assertTrue'))
+        if (pf_any_failed()) return
+        call assertEqual(run_ok + 1, s%status, location=pf_source_location('test_scene_sweep.pf', 78, 'assertEqual'))
+        if (pf_any_failed()) return
+    end subroutine test_a_runs_record_holds_its_result
+
+    ! @test
     subroutine test_axis_grid_exact()
         real(wp), allocatable :: a(:)
 
         a = axis_grid(1.0_wp, 3.0_wp, 0.02_wp)
-        call assertEqual(101, size(a), location=pf_source_location('test_scene_sweep.pf', 59, 'assertEqual'))
+        call assertEqual(101, size(a), location=pf_source_location('test_scene_sweep.pf', 86, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp + 100*0.02_wp, &
             a(101), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 60, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 87, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             1.0_wp + 37*0.02_wp, &
             a(38), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 61, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 88, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.1_wp, 4.0_wp, 0.1_wp)
-        call assertEqual(40, size(a), location=pf_source_location('test_scene_sweep.pf', 63, 'assertEqual'))
+        call assertEqual(40, size(a), location=pf_source_location('test_scene_sweep.pf', 90, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.05_wp, 0.95_wp, 0.05_wp)
-        call assertEqual(19, size(a), location=pf_source_location('test_scene_sweep.pf', 65, 'assertEqual'))
+        call assertEqual(19, size(a), location=pf_source_location('test_scene_sweep.pf', 92, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.5_wp, 0.5_wp, 0.1_wp)
-        call assertEqual(1, size(a), location=pf_source_location('test_scene_sweep.pf', 67, 'assertEqual'))
+        call assertEqual(1, size(a), location=pf_source_location('test_scene_sweep.pf', 94, 'assertEqual'))
         if (pf_any_failed()) return
         a = axis_grid(0.0_wp, 0.99_wp, 0.1_wp)
-        call assertEqual(10, size(a), location=pf_source_location('test_scene_sweep.pf', 69, 'assertEqual'))
+        call assertEqual(10, size(a), location=pf_source_location('test_scene_sweep.pf', 96, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_axis_grid_exact
 
@@ -99,7 +144,7 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 83, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 110, 'assertFalse'))
         if (pf_any_failed()) return
         cfg = tiny_config("_b")
         !$ call omp_set_num_threads(2)
@@ -108,37 +153,37 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 88, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 115, 'assertFalse'))
         if (pf_any_failed()) return
 
         do i = 1, size(result_names)
             call assertTrue( &
                 same_dataset(base // "_a.h5", base // "_b.h5", trim(result_names(i))), &
                 message=trim(result_names(i)), &
-                location=pf_source_location('test_scene_sweep.pf', 91, 'assertTrue'))
+                location=pf_source_location('test_scene_sweep.pf', 118, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         call read_root_counts(base // "_b.h5", complete, done, total)
-        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 94, 'assertEqual'))
+        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 121, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, done, location=pf_source_location('test_scene_sweep.pf', 95, 'assertEqual'))
+        call assertEqual(20, done, location=pf_source_location('test_scene_sweep.pf', 122, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 96, 'assertEqual'))
+        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 123, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // "_b.h5.journal"), &
             message="journal deleted at the end", &
-            location=pf_source_location('test_scene_sweep.pf', 97, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 124, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // "_b.h5.partial.h5"), &
             message="partial file deleted at the end", &
-            location=pf_source_location('test_scene_sweep.pf', 98, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 125, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // "_b.h5.tmp"), &
             message="no temporary file left", &
-            location=pf_source_location('test_scene_sweep.pf', 99, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 126, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_independent_of_thread_count
 
@@ -158,64 +203,64 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 115, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 142, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_open(file, base // ".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 117, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 144, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/", "scene", text, error)
         call assertEqual( &
             "amplitude_sweep", &
             text, &
-            location=pf_source_location('test_scene_sweep.pf', 119, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 146, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/amplitude", amplitude, error)
         call assertEqual( &
             [0.5_wp, 1.0_wp, 1.5_wp, 2.0_wp, 2.5_wp], &
             amplitude, &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 121, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 148, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/curves/value", value, error)
         call assertEqual( &
             [0.0_wp, 0.05_wp, 0.0_wp, 0.05_wp], &
             value, &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 123, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 150, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/energy/injected", injected, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 125, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 152, 'assertFalse'))
         if (pf_any_failed()) return
         call assertEqual( &
             [5, 4], &
             shape(injected), &
-            location=pf_source_location('test_scene_sweep.pf', 126, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 153, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/energy/injected", "dimensions", text, error)
         call assertEqual( &
             "curve, amplitude", &
             text, &
-            location=pf_source_location('test_scene_sweep.pf', 128, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 155, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/energy/injected", "units", text, error)
-        call assertEqual("energy", text, location=pf_source_location('test_scene_sweep.pf', 130, 'assertEqual'))
+        call assertEqual("energy", text, location=pf_source_location('test_scene_sweep.pf', 157, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/runs", "status_codes", text, error)
         call assertTrue( &
             index(text, "-2 outside_gap") > 0, &
             message=text, &
-            location=pf_source_location('test_scene_sweep.pf', 132, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 159, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(text, "1 diverged") > 0, &
             message=text, &
-            location=pf_source_location('test_scene_sweep.pf', 133, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 160, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read(file, "/energy/stored", stored, error)
         call h5_read(file, "/energy/dissipated_gamma", d_gamma, error)
@@ -227,63 +272,63 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 141, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 168, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
 
         call assertEqual( &
             0, &
             pack(status, .true.), &
-            location=pf_source_location('test_scene_sweep.pf', 144, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 171, 'assertEqual'))
         if (pf_any_failed()) return
         ! the ledger closes: injected = stored + dissipated (E_0 = 0), to roundoff
         call assertEqual( &
             pack(injected, .true.), &
             pack(stored + d_gamma + d_beta + d_abs, .true.), &
             1.0e-9_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 146, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 173, 'assertEqual'))
         if (pf_any_failed()) return
         call assertLessThan( &
             maxval(abs(res)), &
             1.0e-9_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 147, 'assertLessThan'))
+            location=pf_source_location('test_scene_sweep.pf', 174, 'assertLessThan'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             pack(d_beta, .true.), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 148, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 175, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             d_gamma(:, 1), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 149, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 176, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             0.0_wp, &
             d_gamma(:, 3), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 150, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 177, 'assertEqual'))
         if (pf_any_failed()) return
         do ic = 1, 4
             ! the energy grows with the amplitude, and the smallest amplitude does not transmit
             call assertTrue( &
                 all(injected(2:, ic) > injected(:4, ic)), &
                 message="injected energy increases with A", &
-                location=pf_source_location('test_scene_sweep.pf', 153, 'assertTrue'))
+                location=pf_source_location('test_scene_sweep.pf', 180, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0, &
                 transmitting(1, ic), &
-                location=pf_source_location('test_scene_sweep.pf', 154, 'assertEqual'))
+                location=pf_source_location('test_scene_sweep.pf', 181, 'assertEqual'))
             if (pf_any_failed()) return
         end do
         ! damping lowers the energy left in the chain
         call assertTrue( &
             all(stored(1:2, 2) < stored(1:2, 1)), &
             message="gamma = 0.05 stores less than gamma = 0", &
-            location=pf_source_location('test_scene_sweep.pf', 157, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 184, 'assertTrue'))
         if (pf_any_failed()) return
     end subroutine test_layout_and_physics
 
@@ -297,7 +342,8 @@ contains
         logical, allocatable :: done(:)
         character(len=:), allocatable :: journal
         character(len=4096), allocatable :: lines(:)
-        real(wp) :: values(n_run_values)
+        real(wp) :: values(size(run_scalars_names))
+        type(run_scalars) :: tampered
         integer :: kept, i, i_tampered, ia, ic, complete, ndone, total
 
         cfg_ref = tiny_config("_ref")
@@ -305,7 +351,7 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 175, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 203, 'assertFalse'))
         if (pf_any_failed()) return
 
         ! a sweep killed after a few runs: the journal holds its header, 3 complete lines and half a line
@@ -315,27 +361,29 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 181, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 209, 'assertFalse'))
         if (pf_any_failed()) return
-        call run_tasks(tasks, tasks%task_count(), run_value_names(), journal, file_fingerprint(cfg%source), "runs", &
+        call run_tasks(tasks, tasks%task_count(), run_scalars_names, journal, file_fingerprint(cfg%source), "runs", &
                        .true., results, done, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 184, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 212, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5"), &
             message="the engine alone writes no output file", &
-            location=pf_source_location('test_scene_sweep.pf', 185, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 213, 'assertFalse'))
         if (pf_any_failed()) return
         lines = read_lines(journal)
-        call assertEqual(21, size(lines), location=pf_source_location('test_scene_sweep.pf', 187, 'assertEqual'))
+        call assertEqual(21, size(lines), location=pf_source_location('test_scene_sweep.pf', 215, 'assertEqual'))
         if (pf_any_failed()) return
         kept = 3
         ! mark one kept line, to see that the resumed sweep takes it from the journal instead of recomputing it
         read (lines(2), *) i_tampered, values
-        values(iv_wall_time) = 12345.0_wp
+        tampered = run_scalars_from_values(values)
+        tampered%wall_time = 12345.0_wp
+        values = run_scalars_values(tampered)
         lines(2) = journal_line(i_tampered, values, trim(lines(1)))
         call write_text(journal, lines(1:1 + kept), lines(2 + kept)(1:len_trim(lines(2 + kept))/2))
 
@@ -346,17 +394,17 @@ contains
         call assertTrue( &
             allocated(error), &
             message="journal of another input accepted", &
-            location=pf_source_location('test_scene_sweep.pf', 199, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 229, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "journal of a different input") > 0, &
             message=error%message, &
-            location=pf_source_location('test_scene_sweep.pf', 200, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 230, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5"), &
             message="output written despite the error", &
-            location=pf_source_location('test_scene_sweep.pf', 201, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 231, 'assertFalse'))
         if (pf_any_failed()) return
         deallocate (error)
 
@@ -364,13 +412,13 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 205, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 235, 'assertFalse'))
         if (pf_any_failed()) return
         do i = 1, size(result_names)
             call assertTrue( &
                 same_dataset(base // "_ref.h5", base // ".h5", trim(result_names(i))), &
                 message=trim(result_names(i)), &
-                location=pf_source_location('test_scene_sweep.pf', 207, 'assertTrue'))
+                location=pf_source_location('test_scene_sweep.pf', 237, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         wall = read_real_2d(base // ".h5", "/runs/wall_time")
@@ -380,17 +428,17 @@ contains
             12345.0_wp, &
             wall(ia, ic), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 212, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 242, 'assertEqual'))
         if (pf_any_failed()) return
         call read_root_counts(base // ".h5", complete, ndone, total)
-        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 214, 'assertEqual'))
+        call assertEqual(1, complete, location=pf_source_location('test_scene_sweep.pf', 244, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 215, 'assertEqual'))
+        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 245, 'assertEqual'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(journal), &
             message="journal deleted at the end", &
-            location=pf_source_location('test_scene_sweep.pf', 216, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 246, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_resume_after_kill
 
@@ -415,14 +463,14 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 237, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 267, 'assertFalse'))
         if (pf_any_failed()) return
 
         call h5_open(file, base // ".h5", error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 240, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 270, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read(file, "/amplitude", amplitude, error)
         call h5_read(file, "/runs/status", status, error)
@@ -433,63 +481,63 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 247, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 277, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/runs", "failed", nfailed, error)
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 249, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 279, 'assertFalse'))
         if (pf_any_failed()) return
         call h5_close(file, error)
 
-        call assertEqual([5, 1], shape(status), location=pf_source_location('test_scene_sweep.pf', 252, 'assertEqual'))
+        call assertEqual([5, 1], shape(status), location=pf_source_location('test_scene_sweep.pf', 282, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, status(1:2, 1), location=pf_source_location('test_scene_sweep.pf', 253, 'assertEqual'))
+        call assertEqual(0, status(1:2, 1), location=pf_source_location('test_scene_sweep.pf', 283, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(1, status(4:5, 1), location=pf_source_location('test_scene_sweep.pf', 254, 'assertEqual'))
+        call assertEqual(1, status(4:5, 1), location=pf_source_location('test_scene_sweep.pf', 284, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             count(status /= 0), &
             nfailed, &
-            location=pf_source_location('test_scene_sweep.pf', 255, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 285, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             nfailed, &
             size(failures), &
-            location=pf_source_location('test_scene_sweep.pf', 256, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 286, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(failures(1), "diverged") > 0, &
             message=failures(1), &
-            location=pf_source_location('test_scene_sweep.pf', 257, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 287, 'assertTrue'))
         if (pf_any_failed()) return
         do ia = 1, 5
             if (status(ia, 1) == 0) then
                 call assertIsFinite( &
                     injected(ia, 1), &
-                    location=pf_source_location('test_scene_sweep.pf', 260, 'assertIsFinite'))
+                    location=pf_source_location('test_scene_sweep.pf', 290, 'assertIsFinite'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     30.0_wp, &
                     t_end(ia, 1), &
                     1.0e-9_wp, &
-                    location=pf_source_location('test_scene_sweep.pf', 261, 'assertEqual'))
+                    location=pf_source_location('test_scene_sweep.pf', 291, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     599, &
                     steps(ia, 1), &
-                    location=pf_source_location('test_scene_sweep.pf', 262, 'assertEqual'))
+                    location=pf_source_location('test_scene_sweep.pf', 292, 'assertEqual'))
                 if (pf_any_failed()) return
             else
                 call assertIsNaN( &
                     injected(ia, 1), &
-                    location=pf_source_location('test_scene_sweep.pf', 264, 'assertIsNaN'))
+                    location=pf_source_location('test_scene_sweep.pf', 294, 'assertIsNaN'))
                 if (pf_any_failed()) return
                 call assertLessThan( &
                     t_end(ia, 1), &
                     30.0_wp, &
-                    location=pf_source_location('test_scene_sweep.pf', 265, 'assertLessThan'))
+                    location=pf_source_location('test_scene_sweep.pf', 295, 'assertLessThan'))
                 if (pf_any_failed()) return
             end if
         end do
@@ -511,9 +559,9 @@ contains
         call assertFalse( &
             allocated(error), &
             message=error_text(error), &
-            location=pf_source_location('test_scene_sweep.pf', 283, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 313, 'assertFalse'))
         if (pf_any_failed()) return
-        allocate (results(n_run_values, tasks%task_count()), done(tasks%task_count()))
+        allocate (results(size(run_scalars_names), tasks%task_count()), done(tasks%task_count()))
         results = 0.0_wp
         done = .false.
         do i = 1, 7
@@ -524,63 +572,63 @@ contains
         call assertTrue( &
             path_exists(partial_path(cfg)), &
             message="no partial file", &
-            location=pf_source_location('test_scene_sweep.pf', 292, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 322, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(partial_path(cfg) // ".tmp"), &
             message="temporary partial file left", &
-            location=pf_source_location('test_scene_sweep.pf', 293, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 323, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5"), &
             message="the snapshot wrote the final file", &
-            location=pf_source_location('test_scene_sweep.pf', 294, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 324, 'assertFalse'))
         if (pf_any_failed()) return
 
         call read_root_counts(partial_path(cfg), complete, ndone, total)
-        call assertEqual(0, complete, location=pf_source_location('test_scene_sweep.pf', 297, 'assertEqual'))
+        call assertEqual(0, complete, location=pf_source_location('test_scene_sweep.pf', 327, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(7, ndone, location=pf_source_location('test_scene_sweep.pf', 298, 'assertEqual'))
+        call assertEqual(7, ndone, location=pf_source_location('test_scene_sweep.pf', 328, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 299, 'assertEqual'))
+        call assertEqual(20, total, location=pf_source_location('test_scene_sweep.pf', 329, 'assertEqual'))
         if (pf_any_failed()) return
         injected = reshape(read_real_2d(partial_path(cfg), "/energy/injected"), [20])
         t_decided = read_real_2d(partial_path(cfg), "/runs/t_decided")
         status = nint(read_real_2d(partial_path(cfg), "/runs/status"))
         transmitting = nint(read_real_2d(partial_path(cfg), "/runs/transmitting"))
-        call assertEqual([5, 4], shape(status), location=pf_source_location('test_scene_sweep.pf', 304, 'assertEqual'))
+        call assertEqual([5, 4], shape(status), location=pf_source_location('test_scene_sweep.pf', 334, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
-            results(iv_injected, 1:7), &
+            results(findloc(run_scalars_names, "injected", 1), 1:7), &
             injected(1:7), &
             0.0_wp, &
-            location=pf_source_location('test_scene_sweep.pf', 305, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 335, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, status(:, 1), location=pf_source_location('test_scene_sweep.pf', 306, 'assertEqual'))
+        call assertEqual(0, status(:, 1), location=pf_source_location('test_scene_sweep.pf', 336, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(0, status(1:2, 2), location=pf_source_location('test_scene_sweep.pf', 307, 'assertEqual'))
+        call assertEqual(0, status(1:2, 2), location=pf_source_location('test_scene_sweep.pf', 337, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             status_not_run, &
             status(3:, 2), &
-            location=pf_source_location('test_scene_sweep.pf', 308, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 338, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             status_not_run, &
             pack(status(:, 3:), .true.), &
-            location=pf_source_location('test_scene_sweep.pf', 309, 'assertEqual'))
+            location=pf_source_location('test_scene_sweep.pf', 339, 'assertEqual'))
         if (pf_any_failed()) return
-        call assertEqual(-1, transmitting(:, 4), location=pf_source_location('test_scene_sweep.pf', 310, 'assertEqual'))
+        call assertEqual(-1, transmitting(:, 4), location=pf_source_location('test_scene_sweep.pf', 340, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(ieee_is_nan(injected(8:))), &
             message="missing runs are NaN", &
-            location=pf_source_location('test_scene_sweep.pf', 311, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 341, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             all(ieee_is_nan(t_decided(:, 3:))), &
             message="missing runs are NaN", &
-            location=pf_source_location('test_scene_sweep.pf', 312, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 342, 'assertTrue'))
         if (pf_any_failed()) return
 
         ! a later snapshot replaces it
@@ -590,7 +638,7 @@ contains
         end do
         call tasks%snapshot(results, done)
         call read_root_counts(partial_path(cfg), complete, ndone, total)
-        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 321, 'assertEqual'))
+        call assertEqual(20, ndone, location=pf_source_location('test_scene_sweep.pf', 351, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_partial_snapshot
 
@@ -606,17 +654,17 @@ contains
         call assertTrue( &
             allocated(error), &
             message="existing output replaced without overwrite", &
-            location=pf_source_location('test_scene_sweep.pf', 333, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 363, 'assertTrue'))
         if (pf_any_failed()) return
         call assertTrue( &
             index(error%message, "exists") > 0, &
             message=error%message, &
-            location=pf_source_location('test_scene_sweep.pf', 334, 'assertTrue'))
+            location=pf_source_location('test_scene_sweep.pf', 364, 'assertTrue'))
         if (pf_any_failed()) return
         call assertFalse( &
             path_exists(base // ".h5.journal"), &
             message="work started despite the error", &
-            location=pf_source_location('test_scene_sweep.pf', 335, 'assertFalse'))
+            location=pf_source_location('test_scene_sweep.pf', 365, 'assertFalse'))
         if (pf_any_failed()) return
     end subroutine test_refuses_existing_output
 

@@ -38,15 +38,16 @@ Generated (never edit them by hand):
   postprocess/supratrans_post/layout.py   SCHEMA, SOLVER_SCHEMA, TEXT: the datasets the reader reads
   src/io/supratrans_output_rows.f90       every dataset and group of every table as a named constant
                                           (`<prefix>_<path>`), its metadata, and `write_row`, `write_row_group`,
-                                          `write_row_attr`, which write a dataset, group or attribute by its row
+                                          `write_row_attr`, which write a dataset, group or attribute by its row;
+                                          the rows of /curves every curve table has once more, `shared_<path>`
+                                          (one writer, `write_curves`, writes them for every scene)
   src/scenes/supratrans_<record>_scalars.f90   per record: the type of its scalar fields, their names in the journal,
                                           the record as values and back, the empty record, and (record_writer) the
-                                          writer of their datasets and of the scene's groups (units, descriptions,
-                                          dims)
+                                          writer of their datasets and of the scene's groups (by their rows)
 
 Checked: the keys of every entry, unique paths, known types, read and when values, every field (but a journal-only
 one) in exactly one dataset of its type over the record's dimensions, every group of a dataset in the table, every
-row's constant a Fortran name and unique.
+row's constant a Fortran name and unique, every shared row of /curves the same in each table that has it.
 """
 import argparse
 import re
@@ -328,7 +329,12 @@ def record_module(t):
                + (", ieee_is_nan" if guarded_ints else "") + "\n")
     out.append(f"{ind}use supratrans_kinds, only: wp\n")
     if writer:
-        out.append(f"{ind}use supratrans_hdf5, only: h5_file, h5_write, h5_create_group\n")
+        consts = {(r["path"], kind): const for const, tt, kind, r in table_rows([t])}
+        used = [consts[(g["path"], "group")] for g in own_groups(t)] + [consts[(f["dataset"]["path"], "dataset")]
+                                                                         for f in fields if "dataset" in f]
+        out.append(f"{ind}use supratrans_hdf5, only: h5_file\n")
+        out.append(continued(f"{ind}use supratrans_output_rows, only: ", ["write_row", "write_row_group"] + used,
+                             ind * 2))
     out.append(f"{ind}implicit none\n{ind}private\n\n")
     out.append(f"{ind}public :: {name}_values, {name}_from_values, empty_{name}"
                + (f", write_{name}" if writer else "") + "\n\n")
@@ -402,23 +408,45 @@ def record_module(t):
     for a in args:
         out.append(f"{ind * 2}!> The text of `{{{a}}}` in the descriptions.\n")
         out.append(f"{ind * 2}character(len=*), intent(in) :: {a}\n")
-    out.append(f"{ind * 2}integer :: ncurve\n\n{ind * 2}ncurve = size(s)/max(nomega, 1)\n")
 
     def guarded(x, lines):
         if "when" in x:
             return [f"{ind * 2}if ({x['when']}) then\n"] + [ind + line for line in lines] + [f"{ind * 2}end if\n"]
         return lines
 
+    def fill(x):
+        """(lines before the call, `, fill=...`): the arguments of the `{name}`s of a description, each time it
+        names one, in order (more than one: in `texts`, of the longest one's length)."""
+        names = re.findall(r"\{([a-z_][a-z0-9_]*)\}", x["description"])
+        if not names:
+            return [], ""
+        if len(set(names)) == 1:
+            return [], f", fill=[{names[0]}]"
+        width = ", ".join(f"len({n})" for n in dict.fromkeys(names))
+        lines = [f"{ind * 2}if (allocated(texts)) deallocate (texts)\n",
+                 f"{ind * 2}allocate (character(len=max({width})) :: texts({len(names)}))\n"]
+        lines += [f"{ind * 2}texts({i}) = {n}\n" for i, n in enumerate(names, start=1)]
+        return lines, ", fill=texts"
+
+    calls = []
     for g in own_groups(t):
-        call = (f"{ind * 2}call h5_create_group(file, {fstring('/' + g['path'])}, &\n{ind * 3}"
-                + fortran_description(g["description"], ind * 3) + ")\n")
-        out += guarded(g, [call])
+        before, arg = fill(g)
+        calls += guarded(g, before + [f"{ind * 2}call write_row_group(file, {consts[(g['path'], 'group')]}{arg})\n"])
     for f in fields:
+        if "dataset" not in f:
+            continue
         d = f["dataset"]
-        call = (f"{ind * 2}call h5_write(file, {fstring('/' + d['path'])}, reshape(s%{f['name']}, [nomega, ncurve]), "
-                f"{fstring(d['units'])}, &\n{ind * 3}" + fortran_description(d["description"], ind * 3)
-                + f", &\n{ind * 3}dims={fstring(d['dims'])})\n")
-        out += guarded(d, [call])
+        before, arg = fill(d)
+        head = f"{ind * 2}call write_row(file, {consts[(d['path'], 'dataset')]}, "
+        data = f"reshape([s%{f['name']}], [nomega, ncurve])"   # [ ]: no temporary of the strided component
+        if len(ind + head + data + arg) + 1 > WIDTH:
+            head += f"&\n{ind * 3}"
+        calls += guarded(d, before + [f"{head}{data}{arg})\n"])
+    if any("texts(" in line for line in calls):
+        out.append(comment("The texts of the `{name}`s of a description naming more than one.", ind * 2))
+        out.append(f"{ind * 2}character(len=:), allocatable :: texts(:)\n")
+    out.append(f"{ind * 2}integer :: ncurve\n\n{ind * 2}ncurve = size(s)/max(nomega, 1)\n")
+    out += calls
     out.append(f"{ind}end subroutine write_{name}\n\nend module supratrans_{name}\n")
     return "".join(out)
 
@@ -445,6 +473,44 @@ def table_rows(tables):
                 seen[const] = f"{t['file']} '{r['path']}'"
                 rows.append((const, t, kind, r))
     return rows
+
+
+# The groups whose rows one writer writes for every table that has them (`write_curves` of supratrans_curves):
+# each row the tables with the group share is the same in each, and has one constant more, `shared_<path>`.
+SHARED_GROUPS = ("curves",)
+# The keys of a row that may differ between the tables sharing it (what the reader does with it).
+SHARED_MAY_DIFFER = {"read", "axes"}
+
+
+def shared_rows(tables):
+    """[(constant, constant of the first table's row, path)] of the rows of SHARED_GROUPS shared by every table
+    that has the group (the group and the datasets under it that every such table has); refused unless each is the
+    same in every table."""
+    rows = table_rows(tables)
+    out = []
+    for group in SHARED_GROUPS:
+        having = [t for t in tables if any(r["path"] == group for r in t["group"])]
+        if not having:
+            continue
+        paths = [group] + [r["path"] for r in having[0]["dataset"] if r["path"].startswith(group + "/")]
+        paths = [p for p in paths if all(any(r["path"] == p for r in t["dataset"] + t["group"]) for t in having)]
+        for path in paths:
+            first = None
+            for const, t, kind, r in rows:
+                if t not in having or r["path"] != path:
+                    continue
+                same = {k: v for k, v in r.items() if k not in SHARED_MAY_DIFFER}
+                if first is None:
+                    first = (const, t, kind, same)
+                elif (kind, same) != (first[2], first[3]):
+                    raise TableError(f"{t['file']}: {kind} '{path}' differs from that of {first[1]['file']}: the "
+                                     f"rows of /{group} that every table with it has are written by one writer, "
+                                     "the same in each")
+            const = "shared_" + path.replace("/", "_").lower()
+            if any(const == c for c, *_ in rows):
+                raise TableError(f"the shared row '{path}': its constant '{const}' is also a table's row's")
+            out.append((const, first[0], path))
+    return out
 
 
 # The specifics of `write_row`: (suffix, declaration of the data, the table's type).
@@ -541,8 +607,9 @@ ROWS_HELPERS = """\
         out = out // text(rest:)
     end function filled
 
-    !> Whether the row is a dataset of type `type` (else the file's error, which sticks).
-    function checked(file, row, m, type) result(ok)
+    !> Whether the row is a dataset of type `type`, and one whose units are the writer's if it gives them (else the
+    !> file's error, which sticks).
+    function checked(file, row, m, type, units) result(ok)
         !> The file.
         type(h5_file), intent(inout) :: file
         !> The row.
@@ -551,17 +618,25 @@ ROWS_HELPERS = """\
         type(row_meta), intent(in) :: m
         !> The type of the data written.
         character(len=*), intent(in) :: type
+        !> The units the writer gives.
+        character(len=*), intent(in), optional :: units
         logical :: ok
 
         ok = row%id > 0 .and. .not. m%group .and. m%type == type
-        if (.not. ok) call fail(file, "the output table's row '" // m%path // "' is not a dataset of type " // type)
+        if (.not. ok) then
+            call fail(file, "the output table's row '" // m%path // "' is not a dataset of type " // type)
+        else if (present(units) .and. index(m%units, "(") /= 1) then
+            ok = .false.
+            call fail(file, "the output table's row '" // m%path // "' has its units, " // m%units // ": the writer " &
+                      // "gives none")
+        end if
     end function checked
 
 """
 
 ROW_WRITER = """\
     !> `write_row` of {typ} data.
-    subroutine write_row_{k}(file, row, data, name, fill)
+    subroutine write_row_{k}(file, row, data, name, fill, units)
         !> The file (a failure sticks in it).
         type(h5_file), intent(inout) :: file
         !> The dataset's row.
@@ -572,10 +647,13 @@ ROW_WRITER = """\
         character(len=*), intent(in), optional :: name
         !> The texts of the `{{name}}`s in the description, in order.
         character(len=*), intent(in), optional :: fill(:)
+        !> The units, where the row's are the writer's to give (in parentheses: `(vary)`, the varied key's).
+        character(len=*), intent(in), optional :: units
         type(row_meta) :: m
 
         m = output_row_meta(row)
-        if (.not. checked(file, row, m, "{typ}")) return
+        if (.not. checked(file, row, m, "{typ}", units)) return
+        if (present(units)) m%units = units
         if (len(m%dims) > 0) then
             call h5_write(file, "/" // filled(m%path, name), data, m%units, filled(m%description, values=fill), &
                           dims=m%dims)
@@ -694,10 +772,16 @@ def rows_module(tables):
         out.append(comment(f"The {kind} `/{r['path']}`{units} of src/io/outputs/{t['file']}.", ind))
         out.append(f"{ind}type(output_row), parameter, public :: {const} = output_row({i})\n")
     out.append("\n")
-    out.append(comment("Write a dataset with its row's metadata: `call write_row(file, row, data [, name] [, fill])`"
-                       "; `data` of the row's type (real(wp), default or 8-byte integer of any rank, text of rank 1);"
-                       " `name` the text of `{name}` in its path (`verdict/{method}`), `fill` those of the `{name}`s "
-                       "in its description, in order (each trimmed).", ind))
+    for const, first, path in shared_rows(tables):
+        out.append(comment(f"`/{path}`, the same row in every table that has it (one writer writes it for each: "
+                           f"`write_curves`).", ind))
+        out.append(f"{ind}type(output_row), parameter, public :: {const} = {first}\n")
+    out.append("\n")
+    out.append(comment("Write a dataset with its row's metadata: `call write_row(file, row, data [, name] [, fill] "
+                       "[, units])`; `data` of the row's type (real(wp), default or 8-byte integer of any rank, text "
+                       "of rank 1); `name` the text of `{name}` in its path (`verdict/{method}`), `fill` those of the "
+                       "`{name}`s in its description, in order (each trimmed); `units` only where the row's units "
+                       "are in parentheses, the writer's to give (`(vary)`: the varied key's).", ind))
     out.append(f"{ind}interface write_row\n")
     out.append(continued(f"{ind * 2}module procedure :: ", [f"write_row_{k}" for k, _, _ in ROW_WRITERS], ind * 2))
     out.append(f"{ind}end interface write_row\n\n")

@@ -674,9 +674,25 @@ module supratrans_output_rows
     !> The group `/curves` of src/io/outputs/hysteresis.toml.
     type(output_row), parameter, public :: hysteresis_curves = output_row(314)
 
-    !> Write a dataset with its row's metadata: `call write_row(file, row, data [, name] [, fill])`; `data` of the row's type
-    !> (real(wp), default or 8-byte integer of any rank, text of rank 1); `name` the text of `{name}` in its path
-    !> (`verdict/{method}`), `fill` those of the `{name}`s in its description, in order (each trimmed).
+    !> `/curves`, the same row in every table that has it (one writer writes it for each: `write_curves`).
+    type(output_row), parameter, public :: shared_curves = amplitude_sweep_curves
+    !> `/curves/potential`, the same row in every table that has it (one writer writes it for each: `write_curves`).
+    type(output_row), parameter, public :: shared_curves_potential = amplitude_sweep_curves_potential
+    !> `/curves/value`, the same row in every table that has it (one writer writes it for each: `write_curves`).
+    type(output_row), parameter, public :: shared_curves_value = amplitude_sweep_curves_value
+    !> `/curves/m2`, the same row in every table that has it (one writer writes it for each: `write_curves`).
+    type(output_row), parameter, public :: shared_curves_m2 = amplitude_sweep_curves_m2
+    !> `/curves/band_gap_edge`, the same row in every table that has it (one writer writes it for each: `write_curves`).
+    type(output_row), parameter, public :: shared_curves_band_gap_edge = amplitude_sweep_curves_band_gap_edge
+    !> `/curves/beta`, the same row in every table that has it (one writer writes it for each: `write_curves`).
+    type(output_row), parameter, public :: shared_curves_beta = amplitude_sweep_curves_beta
+    !> `/curves/gamma`, the same row in every table that has it (one writer writes it for each: `write_curves`).
+    type(output_row), parameter, public :: shared_curves_gamma = amplitude_sweep_curves_gamma
+
+    !> Write a dataset with its row's metadata: `call write_row(file, row, data [, name] [, fill] [, units])`; `data` of the row's
+    !> type (real(wp), default or 8-byte integer of any rank, text of rank 1); `name` the text of `{name}` in its path
+    !> (`verdict/{method}`), `fill` those of the `{name}`s in its description, in order (each trimmed); `units` only where the
+    !> row's units are in parentheses, the writer's to give (`(vary)`: the varied key's).
     interface write_row
         module procedure :: write_row_real, write_row_int, write_row_i8, write_row_text
     end interface write_row
@@ -2118,8 +2134,9 @@ contains
         out = out // text(rest:)
     end function filled
 
-    !> Whether the row is a dataset of type `type` (else the file's error, which sticks).
-    function checked(file, row, m, type) result(ok)
+    !> Whether the row is a dataset of type `type`, and one whose units are the writer's if it gives them (else the
+    !> file's error, which sticks).
+    function checked(file, row, m, type, units) result(ok)
         !> The file.
         type(h5_file), intent(inout) :: file
         !> The row.
@@ -2128,14 +2145,22 @@ contains
         type(row_meta), intent(in) :: m
         !> The type of the data written.
         character(len=*), intent(in) :: type
+        !> The units the writer gives.
+        character(len=*), intent(in), optional :: units
         logical :: ok
 
         ok = row%id > 0 .and. .not. m%group .and. m%type == type
-        if (.not. ok) call fail(file, "the output table's row '" // m%path // "' is not a dataset of type " // type)
+        if (.not. ok) then
+            call fail(file, "the output table's row '" // m%path // "' is not a dataset of type " // type)
+        else if (present(units) .and. index(m%units, "(") /= 1) then
+            ok = .false.
+            call fail(file, "the output table's row '" // m%path // "' has its units, " // m%units // ": the writer " &
+                      // "gives none")
+        end if
     end function checked
 
     !> `write_row` of real data.
-    subroutine write_row_real(file, row, data, name, fill)
+    subroutine write_row_real(file, row, data, name, fill, units)
         !> The file (a failure sticks in it).
         type(h5_file), intent(inout) :: file
         !> The dataset's row.
@@ -2146,10 +2171,13 @@ contains
         character(len=*), intent(in), optional :: name
         !> The texts of the `{name}`s in the description, in order.
         character(len=*), intent(in), optional :: fill(:)
+        !> The units, where the row's are the writer's to give (in parentheses: `(vary)`, the varied key's).
+        character(len=*), intent(in), optional :: units
         type(row_meta) :: m
 
         m = output_row_meta(row)
-        if (.not. checked(file, row, m, "real")) return
+        if (.not. checked(file, row, m, "real", units)) return
+        if (present(units)) m%units = units
         if (len(m%dims) > 0) then
             call h5_write(file, "/" // filled(m%path, name), data, m%units, filled(m%description, values=fill), &
                           dims=m%dims)
@@ -2159,7 +2187,7 @@ contains
     end subroutine write_row_real
 
     !> `write_row` of integer data.
-    subroutine write_row_int(file, row, data, name, fill)
+    subroutine write_row_int(file, row, data, name, fill, units)
         !> The file (a failure sticks in it).
         type(h5_file), intent(inout) :: file
         !> The dataset's row.
@@ -2170,10 +2198,13 @@ contains
         character(len=*), intent(in), optional :: name
         !> The texts of the `{name}`s in the description, in order.
         character(len=*), intent(in), optional :: fill(:)
+        !> The units, where the row's are the writer's to give (in parentheses: `(vary)`, the varied key's).
+        character(len=*), intent(in), optional :: units
         type(row_meta) :: m
 
         m = output_row_meta(row)
-        if (.not. checked(file, row, m, "integer")) return
+        if (.not. checked(file, row, m, "integer", units)) return
+        if (present(units)) m%units = units
         if (len(m%dims) > 0) then
             call h5_write(file, "/" // filled(m%path, name), data, m%units, filled(m%description, values=fill), &
                           dims=m%dims)
@@ -2183,7 +2214,7 @@ contains
     end subroutine write_row_int
 
     !> `write_row` of integer data.
-    subroutine write_row_i8(file, row, data, name, fill)
+    subroutine write_row_i8(file, row, data, name, fill, units)
         !> The file (a failure sticks in it).
         type(h5_file), intent(inout) :: file
         !> The dataset's row.
@@ -2194,10 +2225,13 @@ contains
         character(len=*), intent(in), optional :: name
         !> The texts of the `{name}`s in the description, in order.
         character(len=*), intent(in), optional :: fill(:)
+        !> The units, where the row's are the writer's to give (in parentheses: `(vary)`, the varied key's).
+        character(len=*), intent(in), optional :: units
         type(row_meta) :: m
 
         m = output_row_meta(row)
-        if (.not. checked(file, row, m, "integer")) return
+        if (.not. checked(file, row, m, "integer", units)) return
+        if (present(units)) m%units = units
         if (len(m%dims) > 0) then
             call h5_write(file, "/" // filled(m%path, name), data, m%units, filled(m%description, values=fill), &
                           dims=m%dims)
@@ -2207,7 +2241,7 @@ contains
     end subroutine write_row_i8
 
     !> `write_row` of text data.
-    subroutine write_row_text(file, row, data, name, fill)
+    subroutine write_row_text(file, row, data, name, fill, units)
         !> The file (a failure sticks in it).
         type(h5_file), intent(inout) :: file
         !> The dataset's row.
@@ -2218,10 +2252,13 @@ contains
         character(len=*), intent(in), optional :: name
         !> The texts of the `{name}`s in the description, in order.
         character(len=*), intent(in), optional :: fill(:)
+        !> The units, where the row's are the writer's to give (in parentheses: `(vary)`, the varied key's).
+        character(len=*), intent(in), optional :: units
         type(row_meta) :: m
 
         m = output_row_meta(row)
-        if (.not. checked(file, row, m, "text")) return
+        if (.not. checked(file, row, m, "text", units)) return
+        if (present(units)) m%units = units
         if (len(m%dims) > 0) then
             call h5_write(file, "/" // filled(m%path, name), data, m%units, filled(m%description, values=fill), &
                           dims=m%dims)

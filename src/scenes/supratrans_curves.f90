@@ -11,7 +11,10 @@ module supratrans_curves
     use supratrans_schema, only: key_table, vary_keys, get_key, set_key
     use supratrans_potential, only: potential_name
     use supratrans_chain, only: band_gap_edge
-    use supratrans_hdf5, only: h5_file, h5_write, h5_write_attr, h5_create_group
+    use supratrans_hdf5, only: h5_file
+    use supratrans_output_rows, only: write_row, write_row_group, write_row_attr, shared_curves, &
+        shared_curves_potential, shared_curves_value, shared_curves_gamma, shared_curves_beta, shared_curves_m2, &
+        shared_curves_band_gap_edge
     implicit none
     private
 
@@ -125,8 +128,9 @@ contains
 
     !> Write `/curves`, the same in every scene: the group's attribute `vary`, and per curve its potential, the value
     !> of the varied parameter (in the units of its key; "1" and NaN when nothing varies), gamma, beta, m^2 and the
-    !> band-gap edge sqrt(V''(0) + m^2). A scene adds its own per-curve
-    !> datasets (`threshold_As`, `screen_dt`) after this.
+    !> band-gap edge sqrt(V''(0) + m^2), by the rows every curve table shares (`shared_curves_*` of
+    !> `supratrans_output_rows`, the same in each table). A scene adds its own per-curve datasets (`threshold_As`,
+    !> `screen_dt`) after this.
     subroutine write_curves(file, cfg, runs)
         !> Open output file (a failure sticks in it).
         type(h5_file), intent(inout) :: file
@@ -157,20 +161,14 @@ contains
         end do
         value_units = "1"
         if (varied_key(cfg) > 0) value_units = trim(key_table(varied_key(cfg))%units)
-        call h5_create_group(file, "/curves", "One entry per curve: a potential and a value of the varied " &
-                             // "parameter (attribute vary), the values fastest")
-        call h5_write_attr(file, "/curves", "vary", trim(vary_choices(cfg%scene%vary)))
-        call h5_write(file, "/curves/potential", names, "1", "On-site potential of each curve", dims="curve")
-        call h5_write(file, "/curves/value", values, value_units, "Value of the varied parameter (attribute vary " &
-                      // "of /curves) of each curve; NaN when vary = 'none'", dims="curve")
-        call h5_write(file, "/curves/gamma", gamma, "1/time", "External damping gamma of each curve", &
-                      dims="curve")
-        call h5_write(file, "/curves/beta", beta, "1/time", "Internal damping beta of each curve", &
-                      dims="curve")
-        call h5_write(file, "/curves/m2", m2, "1/time^2", &
-                      "Mass term m^2 of each curve (negative: imaginary mass)", dims="curve")
-        call h5_write(file, "/curves/band_gap_edge", edge, "1/time", "Upper edge sqrt(V''(0) + m^2) of the band gap of " &
-                      // "each curve", dims="curve")
+        call write_row_group(file, shared_curves)
+        call write_row_attr(file, shared_curves, "vary", trim(vary_choices(cfg%scene%vary)))
+        call write_row(file, shared_curves_potential, names)
+        call write_row(file, shared_curves_value, values, units=value_units)
+        call write_row(file, shared_curves_gamma, gamma)
+        call write_row(file, shared_curves_beta, beta)
+        call write_row(file, shared_curves_m2, m2)
+        call write_row(file, shared_curves_band_gap_edge, edge)
     end subroutine write_curves
 
 end module supratrans_curves

@@ -7,7 +7,21 @@
 module supratrans_fold_scalars
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
-    use supratrans_hdf5, only: h5_file, h5_write, h5_create_group
+    use supratrans_hdf5, only: h5_file
+    use supratrans_output_rows, only: write_row, write_row_group, continuation_branch, continuation_convergence, &
+            continuation_cost, continuation_fold_amplitude, continuation_fold_residual, continuation_status, &
+            continuation_instability_amplitude, continuation_instability_type, continuation_instability_size, &
+            continuation_threshold, continuation_threshold_kind, continuation_threshold_as, continuation_dt_used, &
+            continuation_steps_per_period, continuation_branch_points, continuation_cost_newton_iterations, &
+            continuation_cost_map_evaluations, continuation_cost_jacobians, continuation_cost_factorizations, &
+            continuation_cost_eigen_calls, continuation_cost_wall_time, continuation_cost_wall_time_map, &
+            continuation_cost_wall_time_tangent, continuation_cost_wall_time_lu, continuation_cost_wall_time_eigen, &
+            continuation_convergence_fold_half_dt, continuation_convergence_fold_long_chain, continuation_convergence_richardson, &
+            continuation_convergence_error_estimate, continuation_convergence_digits, continuation_chain_n, &
+            continuation_chain_n0, continuation_chain_sigma, continuation_fold_fate, continuation_fold_fate_time, &
+            continuation_transmission_fold, continuation_branches, continuation_transmission_status, &
+            continuation_instability_lower, continuation_branch_switch, continuation_transmission_stairs, &
+            continuation_transmission_spread
     implicit none
     private
 
@@ -236,159 +250,61 @@ contains
         character(len=*), intent(in) :: other_climbs
         !> The text of `{switch_seed}` in the descriptions.
         character(len=*), intent(in) :: switch_seed
+        !> The texts of the `{name}`s of a description naming more than one.
+        character(len=:), allocatable :: texts(:)
         integer :: ncurve
 
         ncurve = size(s)/max(nomega, 1)
-        call h5_create_group(file, "/branch", &
-            "The branch of periodic states of each task, point by point from A = 0 (NaN past /branch/points)")
-        call h5_create_group(file, "/convergence", &
-            "How many digits of each fold are converged: the fold located again at dt/2 and on a chain twice as long " // &
-            "(&scene fold_convergence); NaN when not computed")
-        call h5_create_group(file, "/cost", &
-            "What each task cost (the convergence checks included)")
-        call h5_write(file, "/fold_amplitude", reshape(s%fold_amplitude, [nomega, ncurve]), "rad", &
-            "Fold A_f of the branch of periodic states (the model's supratransmission threshold when the branch is stable " // &
-            "up to it); NaN when none (see /status)", &
-            dims="curve, omega")
-        call h5_write(file, "/fold_residual", reshape(s%fold_residual, [nomega, ncurve]), "rad", &
-            "max-norm of the shooting residual P(x) - x at the located fold", &
-            dims="curve, omega")
-        call h5_write(file, "/status", reshape(s%status, [nomega, ncurve]), "1", &
-            "Outcome of the continuation (codes in attribute 'codes')", &
-            dims="curve, omega")
-        call h5_write(file, "/instability_amplitude", reshape(s%instability_amplitude, [nomega, ncurve]), "rad", &
-            "First amplitude along the branch where a Floquet multiplier leaves the unit circle; NaN when the branch stays " // &
-            "stable up to its fold (the fold alone, floquet_every = 0, looks only where a real multiplier passes -1)", &
-            dims="curve, omega")
-        call h5_write(file, "/instability_type", reshape(s%instability_type, [nomega, ncurve]), "1", &
-            "How the branch first loses stability (codes in attribute 'codes')", &
-            dims="curve, omega")
-        call h5_write(file, "/instability_size", reshape(s%instability_size, [nomega, ncurve]), "1", &
-            "How far the Floquet multipliers leave the unit circle before the fold: max |mu| - 1 over the branch up to it " // &
-            "(a weak instability has a small size: compare it with crossing_tol)", &
-            dims="curve, omega")
-        call h5_write(file, "/threshold", reshape(s%threshold, [nomega, ncurve]), "rad", &
-            "The model's threshold: the smaller of the fold and the first loss of stability (/threshold_kind says which)", &
-            dims="curve, omega")
-        call h5_write(file, "/threshold_kind", reshape(s%threshold_kind, [nomega, ncurve]), "1", &
-            "Which one /threshold is (the codes of /instability_type; 1: the fold)", &
-            dims="curve, omega")
-        call h5_write(file, "/threshold_As", reshape(s%threshold_as, [nomega, ncurve]), "rad", &
-            "Continuum-limit threshold A_s = 4 arctan(lambda c / Omega) of the curve's chain; NaN outside the gap", &
-            dims="curve, omega")
-        call h5_write(file, "/dt_used", reshape(s%dt_used, [nomega, ncurve]), "time", &
-            "Time step used: the drive period 2 pi / Omega over a whole number M of steps", &
-            dims="curve, omega")
-        call h5_write(file, "/steps_per_period", reshape(s%steps_per_period, [nomega, ncurve]), "1", &
-            "Steps M per drive period", &
-            dims="curve, omega")
-        call h5_write(file, "/branch/points", reshape(s%points, [nomega, ncurve]), "1", &
-            "Points computed on the branch", &
-            dims="curve, omega")
-        call h5_write(file, "/cost/newton_iterations", reshape(s%newton_iterations, [nomega, ncurve]), "1", &
-            "Newton-shooting iterations", &
-            dims="curve, omega")
-        call h5_write(file, "/cost/map_evaluations", reshape(s%map_evaluations, [nomega, ncurve]), "1", &
-            "Evaluations of the map continued: the one-period map P, or for the branch from rest of the fold alone " // &
-            "(floquet_every = 0) with /steps_per_period even the half-period map G (P = G o G); with the periods of P the " // &
-            "fates watched (past a fold, a branch point, on the stairs past a torus) and the damped Newton-shooting from " // &
-            "where the chain settled", &
-            dims="curve, omega")
-        call h5_write(file, "/cost/jacobians", reshape(s%jacobians, [nomega, ncurve]), "1", &
-            "Of those, with the tangent (2N + 1 columns)", &
-            dims="curve, omega")
-        call h5_write(file, "/cost/factorizations", reshape(s%factorizations, [nomega, ncurve]), "1", &
-            "LU factorisations of the shooting system", &
-            dims="curve, omega")
-        call h5_write(file, "/cost/eigen_calls", reshape(s%eigen_calls, [nomega, ncurve]), "1", &
-            "Eigenvalue computations (Floquet multipliers)", &
-            dims="curve, omega")
-        call h5_write(file, "/cost/wall_time", reshape(s%wall_time, [nomega, ncurve]), "s", &
-            "Wall-clock time of the task (one thread)", &
-            dims="curve, omega")
-        call h5_write(file, "/cost/wall_time_map", reshape(s%time_map, [nomega, ncurve]), "s", &
-            "Of the wall time: evaluations of the period map alone", &
-            dims="curve, omega")
-        call h5_write(file, "/cost/wall_time_tangent", reshape(s%time_tangent, [nomega, ncurve]), "s", &
-            "Of the wall time: evaluations of the period map with its tangent (2N + 1 columns)", &
-            dims="curve, omega")
-        call h5_write(file, "/cost/wall_time_lu", reshape(s%time_lu, [nomega, ncurve]), "s", &
-            "Of the wall time: dense LU factorisations and solves of the shooting systems", &
-            dims="curve, omega")
-        call h5_write(file, "/cost/wall_time_eigen", reshape(s%time_eigen, [nomega, ncurve]), "s", &
-            "Of the wall time: eigenvalues of the monodromy matrices (Floquet multipliers)", &
-            dims="curve, omega")
-        call h5_write(file, "/convergence/fold_half_dt", reshape(s%fold_half_dt, [nomega, ncurve]), "rad", &
-            "Fold at dt/2 (the same method, M doubled)", &
-            dims="curve, omega")
-        call h5_write(file, "/convergence/fold_long_chain", reshape(s%fold_long_chain, [nomega, ncurve]), "rad", &
-            "Fold on the chain of 2N sites (N0 + N, the same absorber)", &
-            dims="curve, omega")
-        call h5_write(file, "/convergence/richardson", reshape(s%richardson, [nomega, ncurve]), "rad", &
-            "Richardson extrapolation of the fold in dt (the method's order)", &
-            dims="curve, omega")
-        call h5_write(file, "/convergence/error_estimate", reshape(s%error_estimate, [nomega, ncurve]), "rad", &
-            "Estimated error of /fold_amplitude: max(|A(dt/2) - A(dt)| / (2^p - 1), |A(2N) - A(N)|)", &
-            dims="curve, omega")
-        call h5_write(file, "/convergence/digits", reshape(s%digits, [nomega, ncurve]), "1", &
-            "Converged decimal digits of /fold_amplitude, floor(-log10(error_estimate / A_f))", &
-            dims="curve, omega")
-        call h5_write(file, "/chain_n", reshape(s%chain_n, [nomega, ncurve]), "1", &
-            "Oscillators N of the chain used (the short chain of its Omega with &scene chain = 'short'; " // &
-            "docs/continuation.md)", &
-            dims="curve, omega")
-        call h5_write(file, "/chain_n0", reshape(s%chain_n0, [nomega, ncurve]), "1", &
-            "Last site N0 before the absorber", &
-            dims="curve, omega")
-        call h5_write(file, "/chain_sigma", reshape(s%chain_sigma, [nomega, ncurve]), "1", &
-            "Width sigma of the absorber's ramp", &
-            dims="curve, omega")
-        call h5_write(file, "/fold_fate", reshape(s%fate, [nomega, ncurve]), "1", &
-            "What the chain does when driven 1% past the fold from the fold's state (codes in attribute 'codes')", &
-            dims="curve, omega")
-        call h5_write(file, "/fold_fate_time", reshape(s%fate_time, [nomega, ncurve]), "time", &
-            "Time from the push past the fold to the first transmission (/fold_fate 1), or the time watched without one " // &
-            "(2); NaN when there is no fold", &
-            dims="curve, omega")
-        call h5_write(file, "/transmission_fold", reshape(s%transmission_fold, [nomega, ncurve]), "rad", &
-            "The fold past which the chain transmits: /fold_amplitude when its fate is to transmit; else the fold of the " // &
-            "branch the chain settles on past it, and so on (/branches); past a branch point below the fold, the fold of " // &
-            "the other branch, or the branch point; past a torus or a period doubling below it, the stair where the chain " // &
-            "transmits (/branch_switch); NaN when none was found", &
-            dims="curve, omega")
-        call h5_write(file, "/branches", reshape(s%branches, [nomega, ncurve]), "1", &
-            "Branches of periodic states followed from rest to /transmission_fold (1: the first fold transmits)", &
-            dims="curve, omega")
-        call h5_write(file, "/transmission_status", reshape(s%transmission_status, [nomega, ncurve]), "1", &
-            "Whether /transmission_fold was found, and if not why (codes in attribute 'codes')", &
-            dims="curve, omega")
-        call h5_write(file, "/instability_lower", reshape(s%instability_lower, [nomega, ncurve]), "rad", &
-            "Lower end of the bracket of the first loss of stability: /instability_amplitude itself where that loss was " // &
-            "located (to 1e-10), else the last amplitude known stable below it (the loss lies between the two); NaN with it", &
-            dims="curve, omega")
-        call h5_write(file, "/branch_switch", reshape(s%branch_switch, [nomega, ncurve]), "1", &
-            "Past a loss of stability below the fold (/threshold below /fold_amplitude): at a branch point " // &
-            "(/threshold_kind 1) where the other branch leaves, past a torus or a period doubling the stairs (codes in " // &
-            "attribute 'codes'); 0 where there is no such loss (or the stairs would start above the fold)", &
-            dims="curve, omega")
-        call h5_write(file, "/transmission_stairs", reshape(s%transmission_stairs, [nomega, ncurve]), "1", &
-            "1 where /transmission_fold is the stair on which the chain, driven up in stairs of " // &
-            stair_height // &
-            " held " // &
-            stair_time // &
-            " time units each, transmitted (the one below it did not): past a torus or a period doubling below the fold " // &
-            "(/branch_switch 4), or from where the chain settled on no stable periodic state past a fold; 0 where it is a " // &
-            "fold or a branch point, or NaN", &
-            dims="curve, omega")
-        call h5_write(file, "/transmission_spread", reshape(s%transmission_spread, [nomega, ncurve]), "rad", &
-            "Where /transmission_fold is a stair (/transmission_stairs 1): max |A_k - A_1| over " // &
-            other_climbs // &
-            " more climbs of the same stairs, each from the first's start moved by " // &
-            switch_seed // &
-            " along another fixed direction (the chain is intermittent there: how reproducible the stair is; a lower bound " // &
-            "of its uncertainty). A climb, which goes at most as far above A_1 as the first went above its start, that did " // &
-            "not transmit counts at its next stair; NaN where /transmission_fold is not a stair", &
-            dims="curve, omega")
+        call write_row_group(file, continuation_branch)
+        call write_row_group(file, continuation_convergence)
+        call write_row_group(file, continuation_cost)
+        call write_row(file, continuation_fold_amplitude, reshape([s%fold_amplitude], [nomega, ncurve]))
+        call write_row(file, continuation_fold_residual, reshape([s%fold_residual], [nomega, ncurve]))
+        call write_row(file, continuation_status, reshape([s%status], [nomega, ncurve]))
+        call write_row(file, continuation_instability_amplitude, reshape([s%instability_amplitude], [nomega, ncurve]))
+        call write_row(file, continuation_instability_type, reshape([s%instability_type], [nomega, ncurve]))
+        call write_row(file, continuation_instability_size, reshape([s%instability_size], [nomega, ncurve]))
+        call write_row(file, continuation_threshold, reshape([s%threshold], [nomega, ncurve]))
+        call write_row(file, continuation_threshold_kind, reshape([s%threshold_kind], [nomega, ncurve]))
+        call write_row(file, continuation_threshold_as, reshape([s%threshold_as], [nomega, ncurve]))
+        call write_row(file, continuation_dt_used, reshape([s%dt_used], [nomega, ncurve]))
+        call write_row(file, continuation_steps_per_period, reshape([s%steps_per_period], [nomega, ncurve]))
+        call write_row(file, continuation_branch_points, reshape([s%points], [nomega, ncurve]))
+        call write_row(file, continuation_cost_newton_iterations, reshape([s%newton_iterations], [nomega, ncurve]))
+        call write_row(file, continuation_cost_map_evaluations, reshape([s%map_evaluations], [nomega, ncurve]))
+        call write_row(file, continuation_cost_jacobians, reshape([s%jacobians], [nomega, ncurve]))
+        call write_row(file, continuation_cost_factorizations, reshape([s%factorizations], [nomega, ncurve]))
+        call write_row(file, continuation_cost_eigen_calls, reshape([s%eigen_calls], [nomega, ncurve]))
+        call write_row(file, continuation_cost_wall_time, reshape([s%wall_time], [nomega, ncurve]))
+        call write_row(file, continuation_cost_wall_time_map, reshape([s%time_map], [nomega, ncurve]))
+        call write_row(file, continuation_cost_wall_time_tangent, reshape([s%time_tangent], [nomega, ncurve]))
+        call write_row(file, continuation_cost_wall_time_lu, reshape([s%time_lu], [nomega, ncurve]))
+        call write_row(file, continuation_cost_wall_time_eigen, reshape([s%time_eigen], [nomega, ncurve]))
+        call write_row(file, continuation_convergence_fold_half_dt, reshape([s%fold_half_dt], [nomega, ncurve]))
+        call write_row(file, continuation_convergence_fold_long_chain, reshape([s%fold_long_chain], [nomega, ncurve]))
+        call write_row(file, continuation_convergence_richardson, reshape([s%richardson], [nomega, ncurve]))
+        call write_row(file, continuation_convergence_error_estimate, reshape([s%error_estimate], [nomega, ncurve]))
+        call write_row(file, continuation_convergence_digits, reshape([s%digits], [nomega, ncurve]))
+        call write_row(file, continuation_chain_n, reshape([s%chain_n], [nomega, ncurve]))
+        call write_row(file, continuation_chain_n0, reshape([s%chain_n0], [nomega, ncurve]))
+        call write_row(file, continuation_chain_sigma, reshape([s%chain_sigma], [nomega, ncurve]))
+        call write_row(file, continuation_fold_fate, reshape([s%fate], [nomega, ncurve]))
+        call write_row(file, continuation_fold_fate_time, reshape([s%fate_time], [nomega, ncurve]))
+        call write_row(file, continuation_transmission_fold, reshape([s%transmission_fold], [nomega, ncurve]))
+        call write_row(file, continuation_branches, reshape([s%branches], [nomega, ncurve]))
+        call write_row(file, continuation_transmission_status, reshape([s%transmission_status], [nomega, ncurve]))
+        call write_row(file, continuation_instability_lower, reshape([s%instability_lower], [nomega, ncurve]))
+        call write_row(file, continuation_branch_switch, reshape([s%branch_switch], [nomega, ncurve]))
+        if (allocated(texts)) deallocate (texts)
+        allocate (character(len=max(len(stair_height), len(stair_time))) :: texts(2))
+        texts(1) = stair_height
+        texts(2) = stair_time
+        call write_row(file, continuation_transmission_stairs, reshape([s%transmission_stairs], [nomega, ncurve]), fill=texts)
+        if (allocated(texts)) deallocate (texts)
+        allocate (character(len=max(len(other_climbs), len(switch_seed))) :: texts(2))
+        texts(1) = other_climbs
+        texts(2) = switch_seed
+        call write_row(file, continuation_transmission_spread, reshape([s%transmission_spread], [nomega, ncurve]), fill=texts)
     end subroutine write_fold_scalars
 
 end module supratrans_fold_scalars

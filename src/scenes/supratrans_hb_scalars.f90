@@ -8,7 +8,23 @@
 module supratrans_hb_scalars
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
     use supratrans_kinds, only: wp
-    use supratrans_hdf5, only: h5_file, h5_write, h5_create_group
+    use supratrans_hdf5, only: h5_file
+    use supratrans_output_rows, only: write_row, write_row_group, continuation_harmonic_balance_branch, &
+            continuation_harmonic_balance_continuum, continuation_harmonic_balance_convergence, &
+            continuation_harmonic_balance_cost, continuation_harmonic_balance_fold_amplitude, &
+            continuation_harmonic_balance_fold_residual, continuation_harmonic_balance_status, &
+            continuation_harmonic_balance_threshold_as, continuation_harmonic_balance_harmonics, &
+            continuation_harmonic_balance_convergence_harmonics_error, continuation_harmonic_balance_fold_umax, &
+            continuation_harmonic_balance_fold_period_closure, continuation_harmonic_balance_fold_multiplier_excess, &
+            continuation_harmonic_balance_instability_amplitude, continuation_harmonic_balance_instability_lower, &
+            continuation_harmonic_balance_instability_type, continuation_harmonic_balance_convergence_far_field_umax, &
+            continuation_harmonic_balance_convergence_fold_radiation, continuation_harmonic_balance_convergence_absorber_spread, &
+            continuation_harmonic_balance_convergence_fold_semi_infinite, continuation_harmonic_balance_continuum_fold, &
+            continuation_harmonic_balance_continuum_error_estimate, continuation_harmonic_balance_cost_newton_iterations, &
+            continuation_harmonic_balance_cost_factorizations, continuation_harmonic_balance_cost_residuals, &
+            continuation_harmonic_balance_cost_continuations, continuation_harmonic_balance_cost_wall_time, &
+            continuation_harmonic_balance_chain_n, continuation_harmonic_balance_chain_n0, &
+            continuation_harmonic_balance_chain_sigma, continuation_harmonic_balance_branch_points
     implicit none
     private
 
@@ -183,113 +199,52 @@ contains
         integer :: ncurve
 
         ncurve = size(s)/max(nomega, 1)
-        call h5_create_group(file, "/branch", &
-            "The branch of periodic states of each task from A = 0, traced with the first K (its fold among the points, " // &
-            "that K's: /fold_amplitude is the fold converged in K); NaN past /branch/points")
+        call write_row_group(file, continuation_harmonic_balance_branch)
         if (c_values) then
-            call h5_create_group(file, "/continuum", &
-            "The fold at each coupling c of c_values, N, N0 and sigma scaled with c, and its limit c -> infinity (the " // &
-            "paper's claim: larger c approach A_s)")
+            call write_row_group(file, continuation_harmonic_balance_continuum)
         end if
-        call h5_create_group(file, "/convergence", &
-            "How far each fold is converged: in the harmonics, and with the absorber (&scene absorber_family); NaN when " // &
-            "not computed")
-        call h5_create_group(file, "/cost", &
-            "What each task cost (the convergence checks included)")
-        call h5_write(file, "/fold_amplitude", reshape(s%fold_amplitude, [nomega, ncurve]), "rad", &
-            "Fold A_f of the branch of periodic states of the ODE (eq. (1)) from rest, by harmonic balance, converged in K " // &
-            "to /convergence/harmonics_error; NaN when none (see /status)", &
-            dims="curve, omega")
-        call h5_write(file, "/fold_residual", reshape(s%fold_residual, [nomega, ncurve]), "rad", &
-            "max |R| of the harmonic balance at the located fold", &
-            dims="curve, omega")
-        call h5_write(file, "/status", reshape(s%status, [nomega, ncurve]), "1", &
-            "Outcome of the continuation (codes in attribute 'codes')", &
-            dims="curve, omega")
-        call h5_write(file, "/threshold_As", reshape(s%threshold_as, [nomega, ncurve]), "rad", &
-            "Continuum-limit threshold A_s = 4 arctan(lambda c / Omega) of the curve's chain; NaN outside the gap", &
-            dims="curve, omega")
-        call h5_write(file, "/harmonics", reshape(s%harmonics, [nomega, ncurve]), "1", &
-            "Odd harmonics K of the fold (frequencies Omega, 3 Omega, .., (2K - 1) Omega), grown until the fold moved by " // &
-            "at most harmonics_tol", &
-            dims="curve, omega")
-        call h5_write(file, "/convergence/harmonics_error", reshape(s%harmonics_error, [nomega, ncurve]), "rad", &
-            "|A_f(K) - A_f(K')| of the last two numbers of harmonics: the truncation estimate of /fold_amplitude", &
-            dims="curve, omega")
-        call h5_write(file, "/fold_umax", reshape(s%fold_umax, [nomega, ncurve]), "rad", &
-            "max |u_n(t)| of the state at the fold", &
-            dims="curve, omega")
-        call h5_write(file, "/fold_period_closure", reshape(s%period_closure, [nomega, ncurve]), "rad", &
-            "max |P(x) - x| of one drive period of the rk8 method (the &numerics dt, adjusted to whole steps) from the " // &
-            "fold's state (u_n, u_n') at t = 0: how well the frequency-domain state is a periodic orbit of the ODE", &
-            dims="curve, omega")
-        call h5_write(file, "/fold_multiplier_excess", reshape(s%multiplier_excess, [nomega, ncurve]), "1", &
-            "Largest |mu| - 1 of the rk8 Floquet multipliers at the fold other than the fold's own (nearest +1): negative " // &
-            "when the state is stable but for the fold's direction; NaN when not computed (floquet_every = 0)", &
-            dims="curve, omega")
-        call h5_write(file, "/instability_amplitude", reshape(s%instability_amplitude, [nomega, ncurve]), "rad", &
-            "The first sampled branch point below the fold (every floquet_every-th, and the last before the fold) whose " // &
-            "rk8 multipliers leave the unit circle by more than crossing_tol; NaN when every sample is stable or none was " // &
-            "computed (floquet_every = 0)", &
-            dims="curve, omega")
-        call h5_write(file, "/instability_lower", reshape(s%instability_lower, [nomega, ncurve]), "rad", &
-            "The last sampled point stable below /instability_amplitude: the first loss of stability lies between the two", &
-            dims="curve, omega")
-        call h5_write(file, "/instability_type", reshape(s%instability_type, [nomega, ncurve]), "1", &
-            "How the branch first loses stability, by the leading multiplier there (codes in attribute 'codes')", &
-            dims="curve, omega")
-        call h5_write(file, "/convergence/far_field_umax", reshape(s%far_field_umax, [nomega, ncurve]), "rad", &
-            "max |u_N0(t)| at the fold, where the absorber begins: the radiation condition is exact where this is small " // &
-            "(V' linear)", &
-            dims="curve, omega")
-        call h5_write(file, "/convergence/fold_radiation", reshape(s%fold_radiation, [nomega, ncurve]), "rad", &
-            "The fold of the core (N = N0, no absorber) closed by the exact linear radiation condition per harmonic", &
-            dims="curve, omega")
-        call h5_write(file, "/convergence/absorber_spread", reshape(s%absorber_spread, [nomega, ncurve]), "rad", &
-            "max over the family of |A_f(absorber m) - A_f|: how far the fold of the finite chain is from the " // &
-            "semi-infinite chain's", &
-            dims="curve, omega")
-        call h5_write(file, "/convergence/fold_semi_infinite", reshape(s%fold_semi_infinite, [nomega, ncurve]), "rad", &
-            "The fold with the longest absorber of the family: the best value for the semi-infinite chain of eq. (1), " // &
-            "uncertain by about /convergence/absorber_spread", &
-            dims="curve, omega")
+        call write_row_group(file, continuation_harmonic_balance_convergence)
+        call write_row_group(file, continuation_harmonic_balance_cost)
+        call write_row(file, continuation_harmonic_balance_fold_amplitude, reshape([s%fold_amplitude], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_fold_residual, reshape([s%fold_residual], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_status, reshape([s%status], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_threshold_as, reshape([s%threshold_as], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_harmonics, reshape([s%harmonics], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_convergence_harmonics_error, &
+            reshape([s%harmonics_error], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_fold_umax, reshape([s%fold_umax], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_fold_period_closure, reshape([s%period_closure], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_fold_multiplier_excess, &
+            reshape([s%multiplier_excess], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_instability_amplitude, &
+            reshape([s%instability_amplitude], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_instability_lower, reshape([s%instability_lower], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_instability_type, reshape([s%instability_type], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_convergence_far_field_umax, &
+            reshape([s%far_field_umax], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_convergence_fold_radiation, &
+            reshape([s%fold_radiation], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_convergence_absorber_spread, &
+            reshape([s%absorber_spread], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_convergence_fold_semi_infinite, &
+            reshape([s%fold_semi_infinite], [nomega, ncurve]))
         if (c_values) then
-            call h5_write(file, "/continuum/fold", reshape(s%continuum_fold, [nomega, ncurve]), "rad", &
-            "Richardson extrapolation of the folds to c -> infinity in 1/c^2 from the two largest c", &
-            dims="curve, omega")
+            call write_row(file, continuation_harmonic_balance_continuum_fold, reshape([s%continuum_fold], [nomega, ncurve]))
         end if
         if (c_values) then
-            call h5_write(file, "/continuum/error_estimate", reshape(s%continuum_error, [nomega, ncurve]), "rad", &
-            "Change of the extrapolation from the next smaller pair of c (with two c: from the largest c's fold)", &
-            dims="curve, omega")
+            call write_row(file, continuation_harmonic_balance_continuum_error_estimate, &
+            reshape([s%continuum_error], [nomega, ncurve]))
         end if
-        call h5_write(file, "/cost/newton_iterations", reshape(s%newton_iterations, [nomega, ncurve]), "1", &
-            "Newton (and chord) iterations", &
-            dims="curve, omega")
-        call h5_write(file, "/cost/factorizations", reshape(s%factorizations, [nomega, ncurve]), "1", &
-            "Block-tridiagonal LU factorisations of the Jacobian", &
-            dims="curve, omega")
-        call h5_write(file, "/cost/residuals", reshape(s%residuals, [nomega, ncurve]), "1", &
-            "Residual evaluations", &
-            dims="curve, omega")
-        call h5_write(file, "/cost/continuations", reshape(s%continuations, [nomega, ncurve]), "1", &
-            "Branches traced from rest (the other folds were located from a neighbouring one)", &
-            dims="curve, omega")
-        call h5_write(file, "/cost/wall_time", reshape(s%wall_time, [nomega, ncurve]), "s", &
-            "Wall-clock time of the task (one thread)", &
-            dims="curve, omega")
-        call h5_write(file, "/chain_n", reshape(s%chain_n, [nomega, ncurve]), "1", &
-            "Oscillators N of the chain", &
-            dims="curve, omega")
-        call h5_write(file, "/chain_n0", reshape(s%chain_n0, [nomega, ncurve]), "1", &
-            "Last site N0 before the absorber", &
-            dims="curve, omega")
-        call h5_write(file, "/chain_sigma", reshape(s%chain_sigma, [nomega, ncurve]), "1", &
-            "Width sigma of the absorber's ramp", &
-            dims="curve, omega")
-        call h5_write(file, "/branch/points", reshape(s%points, [nomega, ncurve]), "1", &
-            "Points computed on the branch", &
-            dims="curve, omega")
+        call write_row(file, continuation_harmonic_balance_cost_newton_iterations, &
+            reshape([s%newton_iterations], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_cost_factorizations, reshape([s%factorizations], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_cost_residuals, reshape([s%residuals], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_cost_continuations, reshape([s%continuations], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_cost_wall_time, reshape([s%wall_time], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_chain_n, reshape([s%chain_n], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_chain_n0, reshape([s%chain_n0], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_chain_sigma, reshape([s%chain_sigma], [nomega, ncurve]))
+        call write_row(file, continuation_harmonic_balance_branch_points, reshape([s%points], [nomega, ncurve]))
     end subroutine write_hb_scalars
 
 end module supratrans_hb_scalars

@@ -20,7 +20,8 @@ module supratrans_scene_map
     use supratrans_curves, only: curve_count
     use supratrans_limits, only: axis_points, check_axis, check_tasks, sci
     use supratrans_config, only: input_config
-    use supratrans_hdf5, only: h5_file, h5_write, h5_write_attr
+    use supratrans_hdf5, only: h5_file
+    use supratrans_output_rows, only: write_row, map_omega, map_threshold_as
     use supratrans_chain, only: band_gap_edge, threshold_as
     use supratrans_scene_sweep, only: grid_scene, sweep_tasks, init_sweep_tasks, make_grid_tasks, write_common_axes, &
                                       axis_grid
@@ -106,11 +107,8 @@ contains
                 end if
             end do
         end do
-        call h5_write(file, "/omega", self%omegas, "1/time", "Driving frequency Omega of each run: omega_min + " &
-                      // "i omega_step, i = 0, 1, ...", dims="omega")
-        call h5_write(file, "/threshold_As", as, "rad", "Continuum-limit supratransmission threshold A_s(Omega) = " &
-                      // "4 arctan(lambda c / Omega) of each curve (massless, undamped theory); NaN outside the " &
-                      // "curve's band gap", dims="curve, omega")
+        call write_row(file, map_omega, self%omegas)
+        call write_row(file, map_threshold_as, as)
     end subroutine map_write_axes
 
     !> The amplitude and frequency axes, then the runs (curves x frequencies x amplitudes) and their work.

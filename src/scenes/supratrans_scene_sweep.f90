@@ -2,7 +2,7 @@
 !> a whole run, 0..T, against the driving amplitude A, one curve per (potential, value of the varied parameter).
 !>
 !> Every (curve, amplitude) is one task of the engine `supratrans_tasks`: a full-length run (no early stop, no
-!> probes, the ledger closed once at T) whose outcome is reduced to `n_run_values` numbers (`run_values`). The tasks
+!> probes, the ledger closed once at T) whose outcome is reduced to its record's scalar fields (`run_values`). The tasks
 !> run on OpenMP threads; the journal `<output file>.journal` makes a killed sweep resumable, and now and then a
 !> partial file `<output file>.partial.h5` (attribute `complete` = 0, runs not done yet NaN with status -1) is
 !> written so that a figure can be drawn while the sweep runs or after it was killed. The final file is written
@@ -50,22 +50,15 @@ module supratrans_scene_sweep
     use supratrans_simulate, only: simulate_task, number_of_levels
     use supratrans_result, only: run_result, run_ok
     use supratrans_status, only: status_not_run, status_outside_gap, run_status_codes
-    use supratrans_run_record, only: run_value_names, run_values, not_run_values, nan, fields, field_spec, n_run_values, &
-        iv_injected, iv_stored, iv_dissipated_gamma, iv_dissipated_beta, iv_dissipated_absorber, iv_residual, &
-        iv_status, iv_transmitting, iv_t_decided, iv_steps, iv_newton_iterations, iv_wall_time, iv_t_end, &
-        iv_max_abs_u, iv_injected_after_ramp, iv_u_beyond_max, iv_detect_site, iv_tridiagonal_solves, &
-        iv_rhs_evaluations, iv_verdict_margin, iv_thin_verdict
+    use supratrans_run_record, only: run_values, nan, run_scalars, run_scalars_names, run_scalars_values, &
+        run_scalars_from_values, empty_run_scalars
     use supratrans_hdf5, only: h5_file
     use supratrans_strings, only: int_str, printable
     implicit none
     private
 
     !> The run record (`supratrans_run_record`), for the map scene and the tests.
-    public :: run_value_names, run_values, not_run_values, fields, field_spec, n_run_values
-    public :: iv_injected, iv_stored, iv_dissipated_gamma, iv_dissipated_beta, iv_dissipated_absorber, iv_residual, &
-              iv_status, iv_transmitting, iv_t_decided, iv_steps, iv_newton_iterations, iv_wall_time, iv_t_end, &
-              iv_max_abs_u, iv_injected_after_ramp, iv_u_beyond_max, iv_detect_site, iv_tridiagonal_solves, &
-              iv_rhs_evaluations, iv_verdict_margin, iv_thin_verdict
+    public :: run_values, run_scalars, run_scalars_names, run_scalars_values, run_scalars_from_values, empty_run_scalars
     public :: run_amplitude_sweep
     public :: sweep_tasks, init_sweep_tasks, make_grid_tasks, write_common_axes
     public :: axis_grid, journal_path, partial_path, status_codes_text
@@ -138,7 +131,7 @@ module supratrans_scene_sweep
             class(sweep_tasks), intent(in) :: self
             !> Path of the file.
             character(len=*), intent(in) :: path
-            !> Results, (n_run_values, ntask).
+            !> Results, (size(run_scalars_names), ntask).
             real(wp), intent(in) :: results(:, :)
             !> Which tasks are done.
             logical, intent(in) :: done(:)
@@ -171,9 +164,9 @@ module supratrans_scene_sweep
 
         !> Along the amplitude axis (the fastest index of the tasks): the ratio of each run's energy injected after the
         !> ramp to the previous amplitude's, and whether the verdict changed there (-1: first amplitude or a run not ok).
-        pure module subroutine jumps_along_amplitude(values, namp, jump, change)
-            !> Values of every task, (n_run_values, ntask).
-            real(wp), intent(in) :: values(:, :)
+        pure module subroutine jumps_along_amplitude(s, namp, jump, change)
+            !> The records of every task.
+            type(run_scalars), intent(in) :: s(:)
             !> Amplitudes per line of the grid.
             integer, intent(in) :: namp
             !> Energy ratio to the previous amplitude.
@@ -301,7 +294,7 @@ contains
         if (nskip > 0) tasks%header = tasks%header // " (" // int_str(nskip) // " outside the band gap, not run)"
         tasks%header = printable(tasks%header)
         tasks%count = list%task_count()
-        tasks%fields = run_value_names()
+        tasks%fields = run_scalars_names
         tasks%label = "runs"
         call move_alloc(list, tasks%list)
     end subroutine make_grid_tasks
@@ -316,13 +309,17 @@ contains
         !> The tasks (a `sweep_tasks`), their records.
         type(scene_tasks), intent(in) :: tasks
         character(len=:), allocatable :: text
-        integer :: nfail, ntrans, nthin, nflat, namp
+        integer :: nfail, ntrans, nthin, nflat, namp, i
         real(wp), allocatable :: jump(:)
         integer, allocatable :: change(:)
+        type(run_scalars) :: s(size(tasks%results, 2))
 
-        associate (status => nint(tasks%results(iv_status, :)))
+        do i = 1, size(s)
+            s(i) = run_scalars_from_values(tasks%results(:, i))
+        end do
+        associate (status => s%status)
             nfail = count(status > 0)
-            ntrans = count(status == run_ok .and. nint(tasks%results(iv_transmitting, :)) == 1)
+            ntrans = count(status == run_ok .and. s%transmitting == 1)
             text = "  " // int_str(count(status == run_ok)) // " runs ok (" // int_str(ntrans) // " transmitting), " &
                    // int_str(nfail) // " failed (see /runs/failures)"
         end associate
@@ -331,8 +328,8 @@ contains
         class is (sweep_tasks)
             namp = size(list%amplitudes)
         end select
-        nthin = count(nint(tasks%results(iv_thin_verdict, :)) == 1)
-        call jumps_along_amplitude(tasks%results, namp, jump, change)
+        nthin = count(s%thin_verdict == 1)
+        call jumps_along_amplitude(s, namp, jump, change)
         associate (min_jump => cfg%scene%min_energy_jump)
             nflat = count(change == 1 .and. .not. (jump >= min_jump .or. jump <= 1.0_wp/min_jump))
         end associate
@@ -348,15 +345,17 @@ contains
         class(sweep_tasks), intent(in) :: self
         !> Task index, 1..task_count().
         integer, intent(in) :: index
-        !> The task's results, `n_run_values` of them.
+        !> The task's results, its record's values (`run_scalars_values`).
         real(wp), intent(out) :: values(:)
         type(run_config) :: run
         type(run_result) :: result
+        type(run_scalars) :: s
         character(len=12) :: task_text
 
+        s = empty_run_scalars()
         if (.not. self%runnable(self%task_omega(index), self%task_curve(index))) then
-            values = nan()
-            values(iv_status) = real(status_outside_gap, wp)
+            s%status = status_outside_gap
+            values = run_scalars_values(s)
             return
         end if
         run = self%task_run(index)
@@ -366,8 +365,8 @@ contains
                            // trim(task_text), self%cfg%output%checkpoint_every, self%cfg%output%quiet)
         if (result%interrupted) then
             ! stopped by a signal at its checkpoint: no result (not journaled; a rerun resumes it)
-            values = nan()
-            values(iv_status) = real(status_not_run, wp)
+            s%status = status_not_run
+            values = run_scalars_values(s)
             return
         end if
         values = run_values(result)
@@ -380,8 +379,10 @@ contains
         !> The task's values.
         real(wp), intent(in) :: values(:)
         logical :: yes
+        type(run_scalars) :: s
 
-        yes = nint(values(iv_status)) /= status_not_run
+        s = run_scalars_from_values(values)
+        yes = s%status /= status_not_run
     end function sweep_finished
 
     !> Number of tasks: amplitudes x frequencies x curves.
