@@ -250,7 +250,8 @@ def test_a_stale_generated_file_is_detected(tmp_path, monkeypatch):
 #: attributes with `h5_write_attr` only on the root and /parameters (which no table describes).
 ROW_WRITERS = ("supratrans_scene_timeseries.f90", "supratrans_scene_bifurcation_output.f90",
                "supratrans_scene_stability.f90", "supratrans_scene_workprec.f90", "supratrans_scene_hysteresis.f90",
-               "supratrans_scene_sweep_output.f90", "supratrans_scene_map.f90", "supratrans_curves.f90")
+               "supratrans_scene_sweep_output.f90", "supratrans_scene_map.f90", "supratrans_curves.f90",
+               "supratrans_fold_hb.f90", "supratrans_scene_continuation_output.f90")
 
 
 @pytest.mark.parametrize("name", ROW_WRITERS)

@@ -1920,7 +1920,8 @@ contains
                 "", "", .false.)
         case (284)   ! continuation_harmonic_balance_spectrum
             m = row_meta("spectrum", "curve, omega, harmonic, site", "rad", "real", &
-                "Amplitude sqrt(a^2 + b^2) of the odd harmonics 1, 3, .., 15 of u_n at the fold, per site n (NaN past K)", &
+                "Amplitude sqrt(a^2 + b^2) of the odd harmonics 1, 3, .., {last_harmonic} of u_n at the fold, per site n " // &
+                "(NaN past K)", &
                 "", "", .false.)
         case (285)   ! continuation_harmonic_balance_branch
             m = row_meta("branch", "", "", "", &

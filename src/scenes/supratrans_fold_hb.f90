@@ -26,7 +26,18 @@ module supratrans_fold_hb
     use supratrans_chain, only: threshold_as, band_gap_edge
     use supratrans_status, only: status_outside_gap, status_not_run
     use supratrans_tasks, only: task_list
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write_attr
+    use supratrans_output_rows, only: output_row, write_row, write_row_group, write_row_attr, &
+        continuation_harmonic_balance_omega, continuation_harmonic_balance_status, &
+        continuation_harmonic_balance_instability_type, continuation_harmonic_balance_cost, &
+        continuation_harmonic_balance_outside_gap, continuation_harmonic_balance_spectrum, &
+        continuation_harmonic_balance_multipliers, continuation_harmonic_balance_multipliers_real, &
+        continuation_harmonic_balance_multipliers_imag, continuation_harmonic_balance_convergence_absorber_folds, &
+        continuation_harmonic_balance_continuum_c, continuation_harmonic_balance_continuum_folds, &
+        continuation_harmonic_balance_branch_amplitude, continuation_harmonic_balance_branch_umax, &
+        continuation_harmonic_balance_branch_energy, continuation_harmonic_balance_branch_newton_iterations, &
+        continuation_harmonic_balance_branch_residual, continuation_harmonic_balance_branch_multiplier_max, &
+        continuation_harmonic_balance_branch_stable
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, fixed1
     use supratrans_axis_scene, only: axis_tasks, init_axes
@@ -622,7 +633,6 @@ contains
         type(hb_record), allocatable :: recs(:)
         real(wp), allocatable :: a4(:, :, :, :)
         integer :: ncurve, nomega, ntask, t, q, npts, n, nfam, nc
-        character(len=*), parameter :: g = "/convergence/"
 
         ncurve = size(self%runs)
         nomega = size(self%omegas)
@@ -649,45 +659,37 @@ contains
         call h5_write_attr(file, "/", "complete", merge(1, 0, complete))
         call h5_write_attr(file, "/", "tasks_done", count(done))
         call write_parameters(file, self%cfg)
-        call h5_write(file, "/omega", self%omegas, "1/time", &
-            "Driving frequency Omega_i = omega_min + i omega_step", dims="omega")
+        call write_row(file, continuation_harmonic_balance_omega, self%omegas)
         call write_curves(file, self%cfg, self%runs)
         ! the datasets of the record's scalar fields and their groups: the output table's
         ! (continuation_harmonic_balance.toml)
-        call write_hb_scalars(file, recs%hb_scalars, nomega, nc > 0)
-        call h5_write_attr(file, "/status", "codes", "-2: outside gap (not computed); " &
+        call write_hb_scalars(file, [recs%hb_scalars], nomega, nc > 0)
+        call write_row_attr(file, continuation_harmonic_balance_status, "codes", "-2: outside gap (not computed); " &
             // "-1: pending (not computed yet); " // fold_status_codes())
-        call h5_write_attr(file, "/instability_type", "codes", instability_type_codes())
-        if (elapsed >= 0.0_wp) call h5_write_attr(file, "/cost", "scene_wall_time_s", elapsed)
-        call h5_write(file, "/outside_gap", reshape(merge(1, 0, &
+        call write_row_attr(file, continuation_harmonic_balance_instability_type, "codes", instability_type_codes())
+        if (elapsed >= 0.0_wp) call write_row_attr(file, continuation_harmonic_balance_cost, "scene_wall_time_s", &
+                                                   elapsed)
+        call write_row(file, continuation_harmonic_balance_outside_gap, reshape(merge(1, 0, &
             [(self%omegas(mod(t - 1, nomega) + 1) >= band_gap_edge(self%runs((t - 1)/nomega + 1)%chain), &
-            t=1, ntask)]), [nomega, ncurve]), "1", "1 where Omega >= sqrt(V''(0) + m^2), outside the curve's band gap", &
-            dims="curve, omega")
+            t=1, ntask)]), [nomega, ncurve]))
         a4 = reshape([(transpose(recs(t)%spectrum), t=1, ntask)], [n, spectrum_harmonics, nomega, ncurve])
-        call h5_write(file, "/spectrum", a4, "rad", "Amplitude sqrt(a^2 + b^2) of the odd harmonics 1, 3, .., " &
-            // int_str(2*spectrum_harmonics - 1) // " of u_n at the fold, per site n (NaN past K)", &
-            dims="curve, omega, harmonic, site")
-        call h5_create_group(file, "/multipliers", "Floquet multipliers of largest modulus at the fold, from the " &
-            // "rk8 monodromy (NaN when not computed)")
-        call h5_write(file, "/multipliers/real", cube([(recs(t)%multiplier_re, t=1, ntask)], hb_kept_multipliers), &
-                      "1", "Real parts", dims="curve, omega, multiplier")
-        call h5_write(file, "/multipliers/imag", cube([(recs(t)%multiplier_im, t=1, ntask)], hb_kept_multipliers), &
-                      "1", "Imaginary parts", dims="curve, omega, multiplier")
+        call write_row(file, continuation_harmonic_balance_spectrum, a4, fill=[int_str(2*spectrum_harmonics - 1)])
+        call write_row_group(file, continuation_harmonic_balance_multipliers)
+        call write_row(file, continuation_harmonic_balance_multipliers_real, &
+                       cube([(recs(t)%multiplier_re, t=1, ntask)], hb_kept_multipliers))
+        call write_row(file, continuation_harmonic_balance_multipliers_imag, &
+                       cube([(recs(t)%multiplier_im, t=1, ntask)], hb_kept_multipliers))
         if (nfam > 0) then
-            call h5_write(file, g // "absorber_folds", cube([(recs(t)%absorber_folds, t=1, ntask)], nfam), "rad", &
-                "The fold with the absorber 2^m times as long " &
-                // "(N - N0) and as wide (sigma), m = 1 .. absorber_family, the core N0 kept", &
-                dims="curve, omega, absorber")
+            call write_row(file, continuation_harmonic_balance_convergence_absorber_folds, &
+                           cube([(recs(t)%absorber_folds, t=1, ntask)], nfam))
         end if
         if (nc > 0) then
-            call h5_write(file, "/continuum/c", self%c_values, "1/time", "Couplings c", dims="c")
-            call h5_write(file, "/continuum/folds", cube([(recs(t)%continuum_folds, t=1, ntask)], nc), "rad", &
-                          "The fold at each c", dims="curve, omega, c")
+            call write_row(file, continuation_harmonic_balance_continuum_c, self%c_values)
+            call write_row(file, continuation_harmonic_balance_continuum_folds, &
+                           cube([(recs(t)%continuum_folds, t=1, ntask)], nc))
         end if
         do q = 1, size(hb_branch_quantities)
-            call h5_write(file, "/branch/" // trim(hb_branch_quantities(q)), &
-                          cube([(recs(t)%branch(q, :), t=1, ntask)], npts), branch_units(q), &
-                          branch_description(q), dims="curve, omega, point")
+            call write_row(file, branch_row(q), cube([(recs(t)%branch(q, :), t=1, ntask)], npts))
         end do
         call h5_commit(file, error)
 
@@ -705,44 +707,29 @@ contains
 
     end subroutine write_hb_file
 
-    !> Units of a branch quantity.
-    pure function branch_units(q) result(units)
+    !> The row of `/branch/<quantity>` of a branch quantity (its units and description:
+    !> continuation_harmonic_balance.toml).
+    pure function branch_row(q) result(row)
         !> Index in `hb_branch_quantities`.
         integer, intent(in) :: q
-        character(len=:), allocatable :: units
-
-        select case (trim(hb_branch_quantities(q)))
-        case ("energy")
-            units = "energy"
-        case ("newton_iterations", "multiplier_max", "stable")
-            units = "1"
-        case default
-            units = "rad"
-        end select
-    end function branch_units
-
-    !> Description of a branch quantity.
-    pure function branch_description(q) result(text)
-        !> Index in `hb_branch_quantities`.
-        integer, intent(in) :: q
-        character(len=:), allocatable :: text
+        type(output_row) :: row
 
         select case (trim(hb_branch_quantities(q)))
         case ("amplitude")
-            text = "Driving amplitude A of each branch point"
+            row = continuation_harmonic_balance_branch_amplitude
         case ("umax")
-            text = "Largest |u_n| over the chain and the time grid of a half period"
+            row = continuation_harmonic_balance_branch_umax
         case ("energy")
-            text = "Stored energy of the chain (the ODE's), averaged over the time grid of the period"
+            row = continuation_harmonic_balance_branch_energy
         case ("newton_iterations")
-            text = "Iterations of the point's corrector"
+            row = continuation_harmonic_balance_branch_newton_iterations
         case ("multiplier_max")
-            text = "Largest modulus of the rk8 Floquet multipliers at the sampled points below the fold (NaN elsewhere)"
+            row = continuation_harmonic_balance_branch_multiplier_max
         case ("stable")
-            text = "1 where every multiplier has modulus <= 1 + crossing_tol, 0 where not, -1 not computed"
+            row = continuation_harmonic_balance_branch_stable
         case default
-            text = "max |R| of the harmonic balance at the point"
+            row = continuation_harmonic_balance_branch_residual
         end select
-    end function branch_description
+    end function branch_row
 
 end module supratrans_fold_hb

@@ -39,7 +39,7 @@ module supratrans_scene_continuation
                                     shortest_chain, fate_codes, transmission_status_codes, branch_switch_codes
     use supratrans_fold_scalars, only: write_fold_scalars
     use supratrans_tasks, only: task_list, run_work
-    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write, h5_write_attr, h5_create_group
+    use supratrans_hdf5, only: h5_file, h5_create, h5_commit, h5_write_attr
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1
     use supratrans_linear_stability, only: linear_stability_dt
