@@ -14,7 +14,7 @@ module test_hysteresis
     use supratrans_mol, only: drive_dpsi
     use supratrans_hysteresis_stairs, only: hysteresis_edges, stair_powers, hysteresis_found, hysteresis_none, &
                                             hysteresis_at_bottom, hysteresis_still_at_end, hysteresis_died_before_top, &
-                                            hysteresis_status, hysteresis_failed
+                                            hysteresis_status_code, hysteresis_failed
     use supratrans_stairs, only: stairs_failed
     implicit none
 
@@ -333,7 +333,7 @@ contains
         ! (a failed run, read by no stairs: its code through the same mapping)
         call assertEqual( &
             hysteresis_failed, &
-            hysteresis_status(stairs_failed), &
+            hysteresis_status_code(stairs_failed), &
             location=pf_source_location('test_hysteresis.pf', 184, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_edges_from_powers

@@ -40,9 +40,9 @@ module supratrans_hysteresis_stairs
     implicit none
     private
 
-    public :: hysteresis_drive, stair_powers, hysteresis_edges, hysteresis_status_codes, hysteresis_status
+    public :: hysteresis_drive, stair_powers, hysteresis_edges, hysteresis_status_codes, hysteresis_status_code
 
-    ! The codes of /status (a run's outcome, `stairs_*` of `supratrans_stairs`, as `hysteresis_status` writes it).
+    ! The codes of /status (a run's outcome, `stairs_*` of `supratrans_stairs`, as `hysteresis_status_code` writes it).
     !> Status: both edges found.
     integer, parameter, public :: hysteresis_found = 0
     !> Status: no stair up to a_K transmits (both edges NaN).
@@ -145,31 +145,31 @@ contains
 
         plan = drive_plan(drive)
         call read_stairs(plan, power > threshold, up, down, gaps, outcome)
-        status = hysteresis_status(outcome)
+        status = hysteresis_status_code(outcome)
     end subroutine hysteresis_edges
 
     !> The /status code of a run's stairs (`stairs_*` of `supratrans_stairs`): the one place they are mapped.
-    pure integer function hysteresis_status(outcome)
+    pure integer function hysteresis_status_code(outcome)
         !> The outcome.
         integer, intent(in) :: outcome
 
         select case (outcome)
         case (stairs_found)
-            hysteresis_status = hysteresis_found
+            hysteresis_status_code = hysteresis_found
         case (stairs_none)
-            hysteresis_status = hysteresis_none
+            hysteresis_status_code = hysteresis_none
         case (stairs_at_bottom)
-            hysteresis_status = hysteresis_at_bottom
+            hysteresis_status_code = hysteresis_at_bottom
         case (stairs_died_before_top)
-            hysteresis_status = hysteresis_died_before_top
+            hysteresis_status_code = hysteresis_died_before_top
         case (stairs_still_at_end)
-            hysteresis_status = hysteresis_still_at_end
+            hysteresis_status_code = hysteresis_still_at_end
         case (stairs_failed)
-            hysteresis_status = hysteresis_failed
+            hysteresis_status_code = hysteresis_failed
         case default
-            hysteresis_status = hysteresis_failed
+            hysteresis_status_code = hysteresis_failed
         end select
-    end function hysteresis_status
+    end function hysteresis_status_code
 
     !> The status codes of the scene, "code: meaning" clauses separated by "; ".
     pure function hysteresis_status_codes() result(text)

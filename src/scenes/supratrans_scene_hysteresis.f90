@@ -43,7 +43,8 @@ module supratrans_scene_hysteresis
     use supratrans_output, only: write_root, write_parameters
     use supratrans_strings, only: int_str, real_str, fixed1
     use supratrans_hysteresis_stairs, only: hysteresis_drive, stair_powers, hysteresis_edges, hysteresis_status_codes, &
-                                            hysteresis_found, hysteresis_failed
+                                            hysteresis_found, hysteresis_status_code
+    use supratrans_stairs, only: stairs_failed
     implicit none
     private
 
@@ -273,7 +274,7 @@ contains
         end if
         s%steps = real(result%steps, wp)
         if (result%status /= run_ok) then
-            s%status = hysteresis_failed
+            s%status = hysteresis_status_code(stairs_failed)
         else
             power = stair_powers(run, result)
             call hysteresis_edges(run%drive, power, self%cfg%scene%power_threshold, up, down, gaps, status)
