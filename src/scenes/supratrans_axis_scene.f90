@@ -37,9 +37,9 @@ module supratrans_axis_scene
         real(wp), allocatable :: omegas(:)
         !> Points of the scene's inner axis per (curve, Omega) (1: none).
         integer :: ninner = 1
-        !> Each task runs at its curve's own &drive omega (which `vary = 'omega'` sets), `omegas` being the one point
-        !> of the &drive omega: the amplitude sweep, which has no frequency axis.
-        logical :: curve_omega = .false.
+        !> The frequency is an axis of the tasks (and of the data). False for the amplitude sweep: each task runs at its
+        !> curve's own &drive omega (which `vary = 'omega'` sets), `omegas` being the one point of the &drive omega.
+        logical :: omega_axis = .true.
         !> Path of the partial output written by `snapshot`: `<output>.partial.h5`.
         character(len=:), allocatable :: partial_path
         !> Mid-run checkpoints of task t: `<checkpoint_prefix><t>`, bound to `fingerprint` and t (scenes that
@@ -210,7 +210,7 @@ contains
     end function run_at
 
     !> The Omega of curve `icurve` at point `iomega` of the frequency axis: `omegas(iomega)`, or the curve's own
-    !> &drive omega when the scene has no frequency axis (`curve_omega`).
+    !> &drive omega when the scene has no frequency axis (`omega_axis` false).
     pure function omega_at(self, icurve, iomega, runs) result(omega)
         !> The tasks.
         class(axis_tasks), intent(in) :: self
@@ -222,7 +222,7 @@ contains
         type(run_config), intent(in), optional :: runs(:)
         real(wp) :: omega
 
-        if (.not. self%curve_omega) then
+        if (self%omega_axis) then
             omega = self%omegas(iomega)
         else if (present(runs)) then
             omega = runs(icurve)%drive%omega

@@ -83,8 +83,6 @@ module supratrans_scene_sweep
         character(len=:), allocatable :: description
         !> Driving amplitudes (the inner axis).
         real(wp), allocatable :: amplitudes(:)
-        !> The frequency is an axis of the data (map): datasets are (curve, omega, amplitude), not (curve, amplitude).
-        logical :: omega_axis = .false.
     contains
         !> Run one task (thread-safe).
         procedure :: run => sweep_run
@@ -244,8 +242,6 @@ contains
         if (allocated(tasks%runs)) deallocate (tasks%runs)
         call init_axes(tasks, cfg, inv, size(tasks%amplitudes), error, omegas)
         if (allocated(error)) return
-        ! without a frequency axis each curve runs at its own &drive omega (`vary = 'omega'` gives each its own)
-        tasks%curve_omega = .not. omega_axis
         do ic = 1, size(tasks%runs)
             ! the figures need the totals at T: no early stop, no probes, the ledger closed once at the end
             tasks%runs(ic)%detect%stop_when_decided = .false.
