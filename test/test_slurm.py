@@ -2,7 +2,7 @@
 started by hand with their own configuration, no systemd), a study submitted as a job array with a dependent merge
 (behind a user's --dependency, options after --), compared with the single-machine file; one array task cancelled
 mid-way and resubmitted, one requeued (scontrol requeue) and one sent the SIGUSR1 that Slurm sends before a time
-limit (scancel --batch --signal=USR1), each resuming from its journal; submissions refused before anything is
+limit (scancel --batch --signal=USR1), each resuming from its journal (these two run at once); submissions refused before anything is
 queued. Where Slurm cannot start (not root, packages missing) the tests are skipped with one line saying why.
 
 No test waits for a clock: each signal is sent once the slice has journaled a task (an event the test sees), to a
@@ -15,6 +15,7 @@ import signal
 import socket
 import subprocess
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 import h5py
@@ -351,44 +352,67 @@ def resumed_counts(log):
 
 def submit_one_slice(cluster, folder, env):
     """LONG as an array of one slice (the script's own --signal and --requeue, no time limit to wait for); the job
-    id, once the slice has journaled its first search."""
+    id (the slice may not have started yet)."""
     (folder / "study.nml").write_text(LONG)
-    job = cluster.run("sbatch", "--parsable", "--array=1", "--cpus-per-task=1", str(SCRIPTS / "supratrans-array.sbatch"),
-                      "study.nml", "1", cwd=folder, env=env).stdout.strip().split(";")[0]
-    cluster.wait_for_journal(f"{job}_1", folder / "out" / "study.part-1-of-1.h5.journal", 1)
-    return job
+    return cluster.run("sbatch", "--parsable", "--array=1", "--cpus-per-task=1",
+                       str(SCRIPTS / "supratrans-array.sbatch"), "study.nml", "1", cwd=folder,
+                       env=env).stdout.strip().split(";")[0]
 
 
-def test_requeued_task_resumes_from_its_journal(cluster, release_exe, long_reference, tmp_path):
-    """scontrol requeue of a running slice (what a preempting scheduler does): the rerun of the same job resumes
-    from what the first run journaled, and its log is appended to the first run's."""
+@dataclass
+class Stopped:
+    """A one-slice job of LONG stopped mid-way: its folder, job id, the searches journaled when it was stopped, and
+    the states of its tasks once it ended."""
+    folder: Path
+    job: str
+    done_before: int
+    states: list
+
+    def log(self):
+        return (self.folder / f"supratrans-{self.job}_1.out").read_text()
+
+
+@pytest.fixture(scope="module")
+def stopped(cluster, release_exe, tmp_path_factory):
+    """Two one-slice jobs of LONG at once, one a CPU each: `requeue`, requeued by scontrol requeue once its slice has
+    journaled a search (what a preempting scheduler does), and `usr1`, sent at that event the SIGUSR1 that Slurm
+    sends the batch shell before a time limit (the script's --signal=B:USR1@120, here scancel --batch
+    --signal=USR1 rather than a limit to wait for). Together, their waits for a requeued job to be eligible again
+    (cred_expire + 1 s) overlap."""
     env = dict(cluster.env, SUPRATRANS=release_exe)
-    job = submit_one_slice(cluster, tmp_path, env)
-    cluster.run("scontrol", "requeue", f"{job}_1")
-    done_before = journal_lines(tmp_path / "out" / "study.part-1-of-1.h5.journal")
-    states = cluster.wait(job)
-    assert states == ["COMPLETED"], states
-    log = (tmp_path / f"supratrans-{job}_1.out").read_text()
+    folders = {name: tmp_path_factory.mktemp(name) for name in ("requeue", "usr1")}
+    jobs = {name: submit_one_slice(cluster, folder, env) for name, folder in folders.items()}
+    signals = {"requeue": ("scontrol", "requeue"), "usr1": ("scancel", "--batch", "--signal=USR1")}
+    done_before = {}
+    for name, job in jobs.items():
+        journal = folders[name] / "out" / "study.part-1-of-1.h5.journal"
+        cluster.wait_for_journal(f"{job}_1", journal, 1)
+        cluster.run(*signals[name], f"{job}_1")
+        done_before[name] = journal_lines(journal)
+    return {name: Stopped(folders[name], job, done_before[name], cluster.wait(job)) for name, job in jobs.items()}
+
+
+def test_requeued_task_resumes_from_its_journal(cluster, release_exe, long_reference, stopped):
+    """scontrol requeue of a running slice: the rerun of the same job resumes from what the first run journaled,
+    and its log is appended to the first run's."""
+    run = stopped["requeue"]
+    log = run.log()
+    assert run.states == ["COMPLETED"], log
     assert log.count("supratrans-array: slice 1/1") == 2, log        # both runs in one log
     assert "requeued to resume" not in log, log                      # Slurm requeued it, not the script
     resumed = resumed_counts(log)
-    assert len(resumed) == 2 and resumed[0] == 0 and resumed[1] >= max(done_before - 1, 1), log
-    finish_and_compare(cluster, tmp_path, env, long_reference, 1)
+    assert len(resumed) == 2 and resumed[0] == 0 and resumed[1] >= max(run.done_before - 1, 1), log
+    finish_and_compare(cluster, run.folder, dict(cluster.env, SUPRATRANS=release_exe), long_reference, 1)
 
 
-def test_sigusr1_before_the_time_limit_stops_requeues_and_resumes(cluster, release_exe, long_reference, tmp_path):
-    """The SIGUSR1 that Slurm sends the batch shell before a time limit (the script's --signal=B:USR1@120), sent
-    here by scancel --batch --signal=USR1 once the slice has journaled a search rather than by waiting for a limit:
-    a clean stop, the task requeues itself, the rerun resumes from the journal; the merged file is the single
-    machine's."""
-    env = dict(cluster.env, SUPRATRANS=release_exe)
-    job = submit_one_slice(cluster, tmp_path, env)
-    cluster.run("scancel", "--batch", "--signal=USR1", f"{job}_1")
-    states = cluster.wait(job)
-    log = (tmp_path / f"supratrans-{job}_1.out").read_text()
-    assert states == ["COMPLETED"], log
+def test_sigusr1_before_the_time_limit_stops_requeues_and_resumes(cluster, release_exe, long_reference, stopped):
+    """The SIGUSR1 before a time limit: a clean stop, the task requeues itself, the rerun resumes from the journal;
+    the merged file is the single machine's."""
+    run = stopped["usr1"]
+    log = run.log()
+    assert run.states == ["COMPLETED"], log
     assert log.count("requeued to resume") == 1, log
-    assert int(field(cluster, f"{job}_1", "Restarts")[0]) == 1
+    assert int(field(cluster, f"{run.job}_1", "Restarts")[0]) == 1
     resumed = resumed_counts(log)
     assert len(resumed) == 2 and resumed[0] == 0 and resumed[1] >= 1, log
-    finish_and_compare(cluster, tmp_path, env, long_reference, 1)
+    finish_and_compare(cluster, run.folder, dict(cluster.env, SUPRATRANS=release_exe), long_reference, 1)
