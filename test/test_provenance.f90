@@ -39,7 +39,18 @@ module test_provenance
             character(kind=c_char), intent(in) :: path(*)
             integer(c_int) :: stat
         end function c_chdir
+        !> POSIX rmdir(2): 0 on success.
+        function c_rmdir(path) bind(c, name="rmdir") result(stat)
+            import :: c_char, c_int
+            !> The directory, null-terminated.
+            character(kind=c_char), intent(in) :: path(*)
+            integer(c_int) :: stat
+        end function c_rmdir
     end interface
+
+    !> The directories under `root` that `put` makes, deepest first (removed after each test).
+    character(len=*), parameter :: made(5) = [character(len=21) :: "/repo/.git/refs/heads", "/repo/.git/refs", &
+                                              "/repo/.git", "/repo", ""]
 
 contains
 
@@ -64,6 +75,9 @@ contains
         do i = 1, nwritten
             call remove_file(trim(written(i)))
         end do
+        do i = 1, size(made)
+            if (c_rmdir(root // trim(made(i)) // c_null_char) /= 0) continue   ! not made by this test, or not empty
+        end do
     end subroutine tear_down
 
     ! @test
@@ -76,30 +90,30 @@ contains
                 -1, &
                 build_dirty(), &
                 "dirty flag of a build without commit", &
-                location=pf_source_location('test_provenance.pf', 74, 'assertEqual'))
+                location=pf_source_location('test_provenance.pf', 88, 'assertEqual'))
             if (pf_any_failed()) return
             call assertEqual( &
                 "none", &
                 commit_source(), &
-                location=pf_source_location('test_provenance.pf', 75, 'assertEqual'))
+                location=pf_source_location('test_provenance.pf', 89, 'assertEqual'))
             if (pf_any_failed()) return
         else
             call assertTrue( &
                 len(commit) == 40 .or. len(commit) == 64, &
                 commit, &
-                location=pf_source_location('test_provenance.pf', 77, 'assertTrue'))
+                location=pf_source_location('test_provenance.pf', 91, 'assertTrue'))
             if (pf_any_failed()) return
             call assertEqual( &
                 0, &
                 verify(commit, "0123456789abcdef"), &
                 commit, &
-                location=pf_source_location('test_provenance.pf', 78, 'assertEqual'))
+                location=pf_source_location('test_provenance.pf', 92, 'assertEqual'))
             if (pf_any_failed()) return
             if (commit_source() == "fixed at build") then
                 call assertTrue( &
                     build_dirty() == 0 .or. build_dirty() == 1, &
                     "dirty flag not 0 or 1", &
-                    location=pf_source_location('test_provenance.pf', 80, 'assertTrue'))
+                    location=pf_source_location('test_provenance.pf', 94, 'assertTrue'))
                 if (pf_any_failed()) return
             else
                 ! read at run time from the .git of the tree the program was built in: no dirty flag
@@ -107,13 +121,13 @@ contains
                     1, &
                     index(commit_source(), "read at run time from "), &
                     commit_source(), &
-                    location=pf_source_location('test_provenance.pf', 83, 'assertEqual'))
+                    location=pf_source_location('test_provenance.pf', 97, 'assertEqual'))
                 if (pf_any_failed()) return
                 call assertEqual( &
                     -1, &
                     build_dirty(), &
                     "dirty flag of a commit read at run time", &
-                    location=pf_source_location('test_provenance.pf', 84, 'assertEqual'))
+                    location=pf_source_location('test_provenance.pf', 98, 'assertEqual'))
                 if (pf_any_failed()) return
             end if
         end if
@@ -121,7 +135,7 @@ contains
             commit, &
             build_commit(), &
             "the same at every call", &
-            location=pf_source_location('test_provenance.pf', 87, 'assertEqual'))
+            location=pf_source_location('test_provenance.pf', 101, 'assertEqual'))
         if (pf_any_failed()) return
     end subroutine test_build_commit_is_an_id_or_unknown
 
@@ -139,12 +153,12 @@ contains
             0, &
             int(c_chdir(root // "/repo" // c_null_char)), &
             "chdir", &
-            location=pf_source_location('test_provenance.pf', 100, 'assertEqual'))
+            location=pf_source_location('test_provenance.pf', 114, 'assertEqual'))
         if (pf_any_failed()) return
         call assertEqual( &
             root // "/repo", &
             working_directory(), &
-            location=pf_source_location('test_provenance.pf', 101, 'assertEqual'))
+            location=pf_source_location('test_provenance.pf', 115, 'assertEqual'))
         if (pf_any_failed()) return
         written(nwritten + 1) = root // "/repo/provenance.h5"
         nwritten = nwritten + 1
@@ -155,24 +169,24 @@ contains
         call assertFalse( &
             allocated(error), &
             "open", &
-            location=pf_source_location('test_provenance.pf', 108, 'assertFalse'))
+            location=pf_source_location('test_provenance.pf', 122, 'assertFalse'))
         if (pf_any_failed()) return
         if (allocated(error)) return
         call h5_read_attr(file, "/provenance", "git_commit", text, error)
         call assertFalse( &
             allocated(error), &
             "git_commit", &
-            location=pf_source_location('test_provenance.pf', 111, 'assertFalse'))
+            location=pf_source_location('test_provenance.pf', 125, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             text /= sha_a, &
             "the working directory's commit was recorded", &
-            location=pf_source_location('test_provenance.pf', 112, 'assertTrue'))
+            location=pf_source_location('test_provenance.pf', 126, 'assertTrue'))
         if (pf_any_failed()) return
-        call assertEqual(build_commit(), text, location=pf_source_location('test_provenance.pf', 113, 'assertEqual'))
+        call assertEqual(build_commit(), text, location=pf_source_location('test_provenance.pf', 127, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "working_directory", text, error)
-        call assertEqual(root // "/repo", text, location=pf_source_location('test_provenance.pf', 115, 'assertEqual'))
+        call assertEqual(root // "/repo", text, location=pf_source_location('test_provenance.pf', 129, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
     end subroutine test_commit_is_not_read_from_the_working_directory
@@ -198,73 +212,73 @@ contains
         call assertFalse( &
             allocated(error), &
             "open", &
-            location=pf_source_location('test_provenance.pf', 137, 'assertFalse'))
+            location=pf_source_location('test_provenance.pf', 151, 'assertFalse'))
         if (pf_any_failed()) return
         if (allocated(error)) return
         call h5_read(file, "/provenance/namelist", text, error)
         call assertFalse( &
             allocated(error), &
             "namelist", &
-            location=pf_source_location('test_provenance.pf', 140, 'assertFalse'))
+            location=pf_source_location('test_provenance.pf', 154, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertTrue(text == cfg%text, text, location=pf_source_location('test_provenance.pf', 141, 'assertTrue'))
+        call assertTrue(text == cfg%text, text, location=pf_source_location('test_provenance.pf', 155, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "compiler", text, error)
         call assertEqual( &
             compiler_version(), &
             text, &
-            location=pf_source_location('test_provenance.pf', 143, 'assertEqual'))
+            location=pf_source_location('test_provenance.pf', 157, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "compiler_options", text, error)
         call assertTrue( &
             index(text, "-") > 0, &
             text, &
-            location=pf_source_location('test_provenance.pf', 145, 'assertTrue'))
+            location=pf_source_location('test_provenance.pf', 159, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "version", text, error)
         call assertEqual( &
             supratrans_version, &
             text, &
-            location=pf_source_location('test_provenance.pf', 147, 'assertEqual'))
+            location=pf_source_location('test_provenance.pf', 161, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "host", text, error)
-        call assertEqual(host_name(), text, location=pf_source_location('test_provenance.pf', 149, 'assertEqual'))
+        call assertEqual(host_name(), text, location=pf_source_location('test_provenance.pf', 163, 'assertEqual'))
         if (pf_any_failed()) return
         call assertTrue( &
             len(text) > 0 .and. text /= "unknown", &
             text, &
-            location=pf_source_location('test_provenance.pf', 150, 'assertTrue'))
+            location=pf_source_location('test_provenance.pf', 164, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "executable", text, error)
-        call assertEqual(executable_path(), text, location=pf_source_location('test_provenance.pf', 152, 'assertEqual'))
+        call assertEqual(executable_path(), text, location=pf_source_location('test_provenance.pf', 166, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "started", text, error)
-        call assertEqual(cfg%started, text, location=pf_source_location('test_provenance.pf', 154, 'assertEqual'))
+        call assertEqual(cfg%started, text, location=pf_source_location('test_provenance.pf', 168, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "input_file", text, error)
-        call assertEqual(cfg%source, text, location=pf_source_location('test_provenance.pf', 156, 'assertEqual'))
+        call assertEqual(cfg%source, text, location=pf_source_location('test_provenance.pf', 170, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "git_commit", text, error)
-        call assertEqual(build_commit(), text, location=pf_source_location('test_provenance.pf', 158, 'assertEqual'))
+        call assertEqual(build_commit(), text, location=pf_source_location('test_provenance.pf', 172, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "git_dirty", dirty, error)
         call assertFalse( &
             allocated(error), &
             "git_dirty", &
-            location=pf_source_location('test_provenance.pf', 160, 'assertFalse'))
+            location=pf_source_location('test_provenance.pf', 174, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(build_dirty(), dirty, location=pf_source_location('test_provenance.pf', 161, 'assertEqual'))
+        call assertEqual(build_dirty(), dirty, location=pf_source_location('test_provenance.pf', 175, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read_attr(file, "/provenance", "omp_max_threads", threads, error)
         call assertFalse( &
             allocated(error), &
             "omp_max_threads", &
-            location=pf_source_location('test_provenance.pf', 163, 'assertFalse'))
+            location=pf_source_location('test_provenance.pf', 177, 'assertFalse'))
         if (pf_any_failed()) return
         call assertTrue( &
             threads >= 1, &
             "omp_max_threads < 1", &
-            location=pf_source_location('test_provenance.pf', 164, 'assertTrue'))
+            location=pf_source_location('test_provenance.pf', 178, 'assertTrue'))
         if (pf_any_failed()) return
         call h5_close(file, error)
     end subroutine test_provenance_written
@@ -291,38 +305,38 @@ contains
         call assertFalse( &
             allocated(error), &
             "open", &
-            location=pf_source_location('test_provenance.pf', 187, 'assertFalse'))
+            location=pf_source_location('test_provenance.pf', 201, 'assertFalse'))
         if (pf_any_failed()) return
         if (allocated(error)) return
         do i = 1, size(names)
             call assertTrue( &
                 h5_attr_exists(file, "/provenance", trim(names(i))), &
                 trim(names(i)), &
-                location=pf_source_location('test_provenance.pf', 190, 'assertTrue'))
+                location=pf_source_location('test_provenance.pf', 204, 'assertTrue'))
             if (pf_any_failed()) return
         end do
         ! the run-time lookups of before (the working directory's repository): gone
         call assertFalse( &
             h5_attr_exists(file, "/provenance", "git_ref"), &
             "git_ref", &
-            location=pf_source_location('test_provenance.pf', 193, 'assertFalse'))
+            location=pf_source_location('test_provenance.pf', 207, 'assertFalse'))
         if (pf_any_failed()) return
         call assertFalse( &
             h5_attr_exists(file, "/provenance", "git_repository"), &
             "git_repository", &
-            location=pf_source_location('test_provenance.pf', 194, 'assertFalse'))
+            location=pf_source_location('test_provenance.pf', 208, 'assertFalse'))
         if (pf_any_failed()) return
         ! a configuration built in code: no input file, no start time, an empty namelist text
         call h5_read_attr(file, "/provenance", "input_file", text, error)
-        call assertEqual("unknown", text, location=pf_source_location('test_provenance.pf', 197, 'assertEqual'))
+        call assertEqual("unknown", text, location=pf_source_location('test_provenance.pf', 211, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_read(file, "/provenance/namelist", text, error)
         call assertFalse( &
             allocated(error), &
             "namelist", &
-            location=pf_source_location('test_provenance.pf', 199, 'assertFalse'))
+            location=pf_source_location('test_provenance.pf', 213, 'assertFalse'))
         if (pf_any_failed()) return
-        call assertEqual(0, len(text), location=pf_source_location('test_provenance.pf', 200, 'assertEqual'))
+        call assertEqual(0, len(text), location=pf_source_location('test_provenance.pf', 214, 'assertEqual'))
         if (pf_any_failed()) return
         call h5_close(file, error)
     end subroutine test_provenance_attributes_are_the_documented_ones
