@@ -4,9 +4,10 @@
 !>
 !> It owns what those scenes shared as copies: the frequency axis Omega_i = omega_min + i omega_step (`scene_omegas`,
 !> refused when empty; a scene may hand its own axis to `init_axes`), the run of each curve, the task index t =
-!> ((curve - 1) nomega + iomega - 1) ninner + iinner and its run at its Omega (`task_run`: the one place a task's
-!> drive frequency is set), the partial snapshot (`<output>.partial.h5`, written by the scene's own writer with
-!> `complete` = 0), and the scene's `write_output` (its writer, with the complete records and the wall time). A scene
+!> ((curve - 1) nomega + iomega - 1) ninner + iinner and its run at its Omega (`task_run`, `curve_run_at`: the one
+!> place a run's drive frequency is set from the axis), the partial snapshot (`<output>.partial.h5`, written by the
+!> scene's own writer with `complete` = 0), and the scene's `write_output` (its writer, with the complete records and
+!> the wall time). A scene
 !> extends `axis_tasks` with what it adds (its `run` of one task, its file `write_file`, its own runs or inner axis)
 !> and `axis_scene` with its tasks (`make_tasks`, which calls `init_axes`), its summary and its checks.
 module supratrans_axis_scene
@@ -60,6 +61,8 @@ module supratrans_axis_scene
         procedure :: task_run => axis_task_run
         !> The run of a task from another run per curve (a scene's screening or checking runs), at its Omega.
         procedure, non_overridable :: run_at
+        !> The run of a curve at a point of the frequency axis.
+        procedure, non_overridable :: curve_run_at
         !> The Omega of a curve at a point of the frequency axis.
         procedure, non_overridable :: omega_at
     end type axis_tasks
@@ -205,9 +208,29 @@ contains
         type(run_config), intent(in) :: runs(:)
         type(run_config) :: run
 
-        run = runs(self%task_curve(index))
-        run%drive%omega = self%omega_at(self%task_curve(index), self%task_omega(index), runs)
+        run = self%curve_run_at(self%task_curve(index), self%task_omega(index), runs)
     end function run_at
+
+    !> The run of curve `icurve` at point `iomega` of the frequency axis (`omega_at`), from `runs` (default: the
+    !> curves' runs): the one place a run's drive frequency is set from the axis.
+    pure function curve_run_at(self, icurve, iomega, runs) result(run)
+        !> The tasks.
+        class(axis_tasks), intent(in) :: self
+        !> Curve index.
+        integer, intent(in) :: icurve
+        !> Index on the frequency axis.
+        integer, intent(in) :: iomega
+        !> A run per curve (default: the curves' runs).
+        type(run_config), intent(in), optional :: runs(:)
+        type(run_config) :: run
+
+        if (present(runs)) then
+            run = runs(icurve)
+        else
+            run = self%runs(icurve)
+        end if
+        run%drive%omega = self%omega_at(icurve, iomega, runs)
+    end function curve_run_at
 
     !> The Omega of curve `icurve` at point `iomega` of the frequency axis: `omegas(iomega)`, or the curve's own
     !> &drive omega when the scene has no frequency axis (`omega_axis` false).

@@ -1,7 +1,7 @@
 !> The runs of a threshold search of the scene `bifurcation` (`supratrans_scene_bifurcation`): a curve's run prepared
 !> for the search (`search_run`: stopped once decided, nothing recorded), the same with another integrator and step
 !> (`with_numerics`: the screening method `screen_integrator` at `screen_dt`, or the scene's method at dt/2 for the
-!> certification) or at a frequency (`with_omega`), and the oracle that answers each question of a search with one
+!> certification), and the oracle that answers each question of a search with one
 !> simulation (`simulation_oracle`).
 module supratrans_bifurcation_runs
     use supratrans_kinds, only: wp, i8
@@ -16,7 +16,7 @@ module supratrans_bifurcation_runs
     implicit none
     private
 
-    public :: search_run, with_numerics, with_omega, screen_integrator, screen_dt
+    public :: search_run, with_numerics, screen_integrator, screen_dt
 
     !> Oracle of the search: one simulation of `run` at the amplitude asked, stopped as soon as it transmits.
     !> `transmits` runs inside OpenMP threads and builds no text (gfortran 12 keeps the lengths of deferred-length
@@ -115,18 +115,6 @@ contains
         r%numerics%method = method
         r%numerics%dt = dt
     end function with_numerics
-
-    !> A run with its drive frequency set.
-    pure function with_omega(run, omega) result(r)
-        !> The run.
-        type(run_config), intent(in) :: run
-        !> Driving frequency.
-        real(wp), intent(in) :: omega
-        type(run_config) :: r
-
-        r = run
-        r%drive%omega = omega
-    end function with_omega
 
     !> One simulation at amplitude `amplitude`: its verdict, and the time steps it took.
     function simulation_transmits(self, amplitude, cost) result(transmitting)

@@ -60,13 +60,11 @@ contains
 
     !> The drive of a hysteresis run: the curve's drive at Omega with the stair profile (a_0 = amplitude_min, height
     !> stair_height, top K, stair length T_s, ramp stair_ramp; the ramp from rest is &drive ramp_time).
-    pure function hysteresis_drive(run, cfg, omega, top, stair_time) result(r)
-        !> The curve's run.
+    pure function hysteresis_drive(run, cfg, top, stair_time) result(r)
+        !> The curve's run at its Omega.
         type(run_config), intent(in) :: run
         !> The input.
         type(input_config), intent(in) :: cfg
-        !> Driving frequency Omega.
-        real(wp), intent(in) :: omega
         !> Index K of the top level.
         integer, intent(in) :: top
         !> Stair length T_s.
@@ -77,7 +75,6 @@ contains
         plan = stair_plan(low=cfg%scene%amplitude_min, height=cfg%scene%stair_height, top=top, time=stair_time, &
                           ramp=cfg%scene%stair_ramp, down=.true.)
         r = run
-        r%drive%omega = omega
         r%drive = stairs_profile(plan, r%drive)
         r%drive%amplitude = plan_level(plan, top)
         r%numerics%t_final = stair_start(r%drive, stair_count(r%drive))

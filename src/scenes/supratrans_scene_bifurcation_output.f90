@@ -21,7 +21,6 @@ submodule(supratrans_scene_bifurcation) supratrans_scene_bifurcation_output
         bifurcation_screening_farthest_disagreement, bifurcation_certify, bifurcation_certify_threshold, &
         bifurcation_certify_status, bifurcation_certify_runs, bifurcation_certify_steps
     use supratrans_output, only: write_root, write_parameters
-    use supratrans_bifurcation_runs, only: with_omega
     implicit none
 
     !> A dataset of `/screening` or `/certify`: one field of the search records written as a (curve, omega) grid
@@ -67,7 +66,7 @@ contains
         allocate (nd(nomega, ncurve))
         do ic = 1, ncurve
             do io = 1, nomega
-                nd(io, ic) = detector_site(with_omega(self%runs(ic), self%omegas(io)))
+                nd(io, ic) = detector_site(self%curve_run_at(ic, io))
             end do
         end do
 

@@ -236,7 +236,7 @@ contains
         type(run_config) :: run
         type(run_result) :: result
         type(hysteresis_scalars) :: s
-        integer :: icurve, iomega, ilen, nd, nstair, status, gaps, ns
+        integer :: ilen, nd, nstair, status, gaps, ns
         integer(i8) :: clock_start, clock_end, clock_rate
         real(wp), allocatable :: power(:)
         real(wp) :: up, down, nan
@@ -245,13 +245,11 @@ contains
         call system_clock(clock_start, clock_rate)
         nan = ieee_value(nan, ieee_quiet_nan)
         ilen = self%task_inner(index)
-        iomega = self%task_omega(index)
-        icurve = self%task_curve(index)
         nstair = 2*self%top + 1
         ns = size(hysteresis_scalars_names)
         values = nan
         s = empty_hysteresis_scalars()
-        run = hysteresis_drive(self%runs(icurve), self%cfg, self%omegas(iomega), self%top, self%stair_times(ilen))
+        run = hysteresis_drive(self%task_run(index), self%cfg, self%top, self%stair_times(ilen))
         nd = detector_site(run)
         s%detector_site = nd
         if (run%drive%omega >= band_gap_edge(run%chain) .and. .not. self%cfg%allow_outside_gap) then
@@ -345,7 +343,7 @@ contains
                 power(:, t) = ieee_value(1.0_wp, ieee_quiet_nan)
             end if
         end do
-        run = hysteresis_drive(self%runs(1), self%cfg, self%omegas(1), self%top, self%stair_times(1))
+        run = hysteresis_drive(self%curve_run_at(1, 1), self%cfg, self%top, self%stair_times(1))
         levels = [(stair_level(run%drive, t), t=0, nstair - 1)]
         direction = [(merge(1, merge(0, -1, t == self%top), t < self%top), t=0, nstair - 1)]
         allocate (spread_up(nomega, ncurve), spread_down(nomega, ncurve), as(nomega, ncurve), nd(nomega, ncurve))
@@ -355,8 +353,7 @@ contains
                 spread_up(io, ic) = spread([s(t + 1:t + nlen)%upward])
                 spread_down(io, ic) = spread([s(t + 1:t + nlen)%downward])
                 as(io, ic) = ieee_value(1.0_wp, ieee_quiet_nan)
-                nd(io, ic) = detector_site(hysteresis_drive(self%runs(ic), self%cfg, self%omegas(io), self%top, &
-                                                            self%stair_times(1)))
+                nd(io, ic) = detector_site(hysteresis_drive(self%curve_run_at(ic, io), self%cfg, self%top, self%stair_times(1)))
                 if (self%omegas(io) < band_gap_edge(self%runs(ic)%chain)) as(io, ic) = threshold_as(self%runs(ic)%chain, &
                                                                                                     self%omegas(io))
             end do
