@@ -2,8 +2,9 @@
 started by hand with their own configuration, no systemd), a study submitted as a job array with a dependent merge
 (behind a user's --dependency, options after --), compared with the single-machine file; one array task cancelled
 mid-way and resubmitted, one requeued (scontrol requeue) and one sent the SIGUSR1 that Slurm sends before a time
-limit (scancel --batch --signal=USR1), each resuming from its journal (these two run at once); submissions refused before anything is
-queued. Where Slurm cannot start (not root, packages missing) the tests are skipped with one line saying why.
+limit (scancel --batch --signal=USR1), each resuming from its journal (these two run at once); submissions refused
+before anything is queued. Where Slurm cannot start (not root, packages missing) the tests are skipped with one line
+saying why.
 
 No test waits for a clock: each signal is sent once the slice has journaled a task (an event the test sees), to a
 run that has most of its work still ahead, and every wait polls with a short interval under an overall bound. The
@@ -383,12 +384,19 @@ def stopped(cluster, release_exe, tmp_path_factory):
     folders = {name: tmp_path_factory.mktemp(name) for name in ("requeue", "usr1")}
     jobs = {name: submit_one_slice(cluster, folder, env) for name, folder in folders.items()}
     signals = {"requeue": ("scontrol", "requeue"), "usr1": ("scancel", "--batch", "--signal=USR1")}
+    journals = {name: folder / "out" / "study.part-1-of-1.h5.journal" for name, folder in folders.items()}
     done_before = {}
-    for name, job in jobs.items():
-        journal = folders[name] / "out" / "study.part-1-of-1.h5.journal"
-        cluster.wait_for_journal(f"{job}_1", journal, 1)
-        cluster.run(*signals[name], f"{job}_1")
-        done_before[name] = journal_lines(journal)
+    deadline = time.monotonic() + 300       # a bound, not a moment anything is expected at
+    while len(done_before) < len(jobs):     # each signalled as soon as its own slice has journaled a search
+        for name, job in jobs.items():
+            if name not in done_before and journal_lines(journals[name]) >= 1:
+                cluster.run(*signals[name], f"{job}_1")
+                done_before[name] = journal_lines(journals[name])
+            elif name not in done_before:
+                states = cluster.state(job)
+                assert not (states and all(s in ENDED for s in states)), f"job {job} ended ({states}), no journal"
+        assert time.monotonic() < deadline, f"no search journaled in 300 s: {[cluster.state(j) for j in jobs.values()]}"
+        time.sleep(0.05)
     return {name: Stopped(folders[name], job, done_before[name], cluster.wait(job)) for name, job in jobs.items()}
 
 
