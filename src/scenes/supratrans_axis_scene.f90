@@ -3,13 +3,12 @@
 !> amplitude sweep and the map (the amplitudes their inner axis; the sweep at the one &drive Omega, nomega = 1).
 !>
 !> It owns what those scenes shared as copies: the frequency axis Omega_i = omega_min + i omega_step (`scene_omegas`,
-!> refused when empty; a scene may hand its own axis to `init_axes`), the run of each curve, the task index t =
-!> ((curve - 1) nomega + iomega - 1) ninner + iinner and its run at its Omega (`task_run`, `curve_run_at`: the one
-!> place a run's drive frequency is set from the axis), the partial snapshot (`<output>.partial.h5`, written by the
-!> scene's own writer with `complete` = 0), and the scene's `write_output` (its writer, with the complete records and
-!> the wall time). A scene
-!> extends `axis_tasks` with what it adds (its `run` of one task, its file `write_file`, its own runs or inner axis)
-!> and `axis_scene` with its tasks (`make_tasks`, which calls `init_axes`), its summary and its checks.
+!> refused when empty; a scene may hand its own axis to `init_axes`), the run of each curve, the task index
+!> t = ((curve - 1) nomega + iomega - 1) ninner + iinner and its run at its Omega (`task_run`, `curve_run_at`: the one
+!> place a run's drive frequency is set from the axis), the partial snapshot (`<output>.partial.h5`, written by the scene's own
+!> writer with `complete` = 0), and the scene's `write_output` (its writer, with the complete records and the wall
+!> time). A scene extends `axis_tasks` with what it adds (its `run` of one task, its file `write_file`, its own runs or
+!> inner axis) and `axis_scene` with its tasks (`make_tasks`, which calls `init_axes`), its summary and its checks.
 module supratrans_axis_scene
     use supratrans_kinds, only: wp
     use supratrans_error, only: error_type, fatal_error, err_input

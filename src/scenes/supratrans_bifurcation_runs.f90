@@ -1,8 +1,7 @@
 !> The runs of a threshold search of the scene `bifurcation` (`supratrans_scene_bifurcation`): a curve's run prepared
 !> for the search (`search_run`: stopped once decided, nothing recorded), the same with another integrator and step
 !> (`with_numerics`: the screening method `screen_integrator` at `screen_dt`, or the scene's method at dt/2 for the
-!> certification), and the oracle that answers each question of a search with one
-!> simulation (`simulation_oracle`).
+!> certification), and the oracle that answers each question of a search with one simulation (`simulation_oracle`).
 module supratrans_bifurcation_runs
     use supratrans_kinds, only: wp, i8
     use supratrans_config, only: input_config, run_config, method_newton, method_linearized, method_rk4, method_rk8, &
