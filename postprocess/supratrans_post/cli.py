@@ -7,6 +7,7 @@ Every command parses its arguments before it does anything else, so `--help` and
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import shutil
 import sys
@@ -96,6 +97,16 @@ def installed(what: str) -> str:
 PROGRESS_EVERY = 4.0
 
 
+def progress_every() -> float:
+    """The least interval (s) between two progress lines: SUPRATRANS_PROGRESS_EVERY when it is a finite number > 0,
+    else PROGRESS_EVERY: the rule by which the program reads it (`progress_every_setting`, supratrans_progress)."""
+    try:
+        every = float(os.environ.get("SUPRATRANS_PROGRESS_EVERY", ""))
+    except ValueError:
+        return PROGRESS_EVERY
+    return every if 0.0 < every < math.inf else PROGRESS_EVERY
+
+
 class Progress:
     """The progress of a long wait on standard error, as the program prints its own: `  LABEL: 3/20 WHAT, 12 s
     elapsed, about 40 s left`. At most one line every PROGRESS_EVERY seconds (SUPRATRANS_PROGRESS_EVERY overrides
@@ -107,10 +118,7 @@ class Progress:
         self.label, self.what = label, what
         self.weights = [1.0] * weights if isinstance(weights, int) else [float(w) for w in weights]
         self.stream = stream or sys.stderr
-        try:
-            self.every = float(os.environ.get("SUPRATRANS_PROGRESS_EVERY", PROGRESS_EVERY))
-        except ValueError:
-            self.every = PROGRESS_EVERY
+        self.every = progress_every()
         self.start = self.last = time.monotonic()
         self.done = 0
 

@@ -138,7 +138,7 @@ def run(cmd: list[str], log: Path, label: str, tty: bool, relayed: list[str] | N
     seconds at most) and fpm's build lines (`[ 45%] ...`, at most one every cli.PROGRESS_EVERY seconds or
     SUPRATRANS_PROGRESS_EVERY) on lines of their own, and append them to `relayed`."""
     log.parent.mkdir(parents=True, exist_ok=True)
-    every = cli.Progress("", 0).every
+    every = cli.progress_every()
     last = time.monotonic()
     with open(log, "w") as fh:
         proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,

@@ -181,6 +181,16 @@ def test_progress_lines_say_the_time_left_by_the_work_left(monkeypatch):
     assert out.getvalue().count("\n") == 2
 
 
+
+@pytest.mark.parametrize("text,every", [("2.5", 2.5), ("1e-9", 1e-9), ("0", 4.0), ("-3", 4.0), ("nan", 4.0),
+                                        ("inf", 4.0), ("soon", 4.0), ("", 4.0)])
+def test_progress_interval_is_read_as_the_program_reads_it(monkeypatch, text, every):
+    """SUPRATRANS_PROGRESS_EVERY: a finite number of seconds > 0, else the default (4 s), as the program's
+    `progress_every_setting` reads it; 0 once meant `every step` here and `the default` in the program."""
+    monkeypatch.setenv("SUPRATRANS_PROGRESS_EVERY", text)
+    assert cli.progress_every() == every
+    assert cli.Progress("x", 1).every == every
+
 # ------------------------------------------------------------------------------------------------ matplotlib
 
 
