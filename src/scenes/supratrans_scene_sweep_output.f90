@@ -36,23 +36,7 @@ contains
     !> temporary, renamed): the final output (root attribute `complete` = 1) or a partial file, `<output>.partial.h5`
     !> (`complete` = 0, as every scene's, even when every task is done), in which the missing runs are NaN with status
     !> `status_not_run`.
-    module subroutine write_grid_file(self, path, results, done, complete, elapsed, error)
-        !> The task list.
-        class(sweep_tasks), intent(in) :: self
-        !> Path of the file.
-        character(len=*), intent(in) :: path
-        !> Results, (size(run_scalars_names), ntask).
-        real(wp), intent(in) :: results(:, :)
-        !> Which tasks are done.
-        logical, intent(in) :: done(:)
-        !> Whether this is the scene's output (replaced only with `overwrite`, with the wall time), not the
-        !> partial snapshot.
-        logical, intent(in) :: complete
-        !> Wall time of the scene (s; of a merge, the slices' summed wall time), the root attribute `wall_time_s`
-        !> of the output; negative (unused) for the partial snapshot.
-        real(wp), intent(in) :: elapsed
-        !> Error, allocated on failure (nothing is then left under `path`).
-        type(error_type), allocatable, intent(out) :: error
+    module procedure write_grid_file
         type(h5_file) :: file
 
         ! the partial snapshot replaces its predecessor; the output only with overwrite
@@ -66,15 +50,11 @@ contains
         call self%write_axes(file)
         call write_run_datasets(file, self, results, done)
         call h5_commit(file, error)
-    end subroutine write_grid_file
+    end procedure write_grid_file
 
     !> The axes of the sweep: `/amplitude`, `/curves/...` (`write_common_axes`) and `/curves/threshold_As`, the
     !> continuum-limit threshold at the sweep's frequency.
-    module subroutine sweep_write_axes(self, file)
-        !> The task list.
-        class(sweep_tasks), intent(in) :: self
-        !> Open output file (a failure sticks in it).
-        type(h5_file), intent(inout) :: file
+    module procedure sweep_write_axes
         real(wp) :: as(size(self%runs))
         integer :: ic
 
@@ -83,18 +63,13 @@ contains
             as(ic) = threshold_as_or_nan(self%runs(ic), self%omega_at(ic, 1))
         end do
         call write_row(file, amplitude_sweep_curves_threshold_as, as)
-    end subroutine sweep_write_axes
+    end procedure sweep_write_axes
 
     !> The axes shared by sweep and map: `/amplitude` and `/curves` (`write_curves`).
-    module subroutine write_common_axes(tasks, file)
-        !> The task list.
-        class(sweep_tasks), intent(in) :: tasks
-        !> Open output file (a failure sticks in it).
-        type(h5_file), intent(inout) :: file
-
+    module procedure write_common_axes
         call write_row(file, merge(map_amplitude, amplitude_sweep_amplitude, tasks%omega_axis), tasks%amplitudes)
         call write_curves(file, tasks%cfg, tasks%runs)
-    end subroutine write_common_axes
+    end procedure write_common_axes
 
     !> The per-run datasets `/energy/...` and `/runs/...` (the fields of the run record, by the rows of the sweep's or
     !> the map's table), `/runs/failures` and the attributes of `/runs`.
@@ -248,15 +223,7 @@ contains
 
     !> Along the amplitude axis (the fastest index of the tasks): the ratio of each run's energy injected after the
     !> ramp to the previous amplitude's, and whether the verdict changed there (-1: first amplitude or a run not ok).
-    pure module subroutine jumps_along_amplitude(s, namp, jump, change)
-        !> The records of every task.
-        type(run_scalars), intent(in) :: s(:)
-        !> Amplitudes per line of the grid.
-        integer, intent(in) :: namp
-        !> Energy ratio to the previous amplitude.
-        real(wp), allocatable, intent(out) :: jump(:)
-        !> Verdict change flags.
-        integer, allocatable, intent(out) :: change(:)
+    module procedure jumps_along_amplitude
         integer :: i
 
         allocate (jump(size(s)), change(size(s)))
@@ -268,6 +235,6 @@ contains
             jump(i) = s(i)%injected_after_ramp/s(i - 1)%injected_after_ramp
             change(i) = merge(1, 0, s(i)%transmitting /= s(i - 1)%transmitting)
         end do
-    end subroutine jumps_along_amplitude
+    end procedure jumps_along_amplitude
 
 end submodule supratrans_scene_sweep_output
