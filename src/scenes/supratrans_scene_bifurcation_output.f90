@@ -36,21 +36,7 @@ contains
 
     !> Write the scene's file `path` (built in memory, written atomically): tasks not done get NaN and status
     !> `bifurcation_pending`.
-    module subroutine write_bifurcation_file(self, path, results, done, complete, elapsed, error)
-        !> The tasks.
-        class(bifurcation_tasks), intent(in) :: self
-        !> Final path of the file.
-        character(len=*), intent(in) :: path
-        !> Results, (values, tasks).
-        real(wp), intent(in) :: results(:, :)
-        !> Which tasks are done.
-        logical, intent(in) :: done(:)
-        !> Whether this is the complete result (root attribute `complete`).
-        logical, intent(in) :: complete
-        !> Wall time of the scene (s); negative when unknown (partial files).
-        real(wp), intent(in) :: elapsed
-        !> Error, allocated on failure (the file is then not created).
-        type(error_type), allocatable, intent(out) :: error
+    module procedure write_bifurcation_file
         type(h5_file) :: file
         real(wp), allocatable :: vals(:, :)
         integer, allocatable :: nd(:, :)
@@ -94,7 +80,7 @@ contains
         call write_screening(file, self%cfg, vals, nomega)
         call write_certification(file, self%cfg, vals, nomega)
         call h5_commit(file, error)
-    end subroutine write_bifurcation_file
+    end procedure write_bifurcation_file
 
     !> `/verdict_margin` and `/thin_verdict`: how close the run just below each threshold came to transmitting
     !> (the margin the verdict already computes), and the threshold flagged thin where that margin is below
@@ -132,15 +118,7 @@ contains
     !> the processor time of a search repeats from run to run on a shared machine, its wall time does not. The file
     !> must be a bifurcation output with the same frequencies (`/omega`) and curves (`/curves/gamma`, `beta`, `m2`),
     !> else it is refused in one line.
-    module subroutine search_measured_costs(self, path, costs, error)
-        !> The tasks.
-        class(bifurcation_tasks), intent(in) :: self
-        !> The earlier output.
-        character(len=*), intent(in) :: path
-        !> Measured processor time (or wall time) of each search (s), by task index.
-        real(wp), allocatable, intent(out) :: costs(:)
-        !> Error: unreadable, of another study, or without costs.
-        type(error_type), allocatable, intent(out) :: error
+    module procedure search_measured_costs
         type(h5_file) :: file
         type(error_type), allocatable :: cause, ignored
         character(len=:), allocatable :: kind
@@ -199,7 +177,7 @@ contains
             if (same) same = all(abs(a - b) <= 1.0e-12_wp*max(1.0_wp, abs(b)))
         end function same
 
-    end subroutine search_measured_costs
+    end procedure search_measured_costs
 
     !> One field of the search records, by its name in `search_fields`, as an (omega, curve) grid.
     pure function field_grid(vals, name, nomega) result(g)

@@ -17,13 +17,7 @@ submodule(supratrans_scene_bifurcation) supratrans_scene_bifurcation_search
 contains
 
     !> Search the threshold of task `index` (thread-safe: everything it changes is local).
-    module subroutine run_search(self, index, values)
-        !> The tasks.
-        class(bifurcation_tasks), intent(in) :: self
-        !> Task index: (curve - 1) nomega + iomega.
-        integer, intent(in) :: index
-        !> The task's `search_record`, as values (`to_values`).
-        real(wp), intent(out) :: values(:)
+    module procedure run_search
         type(simulation_oracle) :: oracle, screen, check
         type(screen_report) :: report
         type(search_record) :: r
@@ -193,32 +187,22 @@ contains
             if (check%failed()) r%certify_status = certify_failed
         end function ask
 
-    end subroutine run_search
+    end procedure run_search
 
     !> Whether a task's record is a result: a search stopped at its checkpoint by a signal returns the unsearched
     !> record (status pending), which is not journaled.
-    module function search_finished(self, values) result(yes)
-        !> The tasks.
-        class(bifurcation_tasks), intent(in) :: self
-        !> The task's values (`to_values`).
-        real(wp), intent(in) :: values(:)
-        logical :: yes
+    module procedure search_finished
         type(search_record) :: r
 
         r = from_values(values)
         yes = r%status /= bifurcation_pending
-    end function search_finished
+    end procedure search_finished
 
     !> Estimated cost of task `index`, for the largest-first slices (`supratrans_tasks::slice_owners`): the work of
     !> one run of its curve (`run_work`) x the expected runs of a search, half the coarse scan of the range and the
     !> scan of one bracket at the resolution; a screened search runs most of them with the screening method at its
     !> step. A frequency outside the gap is no search: nearly nothing.
-    pure module function search_cost(self, index) result(cost)
-        !> The tasks.
-        class(bifurcation_tasks), intent(in) :: self
-        !> Task index: (curve - 1) nomega + iomega.
-        integer, intent(in) :: index
-        real(wp) :: cost
+    module procedure search_cost
         integer :: icurve
         real(wp) :: coarse, runs
 
@@ -236,11 +220,10 @@ contains
             cost = runs*run_work(self%runs(icurve))
         end if
         if (allocated(self%half_runs)) cost = cost + 2.0_wp*run_work(self%half_runs(icurve))
-    end function search_cost
+    end procedure search_cost
 
     !> A record with nothing searched: thresholds NaN, counts 0, statuses "pending" / "not checked".
-    pure module function unsearched_record() result(r)
-        type(search_record) :: r
+    module procedure unsearched_record
         real(wp) :: nan
 
         nan = ieee_value(nan, ieee_quiet_nan)
@@ -253,6 +236,6 @@ contains
         r%certified_threshold = nan
         r%certify_status = certify_not_checked
         r%margin_below = nan
-    end function unsearched_record
+    end procedure unsearched_record
 
 end submodule supratrans_scene_bifurcation_search
